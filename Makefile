@@ -1,0 +1,68 @@
+# romkit build. Each precompute stage is its own static library so a test links only
+# the stages it needs (tests/unit/test_<stage>_*.c links util..<stage>).
+CC       ?= cc
+BUILD    ?= build
+OPT      ?= -O2
+SANFLAGS ?=
+WARN     := -Wall -Wextra -Werror -Wshadow -Wno-unused-parameter
+CFLAGS_PC := -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(WARN) $(SANFLAGS) \
+             -I. -Iprecompute -I/usr/include/suitesparse
+LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
+LDFLAGS   := $(SANFLAGS)
+
+# Stages and what each links against (itself first, then what it uses); data flows one way.
+STAGES := util mesh physics fem fom scene
+DEPS_util    := util
+DEPS_mesh    := mesh util
+DEPS_physics := physics
+DEPS_fem     := fem physics mesh util
+DEPS_fom     := fom fem physics mesh util
+DEPS_scene   := scene fom fem physics mesh util
+src_of  = $(if $(filter physics,$(1)),$(wildcard physics/*.c),$(wildcard precompute/$(1)/*.c))
+lib_of  = $(BUILD)/lib/librk_$(1).a
+libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
+
+ALL_LIBS := $(foreach s,$(STAGES),$(call lib_of,$(s)))
+TOOL_SRC := $(wildcard tools/*.c)
+TEST_SRC := $(wildcard tests/unit/test_*.c)
+TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
+
+.PHONY: all test test-sanitize bench demo clean
+all: $(BUILD)/romkit $(TEST_BIN)
+
+$(BUILD)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_PC) -MMD -MP -c $< -o $@
+
+define stage_lib
+$(call lib_of,$(1)): $(patsubst %.c,$(BUILD)/obj/%.o,$(call src_of,$(1)))
+	@mkdir -p $$(dir $$@)
+	rm -f $$@ && ar rcs $$@ $$^
+endef
+$(foreach s,$(STAGES),$(eval $(call stage_lib,$(s))))
+
+$(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS)
+	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,scene) $(LDLIBS)
+
+# tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
+test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
+.SECONDEXPANSION:
+$(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_stage,$$*))
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_PC) -Itests -o $@ $< $(call libs_of,$(call test_stage,$*)) $(LDLIBS)
+
+deps:
+	@sh tools/install-deps.sh
+
+test: deps
+	$(MAKE) all
+	@BUILD=$(BUILD) sh tests/run.sh
+
+test-sanitize: deps
+	$(MAKE) BUILD=build-san OPT=-O1 SANFLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" all
+	@BUILD=build-san ROMKIT_SANITIZE=1 sh tests/run.sh
+
+clean:
+	rm -rf build build-san
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,59 @@
+/* physics: the one source of truth for per-element physics, written once and compiled for
+ * both precisions (DESIGN.md). Pure C99, only <math.h> and <string.h>; used by precompute/fem
+ * (double) and by the runtime (float, or double with ROMRT_DOUBLE).
+ *
+ * How "written once" works: physics_impl.h holds the code, parameterised by
+ *   PHYS_REAL       the scalar type
+ *   PHYS_FN(name)   the public name of each function
+ * and a consumer includes it once per precision it needs, in one .c file, e.g.
+ *   #define PHYS_REAL double
+ *   #define PHYS_FN(name) rk_##name
+ *   #include "physics/physics_impl.h"
+ * precompute gets the rk_* double versions from physics/physics_double.c (declared below);
+ * the runtime builds its own prefixed copy, so the two can be linked together.
+ *
+ * Conventions: 3x3 matrices are row-major, F[3*i + j] = F_ij. Fourth-order tensors are 9x9
+ * row-major: dPdF[9*(3*i + j) + (3*k + l)] = dP_ij / dF_kl. A tet's vertices are a, b, c, d;
+ * Ds = [b-a, c-a, d-a] (columns), F = Ds * Dm^-1 with Dm the rest Ds. */
+#ifndef RK_PHYSICS_H
+#define RK_PHYSICS_H
+
+typedef enum {
+    RK_MAT_LINEAR = 0,     /* small-strain linear elasticity */
+    RK_MAT_COROTATED = 1,  /* corotated linear: mu |F - R|^2 + lambda/2 tr(R^T F - I)^2 */
+    RK_MAT_STVK = 2,       /* St. Venant-Kirchhoff */
+    RK_MAT_NEOHOOKEAN = 3  /* stable Neo-Hookean, Eq. 16 of the freeform paper (Smith et al. 2018) */
+} rk_material_model;
+
+/* Lame parameters from Young's modulus and Poisson's ratio. */
+void rk_lame(double young, double poisson, double *mu, double *lambda);
+
+/* Energy density Psi(F) (J/m^3). */
+double rk_psi(rk_material_model model, double mu, double lambda, const double F[9]);
+/* First Piola-Kirchhoff stress P = dPsi/dF. */
+void rk_pk1(rk_material_model model, double mu, double lambda, const double F[9], double P[9]);
+/* dP/dF (9x9); projected to positive semi-definite when project != 0. */
+void rk_dpdf(rk_material_model model, double mu, double lambda, const double F[9],
+             double dPdF[81], int project);
+
+/* Tet element kernels. x: 12 (a, b, c, d positions). Dm_inv: 9. vol: rest volume.
+ * rk_tet_F: deformation gradient. rk_tet_energy: vol * Psi. rk_tet_gradient: 12 (added
+ * into g). rk_tet_hessian: 12x12 row-major (written), from dP/dF (projected if asked). */
+void rk_tet_F(const double x[12], const double Dm_inv[9], double F[9]);
+double rk_tet_energy(rk_material_model model, double mu, double lambda, const double x[12],
+                     const double Dm_inv[9], double vol);
+void rk_tet_gradient(rk_material_model model, double mu, double lambda, const double x[12],
+                     const double Dm_inv[9], double vol, double g[12]);
+void rk_tet_hessian(rk_material_model model, double mu, double lambda, const double x[12],
+                    const double Dm_inv[9], double vol, double H[144], int project);
+
+/* Rest data of a tet: Dm^-1 and signed volume det(Dm)/6. Returns the signed volume. */
+double rk_tet_rest(const double X[12], double Dm_inv[9]);
+
+/* Symmetric eigen-decomposition (cyclic Jacobi) of an n x n matrix, n <= 12: A = V diag(w) V^T,
+ * V's columns are eigenvectors (row-major storage). A is not modified. */
+void rk_sym_eig(int n, const double *A, double *w, double *V);
+/* Clamps negative eigenvalues of a symmetric n x n matrix to zero, in place. */
+void rk_project_psd(int n, double *A);
+
+#endif

@@ -1,0 +1,95 @@
+/* precompute/fem: P1 tetrahedral finite elements over a checked mesh.
+ * Per-element materials (heterogeneous objects), consistent and lumped mass, the elastic
+ * energy with its gradient and (optionally PSD-projected) Hessian, the rest stiffness used for
+ * Rayleigh damping and modal analysis, and ground planes as an IPC log barrier.
+ * All element physics comes from physics/ (one source of truth, DESIGN.md). */
+#ifndef RK_FEM_H
+#define RK_FEM_H
+
+#include "mesh/mesh.h"
+#include "physics/physics.h"
+#include "util/error.h"
+
+typedef struct {
+    rk_material_model model;
+    double young;    /* Pa */
+    double poisson;  /* in (-1, 0.5) */
+    double density;  /* kg/m^3 */
+} rk_material;
+
+/* Symmetric sparse matrix, compressed columns, upper triangle only (row <= col), the layout
+ * CHOLMOD takes with stype = 1. Row indices sorted within each column. */
+typedef struct {
+    int n;
+    int nnz;
+    int *colptr;  /* n + 1 */
+    int *rowind;  /* nnz */
+    double *val;  /* nnz */
+} rk_sparse;
+
+typedef struct {
+    int nv, nt;
+    const double *X;     /* 3*nv rest positions (borrowed from the mesh) */
+    const int *tets;     /* 4*nt (borrowed) */
+    double *Dm_inv;      /* 9*nt */
+    double *vol;         /* nt rest volumes */
+    rk_material_model *model; /* nt */
+    double *mu, *lambda, *density; /* nt, Lame parameters and density per element */
+    double *vertex_mass; /* nv lumped masses (kg): each tet gives rho*vol/4 to each vertex */
+    /* The 3nv x 3nv pattern of every matrix below: all tet couplings plus every vertex's
+     * diagonal 3x3 block. slot[78*t + k] is where the k-th upper-triangle entry of tet t's
+     * 12x12 block lands in val (k runs over (i <= j) row-major over the 12 dofs a0 a1 a2 b0 ...). */
+    rk_sparse pattern;
+    int *slot;
+} rk_fem;
+
+/* mats: nt materials (one per element). Fails on non-positive volume (the mesh must be
+ * checked), nonsense parameters (E <= 0, nu outside (-1, 0.5), density <= 0, non-finite). */
+int rk_fem_init(rk_fem *f, const rk_mesh *m, const rk_material *mats, rk_error *err);
+void rk_fem_free(rk_fem *f);
+
+/* A zeroed matrix with the fem pattern (shares nothing: its own arrays). */
+int rk_sparse_alloc_pattern(const rk_fem *f, rk_sparse *S, rk_error *err);
+void rk_sparse_free(rk_sparse *S);
+void rk_sparse_zero(rk_sparse *S);
+/* y = S x (S symmetric, upper stored). */
+void rk_sparse_mul(const rk_sparse *S, const double *x, double *y);
+
+/* Consistent mass (rho*vol/20 * (1 + delta_ab) per tet) or lumped (diagonal), added into M. */
+void rk_fem_add_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M);
+/* Linear-elasticity stiffness at rest, added into K (scaled). */
+void rk_fem_add_rest_stiffness(const rk_fem *f, double scale, rk_sparse *K);
+
+/* Elastic energy at positions x (3*nv). Returns +INFINITY if any value is not finite. */
+double rk_fem_energy(const rk_fem *f, const double *x);
+/* g += scale * dE/dx */
+void rk_fem_add_gradient(const rk_fem *f, const double *x, double scale, double *g);
+/* H += scale * d2E/dx2, each element's dP/dF projected to PSD when project != 0. */
+void rk_fem_add_hessian(const rk_fem *f, const double *x, double scale, int project, rk_sparse *H);
+
+/* Ground planes as obstacles: the IPC log barrier b(d) = -kappa (d - dhat)^2 log(d / dhat) for
+ * 0 < d < dhat on each vertex's signed distance d to each plane, weighted by vertex mass.
+ * A vertex must start on the positive side; rk_planes_max_step keeps it there. */
+typedef struct {
+    double point[3];
+    double normal[3];  /* unit */
+} rk_plane;
+
+typedef struct {
+    int count;
+    rk_plane *planes;
+    double dhat;   /* activation distance (m) */
+    double kappa;  /* stiffness (J/kg per vertex, multiplied by vertex mass) */
+} rk_obstacles;
+
+double rk_barrier_energy(const rk_fem *f, const rk_obstacles *o, const double *x);
+void rk_barrier_add_gradient(const rk_fem *f, const rk_obstacles *o, const double *x,
+                             double scale, double *g);
+void rk_barrier_add_hessian(const rk_fem *f, const rk_obstacles *o, const double *x,
+                            double scale, rk_sparse *H);
+/* Step filtering (IPC): the largest alpha in (0, 1] such that, for every vertex and plane, the
+ * distance along x + alpha * dx never drops below 10% of its current value; so no line-search
+ * trial can cross a plane. */
+double rk_planes_max_step(const rk_obstacles *o, int nv, const double *x, const double *dx);
+
+#endif

@@ -1,0 +1,91 @@
+/* precompute/fom: the full-order simulator, the ground truth every reduced model is judged
+ * against. Incremental-potential time stepping (adaptive-subspace paper, Sec. 3.1, Eq. 1-3):
+ *
+ *   x_{t+1} = argmin_x  1/2 |x - x~|_M^2 + alpha h^2 (Psi(x) + B(x) + D(x) - f_ext . x)
+ *
+ * backward Euler: x~ = x_t + h v_t, alpha = 1, v_{t+1} = (x_{t+1} - x_t) / h
+ * BDF2 (footnote 9): x~ = (4 x_t - x_{t-1})/3 + 2h/9 (4 v_t - v_{t-1}), alpha = 4/9,
+ *                    v_{t+1} = (3 x_{t+1} - 4 x_t + x_{t-1}) / (2h); the first step is backward Euler.
+ * Psi elastic, B the ground-plane barrier, D Rayleigh damping as the quadratic potential
+ * 1/(2h) (x - x_t)^T (a M + b K0) (x - x_t) with K0 the rest stiffness.
+ * Newton with PSD-projected element Hessians, CHOLMOD (symbolic analysis once, numeric
+ * factorization per iteration), backtracking line search on the incremental potential,
+ * plane step filtering, termination on |d|_inf / h <= tol (Sec. 3.10). Prescribed vertices
+ * (fixed, twisted, translated) are set to their targets at the start of each step and their
+ * degrees of freedom are removed from the Newton system. */
+#ifndef RK_FOM_H
+#define RK_FOM_H
+
+#include "fem/fem.h"
+#include "util/error.h"
+
+typedef enum { RK_BACKWARD_EULER = 0, RK_BDF2 = 1 } rk_integrator;
+
+typedef enum { RK_MOTION_FIXED = 0, RK_MOTION_TWIST = 1, RK_MOTION_TRANSLATE = 2 } rk_motion_kind;
+
+/* A group of prescribed vertices. */
+typedef struct {
+    rk_motion_kind kind;
+    int count;
+    int *verts;
+    double axis[3];      /* twist: unit axis */
+    double center[3];    /* twist: a point on the axis (default: the group's rest centroid) */
+    double rate;         /* twist: radians per second */
+    double velocity[3];  /* translate: m/s */
+} rk_prescribed;
+
+typedef struct {
+    double h;                 /* time step (s) */
+    int steps;                /* number of steps to run */
+    rk_integrator integrator;
+    int is_static;            /* static equilibrium solve instead of dynamics */
+    int lumped_mass;          /* lumped instead of consistent mass in the inertia term */
+    double gravity[3];        /* m/s^2 */
+    double *force;            /* 3*nv extra external forces (N), or NULL */
+    double *velocity0;        /* 3*nv initial velocities, or NULL for rest */
+    double rayleigh_mass;     /* a in (a M + b K0) */
+    double rayleigh_stiffness;/* b */
+    rk_obstacles obstacles;
+    int nprescribed;
+    rk_prescribed *prescribed;
+    double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m) */
+    int newton_max_iter;
+} rk_fom_options;
+
+/* Fills defaults: h 0.01, backward Euler, consistent mass, no gravity, no damping,
+ * newton_tol 1e-6 * (bounding-box diagonal) per second, 50 Newton iterations. */
+void rk_fom_default_options(rk_fom_options *o);
+
+typedef struct {
+    long steps;
+    long newton_iterations;
+    long line_search_halvings;
+    long unconverged_steps;   /* steps that hit newton_max_iter */
+    double seconds_total;
+    double seconds_factor;    /* CHOLMOD numeric factorization */
+    double seconds_solve;     /* triangular solves */
+    double seconds_assemble;  /* energy, gradient, Hessian */
+} rk_fom_stats;
+
+typedef struct rk_fom_impl rk_fom_impl;
+
+typedef struct {
+    const rk_fem *fem;
+    rk_fom_options opt;
+    double t;          /* current time */
+    double *x;         /* 3*nv current positions */
+    double *v;         /* 3*nv current velocities */
+    rk_fom_stats stats;
+    rk_fom_impl *impl; /* CHOLMOD state, scratch */
+} rk_fom;
+
+int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_error *err);
+/* One time step. Fails (with the step number) on NaN or a Newton system CHOLMOD rejects. */
+int rk_fom_step(rk_fom *s, rk_error *err);
+/* Static equilibrium under gravity, forces and prescribed vertices (at time opt.steps*h). */
+int rk_fom_static(rk_fom *s, rk_error *err);
+/* Total kinetic energy 1/2 v^T M v and elastic energy at the current state. */
+double rk_fom_kinetic_energy(const rk_fom *s);
+void rk_fom_free(rk_fom *s);
+
+#endif

@@ -1,0 +1,45 @@
+#!/bin/sh
+# Runs every unit test executable and integration script, counts "ok"/"FAIL" lines and
+# prints the closing line "N passed, N failed". An executable that crashes or exits non-zero
+# without saying FAIL counts as one failure of its own.
+# Usage: BUILD=build sh tests/run.sh [filter]
+BUILD=${BUILD:-build}
+FILTER=${1:-}
+export ROMKIT=${ROMKIT:-$PWD/$BUILD/romkit}
+export ROMKIT_BUILD=$BUILD
+passed=0
+failed=0
+log=$(mktemp)
+run_one() {
+    name=$1; shift
+    start=$(date +%s)
+    "$@" >"$log" 2>&1
+    rc=$?
+    cat "$log"
+    p=$(grep -c '^ok ' "$log")
+    f=$(grep -c '^FAIL ' "$log")
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+        echo "FAIL $name: exited with status $rc"
+        f=1
+    fi
+    if [ "$p" -eq 0 ] && [ "$f" -eq 0 ]; then
+        echo "FAIL $name: ran no test"
+        f=1
+    fi
+    passed=$((passed + p))
+    failed=$((failed + f))
+    echo "# $name: $p passed, $f failed, $(( $(date +%s) - start )) s"
+}
+for t in "$BUILD"/tests/test_*; do
+    [ -x "$t" ] || continue
+    case "$t" in *"$FILTER"*) ;; *) continue ;; esac
+    run_one "$(basename "$t")" "$t"
+done
+for t in tests/integration/*.sh; do
+    [ -f "$t" ] || continue
+    case "$t" in *"$FILTER"*) ;; *) continue ;; esac
+    run_one "$(basename "$t")" sh "$t"
+done
+rm -f "$log"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
