@@ -4,8 +4,8 @@ CC       ?= cc
 BUILD    ?= build
 OPT      ?= -O2
 SANFLAGS ?=
-WARN     := -Wall -Wextra -Werror -Wshadow -Wno-unused-parameter
-CFLAGS_PC := -std=c11 -D_POSIX_C_SOURCE=200809L $(OPT) -g $(WARN) $(SANFLAGS) \
+WARN     := -Wall -Wextra -Werror -Wshadow -Wno-unused-parameter -Wno-format-truncation
+CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) \
              -I. -Iprecompute -I/usr/include/suitesparse
 LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)

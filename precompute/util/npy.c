@@ -6,10 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/atomic_file.h"
 
-int rk_npy_write(const char *path, const double *data, int ndim, const long *shape, rk_error *err)
+int rk_npy_stream_open(rk_npy_stream *st, const char *path, int ndim, const long *shape, rk_error *err)
 {
+    memset(st, 0, sizeof *st);
     if (ndim < 1 || ndim > 4) return rk_fail(err, "%s: npy arrays must have 1 to 4 dimensions", path);
     char dims[160] = "";
     size_t count = 1;
@@ -27,17 +27,42 @@ int rk_npy_write(const char *path, const double *data, int ndim, const long *sha
      * and ended by a newline, as the format asks. */
     int total = 10 + len + 1;
     int pad = (64 - total % 64) % 64;
-    rk_atomic_file f;
-    if (rk_atomic_open(&f, path, err)) return -1;
+    if (rk_atomic_open(&st->file, path, err)) return -1;
     uint16_t hlen = (uint16_t)(len + pad + 1);
     unsigned char pre[10] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0,
                              (unsigned char)(hlen & 0xff), (unsigned char)(hlen >> 8)};
-    fwrite(pre, 1, 10, f.fp);
-    fwrite(header, 1, (size_t)len, f.fp);
-    for (int i = 0; i < pad; i++) fputc(' ', f.fp);
-    fputc('\n', f.fp);
-    fwrite(data, sizeof(double), count, f.fp); /* x86/ARM hosts are little-endian */
-    return rk_atomic_commit(&f, err);
+    fwrite(pre, 1, 10, st->file.fp);
+    fwrite(header, 1, (size_t)len, st->file.fp);
+    for (int i = 0; i < pad; i++) fputc(' ', st->file.fp);
+    fputc('\n', st->file.fp);
+    st->expected = count;
+    return 0;
+}
+
+void rk_npy_stream_append(rk_npy_stream *st, const double *data, size_t count)
+{
+    fwrite(data, sizeof(double), count, st->file.fp); /* x86 and ARM hosts are little-endian */
+    st->written += count;
+}
+
+int rk_npy_stream_commit(rk_npy_stream *st, rk_error *err)
+{
+    if (st->written != st->expected) {
+        rk_atomic_abort(&st->file);
+        return rk_fail(err, "%s: %zu values written, the shape promised %zu", st->file.final_path,
+                       st->written, st->expected);
+    }
+    return rk_atomic_commit(&st->file, err);
+}
+
+void rk_npy_stream_abort(rk_npy_stream *st) { rk_atomic_abort(&st->file); }
+
+int rk_npy_write(const char *path, const double *data, int ndim, const long *shape, rk_error *err)
+{
+    rk_npy_stream st;
+    if (rk_npy_stream_open(&st, path, ndim, shape, err)) return -1;
+    rk_npy_stream_append(&st, data, st.expected);
+    return rk_npy_stream_commit(&st, err);
 }
 
 int rk_npy_read(const char *path, double **data, int *ndim, long shape[4], rk_error *err)

@@ -1,0 +1,27 @@
+/* Element inversion: the count of elements whose deformation gradient has det F <= 0. */
+#include "fem/fem.h"
+
+#include <math.h>
+
+static double det3(const double F[9])
+{
+    return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+           F[2] * (F[3] * F[7] - F[4] * F[6]);
+}
+
+int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J)
+{
+    int inverted = 0;
+    double lowest = INFINITY;
+    for (int t = 0; t < f->nt; t++) {
+        double xe[12], F[9];
+        for (int a = 0; a < 4; a++)
+            for (int i = 0; i < 3; i++) xe[3 * a + i] = x[3 * f->tets[4 * t + a] + i];
+        rk_tet_F(xe, &f->Dm_inv[9 * t], F);
+        double J = det3(F);
+        if (!(J > 0)) inverted++;
+        if (J < lowest) lowest = J;
+    }
+    if (min_J) *min_J = lowest;
+    return inverted;
+}

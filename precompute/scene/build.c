@@ -1,0 +1,260 @@
+/* rk_scene -> something to simulate: meshes loaded (surfaces tetrahedralized), placed and
+ * concatenated; one material per element (regions override by element centroid, in order);
+ * the FEM model; full-order options with prescribed vertex groups, loads and initial velocities. */
+#include "scene/scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), m = strlen(ext);
+    return n > m && strcmp(path + n - m, ext) == 0;
+}
+
+static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_error *err)
+{
+    memset(m, 0, sizeof *m);
+    switch (o->shape) {
+    case RK_SHAPE_BOX:
+        return rk_mesh_box(o->box_size, o->box_cells, m, err);
+    case RK_SHAPE_POINTS:
+        return rk_fail(err, "objects[%d].mesh.points: a point cloud has no elements; the full-order "
+                            "simulator needs a tet mesh or a closed surface (mesh.file)", k);
+    case RK_SHAPE_FILE:
+        break;
+    }
+    if (has_extension(o->file, ".obj") || has_extension(o->file, ".off") || has_extension(o->file, ".stl") ||
+        has_extension(o->file, ".ply")) {
+        rk_surface s;
+        if (rk_surface_load(o->file, &s, err)) return -1;
+        int rc = rk_surface_check(&s, o->file, err);
+        if (!rc) rc = rk_tetrahedralize(&s, o->quality, o->max_volume, m, err);
+        rk_surface_free(&s);
+        return rc;
+    }
+    rk_mesh_report rep;
+    return rk_mesh_load(o->file, m, &rep, err);
+}
+
+/* Appends b to a (vertices, tets, tags). */
+static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
+{
+    double *X = realloc(a->X, sizeof(double) * 3 * (size_t)(a->nv + b->nv));
+    if (X) a->X = X;
+    int *T = realloc(a->tets, sizeof(int) * 4 * (size_t)(a->nt + b->nt));
+    if (T) a->tets = T;
+    if (!X || !T) return rk_fail(err, "out of memory joining the scene's meshes");
+    memcpy(a->X + 3 * (size_t)a->nv, b->X, sizeof(double) * 3 * (size_t)b->nv);
+    for (size_t i = 0; i < 4 * (size_t)b->nt; i++) a->tets[4 * (size_t)a->nt + i] = b->tets[i] + a->nv;
+    a->nv += b->nv;
+    a->nt += b->nt;
+    free(a->tet_tag); /* tags are per file; a joined mesh has none */
+    a->tet_tag = NULL;
+    return 0;
+}
+
+static int in_box(const rk_box *b, const double *p, double slack)
+{
+    for (int i = 0; i < 3; i++)
+        if (p[i] < b->min[i] - slack || p[i] > b->max[i] + slack) return 0;
+    return 1;
+}
+
+static void assign_materials(const rk_scene *s, rk_scene_sim *out)
+{
+    const rk_mesh *m = &out->mesh;
+    for (int k = 0; k < s->nobjects; k++) {
+        const rk_scene_object *o = &s->objects[k];
+        for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++) {
+            double c[3] = {0, 0, 0};
+            for (int a = 0; a < 4; a++)
+                for (int i = 0; i < 3; i++) c[i] += 0.25 * m->X[3 * m->tets[4 * t + a] + i];
+            out->materials[t] = o->material;
+            for (int r = 0; r < o->nregions; r++)
+                if (in_box(&o->regions[r].box, c, 0)) out->materials[t] = o->regions[r].material;
+        }
+    }
+}
+
+static double scene_diagonal(const rk_mesh *m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < m->nv; v++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], m->X[3 * v + i]);
+            hi[i] = fmax(hi[i], m->X[3 * v + i]);
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+/* Prescribed groups: each "fixed"/"moving" box selects the object's vertices inside it. A vertex
+ * claimed by an earlier group stays there (fixed entries come first). An empty selection is an error. */
+static int build_prescribed(const rk_scene *s, rk_scene_sim *out, double slack, rk_error *err)
+{
+    int total = 0;
+    for (int k = 0; k < s->nobjects; k++) total += s->objects[k].nmotions;
+    rk_fom_options *opt = &out->options;
+    opt->prescribed = rk_calloc((size_t)total, sizeof *opt->prescribed, err);
+    char *claimed = rk_calloc((size_t)out->mesh.nv, 1, err);
+    if (!opt->prescribed || !claimed) {
+        free(claimed);
+        return -1;
+    }
+    for (int k = 0; k < s->nobjects; k++) {
+        const rk_scene_object *o = &s->objects[k];
+        int v0 = out->object_first_vertex[k], v1 = out->object_first_vertex[k + 1];
+        int nfixed = 0, nmoving = 0;
+        for (int j = 0; j < o->nmotions; j++) {
+            const rk_scene_motion *mo = &o->motions[j];
+            int is_fixed = mo->kind == RK_MOTION_FIXED;
+            int label = is_fixed ? nfixed++ : nmoving++;
+            rk_prescribed *p = &opt->prescribed[opt->nprescribed];
+            p->verts = rk_calloc((size_t)(v1 - v0), sizeof(int), err);
+            if (!p->verts) {
+                free(claimed);
+                return -1;
+            }
+            opt->nprescribed++;
+            double centroid[3] = {0, 0, 0};
+            for (int v = v0; v < v1; v++) {
+                if (claimed[v] || !in_box(&mo->box, &out->mesh.X[3 * v], slack)) continue;
+                claimed[v] = 1;
+                p->verts[p->count++] = v;
+                for (int i = 0; i < 3; i++) centroid[i] += out->mesh.X[3 * v + i];
+            }
+            if (p->count == 0) {
+                free(claimed);
+                return rk_fail(err, "%s: objects[%d].%s[%d].box selects no vertex of the object", s->path, k,
+                               is_fixed ? "fixed" : "moving", label);
+            }
+            p->kind = mo->kind;
+            memcpy(p->axis, mo->axis, sizeof p->axis);
+            memcpy(p->velocity, mo->velocity, sizeof p->velocity);
+            p->rate = mo->rate;
+            for (int i = 0; i < 3; i++) p->center[i] = mo->has_center ? mo->center[i] : centroid[i] / p->count;
+        }
+    }
+    free(claimed);
+    return 0;
+}
+
+/* Loads: a total force per box, shared among the selected vertices in proportion to their mass. */
+static int build_loads_and_velocities(const rk_scene *s, rk_scene_sim *out, double slack, rk_error *err)
+{
+    int nv = out->mesh.nv;
+    rk_fom_options *opt = &out->options;
+    opt->force = rk_calloc(3 * (size_t)nv, sizeof(double), err);
+    opt->velocity0 = rk_calloc(3 * (size_t)nv, sizeof(double), err);
+    if (!opt->force || !opt->velocity0) return -1;
+    for (int k = 0; k < s->nobjects; k++) {
+        const rk_scene_object *o = &s->objects[k];
+        int v0 = out->object_first_vertex[k], v1 = out->object_first_vertex[k + 1];
+        for (int v = v0; v < v1; v++)
+            for (int i = 0; i < 3; i++) opt->velocity0[3 * v + i] = o->velocity[i];
+        for (int j = 0; j < o->nloads; j++) {
+            double mass = 0;
+            for (int v = v0; v < v1; v++)
+                if (in_box(&o->loads[j].box, &out->mesh.X[3 * v], slack)) mass += out->fem.vertex_mass[v];
+            if (!(mass > 0))
+                return rk_fail(err, "%s: objects[%d].loads[%d].box selects no vertex of the object", s->path, k, j);
+            for (int v = v0; v < v1; v++)
+                if (in_box(&o->loads[j].box, &out->mesh.X[3 * v], slack))
+                    for (int i = 0; i < 3; i++)
+                        opt->force[3 * v + i] += o->loads[j].force[i] * out->fem.vertex_mass[v] / mass;
+        }
+    }
+    return 0;
+}
+
+/* Obstacles: every vertex must start strictly on the positive side of every plane. */
+static int build_obstacles(const rk_scene *s, rk_scene_sim *out, double diag, rk_error *err)
+{
+    rk_obstacles *ob = &out->options.obstacles;
+    ob->count = s->nplanes;
+    ob->planes = s->nplanes ? rk_calloc((size_t)s->nplanes, sizeof(rk_plane), err) : NULL;
+    if (s->nplanes && !ob->planes) return -1;
+    if (s->nplanes) memcpy(ob->planes, s->planes, sizeof(rk_plane) * (size_t)s->nplanes);
+    /* The barrier acts within dhat of a plane; kappa makes its push at dhat/2 about ten times
+     * the weight, so resting contact sits well inside the activation band. */
+    double g = sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] + s->gravity[2] * s->gravity[2]);
+    ob->dhat = 1e-3 * diag;
+    ob->kappa = 10.0 * fmax(g, 1.0) / ob->dhat;
+    for (int p = 0; p < ob->count; p++)
+        for (int v = 0; v < out->mesh.nv; v++) {
+            const double *x = &out->mesh.X[3 * v];
+            const rk_plane *pl = &ob->planes[p];
+            double d = 0;
+            for (int i = 0; i < 3; i++) d += (x[i] - pl->point[i]) * pl->normal[i];
+            if (!(d > 0))
+                return rk_fail(err, "%s: obstacles[%d]: vertex %d starts on or behind the plane (distance %g m)",
+                               s->path, p, v, d);
+        }
+    return 0;
+}
+
+int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->object_first_vertex = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
+    out->object_first_tet = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
+    if (!out->object_first_vertex || !out->object_first_tet) goto fail;
+    for (int k = 0; k < s->nobjects; k++) {
+        rk_mesh m;
+        if (load_object_mesh(&s->objects[k], k, &m, err)) {
+            rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
+            goto fail;
+        }
+        rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
+        int rc = append_mesh(&out->mesh, &m, err);
+        rk_mesh_free(&m);
+        if (rc) goto fail;
+        out->object_first_vertex[k + 1] = out->mesh.nv;
+        out->object_first_tet[k + 1] = out->mesh.nt;
+    }
+    if (rk_mesh_check(&out->mesh, s->path, &out->mesh_report, err)) goto fail;
+    out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
+    if (!out->materials) goto fail;
+    assign_materials(s, out);
+    if (rk_fem_init(&out->fem, &out->mesh, out->materials, err)) goto fail;
+
+    rk_fom_options *opt = &out->options;
+    rk_fom_default_options(opt);
+    opt->h = s->h;
+    out->steps = (int)floor(s->duration / s->h + 0.5);
+    opt->steps = out->steps;
+    opt->integrator = s->integrator;
+    opt->is_static = s->is_static;
+    opt->lumped_mass = s->lumped_mass;
+    memcpy(opt->gravity, s->gravity, sizeof opt->gravity);
+    opt->rayleigh_mass = s->damping_mass;
+    opt->rayleigh_stiffness = s->damping_stiffness;
+    if (s->newton_tol > 0) opt->newton_tol = s->newton_tol;
+    if (s->newton_max_iter > 0) opt->newton_max_iter = s->newton_max_iter;
+    double diag = scene_diagonal(&out->mesh);
+    double slack = 1e-9 * diag; /* a box edge on a vertex layer selects that layer */
+    if (build_prescribed(s, out, slack, err)) goto fail;
+    if (build_loads_and_velocities(s, out, slack, err)) goto fail;
+    if (build_obstacles(s, out, diag, err)) goto fail;
+    return 0;
+fail:
+    rk_scene_sim_free(out);
+    return -1;
+}
+
+void rk_scene_sim_free(rk_scene_sim *out)
+{
+    rk_fem_free(&out->fem);
+    rk_mesh_free(&out->mesh);
+    free(out->materials);
+    for (int i = 0; i < out->options.nprescribed; i++) free(out->options.prescribed[i].verts);
+    free(out->options.prescribed);
+    free(out->options.force);
+    free(out->options.velocity0);
+    free(out->options.obstacles.planes);
+    free(out->object_first_vertex);
+    free(out->object_first_tet);
+    memset(out, 0, sizeof *out);
+}

@@ -1,0 +1,94 @@
+#include "scene/json_get.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+int rk_json_fail(const rk_json_ctx *c, const char *path, const char *fmt, ...)
+{
+    char what[700];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    return rk_fail(c->err, "%s: %s: %s", c->file, path[0] ? path : "(top level)", what);
+}
+
+int rk_json_check_keys(const rk_json_ctx *c, const cJSON *obj, const char *path,
+                       const char *const *allowed)
+{
+    if (!cJSON_IsObject(obj)) return rk_json_fail(c, path, "must be an object");
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        int known = 0;
+        for (const char *const *a = allowed; *a; a++)
+            if (strcmp(it->string, *a) == 0) known = 1;
+        if (!known) {
+            char list[400] = "";
+            for (const char *const *a = allowed; *a; a++) {
+                if (strlen(list) + strlen(*a) + 3 >= sizeof list) break;
+                strcat(list, list[0] ? ", " : "");
+                strcat(list, *a);
+            }
+            return rk_json_fail(c, path, "unknown key '%s' (expected one of: %s)", it->string, list);
+        }
+    }
+    return 0;
+}
+
+const cJSON *rk_json_child(const cJSON *obj, const char *path, const char *key,
+                           char *child_path, size_t child_path_size)
+{
+    snprintf(child_path, child_path_size, "%s%s%s", path, path[0] ? "." : "", key);
+    return cJSON_GetObjectItemCaseSensitive(obj, key);
+}
+
+int rk_json_number(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                   int required, double *out)
+{
+    char p[512];
+    const cJSON *v = rk_json_child(obj, path, key, p, sizeof p);
+    if (!v) return required ? rk_json_fail(c, p, "missing (a number is required)") : 0;
+    if (!cJSON_IsNumber(v)) return rk_json_fail(c, p, "must be a number");
+    if (!isfinite(v->valuedouble)) return rk_json_fail(c, p, "must be finite");
+    *out = v->valuedouble;
+    return 0;
+}
+
+int rk_json_vector(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                   int required, int n, double *out)
+{
+    char p[512];
+    const cJSON *v = rk_json_child(obj, path, key, p, sizeof p);
+    if (!v) return required ? rk_json_fail(c, p, "missing (an array of %d numbers is required)", n) : 0;
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != n)
+        return rk_json_fail(c, p, "must be an array of %d numbers", n);
+    int i = 0;
+    for (const cJSON *it = v->child; it; it = it->next, i++) {
+        if (!cJSON_IsNumber(it) || !isfinite(it->valuedouble))
+            return rk_json_fail(c, p, "entry %d must be a finite number", i);
+        out[i] = it->valuedouble;
+    }
+    return 0;
+}
+
+int rk_json_bool(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key, int *out)
+{
+    char p[512];
+    const cJSON *v = rk_json_child(obj, path, key, p, sizeof p);
+    if (!v) return 0;
+    if (!cJSON_IsBool(v)) return rk_json_fail(c, p, "must be true or false");
+    *out = cJSON_IsTrue(v);
+    return 0;
+}
+
+int rk_json_string(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                   int required, const char **out)
+{
+    char p[512];
+    const cJSON *v = rk_json_child(obj, path, key, p, sizeof p);
+    if (!v) return required ? rk_json_fail(c, p, "missing (a string is required)") : 0;
+    if (!cJSON_IsString(v) || !v->valuestring) return rk_json_fail(c, p, "must be a string");
+    *out = v->valuestring;
+    return 0;
+}

@@ -1,0 +1,39 @@
+/* Strict JSON access for the scene parser: every getter checks the type and, on failure,
+ * writes "<file>: <json.path>: <what is wrong>" into err. Internal to precompute/scene. */
+#ifndef RK_SCENE_JSON_GET_H
+#define RK_SCENE_JSON_GET_H
+
+#include <cjson/cJSON.h>
+
+#include "util/error.h"
+
+typedef struct {
+    const char *file;  /* scene file, for messages */
+    rk_error *err;
+} rk_json_ctx;
+
+/* Fails with "<file>: <path>: <message>". Returns -1. */
+int rk_json_fail(const rk_json_ctx *c, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* `obj` must be a JSON object whose keys are all in the NULL-terminated `allowed` list. */
+int rk_json_check_keys(const rk_json_ctx *c, const cJSON *obj, const char *path,
+                       const char *const *allowed);
+
+/* Child `key` of `obj`, its JSON path written into child_path. NULL when absent. */
+const cJSON *rk_json_child(const cJSON *obj, const char *path, const char *key,
+                           char *child_path, size_t child_path_size);
+
+/* A finite number. When absent: fails if required, otherwise leaves *out unchanged. */
+int rk_json_number(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                   int required, double *out);
+/* An array of exactly n finite numbers. */
+int rk_json_vector(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                   int required, int n, double *out);
+int rk_json_bool(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                 int *out);
+/* A string; *out points into the JSON tree. */
+int rk_json_string(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                   int required, const char **out);
+
+#endif

@@ -1,0 +1,414 @@
+/* Scene file -> rk_scene. Strict: unknown keys, wrong types and nonsense values are errors
+ * naming the JSON path; nothing is guessed. */
+#include "scene/scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene/json_get.h"
+
+#define PATH_LEN 512
+
+static int parse_material(const rk_json_ctx *c, const cJSON *obj, const char *path, int required,
+                          rk_material *m)
+{
+    static const char *const keys[] = {"model", "young", "poisson", "density", NULL};
+    if (rk_json_check_keys(c, obj, path, keys)) return -1;
+    const char *model = NULL;
+    if (rk_json_string(c, obj, path, "model", required, &model)) return -1;
+    if (model) {
+        static const char *const names[] = {"linear", "corotated", "stvk", "neohookean"};
+        static const rk_material_model ids[] = {RK_MAT_LINEAR, RK_MAT_COROTATED, RK_MAT_STVK,
+                                                RK_MAT_NEOHOOKEAN};
+        int found = -1;
+        for (int i = 0; i < 4; i++)
+            if (strcmp(model, names[i]) == 0) found = i;
+        if (found < 0) {
+            char p[PATH_LEN];
+            snprintf(p, sizeof p, "%s.model", path);
+            return rk_json_fail(c, p, "unknown material model '%s' (expected linear, corotated, stvk, neohookean)",
+                                model);
+        }
+        m->model = ids[found];
+    }
+    if (rk_json_number(c, obj, path, "young", required, &m->young)) return -1;
+    if (rk_json_number(c, obj, path, "poisson", required, &m->poisson)) return -1;
+    if (rk_json_number(c, obj, path, "density", required, &m->density)) return -1;
+    char p[PATH_LEN];
+    if (!(m->young > 0)) {
+        snprintf(p, sizeof p, "%s.young", path);
+        return rk_json_fail(c, p, "Young's modulus must be positive (Pa), got %g", m->young);
+    }
+    if (!(m->poisson > -1.0 && m->poisson < 0.5)) {
+        snprintf(p, sizeof p, "%s.poisson", path);
+        return rk_json_fail(c, p, "Poisson's ratio must be in (-1, 0.5), got %g", m->poisson);
+    }
+    if (!(m->density > 0)) {
+        snprintf(p, sizeof p, "%s.density", path);
+        return rk_json_fail(c, p, "density must be positive (kg/m^3), got %g", m->density);
+    }
+    return 0;
+}
+
+/* "box": [[xmin, ymin, zmin], [xmax, ymax, zmax]] */
+static int parse_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b)
+{
+    char p[PATH_LEN];
+    const cJSON *v = rk_json_child(obj, path, "box", p, sizeof p);
+    if (!v) return rk_json_fail(c, p, "missing (a selection box [[min x, y, z], [max x, y, z]] is required)");
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
+        return rk_json_fail(c, p, "must be [[min x, y, z], [max x, y, z]]");
+    double *corner[2] = {b->min, b->max};
+    for (int k = 0; k < 2; k++) {
+        const cJSON *row = cJSON_GetArrayItem(v, k);
+        if (!cJSON_IsArray(row) || cJSON_GetArraySize(row) != 3)
+            return rk_json_fail(c, p, "corner %d must be an array of 3 numbers", k);
+        for (int i = 0; i < 3; i++) {
+            const cJSON *x = cJSON_GetArrayItem(row, i);
+            if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble))
+                return rk_json_fail(c, p, "corner %d entry %d must be a finite number", k, i);
+            corner[k][i] = x->valuedouble;
+        }
+    }
+    for (int i = 0; i < 3; i++)
+        if (b->min[i] > b->max[i])
+            return rk_json_fail(c, p, "min exceeds max on axis %d (%g > %g)", i, b->min[i], b->max[i]);
+    return 0;
+}
+
+/* Iterates an optional array member; calls fn(ctx, item, item_path, index, user) on each entry. */
+typedef int (*item_fn)(const rk_json_ctx *c, const cJSON *item, const char *path, int i, void *user);
+static int each_item(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
+                     int *count, item_fn fn, void *user)
+{
+    char p[PATH_LEN];
+    const cJSON *arr = rk_json_child(obj, path, key, p, sizeof p);
+    if (!arr) return 0;
+    if (!cJSON_IsArray(arr)) return rk_json_fail(c, p, "must be an array");
+    int i = 0;
+    for (const cJSON *it = arr->child; it; it = it->next, i++) {
+        char ip[PATH_LEN];
+        snprintf(ip, sizeof ip, "%s[%d]", p, i);
+        if (fn(c, it, ip, i, user)) return -1;
+    }
+    *count = i;
+    return 0;
+}
+
+static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *scene_dir,
+                      rk_scene_object *o)
+{
+    static const char *const keys[] = {"file", "box", "points", "scale", "translate", "quality",
+                                       "max_volume", NULL};
+    if (rk_json_check_keys(c, obj, path, keys)) return -1;
+    const char *file = NULL, *points = NULL;
+    if (rk_json_string(c, obj, path, "file", 0, &file)) return -1;
+    if (rk_json_string(c, obj, path, "points", 0, &points)) return -1;
+    char p[PATH_LEN];
+    const cJSON *box = rk_json_child(obj, path, "box", p, sizeof p);
+    if ((file != NULL) + (points != NULL) + (box != NULL) != 1)
+        return rk_json_fail(c, path, "needs exactly one of 'file', 'box' or 'points'");
+    if (box) {
+        static const char *const box_keys[] = {"size", "cells", NULL};
+        if (rk_json_check_keys(c, box, p, box_keys)) return -1;
+        double cells[3];
+        if (rk_json_vector(c, box, p, "size", 1, 3, o->box_size)) return -1;
+        if (rk_json_vector(c, box, p, "cells", 1, 3, cells)) return -1;
+        for (int i = 0; i < 3; i++) {
+            if (!(o->box_size[i] > 0)) return rk_json_fail(c, p, "size entries must be positive");
+            if (cells[i] < 1 || cells[i] > 1000 || cells[i] != floor(cells[i]))
+                return rk_json_fail(c, p, "cells entries must be whole numbers from 1 to 1000");
+            o->box_cells[i] = (int)cells[i];
+        }
+        o->shape = RK_SHAPE_BOX;
+    } else {
+        const char *name = file ? file : points;
+        o->shape = file ? RK_SHAPE_FILE : RK_SHAPE_POINTS;
+        if (name[0] == '/' || !scene_dir[0]) snprintf(o->file, sizeof o->file, "%s", name);
+        else snprintf(o->file, sizeof o->file, "%s/%s", scene_dir, name);
+    }
+    o->scale = 1.0;
+    if (rk_json_number(c, obj, path, "scale", 0, &o->scale)) return -1;
+    if (!(o->scale > 0)) return rk_json_fail(c, path, "scale must be positive, got %g", o->scale);
+    if (rk_json_vector(c, obj, path, "translate", 0, 3, o->translate)) return -1;
+    if (rk_json_number(c, obj, path, "quality", 0, &o->quality)) return -1;
+    if (rk_json_number(c, obj, path, "max_volume", 0, &o->max_volume)) return -1;
+    if (o->quality != 0 && !(o->quality >= 1.0))
+        return rk_json_fail(c, path, "quality (radius-edge ratio bound) must be at least 1, got %g", o->quality);
+    if (o->max_volume < 0) return rk_json_fail(c, path, "max_volume must not be negative");
+    return 0;
+}
+
+static int parse_region(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    rk_scene_object *o = user;
+    static const char *const keys[] = {"box", "material", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    rk_scene_region *r = &o->regions[i];
+    if (parse_box(c, it, path, &r->box)) return -1;
+    char p[PATH_LEN];
+    const cJSON *m = rk_json_child(it, path, "material", p, sizeof p);
+    if (!m) return rk_json_fail(c, p, "missing");
+    r->material = o->material; /* inherit what the region leaves out */
+    return parse_material(c, m, p, 0, &r->material);
+}
+
+static int parse_fixed(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    rk_scene_object *o = user;
+    static const char *const keys[] = {"box", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    rk_scene_motion *mo = &o->motions[o->nmotions++];
+    mo->kind = RK_MOTION_FIXED;
+    return parse_box(c, it, path, &mo->box);
+}
+
+static int parse_moving(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    rk_scene_object *o = user;
+    static const char *const keys[] = {"box", "twist", "translate", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    rk_scene_motion *mo = &o->motions[o->nmotions++];
+    if (parse_box(c, it, path, &mo->box)) return -1;
+    char tp[PATH_LEN], sp[PATH_LEN];
+    const cJSON *twist = rk_json_child(it, path, "twist", tp, sizeof tp);
+    const cJSON *shift = rk_json_child(it, path, "translate", sp, sizeof sp);
+    if ((twist != NULL) == (shift != NULL))
+        return rk_json_fail(c, path, "needs exactly one of 'twist' or 'translate'");
+    if (twist) {
+        static const char *const tkeys[] = {"axis", "degrees_per_second", "center", NULL};
+        if (rk_json_check_keys(c, twist, tp, tkeys)) return -1;
+        double dps = 0;
+        if (rk_json_vector(c, twist, tp, "axis", 1, 3, mo->axis)) return -1;
+        if (rk_json_number(c, twist, tp, "degrees_per_second", 1, &dps)) return -1;
+        double len = sqrt(mo->axis[0] * mo->axis[0] + mo->axis[1] * mo->axis[1] + mo->axis[2] * mo->axis[2]);
+        if (!(len > 0)) return rk_json_fail(c, tp, "axis must not be zero");
+        for (int k = 0; k < 3; k++) mo->axis[k] /= len;
+        mo->has_center = cJSON_GetObjectItemCaseSensitive(twist, "center") != NULL;
+        if (rk_json_vector(c, twist, tp, "center", 0, 3, mo->center)) return -1;
+        mo->rate = dps * M_PI / 180.0;
+        mo->kind = RK_MOTION_TWIST;
+    } else {
+        static const char *const skeys[] = {"velocity", NULL};
+        if (rk_json_check_keys(c, shift, sp, skeys)) return -1;
+        if (rk_json_vector(c, shift, sp, "velocity", 1, 3, mo->velocity)) return -1;
+        mo->kind = RK_MOTION_TRANSLATE;
+    }
+    return 0;
+}
+
+static int parse_load(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    rk_scene_object *o = user;
+    static const char *const keys[] = {"box", "force", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    if (parse_box(c, it, path, &o->loads[i].box)) return -1;
+    return rk_json_vector(c, it, path, "force", 1, 3, o->loads[i].force);
+}
+
+static int array_size(const cJSON *obj, const char *key)
+{
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, key);
+    return cJSON_IsArray(a) ? cJSON_GetArraySize(a) : 0;
+}
+
+static int parse_object(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    const char *scene_dir = ((const char **)user)[0];
+    rk_scene_object *o = &((rk_scene_object *)((void **)user)[1])[i];
+    static const char *const keys[] = {"mesh", "material", "regions", "fixed", "moving", "loads",
+                                       "velocity", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    char p[PATH_LEN];
+    const cJSON *mesh = rk_json_child(it, path, "mesh", p, sizeof p);
+    if (!mesh) return rk_json_fail(c, p, "missing");
+    if (parse_mesh(c, mesh, p, scene_dir, o)) return -1;
+    const cJSON *mat = rk_json_child(it, path, "material", p, sizeof p);
+    if (!mat) return rk_json_fail(c, p, "missing");
+    if (parse_material(c, mat, p, 1, &o->material)) return -1;
+    o->regions = rk_calloc((size_t)array_size(it, "regions"), sizeof *o->regions, c->err);
+    o->motions = rk_calloc((size_t)(array_size(it, "fixed") + array_size(it, "moving")),
+                           sizeof *o->motions, c->err);
+    o->loads = rk_calloc((size_t)array_size(it, "loads"), sizeof *o->loads, c->err);
+    if (!o->regions || !o->motions || !o->loads) return -1;
+    int nfixed = 0, nmoving = 0;
+    if (each_item(c, it, path, "regions", &o->nregions, parse_region, o)) return -1;
+    if (each_item(c, it, path, "fixed", &nfixed, parse_fixed, o)) return -1;
+    if (each_item(c, it, path, "moving", &nmoving, parse_moving, o)) return -1;
+    if (each_item(c, it, path, "loads", &o->nloads, parse_load, o)) return -1;
+    return rk_json_vector(c, it, path, "velocity", 0, 3, o->velocity);
+}
+
+static int parse_obstacle(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    rk_scene *s = user;
+    static const char *const keys[] = {"plane", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    char p[PATH_LEN];
+    const cJSON *plane = rk_json_child(it, path, "plane", p, sizeof p);
+    if (!plane) return rk_json_fail(c, p, "missing");
+    static const char *const pkeys[] = {"point", "normal", NULL};
+    if (rk_json_check_keys(c, plane, p, pkeys)) return -1;
+    rk_plane *pl = &s->planes[i];
+    if (rk_json_vector(c, plane, p, "point", 1, 3, pl->point)) return -1;
+    if (rk_json_vector(c, plane, p, "normal", 1, 3, pl->normal)) return -1;
+    double len = sqrt(pl->normal[0] * pl->normal[0] + pl->normal[1] * pl->normal[1] +
+                      pl->normal[2] * pl->normal[2]);
+    if (!(len > 0)) return rk_json_fail(c, p, "normal must not be zero");
+    for (int k = 0; k < 3; k++) pl->normal[k] /= len;
+    return 0;
+}
+
+static int parse_time(const rk_json_ctx *c, const cJSON *t, const char *path, rk_scene *s)
+{
+    static const char *const keys[] = {"step", "duration", "integrator", "static", NULL};
+    if (rk_json_check_keys(c, t, path, keys)) return -1;
+    if (rk_json_number(c, t, path, "step", 0, &s->h)) return -1;
+    if (rk_json_number(c, t, path, "duration", 0, &s->duration)) return -1;
+    if (rk_json_bool(c, t, path, "static", &s->is_static)) return -1;
+    const char *integ = NULL;
+    if (rk_json_string(c, t, path, "integrator", 0, &integ)) return -1;
+    char p[PATH_LEN];
+    if (integ) {
+        if (strcmp(integ, "backward_euler") == 0) s->integrator = RK_BACKWARD_EULER;
+        else if (strcmp(integ, "bdf2") == 0) s->integrator = RK_BDF2;
+        else {
+            snprintf(p, sizeof p, "%s.integrator", path);
+            return rk_json_fail(c, p, "unknown integrator '%s' (expected backward_euler or bdf2)", integ);
+        }
+    }
+    if (!(s->h > 0)) {
+        snprintf(p, sizeof p, "%s.step", path);
+        return rk_json_fail(c, p, "time step must be positive (s), got %g", s->h);
+    }
+    if (s->duration < 0) {
+        snprintf(p, sizeof p, "%s.duration", path);
+        return rk_json_fail(c, p, "duration must not be negative (s), got %g", s->duration);
+    }
+    if (s->duration / s->h > 1e8) {
+        snprintf(p, sizeof p, "%s.duration", path);
+        return rk_json_fail(c, p, "duration / step asks for more than 1e8 steps");
+    }
+    return 0;
+}
+
+static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene_dir, rk_scene *s)
+{
+    static const char *const keys[] = {"objects", "gravity", "obstacles", "time", "rom", "damping",
+                                       "newton", "lumped_mass", NULL};
+    if (rk_json_check_keys(c, root, "", keys)) return -1;
+    char p[PATH_LEN];
+    const cJSON *objects = rk_json_child(root, "", "objects", p, sizeof p);
+    if (!cJSON_IsArray(objects) || cJSON_GetArraySize(objects) < 1)
+        return rk_json_fail(c, "objects", "must be a non-empty array of objects");
+    s->objects = rk_calloc((size_t)cJSON_GetArraySize(objects), sizeof *s->objects, c->err);
+    s->planes = rk_calloc((size_t)array_size(root, "obstacles"), sizeof *s->planes, c->err);
+    if (!s->objects || !s->planes) return -1;
+    /* Count first so rk_scene_free releases whatever a failed parse allocated. */
+    s->nobjects = cJSON_GetArraySize(objects);
+    const void *user[2] = {scene_dir, s->objects};
+    if (each_item(c, root, "", "objects", &s->nobjects, parse_object, (void *)user)) return -1;
+    if (rk_json_vector(c, root, "", "gravity", 0, 3, s->gravity)) return -1;
+    if (each_item(c, root, "", "obstacles", &s->nplanes, parse_obstacle, s)) return -1;
+    s->h = 0.01;
+    s->duration = 1.0;
+    const cJSON *t = rk_json_child(root, "", "time", p, sizeof p);
+    if (t && parse_time(c, t, p, s)) return -1;
+    const cJSON *damping = rk_json_child(root, "", "damping", p, sizeof p);
+    if (damping) {
+        static const char *const dkeys[] = {"mass", "stiffness", NULL};
+        if (rk_json_check_keys(c, damping, p, dkeys)) return -1;
+        if (rk_json_number(c, damping, p, "mass", 0, &s->damping_mass)) return -1;
+        if (rk_json_number(c, damping, p, "stiffness", 0, &s->damping_stiffness)) return -1;
+        if (s->damping_mass < 0 || s->damping_stiffness < 0)
+            return rk_json_fail(c, p, "Rayleigh coefficients must not be negative");
+    }
+    const cJSON *newton = rk_json_child(root, "", "newton", p, sizeof p);
+    if (newton) {
+        static const char *const nkeys[] = {"tolerance", "max_iterations", NULL};
+        if (rk_json_check_keys(c, newton, p, nkeys)) return -1;
+        double iters = 0;
+        if (rk_json_number(c, newton, p, "tolerance", 0, &s->newton_tol)) return -1;
+        if (rk_json_number(c, newton, p, "max_iterations", 0, &iters)) return -1;
+        if (s->newton_tol < 0 || iters < 0 || iters > 10000 || iters != floor(iters))
+            return rk_json_fail(c, p, "tolerance must be >= 0 and max_iterations a whole number up to 10000");
+        s->newton_max_iter = (int)iters;
+    }
+    if (rk_json_bool(c, root, "", "lumped_mass", &s->lumped_mass)) return -1;
+    const cJSON *rom = cJSON_GetObjectItemCaseSensitive(root, "rom");
+    if (rom) {
+        if (!cJSON_IsObject(rom) && !cJSON_IsArray(rom))
+            return rk_json_fail(c, "rom", "must be an object or an array of objects");
+        s->rom = cJSON_Duplicate(rom, 1);
+        if (!s->rom) return rk_fail(c->err, "%s: out of memory", c->file);
+    }
+    return 0;
+}
+
+int rk_scene_parse(const char *text, const char *path, rk_scene *s, rk_error *err)
+{
+    memset(s, 0, sizeof *s);
+    snprintf(s->path, sizeof s->path, "%s", path);
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash) *slash = '\0';
+    else dir[0] = '\0';
+    rk_json_ctx c = {path, err};
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
+    if (!root) {
+        /* cJSON gives where it stopped: turn that into a line and column. */
+        long line = 1, col = 1;
+        for (const char *q = text; end && q < end; q++) {
+            if (*q == '\n') { line++; col = 1; }
+            else col++;
+        }
+        return rk_fail(err, "%s:%ld:%ld: invalid JSON", path, line, col);
+    }
+    int rc = parse_root(&c, root, dir, s);
+    cJSON_Delete(root);
+    if (rc) rk_scene_free(s);
+    return rc;
+}
+
+int rk_scene_load(const char *path, rk_scene *s, rk_error *err)
+{
+    memset(s, 0, sizeof *s);
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return rk_fail(err, "%s: cannot open scene: %s", path, strerror(errno));
+    fseek(fp, 0, SEEK_END);
+    long size = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    if (size < 0 || size > (64L << 20)) {
+        fclose(fp);
+        return rk_fail(err, "%s: scene file too large (over 64 MiB)", path);
+    }
+    char *text = malloc((size_t)size + 1);
+    if (!text) {
+        fclose(fp);
+        return rk_fail(err, "%s: out of memory", path);
+    }
+    size_t got = fread(text, 1, (size_t)size, fp);
+    fclose(fp);
+    text[got] = '\0';
+    int rc = rk_scene_parse(text, path, s, err);
+    free(text);
+    return rc;
+}
+
+void rk_scene_free(rk_scene *s)
+{
+    for (int i = 0; i < s->nobjects; i++) {
+        free(s->objects[i].regions);
+        free(s->objects[i].motions);
+        free(s->objects[i].loads);
+    }
+    free(s->objects);
+    free(s->planes);
+    cJSON_Delete(s->rom);
+    memset(s, 0, sizeof *s);
+}

@@ -1,0 +1,23 @@
+#include "util/json_out.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/atomic_file.h"
+
+int rk_json_write_file(const char *path, const cJSON *root, rk_error *err)
+{
+    char *text = cJSON_Print(root);
+    if (!text) return rk_fail(err, "%s: out of memory formatting the report", path);
+    rk_atomic_file f;
+    if (rk_atomic_open(&f, path, err)) {
+        free(text);
+        return -1;
+    }
+    fputs(text, f.fp);
+    fputc('\n', f.fp);
+    free(text);
+    return rk_atomic_commit(&f, err);
+}
+
+cJSON *rk_json_array(const double *v, int n) { return cJSON_CreateDoubleArray(v, n); }

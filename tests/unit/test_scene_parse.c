@@ -1,0 +1,114 @@
+/* Scene files: good ones parse into what they say; each bad one gives one clear message that
+ * names the file and the JSON path of the problem. */
+#include "testlib.h"
+#include "scene/scene.h"
+
+#define BEAM_OBJECT                                                                         \
+    "\"mesh\": {\"box\": {\"size\": [5, 1, 1], \"cells\": [10, 2, 2]}},"                  \
+    "\"material\": {\"model\": \"neohookean\", \"young\": 5e6, \"poisson\": 0.45, \"density\": 1000}"
+
+TEST(parses_the_design_example)
+{
+    rk_error err;
+    rk_scene s;
+    const char *text =
+        "{\"objects\": [{" BEAM_OBJECT ","
+        "  \"regions\": [{\"box\": [[2.5, -1, -1], [6, 2, 2]], \"material\": {\"young\": 1e9}}],"
+        "  \"fixed\": [{\"box\": [[-1, -1, -1], [0.5, 2, 2]]}],"
+        "  \"moving\": [{\"box\": [[4.5, -1, -1], [6, 2, 2]], \"twist\": {\"axis\": [2, 0, 0], \"degrees_per_second\": 720}}],"
+        "  \"velocity\": [1, 0, 0]}],"
+        " \"gravity\": [0, -9.81, 0],"
+        " \"obstacles\": [{\"plane\": {\"point\": [0, -2, 0], \"normal\": [0, 2, 0]}}],"
+        " \"time\": {\"step\": 0.01, \"duration\": 1.0, \"integrator\": \"bdf2\", \"static\": false},"
+        " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 16}}";
+    CHECK_OK(rk_scene_parse(text, "dir/scene.json", &s, &err));
+    CHECK(s.nobjects == 1, "objects %d", s.nobjects);
+    const rk_scene_object *o = &s.objects[0];
+    CHECK(o->shape == RK_SHAPE_BOX && o->box_cells[0] == 10, "box");
+    CHECK(o->material.model == RK_MAT_NEOHOOKEAN && o->material.young == 5e6, "material");
+    CHECK(o->nregions == 1 && o->regions[0].material.young == 1e9 && o->regions[0].material.poisson == 0.45,
+          "region must override young and inherit the rest");
+    CHECK(o->nmotions == 2 && o->motions[0].kind == RK_MOTION_FIXED && o->motions[1].kind == RK_MOTION_TWIST,
+          "motions");
+    CHECK_CLOSE(o->motions[1].axis[0], 1.0, 1e-15);
+    CHECK_CLOSE(o->motions[1].rate, 4 * M_PI, 1e-12);
+    CHECK(s.nplanes == 1 && s.planes[0].normal[1] == 1.0, "plane normal must be normalized");
+    CHECK(s.integrator == RK_BDF2 && s.h == 0.01, "time");
+    CHECK(s.rom != NULL, "rom kept");
+    rk_scene_free(&s);
+}
+
+TEST(resolves_files_against_the_scene_folder)
+{
+    rk_error err;
+    rk_scene s;
+    const char *text = "{\"objects\": [{\"mesh\": {\"file\": \"meshes/a.msh\"},"
+                       " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}]}";
+    CHECK_OK(rk_scene_parse(text, "/data/scenes/s.json", &s, &err));
+    CHECK(strcmp(s.objects[0].file, "/data/scenes/meshes/a.msh") == 0, "file %s", s.objects[0].file);
+    rk_scene_free(&s);
+}
+
+/* Each bad scene must fail with a message containing every listed fragment. */
+static const struct {
+    const char *name, *text, *expect1, *expect2;
+} bad_scenes[] = {
+    {"unknown top key", "{\"objects\": [{" BEAM_OBJECT "}], \"gravty\": [0, -9.81, 0]}", "unknown key 'gravty'", "s.json"},
+    {"unknown material key", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}},"
+     " \"material\": {\"model\": \"linear\", \"yung\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].material", "unknown key 'yung'"},
+    {"negative density", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": -5}}]}",
+     "objects[0].material.density", "positive"},
+    {"poisson 0.5", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.5, \"density\": 1}}]}",
+     "objects[0].material.poisson", "(-1, 0.5)"},
+    {"unknown model", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}},"
+     " \"material\": {\"model\": \"rubber\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].material.model", "'rubber'"},
+    {"invalid json", "{\"objects\": [\n  {\"mesh\": ,}]}", "s.json:2:", "invalid JSON"},
+    {"no objects", "{\"objects\": []}", "objects", "non-empty"},
+    {"two mesh sources", "{\"objects\": [{\"mesh\": {\"file\": \"a.msh\", \"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "exactly one"},
+    {"negative step", "{\"objects\": [{" BEAM_OBJECT "}], \"time\": {\"step\": -0.01}}", "time.step", "positive"},
+    {"bad integrator", "{\"objects\": [{" BEAM_OBJECT "}], \"time\": {\"integrator\": \"rk4\"}}", "time.integrator", "'rk4'"},
+    {"box min above max", "{\"objects\": [{" BEAM_OBJECT ", \"fixed\": [{\"box\": [[1, 0, 0], [0, 1, 1]]}]}]}",
+     "objects[0].fixed[0].box", "min exceeds max"},
+    {"twist without axis", "{\"objects\": [{" BEAM_OBJECT ", \"moving\": [{\"box\": [[0,0,0],[1,1,1]], \"twist\": {\"degrees_per_second\": 1}}]}]}",
+     "objects[0].moving[0].twist.axis", "missing"},
+    {"gravity wrong length", "{\"objects\": [{" BEAM_OBJECT "}], \"gravity\": [0, -9.81]}", "gravity", "3 numbers"},
+    {"zero plane normal", "{\"objects\": [{" BEAM_OBJECT "}], \"obstacles\": [{\"plane\": {\"point\": [0,0,0], \"normal\": [0,0,0]}}]}",
+     "obstacles[0].plane", "zero"},
+};
+
+TEST(bad_scenes_give_one_clear_message)
+{
+    for (size_t i = 0; i < sizeof bad_scenes / sizeof bad_scenes[0]; i++) {
+        rk_error err = {{0}};
+        rk_scene s;
+        int rc = rk_scene_parse(bad_scenes[i].text, "s.json", &s, &err);
+        CHECK(rc != 0, "'%s' was accepted", bad_scenes[i].name);
+        CHECK(strstr(err.msg, bad_scenes[i].expect1) && strstr(err.msg, bad_scenes[i].expect2),
+              "'%s': message \"%s\" lacks \"%s\" or \"%s\"", bad_scenes[i].name, err.msg, bad_scenes[i].expect1,
+              bad_scenes[i].expect2);
+        CHECK(strchr(err.msg, '\n') == NULL, "'%s': message spans lines", bad_scenes[i].name);
+    }
+}
+
+TEST(missing_scene_file_is_named)
+{
+    rk_error err;
+    rk_scene s;
+    CHECK(rk_scene_load("/nonexistent/scene.json", &s, &err) != 0, "accepted");
+    CHECK(strstr(err.msg, "/nonexistent/scene.json") != NULL, "message: %s", err.msg);
+}
+
+int main(void)
+{
+    RUN(parses_the_design_example);
+    RUN(resolves_files_against_the_scene_folder);
+    RUN(bad_scenes_give_one_clear_message);
+    RUN(missing_scene_file_is_named);
+    return test_finish();
+}

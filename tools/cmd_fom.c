@@ -1,0 +1,207 @@
+/* romkit fom SCENE.json: full-order simulation (or a static solve) of a scene. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "commands.h"
+#include "fom/fom.h"
+#include "scene/scene.h"
+#include "util/json_out.h"
+#include "util/npy.h"
+#include "util/timer.h"
+
+int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
+
+static void fom_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: romkit fom SCENE.json [--positions P.npy] [--snapshots S.npy] [--frames DIR]\n"
+            "                  [--frame-format obj|ply|vtk|mesh] [--report R.json] [--quiet]\n\n"
+            "Runs the full-order simulation the scene describes (or its static equilibrium when\n"
+            "time.static is true) and writes what is asked:\n"
+            "  --positions P.npy   final positions, n x 3 float64\n"
+            "  --snapshots S.npy   every frame including the rest state, (steps+1) x n x 3 float64\n"
+            "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
+            "  --report R.json     counts, timings (seconds_per_step, factorization share), final state\n"
+            "Nothing is written when the run fails.\n\n"
+            "example:\n  romkit fom examples/scenes/beam_bend.json --snapshots bend.npy --report bend.json\n");
+}
+
+typedef struct {
+    const char *scene, *positions, *snapshots, *frames, *report;
+    const char *frame_format;
+    int quiet;
+} fom_args;
+
+static int parse_args(int argc, char **argv, fom_args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->frame_format = "obj";
+    for (int i = 1; i < argc; i++) {
+        const char **slot = NULL;
+        if (strcmp(argv[i], "--positions") == 0) slot = &a->positions;
+        else if (strcmp(argv[i], "--snapshots") == 0) slot = &a->snapshots;
+        else if (strcmp(argv[i], "--frames") == 0) slot = &a->frames;
+        else if (strcmp(argv[i], "--frame-format") == 0) slot = &a->frame_format;
+        else if (strcmp(argv[i], "--report") == 0) slot = &a->report;
+        else if (strcmp(argv[i], "--quiet") == 0) a->quiet = 1;
+        else if (argv[i][0] == '-' && argv[i][1]) {
+            fprintf(stderr, "romkit fom: unknown option '%s'\n", argv[i]);
+            return -1;
+        } else if (!a->scene) a->scene = argv[i];
+        else {
+            fprintf(stderr, "romkit fom: unexpected argument '%s'\n", argv[i]);
+            return -1;
+        }
+        if (slot) {
+            if (i + 1 >= argc) {
+                fprintf(stderr, "romkit fom: %s needs a value\n", argv[i]);
+                return -1;
+            }
+            *slot = argv[++i];
+        }
+    }
+    if (!a->scene) {
+        fprintf(stderr, "romkit fom: no scene file given\n");
+        return -1;
+    }
+    const char *formats[] = {"obj", "ply", "vtk", "mesh"};
+    for (int k = 0; k < 4; k++)
+        if (strcmp(a->frame_format, formats[k]) == 0) return 0;
+    fprintf(stderr, "romkit fom: --frame-format must be obj, ply, vtk or mesh\n");
+    return -1;
+}
+
+static int write_frame(const fom_args *a, const rk_mesh *m, const double *x, int frame, rk_error *err)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/frame_%05d.%s", a->frames, frame, a->frame_format);
+    return rk_mesh_write(path, m, x, err);
+}
+
+static cJSON *make_report(const rk_scene_sim *sim, const rk_fom *fom, int steps, double seconds_total)
+{
+    const rk_fom_stats *st = &fom->stats;
+    cJSON *r = cJSON_CreateObject();
+    cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
+    cJSON_AddNumberToObject(r, "tets", sim->mesh.nt);
+    cJSON_AddNumberToObject(r, "steps", steps);
+    cJSON_AddNumberToObject(r, "h", sim->options.h);
+    cJSON_AddStringToObject(r, "integrator", sim->options.is_static ? "static"
+                                             : sim->options.integrator == RK_BDF2 ? "bdf2"
+                                                                                   : "backward_euler");
+    cJSON_AddNumberToObject(r, "seconds_per_step", steps > 0 ? st->seconds_total / steps : st->seconds_total);
+    cJSON_AddNumberToObject(r, "newton_iterations", (double)st->newton_iterations);
+    cJSON_AddNumberToObject(r, "unconverged_steps", (double)st->unconverged_steps);
+    cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
+    cJSON_AddNumberToObject(sec, "total", seconds_total);
+    cJSON_AddNumberToObject(sec, "simulate", st->seconds_total);
+    cJSON_AddNumberToObject(sec, "factorization", st->seconds_factor);
+    cJSON_AddNumberToObject(sec, "solve", st->seconds_solve);
+    cJSON_AddNumberToObject(sec, "assembly", st->seconds_assemble);
+    cJSON_AddNumberToObject(r, "factorization_share", st->seconds_total > 0 ? st->seconds_factor / st->seconds_total : 0);
+    cJSON *mesh = cJSON_AddObjectToObject(r, "mesh");
+    cJSON_AddNumberToObject(mesh, "components", sim->mesh_report.components);
+    cJSON_AddNumberToObject(mesh, "reoriented", sim->mesh_report.reoriented);
+    cJSON_AddNumberToObject(mesh, "min_quality", sim->mesh_report.min_quality);
+    double min_J, max_disp = 0;
+    int inverted = rk_fem_inverted(&sim->fem, fom->x, &min_J);
+    for (int v = 0; v < sim->mesh.nv; v++) {
+        double d2 = 0;
+        for (int i = 0; i < 3; i++) d2 += pow(fom->x[3 * v + i] - sim->mesh.X[3 * v + i], 2);
+        max_disp = fmax(max_disp, sqrt(d2));
+    }
+    cJSON *fin = cJSON_AddObjectToObject(r, "final");
+    cJSON_AddNumberToObject(fin, "time", fom->t);
+    cJSON_AddNumberToObject(fin, "inverted_elements", inverted);
+    cJSON_AddNumberToObject(fin, "min_det_F", min_J);
+    cJSON_AddNumberToObject(fin, "max_displacement", max_disp);
+    cJSON_AddNumberToObject(fin, "kinetic_energy", rk_fom_kinetic_energy(fom));
+    cJSON_AddNumberToObject(fin, "elastic_energy", rk_fem_energy(&sim->fem, fom->x));
+    return r;
+}
+
+int cmd_fom(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            fom_usage(stdout);
+            return 0;
+        }
+    fom_args a;
+    if (parse_args(argc, argv, &a)) {
+        fom_usage(stderr);
+        return 2;
+    }
+    rk_progress_set_quiet(a.quiet);
+    double t0 = rk_now();
+    rk_error err = {{0}};
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_fom fom;
+    rk_npy_stream snap;
+    int have_scene = 0, have_sim = 0, have_fom = 0, have_snap = 0, rc = 1;
+    if (rk_scene_load(a.scene, &scene, &err)) goto done;
+    have_scene = 1;
+    if (rk_scene_build(&scene, &sim, &err)) goto done;
+    have_sim = 1;
+    if (rk_fom_init(&fom, &sim.fem, &sim.options, &err)) goto done;
+    have_fom = 1;
+    int nv = sim.mesh.nv;
+    int steps = sim.options.is_static ? 1 : sim.steps;
+    if (a.frames && mkdir(a.frames, 0777) != 0 && errno != EEXIST) {
+        rk_fail(&err, "%s: cannot create frames folder: %s", a.frames, strerror(errno));
+        goto done;
+    }
+    if (a.snapshots) {
+        long shape[3] = {steps + 1, nv, 3};
+        if (rk_npy_stream_open(&snap, a.snapshots, 3, shape, &err)) goto done;
+        have_snap = 1;
+        rk_npy_stream_append(&snap, fom.x, 3 * (size_t)nv);
+    }
+    if (a.frames && write_frame(&a, &sim.mesh, fom.x, 0, &err)) goto done;
+    for (int s = 0; s < steps; s++) {
+        int bad = sim.options.is_static ? rk_fom_static(&fom, &err) : rk_fom_step(&fom, &err);
+        if (bad) goto done;
+        if (have_snap) rk_npy_stream_append(&snap, fom.x, 3 * (size_t)nv);
+        if (a.frames && write_frame(&a, &sim.mesh, fom.x, s + 1, &err)) goto done;
+        rk_progress("fom", s + 1, steps);
+    }
+    rk_progress_done("fom");
+    if (have_snap) {
+        have_snap = 0;
+        if (rk_npy_stream_commit(&snap, &err)) goto done;
+    }
+    if (a.positions) {
+        long shape[2] = {nv, 3};
+        if (rk_npy_write(a.positions, fom.x, 2, shape, &err)) goto done;
+    }
+    cJSON *report = make_report(&sim, &fom, steps, rk_now() - t0);
+    if (a.report && rk_json_write_file(a.report, report, &err)) {
+        cJSON_Delete(report);
+        goto done;
+    }
+    const cJSON *fin = cJSON_GetObjectItem(report, "final");
+    printf("%s: %d vertices, %d tets; %d %s of %g s: %.4g s/step (factorization %.0f%%), "
+           "%.2f Newton iterations/step\n",
+           a.scene, nv, sim.mesh.nt, steps, sim.options.is_static ? "static solve" : "steps", sim.options.h,
+           cJSON_GetObjectItem(report, "seconds_per_step")->valuedouble,
+           100 * cJSON_GetObjectItem(report, "factorization_share")->valuedouble,
+           (double)fom.stats.newton_iterations / steps);
+    printf("final: %d inverted elements, max displacement %.4g m, kinetic energy %.4g J\n",
+           cJSON_GetObjectItem(fin, "inverted_elements")->valueint,
+           cJSON_GetObjectItem(fin, "max_displacement")->valuedouble,
+           cJSON_GetObjectItem(fin, "kinetic_energy")->valuedouble);
+    cJSON_Delete(report);
+    rc = 0;
+done:
+    if (rc) fprintf(stderr, "romkit fom: %s\n", err.msg);
+    if (have_snap) rk_npy_stream_abort(&snap);
+    if (have_fom) rk_fom_free(&fom);
+    if (have_sim) rk_scene_sim_free(&sim);
+    if (have_scene) rk_scene_free(&scene);
+    return rc;
+}

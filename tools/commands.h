@@ -1,0 +1,12 @@
+/* The romkit subcommands, one file each (tools/cmd_*.c). Each returns the process exit code:
+ * 0 success, 1 failure (message on stderr as "romkit CMD: ..."), 2 bad usage. */
+#ifndef ROMKIT_COMMANDS_H
+#define ROMKIT_COMMANDS_H
+
+int cmd_mesh(int argc, char **argv);
+int cmd_fom(int argc, char **argv);
+
+/* Shared by the commands: is argv[i] "--help" or "-h". */
+int is_help(const char *arg);
+
+#endif

@@ -1,0 +1,40 @@
+/* romkit: the command line. One subcommand per file; this file only dispatches. */
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+
+typedef struct {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} command;
+
+static const command commands[] = {
+    {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
+    {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh"},
+};
+
+int is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }
+
+static void usage(FILE *out)
+{
+    fprintf(out, "romkit: reduced-order models of deformable solids, baked offline, stepped in real time.\n\n"
+                 "usage: romkit COMMAND [ARGS]   (romkit COMMAND --help for details)\n\ncommands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out, "\nexample:\n  romkit fom examples/scenes/beam_bend.json --report bend.json\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || is_help(argv[1])) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "romkit: unknown command '%s'\n\n", argv[1]);
+    usage(stderr);
+    return 2;
+}
