@@ -1,0 +1,632 @@
+/* physics_impl.h: every line of per-element physics, written once (see physics.h).
+ *
+ * The includer defines, before including:
+ *   PHYS_REAL       the scalar type (float or double)
+ *   PHYS_FN(name)   the public name of each function, e.g. rk_##name
+ *   PHYS_FLOAT      (only when PHYS_REAL is float) selects sqrtf/fabsf and float epsilon
+ * Optionally PHYS_API, the storage class of the public functions (default: none, external).
+ *
+ * There is deliberately NO include guard: a translation unit may include this file once per
+ * precision (with a different PHYS_FN prefix each time; #undef PHYS_REAL, PHYS_FN and
+ * PHYS_FLOAT in between). Helpers are static and named through PHYS_FN too, so two copies
+ * never collide. Internal macros (PHYS_..._) are #undef'd at the end.
+ *
+ * Pure C99 (-std=c99 -pedantic), only <math.h> and <string.h>, no malloc, no global or static
+ * mutable state. Conventions as in physics.h: F[3*i + j] = F_ij, dPdF[9*(3i+j) + (3k+l)] =
+ * dP_ij/dF_kl, vec(M)[3*i + j] = M_ij, so "dP = dPdF vec(dF)". */
+
+#if !defined(PHYS_REAL) || !defined(PHYS_FN)
+#error "define PHYS_REAL and PHYS_FN(name) before including physics_impl.h"
+#endif
+
+#include <math.h>
+#include <string.h>
+
+#include "physics/physics.h" /* rk_material_model, shared by every precision */
+
+#ifndef PHYS_API
+#define PHYS_API
+#define PHYS_API_DEFAULTED_
+#endif
+
+#define PHYS_K_(x) ((PHYS_REAL)(x)) /* a literal in the working precision (no double promotion) */
+#ifdef PHYS_FLOAT
+#define PHYS_SQRT_ sqrtf
+#define PHYS_FABS_ fabsf
+#define PHYS_MATH_TYPE_ float
+#define PHYS_EPS_ PHYS_K_(1.1920928955078125e-7) /* FLT_EPSILON */
+#define PHYS_SQRT_EPS_ PHYS_K_(3.4526698e-4)
+#else
+#define PHYS_SQRT_ sqrt
+#define PHYS_FABS_ fabs
+#define PHYS_MATH_TYPE_ double
+#define PHYS_EPS_ PHYS_K_(2.220446049250313e-16) /* DBL_EPSILON */
+#define PHYS_SQRT_EPS_ PHYS_K_(1.4901161193847656e-8)
+#endif
+
+/* Compile-time check that PHYS_FLOAT agrees with PHYS_REAL (a negative array size fails). */
+typedef char PHYS_FN(precision_check_)[sizeof(PHYS_REAL) == sizeof(PHYS_MATH_TYPE_) ? 1 : -1];
+
+/* Prototypes of the public functions (the double ones repeat physics.h). */
+PHYS_API void PHYS_FN(lame)(PHYS_REAL young, PHYS_REAL poisson, PHYS_REAL *mu, PHYS_REAL *lambda);
+PHYS_API PHYS_REAL PHYS_FN(psi)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                const PHYS_REAL F[9]);
+PHYS_API void PHYS_FN(pk1)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                           const PHYS_REAL F[9], PHYS_REAL P[9]);
+PHYS_API void PHYS_FN(dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                            const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project);
+PHYS_API void PHYS_FN(tet_F)(const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL F[9]);
+PHYS_API PHYS_REAL PHYS_FN(tet_energy)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                       const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9],
+                                       PHYS_REAL vol);
+PHYS_API void PHYS_FN(tet_gradient)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                    const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL vol,
+                                    PHYS_REAL g[12]);
+PHYS_API void PHYS_FN(tet_hessian)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                   const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL vol,
+                                   PHYS_REAL H[144], int project);
+PHYS_API PHYS_REAL PHYS_FN(tet_rest)(const PHYS_REAL X[12], PHYS_REAL Dm_inv[9]);
+PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REAL *V);
+PHYS_API void PHYS_FN(project_psd)(int n, PHYS_REAL *A);
+
+/* ------------------------------------------------------------------------------------------
+ * Small 3x3 helpers (row-major).
+ * ------------------------------------------------------------------------------------------ */
+
+/* C = A B */
+static void PHYS_FN(m3_mul)(const PHYS_REAL A[9], const PHYS_REAL B[9], PHYS_REAL C[9])
+{
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            C[3 * i + j] = A[3 * i] * B[j] + A[3 * i + 1] * B[3 + j] + A[3 * i + 2] * B[6 + j];
+}
+
+/* C = A^T B */
+static void PHYS_FN(m3_mul_tn)(const PHYS_REAL A[9], const PHYS_REAL B[9], PHYS_REAL C[9])
+{
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            C[3 * i + j] = A[i] * B[j] + A[3 + i] * B[3 + j] + A[6 + i] * B[6 + j];
+}
+
+/* C = A B^T */
+static void PHYS_FN(m3_mul_nt)(const PHYS_REAL A[9], const PHYS_REAL B[9], PHYS_REAL C[9])
+{
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            C[3 * i + j] =
+                A[3 * i] * B[3 * j] + A[3 * i + 1] * B[3 * j + 1] + A[3 * i + 2] * B[3 * j + 2];
+}
+
+static PHYS_REAL PHYS_FN(m3_det)(const PHYS_REAL A[9])
+{
+    return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
+           A[2] * (A[3] * A[7] - A[4] * A[6]);
+}
+
+/* Cofactor matrix, cof_ij = dDet/dA_ij = A_{i+1,j+1} A_{i+2,j+2} - A_{i+1,j+2} A_{i+2,j+1}
+ * (indices mod 3); A^-1 = cof^T / det. */
+static void PHYS_FN(m3_cofactor)(const PHYS_REAL A[9], PHYS_REAL C[9])
+{
+    int i, j;
+    for (i = 0; i < 3; i++) {
+        int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+        for (j = 0; j < 3; j++) {
+            int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            C[3 * i + j] = A[3 * i1 + j1] * A[3 * i2 + j2] - A[3 * i1 + j2] * A[3 * i2 + j1];
+        }
+    }
+}
+
+/* Ainv = A^-1; returns det A. A singular A (det == 0) gives Ainv = 0. */
+static PHYS_REAL PHYS_FN(m3_inv)(const PHYS_REAL A[9], PHYS_REAL Ainv[9])
+{
+    PHYS_REAL C[9], det = PHYS_FN(m3_det)(A);
+    int i, j;
+    if (det == PHYS_K_(0)) {
+        memset(Ainv, 0, 9 * sizeof(PHYS_REAL));
+        return det;
+    }
+    PHYS_FN(m3_cofactor)(A, C);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) Ainv[3 * i + j] = C[3 * j + i] / det;
+    return det;
+}
+
+/* Levi-Civita symbol for indices in {0, 1, 2}. */
+static int PHYS_FN(levi)(int a, int b, int c)
+{
+    return (a - b) * (b - c) * (c - a) / 2;
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Symmetric eigen-decomposition: cyclic Jacobi (Golub & Van Loan, Alg. 8.5.3, with the
+ * rotation formulas of Numerical Recipes' jacobi). Used for F^T F (3x3, the SVD below),
+ * the 9x9 dP/dF projection and any n <= 12.
+ * ------------------------------------------------------------------------------------------ */
+
+#define PHYS_JACOBI_MAX_N_ 12
+#define PHYS_JACOBI_MAX_SWEEPS_ 60
+
+/* A = V diag(w) V^T, w ascending, eigenvectors in V's columns (row-major, V[n*r + c]).
+ * n outside 1..12 does nothing. */
+PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REAL *V)
+{
+    PHYS_REAL a[PHYS_JACOBI_MAX_N_ * PHYS_JACOBI_MAX_N_], scale = PHYS_K_(0);
+    int i, j, k, p, q, sweep;
+    if (n < 1 || n > PHYS_JACOBI_MAX_N_) return;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) { /* symmetrize: only A's symmetric part is decomposed */
+            a[n * i + j] = PHYS_K_(0.5) * (A[n * i + j] + A[n * j + i]);
+            V[n * i + j] = i == j ? PHYS_K_(1) : PHYS_K_(0);
+            scale += a[n * i + j] * a[n * i + j];
+        }
+    scale = PHYS_SQRT_(scale);
+    for (sweep = 0; sweep < PHYS_JACOBI_MAX_SWEEPS_; sweep++) {
+        int rotated = 0;
+        for (p = 0; p < n - 1; p++)
+            for (q = p + 1; q < n; q++) {
+                PHYS_REAL apq = a[n * p + q], app = a[n * p + p], aqq = a[n * q + q];
+                PHYS_REAL theta, t, c, s;
+                /* Negligible next to the diagonal (relative) or to the whole matrix: zero. */
+                if (PHYS_FABS_(apq) <=
+                        PHYS_K_(0.01) * PHYS_EPS_ * (PHYS_FABS_(app) + PHYS_FABS_(aqq)) ||
+                    PHYS_FABS_(apq) <= PHYS_EPS_ * PHYS_EPS_ * scale) {
+                    a[n * p + q] = a[n * q + p] = PHYS_K_(0);
+                    continue;
+                }
+                rotated = 1;
+                /* t = tan of the rotation angle, the smaller root of t^2 + 2 t theta - 1 = 0,
+                 * written without overflow for large |theta|. */
+                theta = (aqq - app) / (PHYS_K_(2) * apq);
+                if (PHYS_FABS_(theta) > PHYS_K_(1))
+                    t = PHYS_K_(1) /
+                        (PHYS_FABS_(theta) *
+                         (PHYS_K_(1) + PHYS_SQRT_(PHYS_K_(1) + PHYS_K_(1) / (theta * theta))));
+                else
+                    t = PHYS_K_(1) / (PHYS_FABS_(theta) + PHYS_SQRT_(theta * theta + PHYS_K_(1)));
+                if (theta < PHYS_K_(0)) t = -t;
+                c = PHYS_K_(1) / PHYS_SQRT_(t * t + PHYS_K_(1));
+                s = t * c;
+                /* A <- J^T A J, J the rotation in the (p, q) plane; V <- V J. */
+                for (k = 0; k < n; k++) {
+                    PHYS_REAL akp, akq;
+                    if (k == p || k == q) continue;
+                    akp = a[n * k + p];
+                    akq = a[n * k + q];
+                    a[n * k + p] = a[n * p + k] = c * akp - s * akq;
+                    a[n * k + q] = a[n * q + k] = s * akp + c * akq;
+                }
+                a[n * p + p] = app - t * apq;
+                a[n * q + q] = aqq + t * apq;
+                a[n * p + q] = a[n * q + p] = PHYS_K_(0);
+                for (k = 0; k < n; k++) {
+                    PHYS_REAL vkp = V[n * k + p], vkq = V[n * k + q];
+                    V[n * k + p] = c * vkp - s * vkq;
+                    V[n * k + q] = s * vkp + c * vkq;
+                }
+            }
+        if (!rotated) break;
+    }
+    for (i = 0; i < n; i++) w[i] = a[n * i + i];
+    /* Sort ascending (selection sort, swapping eigenvector columns along). */
+    for (i = 0; i < n - 1; i++) {
+        int m = i;
+        for (j = i + 1; j < n; j++)
+            if (w[j] < w[m]) m = j;
+        if (m != i) {
+            PHYS_REAL tmp = w[i];
+            w[i] = w[m];
+            w[m] = tmp;
+            for (k = 0; k < n; k++) {
+                tmp = V[n * k + i];
+                V[n * k + i] = V[n * k + m];
+                V[n * k + m] = tmp;
+            }
+        }
+    }
+}
+
+/* A <- V max(w, 0) V^T. An A that is already positive semi-definite is left untouched. */
+PHYS_API void PHYS_FN(project_psd)(int n, PHYS_REAL *A)
+{
+    PHYS_REAL w[PHYS_JACOBI_MAX_N_], V[PHYS_JACOBI_MAX_N_ * PHYS_JACOBI_MAX_N_];
+    int i, j, k;
+    if (n < 1 || n > PHYS_JACOBI_MAX_N_) return;
+    PHYS_FN(sym_eig)(n, A, w, V);
+    if (w[0] >= PHYS_K_(0)) return; /* ascending: nothing to clamp */
+    for (i = 0; i < n; i++)
+        for (j = i; j < n; j++) {
+            PHYS_REAL sum = PHYS_K_(0);
+            for (k = 0; k < n; k++)
+                if (w[k] > PHYS_K_(0)) sum += V[n * i + k] * w[k] * V[n * j + k];
+            A[n * i + j] = A[n * j + i] = sum;
+        }
+}
+
+#undef PHYS_JACOBI_MAX_SWEEPS_
+
+/* ------------------------------------------------------------------------------------------
+ * Signed ("rotation variant") SVD of a 3x3 F = U diag(s) V^T with det U = det V = +1,
+ * s0 >= s1 >= |s2| and s2 < 0 exactly when det F < 0 (Irving et al. 2004, McAdams et al. 2011).
+ * V from the Jacobi eigenvectors of F^T F; U by Gram-Schmidt on the columns of F V in order
+ * of decreasing singular value, u2 = u0 x u1 (so det U = +1); s_i = u_i . (F v_i). This keeps
+ * U a rotation even when F is singular or zero (any completing direction is then valid).
+ * ------------------------------------------------------------------------------------------ */
+
+static void PHYS_FN(svd3)(const PHYS_REAL F[9], PHYS_REAL U[9], PHYS_REAL s[3], PHYS_REAL V[9])
+{
+    PHYS_REAL C[9], w[3], E[9], B[9], u[3][3], b[3][3], norm2 = PHYS_K_(0), tol, nrm, d;
+    int i, j;
+    PHYS_FN(m3_mul_tn)(F, F, C);
+    PHYS_FN(sym_eig)(3, C, w, E);
+    for (i = 0; i < 3; i++) /* descending order: V's column j = E's column 2 - j */
+        for (j = 0; j < 3; j++) V[3 * i + j] = E[3 * i + 2 - j];
+    if (PHYS_FN(m3_det)(V) < PHYS_K_(0))
+        for (i = 0; i < 3; i++) V[3 * i + 2] = -V[3 * i + 2];
+    PHYS_FN(m3_mul)(F, V, B);
+    for (i = 0; i < 9; i++) norm2 += F[i] * F[i];
+    tol = PHYS_EPS_ * PHYS_EPS_ * PHYS_SQRT_(norm2);
+    for (j = 0; j < 3; j++)
+        for (i = 0; i < 3; i++) b[j][i] = B[3 * i + j]; /* b[j] = F v_j */
+    /* u0 = b0 / |b0|, or e_x when F ~ 0 */
+    nrm = PHYS_SQRT_(b[0][0] * b[0][0] + b[0][1] * b[0][1] + b[0][2] * b[0][2]);
+    for (i = 0; i < 3; i++)
+        u[0][i] = nrm > tol ? b[0][i] / nrm : (i == 0 ? PHYS_K_(1) : PHYS_K_(0));
+    /* u1 = b1 minus its u0 part, normalized; or any unit vector orthogonal to u0 */
+    d = u[0][0] * b[1][0] + u[0][1] * b[1][1] + u[0][2] * b[1][2];
+    for (i = 0; i < 3; i++) u[1][i] = b[1][i] - d * u[0][i];
+    nrm = PHYS_SQRT_(u[1][0] * u[1][0] + u[1][1] * u[1][1] + u[1][2] * u[1][2]);
+    if (!(nrm > tol)) { /* u0 x (the axis least aligned with u0) */
+        int ax = 0;
+        PHYS_REAL e[3] = {PHYS_K_(0), PHYS_K_(0), PHYS_K_(0)};
+        for (i = 1; i < 3; i++)
+            if (PHYS_FABS_(u[0][i]) < PHYS_FABS_(u[0][ax])) ax = i;
+        e[ax] = PHYS_K_(1);
+        u[1][0] = u[0][1] * e[2] - u[0][2] * e[1];
+        u[1][1] = u[0][2] * e[0] - u[0][0] * e[2];
+        u[1][2] = u[0][0] * e[1] - u[0][1] * e[0];
+        nrm = PHYS_SQRT_(u[1][0] * u[1][0] + u[1][1] * u[1][1] + u[1][2] * u[1][2]);
+    }
+    for (i = 0; i < 3; i++) u[1][i] /= nrm;
+    u[2][0] = u[0][1] * u[1][2] - u[0][2] * u[1][1];
+    u[2][1] = u[0][2] * u[1][0] - u[0][0] * u[1][2];
+    u[2][2] = u[0][0] * u[1][1] - u[0][1] * u[1][0];
+    for (j = 0; j < 3; j++) {
+        s[j] = u[j][0] * b[j][0] + u[j][1] * b[j][1] + u[j][2] * b[j][2];
+        for (i = 0; i < 3; i++) U[3 * i + j] = u[j][i];
+    }
+}
+
+/* Polar decomposition F = R S with R = U V^T a rotation (det R = +1 also for inverted F) and
+ * S = V diag(s) V^T symmetric; also returns the signed singular values. */
+static void PHYS_FN(polar3)(const PHYS_REAL F[9], PHYS_REAL R[9], PHYS_REAL s[3])
+{
+    PHYS_REAL U[9], V[9];
+    PHYS_FN(svd3)(F, U, s, V);
+    PHYS_FN(m3_mul_nt)(U, V, R);
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Materials.
+ * ------------------------------------------------------------------------------------------ */
+
+/* Lame parameters: mu = E / (2 (1 + nu)), lambda = E nu / ((1 + nu)(1 - 2 nu)). */
+PHYS_API void PHYS_FN(lame)(PHYS_REAL young, PHYS_REAL poisson, PHYS_REAL *mu, PHYS_REAL *lambda)
+{
+    *mu = young / (PHYS_K_(2) * (PHYS_K_(1) + poisson));
+    *lambda = young * poisson / ((PHYS_K_(1) + poisson) * (PHYS_K_(1) - PHYS_K_(2) * poisson));
+}
+
+/* Stable Neo-Hookean constants of Eq. 16 (freeform paper; Eq. 11 of Smith et al. 2018):
+ * lambda_bar = lambda + mu, mu_bar = mu, gamma = 1 + mu_bar / lambda_bar ("gam" in the code,
+ * as <math.h> may declare gamma()), and E0 with Psi(I) = 0:
+ * lambda_bar (1 - gamma)^2 + 3 mu - E0 = 0, so E0 = mu^2 / lambda_bar + 3 mu. */
+static void PHYS_FN(snh_constants)(PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL *lbar, PHYS_REAL *gam,
+                                   PHYS_REAL *E0)
+{
+    *lbar = lambda + mu;
+    *gam = PHYS_K_(1) + mu / *lbar;
+    *E0 = mu * mu / *lbar + PHYS_K_(3) * mu;
+}
+
+PHYS_API PHYS_REAL PHYS_FN(psi)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                const PHYS_REAL F[9])
+{
+    PHYS_REAL C[9], e[9], tr, sum = PHYS_K_(0);
+    int i, j;
+    switch (model) {
+    case RK_MAT_LINEAR: /* eps = (F + F^T)/2 - I; Psi = mu eps:eps + lambda/2 tr(eps)^2 */
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++)
+                e[3 * i + j] = PHYS_K_(0.5) * (F[3 * i + j] + F[3 * j + i]) -
+                               (i == j ? PHYS_K_(1) : PHYS_K_(0));
+        break;
+    case RK_MAT_STVK: /* E = (F^T F - I)/2; Psi = mu E:E + lambda/2 tr(E)^2 */
+        PHYS_FN(m3_mul_tn)(F, F, C);
+        for (i = 0; i < 9; i++)
+            e[i] = PHYS_K_(0.5) * (C[i] - (i % 4 == 0 ? PHYS_K_(1) : PHYS_K_(0)));
+        break;
+    case RK_MAT_COROTATED: { /* mu |F - R|^2 + lambda/2 tr(R^T F - I)^2
+                              * = mu sum (s_i - 1)^2 + lambda/2 (sum s_i - 3)^2 */
+        PHYS_REAL R[9], s[3];
+        PHYS_FN(polar3)(F, R, s);
+        tr = s[0] + s[1] + s[2] - PHYS_K_(3);
+        for (i = 0; i < 3; i++) sum += (s[i] - PHYS_K_(1)) * (s[i] - PHYS_K_(1));
+        return mu * sum + PHYS_K_(0.5) * lambda * tr * tr;
+    }
+    case RK_MAT_NEOHOOKEAN: { /* Eq. 16: 1/2 [lambda_bar (J - gamma)^2 + mu tr(F^T F) - E0] */
+        PHYS_REAL lbar, gam, E0, J = PHYS_FN(m3_det)(F);
+        PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
+        for (i = 0; i < 9; i++) sum += F[i] * F[i];
+        return PHYS_K_(0.5) * (lbar * (J - gam) * (J - gam) + mu * sum - E0);
+    }
+    default:
+        return PHYS_K_(0);
+    }
+    /* linear and StVK share mu e:e + lambda/2 tr(e)^2 */
+    for (i = 0; i < 9; i++) sum += e[i] * e[i];
+    tr = e[0] + e[4] + e[8];
+    return mu * sum + PHYS_K_(0.5) * lambda * tr * tr;
+}
+
+PHYS_API void PHYS_FN(pk1)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                           const PHYS_REAL F[9], PHYS_REAL P[9])
+{
+    PHYS_REAL tr;
+    int i, j;
+    switch (model) {
+    case RK_MAT_LINEAR: /* P = 2 mu eps + lambda tr(eps) I */
+        tr = F[0] + F[4] + F[8] - PHYS_K_(3);
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++)
+                P[3 * i + j] = mu * (F[3 * i + j] + F[3 * j + i]) -
+                               (i == j ? PHYS_K_(2) * mu - lambda * tr : PHYS_K_(0));
+        return;
+    case RK_MAT_STVK: { /* P = F S, S = 2 mu E + lambda tr(E) I (second Piola-Kirchhoff) */
+        PHYS_REAL C[9], S[9];
+        PHYS_FN(m3_mul_tn)(F, F, C);
+        tr = PHYS_K_(0.5) * (C[0] + C[4] + C[8] - PHYS_K_(3));
+        for (i = 0; i < 9; i++)
+            S[i] = mu * (C[i] - (i % 4 == 0 ? PHYS_K_(1) : PHYS_K_(0))) +
+                   (i % 4 == 0 ? lambda * tr : PHYS_K_(0));
+        PHYS_FN(m3_mul)(F, S, P);
+        return;
+    }
+    case RK_MAT_COROTATED: { /* P = 2 mu (F - R) + lambda tr(R^T F - I) R */
+        PHYS_REAL R[9], s[3];
+        PHYS_FN(polar3)(F, R, s);
+        tr = s[0] + s[1] + s[2] - PHYS_K_(3);
+        for (i = 0; i < 9; i++) P[i] = PHYS_K_(2) * mu * (F[i] - R[i]) + lambda * tr * R[i];
+        return;
+    }
+    case RK_MAT_NEOHOOKEAN: { /* P = mu F + lambda_bar (J - gamma) dJ/dF, dJ/dF = cof(F) */
+        PHYS_REAL lbar, gam, E0, cof[9], J = PHYS_FN(m3_det)(F);
+        PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
+        PHYS_FN(m3_cofactor)(F, cof);
+        for (i = 0; i < 9; i++) P[i] = mu * F[i] + lbar * (J - gam) * cof[i];
+        return;
+    }
+    default:
+        memset(P, 0, 9 * sizeof(PHYS_REAL));
+        return;
+    }
+}
+
+/* dP/dF for each model, written in full: D[9*(3i+j) + 3k+l] = dP_ij/dF_kl. Products of two
+ * entries are parenthesised, x * (a_p * a_k), so that D is exactly symmetric in floating point.
+ * Linearization at the rest state (checked by the tests): at F = I every model reduces to the
+ * linear elasticity tensor mu (d_ik d_jl + d_il d_jk) + lambda d_ij d_kl:
+ *  - StVK: S = 0, so D = mu F_il F_kj + mu (F F^T)_ik d_jl + lambda F_ij F_kl -> linear.
+ *  - corotated: R = I, tr = 0, s = 1: D = 2 mu I - 2 mu skew + lambda I (x) I, and
+ *    2 mu (id - skew) = 2 mu sym -> linear.
+ *  - Neo-Hookean: D = mu I + lambda_bar cof (x) cof + lambda_bar (J - gamma) d2J/dF2 with
+ *    cof = I, J - gamma = -mu/lambda_bar and d2J/dF_ij dF_kl = e_ikm e_jlm = d_ij d_kl - d_il d_jk,
+ *    so D = mu d_ik d_jl + (lambda + mu) d_ij d_kl - mu (d_ij d_kl - d_il d_jk) -> linear. */
+static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                              const PHYS_REAL F[9], PHYS_REAL D[81])
+{
+    int i, j, k, l;
+    memset(D, 0, 81 * sizeof(PHYS_REAL));
+    switch (model) {
+    case RK_MAT_LINEAR: /* mu (d_ik d_jl + d_il d_jk) + lambda d_ij d_kl */
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                D[9 * (3 * i + j) + 3 * i + j] += mu;
+                D[9 * (3 * i + j) + 3 * j + i] += mu;
+                if (i == j)
+                    for (k = 0; k < 3; k++) D[9 * (3 * i + i) + 3 * k + k] += lambda;
+            }
+        return;
+    case RK_MAT_STVK: {
+        /* dP = dF S + F dS, dS = 2 mu dE + lambda tr(dE) I, dE = (dF^T F + F^T dF)/2:
+         * dP_ij/dF_kl = d_ik S_lj + mu F_il F_kj + mu (F F^T)_ik d_jl + lambda F_ij F_kl */
+        PHYS_REAL C[9], S[9], FFt[9], tr;
+        PHYS_FN(m3_mul_tn)(F, F, C);
+        PHYS_FN(m3_mul_nt)(F, F, FFt);
+        tr = PHYS_K_(0.5) * (C[0] + C[4] + C[8] - PHYS_K_(3));
+        for (i = 0; i < 9; i++)
+            S[i] = mu * (C[i] - (i % 4 == 0 ? PHYS_K_(1) : PHYS_K_(0))) +
+                   (i % 4 == 0 ? lambda * tr : PHYS_K_(0));
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++)
+                for (k = 0; k < 3; k++)
+                    for (l = 0; l < 3; l++)
+                        D[9 * (3 * i + j) + 3 * k + l] =
+                            (i == k ? S[3 * l + j] : PHYS_K_(0)) +
+                            mu * (F[3 * i + l] * F[3 * k + j]) +
+                            (j == l ? mu * FFt[3 * i + k] : PHYS_K_(0)) +
+                            lambda * (F[3 * i + j] * F[3 * k + l]);
+        return;
+    }
+    case RK_MAT_COROTATED: {
+        /* P = 2 mu (F - R) + lambda tr(S - I) R. With dF = dR S + R dS and R^T dR skew,
+         * tr(R^T dF) = tr(dS) (tr(skew S) = 0), so
+         *   dP = 2 mu dF + (lambda tr(S - I) - 2 mu) dR + lambda (R : dF) R.
+         * dR/dF from the SVD F = U diag(s) V^T: in the rotated frame dF^ = U^T dF V,
+         * dR^ = U^T dR V is skew with dR^_ij = (dF^_ij - dF^_ji) / (s_i + s_j), i.e.
+         *   dR = sum_{i<j} 2 / (s_i + s_j) T_ij (T_ij : dF),  T_ij = (u_i v_j^T - u_j v_i^T)/sqrt 2
+         * (the "twist" eigenmatrices of Smith et al. 2019). s_i + s_j >= 0 for the signed SVD;
+         * it reaches 0 only where R itself is discontinuous (two singular values of opposite
+         * sign and equal size), so the denominator is clamped to sqrt(eps) there. */
+        PHYS_REAL U[9], V[9], R[9], s[3], tr, T[9], coef;
+        int a, b, p;
+        PHYS_FN(svd3)(F, U, s, V);
+        PHYS_FN(m3_mul_nt)(U, V, R);
+        tr = s[0] + s[1] + s[2] - PHYS_K_(3);
+        for (p = 0; p < 9; p++) {
+            D[10 * p] += PHYS_K_(2) * mu;
+            for (k = 0; k < 9; k++) D[9 * p + k] += lambda * (R[p] * R[k]);
+        }
+        for (a = 0; a < 2; a++)
+            for (b = a + 1; b < 3; b++) {
+                PHYS_REAL den = s[a] + s[b];
+                if (den < PHYS_SQRT_EPS_) den = PHYS_SQRT_EPS_;
+                coef = (lambda * tr - PHYS_K_(2) * mu) * PHYS_K_(2) / den;
+                for (i = 0; i < 3; i++) /* T = (u_a v_b^T - u_b v_a^T) / sqrt 2 */
+                    for (j = 0; j < 3; j++)
+                        T[3 * i + j] = PHYS_K_(0.70710678118654752440) *
+                                       (U[3 * i + a] * V[3 * j + b] - U[3 * i + b] * V[3 * j + a]);
+                for (p = 0; p < 9; p++)
+                    for (k = 0; k < 9; k++) D[9 * p + k] += coef * (T[p] * T[k]);
+            }
+        return;
+    }
+    case RK_MAT_NEOHOOKEAN: {
+        /* P = mu F + lambda_bar (J - gamma) cof(F):
+         * D = mu I + lambda_bar cof (x) cof + lambda_bar (J - gamma) d2J/dF2, with
+         * d2J/dF_ij dF_kl = e_ikm e_jln F_mn (m, n the remaining indices). */
+        PHYS_REAL lbar, gam, E0, cof[9], J = PHYS_FN(m3_det)(F), h;
+        int m, n;
+        PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
+        PHYS_FN(m3_cofactor)(F, cof);
+        h = lbar * (J - gam);
+        for (i = 0; i < 9; i++) {
+            D[10 * i] += mu;
+            for (k = 0; k < 9; k++) D[9 * i + k] += lbar * (cof[i] * cof[k]);
+        }
+        for (i = 0; i < 3; i++)
+            for (k = 0; k < 3; k++) {
+                if (i == k) continue;
+                m = 3 - i - k;
+                for (j = 0; j < 3; j++)
+                    for (l = 0; l < 3; l++) {
+                        if (j == l) continue;
+                        n = 3 - j - l;
+                        D[9 * (3 * i + j) + 3 * k + l] +=
+                            h * (PHYS_REAL)(PHYS_FN(levi)(i, k, m) * PHYS_FN(levi)(j, l, n)) *
+                            F[3 * m + n];
+                    }
+            }
+        return;
+    }
+    default:
+        return;
+    }
+}
+
+PHYS_API void PHYS_FN(dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                            const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project)
+{
+    PHYS_FN(dpdf_raw)(model, mu, lambda, F, dPdF);
+    if (project) PHYS_FN(project_psd)(9, dPdF);
+}
+
+/* ------------------------------------------------------------------------------------------
+ * Linear tetrahedron. Ds = [b-a, c-a, d-a] (columns), F = Ds Dm^-1. With Dm^-1 = M,
+ * dF_ij/dx_{v,k} = d_ik D_v[j], D_v = row v-1 of M for v = b, c, d and D_a = -(sum of rows):
+ * this D_v fully describes B = dvec(F)/dx (9x12).
+ * ------------------------------------------------------------------------------------------ */
+
+/* The four rows D_v (v = a, b, c, d), D[3*v + j]. */
+static void PHYS_FN(tet_shape)(const PHYS_REAL Dm_inv[9], PHYS_REAL D[12])
+{
+    int j;
+    for (j = 0; j < 3; j++) {
+        D[3 + j] = Dm_inv[j];
+        D[6 + j] = Dm_inv[3 + j];
+        D[9 + j] = Dm_inv[6 + j];
+        D[j] = -(Dm_inv[j] + Dm_inv[3 + j] + Dm_inv[6 + j]);
+    }
+}
+
+/* Dm^-1 and the signed rest volume det(Dm)/6; a degenerate tet gives Dm^-1 = 0, volume 0. */
+PHYS_API PHYS_REAL PHYS_FN(tet_rest)(const PHYS_REAL X[12], PHYS_REAL Dm_inv[9])
+{
+    PHYS_REAL Dm[9];
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) Dm[3 * i + j] = X[3 * (j + 1) + i] - X[i];
+    return PHYS_FN(m3_inv)(Dm, Dm_inv) / PHYS_K_(6);
+}
+
+PHYS_API void PHYS_FN(tet_F)(const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL F[9])
+{
+    PHYS_REAL Ds[9];
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) Ds[3 * i + j] = x[3 * (j + 1) + i] - x[i];
+    PHYS_FN(m3_mul)(Ds, Dm_inv, F);
+}
+
+PHYS_API PHYS_REAL PHYS_FN(tet_energy)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                       const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9],
+                                       PHYS_REAL vol)
+{
+    PHYS_REAL F[9];
+    PHYS_FN(tet_F)(x, Dm_inv, F);
+    return vol * PHYS_FN(psi)(model, mu, lambda, F);
+}
+
+/* g[3v + k] += vol sum_j P_kj D_v[j]  (= vol B^T vec(P)) */
+PHYS_API void PHYS_FN(tet_gradient)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                    const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL vol,
+                                    PHYS_REAL g[12])
+{
+    PHYS_REAL F[9], P[9], D[12];
+    int v, k;
+    PHYS_FN(tet_F)(x, Dm_inv, F);
+    PHYS_FN(pk1)(model, mu, lambda, F, P);
+    PHYS_FN(tet_shape)(Dm_inv, D);
+    for (v = 0; v < 4; v++)
+        for (k = 0; k < 3; k++)
+            g[3 * v + k] += vol * (P[3 * k] * D[3 * v] + P[3 * k + 1] * D[3 * v + 1] +
+                                   P[3 * k + 2] * D[3 * v + 2]);
+}
+
+/* H[3v + k][3w + l] = vol sum_{j,n} D_v[j] dP_kj/dF_ln D_w[n]  (= vol B^T dPdF B), written
+ * (not added); the upper triangle is computed and mirrored so H is exactly symmetric. */
+PHYS_API void PHYS_FN(tet_hessian)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+                                   const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL vol,
+                                   PHYS_REAL H[144], int project)
+{
+    PHYS_REAL F[9], A[81], D[12];
+    int r, c, j, n;
+    PHYS_FN(tet_F)(x, Dm_inv, F);
+    PHYS_FN(dpdf)(model, mu, lambda, F, A, project);
+    PHYS_FN(tet_shape)(Dm_inv, D);
+    for (r = 0; r < 12; r++)
+        for (c = r; c < 12; c++) {
+            int v = r / 3, k = r % 3, w = c / 3, l = c % 3;
+            PHYS_REAL sum = PHYS_K_(0);
+            for (j = 0; j < 3; j++)
+                for (n = 0; n < 3; n++)
+                    sum += D[3 * v + j] * A[9 * (3 * k + j) + 3 * l + n] * D[3 * w + n];
+            H[12 * r + c] = H[12 * c + r] = vol * sum;
+        }
+}
+
+#undef PHYS_JACOBI_MAX_N_
+#undef PHYS_K_
+#undef PHYS_SQRT_
+#undef PHYS_FABS_
+#undef PHYS_MATH_TYPE_
+#undef PHYS_EPS_
+#undef PHYS_SQRT_EPS_
+#ifdef PHYS_API_DEFAULTED_
+#undef PHYS_API
+#undef PHYS_API_DEFAULTED_
+#endif
