@@ -1,15 +1,19 @@
 /* precompute/mesh: tetrahedral and surface meshes in, checked, out.
  *
- * Readers (chosen by file extension in rk_mesh_load):
- *   .msh        Gmsh 2.2 and 4.1, ASCII and binary (tetrahedra = element type 4)
- *   .mesh       MEDIT (Vertices / Tetrahedra; Triangles ignored)
+ * Readers (chosen by file extension in rk_mesh_load, case-insensitive):
+ *   .msh        Gmsh 2.x and 4.1, ASCII and binary, either byte order (tetrahedra = element
+ *               type 4; a second-order tet, type 11, gives its 4 corners; other types skipped)
+ *   .mesh       MEDIT (Vertices / Tetrahedra with refs; other sections skipped)
  *   .node/.ele  TetGen, 0- or 1-based (either file name may be given)
- *   .vtk        legacy VTK unstructured grid, ASCII and binary (cell type 10)
+ *   .vtk        legacy VTK unstructured grid, ASCII and binary (cell type 10; classic CELLS
+ *               or the 5.x OFFSETS/CONNECTIVITY layout)
  * Surface readers (rk_surface_load): .obj .off .stl (ASCII/binary) .ply (ASCII/binary).
  *
  * Every load runs rk_mesh_check: indices in range, finite coordinates, inverted tets
  * reoriented (counted in the report), degenerate tets rejected by index, unused vertices
- * removed, connected components counted. Errors name the file and the line or byte offset. */
+ * removed, connected components counted. Errors name the file and the line (ASCII) or byte
+ * offset (binary). A count in a header is checked against the size of the file before
+ * anything is allocated for it. tet_tag is NULL after a load when every tag is 0. */
 #ifndef RK_MESH_H
 #define RK_MESH_H
 
@@ -41,8 +45,12 @@ typedef struct {
     double bbox_min[3], bbox_max[3];
 } rk_mesh_report;
 
+/* On failure *m is empty (nothing to free). rep may be NULL. */
 int rk_mesh_load(const char *path, rk_mesh *m, rk_mesh_report *rep, rk_error *err);
-/* Checks and repairs a mesh in place (see above); `what` names it in messages (a file path). */
+/* Checks and repairs a mesh in place (see above); `what` names it in messages (a file path).
+ * A tet is degenerate when |volume| <= 1e-12 * (bounding-box diagonal)^3; the first one is
+ * named by its 0-based index among the tets. Inverted tets get their last two vertices
+ * swapped. rep may be NULL. On failure the mesh may be partly repaired; free it. */
 int rk_mesh_check(rk_mesh *m, const char *what, rk_mesh_report *rep, rk_error *err);
 void rk_mesh_free(rk_mesh *m);
 
@@ -57,16 +65,41 @@ void rk_mesh_transform(rk_mesh *m, double scale, const double translate[3]);
 int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err);
 
 /* Writers, atomic (util/atomic_file.h). By extension: .mesh (MEDIT), .vtk (legacy ASCII,
- * ParaView), .msh (Gmsh 4.1 ASCII), .node (TetGen, writes .node and .ele), .obj / .ply
- * (boundary surface only). `x` may replace the rest positions (deformed frames); NULL = rest. */
+ * ParaView), .msh (Gmsh 4.1 ASCII), .node or .ele (TetGen, writes .node and .ele, 0-based),
+ * .obj / .ply / .off / .stl (boundary surface only, through rk_surface_write). tet_tag is
+ * written as the MEDIT ref, the Gmsh physical tag, the TetGen region attribute and a VTK
+ * CELL_DATA "tag" array, and read back from each. `x` may replace the rest positions
+ * (deformed frames); NULL = rest. */
 int rk_mesh_write(const char *path, const rk_mesh *m, const double *x, rk_error *err);
+/* As rk_mesh_write, but .msh is Gmsh 4.1 binary and .vtk legacy binary (big-endian);
+ * other extensions are written as by rk_mesh_write. */
+int rk_mesh_write_binary(const char *path, const rk_mesh *m, const double *x, rk_error *err);
 
+/* Reads the faces (polygons fan-triangulated; STL vertices welded where exactly equal) and
+ * checks that indices are in range; the topology is rk_surface_check's job. */
 int rk_surface_load(const char *path, rk_surface *s, rk_error *err);
-/* Closed, edge-manifold, consistently oriented, outward (positive volume), finite. */
+/* Closed, edge-manifold, consistently oriented, outward (positive volume), finite. The
+ * message names the first bad edge (its two vertex indices) or face. A surface that is
+ * inside out (everything right but the volume negative) is an error here; see below. */
 int rk_surface_check(const rk_surface *s, const char *what, rk_error *err);
+/* rk_surface_check, except that a surface that is merely inside out is flipped (every
+ * face reversed) instead of rejected; *flipped (may be NULL) says whether it was. */
+int rk_surface_check_and_orient(rk_surface *s, const char *what, int *flipped, rk_error *err);
+/* Enclosed volume (sum of signed tets over the faces); positive when oriented outward. */
+double rk_surface_volume(const rk_surface *s);
+/* Atomic, by extension: .obj, .off, .ply (binary little-endian), .stl (binary). */
+int rk_surface_write(const char *path, const rk_surface *s, rk_error *err);
 void rk_surface_free(rk_surface *s);
 
-/* Tetrahedralizes a checked surface with the tetgen command.
+/* Signed volume of the tet (a, b, c, d): positive when d sees a, b, c counter-clockwise. */
+double rk_tet_signed_volume(const double *a, const double *b, const double *c, const double *d);
+/* 3 * inradius / circumradius: 1 for a regular tet, 0 for a flat one. */
+double rk_tet_radius_ratio(const double *a, const double *b, const double *c, const double *d);
+
+/* Tetrahedralizes a surface with the tetgen command (run in a private temporary directory;
+ * the surface is checked first). The result has been through rk_mesh_check. The command is
+ * $ROMKIT_TETGEN when set, else tetgen on PATH; a missing or failing tetgen is an error that
+ * says so (with its exit status and the end of its output).
  * max_radius_edge: quality bound (tetgen -q), <= 0 for the default 1.4.
  * max_volume: volume bound (tetgen -a), <= 0 for none. */
 int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_volume,

@@ -1,0 +1,74 @@
+/* Internal to precompute/mesh: the per-format readers and writers that load.c and write.c
+ * dispatch to, and small helpers they share. */
+#ifndef RK_MESH_INTERNAL_H
+#define RK_MESH_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "mesh/mesh.h"
+
+/* Largest vertex or element count accepted, so 4 * count and friends fit an int. */
+#define RK_MESH_MAX_COUNT (INT32_MAX / 8)
+
+/* Tet readers: fill m (vertices and tets as in the file, 0-based, unchecked: rk_mesh_load
+ * runs rk_mesh_check after). On failure m is left empty. */
+int rk_read_gmsh(const char *path, rk_mesh *m, rk_error *err);
+int rk_read_medit(const char *path, rk_mesh *m, rk_error *err);
+int rk_read_tetgen(const char *path, rk_mesh *m, rk_error *err); /* path: .node or .ele */
+int rk_read_vtk(const char *path, rk_mesh *m, rk_error *err);
+
+/* Surface readers (indices validated, topology not checked). */
+int rk_read_obj(const char *path, rk_surface *s, rk_error *err);
+int rk_read_off(const char *path, rk_surface *s, rk_error *err);
+int rk_read_stl(const char *path, rk_surface *s, rk_error *err);
+/* PLY vertices (x, y, z) and, when want_faces, the face list (fan-triangulated). */
+int rk_read_ply(const char *path, rk_surface *s, int want_faces, rk_error *err);
+
+/* Tet writers; X is 3*nv positions to write (rest or deformed). */
+int rk_write_medit(const char *path, const rk_mesh *m, const double *X, rk_error *err);
+int rk_write_gmsh(const char *path, const rk_mesh *m, const double *X, int binary, rk_error *err);
+int rk_write_vtk(const char *path, const rk_mesh *m, const double *X, int binary, rk_error *err);
+int rk_write_tetgen(const char *path, const rk_mesh *m, const double *X, rk_error *err);
+
+/* Binary numbers in a chosen byte order (errors surface through ferror at commit). */
+void rk_put_i32(FILE *fp, int32_t v, int big_endian);
+void rk_put_u64(FILE *fp, uint64_t v, int big_endian);
+void rk_put_f32(FILE *fp, float v, int big_endian);
+void rk_put_f64(FILE *fp, double v, int big_endian);
+
+/* Checks that m can be written: counts, indices in range. */
+int rk_mesh_validate_for_write(const char *path, const rk_mesh *m, rk_error *err);
+
+/* "path.ext" -> 1 when the extension matches (case-insensitive, ext with its dot). */
+int rk_path_has_ext(const char *path, const char *ext);
+/* path with its extension (if any) replaced by ext: "a/b.node" + ".ele" -> "a/b.ele". */
+int rk_path_with_ext(const char *path, const char *ext, char *out, size_t cap, rk_error *err);
+
+/* A growable array: makes room for `need` elements of `elem` bytes in *p (capacity *cap). */
+int rk_grow(void *p, size_t *cap, size_t need, size_t elem, rk_error *err);
+
+/* Surfaces built a vertex and a polygon at a time (OBJ, OFF, STL, PLY). */
+typedef struct {
+    rk_surface s;
+    size_t vcap, fcap;
+} rk_surface_builder;
+int rk_sb_vertex(rk_surface_builder *b, const double p[3], rk_error *err);
+/* Adds the polygon idx[0..n) (n >= 3, indices already validated) as a triangle fan. */
+int rk_sb_polygon(rk_surface_builder *b, const int *idx, int n, rk_error *err);
+
+/* Maps arbitrary (sparse, unordered) node tags to 0-based indices in file order. */
+typedef struct {
+    int64_t *tag;   /* sorted */
+    int *index;
+    size_t n;
+    int contiguous; /* tags are first..first+n-1 in order: index = tag - first */
+    int64_t first;
+} rk_tag_map;
+/* Fails with "node tag T appears twice" on a duplicate. */
+int rk_tag_map_build(rk_tag_map *tm, const int64_t *tags, size_t n, rk_error *err);
+int rk_tag_map_find(const rk_tag_map *tm, int64_t tag); /* -1 when absent */
+void rk_tag_map_free(rk_tag_map *tm);
+
+#endif

@@ -1,0 +1,161 @@
+/* romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--quiet]
+ *
+ * A tet mesh in (.msh .mesh .node/.ele .vtk) is checked, repaired and converted to OUT's
+ * format; a surface in (.obj .off .stl .ply) is checked (flipped if merely inside out) and
+ * tetrahedralized with tetgen. A summary goes to stdout unless --quiet.
+ * argv[0] is the subcommand name, as romkit's main passes it. Returns the exit code:
+ * 0 done, 1 failed ("romkit mesh: <message>" on stderr), 2 bad usage. */
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mesh/mesh.h"
+#include "util/timer.h"
+
+int cmd_mesh(int argc, char **argv);
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--quiet]\n"
+            "\n"
+            "Checks a tetrahedral mesh and converts it, or tetrahedralizes a closed surface.\n"
+            "  IN    tet mesh: .msh (Gmsh 2.2/4.1), .mesh (MEDIT), .node/.ele (TetGen), .vtk\n"
+            "        surface:  .obj .off .stl .ply (closed, manifold; tetrahedralized with tetgen)\n"
+            "  OUT   .msh .mesh .node .vtk (tets), or .obj .ply .off .stl (boundary surface)\n"
+            "  --quality Q      surface input: radius-edge bound for tetgen -q (default 1.4, >= 1)\n"
+            "  --max-volume V   surface input: largest tet volume, in the surface's units cubed\n"
+            "  --quiet          print nothing on success\n"
+            "\n"
+            "Inverted tets are flipped, unused vertices dropped; degenerate tets are an error.\n"
+            "\n"
+            "example:\n"
+            "  romkit mesh spot.obj -o spot.msh --quality 1.3 --max-volume 1e-4\n"
+            "  romkit mesh bunny.msh -o bunny.vtk\n");
+}
+
+static int usage_error(const char *what, const char *arg)
+{
+    fprintf(stderr, "romkit mesh: %s%s%s (see romkit mesh --help)\n", what, arg ? " " : "", arg ? arg : "");
+    return 2;
+}
+
+/* 1 when path ends in one of the space-separated extensions (case-insensitive). */
+static int has_ext(const char *path, const char *list)
+{
+    const char *dot = strrchr(path, '.');
+    if (!dot || strchr(dot, '/')) return 0;
+    size_t n = strlen(dot);
+    for (const char *e = list; *e; e += strcspn(e, " "), e += *e == ' ') {
+        size_t len = strcspn(e, " ");
+        if (len != n) continue;
+        size_t i = 0;
+        while (i < n && tolower((unsigned char)dot[i]) == e[i]) i++;
+        if (i == n) return 1;
+    }
+    return 0;
+}
+
+static int is_surface(const char *path) { return has_ext(path, ".obj .off .stl .ply"); }
+
+static int parse_number(const char *s, double *v)
+{
+    char *end;
+    *v = strtod(s, &end);
+    return end != s && *end == '\0' && isfinite(*v);
+}
+
+static void summary(const char *in, const char *out, const rk_mesh *m, const rk_mesh_report *rep)
+{
+    double total = 0;
+    for (int t = 0; t < m->nt; t++) {
+        const int *v = m->tets + 4 * t;
+        total += rk_tet_signed_volume(m->X + 3 * v[0], m->X + 3 * v[1], m->X + 3 * v[2], m->X + 3 * v[3]);
+    }
+    printf("%s -> %s\n", in, out);
+    printf("  vertices     %d\n", m->nv);
+    printf("  tetrahedra   %d\n", m->nt);
+    printf("  reoriented   %d (inverted tets flipped)\n", rep->reoriented);
+    printf("  unused       %d (vertices in no tet, removed)\n", rep->unused_removed);
+    printf("  components   %d\n", rep->components);
+    printf("  quality      min %.4g, mean %.4g (radius ratio; 1 = regular tet)\n", rep->min_quality, rep->mean_quality);
+    printf("  volume       min %.4g, max %.4g, total %.6g\n", rep->min_volume, rep->max_volume, total);
+    printf("  bounding box (%.6g, %.6g, %.6g) - (%.6g, %.6g, %.6g)\n", rep->bbox_min[0], rep->bbox_min[1],
+           rep->bbox_min[2], rep->bbox_max[0], rep->bbox_max[1], rep->bbox_max[2]);
+}
+
+/* Loads the surface, orients it and fills it with tets. */
+static int tetrahedralize_file(const char *in, double quality, double max_volume, int quiet, rk_mesh *m, rk_error *err)
+{
+    rk_surface s;
+    int flipped = 0;
+    if (rk_surface_load(in, &s, err) || rk_surface_check_and_orient(&s, in, &flipped, err)) {
+        rk_surface_free(&s);
+        return -1;
+    }
+    if (!quiet) {
+        printf("%s: surface with %d vertices, %d triangles, enclosed volume %.6g\n", in, s.nv, s.nf, rk_surface_volume(&s));
+        if (flipped) printf("  the surface was inside out: every face was reversed\n");
+    }
+    int rc = rk_tetrahedralize(&s, quality, max_volume, m, err);
+    rk_surface_free(&s);
+    return rc;
+}
+
+int cmd_mesh(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL;
+    double quality = 0, max_volume = 0;
+    int quiet = 0, surface_options = 0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        } else if (strcmp(a, "-o") == 0) {
+            if (++i == argc) return usage_error("-o needs a file name", NULL);
+            out = argv[i];
+        } else if (strcmp(a, "--quality") == 0) {
+            if (++i == argc || !parse_number(argv[i], &quality) || quality < 1.0)
+                return usage_error("--quality needs a number >= 1, got", i < argc ? argv[i] : "nothing");
+            surface_options = 1;
+        } else if (strcmp(a, "--max-volume") == 0) {
+            if (++i == argc || !parse_number(argv[i], &max_volume) || max_volume <= 0)
+                return usage_error("--max-volume needs a positive number, got", i < argc ? argv[i] : "nothing");
+            surface_options = 1;
+        } else if (strcmp(a, "--quiet") == 0) {
+            quiet = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return usage_error("unknown option", a);
+        } else if (!in) {
+            in = a;
+        } else {
+            return usage_error("more than one input:", a);
+        }
+    }
+    if (!in) return usage_error("no input mesh given", NULL);
+    if (!out) return usage_error("no output given (-o OUT)", NULL);
+    if (!is_surface(out) && !has_ext(out, ".msh .mesh .node .ele .vtk"))
+        return usage_error("unknown output format (use .msh .mesh .node .vtk .obj .ply .off .stl):", out);
+    if (surface_options && !is_surface(in))
+        return usage_error("--quality and --max-volume apply to surface input only, not", in);
+    rk_progress_set_quiet(quiet);
+
+    rk_error err;
+    rk_mesh m = {0};
+    rk_mesh_report rep;
+    int rc = is_surface(in) ? tetrahedralize_file(in, quality, max_volume, quiet, &m, &err) ||
+                                  rk_mesh_check(&m, "tetgen output", &rep, &err)
+                            : rk_mesh_load(in, &m, &rep, &err);
+    if (rc == 0) rc = rk_mesh_write(out, &m, NULL, &err);
+    if (rc) {
+        fprintf(stderr, "romkit mesh: %s\n", err.msg);
+        rk_mesh_free(&m);
+        return 1;
+    }
+    if (!quiet) summary(in, out, &m, &rep);
+    rk_mesh_free(&m);
+    return 0;
+}
