@@ -39,7 +39,7 @@ typedef struct {
     /* The 3nv x 3nv pattern of every matrix below: all tet couplings plus every vertex's
      * diagonal 3x3 block. slot[78*t + k] is where the k-th upper-triangle entry of tet t's
      * 12x12 block lands in val (k runs over (i <= j) row-major over the 12 dofs a0 a1 a2 b0 ...). */
-    rk_sparse pattern;
+    rk_sparse pattern;   /* colptr and rowind only; val is NULL */
     int *slot;
 } rk_fem;
 
@@ -54,10 +54,15 @@ void rk_sparse_free(rk_sparse *S);
 void rk_sparse_zero(rk_sparse *S);
 /* y = S x (S symmetric, upper stored). */
 void rk_sparse_mul(const rk_sparse *S, const double *x, double *y);
+/* x^T S y (S symmetric, upper stored); no scratch, so callable on const data. */
+double rk_sparse_dot(const rk_sparse *S, const double *x, const double *y);
+/* Index in val of entry (row, col) with row <= col, or -1 when outside the pattern. */
+int rk_sparse_find(const rk_sparse *S, int row, int col);
 
 /* Consistent mass (rho*vol/20 * (1 + delta_ab) per tet) or lumped (diagonal), added into M. */
 void rk_fem_add_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M);
-/* Linear-elasticity stiffness at rest, added into K (scaled). */
+/* Linear-elasticity stiffness at rest, added into K (scaled): each element's own model's
+ * unprojected Hessian at x = X (all four models share the linear tangent at F = I). */
 void rk_fem_add_rest_stiffness(const rk_fem *f, double scale, rk_sparse *K);
 
 /* Elastic energy at positions x (3*nv). Returns +INFINITY if any value is not finite. */
@@ -66,9 +71,12 @@ double rk_fem_energy(const rk_fem *f, const double *x);
 void rk_fem_add_gradient(const rk_fem *f, const double *x, double scale, double *g);
 /* H += scale * d2E/dx2, each element's dP/dF projected to PSD when project != 0. */
 void rk_fem_add_hessian(const rk_fem *f, const double *x, double scale, int project, rk_sparse *H);
+/* Number of elements with det F <= 0 at x; *min_J (if not NULL) gets the smallest det F. */
+int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
 
 /* Ground planes as obstacles: the IPC log barrier b(d) = -kappa (d - dhat)^2 log(d / dhat) for
- * 0 < d < dhat on each vertex's signed distance d to each plane, weighted by vertex mass.
+ * 0 < d < dhat on each vertex's signed distance d = n.(x - p) to each plane, weighted by vertex
+ * mass (zero for d >= dhat, +INFINITY for d <= 0). Its Hessian kappa m b''(d) n n^T is PSD.
  * A vertex must start on the positive side; rk_planes_max_step keeps it there. */
 typedef struct {
     double point[3];

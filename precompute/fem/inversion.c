@@ -1,5 +1,5 @@
 /* Element inversion: the count of elements whose deformation gradient has det F <= 0. */
-#include "fem/fem.h"
+#include "fem/element.h"
 
 #include <math.h>
 
@@ -15,8 +15,7 @@ int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J)
     double lowest = INFINITY;
     for (int t = 0; t < f->nt; t++) {
         double xe[12], F[9];
-        for (int a = 0; a < 4; a++)
-            for (int i = 0; i < 3; i++) xe[3 * a + i] = x[3 * f->tets[4 * t + a] + i];
+        rk_fem_gather(f, t, x, xe);
         rk_tet_F(xe, &f->Dm_inv[9 * t], F);
         double J = det3(F);
         if (!(J > 0)) inverted++;

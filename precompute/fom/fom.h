@@ -7,7 +7,10 @@
  * BDF2 (footnote 9): x~ = (4 x_t - x_{t-1})/3 + 2h/9 (4 v_t - v_{t-1}), alpha = 4/9,
  *                    v_{t+1} = (3 x_{t+1} - 4 x_t + x_{t-1}) / (2h); the first step is backward Euler.
  * Psi elastic, B the ground-plane barrier, D Rayleigh damping as the quadratic potential
- * 1/(2h) (x - x_t)^T (a M + b K0) (x - x_t) with K0 the rest stiffness.
+ * 1/(2h) (x - x_t)^T (a M + b K0) (x - x_t) with K0 the rest stiffness. The solver minimises
+ * this divided by alpha h^2 (same minimiser, Hessian scaled like a stiffness). M is the
+ * consistent mass (or lumped, opt.lumped_mass) in both inertia and damping; gravity is m_v g
+ * per vertex with the lumped masses (the consistent mass's row sums, so the same forces).
  * Newton with PSD-projected element Hessians, CHOLMOD (symbolic analysis once, numeric
  * factorization per iteration), backtracking line search on the incremental potential,
  * plane step filtering, termination on |d|_inf / h <= tol (Sec. 3.10). Prescribed vertices
@@ -29,7 +32,8 @@ typedef struct {
     int count;
     int *verts;
     double axis[3];      /* twist: unit axis */
-    double center[3];    /* twist: a point on the axis (default: the group's rest centroid) */
+    double center[3];    /* twist: a point on the axis, used as given (the scene builder fills in
+                          * the group's rest centroid when the scene names none) */
     double rate;         /* twist: radians per second */
     double velocity[3];  /* translate: m/s */
 } rk_prescribed;
@@ -48,12 +52,18 @@ typedef struct {
     rk_obstacles obstacles;
     int nprescribed;
     rk_prescribed *prescribed;
-    double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m) */
+    double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m); <= 0: default */
     int newton_max_iter;
 } rk_fom_options;
 
-/* Fills defaults: h 0.01, backward Euler, consistent mass, no gravity, no damping,
- * newton_tol 1e-6 * (bounding-box diagonal) per second, 50 Newton iterations. */
+/* Relative Newton tolerance used when newton_tol <= 0: rk_fom_init sets
+ * newton_tol = RK_FOM_DEFAULT_TOL * (rest bounding-box diagonal) per second (and a static
+ * solve then uses newton_tol * h metres). */
+#define RK_FOM_DEFAULT_TOL 1e-5
+
+/* Fills defaults: h 0.01, 100 steps, backward Euler, consistent mass, no gravity, no damping,
+ * no obstacles, nothing prescribed, newton_tol 0 (= RK_FOM_DEFAULT_TOL relative, above),
+ * 50 Newton iterations. */
 void rk_fom_default_options(rk_fom_options *o);
 
 typedef struct {
@@ -79,13 +89,23 @@ typedef struct {
     rk_fom_impl *impl; /* CHOLMOD state, scratch */
 } rk_fom;
 
+/* Starts at rest positions X, velocity opt.velocity0 (or 0), t = 0. Copies what opt points to
+ * (force, prescribed groups, planes; s->opt then points at the copies, velocity0 is NULL), so
+ * the caller's arrays need not outlive the call; fem must. Fails on bad options and on a vertex
+ * starting on or behind a plane. newton_tol <= 0 is resolved here (RK_FOM_DEFAULT_TOL). */
 int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_error *err);
-/* One time step. Fails (with the step number) on NaN or a Newton system CHOLMOD rejects. */
+/* One time step. Fails (with the step number) on NaN or a Newton system CHOLMOD rejects; a
+ * step that hits newton_max_iter (or whose line search stalls) is kept and counted in
+ * stats.unconverged_steps. */
 int rk_fom_step(rk_fom *s, rk_error *err);
-/* Static equilibrium under gravity, forces and prescribed vertices (at time opt.steps*h). */
+/* Static equilibrium under gravity, forces and prescribed vertices (at time opt.steps*h),
+ * from the current x; on success x is the equilibrium and v = 0 (t is left as it is). Load
+ * stepping when the full load does not converge; fails when even that does not. */
 int rk_fom_static(rk_fom *s, rk_error *err);
-/* Total kinetic energy 1/2 v^T M v and elastic energy at the current state. */
+/* Total kinetic energy 1/2 v^T M v (the inertia mass: consistent, or lumped per opt) and
+ * elastic energy Psi(x) at the current state. */
 double rk_fom_kinetic_energy(const rk_fom *s);
+double rk_fom_elastic_energy(const rk_fom *s);
 void rk_fom_free(rk_fom *s);
 
 #endif

@@ -1,0 +1,74 @@
+/* Private to precompute/fom: the state behind rk_fom_impl and the pieces the step, the static
+ * solve and init share. */
+#ifndef RK_FOM_IMPL_H
+#define RK_FOM_IMPL_H
+
+#include <cholmod.h>
+
+#include "fom/fom.h"
+
+/* The incremental potential being minimised (fom.h, paper Eq. 2 divided by alpha h^2):
+ *   E(x) = w_inertia/2 |x - xtilde|_M^2 + Psi(x) + B(x) + w_damping/2 |x - xt|_C^2 - load f.x
+ * with C = a M + b K0. Dynamics: w_inertia = 1/(alpha h^2), w_damping = 1/h, load = 1.
+ * Static: w_inertia = w_damping = 0, load in (0, 1] (load stepping) and a tiny mass-proportional
+ * shift `reg` added to the Hessian only (free rigid modes, projected-away directions). */
+typedef struct {
+    double w_inertia;
+    const double *xtilde;
+    double w_damping;
+    const double *xt;
+    double load;
+    double reg;
+} rk_fom_terms;
+
+struct rk_fom_impl {
+    int n;                  /* 3 nv */
+    rk_sparse M;            /* inertia mass: consistent or lumped (opt.lumped_mass) */
+    rk_sparse C;            /* Rayleigh damping a M + b K0; val NULL when a = b = 0 */
+    rk_sparse H;            /* Newton matrix, rebuilt each iteration on the fem pattern */
+    double *f_ext;          /* gravity (lumped masses) + opt.force */
+    char *prescribed_dof;   /* 1 where a dof is prescribed */
+    /* Owned copies of what opt pointed to (s->opt points here after init). */
+    rk_prescribed *groups;
+    rk_plane *planes;
+    double *force;
+    /* History and scratch, 3 nv each. */
+    double *x_prev, *v_prev; /* x_{t-1}, v_{t-1} (BDF2) */
+    int have_prev;
+    double *xt, *xtilde, *g, *d, *x_trial, *work, *work2;
+    double tol_static;      /* |d|_inf (m) */
+    double static_reg;      /* reg of a static solve, relative to the mass */
+    /* CHOLMOD: H wrapped without copying, symbolic analysis once, numeric per iteration. */
+    cholmod_common cc;
+    int cc_started;
+    cholmod_sparse A;
+    cholmod_factor *L;
+    cholmod_dense *sol, *Y, *E;
+};
+
+/* Sets every prescribed vertex of x to its target at time t (fixed: rest; twist: rest rotated by
+ * rate t about the axis through center, Rodrigues; translate: rest + velocity t). */
+void rk_fom_prescribe(const rk_fom *s, double t, double *x);
+/* Fails when a prescribed vertex of x lies on or behind a plane (its barrier is infinite). */
+int rk_fom_check_planes(const rk_fom *s, const double *x, rk_error *err);
+/* Prescribed dofs out of the Newton system: zero gradient; zero rows and columns with 1 on the
+ * diagonal of H (the pattern stays as it is). */
+void rk_fom_eliminate(const rk_fom *s, double *g, rk_sparse *H);
+
+/* E(x); with g, also its gradient; with H, also its Hessian (PSD-projected elastic part).
+ * g and H come back with the prescribed dofs eliminated. With magnitude, also the sum of the
+ * terms' absolute values: the scale of E's round-off. */
+double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, rk_sparse *H,
+                        double *magnitude);
+
+/* Minimises the potential from s->x (updated in place) with projected Newton, CHOLMOD and a
+ * backtracking line search; converged when |d|_inf <= tol_d. *converged says whether it was. */
+int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err);
+
+/* CHOLMOD on impl->H: analysis (init), factorization and solve of H d = -g. */
+int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err);
+int rk_fom_chol_factor(rk_fom *s, rk_error *err);
+int rk_fom_chol_solve(rk_fom *s, const double *g, double *d, rk_error *err);
+void rk_fom_chol_free(rk_fom_impl *im);
+
+#endif

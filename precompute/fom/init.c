@@ -1,0 +1,228 @@
+/* rk_fom_init / rk_fom_free: options checked, inputs copied, constant matrices (mass, damping)
+ * and loads built once, CHOLMOD's symbolic analysis done once. */
+#include "fom/impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int all_finite(const double *a, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(a[i])) return 0;
+    return 1;
+}
+
+static int check_options(const rk_fom_options *o, int nv, rk_error *err)
+{
+    if (!(isfinite(o->h) && o->h > 0)) return rk_fail(err, "time step h = %g must be positive", o->h);
+    if (o->steps < 0) return rk_fail(err, "steps = %d must not be negative", o->steps);
+    if (o->integrator != RK_BACKWARD_EULER && o->integrator != RK_BDF2)
+        return rk_fail(err, "unknown integrator %d", (int)o->integrator);
+    if (o->newton_max_iter < 1)
+        return rk_fail(err, "newton_max_iter = %d must be at least 1", o->newton_max_iter);
+    if (!isfinite(o->newton_tol)) return rk_fail(err, "newton_tol = %g is not finite", o->newton_tol);
+    if (!all_finite(o->gravity, 3)) return rk_fail(err, "gravity is not finite");
+    if (!(isfinite(o->rayleigh_mass) && o->rayleigh_mass >= 0 && isfinite(o->rayleigh_stiffness) &&
+          o->rayleigh_stiffness >= 0))
+        return rk_fail(err, "Rayleigh damping (%g, %g) must be non-negative", o->rayleigh_mass,
+                       o->rayleigh_stiffness);
+    for (int i = 0; i < 3 * nv; i++) {
+        if (o->force && !isfinite(o->force[i]))
+            return rk_fail(err, "force on vertex %d is not finite", i / 3);
+        if (o->velocity0 && !isfinite(o->velocity0[i]))
+            return rk_fail(err, "initial velocity of vertex %d is not finite", i / 3);
+    }
+    const rk_obstacles *ob = &o->obstacles;
+    if (ob->count < 0 || (ob->count > 0 && !ob->planes))
+        return rk_fail(err, "obstacles: %d planes given without data", ob->count);
+    if (ob->count > 0 && !(isfinite(ob->dhat) && ob->dhat > 0 && isfinite(ob->kappa) && ob->kappa >= 0))
+        return rk_fail(err, "obstacles: dhat = %g must be positive and kappa = %g non-negative", ob->dhat,
+                       ob->kappa);
+    if (o->nprescribed < 0 || (o->nprescribed > 0 && !o->prescribed))
+        return rk_fail(err, "%d prescribed groups given without data", o->nprescribed);
+    return 0;
+}
+
+static int normalize(double v[3])
+{
+    double len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(isfinite(len) && len > 0)) return -1;
+    for (int i = 0; i < 3; i++) v[i] /= len;
+    return 0;
+}
+
+/* Copies the prescribed groups (axes normalised) and marks their dofs; a vertex in two groups
+ * would have two targets. */
+static int copy_prescribed(rk_fom *s, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    int n = s->opt.nprescribed, nv = s->fem->nv;
+    im->groups = rk_calloc((size_t)n, sizeof *im->groups, err);
+    if (!im->groups) return -1;
+    for (int k = 0; k < n; k++) {
+        const rk_prescribed *src = &s->opt.prescribed[k];
+        rk_prescribed *p = &im->groups[k];
+        *p = *src;
+        p->verts = rk_calloc((size_t)(src->count > 0 ? src->count : 1), sizeof(int), err);
+        if (!p->verts) return -1;
+        if (src->count < 0 || (src->count > 0 && !src->verts))
+            return rk_fail(err, "prescribed group %d: %d vertices given without data", k, src->count);
+        if (src->kind != RK_MOTION_FIXED && src->kind != RK_MOTION_TWIST && src->kind != RK_MOTION_TRANSLATE)
+            return rk_fail(err, "prescribed group %d: unknown motion kind %d", k, (int)src->kind);
+        if (src->kind == RK_MOTION_TWIST &&
+            (normalize(p->axis) || !isfinite(p->rate) || !all_finite(p->center, 3)))
+            return rk_fail(err, "prescribed group %d: twist needs a non-zero axis, a finite rate and center", k);
+        if (src->kind == RK_MOTION_TRANSLATE && !all_finite(p->velocity, 3))
+            return rk_fail(err, "prescribed group %d: translation velocity is not finite", k);
+        for (int j = 0; j < src->count; j++) {
+            int v = src->verts[j];
+            if (v < 0 || v >= nv)
+                return rk_fail(err, "prescribed group %d: vertex %d out of range (the mesh has %d)", k, v, nv);
+            if (im->prescribed_dof[3 * v])
+                return rk_fail(err, "prescribed group %d: vertex %d is already prescribed", k, v);
+            im->prescribed_dof[3 * v] = im->prescribed_dof[3 * v + 1] = im->prescribed_dof[3 * v + 2] = 1;
+            p->verts[j] = v;
+        }
+    }
+    s->opt.prescribed = im->groups;
+    return 0;
+}
+
+static int copy_obstacles(rk_fom *s, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    rk_obstacles *ob = &s->opt.obstacles;
+    if (ob->count == 0) {
+        ob->planes = NULL;
+        return 0;
+    }
+    im->planes = rk_calloc((size_t)ob->count, sizeof(rk_plane), err);
+    if (!im->planes) return -1;
+    memcpy(im->planes, ob->planes, (size_t)ob->count * sizeof(rk_plane));
+    ob->planes = im->planes;
+    for (int k = 0; k < ob->count; k++)
+        if (normalize(im->planes[k].normal) || !all_finite(im->planes[k].point, 3))
+            return rk_fail(err, "obstacles: plane %d needs a finite point and a non-zero normal", k);
+    return 0;
+}
+
+/* Inertia mass, Rayleigh damping a M + b K0, and f_ext = m_v g + force. Gravity uses the lumped
+ * vertex masses: for P1 they are the row sums of the consistent mass, so M g (consistent) gives
+ * the same nodal forces. */
+static int build_constants(rk_fom *s, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    const rk_fem *f = s->fem;
+    if (rk_sparse_alloc_pattern(f, &im->M, err) || rk_sparse_alloc_pattern(f, &im->H, err)) return -1;
+    rk_fem_add_mass(f, s->opt.lumped_mass, 1.0, &im->M);
+    if (s->opt.rayleigh_mass > 0 || s->opt.rayleigh_stiffness > 0) {
+        if (rk_sparse_alloc_pattern(f, &im->C, err)) return -1;
+        rk_fem_add_mass(f, s->opt.lumped_mass, s->opt.rayleigh_mass, &im->C);
+        rk_fem_add_rest_stiffness(f, s->opt.rayleigh_stiffness, &im->C);
+    }
+    for (int v = 0; v < f->nv; v++)
+        for (int i = 0; i < 3; i++) im->f_ext[3 * v + i] = f->vertex_mass[v] * s->opt.gravity[i];
+    if (s->opt.force) {
+        memcpy(im->force, s->opt.force, (size_t)im->n * sizeof(double));
+        for (int i = 0; i < im->n; i++) im->f_ext[i] += im->force[i];
+        s->opt.force = im->force;
+    }
+    s->opt.velocity0 = NULL; /* read once, below; the caller's array need not outlive init */
+    return 0;
+}
+
+/* newton_tol <= 0: RK_FOM_DEFAULT_TOL times the bounding-box diagonal, per second; a static solve
+ * then uses that times h as its |d|_inf bound in metres. A given newton_tol is used as is. */
+static void resolve_tolerance(rk_fom *s)
+{
+    const rk_fem *f = s->fem;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < f->nv; v++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], f->X[3 * v + i]);
+            hi[i] = fmax(hi[i], f->X[3 * v + i]);
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    if (s->opt.newton_tol > 0) {
+        s->impl->tol_static = s->opt.newton_tol;
+    } else {
+        s->opt.newton_tol = RK_FOM_DEFAULT_TOL * diag;
+        s->impl->tol_static = s->opt.newton_tol * s->opt.h;
+    }
+}
+
+static int alloc_state(rk_fom *s, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    size_t n = (size_t)im->n;
+    double **vecs[] = {&s->x, &s->v, &im->f_ext, &im->force, &im->x_prev, &im->v_prev, &im->xt,
+                       &im->xtilde, &im->g, &im->d, &im->x_trial, &im->work, &im->work2};
+    for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; k++)
+        if (!(*vecs[k] = rk_calloc(n, sizeof(double), err))) return -1;
+    im->prescribed_dof = rk_calloc(n, 1, err);
+    return im->prescribed_dof ? 0 : -1;
+}
+
+static int check_start(const rk_fom *s, rk_error *err)
+{
+    const rk_obstacles *ob = &s->opt.obstacles;
+    for (int k = 0; k < ob->count; k++) {
+        const rk_plane *p = &ob->planes[k];
+        for (int v = 0; v < s->fem->nv; v++) {
+            const double *x = &s->x[3 * v];
+            double d = 0;
+            for (int i = 0; i < 3; i++) d += p->normal[i] * (x[i] - p->point[i]);
+            if (!(d > 0))
+                return rk_fail(err, "vertex %d starts on or behind plane %d (distance %g m)", v, k, d);
+        }
+    }
+    return 0;
+}
+
+int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_error *err)
+{
+    memset(s, 0, sizeof *s);
+    if (check_options(opt, fem->nv, err)) return -1;
+    s->fem = fem;
+    s->opt = *opt;
+    s->impl = rk_calloc(1, sizeof *s->impl, err);
+    if (!s->impl) return -1;
+    s->impl->n = 3 * fem->nv;
+    if (alloc_state(s, err) || copy_prescribed(s, err) || copy_obstacles(s, err) || build_constants(s, err))
+        goto fail;
+    memcpy(s->x, fem->X, (size_t)s->impl->n * sizeof(double));
+    if (opt->velocity0) memcpy(s->v, opt->velocity0, (size_t)s->impl->n * sizeof(double));
+    if (check_start(s, err)) goto fail;
+    resolve_tolerance(s);
+    if (rk_fom_chol_analyze(s->impl, err)) goto fail;
+    return 0;
+fail:
+    rk_fom_free(s);
+    return -1;
+}
+
+void rk_fom_free(rk_fom *s)
+{
+    rk_fom_impl *im = s->impl;
+    if (im) {
+        rk_fom_chol_free(im);
+        rk_sparse_free(&im->M);
+        rk_sparse_free(&im->C);
+        rk_sparse_free(&im->H);
+        if (im->groups)
+            for (int k = 0; k < s->opt.nprescribed; k++) free(im->groups[k].verts);
+        free(im->groups);
+        free(im->planes);
+        free(im->force);
+        free(im->f_ext);
+        free(im->prescribed_dof);
+        free(im->x_prev), free(im->v_prev), free(im->xt), free(im->xtilde);
+        free(im->g), free(im->d), free(im->x_trial), free(im->work), free(im->work2);
+        free(im);
+    }
+    free(s->x);
+    free(s->v);
+    memset(s, 0, sizeof *s);
+}
