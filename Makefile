@@ -27,7 +27,7 @@ TOOL_SRC := $(wildcard tools/*.c)
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 
-.PHONY: all test test-sanitize bench demo clean
+.PHONY: all test test-sanitize bench demo clean deps
 all: $(BUILD)/romkit $(TEST_BIN)
 
 $(BUILD)/obj/%.o: %.c
@@ -49,7 +49,17 @@ test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
 .SECONDEXPANSION:
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_stage,$$*))
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_PC) -Itests -o $@ $< $(call libs_of,$(call test_stage,$*)) $(LDLIBS)
+	$(CC) $(CFLAGS_PC) -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,$(call test_stage,$*)) $(LDLIBS)
+
+$(BUILD)/bench_fom: bench/bench_fom.c $(call libs_of,scene)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,scene) $(LDLIBS)
+
+bench: deps $(BUILD)/bench_fom
+	@mkdir -p bench/results
+	$(BUILD)/bench_fom tests/data/meshes bench/results
+
+demo: deps all
+	@sh tools/demo.sh $(BUILD)
 
 deps:
 	@sh tools/install-deps.sh
@@ -65,4 +75,4 @@ test-sanitize: deps
 clean:
 	rm -rf build build-san
 
--include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj $(BUILD)/tests -name '*.d' 2>/dev/null)

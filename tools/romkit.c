@@ -12,7 +12,7 @@ typedef struct {
 
 static const command commands[] = {
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
-    {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh"},
+    {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
 };
 
 int is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }

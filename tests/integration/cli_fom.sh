@@ -1,0 +1,40 @@
+# romkit fom and romkit's dispatch, driven as a user would.
+. tests/lib.sh
+
+"$ROMKIT" --help >"$TMP/help" 2>&1 && grep -q "fom" "$TMP/help" && ok help_lists_commands || fail help_lists_commands "$(cat "$TMP/help")"
+"$ROMKIT" fom --help >"$TMP/help" 2>&1 && grep -q "example" "$TMP/help" && ok fom_help_has_example || fail fom_help_has_example "no example"
+"$ROMKIT" nonsense >/dev/null 2>&1; [ $? -eq 2 ] && ok unknown_command_exits_2 || fail unknown_command_exits_2 "wrong status"
+"$ROMKIT" fom >/dev/null 2>&1; [ $? -eq 2 ] && ok fom_without_scene_exits_2 || fail fom_without_scene_exits_2 "wrong status"
+
+cat >"$TMP/drop.json" <<'JSON'
+{
+  "objects": [{
+    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [5, 1, 1]}},
+    "material": {"model": "stvk", "young": 1e6, "poisson": 0.3, "density": 1000},
+    "fixed": [{"box": [[-1, -1, -1], [0, 1, 1]]}]
+  }],
+  "gravity": [0, -9.81, 0],
+  "time": {"step": 0.01, "duration": 0.1}
+}
+JSON
+if "$ROMKIT" fom "$TMP/drop.json" --positions "$TMP/p.npy" --snapshots "$TMP/s.npy" --frames "$TMP/frames" \
+        --report "$TMP/r.json" >"$TMP/out" 2>"$TMP/err"; then
+    ok fom_runs
+else
+    fail fom_runs "$(cat "$TMP/err")"
+fi
+# 6 x 2 x 2 = 24 vertices, 5 cells x 6 tets = 30 tets, 10 steps -> 11 frames.
+grep -q '"vertices":[[:space:]]*24' "$TMP/r.json" && grep -q '"tets":[[:space:]]*30' "$TMP/r.json" \
+    && ok report_counts || fail report_counts "$(head -c 400 "$TMP/r.json")"
+grep -q '"seconds_per_step"' "$TMP/r.json" && grep -q '"total"' "$TMP/r.json" \
+    && ok report_timings || fail report_timings "no seconds_per_step / seconds.total"
+grep -q "'shape': (11, 24, 3)" "$TMP/s.npy" && ok snapshots_shape || fail snapshots_shape "$(head -c 120 "$TMP/s.npy")"
+grep -q "'shape': (24, 3)" "$TMP/p.npy" && ok positions_shape || fail positions_shape "$(head -c 120 "$TMP/p.npy")"
+[ "$(ls "$TMP/frames" | wc -l)" -eq 11 ] && ok one_frame_per_step || fail one_frame_per_step "$(ls "$TMP/frames" | wc -l) frames"
+
+# A failing run writes nothing: the output paths must not exist afterwards.
+sed 's/"poisson": 0.3/"poisson": 0.7/' "$TMP/drop.json" >"$TMP/bad.json"
+expect_fail bad_poisson_is_named "objects\[0\].material.poisson" \
+    "$ROMKIT" fom "$TMP/bad.json" --positions "$TMP/bad_p.npy" --report "$TMP/bad_r.json"
+[ ! -e "$TMP/bad_p.npy" ] && [ ! -e "$TMP/bad_r.json" ] && [ -z "$(ls "$TMP" | grep tmp)" ] \
+    && ok failed_run_writes_nothing || fail failed_run_writes_nothing "$(ls "$TMP")"
