@@ -47,6 +47,8 @@ typedef struct {
     double gravity[3];        /* m/s^2 */
     double *force;            /* 3*nv extra external forces (N), or NULL */
     double *velocity0;        /* 3*nv initial velocities, or NULL for rest */
+    double *position0;        /* 3*nv initial positions, or NULL for the rest positions (may be
+                                 inverted: stable Neo-Hookean recovers) */
     double rayleigh_mass;     /* a in (a M + b K0) */
     double rayleigh_stiffness;/* b */
     rk_obstacles obstacles;
@@ -89,8 +91,8 @@ typedef struct {
     rk_fom_impl *impl; /* CHOLMOD state, scratch */
 } rk_fom;
 
-/* Starts at rest positions X, velocity opt.velocity0 (or 0), t = 0. Copies what opt points to
- * (force, prescribed groups, planes; s->opt then points at the copies, velocity0 is NULL), so
+/* Starts at opt.position0 (or the rest positions X), velocity opt.velocity0 (or 0), t = 0. Copies what opt points to
+ * (force, prescribed groups, planes; s->opt then points at the copies, velocity0 and position0 are NULL), so
  * the caller's arrays need not outlive the call; fem must. Fails on bad options and on a vertex
  * starting on or behind a plane. newton_tol <= 0 is resolved here (RK_FOM_DEFAULT_TOL). */
 int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_error *err);

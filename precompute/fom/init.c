@@ -32,6 +32,8 @@ static int check_options(const rk_fom_options *o, int nv, rk_error *err)
             return rk_fail(err, "force on vertex %d is not finite", i / 3);
         if (o->velocity0 && !isfinite(o->velocity0[i]))
             return rk_fail(err, "initial velocity of vertex %d is not finite", i / 3);
+        if (o->position0 && !isfinite(o->position0[i]))
+            return rk_fail(err, "initial position of vertex %d is not finite", i / 3);
     }
     const rk_obstacles *ob = &o->obstacles;
     if (ob->count < 0 || (ob->count > 0 && !ob->planes))
@@ -128,7 +130,8 @@ static int build_constants(rk_fom *s, rk_error *err)
         for (int i = 0; i < im->n; i++) im->f_ext[i] += im->force[i];
         s->opt.force = im->force;
     }
-    s->opt.velocity0 = NULL; /* read once, below; the caller's array need not outlive init */
+    s->opt.velocity0 = NULL; /* read once, below; the caller's arrays need not outlive init */
+    s->opt.position0 = NULL;
     return 0;
 }
 
@@ -192,7 +195,7 @@ int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_erro
     s->impl->n = 3 * fem->nv;
     if (alloc_state(s, err) || copy_prescribed(s, err) || copy_obstacles(s, err) || build_constants(s, err))
         goto fail;
-    memcpy(s->x, fem->X, (size_t)s->impl->n * sizeof(double));
+    memcpy(s->x, opt->position0 ? opt->position0 : fem->X, (size_t)s->impl->n * sizeof(double));
     if (opt->velocity0) memcpy(s->v, opt->velocity0, (size_t)s->impl->n * sizeof(double));
     if (check_start(s, err)) goto fail;
     resolve_tolerance(s);

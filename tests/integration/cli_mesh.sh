@@ -1,0 +1,28 @@
+# romkit mesh as a user drives it: tetrahedralize a surface, convert between tet formats,
+# and fail clearly (naming the file) on bad input without leaving output behind.
+. tests/lib.sh
+D=tests/data/meshes
+
+if "$ROMKIT" mesh "$D/decimated-knight.off" -o "$TMP/knight.mesh" >"$TMP/out" 2>"$TMP/err"; then
+    ok knight_tetrahedralizes
+else
+    fail knight_tetrahedralizes "$(cat "$TMP/err")"
+fi
+grep -q "components   1" "$TMP/out" && grep -q "tetrahedra" "$TMP/out" \
+    && ok mesh_prints_counts_and_quality || fail mesh_prints_counts_and_quality "$(cat "$TMP/out")"
+
+# Convert the TetGen armadillo to VTK and back through MEDIT: counts survive (1,180 / 3,717).
+"$ROMKIT" mesh "$D/armadillo_4k.node" -o "$TMP/a.vtk" --quiet && "$ROMKIT" mesh "$TMP/a.vtk" -o "$TMP/a.mesh" >"$TMP/out" 2>&1
+grep -q "vertices     1180" "$TMP/out" && grep -q "tetrahedra   3717" "$TMP/out" \
+    && ok convert_keeps_counts || fail convert_keeps_counts "$(cat "$TMP/out")"
+
+# A truncated Gmsh file names itself and a line; nothing is written.
+head -c 20000 "$D/bunny_19k.msh" >"$TMP/cut.msh"
+expect_fail truncated_mesh_is_named "cut.msh" "$ROMKIT" mesh "$TMP/cut.msh" -o "$TMP/cut.vtk"
+[ ! -e "$TMP/cut.vtk" ] && ok failed_convert_writes_nothing || fail failed_convert_writes_nothing "output exists"
+
+# An open surface is refused, naming an edge.
+# (all 502 vertices, the last three of the 1,000 faces dropped)
+head -n -3 "$D/decimated-knight.off" | sed '2s/.*/502 997 0/' >"$TMP/open.off"
+expect_fail open_surface_is_refused "open.off.*edge" "$ROMKIT" mesh "$TMP/open.off" -o "$TMP/open.mesh"
+"$ROMKIT" mesh >/dev/null 2>&1; [ $? -eq 2 ] && ok mesh_without_input_exits_2 || fail mesh_without_input_exits_2 "wrong status"
