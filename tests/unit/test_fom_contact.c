@@ -2,10 +2,10 @@
  * it; the static solve finds the same resting state. */
 #include "fom/fom.h"
 #include "testlib.h"
+#include "fem_body.h"
 
 typedef struct {
-    rk_mesh m;
-    rk_fem f;
+    fem_body body;
     rk_plane ground;
     rk_fom_options opt;
 } drop;
@@ -16,13 +16,11 @@ static int make_drop(drop *d, rk_integrator integ, rk_error *err)
 {
     double size[3] = {0.2, 0.2, 0.2}, shift[3] = {0, 0, 0.05};
     int cells[3] = {3, 3, 3};
-    if (rk_mesh_box(size, cells, &d->m, err)) return -1;
-    for (int v = 0; v < d->m.nv; v++) d->m.X[3 * v + 2] += 0.1 * d->m.X[3 * v]; /* tilt */
-    rk_mesh_transform(&d->m, 1.0, shift);
-    rk_material *mats = calloc((size_t)d->m.nt, sizeof *mats);
-    for (int t = 0; t < d->m.nt; t++) mats[t] = (rk_material){RK_MAT_NEOHOOKEAN, 2e5, 0.35, 1000.0};
-    int rc = rk_fem_init(&d->f, &d->m, mats, err);
-    free(mats);
+    rk_mesh *m = &d->body.m;
+    if (rk_mesh_box(size, cells, m, err)) return -1;
+    for (int v = 0; v < m->nv; v++) m->X[3 * v + 2] += 0.1 * m->X[3 * v]; /* tilt */
+    rk_mesh_transform(m, 1.0, shift);
+    int rc = fem_body_init(&d->body, (rk_material){RK_MAT_NEOHOOKEAN, 2e5, 0.35, 1000.0}, err);
     d->ground = (rk_plane){{0, 0, 0}, {0, 0, 1}};
     rk_fom_default_options(&d->opt);
     d->opt.integrator = integ;
@@ -53,7 +51,7 @@ TEST(dropped_box_never_crosses_the_ground_and_comes_to_rest)
         drop d;
         CHECK_OK(make_drop(&d, (rk_integrator)integ, &err));
         rk_fom s;
-        CHECK_OK(rk_fom_init(&s, &d.f, &d.opt, &err));
+        CHECK_OK(rk_fom_init(&s, &d.body.f, &d.opt, &err));
         int touched = 0;
         for (int k = 1; k <= 200; k++) {
             CHECK_OK(rk_fom_step(&s, &err));
@@ -71,8 +69,7 @@ TEST(dropped_box_never_crosses_the_ground_and_comes_to_rest)
         CHECK(vmax < 0.02, "integrator %d: still moving at %g m/s after 2 s", integ, vmax);
         CHECK(s.stats.unconverged_steps == 0, "%ld unconverged steps", s.stats.unconverged_steps);
         rk_fom_free(&s);
-        rk_fem_free(&d.f);
-        rk_mesh_free(&d.m);
+        fem_body_free(&d.body);
     }
 }
 
@@ -82,37 +79,33 @@ TEST(static_solve_rests_the_box_on_the_ground)
     drop d;
     CHECK_OK(make_drop(&d, RK_BACKWARD_EULER, &err));
     /* Start just above the ground, flat, so the rest state is near. */
-    for (int v = 0; v < d.m.nv; v++) d.m.X[3 * v + 2] -= 0.1 * d.m.X[3 * v] + 0.05 - 2e-4;
-    rk_fem_free(&d.f);
-    rk_material *mats = calloc((size_t)d.m.nt, sizeof *mats);
-    for (int t = 0; t < d.m.nt; t++) mats[t] = (rk_material){RK_MAT_NEOHOOKEAN, 2e5, 0.35, 1000.0};
-    CHECK_OK(rk_fem_init(&d.f, &d.m, mats, &err));
-    free(mats);
+    for (int v = 0; v < d.body.m.nv; v++) d.body.m.X[3 * v + 2] -= 0.1 * d.body.m.X[3 * v] + 0.05 - 2e-4;
+    rk_fem_free(&d.body.f);
+    CHECK_OK(fem_body_init(&d.body, (rk_material){RK_MAT_NEOHOOKEAN, 2e5, 0.35, 1000.0}, &err));
     rk_fom s;
-    CHECK_OK(rk_fom_init(&s, &d.f, &d.opt, &err));
+    CHECK_OK(rk_fom_init(&s, &d.body.f, &d.opt, &err));
     CHECK_OK(rk_fom_static(&s, &err));
     double z = lowest(&s);
     CHECK(z > 0 && z < d.opt.obstacles.dhat, "resting height %g outside (0, dhat)", z);
     double top = -INFINITY, top0 = -INFINITY;
-    for (int v = 0; v < d.f.nv; v++) {
+    for (int v = 0; v < d.body.f.nv; v++) {
         top = fmax(top, s.x[3 * v + 2]);
-        top0 = fmax(top0, d.f.X[3 * v + 2]);
+        top0 = fmax(top0, d.body.f.X[3 * v + 2]);
     }
     CHECK(top < top0, "the box did not settle (top %g, was %g)", top, top0);
     /* A dynamic run from the same start ends at the same state. */
-    double *xs = malloc(3 * (size_t)d.f.nv * sizeof *xs);
-    memcpy(xs, s.x, 3 * (size_t)d.f.nv * sizeof *xs);
+    double *xs = malloc(3 * (size_t)d.body.f.nv * sizeof *xs);
+    memcpy(xs, s.x, 3 * (size_t)d.body.f.nv * sizeof *xs);
     rk_fom_free(&s);
     d.opt.rayleigh_mass = 5.0; /* settle fast */
-    CHECK_OK(rk_fom_init(&s, &d.f, &d.opt, &err));
+    CHECK_OK(rk_fom_init(&s, &d.body.f, &d.opt, &err));
     for (int k = 0; k < 300; k++) CHECK_OK(rk_fom_step(&s, &err));
     double worst = 0;
-    for (int i = 2; i < 3 * d.f.nv; i += 3) worst = fmax(worst, fabs(s.x[i] - xs[i]));
+    for (int i = 2; i < 3 * d.body.f.nv; i += 3) worst = fmax(worst, fabs(s.x[i] - xs[i]));
     CHECK(worst < 1e-5, "static and settled dynamic heights differ by %g m", worst);
     free(xs);
     rk_fom_free(&s);
-    rk_fem_free(&d.f);
-    rk_mesh_free(&d.m);
+    fem_body_free(&d.body);
 }
 
 int main(void)

@@ -2,29 +2,17 @@
  * backward Euler, energy decay of BE and BDF2 with and without Rayleigh damping. */
 #include "fom/fom.h"
 #include "testlib.h"
+#include "fem_body.h"
 
-typedef struct {
-    rk_mesh m;
-    rk_fem f;
-} body;
+typedef fem_body body;
 
 static int make_body(body *b, rk_material_model model, double young, int cells_per_axis, rk_error *err)
 {
-    double size[3] = {1.0, 0.6, 0.4};
-    int cells[3] = {cells_per_axis, cells_per_axis, cells_per_axis};
-    if (rk_mesh_box(size, cells, &b->m, err)) return -1;
-    rk_material *mats = calloc((size_t)b->m.nt, sizeof *mats);
-    for (int t = 0; t < b->m.nt; t++) mats[t] = (rk_material){model, young, 0.3, 1000.0};
-    int rc = rk_fem_init(&b->f, &b->m, mats, err);
-    free(mats);
-    return rc;
+    int n = cells_per_axis;
+    return fem_body_box(b, 1.0, 0.6, 0.4, n, n, n, (rk_material){model, young, 0.3, 1000.0}, err);
 }
 
-static void free_body(body *b)
-{
-    rk_fem_free(&b->f);
-    rk_mesh_free(&b->m);
-}
+static void free_body(body *b) { fem_body_free(b); }
 
 /* Linear momentum sum_v m_v v_v: the consistent mass has the lumped masses as row sums, so this
  * is 1^T M v for either mass. */

@@ -2,29 +2,16 @@
  * are counted, not fatal; options are checked at init. */
 #include "fom/fom.h"
 #include "testlib.h"
+#include "fem_body.h"
 
-typedef struct {
-    rk_mesh m;
-    rk_fem f;
-} body;
+typedef fem_body body;
 
 static int make_body(body *b, rk_error *err)
 {
-    double size[3] = {1.0, 0.3, 0.3};
-    int cells[3] = {4, 1, 1};
-    if (rk_mesh_box(size, cells, &b->m, err)) return -1;
-    rk_material *mats = calloc((size_t)b->m.nt, sizeof *mats);
-    for (int t = 0; t < b->m.nt; t++) mats[t] = (rk_material){RK_MAT_NEOHOOKEAN, 1e5, 0.3, 1000.0};
-    int rc = rk_fem_init(&b->f, &b->m, mats, err);
-    free(mats);
-    return rc;
+    return fem_body_box(b, 1.0, 0.3, 0.3, 4, 1, 1, (rk_material){RK_MAT_NEOHOOKEAN, 1e5, 0.3, 1000.0}, err);
 }
 
-static void free_body(body *b)
-{
-    rk_fem_free(&b->f);
-    rk_mesh_free(&b->m);
-}
+static void free_body(body *b) { fem_body_free(b); }
 
 TEST(nan_state_fails_with_the_step_number)
 {

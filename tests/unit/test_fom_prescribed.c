@@ -2,10 +2,10 @@
  * dynamics and in static solves; a linear static solve satisfies K0 u = f on the free dofs. */
 #include "fom/fom.h"
 #include "testlib.h"
+#include "fem_body.h"
 
 typedef struct {
-    rk_mesh m;
-    rk_fem f;
+    fem_body body;
     int *left, nleft, *right, nright; /* vertices on the faces x = 0 and x = L */
 } beam;
 
@@ -13,19 +13,14 @@ static const double L = 1.0, W = 0.2;
 
 static int make_beam(beam *b, rk_material_model model, double young, rk_error *err)
 {
-    double size[3] = {L, W, W};
-    int cells[3] = {6, 2, 2};
-    if (rk_mesh_box(size, cells, &b->m, err)) return -1;
-    rk_material *mats = calloc((size_t)b->m.nt, sizeof *mats);
-    for (int t = 0; t < b->m.nt; t++) mats[t] = (rk_material){model, young, 0.3, 1000.0};
-    int rc = rk_fem_init(&b->f, &b->m, mats, err);
-    free(mats);
-    b->left = calloc((size_t)b->f.nv, sizeof(int));
-    b->right = calloc((size_t)b->f.nv, sizeof(int));
+    int rc = fem_body_box(&b->body, L, W, W, 6, 2, 2, (rk_material){model, young, 0.3, 1000.0}, err);
+    if (rc) return rc;
+    b->left = calloc((size_t)b->body.f.nv, sizeof(int));
+    b->right = calloc((size_t)b->body.f.nv, sizeof(int));
     b->nleft = b->nright = 0;
-    for (int v = 0; v < b->f.nv; v++) {
-        if (b->f.X[3 * v] < 1e-9) b->left[b->nleft++] = v;
-        if (b->f.X[3 * v] > L - 1e-9) b->right[b->nright++] = v;
+    for (int v = 0; v < b->body.f.nv; v++) {
+        if (b->body.f.X[3 * v] < 1e-9) b->left[b->nleft++] = v;
+        if (b->body.f.X[3 * v] > L - 1e-9) b->right[b->nright++] = v;
     }
     return rc;
 }
@@ -33,8 +28,7 @@ static int make_beam(beam *b, rk_material_model model, double young, rk_error *e
 static void free_beam(beam *b)
 {
     free(b->left), free(b->right);
-    rk_fem_free(&b->f);
-    rk_mesh_free(&b->m);
+    fem_body_free(&b->body);
 }
 
 /* Target of rest point X under a twist of `angle` about the x axis through (., W/2, W/2). */
@@ -65,27 +59,27 @@ TEST(twisted_and_fixed_vertices_sit_on_their_targets)
         opt.nprescribed = 2;
         opt.prescribed = groups;
         rk_fom s;
-        CHECK_OK(rk_fom_init(&s, &b.f, &opt, &err));
+        CHECK_OK(rk_fom_init(&s, &b.body.f, &opt, &err));
         for (int k = 1; k <= 40; k++) { /* 1.6 rad at the end */
             CHECK_OK(rk_fom_step(&s, &err));
             for (int j = 0; j < b.nright; j++) {
                 int v = b.right[j];
                 double want[3];
-                twisted(&b.f.X[3 * v], 2.0 * s.t, want);
+                twisted(&b.body.f.X[3 * v], 2.0 * s.t, want);
                 for (int i = 0; i < 3; i++)
                     CHECK(fabs(s.x[3 * v + i] - want[i]) <= 1e-12, "step %d: twisted vertex %d off by %g", k,
                           v, s.x[3 * v + i] - want[i]);
             }
             for (int j = 0; j < b.nleft; j++)
                 for (int i = 0; i < 3; i++)
-                    CHECK(s.x[3 * b.left[j] + i] == b.f.X[3 * b.left[j] + i], "step %d: fixed vertex %d moved", k,
+                    CHECK(s.x[3 * b.left[j] + i] == b.body.f.X[3 * b.left[j] + i], "step %d: fixed vertex %d moved", k,
                           b.left[j]);
         }
         CHECK(s.stats.unconverged_steps == 0, "%ld unconverged steps", s.stats.unconverged_steps);
         /* The twist reaches into the beam: the mid-span corners turned by a fraction of 1.6 rad. */
         int mid = -1;
-        for (int v = 0; v < b.f.nv; v++)
-            if (fabs(b.f.X[3 * v] - L / 2) < 1e-9 && b.f.X[3 * v + 1] > W - 1e-9 && b.f.X[3 * v + 2] > W - 1e-9) mid = v;
+        for (int v = 0; v < b.body.f.nv; v++)
+            if (fabs(b.body.f.X[3 * v] - L / 2) < 1e-9 && b.body.f.X[3 * v + 1] > W - 1e-9 && b.body.f.X[3 * v + 2] > W - 1e-9) mid = v;
         CHECK(mid >= 0, "no mid-span corner");
         double y = s.x[3 * mid + 1] - W / 2, z = s.x[3 * mid + 2] - W / 2;
         double turned = atan2(z, y) - atan2(W / 2, W / 2);
@@ -106,20 +100,20 @@ TEST(translated_vertices_follow_their_velocity)
     opt.nprescribed = 1;
     opt.prescribed = &group;
     rk_fom s;
-    CHECK_OK(rk_fom_init(&s, &b.f, &opt, &err));
+    CHECK_OK(rk_fom_init(&s, &b.body.f, &opt, &err));
     for (int k = 1; k <= 30; k++) {
         CHECK_OK(rk_fom_step(&s, &err));
         for (int j = 0; j < b.nright; j++)
             for (int i = 0; i < 3; i++) {
                 int v = b.right[j];
-                double want = b.f.X[3 * v + i] + group.velocity[i] * s.t;
+                double want = b.body.f.X[3 * v + i] + group.velocity[i] * s.t;
                 CHECK(fabs(s.x[3 * v + i] - want) <= 1e-12, "step %d vertex %d axis %d: %g, want %g", k, v, i,
                       s.x[3 * v + i], want);
             }
     }
     /* The free rest of the beam is dragged along: its centre moved in +x. */
     double cx = 0;
-    for (int v = 0; v < b.f.nv; v++) cx += s.x[3 * v] - b.f.X[3 * v];
+    for (int v = 0; v < b.body.f.nv; v++) cx += s.x[3 * v] - b.body.f.X[3 * v];
     CHECK(cx > 0, "beam not dragged");
     rk_fom_free(&s);
     free_beam(&b);
@@ -139,20 +133,20 @@ TEST(linear_static_cantilever_solves_the_rest_stiffness_system)
     opt.prescribed = &group;
     opt.newton_tol = 1e-12; /* metres, static */
     rk_fom s;
-    CHECK_OK(rk_fom_init(&s, &b.f, &opt, &err));
+    CHECK_OK(rk_fom_init(&s, &b.body.f, &opt, &err));
     CHECK_OK(rk_fom_static(&s, &err));
-    int n = 3 * b.f.nv;
+    int n = 3 * b.body.f.nv;
     rk_sparse K;
-    CHECK_OK(rk_sparse_alloc_pattern(&b.f, &K, &err));
-    rk_fem_add_rest_stiffness(&b.f, 1.0, &K);
+    CHECK_OK(rk_sparse_alloc_pattern(&b.body.f, &K, &err));
+    rk_fem_add_rest_stiffness(&b.body.f, 1.0, &K);
     double *u = malloc((size_t)n * sizeof *u), *Ku = malloc((size_t)n * sizeof *Ku);
-    for (int i = 0; i < n; i++) u[i] = s.x[i] - b.f.X[i];
+    for (int i = 0; i < n; i++) u[i] = s.x[i] - b.body.f.X[i];
     rk_sparse_mul(&K, u, Ku);
-    char *fixed = calloc((size_t)b.f.nv, 1);
+    char *fixed = calloc((size_t)b.body.f.nv, 1);
     for (int j = 0; j < b.nleft; j++) fixed[b.left[j]] = 1;
     double worst = 0, fmax_ = 0, tip = 0;
-    for (int v = 0; v < b.f.nv; v++) {
-        double fz = -9.81 * b.f.vertex_mass[v];
+    for (int v = 0; v < b.body.f.nv; v++) {
+        double fz = -9.81 * b.body.f.vertex_mass[v];
         fmax_ = fmax(fmax_, fabs(fz));
         if (fixed[v]) {
             CHECK(u[3 * v] == 0 && u[3 * v + 1] == 0 && u[3 * v + 2] == 0, "fixed vertex %d moved", v);
@@ -192,24 +186,24 @@ TEST(static_twist_reaches_equilibrium)
     opt.nprescribed = 2;
     opt.prescribed = groups;
     rk_fom s;
-    CHECK_OK(rk_fom_init(&s, &b.f, &opt, &err));
+    CHECK_OK(rk_fom_init(&s, &b.body.f, &opt, &err));
     CHECK_OK(rk_fom_static(&s, &err));
     for (int j = 0; j < b.nright; j++) {
         int v = b.right[j];
         double want[3];
-        twisted(&b.f.X[3 * v], 1.5, want);
+        twisted(&b.body.f.X[3 * v], 1.5, want);
         for (int i = 0; i < 3; i++)
             CHECK(fabs(s.x[3 * v + i] - want[i]) <= 1e-12, "twisted vertex %d off by %g", v, s.x[3 * v + i] - want[i]);
     }
     /* Equilibrium: elastic forces vanish on the free vertices (relative to the largest force). */
-    int n = 3 * b.f.nv;
+    int n = 3 * b.body.f.nv;
     double *g = calloc((size_t)n, sizeof *g);
-    rk_fem_add_gradient(&b.f, s.x, 1.0, g);
-    char *pres = calloc((size_t)b.f.nv, 1);
+    rk_fem_add_gradient(&b.body.f, s.x, 1.0, g);
+    char *pres = calloc((size_t)b.body.f.nv, 1);
     for (int j = 0; j < b.nleft; j++) pres[b.left[j]] = 1;
     for (int j = 0; j < b.nright; j++) pres[b.right[j]] = 1;
     double free_force = 0, reaction = 0;
-    for (int v = 0; v < b.f.nv; v++)
+    for (int v = 0; v < b.body.f.nv; v++)
         for (int i = 0; i < 3; i++) {
             if (pres[v]) reaction = fmax(reaction, fabs(g[3 * v + i]));
             else free_force = fmax(free_force, fabs(g[3 * v + i]));
