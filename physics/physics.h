@@ -47,6 +47,9 @@ void rk_tet_gradient(rk_material_model model, double mu, double lambda, const do
 void rk_tet_hessian(rk_material_model model, double mu, double lambda, const double x[12],
                     const double Dm_inv[9], double vol, double H[144], int project);
 
+/* Determinant of a 3x3 matrix (row-major); det F <= 0 marks an inverted element. */
+double rk_det3(const double A[9]);
+
 /* Rest data of a tet: Dm^-1 and signed volume det(Dm)/6. Returns the signed volume. */
 double rk_tet_rest(const double X[12], double Dm_inv[9]);
 

@@ -68,6 +68,7 @@ PHYS_API void PHYS_FN(tet_hessian)(rk_material_model model, PHYS_REAL mu, PHYS_R
 PHYS_API PHYS_REAL PHYS_FN(tet_rest)(const PHYS_REAL X[12], PHYS_REAL Dm_inv[9]);
 PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REAL *V);
 PHYS_API void PHYS_FN(project_psd)(int n, PHYS_REAL *A);
+PHYS_API PHYS_REAL PHYS_FN(det3)(const PHYS_REAL A[9]);
 
 /* ------------------------------------------------------------------------------------------
  * Small 3x3 helpers (row-major).
@@ -106,6 +107,8 @@ static PHYS_REAL PHYS_FN(m3_det)(const PHYS_REAL A[9])
     return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
            A[2] * (A[3] * A[7] - A[4] * A[6]);
 }
+
+PHYS_API PHYS_REAL PHYS_FN(det3)(const PHYS_REAL A[9]) { return PHYS_FN(m3_det)(A); }
 
 /* Cofactor matrix, cof_ij = dDet/dA_ij = A_{i+1,j+1} A_{i+2,j+2} - A_{i+1,j+2} A_{i+2,j+1}
  * (indices mod 3); A^-1 = cof^T / det. */

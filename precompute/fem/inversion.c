@@ -3,12 +3,6 @@
 
 #include <math.h>
 
-static double det3(const double F[9])
-{
-    return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
-           F[2] * (F[3] * F[7] - F[4] * F[6]);
-}
-
 int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J)
 {
     int inverted = 0;
@@ -17,7 +11,7 @@ int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J)
         double xe[12], F[9];
         rk_fem_gather(f, t, x, xe);
         rk_tet_F(xe, &f->Dm_inv[9 * t], F);
-        double J = det3(F);
+        double J = rk_det3(F);
         if (!(J > 0)) inverted++;
         if (J < lowest) lowest = J;
     }
