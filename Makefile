@@ -11,19 +11,22 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem fom scene
+STAGES := util mesh physics fem fom scene basis
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
 DEPS_fom     := fom fem physics mesh util
 DEPS_scene   := scene fom fem physics mesh util
+DEPS_basis   := basis scene fom fem physics mesh util
 src_of  = $(if $(filter physics,$(1)),$(wildcard physics/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
 
 ALL_LIBS := $(foreach s,$(STAGES),$(call lib_of,$(s)))
 TOOL_SRC := $(wildcard tools/*.c)
+# The most downstream stage: the command line links it and all it uses.
+TOOL_STAGE := basis
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 
@@ -42,7 +45,7 @@ endef
 $(foreach s,$(STAGES),$(eval $(call stage_lib,$(s))))
 
 $(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS)
-	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,scene) $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
 
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))

@@ -56,6 +56,8 @@ void rk_sparse_zero(rk_sparse *S);
 void rk_sparse_mul(const rk_sparse *S, const double *x, double *y);
 /* x^T S y (S symmetric, upper stored); no scratch, so callable on const data. */
 double rk_sparse_dot(const rk_sparse *S, const double *x, const double *y);
+/* Sum of the diagonal entries. */
+double rk_sparse_trace(const rk_sparse *S);
 /* Index in val of entry (row, col) with row <= col, or -1 when outside the pattern. */
 int rk_sparse_find(const rk_sparse *S, int row, int col);
 

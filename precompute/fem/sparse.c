@@ -70,3 +70,12 @@ int rk_sparse_find(const rk_sparse *S, int row, int col)
     }
     return lo < S->colptr[col + 1] && S->rowind[lo] == row ? lo : -1;
 }
+
+double rk_sparse_trace(const rk_sparse *S)
+{
+    double t = 0;
+    for (int j = 0; j < S->n; j++)
+        for (int k = S->colptr[j]; k < S->colptr[j + 1]; k++)
+            if (S->rowind[k] == j) t += S->val[k];
+    return t;
+}

@@ -1,0 +1,27 @@
+/* The basis types by name, and freeing a basis. */
+#include "basis/basis.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const names[] = {"modes", "modal_derivatives", "skinning", "rkpm_skinning", "pod"};
+
+const char *rk_basis_type_name(rk_basis_type t)
+{
+    return (unsigned)t < sizeof names / sizeof *names ? names[t] : "unknown";
+}
+
+int rk_basis_type_parse(const char *name, rk_basis_type *t)
+{
+    for (unsigned i = 0; i < sizeof names / sizeof *names; i++)
+        if (!strcmp(name, names[i])) { *t = (rk_basis_type)i; return 0; }
+    return -1;
+}
+
+void rk_basis_free(rk_basis *b)
+{
+    free(b->U);
+    free(b->values);
+    free(b->W);
+    memset(b, 0, sizeof *b);
+}

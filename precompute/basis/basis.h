@@ -1,0 +1,85 @@
+/* precompute/basis: reduced bases, one interface for all of them. A basis is a 3n x r matrix U
+ * (column-major, n = the vertices it is evaluated at) whose span is what a reduced model can
+ * express, plus the eigenvalues or singular values that produced it. Skinning bases also keep
+ * their scalar weights W (n x m) and build U from them by linear blend skinning (12 columns per
+ * weight: the 3x4 affine handle Z_j of Eq. 1 of the freeform paper).
+ *
+ *   modes              K v = lambda M v over the free dofs (ARPACK shift-invert, eigen.c)
+ *   modal_derivatives  linear modes plus Barbic & James 2005 derivatives, mass-PCA'd
+ *   skinning           mesh skinning eigenmodes (Benchekroun et al. 2023): H_w v = lambda M_w v
+ *   rkpm_skinning      the same on RKPM kernels, mesh-free (freeform paper Sec. 3.2)
+ *   pod                mass-weighted SVD of full-order snapshot displacements */
+#ifndef RK_BASIS_H
+#define RK_BASIS_H
+
+#include "fem/fem.h"
+#include "util/error.h"
+
+typedef enum {
+    RK_BASIS_MODES = 0,
+    RK_BASIS_MODAL_DERIVATIVES = 1,
+    RK_BASIS_SKINNING = 2,
+    RK_BASIS_RKPM_SKINNING = 3,
+    RK_BASIS_POD = 4
+} rk_basis_type;
+
+const char *rk_basis_type_name(rk_basis_type t);
+/* -1 when the name is not one of the five. */
+int rk_basis_type_parse(const char *name, rk_basis_type *t);
+
+typedef struct {
+    rk_basis_type type;
+    int n;           /* vertices */
+    int r;           /* columns of U */
+    double *U;       /* 3n x r, column-major; zero rows at constrained vertices for modes */
+    /* modes, modal derivatives: the eigenvalues of K v = lambda M v (ascending, nvalues of them);
+     * skinning: the weight-space eigenvalues of H_w v = lambda M v (the constant mode's first);
+     * pod: the mass-weighted singular values (descending). */
+    int nvalues;
+    double *values;
+    /* How many leading eigenvalues are zero up to roundoff: the rigid modes of a free object
+     * (six per free piece), or the constant weight of a skinning basis. */
+    int nzero;
+    /* skinning bases: m weights (the constant one first), W is n x m column-major. */
+    int m;
+    double *W;
+} rk_basis;
+
+void rk_basis_free(rk_basis *b);
+
+/* Linear modes (count of them) over the free dofs; constrained: nv flags or NULL. U has zero
+ * rows at constrained vertices and is M-orthonormal. */
+int rk_basis_modes(const rk_fem *f, const unsigned char *constrained, int lumped, int count,
+                   rk_basis *b, rk_error *err);
+
+/* --- building blocks, each in its own file --- */
+
+/* Smallest `count` eigenpairs of the symmetric pencil (A, B), B positive definite, both upper
+ * CSC of the same size, by ARPACK shift-invert (mode 3) around sigma with a CHOLMOD
+ * factorization of A - sigma B (LL^T, or LDL^T when that is indefinite). sigma = NAN picks
+ * -1e-6 tr(A)/tr(B): below every eigenvalue of a semi-definite A, so singular problems (free
+ * objects, the constant weight) work. values ascending; vectors (n x count, column-major,
+ * may be NULL) B-orthonormal. */
+int rk_eigs_smallest(const rk_sparse *A, const rk_sparse *B, int count, double sigma,
+                     double *values, double *vectors, rk_error *err);
+
+/* Keeps the rows and columns i with keep[i] >= 0, renumbered to keep[i]. */
+/* How many of the ascending eigenvalues are zero up to roundoff, relative to the spectral
+ * scale tr(A)/tr(B) of the pencil they came from. */
+int rk_count_zero_eigenvalues(const double *values, int count, double scale);
+
+int rk_sparse_restrict(const rk_sparse *S, const int *keep, int nkeep, rk_sparse *out, rk_error *err);
+
+/* Mass-weighted PCA / SVD of the columns of A (rows x cols, column-major) in the inner product
+ * <a, b> = a^T M b (M NULL: identity; M with 3n rows for displacement fields). Returns up to
+ * `max_r` M-orthonormal directions in U (rows x r) and the singular values sigma (descending,
+ * all min(rows, cols) of them in sigma_all when not NULL). With tol > 0, r is the smallest
+ * size whose discarded energy sqrt(sum_{i>r} s_i^2 / sum s_i^2) <= tol; *r_out gets r. */
+int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max_r, double tol,
+                double *U, int *r_out, double *sigma_all, rk_error *err);
+
+/* Weights (n x m) at rest positions X (3n) into the linear-blend-skinning basis U (3n x 12m):
+ * column 12j + 4a + b moves coordinate a of vertex i by W[i, j] * Xbar_b, Xbar = (x, y, z, 1). */
+void rk_skinning_to_U(const double *W, int n, int m, const double *X, double *U);
+
+#endif
