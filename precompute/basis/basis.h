@@ -52,6 +52,40 @@ void rk_basis_free(rk_basis *b);
 int rk_basis_modes(const rk_fem *f, const unsigned char *constrained, int lumped, int count,
                    rk_basis *b, rk_error *err);
 
+/* Modal derivatives (Barbic & James 2005): k linear modes psi_i (k = nmodes, or 0 to pick the
+ * smallest k whose modes and derivatives number 1.5 (r - rigid)), the derivatives
+ * K Psi_ij = -(H : psi_i) psi_j for i <= j over the free dofs, then the rigid modes (free
+ * objects) followed by the mass-PCA of the scaled set {lambda_1/lambda_i psi_i,
+ * lambda_1^2/(lambda_i lambda_j) Psi_ij} down to r columns. values: the k (+ rigid) linear
+ * eigenvalues. */
+int rk_basis_modal_derivatives(const rk_fem *f, const unsigned char *constrained, int lumped,
+                               int r, int nmodes, rk_basis *b, rk_error *err);
+
+/* The raw derivatives of the `k` modes in U (ndof x k, the first `nrigid` rigid and skipped):
+ * Psi (ndof x npairs, pairs (i <= j) of non-rigid modes in row-major order) and the largest
+ * relative residual |K Psi - rhs| / |rhs| of their equations. */
+int rk_modal_derivatives(const rk_fem *f, const unsigned char *constrained, int lumped,
+                         const double *U, int k, int nrigid, double *Psi, double *residual,
+                         rk_error *err);
+
+/* out = (H : a) b, the derivative of the tangent stiffness along displacement a applied to b
+ * (3 nv vectors): per element, Richardson-extrapolated central differences of the element
+ * Hessian (error O(eps^4), eps scaled to 1e-3 of the element size). */
+void rk_stiffness_derivative(const rk_fem *f, const double *a, const double *b, double *out);
+
+/* Skinning eigenmodes on a mesh (Benchekroun et al. 2023): the weight-space Hessian
+ * H_w = K_xx + K_yy + K_zz of the rest stiffness (= the integral of (lambda + 4 mu) grad w . grad w,
+ * freeform paper Prop. 1, for P1 weights) and the scalar mass M_w (consistent or lumped);
+ * m + 1 weights (the constant one first, not counted in m, as in the paper), U = 12 (m + 1)
+ * LBS columns. Constraints play no part (a reduced simulator enforces them). */
+int rk_basis_skinning(const rk_fem *f, int lumped, int m, rk_basis *b, rk_error *err);
+
+/* POD: the r leading mass-weighted left singular vectors of snapshot displacements D (3n x T,
+ * column-major: T frames one after another, the layout of a T x n x 3 array). M is the 3n x 3n
+ * mass; with tol > 0 the smallest r <= max_r whose discarded energy is <= tol. */
+int rk_basis_pod(const double *D, int n, int T, const rk_sparse *M, int max_r, double tol,
+                 rk_basis *b, rk_error *err);
+
 /* --- building blocks, each in its own file --- */
 
 /* Smallest `count` eigenpairs of the symmetric pencil (A, B), B positive definite, both upper
@@ -77,6 +111,12 @@ int rk_sparse_restrict(const rk_sparse *S, const int *keep, int nkeep, rk_sparse
  * size whose discarded energy sqrt(sum_{i>r} s_i^2 / sum s_i^2) <= tol; *r_out gets r. */
 int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max_r, double tol,
                 double *U, int *r_out, double *sigma_all, rk_error *err);
+
+/* The m + 1 smallest weight-space eigenpairs (H_w c = lambda M c, c^T M c = I): values and C
+ * (size x (m+1)). Fails, naming the count, when the constant mode is not simple (the object
+ * falls into several disconnected pieces) or when m + 1 >= size. */
+int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, double *values, double *C,
+                   int *nzero, rk_error *err);
 
 /* Weights (n x m) at rest positions X (3n) into the linear-blend-skinning basis U (3n x 12m):
  * column 12j + 4a + b moves coordinate a of vertex i by W[i, j] * Xbar_b, Xbar = (x, y, z, 1). */

@@ -24,4 +24,9 @@ void rk_free_system_expand(const rk_free_system *s, const double *xfree, double 
 void rk_free_system_gather(const rk_free_system *s, const double *xfull, double *xfree);
 void rk_free_system_free(rk_free_system *s);
 
+/* The `count` smallest modes of (K, M): values ascending, U full vectors (ndof x count) with
+ * zeros at constrained dofs, *nzero the rigid ones. */
+int rk_free_system_modes(const rk_free_system *s, int count, double *values, double *U, int *nzero,
+                         rk_error *err);
+
 #endif

@@ -17,6 +17,25 @@ int rk_count_zero_eigenvalues(const double *values, int count, double scale)
     return z;
 }
 
+int rk_free_system_modes(const rk_free_system *s, int count, double *values, double *U, int *nzero,
+                         rk_error *err)
+{
+    if (count < 1 || count >= s->nfree)
+        return rk_fail(err, "asked for %d linear modes, the object has %d free degrees of freedom "
+                       "(at most %d modes)", count, s->nfree, s->nfree - 1);
+    double *vec = rk_calloc((size_t)s->nfree * count, sizeof(double), err);
+    if (!vec) return -1;
+    if (rk_eigs_smallest(&s->K, &s->M, count, NAN, values, vec, err)) {
+        free(vec);
+        return rk_error_prefix(err, "linear modes");
+    }
+    for (int j = 0; j < count; j++)
+        rk_free_system_expand(s, vec + (size_t)j * s->nfree, U + (size_t)j * s->ndof);
+    free(vec);
+    *nzero = rk_count_zero_eigenvalues(values, count, rk_sparse_trace(&s->K) / rk_sparse_trace(&s->M));
+    return 0;
+}
+
 int rk_basis_modes(const rk_fem *f, const unsigned char *constrained, int lumped, int count,
                    rk_basis *b, rk_error *err)
 {
@@ -24,29 +43,12 @@ int rk_basis_modes(const rk_fem *f, const unsigned char *constrained, int lumped
     rk_free_system sys;
     if (rk_free_system_init(&sys, f, constrained, lumped, err)) return -1;
     int rc = -1;
-    double *vec = NULL;
-    if (count < 1 || count >= sys.nfree) {
-        rk_fail(err, "asked for %d linear modes, the object has %d free degrees of freedom (at most %d modes)",
-                count, sys.nfree, sys.nfree - 1);
-        goto out;
-    }
     b->type = RK_BASIS_MODES;
     b->n = f->nv;
     b->r = b->nvalues = count;
-    b->values = rk_calloc((size_t)count, sizeof(double), err);
-    b->U = rk_calloc((size_t)sys.ndof * count, sizeof(double), err);
-    vec = rk_calloc((size_t)sys.nfree * count, sizeof(double), err);
-    if (!b->values || !b->U || !vec) goto out;
-    if (rk_eigs_smallest(&sys.K, &sys.M, count, NAN, b->values, vec, err)) {
-        rk_error_prefix(err, "linear modes");
-        goto out;
-    }
-    for (int j = 0; j < count; j++)
-        rk_free_system_expand(&sys, vec + (size_t)j * sys.nfree, b->U + (size_t)j * sys.ndof);
-    b->nzero = rk_count_zero_eigenvalues(b->values, count, rk_sparse_trace(&sys.K) / rk_sparse_trace(&sys.M));
-    rc = 0;
-out:
-    free(vec);
+    b->values = rk_calloc((size_t)(count > 0 ? count : 1), sizeof(double), err);
+    b->U = rk_calloc((size_t)sys.ndof * (count > 0 ? count : 1), sizeof(double), err);
+    if (b->values && b->U) rc = rk_free_system_modes(&sys, count, b->values, b->U, &b->nzero, err);
     rk_free_system_free(&sys);
     if (rc) rk_basis_free(b);
     return rc;
