@@ -2,7 +2,9 @@
  * symmetric eigendecomposition (LAPACK dsyevd) gives sigma_i^2 and the right singular vectors
  * v_i, and u_i = A v_i / sigma_i. The u_i are re-orthonormalized in the M inner product (two
  * Gram-Schmidt passes) because the Gram matrix squares the condition number. Shared by POD and
- * by the modal-derivative basis (Barbic & James 2005, Sec. 4: mass-PCA of the scaled set). */
+ * by the modal-derivative basis (Barbic & James 2005, Sec. 4: mass-PCA of the scaled set).
+ * Squaring puts a floor under what can be resolved: singular values below about sqrt(machine
+ * epsilon) of the largest are noise, so a direction below RK_PCA_FLOOR counts as absent. */
 #include "basis/basis.h"
 
 #include <cblas.h>
@@ -10,6 +12,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define RK_PCA_FLOOR 1e-7
 
 static double mdot(const rk_sparse *M, const double *x, const double *y, int rows)
 {
@@ -60,7 +64,7 @@ int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max
     double s1 = sqrt(fmax(w[cols - 1], 0.0));
     for (int j = 0; j < r; j++) {
         double s = sqrt(fmax(w[cols - 1 - j], 0.0));
-        if (!(s > 1e-10 * s1)) {
+        if (!(s > RK_PCA_FLOOR * s1)) {
             rk_fail(err, "asked for %d directions but the vectors span only %d (singular value %d is "
                     "%.3g of the largest)", r, j, j + 1, s / s1);
             goto out;

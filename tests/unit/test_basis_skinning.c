@@ -1,0 +1,163 @@
+/* Skinning eigenmodes on meshes: M-orthonormal weights, the constant mode, the weight-space
+ * eigenvalues of a bar against the 1D analytic problem (homogeneous and two-material, which is
+ * Proposition 1's (lambda + 4 mu) weighting), LBS columns, and disconnected objects. */
+#include "basis/basis.h"
+#include "fem_body.h"
+#include "testlib.h"
+
+static const rk_material soft = {RK_MAT_NEOHOOKEAN, 1e5, 0.3, 1000};
+
+/* Smallest positive root of -c1 k1 tan(k1 a) = c2 k2 tan(k2 (L - a)), k_i = sqrt(lam / c_i): the
+ * first non-constant eigenvalue of -(c u')' = lam u on [0, L], u' = 0 at both ends, c = c1 on
+ * [0, a) and c2 on (a, L]. Found by scanning then bisecting the continuous form
+ * g = c1 k1 sin(k1 a) cos(k2 b) + c2 k2 sin(k2 b) cos(k1 a), b = L - a. */
+static double two_material_eigenvalue(double c1, double c2, double a, double L)
+{
+    double b = L - a;
+    double lo = 1e-9, step = 1e-3 * fmin(c1, c2) * pow(M_PI / L, 2);
+    #define G(l) (c1 * sqrt((l) / c1) * sin(sqrt((l) / c1) * a) * cos(sqrt((l) / c2) * b) + \
+                  c2 * sqrt((l) / c2) * sin(sqrt((l) / c2) * b) * cos(sqrt((l) / c1) * a))
+    double hi = lo + step;
+    while (G(lo) * G(hi) > 0) { lo = hi; hi += step; }
+    for (int it = 0; it < 200; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (G(lo) * G(mid) <= 0) hi = mid; else lo = mid;
+    }
+    #undef G
+    return 0.5 * (lo + hi);
+}
+
+static double lame_sum(rk_material m)
+{
+    double mu, lambda;
+    rk_lame(m.young, m.poisson, &mu, &lambda);
+    return lambda + 4 * mu;
+}
+
+TEST(weights_are_mass_orthonormal_and_start_constant)
+{
+    rk_error err;
+    fem_body b;
+    CHECK_OK(fem_body_box(&b, 2.0, 0.5, 0.5, 12, 3, 3, soft, &err));
+    rk_basis s;
+    CHECK_OK(rk_basis_skinning(&b.f, 0, 6, &s, &err));
+    CHECK(s.m == 7 && s.r == 84 && s.nzero == 1, "m %d r %d zero %d", s.m, s.r, s.nzero);
+    /* Volume mass, written out here: V/20 (1 + delta_ab) per tet vertex pair. */
+    double worst = 0, cmin = INFINITY, cmax = -INFINITY;
+    for (int i = 0; i < s.m; i++)
+        for (int j = 0; j < s.m; j++) {
+            const double *wi = s.W + (size_t)i * s.n, *wj = s.W + (size_t)j * s.n;
+            double g = 0;
+            for (int t = 0; t < b.f.nt; t++)
+                for (int p = 0; p < 4; p++)
+                    for (int q = 0; q < 4; q++)
+                        g += b.f.vol[t] / 20.0 * (1 + (p == q)) * wi[b.f.tets[4 * t + p]] * wj[b.f.tets[4 * t + q]];
+            worst = fmax(worst, fabs(g - (i == j)));
+        }
+    for (int v = 0; v < s.n; v++) { cmin = fmin(cmin, s.W[v]); cmax = fmax(cmax, s.W[v]); }
+    double vol = 2.0 * 0.5 * 0.5;
+    rk_basis_free(&s);
+    fem_body_free(&b);
+    CHECK(worst < 1e-10, "W^T M W differs from I by %.3g", worst);
+    CHECK(fabs(cmin - cmax) < 1e-9 * fabs(cmax) && fabs(cmax - 1 / sqrt(vol)) < 1e-9,
+          "first weight not the constant 1/sqrt(V): %.12g..%.12g", cmin, cmax);
+}
+
+TEST(bar_eigenvalues_match_the_1d_problem)
+{
+    rk_error err;
+    const double L = 4.0;
+    fem_body b;
+    CHECK_OK(fem_body_box(&b, L, 0.25, 0.25, 64, 2, 2, soft, &err));
+    rk_basis s;
+    CHECK_OK(rk_basis_skinning(&b.f, 0, 2, &s, &err));
+    double c = lame_sum(soft), l1 = c * pow(M_PI / L, 2), l2 = c * pow(2 * M_PI / L, 2);
+    printf("# mesh skinning, homogeneous bar: lambda_1 %.6g vs (lambda + 4 mu)(pi/L)^2 = %.6g, lambda_2 %.6g vs %.6g\n",
+           s.values[1], l1, s.values[2], l2);
+    double e1 = fabs(s.values[1] - l1) / l1, e2 = fabs(s.values[2] - l2) / l2;
+    rk_basis_free(&s);
+    fem_body_free(&b);
+    CHECK(e1 < 2e-3 && e2 < 5e-3, "relative errors %.3g, %.3g", e1, e2);
+}
+
+TEST(heterogeneous_material_shifts_modes_as_proposition_1_says)
+{
+    rk_error err;
+    const double L = 4.0, a = 1.5;
+    fem_body b;
+    CHECK_OK(rk_mesh_box((double[3]){L, 0.25, 0.25}, (int[3]){64, 2, 2}, &b.m, &err));
+    rk_material stiff = {RK_MAT_NEOHOOKEAN, 1e6, 0.45, 3000};
+    rk_material *mats = malloc(sizeof *mats * b.m.nt);
+    for (int t = 0; t < b.m.nt; t++) {
+        double cx = 0;
+        for (int k = 0; k < 4; k++) cx += 0.25 * b.m.X[3 * b.m.tets[4 * t + k]];
+        mats[t] = cx < a ? stiff : soft;
+    }
+    CHECK_OK(rk_fem_init(&b.f, &b.m, mats, &err));
+    free(mats);
+    rk_basis s;
+    CHECK_OK(rk_basis_skinning(&b.f, 0, 1, &s, &err));
+    double c1 = lame_sum(stiff), c2 = lame_sum(soft);
+    double exact = two_material_eigenvalue(c1, c2, a, L);
+    /* Density plays no part (volume mass), so only lambda + 4 mu shifts the mode. */
+    printf("# mesh skinning, two-material bar (lambda+4mu %.3g | %.3g): lambda_1 %.6g, 1D analytic %.6g\n",
+           c1, c2, s.values[1], exact);
+    double e = fabs(s.values[1] - exact) / exact;
+    rk_basis_free(&s);
+    fem_body_free(&b);
+    CHECK(e < 5e-3, "relative error %.3g", e);
+}
+
+TEST(lbs_columns_move_vertices_by_weight_times_affine_map)
+{
+    double X[6] = {1, 2, 3, -1, 0.5, 2};
+    double W[4] = {0.5, 2.0, 1.0, -1.0}; /* n = 2, m = 2 */
+    double U[6 * 24];
+    rk_skinning_to_U(W, 2, 2, X, U);
+    /* Handle j = 1, entry (a = 2, b = 0): vertex i's z moves by W[i, 1] * x_i. */
+    const double *col = U + 6 * (12 * 1 + 4 * 2 + 0);
+    CHECK(col[2] == 1.0 * 1 && col[5] == -1.0 * -1 && col[0] == 0 && col[4] == 0, "column wrong");
+    /* Handle 0, translation (b = 3) in y: W[i, 0]. */
+    col = U + 6 * (4 * 1 + 3);
+    CHECK(col[1] == 0.5 && col[4] == 2.0, "translation column wrong");
+}
+
+TEST(disconnected_pieces_are_refused)
+{
+    rk_error err;
+    fem_body b;
+    rk_mesh one;
+    CHECK_OK(rk_mesh_box((double[3]){1, 1, 1}, (int[3]){2, 2, 2}, &one, &err));
+    /* Two copies, the second moved 3 m away: one mesh, two pieces. */
+    b.m = one;
+    b.m.nv = 2 * one.nv;
+    b.m.nt = 2 * one.nt;
+    b.m.X = malloc(sizeof(double) * 3 * b.m.nv);
+    b.m.tets = malloc(sizeof(int) * 4 * b.m.nt);
+    b.m.tet_tag = calloc(b.m.nt, sizeof(int));
+    for (int i = 0; i < 3 * one.nv; i++) {
+        b.m.X[i] = one.X[i];
+        b.m.X[3 * one.nv + i] = one.X[i] + (i % 3 == 0 ? 3.0 : 0.0);
+    }
+    for (int i = 0; i < 4 * one.nt; i++) {
+        b.m.tets[i] = one.tets[i];
+        b.m.tets[4 * one.nt + i] = one.tets[i] + one.nv;
+    }
+    rk_mesh_free(&one);
+    CHECK_OK(fem_body_init(&b, soft, &err));
+    rk_basis s;
+    int rc = rk_basis_skinning(&b.f, 0, 3, &s, &err);
+    fem_body_free(&b);
+    CHECK(rc != 0, "two pieces accepted");
+    CHECK(strstr(err.msg, "disconnected pieces"), "message: %s", err.msg);
+}
+
+int main(void)
+{
+    RUN(weights_are_mass_orthonormal_and_start_constant);
+    RUN(bar_eigenvalues_match_the_1d_problem);
+    RUN(heterogeneous_material_shifts_modes_as_proposition_1_says);
+    RUN(lbs_columns_move_vertices_by_weight_times_affine_map);
+    RUN(disconnected_pieces_are_refused);
+    return test_finish();
+}
