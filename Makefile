@@ -54,12 +54,13 @@ $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_st
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_PC) -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,$(call test_stage,$*)) $(LDLIBS)
 
-$(BUILD)/bench_fom: bench/bench_fom.c $(call libs_of,scene)
-	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,scene) $(LDLIBS)
+$(BUILD)/bench_%: bench/bench_%.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE))
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_fom
+bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis
 	@mkdir -p bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
+	$(BUILD)/bench_basis tests/data/meshes bench/results
 
 demo: deps all
 	@sh tools/demo.sh $(BUILD)

@@ -7,44 +7,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_cases.h"
 #include "fom/fom.h"
 #include "scene/scene.h"
 #include "util/timer.h"
-
-typedef struct {
-    const char *name;
-    const char *mesh_json; /* the scene's "mesh" value */
-    int steps;
-} bench_case;
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 int main(int argc, char **argv)
 {
     const char *data = argc > 1 ? argv[1] : "tests/data/meshes";
     const char *out_dir = argc > 2 ? argv[2] : "bench/results";
     int quick = getenv("ROMKIT_BENCH_QUICK") != NULL;
-    char meshes[4][512];
-    snprintf(meshes[0], 512, "{\"file\": \"%s/octopus-low.mesh\"}", data);
-    snprintf(meshes[1], 512, "{\"file\": \"%s/armadillo_4k.node\"}", data);
-    snprintf(meshes[2], 512, "{\"file\": \"%s/bunny_19k.msh\"}", data);
-    snprintf(meshes[3], 512, "{\"file\": \"%s/dinosaur_bin.msh\"}", data);
-    bench_case cases[] = {
-        {"box_1k", "{\"box\": {\"size\": [2, 1, 1], \"cells\": [10, 5, 4]}}", 10},
-        {"octopus-low", meshes[0], 10},
-        {"armadillo_4k", meshes[1], 10},
-        {"box_10k", "{\"box\": {\"size\": [2, 1, 1], \"cells\": [20, 10, 8]}}", 8},
-        {"bunny_19k", meshes[2], 6},
-        {"dinosaur_50k", meshes[3], 5},
-        {"box_50k", "{\"box\": {\"size\": [2, 1, 1], \"cells\": [40, 15, 14]}}", 5},
-        {"box_100k", "{\"box\": {\"size\": [2, 1, 1], \"cells\": [50, 20, 17]}}", 4},
-        {"box_200k", "{\"box\": {\"size\": [2, 1, 1], \"cells\": [64, 24, 22]}}", 3},
-    };
-    int ncases = (int)(sizeof cases / sizeof cases[0]);
+    bench_case cases[9];
+    int ncases = bench_cases(data, cases);
     if (quick) ncases = 4;
     char path[1024];
     snprintf(path, sizeof path, "%s/fom_scaling.csv", out_dir);
@@ -59,16 +33,10 @@ int main(int argc, char **argv)
     fprintf(json, "[\n");
     printf("%-14s %8s %8s %12s %20s %8s %8s\n", "case", "verts", "tets", "s/step", "(min..max)", "factor", "newton");
     for (int c = 0; c < ncases; c++) {
-        char json_text[2048];
         rk_error err;
         rk_scene scene;
         rk_scene_sim sim;
-        snprintf(json_text, sizeof json_text,
-                 "{\"objects\": [{\"mesh\": %s,"
-                 " \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}}],"
-                 " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 1}}",
-                 cases[c].mesh_json);
-        if (rk_scene_parse(json_text, "bench.json", &scene, &err) || rk_scene_build(&scene, &sim, &err)) {
+        if (bench_scene(&cases[c], &scene, &sim, &err)) {
             fprintf(stderr, "bench_fom: %s: %s\n", cases[c].name, err.msg);
             return 1;
         }
@@ -104,8 +72,7 @@ int main(int argc, char **argv)
         double factor = (fom.stats.seconds_factor - before.seconds_factor) /
                         (fom.stats.seconds_total - before.seconds_total);
         double newton = (double)(fom.stats.newton_iterations - before.newton_iterations) / steps;
-        qsort(times, (size_t)steps, sizeof times[0], cmp_double);
-        double median = steps % 2 ? times[steps / 2] : 0.5 * (times[steps / 2 - 1] + times[steps / 2]);
+        double median = bench_median(times, steps);
         printf("%-14s %8d %8d %12.4g %9.4g..%-9.4g %7.0f%% %8.1f\n", cases[c].name, sim.mesh.nv, sim.mesh.nt,
                median, times[0], times[steps - 1], 100 * factor, newton);
         fflush(stdout);

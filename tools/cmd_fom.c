@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "args.h"
 #include "commands.h"
 #include "fom/fom.h"
 #include "scene/scene.h"
@@ -40,34 +41,11 @@ static int parse_args(int argc, char **argv, fom_args *a)
 {
     memset(a, 0, sizeof *a);
     a->frame_format = "obj";
-    for (int i = 1; i < argc; i++) {
-        const char **slot = NULL;
-        if (strcmp(argv[i], "--positions") == 0) slot = &a->positions;
-        else if (strcmp(argv[i], "--snapshots") == 0) slot = &a->snapshots;
-        else if (strcmp(argv[i], "--frames") == 0) slot = &a->frames;
-        else if (strcmp(argv[i], "--frame-format") == 0) slot = &a->frame_format;
-        else if (strcmp(argv[i], "--report") == 0) slot = &a->report;
-        else if (strcmp(argv[i], "--quiet") == 0) a->quiet = 1;
-        else if (argv[i][0] == '-' && argv[i][1]) {
-            fprintf(stderr, "romkit fom: unknown option '%s'\n", argv[i]);
-            return -1;
-        } else if (!a->scene) a->scene = argv[i];
-        else {
-            fprintf(stderr, "romkit fom: unexpected argument '%s'\n", argv[i]);
-            return -1;
-        }
-        if (slot) {
-            if (i + 1 >= argc) {
-                fprintf(stderr, "romkit fom: %s needs a value\n", argv[i]);
-                return -1;
-            }
-            *slot = argv[++i];
-        }
-    }
-    if (!a->scene) {
-        fprintf(stderr, "romkit fom: no scene file given\n");
-        return -1;
-    }
+    const cli_option opts[] = {{"--positions", &a->positions, NULL}, {"--snapshots", &a->snapshots, NULL},
+                               {"--frames", &a->frames, NULL},       {"--frame-format", &a->frame_format, NULL},
+                               {"--report", &a->report, NULL},       {"--quiet", NULL, &a->quiet},
+                               {NULL, NULL, NULL}};
+    if (cli_parse("fom", argc, argv, opts, &a->scene, "scene file")) return -1;
     const char *formats[] = {"obj", "ply", "vtk", "mesh"};
     for (int k = 0; k < 4; k++)
         if (strcmp(a->frame_format, formats[k]) == 0) return 0;

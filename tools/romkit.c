@@ -11,6 +11,7 @@ typedef struct {
 } command;
 
 static const command commands[] = {
+    {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
     {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
 };

@@ -23,5 +23,8 @@ void rk_basis_free(rk_basis *b)
     free(b->U);
     free(b->values);
     free(b->W);
+    free(b->C);
+    if (b->rkpm) rk_rkpm_free(b->rkpm);
+    free(b->rkpm);
     memset(b, 0, sizeof *b);
 }

@@ -12,6 +12,7 @@
 #ifndef RK_BASIS_H
 #define RK_BASIS_H
 
+#include "basis/rkpm.h"
 #include "fem/fem.h"
 #include "util/error.h"
 
@@ -43,6 +44,13 @@ typedef struct {
     /* skinning bases: m weights (the constant one first), W is n x m column-major. */
     int m;
     double *W;
+    /* rkpm_skinning: the kernels and their nodal values C (K x m), so weights can be
+     * evaluated anywhere later (rk_rkpm_interpolate): cubature points, splat centres. */
+    rk_rkpm *rkpm;
+    double *C;
+    int damped_points; /* integration and evaluation points in features thinner than the kernel
+                        * spacing, where the weights reproduce constants but not every linear
+                        * field (rkpm.h, tolerant evaluation) */
 } rk_basis;
 
 void rk_basis_free(rk_basis *b);
@@ -79,6 +87,20 @@ void rk_stiffness_derivative(const rk_fem *f, const double *a, const double *b, 
  * m + 1 weights (the constant one first, not counted in m, as in the paper), U = 12 (m + 1)
  * LBS columns. Constraints play no part (a reduced simulator enforces them). */
 int rk_basis_skinning(const rk_fem *f, int lumped, int m, rk_basis *b, rk_error *err);
+
+/* Seconds spent in each part of an RKPM skinning build (for make bench). */
+typedef struct {
+    double fps, kernels, assemble, eigs, evaluate;
+} rk_rkpm_timing;
+
+/* RKPM skinning eigenmodes (freeform paper Sec. 3.2, 7.1): `kernels` centres by farthest point
+ * sampling of the integration points, H_w (Prop. 1, coef = lambda + 4 mu per point) and the RKPM
+ * mass (Eq. 14), the m + 1 smallest generalized eigenvectors (Eq. 15) as nodal values, the
+ * weights interpolated at the n points Xeval (mesh vertices, splat centres) and LBS columns
+ * there. timing may be NULL. */
+int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
+                           const double *Xeval, int n, rk_basis *b, rk_rkpm_timing *timing,
+                           rk_error *err);
 
 /* POD: the r leading mass-weighted left singular vectors of snapshot displacements D (3n x T,
  * column-major: T frames one after another, the layout of a T x n x 3 array). M is the 3n x 3n
@@ -117,6 +139,15 @@ int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max
  * falls into several disconnected pieces) or when m + 1 >= size. */
 int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, double *values, double *C,
                    int *nzero, rk_error *err);
+
+/* Relative M-norm error of projecting the T frames D (3n x T) onto the span of U's first
+ * columns, err[g] for the first (g + 1) * group columns, g < r / group: one pass of
+ * M-Gram-Schmidt over U (columns that add nothing new are skipped). */
+int rk_projection_errors(const double *U, int rows, int r, int group, const double *D, int T,
+                         const rk_sparse *M, double *err_out, rk_error *err);
+
+/* Keeps the first r columns (skinning: the first r / 12 weights and their values). */
+void rk_basis_truncate(rk_basis *b, int r);
 
 /* Weights (n x m) at rest positions X (3n) into the linear-blend-skinning basis U (3n x 12m):
  * column 12j + 4a + b moves coordinate a of vertex i by W[i, j] * Xbar_b, Xbar = (x, y, z, 1). */

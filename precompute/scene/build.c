@@ -62,6 +62,14 @@ static int in_box(const rk_box *b, const double *p, double slack)
     return 1;
 }
 
+rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])
+{
+    rk_material m = o->material;
+    for (int r = 0; r < o->nregions; r++)
+        if (in_box(&o->regions[r].box, p, 0)) m = o->regions[r].material;
+    return m;
+}
+
 static void assign_materials(const rk_scene *s, rk_scene_sim *out)
 {
     const rk_mesh *m = &out->mesh;
@@ -71,9 +79,7 @@ static void assign_materials(const rk_scene *s, rk_scene_sim *out)
             double c[3] = {0, 0, 0};
             for (int a = 0; a < 4; a++)
                 for (int i = 0; i < 3; i++) c[i] += 0.25 * m->X[3 * m->tets[4 * t + a] + i];
-            out->materials[t] = o->material;
-            for (int r = 0; r < o->nregions; r++)
-                if (in_box(&o->regions[r].box, c, 0)) out->materials[t] = o->regions[r].material;
+            out->materials[t] = rk_scene_material_at(o, c);
         }
     }
 }

@@ -1,5 +1,6 @@
 /* Strict JSON access for the scene parser: every getter checks the type and, on failure,
- * writes "<file>: <json.path>: <what is wrong>" into err. Internal to precompute/scene. */
+ * writes "<file>: <json.path>: <what is wrong>" into err. Internal to precompute: the scene
+ * parser and the stages that read their own part of the scene (basis: the rom section). */
 #ifndef RK_SCENE_JSON_GET_H
 #define RK_SCENE_JSON_GET_H
 

@@ -80,6 +80,10 @@ int rk_scene_load(const char *path, rk_scene *s, rk_error *err);
 int rk_scene_parse(const char *text, const char *path, rk_scene *s, rk_error *err);
 void rk_scene_free(rk_scene *s);
 
+/* The material at rest point p of an object: its own, overridden by the last region whose box
+ * holds p (for elements, p is the centroid; for point clouds, the point). */
+rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
+
 /* A scene built into something to simulate. Objects are concatenated into one mesh;
  * object_first_vertex[k] / object_first_tet[k] say where object k starts. */
 typedef struct {

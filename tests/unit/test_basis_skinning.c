@@ -2,37 +2,11 @@
  * eigenvalues of a bar against the 1D analytic problem (homogeneous and two-material, which is
  * Proposition 1's (lambda + 4 mu) weighting), LBS columns, and disconnected objects. */
 #include "basis/basis.h"
+#include "bar_1d.h"
 #include "fem_body.h"
 #include "testlib.h"
 
 static const rk_material soft = {RK_MAT_NEOHOOKEAN, 1e5, 0.3, 1000};
-
-/* Smallest positive root of -c1 k1 tan(k1 a) = c2 k2 tan(k2 (L - a)), k_i = sqrt(lam / c_i): the
- * first non-constant eigenvalue of -(c u')' = lam u on [0, L], u' = 0 at both ends, c = c1 on
- * [0, a) and c2 on (a, L]. Found by scanning then bisecting the continuous form
- * g = c1 k1 sin(k1 a) cos(k2 b) + c2 k2 sin(k2 b) cos(k1 a), b = L - a. */
-static double two_material_eigenvalue(double c1, double c2, double a, double L)
-{
-    double b = L - a;
-    double lo = 1e-9, step = 1e-3 * fmin(c1, c2) * pow(M_PI / L, 2);
-    #define G(l) (c1 * sqrt((l) / c1) * sin(sqrt((l) / c1) * a) * cos(sqrt((l) / c2) * b) + \
-                  c2 * sqrt((l) / c2) * sin(sqrt((l) / c2) * b) * cos(sqrt((l) / c1) * a))
-    double hi = lo + step;
-    while (G(lo) * G(hi) > 0) { lo = hi; hi += step; }
-    for (int it = 0; it < 200; it++) {
-        double mid = 0.5 * (lo + hi);
-        if (G(lo) * G(mid) <= 0) hi = mid; else lo = mid;
-    }
-    #undef G
-    return 0.5 * (lo + hi);
-}
-
-static double lame_sum(rk_material m)
-{
-    double mu, lambda;
-    rk_lame(m.young, m.poisson, &mu, &lambda);
-    return lambda + 4 * mu;
-}
 
 TEST(weights_are_mass_orthonormal_and_start_constant)
 {

@@ -1,0 +1,70 @@
+/* The meshes every make-bench program runs on (1k to 200k tets), and the shared helpers: the
+ * scene around a mesh, and the median of repeated timings. */
+#ifndef RK_BENCH_CASES_H
+#define RK_BENCH_CASES_H
+
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "scene/scene.h"
+
+typedef struct {
+    const char *name;
+    char mesh_json[512]; /* the scene's "mesh" value */
+    int steps;           /* full-order steps to time */
+} bench_case;
+
+/* Fills cases (room for 9) with the mesh set; returns the count. */
+static inline int bench_cases(const char *data, bench_case *c)
+{
+    static const struct { const char *name, *box, *file; int steps; } t[] = {
+        {"box_1k", "[10, 5, 4]", NULL, 10},
+        {"octopus-low", NULL, "octopus-low.mesh", 10},
+        {"armadillo_4k", NULL, "armadillo_4k.node", 10},
+        {"box_10k", "[20, 10, 8]", NULL, 8},
+        {"bunny_19k", NULL, "bunny_19k.msh", 6},
+        {"dinosaur_50k", NULL, "dinosaur_bin.msh", 5},
+        {"box_50k", "[40, 15, 14]", NULL, 5},
+        {"box_100k", "[50, 20, 17]", NULL, 4},
+        {"box_200k", "[64, 24, 22]", NULL, 3},
+    };
+    for (int k = 0; k < 9; k++) {
+        c[k].name = t[k].name;
+        c[k].steps = t[k].steps;
+        if (t[k].box) snprintf(c[k].mesh_json, sizeof c[k].mesh_json, "{\"box\": {\"size\": [2, 1, 1], \"cells\": %s}}", t[k].box);
+        else snprintf(c[k].mesh_json, sizeof c[k].mesh_json, "{\"file\": \"%s/%s\"}", data, t[k].file);
+    }
+    return 9;
+}
+
+/* A soft neo-Hookean object of the case's mesh under gravity, h = 0.01 s. */
+static inline int bench_scene(const bench_case *c, rk_scene *scene, rk_scene_sim *sim, rk_error *err)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "{\"objects\": [{\"mesh\": %s,"
+             " \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}}],"
+             " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 1}}",
+             c->mesh_json);
+    if (rk_scene_parse(text, "bench.json", scene, err)) return -1;
+    if (rk_scene_build(scene, sim, err)) {
+        rk_scene_free(scene);
+        return -1;
+    }
+    return 0;
+}
+
+static int bench_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts t[0..n) and returns its median. */
+static inline double bench_median(double *t, int n)
+{
+    qsort(t, (size_t)n, sizeof *t, bench_cmp_double);
+    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
+
+#endif

@@ -1,0 +1,48 @@
+/* Fields on the RKPM kernels evaluated at any points, u(X) = sum_k phi_k(X) c_k (freeform paper
+ * Eq. 6): the skinning weights W^j at mesh vertices, splat centres or cubature points. The points
+ * are walked in spatial chunks (rkpm_chunks.c), so each is tested only against the kernels near
+ * its chunk. */
+#include "basis/rkpm_chunks.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+int rk_rkpm_interpolate(const rk_rkpm *k, const double *X, int n, const double *c, int m, double *W,
+                        int *regularized, rk_error *err)
+{
+    if (regularized) *regularized = 0;
+    if (n <= 0) return 0;
+    int bad = rkpm_first_nonfinite(X, n);
+    if (bad >= 0)
+        return rk_fail(err, "RKPM interpolation: point %d is not finite (%g, %g, %g)", bad, X[3 * bad], X[3 * bad + 1],
+                       X[3 * bad + 2]);
+    int cap = k->max_support, rc = -1, more;
+    int *kid = rk_calloc((size_t)cap, sizeof *kid, err);
+    double *phi = rk_calloc((size_t)cap, sizeof *phi, err);
+    rkpm_chunks ch;
+    if (!kid || !phi || rkpm_chunks_init(&ch, k, X, n, err)) {
+        free(kid);
+        free(phi);
+        return -1;
+    }
+    while ((more = rkpm_chunks_next(&ch, err)) == 1)
+        for (int t = 0; t < ch.np; t++) {
+            int i = ch.pts[t], cnt = ch.cover_start[t + 1] - ch.cover_start[t];
+            for (int q = 0; q < cnt; q++) kid[q] = ch.U[ch.cover[ch.cover_start[t] + q]];
+            int damped = 0;
+            if (rkpm_shape_at(k, &X[3 * i], i, cnt, kid, phi, NULL, regularized ? &damped : NULL, err)) goto done;
+            if (regularized) *regularized += damped;
+            for (int j = 0; j < m; j++) {
+                const double *cj = &c[(size_t)k->K * j];
+                double s = 0;
+                for (int q = 0; q < cnt; q++) s += phi[q] * cj[kid[q]];
+                W[i + (size_t)n * j] = s;
+            }
+        }
+    if (more == 0) rc = 0;
+done:
+    rkpm_chunks_free(&ch);
+    free(kid);
+    free(phi);
+    return rc;
+}

@@ -1,0 +1,65 @@
+/* RKPM skinning eigenmodes, mesh-free (freeform paper Sec. 3.2 and 7.1): kernels on farthest
+ * samples of the integration points, the weight-space eigenproblem H_w c = lambda M c (Eq. 15)
+ * with H_w from Prop. 1 and M from Eq. 14, weights W^j(X) = sum_k phi_k(X) c_k^j (Eq. 6). */
+#include "basis/basis.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/timer.h"
+
+int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
+                           const double *Xeval, int n, rk_basis *b, rk_rkpm_timing *timing,
+                           rk_error *err)
+{
+    memset(b, 0, sizeof *b);
+    rk_rkpm_timing tm = {0};
+    rk_sparse H = {0}, M = {0};
+    int *chosen = rk_calloc((size_t)(kernels > 0 ? kernels : 1), sizeof(int), err);
+    double *centers = rk_calloc(3 * (size_t)(kernels > 0 ? kernels : 1), sizeof(double), err);
+    b->rkpm = rk_calloc(1, sizeof *b->rkpm, err);
+    int rc = -1, have_rkpm = 0;
+    if (!chosen || !centers || !b->rkpm) goto out;
+    double t = rk_now();
+    if (rk_fps(pts->X, pts->n, kernels, chosen, err)) goto out;
+    for (int k = 0; k < kernels; k++) memcpy(centers + 3 * k, pts->X + 3 * (size_t)chosen[k], 3 * sizeof(double));
+    tm.fps = rk_now() - t;
+    t = rk_now();
+    if (rk_rkpm_init(b->rkpm, centers, kernels, err)) goto out;
+    have_rkpm = 1;
+    tm.kernels = rk_now() - t;
+    t = rk_now();
+    int damped_integration = 0;
+    if (rk_rkpm_assemble(b->rkpm, pts->X, pts->weight, coef, pts->n, &H, &M, &damped_integration, err)) goto out;
+    tm.assemble = rk_now() - t;
+    t = rk_now();
+    b->type = RK_BASIS_RKPM_SKINNING;
+    b->n = n;
+    b->m = b->nvalues = m + 1;
+    b->r = 12 * (m + 1);
+    b->values = rk_calloc((size_t)m + 1, sizeof(double), err);
+    b->C = rk_calloc((size_t)kernels * (m + 1), sizeof(double), err);
+    b->W = rk_calloc((size_t)n * (m + 1), sizeof(double), err);
+    b->U = rk_calloc(3 * (size_t)n * b->r, sizeof(double), err);
+    if (!b->values || !b->C || !b->W || !b->U) goto out;
+    if (rk_weight_eigs(&H, &M, m, b->values, b->C, &b->nzero, err)) goto out;
+    tm.eigs = rk_now() - t;
+    t = rk_now();
+    if (rk_rkpm_interpolate(b->rkpm, Xeval, n, b->C, m + 1, b->W, &b->damped_points, err)) goto out;
+    b->damped_points += damped_integration;
+    rk_skinning_to_U(b->W, n, m + 1, Xeval, b->U);
+    tm.evaluate = rk_now() - t;
+    rc = 0;
+out:
+    if (rc) {
+        rk_error_prefix(err, "RKPM skinning eigenmodes");
+        if (!have_rkpm) { free(b->rkpm); b->rkpm = NULL; }
+        rk_basis_free(b);
+    }
+    if (timing) *timing = tm;
+    rk_sparse_free(&H);
+    rk_sparse_free(&M);
+    free(chosen);
+    free(centers);
+    return rc;
+}

@@ -1,0 +1,210 @@
+/* A basis for a scene: constraints from its prescribed boxes, per-element or per-point
+ * materials, and full-order training frames from its own simulation when POD or a tolerance
+ * asks for them. */
+#include "basis/scene_basis.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fom/fom.h"
+#include "util/timer.h"
+
+/* Largest basis tried when only a tolerance is given (columns, or weights for skinning). */
+static int default_max(rk_basis_type t)
+{
+    return t == RK_BASIS_MODES || t == RK_BASIS_POD ? 64 : 32;
+}
+
+static double lame_sum(const rk_material *m)
+{
+    double mu, lambda;
+    rk_lame(m->young, m->poisson, &mu, &lambda);
+    return lambda + 4 * mu; /* Prop. 1 */
+}
+
+/* Full-order displacement frames (3n x steps) of the scene's own simulation. */
+static int training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err)
+{
+    rk_fom fom;
+    if (rk_fom_init(&fom, &sim->fem, &sim->options, err)) return -1;
+    int steps = sim->options.is_static ? 1 : sim->steps, n3 = 3 * sim->mesh.nv;
+    *D = rk_calloc((size_t)n3 * steps, sizeof(double), err);
+    int rc = *D ? 0 : -1;
+    for (int s = 0; !rc && s < steps; s++) {
+        rc = sim->options.is_static ? rk_fom_static(&fom, err) : rk_fom_step(&fom, err);
+        for (int i = 0; !rc && i < n3; i++) (*D)[(size_t)s * n3 + i] = fom.x[i] - sim->mesh.X[i];
+        rk_progress("full-order training run", s + 1, steps);
+    }
+    rk_progress_done("full-order training run");
+    rk_fom_free(&fom);
+    if (rc) {
+        free(*D);
+        *D = NULL;
+        return rk_error_prefix(err, "full-order training run");
+    }
+    *T = steps;
+    return 0;
+}
+
+static int rkpm_on_mesh(const rk_scene_sim *sim, const rk_basis_options *o, int m, rk_basis *b,
+                        rk_scene_basis_info *info, rk_error *err)
+{
+    rk_rkpm_points pts;
+    if (rk_rkpm_sample_mesh(&sim->mesh, o->integration_points, &pts, err)) return -1;
+    double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
+    int rc = -1;
+    if (coef) {
+        for (int i = 0; i < pts.n; i++) {
+            int t = pts.tet[i];
+            coef[i] = sim->fem.lambda[t] + 4 * sim->fem.mu[t];
+        }
+        rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, m, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
+    }
+    info->integration_points = pts.n;
+    free(coef);
+    rk_rkpm_points_free(&pts);
+    return rc;
+}
+
+static int rkpm_on_points(const rk_scene *scene, const rk_basis_options *o, rk_basis *b,
+                          rk_scene_basis_info *info, rk_error *err)
+{
+    const rk_scene_object *obj = &scene->objects[0];
+    if (o->type != RK_BASIS_RKPM_SKINNING)
+        return rk_fail(err, "%s: objects[0] is a point cloud: only basis rkpm_skinning works without "
+                       "a mesh, not %s", scene->path, rk_basis_type_name(o->type));
+    if (scene->nobjects != 1)
+        return rk_fail(err, "%s: a point-cloud object must be the scene's only object", scene->path);
+    if (o->size == 0)
+        return rk_fail(err, "%s: rom.tolerance needs full-order frames, and a point cloud has no mesh "
+                       "to simulate: give rom.size", scene->path);
+    double *X = NULL;
+    int n = 0;
+    if (rk_points_load(obj->file, &X, &n, err)) return -1;
+    for (int i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++) X[3 * i + c] = obj->scale * X[3 * i + c] + obj->translate[c];
+    rk_rkpm_points pts;
+    if (rk_rkpm_sample_cloud(X, n, o->integration_points, &pts, err)) { free(X); return -1; }
+    double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
+    int rc = -1;
+    if (coef) {
+        for (int i = 0; i < pts.n; i++) {
+            rk_material mat = rk_scene_material_at(obj, pts.X + 3 * i);
+            coef[i] = lame_sum(&mat);
+        }
+        rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, o->size, X, n, b, &info->rkpm, err);
+    }
+    info->integration_points = pts.n;
+    info->vertices = n;
+    info->X = X;
+    free(coef);
+    rk_rkpm_points_free(&pts);
+    return rc;
+}
+
+/* The basis of one size (columns, or weights m for skinning). */
+static int build_sized(const rk_scene_sim *sim, const rk_basis_options *o, const unsigned char *fixed,
+                       int size, const double *D, int T, const rk_sparse *M, rk_basis *b,
+                       rk_scene_basis_info *info, rk_error *err)
+{
+    int lumped = sim->options.lumped_mass;
+    switch (o->type) {
+    case RK_BASIS_MODES: return rk_basis_modes(&sim->fem, fixed, lumped, size, b, err);
+    case RK_BASIS_MODAL_DERIVATIVES:
+        return rk_basis_modal_derivatives(&sim->fem, fixed, lumped, size, o->modes, b, err);
+    case RK_BASIS_SKINNING: return rk_basis_skinning(&sim->fem, lumped, size, b, err);
+    case RK_BASIS_RKPM_SKINNING: return rkpm_on_mesh(sim, o, size, b, info, err);
+    case RK_BASIS_POD: {
+        int max_r = size < T ? size : T;
+        if (o->size && o->size > T)
+            return rk_fail(err, "POD: size %d is more than the %d full-order frames the scene runs",
+                           o->size, T);
+        return rk_basis_pod(D, sim->mesh.nv, T, M, max_r, o->tolerance, b, err);
+    }
+    }
+    return rk_fail(err, "unknown basis type");
+}
+
+/* Smallest prefix meeting the tolerance (POD chose its own size already). */
+static int meet_tolerance(const rk_basis_options *o, rk_basis *b, const double *D, int T,
+                          const rk_sparse *M, rk_scene_basis_info *info, rk_error *err)
+{
+    int group = b->W ? 12 : 1, ng = b->r / group;
+    double *e = rk_calloc((size_t)ng, sizeof(double), err);
+    if (!e || rk_projection_errors(b->U, 3 * b->n, b->r, group, D, T, M, e, err)) { free(e); return -1; }
+    int g = 0;
+    if (o->tolerance > 0 && o->type != RK_BASIS_POD) {
+        while (g < ng - 1 && e[g] > o->tolerance) g++;
+        if (e[g] > o->tolerance) {
+            double best = e[ng - 1];
+            free(e);
+            return rk_fail(err, "tolerance %g not met: the largest %s basis tried (%d columns) still "
+                           "misses the full-order frames by %.3g (relative); raise rom.size or the "
+                           "tolerance", o->tolerance, rk_basis_type_name(o->type), b->r, best);
+        }
+        rk_basis_truncate(b, (g + 1) * group);
+    } else {
+        g = ng - 1;
+    }
+    info->projection_error = e[g];
+    free(e);
+    return 0;
+}
+
+int rk_scene_basis_build(const rk_scene *scene, const rk_basis_options *o, rk_basis *b,
+                         rk_scene_basis_info *info, rk_error *err)
+{
+    memset(info, 0, sizeof *info);
+    memset(b, 0, sizeof *b);
+    info->projection_error = NAN;
+    info->kernels = o->type == RK_BASIS_RKPM_SKINNING ? o->kernels : 0;
+    double t0 = rk_now();
+    if (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS) {
+        int rc = rkpm_on_points(scene, o, b, info, err);
+        info->seconds_basis = rk_now() - t0;
+        return rc;
+    }
+    rk_scene_sim sim;
+    if (rk_scene_build(scene, &sim, err)) return -1;
+    int rc = -1, T = 0;
+    double *D = NULL;
+    unsigned char *fixed = rk_calloc((size_t)sim.mesh.nv, 1, err);
+    rk_sparse M = {0};
+    if (!fixed) goto out;
+    for (int g = 0; g < sim.options.nprescribed; g++)
+        for (int k = 0; k < sim.options.prescribed[g].count; k++) fixed[sim.options.prescribed[g].verts[k]] = 1;
+    int need_frames = o->type == RK_BASIS_POD || o->tolerance > 0;
+    if (need_frames) {
+        double t = rk_now();
+        if (training_frames(&sim, &D, &T, err)) goto out;
+        info->seconds_fom = rk_now() - t;
+        info->fom_frames = T;
+        if (rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto out;
+        rk_fem_add_mass(&sim.fem, sim.options.lumped_mass, 1.0, &M);
+    }
+    int size = o->size ? o->size : default_max(o->type);
+    double t = rk_now();
+    if (build_sized(&sim, o, fixed, size, D, T, &M, b, info, err)) goto out;
+    info->seconds_basis = rk_now() - t;
+    if (need_frames && meet_tolerance(o, b, D, T, &M, info, err)) goto out;
+    info->vertices = sim.mesh.nv;
+    info->tets = sim.mesh.nt;
+    info->X = rk_calloc(3 * (size_t)sim.mesh.nv, sizeof(double), err);
+    if (!info->X) goto out;
+    memcpy(info->X, sim.mesh.X, sizeof(double) * 3 * sim.mesh.nv);
+    rc = 0;
+out:
+    if (rc) rk_basis_free(b);
+    free(D);
+    free(fixed);
+    rk_sparse_free(&M);
+    rk_scene_sim_free(&sim);
+    return rc;
+}
+
+void rk_scene_basis_info_free(rk_scene_basis_info *info)
+{
+    free(info->X);
+    info->X = NULL;
+}

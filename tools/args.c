@@ -1,0 +1,39 @@
+/* Option parsing shared by the subcommands. */
+#include "args.h"
+
+#include <stdio.h>
+#include <string.h>
+
+int cli_parse(const char *cmd, int argc, char **argv, const cli_option *opts, const char **positional,
+              const char *what_positional)
+{
+    *positional = NULL;
+    for (int i = 1; i < argc; i++) {
+        const cli_option *o = opts;
+        while (o->name && strcmp(o->name, argv[i]) != 0) o++;
+        if (o->name) {
+            if (o->flag) {
+                *o->flag = 1;
+                continue;
+            }
+            if (i + 1 >= argc) {
+                fprintf(stderr, "romkit %s: %s needs a value\n", cmd, argv[i]);
+                return -1;
+            }
+            *o->value = argv[++i];
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            fprintf(stderr, "romkit %s: unknown option '%s'\n", cmd, argv[i]);
+            return -1;
+        } else if (!*positional) {
+            *positional = argv[i];
+        } else {
+            fprintf(stderr, "romkit %s: unexpected argument '%s'\n", cmd, argv[i]);
+            return -1;
+        }
+    }
+    if (!*positional) {
+        fprintf(stderr, "romkit %s: no %s given\n", cmd, what_positional);
+        return -1;
+    }
+    return 0;
+}

@@ -1,0 +1,18 @@
+/* Command-line options shared by the subcommands: "--name VALUE" options, "--flag" switches
+ * and one positional argument. */
+#ifndef ROMKIT_ARGS_H
+#define ROMKIT_ARGS_H
+
+typedef struct {
+    const char *name;    /* "--report" */
+    const char **value;  /* set to the next argument; NULL for a switch */
+    int *flag;           /* set to 1 for a switch; NULL for an option with a value */
+} cli_option;
+
+/* Fills the options (terminated by a {NULL} entry) and *positional. Prints
+ * "romkit CMD: ..." to stderr and returns -1 on an unknown option, a missing value, a second
+ * positional argument or none at all (what_positional names it in that message). */
+int cli_parse(const char *cmd, int argc, char **argv, const cli_option *opts, const char **positional,
+              const char *what_positional);
+
+#endif

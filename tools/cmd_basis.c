@@ -1,0 +1,158 @@
+/* romkit basis SCENE.json: builds the reduced basis the scene's rom section asks for and writes
+ * it (and its report) without baking an asset. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "args.h"
+#include "basis/scene_basis.h"
+#include "commands.h"
+#include "util/json_out.h"
+#include "util/npy.h"
+#include "util/timer.h"
+
+static void basis_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: romkit basis SCENE.json [--entry K] [--basis U.npy] [--weights W.npy]\n"
+            "                    [--report R.json] [--quiet]\n\n"
+            "Builds the reduced basis of the scene's rom section (entry K of a list, default 0):\n"
+            "modes, modal_derivatives, skinning, rkpm_skinning or pod, of rom.size, or the\n"
+            "smallest that meets rom.tolerance on the scene's own full-order frames.\n"
+            "  --basis U.npy     the basis, n x 3 x r float64 (vertex, coordinate, column)\n"
+            "  --weights W.npy   skinning weights at the vertices, n x m float64 (constant first)\n"
+            "  --report R.json   sizes, eigenvalues or singular values, errors, timings\n"
+            "Nothing is written when the build fails.\n\n"
+            "example:\n  romkit basis examples/scenes/beam_bend.json --report basis.json\n");
+}
+
+static cJSON *make_report(const rk_basis *b, const rk_scene_basis_info *info, double seconds)
+{
+    cJSON *r = cJSON_CreateObject();
+    cJSON_AddNumberToObject(r, "vertices", info->vertices);
+    cJSON_AddNumberToObject(r, "tets", info->tets);
+    cJSON *jb = cJSON_AddObjectToObject(r, "basis");
+    cJSON_AddStringToObject(jb, "type", rk_basis_type_name(b->type));
+    cJSON_AddNumberToObject(jb, "size", b->r);
+    if (b->type == RK_BASIS_POD) {
+        cJSON_AddItemToObject(jb, "singular_values", rk_json_array(b->values, b->nvalues));
+    } else {
+        cJSON_AddItemToObject(jb, "eigenvalues", rk_json_array(b->values, b->nvalues));
+        cJSON_AddNumberToObject(jb, "zero_eigenvalues", b->nzero);
+    }
+    if (b->W) cJSON_AddNumberToObject(jb, "weights", b->m);
+    if (b->type == RK_BASIS_RKPM_SKINNING) {
+        cJSON_AddNumberToObject(jb, "kernels", info->kernels);
+        cJSON_AddNumberToObject(jb, "integration_points", info->integration_points);
+        cJSON_AddNumberToObject(jb, "damped_points", b->damped_points);
+    }
+    if (info->fom_frames) {
+        cJSON_AddNumberToObject(jb, "training_frames", info->fom_frames);
+        cJSON_AddNumberToObject(jb, "projection_error", info->projection_error);
+    }
+    cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
+    cJSON_AddNumberToObject(sec, "total", seconds);
+    cJSON_AddNumberToObject(sec, "fom", info->seconds_fom);
+    cJSON_AddNumberToObject(sec, "basis", info->seconds_basis);
+    if (b->type == RK_BASIS_RKPM_SKINNING) {
+        cJSON *k = cJSON_AddObjectToObject(sec, "rkpm");
+        cJSON_AddNumberToObject(k, "farthest_point_sampling", info->rkpm.fps);
+        cJSON_AddNumberToObject(k, "kernels", info->rkpm.kernels);
+        cJSON_AddNumberToObject(k, "assemble", info->rkpm.assemble);
+        cJSON_AddNumberToObject(k, "eigensolve", info->rkpm.eigs);
+        cJSON_AddNumberToObject(k, "evaluate", info->rkpm.evaluate);
+    }
+    return r;
+}
+
+/* U (3n x r, column-major) as an n x 3 x r array: element (v, c, j) at (3v + c) r + j. */
+static int write_basis(const char *path, const rk_basis *b, rk_error *err)
+{
+    size_t rows = 3 * (size_t)b->n;
+    double *T = rk_calloc(rows * b->r, sizeof(double), err);
+    if (!T) return -1;
+    for (size_t i = 0; i < rows; i++)
+        for (int j = 0; j < b->r; j++) T[i * b->r + j] = b->U[(size_t)j * rows + i];
+    long shape[3] = {b->n, 3, b->r};
+    int rc = rk_npy_write(path, T, 3, shape, err);
+    free(T);
+    return rc;
+}
+
+static int write_weights(const char *path, const rk_basis *b, rk_error *err)
+{
+    double *T = rk_calloc((size_t)b->n * b->m, sizeof(double), err);
+    if (!T) return -1;
+    for (int v = 0; v < b->n; v++)
+        for (int j = 0; j < b->m; j++) T[(size_t)v * b->m + j] = b->W[(size_t)j * b->n + v];
+    long shape[2] = {b->n, b->m};
+    int rc = rk_npy_write(path, T, 2, shape, err);
+    free(T);
+    return rc;
+}
+
+int cmd_basis(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            basis_usage(stdout);
+            return 0;
+        }
+    const char *scene_path, *entry = "0", *basis_out = NULL, *weights_out = NULL, *report_out = NULL;
+    int quiet = 0;
+    const cli_option opts[] = {{"--entry", &entry, NULL},     {"--basis", &basis_out, NULL},
+                               {"--weights", &weights_out, NULL}, {"--report", &report_out, NULL},
+                               {"--quiet", NULL, &quiet},      {NULL, NULL, NULL}};
+    if (cli_parse("basis", argc, argv, opts, &scene_path, "scene file")) {
+        basis_usage(stderr);
+        return 2;
+    }
+    char *end;
+    long index = strtol(entry, &end, 10);
+    if (*end || index < 0 || index > 1000) {
+        fprintf(stderr, "romkit basis: --entry must be a whole number, got '%s'\n", entry);
+        return 2;
+    }
+    rk_progress_set_quiet(quiet);
+    double t0 = rk_now();
+    rk_error err = {{0}};
+    rk_scene scene;
+    rk_basis_options o;
+    rk_basis b;
+    rk_scene_basis_info info = {0};
+    int have_scene = 0, have_basis = 0, rc = 1;
+    if (rk_scene_load(scene_path, &scene, &err)) goto done;
+    have_scene = 1;
+    if (rk_basis_options_parse(scene.rom, (int)index, scene_path, &o, &err)) goto done;
+    if (rk_scene_basis_build(&scene, &o, &b, &info, &err)) goto done;
+    have_basis = 1;
+    if (weights_out && !b.W) {
+        rk_fail(&err, "--weights: a %s basis has no skinning weights", rk_basis_type_name(b.type));
+        goto done;
+    }
+    if (basis_out && write_basis(basis_out, &b, &err)) goto done;
+    if (weights_out && write_weights(weights_out, &b, &err)) goto done;
+    cJSON *report = make_report(&b, &info, rk_now() - t0);
+    if (report_out && rk_json_write_file(report_out, report, &err)) {
+        cJSON_Delete(report);
+        goto done;
+    }
+    cJSON_Delete(report);
+    printf("%s: %s basis, %d columns", scene_path, rk_basis_type_name(b.type), b.r);
+    if (b.W) printf(" (%d weights, the constant one included)", b.m);
+    printf(" on %d vertices in %.3g s", info.vertices, info.seconds_basis);
+    if (info.fom_frames)
+        printf("; %d full-order frames (%.3g s), projection error %.3g", info.fom_frames, info.seconds_fom,
+               info.projection_error);
+    printf("\n");
+    if (b.nvalues && b.type != RK_BASIS_POD)
+        printf("eigenvalues: %.6g .. %.6g (%d zero)\n", b.values[0], b.values[b.nvalues - 1], b.nzero);
+    rc = 0;
+done:
+    if (rc) fprintf(stderr, "romkit basis: %s\n", err.msg);
+    if (have_basis) rk_basis_free(&b);
+    rk_scene_basis_info_free(&info);
+    if (have_scene) rk_scene_free(&scene);
+    return rc;
+}
