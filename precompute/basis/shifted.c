@@ -5,6 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Below this reciprocal condition estimate the shifted matrix counts as singular. */
+#define RK_SHIFTED_MIN_RCOND 1e-14
+
 static int same_pattern(const rk_sparse *A, const rk_sparse *B)
 {
     return A->n == B->n && A->nnz == B->nnz &&
@@ -68,21 +71,14 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
                        "unknown %d of %d): sigma is an eigenvalue, or the problem has a "
                        "singular mass", sigma, col, A->n);
     }
-    if (s->indefinite) {
-        /* LDL^T without pivoting can finish with a tiny pivot: check D. */
-        const double *Lx = s->L->x;
-        const int *Lp = s->L->p;
-        double dmax = 0, dmin = INFINITY;
-        for (int j = 0; j < s->n; j++) {
-            double d = fabs(Lx[Lp[j]]);
-            if (d > dmax) dmax = d;
-            if (d < dmin) dmin = d;
-        }
-        if (!(dmin > 1e-14 * dmax)) {
-            rk_shifted_free(s);
-            return rk_fail(err, "the shifted matrix A - %g B is numerically singular "
-                           "(pivot ratio %.3g): move sigma away from an eigenvalue", sigma, dmin / dmax);
-        }
+    /* A factorization can finish on a singular matrix with roundoff-sized pivots; CHOLMOD's
+     * rcond is the squared (LL^T) or plain (LDL^T) ratio of the extreme pivots. */
+    double rcond = cholmod_rcond(s->L, &s->cc);
+    if (!(rcond > RK_SHIFTED_MIN_RCOND)) {
+        rk_shifted_free(s);
+        return rk_fail(err, "the shifted matrix A - %g B is numerically singular (pivot-ratio "
+                       "condition estimate %.3g): sigma sits on an eigenvalue, or the problem has "
+                       "a zero-mass or unconnected unknown", sigma, rcond);
     }
     return 0;
 }

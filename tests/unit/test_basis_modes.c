@@ -204,6 +204,29 @@ TEST(asking_too_much_or_nothing_free_fails_clearly)
     fem_body_free(&b);
 }
 
+/* A singular problem: the shift sitting on an eigenvalue (sigma = 0 for a free object, whose K
+ * is singular) is refused with a message that says so. (A mass matrix with a zero row is not an
+ * error: mode 3 allows a semi-definite B.) */
+TEST(singular_problems_are_refused)
+{
+    rk_error err;
+    fem_body b;
+    CHECK_OK(fem_body_box(&b, 1.0, 0.3, 0.3, 3, 1, 1, steel_ish, &err));
+    rk_sparse K = {0}, M = {0};
+    rk_sparse_alloc_pattern(&b.f, &K, &err);
+    rk_sparse_alloc_pattern(&b.f, &M, &err);
+    rk_fem_add_rest_stiffness(&b.f, 1.0, &K);
+    rk_fem_add_mass(&b.f, 0, 1.0, &M);
+    double vals[4];
+    int on_eigenvalue = rk_eigs_smallest(&K, &M, 4, 0.0, vals, NULL, &err) != 0 && strstr(err.msg, "singular");
+    char m1[1024];
+    snprintf(m1, sizeof m1, "%s", err.msg);
+    rk_sparse_free(&K);
+    rk_sparse_free(&M);
+    fem_body_free(&b);
+    CHECK(on_eigenvalue, "sigma on an eigenvalue: %s", m1);
+}
+
 int main(void)
 {
     RUN(modes_match_dense_lapack_clamped);
@@ -211,5 +234,6 @@ int main(void)
     RUN(modes_are_mass_orthonormal_eigenvectors);
     RUN(cantilever_frequencies_converge_to_beam_theory);
     RUN(asking_too_much_or_nothing_free_fails_clearly);
+    RUN(singular_problems_are_refused);
     return test_finish();
 }
