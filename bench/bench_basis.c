@@ -106,17 +106,8 @@ int main(int argc, char **argv)
     bench_case cases[9];
     int ncases = bench_cases(data, cases) - 1; /* up to box_100k */
     if (getenv("ROMKIT_BENCH_QUICK")) ncases = 4;
-    char path[1024];
-    snprintf(path, sizeof path, "%s/basis_scaling.csv", out_dir);
-    FILE *csv = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/basis_scaling.json", out_dir);
-    FILE *json = fopen(path, "w");
-    if (!csv || !json) {
-        fprintf(stderr, "bench_basis: cannot write into %s\n", out_dir);
-        return 1;
-    }
-    fprintf(csv, "case,vertices,tets,modes32_s,rkpm16_s,rkpm_vs_paper_gpu,integration_points,pod32_s\n");
-    fprintf(json, "[\n");
+    FILE *csv, *json;
+    if (bench_open_results(out_dir, "basis_scaling", "case,vertices,tets,modes32_s,rkpm16_s,rkpm_vs_paper_gpu,integration_points,pod32_s", &csv, &json)) return 1;
     printf("%-14s %8s %8s %12s %12s %12s %12s\n", "case", "verts", "tets", "32 modes s", "16 RKPM s",
            "RKPM/3.19s", "32 POD s");
     for (int c = 0; c < ncases; c++) {

@@ -54,6 +54,24 @@ static inline int bench_scene(const bench_case *c, rk_scene *scene, rk_scene_sim
     return 0;
 }
 
+/* Opens OUT_DIR/NAME.csv (with its header line) and OUT_DIR/NAME.json (with its opening "["). */
+static inline int bench_open_results(const char *out_dir, const char *name, const char *csv_header,
+                                     FILE **csv, FILE **json)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s.csv", out_dir, name);
+    *csv = fopen(path, "w");
+    snprintf(path, sizeof path, "%s/%s.json", out_dir, name);
+    *json = fopen(path, "w");
+    if (!*csv || !*json) {
+        fprintf(stderr, "bench: cannot write %s results into %s\n", name, out_dir);
+        return -1;
+    }
+    fprintf(*csv, "%s\n", csv_header);
+    fprintf(*json, "[\n");
+    return 0;
+}
+
 static int bench_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;

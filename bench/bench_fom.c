@@ -20,17 +20,8 @@ int main(int argc, char **argv)
     bench_case cases[9];
     int ncases = bench_cases(data, cases);
     if (quick) ncases = 4;
-    char path[1024];
-    snprintf(path, sizeof path, "%s/fom_scaling.csv", out_dir);
-    FILE *csv = fopen(path, "w");
-    snprintf(path, sizeof path, "%s/fom_scaling.json", out_dir);
-    FILE *json = fopen(path, "w");
-    if (!csv || !json) {
-        fprintf(stderr, "bench_fom: cannot write into %s\n", out_dir);
-        return 1;
-    }
-    fprintf(csv, "case,vertices,tets,steps,median_s_per_step,min_s,max_s,factor_share,newton_per_step\n");
-    fprintf(json, "[\n");
+    FILE *csv, *json;
+    if (bench_open_results(out_dir, "fom_scaling", "case,vertices,tets,steps,median_s_per_step,min_s,max_s,factor_share,newton_per_step", &csv, &json)) return 1;
     printf("%-14s %8s %8s %12s %20s %8s %8s\n", "case", "verts", "tets", "s/step", "(min..max)", "factor", "newton");
     for (int c = 0; c < ncases; c++) {
         rk_error err;

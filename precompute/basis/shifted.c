@@ -1,6 +1,8 @@
 /* CHOLMOD factorization of A - sigma B, shared by the eigensolver and the modal derivatives. */
 #include "basis/shifted.h"
 
+#include "fem/cholmod_view.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,18 +46,7 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
     s->cc_started = 1;
     s->cc.print = 0;
     s->cc.error_handler = NULL;
-    cholmod_sparse *V = &s->view;
-    V->nrow = V->ncol = (size_t)s->n;
-    V->nzmax = (size_t)s->S.nnz;
-    V->p = s->S.colptr;
-    V->i = s->S.rowind;
-    V->x = s->S.val;
-    V->stype = 1;
-    V->itype = CHOLMOD_INT;
-    V->xtype = CHOLMOD_REAL;
-    V->dtype = CHOLMOD_DOUBLE;
-    V->sorted = 1;
-    V->packed = 1;
+    rk_cholmod_sparse_view(&s->S, &s->view);
     if (factor(s, err)) { rk_shifted_free(s); return -1; }
     if (s->cc.status == CHOLMOD_NOT_POSDEF) {
         /* The shift lies above some eigenvalue: LDL^T handles the indefinite matrix. */
@@ -86,12 +77,7 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
 int rk_shifted_solve(rk_shifted *s, const double *b, double *x, rk_error *err)
 {
     cholmod_dense B;
-    memset(&B, 0, sizeof B);
-    B.nrow = B.d = B.nzmax = (size_t)s->n;
-    B.ncol = 1;
-    B.x = (void *)b;
-    B.xtype = CHOLMOD_REAL;
-    B.dtype = CHOLMOD_DOUBLE;
+    rk_cholmod_dense_view(b, s->n, &B);
     cholmod_dense *X = cholmod_solve(CHOLMOD_A, s->L, &B, &s->cc);
     if (!X) return rk_fail(err, "CHOLMOD solve failed (status %d)", s->cc.status);
     memcpy(x, X->x, (size_t)s->n * sizeof(double));

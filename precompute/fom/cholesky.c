@@ -4,6 +4,8 @@
  * solves with cholmod_solve2, which reuses its dense workspaces (no per-iteration allocation). */
 #include "fom/impl.h"
 
+#include "fem/cholmod_view.h"
+
 #include "util/timer.h"
 
 #include <string.h>
@@ -14,20 +16,8 @@ int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err)
     im->cc_started = 1;
     im->cc.print = 0; /* errors come back through rk_error, not stderr */
     im->cc.error_handler = NULL;
-    cholmod_sparse *A = &im->A;
-    memset(A, 0, sizeof *A);
-    A->nrow = A->ncol = (size_t)im->H.n;
-    A->nzmax = (size_t)im->H.nnz;
-    A->p = im->H.colptr;
-    A->i = im->H.rowind;
-    A->x = im->H.val;
-    A->stype = 1; /* upper triangle stored */
-    A->itype = CHOLMOD_INT;
-    A->xtype = CHOLMOD_REAL;
-    A->dtype = CHOLMOD_DOUBLE;
-    A->sorted = 1;
-    A->packed = 1;
-    im->L = cholmod_analyze(A, &im->cc);
+    rk_cholmod_sparse_view(&im->H, &im->A);
+    im->L = cholmod_analyze(&im->A, &im->cc);
     if (!im->L || im->cc.status < CHOLMOD_OK)
         return rk_fail(err, "CHOLMOD symbolic analysis failed (status %d) on %d dofs, %d nonzeros",
                        im->cc.status, im->H.n, im->H.nnz);
@@ -53,12 +43,7 @@ int rk_fom_chol_solve(rk_fom *s, const double *g, double *d, rk_error *err)
     rk_fom_impl *im = s->impl;
     double t0 = rk_now();
     cholmod_dense B;
-    memset(&B, 0, sizeof B);
-    B.nrow = B.d = B.nzmax = (size_t)im->n;
-    B.ncol = 1;
-    B.x = (void *)g;
-    B.xtype = CHOLMOD_REAL;
-    B.dtype = CHOLMOD_DOUBLE;
+    rk_cholmod_dense_view(g, im->n, &B);
     int ok = cholmod_solve2(CHOLMOD_A, im->L, &B, NULL, &im->sol, NULL, &im->Y, &im->E, &im->cc);
     if (ok) {
         const double *y = im->sol->x;

@@ -33,6 +33,14 @@ static inline int fem_body_box(fem_body *b, double sx, double sy, double sz, int
     return fem_body_init(b, mat, err);
 }
 
+/* Flags (nv bytes) of the vertices with x below `x`: the clamped end of a cantilever. */
+static inline unsigned char *fem_body_fix_x_below(const fem_body *b, double x)
+{
+    unsigned char *fixed = calloc((size_t)b->m.nv, 1);
+    for (int v = 0; v < b->m.nv; v++) fixed[v] = b->m.X[3 * v] < x;
+    return fixed;
+}
+
 static inline void fem_body_free(fem_body *b)
 {
     rk_fem_free(&b->f);

@@ -8,13 +8,6 @@
 
 static const rk_material rubber = {RK_MAT_NEOHOOKEAN, 1e6, 0.4, 1000};
 
-static unsigned char *fix_x_below(const fem_body *b, double x)
-{
-    unsigned char *fixed = calloc((size_t)b->m.nv, 1);
-    for (int v = 0; v < b->m.nv; v++) fixed[v] = b->m.X[3 * v] < x;
-    return fixed;
-}
-
 static double norm(const double *x, int n)
 {
     double s = 0;
@@ -58,7 +51,7 @@ TEST(derivatives_satisfy_their_equation)
     rk_error err;
     fem_body b;
     CHECK_OK(fem_body_box(&b, 2.0, 0.4, 0.4, 10, 2, 2, rubber, &err));
-    unsigned char *fixed = fix_x_below(&b, 1e-9);
+    unsigned char *fixed = fem_body_fix_x_below(&b, 1e-9);
     rk_basis modes;
     CHECK_OK(rk_basis_modes(&b.f, fixed, 0, 4, &modes, &err));
     int n3 = 3 * b.f.nv, npairs = 10;
@@ -114,7 +107,7 @@ TEST(derivative_is_the_second_order_static_response)
     rk_error err;
     fem_body b;
     CHECK_OK(fem_body_box(&b, 2.0, 0.4, 0.4, 10, 2, 2, rubber, &err));
-    unsigned char *fixed = fix_x_below(&b, 1e-9);
+    unsigned char *fixed = fem_body_fix_x_below(&b, 1e-9);
     rk_basis modes;
     CHECK_OK(rk_basis_modes(&b.f, fixed, 0, 1, &modes, &err));
     int n3 = 3 * b.f.nv;
@@ -170,7 +163,7 @@ TEST(modal_derivative_basis_is_mass_orthonormal_and_contains_the_modes)
     rk_error err;
     fem_body b;
     CHECK_OK(fem_body_box(&b, 2.0, 0.4, 0.4, 10, 2, 2, rubber, &err));
-    unsigned char *fixed = fix_x_below(&b, 1e-9);
+    unsigned char *fixed = fem_body_fix_x_below(&b, 1e-9);
     rk_basis md, modes;
     CHECK_OK(rk_basis_modal_derivatives(&b.f, fixed, 0, 12, 0, &md, &err));
     CHECK_OK(rk_basis_modes(&b.f, fixed, 0, 2, &modes, &err));

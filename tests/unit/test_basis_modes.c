@@ -73,19 +73,12 @@ static int compare_dense(fem_body *b, const unsigned char *fixed, int lumped, in
     return bad;
 }
 
-static unsigned char *fix_x_below(const fem_body *b, double x)
-{
-    unsigned char *fixed = calloc((size_t)b->m.nv, 1);
-    for (int v = 0; v < b->m.nv; v++) fixed[v] = b->m.X[3 * v] < x;
-    return fixed;
-}
-
 TEST(modes_match_dense_lapack_clamped)
 {
     rk_error err;
     fem_body b;
     CHECK_OK(fem_body_box(&b, 1.0, 0.3, 0.2, 5, 2, 2, steel_ish, &err));
-    unsigned char *fixed = fix_x_below(&b, 1e-9);
+    unsigned char *fixed = fem_body_fix_x_below(&b, 1e-9);
     char why[256];
     int bad = compare_dense(&b, fixed, 0, 12, 0, why, sizeof why);
     int bad_lumped = bad ? 0 : compare_dense(&b, fixed, 1, 12, 0, why, sizeof why);
@@ -110,7 +103,7 @@ TEST(modes_are_mass_orthonormal_eigenvectors)
     rk_error err;
     fem_body b;
     CHECK_OK(fem_body_box(&b, 2.0, 0.4, 0.4, 10, 2, 2, steel_ish, &err));
-    unsigned char *fixed = fix_x_below(&b, 1e-9);
+    unsigned char *fixed = fem_body_fix_x_below(&b, 1e-9);
     rk_basis basis;
     int rc = rk_basis_modes(&b.f, fixed, 0, 8, &basis, &err);
     rk_sparse K = {0}, M = {0};
@@ -161,7 +154,7 @@ TEST(cantilever_frequencies_converge_to_beam_theory)
         fem_body b;
         rk_material mat = {RK_MAT_LINEAR, E, 0.0, rho};
         CHECK_OK(fem_body_box(&b, L, a, a, 20 * k, k, k, mat, &err));
-        unsigned char *fixed = fix_x_below(&b, 1e-9);
+        unsigned char *fixed = fem_body_fix_x_below(&b, 1e-9);
         rk_basis basis;
         int rc = rk_basis_modes(&b.f, fixed, 0, 6, &basis, &err);
         free(fixed);

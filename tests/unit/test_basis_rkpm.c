@@ -365,7 +365,7 @@ TEST(too_sparse_clouds_are_named)
      * the damped moment matrix, reproduces constants and the in-plane linear field exactly
      * enough, is counted; the far point still fails. */
     int damped = -1;
-    double lin[8] = {1, 1, 1, 1, 0, 1, 0, 1}, W2[2];
+    double lin[8] = {1, 1, 1, 1, 0, 1, 0, 1}, W2[4];
     CHECK_OK(rk_rkpm_interpolate(&k, pts, 1, lin, 2, W2, &damped, &err));
     CHECK(damped == 1, "%d points damped, expected 1", damped);
     CHECK_CLOSE(W2[0], 1.0, 1e-12);
