@@ -163,6 +163,33 @@ TEST(bad_requests_fail_clearly)
     CHECK(far_point && strstr(err.msg, "point 1") && strstr(err.msg, "too sparse"), "far point: %s", err.msg);
 }
 
+/* Two bars 10 m apart: no kernel bridges them, so the constant mode is double (one per piece)
+ * and the weight-space problem has no unique answer. */
+TEST(disconnected_point_clouds_are_refused)
+{
+    rk_error err;
+    rk_rkpm_points pts;
+    double *coef;
+    CHECK_OK(bar_points(2.0, 3000, 2.0, soft, soft, &pts, &coef, &err));
+    int n = pts.n;
+    double *X = malloc(sizeof(double) * 6 * n), *v = malloc(sizeof(double) * 2 * n), *c = malloc(sizeof(double) * 2 * n);
+    for (int i = 0; i < n; i++) {
+        for (int d = 0; d < 3; d++) {
+            X[3 * i + d] = pts.X[3 * i + d];
+            X[3 * (n + i) + d] = pts.X[3 * i + d] + (d == 1 ? 10.0 : 0.0);
+        }
+        v[i] = v[n + i] = pts.weight[i];
+        c[i] = c[n + i] = coef[i];
+    }
+    rk_rkpm_points two = {.n = 2 * n, .X = X, .weight = v};
+    rk_basis b;
+    int rc = rk_basis_rkpm_skinning(&two, c, 100, 3, X, 2 * n, &b, NULL, &err);
+    free(X); free(v); free(c); free(coef);
+    rk_rkpm_points_free(&pts);
+    CHECK(rc != 0, "two separate pieces accepted");
+    CHECK(strstr(err.msg, "disconnected pieces"), "message: %s", err.msg);
+}
+
 int main(void)
 {
     RUN(first_mode_is_nearly_linear_with_the_bar_eigenvalue);
@@ -170,5 +197,6 @@ int main(void)
     RUN(weights_are_orthonormal_in_the_rkpm_mass);
     RUN(gaussian_splats_give_weights_without_a_mesh);
     RUN(bad_requests_fail_clearly);
+    RUN(disconnected_point_clouds_are_refused);
     return test_finish();
 }
