@@ -69,6 +69,20 @@ static double box_dist2(const double *p, const double lo[3], const double hi[3])
     return s;
 }
 
+/* Collects the kernels whose support meets the box [lo, hi] (each kernel is met once). */
+typedef struct {
+    const rk_rkpm *k;
+    const double *lo, *hi;
+    int *cand, count;
+} candidate_list;
+
+static int add_candidate(int l, void *ctx)
+{
+    candidate_list *c = ctx;
+    if (box_dist2(&c->k->centers[3 * l], c->lo, c->hi) < c->k->support[l] * c->k->support[l]) c->cand[c->count++] = l;
+    return 0;
+}
+
 int rkpm_chunks_next(rkpm_chunks *c, rk_error *err)
 {
     const rk_rkpm_grid *g = &c->grid;
@@ -96,20 +110,11 @@ int rkpm_chunks_next(rkpm_chunks *c, rk_error *err)
         }
     }
     /* Candidates: kernels whose support meets the chunk's bounding box, ascending. */
-    const rk_rkpm_grid *hash = &k->hash;
     double qlo[3], qhi[3];
     for (int d = 0; d < 3; d++) qlo[d] = lo[d] - k->max_support_radius, qhi[d] = hi[d] + k->max_support_radius;
-    int c0[3], c1[3], ncand = 0;
-    rkpm_grid_range(hash, qlo, qhi, c0, c1);
-    for (int z = c0[2]; z <= c1[2]; z++)
-        for (int y = c0[1]; y <= c1[1]; y++)
-            for (int x = c0[0]; x <= c1[0]; x++) {
-                int cell = rkpm_grid_index(hash, x, y, z);
-                for (int q = hash->start[cell]; q < hash->start[cell + 1]; q++) {
-                    int l = hash->item[q];
-                    if (box_dist2(&k->centers[3 * l], lo, hi) < k->support[l] * k->support[l]) c->cand[ncand++] = l;
-                }
-            }
+    candidate_list cl = {k, lo, hi, c->cand, 0};
+    rkpm_grid_visit(&k->hash, qlo, qhi, add_candidate, &cl);
+    int ncand = cl.count;
     qsort(c->cand, (size_t)ncand, sizeof(int), rkpm_cmp_int);
     /* Each point's covering kernels (as candidate positions for now). */
     memset(c->used, 0, (size_t)ncand * sizeof(int));

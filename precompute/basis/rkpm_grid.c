@@ -114,12 +114,30 @@ void rkpm_grid_free(rk_rkpm_grid *g)
     memset(g, 0, sizeof *g);
 }
 
-void rkpm_grid_range(const rk_rkpm_grid *g, const double lo[3], const double hi[3], int c0[3], int c1[3])
+/* Cell coordinates of the box [lo, hi], clamped to the grid: c0[3]..c1[3] inclusive. */
+static void grid_range(const rk_rkpm_grid *g, const double lo[3], const double hi[3], int c0[3], int c1[3])
 {
     for (int d = 0; d < 3; d++) {
         c0[d] = clamp_cell(floor((lo[d] - g->origin[d]) / g->h), g->dim[d]);
         c1[d] = clamp_cell(floor((hi[d] - g->origin[d]) / g->h), g->dim[d]);
     }
+}
+
+int rkpm_grid_visit(const rk_rkpm_grid *g, const double lo[3], const double hi[3],
+                    int (*visit)(int item, void *ctx), void *ctx)
+{
+    int c0[3], c1[3];
+    grid_range(g, lo, hi, c0, c1);
+    for (int z = c0[2]; z <= c1[2]; z++)
+        for (int y = c0[1]; y <= c1[1]; y++)
+            for (int x = c0[0]; x <= c1[0]; x++) {
+                int cell = rkpm_grid_index(g, x, y, z);
+                for (int q = g->start[cell]; q < g->start[cell + 1]; q++) {
+                    int rc = visit(g->item[q], ctx);
+                    if (rc) return rc;
+                }
+            }
+    return 0;
 }
 
 /* Keeps the `count` smallest (distance, index) pairs, ascending. */
@@ -144,7 +162,7 @@ void rkpm_grid_nearest(const rk_rkpm_grid *g, const double *X, int self, int cou
 {
     const double *x = &X[3 * self];
     int c[3], found = 0, smax = 0;
-    rkpm_grid_range(g, x, x, c, c);
+    grid_range(g, x, x, c, c);
     for (int d = 0; d < 3; d++) smax = g->dim[d] > smax ? g->dim[d] : smax;
     for (int s = 0; s <= smax; s++) {
         for (int dk = -s; dk <= s; dk++) {

@@ -11,8 +11,11 @@
  * cell). The edge grows when the grid would have more than 4n + 64 cells. */
 int rkpm_grid_build(rk_rkpm_grid *g, const double *X, int n, double h, rk_error *err);
 void rkpm_grid_free(rk_rkpm_grid *g);
-/* Cell coordinates of the box [lo, hi], clamped to the grid: c0[3]..c1[3] inclusive. */
-void rkpm_grid_range(const rk_rkpm_grid *g, const double lo[3], const double hi[3], int c0[3], int c1[3]);
+/* Calls visit(item, ctx) for every point in the grid cells that meet the box [lo, hi] (a
+ * superset of the points inside it), cell by cell; stops at and returns the first non-zero
+ * value visit returns, else 0. */
+int rkpm_grid_visit(const rk_rkpm_grid *g, const double lo[3], const double hi[3],
+                    int (*visit)(int item, void *ctx), void *ctx);
 static inline int rkpm_grid_index(const rk_rkpm_grid *g, int i, int j, int k)
 {
     return i + g->dim[0] * (j + g->dim[1] * k);
@@ -63,8 +66,7 @@ static inline double rkpm_window(const rk_rkpm *k, int kid, const double X[3], d
  * point < 0 calls it "the point at ...". */
 int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const int *kid, double *phi,
                   double *grad, int *regularized, rk_error *err);
-/* The kernels covering X (ascending when sorted != 0, else in the hash's fixed order): count,
- * or -1 (with err) when more than cap. */
-int rkpm_cover(const rk_rkpm *k, const double X[3], int point, int cap, int sorted, int *idx, rk_error *err);
+/* The kernels covering X, ascending: count, or -1 (with err) when more than cap. */
+int rkpm_cover(const rk_rkpm *k, const double X[3], int cap, int *idx, rk_error *err);
 
 #endif

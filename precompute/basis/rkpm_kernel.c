@@ -46,28 +46,31 @@ static int radii(rk_rkpm *k, rk_error *err)
     return 0;
 }
 
+/* Counts the centres l whose support overlaps that of centre c. */
+typedef struct {
+    const rk_rkpm *k;
+    int c, count;
+} overlap_count;
+
+static int count_overlap(int l, void *ctx)
+{
+    overlap_count *o = ctx;
+    double R = o->k->support[o->c] + o->k->support[l];
+    o->count += dist2(&o->k->centers[3 * o->c], &o->k->centers[3 * l]) < R * R;
+    return 0;
+}
+
 /* max over k of #{l : |p_k - p_l| < R_k + R_l}: a point covered by k and l is within R_k of p_k
  * and within R_l of p_l, and every point that is covered at all is covered by some k. */
 static void support_bound(rk_rkpm *k)
 {
-    const rk_rkpm_grid *g = &k->hash;
     for (int c = 0; c < k->K; c++) {
         const double *p = &k->centers[3 * c];
         double reach = k->support[c] + k->max_support_radius, lo[3], hi[3];
         for (int d = 0; d < 3; d++) lo[d] = p[d] - reach, hi[d] = p[d] + reach;
-        int c0[3], c1[3], count = 0;
-        rkpm_grid_range(g, lo, hi, c0, c1);
-        for (int z = c0[2]; z <= c1[2]; z++)
-            for (int y = c0[1]; y <= c1[1]; y++)
-                for (int x = c0[0]; x <= c1[0]; x++) {
-                    int cell = rkpm_grid_index(g, x, y, z);
-                    for (int q = g->start[cell]; q < g->start[cell + 1]; q++) {
-                        int l = g->item[q];
-                        double R = k->support[c] + k->support[l];
-                        count += dist2(p, &k->centers[3 * l]) < R * R;
-                    }
-                }
-        if (count > k->max_support) k->max_support = count;
+        overlap_count o = {k, c, 0};
+        rkpm_grid_visit(&k->hash, lo, hi, count_overlap, &o);
+        if (o.count > k->max_support) k->max_support = o.count;
     }
 }
 
@@ -96,30 +99,31 @@ int rk_rkpm_init(rk_rkpm *k, const double *centers, int K, rk_error *err)
     return 0;
 }
 
-int rkpm_cover(const rk_rkpm *k, const double X[3], int point, int cap, int sorted, int *idx, rk_error *err)
+/* Collects the kernels whose support holds X; 1 when the room runs out. */
+typedef struct {
+    const rk_rkpm *k;
+    const double *X;
+    int cap, count;
+    int *idx;
+} cover_list;
+
+static int add_cover(int l, void *ctx)
 {
-    const rk_rkpm_grid *g = &k->hash;
+    cover_list *c = ctx;
+    if (dist2(c->X, &c->k->centers[3 * l]) >= c->k->support[l] * c->k->support[l]) return 0;
+    if (c->count == c->cap) return 1;
+    c->idx[c->count++] = l;
+    return 0;
+}
+
+int rkpm_cover(const rk_rkpm *k, const double X[3], int cap, int *idx, rk_error *err)
+{
     double lo[3], hi[3], R = k->max_support_radius;
     for (int d = 0; d < 3; d++) lo[d] = X[d] - R, hi[d] = X[d] + R;
-    int c0[3], c1[3], count = 0;
-    rkpm_grid_range(g, lo, hi, c0, c1);
-    for (int z = c0[2]; z <= c1[2]; z++)
-        for (int y = c0[1]; y <= c1[1]; y++)
-            for (int x = c0[0]; x <= c1[0]; x++) {
-                int cell = rkpm_grid_index(g, x, y, z);
-                for (int q = g->start[cell]; q < g->start[cell + 1]; q++) {
-                    int l = g->item[q];
-                    if (dist2(X, &k->centers[3 * l]) >= k->support[l] * k->support[l]) continue;
-                    if (count == cap) {
-                        if (point >= 0)
-                            return rk_fail(err, "point %d at (%g, %g, %g) is covered by more than %d kernels (the room given)",
-                                           point, X[0], X[1], X[2], cap);
-                        return rk_fail(err, "the point at (%g, %g, %g) is covered by more than %d kernels (the room given)",
-                                       X[0], X[1], X[2], cap);
-                    }
-                    idx[count++] = l;
-                }
-            }
-    if (sorted) qsort(idx, (size_t)count, sizeof *idx, rkpm_cmp_int);
-    return count;
+    cover_list c = {k, X, cap, 0, idx};
+    if (rkpm_grid_visit(&k->hash, lo, hi, add_cover, &c))
+        return rk_fail(err, "the point at (%g, %g, %g) is covered by more than %d kernels (the room given)",
+                       X[0], X[1], X[2], cap);
+    qsort(idx, (size_t)c.count, sizeof *idx, rkpm_cmp_int);
+    return c.count;
 }

@@ -164,7 +164,7 @@ int rk_rkpm_eval(const rk_rkpm *k, const double X[3], int cap, int *idx, double 
 {
     if (!isfinite(X[0]) || !isfinite(X[1]) || !isfinite(X[2]))
         return rk_fail(err, "RKPM evaluation at a non-finite point (%g, %g, %g)", X[0], X[1], X[2]);
-    int n = rkpm_cover(k, X, -1, cap, 1, idx, err);
+    int n = rkpm_cover(k, X, cap, idx, err);
     if (n < 0 || rkpm_shape_at(k, X, -1, n, idx, phi, grad, NULL, err)) return -1;
     return n;
 }
