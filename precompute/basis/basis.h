@@ -126,6 +126,9 @@ int rk_count_zero_eigenvalues(const double *values, int count, double scale);
 
 int rk_sparse_restrict(const rk_sparse *S, const int *keep, int nkeep, rk_sparse *out, rk_error *err);
 
+/* x^T M y over n entries (M NULL: the plain dot product). */
+double rk_mass_dot(const rk_sparse *M, const double *x, const double *y, int n);
+
 /* Mass-weighted PCA / SVD of the columns of A (rows x cols, column-major) in the inner product
  * <a, b> = a^T M b (M NULL: identity; M with 3n rows for displacement fields). Returns up to
  * `max_r` M-orthonormal directions in U (rows x r) and the singular values sigma (descending,

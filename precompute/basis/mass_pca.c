@@ -15,7 +15,7 @@
 
 #define RK_PCA_FLOOR 1e-7
 
-static double mdot(const rk_sparse *M, const double *x, const double *y, int rows)
+double rk_mass_dot(const rk_sparse *M, const double *x, const double *y, int rows)
 {
     return M ? rk_sparse_dot(M, x, y) : cblas_ddot(rows, x, 1, y, 1);
 }
@@ -77,9 +77,9 @@ int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max
             double *u = U + (size_t)j * rows;
             for (int i = 0; i < j; i++) {
                 double *q = U + (size_t)i * rows;
-                cblas_daxpy(rows, -mdot(M, q, u, rows), q, 1, u, 1);
+                cblas_daxpy(rows, -rk_mass_dot(M, q, u, rows), q, 1, u, 1);
             }
-            double nrm = sqrt(mdot(M, u, u, rows));
+            double nrm = sqrt(rk_mass_dot(M, u, u, rows));
             if (!(nrm > 0)) { rk_fail(err, "direction %d vanished in orthonormalization", j); goto out; }
             cblas_dscal(rows, 1.0 / nrm, u, 1);
         }

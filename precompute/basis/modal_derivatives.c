@@ -31,32 +31,31 @@ static void project_rigid(const rk_free_system *s, const double *R, int nrigid, 
     }
 }
 
-int rk_modal_derivatives(const rk_fem *f, const unsigned char *constrained, int lumped,
-                         const double *U, int k, int nrigid, double *Psi, double *residual,
-                         rk_error *err)
+/* The derivatives over an already assembled free system (shared by the basis builder, which
+ * has the system from computing the modes). */
+static int derivatives_on(const rk_free_system *s, const rk_fem *f, const double *U, int k, int nrigid,
+                          double *Psi, double *residual, rk_error *err)
 {
-    rk_free_system s;
-    if (rk_free_system_init(&s, f, constrained, lumped, err)) return -1;
     rk_shifted fac;
-    double sigma = nrigid ? -1e-8 * rk_sparse_trace(&s.K) / rk_sparse_trace(&s.M) : 0.0;
+    double sigma = nrigid ? -1e-8 * rk_sparse_trace(&s->K) / rk_sparse_trace(&s->M) : 0.0;
     int rc = -1, have_fac = 0;
-    size_t nd = (size_t)s.ndof, nf = (size_t)s.nfree;
+    size_t nd = (size_t)s->ndof, nf = (size_t)s->nfree;
     double *R = rk_calloc(nf * (nrigid ? nrigid : 1), sizeof(double), err);
     double *full = rk_calloc(nd, sizeof(double), err);
     double *rhs = rk_calloc(nf, sizeof(double), err), *x = rk_calloc(nf, sizeof(double), err);
     double *res = rk_calloc(nf, sizeof(double), err), *tmp = rk_calloc(nf, sizeof(double), err);
     if (!R || !full || !rhs || !x || !res || !tmp) goto out;
-    if (rk_shifted_init(&fac, &s.K, &s.M, sigma, err)) { rk_error_prefix(err, "modal derivatives"); goto out; }
+    if (rk_shifted_init(&fac, &s->K, &s->M, sigma, err)) { rk_error_prefix(err, "modal derivatives"); goto out; }
     have_fac = 1;
-    for (int q = 0; q < nrigid; q++) rk_free_system_gather(&s, U + (size_t)q * nd, R + (size_t)q * nf);
+    for (int q = 0; q < nrigid; q++) rk_free_system_gather(s, U + (size_t)q * nd, R + (size_t)q * nf);
     *residual = 0;
     int pair = 0;
     for (int i = nrigid; i < k; i++)
         for (int j = i; j < k; j++, pair++) {
             rk_stiffness_derivative(f, U + (size_t)i * nd, U + (size_t)j * nd, full);
-            rk_free_system_gather(&s, full, rhs);
+            rk_free_system_gather(s, full, rhs);
             cblas_dscal((int)nf, -1.0, rhs, 1);
-            project_rigid(&s, R, nrigid, rhs, 1, tmp);
+            project_rigid(s, R, nrigid, rhs, 1, tmp);
             double rnorm = cblas_dnrm2((int)nf, rhs, 1);
             memset(x, 0, nf * sizeof(double));
             memcpy(res, rhs, nf * sizeof(double));
@@ -65,19 +64,29 @@ int rk_modal_derivatives(const rk_fem *f, const unsigned char *constrained, int 
             for (int pass = 0; pass < (nrigid ? 3 : 1); pass++) {
                 if (rk_shifted_solve(&fac, res, tmp, err)) goto out;
                 cblas_daxpy((int)nf, 1.0, tmp, 1, x, 1);
-                project_rigid(&s, R, nrigid, x, 0, tmp);
-                rk_sparse_mul(&s.K, x, res);
+                project_rigid(s, R, nrigid, x, 0, tmp);
+                rk_sparse_mul(&s->K, x, res);
                 for (size_t q = 0; q < nf; q++) res[q] = rhs[q] - res[q];
             }
             double rel = rnorm > 0 ? cblas_dnrm2((int)nf, res, 1) / rnorm : 0;
             if (rel > *residual) *residual = rel;
-            rk_free_system_expand(&s, x, Psi + (size_t)pair * nd);
+            rk_free_system_expand(s, x, Psi + (size_t)pair * nd);
         }
     rc = 0;
 out:
     if (have_fac) rk_shifted_free(&fac);
-    rk_free_system_free(&s);
     free(R); free(full); free(rhs); free(x); free(res); free(tmp);
+    return rc;
+}
+
+int rk_modal_derivatives(const rk_fem *f, const unsigned char *constrained, int lumped,
+                         const double *U, int k, int nrigid, double *Psi, double *residual,
+                         rk_error *err)
+{
+    rk_free_system s;
+    if (rk_free_system_init(&s, f, constrained, lumped, err)) return -1;
+    int rc = derivatives_on(&s, f, U, k, nrigid, Psi, residual, err);
+    rk_free_system_free(&s);
     return rc;
 }
 
@@ -118,7 +127,7 @@ int rk_basis_modal_derivatives(const rk_fem *f, const unsigned char *constrained
     b->U = rk_calloc(nd * r, sizeof(double), err);
     b->values = rk_calloc((size_t)(k + nrigid), sizeof(double), err);
     if (!Psi || !cand || !b->U || !b->values) goto out;
-    if (rk_modal_derivatives(f, constrained, lumped, U, k + nrigid, nrigid, Psi, &residual, err)) goto out;
+    if (derivatives_on(&s, f, U, k + nrigid, nrigid, Psi, &residual, err)) goto out;
     /* Barbic & James scale modes by lambda_1 / lambda_i and derivatives by
      * lambda_1^2 / (lambda_i lambda_j) so low frequencies dominate the PCA. */
     double l1 = values[nrigid];

@@ -7,11 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double mdot(const rk_sparse *M, const double *x, const double *y, int rows)
-{
-    return M ? rk_sparse_dot(M, x, y) : cblas_ddot(rows, x, 1, y, 1);
-}
-
 int rk_projection_errors(const double *U, int rows, int r, int group, const double *D, int T,
                          const rk_sparse *M, double *err_out, rk_error *err)
 {
@@ -29,13 +24,13 @@ int rk_projection_errors(const double *U, int rows, int r, int group, const doub
     for (int j = 0; j < r; j++) {
         double *q = Q + (size_t)nq * rows;
         memcpy(q, U + (size_t)j * rows, sizeof(double) * rows);
-        double n0 = sqrt(mdot(M, q, q, rows));
+        double n0 = sqrt(rk_mass_dot(M, q, q, rows));
         for (int pass = 0; pass < 2; pass++)
             for (int i = 0; i < nq; i++) {
                 const double *p = Q + (size_t)i * rows;
-                cblas_daxpy(rows, -mdot(M, p, q, rows), p, 1, q, 1);
+                cblas_daxpy(rows, -rk_mass_dot(M, p, q, rows), p, 1, q, 1);
             }
-        double n1 = sqrt(mdot(M, q, q, rows));
+        double n1 = sqrt(rk_mass_dot(M, q, q, rows));
         if (n1 > 1e-10 * n0) {
             cblas_dscal(rows, 1.0 / n1, q, 1);
             for (int t = 0; t < T; t++) {
