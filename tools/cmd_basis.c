@@ -66,28 +66,16 @@ static cJSON *make_report(const rk_basis *b, const rk_scene_basis_info *info, do
     return r;
 }
 
-/* U (3n x r, column-major) as an n x 3 x r array: element (v, c, j) at (3v + c) r + j. */
-static int write_basis(const char *path, const rk_basis *b, rk_error *err)
+/* A column-major rows x cols matrix written row by row, as an array of the given shape
+ * (whose entries multiply to rows x cols): U (3n x r) as n x 3 x r, W (n x m) as n x m. */
+static int write_rows(const char *path, const double *A, size_t rows, int cols, int ndim, const long *shape,
+                      rk_error *err)
 {
-    size_t rows = 3 * (size_t)b->n;
-    double *T = rk_calloc(rows * b->r, sizeof(double), err);
+    double *T = rk_calloc(rows * cols, sizeof(double), err);
     if (!T) return -1;
     for (size_t i = 0; i < rows; i++)
-        for (int j = 0; j < b->r; j++) T[i * b->r + j] = b->U[(size_t)j * rows + i];
-    long shape[3] = {b->n, 3, b->r};
-    int rc = rk_npy_write(path, T, 3, shape, err);
-    free(T);
-    return rc;
-}
-
-static int write_weights(const char *path, const rk_basis *b, rk_error *err)
-{
-    double *T = rk_calloc((size_t)b->n * b->m, sizeof(double), err);
-    if (!T) return -1;
-    for (int v = 0; v < b->n; v++)
-        for (int j = 0; j < b->m; j++) T[(size_t)v * b->m + j] = b->W[(size_t)j * b->n + v];
-    long shape[2] = {b->n, b->m};
-    int rc = rk_npy_write(path, T, 2, shape, err);
+        for (int j = 0; j < cols; j++) T[i * cols + j] = A[(size_t)j * rows + i];
+    int rc = rk_npy_write(path, T, ndim, shape, err);
     free(T);
     return rc;
 }
@@ -131,8 +119,9 @@ int cmd_basis(int argc, char **argv)
         rk_fail(&err, "--weights: a %s basis has no skinning weights", rk_basis_type_name(b.type));
         goto done;
     }
-    if (basis_out && write_basis(basis_out, &b, &err)) goto done;
-    if (weights_out && write_weights(weights_out, &b, &err)) goto done;
+    long ushape[3] = {b.n, 3, b.r}, wshape[2] = {b.n, b.m};
+    if (basis_out && write_rows(basis_out, b.U, 3 * (size_t)b.n, b.r, 3, ushape, &err)) goto done;
+    if (weights_out && write_rows(weights_out, b.W, (size_t)b.n, b.m, 2, wshape, &err)) goto done;
     cJSON *report = make_report(&b, &info, rk_now() - t0);
     if (report_out && rk_json_write_file(report_out, report, &err)) {
         cJSON_Delete(report);
