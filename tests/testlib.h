@@ -60,6 +60,14 @@ static inline const char *test_data(const char *rel)
     return out;
 }
 
+/* Euclidean norm of n entries. */
+static inline double test_norm(const double *x, int n)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++) s += x[i] * x[i];
+    return sqrt(s);
+}
+
 static inline int test_finish(void) { return tl_failures ? 1 : 0; }
 
 #endif

@@ -49,8 +49,8 @@ int rk_eigs_smallest(const rk_sparse *A, const rk_sparse *B, int count, double s
     int rc = -1;
     if (!resid || !V || !workd || !workl || !d || !Z || !select) goto out;
 
-    /* A fixed, smooth-free starting vector: every unknown, with a deterministic perturbation so
-     * it is not orthogonal to any mode by symmetry. */
+    /* A fixed starting vector (deterministic results), perturbed so that no mode is missed by
+     * being orthogonal to it through a symmetry of the object. */
     for (int i = 0; i < n; i++) resid[i] = 1.0 + 0.5 * sin(1.7 * i + 0.3);
 
     a_int iparam[11] = {0}, ipntr[11] = {0};

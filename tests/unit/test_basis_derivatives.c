@@ -8,13 +8,6 @@
 
 static const rk_material rubber = {RK_MAT_NEOHOOKEAN, 1e6, 0.4, 1000};
 
-static double norm(const double *x, int n)
-{
-    double s = 0;
-    for (int i = 0; i < n; i++) s += x[i] * x[i];
-    return sqrt(s);
-}
-
 TEST(stiffness_derivative_matches_force_differences)
 {
     rk_error err;
@@ -39,7 +32,7 @@ TEST(stiffness_derivative_matches_force_differences)
     }
     double diff = 0;
     for (int i = 0; i < n3; i++) diff += pow(out[i] - fd[i], 2);
-    double rel = sqrt(diff) / norm(fd, n3);
+    double rel = sqrt(diff) / test_norm(fd, n3);
     free(a); free(c); free(out); free(fd); free(x);
     fem_body_free(&b);
     CHECK(rel < 1e-5, "(H : a) b differs from force differences by %.3g relative", rel);

@@ -78,13 +78,6 @@ static void rigid_mode(const rk_fem *f, int k, double *u)
     }
 }
 
-static double norm(const double *a, int n)
-{
-    double s = 0;
-    for (int i = 0; i < n; i++) s += a[i] * a[i];
-    return sqrt(s);
-}
-
 TEST(rest_stiffness_annihilates_rigid_motions_and_is_shared_by_all_models)
 {
     rk_error err;
@@ -101,11 +94,11 @@ TEST(rest_stiffness_annihilates_rigid_motions_and_is_shared_by_all_models)
         unsigned seed = 17u;
         for (int i = 0; i < n; i++) u[i] = rnd(&seed);
         rk_sparse_mul(&K[model], u, Ku);
-        double scale = norm(Ku, n) / norm(u, n);
+        double scale = test_norm(Ku, n) / test_norm(u, n);
         for (int k = 0; k < 6; k++) {
             rigid_mode(&f, k, u);
             rk_sparse_mul(&K[model], u, Ku);
-            double rel = norm(Ku, n) / norm(u, n) / scale;
+            double rel = test_norm(Ku, n) / test_norm(u, n) / scale;
             CHECK(rel <= 1e-9, "model %d: |K0 r| / |r| = %g of the scale for rigid mode %d", model, rel, k);
         }
         free(u), free(Ku);
