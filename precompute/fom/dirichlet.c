@@ -3,12 +3,24 @@
 
 #include <math.h>
 
-/* Rodrigues: r rotated by angle about unit axis k = r cos + (k x r) sin + k (k.r)(1 - cos). */
-static void rotate(const double k[3], double angle, const double r[3], double out[3])
+void rk_prescribed_transform(const rk_prescribed *p, double t, double R[9], double shift[3])
 {
-    double c = cos(angle), sn = sin(angle), kr = k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
-    double kxr[3] = {k[1] * r[2] - k[2] * r[1], k[2] * r[0] - k[0] * r[2], k[0] * r[1] - k[1] * r[0]};
-    for (int i = 0; i < 3; i++) out[i] = r[i] * c + kxr[i] * sn + k[i] * kr * (1 - c);
+    for (int i = 0; i < 9; i++) R[i] = i % 4 == 0;
+    for (int i = 0; i < 3; i++) shift[i] = 0;
+    if (p->kind == RK_MOTION_TRANSLATE) {
+        for (int i = 0; i < 3; i++) shift[i] = p->velocity[i] * t;
+    } else if (p->kind == RK_MOTION_TWIST) {
+        /* Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T about the unit axis k through center c;
+         * x = R (X - c) + c = R X + (c - R c). */
+        double len = sqrt(p->axis[0] * p->axis[0] + p->axis[1] * p->axis[1] + p->axis[2] * p->axis[2]);
+        double k[3] = {p->axis[0] / len, p->axis[1] / len, p->axis[2] / len};
+        double c = cos(p->rate * t), sn = sin(p->rate * t);
+        double cross[9] = {0, -k[2], k[1], k[2], 0, -k[0], -k[1], k[0], 0};
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) R[3 * i + j] = (i == j) * c + sn * cross[3 * i + j] + (1 - c) * k[i] * k[j];
+        for (int i = 0; i < 3; i++)
+            shift[i] = p->center[i] - (R[3 * i] * p->center[0] + R[3 * i + 1] * p->center[1] + R[3 * i + 2] * p->center[2]);
+    }
 }
 
 void rk_fom_prescribe(const rk_fom *s, double t, double *x)
@@ -16,19 +28,13 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x)
     const double *X = s->fem->X;
     for (int g = 0; g < s->opt.nprescribed; g++) {
         const rk_prescribed *p = &s->opt.prescribed[g];
+        double R[9], shift[3];
+        rk_prescribed_transform(p, t, R, shift);
         for (int j = 0; j < p->count; j++) {
             int v = p->verts[j];
             const double *Xv = &X[3 * v];
-            double *xv = &x[3 * v];
-            if (p->kind == RK_MOTION_TWIST) {
-                double r[3] = {Xv[0] - p->center[0], Xv[1] - p->center[1], Xv[2] - p->center[2]}, rr[3];
-                rotate(p->axis, p->rate * t, r, rr);
-                for (int i = 0; i < 3; i++) xv[i] = p->center[i] + rr[i];
-            } else if (p->kind == RK_MOTION_TRANSLATE) {
-                for (int i = 0; i < 3; i++) xv[i] = Xv[i] + p->velocity[i] * t;
-            } else {
-                for (int i = 0; i < 3; i++) xv[i] = Xv[i];
-            }
+            for (int i = 0; i < 3; i++)
+                x[3 * v + i] = R[3 * i] * Xv[0] + R[3 * i + 1] * Xv[1] + R[3 * i + 2] * Xv[2] + shift[i];
         }
     }
 }

@@ -38,6 +38,10 @@ typedef struct {
     double velocity[3];  /* translate: m/s */
 } rk_prescribed;
 
+/* Where a group's vertices are at time t: x = R X + shift (fixed: R = I, shift = 0; translate:
+ * shift = velocity t; twist: rotation by rate t about the axis through center, Rodrigues). */
+void rk_prescribed_transform(const rk_prescribed *p, double t, double R[9], double shift[3]);
+
 typedef struct {
     double h;                 /* time step (s) */
     int steps;                /* number of steps to run */
@@ -90,6 +94,10 @@ typedef struct {
     rk_fom_stats stats;
     rk_fom_impl *impl; /* CHOLMOD state, scratch */
 } rk_fom;
+
+/* Checks options against a mesh of nv vertices (positive step, known integrator, finite
+ * loads and start, sane damping and obstacles): the full-order and the reduced models share it. */
+int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err);
 
 /* Starts at opt.position0 (or the rest positions X), velocity opt.velocity0 (or 0), t = 0. Copies what opt points to
  * (force, prescribed groups, planes; s->opt then points at the copies, velocity0 and position0 are NULL), so

@@ -13,7 +13,7 @@ static int all_finite(const double *a, int n)
     return 1;
 }
 
-static int check_options(const rk_fom_options *o, int nv, rk_error *err)
+int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err)
 {
     if (!(isfinite(o->h) && o->h > 0)) return rk_fail(err, "time step h = %g must be positive", o->h);
     if (o->steps < 0) return rk_fail(err, "steps = %d must not be negative", o->steps);
@@ -187,7 +187,7 @@ static int check_start(const rk_fom *s, rk_error *err)
 int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_error *err)
 {
     memset(s, 0, sizeof *s);
-    if (check_options(opt, fem->nv, err)) return -1;
+    if (rk_fom_check_options(opt, fem->nv, err)) return -1;
     s->fem = fem;
     s->opt = *opt;
     s->impl = rk_calloc(1, sizeof *s->impl, err);
