@@ -11,7 +11,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem fom scene basis
+STAGES := util mesh physics fem fom scene basis cubature rom
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -19,6 +19,8 @@ DEPS_fem     := fem physics mesh util
 DEPS_fom     := fom fem physics mesh util
 DEPS_scene   := scene fom fem physics mesh util
 DEPS_basis   := basis scene fom fem physics mesh util
+DEPS_cubature := cubature basis scene fom fem physics mesh util
+DEPS_rom     := rom cubature basis scene fom fem physics mesh util
 src_of  = $(if $(filter physics,$(1)),$(wildcard physics/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
@@ -26,7 +28,7 @@ libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
 ALL_LIBS := $(foreach s,$(STAGES),$(call lib_of,$(s)))
 TOOL_SRC := $(wildcard tools/*.c)
 # The most downstream stage: the command line links it and all it uses.
-TOOL_STAGE := basis
+TOOL_STAGE := rom
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 

@@ -136,6 +136,7 @@ static int meet_tolerance(const rk_basis_options *o, rk_basis *b, const double *
     int g = 0;
     if (o->tolerance > 0 && o->type != RK_BASIS_POD) {
         while (g < ng - 1 && e[g] > o->tolerance) g++;
+        info->projection_error_below = g > 0 ? e[g - 1] : NAN;
         if (e[g] > o->tolerance) {
             double best = e[ng - 1];
             free(e);
@@ -146,6 +147,7 @@ static int meet_tolerance(const rk_basis_options *o, rk_basis *b, const double *
         rk_basis_truncate(b, (g + 1) * group);
     } else {
         g = ng - 1;
+        info->projection_error_below = g > 0 ? e[g - 1] : NAN;
     }
     info->projection_error = e[g];
     free(e);
@@ -155,9 +157,15 @@ static int meet_tolerance(const rk_basis_options *o, rk_basis *b, const double *
 int rk_scene_basis_build(const rk_scene *scene, const rk_basis_options *o, rk_basis *b,
                          rk_scene_basis_info *info, rk_error *err)
 {
+    return rk_scene_basis_build_frames(scene, o, NULL, 0, b, info, err);
+}
+
+int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o, const double *frames, int T_given,
+                                rk_basis *b, rk_scene_basis_info *info, rk_error *err)
+{
     memset(info, 0, sizeof *info);
     memset(b, 0, sizeof *b);
-    info->projection_error = NAN;
+    info->projection_error = info->projection_error_below = NAN;
     info->kernels = o->type == RK_BASIS_RKPM_SKINNING ? o->kernels : 0;
     double t0 = rk_now();
     if (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS) {
@@ -173,21 +181,24 @@ int rk_scene_basis_build(const rk_scene *scene, const rk_basis_options *o, rk_ba
     rk_sparse M = {0};
     if (!fixed) goto out;
     for (int g = 0; g < sim.options.nprescribed; g++)
-        for (int k = 0; k < sim.options.prescribed[g].count; k++) fixed[sim.options.prescribed[g].verts[k]] = 1;
+        for (int k = 0; k < sim.options.prescribed[g].count && sim.options.prescribed[g].kind == RK_MOTION_FIXED; k++)
+            fixed[sim.options.prescribed[g].verts[k]] = 1;
     int need_frames = o->type == RK_BASIS_POD || o->tolerance > 0;
     if (need_frames) {
         double t = rk_now();
-        if (training_frames(&sim, &D, &T, err)) goto out;
-        info->seconds_fom = rk_now() - t;
+        if (frames) T = T_given;
+        else if (training_frames(&sim, &D, &T, err)) goto out;
+        info->seconds_fom = frames ? 0 : rk_now() - t;
         info->fom_frames = T;
         if (rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto out;
         rk_fem_add_mass(&sim.fem, sim.options.lumped_mass, 1.0, &M);
     }
     int size = o->size ? o->size : default_max(o->type);
     double t = rk_now();
-    if (build_sized(&sim, o, fixed, size, D, T, &M, b, info, err)) goto out;
+    const double *frames_used = frames ? frames : D;
+    if (build_sized(&sim, o, fixed, size, frames_used, T, &M, b, info, err)) goto out;
     info->seconds_basis = rk_now() - t;
-    if (need_frames && meet_tolerance(o, b, D, T, &M, info, err)) goto out;
+    if (need_frames && meet_tolerance(o, b, frames_used, T, &M, info, err)) goto out;
     info->vertices = sim.mesh.nv;
     info->tets = sim.mesh.nt;
     info->X = rk_calloc(3 * (size_t)sim.mesh.nv, sizeof(double), err);

@@ -29,17 +29,24 @@ typedef struct {
     double *X;                 /* 3 vertices rest positions (owned) */
     int fom_frames;            /* full-order frames run for training (0 if none) */
     double projection_error;   /* over those frames (NAN if none) */
+    double projection_error_below; /* with one size less (one weight less for skinning); NAN if none:
+                                    * with a tolerance, why the size is not smaller */
     double seconds_fom, seconds_basis;
     rk_rkpm_timing rkpm;       /* rkpm_skinning only */
     int kernels, integration_points;
 } rk_scene_basis_info;
 
 /* Builds the basis the options ask for on the scene's objects (one mesh, or one point cloud
- * for rkpm_skinning). With a tolerance, the scene's full-order run gives the frames, and the
+ * for rkpm_skinning). Modes and modal derivatives are computed with the fixed vertices held (moving
+ * ones are free: the reduced model pins them to their targets). With a tolerance, the scene's full-order run gives the frames, and the
  * smallest basis (up to size, or a default maximum) whose projection error meets it is kept;
  * failing to reach it is an error that says how close it came. */
 int rk_scene_basis_build(const rk_scene *scene, const rk_basis_options *o, rk_basis *b,
                          rk_scene_basis_info *info, rk_error *err);
+/* The same with the scene's full-order displacement frames already run (3 nv x T, column-major,
+ * as the scene's own simulation gives them), so a caller that runs it anyway runs it once. */
+int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o, const double *frames, int T,
+                                rk_basis *b, rk_scene_basis_info *info, rk_error *err);
 void rk_scene_basis_info_free(rk_scene_basis_info *info);
 
 #endif

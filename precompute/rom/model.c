@@ -1,0 +1,205 @@
+/* rk_rom_model_init: the reduced matrices, loads, penalty and contact rows of rom.h, projected
+ * once from the full-order setup. */
+#include "rom/rom.h"
+
+#include <cblas.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Out = U^T S U (r x r, column-major) for a symmetric sparse S; SU is 3n x r scratch. */
+static void project_matrix(const rk_sparse *S, const double *U, int ndof, int r, double *SU, double *out)
+{
+    for (int j = 0; j < r; j++) rk_sparse_mul(S, U + (size_t)ndof * j, SU + (size_t)ndof * j);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, ndof, 1.0, U, ndof, SU, ndof, 0.0, out, r);
+    for (int j = 0; j < r; j++) /* exact symmetry: the Newton matrix goes to Cholesky */
+        for (int i = 0; i < j; i++) out[i + (size_t)r * j] = out[j + (size_t)r * i] =
+            0.5 * (out[i + (size_t)r * j] + out[j + (size_t)r * i]);
+}
+
+static double bbox_diagonal(const rk_fem *f)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < f->nv; v++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], f->X[3 * v + i]);
+            hi[i] = fmax(hi[i], f->X[3 * v + i]);
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+/* The basis moves vertex v when one of its 3 rows is not zero. */
+static int basis_moves(const double *U, int ndof, int r, int v)
+{
+    for (int j = 0; j < r; j++)
+        for (int a = 0; a < 3; a++)
+            if (U[(size_t)ndof * j + 3 * v + a] != 0) return 1;
+    return 0;
+}
+
+static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
+                          rk_error *err)
+{
+    int r = m->r, ndof = 3 * fem->nv;
+    rk_sparse S = {0};
+    double *SU = rk_calloc((size_t)ndof * r, sizeof(double), err);
+    double *fext = rk_calloc((size_t)ndof, sizeof(double), err);
+    int damped = opt->rayleigh_mass > 0 || opt->rayleigh_stiffness > 0;
+    m->M = rk_calloc((size_t)r * r, sizeof(double), err);
+    m->C = damped ? rk_calloc((size_t)r * r, sizeof(double), err) : NULL;
+    m->f = rk_calloc((size_t)r, sizeof(double), err);
+    if (!SU || !fext || !m->M || (damped && !m->C) || !m->f || rk_sparse_alloc_pattern(fem, &S, err)) {
+        free(SU);
+        free(fext);
+        rk_sparse_free(&S);
+        return -1;
+    }
+    rk_fem_add_mass(fem, opt->lumped_mass, 1.0, &S);
+    project_matrix(&S, U, ndof, r, SU, m->M);
+    if (damped) {
+        rk_sparse_zero(&S);
+        rk_fem_add_mass(fem, opt->lumped_mass, opt->rayleigh_mass, &S);
+        rk_fem_add_rest_stiffness(fem, opt->rayleigh_stiffness, &S);
+        project_matrix(&S, U, ndof, r, SU, m->C);
+    }
+    /* Gravity with the lumped masses, as the full-order model applies it. */
+    for (int v = 0; v < fem->nv; v++)
+        for (int i = 0; i < 3; i++)
+            fext[3 * v + i] = fem->vertex_mass[v] * opt->gravity[i] + (opt->force ? opt->force[3 * v + i] : 0);
+    cblas_dgemv(CblasColMajor, CblasTrans, ndof, r, 1.0, U, ndof, fext, 1, 0.0, m->f, 1);
+    free(SU);
+    free(fext);
+    rk_sparse_free(&S);
+    return 0;
+}
+
+/* Penalty rows of every prescribed vertex the basis can move (rom.h: A and each group's T). A
+ * vertex that must move and that the basis cannot move is an error: its target is out of reach. */
+static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
+                      rk_error *err)
+{
+    int r = m->r, ndof = 3 * fem->nv;
+    double stiff = 0;
+    for (int t = 0; t < fem->nt; t++)
+        stiff = fmax(stiff, (fem->lambda[t] + 2 * fem->mu[t]) / fem->density[t]);
+    double L = bbox_diagonal(fem);
+    m->pin_k = RK_ROM_PIN_STIFFNESS * stiff / (L * L);
+    m->A = rk_calloc((size_t)r * r, sizeof(double), err);
+    m->pins = rk_calloc((size_t)(opt->nprescribed > 0 ? opt->nprescribed : 1), sizeof *m->pins, err);
+    if (!m->A || !m->pins) return -1;
+    m->npins = opt->nprescribed;
+    for (int g = 0; g < opt->nprescribed; g++) {
+        const rk_prescribed *p = &opt->prescribed[g];
+        rk_rom_pin *pin = &m->pins[g];
+        pin->motion = *p;
+        pin->motion.verts = NULL;
+        pin->T = rk_calloc((size_t)r * 12, sizeof(double), err);
+        if (!pin->T) return -1;
+        for (int k = 0; k < p->count; k++) {
+            int v = p->verts[k];
+            if (v < 0 || v >= fem->nv)
+                return rk_fail(err, "prescribed group %d: vertex %d out of range (the mesh has %d)", g, v, fem->nv);
+            if (!basis_moves(U, ndof, r, v)) {
+                if (p->kind != RK_MOTION_FIXED)
+                    return rk_fail(err, "prescribed group %d: vertex %d must move, but the basis holds it "
+                                   "at rest (build the basis with only the fixed vertices constrained)", g, v);
+                continue;
+            }
+            m->pinned_vertices++;
+            double mv = fem->vertex_mass[v];
+            const double *X = &fem->X[3 * v];
+            for (int a = 0; a < 3; a++) {
+                const double *row = U + 3 * v + a; /* stride ndof */
+                cblas_dsyr(CblasColMajor, CblasUpper, r, m->pin_k * mv, row, ndof, m->A, r);
+                for (int b = 0; b < 3; b++) cblas_daxpy(r, m->pin_k * mv * X[b], row, ndof, pin->T + (size_t)r * (3 * a + b), 1);
+                cblas_daxpy(r, m->pin_k * mv, row, ndof, pin->T + (size_t)r * (9 + a), 1);
+            }
+        }
+    }
+    for (int j = 0; j < r; j++) /* dsyr filled the upper triangle */
+        for (int i = j + 1; i < r; i++) m->A[i + (size_t)r * j] = m->A[j + (size_t)r * i];
+    return 0;
+}
+
+static int build_contacts(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
+                          rk_error *err)
+{
+    const rk_obstacles *ob = &opt->obstacles;
+    int r = m->r, ndof = 3 * fem->nv, n = ob->count * fem->nv;
+    m->dhat = ob->dhat;
+    m->kappa = ob->kappa;
+    if (n == 0) return 0;
+    m->contact_d0 = rk_calloc((size_t)n, sizeof(double), err);
+    m->contact_mass = rk_calloc((size_t)n, sizeof(double), err);
+    m->contact_a = rk_calloc((size_t)n * r, sizeof(double), err);
+    if (!m->contact_d0 || !m->contact_mass || !m->contact_a) return -1;
+    for (int k = 0; k < ob->count; k++) {
+        const rk_plane *p = &ob->planes[k];
+        double len = sqrt(p->normal[0] * p->normal[0] + p->normal[1] * p->normal[1] + p->normal[2] * p->normal[2]);
+        for (int v = 0; v < fem->nv; v++) {
+            int c = m->ncontacts++;
+            double d = 0;
+            for (int i = 0; i < 3; i++) {
+                d += p->normal[i] / len * (fem->X[3 * v + i] - p->point[i]);
+                cblas_daxpy(r, p->normal[i] / len, U + 3 * v + i, ndof, m->contact_a + (size_t)r * c, 1);
+            }
+            m->contact_d0[c] = d;
+            m->contact_mass[c] = fem->vertex_mass[v];
+        }
+    }
+    return 0;
+}
+
+int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
+                      int r, rk_quadrature *quad, rk_error *err)
+{
+    memset(m, 0, sizeof *m);
+    m->quad = *quad;
+    memset(quad, 0, sizeof *quad);
+    if (r < 1 || m->quad.r != r) {
+        rk_rom_model_free(m);
+        return rk_fail(err, "reduced model: %d columns, but the quadrature has %d", r, m->quad.r);
+    }
+    if (rk_fom_check_options(opt, fem->nv, err)) {
+        rk_rom_model_free(m);
+        return rk_error_prefix(err, "reduced model");
+    }
+    for (size_t i = 0; i < (size_t)3 * fem->nv * r; i++)
+        if (!isfinite(U[i])) {
+            rk_rom_model_free(m);
+            return rk_fail(err, "reduced model: basis entry (%zu, %zu) is not finite", i % (3 * (size_t)fem->nv),
+                           i / (3 * (size_t)fem->nv));
+        }
+    m->r = r;
+    m->nv = fem->nv;
+    m->h = opt->h;
+    m->static_time = opt->steps * opt->h;
+    m->integrator = opt->integrator;
+    m->is_static = opt->is_static;
+    m->newton_max_iter = opt->newton_max_iter;
+    for (int v = 0; v < fem->nv; v++) m->mass += fem->vertex_mass[v];
+    double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * bbox_diagonal(fem);
+    m->newton_tol = tol * opt->h;
+    if (build_matrices(m, fem, opt, U, err) || build_pins(m, fem, opt, U, err) ||
+        build_contacts(m, fem, opt, U, err)) {
+        rk_rom_model_free(m);
+        return rk_error_prefix(err, "reduced model");
+    }
+    return 0;
+}
+
+void rk_rom_model_free(rk_rom_model *m)
+{
+    free(m->M);
+    free(m->C);
+    free(m->f);
+    free(m->A);
+    for (int g = 0; m->pins && g < m->npins; g++) free(m->pins[g].T);
+    free(m->pins);
+    free(m->contact_d0);
+    free(m->contact_mass);
+    free(m->contact_a);
+    rk_quadrature_free(&m->quad);
+    memset(m, 0, sizeof *m);
+}

@@ -1,0 +1,102 @@
+/* The reduced incremental potential of rom.h: value, gradient and dense Hessian. */
+#include "rom/rom_impl.h"
+
+#include <cblas.h>
+#include <math.h>
+#include <string.h>
+
+/* w/2 (q - ref)^T S (q - ref) and, with g, w S (q - ref) added into g (ref NULL: 0). tmp: 2r. */
+static double quadratic(const double *S, int r, double w, const double *q, const double *ref, double *g,
+                        double *tmp)
+{
+    double *d = tmp, *Sd = tmp + r;
+    for (int i = 0; i < r; i++) d[i] = q[i] - (ref ? ref[i] : 0);
+    cblas_dsymv(CblasColMajor, CblasUpper, r, 1.0, S, r, d, 1, 0.0, Sd, 1);
+    if (g) cblas_daxpy(r, w, Sd, 1, g, 1);
+    return 0.5 * w * cblas_ddot(r, d, 1, Sd, 1);
+}
+
+/* The penalty's linear term b(t) = sum_g T_g e_g(t) (rom.h). */
+void rk_rom_pin_target(const rk_rom_model *m, double t, double *b)
+{
+    memset(b, 0, sizeof(double) * m->r);
+    for (int g = 0; g < m->npins; g++) {
+        double R[9], shift[3], e[12];
+        rk_prescribed_transform(&m->pins[g].motion, t, R, shift);
+        for (int k = 0; k < 9; k++) e[k] = R[k] - (k % 4 == 0);
+        for (int k = 0; k < 3; k++) e[9 + k] = shift[k];
+        cblas_dgemv(CblasColMajor, CblasNoTrans, m->r, 12, 1.0, m->pins[g].T, m->r, e, 1, 1.0, b, 1);
+    }
+}
+
+static double contact_distance(const rk_rom_model *m, int c, const double *q)
+{
+    return m->contact_d0[c] + cblas_ddot(m->r, m->contact_a + (size_t)m->r * c, 1, q, 1);
+}
+
+double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const double *dq)
+{
+    double alpha = 1.0;
+    for (int c = 0; c < m->ncontacts; c++) {
+        double d = contact_distance(m, c, q);
+        double dd = cblas_ddot(m->r, m->contact_a + (size_t)m->r * c, 1, dq, 1);
+        if (dd < 0) alpha = fmin(alpha, 0.9 * d / -dd); /* keep 10% of the distance (fem.h) */
+    }
+    return alpha;
+}
+
+static double barrier(const rk_rom_model *m, const double *q, double *g, double *H)
+{
+    double E = 0;
+    for (int c = 0; c < m->ncontacts; c++) {
+        double d = contact_distance(m, c, q);
+        if (!(d > 0)) return INFINITY;
+        if (d >= m->dhat) continue;
+        double d1, d2, w = m->kappa * m->contact_mass[c];
+        E += w * rk_barrier_scalar(d, m->dhat, &d1, &d2);
+        const double *a = m->contact_a + (size_t)m->r * c;
+        if (g) cblas_daxpy(m->r, w * d1, a, 1, g, 1);
+        if (H) cblas_dsyr(CblasColMajor, CblasUpper, m->r, w * d2, a, 1, H, m->r);
+    }
+    return E;
+}
+
+/* Lower triangle from the upper one (dsyr and dsymv work on the upper). */
+static void symmetrize(double *H, int r)
+{
+    for (int j = 0; j < r; j++)
+        for (int i = j + 1; i < r; i++) H[i + (size_t)r * j] = H[j + (size_t)r * i];
+}
+
+double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
+                        double *magnitude)
+{
+    rk_rom_model *m = s->model;
+    int r = m->r;
+    double *tmp = s->work + RK_ROM_WORK_TMP * (size_t)r;
+    if (g) memset(g, 0, sizeof(double) * r);
+    if (H) memset(H, 0, sizeof(double) * r * r);
+    double stored = rk_quadrature_eval(&m->quad, q, g, H, 1);
+    if (m->ncontacts) stored += barrier(m, q, g, H);
+    if (!isfinite(stored)) return INFINITY;
+    /* Loads and the penalty's linear part: -(load f + b(t)) . q. */
+    double work = T->load * cblas_ddot(r, m->f, 1, q, 1) + cblas_ddot(r, T->pin_b, 1, q, 1);
+    double quad = quadratic(m->A, r, 1.0, q, NULL, g, tmp);
+    if (T->w_inertia > 0) quad += quadratic(m->M, r, T->w_inertia, q, T->qtilde, g, tmp);
+    if (T->w_damping > 0 && m->C) quad += quadratic(m->C, r, T->w_damping, q, T->qt, g, tmp);
+    if (g) {
+        cblas_daxpy(r, -T->load, m->f, 1, g, 1);
+        cblas_daxpy(r, -1.0, T->pin_b, 1, g, 1);
+    }
+    if (H) {
+        for (size_t k = 0; k < (size_t)r * r; k++) {
+            double a = m->A[k] + T->w_inertia * m->M[k] + T->reg * m->M[k];
+            if (T->w_damping > 0 && m->C) a += T->w_damping * m->C[k];
+            H[k] += a;
+        }
+        if (m->ncontacts) symmetrize(H, r);
+    }
+    double E = stored - work + quad;
+    if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
+    return isfinite(E) ? E : INFINITY;
+}

@@ -1,0 +1,100 @@
+/* precompute/rom: the reduced simulator, in double precision; the reference the runtime is
+ * checked against. Positions live in a subspace x = X + U q (any basis of precompute/basis:
+ * skinning bases through their affine handles, Eq. 1 of the freeform paper), and each step
+ * minimises the same incremental potential as the full-order model (fom.h) restricted to it:
+ *
+ *   q_{t+1} = argmin_q  w/2 |q - q~|_{M_r}^2 + E(q) + B(q) + 1/(2h) |q - q_t|_{C_r}^2 - f_r . q + P(q, t)
+ *
+ * with M_r = U^T M U, C_r = U^T (a M + b K0) U, f_r = U^T f_ext, E the elastic energy integrated
+ * by a quadrature (all elements, or a cubature; cubature.h), B the ground-plane barrier on the
+ * contact vertices, and P a penalty that pulls prescribed vertices to their targets where the
+ * basis does not already hold them (its rows there are not all zero):
+ *
+ *   P(q, t) = k/2 sum_i m_i |X_i + B_i q - target_i(t)|^2,   k = RK_ROM_PIN_STIFFNESS (lambda+2mu)/(rho L^2),
+ *
+ * L the bounding-box diagonal. Backward Euler or BDF2 as in fom.h, projected Newton on a dense
+ * r x r Cholesky, Armijo backtracking, plane step filtering. Nothing per step costs O(vertices)
+ * except the barrier (O(contact vertices x r), only with planes). */
+#ifndef RK_ROM_H
+#define RK_ROM_H
+
+#include "cubature/cubature.h"
+#include "fem/fem.h"
+#include "fom/fom.h"
+#include "util/error.h"
+
+/* The penalty stiffness relative to the stiffest material's wave speed over the object's size:
+ * large against every elastic and inertial stiffness the subspace can see, small enough to keep
+ * the r x r Newton matrix well conditioned in double precision. */
+#define RK_ROM_PIN_STIFFNESS 1e4
+
+/* A prescribed group in the subspace: k sum_i m_i B_i^T (target_i(t) - X_i) = T (r x 12) times
+ * the 12 numbers vec(R(t) - I), shift(t) of rk_prescribed_transform. */
+typedef struct {
+    rk_prescribed motion;      /* verts not used */
+    double *T;                 /* r x 12, column-major */
+} rk_rom_pin;
+
+typedef struct {
+    int r;
+    int nv;                    /* full-order vertices */
+    double h;
+    double static_time;        /* a static model's equilibrium is at steps h */
+    rk_integrator integrator;
+    int is_static;
+    double *M;                 /* r x r, U^T M U (column-major) */
+    double *C;                 /* r x r, U^T (a M + b K0) U, or NULL without damping */
+    double *f;                 /* r, U^T f_ext (gravity with the lumped masses, plus forces) */
+    double pin_k;              /* k of the penalty */
+    double *A;                 /* r x r, k sum_i m_i B_i^T B_i over the penalised vertices */
+    int npins;
+    rk_rom_pin *pins;
+    int pinned_vertices;       /* prescribed vertices held by the penalty (0: the basis holds them all) */
+    /* Planes: one row per (contact vertex, plane): distance d0 at q = 0 and its gradient a. */
+    int ncontacts;
+    double *contact_d0, *contact_mass, *contact_a; /* a: r x ncontacts, column-major */
+    double dhat, kappa;
+    double mass;               /* total mass (kg) */
+    double newton_tol;         /* on sqrt(dq^T M_r dq / mass) (m), per step */
+    int newton_max_iter;
+    rk_quadrature quad;        /* the elastic energy's points (owned) */
+} rk_rom_model;
+
+/* Builds the reduced model of a full-order setup (fem and options exactly as the full-order
+ * model gets them) in the subspace U (3 nv x r, column-major), with the elastic energy over
+ * quad (taken over: the model owns and frees it, also on failure). */
+int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
+                      int r, rk_quadrature *quad, rk_error *err);
+void rk_rom_model_free(rk_rom_model *m);
+
+typedef struct {
+    long steps, newton_iterations, line_search_halvings, unconverged_steps;
+    double seconds_total;
+} rk_rom_stats;
+
+typedef struct {
+    rk_rom_model *model;
+    double t;
+    double *q, *v;             /* reduced positions and velocities */
+    double *q_prev, *v_prev;   /* BDF2 history */
+    int have_prev;
+    rk_rom_stats stats;
+    double *work;              /* scratch */
+} rk_rom;
+
+/* Starts at q, v (NULL: rest), t = 0. */
+int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, rk_error *err);
+/* One time step (or, for a static model, the equilibrium at the end time steps*h). */
+int rk_rom_step(rk_rom *s, rk_error *err);
+/* Puts the state back to (q, v) at time t, with no BDF2 history (the online-error realignment). */
+void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t);
+void rk_rom_free(rk_rom *s);
+
+/* q = argmin |X + U q - x|_M, the M-orthogonal projection of a full-order state onto the subspace
+ * (x - X for positions, or a velocity with X = NULL); M is the model's inertia mass. */
+int rk_rom_project(const rk_rom_model *m, const rk_sparse *M, const double *U, int ndof, const double *X,
+                   const double *x, double *q, rk_error *err);
+/* x = X + U q, all 3 nv coordinates. */
+void rk_rom_positions(const double *U, int ndof, int r, const double *X, const double *q, double *x);
+
+#endif

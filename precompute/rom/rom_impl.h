@@ -1,0 +1,34 @@
+/* Private to precompute/rom: the terms of one minimisation and the pieces step and Newton share. */
+#ifndef RK_ROM_IMPL_H
+#define RK_ROM_IMPL_H
+
+#include "rom/rom.h"
+
+/* The potential being minimised (rom.h), like rk_fom_terms: dynamics w_inertia = 1/(alpha h^2),
+ * w_damping = 1/h, load 1; static w_inertia = w_damping = 0, load in (0, 1] and a small
+ * mass-proportional shift reg on the Hessian only. pin_b: the penalty's target term at the
+ * time being solved for. */
+typedef struct {
+    double w_inertia;
+    const double *qtilde;
+    double w_damping;
+    const double *qt;
+    double load;
+    double reg;
+    const double *pin_b;
+} rk_rom_terms;
+
+/* rk_rom.work: vectors of r (indices below), then the r x r Newton matrix. */
+enum { RK_ROM_WORK_QT, RK_ROM_WORK_QTILDE, RK_ROM_WORK_G, RK_ROM_WORK_D, RK_ROM_WORK_TRIAL, RK_ROM_WORK_PIN,
+       RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_VECTORS };
+
+double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
+                        double *magnitude);
+void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
+/* Largest alpha in (0, 1] keeping every contact distance above 10% of its value along q + alpha dq. */
+double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const double *dq);
+/* Projected Newton from s->q (in place): dense Cholesky, Armijo backtracking; converged when
+ * sqrt(dq^T M_r dq / mass) <= tol_d. */
+int rk_rom_newton(rk_rom *s, const rk_rom_terms *T, double tol_d, int *converged, rk_error *err);
+
+#endif

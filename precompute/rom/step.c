@@ -1,0 +1,150 @@
+/* The reduced time step and static solve (rom.h): the full-order step (fom/step.c) on q. */
+#include "rom/rom_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/timer.h"
+
+int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, rk_error *err)
+{
+    memset(s, 0, sizeof *s);
+    int r = m->r;
+    s->model = m;
+    s->q = rk_calloc((size_t)r, sizeof(double), err);
+    s->v = rk_calloc((size_t)r, sizeof(double), err);
+    s->q_prev = rk_calloc((size_t)r, sizeof(double), err);
+    s->v_prev = rk_calloc((size_t)r, sizeof(double), err);
+    s->work = rk_calloc((size_t)r * (RK_ROM_WORK_VECTORS + r), sizeof(double), err);
+    if (!s->q || !s->v || !s->q_prev || !s->v_prev || !s->work) {
+        rk_rom_free(s);
+        return -1;
+    }
+    for (int i = 0; i < r; i++)
+        if ((q0 && !isfinite(q0[i])) || (v0 && !isfinite(v0[i]))) {
+            rk_rom_free(s);
+            return rk_fail(err, "reduced start: coordinate %d is not finite", i);
+        }
+    rk_rom_reset(s, q0, v0, 0.0);
+    for (int c = 0; c < m->ncontacts; c++) {
+        double d = m->contact_d0[c];
+        for (int j = 0; j < r; j++) d += m->contact_a[(size_t)r * c + j] * s->q[j];
+        if (!(d > 0)) {
+            rk_rom_free(s);
+            return rk_fail(err, "reduced start: vertex %d starts on or behind plane %d (distance %g m)",
+                           c % m->nv, c / m->nv, d);
+        }
+    }
+    return 0;
+}
+
+void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
+{
+    int r = s->model->r;
+    for (int i = 0; i < r; i++) {
+        s->q[i] = q ? q[i] : 0;
+        s->v[i] = v ? v[i] : 0;
+    }
+    s->t = t;
+    s->have_prev = 0;
+}
+
+void rk_rom_free(rk_rom *s)
+{
+    free(s->q);
+    free(s->v);
+    free(s->q_prev);
+    free(s->v_prev);
+    free(s->work);
+    memset(s, 0, sizeof *s);
+}
+
+static int check_state(const rk_rom *s, rk_error *err)
+{
+    for (int i = 0; i < s->model->r; i++)
+        if (!isfinite(s->q[i]) || !isfinite(s->v[i]))
+            return rk_fail(err, "reduced coordinate %d is not finite", i);
+    return 0;
+}
+
+/* Equilibrium at the end time (steps h), with load stepping as in fom/static.c: the full load,
+ * or when that does not converge, up to 64 increments, the prescribed targets moving with the load. */
+static int static_solve(rk_rom *s, rk_error *err)
+{
+    rk_rom_model *m = s->model;
+    int r = m->r;
+    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r, *start = s->work + RK_ROM_WORK_QT * (size_t)r;
+    rk_rom_terms T = {0};
+    T.pin_b = pin;
+    T.reg = 1e-10; /* a tiny inertia (1/s^2) on the Hessian only: free rigid modes stay solvable */
+    memcpy(start, s->q, sizeof(double) * r);
+    for (int increments = 1; increments <= 64; increments *= 2) {
+        int converged = 1;
+        memcpy(s->q, start, sizeof(double) * r);
+        for (int k = 1; k <= increments && converged; k++) {
+            T.load = (double)k / increments;
+            rk_rom_pin_target(m, T.load * m->static_time, pin);
+            if (rk_rom_newton(s, &T, m->newton_tol, &converged, err)) return -1;
+        }
+        if (converged) {
+            memset(s->v, 0, sizeof(double) * r);
+            return 0;
+        }
+    }
+    s->stats.unconverged_steps++;
+    return 0;
+}
+
+static int dynamic_step(rk_rom *s, rk_error *err)
+{
+    rk_rom_model *m = s->model;
+    int r = m->r;
+    double h = m->h;
+    double *qt = s->work + RK_ROM_WORK_QT * (size_t)r, *qtilde = s->work + RK_ROM_WORK_QTILDE * (size_t)r;
+    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r, *d = s->work + RK_ROM_WORK_D * (size_t)r;
+    int bdf2 = m->integrator == RK_BDF2 && s->have_prev;
+    rk_rom_terms T = {0};
+    if (bdf2) {
+        for (int i = 0; i < r; i++)
+            qtilde[i] = (4 * s->q[i] - s->q_prev[i]) / 3 + 2 * h / 9 * (4 * s->v[i] - s->v_prev[i]);
+        T.w_inertia = 9.0 / (4.0 * h * h);
+    } else {
+        for (int i = 0; i < r; i++) qtilde[i] = s->q[i] + h * s->v[i];
+        T.w_inertia = 1.0 / (h * h);
+    }
+    memcpy(qt, s->q, sizeof(double) * r);
+    T.qtilde = qtilde;
+    T.w_damping = 1.0 / h;
+    T.qt = qt;
+    T.load = 1.0;
+    T.pin_b = pin;
+    rk_rom_pin_target(m, s->t + h, pin);
+    for (int i = 0; i < r; i++) d[i] = qtilde[i] - qt[i];
+    if (!m->ncontacts || rk_rom_contact_max_step(m, qt, d) >= 1.0) memcpy(s->q, qtilde, sizeof(double) * r);
+    int converged;
+    if (rk_rom_newton(s, &T, m->newton_tol, &converged, err)) return -1;
+    if (!converged) s->stats.unconverged_steps++;
+    for (int i = 0; i < r; i++) {
+        double v_old = s->v[i];
+        s->v[i] = bdf2 ? (3 * s->q[i] - 4 * qt[i] + s->q_prev[i]) / (2 * h) : (s->q[i] - qt[i]) / h;
+        s->q_prev[i] = qt[i];
+        s->v_prev[i] = v_old;
+    }
+    s->have_prev = 1;
+    s->t += h;
+    return 0;
+}
+
+int rk_rom_step(rk_rom *s, rk_error *err)
+{
+    double t0 = rk_now();
+    long number = s->stats.steps + 1;
+    int rc = check_state(s, err);
+    if (!rc) rc = s->model->is_static ? static_solve(s, err) : dynamic_step(s, err);
+    if (!rc) rc = check_state(s, err);
+    s->stats.seconds_total += rk_now() - t0;
+    if (rc) return rk_error_prefix(err, "reduced step %ld (t = %g s)", number, s->t + s->model->h);
+    s->stats.steps = number;
+    return 0;
+}
