@@ -12,6 +12,7 @@ typedef struct {
 
 static const command commands[] = {
     {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
+    {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
     {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
 };

@@ -1,0 +1,250 @@
+/* rk_compare_scene (compare.h): one full-order run, then each reduced method twice: free (error
+ * over the whole run, time per step) and realigned every step (online error). */
+#include "rom/compare.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/timer.h"
+
+typedef struct {
+    int ndof, T;
+    double *x, *v;   /* ndof x (T + 1): the start, then after every step */
+    double *step_seconds;
+} fom_run;
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    if (n == 0) return NAN;
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
+{
+    rk_fom fom;
+    if (rk_fom_init(&fom, &sim->fem, &sim->options, err)) return -1;
+    F->ndof = 3 * sim->mesh.nv;
+    F->T = sim->options.is_static ? 1 : sim->steps;
+    F->x = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
+    F->v = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
+    F->step_seconds = rk_calloc((size_t)F->T + 1, sizeof(double), err);
+    int rc = F->x && F->v && F->step_seconds ? 0 : -1;
+    if (!rc) {
+        memcpy(F->x, fom.x, sizeof(double) * F->ndof);
+        memcpy(F->v, fom.v, sizeof(double) * F->ndof);
+    }
+    for (int s = 0; !rc && s < F->T; s++) {
+        double t0 = rk_now();
+        rc = sim->options.is_static ? rk_fom_static(&fom, err) : rk_fom_step(&fom, err);
+        F->step_seconds[s] = rk_now() - t0;
+        memcpy(F->x + (size_t)F->ndof * (s + 1), fom.x, sizeof(double) * F->ndof);
+        memcpy(F->v + (size_t)F->ndof * (s + 1), fom.v, sizeof(double) * F->ndof);
+        rk_progress("full-order run", s + 1, F->T);
+    }
+    rk_progress_done("full-order run");
+    out->fom_seconds_total = fom.stats.seconds_total;
+    out->fom_newton_iterations = fom.stats.newton_iterations;
+    out->fom_seconds_per_step = median(F->step_seconds, F->T);
+    rk_fom_free(&fom);
+    return rc ? rk_error_prefix(err, "full-order run") : 0;
+}
+
+static void fom_run_free(fom_run *F)
+{
+    free(F->x);
+    free(F->v);
+    free(F->step_seconds);
+}
+
+/* Sum over vertices of |a - b|^2 and the largest |a - b|. */
+static double frame_error(const double *a, const double *b, int ndof, double *max_dist)
+{
+    double sum = 0;
+    for (int v = 0; v < ndof / 3; v++) {
+        double d2 = 0;
+        for (int i = 0; i < 3; i++) d2 += (a[3 * v + i] - b[3 * v + i]) * (a[3 * v + i] - b[3 * v + i]);
+        sum += d2;
+        *max_dist = fmax(*max_dist, sqrt(d2));
+    }
+    return sum;
+}
+
+/* The free run: errors against every full-order frame and the median step time. */
+static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, const rk_sparse *M,
+                    rk_compare_method *out, double L, rk_error *err)
+{
+    int r = R->basis.r, ndof = F->ndof;
+    double *q0 = rk_calloc((size_t)r, sizeof(double), err), *v0 = rk_calloc((size_t)r, sizeof(double), err);
+    double *x = rk_calloc((size_t)ndof, sizeof(double), err), *secs = rk_calloc((size_t)F->T + 1, sizeof(double), err);
+    int rc = -1;
+    rk_rom rom = {0};
+    if (!q0 || !v0 || !x || !secs) goto out;
+    if (rk_rom_project(&R->model, M, R->basis.U, ndof, sim->mesh.X, F->x, q0, err) ||
+        rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v, v0, err) ||
+        rk_rom_init(&rom, &R->model, q0, v0, err))
+        goto out;
+    double sum = 0, maxd = 0;
+    for (int s = 0; s < F->T; s++) {
+        double t0 = rk_now();
+        if (rk_rom_step(&rom, err)) goto out;
+        secs[s] = rk_now() - t0;
+        rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
+        sum += frame_error(x, F->x + (size_t)ndof * (s + 1), ndof, &maxd);
+    }
+    out->normalized_mse = sum / ((double)F->T * (ndof / 3)) / (L * L);
+    out->normalized_max_error = maxd / L;
+    out->max_error_m = maxd;
+    out->seconds_per_step = median(secs, F->T);
+    out->newton_iterations = rom.stats.newton_iterations;
+    out->unconverged_steps = rom.stats.unconverged_steps;
+    rc = 0;
+out:
+    rk_rom_free(&rom);
+    free(q0);
+    free(v0);
+    free(x);
+    free(secs);
+    return rc;
+}
+
+/* Each step from the full-order state before it, projected (Grassmann paper Sec. 5.1). */
+static int run_realigned(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, const rk_sparse *M,
+                         rk_compare_method *out, rk_error *err)
+{
+    int r = R->basis.r, ndof = F->ndof;
+    double *q = rk_calloc((size_t)r, sizeof(double), err), *v = rk_calloc((size_t)r, sizeof(double), err);
+    double *x = rk_calloc((size_t)ndof, sizeof(double), err);
+    int rc = -1;
+    rk_rom rom = {0};
+    if (!q || !v || !x || rk_rom_init(&rom, &R->model, NULL, NULL, err)) goto out;
+    double num = 0, den = 0;
+    for (int s = 0; s < F->T; s++) {
+        if (rk_rom_project(&R->model, M, R->basis.U, ndof, sim->mesh.X, F->x + (size_t)ndof * s, q, err) ||
+            rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v + (size_t)ndof * s, v, err))
+            goto out;
+        rk_rom_reset(&rom, q, v, s * sim->options.h);
+        if (rk_rom_step(&rom, err)) goto out;
+        rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
+        const double *ref = F->x + (size_t)ndof * (s + 1);
+        double e = 0, d = 0;
+        for (int i = 0; i < ndof; i++) {
+            e += (x[i] - ref[i]) * (x[i] - ref[i]);
+            d += (ref[i] - sim->mesh.X[i]) * (ref[i] - sim->mesh.X[i]);
+        }
+        num += sqrt(e);
+        den += sqrt(d);
+    }
+    out->relative_online_error = den > 0 ? num / den : NAN;
+    rc = 0;
+out:
+    rk_rom_free(&rom);
+    free(q);
+    free(v);
+    free(x);
+    return rc;
+}
+
+static void record_failure(rk_compare_method *m, const rk_error *err)
+{
+    snprintf(m->failure, sizeof m->failure, "%s", err->msg);
+    m->normalized_mse = m->normalized_max_error = m->max_error_m = m->relative_online_error = NAN;
+    m->seconds_per_step = m->speedup = NAN;
+}
+
+static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
+                       const rk_sparse *M, int index, double L, rk_compare_method *m, const rk_compare_result *res)
+{
+    rk_error err;
+    rk_rom_options o;
+    rk_scene_rom R;
+    memset(m, 0, sizeof *m);
+    m->cubature_error = NAN;
+    if (rk_rom_options_parse(scene->rom, index, scene->path, &o, &err)) {
+        snprintf(m->name, sizeof m->name, "rom[%d]", index);
+        record_failure(m, &err);
+        return;
+    }
+    memcpy(m->name, o.name, sizeof m->name);
+    m->type = o.basis.type;
+    m->reference_nmse = o.reference_nmse;
+    memcpy(m->reference_source, o.reference_source, sizeof m->reference_source);
+    if (rk_scene_rom_build(scene, sim, &o, D, F->T, &R, &err)) {
+        record_failure(m, &err);
+        return;
+    }
+    m->r = R.basis.r;
+    m->size = R.basis.W ? R.basis.m - 1 : R.basis.r;
+    m->cubature_points = R.cubature_points;
+    m->cubature_error = R.cubature_error;
+    m->seconds_basis = R.seconds_basis;
+    m->seconds_cubature = R.seconds_cubature;
+    m->seconds_training_run = R.basis_info.fom_frames ? res->fom_seconds_total : 0;
+    memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
+    memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
+    if (run_free(sim, &R, F, M, m, L, &err) || run_realigned(sim, &R, F, M, m, &err)) record_failure(m, &err);
+    else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
+    rk_scene_rom_free(&R);
+}
+
+static double bbox_diagonal(const rk_mesh *m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < m->nv; v++)
+        for (int i = 0; i < 3; i++) {
+            lo[i] = fmin(lo[i], m->X[3 * v + i]);
+            hi[i] = fmax(hi[i], m->X[3 * v + i]);
+        }
+    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err)
+{
+    memset(out, 0, sizeof *out);
+    int n = rk_rom_entries(scene->rom);
+    if (n == 0) return rk_fail(err, "%s: no \"rom\" section: nothing to compare with the full-order model", scene->path);
+    rk_scene_sim sim;
+    if (rk_scene_build(scene, &sim, err)) return -1;
+    fom_run F = {0};
+    rk_sparse M = {0};
+    double *D = NULL;
+    int rc = -1;
+    out->vertices = sim.mesh.nv;
+    out->tets = sim.mesh.nt;
+    out->bbox_diagonal = bbox_diagonal(&sim.mesh);
+    if (run_fom(&sim, &F, out, err)) goto done;
+    out->steps = F.T;
+    /* Displacement frames, as the bases train on them. */
+    D = rk_calloc((size_t)F.ndof * F.T, sizeof(double), err);
+    if (!D || rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto done;
+    rk_fem_add_mass(&sim.fem, sim.options.lumped_mass, 1.0, &M);
+    for (int s = 0; s < F.T; s++)
+        for (int i = 0; i < F.ndof; i++) D[(size_t)F.ndof * s + i] = F.x[(size_t)F.ndof * (s + 1) + i] - sim.mesh.X[i];
+    out->methods = rk_calloc((size_t)n, sizeof *out->methods, err);
+    if (!out->methods) goto done;
+    out->nmethods = n;
+    for (int k = 0; k < n; k++) {
+        run_method(scene, &sim, &F, D, &M, k, out->bbox_diagonal, &out->methods[k], out);
+    }
+    rc = 0;
+done:
+    free(D);
+    rk_sparse_free(&M);
+    fom_run_free(&F);
+    rk_scene_sim_free(&sim);
+    return rc;
+}
+
+void rk_compare_result_free(rk_compare_result *r)
+{
+    free(r->methods);
+    memset(r, 0, sizeof *r);
+}

@@ -1,0 +1,50 @@
+/* precompute/rom: the full-order model and every reduced method a scene lists, run side by side
+ * on the scene, with the error metrics of the papers:
+ *
+ *   normalized MSE   mean over frames and vertices of |x - x_fom|^2, divided by L^2 with L the rest
+ *                    bounding-box diagonal (freeform paper Sec. 4: "MSE of simulated point locations
+ *                    across the whole shape and all frames, normalized by the bounding box size")
+ *   max error        the largest |x - x_fom| over frames and vertices, divided by L
+ *   online error     sum_t |x_t - x_fom,t| / sum_t |x_fom,t - X| where each reduced step starts from
+ *                    the full-order state at t - 1 projected onto the subspace (Grassmann paper,
+ *                    Sec. 5.1: per-step realignment, so drift does not dominate)
+ *
+ * Timing: the median wall time of one step (reconstruction of the vertices not counted: a runtime
+ * only rebuilds the vertices it shows). */
+#ifndef RK_COMPARE_H
+#define RK_COMPARE_H
+
+#include "rom/scene_rom.h"
+
+typedef struct {
+    char name[96];
+    rk_basis_type type;
+    int size;                      /* rom.size as built: columns, or weights m for skinning */
+    int r;                         /* reduced coordinates */
+    int cubature_points;           /* 0: exact */
+    double cubature_error;
+    double normalized_mse, normalized_max_error, max_error_m, relative_online_error;
+    double seconds_per_step, speedup;
+    double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
+    long newton_iterations, unconverged_steps;
+    double reference_nmse;
+    char reference_source[96];
+    char basis_reason[256], cubature_reason[256];
+    char failure[1024];            /* empty when it ran; else why it did not (the error message) */
+} rk_compare_method;
+
+typedef struct {
+    int vertices, tets, steps;
+    double bbox_diagonal;
+    double fom_seconds_per_step, fom_seconds_total;
+    long fom_newton_iterations;
+    int nmethods;
+    rk_compare_method *methods;
+} rk_compare_result;
+
+/* Runs it all. Fails on a bad scene or a failing full-order run; a reduced method that fails
+ * (a basis it cannot build, NaN) is recorded in its failure field and the others still run. */
+int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err);
+void rk_compare_result_free(rk_compare_result *r);
+
+#endif
