@@ -90,11 +90,15 @@ typedef struct {
     const double *poses;
     const double *inv_norm;
     int count;
+    double *cache;     /* every column (rows x candidates) when it fits in RK_CUBATURE_CACHE bytes */
 } training;
 
-static int column(void *ctx, int c, double *col, rk_error *err)
+/* Columns are cheap to keep and costly to recompute (one stress per pose): the greedy asks for
+ * `sample` of them per pick, so small and mid-size problems keep them all. */
+#define RK_CUBATURE_CACHE (512.0 * 1024 * 1024)
+
+static int compute_column(const training *T, int c, double *col, rk_error *err)
 {
-    const training *T = ctx;
     int r = T->Q->r;
     for (int p = 0; p < T->count; p++) {
         double F[9];
@@ -106,6 +110,28 @@ static int column(void *ctx, int c, double *col, rk_error *err)
                 return rk_fail(err, "element %d: force not finite at training pose %d", T->Q->source[c], p);
     }
     return 0;
+}
+
+static int column(void *ctx, int c, double *col, rk_error *err)
+{
+    const training *T = ctx;
+    size_t rows = (size_t)T->Q->r * T->count;
+    if (!T->cache) return compute_column(T, c, col, err);
+    memcpy(col, T->cache + rows * c, sizeof(double) * rows);
+    return 0;
+}
+
+static void fill_cache(training *T)
+{
+    size_t rows = (size_t)T->Q->r * T->count;
+    if ((double)rows * T->Q->count * sizeof(double) > RK_CUBATURE_CACHE) return;
+    T->cache = malloc(rows * T->Q->count * sizeof(double));
+    rk_error ignored;
+    for (int c = 0; T->cache && c < T->Q->count; c++)
+        if (compute_column(T, c, T->cache + rows * c, &ignored)) { /* recomputed, and reported, on demand */
+            free(T->cache);
+            T->cache = NULL;
+        }
 }
 
 /* Exact total forces b at every pose (normalised); poses whose force vanishes (the rest pose, a
@@ -170,7 +196,7 @@ int rk_cubature_train(rk_quadrature *exact, const double *Mr, double mass, const
         goto out;
     }
     if (random_poses(exact, Mr, mass, amplitude, total - nsnap, o->seed, poses + (size_t)r * nsnap, err)) goto out;
-    training T = {exact, poses, inv_norm, 0};
+    training T = {exact, poses, inv_norm, 0, NULL};
     int kept = targets(&T, poses, total, inv_norm, b, err);
     if (kept < 0) goto out;
     if (kept == 0) {
@@ -178,6 +204,7 @@ int rk_cubature_train(rk_quadrature *exact, const double *Mr, double mass, const
         goto out;
     }
     T.count = kept;
+    fill_cache(&T);
     rk_cubature_problem P = {0};
     P.rows = r * kept;
     P.candidates = exact->count;
@@ -192,6 +219,7 @@ int rk_cubature_train(rk_quadrature *exact, const double *Mr, double mass, const
     /* The greedy's indices are positions in the exact quadrature: make them element numbers. */
     for (int k = 0; !rc && k < out->count; k++) out->index[k] = exact->source[out->index[k]];
     *poses_used = kept;
+    free(T.cache);
 out:
     free(poses);
     free(inv_norm);
