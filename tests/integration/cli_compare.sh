@@ -1,0 +1,51 @@
+# romkit compare: the report's keys (DESIGN.md), the table on stdout, and the errors a user meets.
+. tests/lib.sh
+
+scene() { # scene FILE ROM_JSON: a small cantilever under gravity
+    cat >"$1" <<JSON
+{
+  "objects": [{
+    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [8, 2, 2]}},
+    "material": {"model": "neohookean", "young": 2e6, "poisson": 0.4, "density": 1000},
+    "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]
+  }],
+  "gravity": [0, -9.81, 0],
+  "time": {"step": 0.01, "duration": 0.2},
+  "rom": $2
+}
+JSON
+}
+flat() { tr -d ' \n\t' <"$1"; }
+
+"$ROMKIT" compare --help | grep -q "normalized MSE" && ok compare_help || fail compare_help "no description"
+
+scene "$TMP/c.json" '[{"basis": "modes", "size": 6}, {"basis": "modes", "size": 6, "cubature": {"tolerance": 0.02}, "name": "modes-cub"}]'
+if "$ROMKIT" compare "$TMP/c.json" --report "$TMP/r.json" >"$TMP/out" 2>"$TMP/err"; then
+    r=$(flat "$TMP/r.json")
+    missing=""
+    for key in '"vertices":' '"tets":' '"methods":' '"name":"fom"' '"name":"modes-6"' '"name":"modes-cub"' \
+               '"seconds_per_step":' '"normalized_mse":' '"relative_online_error":' '"elements":' \
+               '"relative_error":' '"bound_by":' '"seconds":{"total":'; do
+        case $r in *"$key"*) ;; *) missing="$missing $key" ;; esac
+    done
+    [ -z "$missing" ] && ok compare_report_keys || fail compare_report_keys "missing$missing"
+    grep -q "modes-cub" "$TMP/out" && grep -q "speed-up" "$TMP/out" && ok compare_prints_table \
+        || fail compare_prints_table "$(head -c 300 "$TMP/out")"
+    # A cubature method has fewer elements than the mesh and a training error under its tolerance.
+    echo "$r" | grep -q '"elements":[1-9][0-9]*,"relative_error":0\.0[01]' && ok compare_cubature_trained \
+        || fail compare_cubature_trained "$(echo "$r" | grep -o '"cubature":{[^}]*}' | head -2)"
+else
+    fail compare_report_keys "$(cat "$TMP/err")"
+fi
+
+# A method that cannot be built is reported by name, the others still run, and the exit is 1.
+scene "$TMP/bad.json" '[{"basis": "modes", "size": 4}, {"basis": "pod", "size": 500}]'
+expect_fail compare_names_failed_method "pod-500 failed" "$ROMKIT" compare "$TMP/bad.json" --quiet
+grep -q "modes-4" "$TMP/out" && ok compare_runs_the_rest || fail compare_runs_the_rest "$(head -c 300 "$TMP/out")"
+
+scene "$TMP/norom.json" 'null'
+sed -i '/"rom": null/d; s/"duration": 0.2},/"duration": 0.2}/' "$TMP/norom.json"
+expect_fail compare_needs_rom "no \"rom\" section" "$ROMKIT" compare "$TMP/norom.json"
+expect_fail compare_missing_scene "nope.json" "$ROMKIT" compare "$TMP/nope.json"
+scene "$TMP/badcub.json" '{"basis": "modes", "size": 4, "cubature": {"tolerance": -1}}'
+expect_fail compare_bad_cubature_tolerance "rom.cubature" "$ROMKIT" compare "$TMP/badcub.json"
