@@ -139,15 +139,7 @@ static int build_constants(rk_fom *s, rk_error *err)
  * then uses that times h as its |d|_inf bound in metres. A given newton_tol is used as is. */
 static void resolve_tolerance(rk_fom *s)
 {
-    const rk_fem *f = s->fem;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < f->nv; v++)
-        for (int i = 0; i < 3; i++) {
-            lo[i] = fmin(lo[i], f->X[3 * v + i]);
-            hi[i] = fmax(hi[i], f->X[3 * v + i]);
-        }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double diag = rk_points_diagonal(s->fem->X, s->fem->nv);
     if (s->opt.newton_tol > 0) {
         s->impl->tol_static = s->opt.newton_tol;
     } else {

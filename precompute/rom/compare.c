@@ -195,17 +195,6 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     rk_scene_rom_free(&R);
 }
 
-static double bbox_diagonal(const rk_mesh *m)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < m->nv; v++)
-        for (int i = 0; i < 3; i++) {
-            lo[i] = fmin(lo[i], m->X[3 * v + i]);
-            hi[i] = fmax(hi[i], m->X[3 * v + i]);
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -219,7 +208,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     int rc = -1;
     out->vertices = sim.mesh.nv;
     out->tets = sim.mesh.nt;
-    out->bbox_diagonal = bbox_diagonal(&sim.mesh);
+    out->bbox_diagonal = rk_points_diagonal(sim.mesh.X, sim.mesh.nv);
     if (run_fom(&sim, &F, out, err)) goto done;
     out->steps = F.T;
     /* Displacement frames, as the bases train on them. */

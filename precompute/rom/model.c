@@ -17,18 +17,6 @@ static void project_matrix(const rk_sparse *S, const double *U, int ndof, int r,
             0.5 * (out[i + (size_t)r * j] + out[j + (size_t)r * i]);
 }
 
-static double bbox_diagonal(const rk_fem *f)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < f->nv; v++)
-        for (int i = 0; i < 3; i++) {
-            lo[i] = fmin(lo[i], f->X[3 * v + i]);
-            hi[i] = fmax(hi[i], f->X[3 * v + i]);
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 /* The basis moves vertex v when one of its 3 rows is not zero. */
 static int basis_moves(const double *U, int ndof, int r, int v)
 {
@@ -83,7 +71,7 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     double stiff = 0;
     for (int t = 0; t < fem->nt; t++)
         stiff = fmax(stiff, (fem->lambda[t] + 2 * fem->mu[t]) / fem->density[t]);
-    double L = bbox_diagonal(fem);
+    double L = rk_points_diagonal(fem->X, fem->nv);
     m->pin_k = RK_ROM_PIN_STIFFNESS * stiff / (L * L);
     m->A = rk_calloc((size_t)r * r, sizeof(double), err);
     m->pins = rk_calloc((size_t)(opt->nprescribed > 0 ? opt->nprescribed : 1), sizeof *m->pins, err);
@@ -179,7 +167,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     m->is_static = opt->is_static;
     m->newton_max_iter = opt->newton_max_iter;
     for (int v = 0; v < fem->nv; v++) m->mass += fem->vertex_mass[v];
-    double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * bbox_diagonal(fem);
+    double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;
     if (build_matrices(m, fem, opt, U, err) || build_pins(m, fem, opt, U, err) ||
         build_contacts(m, fem, opt, U, err)) {

@@ -84,18 +84,6 @@ static void assign_materials(const rk_scene *s, rk_scene_sim *out)
     }
 }
 
-static double scene_diagonal(const rk_mesh *m)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < m->nv; v++)
-        for (int i = 0; i < 3; i++) {
-            lo[i] = fmin(lo[i], m->X[3 * v + i]);
-            hi[i] = fmax(hi[i], m->X[3 * v + i]);
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}
-
 /* Prescribed groups: each "fixed"/"moving" box selects the object's vertices inside it. A vertex
  * claimed by an earlier group stays there (fixed entries come first). An empty selection is an error. */
 static int build_prescribed(const rk_scene *s, rk_scene_sim *out, double slack, rk_error *err)
@@ -239,7 +227,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     opt->rayleigh_stiffness = s->damping_stiffness;
     if (s->newton_tol > 0) opt->newton_tol = s->newton_tol;
     if (s->newton_max_iter > 0) opt->newton_max_iter = s->newton_max_iter;
-    double diag = scene_diagonal(&out->mesh);
+    double diag = rk_points_diagonal(out->mesh.X, out->mesh.nv);
     double slack = 1e-9 * diag; /* a box edge on a vertex layer selects that layer */
     if (build_prescribed(s, out, slack, err)) goto fail;
     if (build_loads_and_velocities(s, out, slack, err)) goto fail;
