@@ -32,7 +32,7 @@ TOOL_STAGE := rom
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 
-.PHONY: all test test-sanitize bench demo clean deps
+.PHONY: all test test-sanitize bench paper-table demo clean deps
 all: $(BUILD)/romkit $(TEST_BIN)
 
 $(BUILD)/obj/%.o: %.c
@@ -59,10 +59,17 @@ $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_st
 $(BUILD)/bench_%: bench/bench_%.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis
+bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis $(BUILD)/bench_rom
 	@mkdir -p bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
 	$(BUILD)/bench_basis tests/data/meshes bench/results
+	$(BUILD)/bench_rom tests/data/meshes bench/results
+
+# The freeform paper's Table 1 beam tests, every method beside the paper's numbers (several minutes).
+paper-table: deps $(BUILD)/romkit
+	@mkdir -p bench/results
+	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt
+	$(BUILD)/romkit compare examples/scenes/beam_twist_table.json --quiet --report bench/results/paper_table_twist.json | tee bench/results/paper_table_twist.txt
 
 demo: deps all
 	@sh tools/demo.sh $(BUILD)
