@@ -29,26 +29,20 @@ int rk_basis_options_parse(const cJSON *rom, int index, const char *file, rk_bas
     if (rk_basis_type_parse(name, &o->type))
         return rk_json_fail(&c, path, "basis must be modes, modal_derivatives, skinning, rkpm_skinning "
                             "or pod, got \"%s\"", name);
-    double size = 0, tol = 0, modes = 0, kernels = 1000, points = 40000;
-    if (rk_json_number(&c, e, path, "size", 0, &size) || rk_json_number(&c, e, path, "tolerance", 0, &tol) ||
-        rk_json_number(&c, e, path, "modes", 0, &modes) || rk_json_number(&c, e, path, "kernels", 0, &kernels) ||
-        rk_json_number(&c, e, path, "integration_points", 0, &points))
+    double tol = 0;
+    o->size = 0;
+    o->modes = 0;
+    o->kernels = 1000;
+    o->integration_points = 40000;
+    if (rk_json_whole(&c, e, path, "size", 0, 4096, &o->size) || rk_json_number(&c, e, path, "tolerance", 0, &tol) ||
+        rk_json_whole(&c, e, path, "modes", 0, 60, &o->modes) ||
+        rk_json_whole(&c, e, path, "kernels", 4, 100000, &o->kernels) ||
+        rk_json_whole(&c, e, path, "integration_points", 100, 1e7, &o->integration_points))
         return -1;
-    struct { const char *key; double v, lo, hi; } whole[] = {
-        {"size", size, 0, 4096}, {"modes", modes, 0, 60}, {"kernels", kernels, 4, 100000},
-        {"integration_points", points, 100, 1e7}};
-    for (int k = 0; k < 4; k++)
-        if (whole[k].v != floor(whole[k].v) || whole[k].v < whole[k].lo || whole[k].v > whole[k].hi)
-            return rk_json_fail(&c, path, "%s must be a whole number from %g to %g, got %g", whole[k].key,
-                                whole[k].lo, whole[k].hi, whole[k].v);
     if (!(tol >= 0 && tol < 1)) return rk_json_fail(&c, path, "tolerance must be in (0, 1), got %g", tol);
-    if (size == 0 && tol == 0)
+    if (o->size == 0 && tol == 0)
         return rk_json_fail(&c, path, "needs size (how many columns or weights) or tolerance (the "
                             "largest relative error of the scene's full-order frames)");
-    o->size = (int)size;
     o->tolerance = tol;
-    o->modes = (int)modes;
-    o->kernels = (int)kernels;
-    o->integration_points = (int)points;
     return 0;
 }

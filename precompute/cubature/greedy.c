@@ -46,7 +46,7 @@ typedef struct {
 } greedy;
 
 /* splitmix64 (Steele, Lea & Flood 2014): tiny, and the same sequence on every platform. */
-static unsigned long long splitmix64(unsigned long long *state)
+unsigned long long rk_splitmix64(unsigned long long *state)
 {
     unsigned long long z = (*state += 0x9E3779B97F4A7C15ULL);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
@@ -161,7 +161,7 @@ static int draw_subset(greedy *g)
     if (s <= 0 || s >= g->npool) s = g->npool;
     else
         for (int i = 0; i < s; i++)
-            pool_swap(g, i, i + (int)(splitmix64(&g->rng) % (unsigned long long)(g->npool - i)));
+            pool_swap(g, i, i + (int)(rk_splitmix64(&g->rng) % (unsigned long long)(g->npool - i)));
     memcpy(g->draw, g->pool, sizeof(int) * s);
     return s;
 }

@@ -25,6 +25,10 @@
 int rk_nnls_normal(int k, const double *gram, const double *atb, double *w, int max_iter,
                    rk_error *err);
 
+/* splitmix64: the project's one seeded generator (same sequence on every platform), for the
+ * greedy's subset draws and the training's random poses. */
+unsigned long long rk_splitmix64(unsigned long long *state);
+
 typedef struct {
     int rows;                  /* length of b */
     int candidates;            /* how many columns there are to choose from */

@@ -20,15 +20,7 @@ void rk_cubature_default_options(rk_cubature_options *o)
     o->seed = 0x5eed;
 }
 
-static unsigned long long splitmix(unsigned long long *s)
-{
-    unsigned long long z = (*s += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
-static double uniform(unsigned long long *s) { return ((double)(splitmix(s) >> 11) + 0.5) / 9007199254740992.0; }
+static double uniform(unsigned long long *s) { return ((double)(rk_splitmix64(s) >> 11) + 0.5) / 9007199254740992.0; }
 
 static double gaussian(unsigned long long *s) /* Box-Muller */
 {

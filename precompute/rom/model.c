@@ -3,6 +3,7 @@
 #include "rom/rom.h"
 
 #include <cblas.h>
+#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,9 +36,10 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
     double *fext = rk_calloc((size_t)ndof, sizeof(double), err);
     int damped = opt->rayleigh_mass > 0 || opt->rayleigh_stiffness > 0;
     m->M = rk_calloc((size_t)r * r, sizeof(double), err);
+    m->M_chol = rk_calloc((size_t)r * r, sizeof(double), err);
     m->C = damped ? rk_calloc((size_t)r * r, sizeof(double), err) : NULL;
     m->f = rk_calloc((size_t)r, sizeof(double), err);
-    if (!SU || !fext || !m->M || (damped && !m->C) || !m->f || rk_sparse_alloc_pattern(fem, &S, err)) {
+    if (!SU || !fext || !m->M || !m->M_chol || (damped && !m->C) || !m->f || rk_sparse_alloc_pattern(fem, &S, err)) {
         free(SU);
         free(fext);
         rk_sparse_free(&S);
@@ -45,6 +47,14 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
     }
     rk_fem_add_mass(fem, opt->lumped_mass, 1.0, &S);
     project_matrix(&S, U, ndof, r, SU, m->M);
+    memcpy(m->M_chol, m->M, sizeof(double) * r * r);
+    int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', r, m->M_chol, r);
+    if (info != 0) {
+        free(SU);
+        free(fext);
+        rk_sparse_free(&S);
+        return rk_fail(err, "U^T M U is not positive definite (pivot %d): the basis has dependent columns", info);
+    }
     if (damped) {
         rk_sparse_zero(&S);
         rk_fem_add_mass(fem, opt->lumped_mass, opt->rayleigh_mass, &S);
@@ -180,6 +190,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
 void rk_rom_model_free(rk_rom_model *m)
 {
     free(m->M);
+    free(m->M_chol);
     free(m->C);
     free(m->f);
     free(m->A);

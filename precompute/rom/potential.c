@@ -29,7 +29,7 @@ void rk_rom_pin_target(const rk_rom_model *m, double t, double *b)
     }
 }
 
-static double contact_distance(const rk_rom_model *m, int c, const double *q)
+double rk_rom_contact_distance(const rk_rom_model *m, int c, const double *q)
 {
     return m->contact_d0[c] + cblas_ddot(m->r, m->contact_a + (size_t)m->r * c, 1, q, 1);
 }
@@ -38,7 +38,7 @@ double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const dou
 {
     double alpha = 1.0;
     for (int c = 0; c < m->ncontacts; c++) {
-        double d = contact_distance(m, c, q);
+        double d = rk_rom_contact_distance(m, c, q);
         double dd = cblas_ddot(m->r, m->contact_a + (size_t)m->r * c, 1, dq, 1);
         if (dd < 0) alpha = fmin(alpha, 0.9 * d / -dd); /* keep 10% of the distance (fem.h) */
     }
@@ -49,7 +49,7 @@ static double barrier(const rk_rom_model *m, const double *q, double *g, double 
 {
     double E = 0;
     for (int c = 0; c < m->ncontacts; c++) {
-        double d = contact_distance(m, c, q);
+        double d = rk_rom_contact_distance(m, c, q);
         if (!(d > 0)) return INFINITY;
         if (d >= m->dhat) continue;
         double d1, d2, w = m->kappa * m->contact_mass[c];

@@ -13,21 +13,18 @@ int rk_rom_project(const rk_rom_model *m, const rk_sparse *M, const double *U, i
     int r = m->r;
     double *d = rk_calloc((size_t)ndof, sizeof(double), err);
     double *Md = rk_calloc((size_t)ndof, sizeof(double), err);
-    double *Mr = rk_calloc((size_t)r * r, sizeof(double), err);
     int rc = -1;
-    if (d && Md && Mr) {
+    if (d && Md) {
         for (int i = 0; i < ndof; i++) d[i] = x[i] - (X ? X[i] : 0);
         rk_sparse_mul(M, d, Md);
         cblas_dgemv(CblasColMajor, CblasTrans, ndof, r, 1.0, U, ndof, Md, 1, 0.0, q, 1);
-        memcpy(Mr, m->M, sizeof(double) * r * r);
-        /* M_r q = U^T M (x - X): the normal equations of min |U q - (x - X)|_M. */
-        int info = LAPACKE_dposv(LAPACK_COL_MAJOR, 'U', r, 1, Mr, r, q, r);
-        rc = info == 0 ? 0 : rk_fail(err, "projection onto the subspace: U^T M U is not positive definite "
-                                     "(pivot %d): the basis has dependent columns", info);
+        /* M_r q = U^T M (x - X): the normal equations of min |U q - (x - X)|_M, with the factor of
+         * M_r the model made once (it refused a basis with dependent columns then). */
+        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'U', r, 1, m->M_chol, r, q, r);
+        rc = 0;
     }
     free(d);
     free(Md);
-    free(Mr);
     return rc;
 }
 

@@ -43,6 +43,7 @@ typedef struct {
     rk_integrator integrator;
     int is_static;
     double *M;                 /* r x r, U^T M U (column-major) */
+    double *M_chol;            /* its Cholesky factor (upper), for projections onto the subspace */
     double *C;                 /* r x r, U^T (a M + b K0) U, or NULL without damping */
     double *f;                 /* r, U^T f_ext (gravity with the lumped masses, plus forces) */
     double pin_k;              /* k of the penalty */

@@ -25,6 +25,8 @@ enum { RK_ROM_WORK_QT, RK_ROM_WORK_QTILDE, RK_ROM_WORK_G, RK_ROM_WORK_D, RK_ROM_
 double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
                         double *magnitude);
 void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
+/* Distance of contact c (vertex c % nv, plane c / nv) to its plane at q. */
+double rk_rom_contact_distance(const rk_rom_model *m, int c, const double *q);
 /* Largest alpha in (0, 1] keeping every contact distance above 10% of its value along q + alpha dq. */
 double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const double *dq);
 /* Projected Newton from s->q (in place): dense Cholesky, Armijo backtracking; converged when

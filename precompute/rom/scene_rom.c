@@ -26,21 +26,14 @@ static int parse_cubature(const rk_json_ctx *c, const cJSON *e, const char *path
     if (!cJSON_IsObject(cub)) return rk_json_fail(c, cpath, "must be an object");
     static const char *const keys[] = {"tolerance", "max_points", "poses", "sample", NULL};
     if (rk_json_check_keys(c, cub, cpath, keys)) return -1;
-    double tol = o->cub.tolerance, maxp = 0, poses = o->cub.poses, sample = o->cub.sample;
-    if (rk_json_number(c, cub, cpath, "tolerance", 0, &tol) || rk_json_number(c, cub, cpath, "max_points", 0, &maxp) ||
-        rk_json_number(c, cub, cpath, "poses", 0, &poses) || rk_json_number(c, cub, cpath, "sample", 0, &sample))
+    double tol = o->cub.tolerance;
+    if (rk_json_number(c, cub, cpath, "tolerance", 0, &tol) ||
+        rk_json_whole(c, cub, cpath, "max_points", 0, 1e7, &o->cub.max_points) ||
+        rk_json_whole(c, cub, cpath, "poses", 1, 10000, &o->cub.poses) ||
+        rk_json_whole(c, cub, cpath, "sample", 0, 1e7, &o->cub.sample))
         return -1;
     if (!(tol > 0 && tol < 1)) return rk_json_fail(c, cpath, "tolerance must be in (0, 1), got %g", tol);
-    struct { const char *key; double v, lo, hi; } whole[] = {
-        {"max_points", maxp, 0, 1e7}, {"poses", poses, 1, 10000}, {"sample", sample, 0, 1e7}};
-    for (int k = 0; k < 3; k++)
-        if (whole[k].v != floor(whole[k].v) || whole[k].v < whole[k].lo || whole[k].v > whole[k].hi)
-            return rk_json_fail(c, cpath, "%s must be a whole number from %g to %g, got %g", whole[k].key,
-                                whole[k].lo, whole[k].hi, whole[k].v);
     o->cub.tolerance = tol;
-    o->cub.max_points = (int)maxp;
-    o->cub.poses = (int)poses;
-    o->cub.sample = (int)sample;
     return 0;
 }
 

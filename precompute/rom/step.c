@@ -28,8 +28,7 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
         }
     rk_rom_reset(s, q0, v0, 0.0);
     for (int c = 0; c < m->ncontacts; c++) {
-        double d = m->contact_d0[c];
-        for (int j = 0; j < r; j++) d += m->contact_a[(size_t)r * c + j] * s->q[j];
+        double d = rk_rom_contact_distance(m, c, s->q);
         if (!(d > 0)) {
             rk_rom_free(s);
             return rk_fail(err, "reduced start: vertex %d starts on or behind plane %d (distance %g m)",

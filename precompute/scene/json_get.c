@@ -55,6 +55,17 @@ int rk_json_number(const rk_json_ctx *c, const cJSON *obj, const char *path, con
     return 0;
 }
 
+int rk_json_whole(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key, double lo,
+                  double hi, int *out)
+{
+    double v = *out;
+    if (rk_json_number(c, obj, path, key, 0, &v)) return -1;
+    if (v != floor(v) || v < lo || v > hi)
+        return rk_json_fail(c, path, "%s must be a whole number from %g to %g, got %g", key, lo, hi, v);
+    *out = (int)v;
+    return 0;
+}
+
 int rk_json_vector(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                    int required, int n, double *out)
 {

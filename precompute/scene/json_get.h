@@ -28,6 +28,10 @@ const cJSON *rk_json_child(const cJSON *obj, const char *path, const char *key,
 /* A finite number. When absent: fails if required, otherwise leaves *out unchanged. */
 int rk_json_number(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                    int required, double *out);
+/* A whole number in [lo, hi] (the message names the parent path and the key). When absent,
+ * leaves *out unchanged. */
+int rk_json_whole(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key, double lo,
+                  double hi, int *out);
 /* An array of exactly n finite numbers. */
 int rk_json_vector(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                    int required, int n, double *out);
