@@ -11,7 +11,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem fom scene basis cubature rom
+STAGES := util mesh physics fem fom scene basis cubature rom formats asset
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -21,14 +21,16 @@ DEPS_scene   := scene fom fem physics mesh util
 DEPS_basis   := basis scene fom fem physics mesh util
 DEPS_cubature := cubature basis scene fom fem physics mesh util
 DEPS_rom     := rom cubature basis scene fom fem physics mesh util
-src_of  = $(if $(filter physics,$(1)),$(wildcard physics/*.c),$(wildcard precompute/$(1)/*.c))
+DEPS_formats := formats util
+DEPS_asset   := asset formats rom cubature basis scene fom fem physics mesh util
+src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
 
 ALL_LIBS := $(foreach s,$(STAGES),$(call lib_of,$(s)))
 TOOL_SRC := $(wildcard tools/*.c)
 # The most downstream stage: the command line links it and all it uses.
-TOOL_STAGE := rom
+TOOL_STAGE := asset
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
 
@@ -46,8 +48,28 @@ $(call lib_of,$(1)): $(patsubst %.c,$(BUILD)/obj/%.o,$(call src_of,$(1)))
 endef
 $(foreach s,$(STAGES),$(eval $(call stage_lib,$(s))))
 
-$(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS)
-	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
+# The runtime: C99 with only libm, built for float (RT_LIB, what romkit run uses) and for
+# double (RT_LIB_DOUBLE); formats/rombin_read.c and the physics are compiled into it.
+RT_SRC     := $(wildcard runtime/*.c) formats/rombin_read.c
+RT_CFLAGS  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow $(OPT) -g $(SANFLAGS) -I.
+RT_LIB        := $(BUILD)/lib/libromrt.a
+RT_LIB_DOUBLE := $(BUILD)/lib/libromrt_double.a
+$(BUILD)/rt/float/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(RT_CFLAGS) -MMD -MP -c $< -o $@
+$(BUILD)/rt/double/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -MMD -MP -c $< -o $@
+$(RT_LIB): $(patsubst %.c,$(BUILD)/rt/float/%.o,$(RT_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+$(RT_LIB_DOUBLE): $(patsubst %.c,$(BUILD)/rt/double/%.o,$(RT_SRC))
+	@mkdir -p $(dir $@)
+	rm -f $@ && ar rcs $@ $^
+
+$(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_LIB)
+	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
+
 
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
@@ -88,4 +110,4 @@ test-sanitize: deps
 clean:
 	rm -rf build build-san
 
--include $(shell find $(BUILD)/obj $(BUILD)/tests -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj $(BUILD)/rt $(BUILD)/tests -name '*.d' 2>/dev/null)

@@ -25,6 +25,9 @@ typedef enum {
     RK_MAT_NEOHOOKEAN = 3  /* stable Neo-Hookean, Eq. 16 of the freeform paper (Smith et al. 2018) */
 } rk_material_model;
 
+/* How a prescribed group moves (fom.h's rk_prescribed, the runtime's PINS chunk). */
+typedef enum { RK_MOTION_FIXED = 0, RK_MOTION_TWIST = 1, RK_MOTION_TRANSLATE = 2 } rk_motion_kind;
+
 /* Lame parameters from Young's modulus and Poisson's ratio. */
 void rk_lame(double young, double poisson, double *mu, double *lambda);
 
@@ -52,6 +55,13 @@ double rk_det3(const double A[9]);
 
 /* Rest data of a tet: Dm^-1 and signed volume det(Dm)/6. Returns the signed volume. */
 double rk_tet_rest(const double X[12], double Dm_inv[9]);
+
+/* The IPC log barrier b(d) = -(d - dhat)^2 log(d / dhat), 0 < d < dhat, with b' and b'' when asked
+ * (d1, d2 may be NULL). */
+double rk_barrier(double d, double dhat, double *d1, double *d2);
+/* A prescribed group's rigid motion at time t: x = R X + shift (physics_impl.h). */
+void rk_motion(rk_motion_kind kind, const double axis[3], const double center[3], double rate,
+               const double velocity[3], double t, double R[9], double shift[3]);
 
 /* Symmetric eigen-decomposition (cyclic Jacobi) of an n x n matrix, n <= 12: A = V diag(w) V^T,
  * V's columns are eigenvectors (row-major storage). A is not modified. */

@@ -33,12 +33,18 @@
 #ifdef PHYS_FLOAT
 #define PHYS_SQRT_ sqrtf
 #define PHYS_FABS_ fabsf
+#define PHYS_LOG_ logf
+#define PHYS_COS_ cosf
+#define PHYS_SIN_ sinf
 #define PHYS_MATH_TYPE_ float
 #define PHYS_EPS_ PHYS_K_(1.1920928955078125e-7) /* FLT_EPSILON */
 #define PHYS_SQRT_EPS_ PHYS_K_(3.4526698e-4)
 #else
 #define PHYS_SQRT_ sqrt
 #define PHYS_FABS_ fabs
+#define PHYS_LOG_ log
+#define PHYS_COS_ cos
+#define PHYS_SIN_ sin
 #define PHYS_MATH_TYPE_ double
 #define PHYS_EPS_ PHYS_K_(2.220446049250313e-16) /* DBL_EPSILON */
 #define PHYS_SQRT_EPS_ PHYS_K_(1.4901161193847656e-8)
@@ -69,6 +75,10 @@ PHYS_API PHYS_REAL PHYS_FN(tet_rest)(const PHYS_REAL X[12], PHYS_REAL Dm_inv[9])
 PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REAL *V);
 PHYS_API void PHYS_FN(project_psd)(int n, PHYS_REAL *A);
 PHYS_API PHYS_REAL PHYS_FN(det3)(const PHYS_REAL A[9]);
+PHYS_API PHYS_REAL PHYS_FN(barrier)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *d1, PHYS_REAL *d2);
+PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
+                              PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
+                              PHYS_REAL shift[3]);
 
 /* ------------------------------------------------------------------------------------------
  * Small 3x3 helpers (row-major).
@@ -650,10 +660,54 @@ PHYS_API void PHYS_FN(tet_hessian)(rk_material_model model, PHYS_REAL mu, PHYS_R
         }
 }
 
+/* ---- Ground contact and prescribed motion (shared by the full-order, reduced and runtime steps) ---- */
+
+/* The IPC log barrier (Li et al. 2020) b(d) = -(d - dhat)^2 log(d / dhat) for 0 < d < dhat, with
+ * b'(d) and b''(d) when asked (d1, d2 may be NULL). */
+PHYS_API PHYS_REAL PHYS_FN(barrier)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *d1, PHYS_REAL *d2)
+{
+    PHYS_REAL r = (d - dhat) / d, lg = PHYS_LOG_(d / dhat);
+    if (d1) *d1 = -PHYS_K_(2) * (d - dhat) * lg - (d - dhat) * (d - dhat) / d;
+    if (d2) *d2 = -PHYS_K_(2) * lg - PHYS_K_(4) * r + r * r; /* each term >= 0 for d < dhat */
+    return -(d - dhat) * (d - dhat) * lg;
+}
+
+/* Where a prescribed group's vertices are at time t: x = R X + shift. Fixed: R = I, shift = 0;
+ * translate: shift = velocity t; twist: rotation by rate t (rad) about the axis (any length)
+ * through center, by Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T, shift = c - R c. */
+PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
+                              PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
+                              PHYS_REAL shift[3])
+{
+    int i, j;
+    for (i = 0; i < 9; i++) R[i] = (PHYS_REAL)(i % 4 == 0);
+    for (i = 0; i < 3; i++) shift[i] = PHYS_K_(0);
+    if (kind == RK_MOTION_TRANSLATE) {
+        for (i = 0; i < 3; i++) shift[i] = velocity[i] * t;
+    } else if (kind == RK_MOTION_TWIST) {
+        PHYS_REAL len = PHYS_SQRT_(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+        PHYS_REAL k[3], cross[9], c, sn;
+        for (i = 0; i < 3; i++) k[i] = axis[i] / len;
+        c = PHYS_COS_(rate * t);
+        sn = PHYS_SIN_(rate * t);
+        cross[0] = 0; cross[1] = -k[2]; cross[2] = k[1];
+        cross[3] = k[2]; cross[4] = 0; cross[5] = -k[0];
+        cross[6] = -k[1]; cross[7] = k[0]; cross[8] = 0;
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++)
+                R[3 * i + j] = (PHYS_REAL)(i == j) * c + sn * cross[3 * i + j] + (PHYS_K_(1) - c) * k[i] * k[j];
+        for (i = 0; i < 3; i++)
+            shift[i] = center[i] - (R[3 * i] * center[0] + R[3 * i + 1] * center[1] + R[3 * i + 2] * center[2]);
+    }
+}
+
 #undef PHYS_JACOBI_MAX_N_
 #undef PHYS_K_
 #undef PHYS_SQRT_
 #undef PHYS_FABS_
+#undef PHYS_LOG_
+#undef PHYS_COS_
+#undef PHYS_SIN_
 #undef PHYS_MATH_TYPE_
 #undef PHYS_EPS_
 #undef PHYS_SQRT_EPS_

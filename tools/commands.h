@@ -7,6 +7,9 @@ int cmd_mesh(int argc, char **argv);
 int cmd_fom(int argc, char **argv);
 int cmd_basis(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_build(int argc, char **argv);
+int cmd_run(int argc, char **argv);
+int cmd_inspect(int argc, char **argv);
 
 /* Shared by the commands: is argv[i] "--help" or "-h". */
 int is_help(const char *arg);

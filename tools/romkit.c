@@ -11,10 +11,13 @@ typedef struct {
 } command;
 
 static const command commands[] = {
+    {"build", cmd_build, "bake the scene's reduced model into a .rombin asset for the runtime"},
     {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
+    {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
     {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
+    {"run", cmd_run, "step a .rombin asset with the runtime, as an application would"},
 };
 
 int is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }

@@ -23,8 +23,7 @@ static double lame_sum(const rk_material *m)
     return lambda + 4 * mu; /* Prop. 1 */
 }
 
-/* Full-order displacement frames (3n x steps) of the scene's own simulation. */
-static int training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err)
+int rk_scene_training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err)
 {
     rk_fom fom;
     if (rk_fom_init(&fom, &sim->fem, &sim->options, err)) return -1;
@@ -187,7 +186,7 @@ int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o
     if (need_frames) {
         double t = rk_now();
         if (frames) T = T_given;
-        else if (training_frames(&sim, &D, &T, err)) goto out;
+        else if (rk_scene_training_frames(&sim, &D, &T, err)) goto out;
         info->seconds_fom = frames ? 0 : rk_now() - t;
         info->fom_frames = T;
         if (rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto out;

@@ -22,7 +22,7 @@ int rk_basis_options_parse(const cJSON *rom, int index, const char *file, rk_bas
     }
     if (!cJSON_IsObject(e)) return rk_json_fail(&c, path, "must be an object");
     static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels",
-                                       "integration_points", "cubature", "koopman", "name", "reference", NULL};
+                                       "integration_points", "cubature", "koopman", "name", "reference", "asset", NULL};
     if (rk_json_check_keys(&c, e, path, keys)) return -1;
     const char *name;
     if (rk_json_string(&c, e, path, "basis", 1, &name)) return -1;

@@ -11,25 +11,17 @@ static double plane_distance(const rk_plane *p, const double *x)
            p->normal[2] * (x[2] - p->point[2]);
 }
 
-/* b(d) = -(d - dhat)^2 log(d / dhat) and its first two derivatives, for 0 < d < dhat. */
-double rk_barrier_scalar(double d, double dhat, double *d1, double *d2)
-{
-    double r = (d - dhat) / d;
-    if (d1) *d1 = -2 * (d - dhat) * log(d / dhat) - (d - dhat) * (d - dhat) / d;
-    if (d2) *d2 = -2 * log(d / dhat) - 4 * r + r * r; /* each term >= 0 for d < dhat */
-    return -(d - dhat) * (d - dhat) * log(d / dhat);
-}
-static double barrier(double d, double dhat) { return rk_barrier_scalar(d, dhat, NULL, NULL); }
+static double barrier(double d, double dhat) { return rk_barrier(d, dhat, NULL, NULL); }
 static double barrier_d1(double d, double dhat)
 {
     double d1;
-    rk_barrier_scalar(d, dhat, &d1, NULL);
+    rk_barrier(d, dhat, &d1, NULL);
     return d1;
 }
 static double barrier_d2(double d, double dhat)
 {
     double d2;
-    rk_barrier_scalar(d, dhat, NULL, &d2);
+    rk_barrier(d, dhat, NULL, &d2);
     return d2;
 }
 

@@ -94,9 +94,6 @@ typedef struct {
     double kappa;  /* stiffness (J/kg per vertex, multiplied by vertex mass) */
 } rk_obstacles;
 
-/* The scalar barrier b(d) for 0 < d < dhat, with b'(d) and b''(d) when asked (d1, d2 may be
- * NULL): shared by the full-order and the reduced models. */
-double rk_barrier_scalar(double d, double dhat, double *d1, double *d2);
 double rk_barrier_energy(const rk_fem *f, const rk_obstacles *o, const double *x);
 void rk_barrier_add_gradient(const rk_fem *f, const rk_obstacles *o, const double *x,
                              double scale, double *g);

@@ -5,22 +5,7 @@
 
 void rk_prescribed_transform(const rk_prescribed *p, double t, double R[9], double shift[3])
 {
-    for (int i = 0; i < 9; i++) R[i] = i % 4 == 0;
-    for (int i = 0; i < 3; i++) shift[i] = 0;
-    if (p->kind == RK_MOTION_TRANSLATE) {
-        for (int i = 0; i < 3; i++) shift[i] = p->velocity[i] * t;
-    } else if (p->kind == RK_MOTION_TWIST) {
-        /* Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T about the unit axis k through center c;
-         * x = R (X - c) + c = R X + (c - R c). */
-        double len = sqrt(p->axis[0] * p->axis[0] + p->axis[1] * p->axis[1] + p->axis[2] * p->axis[2]);
-        double k[3] = {p->axis[0] / len, p->axis[1] / len, p->axis[2] / len};
-        double c = cos(p->rate * t), sn = sin(p->rate * t);
-        double cross[9] = {0, -k[2], k[1], k[2], 0, -k[0], -k[1], k[0], 0};
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) R[3 * i + j] = (i == j) * c + sn * cross[3 * i + j] + (1 - c) * k[i] * k[j];
-        for (int i = 0; i < 3; i++)
-            shift[i] = p->center[i] - (R[3 * i] * p->center[0] + R[3 * i + 1] * p->center[1] + R[3 * i + 2] * p->center[2]);
-    }
+    rk_motion(p->kind, p->axis, p->center, p->rate, p->velocity, t, R, shift);
 }
 
 void rk_fom_prescribe(const rk_fom *s, double t, double *x)

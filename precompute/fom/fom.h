@@ -24,8 +24,6 @@
 
 typedef enum { RK_BACKWARD_EULER = 0, RK_BDF2 = 1 } rk_integrator;
 
-typedef enum { RK_MOTION_FIXED = 0, RK_MOTION_TWIST = 1, RK_MOTION_TRANSLATE = 2 } rk_motion_kind;
-
 /* A group of prescribed vertices. */
 typedef struct {
     rk_motion_kind kind;

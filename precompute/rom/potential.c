@@ -53,7 +53,7 @@ static double barrier(const rk_rom_model *m, const double *q, double *g, double 
         if (!(d > 0)) return INFINITY;
         if (d >= m->dhat) continue;
         double d1, d2, w = m->kappa * m->contact_mass[c];
-        E += w * rk_barrier_scalar(d, m->dhat, &d1, &d2);
+        E += w * rk_barrier(d, m->dhat, &d1, &d2);
         const double *a = m->contact_a + (size_t)m->r * c;
         if (g) cblas_daxpy(m->r, w * d1, a, 1, g, 1);
         if (H) cblas_dsyr(CblasColMajor, CblasUpper, m->r, w * d2, a, 1, H, m->r);

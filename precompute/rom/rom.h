@@ -51,8 +51,11 @@ typedef struct {
     int npins;
     rk_rom_pin *pins;
     int pinned_vertices;       /* prescribed vertices held by the penalty (0: the basis holds them all) */
-    /* Planes: one row per (contact vertex, plane): distance d0 at q = 0 and its gradient a. */
+    /* Planes: one row per (boundary vertex, plane): distance d0 at q = 0 and its gradient a. Only
+     * boundary vertices: the lowest point of a non-inverted mesh is on its surface, and the
+     * runtime asset stores only surface rows. */
     int ncontacts;
+    int *contact_vertex, *contact_plane;
     double *contact_d0, *contact_mass, *contact_a; /* a: r x ncontacts, column-major */
     double dhat, kappa;
     double mass;               /* total mass (kg) */

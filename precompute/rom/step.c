@@ -32,7 +32,7 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
         if (!(d > 0)) {
             rk_rom_free(s);
             return rk_fail(err, "reduced start: vertex %d starts on or behind plane %d (distance %g m)",
-                           c % m->nv, c / m->nv, d);
+                           m->contact_vertex[c], m->contact_plane[c], d);
         }
     }
     return 0;

@@ -55,7 +55,7 @@ static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
     return 0;
 }
 
-static int in_box(const rk_box *b, const double *p, double slack)
+int rk_box_contains(const rk_box *b, const double *p, double slack)
 {
     for (int i = 0; i < 3; i++)
         if (p[i] < b->min[i] - slack || p[i] > b->max[i] + slack) return 0;
@@ -66,7 +66,7 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])
 {
     rk_material m = o->material;
     for (int r = 0; r < o->nregions; r++)
-        if (in_box(&o->regions[r].box, p, 0)) m = o->regions[r].material;
+        if (rk_box_contains(&o->regions[r].box, p, 0)) m = o->regions[r].material;
     return m;
 }
 
@@ -114,7 +114,7 @@ static int build_prescribed(const rk_scene *s, rk_scene_sim *out, double slack, 
             opt->nprescribed++;
             double centroid[3] = {0, 0, 0};
             for (int v = v0; v < v1; v++) {
-                if (claimed[v] || !in_box(&mo->box, &out->mesh.X[3 * v], slack)) continue;
+                if (claimed[v] || !rk_box_contains(&mo->box, &out->mesh.X[3 * v], slack)) continue;
                 claimed[v] = 1;
                 p->verts[p->count++] = v;
                 for (int i = 0; i < 3; i++) centroid[i] += out->mesh.X[3 * v + i];
@@ -151,11 +151,11 @@ static int build_loads_and_velocities(const rk_scene *s, rk_scene_sim *out, doub
         for (int j = 0; j < o->nloads; j++) {
             double mass = 0;
             for (int v = v0; v < v1; v++)
-                if (in_box(&o->loads[j].box, &out->mesh.X[3 * v], slack)) mass += out->fem.vertex_mass[v];
+                if (rk_box_contains(&o->loads[j].box, &out->mesh.X[3 * v], slack)) mass += out->fem.vertex_mass[v];
             if (!(mass > 0))
                 return rk_fail(err, "%s: objects[%d].loads[%d].box selects no vertex of the object", s->path, k, j);
             for (int v = v0; v < v1; v++)
-                if (in_box(&o->loads[j].box, &out->mesh.X[3 * v], slack))
+                if (rk_box_contains(&o->loads[j].box, &out->mesh.X[3 * v], slack))
                     for (int i = 0; i < 3; i++)
                         opt->force[3 * v + i] += o->loads[j].force[i] * out->fem.vertex_mass[v] / mass;
         }

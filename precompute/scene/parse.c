@@ -54,7 +54,7 @@ static int parse_material(const rk_json_ctx *c, const cJSON *obj, const char *pa
 }
 
 /* "box": [[xmin, ymin, zmin], [xmax, ymax, zmax]] */
-static int parse_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b)
+int rk_json_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b)
 {
     char p[PATH_LEN];
     const cJSON *v = rk_json_child(obj, path, "box", p, sizeof p);
@@ -148,7 +148,7 @@ static int parse_region(const rk_json_ctx *c, const cJSON *it, const char *path,
     static const char *const keys[] = {"box", "material", NULL};
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     rk_scene_region *r = &o->regions[i];
-    if (parse_box(c, it, path, &r->box)) return -1;
+    if (rk_json_box(c, it, path, &r->box)) return -1;
     char p[PATH_LEN];
     const cJSON *m = rk_json_child(it, path, "material", p, sizeof p);
     if (!m) return rk_json_fail(c, p, "missing");
@@ -163,7 +163,7 @@ static int parse_fixed(const rk_json_ctx *c, const cJSON *it, const char *path, 
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     rk_scene_motion *mo = &o->motions[o->nmotions++];
     mo->kind = RK_MOTION_FIXED;
-    return parse_box(c, it, path, &mo->box);
+    return rk_json_box(c, it, path, &mo->box);
 }
 
 static int parse_moving(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
@@ -172,7 +172,7 @@ static int parse_moving(const rk_json_ctx *c, const cJSON *it, const char *path,
     static const char *const keys[] = {"box", "twist", "translate", NULL};
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     rk_scene_motion *mo = &o->motions[o->nmotions++];
-    if (parse_box(c, it, path, &mo->box)) return -1;
+    if (rk_json_box(c, it, path, &mo->box)) return -1;
     char tp[PATH_LEN], sp[PATH_LEN];
     const cJSON *twist = rk_json_child(it, path, "twist", tp, sizeof tp);
     const cJSON *shift = rk_json_child(it, path, "translate", sp, sizeof sp);
@@ -205,7 +205,7 @@ static int parse_load(const rk_json_ctx *c, const cJSON *it, const char *path, i
     rk_scene_object *o = user;
     static const char *const keys[] = {"box", "force", NULL};
     if (rk_json_check_keys(c, it, path, keys)) return -1;
-    if (parse_box(c, it, path, &o->loads[i].box)) return -1;
+    if (rk_json_box(c, it, path, &o->loads[i].box)) return -1;
     return rk_json_vector(c, it, path, "force", 1, 3, o->loads[i].force);
 }
 

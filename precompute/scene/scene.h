@@ -10,11 +10,18 @@
 #include "fem/fem.h"
 #include "fom/fom.h"
 #include "mesh/mesh.h"
+#include "scene/json_get.h"
 #include "util/error.h"
 
 typedef struct {
     double min[3], max[3];
 } rk_box;
+
+/* "box": [[xmin, ymin, zmin], [xmax, ymax, zmax]] under obj (required), for the stages that read
+ * their own part of the scene. */
+int rk_json_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b);
+/* Whether p lies in b grown by slack on every side. */
+int rk_box_contains(const rk_box *b, const double *p, double slack);
 
 typedef struct {
     rk_box box;

@@ -1,0 +1,116 @@
+/* formats/rombin.h: the on-disk constants and records of the .rombin container (ROMBIN.md is
+ * the normative text; every number here is stated there). Pure C99, no dependencies: the
+ * runtime, the validating reader and the toolchain's writer all include it. */
+#ifndef ROMBIN_H
+#define ROMBIN_H
+
+#include <stdint.h>
+
+/* 8 bytes: a non-ASCII byte (7-bit transfers), "ROM", CR LF (CRLF <-> LF conversion), ^Z
+ * (stops a DOS "type"), LF (LF -> CRLF conversion). */
+#define ROMBIN_SIGNATURE "\x89ROM\r\n\x1a\n"
+#define ROMBIN_SIGNATURE_BYTES 8
+
+#define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
+#define ROMBIN_VERSION_MINOR 0   /* a reader accepts any minor of its major (minors only add) */
+
+#define ROMBIN_ENDIAN_SENTINEL 0x01020304u
+#define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
+#define ROMBIN_F64_SENTINEL (0.1)                 /* bits 0x3FB999999999999A */
+
+#define ROMBIN_HEADER_BYTES 64
+#define ROMBIN_ENTRY_BYTES 40
+#define ROMBIN_ALIGN 16          /* every payload offset is a multiple of this */
+#define ROMBIN_MAX_CHUNKS 64
+
+/* Header field offsets (bytes from the file start, little-endian). */
+enum {
+    ROMBIN_H_SIGNATURE = 0,      /* 8 bytes */
+    ROMBIN_H_MAJOR = 8,          /* u16 */
+    ROMBIN_H_MINOR = 10,         /* u16 */
+    ROMBIN_H_ENDIAN = 12,        /* u32 ROMBIN_ENDIAN_SENTINEL */
+    ROMBIN_H_F32 = 16,           /* f32 ROMBIN_F32_SENTINEL */
+    ROMBIN_H_REAL = 20,          /* u32 ROMBIN_REAL_* of every real chunk */
+    ROMBIN_H_F64 = 24,           /* f64 ROMBIN_F64_SENTINEL */
+    ROMBIN_H_FILE_BYTES = 32,    /* u64 the whole file */
+    ROMBIN_H_CHUNKS = 40,        /* u32 entries in the table */
+    ROMBIN_H_FLAGS = 44,         /* u32 reserved, 0 */
+    ROMBIN_H_TABLE_CRC = 48,     /* u32 CRC-32 of bytes [0, 48) and of the whole table */
+    ROMBIN_H_RESERVED = 52       /* 12 bytes, 0 */
+};
+
+/* Chunk table entry field offsets (bytes from the entry start). */
+enum {
+    ROMBIN_E_ID = 0,             /* 4 bytes, printable ASCII */
+    ROMBIN_E_FLAGS = 4,          /* u32 */
+    ROMBIN_E_OFFSET = 8,         /* u64 from the file start, multiple of ROMBIN_ALIGN */
+    ROMBIN_E_STORED = 16,        /* u64 bytes in the file */
+    ROMBIN_E_RAW = 24,           /* u64 bytes once decoded (== stored when not compressed) */
+    ROMBIN_E_CRC = 32,           /* u32 CRC-32 of the stored bytes */
+    ROMBIN_E_RESERVED = 36       /* u32, 0 */
+};
+
+/* Real arrays: one type per file. */
+enum { ROMBIN_REAL_F32 = 1, ROMBIN_REAL_F64 = 2 };
+
+/* Entry flags. */
+#define ROMBIN_FLAG_CRITICAL 0x1u              /* a reader that does not know the id rejects the file */
+#define ROMBIN_TYPE_SHIFT 8                    /* bits 8..11: element type */
+#define ROMBIN_TYPE_MASK (0xFu << ROMBIN_TYPE_SHIFT)
+#define ROMBIN_COMP_SHIFT 16                   /* bits 16..19: compression */
+#define ROMBIN_COMP_MASK (0xFu << ROMBIN_COMP_SHIFT)
+#define ROMBIN_FLAGS_KNOWN (ROMBIN_FLAG_CRITICAL | ROMBIN_TYPE_MASK | ROMBIN_COMP_MASK)
+enum { ROMBIN_TYPE_BYTES = 0, ROMBIN_TYPE_U32 = 1, ROMBIN_TYPE_REAL = 2 };
+enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
+
+/* The reduced-model chunks of version 1 (ROMBIN.md, "Model chunks"). */
+#define ROMBIN_HEAD "HEAD"   /* u32 x ROMBIN_HEAD_COUNT, critical */
+#define ROMBIN_PARM "PARM"   /* real x ROMBIN_PARM_COUNT, critical */
+#define ROMBIN_VERT "VERT"   /* real, vertices x 3: rest positions of the stored vertices */
+#define ROMBIN_ROWS "ROWS"   /* real, vertices x 3 x r: their basis rows */
+#define ROMBIN_MASS "MASS"   /* real, r x r: U^T M U */
+#define ROMBIN_DAMP "DAMP"   /* real, r x r: U^T (a M + b K0) U (present iff damped) */
+#define ROMBIN_LOAD "LOAD"   /* real, r: U^T f_ext */
+#define ROMBIN_PENA "PENA"   /* real, r x r: the pin penalty's quadratic term (present iff pins) */
+#define ROMBIN_PINS "PINS"   /* real, pins x (12 + 12 r): motion, then T (r x 12) */
+#define ROMBIN_ELEM "ELEM"   /* u32, elements x 5: 4 vertices, material model */
+#define ROMBIN_ELMR "ELMR"   /* real, elements x 12: Dm^-1 (9), weight (m^3), mu, lambda */
+#define ROMBIN_PLAN "PLAN"   /* real, planes x 6: point, unit normal */
+#define ROMBIN_CONT "CONT"   /* u32, contacts x 2: vertex, plane */
+#define ROMBIN_CMAS "CMAS"   /* real, contacts: the contact vertex's lumped mass */
+#define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
+#define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
+#define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */
+#define ROMBIN_SURF "SURF"   /* u32, triangles x 3 over the shown vertices (optional) */
+#define ROMBIN_VMAP "VMAP"   /* u32, vertices: the source mesh's vertex number (optional) */
+#define ROMBIN_INFO "INFO"   /* bytes: JSON text about the build (optional) */
+
+enum {
+    ROMBIN_HEAD_R = 0,           /* reduced coordinates */
+    ROMBIN_HEAD_VERTICES,        /* stored vertices (rows) */
+    ROMBIN_HEAD_SHOWN,           /* the first `shown` stored vertices are the ones an app draws */
+    ROMBIN_HEAD_ELEMENTS,        /* quadrature elements */
+    ROMBIN_HEAD_PINS,            /* prescribed groups held by the penalty */
+    ROMBIN_HEAD_PLANES,
+    ROMBIN_HEAD_CONTACTS,        /* (vertex, plane) barrier pairs */
+    ROMBIN_HEAD_GROUPS,          /* named vertex groups an app may push */
+    ROMBIN_HEAD_INTEGRATOR,      /* 0 backward Euler, 1 BDF2 */
+    ROMBIN_HEAD_NEWTON_MAX_ITER,
+    ROMBIN_HEAD_SOURCE_VERTICES, /* of the full mesh (information) */
+    ROMBIN_HEAD_SOURCE_TETS,
+    ROMBIN_HEAD_COUNT = 16       /* the rest reserved, 0 */
+};
+
+enum {
+    ROMBIN_PARM_H = 0,           /* time step (s) */
+    ROMBIN_PARM_NEWTON_TOL,      /* on sqrt(dq^T M_r dq / mass) (m) */
+    ROMBIN_PARM_MASS,            /* total mass (kg) */
+    ROMBIN_PARM_DHAT,            /* barrier range (m) */
+    ROMBIN_PARM_KAPPA,           /* barrier stiffness per kg */
+    ROMBIN_PARM_COUNT = 8        /* the rest reserved, 0 */
+};
+
+#define ROMBIN_PIN_PARAMS 12     /* kind, axis (3), center (3), rate, velocity (3), 0 */
+#define ROMBIN_GROUP_NAME_BYTES 32
+
+#endif

@@ -1,0 +1,46 @@
+/* precompute/asset: a reduced model baked into a .rombin asset (formats/ROMBIN.md), holding only
+ * what the runtime needs for the scene:
+ *   - the reduced operators (M_r, C_r, f_r, the pin penalty) and step parameters;
+ *   - the cubature elements, with the basis rows of exactly the vertices they touch;
+ *   - the basis rows of the shown vertices (the boundary surface by default, not the interior),
+ *     of the contact vertices and of the vertices of the named groups an app may push;
+ *   - the surface triangles over the shown vertices, and where each stored vertex came from.
+ * Stored vertices are ordered: shown ones first (ascending source number), then the rest. */
+#ifndef RK_ASSET_H
+#define RK_ASSET_H
+
+#include "formats/rombin_write.h"
+#include "rom/scene_rom.h"
+
+typedef enum { RK_SHOW_SURFACE = 0, RK_SHOW_ALL = 1, RK_SHOW_NONE = 2 } rk_show;
+
+typedef struct {
+    char name[ROMBIN_GROUP_NAME_BYTES];
+    rk_box box;
+} rk_asset_group;
+
+#define RK_ASSET_MAX_GROUPS 64
+
+typedef struct {
+    int real_type;            /* ROMBIN_REAL_F32 (default) or ROMBIN_REAL_F64 */
+    int compress;             /* deflate the chunks (default 0: the runtime opens stored chunks only) */
+    rk_show show;
+    int ngroups;
+    rk_asset_group groups[RK_ASSET_MAX_GROUPS];
+} rk_asset_options;
+
+void rk_asset_default_options(rk_asset_options *o);
+/* rom[index].asset: {"precision": "float32" | "float64", "compress": bool, "show": "surface" |
+ * "all" | "none", "groups": [{"name": "tip", "box": [[..], [..]]}, ...]}; absent keys keep *o. */
+int rk_asset_options_parse(const cJSON *rom, int index, const char *file, rk_asset_options *o, rk_error *err);
+
+typedef struct {
+    int vertices, shown, elements, contacts, groups, triangles;
+} rk_asset_summary;
+
+/* Adds every chunk of the reduced model R of the built scene sim to w (its real type and
+ * compression are the writer's). info: JSON text for the INFO chunk (may be NULL). */
+int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_options *o, const char *info,
+                  rombin_writer *w, rk_asset_summary *summary, rk_error *err);
+
+#endif

@@ -1,0 +1,190 @@
+/* The model's accessors: sizes, positions, triangles, groups and forces, state, status texts. */
+#include <math.h>
+#include <string.h>
+
+#include "runtime/romrt_impl.h"
+
+const char *romrt_status_string(romrt_status status)
+{
+#ifdef ROMRT_NO_STRINGS
+    (void)status;
+    return "";
+#else
+    static const char *const names[ROMRT_STATUS_COUNT] = {
+        "ok", "bad argument", "damaged asset", "unsupported format version", "wrong platform",
+        "unsupported asset feature", "inconsistent model", "above the runtime's limits", "arena too small or misaligned",
+        "step diverged"};
+    return (int)status >= 0 && status < ROMRT_STATUS_COUNT ? names[status] : "unknown status";
+#endif
+}
+
+static romrt_status with_message(romrt_error *err, romrt_status status, const char *chunk, int numbers,
+                                 const char *t1, uint64_t n, const char *t2, uint64_t n2, const char *t3)
+{
+    rombin_error e;
+    if (!err) return status;
+#ifdef ROMRT_NO_STRINGS
+    t1 = t2 = t3 = "";
+#endif
+    if (numbers == 0) rombin_fail(&e, (int)status, chunk, t1);
+    else if (numbers == 1) rombin_fail_n(&e, (int)status, chunk, t1, n, t2);
+    else rombin_fail_nn(&e, (int)status, chunk, t1, n, t2, n2, t3);
+    err->status = status;
+    memcpy(err->chunk, e.chunk, sizeof err->chunk);
+    memcpy(err->message, e.message, ROMRT_MESSAGE_BYTES);
+    err->message[ROMRT_MESSAGE_BYTES - 1] = 0;
+    return status;
+}
+
+romrt_status rt_fail(romrt_error *err, romrt_status status, const char *chunk, const char *text)
+{
+    return with_message(err, status, chunk, 0, text, 0, 0, 0, 0);
+}
+
+romrt_status rt_fail_n(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
+                       const char *text2)
+{
+    return with_message(err, status, chunk, 1, text1, n, text2, 0, 0);
+}
+
+romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
+                        const char *text2, uint64_t n2, const char *text3)
+{
+    return with_message(err, status, chunk, 2, text1, n, text2, n2, text3);
+}
+
+void romrt_reset(romrt_model *m)
+{
+    if (!m) return;
+    memset(m->q, 0, sizeof m->q);
+    memset(m->v, 0, sizeof m->v);
+    memset(m->q_prev, 0, sizeof m->q_prev);
+    memset(m->v_prev, 0, sizeof m->v_prev);
+    memset(m->f_app, 0, sizeof m->f_app);
+    memset(&m->last, 0, sizeof m->last);
+    m->t = 0;
+    m->have_prev = 0;
+}
+
+int romrt_reduced_size(const romrt_model *m) { return m ? m->r : 0; }
+int romrt_shown_count(const romrt_model *m) { return m ? m->shown : 0; }
+int romrt_triangle_count(const romrt_model *m) { return m ? m->ntris : 0; }
+int romrt_group_count(const romrt_model *m) { return m ? m->ngroups : 0; }
+romrt_real romrt_time(const romrt_model *m) { return m ? m->t : 0; }
+romrt_real romrt_time_step(const romrt_model *m) { return m ? m->h : 0; }
+
+romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count)
+{
+    int i, a;
+    if (!m || !xyz || count < 0 || count > m->shown) return ROMRT_E_ARGUMENT;
+    for (i = 0; i < count; i++)
+        for (a = 0; a < 3; a++)
+            xyz[3 * i + a] = m->X[3 * i + a] + rt_dot(m->r, m->rows + ((size_t)3 * i + (size_t)a) * (size_t)m->r, m->q);
+    return ROMRT_OK;
+}
+
+romrt_status romrt_triangles(const romrt_model *m, int *tri, int count)
+{
+    int i;
+    if (!m || !tri || count < 0 || count > m->ntris) return ROMRT_E_ARGUMENT;
+    for (i = 0; i < 3 * count; i++) tri[i] = (int)m->tris[i];
+    return ROMRT_OK;
+}
+
+int romrt_find_group(const romrt_model *m, const char *name)
+{
+    int g;
+    if (!m || !name) return -1;
+    for (g = 0; g < m->ngroups; g++)
+        if (strncmp(m->names + ROMBIN_GROUP_NAME_BYTES * g, name, ROMBIN_GROUP_NAME_BYTES) == 0) return g;
+    return -1;
+}
+
+const char *romrt_group_name(const romrt_model *m, int group)
+{
+    return m && group >= 0 && group < m->ngroups ? m->names + ROMBIN_GROUP_NAME_BYTES * group : 0;
+}
+
+/* f_app += B_v^T f for stored vertex v. */
+static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
+{
+    int a, j;
+    for (a = 0; a < 3; a++) {
+        const romrt_real *row = m->rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
+        for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
+    }
+}
+
+static int finite3(const romrt_real f[3]) { return isfinite(f[0]) && isfinite(f[1]) && isfinite(f[2]); }
+
+romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3])
+{
+    uint32_t k, first, count;
+    romrt_real share[3];
+    if (!m || !f || group < 0 || group >= m->ngroups || !finite3(f)) return ROMRT_E_ARGUMENT;
+    first = m->groups[2 * group];
+    count = m->groups[2 * group + 1];
+    for (k = 0; k < 3; k++) share[k] = f[k] / (romrt_real)count;
+    for (k = 0; k < count; k++) push(m, m->gverts[first + k], share);
+    return ROMRT_OK;
+}
+
+romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romrt_real f[3])
+{
+    if (!m || !f || shown_vertex < 0 || shown_vertex >= m->shown || !finite3(f)) return ROMRT_E_ARGUMENT;
+    push(m, (uint32_t)shown_vertex, f);
+    return ROMRT_OK;
+}
+
+void romrt_clear_forces(romrt_model *m)
+{
+    if (m) memset(m->f_app, 0, sizeof m->f_app);
+}
+
+/* State layout: t, have_prev, q, v, q_prev, v_prev, f_app (2 + 5 r reals). */
+int romrt_state_size(const romrt_model *m) { return m ? 2 + 5 * m->r : 0; }
+
+romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
+{
+    int r;
+    if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
+    r = m->r;
+    state[0] = m->t;
+    state[1] = (romrt_real)m->have_prev;
+    memcpy(state + 2, m->q, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + 2 + r, m->v, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + 2 + 2 * r, m->q_prev, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + 2 + 3 * r, m->v_prev, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + 2 + 4 * r, m->f_app, sizeof(romrt_real) * (size_t)r);
+    return ROMRT_OK;
+}
+
+romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
+{
+    int i, r;
+    if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
+    for (i = 0; i < count; i++)
+        if (!isfinite(state[i])) return ROMRT_E_ARGUMENT;
+    if (!(state[1] == 0 || state[1] == 1)) return ROMRT_E_ARGUMENT;
+    r = m->r;
+    m->t = state[0];
+    m->have_prev = state[1] == 1;
+    memcpy(m->q, state + 2, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->v, state + 2 + r, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->q_prev, state + 2 + 2 * r, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->v_prev, state + 2 + 3 * r, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->f_app, state + 2 + 4 * r, sizeof(romrt_real) * (size_t)r);
+    return ROMRT_OK;
+}
+
+romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int count)
+{
+    if (!m || !q || count != m->r) return ROMRT_E_ARGUMENT;
+    memcpy(q, m->q, sizeof(romrt_real) * (size_t)count);
+    return ROMRT_OK;
+}
+
+void romrt_last_step(const romrt_model *m, romrt_step_info *info)
+{
+    if (m && info) *info = m->last;
+}

@@ -1,0 +1,217 @@
+/* The reduced incremental potential the runtime minimises each step, term by term as the
+ * precompute's reduced simulator (precompute/rom/potential.c), with the elastic energy over the
+ * asset's cubature elements computed from their vertices' basis rows:
+ *
+ *   F_e = I + G_e q,  G_e row (3a + b) = sum_c Dm^-1_cb (B_{v_c+1, a} - B_{v_0, a})   (cubature.h)
+ *   E = sum_e w_e Psi(F_e),  g = sum_e w_e G_e^T P_e,  H = sum_e w_e G_e^T dP/dF_e G_e. */
+#include <math.h>
+
+#include "runtime/romrt_impl.h"
+
+static const romrt_real *row_of(const romrt_model *m, uint32_t v, int a)
+{
+    return m->rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
+}
+
+/* F of element e at q. */
+static void element_F(const romrt_model *m, int e, const romrt_real *q, romrt_real F[9])
+{
+    const uint32_t *ev = m->elem + 5 * (size_t)e;
+    const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
+    romrt_real u[12];
+    int k, a, b, c;
+    for (k = 0; k < 4; k++)
+        for (a = 0; a < 3; a++) u[3 * k + a] = rt_dot(m->r, row_of(m, ev[k], a), q);
+    for (a = 0; a < 3; a++)
+        for (b = 0; b < 3; b++) {
+            romrt_real s = (romrt_real)(a == b);
+            for (c = 0; c < 3; c++) s += (u[3 * (c + 1) + a] - u[a]) * Dm[3 * c + b];
+            F[3 * a + b] = s;
+        }
+}
+
+/* m->G = G_e (9 x r, row-major). */
+static void element_G(romrt_model *m, int e)
+{
+    const uint32_t *ev = m->elem + 5 * (size_t)e;
+    const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
+    int r = m->r, a, b, c, j;
+    for (a = 0; a < 3; a++) {
+        const romrt_real *r0 = row_of(m, ev[0], a);
+        for (b = 0; b < 3; b++) {
+            romrt_real *Gab = m->G + (size_t)r * (3 * a + b);
+            for (j = 0; j < r; j++) Gab[j] = 0;
+            for (c = 0; c < 3; c++) {
+                const romrt_real *rc = row_of(m, ev[c + 1], a);
+                romrt_real w = Dm[3 * c + b];
+                for (j = 0; j < r; j++) Gab[j] += w * (rc[j] - r0[j]);
+            }
+        }
+    }
+}
+
+static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H)
+{
+    int r = m->r, e, i, j, k, l;
+    romrt_real E = 0;
+    for (e = 0; e < m->ne; e++) {
+        const romrt_real *er = m->elem_real + 12 * (size_t)e;
+        rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
+        romrt_real F[9], P[9], A[81], w = er[9], psi;
+        element_F(m, e, q, F);
+        psi = RT_PHYS(psi)(model, er[10], er[11], F);
+        if (!isfinite(psi)) return (romrt_real)INFINITY;
+        E += w * psi;
+        if (!g && !H) continue;
+        element_G(m, e);
+        if (g) {
+            RT_PHYS(pk1)(model, er[10], er[11], F, P);
+            for (k = 0; k < 9; k++) {
+                const romrt_real *Gk = m->G + (size_t)r * k;
+                romrt_real wp = w * P[k];
+                for (j = 0; j < r; j++) g[j] += wp * Gk[j];
+            }
+        }
+        if (H) {
+            RT_PHYS(dpdf)(model, er[10], er[11], F, A, 1);
+            for (k = 0; k < 9; k++) { /* AG = w dP/dF G */
+                romrt_real *AGk = m->AG + (size_t)r * k;
+                for (j = 0; j < r; j++) AGk[j] = 0;
+                for (l = 0; l < 9; l++) {
+                    const romrt_real *Gl = m->G + (size_t)r * l;
+                    romrt_real a = w * A[9 * k + l];
+                    if (a != 0)
+                        for (j = 0; j < r; j++) AGk[j] += a * Gl[j];
+                }
+            }
+            for (j = 0; j < r; j++) /* upper triangle of G^T AG */
+                for (i = 0; i <= j; i++) {
+                    romrt_real s = 0;
+                    for (k = 0; k < 9; k++) s += m->G[(size_t)r * k + i] * m->AG[(size_t)r * k + j];
+                    H[i + (size_t)r * j] += s;
+                }
+        }
+    }
+    return E;
+}
+
+/* a = the gradient of contact c's distance (n . B_v), into out (r). */
+static void contact_gradient(const romrt_model *m, int c, romrt_real *out)
+{
+    uint32_t v = m->contacts[2 * (size_t)c];
+    const romrt_real *n = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1] + 3;
+    int j, a;
+    for (j = 0; j < m->r; j++) out[j] = 0;
+    for (a = 0; a < 3; a++) {
+        const romrt_real *row = row_of(m, v, a);
+        for (j = 0; j < m->r; j++) out[j] += n[a] * row[j];
+    }
+}
+
+romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q)
+{
+    uint32_t v = m->contacts[2 * (size_t)c];
+    const romrt_real *p = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1], *X = m->X + 3 * (size_t)v;
+    romrt_real d = 0;
+    int a;
+    for (a = 0; a < 3; a++) d += p[3 + a] * (X[a] - p[a] + rt_dot(m->r, row_of(m, v, a), q));
+    return d;
+}
+
+romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq)
+{
+    romrt_real alpha = 1;
+    int c, a;
+    for (c = 0; c < m->ncontacts; c++) {
+        uint32_t v = m->contacts[2 * (size_t)c];
+        const romrt_real *n = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1] + 3;
+        romrt_real dd = 0, d = rt_contact_distance(m, c, q);
+        for (a = 0; a < 3; a++) dd += n[a] * rt_dot(m->r, row_of(m, v, a), dq);
+        if (dd < 0 && RT_K(0.9) * d / -dd < alpha) alpha = RT_K(0.9) * d / -dd; /* keep 10% of the distance */
+    }
+    return alpha;
+}
+
+static romrt_real barrier(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H)
+{
+    romrt_real E = 0, *a = m->AG; /* free between elements and here */
+    int c, i, j, r = m->r;
+    for (c = 0; c < m->ncontacts; c++) {
+        romrt_real d = rt_contact_distance(m, c, q), d1, d2, w;
+        if (!(d > 0)) return (romrt_real)INFINITY;
+        if (d >= m->dhat) continue;
+        w = m->kappa * m->cmass[c];
+        E += w * RT_PHYS(barrier)(d, m->dhat, &d1, &d2);
+        if (!g && !H) continue;
+        contact_gradient(m, c, a);
+        if (g)
+            for (j = 0; j < r; j++) g[j] += w * d1 * a[j];
+        if (H)
+            for (j = 0; j < r; j++)
+                for (i = 0; i <= j; i++) H[i + (size_t)r * j] += w * d2 * a[i] * a[j];
+    }
+    return E;
+}
+
+void rt_pin_target(romrt_model *m, romrt_real t)
+{
+    int r = m->r, g, j, k;
+    size_t per = ROMBIN_PIN_PARAMS + 12 * (size_t)r;
+    for (j = 0; j < r; j++) m->pin_b[j] = 0;
+    for (g = 0; g < m->npins; g++) {
+        const romrt_real *p = m->pins + per * (size_t)g, *T = p + ROMBIN_PIN_PARAMS;
+        romrt_real R[9], shift[3], e[12];
+        RT_PHYS(motion)((rk_motion_kind)(int)p[0], p + 1, p + 4, p[7], p + 8, t, R, shift);
+        for (k = 0; k < 9; k++) e[k] = R[k] - (romrt_real)(k % 4 == 0);
+        for (k = 0; k < 3; k++) e[9 + k] = shift[k];
+        for (k = 0; k < 12; k++)
+            for (j = 0; j < r; j++) m->pin_b[j] += T[(size_t)r * k + j] * e[k];
+    }
+}
+
+/* w/2 (q - ref)^T S (q - ref), adding w S (q - ref) into g (ref NULL: 0). Uses m->tmp, m->trial
+ * is not touched (it may be q). */
+static romrt_real quadratic(romrt_model *m, const romrt_real *S, romrt_real w, const romrt_real *q,
+                            const romrt_real *ref, romrt_real *g, romrt_real *Sd)
+{
+    int r = m->r, i;
+    for (i = 0; i < r; i++) m->tmp[i] = q[i] - (ref ? ref[i] : 0);
+    rt_symv(r, S, m->tmp, Sd);
+    if (g)
+        for (i = 0; i < r; i++) g[i] += w * Sd[i];
+    return RT_K(0.5) * w * rt_dot(r, m->tmp, Sd);
+}
+
+romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H,
+                        romrt_real *magnitude)
+{
+    int r = m->r, i, j;
+    romrt_real stored, work, quad = 0, E, Sd[ROMRT_MAX_R];
+    if (g)
+        for (i = 0; i < r; i++) g[i] = 0;
+    if (H)
+        for (i = 0; i < r * r; i++) H[i] = 0;
+    stored = elastic(m, q, g, H);
+    if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, g, H);
+    if (!isfinite(stored)) return (romrt_real)INFINITY;
+    /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . q. */
+    work = 0;
+    for (i = 0; i < r; i++) work += (m->f[i] + m->f_app[i] + m->pin_b[i]) * q[i];
+    if (m->A) quad += quadratic(m, m->A, 1, q, 0, g, Sd);
+    quad += quadratic(m, m->M, T->w_inertia, q, m->qtilde, g, Sd);
+    if (m->C) quad += quadratic(m, m->C, T->w_damping, q, m->qt, g, Sd);
+    if (g)
+        for (i = 0; i < r; i++) g[i] -= m->f[i] + m->f_app[i] + m->pin_b[i];
+    if (H)
+        for (j = 0; j < r; j++)
+            for (i = 0; i <= j; i++) {
+                size_t k = i + (size_t)r * j;
+                romrt_real a = T->w_inertia * m->M[k];
+                if (m->A) a += m->A[k];
+                if (m->C) a += T->w_damping * m->C[k];
+                H[k] += a;
+            }
+    E = stored - work + quad;
+    if (magnitude) *magnitude = RT_FABS(stored) + RT_FABS(work) + quad;
+    return isfinite(E) ? E : (romrt_real)INFINITY;
+}

@@ -1,0 +1,130 @@
+/* romrt.h: the romkit runtime, the one header an application includes.
+ *
+ * Steps a reduced-order model baked by `romkit build` into a .rombin asset. Pure C99 (also
+ * compiles as C++), no dependency beyond libm, no malloc, no global state:
+ *
+ *   size_t bytes;
+ *   romrt_error err;
+ *   romrt_arena_size(asset, asset_bytes, &bytes, &err);      // ask
+ *   romrt_model *m;
+ *   romrt_open(asset, asset_bytes, arena, bytes, &m, &err);  // open in place, validated once
+ *   for (;;) {
+ *       romrt_step(m, &err);                                 // reduced implicit Newton
+ *       romrt_positions(m, xyz, romrt_shown_count(m));       // the shown vertices, xyz[3 * i + k]
+ *   }
+ *
+ * The asset stays the caller's: it must outlive the model, stay unchanged, and start at an
+ * address aligned to 8 bytes (16 recommended); it may sit in flash. The arena holds the model's
+ * state and fixed-size r x r scratch (ROMRT_MAX_R), plus a converted copy of the asset's arrays
+ * when their precision differs from the runtime's. Everything is checked once, in romrt_open;
+ * a bad asset is refused there with a status and a message naming the chunk and index.
+ *
+ * Precision: float by default; define ROMRT_DOUBLE (the same way for the runtime's sources and
+ * for the application) for double. */
+#ifndef ROMRT_H
+#define ROMRT_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifdef ROMRT_DOUBLE
+typedef double romrt_real;
+#else
+typedef float romrt_real;
+#endif
+
+/* The largest reduced size this build steps; every r x r buffer is ROMRT_MAX_R^2 reals. */
+#ifndef ROMRT_MAX_R
+#define ROMRT_MAX_R 64
+#endif
+
+typedef enum {
+    ROMRT_OK = 0,
+    ROMRT_E_ARGUMENT,     /* a NULL pointer, an index out of range, a non-finite input */
+    ROMRT_E_DAMAGED,      /* the container: truncated, bad signature, CRC, layout */
+    ROMRT_E_VERSION,      /* a container major version this runtime does not read */
+    ROMRT_E_PLATFORM,     /* byte order or float format of this machine */
+    ROMRT_E_UNSUPPORTED,  /* an unknown critical chunk, a compressed chunk */
+    ROMRT_E_MODEL,        /* chunks that are intact but inconsistent: sizes, indices, NaN */
+    ROMRT_E_LIMIT,        /* a count above this build's limits (r > ROMRT_MAX_R, ...) */
+    ROMRT_E_ARENA,        /* the arena is too small or misaligned, or the asset misaligned */
+    ROMRT_E_DIVERGED,     /* a step produced a non-finite state or a Newton matrix that is not
+                             positive definite; the state is left as it was before the step */
+    ROMRT_STATUS_COUNT
+} romrt_status;
+
+/* A status's name, e.g. "damaged asset". Compiled to "" with ROMRT_NO_STRINGS. */
+const char *romrt_status_string(romrt_status status);
+
+#define ROMRT_MESSAGE_BYTES 160
+typedef struct {
+    romrt_status status;
+    char chunk[5];                      /* the asset chunk involved, or "" */
+    char message[ROMRT_MESSAGE_BYTES];  /* what and where; "" with ROMRT_NO_STRINGS */
+} romrt_error;
+
+typedef struct romrt_model romrt_model;
+
+/* Arena bytes romrt_open will need for this asset (validates the asset fully). */
+romrt_status romrt_arena_size(const void *asset, size_t asset_bytes, size_t *arena_bytes, romrt_error *err);
+
+/* Opens the asset in the caller's arena (at least romrt_arena_size bytes, 8-byte aligned) at
+ * rest, t = 0. *model points into the arena; there is nothing to close. */
+romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size_t arena_bytes,
+                        romrt_model **model, romrt_error *err);
+
+/* Advances one time step of the asset's h: q minimises the reduced incremental potential (the
+ * same energy, integrator, pins and contacts as the precompute's reduced simulator), by
+ * projected Newton on the r x r system with cubature. On failure the state is unchanged. */
+romrt_status romrt_step(romrt_model *m, romrt_error *err);
+
+/* Back to rest at t = 0, forces cleared. */
+void romrt_reset(romrt_model *m);
+
+/* Sizes. */
+int romrt_reduced_size(const romrt_model *m);     /* r */
+int romrt_shown_count(const romrt_model *m);      /* vertices an app draws */
+int romrt_triangle_count(const romrt_model *m);   /* surface triangles over them (0 if none stored) */
+int romrt_group_count(const romrt_model *m);      /* named vertex groups an app may push */
+romrt_real romrt_time(const romrt_model *m);      /* s */
+romrt_real romrt_time_step(const romrt_model *m); /* s */
+
+/* Positions (m) of the shown vertices: xyz has room for 3 * count reals, count <= shown. */
+romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count);
+/* Surface triangles (indices into the shown vertices): tri has room for 3 * count ints. */
+romrt_status romrt_triangles(const romrt_model *m, int *tri, int count);
+
+/* Pushing. A group is found by name (-1 if none); romrt_add_force spreads the total force f (N)
+ * evenly over the group's vertices, romrt_add_vertex_force puts f on one shown vertex. Forces
+ * add up and act on every following step until romrt_clear_forces. */
+int romrt_find_group(const romrt_model *m, const char *name);
+const char *romrt_group_name(const romrt_model *m, int group);
+romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3]);
+romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romrt_real f[3]);
+void romrt_clear_forces(romrt_model *m);
+
+/* The whole dynamic state (time, reduced positions, velocities, integrator history, applied
+ * forces) as romrt_state_size reals, to save and restore (undo, networking, replays). A state
+ * with a non-finite value or from a model of another size is refused. */
+int romrt_state_size(const romrt_model *m);
+romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count);
+romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count);
+/* The reduced coordinates q (r of them). */
+romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int count);
+
+/* Work of the last step, for profiling. */
+typedef struct {
+    int newton_iterations;
+    int line_search_halvings;
+    int converged;
+} romrt_step_info;
+void romrt_last_step(const romrt_model *m, romrt_step_info *info);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

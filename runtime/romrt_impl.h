@@ -1,0 +1,106 @@
+/* Private to the runtime: the model that lives in the caller's arena, and the functions the
+ * runtime's files share. C99, no allocation. */
+#ifndef ROMRT_IMPL_H
+#define ROMRT_IMPL_H
+
+#include <stdint.h>
+
+#include "formats/rombin_read.h"
+#include "physics/physics.h"
+#include "runtime/romrt.h"
+
+#ifdef ROMRT_DOUBLE
+#define ROMRT_REAL_TYPE ROMBIN_REAL_F64
+#define RT_SQRT sqrt
+#define RT_FABS fabs
+/* Line-search round-off floor, as the precompute's reduced Newton (rom/newton.c), so the two
+ * take the same iterates in double. */
+#define RT_ENERGY_NOISE 1e-13
+#else
+#define ROMRT_REAL_TYPE ROMBIN_REAL_F32
+#define RT_SQRT sqrtf
+#define RT_FABS fabsf
+#define RT_ENERGY_NOISE 7.6e-6f /* 64 float epsilons */
+#endif
+#define RT_K(x) ((romrt_real)(x))
+
+/* Caps checked before any count is used (ROMBIN.md, "Limits"). */
+#define ROMRT_MAX_VERTICES (1u << 24)
+#define ROMRT_MAX_ELEMENTS (1u << 24)
+#define ROMRT_MAX_PINS 64u
+#define ROMRT_MAX_PLANES 16u
+#define ROMRT_MAX_GROUPS 1024u
+#define ROMRT_MAX_TRIANGLES (1u << 25)
+#define ROMRT_MAX_NEWTON 1000u
+
+/* The physics, compiled in this runtime's precision under the romrt_phys_ prefix. */
+#define RT_PHYS(name) romrt_phys_##name
+romrt_real romrt_phys_psi(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9]);
+void romrt_phys_pk1(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9], romrt_real P[9]);
+void romrt_phys_dpdf(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9],
+                     romrt_real dPdF[81], int project);
+romrt_real romrt_phys_barrier(romrt_real d, romrt_real dhat, romrt_real *d1, romrt_real *d2);
+void romrt_phys_motion(rk_motion_kind kind, const romrt_real axis[3], const romrt_real center[3], romrt_real rate,
+                       const romrt_real velocity[3], romrt_real t, romrt_real R[9], romrt_real shift[3]);
+
+struct romrt_model {
+    /* sizes and parameters (HEAD, PARM) */
+    int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter;
+    romrt_real h, tol, mass, dhat, kappa;
+    /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
+    const romrt_real *X;      /* nv x 3 */
+    const romrt_real *rows;   /* nv x 3 x r: row 3v+a of the basis */
+    const romrt_real *M, *C, *f, *A; /* r x r (column-major, symmetric), f: r; C, A may be NULL */
+    const romrt_real *pins;   /* npins x (12 + 12 r) */
+    const romrt_real *elem_real; /* ne x 12: Dm^-1, weight, mu, lambda */
+    const romrt_real *planes; /* nplanes x 6 */
+    const romrt_real *cmass;  /* ncontacts */
+    const uint32_t *elem;     /* ne x 5 */
+    const uint32_t *contacts; /* ncontacts x 2 */
+    const uint32_t *groups;   /* ngroups x 2 */
+    const uint32_t *gverts;
+    const uint32_t *tris;     /* ntris x 3 */
+    const char *names;        /* ngroups x 32 */
+    /* state */
+    romrt_real t;
+    int have_prev;
+    romrt_real q[ROMRT_MAX_R], v[ROMRT_MAX_R], q_prev[ROMRT_MAX_R], v_prev[ROMRT_MAX_R];
+    romrt_real f_app[ROMRT_MAX_R];   /* reduced forces the app applied */
+    romrt_step_info last;
+    /* scratch of one step */
+    romrt_real qt[ROMRT_MAX_R], qtilde[ROMRT_MAX_R], pin_b[ROMRT_MAX_R];
+    romrt_real g[ROMRT_MAX_R], d[ROMRT_MAX_R], trial[ROMRT_MAX_R], tmp[ROMRT_MAX_R];
+    romrt_real H[ROMRT_MAX_R * ROMRT_MAX_R]; /* r x r, column-major, upper triangle used */
+    romrt_real G[9 * ROMRT_MAX_R], AG[9 * ROMRT_MAX_R]; /* one element's dF/dq and dP/dF dF/dq */
+};
+
+/* The incremental potential's weights (as rom_impl.h's rk_rom_terms, dynamics only). */
+typedef struct {
+    romrt_real w_inertia, w_damping;
+} rt_terms;
+
+/* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle). *magnitude:
+ * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
+romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H,
+                        romrt_real *magnitude);
+/* The pins' linear term at time t into m->pin_b. */
+void rt_pin_target(romrt_model *m, romrt_real t);
+romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
+romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);
+
+/* Dense kernels on r x r column-major matrices (dense.c). */
+void rt_symv(int r, const romrt_real *S, const romrt_real *x, romrt_real *y); /* y = S x, S full */
+romrt_real rt_dot(int r, const romrt_real *a, const romrt_real *b);
+/* Cholesky of the upper triangle in place; 0, or the 1-based pivot that failed. */
+int rt_cholesky(int r, romrt_real *H);
+/* Solves (U^T U) x = b in place with the factor of rt_cholesky. */
+void rt_cholesky_solve(int r, const romrt_real *U, romrt_real *b);
+
+/* Writes status, chunk and message into err (which may be NULL). Returns status. */
+romrt_status rt_fail(romrt_error *err, romrt_status status, const char *chunk, const char *text);
+romrt_status rt_fail_n(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
+                       const char *text2);
+romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
+                        const char *text2, uint64_t n2, const char *text3);
+
+#endif

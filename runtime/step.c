@@ -1,0 +1,120 @@
+/* One time step: backward Euler or BDF2 on q, projected Newton with Armijo backtracking, the
+ * iteration of the precompute's reduced simulator (precompute/rom/step.c, newton.c) in r x r. */
+#include <math.h>
+#include <string.h>
+
+#include "runtime/romrt_impl.h"
+
+#define ARMIJO_C RT_K(1e-4)
+#define MAX_HALVINGS 40
+/* In float, a Newton step below ~1e-5 of the state's RMS displacement is round-off: stop there
+ * rather than spend the iteration budget on noise. In double the asset's tolerance always binds. */
+#ifdef ROMRT_DOUBLE
+#define TOL_FLOOR 0.0
+#else
+#define TOL_FLOOR 1e-5f
+#endif
+
+static int all_finite(const romrt_real *a, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(a[i])) return 0;
+    return 1;
+}
+
+/* sqrt(x^T M x / mass): an RMS displacement (m). */
+static romrt_real rms(romrt_model *m, const romrt_real *x)
+{
+    romrt_real Mx[ROMRT_MAX_R], s;
+    rt_symv(m->r, m->M, x, Mx);
+    s = rt_dot(m->r, x, Mx) / m->mass;
+    return s > 0 ? RT_SQRT(s) : 0;
+}
+
+static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
+{
+    int r = m->r, it, k, i;
+    romrt_real *q = m->q, *g = m->g, *d = m->d, *trial = m->trial;
+    for (it = 0; it < m->max_iter; it++) {
+        romrt_real magnitude, E = rt_potential(m, T, q, g, m->H, &magnitude), gd, alpha, tol;
+        int accepted = 0;
+        if (!isfinite(E) || !all_finite(g, r))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
+                             (uint64_t)it, "");
+        if (rt_cholesky(r, m->H))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
+                             (uint64_t)it, "");
+        for (i = 0; i < r; i++) d[i] = -g[i];
+        rt_cholesky_solve(r, m->H, d);
+        m->last.newton_iterations++;
+        if (!all_finite(d, r))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
+        tol = m->tol;
+        if (TOL_FLOOR > 0 && TOL_FLOOR * rms(m, q) > tol) tol = TOL_FLOOR * rms(m, q);
+        if (rms(m, d) <= tol) {
+            m->last.converged = 1;
+            return ROMRT_OK;
+        }
+        gd = rt_dot(r, g, d);
+        alpha = m->ncontacts ? rt_contact_max_step(m, q, d) : 1;
+        for (k = 0; k <= MAX_HALVINGS && !accepted; k++) {
+            romrt_real Et;
+            if (k > 0) {
+                alpha *= RT_K(0.5);
+                m->last.line_search_halvings++;
+            }
+            for (i = 0; i < r; i++) trial[i] = q[i] + alpha * d[i];
+            Et = rt_potential(m, T, trial, 0, 0, 0);
+            accepted = Et <= E + ARMIJO_C * alpha * gd || (isfinite(Et) && Et - E <= RT_ENERGY_NOISE * magnitude);
+        }
+        if (!accepted) return ROMRT_OK; /* no decrease left to find: keep q */
+        memcpy(q, trial, sizeof(romrt_real) * (size_t)r);
+    }
+    return ROMRT_OK;
+}
+
+romrt_status romrt_step(romrt_model *m, romrt_error *err)
+{
+    int r, i, bdf2;
+    romrt_real h, vnew[ROMRT_MAX_R];
+    rt_terms T;
+    romrt_status st;
+    if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_step: no model (NULL)");
+    r = m->r;
+    h = m->h;
+    bdf2 = m->integrator == 1 && m->have_prev;
+    memset(&m->last, 0, sizeof m->last);
+    if (bdf2) {
+        for (i = 0; i < r; i++)
+            m->qtilde[i] = (4 * m->q[i] - m->q_prev[i]) / 3 + 2 * h / 9 * (4 * m->v[i] - m->v_prev[i]);
+        T.w_inertia = RT_K(9.0) / (RT_K(4.0) * h * h);
+    } else {
+        for (i = 0; i < r; i++) m->qtilde[i] = m->q[i] + h * m->v[i];
+        T.w_inertia = 1 / (h * h);
+    }
+    T.w_damping = 1 / h;
+    memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
+    rt_pin_target(m, m->t + h);
+    /* Start from the inertial prediction when no contact is crossed on the way there. */
+    for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
+    if (!m->ncontacts || rt_contact_max_step(m, m->qt, m->d) >= 1) memcpy(m->q, m->qtilde, sizeof(romrt_real) * (size_t)r);
+    st = newton(m, &T, err);
+    for (i = 0; i < r && !st; i++) {
+        vnew[i] = bdf2 ? (3 * m->q[i] - 4 * m->qt[i] + m->q_prev[i]) / (2 * h) : (m->q[i] - m->qt[i]) / h;
+        if (!isfinite(m->q[i]) || !isfinite(vnew[i]))
+            st = rt_fail_n(err, ROMRT_E_DIVERGED, 0, "reduced coordinate ", (uint64_t)i, " is not finite after the step");
+    }
+    if (st) { /* leave the state as it was */
+        memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
+        return st;
+    }
+    for (i = 0; i < r; i++) {
+        m->q_prev[i] = m->qt[i];
+        m->v_prev[i] = m->v[i];
+        m->v[i] = vnew[i];
+    }
+    m->have_prev = 1;
+    m->t += h;
+    return ROMRT_OK;
+}

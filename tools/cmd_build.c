@@ -1,0 +1,190 @@
+/* romkit build SCENE.json -o OUT.rombin: the whole pipeline the scene's (first) rom entry asks
+ * for, baked into an asset the runtime opens in place (precompute/asset, formats/ROMBIN.md). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "args.h"
+#include "asset/asset.h"
+#include "commands.h"
+#include "formats/rombin_read.h"
+#include "util/json_out.h"
+#include "util/timer.h"
+
+static void build_usage(FILE *f)
+{
+    fprintf(f, "usage: romkit build SCENE.json -o OUT.rombin [--report R.json] [--precision float32|float64]\n"
+               "                    [--compress] [--quiet]\n"
+               "  builds the reduced model of the scene's first rom entry (basis, cubature) and bakes it\n"
+               "  into OUT.rombin with only what the runtime needs: the reduced operators, the cubature\n"
+               "  elements with the basis rows of the vertices they touch, and the rows of the shown\n"
+               "  vertices (rom.asset.show, default the surface) and of the named groups (rom.asset.groups).\n"
+               "  --precision   real type of the asset's arrays (default rom.asset.precision, else float32)\n"
+               "  --compress    deflate the chunks (smaller to ship; romkit run inflates, the runtime\n"
+               "                itself opens stored chunks only)\n"
+               "  --report      sizes, eigenvalues, cubature, the asset's chunks and bytes, timings\n");
+}
+
+static cJSON *make_report(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_summary *sum,
+                          const unsigned char *data, size_t bytes, double seconds)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddNumberToObject(root, "vertices", sim->mesh.nv);
+    cJSON_AddNumberToObject(root, "tets", sim->mesh.nt);
+    cJSON *b = cJSON_AddObjectToObject(root, "basis");
+    cJSON_AddStringToObject(b, "type", rk_basis_type_name(R->basis.type));
+    cJSON_AddNumberToObject(b, "size", R->basis.W ? R->basis.m : R->basis.r);
+    cJSON_AddNumberToObject(b, "columns", R->basis.r);
+    cJSON_AddItemToObject(b, R->basis.type == RK_BASIS_POD ? "singular_values" : "eigenvalues",
+                          rk_json_array(R->basis.values, R->basis.nvalues));
+    cJSON_AddStringToObject(b, "bound_by", R->basis_reason);
+    cJSON *c = cJSON_AddObjectToObject(root, "cubature");
+    cJSON_AddNumberToObject(c, "elements", R->model.quad.count);
+    if (isfinite(R->cubature_error)) cJSON_AddNumberToObject(c, "relative_error", R->cubature_error);
+    else cJSON_AddNullToObject(c, "relative_error");
+    cJSON_AddStringToObject(c, "bound_by", R->cubature_reason);
+    cJSON *a = cJSON_AddObjectToObject(root, "asset");
+    cJSON_AddNumberToObject(a, "bytes", (double)bytes);
+    cJSON_AddNumberToObject(a, "stored_vertices", sum->vertices);
+    cJSON_AddNumberToObject(a, "shown_vertices", sum->shown);
+    cJSON_AddNumberToObject(a, "triangles", sum->triangles);
+    cJSON_AddNumberToObject(a, "contacts", sum->contacts);
+    cJSON_AddNumberToObject(a, "groups", sum->groups);
+    rombin_file f;
+    rombin_error e;
+    if (rombin_open(&f, data, bytes, NULL, &e) == ROMBIN_OK) {
+        cJSON_AddStringToObject(a, "precision", f.real_type == ROMBIN_REAL_F32 ? "float32" : "float64");
+        cJSON *chunks = cJSON_AddArrayToObject(a, "chunks");
+        for (unsigned i = 0; i < f.count; i++) {
+            rombin_chunk ch;
+            rombin_chunk_get(&f, i, &ch);
+            cJSON *j = cJSON_CreateObject();
+            cJSON_AddStringToObject(j, "id", ch.id);
+            cJSON_AddNumberToObject(j, "stored", (double)ch.stored);
+            cJSON_AddNumberToObject(j, "raw", (double)ch.raw);
+            cJSON_AddBoolToObject(j, "deflate", ch.compression == ROMBIN_COMP_DEFLATE);
+            cJSON_AddItemToArray(chunks, j);
+        }
+    }
+    cJSON *s = cJSON_AddObjectToObject(root, "seconds");
+    cJSON_AddNumberToObject(s, "basis", R->seconds_basis);
+    cJSON_AddNumberToObject(s, "cubature", R->seconds_cubature);
+    cJSON_AddNumberToObject(s, "total", seconds);
+    return root;
+}
+
+/* What the INFO chunk says: enough to tell where an asset came from, nothing time-dependent. */
+static char *info_text(const char *scene_path, const rk_rom_options *o, const rk_scene_rom *R)
+{
+    cJSON *j = cJSON_CreateObject();
+    const char *slash = strrchr(scene_path, '/');
+    cJSON_AddStringToObject(j, "scene", slash ? slash + 1 : scene_path);
+    cJSON_AddStringToObject(j, "method", o->name);
+    cJSON_AddStringToObject(j, "basis", rk_basis_type_name(R->basis.type));
+    cJSON_AddNumberToObject(j, "columns", R->basis.r);
+    cJSON_AddNumberToObject(j, "cubature_elements", R->model.quad.count);
+    char *text = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
+    return text;
+}
+
+static int parse_flags(const char *precision, int compress, rk_asset_options *ao)
+{
+    if (precision) {
+        if (strcmp(precision, "float32") == 0) ao->real_type = ROMBIN_REAL_F32;
+        else if (strcmp(precision, "float64") == 0) ao->real_type = ROMBIN_REAL_F64;
+        else {
+            fprintf(stderr, "romkit build: --precision must be float32 or float64, got '%s'\n", precision);
+            return -1;
+        }
+    }
+    if (compress) ao->compress = 1;
+    return 0;
+}
+
+int cmd_build(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            build_usage(stdout);
+            return 0;
+        }
+    const char *scene_path, *out = NULL, *report_out = NULL, *precision = NULL;
+    int quiet = 0, compress = 0;
+    const cli_option opts[] = {{"-o", &out, NULL},           {"--report", &report_out, NULL},
+                               {"--precision", &precision, NULL}, {"--compress", NULL, &compress},
+                               {"--quiet", NULL, &quiet},     {NULL, NULL, NULL}};
+    if (cli_parse("build", argc, argv, opts, &scene_path, "scene file")) {
+        build_usage(stderr);
+        return 2;
+    }
+    if (!out) {
+        fprintf(stderr, "romkit build: -o OUT.rombin is required\n");
+        build_usage(stderr);
+        return 2;
+    }
+    rk_progress_set_quiet(quiet);
+    double t0 = rk_now();
+    rk_error err = {{0}};
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_scene_rom R;
+    rk_rom_options o;
+    rk_asset_options ao;
+    rk_asset_summary sum = {0};
+    rombin_writer w;
+    unsigned char *data = NULL;
+    size_t bytes = 0;
+    char *info = NULL;
+    double *frames = NULL;
+    int stage = 0, rc = 1, T = 0;
+    rk_asset_default_options(&ao);
+    if (rk_scene_load(scene_path, &scene, &err)) goto done;
+    stage = 1;
+    if (rk_rom_entries(scene.rom) < 1) {
+        rk_fail(&err, "%s: the scene has no rom section (what should be baked?)", scene_path);
+        goto done;
+    }
+    if (rk_rom_options_parse(scene.rom, 0, scene_path, &o, &err) ||
+        rk_asset_options_parse(scene.rom, 0, scene_path, &ao, &err))
+        goto done;
+    if (parse_flags(precision, compress, &ao)) {
+        rc = 2;
+        goto done;
+    }
+    if (rk_scene_build(&scene, &sim, &err)) goto done;
+    stage = 2;
+    /* The cubature trains on the scene's full-order run (and POD or a tolerance use it too): run it once. */
+    if ((o.cubature || o.basis.type == RK_BASIS_POD || o.basis.tolerance > 0) &&
+        rk_scene_training_frames(&sim, &frames, &T, &err))
+        goto done;
+    if (rk_scene_rom_build(&scene, &sim, &o, frames, T, &R, &err)) goto done;
+    stage = 3;
+    info = info_text(scene_path, &o, &R);
+    rombin_writer_init(&w, ao.real_type, ao.compress);
+    if (rk_asset_bake(&sim, &R, &ao, info, &w, &sum, &err) || rombin_serialize(&w, &data, &bytes, &err)) {
+        rombin_writer_free(&w);
+        goto done;
+    }
+    rombin_writer_free(&w);
+    if (rombin_save(out, data, bytes, &err)) goto done;
+    if (report_out) {
+        cJSON *report = make_report(&sim, &R, &sum, data, bytes, rk_now() - t0);
+        int bad = rk_json_write_file(report_out, report, &err);
+        cJSON_Delete(report);
+        if (bad) goto done;
+    }
+    printf("%s: %s, r = %d, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes\n", out, o.name,
+           R.model.r, R.model.quad.count, sum.vertices, sim.mesh.nv, sum.shown, bytes);
+    rc = 0;
+done:
+    if (rc) fprintf(stderr, "romkit build: %s\n", err.msg);
+    free(data);
+    free(info);
+    free(frames);
+    if (stage >= 3) rk_scene_rom_free(&R);
+    if (stage >= 2) rk_scene_sim_free(&sim);
+    if (stage >= 1) rk_scene_free(&scene);
+    return rc;
+}

@@ -1,0 +1,84 @@
+/* romkit inspect ASSET.rombin: the container's chunks, sizes and checksums, verified; the
+ * model's sizes when the runtime can open it. Exit 1 on any damage. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "args.h"
+#include "commands.h"
+#include "formats/rombin_read.h"
+#include "formats/rombin_write.h"
+#include "runtime/romrt.h"
+
+static void inspect_usage(FILE *f)
+{
+    fprintf(f, "usage: romkit inspect ASSET.rombin\n"
+               "  lists the chunks (id, critical or optional, type, compression, stored and raw bytes,\n"
+               "  CRC-32), verifies the container and every checksum, then opens the model with the\n"
+               "  runtime's validation. Exit status 1 on any damage.\n");
+}
+
+int cmd_inspect(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            inspect_usage(stdout);
+            return 0;
+        }
+    const char *path;
+    const cli_option opts[] = {{NULL, NULL, NULL}};
+    if (cli_parse("inspect", argc, argv, opts, &path, "asset file")) {
+        inspect_usage(stderr);
+        return 2;
+    }
+    rk_error err = {{0}};
+    unsigned char *data = NULL, *plain = NULL;
+    size_t size;
+    if (rombin_read_file(path, &data, &size, &err)) {
+        fprintf(stderr, "romkit inspect: %s\n", err.msg);
+        return 1;
+    }
+    rombin_file f;
+    rombin_error e;
+    if (rombin_open(&f, data, size, NULL, &e)) {
+        fprintf(stderr, "romkit inspect: %s: %s\n", path, e.message);
+        free(data);
+        return 1;
+    }
+    static const char *const types[] = {"bytes", "u32", "real"};
+    printf("%s: rombin %u.%u, %s reals, %u chunks, %zu bytes\n", path, f.major, f.minor,
+           f.real_type == ROMBIN_REAL_F32 ? "float32" : "float64", f.count, size);
+    printf("  %-4s  %-8s  %-4s  %-7s  %10s  %10s  %10s  %s\n", "id", "kind", "type", "coding", "offset", "stored", "raw",
+           "crc32");
+    int compressed = 0;
+    for (unsigned i = 0; i < f.count; i++) {
+        rombin_chunk c;
+        rombin_chunk_get(&f, i, &c);
+        compressed |= c.compression != ROMBIN_COMP_NONE;
+        printf("  %-4s  %-8s  %-4s  %-7s  %10llu  %10llu  %10llu  %08x ok\n", c.id, c.critical ? "critical" : "optional",
+               types[c.type], c.compression ? "deflate" : "stored", (unsigned long long)c.offset,
+               (unsigned long long)c.stored, (unsigned long long)c.raw, (unsigned)c.crc);
+    }
+    const unsigned char *model_data = data;
+    if (compressed) {
+        if (rombin_inflate_all(data, size, &plain, &size, &err)) {
+            fprintf(stderr, "romkit inspect: %s: %s\n", path, err.msg);
+            free(data);
+            return 1;
+        }
+        model_data = plain;
+    }
+    size_t arena;
+    romrt_error rerr;
+    int rc = 0;
+    if (romrt_arena_size(model_data, size, &arena, &rerr) != ROMRT_OK) {
+        fprintf(stderr, "romkit inspect: %s: %s%s%s%s: %s\n", path, romrt_status_string(rerr.status),
+                rerr.chunk[0] ? " (chunk '" : "", rerr.chunk, rerr.chunk[0] ? "')" : "", rerr.message);
+        rc = 1;
+    } else {
+        printf("model: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", ROMRT_MAX_R, arena,
+               compressed ? " once inflated" : "");
+    }
+    free(data);
+    free(plain);
+    return rc;
+}

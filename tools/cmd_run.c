@@ -1,0 +1,186 @@
+/* romkit run OUT.rombin --steps N: steps an asset through the runtime (runtime/romrt.h), exactly
+ * as an application would: ask for the arena size, open in place, step, read positions. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "args.h"
+#include "commands.h"
+#include "formats/rombin_read.h"
+#include "formats/rombin_write.h"
+#include "runtime/romrt.h"
+#include "util/json_out.h"
+#include "util/npy.h"
+#include "util/timer.h"
+
+static void run_usage(FILE *f)
+{
+    fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
+               "                  [--report R.json] [--jump N] [--quiet]\n"
+               "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
+               "  --positions   final positions of the shown vertices (n x 3 float64)\n"
+               "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
+               "  --report      seconds_per_step (median), Newton work, arena and asset bytes\n"
+               "  --jump        advance a Koopman asset N steps at once (needs a KOOP chunk)\n"
+               "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n",
+           ROMRT_MAX_R);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int parse_count(const char *what, const char *text, long *out)
+{
+    char *end;
+    long v = text ? strtol(text, &end, 10) : -1;
+    if (!text || *end || v < 0 || v > 100000000) {
+        fprintf(stderr, "romkit run: %s must be a whole number in 0..1e8, got '%s'\n", what, text ? text : "(none)");
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+static int has_compressed_chunk(const unsigned char *data, size_t size)
+{
+    rombin_file f;
+    rombin_error e;
+    if (rombin_open(&f, data, size, NULL, &e)) return 0; /* the runtime will say what is wrong */
+    for (unsigned i = 0; i < f.count; i++) {
+        rombin_chunk c;
+        rombin_chunk_get(&f, i, &c);
+        if (c.compression != ROMBIN_COMP_NONE) return 1;
+    }
+    return 0;
+}
+
+int cmd_run(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            run_usage(stdout);
+            return 0;
+        }
+    const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
+    int quiet = 0;
+    const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
+                               {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
+                               {"--jump", &jump_text, NULL},     {"--quiet", NULL, &quiet},
+                               {NULL, NULL, NULL}};
+    long steps, jump = 0;
+    if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
+        (jump_text && parse_count("--jump", jump_text, &jump))) {
+        run_usage(stderr);
+        return 2;
+    }
+    rk_error err = {{0}};
+    romrt_error rerr;
+    unsigned char *data = NULL, *arena = NULL;
+    size_t size = 0, arena_bytes = 0;
+    double *frame = NULL, *seconds = NULL;
+    romrt_real *xyz = NULL;
+    rk_npy_stream snap;
+    int snapping = 0, rc = 1;
+    double t0 = rk_now();
+    long newton = 0, unconverged = 0;
+    if (rombin_read_file(path, &data, &size, &err)) goto fail;
+    size_t file_bytes = size;
+    if (has_compressed_chunk(data, size)) {
+        unsigned char *plain;
+        if (rombin_inflate_all(data, size, &plain, &size, &err)) goto fail;
+        free(data);
+        data = plain;
+    }
+    if (jump_text) {
+        rk_fail(&err, "--jump: this asset has no Koopman operator (no KOOP chunk)");
+        goto fail;
+    }
+    romrt_model *m;
+    if (romrt_arena_size(data, size, &arena_bytes, &rerr) != ROMRT_OK) goto runtime_fail;
+    arena = aligned_alloc(16, (arena_bytes + 15) / 16 * 16);
+    if (!arena) {
+        rk_fail(&err, "out of memory for a %zu-byte arena", arena_bytes);
+        goto fail;
+    }
+    if (romrt_open(data, size, arena, arena_bytes, &m, &rerr) != ROMRT_OK) goto runtime_fail;
+    int n = romrt_shown_count(m);
+    xyz = calloc((size_t)3 * n + 1, sizeof(romrt_real));
+    frame = calloc((size_t)3 * n + 1, sizeof(double));
+    seconds = calloc((size_t)steps + 1, sizeof(double));
+    if (!xyz || !frame || !seconds) {
+        rk_fail(&err, "out of memory for %d shown vertices", n);
+        goto fail;
+    }
+    if (snap_out) {
+        long shape[3] = {steps, n, 3};
+        if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
+        snapping = 1;
+    }
+    for (long k = 0; k < steps; k++) {
+        double s0 = rk_now();
+        if (romrt_step(m, &rerr) != ROMRT_OK) goto runtime_fail;
+        seconds[k] = rk_now() - s0;
+        romrt_step_info info;
+        romrt_last_step(m, &info);
+        newton += info.newton_iterations;
+        unconverged += !info.converged;
+        if (snapping) {
+            romrt_positions(m, xyz, n);
+            for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
+            rk_npy_stream_append(&snap, frame, (size_t)3 * n);
+        }
+        if (!quiet) rk_progress("run", k + 1, steps);
+    }
+    if (!quiet) rk_progress_done("run");
+    romrt_positions(m, xyz, n);
+    for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
+    if (snapping) {
+        snapping = 0;
+        if (rk_npy_stream_commit(&snap, &err)) goto fail;
+    }
+    long pshape[2] = {n, 3};
+    if (pos_out && rk_npy_write(pos_out, frame, 2, pshape, &err)) goto fail;
+    qsort(seconds, (size_t)steps, sizeof(double), cmp_double);
+    double median = steps ? (steps % 2 ? seconds[steps / 2] : 0.5 * (seconds[steps / 2 - 1] + seconds[steps / 2])) : 0;
+    if (report_out) {
+        cJSON *r = cJSON_CreateObject();
+        cJSON_AddNumberToObject(r, "vertices", n);
+        cJSON_AddNumberToObject(r, "r", romrt_reduced_size(m));
+        cJSON_AddNumberToObject(r, "steps", (double)steps);
+        cJSON_AddNumberToObject(r, "time", romrt_time(m));
+        cJSON_AddNumberToObject(r, "seconds_per_step", median);
+        cJSON_AddNumberToObject(r, "newton_iterations", (double)newton);
+        cJSON_AddNumberToObject(r, "unconverged_steps", (double)unconverged);
+        cJSON_AddNumberToObject(r, "arena_bytes", (double)arena_bytes);
+        cJSON_AddStringToObject(r, "precision", sizeof(romrt_real) == 4 ? "float32" : "float64");
+        cJSON *a = cJSON_AddObjectToObject(r, "asset");
+        cJSON_AddNumberToObject(a, "bytes", (double)file_bytes);
+        cJSON *s = cJSON_AddObjectToObject(r, "seconds");
+        cJSON_AddNumberToObject(s, "total", rk_now() - t0);
+        int bad = rk_json_write_file(report_out, r, &err);
+        cJSON_Delete(r);
+        if (bad) goto fail;
+    }
+    printf("%s: %ld steps of %g s, r = %d, %d shown vertices, %.3g us/step (median), %ld Newton iterations, "
+           "arena %zu bytes\n", path, steps, (double)romrt_time_step(m), romrt_reduced_size(m), n, median * 1e6, newton,
+           arena_bytes);
+    rc = 0;
+    goto done;
+runtime_fail:
+    rk_fail(&err, "%s: %s%s%s%s: %s", path, romrt_status_string(rerr.status), rerr.chunk[0] ? " (chunk '" : "",
+            rerr.chunk, rerr.chunk[0] ? "')" : "", rerr.message);
+fail:
+    fprintf(stderr, "romkit run: %s\n", err.msg);
+done:
+    if (snapping) rk_npy_stream_abort(&snap);
+    free(data);
+    free(arena);
+    free(xyz);
+    free(frame);
+    free(seconds);
+    return rc;
+}
