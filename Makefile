@@ -23,6 +23,7 @@ DEPS_cubature := cubature basis scene fom fem physics mesh util
 DEPS_rom     := rom cubature basis scene fom fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats rom cubature basis scene fom fem physics mesh util
+DEPS_runtime := $(DEPS_asset)
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
@@ -32,7 +33,7 @@ TOOL_SRC := $(wildcard tools/*.c)
 # The most downstream stage: the command line links it and all it uses.
 TOOL_STAGE := asset
 TEST_SRC := $(wildcard tests/unit/test_*.c)
-TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC))
+TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(BUILD)/tests/test_runtime_parity_double
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
 all: $(BUILD)/romkit $(TEST_BIN)
@@ -74,9 +75,13 @@ $(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_L
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
 .SECONDEXPANSION:
-$(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_stage,$$*))
+# The runtime tests link the float runtime; test_runtime_parity_double is the same source in double.
+$(BUILD)/tests/test_runtime_parity_double: tests/unit/test_runtime_parity.c tests/testlib.h $(call libs_of,runtime) $(RT_LIB_DOUBLE)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_PC) -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,$(call test_stage,$*)) $(LDLIBS)
+	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,runtime) $(RT_LIB_DOUBLE) $(LDLIBS)
+$(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_stage,$$*)) $(RT_LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_PC) -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,$(call test_stage,$*)) $(RT_LIB) $(LDLIBS)
 
 $(BUILD)/bench_%: bench/bench_%.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)

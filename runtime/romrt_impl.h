@@ -15,7 +15,7 @@
 #define RT_FABS fabs
 /* Line-search round-off floor, as the precompute's reduced Newton (rom/newton.c), so the two
  * take the same iterates in double. */
-#define RT_ENERGY_NOISE 1e-13
+#define RT_ENERGY_NOISE 7.6e-6f /* 64 float epsilons */
 #else
 #define ROMRT_REAL_TYPE ROMBIN_REAL_F32
 #define RT_SQRT sqrtf

@@ -7,12 +7,17 @@
 
 #define ARMIJO_C RT_K(1e-4)
 #define MAX_HALVINGS 40
-/* In float, a Newton step below ~1e-5 of the state's RMS displacement is round-off: stop there
- * rather than spend the iteration budget on noise. In double the asset's tolerance always binds. */
+/* In float, small-strain stresses lose digits (P ~ mu (F - F^-T) cancels), so Newton steps
+ * bottom out at a noise level well above the asset's tolerance. A step below 1e-6 of the
+ * state's RMS displacement counts as converged, and so does one below 1e-4 of it that shrank
+ * by less than half since the last (stagnation: iterating on would only stir noise). In double
+ * the asset's tolerance binds, and the runtime takes the precompute's iterates exactly. */
 #ifdef ROMRT_DOUBLE
 #define TOL_FLOOR 0.0
+#define STAGNATION 0.0
 #else
-#define TOL_FLOOR 1e-5f
+#define TOL_FLOOR 1e-6f
+#define STAGNATION 1e-4f
 #endif
 
 static int all_finite(const romrt_real *a, int n)
@@ -35,9 +40,9 @@ static romrt_real rms(romrt_model *m, const romrt_real *x)
 static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
     int r = m->r, it, k, i;
-    romrt_real *q = m->q, *g = m->g, *d = m->d, *trial = m->trial;
+    romrt_real *q = m->q, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
     for (it = 0; it < m->max_iter; it++) {
-        romrt_real magnitude, E = rt_potential(m, T, q, g, m->H, &magnitude), gd, alpha, tol;
+        romrt_real magnitude, E = rt_potential(m, T, q, g, m->H, &magnitude), gd, alpha, tol, step;
         int accepted = 0;
         if (!isfinite(E) || !all_finite(g, r))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
@@ -51,11 +56,17 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
         if (!all_finite(d, r))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
         tol = m->tol;
-        if (TOL_FLOOR > 0 && TOL_FLOOR * rms(m, q) > tol) tol = TOL_FLOOR * rms(m, q);
-        if (rms(m, d) <= tol) {
+        step = rms(m, d);
+        if (TOL_FLOOR > 0) {
+            romrt_real size = rms(m, q);
+            if (TOL_FLOOR * size > tol) tol = TOL_FLOOR * size;
+            if (step < STAGNATION * size && step > RT_K(0.5) * last) tol = step;
+        }
+        if (step <= tol) {
             m->last.converged = 1;
             return ROMRT_OK;
         }
+        last = step;
         gd = rt_dot(r, g, d);
         alpha = m->ncontacts ? rt_contact_max_step(m, q, d) : 1;
         for (k = 0; k <= MAX_HALVINGS && !accepted; k++) {
@@ -70,6 +81,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
         }
         if (!accepted) return ROMRT_OK; /* no decrease left to find: keep q */
         memcpy(q, trial, sizeof(romrt_real) * (size_t)r);
+
     }
     return ROMRT_OK;
 }

@@ -1,0 +1,88 @@
+/* Shared by the runtime tests: a scene's reduced model (precompute/rom) and its baked asset in
+ * memory, opened by the runtime built in this test's precision. */
+#ifndef RK_TEST_RUNTIME_FIXTURE_H
+#define RK_TEST_RUNTIME_FIXTURE_H
+
+#include <stdint.h>
+
+#include "testlib.h"
+#include "asset/asset.h"
+#include "formats/rombin_read.h"
+#include "runtime/romrt.h"
+
+typedef struct {
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_scene_rom R;
+    unsigned char *asset;
+    size_t bytes;
+    void *arena;
+    romrt_model *m;
+    const uint32_t *vmap;     /* stored vertex -> source vertex (the asset's VMAP) */
+    int stage;
+} rt_fixture;
+
+static inline void rt_fixture_close(rt_fixture *f)
+{
+    if (f->stage >= 3) rk_scene_rom_free(&f->R);
+    if (f->stage >= 2) rk_scene_sim_free(&f->sim);
+    if (f->stage >= 1) rk_scene_free(&f->scene);
+    free(f->asset);
+    free(f->arena);
+    memset(f, 0, sizeof *f);
+}
+
+/* Builds the scene's first rom entry (training on its full-order run), bakes it with real type
+ * `real_type` and opens it with the runtime. 0 on success; err or rerr says why not. */
+static inline int rt_fixture_open(rt_fixture *f, const char *json, int real_type, rk_error *err, romrt_error *rerr)
+{
+    memset(f, 0, sizeof *f);
+    rk_rom_options o;
+    rk_asset_options ao;
+    double *D = NULL;
+    int T = 0;
+    if (rk_scene_parse(json, "test.json", &f->scene, err)) return -1;
+    f->stage = 1;
+    rk_asset_default_options(&ao);
+    if (rk_rom_options_parse(f->scene.rom, 0, "test.json", &o, err) ||
+        rk_asset_options_parse(f->scene.rom, 0, "test.json", &ao, err) || rk_scene_build(&f->scene, &f->sim, err))
+        return -1;
+    f->stage = 2;
+    if (rk_scene_training_frames(&f->sim, &D, &T, err)) return -1;
+    int rc = rk_scene_rom_build(&f->scene, &f->sim, &o, D, T, &f->R, err);
+    free(D);
+    if (rc) return -1;
+    f->stage = 3;
+    rombin_writer w;
+    rombin_writer_init(&w, real_type, 0);
+    rc = rk_asset_bake(&f->sim, &f->R, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
+    rombin_writer_free(&w);
+    if (rc) return -1;
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    if (rombin_open(&file, f->asset, f->bytes, NULL, &e) || !rombin_find(&file, ROMBIN_VMAP, &c))
+        return rk_fail(err, "baked asset has no VMAP: %s", e.message);
+    f->vmap = (const uint32_t *)(const void *)c.data;
+    size_t need;
+    if (romrt_arena_size(f->asset, f->bytes, &need, rerr) != ROMRT_OK) return rk_fail(err, "arena size: %s", rerr->message);
+    f->arena = aligned_alloc(16, (need + 15) / 16 * 16);
+    if (!f->arena || romrt_open(f->asset, f->bytes, f->arena, need, &f->m, rerr) != ROMRT_OK)
+        return rk_fail(err, "open: %s", rerr->message);
+    return 0;
+}
+
+/* The precompute's positions of the shown vertices, X + U q, in the asset's order. */
+static inline void rt_fixture_reference(const rt_fixture *f, const double *q, double *xyz)
+{
+    int n = romrt_shown_count(f->m), ndof = 3 * f->sim.mesh.nv, r = f->R.basis.r;
+    for (int i = 0; i < n; i++)
+        for (int a = 0; a < 3; a++) {
+            int k = 3 * (int)f->vmap[i] + a;
+            double s = f->sim.mesh.X[k];
+            for (int j = 0; j < r; j++) s += f->R.basis.U[(size_t)ndof * j + k] * q[j];
+            xyz[3 * i + a] = s;
+        }
+}
+
+#endif

@@ -1,0 +1,181 @@
+/* The runtime against the double-precision reduced simulator (precompute/rom) on the same baked
+ * model: the trajectories of the shown vertices agree to 1e-10 relative in a double build of the
+ * runtime (this file compiled with -DROMRT_DOUBLE, test_runtime_parity_double) and to 1e-4 in
+ * the float build. Relative: the largest position difference over all steps and vertices, over
+ * the largest displacement. Also: forces on a named group, state save/restore, reset. */
+#include "runtime_fixture.h"
+
+#ifdef ROMRT_DOUBLE
+#define PARITY_TOL 1e-10
+#define ASSET_REAL ROMBIN_REAL_F64
+#else
+#define PARITY_TOL 1e-4
+#define ASSET_REAL ROMBIN_REAL_F32
+#endif
+
+/* A cantilever under gravity with damping and a pushed tip; BE or BDF2. */
+static const char *cantilever(const char *integrator)
+{
+    static char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 0.1, 0.1], \"cells\": [10, 2, 2]}},"
+             " \"material\": {\"model\": \"neohookean\", \"young\": 2e5, \"poisson\": 0.4, \"density\": 1000},"
+             " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
+             " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 0.5, \"stiffness\": 0.001},"
+             " \"time\": {\"step\": 0.01, \"duration\": 0.4, \"integrator\": \"%s\"},"
+             " \"rom\": {\"basis\": \"modes\", \"size\": 10, \"cubature\": {\"tolerance\": 0.02},"
+             "  \"asset\": {\"groups\": [{\"name\": \"tip\", \"box\": [[0.99, -1, -1], [2, 1, 1]]}]}}}",
+             integrator);
+    return json;
+}
+
+/* A block dropped on a ground plane while one end twists: contact, pins and BDF2. Its float32
+ * tolerance is looser: the stiff pin penalty (1e4 (lambda + 2 mu) / (rho L^2), rom.h) makes the
+ * solution sensitive to the float32 rounding of the asset's own data; a double runtime stepping
+ * the same float32 asset differs from the reference by the same 3e-3, so the stored precision,
+ * not the float arithmetic, sets this number (bake float64 with ROMRT_DOUBLE for such scenes). */
+#ifdef ROMRT_DOUBLE
+#define PINNED_TOL PARITY_TOL
+#else
+#define PINNED_TOL 1e-2
+#endif
+static const char *twisted_drop =
+    "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.6, 0.1, 0.1], \"cells\": [6, 2, 2]}},"
+    " \"material\": {\"model\": \"stvk\", \"young\": 1e5, \"poisson\": 0.3, \"density\": 500},"
+    " \"moving\": [{\"box\": [[0.59, -1, -1], [1, 1, 1]], \"twist\": {\"axis\": [1, 0, 0], \"degrees_per_second\": 90}}]}],"
+    " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, -0.02, 0], \"normal\": [0, 1, 0]}}],"
+    " \"time\": {\"step\": 0.01, \"duration\": 0.3, \"integrator\": \"bdf2\"},"
+    " \"rom\": {\"basis\": \"skinning\", \"size\": 3}}";
+
+/* Steps both `steps` times (the runtime with `push` on group 0, the precompute with the same
+ * force projected) and returns the relative trajectory difference. */
+static double run_both(rt_fixture *f, int steps, const double push[3], rk_error *err, int *failed)
+{
+    rk_rom s;
+    int n = romrt_shown_count(f->m), r = f->R.model.r, ndof = 3 * f->sim.mesh.nv;
+    double worst = 0, scale = 0, *ref = calloc((size_t)3 * n, sizeof(double));
+    romrt_real *xyz = calloc((size_t)3 * n, sizeof(romrt_real));
+    romrt_error rerr;
+    *failed = 0;
+    if (push) { /* the runtime spreads the total force evenly over the group */
+        romrt_real fr[3] = {(romrt_real)push[0], (romrt_real)push[1], (romrt_real)push[2]};
+        int g = romrt_find_group(f->m, "tip");
+        if (g < 0 || romrt_add_force(f->m, g, fr) != ROMRT_OK) *failed = 1;
+        const rk_box tip = {{0.99, -1, -1}, {2, 1, 1}}, *b = &tip; /* the scene's group box */
+        int count = 0;
+        for (int v = 0; v < f->sim.mesh.nv; v++) count += rk_box_contains(b, &f->sim.mesh.X[3 * v], 1e-9);
+        for (int v = 0; v < f->sim.mesh.nv; v++)
+            if (rk_box_contains(b, &f->sim.mesh.X[3 * v], 1e-9))
+                for (int a = 0; a < 3; a++)
+                    for (int j = 0; j < r; j++) f->R.model.f[j] += f->R.basis.U[(size_t)ndof * j + 3 * v + a] * push[a] / count;
+    }
+    if (*failed || rk_rom_init(&s, &f->R.model, NULL, NULL, err)) {
+        *failed = 1;
+        free(ref);
+        free(xyz);
+        return INFINITY;
+    }
+    for (int k = 0; k < steps && !*failed; k++) {
+        if (rk_rom_step(&s, err) || romrt_step(f->m, &rerr) != ROMRT_OK) {
+            if (!err->msg[0]) snprintf(err->msg, sizeof err->msg, "runtime: %s", rerr.message);
+            *failed = 1;
+            break;
+        }
+        rt_fixture_reference(f, s.q, ref);
+        romrt_positions(f->m, xyz, n);
+        for (int i = 0; i < 3 * n; i++) {
+            worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
+            scale = fmax(scale, fabs(ref[i] - f->sim.mesh.X[3 * (int)f->vmap[i / 3] + i % 3]));
+        }
+    }
+    rk_rom_free(&s);
+    free(ref);
+    free(xyz);
+    return worst / scale;
+}
+
+TEST(cantilever_backward_euler_matches_reduced_simulator)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    int failed;
+    CHECK_OK(rt_fixture_open(&f, cantilever("backward_euler"), ASSET_REAL, &err, &rerr));
+    double rel = run_both(&f, 40, NULL, &err, &failed);
+    CHECK(!failed, "%s", err.msg);
+    printf("# cantilever BE: relative difference %.3g (tol %g), r = %d, %d cubature elements\n", rel, PARITY_TOL,
+           f.R.model.r, f.R.model.quad.count);
+    CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+    rt_fixture_close(&f);
+}
+
+TEST(cantilever_bdf2_with_a_pushed_tip_matches)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    int failed;
+    CHECK_OK(rt_fixture_open(&f, cantilever("bdf2"), ASSET_REAL, &err, &rerr));
+    double push[3] = {0, 0, 0.05};
+    double rel = run_both(&f, 40, push, &err, &failed);
+    CHECK(!failed, "%s", err.msg);
+    printf("# cantilever BDF2, pushed: relative difference %.3g (tol %g)\n", rel, PARITY_TOL);
+    CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+    rt_fixture_close(&f);
+}
+
+TEST(twisted_drop_on_a_plane_matches)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    int failed;
+    CHECK_OK(rt_fixture_open(&f, twisted_drop, ASSET_REAL, &err, &rerr));
+    double rel = run_both(&f, 30, NULL, &err, &failed);
+    CHECK(!failed, "%s", err.msg);
+    printf("# twisted drop (contact, pins, BDF2): relative difference %.3g (tol %g), %d contacts\n", rel, PINNED_TOL,
+           f.R.model.ncontacts);
+    CHECK(f.R.model.ncontacts > 0 && f.R.model.npins > 0, "the scene should have contacts and pins");
+    CHECK(rel <= PINNED_TOL, "relative difference %.3g above %g", rel, PINNED_TOL);
+    rt_fixture_close(&f);
+}
+
+TEST(state_restores_and_reset_returns_to_rest)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, cantilever("bdf2"), ASSET_REAL, &err, &rerr));
+    int n = romrt_shown_count(f.m), ns = romrt_state_size(f.m);
+    romrt_real *state = calloc((size_t)ns, sizeof(romrt_real)), *a = calloc((size_t)3 * n, sizeof(romrt_real)),
+               *b = calloc((size_t)3 * n, sizeof(romrt_real));
+    for (int k = 0; k < 5; k++) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
+    CHECK(romrt_get_state(f.m, state, ns) == ROMRT_OK, "get_state");
+    for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr);
+    romrt_positions(f.m, a, n);
+    CHECK(romrt_set_state(f.m, state, ns) == ROMRT_OK, "set_state");
+    for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr);
+    romrt_positions(f.m, b, n);
+    CHECK(memcmp(a, b, sizeof(romrt_real) * 3 * n) == 0, "replaying from a saved state differs");
+    state[2] = (romrt_real)NAN;
+    CHECK(romrt_set_state(f.m, state, ns) == ROMRT_E_ARGUMENT, "a NaN state must be refused");
+    CHECK(romrt_set_state(f.m, state, ns - 1) == ROMRT_E_ARGUMENT, "a state of the wrong size must be refused");
+    romrt_reset(f.m);
+    romrt_positions(f.m, a, n);
+    for (int i = 0; i < 3 * n; i++)
+        CHECK(a[i] == (romrt_real)f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3], "reset: vertex %d not at rest", i / 3);
+    CHECK(romrt_time(f.m) == 0, "reset: time %g", (double)romrt_time(f.m));
+    free(state);
+    free(a);
+    free(b);
+    rt_fixture_close(&f);
+}
+
+int main(void)
+{
+    RUN(cantilever_backward_euler_matches_reduced_simulator);
+    RUN(cantilever_bdf2_with_a_pushed_tip_matches);
+    RUN(twisted_drop_on_a_plane_matches);
+    RUN(state_restores_and_reset_returns_to_rest);
+    return test_finish();
+}
