@@ -36,7 +36,7 @@ TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(BUILD)/tests/test_runtime_parity_double
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
-all: $(BUILD)/romkit $(TEST_BIN)
+all: $(BUILD)/romkit $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -72,6 +72,13 @@ $(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_L
 	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
 
+# examples/embed: an app that uses only runtime/romrt.h, in C and in C++.
+CXX ?= c++
+$(BUILD)/embed: examples/embed/embed.c runtime/romrt.h $(RT_LIB)
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -I. -o $@ $< $(RT_LIB) -lm
+$(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
+	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -I. -o $@ $< $(RT_LIB) -lm
+
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
 .SECONDEXPANSION:
@@ -85,12 +92,17 @@ $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_st
 
 $(BUILD)/bench_%: bench/bench_%.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
+$(BUILD)/bench_rom: bench/bench_rom_model.h
+# The runtime bench also links the float runtime (as the runtime tests do).
+$(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_rom_model.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis $(BUILD)/bench_rom
+bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime
 	@mkdir -p bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
 	$(BUILD)/bench_basis tests/data/meshes bench/results
 	$(BUILD)/bench_rom tests/data/meshes bench/results
+	$(BUILD)/bench_runtime tests/data/meshes bench/results
 
 # The freeform paper's Table 1 beam tests, every method beside the paper's numbers (several minutes).
 paper-table: deps $(BUILD)/romkit
@@ -116,3 +128,6 @@ clean:
 	rm -rf build build-san
 
 -include $(shell find $(BUILD)/obj $(BUILD)/rt $(BUILD)/tests -name '*.d' 2>/dev/null)
+
+# make mcu (Cortex-M4F under qemu) and make fuzz: their own fragments.
+include tests/mcu/mcu.mk

@@ -14,7 +14,7 @@ const char *romrt_status_string(romrt_status status)
         "ok", "bad argument", "damaged asset", "unsupported format version", "wrong platform",
         "unsupported asset feature", "inconsistent model", "above the runtime's limits", "arena too small or misaligned",
         "step diverged"};
-    return (int)status >= 0 && status < ROMRT_STATUS_COUNT ? names[status] : "unknown status";
+    return (unsigned)status < (unsigned)ROMRT_STATUS_COUNT ? names[status] : "unknown status";
 #endif
 }
 

@@ -1,0 +1,36 @@
+# The runtime on a Cortex-M4F: `make mcu` cross-compiles it with the asset of
+# tests/mcu/scene.json in flash, runs it under qemu (MPS2-AN386, -icount) and on the host, and
+# compares the two (tests/mcu/compare.sh writes $BUILD/mcu/mcu.json).
+. tests/lib.sh
+BUILD=${ROMKIT_BUILD:-build}
+missing=""
+for t in arm-none-eabi-gcc qemu-system-arm xxd; do
+    command -v $t >/dev/null 2>&1 || missing="$missing $t"
+done
+if [ -n "$missing" ]; then
+    fail mcu_tools_present "missing$missing: run tools/install-deps.sh (as root)"
+    exit 0
+fi
+
+rm -f "$BUILD/mcu/mcu.json" "$BUILD/mcu/qemu.rc"
+make -s mcu BUILD="$BUILD" >"$TMP/out" 2>&1
+rc=$?
+json_number() { tr -d ' \n\t' <"$1" | sed -n "s/.*\"$2\":\([-0-9.eE+]*\).*/\1/p"; }
+
+if [ "$(cat "$BUILD/mcu/qemu.rc" 2>/dev/null)" = 0 ] && grep -q '^x ' "$BUILD/mcu/qemu.txt"; then
+    ok mcu_qemu_run_completes
+else
+    fail mcu_qemu_run_completes "$(grep -m1 '^error' "$BUILD/mcu/qemu.txt" 2>/dev/null || tail -n 5 "$TMP/out")"
+fi
+relative=$(json_number "$BUILD/mcu/mcu.json" max_relative_difference 2>/dev/null)
+if [ $rc -eq 0 ] && [ -n "$relative" ] && awk -v e="$relative" 'BEGIN { exit !(e <= 1e-4) }'; then
+    ok "mcu_agrees_with_host ($relative of the largest displacement)"
+else
+    fail mcu_agrees_with_host "make mcu exited with $rc, relative difference '$relative': $(grep FAIL "$TMP/out" | head -n 3)"
+fi
+median=$(json_number "$BUILD/mcu/mcu.json" instructions_per_step_median 2>/dev/null)
+if [ -n "$median" ] && [ "$median" -gt 0 ] 2>/dev/null; then
+    ok "mcu_instructions_per_step_measured ($median per step, median)"
+else
+    fail mcu_instructions_per_step_measured "median '$median'"
+fi
