@@ -1,0 +1,76 @@
+# romkit build / inspect / run and examples/embed: the report keys (DESIGN.md), determinism,
+# compression, precision, and the errors a user meets (nothing written half-way).
+. tests/lib.sh
+B=${ROMKIT_BUILD:-build}
+SCENE=examples/scenes/cantilever_small.json
+flat() { tr -d ' \n\t' <"$1"; }
+has_keys() { # has_keys NAME FILE KEY...
+    name=$1; r=$(flat "$2"); shift 2; missing=""
+    for key in "$@"; do case $r in *"$key"*) ;; *) missing="$missing $key" ;; esac; done
+    [ -z "$missing" ] && ok "$name" || fail "$name" "missing$missing"
+}
+
+if "$ROMKIT" build "$SCENE" -o "$TMP/a.rombin" --report "$TMP/build.json" --quiet >"$TMP/out" 2>"$TMP/err"; then
+    has_keys build_report_keys "$TMP/build.json" '"vertices":' '"tets":' '"basis":{"type":"modes"' '"size":12' \
+        '"eigenvalues":[' '"cubature":{"elements":' '"relative_error":' '"asset":{"bytes":' '"chunks":[' '"seconds":{'
+    # Only what the scene needs: fewer rows than mesh vertices, the shown ones are the surface.
+    r=$(flat "$TMP/build.json")
+    stored=$(echo "$r" | grep -o '"stored_vertices":[0-9]*' | cut -d: -f2)
+    verts=$(echo "$r" | grep -o '"vertices":[0-9]*' | head -1 | cut -d: -f2)
+    [ -n "$stored" ] && [ "$stored" -lt "$verts" ] && ok build_stores_fewer_vertices_than_the_mesh \
+        || fail build_stores_fewer_vertices_than_the_mesh "stored $stored of $verts"
+else
+    fail build_report_keys "$(cat "$TMP/err")"
+fi
+
+"$ROMKIT" build "$SCENE" -o "$TMP/b.rombin" --quiet >/dev/null 2>&1
+cmp -s "$TMP/a.rombin" "$TMP/b.rombin" && ok build_is_deterministic || fail build_is_deterministic "two builds differ"
+
+"$ROMKIT" inspect "$TMP/a.rombin" >"$TMP/out" 2>"$TMP/err" && grep -q "ROWS  critical" "$TMP/out" && grep -q "opens with the runtime" "$TMP/out" \
+    && ok inspect_lists_and_verifies || fail inspect_lists_and_verifies "$(head -c 400 "$TMP/out" "$TMP/err")"
+
+# Damage: a truncated copy and one flipped payload byte are refused by inspect and run, by name.
+size=$(wc -c <"$TMP/a.rombin")
+head -c $((size - 100)) "$TMP/a.rombin" >"$TMP/cut.rombin"
+expect_fail inspect_refuses_truncation "truncated" "$ROMKIT" inspect "$TMP/cut.rombin"
+cp "$TMP/a.rombin" "$TMP/flip.rombin"
+printf '\377' | dd of="$TMP/flip.rombin" bs=1 seek=2000 conv=notrunc 2>/dev/null
+expect_fail run_refuses_a_flipped_byte "CRC mismatch" "$ROMKIT" run "$TMP/flip.rombin" --steps 1
+
+if "$ROMKIT" run "$TMP/a.rombin" --steps 20 --positions "$TMP/p.npy" --snapshots "$TMP/s.npy" --report "$TMP/run.json" \
+        --quiet >"$TMP/out" 2>"$TMP/err"; then
+    has_keys run_report_keys "$TMP/run.json" '"vertices":' '"seconds_per_step":' '"newton_iterations":' '"arena_bytes":' \
+        '"asset":{"bytes":' '"seconds":{"total":'
+    head -c 80 "$TMP/s.npy" | grep -q "'shape': (20, [0-9]*, 3)" && ok run_writes_snapshots || fail run_writes_snapshots "$(head -c 80 "$TMP/s.npy")"
+else
+    fail run_report_keys "$(cat "$TMP/err")"
+fi
+
+# Compressed and float64 assets: smaller / larger, and the same motion.
+"$ROMKIT" build "$SCENE" -o "$TMP/z.rombin" --compress --quiet >/dev/null 2>&1
+[ "$(wc -c <"$TMP/z.rombin")" -lt "$size" ] && ok compress_makes_it_smaller || fail compress_makes_it_smaller "$(wc -c <"$TMP/z.rombin") vs $size"
+"$ROMKIT" run "$TMP/z.rombin" --steps 20 --positions "$TMP/pz.npy" --quiet >/dev/null 2>"$TMP/err" && cmp -s "$TMP/p.npy" "$TMP/pz.npy" \
+    && ok compressed_asset_runs_identically || fail compressed_asset_runs_identically "$(cat "$TMP/err")"
+"$ROMKIT" inspect "$TMP/z.rombin" | grep -q deflate && ok inspect_shows_deflate || fail inspect_shows_deflate "no deflate chunk listed"
+"$ROMKIT" build "$SCENE" -o "$TMP/d.rombin" --precision float64 --quiet >/dev/null 2>&1 && "$ROMKIT" inspect "$TMP/d.rombin" | grep -q "float64 reals" \
+    && "$ROMKIT" run "$TMP/d.rombin" --steps 5 --quiet >/dev/null && ok float64_asset_opens_in_the_float_runtime \
+    || fail float64_asset_opens_in_the_float_runtime "build, inspect or run failed"
+
+# The embedding examples (C and C++) open, push and step it.
+"$B/embed" "$TMP/a.rombin" 40 >"$TMP/out" 2>&1 && grep -q "tip at" "$TMP/out" && ok embed_c_example || fail embed_c_example "$(cat "$TMP/out")"
+"$B/embed_cpp" "$TMP/a.rombin" >"$TMP/out" 2>&1 && grep -q "one step" "$TMP/out" && ok embed_cpp_example || fail embed_cpp_example "$(cat "$TMP/out")"
+
+# Errors a user meets; no output file is left behind.
+expect_fail build_needs_an_output "-o OUT.rombin is required" "$ROMKIT" build "$SCENE"
+expect_fail build_rejects_bad_precision "float32 or float64" "$ROMKIT" build "$SCENE" -o "$TMP/x.rombin" --precision half
+cat >"$TMP/norom.json" <<'JSON'
+{"objects": [{"mesh": {"box": {"size": [1, 0.1, 0.1], "cells": [4, 1, 1]}},
+  "material": {"model": "linear", "young": 1e6, "poisson": 0.3, "density": 1000}}], "time": {"step": 0.01, "duration": 0.1}}
+JSON
+expect_fail build_needs_a_rom_section "no rom section" "$ROMKIT" build "$TMP/norom.json" -o "$TMP/x.rombin"
+sed 's/"asset": {"groups"/"asset": {"show": "sideways", "groups"/' "$SCENE" >"$TMP/bad.json"
+expect_fail build_names_a_bad_key "show must be" "$ROMKIT" build "$TMP/bad.json" -o "$TMP/x.rombin"
+if [ -e "$TMP/x.rombin" ] || ls "$TMP" | grep -q 'x.rombin.tmp'; then fail no_partial_asset "a failed build left a file"; else ok no_partial_asset; fi
+expect_fail run_rejects_bad_steps "whole number" "$ROMKIT" run "$TMP/a.rombin" --steps -3
+expect_fail run_jump_needs_koopman "no Koopman operator" "$ROMKIT" run "$TMP/a.rombin" --steps 1 --jump 10
+expect_fail run_missing_file "cannot open" "$ROMKIT" run "$TMP/none.rombin" --steps 1
