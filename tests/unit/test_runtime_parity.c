@@ -94,50 +94,39 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
     return worst / scale;
 }
 
+/* Opens the scene, runs both for `steps`, and checks the relative difference against tol.
+ * Leaves the calling test (through CHECK) on failure. */
+#define CHECK_PARITY(label, json, steps, push, tol, extra_check)                                          \
+    do {                                                                                                  \
+        rk_error err = {{0}};                                                                             \
+        romrt_error rerr;                                                                                 \
+        rt_fixture f;                                                                                     \
+        int failed;                                                                                       \
+        CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));                                     \
+        double rel = run_both(&f, steps, push, &err, &failed);                                            \
+        CHECK(!failed, "%s", err.msg);                                                                    \
+        printf("# %s: relative difference %.3g (tol %g), r = %d, %d cubature elements, %d contacts\n",    \
+               label, rel, (double)(tol), f.R.model.r, f.R.model.quad.count, f.R.model.ncontacts);        \
+        CHECK(extra_check, "%s: the scene lacks what it should exercise", label);                         \
+        CHECK(rel <= (tol), "relative difference %.3g above %g", rel, (double)(tol));                     \
+        rt_fixture_close(&f);                                                                             \
+    } while (0)
+
 TEST(cantilever_backward_euler_matches_reduced_simulator)
 {
-    rk_error err = {{0}};
-    romrt_error rerr;
-    rt_fixture f;
-    int failed;
-    CHECK_OK(rt_fixture_open(&f, cantilever("backward_euler"), ASSET_REAL, &err, &rerr));
-    double rel = run_both(&f, 40, NULL, &err, &failed);
-    CHECK(!failed, "%s", err.msg);
-    printf("# cantilever BE: relative difference %.3g (tol %g), r = %d, %d cubature elements\n", rel, PARITY_TOL,
-           f.R.model.r, f.R.model.quad.count);
-    CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
-    rt_fixture_close(&f);
+    CHECK_PARITY("cantilever BE", cantilever("backward_euler"), 40, NULL, PARITY_TOL, f.R.model.C != NULL);
 }
 
 TEST(cantilever_bdf2_with_a_pushed_tip_matches)
 {
-    rk_error err = {{0}};
-    romrt_error rerr;
-    rt_fixture f;
-    int failed;
-    CHECK_OK(rt_fixture_open(&f, cantilever("bdf2"), ASSET_REAL, &err, &rerr));
-    double push[3] = {0, 0, 0.05};
-    double rel = run_both(&f, 40, push, &err, &failed);
-    CHECK(!failed, "%s", err.msg);
-    printf("# cantilever BDF2, pushed: relative difference %.3g (tol %g)\n", rel, PARITY_TOL);
-    CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
-    rt_fixture_close(&f);
+    const double push[3] = {0, 0, 0.05};
+    CHECK_PARITY("cantilever BDF2, pushed", cantilever("bdf2"), 40, push, PARITY_TOL, 1);
 }
 
 TEST(twisted_drop_on_a_plane_matches)
 {
-    rk_error err = {{0}};
-    romrt_error rerr;
-    rt_fixture f;
-    int failed;
-    CHECK_OK(rt_fixture_open(&f, twisted_drop, ASSET_REAL, &err, &rerr));
-    double rel = run_both(&f, 30, NULL, &err, &failed);
-    CHECK(!failed, "%s", err.msg);
-    printf("# twisted drop (contact, pins, BDF2): relative difference %.3g (tol %g), %d contacts\n", rel, PINNED_TOL,
-           f.R.model.ncontacts);
-    CHECK(f.R.model.ncontacts > 0 && f.R.model.npins > 0, "the scene should have contacts and pins");
-    CHECK(rel <= PINNED_TOL, "relative difference %.3g above %g", rel, PINNED_TOL);
-    rt_fixture_close(&f);
+    CHECK_PARITY("twisted drop (contact, pins, BDF2)", twisted_drop, 30, NULL, PINNED_TOL,
+                 f.R.model.ncontacts > 0 && f.R.model.npins > 0);
 }
 
 TEST(state_restores_and_reset_returns_to_rest)
