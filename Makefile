@@ -131,3 +131,4 @@ clean:
 
 # make mcu (Cortex-M4F under qemu) and make fuzz: their own fragments.
 include tests/mcu/mcu.mk
+include tests/fuzz/fuzz.mk

@@ -178,7 +178,8 @@ void rombin_chunk_get(const rombin_file *f, unsigned index, rombin_chunk *c)
     c->stored = rombin_get_u64(p + ROMBIN_E_STORED);
     c->raw = rombin_get_u64(p + ROMBIN_E_RAW);
     c->crc = rombin_get_u32(p + ROMBIN_E_CRC);
-    c->data = f->base + (size_t)c->offset;
+    /* Only a pointer inside the buffer is formed; rombin_open rejects an entry that points outside. */
+    c->data = c->offset <= f->size ? f->base + (size_t)c->offset : 0;
 }
 
 int rombin_find(const rombin_file *f, const char *id, rombin_chunk *c)

@@ -117,23 +117,38 @@ static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
 
 static int finite3(const romrt_real f[3]) { return isfinite(f[0]) && isfinite(f[1]) && isfinite(f[2]); }
 
+/* Keeps the applied forces finite: a push whose sum overflows is undone and refused. */
+static romrt_status checked(romrt_model *m, const romrt_real *before)
+{
+    int j;
+    for (j = 0; j < m->r; j++)
+        if (!isfinite(m->f_app[j])) {
+            memcpy(m->f_app, before, sizeof(romrt_real) * (size_t)m->r);
+            return ROMRT_E_ARGUMENT;
+        }
+    return ROMRT_OK;
+}
+
 romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3])
 {
     uint32_t k, first, count;
-    romrt_real share[3];
+    romrt_real share[3], before[ROMRT_MAX_R];
     if (!m || !f || group < 0 || group >= m->ngroups || !finite3(f)) return ROMRT_E_ARGUMENT;
+    memcpy(before, m->f_app, sizeof(romrt_real) * (size_t)m->r);
     first = m->groups[2 * group];
     count = m->groups[2 * group + 1];
     for (k = 0; k < 3; k++) share[k] = f[k] / (romrt_real)count;
     for (k = 0; k < count; k++) push(m, m->gverts[first + k], share);
-    return ROMRT_OK;
+    return checked(m, before);
 }
 
 romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romrt_real f[3])
 {
+    romrt_real before[ROMRT_MAX_R];
     if (!m || !f || shown_vertex < 0 || shown_vertex >= m->shown || !finite3(f)) return ROMRT_E_ARGUMENT;
+    memcpy(before, m->f_app, sizeof(romrt_real) * (size_t)m->r);
     push(m, (uint32_t)shown_vertex, f);
-    return ROMRT_OK;
+    return checked(m, before);
 }
 
 void romrt_clear_forces(romrt_model *m)

@@ -99,7 +99,8 @@ romrt_status romrt_triangles(const romrt_model *m, int *tri, int count);
 
 /* Pushing. A group is found by name (-1 if none); romrt_add_force spreads the total force f (N)
  * evenly over the group's vertices, romrt_add_vertex_force puts f on one shown vertex. Forces
- * add up and act on every following step until romrt_clear_forces. */
+ * add up and act on every following step until romrt_clear_forces. A force whose sum would
+ * overflow is refused (ROMRT_E_ARGUMENT) and changes nothing. */
 int romrt_find_group(const romrt_model *m, const char *name);
 const char *romrt_group_name(const romrt_model *m, int group);
 romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3]);

@@ -1,0 +1,44 @@
+# Damaged assets: tests/fuzz/damage writes hundreds of variants of a freshly built asset (in both
+# precisions); under ASan/UBSan (replay-san) the runtime must refuse every bad one with a status
+# and a message, and open and step the good ones and the asset itself.
+. tests/lib.sh
+B=${ROMKIT_BUILD:-build}
+if make -s BUILD="$B" "$B/fuzz/replay-san" "$B/fuzz/damage" >"$TMP/make" 2>&1; then
+    ok damaged_tools_build
+else
+    fail damaged_tools_build "$(tail -c 600 "$TMP/make")"
+    exit 0
+fi
+
+# replay MODE PREFIX PATH...: passes replay-san's ok/FAIL lines through, names prefixed with
+# PREFIX; a sanitizer abort (no FAIL line of its own) becomes one FAIL with the report's tail.
+replay() {
+    mode=$1; prefix=$2; shift 2
+    "$B/fuzz/replay-san" "$mode" "$@" >"$TMP/replay" 2>&1
+    rc=$?
+    sed -n "s#^\(ok\|FAIL\) \(rejects\|opens\) #\1 \2 $prefix/#p" "$TMP/replay"
+    if [ "$rc" -ne 0 ] && ! grep -q '^FAIL ' "$TMP/replay"; then
+        fail "replay_${prefix}_$mode" "exit status $rc after $(grep -c '^ok ' "$TMP/replay") files: $(tail -c 1500 "$TMP/replay")"
+    fi
+}
+
+for prec in float32 float64; do
+    seed=$TMP/seed-$prec.rombin
+    if ! "$ROMKIT" build tests/fuzz/seed_scene.json -o "$seed" --quiet --precision $prec >"$TMP/out" 2>&1; then
+        fail "damaged_seed_builds_$prec" "$(tail -c 600 "$TMP/out")"
+        continue
+    fi
+    ok "damaged_seed_builds_$prec"
+    if ! "$B/fuzz/damage" "$seed" "$TMP/$prec" >"$TMP/out" 2>&1; then
+        fail "damaged_variants_written_$prec" "$(tail -c 600 "$TMP/out")"
+        continue
+    fi
+    n=$(ls "$TMP/$prec/bad" | wc -l)
+    [ "$n" -ge 50 ] && ok "damaged_at_least_50_bad_variants_$prec ($n)" \
+        || fail "damaged_at_least_50_bad_variants_$prec" "only $n"
+    replay --expect-error "$prec" "$TMP/$prec/bad"
+    replay --expect-ok "$prec" "$TMP/$prec/good" "$seed"
+done
+
+# Inputs the fuzzer once broke the runtime with: each must now be refused cleanly.
+replay --expect-error regressions tests/fuzz/regressions
