@@ -33,6 +33,10 @@ void rk_lame(double young, double poisson, double *mu, double *lambda);
 
 /* Energy density Psi(F) (J/m^3). */
 double rk_psi(rk_material_model model, double mu, double lambda, const double F[9]);
+/* The same on the displacement gradient Hd = F - I, which keeps small strains exact (F's
+ * entries are ~1 and their differences lose digits, in float above all). */
+double rk_psi_h(rk_material_model model, double mu, double lambda, const double Hd[9]);
+void rk_pk1_h(rk_material_model model, double mu, double lambda, const double Hd[9], double P[9]);
 /* First Piola-Kirchhoff stress P = dPsi/dF. */
 void rk_pk1(rk_material_model model, double mu, double lambda, const double F[9], double P[9]);
 /* dP/dF (9x9); projected to positive semi-definite when project != 0. */

@@ -59,6 +59,9 @@ PHYS_API PHYS_REAL PHYS_FN(psi)(rk_material_model model, PHYS_REAL mu, PHYS_REAL
                                 const PHYS_REAL F[9]);
 PHYS_API void PHYS_FN(pk1)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
                            const PHYS_REAL F[9], PHYS_REAL P[9]);
+PHYS_API PHYS_REAL PHYS_FN(psi_h)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL Hd[9]);
+PHYS_API void PHYS_FN(pk1_h)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL Hd[9],
+                             PHYS_REAL P[9]);
 PHYS_API void PHYS_FN(dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
                             const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project);
 PHYS_API void PHYS_FN(tet_F)(const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL F[9]);
@@ -374,87 +377,142 @@ static void PHYS_FN(snh_constants)(PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL *lb
     *E0 = mu * mu / *lbar + PHYS_K_(3) * mu;
 }
 
-PHYS_API PHYS_REAL PHYS_FN(psi)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
-                                const PHYS_REAL F[9])
+/* Energy and stress are written on the displacement gradient Hd = F - I, so that small strains
+ * keep their digits: F and cof F are both ~I, and forming |F|^2 - 3, J - 1 or F - cof F from
+ * them loses everything below machine epsilon of 1 -- in float32, a strain of 1e-4 keeps about
+ * three digits of stress and none of energy. With Hd the same quantities are exact polynomials
+ * in small numbers:
+ *   J - 1      = tr Hd + i2(Hd) + det Hd        (i2: the sum of the principal 2x2 minors)
+ *   cof F - I  = tr(Hd) I - Hd^T + cof(Hd)
+ *   |F|^2 - 3  = 2 tr Hd + |Hd|^2. */
+/* The higher-order part of J - 1: i2(Hd) + det Hd. */
+static PHYS_REAL PHYS_FN(j_rest)(const PHYS_REAL Hd[9])
 {
-    PHYS_REAL C[9], e[9], tr, sum = PHYS_K_(0);
+    PHYS_REAL i2 = Hd[0] * Hd[4] + Hd[4] * Hd[8] + Hd[0] * Hd[8] - Hd[1] * Hd[3] - Hd[2] * Hd[6] - Hd[5] * Hd[7];
+    return i2 + PHYS_FN(m3_det)(Hd);
+}
+
+static PHYS_REAL PHYS_FN(j_minus_one)(const PHYS_REAL Hd[9])
+{
+    return (Hd[0] + Hd[4] + Hd[8]) + PHYS_FN(j_rest)(Hd);
+}
+
+static void PHYS_FN(cof_minus_identity)(const PHYS_REAL Hd[9], PHYS_REAL C[9])
+{
+    PHYS_REAL tr = Hd[0] + Hd[4] + Hd[8];
     int i, j;
+    PHYS_FN(m3_cofactor)(Hd, C);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) C[3 * i + j] += (i == j ? tr : PHYS_K_(0)) - Hd[3 * j + i];
+}
+
+/* E (Green-Lagrange for StVK, small strain for linear) from Hd. */
+static void PHYS_FN(strain)(rk_material_model model, const PHYS_REAL Hd[9], PHYS_REAL e[9])
+{
+    int i, j, k;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            PHYS_REAL q = PHYS_K_(0);
+            if (model == RK_MAT_STVK)
+                for (k = 0; k < 3; k++) q += Hd[3 * k + i] * Hd[3 * k + j];
+            e[3 * i + j] = PHYS_K_(0.5) * (Hd[3 * i + j] + Hd[3 * j + i] + q);
+        }
+}
+
+PHYS_API PHYS_REAL PHYS_FN(psi_h)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL Hd[9])
+{
+    PHYS_REAL e[9], tr, sum = PHYS_K_(0);
+    int i;
     switch (model) {
-    case RK_MAT_LINEAR: /* eps = (F + F^T)/2 - I; Psi = mu eps:eps + lambda/2 tr(eps)^2 */
-        for (i = 0; i < 3; i++)
-            for (j = 0; j < 3; j++)
-                e[3 * i + j] = PHYS_K_(0.5) * (F[3 * i + j] + F[3 * j + i]) -
-                               (i == j ? PHYS_K_(1) : PHYS_K_(0));
-        break;
-    case RK_MAT_STVK: /* E = (F^T F - I)/2; Psi = mu E:E + lambda/2 tr(E)^2 */
-        PHYS_FN(m3_mul_tn)(F, F, C);
-        for (i = 0; i < 9; i++)
-            e[i] = PHYS_K_(0.5) * (C[i] - (i % 4 == 0 ? PHYS_K_(1) : PHYS_K_(0)));
-        break;
-    case RK_MAT_COROTATED: { /* mu |F - R|^2 + lambda/2 tr(R^T F - I)^2
-                              * = mu sum (s_i - 1)^2 + lambda/2 (sum s_i - 3)^2 */
-        PHYS_REAL R[9], s[3];
+    case RK_MAT_LINEAR: /* Psi = mu eps:eps + lambda/2 tr(eps)^2 */
+    case RK_MAT_STVK:   /* Psi = mu E:E + lambda/2 tr(E)^2 */
+        PHYS_FN(strain)(model, Hd, e);
+        for (i = 0; i < 9; i++) sum += e[i] * e[i];
+        tr = e[0] + e[4] + e[8];
+        return mu * sum + PHYS_K_(0.5) * lambda * tr * tr;
+    case RK_MAT_COROTATED: { /* mu sum (s_i - 1)^2 + lambda/2 (sum s_i - 3)^2, s the signed singular values */
+        PHYS_REAL F[9], R[9], s[3];
+        for (i = 0; i < 9; i++) F[i] = Hd[i] + (PHYS_REAL)(i % 4 == 0);
         PHYS_FN(polar3)(F, R, s);
         tr = s[0] + s[1] + s[2] - PHYS_K_(3);
         for (i = 0; i < 3; i++) sum += (s[i] - PHYS_K_(1)) * (s[i] - PHYS_K_(1));
         return mu * sum + PHYS_K_(0.5) * lambda * tr * tr;
     }
-    case RK_MAT_NEOHOOKEAN: { /* Eq. 16: 1/2 [lambda_bar (J - gamma)^2 + mu tr(F^T F) - E0] */
-        PHYS_REAL lbar, gam, E0, J = PHYS_FN(m3_det)(F);
-        PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
-        for (i = 0; i < 9; i++) sum += F[i] * F[i];
-        return PHYS_K_(0.5) * (lbar * (J - gam) * (J - gam) + mu * sum - E0);
+    case RK_MAT_NEOHOOKEAN: {
+        /* Eq. 16, 1/2 [lambda_bar (J - gamma)^2 + mu |F|^2 - E0] with gamma = 1 + mu/lambda_bar and
+         * E0 = mu^2/lambda_bar + 3 mu, expanded with j = J - 1: the constant and first-order terms
+         * cancel exactly, leaving 1/2 [lambda_bar j^2 - 2 mu (i2 + det Hd) + mu |Hd|^2]. */
+        PHYS_REAL lbar = lambda + mu, j = PHYS_FN(j_minus_one)(Hd);
+        for (i = 0; i < 9; i++) sum += Hd[i] * Hd[i];
+        return PHYS_K_(0.5) * (lbar * j * j - PHYS_K_(2) * mu * PHYS_FN(j_rest)(Hd) + mu * sum);
     }
     default:
         return PHYS_K_(0);
     }
-    /* linear and StVK share mu e:e + lambda/2 tr(e)^2 */
-    for (i = 0; i < 9; i++) sum += e[i] * e[i];
-    tr = e[0] + e[4] + e[8];
-    return mu * sum + PHYS_K_(0.5) * lambda * tr * tr;
 }
 
-PHYS_API void PHYS_FN(pk1)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
-                           const PHYS_REAL F[9], PHYS_REAL P[9])
+PHYS_API void PHYS_FN(pk1_h)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL Hd[9],
+                             PHYS_REAL P[9])
 {
-    PHYS_REAL tr;
+    PHYS_REAL e[9], tr;
     int i, j;
     switch (model) {
     case RK_MAT_LINEAR: /* P = 2 mu eps + lambda tr(eps) I */
-        tr = F[0] + F[4] + F[8] - PHYS_K_(3);
-        for (i = 0; i < 3; i++)
-            for (j = 0; j < 3; j++)
-                P[3 * i + j] = mu * (F[3 * i + j] + F[3 * j + i]) -
-                               (i == j ? PHYS_K_(2) * mu - lambda * tr : PHYS_K_(0));
+        PHYS_FN(strain)(model, Hd, e);
+        tr = e[0] + e[4] + e[8];
+        for (i = 0; i < 9; i++) P[i] = PHYS_K_(2) * mu * e[i] + (i % 4 == 0 ? lambda * tr : PHYS_K_(0));
         return;
-    case RK_MAT_STVK: { /* P = F S, S = 2 mu E + lambda tr(E) I (second Piola-Kirchhoff) */
-        PHYS_REAL C[9], S[9];
-        PHYS_FN(m3_mul_tn)(F, F, C);
-        tr = PHYS_K_(0.5) * (C[0] + C[4] + C[8] - PHYS_K_(3));
-        for (i = 0; i < 9; i++)
-            S[i] = mu * (C[i] - (i % 4 == 0 ? PHYS_K_(1) : PHYS_K_(0))) +
-                   (i % 4 == 0 ? lambda * tr : PHYS_K_(0));
-        PHYS_FN(m3_mul)(F, S, P);
+    case RK_MAT_STVK: { /* P = F S = S + Hd S, S = 2 mu E + lambda tr(E) I */
+        PHYS_REAL S[9], HS[9];
+        PHYS_FN(strain)(model, Hd, e);
+        tr = e[0] + e[4] + e[8];
+        for (i = 0; i < 9; i++) S[i] = PHYS_K_(2) * mu * e[i] + (i % 4 == 0 ? lambda * tr : PHYS_K_(0));
+        PHYS_FN(m3_mul)(Hd, S, HS);
+        for (i = 0; i < 9; i++) P[i] = S[i] + HS[i];
         return;
     }
     case RK_MAT_COROTATED: { /* P = 2 mu (F - R) + lambda tr(R^T F - I) R */
-        PHYS_REAL R[9], s[3];
+        PHYS_REAL F[9], R[9], s[3];
+        for (i = 0; i < 9; i++) F[i] = Hd[i] + (PHYS_REAL)(i % 4 == 0);
         PHYS_FN(polar3)(F, R, s);
         tr = s[0] + s[1] + s[2] - PHYS_K_(3);
         for (i = 0; i < 9; i++) P[i] = PHYS_K_(2) * mu * (F[i] - R[i]) + lambda * tr * R[i];
         return;
     }
-    case RK_MAT_NEOHOOKEAN: { /* P = mu F + lambda_bar (J - gamma) dJ/dF, dJ/dF = cof(F) */
-        PHYS_REAL lbar, gam, E0, cof[9], J = PHYS_FN(m3_det)(F);
-        PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
-        PHYS_FN(m3_cofactor)(F, cof);
-        for (i = 0; i < 9; i++) P[i] = mu * F[i] + lbar * (J - gam) * cof[i];
+    case RK_MAT_NEOHOOKEAN: {
+        /* P = mu F + lambda_bar (J - gamma) cof F = mu (Hd - C) + lambda_bar j (I + C), C = cof F - I
+         * (the mu I terms cancel exactly), Hd - C = Hd + Hd^T - tr(Hd) I - cof(Hd). */
+        PHYS_REAL lbar = lambda + mu, jm = PHYS_FN(j_minus_one)(Hd), C[9];
+        PHYS_FN(cof_minus_identity)(Hd, C);
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                int k = 3 * i + j;
+                P[k] = mu * (Hd[k] - C[k]) + lbar * jm * ((PHYS_REAL)(i == j) + C[k]);
+            }
         return;
     }
     default:
         memset(P, 0, 9 * sizeof(PHYS_REAL));
         return;
     }
+}
+
+/* The F forms: one implementation, on Hd = F - I. */
+PHYS_API PHYS_REAL PHYS_FN(psi)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL F[9])
+{
+    PHYS_REAL Hd[9];
+    int i;
+    for (i = 0; i < 9; i++) Hd[i] = F[i] - (PHYS_REAL)(i % 4 == 0);
+    return PHYS_FN(psi_h)(model, mu, lambda, Hd);
+}
+
+PHYS_API void PHYS_FN(pk1)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL F[9],
+                           PHYS_REAL P[9])
+{
+    PHYS_REAL Hd[9];
+    int i;
+    for (i = 0; i < 9; i++) Hd[i] = F[i] - (PHYS_REAL)(i % 4 == 0);
+    PHYS_FN(pk1_h)(model, mu, lambda, Hd, P);
 }
 
 /* dP/dF for each model, written in full: D[9*(3i+j) + 3k+l] = dP_ij/dF_kl. Products of two

@@ -13,8 +13,8 @@ static const romrt_real *row_of(const romrt_model *m, uint32_t v, int a)
     return m->rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
 }
 
-/* F of element e at q. */
-static void element_F(const romrt_model *m, int e, const romrt_real *q, romrt_real F[9])
+/* The displacement gradient Hd = F - I of element e at q (kept apart from I: physics_impl.h). */
+static void element_H(const romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9])
 {
     const uint32_t *ev = m->elem + 5 * (size_t)e;
     const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
@@ -24,9 +24,9 @@ static void element_F(const romrt_model *m, int e, const romrt_real *q, romrt_re
         for (a = 0; a < 3; a++) u[3 * k + a] = rt_dot(m->r, row_of(m, ev[k], a), q);
     for (a = 0; a < 3; a++)
         for (b = 0; b < 3; b++) {
-            romrt_real s = (romrt_real)(a == b);
+            romrt_real s = 0;
             for (c = 0; c < 3; c++) s += (u[3 * (c + 1) + a] - u[a]) * Dm[3 * c + b];
-            F[3 * a + b] = s;
+            Hd[3 * a + b] = s;
         }
 }
 
@@ -57,15 +57,15 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
     for (e = 0; e < m->ne; e++) {
         const romrt_real *er = m->elem_real + 12 * (size_t)e;
         rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
-        romrt_real F[9], P[9], A[81], w = er[9], psi;
-        element_F(m, e, q, F);
-        psi = RT_PHYS(psi)(model, er[10], er[11], F);
+        romrt_real Hd[9], F[9], P[9], A[81], w = er[9], psi;
+        element_H(m, e, q, Hd);
+        psi = RT_PHYS(psi_h)(model, er[10], er[11], Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
         E += w * psi;
         if (!g && !H) continue;
         element_G(m, e);
         if (g) {
-            RT_PHYS(pk1)(model, er[10], er[11], F, P);
+            RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
             for (k = 0; k < 9; k++) {
                 const romrt_real *Gk = m->G + (size_t)r * k;
                 romrt_real wp = w * P[k];
@@ -73,6 +73,7 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
             }
         }
         if (H) {
+            for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
             RT_PHYS(dpdf)(model, er[10], er[11], F, A, 1);
             for (k = 0; k < 9; k++) { /* AG = w dP/dF G */
                 romrt_real *AGk = m->AG + (size_t)r * k;
@@ -84,12 +85,13 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
                         for (j = 0; j < r; j++) AGk[j] += a * Gl[j];
                 }
             }
-            for (j = 0; j < r; j++) /* upper triangle of G^T AG */
-                for (i = 0; i <= j; i++) {
-                    romrt_real s = 0;
-                    for (k = 0; k < 9; k++) s += m->G[(size_t)r * k + i] * m->AG[(size_t)r * k + j];
-                    H[i + (size_t)r * j] += s;
+            for (k = 0; k < 9; k++) { /* upper triangle of G^T AG, rank-1 by rank-1: contiguous inner loop */
+                const romrt_real *Gk = m->G + (size_t)r * k, *AGk = m->AG + (size_t)r * k;
+                for (j = 0; j < r; j++) {
+                    romrt_real a = AGk[j], *Hj = H + (size_t)r * j;
+                    for (i = 0; i <= j; i++) Hj[i] += Gk[i] * a;
                 }
+            }
         }
     }
     return E;

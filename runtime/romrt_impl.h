@@ -35,8 +35,8 @@
 
 /* The physics, compiled in this runtime's precision under the romrt_phys_ prefix. */
 #define RT_PHYS(name) romrt_phys_##name
-romrt_real romrt_phys_psi(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9]);
-void romrt_phys_pk1(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9], romrt_real P[9]);
+romrt_real romrt_phys_psi_h(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real Hd[9]);
+void romrt_phys_pk1_h(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real Hd[9], romrt_real P[9]);
 void romrt_phys_dpdf(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9],
                      romrt_real dPdF[81], int project);
 romrt_real romrt_phys_barrier(romrt_real d, romrt_real dhat, romrt_real *d1, romrt_real *d2);

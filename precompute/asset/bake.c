@@ -115,7 +115,7 @@ static int add_operators(const rk_rom_model *m, rombin_writer *w, rk_error *err)
     if (rombin_add_reals(w, ROMBIN_MASS, 1, m->M, rr, err) || rombin_add_reals(w, ROMBIN_LOAD, 1, m->f, (size_t)m->r, err))
         return -1;
     if (m->C && rombin_add_reals(w, ROMBIN_DAMP, 1, m->C, rr, err)) return -1;
-    if (m->npins == 0) return 0;
+    if (m->pinned_vertices == 0) return 0; /* the basis holds every prescribed vertex: no penalty */
     size_t per = ROMBIN_PIN_PARAMS + 12 * (size_t)m->r;
     double *pins = rk_calloc(per * m->npins, sizeof(double), err);
     if (!pins) return -1;
@@ -227,7 +227,7 @@ int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset
         head[ROMBIN_HEAD_VERTICES] = (uint32_t)s.count;
         head[ROMBIN_HEAD_SHOWN] = (uint32_t)s.shown;
         head[ROMBIN_HEAD_ELEMENTS] = (uint32_t)m->quad.count;
-        head[ROMBIN_HEAD_PINS] = (uint32_t)m->npins;
+        head[ROMBIN_HEAD_PINS] = (uint32_t)(m->pinned_vertices ? m->npins : 0);
         head[ROMBIN_HEAD_PLANES] = (uint32_t)sim->options.obstacles.count;
         head[ROMBIN_HEAD_CONTACTS] = (uint32_t)m->ncontacts;
         head[ROMBIN_HEAD_GROUPS] = (uint32_t)o->ngroups;
