@@ -49,6 +49,12 @@ typedef struct {
     rk_sparse M;                /* the inertia mass */
 } bench_rom_case;
 
+typedef struct {
+    double start, budget_s;      /* the run's start and its budget (s) */
+    double last_seconds, case_start;
+    int last_nt;
+} bench_budget;
+
 /* 1 (after printing why) when the case is box_100k or box_200k and its estimated cost, after
  * `elapsed` seconds of the run, would take it past budget_s. last_seconds, last_nt: the last
  * case run (last_nt 0: none yet, never skip). */
@@ -130,6 +136,27 @@ static inline int bench_rom_case_prepare(const bench_case *c, bench_rom_case *bc
 fom_fail:
     rk_fom_free(&fom);
     return -1;
+}
+
+static inline void bench_rom_case_free(bench_rom_case *bc);
+
+/* Case c's scene and, unless the budget skips it, its full-order run and modes: 1 ready, 0
+ * skipped (nothing to free), -1 failed. bench_budget_case_done records what it cost. */
+static inline int bench_rom_case_open(const bench_case *c, bench_budget *B, bench_rom_case *bc, rk_error *err)
+{
+    B->case_start = rk_now();
+    if (bench_rom_case_scene(c, bc, err)) return -1;
+    if (bench_over_budget(c->name, bc->nt, rk_now() - B->start, B->last_seconds, B->last_nt, B->budget_s)) {
+        bench_rom_case_free(bc);
+        return 0;
+    }
+    return bench_rom_case_prepare(c, bc, err) ? -1 : 1;
+}
+
+static inline void bench_budget_case_done(bench_budget *B, int nt)
+{
+    B->last_seconds = rk_now() - B->case_start;
+    B->last_nt = nt;
 }
 
 static inline void bench_rom_case_free(bench_rom_case *bc)

@@ -117,20 +117,17 @@ int main(int argc, char **argv)
     fflush(stdout);
     static chunk_row chunks[MAX_ROWS];
     int nrows = 0;
-    double last_seconds = 0, max_ratio = 0;
-    int last_nt = 0, total_unconverged = 0;
+    double max_ratio = 0;
+    int total_unconverged = 0;
+    bench_budget budget = {start, BUDGET_SECONDS, 0, 0, 0};
     for (int c = 0; c < ncases; c++) {
-        double case_start = rk_now();
         const char *name = cases[c].name;
         rk_error err;
         bench_rom_case bc;
-        if (bench_rom_case_scene(&cases[c], &bc, &err)) goto fail;
+        int ready = bench_rom_case_open(&cases[c], &budget, &bc, &err);
+        if (ready < 0) goto fail;
+        if (!ready) continue;
         int nv = bc.nv, nt = bc.nt;
-        if (bench_over_budget(name, nt, rk_now() - start, last_seconds, last_nt, BUDGET_SECONDS)) {
-            bench_rom_case_free(&bc);
-            continue;
-        }
-        if (bench_rom_case_prepare(&cases[c], &bc, &err)) goto fail;
         double fom_s = bc.fom_s;
         for (int k = 0; k < BENCH_NR; k++) {
             int r = BENCH_R_VALUES[k];
@@ -237,8 +234,7 @@ int main(int argc, char **argv)
             rk_rom_model_free(&m);
         }
         bench_rom_case_free(&bc);
-        last_seconds = rk_now() - case_start;
-        last_nt = nt;
+        bench_budget_case_done(&budget, nt);
         continue;
     fail:
         fprintf(stderr, "bench_runtime: %s: %s\n", name, err.msg);
