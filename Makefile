@@ -11,7 +11,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem fom scene basis cubature rom formats asset
+STAGES := util mesh physics fem fom scene basis cubature rom koopman formats asset
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -21,6 +21,7 @@ DEPS_scene   := scene fom fem physics mesh util
 DEPS_basis   := basis scene fom fem physics mesh util
 DEPS_cubature := cubature basis scene fom fem physics mesh util
 DEPS_rom     := rom cubature basis scene fom fem physics mesh util
+DEPS_koopman := koopman util
 DEPS_formats := formats util
 DEPS_asset   := asset formats rom cubature basis scene fom fem physics mesh util
 DEPS_runtime := $(DEPS_asset)

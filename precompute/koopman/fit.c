@@ -1,0 +1,206 @@
+/* rk_koopman_fit: snapshot pairs, truncated SVD, the reduced operator (Eq. 13), its eigenvalues
+ * and real eigenvector form, and each mode's residual on the data. */
+#include "koopman/koopman.h"
+
+#include <cblas.h>
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void rk_koopman_default_options(rk_koopman_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->energy = 0.999999;
+    o->h = 0.01;
+}
+
+void rk_koopman_free(rk_koopman *k)
+{
+    free(k->U);
+    free(k->K);
+    free(k->lambda_re);
+    free(k->lambda_im);
+    free(k->residual);
+    free(k->W);
+    free(k->Winv);
+    free(k->block);
+    free(k->singular);
+    memset(k, 0, sizeof *k);
+}
+
+/* X and X' (2d x M each, column-major) from the trajectories. */
+static int snapshot_pairs(const double *const *traj, const int *frames, int ntraj, int d, double **X, double **Y,
+                          int *M, rk_error *err)
+{
+    int m = 0, n2 = 2 * d;
+    for (int k = 0; k < ntraj; k++) {
+        if (frames[k] < 3)
+            return rk_fail(err, "trajectory %d has %d frames; a state needs two and its successor a third", k, frames[k]);
+        for (size_t i = 0; i < (size_t)d * frames[k]; i++)
+            if (!isfinite(traj[k][i]))
+                return rk_fail(err, "trajectory %d: value %zu (frame %zu) is not finite", k, i, i / (size_t)d);
+        m += frames[k] - 2;
+    }
+    *X = rk_calloc((size_t)n2 * m, sizeof(double), err);
+    *Y = rk_calloc((size_t)n2 * m, sizeof(double), err);
+    if (!*X || !*Y) return -1;
+    int c = 0;
+    for (int k = 0; k < ntraj; k++)
+        for (int t = 1; t + 1 < frames[k]; t++, c++) {
+            const double *up = traj[k] + (size_t)d * (t - 1), *u = up + d, *un = u + d;
+            double *x = *X + (size_t)n2 * c, *y = *Y + (size_t)n2 * c;
+            for (int i = 0; i < d; i++) {
+                x[i] = u[i];
+                x[d + i] = u[i] - up[i];
+                y[i] = un[i];
+                y[d + i] = un[i] - u[i];
+            }
+        }
+    *M = m;
+    return 0;
+}
+
+/* The rank: o->rank, or the smallest keeping o->energy of sum sigma^2; never above the numerical
+ * rank (sigma > 1e-12 sigma_0 * max size). */
+static int choose_rank(const double *s, int ns, int rows, int cols, const rk_koopman_options *o, int *r, rk_error *err)
+{
+    int numerical = 0;
+    double floor = 1e-12 * s[0] * (rows > cols ? rows : cols);
+    while (numerical < ns && s[numerical] > floor) numerical++;
+    if (numerical == 0) return rk_fail(err, "the snapshot data is all zero: nothing moves");
+    if (o->rank > 0) {
+        if (o->rank > numerical)
+            return rk_fail(err, "rank %d is above the data's numerical rank %d (repeated or too few frames?): "
+                           "ask for at most %d, or add trajectories", o->rank, numerical, numerical);
+        *r = o->rank;
+        return 0;
+    }
+    double total = 0, kept = 0;
+    for (int i = 0; i < numerical; i++) total += s[i] * s[i];
+    *r = 0;
+    while (*r < numerical && kept < o->energy * total) kept += s[*r] * s[*r], (*r)++;
+    return 0;
+}
+
+/* Real eigenvector form of K (r x r): W, block, eigenvalues; residual of each mode on the data
+ * (Y = X' V_r S_r^-1 precomputed, 2d x r). */
+static int eigen(rk_koopman *k, const double *Ys, int n2, rk_error *err)
+{
+    int r = k->r;
+    double *A = rk_calloc((size_t)r * r, sizeof(double), err), *vl = NULL;
+    if (!A) return -1;
+    memcpy(A, k->K, sizeof(double) * r * r);
+    int info = LAPACKE_dgeev(LAPACK_COL_MAJOR, 'N', 'V', r, A, r, k->lambda_re, k->lambda_im, vl, 1, k->W, r);
+    free(A);
+    if (info != 0) return rk_fail(err, "the eigen-decomposition of K' failed (LAPACK dgeev info %d)", info);
+    /* residuals: |Ys phi - lambda U phi| / |phi| with phi = x + i y (U orthonormal: |U phi| = |phi|) */
+    double *a = rk_calloc((size_t)n2 * 4, sizeof(double), err);
+    if (!a) return -1;
+    double *Yx = a, *Yy = a + n2, *Ux = a + 2 * (size_t)n2, *Uy = a + 3 * (size_t)n2;
+    for (int j = 0; j < r; j++) {
+        int pair = k->lambda_im[j] != 0;
+        k->block[j] = pair ? (j + 1 < r && k->lambda_im[j] > 0 ? 2 : 0) : 1;
+        const double *x = k->W + (size_t)r * (pair && k->lambda_im[j] < 0 ? j - 1 : j);
+        const double *y = pair ? x + r : NULL;
+        double sign = pair && k->lambda_im[j] < 0 ? -1 : 1; /* the conjugate: x - i y */
+        cblas_dgemv(CblasColMajor, CblasNoTrans, n2, r, 1.0, Ys, n2, x, 1, 0.0, Yx, 1);
+        cblas_dgemv(CblasColMajor, CblasNoTrans, n2, r, 1.0, k->U, n2, x, 1, 0.0, Ux, 1);
+        memset(Yy, 0, sizeof(double) * n2);
+        memset(Uy, 0, sizeof(double) * n2);
+        if (y) {
+            cblas_dgemv(CblasColMajor, CblasNoTrans, n2, r, sign, Ys, n2, y, 1, 0.0, Yy, 1);
+            cblas_dgemv(CblasColMajor, CblasNoTrans, n2, r, sign, k->U, n2, y, 1, 0.0, Uy, 1);
+        }
+        double lr = k->lambda_re[j], li = k->lambda_im[j], num = 0, den = 0;
+        for (int i = 0; i < n2; i++) {
+            double re = Yx[i] - (lr * Ux[i] - li * Uy[i]), im = Yy[i] - (lr * Uy[i] + li * Ux[i]);
+            num += re * re + im * im;
+            den += Ux[i] * Ux[i] + Uy[i] * Uy[i];
+        }
+        k->residual[j] = den > 0 ? sqrt(num / den) : INFINITY;
+    }
+    free(a);
+    /* W^-1 by LU */
+    int *piv = rk_calloc((size_t)r, sizeof(int), err);
+    if (!piv) return -1;
+    memcpy(k->Winv, k->W, sizeof(double) * r * r);
+    info = LAPACKE_dgetrf(LAPACK_COL_MAJOR, r, r, k->Winv, r, piv);
+    if (!info) info = LAPACKE_dgetri(LAPACK_COL_MAJOR, r, k->Winv, r, piv);
+    free(piv);
+    if (info != 0)
+        return rk_fail(err, "K' is not diagonalizable in double precision (its eigenvector matrix is singular, "
+                       "LAPACK info %d): lower the rank", info);
+    return 0;
+}
+
+int rk_koopman_fit(const double *const *traj, const int *frames, int ntraj, int d, const rk_koopman_options *o,
+                   rk_koopman *k, rk_error *err)
+{
+    memset(k, 0, sizeof *k);
+    if (ntraj < 1 || d < 1) return rk_fail(err, "Koopman fit: no trajectories (%d) or no observables (%d)", ntraj, d);
+    if (!(o->h > 0)) return rk_fail(err, "Koopman fit: the time step must be positive, got %g", o->h);
+    if (o->rank < 0 || (o->rank == 0 && !(o->energy > 0 && o->energy <= 1)))
+        return rk_fail(err, "Koopman fit: rank must be >= 1, or energy in (0, 1]");
+    double *X = NULL, *Y = NULL, *Vt = NULL, *Ys = NULL;
+    int M = 0, n2 = 2 * d, rc = -1;
+    if (snapshot_pairs(traj, frames, ntraj, d, &X, &Y, &M, err)) goto done;
+    int ns = n2 < M ? n2 : M;
+    double *Uall = rk_calloc((size_t)n2 * ns, sizeof(double), err);
+    k->singular = rk_calloc((size_t)ns, sizeof(double), err);
+    Vt = rk_calloc((size_t)ns * M, sizeof(double), err);
+    if (!Uall || !k->singular || !Vt) {
+        free(Uall);
+        goto done;
+    }
+    /* Y is needed intact; the SVD overwrites a copy of X (X itself is no longer needed after). */
+    int info = LAPACKE_dgesdd(LAPACK_COL_MAJOR, 'S', n2, M, X, n2, k->singular, Uall, n2, Vt, ns);
+    if (info != 0) {
+        free(Uall);
+        rk_fail(err, "SVD of the %d x %d snapshot matrix failed (LAPACK dgesdd info %d)", n2, M, info);
+        goto done;
+    }
+    k->nsingular = ns;
+    if (choose_rank(k->singular, ns, n2, M, o, &k->r, err)) {
+        free(Uall);
+        goto done;
+    }
+    int r = k->r;
+    k->d = d;
+    k->h = o->h;
+    k->U = Uall; /* the first r columns are U_r (column-major, leading dimension n2) */
+    k->K = rk_calloc((size_t)r * r, sizeof(double), err);
+    Ys = rk_calloc((size_t)n2 * r, sizeof(double), err);
+    k->lambda_re = rk_calloc((size_t)r, sizeof(double), err);
+    k->lambda_im = rk_calloc((size_t)r, sizeof(double), err);
+    k->residual = rk_calloc((size_t)r, sizeof(double), err);
+    k->W = rk_calloc((size_t)r * r, sizeof(double), err);
+    k->Winv = rk_calloc((size_t)r * r, sizeof(double), err);
+    k->block = rk_calloc((size_t)r, sizeof(int), err);
+    if (!k->K || !Ys || !k->lambda_re || !k->lambda_im || !k->residual || !k->W || !k->Winv || !k->block) goto done;
+    /* Ys = X' V_r S_r^-1 (Vt's first r rows are V_r^T), then K' = U_r^T Ys (Eq. 13). */
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, n2, r, M, 1.0, Y, n2, Vt, ns, 0.0, Ys, n2);
+    for (int j = 0; j < r; j++) cblas_dscal(n2, 1.0 / k->singular[j], Ys + (size_t)n2 * j, 1);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, n2, 1.0, k->U, n2, Ys, n2, 0.0, k->K, r);
+    if (eigen(k, Ys, n2, err)) goto done;
+    if (o->clamp)
+        for (int j = 0; j < r; j++) {
+            double m = hypot(k->lambda_re[j], k->lambda_im[j]);
+            if (m > 1) {
+                k->lambda_re[j] /= m;
+                k->lambda_im[j] /= m;
+                k->clamped++;
+            }
+        }
+    rc = 0;
+done:
+    free(X);
+    free(Y);
+    free(Vt);
+    free(Ys);
+    if (rc) {
+        rk_koopman_free(k);
+        return rk_error_prefix(err, "Koopman fit");
+    }
+    return 0;
+}
