@@ -67,20 +67,27 @@ static void trajectories(const double G[N2 * N2], int ntraj, int frames, double 
     }
 }
 
-TEST(recovers_the_exact_eigenvalues_of_linear_dynamics)
+/* The chain's map G and a full-rank fit to 4 trajectories of 8 frames. */
+static int fit_chain(double G[N2 * N2], rk_koopman *k, rk_error *err)
 {
-    double G[N2 * N2], buf[4 * D * 8], wr[N2], wi[N2], Gc[N2 * N2], vr[1];
+    static double buf[4 * D * 8];
     const double *traj[4];
     int nf[4];
-    rk_error err;
     chain_map(G);
     trajectories(G, 4, 8, buf, traj, nf);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     o.rank = N2;
     o.h = H;
+    return rk_koopman_fit(traj, nf, 4, D, &o, k, err);
+}
+
+TEST(recovers_the_exact_eigenvalues_of_linear_dynamics)
+{
+    double G[N2 * N2], wr[N2], wi[N2], Gc[N2 * N2], vr[1];
+    rk_error err;
     rk_koopman k;
-    CHECK_OK(rk_koopman_fit(traj, nf, 4, D, &o, &k, &err));
+    CHECK_OK(fit_chain(G, &k, &err));
     for (int i = 0; i < N2 * N2; i++) Gc[i] = G[i];
     LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', N2, Gc, N2, wr, wi, vr, 1, vr, 1);
     double worst = 0, worst_res = 0;
@@ -99,18 +106,10 @@ TEST(recovers_the_exact_eigenvalues_of_linear_dynamics)
 
 TEST(a_jump_of_n_steps_equals_n_single_steps)
 {
-    double G[N2 * N2], buf[4 * D * 8];
-    const double *traj[4];
-    int nf[4];
+    double G[N2 * N2];
     rk_error err;
-    chain_map(G);
-    trajectories(G, 4, 8, buf, traj, nf);
-    rk_koopman_options o;
-    rk_koopman_default_options(&o);
-    o.rank = N2;
-    o.h = H;
     rk_koopman k;
-    CHECK_OK(rk_koopman_fit(traj, nf, 4, D, &o, &k, &err));
+    CHECK_OK(fit_chain(G, &k, &err));
     double u[D], up[D], z1[N2], zN[N2], x[N2], y[N2], a[D], b[D];
     for (int i = 0; i < D; i++) {
         u[i] = 0.01 * (i + 1);
