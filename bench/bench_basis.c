@@ -41,7 +41,7 @@ static int time_modes(const rk_scene_sim *sim, const unsigned char *fixed, doubl
         if (k == REPEATS - 1) *keep = b;
         else rk_basis_free(&b);
     }
-    *sec = bench_median(t, REPEATS);
+    *sec = rk_median(t, REPEATS);
     return 0;
 }
 
@@ -63,7 +63,7 @@ static int time_rkpm(const rk_scene_sim *sim, double *sec, int *npoints, rk_erro
         if (rc) return -1;
         rk_basis_free(&b);
     }
-    *sec = bench_median(t, REPEATS);
+    *sec = rk_median(t, REPEATS);
     return 0;
 }
 
@@ -95,7 +95,7 @@ static int time_pod(const rk_scene_sim *sim, const rk_basis *modes, double *sec,
     }
     rk_sparse_free(&M);
     free(D);
-    *sec = rc ? NAN : bench_median(t, REPEATS);
+    *sec = rc ? NAN : rk_median(t, REPEATS);
     return rc;
 }
 

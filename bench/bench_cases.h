@@ -1,5 +1,5 @@
 /* The meshes every make-bench program runs on (1k to 200k tets), and the shared helpers: the
- * scene around a mesh, and the median of repeated timings. */
+ * scene around a mesh (medians of repeated timings: rk_median, util/sort.h). */
 #ifndef RK_BENCH_CASES_H
 #define RK_BENCH_CASES_H
 
@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "scene/scene.h"
+#include "util/sort.h"
 
 typedef struct {
     const char *name;
@@ -72,17 +73,5 @@ static inline int bench_open_results(const char *out_dir, const char *name, cons
     return 0;
 }
 
-static int bench_cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Sorts t[0..n) and returns its median. */
-static inline double bench_median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, bench_cmp_double);
-    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-}
 
 #endif

@@ -63,7 +63,7 @@ int main(int argc, char **argv)
         double factor = (fom.stats.seconds_factor - before.seconds_factor) /
                         (fom.stats.seconds_total - before.seconds_total);
         double newton = (double)(fom.stats.newton_iterations - before.newton_iterations) / steps;
-        double median = bench_median(times, steps);
+        double median = rk_median(times, steps);
         printf("%-14s %8d %8d %12.4g %9.4g..%-9.4g %7.0f%% %8.1f\n", cases[c].name, sim.mesh.nv, sim.mesh.nt,
                median, times[0], times[steps - 1], 100 * factor, newton);
         fflush(stdout);

@@ -124,7 +124,7 @@ static inline int bench_rom_case_prepare(const bench_case *c, bench_rom_case *bc
         fom_t[s] = rk_now() - t0;
         memcpy(bc->frames + (size_t)ndof * (s + 1), fom.x, sizeof(double) * ndof);
     }
-    bc->fom_s = bench_median(fom_t, steps);
+    bc->fom_s = rk_median(fom_t, steps);
     rk_fom_free(&fom);
 
     /* BENCH_MAX_R linear modes; r uses the first r columns. */
@@ -237,7 +237,7 @@ static inline int bench_time_rom(rk_rom_model *m, int warmup, int samples, int s
     stats->unconverged_steps -= before.unconverged_steps;
     stats->seconds_total -= before.seconds_total;
     if (q_end) memcpy(q_end, rom.q, sizeof(double) * (size_t)m->r);
-    *median = bench_median(t, samples);
+    *median = rk_median(t, samples);
     rk_rom_free(&rom);
     return 0;
 fail:

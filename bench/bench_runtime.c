@@ -86,7 +86,7 @@ static int time_runtime(romrt_model *m, int steps, double *median, double *newto
         }
         t[s] = (rk_now() - t0) / steps;
     }
-    *median = bench_median(t, RT_REPEATS);
+    *median = rk_median(t, RT_REPEATS);
     *newton = (double)iters / (RT_REPEATS * steps);
     if (romrt_reduced_coordinates(m, q, romrt_reduced_size(m)) != ROMRT_OK)
         return rk_fail(err, "romrt_reduced_coordinates");

@@ -1,6 +1,7 @@
 /* Integration points in spatial chunks, and the kernels covering each point of a chunk: the
  * traversal both assembly passes share (rkpm_assemble.c). */
 #include "basis/rkpm_chunks.h"
+#include "util/sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -11,12 +12,6 @@
  * mostly non-zero), large enough that a chunk has tens of points for the BLAS products. */
 #define CHUNK_CELL_RADII 1.5
 #define CHUNK_MAX_POINTS 256
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 void rkpm_chunks_free(rkpm_chunks *c)
 {
@@ -39,7 +34,7 @@ int rkpm_chunks_init(rkpm_chunks *c, const rk_rkpm *k, const double *X, int n, r
     double *r = rk_calloc((size_t)k->K, sizeof *r, err);
     if (!r) return -1;
     memcpy(r, k->radius, (size_t)k->K * sizeof *r);
-    qsort(r, (size_t)k->K, sizeof *r, cmp_double);
+    qsort(r, (size_t)k->K, sizeof *r, rk_cmp_double);
     double cell = CHUNK_CELL_RADII * r[k->K / 2];
     free(r);
     int cap = k->max_support;

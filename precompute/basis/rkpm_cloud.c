@@ -3,6 +3,7 @@
  * (freeform paper Sec. 7.1: "for 3DGS we directly use the given points as integration points,
  * after downsampling if necessary"). */
 #include "basis/rkpm_internal.h"
+#include "util/sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -80,12 +81,6 @@ static int downsample(const double *X, int n, int max_points, int *keep, int *nk
     return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* Median of the positive nearest-neighbour distances; 0 when there is none. */
 static int median_spacing(const double *X, int n, double *median, rk_error *err)
 {
@@ -103,7 +98,7 @@ static int median_spacing(const double *X, int n, double *median, rk_error *err)
         if (dist > 0) nn[pos++] = dist;
     }
     rkpm_grid_free(&g);
-    qsort(nn, (size_t)pos, sizeof *nn, cmp_double);
+    qsort(nn, (size_t)pos, sizeof *nn, rk_cmp_double);
     *median = pos > 0 ? nn[pos / 2] : 0;
     free(nn);
     return 0;

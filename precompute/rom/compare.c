@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/sort.h"
 #include "util/timer.h"
 
 typedef struct {
@@ -14,19 +15,6 @@ typedef struct {
     double *x, *v;   /* ndof x (T + 1): the start, then after every step */
     double *step_seconds;
 } fom_run;
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    if (n == 0) return NAN;
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
 {
@@ -53,7 +41,7 @@ static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, 
     rk_progress_done("full-order run");
     out->fom_seconds_total = fom.stats.seconds_total;
     out->fom_newton_iterations = fom.stats.newton_iterations;
-    out->fom_seconds_per_step = median(F->step_seconds, F->T);
+    out->fom_seconds_per_step = rk_median(F->step_seconds, F->T);
     rk_fom_free(&fom);
     return rc ? rk_error_prefix(err, "full-order run") : 0;
 }
@@ -103,7 +91,7 @@ static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, 
     out->normalized_mse = sum / ((double)F->T * (ndof / 3)) / (L * L);
     out->normalized_max_error = maxd / L;
     out->max_error_m = maxd;
-    out->seconds_per_step = median(secs, F->T);
+    out->seconds_per_step = rk_median(secs, F->T);
     out->newton_iterations = rom.stats.newton_iterations;
     out->unconverged_steps = rom.stats.unconverged_steps;
     rc = 0;
