@@ -29,9 +29,15 @@ static romrt_status with_message(romrt_error *err, romrt_status status, const ch
     if (numbers == 0) rombin_fail(&e, (int)status, chunk, t1);
     else if (numbers == 1) rombin_fail_n(&e, (int)status, chunk, t1, n, t2);
     else rombin_fail_nn(&e, (int)status, chunk, t1, n, t2, n2, t3);
+    return rt_error_from(err, status, &e);
+}
+
+romrt_status rt_error_from(romrt_error *err, romrt_status status, const rombin_error *e)
+{
+    if (!err) return status;
     err->status = status;
-    memcpy(err->chunk, e.chunk, sizeof err->chunk);
-    memcpy(err->message, e.message, ROMRT_MESSAGE_BYTES);
+    memcpy(err->chunk, e->chunk, sizeof err->chunk);
+    memcpy(err->message, e->message, ROMRT_MESSAGE_BYTES);
     err->message[ROMRT_MESSAGE_BYTES - 1] = 0;
     return status;
 }

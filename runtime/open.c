@@ -15,6 +15,7 @@ typedef struct {
     rombin_file file;
     unsigned char *arena;
     size_t used, cap;
+    int scanned;              /* every real already checked finite (by the sizing pass) */
     romrt_error *err;
 } loader;
 
@@ -60,7 +61,7 @@ static romrt_status reals(loader *L, const char *id, uint64_t count, int require
     romrt_status st = chunk(L, id, ROMBIN_TYPE_REAL, count, required, &c, &found);
     *out = 0;
     if (st || !found) return st;
-    for (i = 0; i < count; i++) {
+    for (i = 0; i < count && !L->scanned; i++) {
         double x = real_at(L, &c, i);
         if (!isfinite(x)) return rt_fail_n(L->err, ROMRT_E_MODEL, id, "value ", i, " is not finite");
 #ifndef ROMRT_DOUBLE
@@ -281,13 +282,7 @@ static romrt_status load(const void *asset, size_t asset_bytes, void *arena, siz
             romrt_status s = rb == ROMBIN_E_VERSION ? ROMRT_E_VERSION : rb == ROMBIN_E_PLATFORM ? ROMRT_E_PLATFORM
                            : rb == ROMBIN_E_UNSUPPORTED ? ROMRT_E_UNSUPPORTED : rb == ROMBIN_E_ARGUMENT ? ROMRT_E_ARGUMENT
                            : ROMRT_E_DAMAGED;
-            if (err) {
-                memcpy(err->chunk, e.chunk, sizeof e.chunk);
-                memcpy(err->message, e.message, sizeof err->message < sizeof e.message ? sizeof err->message : sizeof e.message);
-                err->message[ROMRT_MESSAGE_BYTES - 1] = 0;
-                err->status = s;
-            }
-            return s;
+            return rt_error_from(err, s, &e);
         }
     }
     if (arena) {
@@ -315,6 +310,7 @@ static romrt_status load(const void *asset, size_t asset_bytes, void *arena, siz
                               (uint64_t)dry.used, "");
         if (!arena) return contents(&dry, &probe);
     }
+    L.scanned = 1; /* the sizing pass checked every real; now place them */
     if ((st = arrays(&L, m)) || (st = contents(&L, m))) return st;
     *out = m;
     return ROMRT_OK;

@@ -97,6 +97,9 @@ int rt_cholesky(int r, romrt_real *H);
 void rt_cholesky_solve(int r, const romrt_real *U, romrt_real *b);
 
 /* Writes status, chunk and message into err (which may be NULL). Returns status. */
+romrt_status rt_error_from(romrt_error *err, romrt_status status, const rombin_error *e);
+/* rt_error_from copies the container reader's message whole. */
+typedef char rt_message_sizes_agree[ROMRT_MESSAGE_BYTES == ROMBIN_MESSAGE_BYTES ? 1 : -1];
 romrt_status rt_fail(romrt_error *err, romrt_status status, const char *chunk, const char *text);
 romrt_status rt_fail_n(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
                        const char *text2);
