@@ -156,7 +156,7 @@ int cmd_build(int argc, char **argv)
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     stage = 2;
     /* The cubature trains on the scene's full-order run (and POD or a tolerance use it too): run it once. */
-    if ((o.cubature || o.basis.type == RK_BASIS_POD || o.basis.tolerance > 0) &&
+    if ((o.cubature || rk_basis_needs_frames(&o.basis)) &&
         rk_scene_training_frames(&sim, &frames, &T, &err))
         goto done;
     if (rk_scene_rom_build(&scene, &sim, &o, frames, T, &R, &err)) goto done;

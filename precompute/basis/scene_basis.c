@@ -23,6 +23,11 @@ static double lame_sum(const rk_material *m)
     return lambda + 4 * mu; /* Prop. 1 */
 }
 
+int rk_basis_needs_frames(const rk_basis_options *o)
+{
+    return o->type == RK_BASIS_POD || o->tolerance > 0;
+}
+
 int rk_scene_training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err)
 {
     rk_fom fom;
@@ -182,7 +187,7 @@ int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o
     for (int g = 0; g < sim.options.nprescribed; g++)
         for (int k = 0; k < sim.options.prescribed[g].count && sim.options.prescribed[g].kind == RK_MOTION_FIXED; k++)
             fixed[sim.options.prescribed[g].verts[k]] = 1;
-    int need_frames = o->type == RK_BASIS_POD || o->tolerance > 0;
+    int need_frames = rk_basis_needs_frames(o);
     if (need_frames) {
         double t = rk_now();
         if (frames) T = T_given;

@@ -48,6 +48,8 @@ int rk_scene_basis_build(const rk_scene *scene, const rk_basis_options *o, rk_ba
 int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o, const double *frames, int T,
                                 rk_basis *b, rk_scene_basis_info *info, rk_error *err);
 void rk_scene_basis_info_free(rk_scene_basis_info *info);
+/* Whether building this basis needs the scene's full-order frames (POD, or a size by tolerance). */
+int rk_basis_needs_frames(const rk_basis_options *o);
 /* The scene's own full-order run as displacement frames (*D: 3 nv x *T, column-major, malloc'd). */
 int rk_scene_training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err);
 
