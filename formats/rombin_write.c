@@ -224,6 +224,27 @@ int rombin_inflate_all(const void *data, size_t size, unsigned char **out, size_
     return rc;
 }
 
+int rombin_inflate_in_place(unsigned char **data, size_t *size, int *inflated, rk_error *err)
+{
+    rombin_file f;
+    rombin_error e;
+    *inflated = 0;
+    if (rombin_open(&f, *data, *size, NULL, &e)) return 0;
+    for (unsigned i = 0; i < f.count && !*inflated; i++) {
+        rombin_chunk c;
+        rombin_chunk_get(&f, i, &c);
+        *inflated = c.compression != ROMBIN_COMP_NONE;
+    }
+    if (!*inflated) return 0;
+    unsigned char *plain;
+    size_t n;
+    if (rombin_inflate_all(*data, *size, &plain, &n, err)) return -1;
+    free(*data);
+    *data = plain;
+    *size = n;
+    return 0;
+}
+
 int rombin_read_file(const char *path, unsigned char **data, size_t *size, rk_error *err)
 {
     *data = NULL;

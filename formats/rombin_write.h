@@ -42,6 +42,11 @@ int rombin_save(const char *path, const unsigned char *data, size_t bytes, rk_er
  * in place: the runtime reads stored chunks only. Same chunks, same order, same CRC rules. */
 int rombin_inflate_all(const void *data, size_t size, unsigned char **out, size_t *bytes, rk_error *err);
 
+/* When *data (malloc'd, *size bytes) is a valid file with deflated chunks, replaces it by its
+ * rombin_inflate_all copy and sets *inflated; otherwise leaves it (a file the container reader
+ * refuses is left for the caller's own reader to report). */
+int rombin_inflate_in_place(unsigned char **data, size_t *size, int *inflated, rk_error *err);
+
 /* Reads a whole file into memory (malloc'd, 16-byte aligned so its payloads can be used in place). */
 int rombin_read_file(const char *path, unsigned char **data, size_t *size, rk_error *err);
 

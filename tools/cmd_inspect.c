@@ -31,7 +31,7 @@ int cmd_inspect(int argc, char **argv)
         return 2;
     }
     rk_error err = {{0}};
-    unsigned char *data = NULL, *plain = NULL;
+    unsigned char *data = NULL;
     size_t size;
     if (rombin_read_file(path, &data, &size, &err)) {
         fprintf(stderr, "romkit inspect: %s\n", err.msg);
@@ -49,36 +49,29 @@ int cmd_inspect(int argc, char **argv)
            f.real_type == ROMBIN_REAL_F32 ? "float32" : "float64", f.count, size);
     printf("  %-4s  %-8s  %-4s  %-7s  %10s  %10s  %10s  %s\n", "id", "kind", "type", "coding", "offset", "stored", "raw",
            "crc32");
-    int compressed = 0;
     for (unsigned i = 0; i < f.count; i++) {
         rombin_chunk c;
         rombin_chunk_get(&f, i, &c);
-        compressed |= c.compression != ROMBIN_COMP_NONE;
         printf("  %-4s  %-8s  %-4s  %-7s  %10llu  %10llu  %10llu  %08x ok\n", c.id, c.critical ? "critical" : "optional",
                types[c.type], c.compression ? "deflate" : "stored", (unsigned long long)c.offset,
                (unsigned long long)c.stored, (unsigned long long)c.raw, (unsigned)c.crc);
     }
-    const unsigned char *model_data = data;
-    if (compressed) {
-        if (rombin_inflate_all(data, size, &plain, &size, &err)) {
-            fprintf(stderr, "romkit inspect: %s: %s\n", path, err.msg);
-            free(data);
-            return 1;
-        }
-        model_data = plain;
+    int inflated;
+    if (rombin_inflate_in_place(&data, &size, &inflated, &err)) {
+        fprintf(stderr, "romkit inspect: %s: %s\n", path, err.msg);
+        free(data);
+        return 1;
     }
     size_t arena;
     romrt_error rerr;
     int rc = 0;
-    if (romrt_arena_size(model_data, size, &arena, &rerr) != ROMRT_OK) {
-        fprintf(stderr, "romkit inspect: %s: %s%s%s%s: %s\n", path, romrt_status_string(rerr.status),
-                rerr.chunk[0] ? " (chunk '" : "", rerr.chunk, rerr.chunk[0] ? "')" : "", rerr.message);
+    if (romrt_arena_size(data, size, &arena, &rerr) != ROMRT_OK) {
+        fprintf(stderr, "romkit inspect: %s: %s: %s\n", path, romrt_status_string(rerr.status), rerr.message);
         rc = 1;
     } else {
         printf("model: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", ROMRT_MAX_R, arena,
-               compressed ? " once inflated" : "");
+               inflated ? " once inflated" : "");
     }
     free(data);
-    free(plain);
     return rc;
 }

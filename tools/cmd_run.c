@@ -12,6 +12,7 @@
 #include "runtime/romrt.h"
 #include "util/json_out.h"
 #include "util/npy.h"
+#include "util/sort.h"
 #include "util/timer.h"
 
 static void run_usage(FILE *f)
@@ -27,12 +28,6 @@ static void run_usage(FILE *f)
            ROMRT_MAX_R);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static int parse_count(const char *what, const char *text, long *out)
 {
     char *end;
@@ -42,19 +37,6 @@ static int parse_count(const char *what, const char *text, long *out)
         return -1;
     }
     *out = v;
-    return 0;
-}
-
-static int has_compressed_chunk(const unsigned char *data, size_t size)
-{
-    rombin_file f;
-    rombin_error e;
-    if (rombin_open(&f, data, size, NULL, &e)) return 0; /* the runtime will say what is wrong */
-    for (unsigned i = 0; i < f.count; i++) {
-        rombin_chunk c;
-        rombin_chunk_get(&f, i, &c);
-        if (c.compression != ROMBIN_COMP_NONE) return 1;
-    }
     return 0;
 }
 
@@ -89,12 +71,8 @@ int cmd_run(int argc, char **argv)
     long newton = 0, unconverged = 0;
     if (rombin_read_file(path, &data, &size, &err)) goto fail;
     size_t file_bytes = size;
-    if (has_compressed_chunk(data, size)) {
-        unsigned char *plain;
-        if (rombin_inflate_all(data, size, &plain, &size, &err)) goto fail;
-        free(data);
-        data = plain;
-    }
+    int inflated;
+    if (rombin_inflate_in_place(&data, &size, &inflated, &err)) goto fail;
     if (jump_text) {
         rk_fail(&err, "--jump: this asset has no Koopman operator (no KOOP chunk)");
         goto fail;
@@ -144,8 +122,7 @@ int cmd_run(int argc, char **argv)
     }
     long pshape[2] = {n, 3};
     if (pos_out && rk_npy_write(pos_out, frame, 2, pshape, &err)) goto fail;
-    qsort(seconds, (size_t)steps, sizeof(double), cmp_double);
-    double median = steps ? (steps % 2 ? seconds[steps / 2] : 0.5 * (seconds[steps / 2 - 1] + seconds[steps / 2])) : 0;
+    double median = steps ? rk_median(seconds, (int)steps) : 0;
     if (report_out) {
         cJSON *r = cJSON_CreateObject();
         cJSON_AddNumberToObject(r, "vertices", n);
@@ -171,8 +148,7 @@ int cmd_run(int argc, char **argv)
     rc = 0;
     goto done;
 runtime_fail:
-    rk_fail(&err, "%s: %s%s%s%s: %s", path, romrt_status_string(rerr.status), rerr.chunk[0] ? " (chunk '" : "",
-            rerr.chunk, rerr.chunk[0] ? "')" : "", rerr.message);
+    rk_fail(&err, "%s: %s: %s", path, romrt_status_string(rerr.status), rerr.message);
 fail:
     fprintf(stderr, "romkit run: %s\n", err.msg);
 done:
