@@ -1,32 +1,54 @@
-/* Lifting, reading back, stepping and forcing a fitted Koopman operator (koopman.h). */
+/* Lifting, reading back, stepping and forcing a fitted Koopman operator, and its real
+ * eigen-coordinate form for the asset (koopman.h). */
 #include "koopman/koopman.h"
 
 #include <cblas.h>
+#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
+
+/* x (d observables) from v (n values): P_in v, or v itself. */
+static void observe(const rk_koopman *k, const double *v, double *x)
+{
+    if (k->P_in)
+        cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->n, 1.0, k->P_in, k->d, v, 1, 0.0, x, 1);
+    else
+        memcpy(x, v, sizeof(double) * (size_t)k->d);
+}
 
 void rk_koopman_lift(const rk_koopman *k, const double *u, const double *u_prev, double *z)
 {
     int d = k->d, n2 = 2 * d;
-    double *X = malloc(sizeof(double) * (size_t)n2);
+    double *X = malloc(sizeof(double) * (size_t)(n2 + d));
     if (!X) return;
-    for (int i = 0; i < d; i++) {
-        X[i] = u[i];
-        X[d + i] = u[i] - u_prev[i];
-    }
+    observe(k, u, X);
+    observe(k, u_prev, X + n2);
+    for (int i = 0; i < d; i++) X[d + i] = X[i] - X[n2 + i];
     cblas_dgemv(CblasColMajor, CblasTrans, n2, k->r, 1.0, k->U, n2, X, 1, 0.0, z, 1);
     free(X);
 }
 
 void rk_koopman_positions(const rk_koopman *k, const double *z, double *u)
 {
-    cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, 1.0, k->U, 2 * k->d, z, 1, 0.0, u, 1);
+    if (!k->P_out) {
+        cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, 1.0, k->U, 2 * k->d, z, 1, 0.0, u, 1);
+        return;
+    }
+    double *x = malloc(sizeof(double) * (size_t)k->d);
+    if (!x) return;
+    cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, 1.0, k->U, 2 * k->d, z, 1, 0.0, x, 1);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, k->n, k->d, 1.0, k->P_out, k->n, x, 1, 0.0, u, 1);
+    free(x);
 }
 
 void rk_koopman_impulse(const rk_koopman *k, const double *a, double *z)
 {
-    double h2 = k->h * k->h;
-    cblas_dgemv(CblasColMajor, CblasTrans, k->d, k->r, h2, k->U + k->d, 2 * k->d, a, 1, 1.0, z, 1);
+    double h2 = k->h * k->h, *x = malloc(sizeof(double) * (size_t)k->d);
+    if (!x) return;
+    observe(k, a, x);
+    cblas_dgemv(CblasColMajor, CblasTrans, k->d, k->r, h2, k->U + k->d, 2 * k->d, x, 1, 1.0, z, 1);
+    free(x);
 }
 
 /* lambda^p for a real eigenvalue: the principal branch's real part, exp(p log|l|) cos(p arg l),
@@ -59,4 +81,37 @@ void rk_koopman_advance(const rk_koopman *k, double *z, long long n, double dt_s
     }
     cblas_dgemv(CblasColMajor, CblasNoTrans, r, r, 1.0, k->W, r, w, 1, 0.0, z, 1);
     free(w);
+}
+
+int rk_koopman_real_form(const rk_koopman *k, double *out, double *in, const double *u, const double *u_prev,
+                         double *y0, rk_error *err)
+{
+    int d = k->d, n = k->n, r = k->r, n2 = 2 * d;
+    double *UW = rk_calloc((size_t)n2 * r, sizeof(double), err); /* U_r W: z = W y, so X = U_r W y */
+    double *VWi = rk_calloc((size_t)d * r, sizeof(double), err); /* velocity rows of U_r Winv^T */
+    double *z = rk_calloc((size_t)r, sizeof(double), err);
+    int rc = -1;
+    if (!UW || !VWi || !z) goto done;
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n2, r, r, 1.0, k->U, n2, k->W, r, 0.0, UW, n2);
+    if (k->P_out)
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, r, d, 1.0, k->P_out, n, UW, n2, 0.0, out, n);
+    else
+        for (int j = 0; j < r; j++) memcpy(out + (size_t)n * j, UW + (size_t)n2 * j, sizeof(double) * d);
+    /* in = Winv U_v^T P_in: (r x d) (d x n) */
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, d, r, r, 1.0, k->U + d, n2, k->Winv, r, 0.0, VWi, d);
+    if (k->P_in)
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, n, d, 1.0, VWi, d, k->P_in, d, 0.0, in, r);
+    else
+        for (int j = 0; j < r; j++)
+            for (int i = 0; i < d; i++) in[(size_t)r * i + j] = VWi[(size_t)d * j + i];
+    if (u && u_prev && y0) {
+        rk_koopman_lift(k, u, u_prev, z);
+        cblas_dgemv(CblasColMajor, CblasNoTrans, r, r, 1.0, k->Winv, r, z, 1, 0.0, y0, 1);
+    }
+    rc = 0;
+done:
+    free(UW);
+    free(VWi);
+    free(z);
+    return rc;
 }

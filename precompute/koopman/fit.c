@@ -26,33 +26,40 @@ void rk_koopman_free(rk_koopman *k)
     free(k->Winv);
     free(k->block);
     free(k->singular);
+    free(k->P_in);
+    free(k->P_out);
     memset(k, 0, sizeof *k);
 }
 
-/* X and X' (2d x M each, column-major) from the trajectories. */
-static int snapshot_pairs(const double *const *traj, const int *frames, int ntraj, int d, double **X, double **Y,
+/* X and X' (2d x M each, column-major) from the trajectories; a known acceleration enters each
+ * state's velocity part as the impulse a h^2 (Eq. 19). */
+static int snapshot_pairs(const rk_koopman_trajectory *traj, int ntraj, int d, double h, double **X, double **Y,
                           int *M, rk_error *err)
 {
     int m = 0, n2 = 2 * d;
     for (int k = 0; k < ntraj; k++) {
-        if (frames[k] < 3)
-            return rk_fail(err, "trajectory %d has %d frames; a state needs two and its successor a third", k, frames[k]);
-        for (size_t i = 0; i < (size_t)d * frames[k]; i++)
-            if (!isfinite(traj[k][i]))
+        if (traj[k].frames < 3)
+            return rk_fail(err, "trajectory %d has %d frames; a state needs two and its successor a third", k,
+                           traj[k].frames);
+        for (size_t i = 0; i < (size_t)d * traj[k].frames; i++)
+            if (!isfinite(traj[k].u[i]))
                 return rk_fail(err, "trajectory %d: value %zu (frame %zu) is not finite", k, i, i / (size_t)d);
-        m += frames[k] - 2;
+        for (int i = 0; traj[k].accel && i < d; i++)
+            if (!isfinite(traj[k].accel[i]))
+                return rk_fail(err, "trajectory %d: acceleration %d is not finite", k, i);
+        m += traj[k].frames - 2;
     }
     *X = rk_calloc((size_t)n2 * m, sizeof(double), err);
     *Y = rk_calloc((size_t)n2 * m, sizeof(double), err);
     if (!*X || !*Y) return -1;
     int c = 0;
     for (int k = 0; k < ntraj; k++)
-        for (int t = 1; t + 1 < frames[k]; t++, c++) {
-            const double *up = traj[k] + (size_t)d * (t - 1), *u = up + d, *un = u + d;
+        for (int t = 1; t + 1 < traj[k].frames; t++, c++) {
+            const double *up = traj[k].u + (size_t)d * (t - 1), *u = up + d, *un = u + d, *a = traj[k].accel;
             double *x = *X + (size_t)n2 * c, *y = *Y + (size_t)n2 * c;
             for (int i = 0; i < d; i++) {
                 x[i] = u[i];
-                x[d + i] = u[i] - up[i];
+                x[d + i] = u[i] - up[i] + (a ? a[i] * h * h : 0);
                 y[i] = un[i];
                 y[d + i] = un[i] - u[i];
             }
@@ -134,8 +141,8 @@ static int eigen(rk_koopman *k, const double *Ys, int n2, rk_error *err)
     return 0;
 }
 
-int rk_koopman_fit(const double *const *traj, const int *frames, int ntraj, int d, const rk_koopman_options *o,
-                   rk_koopman *k, rk_error *err)
+int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk_koopman_options *o, rk_koopman *k,
+                   rk_error *err)
 {
     memset(k, 0, sizeof *k);
     if (ntraj < 1 || d < 1) return rk_fail(err, "Koopman fit: no trajectories (%d) or no observables (%d)", ntraj, d);
@@ -144,7 +151,7 @@ int rk_koopman_fit(const double *const *traj, const int *frames, int ntraj, int 
         return rk_fail(err, "Koopman fit: rank must be >= 1, or energy in (0, 1]");
     double *X = NULL, *Y = NULL, *Vt = NULL, *Ys = NULL;
     int M = 0, n2 = 2 * d, rc = -1;
-    if (snapshot_pairs(traj, frames, ntraj, d, &X, &Y, &M, err)) goto done;
+    if (snapshot_pairs(traj, ntraj, d, o->h, &X, &Y, &M, err)) goto done;
     int ns = n2 < M ? n2 : M;
     double *Uall = rk_calloc((size_t)n2 * ns, sizeof(double), err);
     k->singular = rk_calloc((size_t)ns, sizeof(double), err);
@@ -166,7 +173,7 @@ int rk_koopman_fit(const double *const *traj, const int *frames, int ntraj, int 
         goto done;
     }
     int r = k->r;
-    k->d = d;
+    k->d = k->n = d;
     k->h = o->h;
     k->U = Uall; /* the first r columns are U_r (column-major, leading dimension n2) */
     k->K = rk_calloc((size_t)r * r, sizeof(double), err);
@@ -203,4 +210,46 @@ done:
         return rk_error_prefix(err, "Koopman fit");
     }
     return 0;
+}
+
+int rk_koopman_fit_projected(const rk_koopman_trajectory *traj, int ntraj, int n, const double *P_in,
+                             const double *P_out, int d, const rk_koopman_options *o, rk_koopman *k, rk_error *err)
+{
+    memset(k, 0, sizeof *k);
+    if (ntraj < 1 || n < 1 || d < 1 || d > n)
+        return rk_fail(err, "Koopman fit: %d trajectories of %d values projected to %d observables", ntraj, n, d);
+    rk_koopman_trajectory *proj = rk_calloc((size_t)ntraj, sizeof *proj, err);
+    if (!proj) return -1;
+    int rc = -1;
+    for (int t = 0; t < ntraj; t++) {
+        if (traj[t].frames < 1) {
+            rk_fail(err, "Koopman fit: trajectory %d has %d frames", t, traj[t].frames);
+            goto done;
+        }
+        double *u = rk_calloc((size_t)d * traj[t].frames + d, sizeof(double), err);
+        if (!u) goto done;
+        proj[t].u = u;
+        proj[t].frames = traj[t].frames;
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, d, traj[t].frames, n, 1.0, P_in, d, traj[t].u, n, 0.0,
+                    u, d);
+        if (traj[t].accel) {
+            cblas_dgemv(CblasColMajor, CblasNoTrans, d, n, 1.0, P_in, d, traj[t].accel, 1, 0.0, u + (size_t)d * traj[t].frames, 1);
+            proj[t].accel = u + (size_t)d * traj[t].frames;
+        }
+    }
+    if (rk_koopman_fit(proj, ntraj, d, o, k, err)) goto done;
+    k->n = n;
+    k->P_in = rk_calloc((size_t)d * n, sizeof(double), err);
+    k->P_out = rk_calloc((size_t)d * n, sizeof(double), err);
+    if (!k->P_in || !k->P_out) {
+        rk_koopman_free(k);
+        goto done;
+    }
+    memcpy(k->P_in, P_in, sizeof(double) * d * n);
+    memcpy(k->P_out, P_out, sizeof(double) * d * n);
+    rc = 0;
+done:
+    for (int t = 0; t < ntraj; t++) free((void *)proj[t].u);
+    free(proj);
+    return rc;
 }

@@ -50,7 +50,7 @@ static void apply(const double G[N2 * N2], const double *x, double *y)
 }
 
 /* ntraj trajectories of `frames` frames from random starts (u and delta). */
-static void trajectories(const double G[N2 * N2], int ntraj, int frames, double *buf, const double **traj, int *nf)
+static void trajectories(const double G[N2 * N2], int ntraj, int frames, double *buf, rk_koopman_trajectory *traj)
 {
     for (int k = 0; k < ntraj; k++) {
         double x[N2], y[N2];
@@ -62,8 +62,7 @@ static void trajectories(const double G[N2 * N2], int ntraj, int frames, double 
             apply(G, x, y);
             for (int i = 0; i < N2; i++) x[i] = y[i];
         }
-        traj[k] = u;
-        nf[k] = frames;
+        traj[k] = (rk_koopman_trajectory){u, frames, NULL};
     }
 }
 
@@ -71,15 +70,14 @@ static void trajectories(const double G[N2 * N2], int ntraj, int frames, double 
 static int fit_chain(double G[N2 * N2], rk_koopman *k, rk_error *err)
 {
     static double buf[4 * D * 8];
-    const double *traj[4];
-    int nf[4];
+    rk_koopman_trajectory traj[4];
     chain_map(G);
-    trajectories(G, 4, 8, buf, traj, nf);
+    trajectories(G, 4, 8, buf, traj);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     o.rank = N2;
     o.h = H;
-    return rk_koopman_fit(traj, nf, 4, D, &o, k, err);
+    return rk_koopman_fit(traj, 4, D, &o, k, err);
 }
 
 TEST(recovers_the_exact_eigenvalues_of_linear_dynamics)
@@ -152,50 +150,47 @@ TEST(a_jump_of_n_steps_equals_n_single_steps)
 TEST(bad_data_gets_a_clear_message)
 {
     double buf[2 * D * 6];
-    const double *traj[2] = {buf, buf + D * 6};
-    int nf[2] = {6, 6};
+    rk_koopman_trajectory traj[2] = {{buf, 6, NULL}, {buf + D * 6, 6, NULL}};
     rk_error err;
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     rk_koopman k;
     err.msg[0] = 0;
     for (int i = 0; i < 2 * D * 6; i++) buf[i] = 0.5; /* repeated frames: a stable model that stays put */
-    CHECK(rk_koopman_fit(traj, nf, 2, D, &o, &k, &err) == 0, "repeated frames: %s", err.msg);
+    CHECK(rk_koopman_fit(traj, 2, D, &o, &k, &err) == 0, "repeated frames: %s", err.msg);
     CHECK(k.r == 1 && fabs(k.lambda_re[0] - 1) < 1e-12 && k.lambda_im[0] == 0,
           "repeated frames: r = %d, lambda %g%+gi (expected one eigenvalue 1)", k.r, k.lambda_re[0], k.lambda_im[0]);
     rk_koopman_free(&k);
     for (int i = 0; i < 2 * D * 6; i++) buf[i] = 0; /* all zero: nothing to learn from */
-    CHECK(rk_koopman_fit(traj, nf, 2, D, &o, &k, &err) != 0 && strstr(err.msg, "nothing moves"), "%s", err.msg);
+    CHECK(rk_koopman_fit(traj, 2, D, &o, &k, &err) != 0 && strstr(err.msg, "nothing moves"), "%s", err.msg);
     double G[N2 * N2], tb[D * 5];
-    const double *one[1];
-    int n1[1];
+    rk_koopman_trajectory one[1];
     chain_map(G);
-    trajectories(G, 1, 5, tb, one, n1); /* 3 pairs: numerical rank 3 at most */
+    trajectories(G, 1, 5, tb, one); /* 3 pairs: numerical rank 3 at most */
     o.rank = 8;
-    CHECK(rk_koopman_fit(one, n1, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "numerical rank"), "%s", err.msg);
+    CHECK(rk_koopman_fit(one, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "numerical rank"), "%s", err.msg);
     tb[7] = NAN;
     o.rank = 2;
-    CHECK(rk_koopman_fit(one, n1, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "not finite"), "%s", err.msg);
-    n1[0] = 2;
-    CHECK(rk_koopman_fit(one, n1, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "frames"), "%s", err.msg);
+    CHECK(rk_koopman_fit(one, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "not finite"), "%s", err.msg);
+    one[0].frames = 2;
+    CHECK(rk_koopman_fit(one, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "frames"), "%s", err.msg);
 }
 
 TEST(noisy_growing_data_is_clamped_to_the_unit_circle)
 {
     double G[N2 * N2], buf[4 * D * 10];
-    const double *traj[4];
-    int nf[4];
+    rk_koopman_trajectory traj[4];
     rk_error err;
     chain_map(G);
     for (int i = 0; i < N2 * N2; i++) G[i] *= 1.02; /* a growing system */
-    trajectories(G, 4, 10, buf, traj, nf);
+    trajectories(G, 4, 10, buf, traj);
     for (int i = 0; i < 4 * D * 10; i++) buf[i] += 1e-5 * (2 * ((double)rand() / RAND_MAX) - 1);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     o.rank = 10;
     o.clamp = 1;
     rk_koopman k;
-    CHECK_OK(rk_koopman_fit(traj, nf, 4, D, &o, &k, &err));
+    CHECK_OK(rk_koopman_fit(traj, 4, D, &o, &k, &err));
     double top = 0;
     for (int j = 0; j < k.r; j++) top = fmax(top, hypot(k.lambda_re[j], k.lambda_im[j]));
     printf("# noisy growing data: %d eigenvalues clamped, largest |lambda| %.15g\n", k.clamped, top);
