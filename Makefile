@@ -34,7 +34,9 @@ TOOL_SRC := $(wildcard tools/*.c)
 # The most downstream stage: the command line links it and all it uses.
 TOOL_STAGE := asset
 TEST_SRC := $(wildcard tests/unit/test_*.c)
-TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(BUILD)/tests/test_runtime_parity_double
+# The runtime tests that also run against the double runtime, as <name>_double.
+TEST_DOUBLE := test_runtime_parity test_runtime_koopman
+TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
 all: $(BUILD)/romkit $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp
@@ -83,8 +85,8 @@ $(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
 .SECONDEXPANSION:
-# The runtime tests link the float runtime; test_runtime_parity_double is the same source in double.
-$(BUILD)/tests/test_runtime_parity_double: tests/unit/test_runtime_parity.c tests/testlib.h $(call libs_of,runtime) $(RT_LIB_DOUBLE)
+# The runtime tests link the float runtime; <name>_double is the same source in double.
+$(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) $(RT_LIB_DOUBLE)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,runtime) $(RT_LIB_DOUBLE) $(LDLIBS)
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_stage,$$*)) $(RT_LIB)

@@ -85,6 +85,15 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_VMAP "VMAP"   /* u32, vertices: the source mesh's vertex number (optional) */
 #define ROMBIN_INFO "INFO"   /* bytes: JSON text about the build (optional) */
 
+/* A Koopman asset (ROMBIN.md "Koopman chunks") has KHED instead of HEAD, and shares VERT, ROWS
+ * (its output rows), GRPS, GVTX, GNAM, SURF, VMAP and INFO with the reduced model. */
+#define ROMBIN_KHED "KHED"   /* u32 x ROMBIN_KHED_COUNT, critical */
+#define ROMBIN_KPRM "KPRM"   /* real x ROMBIN_KPRM_COUNT, critical */
+#define ROMBIN_KEIG "KEIG"   /* real, r x 2: discrete-time eigenvalues (re, im) in block order */
+#define ROMBIN_KIMP "KIMP"   /* real, vertices x 3 x r: impulse rows over the vertex mass */
+#define ROMBIN_KACC "KACC"   /* real, r: the constant acceleration's impulse per h h' */
+#define ROMBIN_KINI "KINI"   /* real, r: the state at t = 0 */
+
 enum {
     ROMBIN_HEAD_R = 0,           /* reduced coordinates */
     ROMBIN_HEAD_VERTICES,        /* stored vertices (rows) */
@@ -99,6 +108,22 @@ enum {
     ROMBIN_HEAD_SOURCE_VERTICES, /* of the full mesh (information) */
     ROMBIN_HEAD_SOURCE_TETS,
     ROMBIN_HEAD_COUNT = 16       /* the rest reserved, 0 */
+};
+
+enum {
+    ROMBIN_KHED_R = 0,           /* eigen-coordinates */
+    ROMBIN_KHED_VERTICES,        /* stored vertices */
+    ROMBIN_KHED_SHOWN,
+    ROMBIN_KHED_GROUPS,
+    ROMBIN_KHED_SOURCE_VERTICES, /* information */
+    ROMBIN_KHED_SOURCE_TETS,
+    ROMBIN_KHED_TRAJECTORIES,    /* training trajectories (information) */
+    ROMBIN_KHED_COUNT = 16       /* the rest reserved, 0 */
+};
+
+enum {
+    ROMBIN_KPRM_H = 0,           /* the training data's time step (s) */
+    ROMBIN_KPRM_COUNT = 8        /* the rest reserved, 0 */
 };
 
 enum {

@@ -70,7 +70,10 @@ void romrt_reset(romrt_model *m)
     memset(&m->last, 0, sizeof m->last);
     m->t = 0;
     m->have_prev = 0;
+    if (m->kind == ROMRT_KIND_KOOPMAN) rt_koopman_reset(m);
 }
+
+romrt_kind romrt_model_kind(const romrt_model *m) { return m ? m->kind : ROMRT_KIND_REDUCED; }
 
 int romrt_reduced_size(const romrt_model *m) { return m ? m->r : 0; }
 int romrt_shown_count(const romrt_model *m) { return m ? m->shown : 0; }
@@ -111,12 +114,12 @@ const char *romrt_group_name(const romrt_model *m, int group)
     return m && group >= 0 && group < m->ngroups ? m->names + ROMBIN_GROUP_NAME_BYTES * group : 0;
 }
 
-/* f_app += B_v^T f for stored vertex v. */
+/* f_app += B_v^T f for stored vertex v (a Koopman asset: its impulse rows, KIMP). */
 static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
 {
     int a, j;
     for (a = 0; a < 3; a++) {
-        const romrt_real *row = m->rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
+        const romrt_real *row = m->force_rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
         for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
     }
 }

@@ -3,109 +3,26 @@
 #include <math.h>
 #include <string.h>
 
-#include "runtime/romrt_impl.h"
+#include "runtime/loader.h"
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
                                            ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CMAS, ROMBIN_GRPS,
-                                           ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO, 0};
+                                           ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
+                                           ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KIMP, ROMBIN_KACC,
+                                           ROMBIN_KINI, 0};
 
-/* Where the model and its converted arrays go: with arena NULL, only counts the bytes. */
+/* The three passes over one kind of model's chunks. */
 typedef struct {
-    rombin_file file;
-    unsigned char *arena;
-    size_t used, cap;
-    int scanned;              /* every real already checked finite (by the sizing pass) */
-    romrt_error *err;
-} loader;
+    romrt_status (*sizes)(rt_loader *L, romrt_model *m);
+    romrt_status (*arrays)(rt_loader *L, romrt_model *m);
+    romrt_status (*contents)(rt_loader *L, romrt_model *m);
+} model_reader;
 
-static size_t align16(size_t n) { return (n + 15) / 16 * 16; }
-
-/* Value i of a real chunk, whatever the file's real type. */
-static double real_at(const loader *L, const rombin_chunk *c, uint64_t i)
-{
-    if (L->file.real_type == ROMBIN_REAL_F32) {
-        float x;
-        memcpy(&x, c->data + 4 * i, 4);
-        return x;
-    } else {
-        double x;
-        memcpy(&x, c->data + 8 * i, 8);
-        return x;
-    }
-}
-
-/* The chunk `id` of `count` elements of `type` (count 0: any whole number of them; *found says
- * whether it is there; required chunks fail when absent). */
-static romrt_status chunk(loader *L, const char *id, int type, uint64_t count, int required, rombin_chunk *c,
-                          int *found)
-{
-    uint64_t size = type == ROMBIN_TYPE_U32 ? 4 : type == ROMBIN_TYPE_BYTES ? 1 : L->file.real_type == ROMBIN_REAL_F32 ? 4 : 8;
-    *found = rombin_find(&L->file, id, c);
-    if (!*found) return required ? rt_fail(L->err, ROMRT_E_MODEL, id, "missing (the model needs it)") : ROMRT_OK;
-    if (c->compression != ROMBIN_COMP_NONE)
-        return rt_fail(L->err, ROMRT_E_UNSUPPORTED, id,
-                       "deflate-compressed; the runtime opens stored chunks (bake without compression)");
-    if (c->type != type) return rt_fail_n(L->err, ROMRT_E_MODEL, id, "element type ", (uint64_t)c->type, " is wrong");
-    if (count && c->raw != count * size)
-        return rt_fail_nn(L->err, ROMRT_E_MODEL, id, "holds ", c->raw / size, " values, the header implies ", count, "");
-    return ROMRT_OK;
-}
-
-/* A real array of `count` values, finite, in place or converted into the arena. */
-static romrt_status reals(loader *L, const char *id, uint64_t count, int required, const romrt_real **out)
-{
-    rombin_chunk c;
-    int found;
-    uint64_t i;
-    romrt_status st = chunk(L, id, ROMBIN_TYPE_REAL, count, required, &c, &found);
-    *out = 0;
-    if (st || !found) return st;
-    for (i = 0; i < count && !L->scanned; i++) {
-        double x = real_at(L, &c, i);
-        if (!isfinite(x)) return rt_fail_n(L->err, ROMRT_E_MODEL, id, "value ", i, " is not finite");
-#ifndef ROMRT_DOUBLE
-        if (fabs(x) > 3.0e38) return rt_fail_n(L->err, ROMRT_E_MODEL, id, "value ", i, " overflows float");
-#endif
-    }
-    if (L->file.real_type == ROMRT_REAL_TYPE) {
-        *out = (const romrt_real *)(const void *)c.data;
-        return ROMRT_OK;
-    }
-    if (L->arena) {
-        romrt_real *dst = (romrt_real *)(void *)(L->arena + L->used);
-        for (i = 0; i < count; i++) dst[i] = (romrt_real)real_at(L, &c, i);
-        *out = dst;
-    }
-    L->used += align16((size_t)count * sizeof(romrt_real));
-    return ROMRT_OK;
-}
-
-static romrt_status u32s(loader *L, const char *id, uint64_t count, int required, const uint32_t **out)
-{
-    rombin_chunk c;
-    int found;
-    romrt_status st = chunk(L, id, ROMBIN_TYPE_U32, count, required, &c, &found);
-    *out = found && !st ? (const uint32_t *)(const void *)c.data : 0;
-    return st;
-}
-
-static romrt_status indices_below(loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
-                                  uint64_t lo, uint64_t hi, uint32_t limit)
-{
-    uint64_t i, k;
-    for (i = 0; i < n; i++)
-        for (k = lo; k < hi; k++)
-            if (a[i * stride + k] >= limit)
-                return rt_fail_nn(L->err, ROMRT_E_MODEL, id, "entry ", i, " names index ", a[i * stride + k],
-                                  ", beyond its table");
-    return ROMRT_OK;
-}
-
-static romrt_status sizes(loader *L, romrt_model *m)
+static romrt_status sizes(rt_loader *L, romrt_model *m)
 {
     const uint32_t *head;
-    romrt_status st = u32s(L, ROMBIN_HEAD, ROMBIN_HEAD_COUNT, 1, &head);
+    romrt_status st = rt_u32s(L, ROMBIN_HEAD, ROMBIN_HEAD_COUNT, 1, &head);
     int k;
     if (st) return st;
     for (k = ROMBIN_HEAD_SOURCE_TETS + 1; k < ROMBIN_HEAD_COUNT; k++)
@@ -145,9 +62,9 @@ static romrt_status sizes(loader *L, romrt_model *m)
         rombin_chunk c;
         int found;
         double p[ROMBIN_PARM_COUNT];
-        if ((st = chunk(L, ROMBIN_PARM, ROMBIN_TYPE_REAL, ROMBIN_PARM_COUNT, 1, &c, &found))) return st;
+        if ((st = rt_chunk(L, ROMBIN_PARM, ROMBIN_TYPE_REAL, ROMBIN_PARM_COUNT, 1, &c, &found))) return st;
         for (k = 0; k < ROMBIN_PARM_COUNT; k++) {
-            p[k] = real_at(L, &c, (uint64_t)k);
+            p[k] = rt_real_at(L, &c, (uint64_t)k);
             if (!isfinite(p[k])) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_PARM, "value ", (uint64_t)k, " is not finite");
             if (k > ROMBIN_PARM_KAPPA && p[k] != 0)
                 return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_PARM, "reserved value ", (uint64_t)k, " is not 0");
@@ -165,67 +82,35 @@ static romrt_status sizes(loader *L, romrt_model *m)
     return ROMRT_OK;
 }
 
-static romrt_status arrays(loader *L, romrt_model *m)
+static romrt_status arrays(rt_loader *L, romrt_model *m)
 {
     uint64_t r = (uint64_t)m->r, nv = (uint64_t)m->nv, rr = r * r;
     romrt_status st;
-    if ((st = reals(L, ROMBIN_VERT, 3 * nv, 1, &m->X)) || (st = reals(L, ROMBIN_ROWS, 3 * nv * r, 1, &m->rows)) ||
-        (st = reals(L, ROMBIN_MASS, rr, 1, &m->M)) || (st = reals(L, ROMBIN_DAMP, rr, 0, &m->C)) ||
-        (st = reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
-        (st = reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
-        (st = u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, 1, &m->elem)) ||
-        (st = reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, 1, &m->elem_real)) ||
-        (st = reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
-        (st = u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
-        (st = reals(L, ROMBIN_CMAS, (uint64_t)m->ncontacts, m->ncontacts > 0, &m->cmass)) ||
-        (st = u32s(L, ROMBIN_GRPS, 2 * (uint64_t)m->ngroups, m->ngroups > 0, &m->groups)))
+    if ((st = rt_reals(L, ROMBIN_VERT, 3 * nv, 1, &m->X)) || (st = rt_reals(L, ROMBIN_ROWS, 3 * nv * r, 1, &m->rows)) ||
+        (st = rt_reals(L, ROMBIN_MASS, rr, 1, &m->M)) || (st = rt_reals(L, ROMBIN_DAMP, rr, 0, &m->C)) ||
+        (st = rt_reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = rt_reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
+        (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
+        (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, 1, &m->elem)) ||
+        (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, 1, &m->elem_real)) ||
+        (st = rt_reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
+        (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
+        (st = rt_reals(L, ROMBIN_CMAS, (uint64_t)m->ncontacts, m->ncontacts > 0, &m->cmass)))
         return st;
-    if (m->ngroups) {
-        rombin_chunk c;
-        int found;
-        if ((st = chunk(L, ROMBIN_GVTX, ROMBIN_TYPE_U32, 0, 1, &c, &found))) return st;
-        m->gverts = (const uint32_t *)(const void *)c.data;
-        if ((st = chunk(L, ROMBIN_GNAM, ROMBIN_TYPE_BYTES, (uint64_t)m->ngroups * ROMBIN_GROUP_NAME_BYTES, 1, &c, &found)))
-            return st;
-        m->names = (const char *)c.data;
-    }
-    {
-        rombin_chunk c;
-        int found;
-        if ((st = chunk(L, ROMBIN_SURF, ROMBIN_TYPE_U32, 0, 0, &c, &found))) return st;
-        if (found) {
-            if (c.raw % 12 != 0 || c.raw / 12 > ROMRT_MAX_TRIANGLES)
-                return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_SURF, "size is not a whole number of triangles");
-            m->tris = (const uint32_t *)(const void *)c.data;
-            m->ntris = (int)(c.raw / 12);
-        }
-    }
-    return ROMRT_OK;
+    m->force_rows = m->rows;
+    return rt_load_groups_and_surface(L, m);
 }
 
 /* Indices and values the step relies on. */
-static romrt_status contents(loader *L, romrt_model *m)
+static romrt_status contents(rt_loader *L, romrt_model *m)
 {
     romrt_status st;
     int e, g, k;
-    rombin_chunk c;
-    if ((st = indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 0, 4, (uint32_t)m->nv)) ||
-        (st = indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 4, 5, RK_MAT_NEOHOOKEAN + 1)) ||
-        (st = indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 0, 1, (uint32_t)m->nv)) ||
-        (st = indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 1, 2, (uint32_t)m->nplanes)) ||
-        (st = indices_below(L, ROMBIN_SURF, m->tris, (uint64_t)m->ntris, 3, 0, 3, (uint32_t)m->shown)))
+    if ((st = rt_indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 0, 4, (uint32_t)m->nv)) ||
+        (st = rt_indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 4, 5, RK_MAT_NEOHOOKEAN + 1)) ||
+        (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 0, 1, (uint32_t)m->nv)) ||
+        (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 1, 2, (uint32_t)m->nplanes)))
         return st;
-    if (m->ngroups) {
-        rombin_find(&L->file, ROMBIN_GVTX, &c);
-        if ((st = indices_below(L, ROMBIN_GVTX, m->gverts, c.raw / 4, 1, 0, 1, (uint32_t)m->nv))) return st;
-        for (g = 0; g < m->ngroups; g++) {
-            uint64_t first = m->groups[2 * g], count = m->groups[2 * g + 1];
-            if (count == 0 || first > c.raw / 4 || count > c.raw / 4 - first)
-                return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_GRPS, "group ", (uint64_t)g, " is empty or runs past GVTX");
-            if (memchr(m->names + ROMBIN_GROUP_NAME_BYTES * g, 0, ROMBIN_GROUP_NAME_BYTES) == 0)
-                return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_GNAM, "name ", (uint64_t)g, " is not NUL-terminated");
-        }
-    }
+    if ((st = rt_check_groups_and_surface(L, m))) return st;
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
     for (e = 0; e < m->ne; e++) {
         const romrt_real *er = m->elem_real + 12 * (size_t)e;
@@ -261,9 +146,10 @@ static romrt_status contents(loader *L, romrt_model *m)
 static romrt_status load(const void *asset, size_t asset_bytes, void *arena, size_t arena_bytes, size_t *needed,
                          romrt_model **out, romrt_error *err)
 {
-    loader L;
+    rt_loader L;
     romrt_model scratch, *m;
     romrt_status st;
+    const model_reader *reader;
     int rb;
     if (err) {
         err->status = ROMRT_OK;
@@ -296,22 +182,31 @@ static romrt_status load(const void *asset, size_t asset_bytes, void *arena, siz
         m = &scratch;
     }
     memset(m, 0, sizeof *m);
-    L.used = align16(sizeof(romrt_model));
-    if ((st = sizes(&L, m))) return st;
+    L.used = rt_align16(sizeof(romrt_model));
+    {
+        rombin_chunk c;
+        static const model_reader reduced = {sizes, arrays, contents};
+        static const model_reader koopman = {rt_koopman_sizes, rt_koopman_arrays, rt_koopman_contents};
+        int has_head = rombin_find(&L.file, ROMBIN_HEAD, &c), has_khed = rombin_find(&L.file, ROMBIN_KHED, &c);
+        if (has_head && has_khed)
+            return rt_fail(err, ROMRT_E_MODEL, ROMBIN_KHED, "both a reduced model (HEAD) and a Koopman operator");
+        reader = has_khed ? &koopman : &reduced;
+    }
+    if ((st = reader->sizes(&L, m))) return st;
     {
         /* Converted arrays must fit before they are written: count first with a dry run. */
-        loader dry = L;
+        rt_loader dry = L;
         romrt_model probe = *m;
         dry.arena = 0;
-        if ((st = arrays(&dry, &probe))) return st;
+        if ((st = reader->arrays(&dry, &probe))) return st;
         if (needed) *needed = dry.used;
         if (arena && dry.used > arena_bytes)
             return rt_fail_nn(err, ROMRT_E_ARENA, 0, "the arena has ", (uint64_t)arena_bytes, " bytes, the model needs ",
                               (uint64_t)dry.used, "");
-        if (!arena) return contents(&dry, &probe);
+        if (!arena) return reader->contents(&dry, &probe);
     }
     L.scanned = 1; /* the sizing pass checked every real; now place them */
-    if ((st = arrays(&L, m)) || (st = contents(&L, m))) return st;
+    if ((st = reader->arrays(&L, m)) || (st = reader->contents(&L, m))) return st;
     *out = m;
     return ROMRT_OK;
 }

@@ -9,7 +9,7 @@
  *   romrt_model *m;
  *   romrt_open(asset, asset_bytes, arena, bytes, &m, &err);  // open in place, validated once
  *   for (;;) {
- *       romrt_step(m, &err);                                 // reduced implicit Newton
+ *       romrt_step(m, &err);                                 // implicit Newton, or Koopman
  *       romrt_positions(m, xyz, romrt_shown_count(m));       // the shown vertices, xyz[3 * i + k]
  *   }
  *
@@ -68,6 +68,11 @@ typedef struct {
 
 typedef struct romrt_model romrt_model;
 
+/* What an asset steps: a reduced model (implicit Newton on the cubature), or a Koopman operator
+ * learned from trajectories (a linear map in real eigen-coordinates: romrt_jump and the time-step
+ * and damping edits apply to it only). */
+typedef enum { ROMRT_KIND_REDUCED = 0, ROMRT_KIND_KOOPMAN = 1 } romrt_kind;
+
 /* Arena bytes romrt_open will need for this asset (validates the asset fully). */
 romrt_status romrt_arena_size(const void *asset, size_t asset_bytes, size_t *arena_bytes, romrt_error *err);
 
@@ -76,13 +81,28 @@ romrt_status romrt_arena_size(const void *asset, size_t asset_bytes, size_t *are
 romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size_t arena_bytes,
                         romrt_model **model, romrt_error *err);
 
-/* Advances one time step of the asset's h: q minimises the reduced incremental potential (the
+/* Advances one time step. A reduced model: q minimises the reduced incremental potential (the
  * same energy, integrator, pins and contacts as the precompute's reduced simulator), by
- * projected Newton on the r x r system with cubature. On failure the state is unchanged. */
+ * projected Newton on the r x r system with cubature. A Koopman asset: y <- B (y + h h_data c),
+ * the forcing c of gravity and the applied forces as an impulse (Eq. 19), O(r). On failure the
+ * state is unchanged. */
 romrt_status romrt_step(romrt_model *m, romrt_error *err);
 
-/* Back to rest at t = 0, forces cleared. */
+/* Back to rest at t = 0, forces cleared (a Koopman asset keeps its time step and damping). */
 void romrt_reset(romrt_model *m);
+
+romrt_kind romrt_model_kind(const romrt_model *m);
+
+/* Koopman assets only (ROMRT_E_UNSUPPORTED otherwise): advances `steps` steps at once, the
+ * applied forces held, at a cost that grows like log(steps) (repeated squaring of the 1 x 1 and
+ * 2 x 2 eigen-blocks); equal to that many romrt_step calls up to rounding. */
+romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err);
+/* Koopman assets only: a new time step h (s) by the eigenvalue rescaling lambda^(h / h_data)
+ * (Eq. 21 of the Koopman paper), which keeps each mode's frequency and decay per second. */
+romrt_status romrt_set_time_step(romrt_model *m, romrt_real h, romrt_error *err);
+/* Koopman assets only: every trained eigenvalue scaled by (1 - mu), 0 <= mu < 1 (Sec. 7.2): per
+ * training step, so (1 - mu)^(h / h_data) per step of h, the same damping per second whatever h. */
+romrt_status romrt_set_damping(romrt_model *m, romrt_real mu, romrt_error *err);
 
 /* Sizes. */
 int romrt_reduced_size(const romrt_model *m);     /* r */

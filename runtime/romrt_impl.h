@@ -44,7 +44,8 @@ void romrt_phys_motion(rk_motion_kind kind, const romrt_real axis[3], const romr
                        const romrt_real velocity[3], romrt_real t, romrt_real R[9], romrt_real shift[3]);
 
 struct romrt_model {
-    /* sizes and parameters (HEAD, PARM) */
+    romrt_kind kind;
+    /* sizes and parameters (HEAD, PARM; a Koopman asset: KHED, KPRM) */
     int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter;
     romrt_real h, tol, mass, dhat, kappa;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
@@ -61,6 +62,13 @@ struct romrt_model {
     const uint32_t *gverts;
     const uint32_t *tris;     /* ntris x 3 */
     const char *names;        /* ngroups x 32 */
+    const romrt_real *force_rows; /* the rows a pushed force goes through: ROWS, or KIMP */
+    /* Koopman assets: h above is the current step h_data * dt_scale */
+    romrt_real h_data, dt_scale, damping;
+    const romrt_real *eig;    /* r x 2 (KEIG) */
+    const romrt_real *accel;  /* r (KACC) */
+    const romrt_real *y0;     /* r (KINI) */
+    romrt_real lam_re[ROMRT_MAX_R], lam_im[ROMRT_MAX_R]; /* the blocks at the current step and damping */
     /* state */
     romrt_real t;
     int have_prev;
@@ -87,6 +95,10 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
 void rt_pin_target(romrt_model *m, romrt_real t);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
 romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);
+
+/* Koopman assets (koopman.c): their chunks, in the loader's passes; the step; back to t = 0. */
+romrt_status rt_koopman_step(romrt_model *m, romrt_error *err);
+void rt_koopman_reset(romrt_model *m);
 
 /* Dense kernels on r x r column-major matrices (dense.c). */
 void rt_symv(int r, const romrt_real *S, const romrt_real *x, romrt_real *y); /* y = S x, S full */

@@ -100,6 +100,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     rt_terms T;
     romrt_status st;
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_step: no model (NULL)");
+    if (m->kind == ROMRT_KIND_KOOPMAN) return rt_koopman_step(m, err);
     r = m->r;
     h = m->h;
     bdf2 = m->integrator == 1 && m->have_prev;

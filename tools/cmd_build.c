@@ -8,6 +8,8 @@
 #include "args.h"
 #include "asset/asset.h"
 #include "commands.h"
+#include "koopman/scene_koopman.h"
+#include "koopman_asset.h"
 #include "formats/rombin_read.h"
 #include "util/json_out.h"
 #include "util/timer.h"
@@ -20,6 +22,9 @@ static void build_usage(FILE *f)
                "  into OUT.rombin with only what the runtime needs: the reduced operators, the cubature\n"
                "  elements with the basis rows of the vertices they touch, and the rows of the shown\n"
                "  vertices (rom.asset.show, default the surface) and of the named groups (rom.asset.groups).\n"
+               "  With rom.koopman the asset holds a Koopman operator instead, learned by DMD from the\n"
+               "  scene's own full-order runs (rom.koopman.trajectories vary gravity, initial velocity and\n"
+               "  loads; rom.koopman.project fits on the basis's coordinates; rank, energy, clamp).\n"
                "  --precision   real type of the asset's arrays (default rom.asset.precision, else float32)\n"
                "  --compress    deflate the chunks (smaller to ship; romkit run inflates, the runtime\n"
                "                itself opens stored chunks only)\n"
@@ -89,18 +94,80 @@ static char *info_text(const char *scene_path, const rk_rom_options *o, const rk
     return text;
 }
 
-static int parse_flags(const char *precision, int compress, rk_asset_options *ao)
+/* rom.koopman: the operator learned from the scene's own training runs, on the basis's
+ * coordinates when it asks for a projection. */
+static int build_koopman(const char *scene_path, const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_options *o,
+                         const rk_asset_options *ao, const char *out, const char *report_out, double t0, rk_error *err)
 {
-    if (precision) {
-        if (strcmp(precision, "float32") == 0) ao->real_type = ROMBIN_REAL_F32;
-        else if (strcmp(precision, "float64") == 0) ao->real_type = ROMBIN_REAL_F64;
-        else {
-            fprintf(stderr, "romkit build: --precision must be float32 or float64, got '%s'\n", precision);
-            return -1;
-        }
+    rk_koopman_scene_options ko;
+    rk_koopman_scene_info ki;
+    rk_koopman k;
+    rk_basis b;
+    rk_scene_basis_info bi;
+    int have_basis = 0, rc = -1;
+    double *frames = NULL, *accel = NULL, *u0 = NULL, *u_prev = NULL;
+    int T = 0;
+    memset(&k, 0, sizeof k);
+    if (rk_koopman_scene_options_parse(scene->rom, 0, scene_path, sim->options.h, &ko, err)) return -1;
+    if (ko.project) {
+        if ((rk_basis_needs_frames(&o->basis) && rk_scene_training_frames(sim, &frames, &T, err)) ||
+            rk_scene_basis_build_frames(scene, &o->basis, frames, T, &b, &bi, err))
+            goto done;
+        have_basis = 1;
     }
-    if (compress) ao->compress = 1;
-    return 0;
+    if (rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, &k, &ki, err)) goto done;
+    int nv = sim->mesh.nv;
+    accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    u_prev = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    if (!accel || !u0 || !u_prev) goto done;
+    /* the asset starts where the training runs do: X_0 = [0; h v_0] */
+    for (int v = 0; v < nv; v++)
+        for (int a = 0; a < 3; a++) {
+            int i = 3 * v + a;
+            accel[i] = sim->options.gravity[a] + (sim->options.force ? sim->options.force[i] / sim->fem.vertex_mass[v] : 0);
+            u_prev[i] = sim->options.velocity0 ? -sim->options.h * sim->options.velocity0[i] : 0;
+        }
+    rk_koopman_geometry g = {nv, sim->mesh.X, sim->fem.vertex_mass, NULL, 0, accel, u0, u_prev, sim->mesh.nt, ki.trajectories};
+    if (rk_mesh_boundary(&sim->mesh, &g.tris, &g.ntris, err)) goto done;
+    cJSON *report = cJSON_CreateObject(), *j = cJSON_CreateObject();
+    const char *slash = strrchr(scene_path, '/');
+    cJSON_AddStringToObject(j, "scene", slash ? slash + 1 : scene_path);
+    cJSON_AddStringToObject(j, "method", "koopman");
+    cJSON_AddNumberToObject(j, "rank", k.r);
+    cJSON_AddNumberToObject(j, "trajectories", ki.trajectories);
+    char *info = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
+    cJSON_AddNumberToObject(report, "vertices", nv);
+    cJSON_AddNumberToObject(report, "tets", sim->mesh.nt);
+    if (have_basis) {
+        cJSON *bj = cJSON_AddObjectToObject(report, "basis");
+        cJSON_AddStringToObject(bj, "type", rk_basis_type_name(b.type));
+        cJSON_AddNumberToObject(bj, "size", b.r);
+    }
+    cJSON *tj = cJSON_AddObjectToObject(report, "training");
+    cJSON_AddNumberToObject(tj, "trajectories", ki.trajectories);
+    cJSON_AddNumberToObject(tj, "frames", ki.frames);
+    cJSON_AddBoolToObject(tj, "projected", ki.projected);
+    cJSON *sj = cJSON_AddObjectToObject(report, "seconds");
+    cJSON_AddNumberToObject(sj, "fom", ki.seconds_fom);
+    cJSON_AddNumberToObject(sj, "fit", ki.seconds_fit);
+    cJSON_AddNumberToObject(sj, "total", rk_now() - t0);
+    rc = koopman_asset_write(&k, &g, ao, info, out, report_out, report, err);
+    free(g.tris);
+    free(info);
+    cJSON_Delete(report);
+done:
+    free(frames);
+    free(accel);
+    free(u0);
+    free(u_prev);
+    rk_koopman_free(&k);
+    if (have_basis) {
+        rk_basis_free(&b);
+        rk_scene_basis_info_free(&bi);
+    }
+    return rc;
 }
 
 int cmd_build(int argc, char **argv)
@@ -149,12 +216,16 @@ int cmd_build(int argc, char **argv)
     if (rk_rom_options_parse(scene.rom, 0, scene_path, &o, &err) ||
         rk_asset_options_parse(scene.rom, 0, scene_path, &ao, &err))
         goto done;
-    if (parse_flags(precision, compress, &ao)) {
+    if (asset_flags("build", precision, compress, &ao)) {
         rc = 2;
         goto done;
     }
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     stage = 2;
+    if (rk_koopman_scene_present(scene.rom, 0)) {
+        rc = build_koopman(scene_path, &scene, &sim, &o, &ao, out, report_out, t0, &err) ? 1 : 0;
+        goto done;
+    }
     /* The cubature trains on the scene's full-order run (and POD or a tolerance use it too): run it once. */
     if ((o.cubature || rk_basis_needs_frames(&o.basis)) &&
         rk_scene_training_frames(&sim, &frames, &T, &err))

@@ -18,12 +18,15 @@
 static void run_usage(FILE *f)
 {
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
-               "                  [--report R.json] [--jump N] [--quiet]\n"
+               "                  [--report R.json] [--jump N] [--dt H] [--damping MU] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
                "  --report      seconds_per_step (median), Newton work, arena and asset bytes\n"
-               "  --jump        advance a Koopman asset N steps at once (needs a KOOP chunk)\n"
+               "  --jump        after the steps, advance a Koopman asset N steps at once (seconds_jump:\n"
+               "                the median of 21 timed jumps from the same state)\n"
+               "  --dt          a Koopman asset's time step (s), rescaled from the training one (Eq. 21)\n"
+               "  --damping     a Koopman asset's eigenvalues times (1 - MU) (Sec. 7.2)\n"
                "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n",
            ROMRT_MAX_R);
 }
@@ -40,6 +43,26 @@ static int parse_count(const char *what, const char *text, long *out)
     return 0;
 }
 
+/* Jumps `n` steps from the current state 21 times (restoring it between), keeps the last:
+ * *seconds is the median of the timings. */
+static romrt_status timed_jump(romrt_model *m, unsigned long n, double *seconds, romrt_error *err)
+{
+    enum { REPEATS = 21 };
+    double t[REPEATS];
+    int count = romrt_state_size(m);
+    romrt_real *state = calloc((size_t)count, sizeof(romrt_real));
+    romrt_status st = state ? romrt_get_state(m, state, count) : ROMRT_E_ARGUMENT;
+    for (int k = 0; k < REPEATS && st == ROMRT_OK; k++) {
+        if (k) romrt_set_state(m, state, count);
+        double t0 = rk_now();
+        st = romrt_jump(m, n, err);
+        t[k] = rk_now() - t0;
+    }
+    *seconds = st == ROMRT_OK ? rk_median(t, REPEATS) : NAN;
+    free(state);
+    return st;
+}
+
 int cmd_run(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++)
@@ -48,10 +71,12 @@ int cmd_run(int argc, char **argv)
             return 0;
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
+    const char *dt_text = NULL, *damping_text = NULL;
     int quiet = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
-                               {"--jump", &jump_text, NULL},     {"--quiet", NULL, &quiet},
+                               {"--jump", &jump_text, NULL},     {"--dt", &dt_text, NULL},
+                               {"--damping", &damping_text, NULL}, {"--quiet", NULL, &quiet},
                                {NULL, NULL, NULL}};
     long steps, jump = 0;
     if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
@@ -73,10 +98,6 @@ int cmd_run(int argc, char **argv)
     size_t file_bytes = size;
     int inflated;
     if (rombin_inflate_in_place(&data, &size, &inflated, &err)) goto fail;
-    if (jump_text) {
-        rk_fail(&err, "--jump: this asset has no Koopman operator (no KOOP chunk)");
-        goto fail;
-    }
     romrt_model *m;
     if (romrt_arena_size(data, size, &arena_bytes, &rerr) != ROMRT_OK) goto runtime_fail;
     arena = aligned_alloc(16, (arena_bytes + 15) / 16 * 16);
@@ -85,6 +106,14 @@ int cmd_run(int argc, char **argv)
         goto fail;
     }
     if (romrt_open(data, size, arena, arena_bytes, &m, &rerr) != ROMRT_OK) goto runtime_fail;
+    if ((jump_text || dt_text || damping_text) && romrt_model_kind(m) != ROMRT_KIND_KOOPMAN) {
+        rk_fail(&err, "%s: this asset has no Koopman operator (no KHED chunk)",
+                jump_text ? "--jump" : dt_text ? "--dt" : "--damping");
+        goto fail;
+    }
+    if (dt_text && romrt_set_time_step(m, (romrt_real)strtod(dt_text, NULL), &rerr) != ROMRT_OK) goto runtime_fail;
+    if (damping_text && romrt_set_damping(m, (romrt_real)strtod(damping_text, NULL), &rerr) != ROMRT_OK)
+        goto runtime_fail;
     int n = romrt_shown_count(m);
     xyz = calloc((size_t)3 * n + 1, sizeof(romrt_real));
     frame = calloc((size_t)3 * n + 1, sizeof(double));
@@ -114,6 +143,8 @@ int cmd_run(int argc, char **argv)
         if (!quiet) rk_progress("run", k + 1, steps);
     }
     if (!quiet) rk_progress_done("run");
+    double seconds_jump = NAN;
+    if (jump_text && timed_jump(m, (unsigned long)jump, &seconds_jump, &rerr) != ROMRT_OK) goto runtime_fail;
     romrt_positions(m, xyz, n);
     for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
     if (snapping) {
@@ -130,6 +161,11 @@ int cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(r, "steps", (double)steps);
         cJSON_AddNumberToObject(r, "time", romrt_time(m));
         cJSON_AddNumberToObject(r, "seconds_per_step", median);
+        if (jump_text) {
+            cJSON_AddNumberToObject(r, "jump", (double)jump);
+            cJSON_AddNumberToObject(r, "seconds_jump", seconds_jump);
+        }
+        cJSON_AddStringToObject(r, "kind", romrt_model_kind(m) == ROMRT_KIND_KOOPMAN ? "koopman" : "reduced");
         cJSON_AddNumberToObject(r, "newton_iterations", (double)newton);
         cJSON_AddNumberToObject(r, "unconverged_steps", (double)unconverged);
         cJSON_AddNumberToObject(r, "arena_bytes", (double)arena_bytes);
@@ -145,6 +181,7 @@ int cmd_run(int argc, char **argv)
     printf("%s: %ld steps of %g s, r = %d, %d shown vertices, %.3g us/step (median), %ld Newton iterations, "
            "arena %zu bytes\n", path, steps, (double)romrt_time_step(m), romrt_reduced_size(m), n, median * 1e6, newton,
            arena_bytes);
+    if (jump_text) printf("  then a jump of %ld steps in %.3g us, to t = %g s\n", jump, seconds_jump * 1e6, (double)romrt_time(m));
     rc = 0;
     goto done;
 runtime_fail:

@@ -9,6 +9,7 @@ int cmd_basis(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_build(int argc, char **argv);
 int cmd_run(int argc, char **argv);
+int cmd_dmd(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);
 
 /* Shared by the commands: is argv[i] "--help" or "-h". */

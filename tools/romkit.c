@@ -13,6 +13,7 @@ typedef struct {
 static const command commands[] = {
     {"build", cmd_build, "bake the scene's reduced model into a .rombin asset for the runtime"},
     {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
+    {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
     {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},

@@ -10,6 +10,7 @@
 #define RK_ASSET_H
 
 #include "formats/rombin_write.h"
+#include "koopman/koopman.h"
 #include "rom/scene_rom.h"
 
 typedef enum { RK_SHOW_SURFACE = 0, RK_SHOW_ALL = 1, RK_SHOW_NONE = 2 } rk_show;
@@ -42,5 +43,23 @@ typedef struct {
  * compression are the writer's). info: JSON text for the INFO chunk (may be NULL). */
 int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_options *o, const char *info,
                   rombin_writer *w, rk_asset_summary *summary, rk_error *err);
+
+/* What a Koopman asset shows and how it is pushed, beyond the operator itself. */
+typedef struct {
+    int nv;                      /* vertices: the operator's values are 3 nv displacements */
+    const double *X;             /* 3 nv rest positions */
+    const double *vertex_mass;   /* nv (kg): an applied force over it is the impulse's acceleration */
+    int *tris, ntris;            /* boundary triangles (source numbers, malloc'd: the bake takes
+                                  * them over), or NULL: every vertex is shown */
+    const double *accel;         /* 3 nv: the constant acceleration stepped along (gravity, loads
+                                  * over mass), or NULL for none */
+    const double *u0, *u_prev;   /* the first two displacement frames, or NULL: start at rest */
+    int source_tets, trajectories; /* information for KHED */
+} rk_koopman_geometry;
+
+/* Adds a Koopman asset's chunks (formats/ROMBIN.md "Koopman chunks") for operator k, whose
+ * values are g's 3 nv displacements. */
+int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_asset_options *o, const char *info,
+                          rombin_writer *w, rk_asset_summary *summary, rk_error *err);
 
 #endif

@@ -1,0 +1,24 @@
+/* Private to precompute/asset: what the reduced-model and the Koopman bakes share. */
+#ifndef RK_ASSET_BAKE_IMPL_H
+#define RK_ASSET_BAKE_IMPL_H
+
+#include "asset/asset.h"
+
+typedef struct {
+    int nv, count, shown;
+    int *stored;         /* nv: stored index of a source vertex, or -1 */
+    int *source;         /* count: source vertex of a stored one */
+    unsigned char *need; /* nv: 1 shown, 2 needed otherwise */
+    int *tris, nf;       /* boundary triangles (source numbers) */
+    int *group_first, *group_count, *group_verts, group_total;
+} rk_bake_state;
+
+/* s->tris / s->nf (the boundary triangles, source numbers, owned by s) are set by the caller first. */
+int rk_bake_select(int nv, const double *X, const int *extra, int nextra, const rk_asset_options *o, rk_bake_state *s,
+                   rk_error *err);
+void rk_bake_state_free(rk_bake_state *s);
+int rk_bake_add_u32s(rombin_writer *w, const char *id, int critical, const int *v, size_t n, rk_error *err);
+/* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */
+int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, rombin_writer *w, rk_error *err);
+
+#endif

@@ -1,0 +1,39 @@
+/* Private to the runtime: reading a model's chunks once, in romrt_open. The sizing pass runs with
+ * arena NULL and only counts the bytes of converted arrays; the placing pass writes them. */
+#ifndef ROMRT_LOADER_H
+#define ROMRT_LOADER_H
+
+#include "runtime/romrt_impl.h"
+
+typedef struct {
+    rombin_file file;
+    unsigned char *arena;
+    size_t used, cap;
+    int scanned;              /* every real already checked finite (by the sizing pass) */
+    romrt_error *err;
+} rt_loader;
+
+static inline size_t rt_align16(size_t n) { return (n + 15) / 16 * 16; }
+
+/* Value i of a real chunk, whatever the file's real type. */
+double rt_real_at(const rt_loader *L, const rombin_chunk *c, uint64_t i);
+/* The chunk `id` of `count` elements of `type` (count 0: any whole number of them; *found says
+ * whether it is there; required chunks fail when absent). */
+romrt_status rt_chunk(rt_loader *L, const char *id, int type, uint64_t count, int required, rombin_chunk *c,
+                      int *found);
+/* A real array of `count` values, finite, in place or converted into the arena. */
+romrt_status rt_reals(rt_loader *L, const char *id, uint64_t count, int required, const romrt_real **out);
+romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out);
+/* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
+romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
+                              uint64_t lo, uint64_t hi, uint32_t limit);
+/* GRPS, GVTX, GNAM and SURF (m->ngroups set), then their indices against m->nv and m->shown. */
+romrt_status rt_load_groups_and_surface(rt_loader *L, romrt_model *m);
+romrt_status rt_check_groups_and_surface(rt_loader *L, const romrt_model *m);
+
+/* A Koopman asset's chunks (koopman.c), as sizes / arrays / contents in open.c. */
+romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m);
+romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m);
+romrt_status rt_koopman_contents(rt_loader *L, romrt_model *m);
+
+#endif

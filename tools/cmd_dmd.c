@@ -1,0 +1,321 @@
+/* romkit dmd --snapshots S.npy [--snapshots S2.npy ...] --dt H -o OUT.rombin: a Koopman operator
+ * from trajectories recorded anywhere (another simulator, tracked markers), baked into an asset. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "basis/basis.h"
+#include "commands.h"
+#include "koopman_asset.h"
+#include "mesh/mesh.h"
+#include "util/npy.h"
+#include "util/timer.h"
+
+#define MAX_FILES 64
+
+static void dmd_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: romkit dmd --snapshots S.npy [--snapshots S2.npy ...] --dt H -o OUT.rombin\n"
+            "                  [--rank R | --energy E] [--clamp] [--pod P] [--gravity GX,GY,GZ]\n"
+            "                  [--accel AX,AY,AZ ...] [--rest R.npy] [--mesh M] [--vertex-mass KG]\n"
+            "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
+            "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
+            "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
+            "  S.npy: T x n x 3 positions (u = x - rest), or T x d observables used as they are.\n"
+            "  --rank, --energy  the DMD rank, or the singular-value energy kept (default 0.999999)\n"
+            "  --clamp           scale every |lambda| > 1 down to 1 (stable long rollouts)\n"
+            "  --pod P           fit on the P leading POD coordinates of the data first\n"
+            "  --gravity         the constant acceleration acting during every recording and when the\n"
+            "                    asset is stepped (m/s^2; default none)\n"
+            "  --accel           the acceleration during one recording, in --snapshots order (overrides\n"
+            "                    --gravity for it): forces then act as impulses (Eq. 19)\n"
+            "  --rest            n x 3 rest positions (default: the first frame of the first file)\n"
+            "  --mesh            a mesh over the same n vertices: its surface is what the asset shows\n"
+            "  --vertex-mass     each vertex's mass (kg, default 1) for forces an app applies\n");
+}
+
+typedef struct {
+    const char *snapshots[MAX_FILES], *accel[MAX_FILES];
+    int nsnap, naccel;
+    const char *dt, *rank, *energy, *pod, *gravity, *rest, *mesh, *mass, *out, *report, *precision;
+    int clamp, compress, quiet;
+} dmd_args;
+
+static int parse_args(int argc, char **argv, dmd_args *a)
+{
+    struct {
+        const char *name;
+        const char **value;
+    } values[] = {{"--dt", &a->dt},       {"--rank", &a->rank}, {"--energy", &a->energy},       {"--pod", &a->pod},
+                  {"--gravity", &a->gravity}, {"--rest", &a->rest}, {"--mesh", &a->mesh}, {"--vertex-mass", &a->mass},
+                  {"-o", &a->out},        {"--report", &a->report}, {"--precision", &a->precision}};
+    memset(a, 0, sizeof *a);
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        int *flag = !strcmp(arg, "--clamp") ? &a->clamp : !strcmp(arg, "--compress") ? &a->compress
+                  : !strcmp(arg, "--quiet") ? &a->quiet : NULL;
+        if (flag) {
+            *flag = 1;
+            continue;
+        }
+        if (i + 1 >= argc) {
+            fprintf(stderr, "romkit dmd: %s needs a value (or is unknown)\n", arg);
+            return -1;
+        }
+        if (!strcmp(arg, "--snapshots") || !strcmp(arg, "--accel")) {
+            int *n = arg[2] == 's' ? &a->nsnap : &a->naccel;
+            if (*n == MAX_FILES) {
+                fprintf(stderr, "romkit dmd: at most %d %s\n", MAX_FILES, arg);
+                return -1;
+            }
+            (arg[2] == 's' ? a->snapshots : a->accel)[(*n)++] = argv[++i];
+            continue;
+        }
+        size_t k = 0;
+        while (k < sizeof values / sizeof values[0] && strcmp(values[k].name, arg)) k++;
+        if (k == sizeof values / sizeof values[0]) {
+            fprintf(stderr, "romkit dmd: unknown option %s\n", arg);
+            return -1;
+        }
+        *values[k].value = argv[++i];
+    }
+    if (!a->nsnap || !a->dt || !a->out) {
+        fprintf(stderr, "romkit dmd: --snapshots, --dt and -o are required\n");
+        return -1;
+    }
+    if (a->naccel > 1 && a->naccel != a->nsnap) {
+        fprintf(stderr, "romkit dmd: give one --accel for all recordings or one per --snapshots (%d for %d)\n",
+                a->naccel, a->nsnap);
+        return -1;
+    }
+    return 0;
+}
+
+/* A number (finite, in [lo, hi]) or three comma-separated ones. */
+static int number(const char *what, const char *text, double lo, double hi, double *out, rk_error *err)
+{
+    char *end;
+    *out = strtod(text, &end);
+    if (*end || end == text || !isfinite(*out) || *out < lo || *out > hi)
+        return rk_fail(err, "%s must be a number in [%g, %g], got '%s'", what, lo, hi, text);
+    return 0;
+}
+
+static int vector3(const char *what, const char *text, double v[3], rk_error *err)
+{
+    if (sscanf(text, "%lf,%lf,%lf", &v[0], &v[1], &v[2]) != 3 || !isfinite(v[0] + v[1] + v[2]))
+        return rk_fail(err, "%s must be three comma-separated numbers, got '%s'", what, text);
+    return 0;
+}
+
+/* The recordings as displacement trajectories of n = 3 nv values (T x d data padded to a
+ * multiple of 3), with the rest positions. */
+typedef struct {
+    int ntraj, nv, d, positions; /* d values per recorded frame; positions: T x n x 3 files */
+    double *X, *vertex_mass;
+    double *data[MAX_FILES], *accel[MAX_FILES];
+    rk_koopman_trajectory traj[MAX_FILES];
+} recordings;
+
+static void recordings_free(recordings *r)
+{
+    free(r->X);
+    free(r->vertex_mass);
+    for (int i = 0; i < r->ntraj; i++) {
+        free(r->data[i]);
+        free(r->accel[i]);
+    }
+}
+
+static int load_recordings(const dmd_args *a, recordings *r, rk_error *err)
+{
+    memset(r, 0, sizeof *r);
+    int first_d = 0;
+    for (int f = 0; f < a->nsnap; f++) {
+        double *raw;
+        int ndim;
+        long shape[4];
+        if (rk_npy_read(a->snapshots[f], &raw, &ndim, shape, err)) return -1;
+        r->ntraj++;
+        r->data[f] = raw;
+        int positions = ndim == 3 && shape[2] == 3, d = positions ? (int)(3 * shape[1]) : ndim == 2 ? (int)shape[1] : 0;
+        if (!(ndim == 3 && shape[2] == 3) && ndim != 2)
+            return rk_fail(err, "%s: shape must be T x n x 3 or T x d, got %d dimensions", a->snapshots[f], ndim);
+        if (f == 0) {
+            first_d = d;
+            r->positions = positions;
+            r->d = d;
+            r->nv = (d + 2) / 3;
+        } else if (d != first_d || positions != r->positions) {
+            return rk_fail(err, "%s: %d values per frame, %s has %d: every recording must have the same layout",
+                           a->snapshots[f], d, a->snapshots[0], first_d);
+        }
+        int T = (int)shape[0], n = 3 * r->nv;
+        if (T < 3) return rk_fail(err, "%s: %d frames; a trajectory needs at least 3", a->snapshots[f], T);
+        if (n != d) { /* pad T x d observables to whole points */
+            double *p = rk_calloc((size_t)n * T, sizeof(double), err);
+            if (!p) return -1;
+            for (int t = 0; t < T; t++) memcpy(p + (size_t)n * t, raw + (size_t)d * t, sizeof(double) * d);
+            free(raw);
+            r->data[f] = p;
+        }
+        r->traj[f] = (rk_koopman_trajectory){r->data[f], T, NULL};
+    }
+    return 0;
+}
+
+/* Rest positions, u = x - rest, the accelerations, vertex masses. */
+static int prepare(const dmd_args *a, recordings *r, double gravity[3], int *has_gravity, rk_error *err)
+{
+    int n = 3 * r->nv;
+    r->X = rk_calloc((size_t)n, sizeof(double), err);
+    r->vertex_mass = rk_calloc((size_t)r->nv, sizeof(double), err);
+    if (!r->X || !r->vertex_mass) return -1;
+    if (a->rest) {
+        double *rest;
+        int ndim;
+        long shape[4];
+        if (rk_npy_read(a->rest, &rest, &ndim, shape, err)) return -1;
+        long count = ndim == 2 ? shape[0] * shape[1] : ndim == 1 ? shape[0] : -1;
+        if (count != r->d) {
+            free(rest);
+            return rk_fail(err, "%s: %ld values, the recordings have %d per frame", a->rest, count, r->d);
+        }
+        memcpy(r->X, rest, sizeof(double) * (size_t)count);
+        free(rest);
+    } else if (r->positions) {
+        memcpy(r->X, r->data[0], sizeof(double) * n);
+    }
+    for (int f = 0; f < r->ntraj; f++)
+        for (size_t i = 0; i < (size_t)n * r->traj[f].frames; i++) r->data[f][i] -= r->X[i % n];
+    double m = 1;
+    if (a->mass && number("--vertex-mass", a->mass, 1e-30, 1e30, &m, err)) return -1;
+    for (int v = 0; v < r->nv; v++) r->vertex_mass[v] = m;
+    *has_gravity = a->gravity != NULL;
+    if (a->gravity && vector3("--gravity", a->gravity, gravity, err)) return -1;
+    for (int f = 0; f < r->ntraj; f++) {
+        double g[3] = {gravity[0], gravity[1], gravity[2]};
+        const char *text = a->naccel == 1 ? a->accel[0] : a->naccel > 1 ? a->accel[f] : NULL;
+        if (text && vector3("--accel", text, g, err)) return -1;
+        if (!text && !a->gravity) continue;
+        if (!r->positions) return rk_fail(err, "--gravity and --accel act on T x n x 3 positions, not on T x d observables");
+        r->accel[f] = rk_calloc((size_t)n, sizeof(double), err);
+        if (!r->accel[f]) return -1;
+        for (int i = 0; i < n; i++) r->accel[f][i] = g[i % 3];
+        r->traj[f].accel = r->accel[f];
+    }
+    return 0;
+}
+
+/* --pod P: the P leading (unweighted) POD directions of all displacement frames. */
+static int pod_fit(const recordings *r, int P, const rk_koopman_options *o, rk_koopman *k, rk_error *err)
+{
+    int n = 3 * r->nv, T = 0, rc = -1;
+    for (int f = 0; f < r->ntraj; f++) T += r->traj[f].frames;
+    double *all = rk_calloc((size_t)n * T, sizeof(double), err), *s = rk_calloc((size_t)(n < T ? n : T), sizeof(double), err);
+    double *Q = rk_calloc((size_t)n * P, sizeof(double), err), *Qt = rk_calloc((size_t)n * P, sizeof(double), err);
+    int got = 0;
+    if (all && s && Q && Qt) {
+        for (int f = 0, c = 0; f < r->ntraj; c += r->traj[f].frames, f++)
+            memcpy(all + (size_t)n * c, r->traj[f].u, sizeof(double) * n * r->traj[f].frames);
+        if (P > (n < T ? n : T))
+            rk_fail(err, "--pod %d: at most %d directions from %d frames of %d values", P, n < T ? n : T, T, n);
+        else if (!rk_mass_pca(all, n, T, NULL, P, 0, Q, &got, s, err)) {
+            for (int j = 0; j < got; j++)
+                for (int i = 0; i < n; i++) Qt[(size_t)got * i + j] = Q[(size_t)n * j + i];
+            rc = rk_koopman_fit_projected(r->traj, r->ntraj, n, Qt, Q, got, o, k, err);
+        }
+    }
+    free(all);
+    free(s);
+    free(Q);
+    free(Qt);
+    return rc;
+}
+
+int cmd_dmd(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            dmd_usage(stdout);
+            return 0;
+        }
+    dmd_args a;
+    if (parse_args(argc, argv, &a)) {
+        dmd_usage(stderr);
+        return 2;
+    }
+    rk_progress_set_quiet(a.quiet);
+    double t0 = rk_now(), gravity[3] = {0, 0, 0};
+    rk_error err = {{0}};
+    recordings rec;
+    rk_koopman k;
+    rk_mesh mesh;
+    rk_asset_options ao;
+    rk_koopman_options o;
+    int has_gravity = 0, have_mesh = 0, rc = 1, pod = 0;
+    memset(&k, 0, sizeof k);
+    rk_asset_default_options(&ao);
+    rk_koopman_default_options(&o);
+    if (asset_flags("dmd", a.precision, a.compress, &ao)) return 2;
+    double value;
+    if (number("--dt", a.dt, 1e-12, 1e6, &o.h, &err) ||
+        (a.rank && (number("--rank", a.rank, 1, 4096, &value, &err) || (o.rank = (int)value, 0))) ||
+        (a.energy && number("--energy", a.energy, 1e-12, 1, &o.energy, &err)) ||
+        (a.pod && (number("--pod", a.pod, 1, 100000, &value, &err) || (pod = (int)value, 0))))
+        goto done;
+    o.clamp = a.clamp;
+    if (load_recordings(&a, &rec, &err) || prepare(&a, &rec, gravity, &has_gravity, &err)) goto done_rec;
+    double fit_t = rk_now();
+    if (pod ? pod_fit(&rec, pod, &o, &k, &err) : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))
+        goto done_rec;
+    fit_t = rk_now() - fit_t;
+    double *accel = NULL;
+    rk_koopman_geometry g = {rec.nv, rec.X, rec.vertex_mass, NULL, 0, NULL, NULL, NULL, 0, rec.ntraj};
+    if (a.mesh) {
+        rk_mesh_report mr;
+        if (rk_mesh_load(a.mesh, &mesh, &mr, &err)) goto done_rec;
+        have_mesh = 1;
+        if (mesh.nv != rec.nv) {
+            rk_fail(&err, "%s has %d vertices, the recordings %d", a.mesh, mesh.nv, rec.nv);
+            goto done_rec;
+        }
+        if (rk_mesh_boundary(&mesh, &g.tris, &g.ntris, &err)) goto done_rec;
+        g.source_tets = mesh.nt;
+    }
+    if (has_gravity) {
+        accel = rk_calloc((size_t)3 * rec.nv, sizeof(double), &err);
+        if (!accel) goto done_rec;
+        for (int i = 0; i < 3 * rec.nv; i++) accel[i] = gravity[i % 3];
+        g.accel = accel;
+    }
+    /* the asset starts from the first recording's second state */
+    g.u_prev = rec.traj[0].u;
+    g.u0 = rec.traj[0].u + 3 * rec.nv;
+    cJSON *report = cJSON_CreateObject(), *info = cJSON_CreateObject();
+    cJSON_AddNumberToObject(report, "vertices", rec.nv);
+    cJSON_AddNumberToObject(report, "trajectories", rec.ntraj);
+    cJSON *s = cJSON_AddObjectToObject(report, "seconds");
+    cJSON_AddNumberToObject(s, "fit", fit_t);
+    cJSON_AddNumberToObject(s, "total", rk_now() - t0);
+    cJSON_AddStringToObject(info, "method", "koopman");
+    cJSON_AddStringToObject(info, "source", "romkit dmd");
+    cJSON_AddNumberToObject(info, "rank", k.r);
+    cJSON_AddNumberToObject(info, "trajectories", rec.ntraj);
+    char *info_text = cJSON_PrintUnformatted(info);
+    cJSON_Delete(info);
+    rc = koopman_asset_write(&k, &g, &ao, info_text, a.out, a.report, report, &err) ? 1 : 0;
+    free(info_text);
+    free(g.tris);
+    free(accel);
+    cJSON_Delete(report);
+done_rec:
+    recordings_free(&rec);
+done:
+    if (have_mesh) rk_mesh_free(&mesh);
+    rk_koopman_free(&k);
+    if (rc) fprintf(stderr, "romkit dmd: %s\n", err.msg);
+    return rc;
+}
