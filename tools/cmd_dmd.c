@@ -19,7 +19,7 @@ static void dmd_usage(FILE *f)
     fprintf(f,
             "usage: romkit dmd --snapshots S.npy [--snapshots S2.npy ...] --dt H -o OUT.rombin\n"
             "                  [--rank R | --energy E] [--clamp] [--pod P] [--gravity GX,GY,GZ]\n"
-            "                  [--accel AX,AY,AZ ...] [--rest R.npy] [--mesh M] [--vertex-mass KG]\n"
+            "                  [--accel AX,AY,AZ ...] [--from-rest] [--rest R.npy] [--mesh M] [--vertex-mass KG]\n"
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
             "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
@@ -31,16 +31,19 @@ static void dmd_usage(FILE *f)
             "                    asset is stepped (m/s^2; default none)\n"
             "  --accel           the acceleration during one recording, in --snapshots order (overrides\n"
             "                    --gravity for it): forces then act as impulses (Eq. 19)\n"
+            "  --from-rest       every recording starts at rest (its first frame is also the one before):\n"
+            "                    the first step, from rest, becomes a training pair too\n"
             "  --rest            n x 3 rest positions (default: the first frame of the first file)\n"
             "  --mesh            a mesh over the same n vertices: its surface is what the asset shows\n"
-            "  --vertex-mass     each vertex's mass (kg, default 1) for forces an app applies\n");
+            "  --vertex-mass     each vertex's mass (kg, default 1) for forces an app applies\n"
+            "  The asset starts at the first recording's first frame, at rest.\n");
 }
 
 typedef struct {
     const char *snapshots[MAX_FILES], *accel[MAX_FILES];
     int nsnap, naccel;
     const char *dt, *rank, *energy, *pod, *gravity, *rest, *mesh, *mass, *out, *report, *precision;
-    int clamp, compress, quiet;
+    int clamp, compress, quiet, from_rest;
 } dmd_args;
 
 static int parse_args(int argc, char **argv, dmd_args *a)
@@ -55,7 +58,7 @@ static int parse_args(int argc, char **argv, dmd_args *a)
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         int *flag = !strcmp(arg, "--clamp") ? &a->clamp : !strcmp(arg, "--compress") ? &a->compress
-                  : !strcmp(arg, "--quiet") ? &a->quiet : NULL;
+                  : !strcmp(arg, "--quiet") ? &a->quiet : !strcmp(arg, "--from-rest") ? &a->from_rest : NULL;
         if (flag) {
             *flag = 1;
             continue;
@@ -129,6 +132,17 @@ static void recordings_free(recordings *r)
     }
 }
 
+/* The recording's frames, with frame 0 repeated first when it starts at rest. */
+static int frames_of(const double *raw, int T, int d, int n, int from_rest, double **out, rk_error *err)
+{
+    int lead = from_rest ? 1 : 0;
+    double *p = rk_calloc((size_t)n * (T + lead), sizeof(double), err);
+    if (!p) return -1;
+    for (int t = 0; t < T + lead; t++) memcpy(p + (size_t)n * t, raw + (size_t)d * (t < lead ? 0 : t - lead), sizeof(double) * d);
+    *out = p;
+    return 0;
+}
+
 static int load_recordings(const dmd_args *a, recordings *r, rk_error *err)
 {
     memset(r, 0, sizeof *r);
@@ -154,14 +168,10 @@ static int load_recordings(const dmd_args *a, recordings *r, rk_error *err)
         }
         int T = (int)shape[0], n = 3 * r->nv;
         if (T < 3) return rk_fail(err, "%s: %d frames; a trajectory needs at least 3", a->snapshots[f], T);
-        if (n != d) { /* pad T x d observables to whole points */
-            double *p = rk_calloc((size_t)n * T, sizeof(double), err);
-            if (!p) return -1;
-            for (int t = 0; t < T; t++) memcpy(p + (size_t)n * t, raw + (size_t)d * t, sizeof(double) * d);
-            free(raw);
-            r->data[f] = p;
-        }
-        r->traj[f] = (rk_koopman_trajectory){r->data[f], T, NULL};
+        /* T x d observables are padded to whole points */
+        if (frames_of(raw, T, d, n, a->from_rest, &r->data[f], err)) return -1;
+        free(raw);
+        r->traj[f] = (rk_koopman_trajectory){r->data[f], T + (a->from_rest ? 1 : 0), NULL};
     }
     return 0;
 }
@@ -291,9 +301,9 @@ int cmd_dmd(int argc, char **argv)
         for (int i = 0; i < 3 * rec.nv; i++) accel[i] = gravity[i % 3];
         g.accel = accel;
     }
-    /* the asset starts from the first recording's second state */
-    g.u_prev = rec.traj[0].u;
-    g.u0 = rec.traj[0].u + 3 * rec.nv;
+    /* the asset starts at the first recording's first frame, at rest (as a recording of a body
+     * released or pushed from rest begins; step k of the runtime is then frame k) */
+    g.u_prev = g.u0 = rec.traj[0].u;
     cJSON *report = cJSON_CreateObject(), *info = cJSON_CreateObject();
     cJSON_AddNumberToObject(report, "vertices", rec.nv);
     cJSON_AddNumberToObject(report, "trajectories", rec.ntraj);

@@ -27,6 +27,9 @@ static void run_usage(FILE *f)
                "                the median of 21 timed jumps from the same state)\n"
                "  --dt          a Koopman asset's time step (s), rescaled from the training one (Eq. 21)\n"
                "  --damping     a Koopman asset's eigenvalues times (1 - MU) (Sec. 7.2)\n"
+               "  --reference   T x n x 3 positions of the whole source mesh (romkit fom --snapshots: frame\n"
+               "                0 at t = 0): the report's reference.{normalized_mse, relative_error} over\n"
+               "                the shown vertices and the first min(N, T - 1) steps\n"
                "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n",
            ROMRT_MAX_R);
 }
@@ -41,6 +44,66 @@ static int parse_count(const char *what, const char *text, long *out)
     }
     *out = v;
     return 0;
+}
+
+/* --reference: the source mesh's frames, the asset's shown vertices among them (VMAP), and
+ * the sums of squared errors and of squared reference displacements. */
+typedef struct {
+    double *frames;     /* T x nv x 3 */
+    long T, nv;
+    uint32_t *source;   /* shown vertex -> source vertex */
+    int shown;
+    double L;           /* rest bounding-box diagonal of the shown vertices */
+    double sum_sq, sum_ref;
+    long compared;
+} reference;
+
+static int reference_open(reference *ref, const char *path, const unsigned char *asset, size_t bytes, int shown,
+                          rk_error *err)
+{
+    int ndim;
+    long shape[4];
+    rombin_file f;
+    rombin_error e;
+    rombin_chunk c;
+    if (rk_npy_read(path, &ref->frames, &ndim, shape, err)) return -1;
+    if (ndim != 3 || shape[2] != 3 || shape[0] < 2)
+        return rk_fail(err, "%s: --reference must be T x n x 3 positions with T >= 2", path);
+    ref->T = shape[0];
+    ref->nv = shape[1];
+    if (rombin_open(&f, asset, bytes, NULL, &e) || !rombin_find(&f, ROMBIN_VMAP, &c) || c.raw < 4 * (uint64_t)shown)
+        return rk_fail(err, "--reference: the asset has no VMAP chunk saying which source vertex each one is");
+    ref->shown = shown;
+    ref->source = calloc((size_t)shown + 1, sizeof(uint32_t));
+    if (!ref->source) return rk_fail(err, "out of memory");
+    memcpy(ref->source, c.data, 4 * (size_t)shown);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < shown; i++) {
+        if (ref->source[i] >= ref->nv)
+            return rk_fail(err, "%s has %ld vertices; the asset's vertex %d comes from source vertex %u", path, ref->nv,
+                           i, ref->source[i]);
+        for (int a = 0; a < 3; a++) {
+            lo[a] = fmin(lo[a], ref->frames[3 * ref->source[i] + a]);
+            hi[a] = fmax(hi[a], ref->frames[3 * ref->source[i] + a]);
+        }
+    }
+    ref->L = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    return 0;
+}
+
+/* Step k's shown positions xyz against reference frame k. */
+static void reference_add(reference *ref, long k, const double *xyz)
+{
+    if (!ref->frames || k >= ref->T) return;
+    const double *F = ref->frames + (size_t)k * ref->nv * 3, *F0 = ref->frames;
+    for (int i = 0; i < ref->shown; i++)
+        for (int a = 0; a < 3; a++) {
+            size_t s = 3 * (size_t)ref->source[i] + a;
+            double d = xyz[3 * i + a] - F[s], u = F[s] - F0[s];
+            ref->sum_sq += d * d;
+            ref->sum_ref += u * u;
+        }
+    ref->compared++;
 }
 
 /* Jumps `n` steps from the current state 21 times (restoring it between), keeps the last:
@@ -71,12 +134,13 @@ int cmd_run(int argc, char **argv)
             return 0;
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
-    const char *dt_text = NULL, *damping_text = NULL;
+    const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL;
     int quiet = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
                                {"--jump", &jump_text, NULL},     {"--dt", &dt_text, NULL},
-                               {"--damping", &damping_text, NULL}, {"--quiet", NULL, &quiet},
+                               {"--damping", &damping_text, NULL}, {"--reference", &ref_path, NULL},
+                               {"--quiet", NULL, &quiet},
                                {NULL, NULL, NULL}};
     long steps, jump = 0;
     if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
@@ -89,6 +153,8 @@ int cmd_run(int argc, char **argv)
     unsigned char *data = NULL, *arena = NULL;
     size_t size = 0, arena_bytes = 0;
     double *frame = NULL, *seconds = NULL;
+    reference ref;
+    memset(&ref, 0, sizeof ref);
     romrt_real *xyz = NULL;
     rk_npy_stream snap;
     int snapping = 0, rc = 1;
@@ -122,6 +188,7 @@ int cmd_run(int argc, char **argv)
         rk_fail(&err, "out of memory for %d shown vertices", n);
         goto fail;
     }
+    if (ref_path && reference_open(&ref, ref_path, data, size, n, &err)) goto fail;
     if (snap_out) {
         long shape[3] = {steps, n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
@@ -135,10 +202,11 @@ int cmd_run(int argc, char **argv)
         romrt_last_step(m, &info);
         newton += info.newton_iterations;
         unconverged += !info.converged;
-        if (snapping) {
+        if (snapping || ref.frames) {
             romrt_positions(m, xyz, n);
             for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
-            rk_npy_stream_append(&snap, frame, (size_t)3 * n);
+            if (snapping) rk_npy_stream_append(&snap, frame, (size_t)3 * n);
+            reference_add(&ref, k + 1, frame);
         }
         if (!quiet) rk_progress("run", k + 1, steps);
     }
@@ -170,6 +238,12 @@ int cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(r, "unconverged_steps", (double)unconverged);
         cJSON_AddNumberToObject(r, "arena_bytes", (double)arena_bytes);
         cJSON_AddStringToObject(r, "precision", sizeof(romrt_real) == 4 ? "float32" : "float64");
+        if (ref.frames) {
+            cJSON *rj = cJSON_AddObjectToObject(r, "reference");
+            cJSON_AddNumberToObject(rj, "frames", ref.compared);
+            cJSON_AddNumberToObject(rj, "normalized_mse", ref.compared ? ref.sum_sq / ref.compared / n / (ref.L * ref.L) : NAN);
+            cJSON_AddNumberToObject(rj, "relative_error", ref.sum_ref > 0 ? sqrt(ref.sum_sq / ref.sum_ref) : NAN);
+        }
         cJSON *a = cJSON_AddObjectToObject(r, "asset");
         cJSON_AddNumberToObject(a, "bytes", (double)file_bytes);
         cJSON *s = cJSON_AddObjectToObject(r, "seconds");
@@ -181,6 +255,9 @@ int cmd_run(int argc, char **argv)
     printf("%s: %ld steps of %g s, r = %d, %d shown vertices, %.3g us/step (median), %ld Newton iterations, "
            "arena %zu bytes\n", path, steps, (double)romrt_time_step(m), romrt_reduced_size(m), n, median * 1e6, newton,
            arena_bytes);
+    if (ref.compared)
+        printf("  against %s over %ld frames: relative error %.3g, normalized MSE %.3g\n", ref_path, ref.compared,
+               sqrt(ref.sum_sq / ref.sum_ref), ref.sum_sq / ref.compared / n / (ref.L * ref.L));
     if (jump_text) printf("  then a jump of %ld steps in %.3g us, to t = %g s\n", jump, seconds_jump * 1e6, (double)romrt_time(m));
     rc = 0;
     goto done;
@@ -195,5 +272,7 @@ done:
     free(xyz);
     free(frame);
     free(seconds);
+    free(ref.frames);
+    free(ref.source);
     return rc;
 }
