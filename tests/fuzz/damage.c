@@ -553,7 +553,7 @@ static void put_special(unsigned char *p, int nan)
         put_u64(p, nan ? 0x7FF8000000000000ull : 0x7FF0000000000000ull);
 }
 
-enum { SET_NAN, SET_INF, SET_NEG, SET_ZERO };
+enum { SET_NAN, SET_INF, SET_NEG, SET_ZERO, SET_BIG };
 
 /* A copy with real element `at` of chunk id changed; NULL (with a note) if there is none. */
 static unsigned char *with_real(const char *id, uint64_t at, int how, const char *what)
@@ -571,6 +571,7 @@ static unsigned char *with_real(const char *id, uint64_t at, int how, const char
     v = get_real(p);
     if (how == SET_NAN || how == SET_INF) put_special(p, how == SET_NAN);
     else if (how == SET_ZERO) put_real(p, 0.0);
+    else if (how == SET_BIG) put_real(p, 20.0);
     else put_real(p, v > 0 ? -v : -1.0);
     fix_chunk_crc(b, k);
     return b;
@@ -621,11 +622,13 @@ static void model(void)
     MODEL("index", with_u32(ROMBIN_CONT, 0, vertices, "CONT vertex"), "index_CONT_vertex_eq_vertices");
     MODEL("index", with_u32(ROMBIN_CONT, 0, 0xFFFFFFFFu, "CONT vertex"), "index_CONT_vertex_ffffffff");
     MODEL("index", with_u32(ROMBIN_CONT, 1, head(ROMBIN_HEAD_PLANES), "CONT plane"), "index_CONT_plane_eq_planes");
-    MODEL("index", with_u32(ROMBIN_GVTX, 0, vertices, "GVTX vertex"), "index_GVTX_vertex_eq_vertices");
+    if (vertices) /* the HEAD counts (a Koopman asset's are in KHED: koopman()) */
+        MODEL("index", with_u32(ROMBIN_GVTX, 0, vertices, "GVTX vertex"), "index_GVTX_vertex_eq_vertices");
     MODEL("index", with_u32(ROMBIN_GVTX, 0, 0xFFFFFFFFu, "GVTX vertex"), "index_GVTX_vertex_ffffffff");
     MODEL("index", with_u32(ROMBIN_GRPS, 0, 0xFFFFFFFFu, "GRPS first"), "index_GRPS_first_ffffffff");
     MODEL("index", with_u32(ROMBIN_GRPS, 1, 0xFFFFFFFFu, "GRPS count"), "index_GRPS_count_ffffffff");
-    MODEL("index", with_u32(ROMBIN_SURF, 0, head(ROMBIN_HEAD_SHOWN), "SURF vertex"), "index_SURF_vertex_eq_shown");
+    if (vertices)
+        MODEL("index", with_u32(ROMBIN_SURF, 0, head(ROMBIN_HEAD_SHOWN), "SURF vertex"), "index_SURF_vertex_eq_shown");
     /* Parameters that are finite but meaningless. */
     MODEL("parm", with_real(ROMBIN_PARM, ROMBIN_PARM_H, SET_NEG, "h"), "parm_h_negative");
     MODEL("parm", with_real(ROMBIN_PARM, ROMBIN_PARM_H, SET_ZERO, "h"), "parm_h_zero");
@@ -653,6 +656,40 @@ static void model(void)
         }
     }
 #undef MODEL
+}
+
+/* A Koopman asset's own chunks (ROMBIN.md "Koopman chunks"); skipped for a reduced model. */
+static void koopman(void)
+{
+    static const char *names[ROMBIN_KHED_SOURCE_VERTICES] = {"r", "vertices", "shown", "groups"};
+    unsigned char *b;
+    int f;
+    rombin_chunk c;
+    uint32_t r, vertices;
+    if (!find(ROMBIN_KHED, &c, NULL)) {
+        skip("Koopman fields", ROMBIN_KHED);
+        return;
+    }
+    r = rombin_get_u32(c.data + 4 * ROMBIN_KHED_R);
+    vertices = rombin_get_u32(c.data + 4 * ROMBIN_KHED_VERTICES);
+#define KOOP(kind, expr, ...) do { if ((b = (expr)) != NULL) BAD(kind, b, orig_size, __VA_ARGS__); } while (0)
+    for (f = 0; f < ROMBIN_KHED_SOURCE_VERTICES; f++)
+        KOOP("khed_count", with_u32(ROMBIN_KHED, f, 0xFFFFFFFFu, "KHED counts"), "khed_%02d_%s_ffffffff", f, names[f]);
+    KOOP("khed_r", with_u32(ROMBIN_KHED, ROMBIN_KHED_R, 0, "r = 0"), "khed_r_0");
+    KOOP("khed_r", with_u32(ROMBIN_KHED, ROMBIN_KHED_R, r + 1, "r + 1"), "khed_r_plus_1");
+    KOOP("khed_r", with_u32(ROMBIN_KHED, ROMBIN_KHED_R, ROMRT_MAX_R + 1, "r too large"), "khed_r_max_plus_1");
+    KOOP("khed_count", with_u32(ROMBIN_KHED, ROMBIN_KHED_SHOWN, vertices + 1, "shown"), "khed_shown_above_vertices");
+    KOOP("khed_count", with_u32(ROMBIN_KHED, ROMBIN_KHED_COUNT - 1, 1, "reserved"), "khed_reserved_set");
+    KOOP("kprm", with_real(ROMBIN_KPRM, ROMBIN_KPRM_H, SET_NEG, "h"), "kprm_h_negative");
+    KOOP("kprm", with_real(ROMBIN_KPRM, ROMBIN_KPRM_H, SET_ZERO, "h"), "kprm_h_zero");
+    KOOP("kprm", with_real(ROMBIN_KPRM, ROMBIN_KPRM_COUNT - 1, SET_NEG, "reserved"), "kprm_reserved_set");
+    /* eigenvalue 0's imaginary part made negative: a conjugate with no pair before it */
+    KOOP("keig", with_real(ROMBIN_KEIG, 1, SET_NEG, "KEIG"), "keig_conjugate_first");
+    KOOP("keig", with_real(ROMBIN_KEIG, 2 * (uint64_t)r - 2, SET_BIG, "KEIG"), "keig_last_above_10");
+    KOOP("index", with_u32(ROMBIN_GVTX, 0, vertices, "GVTX vertex"), "koopman_GVTX_vertex_eq_vertices");
+    KOOP("index", with_u32(ROMBIN_SURF, 0, rombin_get_u32(c.data + 4 * ROMBIN_KHED_SHOWN), "SURF vertex"),
+         "koopman_SURF_vertex_eq_shown");
+#undef KOOP
 }
 
 /* ---- variants the runtime must accept ---- */
@@ -744,6 +781,7 @@ int main(int argc, char **argv)
     overlaps();
     ids();
     model();
+    koopman();
     good();
 
     for (k = 0; k < kinds; k++) printf("%-22s %d\n", kind_name[k], kind_count[k]);

@@ -77,6 +77,16 @@ static void exercise(romrt_model *m)
 
     for (i = 0; i < 3; i++)
         if (check(romrt_step(m, &err), &err) != ROMRT_OK) break;
+    if (romrt_model_kind(m) == ROMRT_KIND_KOOPMAN) {
+        /* a jump, the edits; each either works or leaves a finite state and says why */
+        check(romrt_jump(m, 1000, &err), &err);
+        if (check(romrt_set_time_step(m, romrt_time_step(m) * 3, &err), &err) != ROMRT_OK) BROKEN("a larger step refused");
+        if (check(romrt_set_damping(m, (romrt_real)0.01, &err), &err) != ROMRT_OK) BROKEN("1% damping refused");
+        if (romrt_set_damping(m, 1, &err) == ROMRT_OK) BROKEN("damping 1 accepted");
+        check(romrt_step(m, &err), &err);
+    } else if (romrt_jump(m, 10, &err) != ROMRT_E_UNSUPPORTED || romrt_set_time_step(m, 1, &err) != ROMRT_E_UNSUPPORTED) {
+        BROKEN("a reduced model jumped or rescaled its step");
+    }
 
     xyz = alloc16(sizeof(romrt_real) * 3 * (size_t)shown);
     if (xyz && shown > 0) {

@@ -22,22 +22,26 @@ replay() {
     fi
 }
 
+# A reduced model (tests/fuzz/seed_scene.json) and a Koopman operator (seed_koopman.json).
+for kind in scene koopman; do
 for prec in float32 float64; do
-    seed=$TMP/seed-$prec.rombin
-    if ! "$ROMKIT" build tests/fuzz/seed_scene.json -o "$seed" --quiet --precision $prec >"$TMP/out" 2>&1; then
-        fail "damaged_seed_builds_$prec" "$(tail -c 600 "$TMP/out")"
+    name=$kind-$prec
+    seed=$TMP/seed-$name.rombin
+    if ! "$ROMKIT" build tests/fuzz/seed_$kind.json -o "$seed" --quiet --precision $prec >"$TMP/out" 2>&1; then
+        fail "damaged_seed_builds_$name" "$(tail -c 600 "$TMP/out")"
         continue
     fi
-    ok "damaged_seed_builds_$prec"
-    if ! "$B/fuzz/damage" "$seed" "$TMP/$prec" >"$TMP/out" 2>&1; then
-        fail "damaged_variants_written_$prec" "$(tail -c 600 "$TMP/out")"
+    ok "damaged_seed_builds_$name"
+    if ! "$B/fuzz/damage" "$seed" "$TMP/$name" >"$TMP/out" 2>&1; then
+        fail "damaged_variants_written_$name" "$(tail -c 600 "$TMP/out")"
         continue
     fi
-    n=$(ls "$TMP/$prec/bad" | wc -l)
-    [ "$n" -ge 50 ] && ok "damaged_at_least_50_bad_variants_$prec ($n)" \
-        || fail "damaged_at_least_50_bad_variants_$prec" "only $n"
-    replay --expect-error "$prec" "$TMP/$prec/bad"
-    replay --expect-ok "$prec" "$TMP/$prec/good" "$seed"
+    n=$(ls "$TMP/$name/bad" | wc -l)
+    [ "$n" -ge 50 ] && ok "damaged_at_least_50_bad_variants_$name ($n)" \
+        || fail "damaged_at_least_50_bad_variants_$name" "only $n"
+    replay --expect-error "$name" "$TMP/$name/bad"
+    replay --expect-ok "$name" "$TMP/$name/good" "$seed"
+done
 done
 
 # Inputs the fuzzer once broke the runtime with: each must now be refused cleanly.
