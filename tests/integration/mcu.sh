@@ -12,25 +12,32 @@ if [ -n "$missing" ]; then
     exit 0
 fi
 
-rm -f "$BUILD/mcu/mcu.json" "$BUILD/mcu/qemu.rc"
-make -s mcu BUILD="$BUILD" >"$TMP/out" 2>&1
-rc=$?
 json_number() { tr -d ' \n\t' <"$1" | sed -n "s/.*\"$2\":\([-0-9.eE+]*\).*/\1/p"; }
 
-if [ "$(cat "$BUILD/mcu/qemu.rc" 2>/dev/null)" = 0 ] && grep -q '^x ' "$BUILD/mcu/qemu.txt"; then
-    ok mcu_qemu_run_completes
-else
-    fail mcu_qemu_run_completes "$(grep -m1 '^error' "$BUILD/mcu/qemu.txt" 2>/dev/null || tail -n 5 "$TMP/out")"
-fi
-relative=$(json_number "$BUILD/mcu/mcu.json" max_relative_difference 2>/dev/null)
-if [ $rc -eq 0 ] && [ -n "$relative" ] && awk -v e="$relative" 'BEGIN { exit !(e <= 1e-4) }'; then
-    ok "mcu_agrees_with_host ($relative of the largest displacement)"
-else
-    fail mcu_agrees_with_host "make mcu exited with $rc, relative difference '$relative': $(grep FAIL "$TMP/out" | head -n 3)"
-fi
-median=$(json_number "$BUILD/mcu/mcu.json" instructions_per_step_median 2>/dev/null)
-if [ -n "$median" ] && [ "$median" -gt 0 ] 2>/dev/null; then
-    ok "mcu_instructions_per_step_measured ($median per step, median)"
-else
-    fail mcu_instructions_per_step_measured "median '$median'"
-fi
+# mcu_run NAME SCENE DIR: one scene on the MCU and the host, its three checks.
+mcu_run() {
+    name=$1; scene=$2; dir=$3
+    rm -f "$dir/mcu.json" "$dir/qemu.rc"
+    make -s mcu BUILD="$BUILD" MCU_SCENE="$scene" MCU_DIR="$dir" >"$TMP/out" 2>&1
+    rc=$?
+    if [ "$(cat "$dir/qemu.rc" 2>/dev/null)" = 0 ] && grep -q '^x ' "$dir/qemu.txt"; then
+        ok ${name}_qemu_run_completes
+    else
+        fail ${name}_qemu_run_completes "$(grep -m1 '^error' "$dir/qemu.txt" 2>/dev/null || tail -n 5 "$TMP/out")"
+    fi
+    relative=$(json_number "$dir/mcu.json" max_relative_difference 2>/dev/null)
+    if [ $rc -eq 0 ] && [ -n "$relative" ] && awk -v e="$relative" 'BEGIN { exit !(e <= 1e-4) }'; then
+        ok "${name}_agrees_with_host ($relative of the largest displacement)"
+    else
+        fail ${name}_agrees_with_host "make mcu exited with $rc, relative difference '$relative': $(grep FAIL "$TMP/out" | head -n 3)"
+    fi
+    median=$(json_number "$dir/mcu.json" instructions_per_step_median 2>/dev/null)
+    if [ -n "$median" ] && [ "$median" -gt 0 ] 2>/dev/null; then
+        ok "${name}_instructions_per_step_measured ($median per step, median)"
+    else
+        fail ${name}_instructions_per_step_measured "median '$median'"
+    fi
+}
+
+mcu_run mcu tests/mcu/scene.json "$BUILD/mcu"
+mcu_run mcu_koopman tests/mcu/koopman.json "$BUILD/mcu-koopman"

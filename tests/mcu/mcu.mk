@@ -2,7 +2,10 @@
 # Makefile (which defines BUILD and $(BUILD)/romkit). `make mcu` bakes tests/mcu/scene.json,
 # embeds the asset as a const array in flash, runs the same harness (tests/mcu/main.c) under
 # qemu and on the host, and compares the two (tests/mcu/compare.sh -> $(BUILD)/mcu/mcu.json).
+# MCU_SCENE and MCU_DIR may be set on the command line to run another scene (mcu.sh runs a
+# Koopman asset too, tests/mcu/koopman.json, in $(BUILD)/mcu-koopman).
 MCU_DIR    := $(BUILD)/mcu
+MCU_SCENE  ?= tests/mcu/scene.json
 MCU_ASSET  ?= $(MCU_DIR)/asset.rombin
 MCU_CC     ?= arm-none-eabi-gcc
 MCU_QEMU   ?= qemu-system-arm
@@ -30,9 +33,9 @@ mcu: $(MCU_DIR)/romrt-m4.elf $(MCU_DIR)/romrt-host
 	@$(MCU_DIR)/romrt-host >$(MCU_DIR)/host.txt 2>&1; echo $$? >$(MCU_DIR)/host.rc
 	@sh tests/mcu/compare.sh $(MCU_DIR)
 
-$(MCU_DIR)/asset.rombin: $(BUILD)/romkit tests/mcu/scene.json
+$(MCU_DIR)/asset.rombin: $(BUILD)/romkit $(MCU_SCENE)
 	@mkdir -p $(dir $@)
-	$(BUILD)/romkit build tests/mcu/scene.json -o $@ --precision float32 --quiet
+	$(BUILD)/romkit build $(MCU_SCENE) -o $@ --precision float32 --quiet
 
 # The asset as a const array (in flash on the MCU), 16-byte aligned as romrt wants.
 $(MCU_DIR)/asset_data.c: $(MCU_ASSET)
