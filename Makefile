@@ -21,7 +21,7 @@ DEPS_scene   := scene fom fem physics mesh util
 DEPS_basis   := basis scene fom fem physics mesh util
 DEPS_cubature := cubature basis scene fom fem physics mesh util
 DEPS_rom     := rom cubature basis scene fom fem physics mesh util
-DEPS_koopman := koopman basis scene fom fem physics mesh util
+DEPS_koopman := koopman cubature basis scene fom fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats koopman rom cubature basis scene fom fem physics mesh util
 DEPS_runtime := $(DEPS_asset)
@@ -100,12 +100,17 @@ $(BUILD)/bench_rom: bench/bench_rom_model.h
 $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_rom_model.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime
+# The Koopman bench: DMD fit and bake seconds, and the runtime's step/jump, on a Koopman asset.
+$(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
+
+bench: deps $(BUILD)/bench_fom $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
 	@mkdir -p bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
 	$(BUILD)/bench_basis tests/data/meshes bench/results
 	$(BUILD)/bench_rom tests/data/meshes bench/results
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
+	$(BUILD)/bench_koopman tests/data/meshes bench/results
 
 # The freeform paper's Table 1 beam tests, every method beside the paper's numbers (several minutes).
 paper-table: deps $(BUILD)/romkit
