@@ -22,19 +22,56 @@ static rt_complex cmul(rt_complex a, rt_complex b)
 /* Block j's factor: the first of a pair, or a real one (the pair's second is skipped). */
 static int block_starts(const romrt_model *m, int j) { return !(j > 0 && m->eig[2 * j + 1] < 0); }
 
-/* ((1 - mu) lambda)^sigma into lam_re, lam_im: the damping edit of Sec. 7.2 on the trained
- * operator, then the time-step rescale of Eq. 21, so that both hold per second of motion. */
+static rt_complex cdiv(rt_complex a, rt_complex b)
+{
+    rt_complex c;
+    double d = b.re * b.re + b.im * b.im;
+    c.re = (a.re * b.re + a.im * b.im) / d;
+    c.im = (a.im * b.re - a.re * b.im) / d;
+    return c;
+}
+
+/* lambda^sigma - 1, keeping its digits when lambda^sigma is near 1 (expm1, log1p); a negative
+ * real lambda at a fractional sigma takes the real part of the principal power (the imaginary
+ * part is projected out, Sec. 5.2), exactly (+-1)^sigma |lambda|^sigma at whole sigma. */
+static rt_complex power_minus_one(rt_complex l, double sigma)
+{
+    rt_complex e;
+    double dr = l.re - 1, q2 = dr * (2 + dr) + l.im * l.im; /* |l|^2 - 1 without cancellation */
+    double x = sigma * (fabs(q2) < 0.5 ? 0.5 * log1p(q2) : log(sqrt(l.re * l.re + l.im * l.im)));
+    double y = sigma * atan2(l.im, l.re), half = sin(0.5 * y);
+    e.re = expm1(x) * cos(y) - 2 * half * half;
+    e.im = l.im == 0 ? 0 : exp(x) * sin(y);
+    return e;
+}
+
+/* The blocks of one step of sigma training steps with damping mu: P = l^sigma for
+ * l = (1 - mu) lambda (Sec. 7.2, then Eq. 21, so both hold per second of motion), and what a
+ * forcing c held over the step adds, sum_{t=1}^{sigma} l^t c = l (l^sigma - 1) / (l - 1) c: for
+ * whole sigma exactly sigma training steps with the impulse of Eq. 19 before each. */
 static void set_blocks(romrt_model *m)
 {
     int j;
     double sigma = (double)m->dt_scale, keep = 1 - (double)m->damping;
     for (j = 0; j < m->r; j++) {
-        double a = m->eig[2 * j], b = m->eig[2 * j + 1], rho = sqrt(a * a + b * b), theta = atan2(b, a);
-        double mag = rho > 0 ? pow(rho * keep, sigma) : 0;
-        /* a negative real eigenvalue at a fractional scale: the real part of the principal power
-         * (the imaginary part is projected out, Sec. 5.2); exact (+-1)^sigma for whole sigma */
-        m->lam_re[j] = (romrt_real)(mag * cos(sigma * theta));
-        m->lam_im[j] = b == 0 ? 0 : (romrt_real)(mag * sin(sigma * theta));
+        rt_complex l, e, S;
+        l.re = keep * m->eig[2 * j], l.im = keep * m->eig[2 * j + 1];
+        if (l.re == 0 && l.im == 0) {
+            m->lam_re[j] = m->lam_im[j] = m->sum_re[j] = m->sum_im[j] = 0;
+            continue;
+        }
+        e = power_minus_one(l, sigma);
+        if (l.re == 1 && l.im == 0) {
+            S.re = sigma, S.im = 0;
+        } else {
+            rt_complex d;
+            d.re = l.re - 1, d.im = l.im;
+            S = cmul(l, cdiv(e, d));
+        }
+        m->lam_re[j] = (romrt_real)(e.re + 1);
+        m->lam_im[j] = (romrt_real)e.im;
+        m->sum_re[j] = (romrt_real)S.re;
+        m->sum_im[j] = (romrt_real)S.im;
     }
 }
 
@@ -67,12 +104,14 @@ static int finite_all(const romrt_real *a, int n)
     return 1;
 }
 
-/* The forcing of one step, s c with s = h h_data (Eq. 19 in the data's velocity units). */
+/* The impulse of the forcing over one training step, h_data^2 c (Eq. 19), then what it adds
+ * over one step of the current size (the summed blocks). */
 static void forcing(const romrt_model *m, romrt_real *c)
 {
     int j;
-    romrt_real s = m->h * m->h_data;
+    romrt_real s = m->h_data * m->h_data;
     for (j = 0; j < m->r; j++) c[j] = s * (m->accel[j] + m->f_app[j]);
+    apply_blocks(m, m->sum_re, m->sum_im, c);
 }
 
 romrt_status rt_koopman_step(romrt_model *m, romrt_error *err)
@@ -80,8 +119,9 @@ romrt_status rt_koopman_step(romrt_model *m, romrt_error *err)
     romrt_real y[ROMRT_MAX_R], c[ROMRT_MAX_R];
     int j;
     forcing(m, c);
-    for (j = 0; j < m->r; j++) y[j] = m->q[j] + c[j];
+    memcpy(y, m->q, sizeof(romrt_real) * (size_t)m->r);
     apply_blocks(m, m->lam_re, m->lam_im, y);
+    for (j = 0; j < m->r; j++) y[j] += c[j];
     if (!finite_all(y, m->r))
         return rt_fail(err, ROMRT_E_DIVERGED, 0, "the Koopman state overflowed (an eigenvalue above 1: bake with clamp)");
     memcpy(m->q, y, sizeof(romrt_real) * (size_t)m->r);
@@ -128,9 +168,11 @@ romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err)
         rt_complex lambda, P, S;
         lambda.re = m->lam_re[j], lambda.im = m->lam_im[j];
         power_and_sum(lambda, steps, &P, &S);
-        pr[j] = (romrt_real)P.re, pi[j] = (romrt_real)P.im, sr[j] = (romrt_real)S.re, si[j] = (romrt_real)S.im;
+        /* sum_{k=0}^{N-1} P^k = 1 + S - P^N multiplies each step's forcing */
+        pr[j] = (romrt_real)P.re, pi[j] = (romrt_real)P.im;
+        sr[j] = (romrt_real)(1 + S.re - P.re), si[j] = (romrt_real)(S.im - P.im);
     }
-    /* y_N = B^N y + sum_k B^k c */
+    /* y_N = P^N y + sum_{k=0}^{N-1} P^k c, c the forcing one step adds */
     forcing(m, c);
     memcpy(y, m->q, sizeof(romrt_real) * (size_t)m->r);
     apply_blocks(m, pr, pi, y);

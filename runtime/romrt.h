@@ -83,9 +83,9 @@ romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size
 
 /* Advances one time step. A reduced model: q minimises the reduced incremental potential (the
  * same energy, integrator, pins and contacts as the precompute's reduced simulator), by
- * projected Newton on the r x r system with cubature. A Koopman asset: y <- B (y + h h_data c),
- * the forcing c of gravity and the applied forces as an impulse (Eq. 19), O(r). On failure the
- * state is unchanged. */
+ * projected Newton on the r x r system with cubature. A Koopman asset: y <- B y + S h_data^2 c,
+ * c the forcing of gravity and the applied forces taken as an impulse before each training step
+ * (Eq. 19), S its sum over one step of the current size; O(r). On failure the state is unchanged. */
 romrt_status romrt_step(romrt_model *m, romrt_error *err);
 
 /* Back to rest at t = 0, forces cleared (a Koopman asset keeps its time step and damping). */
@@ -98,7 +98,9 @@ romrt_kind romrt_model_kind(const romrt_model *m);
  * 2 x 2 eigen-blocks); equal to that many romrt_step calls up to rounding. */
 romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err);
 /* Koopman assets only: a new time step h (s) by the eigenvalue rescaling lambda^(h / h_data)
- * (Eq. 21 of the Koopman paper), which keeps each mode's frequency and decay per second. */
+ * (Eq. 21 of the Koopman paper), which keeps each mode's frequency and decay per second; a force
+ * held over the step acts as over h / h_data training steps (sum of lambda^t), so a step of
+ * k h_data equals k steps of h_data under constant forces too. */
 romrt_status romrt_set_time_step(romrt_model *m, romrt_real h, romrt_error *err);
 /* Koopman assets only: every trained eigenvalue scaled by (1 - mu), 0 <= mu < 1 (Sec. 7.2): per
  * training step, so (1 - mu)^(h / h_data) per step of h, the same damping per second whatever h. */

@@ -69,6 +69,7 @@ struct romrt_model {
     const romrt_real *accel;  /* r (KACC) */
     const romrt_real *y0;     /* r (KINI) */
     romrt_real lam_re[ROMRT_MAX_R], lam_im[ROMRT_MAX_R]; /* the blocks at the current step and damping */
+    romrt_real sum_re[ROMRT_MAX_R], sum_im[ROMRT_MAX_R]; /* what a constant forcing adds per step */
     /* state */
     romrt_real t;
     int have_prev;
