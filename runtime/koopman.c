@@ -216,18 +216,9 @@ romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m)
     const uint32_t *head;
     rombin_chunk c;
     int found, k;
-    romrt_status st = rt_u32s(L, ROMBIN_KHED, ROMBIN_KHED_COUNT, 1, &head);
+    romrt_status st = rt_head(L, ROMBIN_KHED, ROMBIN_KHED_COUNT, ROMBIN_KHED_TRAJECTORIES + 1, ROMBIN_KHED_R,
+                              ROMBIN_KHED_VERTICES, ROMBIN_KHED_SHOWN, &head);
     if (st) return st;
-    for (k = ROMBIN_KHED_TRAJECTORIES + 1; k < ROMBIN_KHED_COUNT; k++)
-        if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_KHED, "reserved field ", (uint64_t)k, " is not 0");
-    if (head[ROMBIN_KHED_R] == 0) return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_KHED, "r is 0");
-    if (head[ROMBIN_KHED_R] > ROMRT_MAX_R)
-        return rt_fail_nn(L->err, ROMRT_E_LIMIT, ROMBIN_KHED, "r = ", head[ROMBIN_KHED_R],
-                          " exceeds this build's ROMRT_MAX_R = ", ROMRT_MAX_R, " (rebuild with a larger one)");
-    if (head[ROMBIN_KHED_VERTICES] == 0 || head[ROMBIN_KHED_VERTICES] > ROMRT_MAX_VERTICES ||
-        head[ROMBIN_KHED_SHOWN] > head[ROMBIN_KHED_VERTICES])
-        return rt_fail_nn(L->err, ROMRT_E_LIMIT, ROMBIN_KHED, "vertex counts out of range (stored ",
-                          head[ROMBIN_KHED_VERTICES], ", shown ", head[ROMBIN_KHED_SHOWN], ")");
     if (head[ROMBIN_KHED_GROUPS] > ROMRT_MAX_GROUPS)
         return rt_fail(L->err, ROMRT_E_LIMIT, ROMBIN_KHED, "group count above the runtime's limits");
     m->kind = ROMRT_KIND_KOOPMAN;

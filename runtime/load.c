@@ -133,3 +133,23 @@ romrt_status rt_check_groups_and_surface(rt_loader *L, const romrt_model *m)
     }
     return ROMRT_OK;
 }
+
+romrt_status rt_head(rt_loader *L, const char *id, uint64_t count, int first_reserved, int r_at, int vertices_at,
+                     int shown_at, const uint32_t **out)
+{
+    const uint32_t *head;
+    romrt_status st = rt_u32s(L, id, count, 1, &head);
+    uint64_t k;
+    if (st) return st;
+    for (k = (uint64_t)first_reserved; k < count; k++)
+        if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, id, "reserved field ", k, " is not 0");
+    if (head[r_at] == 0) return rt_fail(L->err, ROMRT_E_MODEL, id, "r is 0");
+    if (head[r_at] > ROMRT_MAX_R)
+        return rt_fail_nn(L->err, ROMRT_E_LIMIT, id, "r = ", head[r_at], " exceeds this build's ROMRT_MAX_R = ",
+                          ROMRT_MAX_R, " (rebuild with a larger one)");
+    if (head[vertices_at] == 0 || head[vertices_at] > ROMRT_MAX_VERTICES || head[shown_at] > head[vertices_at])
+        return rt_fail_nn(L->err, ROMRT_E_LIMIT, id, "vertex counts out of range (stored ", head[vertices_at],
+                          ", shown ", head[shown_at], ")");
+    *out = head;
+    return ROMRT_OK;
+}

@@ -27,6 +27,11 @@ romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required,
 /* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
 romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
                               uint64_t lo, uint64_t hi, uint32_t limit);
+/* A model's header chunk `id` of `count` u32s: fields from first_reserved on are 0, r (at r_at)
+ * is 1..ROMRT_MAX_R, stored vertices (at vertices_at) 1..ROMRT_MAX_VERTICES, shown (at shown_at)
+ * at most those. */
+romrt_status rt_head(rt_loader *L, const char *id, uint64_t count, int first_reserved, int r_at, int vertices_at,
+                     int shown_at, const uint32_t **head);
 /* GRPS, GVTX, GNAM and SURF (m->ngroups set), then their indices against m->nv and m->shown. */
 romrt_status rt_load_groups_and_surface(rt_loader *L, romrt_model *m);
 romrt_status rt_check_groups_and_surface(rt_loader *L, const romrt_model *m);

@@ -22,19 +22,10 @@ typedef struct {
 static romrt_status sizes(rt_loader *L, romrt_model *m)
 {
     const uint32_t *head;
-    romrt_status st = rt_u32s(L, ROMBIN_HEAD, ROMBIN_HEAD_COUNT, 1, &head);
+    romrt_status st = rt_head(L, ROMBIN_HEAD, ROMBIN_HEAD_COUNT, ROMBIN_HEAD_SOURCE_TETS + 1, ROMBIN_HEAD_R,
+                              ROMBIN_HEAD_VERTICES, ROMBIN_HEAD_SHOWN, &head);
     int k;
     if (st) return st;
-    for (k = ROMBIN_HEAD_SOURCE_TETS + 1; k < ROMBIN_HEAD_COUNT; k++)
-        if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_HEAD, "reserved field ", (uint64_t)k, " is not 0");
-    if (head[ROMBIN_HEAD_R] == 0) return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_HEAD, "r is 0");
-    if (head[ROMBIN_HEAD_R] > ROMRT_MAX_R)
-        return rt_fail_nn(L->err, ROMRT_E_LIMIT, ROMBIN_HEAD, "r = ", head[ROMBIN_HEAD_R],
-                          " exceeds this build's ROMRT_MAX_R = ", ROMRT_MAX_R, " (rebuild with a larger one)");
-    if (head[ROMBIN_HEAD_VERTICES] == 0 || head[ROMBIN_HEAD_VERTICES] > ROMRT_MAX_VERTICES ||
-        head[ROMBIN_HEAD_SHOWN] > head[ROMBIN_HEAD_VERTICES])
-        return rt_fail_nn(L->err, ROMRT_E_LIMIT, ROMBIN_HEAD, "vertex counts out of range (stored ",
-                          head[ROMBIN_HEAD_VERTICES], ", shown ", head[ROMBIN_HEAD_SHOWN], ")");
     if (head[ROMBIN_HEAD_ELEMENTS] == 0 || head[ROMBIN_HEAD_ELEMENTS] > ROMRT_MAX_ELEMENTS)
         return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_HEAD, "element count ", head[ROMBIN_HEAD_ELEMENTS], " out of range");
     if (head[ROMBIN_HEAD_PINS] > ROMRT_MAX_PINS || head[ROMBIN_HEAD_PLANES] > ROMRT_MAX_PLANES ||
