@@ -73,18 +73,38 @@ void rk_koopman_run_free(rk_koopman_run *r)
     memset(r, 0, sizeof *r);
 }
 
+/* A run of T steps under gravity, loads `force` (N, or NULL) and initial velocities `vel` (or
+ * NULL): its arrays, the acceleration (gravity plus each load over its vertex's lumped mass) and
+ * the frame before the start, u_{-1} = -h v_0 (u_0 = 0 is left to the caller). */
+static int run_start(const rk_scene_sim *sim, const double gravity[3], const double *force, const double *vel, int T,
+                     rk_koopman_run *out, rk_error *err)
+{
+    int nv = sim->mesh.nv, n3 = 3 * nv;
+    memset(out, 0, sizeof *out);
+    out->u = rk_calloc((size_t)n3 * (T + 2), sizeof(double), err);
+    out->accel = rk_calloc((size_t)n3, sizeof(double), err);
+    if (!out->u || !out->accel) {
+        rk_koopman_run_free(out);
+        return -1;
+    }
+    for (int p = 0; p < nv; p++)
+        for (int a = 0; a < 3; a++) {
+            int i = 3 * p + a;
+            out->accel[i] = gravity[a] + (force ? force[i] / sim->fem.vertex_mass[p] : 0);
+            out->u[i] = vel ? -sim->options.h * vel[i] : 0;
+        }
+    out->t = (rk_koopman_trajectory){out->u, T + 2, out->accel};
+    return 0;
+}
+
 int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v, rk_koopman_run *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
     if (sim->options.is_static) return rk_fail(err, "Koopman: the scene is a static solve; DMD learns dynamics");
-    int nv = sim->mesh.nv, n3 = 3 * nv, steps = sim->steps;
+    int n3 = 3 * sim->mesh.nv, steps = sim->steps;
     rk_fom_options opt = sim->options;
-    double *force = NULL, *vel = NULL;
-    out->u = rk_calloc((size_t)n3 * (steps + 2), sizeof(double), err);
-    out->accel = rk_calloc((size_t)n3, sizeof(double), err);
-    force = rk_calloc((size_t)n3, sizeof(double), err);
-    vel = rk_calloc((size_t)n3, sizeof(double), err);
-    if (!out->u || !out->accel || !force || !vel) goto fail;
+    double *force = rk_calloc((size_t)n3, sizeof(double), err), *vel = rk_calloc((size_t)n3, sizeof(double), err);
+    if (!force || !vel) goto fail;
     if (v && v->has_gravity) memcpy(opt.gravity, v->gravity, sizeof opt.gravity);
     for (int i = 0; i < n3; i++) {
         force[i] = sim->options.force ? sim->options.force[i] * (v ? v->load_scale : 1) : 0;
@@ -92,12 +112,7 @@ int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v,
     }
     opt.force = force;
     opt.velocity0 = vel;
-    for (int p = 0; p < nv; p++)
-        for (int a = 0; a < 3; a++) {
-            int i = 3 * p + a;
-            out->accel[i] = opt.gravity[a] + force[i] / sim->fem.vertex_mass[p];
-            out->u[i] = -opt.h * vel[i]; /* u_{-1}; u_0 = 0 */
-        }
+    if (run_start(sim, opt.gravity, force, vel, steps, out, err)) goto fail;
     rk_fom fom;
     if (rk_fom_init(&fom, &sim->fem, &opt, err)) goto fail;
     /* the simulator holds prescribed vertices at their targets from the start */
@@ -114,13 +129,25 @@ int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v,
     rk_fom_free(&fom);
     free(force);
     free(vel);
-    out->t = (rk_koopman_trajectory){out->u, steps + 2, out->accel};
     return 0;
 fail:
     free(force);
     free(vel);
     rk_koopman_run_free(out);
     return rk_error_prefix(err, "Koopman training run");
+}
+
+int rk_koopman_scene_run_frames(const rk_scene_sim *sim, const double *frames, int T, rk_koopman_run *out,
+                                rk_error *err)
+{
+    if (run_start(sim, sim->options.gravity, sim->options.force, sim->options.velocity0, T, out, err)) return -1;
+    memcpy(out->u + 2 * (size_t)3 * sim->mesh.nv, frames, sizeof(double) * 3 * sim->mesh.nv * T);
+    return 0;
+}
+
+static int as_written(const rk_koopman_variation *v)
+{
+    return !v || (!v->has_gravity && !v->has_velocity && v->load_scale == 1);
 }
 
 /* P_out = U, P_in = (U^T M U)^-1 U^T M: the mass-orthogonal projection onto the basis. */
@@ -153,7 +180,7 @@ done:
 }
 
 int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_scene_options *o, const rk_basis *basis,
-                         rk_koopman *k, rk_koopman_scene_info *info, rk_error *err)
+                         const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err)
 {
     memset(k, 0, sizeof *k);
     memset(info, 0, sizeof *info);
@@ -164,7 +191,9 @@ int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_scene_options
     if (!runs || !t) goto done;
     double t0 = rk_now();
     for (int i = 0; i < ntraj; i++) {
-        if (rk_koopman_scene_run(sim, o->ntraj ? &o->traj[i] : NULL, &runs[i], err)) {
+        const rk_koopman_variation *v = o->ntraj ? &o->traj[i] : NULL;
+        if (frames && as_written(v) ? rk_koopman_scene_run_frames(sim, frames, T, &runs[i], err)
+                                    : rk_koopman_scene_run(sim, v, &runs[i], err)) {
             rk_error_prefix(err, "trajectory %d", i);
             goto done;
         }

@@ -53,9 +53,15 @@ typedef struct {
     int projected;                   /* observables are basis coordinates (d = basis columns) */
 } rk_koopman_scene_info;
 
+/* The same trajectory from the scene's full-order run already done: frames (3 nv x T,
+ * column-major) are the displacements after each of its T steps (rk_scene_training_frames). */
+int rk_koopman_scene_run_frames(const rk_scene_sim *sim, const double *frames, int T, rk_koopman_run *out,
+                                rk_error *err);
+
 /* Runs every trajectory of o and fits the operator on their (projected) displacements. basis:
- * the rom's basis when o->project, else NULL. */
+ * the rom's basis when o->project, else NULL. frames (may be NULL): the scene's own run, already
+ * done, used for each trajectory that changes nothing. */
 int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_scene_options *o, const rk_basis *basis,
-                         rk_koopman *k, rk_koopman_scene_info *info, rk_error *err);
+                         const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err);
 
 #endif

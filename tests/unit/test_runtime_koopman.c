@@ -76,7 +76,7 @@ static int fixture_open(fixture *f, rk_error *err)
     rk_asset_options ao;
     if (rk_scene_parse(scene_json, "test.json", &f->scene, err) || rk_scene_build(&f->scene, &f->sim, err) ||
         rk_koopman_scene_options_parse(f->scene.rom, 0, "test.json", f->sim.options.h, &ko, err) ||
-        rk_koopman_scene_fit(&f->sim, &ko, NULL, &f->k, &ki, err))
+        rk_koopman_scene_fit(&f->sim, &ko, NULL, NULL, 0, &f->k, &ki, err))
         return -1;
     rk_asset_default_options(&ao);
     if (rk_asset_options_parse(f->scene.rom, 0, "test.json", &ao, err)) return -1;
