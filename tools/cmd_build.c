@@ -12,13 +12,14 @@
 #include "koopman_asset.h"
 #include "formats/rombin_read.h"
 #include "util/json_out.h"
+#include "util/npy.h"
 #include "util/timer.h"
 
 static void build_usage(FILE *f)
 {
     fprintf(f, "usage: romkit build SCENE.json -o OUT.rombin [--report R.json] [--precision float32|float64]\n"
-               "                    [--compress] [--quiet]\n"
-               "  builds the reduced model of the scene's first rom entry (basis, cubature) and bakes it\n"
+               "                    [--compress] [--entry K] [--training S.npy] [--quiet]\n"
+               "  builds the reduced model of one rom entry of the scene (basis, cubature) and bakes it\n"
                "  into OUT.rombin with only what the runtime needs: the reduced operators, the cubature\n"
                "  elements with the basis rows of the vertices they touch, and the rows of the shown\n"
                "  vertices (rom.asset.show, default the surface) and of the named groups (rom.asset.groups).\n"
@@ -28,7 +29,14 @@ static void build_usage(FILE *f)
                "  --precision   real type of the asset's arrays (default rom.asset.precision, else float32)\n"
                "  --compress    deflate the chunks (smaller to ship; romkit run inflates, the runtime\n"
                "                itself opens stored chunks only)\n"
-               "  --report      sizes, eigenvalues, cubature, the asset's chunks and bytes, timings\n");
+               "  --report      sizes, eigenvalues, cubature, the asset's chunks and bytes, timings\n"
+               "  --entry K     bake entry K of the scene's rom list instead of the first (0)\n"
+               "  --training    the scene's full-order frames from romkit fom --snapshots, used instead\n"
+               "                of running the scene again (cubature, POD and tolerances train on them)\n"
+               "  --quiet       no progress lines on stderr\n"
+               "  Nothing is written when the build fails.\n\n"
+               "example:\n"
+               "  romkit build examples/scenes/cantilever_small.json -o cantilever.rombin --report build.json\n");
 }
 
 static cJSON *make_report(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_summary *sum,
@@ -96,8 +104,9 @@ static char *info_text(const char *scene_path, const rk_rom_options *o, const rk
 
 /* rom.koopman: the operator learned from the scene's own training runs, on the basis's
  * coordinates when it asks for a projection. */
-static int build_koopman(const char *scene_path, const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_options *o,
-                         const rk_asset_options *ao, const char *out, const char *report_out, double t0, rk_error *err)
+static int build_koopman(const char *scene_path, const rk_scene *scene, const rk_scene_sim *sim, int entry,
+                         const rk_rom_options *o, const rk_asset_options *ao, const double *given, int given_T,
+                         const char *out, const char *report_out, double t0, rk_error *err)
 {
     rk_koopman_scene_options ko;
     rk_koopman_scene_info ki;
@@ -106,16 +115,16 @@ static int build_koopman(const char *scene_path, const rk_scene *scene, const rk
     rk_scene_basis_info bi;
     int have_basis = 0, rc = -1;
     double *frames = NULL, *accel = NULL, *u0 = NULL, *u_prev = NULL;
-    int T = 0;
+    int T = given_T;
     memset(&k, 0, sizeof k);
-    if (rk_koopman_scene_options_parse(scene->rom, 0, scene_path, sim->options.h, &ko, err)) return -1;
+    if (rk_koopman_scene_options_parse(scene->rom, entry, scene_path, sim->options.h, &ko, err)) return -1;
     if (ko.project) {
-        if ((rk_basis_needs_frames(&o->basis) && rk_scene_training_frames(sim, &frames, &T, err)) ||
-            rk_scene_basis_build_frames(scene, &o->basis, frames, T, &b, &bi, err))
+        if ((!given && rk_basis_needs_frames(&o->basis) && rk_scene_training_frames(sim, &frames, &T, err)) ||
+            rk_scene_basis_build_frames(scene, &o->basis, given ? given : frames, T, &b, &bi, err))
             goto done;
         have_basis = 1;
     }
-    if (rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, &k, &ki, err)) goto done;
+    if (rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, given ? given : frames, T, &k, &ki, err)) goto done;
     int nv = sim->mesh.nv;
     accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
     u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
@@ -170,6 +179,28 @@ done:
     return rc;
 }
 
+/* --training S.npy: the scene's full-order run (romkit fom --snapshots: steps + 1 frames of every
+ * vertex, the first at rest) as displacement frames after each step, instead of running it. */
+static int load_training(const char *path, const rk_scene_sim *sim, double **frames, int *T, rk_error *err)
+{
+    double *x;
+    int ndim;
+    long shape[4];
+    if (rk_npy_read(path, &x, &ndim, shape, err)) return -1;
+    int n3 = 3 * sim->mesh.nv;
+    if (ndim != 3 || shape[1] != sim->mesh.nv || shape[2] != 3 || shape[0] != sim->steps + 1) {
+        free(x);
+        return rk_fail(err, "--training %s: expected this scene's full-order frames, %d x %d x 3 (romkit fom --snapshots), "
+                       "got %ld%s%ld%s%ld", path, sim->steps + 1, sim->mesh.nv, shape[0], ndim > 1 ? " x " : "",
+                       ndim > 1 ? shape[1] : 0L, ndim > 2 ? " x " : "", ndim > 2 ? shape[2] : 0L);
+    }
+    *T = sim->steps;
+    for (int t = 0; t < *T; t++)
+        for (int i = 0; i < n3; i++) x[(size_t)n3 * t + i] = x[(size_t)n3 * (t + 1) + i] - sim->mesh.X[i];
+    *frames = x;
+    return 0;
+}
+
 int cmd_build(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++)
@@ -177,10 +208,11 @@ int cmd_build(int argc, char **argv)
             build_usage(stdout);
             return 0;
         }
-    const char *scene_path, *out = NULL, *report_out = NULL, *precision = NULL;
-    int quiet = 0, compress = 0;
+    const char *scene_path, *out = NULL, *report_out = NULL, *precision = NULL, *entry_text = NULL, *training = NULL;
+    int quiet = 0, compress = 0, entry = 0;
     const cli_option opts[] = {{"-o", &out, NULL},           {"--report", &report_out, NULL},
                                {"--precision", &precision, NULL}, {"--compress", NULL, &compress},
+                               {"--entry", &entry_text, NULL}, {"--training", &training, NULL},
                                {"--quiet", NULL, &quiet},     {NULL, NULL, NULL}};
     if (cli_parse("build", argc, argv, opts, &scene_path, "scene file")) {
         build_usage(stderr);
@@ -213,8 +245,18 @@ int cmd_build(int argc, char **argv)
         rk_fail(&err, "%s: the scene has no rom section (what should be baked?)", scene_path);
         goto done;
     }
-    if (rk_rom_options_parse(scene.rom, 0, scene_path, &o, &err) ||
-        rk_asset_options_parse(scene.rom, 0, scene_path, &ao, &err))
+    if (entry_text) {
+        char *end;
+        long e = strtol(entry_text, &end, 10);
+        if (*end || end == entry_text || e < 0 || e >= rk_rom_entries(scene.rom)) {
+            rk_fail(&err, "--entry must be a rom entry of %s, 0..%d, got '%s'", scene_path, rk_rom_entries(scene.rom) - 1,
+                    entry_text);
+            goto done;
+        }
+        entry = (int)e;
+    }
+    if (rk_rom_options_parse(scene.rom, entry, scene_path, &o, &err) ||
+        rk_asset_options_parse(scene.rom, entry, scene_path, &ao, &err))
         goto done;
     if (asset_flags("build", precision, compress, &ao)) {
         rc = 2;
@@ -222,12 +264,13 @@ int cmd_build(int argc, char **argv)
     }
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     stage = 2;
-    if (rk_koopman_scene_present(scene.rom, 0)) {
-        rc = build_koopman(scene_path, &scene, &sim, &o, &ao, out, report_out, t0, &err) ? 1 : 0;
+    if (training && load_training(training, &sim, &frames, &T, &err)) goto done;
+    if (rk_koopman_scene_present(scene.rom, entry)) {
+        rc = build_koopman(scene_path, &scene, &sim, entry, &o, &ao, frames, T, out, report_out, t0, &err) ? 1 : 0;
         goto done;
     }
     /* The cubature trains on the scene's full-order run (and POD or a tolerance use it too): run it once. */
-    if ((o.cubature || rk_basis_needs_frames(&o.basis)) &&
+    if (!frames && (o.cubature || rk_basis_needs_frames(&o.basis)) &&
         rk_scene_training_frames(&sim, &frames, &T, &err))
         goto done;
     if (rk_scene_rom_build(&scene, &sim, &o, frames, T, &R, &err)) goto done;

@@ -1,15 +1,18 @@
 /* romkit run OUT.rombin --steps N: steps an asset through the runtime (runtime/romrt.h), exactly
  * as an application would: ask for the arena size, open in place, step, read positions. */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "args.h"
 #include "commands.h"
 #include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
 #include "runtime/romrt.h"
+#include "util/atomic_file.h"
 #include "util/json_out.h"
 #include "util/npy.h"
 #include "util/sort.h"
@@ -18,7 +21,8 @@
 static void run_usage(FILE *f)
 {
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
-               "                  [--report R.json] [--jump N] [--dt H] [--damping MU] [--quiet]\n"
+               "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
+               "                  [--reference S.npy] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
@@ -27,10 +31,15 @@ static void run_usage(FILE *f)
                "                the median of 21 timed jumps from the same state)\n"
                "  --dt          a Koopman asset's time step (s), rescaled from the training one (Eq. 21)\n"
                "  --damping     a Koopman asset's eigenvalues times (1 - MU) (Sec. 7.2)\n"
+               "  --frames DIR  the shown surface at every frame as DIR/frame_NNNNN.obj (frame 0: the start)\n"
                "  --reference   T x n x 3 positions of the whole source mesh (romkit fom --snapshots: frame\n"
                "                0 at t = 0): the report's reference.{normalized_mse, relative_error} over\n"
                "                the shown vertices and the first min(N, T - 1) steps\n"
-               "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n",
+               "  --quiet       no progress line on stderr\n"
+               "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n\n"
+               "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
+               "         and romkit fom examples/scenes/cantilever_small.json --snapshots S.npy):\n"
+               "  romkit run cantilever.rombin --steps 50 --reference S.npy --report run.json\n",
            ROMRT_MAX_R);
 }
 
@@ -106,6 +115,21 @@ static void reference_add(reference *ref, long k, const double *xyz)
     ref->compared++;
 }
 
+/* --frames DIR: the shown vertices and the asset's surface triangles as DIR/frame_NNNNN.obj. */
+static int write_obj(const char *dir, long frame, const romrt_model *m, const romrt_real *xyz, const int *tris,
+                     rk_error *err)
+{
+    char path[4096];
+    rk_atomic_file f;
+    snprintf(path, sizeof path, "%s/frame_%05ld.obj", dir, frame);
+    if (rk_atomic_open(&f, path, err)) return -1;
+    for (int i = 0; i < romrt_shown_count(m); i++)
+        fprintf(f.fp, "v %.9g %.9g %.9g\n", (double)xyz[3 * i], (double)xyz[3 * i + 1], (double)xyz[3 * i + 2]);
+    for (int t = 0; t < romrt_triangle_count(m); t++)
+        fprintf(f.fp, "f %d %d %d\n", tris[3 * t] + 1, tris[3 * t + 1] + 1, tris[3 * t + 2] + 1);
+    return rk_atomic_commit(&f, err);
+}
+
 /* Jumps `n` steps from the current state 21 times (restoring it between), keeps the last:
  * *seconds is the median of the timings. */
 static romrt_status timed_jump(romrt_model *m, unsigned long n, double *seconds, romrt_error *err)
@@ -134,12 +158,13 @@ int cmd_run(int argc, char **argv)
             return 0;
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
-    const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL;
+    const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL, *frames_dir = NULL;
     int quiet = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
                                {"--jump", &jump_text, NULL},     {"--dt", &dt_text, NULL},
                                {"--damping", &damping_text, NULL}, {"--reference", &ref_path, NULL},
+                               {"--frames", &frames_dir, NULL},
                                {"--quiet", NULL, &quiet},
                                {NULL, NULL, NULL}};
     long steps, jump = 0;
@@ -153,6 +178,7 @@ int cmd_run(int argc, char **argv)
     unsigned char *data = NULL, *arena = NULL;
     size_t size = 0, arena_bytes = 0;
     double *frame = NULL, *seconds = NULL;
+    int *tris = NULL;
     reference ref;
     memset(&ref, 0, sizeof ref);
     romrt_real *xyz = NULL;
@@ -189,6 +215,16 @@ int cmd_run(int argc, char **argv)
         goto fail;
     }
     if (ref_path && reference_open(&ref, ref_path, data, size, n, &err)) goto fail;
+    if (frames_dir) {
+        tris = calloc((size_t)3 * romrt_triangle_count(m) + 1, sizeof(int));
+        if (!tris || (mkdir(frames_dir, 0777) != 0 && errno != EEXIST)) {
+            rk_fail(&err, "%s: cannot create the frames folder: %s", frames_dir, tris ? strerror(errno) : "out of memory");
+            goto fail;
+        }
+        romrt_triangles(m, tris, romrt_triangle_count(m));
+        romrt_positions(m, xyz, n);
+        if (write_obj(frames_dir, 0, m, xyz, tris, &err)) goto fail;
+    }
     if (snap_out) {
         long shape[3] = {steps, n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
@@ -202,11 +238,12 @@ int cmd_run(int argc, char **argv)
         romrt_last_step(m, &info);
         newton += info.newton_iterations;
         unconverged += !info.converged;
-        if (snapping || ref.frames) {
+        if (snapping || ref.frames || frames_dir) {
             romrt_positions(m, xyz, n);
             for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
             if (snapping) rk_npy_stream_append(&snap, frame, (size_t)3 * n);
             reference_add(&ref, k + 1, frame);
+            if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
         }
         if (!quiet) rk_progress("run", k + 1, steps);
     }
@@ -274,5 +311,6 @@ done:
     free(seconds);
     free(ref.frames);
     free(ref.source);
+    free(tris);
     return rc;
 }
