@@ -23,8 +23,10 @@ static void basis_usage(FILE *out)
             "  --basis U.npy     the basis, n x 3 x r float64 (vertex, coordinate, column)\n"
             "  --weights W.npy   skinning weights at the vertices, n x m float64 (constant first)\n"
             "  --report R.json   sizes, eigenvalues or singular values, errors, timings\n"
+            "  --quiet           no progress line on stderr\n"
             "Nothing is written when the build fails.\n\n"
-            "example:\n  romkit basis examples/scenes/beam_bend.json --report basis.json\n");
+            "example:\n"
+            "  romkit basis examples/scenes/cantilever_small.json --basis U.npy --report basis.json\n");
 }
 
 static cJSON *make_report(const rk_basis *b, const rk_scene_basis_info *info, double seconds)

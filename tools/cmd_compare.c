@@ -18,7 +18,11 @@ static void compare_usage(FILE *f)
                "  object) as a reduced model, and prints error against time for each:\n"
                "  normalized MSE and max error (over all frames, by the bounding-box diagonal), total\n"
                "  relative online error (each step realigned to the full-order state), median seconds\n"
-               "  per step, speed-up over full order, precompute seconds. Exit 1 if any method fails.\n");
+               "  per step, speed-up over full order, precompute seconds. Exit 1 if any method fails.\n"
+               "  --report R.json   the same per method (methods[]), plus the full-order timings\n"
+               "  --quiet           no progress line on stderr\n\n"
+               "example:\n"
+               "  romkit compare examples/scenes/cantilever_small.json --report compare.json\n");
 }
 
 static void add_number(cJSON *o, const char *key, double v)

@@ -36,7 +36,15 @@ static void dmd_usage(FILE *f)
             "  --rest            n x 3 rest positions (default: the first frame of the first file)\n"
             "  --mesh            a mesh over the same n vertices: its surface is what the asset shows\n"
             "  --vertex-mass     each vertex's mass (kg, default 1) for forces an app applies\n"
-            "  The asset starts at the first recording's first frame, at rest.\n");
+            "  --precision       real type of the asset's arrays: float32 (default) or float64\n"
+            "  --compress        deflate the asset's chunks\n"
+            "  --report R.json   rank, eigenvalues, the asset's bytes, timings\n"
+            "  --quiet           no progress on stderr\n"
+            "  The asset starts at the first recording's first frame, at rest.\n\n"
+            "example (snapshots of a full-order run, then the operator, then 1000 steps at once):\n"
+            "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"
+            "  romkit dmd --snapshots S.npy --dt 0.01 --from-rest --gravity 0,-9.81,0 --clamp -o koopman.rombin\n"
+            "  romkit run koopman.rombin --steps 50 --jump 1000\n");
 }
 
 typedef struct {

@@ -26,9 +26,12 @@ static void fom_usage(FILE *out)
             "  --positions P.npy   final positions, n x 3 float64\n"
             "  --snapshots S.npy   every frame including the rest state, (steps+1) x n x 3 float64\n"
             "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
+            "  --frame-format F    the format of those files: obj (default), ply, vtk or mesh\n"
             "  --report R.json     counts, timings (seconds_per_step, factorization share), final state\n"
+            "  --quiet             no progress line on stderr\n"
             "Nothing is written when the run fails.\n\n"
-            "example:\n  romkit fom examples/scenes/beam_bend.json --snapshots bend.npy --report bend.json\n");
+            "example:\n"
+            "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy --report fom.json\n");
 }
 
 typedef struct {

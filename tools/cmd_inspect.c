@@ -14,7 +14,9 @@ static void inspect_usage(FILE *f)
     fprintf(f, "usage: romkit inspect ASSET.rombin\n"
                "  lists the chunks (id, critical or optional, type, compression, stored and raw bytes,\n"
                "  CRC-32), verifies the container and every checksum, then opens the model with the\n"
-               "  runtime's validation. Exit status 1 on any damage.\n");
+               "  runtime's validation. Exit status 1 on any damage.\n\n"
+               "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin):\n"
+               "  romkit inspect cantilever.rombin\n");
 }
 
 int cmd_inspect(int argc, char **argv)

@@ -30,10 +30,11 @@ static void usage(FILE *out)
             "  --quiet          print nothing on success\n"
             "\n"
             "Inverted tets are flipped, unused vertices dropped; degenerate tets are an error.\n"
+            "Exit status 1 when the mesh is unusable, 2 on bad usage.\n"
             "\n"
             "example:\n"
-            "  romkit mesh spot.obj -o spot.msh --quality 1.3 --max-volume 1e-4\n"
-            "  romkit mesh bunny.msh -o bunny.vtk\n");
+            "  romkit mesh tests/data/meshes/decimated-knight.off -o knight.msh --quality 1.4\n"
+            "  romkit mesh tests/data/meshes/bunny_19k.msh -o bunny.vtk\n");
 }
 
 static int usage_error(const char *what, const char *arg)

@@ -10,15 +10,15 @@ typedef struct {
     const char *summary;
 } command;
 
-static const command commands[] = {
-    {"build", cmd_build, "bake the scene's reduced model into a .rombin asset for the runtime"},
-    {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
-    {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
-    {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
-    {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
-    {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
+static const command commands[] = { /* in pipeline order */
     {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
+    {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
+    {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
+    {"build", cmd_build, "bake the scene's reduced model into a .rombin asset for the runtime"},
     {"run", cmd_run, "step a .rombin asset with the runtime, as an application would"},
+    {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
+    {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
+    {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
 };
 
 int is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }
@@ -29,7 +29,15 @@ static void usage(FILE *out)
                  "usage: romkit COMMAND [ARGS]   (romkit COMMAND --help for details)\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
-    fprintf(out, "\nexample:\n  romkit fom examples/scenes/beam_bend.json --report bend.json\n");
+    fprintf(out, "\nLong stages show progress on stderr when it is a terminal (--quiet: none).\n"
+                 "\ntypical pipeline, from the repository root:\n"
+                 "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"
+                 "  romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
+                 "  romkit run cantilever.rombin --steps 50 --reference S.npy\n"
+                 "  romkit inspect cantilever.rombin\n"
+                 "a Koopman asset from recorded snapshots (here the full-order run's):\n"
+                 "  romkit dmd --snapshots S.npy --dt 0.01 --from-rest --gravity 0,-9.81,0 --clamp -o koopman.rombin\n"
+                 "  romkit run koopman.rombin --steps 50 --jump 1000\n");
 }
 
 int main(int argc, char **argv)

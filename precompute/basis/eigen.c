@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/timer.h"
 
 /* ARPACK's info codes, in words. */
 static const char *arpack_reason(int info)
@@ -58,6 +59,7 @@ int rk_eigs_smallest(const rk_sparse *A, const rk_sparse *B, int count, double s
     iparam[2] = 10 * n + 1000;   /* max Arnoldi restarts */
     iparam[6] = 3;               /* mode 3: shift-invert, generalized */
     a_int ido = 0, info = 1;     /* info = 1: resid holds the starting vector */
+    long solves = 0;
     for (;;) {
         dsaupd_c(&ido, "G", n, "LM", count, 0.0, resid, ncv, V, n, iparam, ipntr, workd, workl,
                  lworkl, &info);
@@ -66,12 +68,14 @@ int rk_eigs_smallest(const rk_sparse *A, const rk_sparse *B, int count, double s
             if (ido == -1) rk_sparse_mul(B, x, y);          /* y = B x, then solve in place */
             else memcpy(y, workd + ipntr[2] - 1, (size_t)n * sizeof(double)); /* B x given */
             if (rk_shifted_solve(&fac, y, y, err)) goto out;
+            rk_progress("eigen-solve (shift-invert solves)", ++solves, 0);
         } else if (ido == 2) {
             rk_sparse_mul(B, workd + ipntr[0] - 1, workd + ipntr[1] - 1);
         } else {
             break;
         }
     }
+    rk_progress_done("eigen-solve (shift-invert solves)");
     if (info < 0 || info == 1 || info == 3) {
         rk_fail(err, "ARPACK dsaupd failed (info %d: %s) after %d restarts, %d of %d eigenpairs converged",
                 (int)info, arpack_reason((int)info), (int)iparam[2], (int)iparam[4], count);

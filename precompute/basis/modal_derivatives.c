@@ -12,6 +12,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/timer.h"
 
 /* x -= R (R^T M x) for the M-orthonormal rigid modes R (free vectors), or R (R^T x) on the
  * right-hand-side side: y -= M R (R^T y). */
@@ -52,6 +53,7 @@ static int derivatives_on(const rk_free_system *s, const rk_fem *f, const double
     int pair = 0;
     for (int i = nrigid; i < k; i++)
         for (int j = i; j < k; j++, pair++) {
+            rk_progress("modal derivatives", pair + 1, (long)(k - nrigid) * (k - nrigid + 1) / 2);
             rk_stiffness_derivative(f, U + (size_t)i * nd, U + (size_t)j * nd, full);
             rk_free_system_gather(s, full, rhs);
             cblas_dscal((int)nf, -1.0, rhs, 1);
@@ -72,6 +74,7 @@ static int derivatives_on(const rk_free_system *s, const rk_fem *f, const double
             if (rel > *residual) *residual = rel;
             rk_free_system_expand(s, x, Psi + (size_t)pair * nd);
         }
+    rk_progress_done("modal derivatives");
     rc = 0;
 out:
     if (have_fac) rk_shifted_free(&fac);

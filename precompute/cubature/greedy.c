@@ -20,6 +20,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/timer.h"
 
 /* A candidate whose column makes a cosine below this with the residual does not point along it:
  * the dot product's rounding error is of this order. */
@@ -300,7 +301,9 @@ int rk_cubature_greedy(const rk_cubature_problem *p, rk_cubature_set *out, rk_er
         if (!(trial < rel * (1 - RK_GREEDY_MIN_GAIN))) break;
         commit_trial(&g, c);
         rel = trial;
+        rk_progress("cubature points chosen", g.count, 0);
     }
+    rk_progress_done("cubature points chosen");
     if (rc == 0) rc = write_set(&g, rel, p->tolerance, out, err);
     out->iterations = iterations;
     greedy_free(&g);

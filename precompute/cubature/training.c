@@ -119,11 +119,14 @@ static void fill_cache(training *T)
     if ((double)rows * T->Q->count * sizeof(double) > RK_CUBATURE_CACHE) return;
     T->cache = malloc(rows * T->Q->count * sizeof(double));
     rk_error ignored;
-    for (int c = 0; T->cache && c < T->Q->count; c++)
+    for (int c = 0; T->cache && c < T->Q->count; c++) {
         if (compute_column(T, c, T->cache + rows * c, &ignored)) { /* recomputed, and reported, on demand */
             free(T->cache);
             T->cache = NULL;
         }
+        rk_progress("cubature training", c + 1, T->Q->count);
+    }
+    rk_progress_done("cubature training");
 }
 
 /* Exact total forces b at every pose (normalised); poses whose force vanishes (the rest pose, a

@@ -1,4 +1,5 @@
 #include "util/error.h"
+#include "util/timer.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -7,6 +8,7 @@
 
 int rk_fail(rk_error *err, const char *fmt, ...)
 {
+    rk_progress_break(); /* the message will follow a progress line left open */
     if (err) {
         va_list ap;
         va_start(ap, fmt);
