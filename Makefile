@@ -11,7 +11,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem fom scene basis cubature rom koopman formats asset
+STAGES := util mesh physics fem fom scene basis cubature rom koopman compare formats asset
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -22,9 +22,12 @@ DEPS_basis   := basis scene fom fem physics mesh util
 DEPS_cubature := cubature basis scene fom fem physics mesh util
 DEPS_rom     := rom cubature basis scene fom fem physics mesh util
 DEPS_koopman := koopman cubature basis scene fom fem physics mesh util
+DEPS_compare := compare koopman rom cubature basis scene fom fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats koopman rom cubature basis scene fom fem physics mesh util
 DEPS_runtime := $(DEPS_asset)
+# The command line and the benches link every stage.
+DEPS_tools   := asset formats compare koopman rom cubature basis scene fom fem physics mesh util
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
@@ -32,7 +35,7 @@ libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
 ALL_LIBS := $(foreach s,$(STAGES),$(call lib_of,$(s)))
 TOOL_SRC := $(wildcard tools/*.c)
 # The most downstream stage: the command line links it and all it uses.
-TOOL_STAGE := asset
+TOOL_STAGE := tools
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 # The runtime tests that also run against the double runtime, as <name>_double.
 TEST_DOUBLE := test_runtime_parity test_runtime_koopman

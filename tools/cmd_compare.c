@@ -7,7 +7,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "rom/compare.h"
+#include "compare/compare.h"
 #include "util/json_out.h"
 #include "util/timer.h"
 
@@ -35,6 +35,7 @@ static cJSON *method_json(const rk_compare_method *m)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "name", m->name);
+    cJSON_AddStringToObject(j, "kind", m->koopman ? "koopman" : "reduced");
     if (m->failure[0]) {
         cJSON_AddStringToObject(j, "failure", m->failure);
         return j;
@@ -44,6 +45,11 @@ static cJSON *method_json(const rk_compare_method *m)
     cJSON_AddNumberToObject(b, "size", m->size);
     cJSON_AddNumberToObject(b, "columns", m->r);
     cJSON_AddStringToObject(b, "bound_by", m->basis_reason);
+    if (m->koopman) {
+        cJSON *k = cJSON_AddObjectToObject(j, "koopman");
+        cJSON_AddNumberToObject(k, "rank", m->r);
+        cJSON_AddNumberToObject(k, "max_abs_eigenvalue", m->max_abs_eigenvalue);
+    }
     cJSON *c = cJSON_AddObjectToObject(j, "cubature");
     cJSON_AddNumberToObject(c, "elements", m->cubature_points);
     add_number(c, "relative_error", m->cubature_error);
@@ -58,7 +64,9 @@ static cJSON *method_json(const rk_compare_method *m)
     cJSON_AddNumberToObject(s, "basis", m->seconds_basis);
     cJSON_AddNumberToObject(s, "cubature", m->seconds_cubature);
     cJSON_AddNumberToObject(s, "training_run", m->seconds_training_run);
-    cJSON_AddNumberToObject(s, "precompute", m->seconds_basis + m->seconds_cubature + m->seconds_training_run);
+    cJSON_AddNumberToObject(s, "fit", m->seconds_fit);
+    cJSON_AddNumberToObject(s, "precompute",
+                            m->seconds_basis + m->seconds_cubature + m->seconds_training_run + m->seconds_fit);
     cJSON_AddNumberToObject(j, "newton_iterations", (double)m->newton_iterations);
     cJSON_AddNumberToObject(j, "unconverged_steps", (double)m->unconverged_steps);
     if (isfinite(m->reference_nmse)) {
@@ -108,10 +116,11 @@ static void print_table(const char *path, const rk_compare_result *res)
         char paper[32] = "-";
         if (isfinite(m->reference_nmse)) snprintf(paper, sizeof paper, "%.3g", m->reference_nmse);
         char cub[16] = "exact";
-        if (m->cubature_points) snprintf(cub, sizeof cub, "%d", m->cubature_points);
+        if (m->koopman) snprintf(cub, sizeof cub, "dmd");
+        else if (m->cubature_points) snprintf(cub, sizeof cub, "%d", m->cubature_points);
         printf("%-28s %5d %6s %10.3g %10s %10.3g %10.3g %10.3g %9.1f %9.3g\n", m->name, m->r, cub, m->normalized_mse,
                paper, m->normalized_max_error, m->relative_online_error, m->seconds_per_step, m->speedup,
-               m->seconds_basis + m->seconds_cubature + m->seconds_training_run);
+               m->seconds_basis + m->seconds_cubature + m->seconds_training_run + m->seconds_fit);
     }
     for (int k = 0; k < res->nmethods; k++) {
         const rk_compare_method *m = &res->methods[k];

@@ -115,3 +115,17 @@ done:
     free(z);
     return rc;
 }
+
+void rk_koopman_real_step(const rk_koopman *k, double *y)
+{
+    for (int j = 0; j < k->r; j++) {
+        double a = k->lambda_re[j], b = k->lambda_im[j];
+        if (k->block[j] == 1) {
+            y[j] *= a;
+        } else if (k->block[j] == 2) { /* the pair's block [[a, b], [-b, a]] (koopman.h) */
+            double y0 = y[j], y1 = y[j + 1];
+            y[j] = a * y0 + b * y1;
+            y[j + 1] = -b * y0 + a * y1;
+        }
+    }
+}

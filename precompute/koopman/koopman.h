@@ -87,5 +87,7 @@ void rk_koopman_impulse(const rk_koopman *k, const double *a, double *z);
  *   y0 (r): the lift of [u; u - u_prev] into y (when u, u_prev are given; else skipped). */
 int rk_koopman_real_form(const rk_koopman *k, double *out, double *in, const double *u, const double *u_prev,
                          double *y0, rk_error *err);
+/* y <- B y: one step in those coordinates, O(r). */
+void rk_koopman_real_step(const rk_koopman *k, double *y);
 
 #endif

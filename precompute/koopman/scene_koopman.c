@@ -192,6 +192,7 @@ int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_scene_options
     double t0 = rk_now();
     for (int i = 0; i < ntraj; i++) {
         const rk_koopman_variation *v = o->ntraj ? &o->traj[i] : NULL;
+        info->reused |= frames && as_written(v);
         if (frames && as_written(v) ? rk_koopman_scene_run_frames(sim, frames, T, &runs[i], err)
                                     : rk_koopman_scene_run(sim, v, &runs[i], err)) {
             rk_error_prefix(err, "trajectory %d", i);

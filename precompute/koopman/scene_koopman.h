@@ -51,6 +51,7 @@ typedef struct {
     int trajectories, frames;        /* runs and frames in all */
     double seconds_fom, seconds_fit;
     int projected;                   /* observables are basis coordinates (d = basis columns) */
+    int reused;                      /* the given frames (the scene as written) were a trajectory */
 } rk_koopman_scene_info;
 
 /* The same trajectory from the scene's full-order run already done: frames (3 nv x T,

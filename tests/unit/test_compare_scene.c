@@ -3,7 +3,7 @@
  * accuracy, a scene with less deformation gets a smaller model under the same tolerances, and the
  * 720-degree twist and an inverted start stay finite. The full-resolution Table 1 comparison is
  * `make paper-table` (too slow for a unit test). */
-#include "rom/compare.h"
+#include "compare/compare.h"
 #include "testlib.h"
 
 #define BEAM_MESH "\"mesh\": {\"box\": {\"size\": [5, 1, 1], \"cells\": [10, 2, 2]}}"

@@ -1,5 +1,6 @@
-/* precompute/rom: the full-order model and every reduced method a scene lists, run side by side
- * on the scene, with the error metrics of the papers:
+/* precompute/compare: the full-order model and every reduced method a scene lists (reduced models,
+ * and Koopman operators for entries with a koopman section), run side by side on the scene, with
+ * the error metrics of the papers:
  *
  *   normalized MSE   mean over frames and vertices of |x - x_fom|^2, divided by L^2 with L the rest
  *                    bounding-box diagonal (freeform paper Sec. 4: "MSE of simulated point locations
@@ -10,7 +11,8 @@
  *                    Sec. 5.1: per-step realignment, so drift does not dominate)
  *
  * Timing: the median wall time of one step (reconstruction of the vertices not counted: a runtime
- * only rebuilds the vertices it shows). */
+ * only rebuilds the vertices it shows). A Koopman method steps in its real eigen-coordinates, as
+ * the runtime does; its online error starts each step from the full-order state lifted. */
 #ifndef RK_COMPARE_H
 #define RK_COMPARE_H
 
@@ -18,6 +20,8 @@
 
 typedef struct {
     char name[96];
+    int koopman;                   /* a Koopman operator: r is its rank, size its observables */
+    double max_abs_eigenvalue;     /* Koopman: after the clamp, if any */
     rk_basis_type type;
     int size;                      /* rom.size as built: columns, or weights m for skinning */
     int r;                         /* reduced coordinates */
@@ -26,6 +30,7 @@ typedef struct {
     double normalized_mse, normalized_max_error, max_error_m, relative_online_error;
     double seconds_per_step, speedup;
     double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
+    double seconds_fit;            /* Koopman: the DMD fit */
     long newton_iterations, unconverged_steps;
     double reference_nmse;
     char reference_source[96];

@@ -1,6 +1,6 @@
 /* rk_compare_scene (compare.h): one full-order run, then each reduced method twice: free (error
  * over the whole run, time per step) and realigned every step (online error). */
-#include "rom/compare.h"
+#include "compare/compare_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -10,11 +10,6 @@
 #include "util/sort.h"
 #include "util/timer.h"
 
-typedef struct {
-    int ndof, T;
-    double *x, *v;   /* ndof x (T + 1): the start, then after every step */
-    double *step_seconds;
-} fom_run;
 
 static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
 {
@@ -53,8 +48,7 @@ static void fom_run_free(fom_run *F)
     free(F->step_seconds);
 }
 
-/* Sum over vertices of |a - b|^2 and the largest |a - b|. */
-static double frame_error(const double *a, const double *b, int ndof, double *max_dist)
+double rk_compare_frame_error(const double *a, const double *b, int ndof, double *max_dist)
 {
     double sum = 0;
     for (int v = 0; v < ndof / 3; v++) {
@@ -86,7 +80,7 @@ static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, 
         if (rk_rom_step(&rom, err)) goto out;
         secs[s] = rk_now() - t0;
         rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
-        sum += frame_error(x, F->x + (size_t)ndof * (s + 1), ndof, &maxd);
+        sum += rk_compare_frame_error(x, F->x + (size_t)ndof * (s + 1), ndof, &maxd);
     }
     out->normalized_mse = sum / ((double)F->T * (ndof / 3)) / (L * L);
     out->normalized_max_error = maxd / L;
@@ -141,7 +135,7 @@ out:
     return rc;
 }
 
-static void record_failure(rk_compare_method *m, const rk_error *err)
+void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
 {
     snprintf(m->failure, sizeof m->failure, "%s", err->msg);
     m->normalized_mse = m->normalized_max_error = m->max_error_m = m->relative_online_error = NAN;
@@ -158,15 +152,21 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->cubature_error = NAN;
     if (rk_rom_options_parse(scene->rom, index, scene->path, &o, &err)) {
         snprintf(m->name, sizeof m->name, "rom[%d]", index);
-        record_failure(m, &err);
+        rk_compare_record_failure(m, &err);
         return;
     }
     memcpy(m->name, o.name, sizeof m->name);
     m->type = o.basis.type;
+
     m->reference_nmse = o.reference_nmse;
     memcpy(m->reference_source, o.reference_source, sizeof m->reference_source);
+    if (rk_koopman_scene_present(scene->rom, index)) {
+        if (rk_compare_koopman(scene, sim, F, D, index, &o, L, m, &err)) rk_compare_record_failure(m, &err);
+        else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
+        return;
+    }
     if (rk_scene_rom_build(scene, sim, &o, D, F->T, &R, &err)) {
-        record_failure(m, &err);
+        rk_compare_record_failure(m, &err);
         return;
     }
     m->r = R.basis.r;
@@ -178,7 +178,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->seconds_training_run = R.basis_info.fom_frames ? res->fom_seconds_total : 0;
     memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
     memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
-    if (run_free(sim, &R, F, M, m, L, &err) || run_realigned(sim, &R, F, M, m, &err)) record_failure(m, &err);
+    if (run_free(sim, &R, F, M, m, L, &err) || run_realigned(sim, &R, F, M, m, &err)) rk_compare_record_failure(m, &err);
     else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
     rk_scene_rom_free(&R);
 }

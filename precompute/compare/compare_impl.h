@@ -1,0 +1,26 @@
+/* Private to precompute/compare: the full-order run every method is measured against, and what
+ * the reduced-model and Koopman methods share. */
+#ifndef RK_COMPARE_IMPL_H
+#define RK_COMPARE_IMPL_H
+
+#include "compare/compare.h"
+#include "koopman/scene_koopman.h"
+
+typedef struct {
+    int ndof, T;
+    double *x, *v;   /* ndof x (T + 1): the start, then after every step */
+    double *step_seconds;
+} fom_run;
+
+/* Sum over vertices of |a - b|^2 and the largest |a - b|. */
+double rk_compare_frame_error(const double *a, const double *b, int ndof, double *max_dist);
+/* The method did not run: why, and its numbers NAN. */
+void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
+
+/* Entry `index` with a koopman section (koopman_method.c): fitted on the full-order run F (D: its
+ * displacement frames) and any other trajectories it lists, then run free and realigned as the
+ * reduced models are. */
+int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
+                       const rk_rom_options *o, double L, rk_compare_method *m, rk_error *err);
+
+#endif

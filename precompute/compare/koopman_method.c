@@ -1,0 +1,156 @@
+/* A Koopman entry as a method of the comparison (compare_impl.h): fitted on the full-order run the
+ * others are measured against, stepped in real eigen-coordinates y (one step y <- B (y + c), c the
+ * gravity and loads' impulse of Eq. 19), errors as for the reduced models. */
+#include "compare/compare_impl.h"
+
+#include <cblas.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/sort.h"
+#include "util/timer.h"
+
+typedef struct {
+    int n, r;
+    double *out, *in, *y, *c, *z, *x, *u_prev, *secs;
+} koopman_run;
+
+static void run_free(koopman_run *K)
+{
+    free(K->out), free(K->in), free(K->y), free(K->c), free(K->z), free(K->x), free(K->u_prev), free(K->secs);
+}
+
+static int run_init(const rk_koopman *k, const rk_scene_sim *sim, const fom_run *F, koopman_run *K, rk_error *err)
+{
+    int n = F->ndof, r = k->r;
+    memset(K, 0, sizeof *K);
+    K->n = n, K->r = r;
+    K->out = rk_calloc((size_t)n * r, sizeof(double), err);
+    K->in = rk_calloc((size_t)n * r, sizeof(double), err);
+    K->y = rk_calloc((size_t)r, sizeof(double), err);
+    K->c = rk_calloc((size_t)r, sizeof(double), err);
+    K->z = rk_calloc((size_t)r, sizeof(double), err);
+    K->x = rk_calloc((size_t)n, sizeof(double), err);
+    K->u_prev = rk_calloc((size_t)n, sizeof(double), err);
+    K->secs = rk_calloc((size_t)F->T + 1, sizeof(double), err);
+    if (!K->out || !K->in || !K->y || !K->c || !K->z || !K->x || !K->u_prev || !K->secs) return -1;
+    /* the start, X_0 = [u_0; h v_0] (u_0 = 0: the full-order run starts at rest positions) */
+    for (int i = 0; i < n; i++) K->u_prev[i] = -sim->options.h * F->v[i];
+    if (rk_koopman_real_form(k, K->out, K->in, K->x, K->u_prev, K->y, err)) return -1;
+    /* the forcing's impulse per step, in y: in (gravity + loads / mass) h^2 */
+    double h2 = k->h * k->h;
+    for (int v = 0; v < n / 3; v++)
+        for (int a = 0; a < 3; a++) {
+            double acc = sim->options.gravity[a] +
+                         (sim->options.force ? sim->options.force[3 * v + a] / sim->fem.vertex_mass[v] : 0);
+            K->x[3 * v + a] = acc * h2;
+        }
+    cblas_dgemv(CblasColMajor, CblasNoTrans, r, n, 1.0, K->in, r, K->x, 1, 0.0, K->c, 1);
+    return 0;
+}
+
+static void step(const rk_koopman *k, const koopman_run *K)
+{
+    for (int j = 0; j < K->r; j++) K->y[j] += K->c[j];
+    rk_koopman_real_step(k, K->y);
+}
+
+/* positions x = X + out y */
+static void positions(const rk_scene_sim *sim, const koopman_run *K)
+{
+    memcpy(K->x, sim->mesh.X, sizeof(double) * K->n);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, K->n, K->r, 1.0, K->out, K->n, K->y, 1, 1.0, K->x, 1);
+}
+
+static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, const fom_run *F, double L,
+                                  rk_compare_method *m, rk_error *err)
+{
+    koopman_run K;
+    int rc = -1, n = F->ndof;
+    if (run_init(k, sim, F, &K, err)) goto out;
+    double sum = 0, maxd = 0;
+    for (int s = 0; s < F->T; s++) {
+        double t0 = rk_now();
+        step(k, &K);
+        K.secs[s] = rk_now() - t0;
+        positions(sim, &K);
+        if (!isfinite(K.x[0]) || !isfinite(K.x[n - 1])) {
+            rk_fail(err, "the Koopman state overflowed at step %d (an eigenvalue above 1: set clamp)", s);
+            goto out;
+        }
+        sum += rk_compare_frame_error(K.x, F->x + (size_t)n * (s + 1), n, &maxd);
+    }
+    m->normalized_mse = sum / ((double)F->T * (n / 3)) / (L * L);
+    m->normalized_max_error = maxd / L;
+    m->max_error_m = maxd;
+    m->seconds_per_step = rk_median(K.secs, F->T);
+    /* realigned: each step from the full-order state before it, lifted */
+    double num = 0, den = 0;
+    for (int s = 0; s < F->T; s++) {
+        const double *xs = F->x + (size_t)n * s, *ref = F->x + (size_t)n * (s + 1);
+        for (int i = 0; i < n; i++) {
+            K.x[i] = xs[i] - sim->mesh.X[i];
+            K.u_prev[i] = s ? F->x[(size_t)n * (s - 1) + i] - sim->mesh.X[i] : K.x[i] - sim->options.h * F->v[i];
+        }
+        rk_koopman_lift(k, K.x, K.u_prev, K.z);
+        cblas_dgemv(CblasColMajor, CblasNoTrans, k->r, k->r, 1.0, k->Winv, k->r, K.z, 1, 0.0, K.y, 1);
+        step(k, &K);
+        positions(sim, &K);
+        double e = 0, d = 0;
+        for (int i = 0; i < n; i++) {
+            e += (K.x[i] - ref[i]) * (K.x[i] - ref[i]);
+            d += (ref[i] - sim->mesh.X[i]) * (ref[i] - sim->mesh.X[i]);
+        }
+        num += sqrt(e);
+        den += sqrt(d);
+    }
+    m->relative_online_error = den > 0 ? num / den : NAN;
+    rc = 0;
+out:
+    run_free(&K);
+    return rc;
+}
+
+int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
+                       const rk_rom_options *o, double L, rk_compare_method *m, rk_error *err)
+{
+    rk_koopman_scene_options ko;
+    rk_koopman_scene_info ki;
+    rk_koopman k;
+    rk_basis b;
+    rk_scene_basis_info bi;
+    int have_basis = 0, rc = -1;
+    memset(&k, 0, sizeof k);
+    m->koopman = 1;
+    if (rk_koopman_scene_options_parse(scene->rom, index, scene->path, sim->options.h, &ko, err)) return -1;
+    double t0 = rk_now();
+    if (ko.project) {
+        if (rk_scene_basis_build_frames(scene, &o->basis, D, F->T, &b, &bi, err)) goto done;
+        have_basis = 1;
+        m->seconds_basis = rk_now() - t0;
+        snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on the %s basis's %d coordinates",
+                 rk_basis_type_name(b.type), b.r);
+    } else {
+        snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on full displacements");
+    }
+    if (rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, D, F->T, &k, &ki, err)) goto done;
+    m->seconds_training_run = ki.seconds_fom;
+    m->seconds_fit = ki.seconds_fit;
+    /* the scene as written is one of its training runs, unless every trajectory changes something */
+    snprintf(m->cubature_reason, sizeof m->cubature_reason, "none (Koopman: rank %d of %d observables, %d "
+             "trajectories, %d clamped; fitted on runs that %s this one, so the error %s)", k.r, k.d,
+             ki.trajectories, k.clamped, ki.reused ? "include" : "differ from",
+             ki.reused ? "measures reconstruction, not prediction" : "measures prediction");
+    m->r = k.r;
+    m->size = k.d;
+    for (int j = 0; j < k.r; j++) m->max_abs_eigenvalue = fmax(m->max_abs_eigenvalue, hypot(k.lambda_re[j], k.lambda_im[j]));
+    rc = run_free_and_realigned(&k, sim, F, L, m, err);
+done:
+    rk_koopman_free(&k);
+    if (have_basis) {
+        rk_basis_free(&b);
+        rk_scene_basis_info_free(&bi);
+    }
+    return rc;
+}
