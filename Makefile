@@ -78,12 +78,12 @@ $(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_L
 	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
 
-# examples/embed: an app that uses only runtime/romrt.h, in C and in C++.
+# examples/embed: an app that uses only romrt.h (#include "romrt.h", so it also builds against make install's copy), in C and in C++.
 CXX ?= c++
 $(BUILD)/embed: examples/embed/embed.c runtime/romrt.h $(RT_LIB)
-	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -I. -o $@ $< $(RT_LIB) -lm
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 $(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
-	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -I. -o $@ $< $(RT_LIB) -lm
+	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
@@ -140,6 +140,55 @@ test-sanitize: deps
 
 clean:
 	rm -rf build build-san
+
+# make install: the romkit command, the float runtime as a static and a shared library
+# (libromrt.so.$(ROMRT_VERSION), soname libromrt.so.$(ROMRT_SOMAJOR), exporting only romrt.h's
+# functions), the double runtime as a static library, romrt.h, and pkg-config files romrt.pc
+# (float) and romrt-double.pc (-DROMRT_DOUBLE, static). PREFIX and DESTDIR are honoured:
+# make install DESTDIR=/tmp/stage PREFIX=/opt/romkit. make uninstall removes the same files.
+PREFIX       ?= /usr/local
+DESTDIR      ?=
+BINDIR       ?= $(PREFIX)/bin
+LIBDIR       ?= $(PREFIX)/lib
+INCLUDEDIR   ?= $(PREFIX)/include
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+INSTALL      ?= install
+ROMRT_VERSION := 1.0.0
+ROMRT_SOMAJOR := 1
+RT_SO  := $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION)
+RT_MAP := $(BUILD)/rt/pic/romrt.map
+$(BUILD)/rt/pic/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(RT_CFLAGS) -fPIC -MMD -MP -c $< -o $@
+# The shared library exports what romrt.h declares and nothing else (no rt_*, rombin_*, romrt_phys_*).
+$(RT_MAP): runtime/romrt.h
+	@mkdir -p $(dir $@)
+	{ echo 'ROMRT_$(ROMRT_SOMAJOR) {'; echo '  global:'; grep -o 'romrt_[a-z0-9_]*(' runtime/romrt.h | tr -d '(' | sort -u | sed 's/.*/    &;/'; \
+	  echo '  local: *;'; echo '};'; } >$@.tmp && mv $@.tmp $@
+$(RT_SO): $(patsubst %.c,$(BUILD)/rt/pic/%.o,$(RT_SRC)) $(RT_MAP)
+	@mkdir -p $(dir $@)
+	$(CC) -shared $(LDFLAGS) -Wl,-soname,libromrt.so.$(ROMRT_SOMAJOR) -Wl,--version-script=$(RT_MAP) -o $@ $(filter %.o,$^) -lm
+# romrt.pc from runtime/romrt.pc.in: $(call romrt_pc,NAME,LIB,EXTRA_CFLAGS,DESCRIPTION) > file
+pc_rel = $(patsubst $(PREFIX)/%,$${prefix}/%,$(1))
+romrt_pc = sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(call pc_rel,$(LIBDIR))|' -e 's|@INCLUDEDIR@|$(call pc_rel,$(INCLUDEDIR))|' \
+               -e 's|@VERSION@|$(ROMRT_VERSION)|' -e 's|@NAME@|$(1)|' -e 's|@LIB@|$(2)|' -e 's|@CFLAGS@|$(3)|' -e 's|@DESCRIPTION@|$(4)|' runtime/romrt.pc.in
+.PHONY: install uninstall
+install: $(BUILD)/romkit $(RT_LIB) $(RT_LIB_DOUBLE) $(RT_SO) runtime/romrt.h runtime/romrt.pc.in
+	$(INSTALL) -d "$(DESTDIR)$(BINDIR)" "$(DESTDIR)$(LIBDIR)" "$(DESTDIR)$(INCLUDEDIR)" "$(DESTDIR)$(PKGCONFIGDIR)"
+	$(INSTALL) -m 755 $(BUILD)/romkit "$(DESTDIR)$(BINDIR)/romkit"
+	$(INSTALL) -m 644 $(RT_LIB) $(RT_LIB_DOUBLE) "$(DESTDIR)$(LIBDIR)/"
+	$(INSTALL) -m 755 $(RT_SO) "$(DESTDIR)$(LIBDIR)/"
+	ln -sf libromrt.so.$(ROMRT_VERSION) "$(DESTDIR)$(LIBDIR)/libromrt.so.$(ROMRT_SOMAJOR)"
+	ln -sf libromrt.so.$(ROMRT_SOMAJOR) "$(DESTDIR)$(LIBDIR)/libromrt.so"
+	$(INSTALL) -m 644 runtime/romrt.h "$(DESTDIR)$(INCLUDEDIR)/romrt.h"
+	$(call romrt_pc,romrt,romrt,,Float build (romrt_real is float); the double build is romrt-double.) >"$(DESTDIR)$(PKGCONFIGDIR)/romrt.pc"
+	$(call romrt_pc,romrt-double,romrt_double, -DROMRT_DOUBLE,Double build (-DROMRT_DOUBLE: romrt_real is double); static library only.) >"$(DESTDIR)$(PKGCONFIGDIR)/romrt-double.pc"
+	chmod 644 "$(DESTDIR)$(PKGCONFIGDIR)/romrt.pc" "$(DESTDIR)$(PKGCONFIGDIR)/romrt-double.pc"
+uninstall:
+	rm -f "$(DESTDIR)$(BINDIR)/romkit" "$(DESTDIR)$(INCLUDEDIR)/romrt.h" \
+	      "$(DESTDIR)$(PKGCONFIGDIR)/romrt.pc" "$(DESTDIR)$(PKGCONFIGDIR)/romrt-double.pc" \
+	      "$(DESTDIR)$(LIBDIR)/libromrt.a" "$(DESTDIR)$(LIBDIR)/libromrt_double.a" "$(DESTDIR)$(LIBDIR)/libromrt.so" \
+	      "$(DESTDIR)$(LIBDIR)/libromrt.so.$(ROMRT_SOMAJOR)" "$(DESTDIR)$(LIBDIR)/libromrt.so.$(ROMRT_VERSION)"
 
 -include $(shell find $(BUILD)/obj $(BUILD)/rt $(BUILD)/tests -name '*.d' 2>/dev/null)
 

@@ -1,10 +1,11 @@
-/* A host program that embeds the romkit runtime, using only runtime/romrt.h: load an asset,
- * ask for the arena, open it in place, push the "tip" group for a while, step, print where the
- * tip is. Build: see the Makefile's $(BUILD)/embed; run: embed ASSET.rombin [STEPS]. */
+/* A host program that embeds the romkit runtime, using only romrt.h: load an asset, ask for the
+ * arena, open it in place, push the "tip" group for a while, step, print where the tip is.
+ * Build from the tree: the Makefile's $(BUILD)/embed (-Iruntime); against an installed runtime
+ * (make install): cc embed.c $(pkg-config --cflags --libs romrt). Run: embed ASSET.rombin [STEPS]. */
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "runtime/romrt.h"
+#include "romrt.h"
 
 static void *load(const char *path, size_t *bytes)
 {

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <vector>
 
-#include "runtime/romrt.h"
+#include "romrt.h" // runtime/ in the tree (-Iruntime), <prefix>/include once installed
 
 int main(int argc, char **argv)
 {
