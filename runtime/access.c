@@ -74,6 +74,7 @@ void romrt_reset(romrt_model *m)
 }
 
 romrt_kind romrt_model_kind(const romrt_model *m) { return m ? m->kind : ROMRT_KIND_REDUCED; }
+int romrt_max_reduced_size(void) { return ROMRT_MAX_R; }
 
 int romrt_reduced_size(const romrt_model *m) { return m ? m->r : 0; }
 int romrt_shown_count(const romrt_model *m) { return m ? m->shown : 0; }

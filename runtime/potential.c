@@ -85,12 +85,16 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
                         for (j = 0; j < r; j++) AGk[j] += a * Gl[j];
                 }
             }
-            for (k = 0; k < 9; k++) { /* upper triangle of G^T AG, rank-1 by rank-1: contiguous inner loop */
-                const romrt_real *Gk = m->G + (size_t)r * k, *AGk = m->AG + (size_t)r * k;
-                for (j = 0; j < r; j++) {
-                    romrt_real a = AGk[j], *Hj = H + (size_t)r * j;
-                    for (i = 0; i <= j; i++) Hj[i] += Gk[i] * a;
-                }
+            /* upper triangle of G^T AG as one rank-9 update: a single pass over H per element (nine
+             * rank-1 passes would stream the r x r matrix through the cache nine times) */
+            for (j = 0; j < r; j++) {
+                const romrt_real *G = m->G;
+                romrt_real *Hj = H + (size_t)r * j, a[9];
+                for (k = 0; k < 9; k++) a[k] = m->AG[(size_t)r * k + j];
+                for (i = 0; i <= j; i++)
+                    Hj[i] += G[i] * a[0] + G[r + i] * a[1] + G[2 * r + i] * a[2] + G[3 * r + i] * a[3] +
+                             G[4 * r + i] * a[4] + G[5 * r + i] * a[5] + G[6 * r + i] * a[6] + G[7 * r + i] * a[7] +
+                             G[8 * r + i] * a[8];
             }
         }
     }

@@ -36,7 +36,9 @@ typedef double romrt_real;
 typedef float romrt_real;
 #endif
 
-/* The largest reduced size this build steps; every r x r buffer is ROMRT_MAX_R^2 reals. */
+/* The largest reduced size this build steps; every r x r buffer is ROMRT_MAX_R^2 reals. The
+ * runtime's sources take it from their own build (the Makefile's desktop libraries use 256, the
+ * Cortex-M build 32); romrt_max_reduced_size says what a compiled library was built with. */
 #ifndef ROMRT_MAX_R
 #define ROMRT_MAX_R 64
 #endif
@@ -92,6 +94,8 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err);
 void romrt_reset(romrt_model *m);
 
 romrt_kind romrt_model_kind(const romrt_model *m);
+/* The ROMRT_MAX_R this library was compiled with: assets with a larger r are refused. */
+int romrt_max_reduced_size(void);
 
 /* Koopman assets only (ROMRT_E_UNSUPPORTED otherwise): advances `steps` steps at once, the
  * applied forces held, at a cost that grows like log(steps) (repeated squaring of the 1 x 1 and

@@ -71,7 +71,7 @@ int cmd_inspect(int argc, char **argv)
         fprintf(stderr, "romkit inspect: %s: %s: %s\n", path, romrt_status_string(rerr.status), rerr.message);
         rc = 1;
     } else {
-        printf("model: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", ROMRT_MAX_R, arena,
+        printf("model: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", romrt_max_reduced_size(), arena,
                inflated ? " once inflated" : "");
     }
     free(data);

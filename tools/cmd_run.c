@@ -26,7 +26,8 @@ static void run_usage(FILE *f)
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
-               "  --report      seconds_per_step (median), Newton work, arena and asset bytes\n"
+               "  --report      seconds_per_step (median), seconds_positions (drawing every shown vertex),\n"
+               "                Newton work, arena and asset bytes\n"
                "  --jump        after the steps, advance a Koopman asset N steps at once (seconds_jump:\n"
                "                the median of 21 timed jumps from the same state)\n"
                "  --dt          a Koopman asset's time step (s), rescaled from the training one (Eq. 21)\n"
@@ -40,7 +41,7 @@ static void run_usage(FILE *f)
                "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
                "         and romkit fom examples/scenes/cantilever_small.json --snapshots S.npy):\n"
                "  romkit run cantilever.rombin --steps 50 --reference S.npy --report run.json\n",
-           ROMRT_MAX_R);
+           romrt_max_reduced_size());
 }
 
 static int parse_count(const char *what, const char *text, long *out)
@@ -113,6 +114,19 @@ static void reference_add(reference *ref, long k, const double *xyz)
             ref->sum_ref += u * u;
         }
     ref->compared++;
+}
+
+/* What drawing costs: the median of 21 romrt_positions calls for every shown vertex. */
+static double timed_positions(const romrt_model *m, romrt_real *xyz, int n)
+{
+    enum { REPEATS = 21 };
+    double t[REPEATS];
+    for (int k = 0; k < REPEATS; k++) {
+        double t0 = rk_now();
+        romrt_positions(m, xyz, n);
+        t[k] = rk_now() - t0;
+    }
+    return rk_median(t, REPEATS);
 }
 
 /* --frames DIR: the shown vertices and the asset's surface triangles as DIR/frame_NNNNN.obj. */
@@ -248,7 +262,7 @@ int cmd_run(int argc, char **argv)
         if (!quiet) rk_progress("run", k + 1, steps);
     }
     if (!quiet) rk_progress_done("run");
-    double seconds_jump = NAN;
+    double seconds_jump = NAN, seconds_positions = timed_positions(m, xyz, n);
     if (jump_text && timed_jump(m, (unsigned long)jump, &seconds_jump, &rerr) != ROMRT_OK) goto runtime_fail;
     romrt_positions(m, xyz, n);
     for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
@@ -266,6 +280,7 @@ int cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(r, "steps", (double)steps);
         cJSON_AddNumberToObject(r, "time", romrt_time(m));
         cJSON_AddNumberToObject(r, "seconds_per_step", median);
+        cJSON_AddNumberToObject(r, "seconds_positions", seconds_positions);
         if (jump_text) {
             cJSON_AddNumberToObject(r, "jump", (double)jump);
             cJSON_AddNumberToObject(r, "seconds_jump", seconds_jump);

@@ -37,7 +37,7 @@ int rk_koopman_scene_options_parse(const cJSON *rom, int index, const char *file
     if (!k) return rk_fail(err, "%s: the rom entry has no koopman section", file);
     if (!cJSON_IsObject(k)) return rk_json_fail(&c, path, "must be an object");
     static const char *const keys[] = {"rank", "energy", "clamp", "project", "trajectories", NULL};
-    if (rk_json_check_keys(&c, k, path, keys) || rk_json_whole(&c, k, path, "rank", 1, 4096, &o->fit.rank) ||
+    if (rk_json_check_keys(&c, k, path, keys) || rk_json_whole(&c, k, path, "rank", 0, 4096, &o->fit.rank) /* 0: by energy */ ||
         rk_json_number(&c, k, path, "energy", 0, &o->fit.energy) || rk_json_bool(&c, k, path, "clamp", &o->fit.clamp) ||
         rk_json_bool(&c, k, path, "project", &o->project))
         return -1;
