@@ -1,7 +1,8 @@
 /* make bench, basis part: seconds to build 32 linear modes (bottom 10% fixed), 16 RKPM skinning
  * eigenmodes on 1000 kernels (40k grid integration points, weights evaluated at every vertex),
- * and 32 POD modes from 100 frames, on the bench meshes from 1k to 100k+ tets. Each is the
- * median of 3 runs. The RKPM column is also given as a ratio to the freeform paper's training
+ * and 32 POD modes from 100 frames, on the bench meshes from 1k to 100k+ tets. Each is built 3
+ * times: X_s is the median of the 3 runs' seconds, X_s_min and X_s_max the fastest and slowest
+ * (the spread convention of bench_cases.h; here over repeated runs). The RKPM column is also given as a ratio to the freeform paper's training
  * time, 3.19 s on a GPU (Table 2). POD frames here are synthetic (the 32 modes with smooth
  * random time histories plus noise): POD cost depends on the sizes only, and full-order
  * training time is in fom_scaling (seconds per step times frames). Writes
@@ -30,7 +31,7 @@ static unsigned char *bottom_fixed(const rk_mesh *m)
     return f;
 }
 
-static int time_modes(const rk_scene_sim *sim, const unsigned char *fixed, double *sec, rk_basis *keep, rk_error *err)
+static int time_modes(const rk_scene_sim *sim, const unsigned char *fixed, bench_stat *sec, rk_basis *keep, rk_error *err)
 {
     double t[REPEATS];
     for (int k = 0; k < REPEATS; k++) {
@@ -41,11 +42,11 @@ static int time_modes(const rk_scene_sim *sim, const unsigned char *fixed, doubl
         if (k == REPEATS - 1) *keep = b;
         else rk_basis_free(&b);
     }
-    *sec = rk_median(t, REPEATS);
+    *sec = bench_stat_of(t, REPEATS);
     return 0;
 }
 
-static int time_rkpm(const rk_scene_sim *sim, double *sec, int *npoints, rk_error *err)
+static int time_rkpm(const rk_scene_sim *sim, bench_stat *sec, int *npoints, rk_error *err)
 {
     double t[REPEATS];
     for (int k = 0; k < REPEATS; k++) {
@@ -63,11 +64,11 @@ static int time_rkpm(const rk_scene_sim *sim, double *sec, int *npoints, rk_erro
         if (rc) return -1;
         rk_basis_free(&b);
     }
-    *sec = rk_median(t, REPEATS);
+    *sec = bench_stat_of(t, REPEATS);
     return 0;
 }
 
-static int time_pod(const rk_scene_sim *sim, const rk_basis *modes, double *sec, rk_error *err)
+static int time_pod(const rk_scene_sim *sim, const rk_basis *modes, bench_stat *sec, rk_error *err)
 {
     int n3 = 3 * sim->mesh.nv, T = 100;
     double *D = malloc(sizeof(double) * n3 * T);
@@ -95,7 +96,7 @@ static int time_pod(const rk_scene_sim *sim, const rk_basis *modes, double *sec,
     }
     rk_sparse_free(&M);
     free(D);
-    *sec = rc ? NAN : rk_median(t, REPEATS);
+    *sec = bench_stat_of(t, rc ? 0 : REPEATS);
     return rc;
 }
 
@@ -107,7 +108,11 @@ int main(int argc, char **argv)
     int ncases = bench_cases(data, cases) - 1; /* up to box_100k */
     if (getenv("ROMKIT_BENCH_QUICK")) ncases = 4;
     FILE *csv, *json;
-    if (bench_open_results(out_dir, "basis_scaling", "case,vertices,tets,modes32_s,rkpm16_s,rkpm_vs_paper_gpu,integration_points,pod32_s", &csv, &json)) return 1;
+    if (bench_open_results(out_dir, "basis_scaling",
+                           "case,vertices,tets,modes32_s,modes32_s_min,modes32_s_max,rkpm16_s,rkpm16_s_min,"
+                           "rkpm16_s_max,rkpm_vs_paper_gpu,integration_points,pod32_s,pod32_s_min,pod32_s_max",
+                           &csv, &json))
+        return 1;
     printf("%-14s %8s %8s %12s %12s %12s %12s\n", "case", "verts", "tets", "32 modes s", "16 RKPM s",
            "RKPM/3.19s", "32 POD s");
     for (int c = 0; c < ncases; c++) {
@@ -115,7 +120,7 @@ int main(int argc, char **argv)
         rk_scene scene;
         rk_scene_sim sim;
         rk_basis modes;
-        double s_modes, s_rkpm, s_pod;
+        bench_stat s_modes, s_rkpm, s_pod;
         int npoints;
         unsigned char *fixed = NULL;
         if (bench_scene(&cases[c], &scene, &sim, &err)) goto fail;
@@ -123,17 +128,20 @@ int main(int argc, char **argv)
         if (time_modes(&sim, fixed, &s_modes, &modes, &err) || time_rkpm(&sim, &s_rkpm, &npoints, &err) ||
             time_pod(&sim, &modes, &s_pod, &err))
             goto fail;
-        printf("%-14s %8d %8d %12.4g %12.4g %12.3f %12.4g\n", cases[c].name, sim.mesh.nv, sim.mesh.nt, s_modes,
-               s_rkpm, s_rkpm / PAPER_RKPM_SECONDS, s_pod);
+        printf("%-14s %8d %8d %12.4g %12.4g %12.3f %12.4g\n", cases[c].name, sim.mesh.nv, sim.mesh.nt,
+               s_modes.median, s_rkpm.median, s_rkpm.median / PAPER_RKPM_SECONDS, s_pod.median);
         fflush(stdout);
-        fprintf(csv, "%s,%d,%d,%.6g,%.6g,%.4f,%d,%.6g\n", cases[c].name, sim.mesh.nv, sim.mesh.nt, s_modes, s_rkpm,
-                s_rkpm / PAPER_RKPM_SECONDS, npoints, s_pod);
+        fprintf(csv, "%s,%d,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.4f,%d,%.6g,%.6g,%.6g\n", cases[c].name, sim.mesh.nv,
+                sim.mesh.nt, BENCH_STAT3(s_modes), BENCH_STAT3(s_rkpm), s_rkpm.median / PAPER_RKPM_SECONDS, npoints,
+                BENCH_STAT3(s_pod));
         fprintf(json,
                 "%s  {\"case\": \"%s\", \"vertices\": %d, \"tets\": %d, \"modes32_seconds\": %.6g,"
-                " \"rkpm16_seconds\": %.6g, \"rkpm_vs_paper_gpu\": %.4f, \"integration_points\": %d,"
-                " \"pod32_seconds\": %.6g}\n",
-                c ? "," : "", cases[c].name, sim.mesh.nv, sim.mesh.nt, s_modes, s_rkpm,
-                s_rkpm / PAPER_RKPM_SECONDS, npoints, s_pod);
+                " \"modes32_seconds_min\": %.6g, \"modes32_seconds_max\": %.6g, \"rkpm16_seconds\": %.6g,"
+                " \"rkpm16_seconds_min\": %.6g, \"rkpm16_seconds_max\": %.6g, \"rkpm_vs_paper_gpu\": %.4f,"
+                " \"integration_points\": %d, \"pod32_seconds\": %.6g, \"pod32_seconds_min\": %.6g,"
+                " \"pod32_seconds_max\": %.6g}\n",
+                c ? "," : "", cases[c].name, sim.mesh.nv, sim.mesh.nt, BENCH_STAT3(s_modes), BENCH_STAT3(s_rkpm),
+                s_rkpm.median / PAPER_RKPM_SECONDS, npoints, BENCH_STAT3(s_pod));
         rk_basis_free(&modes);
         free(fixed);
         rk_scene_sim_free(&sim);

@@ -1,8 +1,13 @@
 /* The meshes every make-bench program runs on (1k to 200k tets), and the shared helpers: the
- * scene around a mesh (medians of repeated timings: rk_median, util/sort.h). */
+ * scene around a mesh, and a timing's median with its spread.
+ *
+ * Spread convention, every bench: a timing column X is the median of its repeated samples and is
+ * followed by X_min and X_max, the smallest and largest sample (CSV columns and JSON keys alike).
+ * Each bench's header comment says what its samples are (repeated runs, or the steps of one run). */
 #ifndef RK_BENCH_CASES_H
 #define RK_BENCH_CASES_H
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -37,6 +42,32 @@ static inline int bench_cases(const char *data, bench_case *c)
     }
     return 9;
 }
+
+/* A timing: the median of its samples and their spread (smallest, largest). */
+typedef struct {
+    double median, min, max;
+} bench_stat;
+
+/* The median, min and max of t[0..n); sorts t (rk_median sorts in place). NAN when n < 1. */
+static inline bench_stat bench_stat_of(double *t, int n)
+{
+    bench_stat s = {NAN, NAN, NAN};
+    if (n < 1) return s;
+    s.median = rk_median(t, n);
+    s.min = t[0];
+    s.max = t[n - 1];
+    return s;
+}
+
+/* s scaled by k (seconds to microseconds, say). */
+static inline bench_stat bench_stat_scale(bench_stat s, double k)
+{
+    bench_stat o = {s.median * k, s.min * k, s.max * k};
+    return o;
+}
+
+/* The three values of s for a "%.6g,%.6g,%.6g" (or JSON) format: median, min, max. */
+#define BENCH_STAT3(s) (s).median, (s).min, (s).max
 
 /* A soft neo-Hookean object of the case's mesh under gravity, h = 0.01 s. */
 static inline int bench_scene(const bench_case *c, rk_scene *scene, rk_scene_sim *sim, rk_error *err)

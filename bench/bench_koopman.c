@@ -5,19 +5,21 @@
  * data has numerical rank about 30 whatever the mesh, too few for the r = 48 model.)
  *
  * Section 1, build (one row per mesh, T and rank request):
- *   fom s       one full-order run of FRAMES_MAX frames (rk_koopman_scene_run: u_-1, u_0, then
- *               FRAMES_MAX - 2 steps), timed once; fom s/st: its mean seconds per step
- *   fit s       rk_koopman_fit on the first T = 100, 200, 400, 800 frames: the median of
- *               FIT_REPEATS fits (snapshot pairs, dgesdd of the 2d x (T - 2) matrix, K', dgeev,
- *               residuals, W^-1), d = 3 nv; ask: rank FIT_RANK or by energy (0.999999, the
- *               default); rank: the rank the fit used; /T=100: the ratio to the same mesh's
- *               and request's T = 100 fit
+ *   fom s       one full-order run of FRAMES_MAX frames (u_-1, u_0, then FRAMES_MAX - 2 steps;
+ *               stepped here so that each step is timed, then rk_koopman_scene_run_frames):
+ *               fom_seconds, the run's total; fom s/st: fom_s_per_step, the median over its
+ *               steps
+ *   fit s       rk_koopman_fit on the first T = 100, 200, 400, 800 frames: FIT_REPEATS fits
+ *               (snapshot pairs, dgesdd of the 2d x (T - 2) matrix, K', dgeev, residuals,
+ *               W^-1), d = 3 nv; ask: rank FIT_RANK or by energy (0.999999, the default);
+ *               rank: the rank the fit used; /T=100: the ratio to the same mesh's and
+ *               request's T = 100 fit
  * Section 2, runtime (one row per mesh and r = 24, 48; the fit on all FRAMES_MAX frames, clamped):
  *   bake s      rk_asset_bake_koopman + rombin_serialize, float32, the boundary surface shown:
- *               median of FIT_REPEATS; asset bytes, the arena romrt_arena_size asks for it
+ *               FIT_REPEATS bakes; asset bytes, the arena romrt_arena_size asks for it
  *   step us     romrt_step (no positions): RT_REPEATS samples of STEP_CALLS steps from the
- *               asset's start state, restored (romrt_set_state) before each sample; the median
- *               of the samples' us per call. Likewise:
+ *               asset's start state, restored (romrt_set_state) before each sample; the
+ *               samples' us per call. Likewise:
  *   pos us      romrt_positions of every shown vertex (POS_CALLS calls per sample)
  *   jump us     romrt_jump(N), N = 1, 1e3, 1e6 (JUMP_CALLS calls per sample: the state goes
  *               on advancing within a sample; the cost does not depend on it)
@@ -25,6 +27,12 @@
  *   N st/j      N x step / jump(N): the speed-up of one jump over N steps (N = 1: below 1)
  *   |jump-step| |y_jump - y_steps| / |y_steps| of the reduced coordinates after jump(1000) and
  *               after 1000 steps from the start state (float32 rounding, not a timing)
+ *
+ * Spread (bench_cases.h): every timing X (fit_seconds, bake_seconds, step_us, positions_us,
+ * jump_*_us) is the median over its repeated samples (FIT_REPEATS fits or bakes; RT_REPEATS
+ * samples of calls), with X_min and X_max the fastest and slowest sample; fom_s_per_step's spread
+ * is over the steps of the one full-order run (fom_seconds, the total, is one run and not a
+ * median). The ratios are of the medians.
  *
  * Meshes after the first are skipped when their estimated section-1 cost (the last mesh's seconds
  * times the vertex ratio to the power 1.5, the full-order run's growth here) would take the run
@@ -69,13 +77,15 @@ typedef struct {
     rk_scene_sim sim;
     rk_koopman_run run;
     int nv, nt, d;
-    double fom_s;
+    double fom_s;        /* the run's total seconds */
+    bench_stat fom_step; /* its seconds per step: median, min, max over the steps */
 } mesh_case;
 
 typedef struct {
     int r, shown;
     size_t asset_bytes, arena_bytes;
-    double bake_s, step_us, pos_us, jump_us[NJUMP], jump_diff;
+    bench_stat bake_s, step_us, pos_us, jump_us[NJUMP];
+    double jump_diff;
 } rt_row;
 
 /* The cantilever of MESH_CELLS[i], built, set to run FRAMES_MAX - 2 steps. */
@@ -110,13 +120,36 @@ static void mesh_free(mesh_case *mc)
     rk_scene_free(&mc->scene);
 }
 
-/* The full-order run, timed once. */
+/* The full-order run, every step timed: the scene stepped here (so that each step's seconds are
+ * known), its displacements after each step made into the trajectory rk_koopman_scene_run would
+ * make (rk_koopman_scene_run_frames: u_-1 = -h v_0, u_0 = 0, then one frame per step). */
 static int mesh_run(mesh_case *mc, rk_error *err)
 {
+    const rk_scene_sim *sim = &mc->sim;
+    int n3 = mc->d, steps = sim->steps, rc = -1;
     double t0 = rk_now();
-    if (rk_koopman_scene_run(&mc->sim, NULL, &mc->run, err)) return -1;
+    double *frames = rk_calloc((size_t)n3 * (steps > 0 ? steps : 1), sizeof(double), err);
+    double *dt = rk_calloc((size_t)(steps > 0 ? steps : 1), sizeof(double), err);
+    rk_fom fom;
+    if (!frames || !dt || rk_fom_init(&fom, &sim->fem, &sim->options, err)) goto done;
+    for (int s = 0; s < steps; s++) {
+        double ts = rk_now();
+        if (rk_fom_step(&fom, err)) {
+            rk_fom_free(&fom);
+            goto done;
+        }
+        dt[s] = rk_now() - ts;
+        for (int i = 0; i < n3; i++) frames[(size_t)s * n3 + i] = fom.x[i] - sim->mesh.X[i];
+    }
+    rk_fom_free(&fom);
+    if (rk_koopman_scene_run_frames(sim, frames, steps, &mc->run, err)) goto done;
     mc->fom_s = rk_now() - t0;
-    return 0;
+    mc->fom_step = bench_stat_of(dt, steps);
+    rc = 0;
+done:
+    free(frames);
+    free(dt);
+    return rc ? rk_error_prefix(err, "full-order run") : 0;
 }
 
 static void fit_options(rk_koopman_options *o, int rank, int clamp)
@@ -126,8 +159,8 @@ static void fit_options(rk_koopman_options *o, int rank, int clamp)
     o->clamp = clamp;
 }
 
-/* Median seconds of FIT_REPEATS fits on the first T frames; *rank: the rank chosen. */
-static int time_fit(const mesh_case *mc, int T, int rank, double *median, int *chosen, rk_error *err)
+/* Seconds of FIT_REPEATS fits on the first T frames (median, min, max); *rank: the rank chosen. */
+static int time_fit(const mesh_case *mc, int T, int rank, bench_stat *sec, int *chosen, rk_error *err)
 {
     rk_koopman_options o;
     fit_options(&o, rank, 0);
@@ -142,12 +175,12 @@ static int time_fit(const mesh_case *mc, int T, int rank, double *median, int *c
         *chosen = K.r;
         rk_koopman_free(&K);
     }
-    *median = rk_median(s, FIT_REPEATS);
+    *sec = bench_stat_of(s, FIT_REPEATS);
     return 0;
 }
 
-/* The float32 asset of k (*asset malloc'd), baked FIT_REPEATS times: *median seconds. */
-static int bake(const mesh_case *mc, const rk_koopman *k, unsigned char **asset, size_t *bytes, double *median,
+/* The float32 asset of k (*asset malloc'd), baked FIT_REPEATS times: *sec, their seconds. */
+static int bake(const mesh_case *mc, const rk_koopman *k, unsigned char **asset, size_t *bytes, bench_stat *sec,
                 rk_error *err)
 {
     const rk_scene_sim *sim = &mc->sim;
@@ -183,15 +216,15 @@ static int bake(const mesh_case *mc, const rk_koopman *k, unsigned char **asset,
     }
     free(tris);
     if (rc) return -1;
-    *median = rk_median(s, FIT_REPEATS);
+    *sec = bench_stat_of(s, FIT_REPEATS);
     return 0;
 }
 
 enum { OP_STEP, OP_POSITIONS, OP_JUMP };
 
-/* Median us per call of `op` over RT_REPEATS samples of `calls` calls, the state restored to
- * `state` before each sample (one untimed sample first, as a warm-up). */
-static int time_op(romrt_model *m, const float *state, int op, unsigned long n, int calls, float *xyz, double *median,
+/* Us per call of `op` (median, min, max over RT_REPEATS samples of `calls` calls), the state
+ * restored to `state` before each sample (one untimed sample first, as a warm-up). */
+static int time_op(romrt_model *m, const float *state, int op, unsigned long n, int calls, float *xyz, bench_stat *us,
                    rk_error *err)
 {
     static double t[RT_REPEATS];
@@ -208,7 +241,7 @@ static int time_op(romrt_model *m, const float *state, int op, unsigned long n, 
         if (s >= 0) t[s] = 1e6 * (rk_now() - t0) / calls;
         if (st) return rk_fail(err, "runtime call (op %d, N %lu): %s", op, n, re.message);
     }
-    *median = rk_median(t, RT_REPEATS);
+    *us = bench_stat_of(t, RT_REPEATS);
     return 0;
 }
 
@@ -283,8 +316,8 @@ static int runtime_row(const mesh_case *mc, int r, rt_row *row, rk_error *err)
     return rc ? -1 : 0;
 }
 
-/* One section-1 row: stdout, csv, json. */
-static void emit_fit(FILE *csv, FILE *json, int *nrows, const mesh_case *mc, int T, int rank, int chosen, double s,
+/* One section-1 row: stdout, csv, json. s: the fit's seconds; base: the T = 100 fit's median. */
+static void emit_fit(FILE *csv, FILE *json, int *nrows, const mesh_case *mc, int T, int rank, int chosen, bench_stat s,
                      double base)
 {
     char req[16], svd[32];
@@ -292,40 +325,52 @@ static void emit_fit(FILE *csv, FILE *json, int *nrows, const mesh_case *mc, int
     else snprintf(req, sizeof req, "energy");
     snprintf(svd, sizeof svd, "%dx%d", 2 * mc->d, T - 2);
     printf("%-12s %5d %5d %5d %4d %11s %6s %4d %9.4f %7.2f %8.2f %8.4f\n", mc->name, mc->nv, mc->nt, mc->d, T, svd, req,
-           chosen, s, s / base, mc->fom_s, mc->fom_s / (FRAMES_MAX - 2));
+           chosen, s.median, s.median / base, mc->fom_s, mc->fom_step.median);
     fflush(stdout);
-    fprintf(csv, "fit,%s,%d,%d,%d,%d,%d,%d,%s,%d,%.6g,%.6g,%.6g,,,,,,,,,,,,,\n", mc->name, mc->nv, mc->nt, mc->d, T,
-            2 * mc->d, T - 2, req, chosen, mc->fom_s, s, s / base);
+    /* 18 columns, then the 25 of section 2 empty */
+    fprintf(csv, "fit,%s,%d,%d,%d,%d,%d,%d,%s,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,,,,,,,,,,,,,,,,,,,,,,,,,\n",
+            mc->name, mc->nv, mc->nt, mc->d, T, 2 * mc->d, T - 2, req, chosen, mc->fom_s, BENCH_STAT3(mc->fom_step),
+            BENCH_STAT3(s), s.median / base);
     fprintf(json,
             "%s  {\"section\": \"fit\", \"case\": \"%s\", \"vertices\": %d, \"tets\": %d, \"d\": %d, \"frames\": %d,"
             " \"svd_rows\": %d, \"svd_cols\": %d, \"rank_request\": \"%s\", \"rank\": %d, \"fom_seconds\": %.6g,"
-            " \"fit_seconds\": %.6g, \"fit_over_T100\": %.6g}\n",
-            (*nrows)++ ? "," : "", mc->name, mc->nv, mc->nt, mc->d, T, 2 * mc->d, T - 2, req, chosen, mc->fom_s, s,
-            s / base);
+            " \"fom_seconds_per_step\": %.6g, \"fom_seconds_per_step_min\": %.6g, \"fom_seconds_per_step_max\": %.6g,"
+            " \"fit_seconds\": %.6g, \"fit_seconds_min\": %.6g, \"fit_seconds_max\": %.6g, \"fit_over_T100\": %.6g}\n",
+            (*nrows)++ ? "," : "", mc->name, mc->nv, mc->nt, mc->d, T, 2 * mc->d, T - 2, req, chosen, mc->fom_s,
+            BENCH_STAT3(mc->fom_step), BENCH_STAT3(s), s.median / base);
 }
 
 /* One section-2 row: stdout, csv, json. */
 static void emit_runtime(FILE *csv, FILE *json, int *nrows, const mesh_case *mc, const rt_row *w)
 {
-    double j6_j1 = w->jump_us[2] / w->jump_us[0];
+    double j6_j1 = w->jump_us[2].median / w->jump_us[0].median;
     double up[NJUMP];
-    for (int j = 0; j < NJUMP; j++) up[j] = (double)JUMPS[j] * w->step_us / w->jump_us[j];
+    for (int j = 0; j < NJUMP; j++) up[j] = (double)JUMPS[j] * w->step_us.median / w->jump_us[j].median;
     printf("%-12s %2d %5d %9.1f %9.1f %8.4f %8.3f %8.2f %8.3f %8.3f %8.3f %6.2f %8.2f %9.3g %9.3g %8.1e\n", mc->name,
-           w->r, w->shown, w->asset_bytes / 1024.0, w->arena_bytes / 1024.0, w->bake_s, w->step_us, w->pos_us,
-           w->jump_us[0], w->jump_us[1], w->jump_us[2], j6_j1, up[0], up[1], up[2], w->jump_diff);
+           w->r, w->shown, w->asset_bytes / 1024.0, w->arena_bytes / 1024.0, w->bake_s.median, w->step_us.median,
+           w->pos_us.median, w->jump_us[0].median, w->jump_us[1].median, w->jump_us[2].median, j6_j1, up[0], up[1],
+           up[2], w->jump_diff);
     fflush(stdout);
-    fprintf(csv, "runtime,%s,%d,%d,%d,,,,,%d,,,,%d,%zu,%zu,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.3g\n",
-            mc->name, mc->nv, mc->nt, mc->d, w->r, w->shown, w->asset_bytes, w->arena_bytes, w->bake_s, w->step_us,
-            w->pos_us, w->jump_us[0], w->jump_us[1], w->jump_us[2], j6_j1, up[1], up[2], w->jump_diff);
+    /* 5 columns, 4 empty, rank, 8 empty, then the 25 of section 2 */
+    fprintf(csv,
+            "runtime,%s,%d,%d,%d,,,,,%d,,,,,,,,,%d,%zu,%zu,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,"
+            "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.3g\n",
+            mc->name, mc->nv, mc->nt, mc->d, w->r, w->shown, w->asset_bytes, w->arena_bytes, BENCH_STAT3(w->bake_s),
+            BENCH_STAT3(w->step_us), BENCH_STAT3(w->pos_us), BENCH_STAT3(w->jump_us[0]), BENCH_STAT3(w->jump_us[1]),
+            BENCH_STAT3(w->jump_us[2]), j6_j1, up[1], up[2], w->jump_diff);
     fprintf(json,
             "%s  {\"section\": \"runtime\", \"case\": \"%s\", \"vertices\": %d, \"tets\": %d, \"d\": %d, \"rank\": %d,"
             " \"shown_vertices\": %d, \"asset_bytes\": %zu, \"arena_bytes\": %zu, \"bake_seconds\": %.6g,"
-            " \"step_us\": %.6g, \"positions_us\": %.6g, \"jump_1_us\": %.6g, \"jump_1e3_us\": %.6g,"
-            " \"jump_1e6_us\": %.6g, \"jump_1e6_over_jump_1\": %.6g, \"steps_over_jump_1e3\": %.6g,"
-            " \"steps_over_jump_1e6\": %.6g, \"jump_1e3_relative_difference\": %.3g}\n",
+            " \"bake_seconds_min\": %.6g, \"bake_seconds_max\": %.6g, \"step_us\": %.6g, \"step_us_min\": %.6g,"
+            " \"step_us_max\": %.6g, \"positions_us\": %.6g, \"positions_us_min\": %.6g, \"positions_us_max\": %.6g,"
+            " \"jump_1_us\": %.6g, \"jump_1_us_min\": %.6g, \"jump_1_us_max\": %.6g, \"jump_1e3_us\": %.6g,"
+            " \"jump_1e3_us_min\": %.6g, \"jump_1e3_us_max\": %.6g, \"jump_1e6_us\": %.6g,"
+            " \"jump_1e6_us_min\": %.6g, \"jump_1e6_us_max\": %.6g, \"jump_1e6_over_jump_1\": %.6g,"
+            " \"steps_over_jump_1e3\": %.6g, \"steps_over_jump_1e6\": %.6g,"
+            " \"jump_1e3_relative_difference\": %.3g}\n",
             (*nrows)++ ? "," : "", mc->name, mc->nv, mc->nt, mc->d, w->r, w->shown, w->asset_bytes, w->arena_bytes,
-            w->bake_s, w->step_us, w->pos_us, w->jump_us[0], w->jump_us[1], w->jump_us[2], j6_j1, up[1], up[2],
-            w->jump_diff);
+            BENCH_STAT3(w->bake_s), BENCH_STAT3(w->step_us), BENCH_STAT3(w->pos_us), BENCH_STAT3(w->jump_us[0]),
+            BENCH_STAT3(w->jump_us[1]), BENCH_STAT3(w->jump_us[2]), j6_j1, up[1], up[2], w->jump_diff);
 }
 
 /* 1 (after printing why) when mesh i's estimated cost would take the run past the budget. */
@@ -350,9 +395,12 @@ int main(int argc, char **argv)
     FILE *csv, *json;
     if (bench_open_results(out_dir, "koopman",
                            "section,case,vertices,tets,d,frames,svd_rows,svd_cols,rank_request,rank,fom_seconds,"
-                           "fit_seconds,fit_over_T100,shown_vertices,asset_bytes,arena_bytes,bake_seconds,step_us,"
-                           "positions_us,jump_1_us,jump_1e3_us,jump_1e6_us,jump_1e6_over_jump_1,steps_over_jump_1e3,"
-                           "steps_over_jump_1e6,jump_1e3_relative_difference",
+                           "fom_s_per_step,fom_s_per_step_min,fom_s_per_step_max,fit_seconds,fit_seconds_min,"
+                           "fit_seconds_max,fit_over_T100,shown_vertices,asset_bytes,arena_bytes,bake_seconds,"
+                           "bake_seconds_min,bake_seconds_max,step_us,step_us_min,step_us_max,positions_us,"
+                           "positions_us_min,positions_us_max,jump_1_us,jump_1_us_min,jump_1_us_max,jump_1e3_us,"
+                           "jump_1e3_us_min,jump_1e3_us_max,jump_1e6_us,jump_1e6_us_min,jump_1e6_us_max,"
+                           "jump_1e6_over_jump_1,steps_over_jump_1e3,steps_over_jump_1e6,jump_1e3_relative_difference",
                            &csv, &json))
         return 1;
 
@@ -373,10 +421,10 @@ int main(int argc, char **argv)
         for (int a = 0; a < 2; a++) {
             double base = 0;
             for (int f = 0; f < NFRAMES; f++) {
-                double s;
+                bench_stat s;
                 int chosen;
                 if (time_fit(&mc[i], FRAMES[f], FIT_ASK[a], &s, &chosen, &err)) goto fail;
-                if (f == 0) base = s;
+                if (f == 0) base = s.median;
                 emit_fit(csv, json, &nrows, &mc[i], FRAMES[f], FIT_ASK[a], chosen, s, base);
             }
         }

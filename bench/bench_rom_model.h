@@ -2,8 +2,9 @@
  * way both time them. Every case: the soft neo-Hookean object of bench_scene, bottom 10% (in y)
  * fixed as one prescribed group, gravity, backward Euler at h = 0.01 s.
  *
- *   full order   one untimed warm-up step, then the median of case.steps single steps; every
- *                frame (the warm-up's and the timed ones) kept as a training snapshot
+ *   full order   one untimed warm-up step, then case.steps single steps, each timed (fom_s: their
+ *                median, min and max: the spread over the steps of one run); every frame (the
+ *                warm-up's and the timed ones) kept as a training snapshot
  *   basis        BENCH_MAX_R linear modes once per mesh; r uses the first r columns
  *   exact        the reduced model integrating every element
  *   cubature     trained (An et al. 2008, tolerance 0.01, 40 poses: the projected full-order
@@ -44,7 +45,7 @@ typedef struct {
     rk_fom_options opt;         /* a copy of sim.options with that one group as its prescribed list */
     int nframes;                /* case.steps + 1 */
     double *frames;             /* ndof x nframes, column-major */
-    double fom_s;               /* full-order median s/step */
+    bench_stat fom_s;           /* full-order s/step: median, min, max over the timed steps */
     rk_basis b;                 /* BENCH_MAX_R modes */
     rk_sparse M;                /* the inertia mass */
 } bench_rom_case;
@@ -124,7 +125,7 @@ static inline int bench_rom_case_prepare(const bench_case *c, bench_rom_case *bc
         fom_t[s] = rk_now() - t0;
         memcpy(bc->frames + (size_t)ndof * (s + 1), fom.x, sizeof(double) * ndof);
     }
-    bc->fom_s = rk_median(fom_t, steps);
+    bc->fom_s = bench_stat_of(fom_t, steps);
     rk_fom_free(&fom);
 
     /* BENCH_MAX_R linear modes; r uses the first r columns. */
@@ -210,24 +211,38 @@ static inline int bench_rom_cubature(bench_rom_case *bc, rk_rom_model *m, const 
     return 0;
 }
 
-/* Steps the model from rest: `warmup` untimed steps, then `samples` timed samples of `steps`
- * steps each; *median: the median over the samples of their seconds per step. stats: the work
- * of the timed steps; q_end (r reals, may be NULL): q after the last step. */
-static inline int bench_time_rom(rk_rom_model *m, int warmup, int samples, int steps, double *median,
-                                 rk_rom_stats *stats, double *q_end, rk_error *err)
+/* Keeps q (r reals) as column *taken of q_traj (r x ntraj) while *taken < ntraj; counts the step. */
+static inline void bench_keep_q(double *q_traj, int ntraj, int *taken, const double *q, int r)
 {
+    if (q_traj && *taken < ntraj) memcpy(q_traj + (size_t)r * *taken, q, sizeof(double) * (size_t)r);
+    (*taken)++;
+}
+
+/* Steps the model from rest: `warmup` untimed steps, then `samples` timed samples of `steps`
+ * steps each; *sec: the median, min and max over the samples of their seconds per step. stats:
+ * the work of the timed steps; q_end (r reals, may be NULL): q after the last step; q_traj (r x
+ * ntraj, may be NULL): q after each of the first ntraj steps (warm-up ones included), for as many
+ * steps as are taken. */
+static inline int bench_time_rom(rk_rom_model *m, int warmup, int samples, int steps, bench_stat *sec,
+                                 rk_rom_stats *stats, double *q_end, double *q_traj, int ntraj, rk_error *err)
+{
+    int taken = 0;
     rk_rom rom;
     double t[BENCH_MAX_SAMPLES];
     if (samples < 1 || samples > BENCH_MAX_SAMPLES || steps < 1)
         return rk_fail(err, "bench_time_rom: %d samples of %d steps", samples, steps);
     if (rk_rom_init(&rom, m, NULL, NULL, err)) return -1;
-    for (int s = 0; s < warmup; s++)
+    for (int s = 0; s < warmup; s++) {
         if (rk_rom_step(&rom, err)) goto fail;
+        bench_keep_q(q_traj, ntraj, &taken, rom.q, m->r);
+    }
     rk_rom_stats before = rom.stats;
     for (int s = 0; s < samples; s++) {
         double t0 = rk_now();
-        for (int k = 0; k < steps; k++)
+        for (int k = 0; k < steps; k++) {
             if (rk_rom_step(&rom, err)) goto fail;
+            bench_keep_q(q_traj, ntraj, &taken, rom.q, m->r);
+        }
         t[s] = (rk_now() - t0) / steps;
     }
     *stats = rom.stats;
@@ -237,12 +252,33 @@ static inline int bench_time_rom(rk_rom_model *m, int warmup, int samples, int s
     stats->unconverged_steps -= before.unconverged_steps;
     stats->seconds_total -= before.seconds_total;
     if (q_end) memcpy(q_end, rom.q, sizeof(double) * (size_t)m->r);
-    *median = rk_median(t, samples);
+    *sec = bench_stat_of(t, samples);
     rk_rom_free(&rom);
     return 0;
 fail:
     rk_rom_free(&rom);
     return -1;
+}
+
+/* The relative error of reduced trajectory q_traj (r x nf, from bench_time_rom) against the
+ * full-order frames 0..nf-1 (both start from rest; frame f is after step f + 1):
+ * sqrt(sum_f |x_rom,f - x_fom,f|^2 / sum_f |x_fom,f - X|^2) over every vertex. */
+static inline double bench_rom_error(const bench_rom_case *bc, int r, const double *q_traj, int nf)
+{
+    int n = bc->ndof;
+    double num = 0, den = 0;
+    double *x = malloc(sizeof(double) * (size_t)n);
+    if (!x) return NAN;
+    for (int f = 0; f < nf && f < bc->nframes; f++) {
+        const double *xf = bc->frames + (size_t)n * f;
+        rk_rom_positions(bc->b.U, n, r, bc->sim.mesh.X, q_traj + (size_t)r * f, x);
+        for (int i = 0; i < n; i++) {
+            num += (x[i] - xf[i]) * (x[i] - xf[i]);
+            den += (xf[i] - bc->sim.mesh.X[i]) * (xf[i] - bc->sim.mesh.X[i]);
+        }
+    }
+    free(x);
+    return den > 0 ? sqrt(num / den) : NAN;
 }
 
 #endif

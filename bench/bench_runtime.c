@@ -17,6 +17,11 @@
  *               fom/runtime is the speed-up of the runtime over it
  *   |dq|        |q_runtime - q_rom| / |q_rom| after the last timed step: float32 against double
  *
+ * Spread (bench_cases.h): runtime_us_per_step and rom_us_per_step are medians over their
+ * RT_REPEATS samples (each the mean us/step of its rt_steps(r) steps), with _min and _max the
+ * fastest and slowest sample; fom_s_per_step's spread is over the steps of its one run (as in
+ * bench_rom.c). The ratios are of the medians.
+ *
  * box_100k and box_200k are skipped when their estimated cost would take the run past
  * BUDGET_SECONDS (bench_over_budget). Writes bench/results/runtime.{csv,json}. */
 #include <math.h>
@@ -64,9 +69,10 @@ static int bake(const rk_scene_sim *sim, const rk_scene_rom *R, int compress, un
 }
 
 /* Times romrt_step from rest as bench_time_rom times rk_rom_step: 1 warm-up step, then
- * RT_REPEATS samples of `steps` steps. *median: s/step; *newton: Newton iterations per timed
+ * RT_REPEATS samples of `steps` steps. *sec: s/step (median, min, max over the samples); *newton: Newton iterations per timed
  * step; *unconverged: timed steps that ended unconverged; q: r reals after the last step. */
-static int time_runtime(romrt_model *m, int steps, double *median, double *newton, int *unconverged, float *q, rk_error *err)
+static int time_runtime(romrt_model *m, int steps, bench_stat *sec, double *newton, int *unconverged, float *q,
+                        rk_error *err)
 {
     romrt_error re;
     romrt_step_info info;
@@ -86,7 +92,7 @@ static int time_runtime(romrt_model *m, int steps, double *median, double *newto
         }
         t[s] = (rk_now() - t0) / steps;
     }
-    *median = rk_median(t, RT_REPEATS);
+    *sec = bench_stat_of(t, RT_REPEATS);
     *newton = (double)iters / (RT_REPEATS * steps);
     if (romrt_reduced_coordinates(m, q, romrt_reduced_size(m)) != ROMRT_OK)
         return rk_fail(err, "romrt_reduced_coordinates");
@@ -104,7 +110,9 @@ int main(int argc, char **argv)
     FILE *csv, *json;
     if (bench_open_results(out_dir, "runtime",
                            "case,vertices,tets,r,cubature_points,stored_vertices,shown_vertices,asset_bytes,"
-                           "asset_bytes_compressed,arena_bytes,runtime_us_per_step,rom_us_per_step,fom_s_per_step,"
+                           "asset_bytes_compressed,arena_bytes,runtime_us_per_step,runtime_us_per_step_min,"
+                           "runtime_us_per_step_max,rom_us_per_step,rom_us_per_step_min,rom_us_per_step_max,"
+                           "fom_s_per_step,fom_s_per_step_min,fom_s_per_step_max,"
                            "runtime_over_rom,fom_over_runtime,runtime_newton_per_step,rom_newton_per_step,"
                            "runtime_unconverged_steps,q_relative_difference,chunk_bytes",
                            &csv, &json))
@@ -128,7 +136,7 @@ int main(int argc, char **argv)
         if (ready < 0) goto fail;
         if (!ready) continue;
         int nv = bc.nv, nt = bc.nt;
-        double fom_s = bc.fom_s;
+        bench_stat fom_s = bc.fom_s;
         for (int k = 0; k < BENCH_NR; k++) {
             int r = BENCH_R_VALUES[k];
             rk_rom_model m;
@@ -183,7 +191,8 @@ int main(int argc, char **argv)
                 rk_fail(&err, "romrt_open: %s", arena ? re.message : "out of memory");
                 goto fail;
             }
-            double rt_s = 0, rt_newton = 0;
+            bench_stat rt_s = {0, 0, 0};
+            double rt_newton = 0;
             int rt_unconverged = 0;
             float q_rt[BENCH_MAX_R] = {0};
             if (time_runtime(rt, rt_steps(r), &rt_s, &rt_newton, &rt_unconverged, q_rt, &err)) goto fail;
@@ -191,9 +200,10 @@ int main(int argc, char **argv)
             free(asset);
 
             /* The double reduced simulator on the same model and the same steps. */
-            double rom_s, q_rom[BENCH_MAX_R];
+            bench_stat rom_s;
+            double q_rom[BENCH_MAX_R];
             rk_rom_stats st;
-            if (bench_time_rom(&m, 1, RT_REPEATS, rt_steps(r), &rom_s, &st, q_rom, &err)) goto fail;
+            if (bench_time_rom(&m, 1, RT_REPEATS, rt_steps(r), &rom_s, &st, q_rom, NULL, 0, &err)) goto fail;
             double rom_newton = (double)st.newton_iterations / (RT_REPEATS * rt_steps(r));
             double dq = 0, qn = 0;
             for (int j = 0; j < r; j++) {
@@ -201,19 +211,23 @@ int main(int argc, char **argv)
                 qn += q_rom[j] * q_rom[j];
             }
             double qdiff = qn > 0 ? sqrt(dq / qn) : sqrt(dq);
-            double ratio = rt_s / rom_s, speedup = fom_s / rt_s;
+            double ratio = rt_s.median / rom_s.median, speedup = fom_s.median / rt_s.median;
+            bench_stat rt_us = bench_stat_scale(rt_s, 1e6), rom_us = bench_stat_scale(rom_s, 1e6);
             if (ratio > max_ratio) max_ratio = ratio;
             total_unconverged += rt_unconverged;
 
             char stored[32];
             snprintf(stored, sizeof stored, "%d/%d", sum.vertices, nv);
             printf("%-13s %6d %2d %4d %13s %9.1f %9.1f %9.1f %9.1f %9.1f %7.2f %9.3g %9.0f %4.2f/%4.2f %8.1e\n", name, nt,
-                   r, set.count, stored, bytes / 1024.0, zbytes / 1024.0, arena_bytes / 1024.0, 1e6 * rt_s,
-                   1e6 * rom_s, ratio, fom_s, speedup, rt_newton, rom_newton, qdiff);
+                   r, set.count, stored, bytes / 1024.0, zbytes / 1024.0, arena_bytes / 1024.0, rt_us.median,
+                   rom_us.median, ratio, fom_s.median, speedup, rt_newton, rom_newton, qdiff);
             fflush(stdout);
-            fprintf(csv, "%s,%d,%d,%d,%d,%d,%d,%zu,%zu,%zu,%.6g,%.6g,%.6g,%.6g,%.6g,%.2f,%.2f,%d,%.3g,", name, nv, nt, r,
-                    set.count, sum.vertices, sum.shown, bytes, zbytes, arena_bytes, 1e6 * rt_s, 1e6 * rom_s, fom_s,
-                    ratio, speedup, rt_newton, rom_newton, rt_unconverged, qdiff);
+            fprintf(csv,
+                    "%s,%d,%d,%d,%d,%d,%d,%zu,%zu,%zu,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.2f,%.2f,"
+                    "%d,%.3g,",
+                    name, nv, nt, r, set.count, sum.vertices, sum.shown, bytes, zbytes, arena_bytes, BENCH_STAT3(rt_us),
+                    BENCH_STAT3(rom_us), BENCH_STAT3(fom_s), ratio, speedup, rt_newton, rom_newton, rt_unconverged,
+                    qdiff);
             for (int i = 0; i < cr->count; i++)
                 fprintf(csv, "%s%s:%llu", i ? " " : "", cr->id[i], (unsigned long long)cr->stored[i]);
             fprintf(csv, "\n");
@@ -221,11 +235,15 @@ int main(int argc, char **argv)
                     "%s  {\"case\": \"%s\", \"vertices\": %d, \"tets\": %d, \"r\": %d, \"cubature_points\": %d,"
                     " \"stored_vertices\": %d, \"shown_vertices\": %d, \"asset_bytes\": %zu,"
                     " \"asset_bytes_compressed\": %zu, \"arena_bytes\": %zu, \"runtime_us_per_step\": %.6g,"
-                    " \"rom_us_per_step\": %.6g, \"fom_seconds_per_step\": %.6g, \"runtime_over_rom\": %.6g,"
+                    " \"runtime_us_per_step_min\": %.6g, \"runtime_us_per_step_max\": %.6g,"
+                    " \"rom_us_per_step\": %.6g, \"rom_us_per_step_min\": %.6g, \"rom_us_per_step_max\": %.6g,"
+                    " \"fom_seconds_per_step\": %.6g, \"fom_seconds_per_step_min\": %.6g,"
+                    " \"fom_seconds_per_step_max\": %.6g, \"runtime_over_rom\": %.6g,"
                     " \"fom_over_runtime\": %.6g, \"runtime_newton_per_step\": %.2f, \"rom_newton_per_step\": %.2f,"
                     " \"runtime_unconverged_steps\": %d, \"q_relative_difference\": %.3g, \"chunk_bytes\": {",
                     nrows ? "," : "", name, nv, nt, r, set.count, sum.vertices, sum.shown, bytes, zbytes, arena_bytes,
-                    1e6 * rt_s, 1e6 * rom_s, fom_s, ratio, speedup, rt_newton, rom_newton, rt_unconverged, qdiff);
+                    BENCH_STAT3(rt_us), BENCH_STAT3(rom_us), BENCH_STAT3(fom_s), ratio, speedup, rt_newton, rom_newton,
+                    rt_unconverged, qdiff);
             for (int i = 0; i < cr->count; i++)
                 fprintf(json, "%s\"%s\": %llu", i ? ", " : "", cr->id[i], (unsigned long long)cr->stored[i]);
             fprintf(json, "}}\n");
