@@ -108,23 +108,11 @@ static int build_koopman(const char *scene_path, const rk_scene *scene, const rk
                          const rk_rom_options *o, const rk_asset_options *ao, const double *given, int given_T,
                          const char *out, const char *report_out, double t0, rk_error *err)
 {
-    rk_koopman_scene_options ko;
     rk_koopman_scene_info ki;
     rk_koopman k;
-    rk_basis b;
-    rk_scene_basis_info bi;
-    int have_basis = 0, rc = -1;
-    double *frames = NULL, *accel = NULL, *u0 = NULL, *u_prev = NULL;
-    int T = given_T;
-    memset(&k, 0, sizeof k);
-    if (rk_koopman_scene_options_parse(scene->rom, entry, scene_path, sim->options.h, &ko, err)) return -1;
-    if (ko.project) {
-        if ((!given && rk_basis_needs_frames(&o->basis) && rk_scene_training_frames(sim, &frames, &T, err)) ||
-            rk_scene_basis_build_frames(scene, &o->basis, given ? given : frames, T, &b, &bi, err))
-            goto done;
-        have_basis = 1;
-    }
-    if (rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, given ? given : frames, T, &k, &ki, err)) goto done;
+    int rc = -1;
+    double *accel = NULL, *u0 = NULL, *u_prev = NULL;
+    if (rk_koopman_scene_build(scene, sim, entry, &o->basis, given, given_T, &k, &ki, err)) return -1;
     int nv = sim->mesh.nv;
     accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
     u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
@@ -149,10 +137,10 @@ static int build_koopman(const char *scene_path, const rk_scene *scene, const rk
     cJSON_Delete(j);
     cJSON_AddNumberToObject(report, "vertices", nv);
     cJSON_AddNumberToObject(report, "tets", sim->mesh.nt);
-    if (have_basis) {
+    if (ki.projected) {
         cJSON *bj = cJSON_AddObjectToObject(report, "basis");
-        cJSON_AddStringToObject(bj, "type", rk_basis_type_name(b.type));
-        cJSON_AddNumberToObject(bj, "size", b.r);
+        cJSON_AddStringToObject(bj, "type", rk_basis_type_name(ki.basis_type));
+        cJSON_AddNumberToObject(bj, "size", ki.basis_columns);
     }
     cJSON *tj = cJSON_AddObjectToObject(report, "training");
     cJSON_AddNumberToObject(tj, "trajectories", ki.trajectories);
@@ -160,6 +148,7 @@ static int build_koopman(const char *scene_path, const rk_scene *scene, const rk
     cJSON_AddBoolToObject(tj, "projected", ki.projected);
     cJSON *sj = cJSON_AddObjectToObject(report, "seconds");
     cJSON_AddNumberToObject(sj, "fom", ki.seconds_fom);
+    cJSON_AddNumberToObject(sj, "basis", ki.seconds_basis);
     cJSON_AddNumberToObject(sj, "fit", ki.seconds_fit);
     cJSON_AddNumberToObject(sj, "total", rk_now() - t0);
     rc = koopman_asset_write(&k, &g, ao, info, out, report_out, report, err);
@@ -167,15 +156,10 @@ static int build_koopman(const char *scene_path, const rk_scene *scene, const rk
     free(info);
     cJSON_Delete(report);
 done:
-    free(frames);
     free(accel);
     free(u0);
     free(u_prev);
     rk_koopman_free(&k);
-    if (have_basis) {
-        rk_basis_free(&b);
-        rk_scene_basis_info_free(&bi);
-    }
     return rc;
 }
 

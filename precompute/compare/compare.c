@@ -117,13 +117,7 @@ static int run_realigned(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run
         if (rk_rom_step(&rom, err)) goto out;
         rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
         const double *ref = F->x + (size_t)ndof * (s + 1);
-        double e = 0, d = 0;
-        for (int i = 0; i < ndof; i++) {
-            e += (x[i] - ref[i]) * (x[i] - ref[i]);
-            d += (ref[i] - sim->mesh.X[i]) * (ref[i] - sim->mesh.X[i]);
-        }
-        num += sqrt(e);
-        den += sqrt(d);
+        rk_compare_online_add(x, ref, sim->mesh.X, ndof, &num, &den);
     }
     out->relative_online_error = den > 0 ? num / den : NAN;
     rc = 0;
@@ -133,6 +127,17 @@ out:
     free(v);
     free(x);
     return rc;
+}
+
+void rk_compare_online_add(const double *x, const double *ref, const double *X, int ndof, double *num, double *den)
+{
+    double e = 0, d = 0;
+    for (int i = 0; i < ndof; i++) {
+        e += (x[i] - ref[i]) * (x[i] - ref[i]);
+        d += (ref[i] - X[i]) * (ref[i] - X[i]);
+    }
+    *num += sqrt(e);
+    *den += sqrt(d);
 }
 
 void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)

@@ -14,6 +14,9 @@ typedef struct {
 
 /* Sum over vertices of |a - b|^2 and the largest |a - b|. */
 double rk_compare_frame_error(const double *a, const double *b, int ndof, double *max_dist);
+/* The online error's sums (Grassmann paper Sec. 5.1) for one realigned step: num += |x - ref|,
+ * den += |ref - X|. */
+void rk_compare_online_add(const double *x, const double *ref, const double *X, int ndof, double *num, double *den);
 /* The method did not run: why, and its numbers NAN. */
 void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
 

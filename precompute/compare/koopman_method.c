@@ -97,13 +97,7 @@ static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, 
         cblas_dgemv(CblasColMajor, CblasNoTrans, k->r, k->r, 1.0, k->Winv, k->r, K.z, 1, 0.0, K.y, 1);
         step(k, &K);
         positions(sim, &K);
-        double e = 0, d = 0;
-        for (int i = 0; i < n; i++) {
-            e += (K.x[i] - ref[i]) * (K.x[i] - ref[i]);
-            d += (ref[i] - sim->mesh.X[i]) * (ref[i] - sim->mesh.X[i]);
-        }
-        num += sqrt(e);
-        den += sqrt(d);
+        rk_compare_online_add(K.x, ref, sim->mesh.X, n, &num, &den);
     }
     m->relative_online_error = den > 0 ? num / den : NAN;
     rc = 0;
@@ -115,26 +109,16 @@ out:
 int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
                        const rk_rom_options *o, double L, rk_compare_method *m, rk_error *err)
 {
-    rk_koopman_scene_options ko;
     rk_koopman_scene_info ki;
     rk_koopman k;
-    rk_basis b;
-    rk_scene_basis_info bi;
-    int have_basis = 0, rc = -1;
-    memset(&k, 0, sizeof k);
     m->koopman = 1;
-    if (rk_koopman_scene_options_parse(scene->rom, index, scene->path, sim->options.h, &ko, err)) return -1;
-    double t0 = rk_now();
-    if (ko.project) {
-        if (rk_scene_basis_build_frames(scene, &o->basis, D, F->T, &b, &bi, err)) goto done;
-        have_basis = 1;
-        m->seconds_basis = rk_now() - t0;
+    if (rk_koopman_scene_build(scene, sim, index, &o->basis, D, F->T, &k, &ki, err)) return -1;
+    if (ki.projected)
         snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on the %s basis's %d coordinates",
-                 rk_basis_type_name(b.type), b.r);
-    } else {
+                 rk_basis_type_name(ki.basis_type), ki.basis_columns);
+    else
         snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on full displacements");
-    }
-    if (rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, D, F->T, &k, &ki, err)) goto done;
+    m->seconds_basis = ki.seconds_basis;
     m->seconds_training_run = ki.seconds_fom;
     m->seconds_fit = ki.seconds_fit;
     /* the scene as written is one of its training runs, unless every trajectory changes something */
@@ -145,12 +129,7 @@ int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->r = k.r;
     m->size = k.d;
     for (int j = 0; j < k.r; j++) m->max_abs_eigenvalue = fmax(m->max_abs_eigenvalue, hypot(k.lambda_re[j], k.lambda_im[j]));
-    rc = run_free_and_realigned(&k, sim, F, L, m, err);
-done:
+    int rc = run_free_and_realigned(&k, sim, F, L, m, err);
     rk_koopman_free(&k);
-    if (have_basis) {
-        rk_basis_free(&b);
-        rk_scene_basis_info_free(&bi);
-    }
     return rc;
 }

@@ -222,3 +222,39 @@ done:
     free(P_out);
     return rc;
 }
+
+int rk_koopman_scene_build(const rk_scene *scene, const rk_scene_sim *sim, int index, const rk_basis_options *bo,
+                           const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err)
+{
+    rk_koopman_scene_options ko;
+    rk_basis b;
+    rk_scene_basis_info bi;
+    double *own = NULL, seconds_basis = 0;
+    int have_basis = 0, rc = -1;
+    memset(k, 0, sizeof *k);
+    memset(info, 0, sizeof *info);
+    if (rk_koopman_scene_options_parse(scene->rom, index, scene->path, sim->options.h, &ko, err)) return -1;
+    if (ko.project) {
+        double t0 = rk_now();
+        if (!frames && rk_basis_needs_frames(bo)) {
+            if (rk_scene_training_frames(sim, &own, &T, err)) goto done;
+            frames = own;
+        }
+        if (rk_scene_basis_build_frames(scene, bo, frames, T, &b, &bi, err)) goto done;
+        have_basis = 1;
+        seconds_basis = rk_now() - t0;
+    }
+    rc = rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, frames, T, k, info, err);
+    if (!rc && have_basis) {
+        info->basis_type = b.type;
+        info->basis_columns = b.r;
+        info->seconds_basis = seconds_basis;
+    }
+done:
+    free(own);
+    if (have_basis) {
+        rk_basis_free(&b);
+        rk_scene_basis_info_free(&bi);
+    }
+    return rc;
+}

@@ -52,6 +52,9 @@ typedef struct {
     double seconds_fom, seconds_fit;
     int projected;                   /* observables are basis coordinates (d = basis columns) */
     int reused;                      /* the given frames (the scene as written) were a trajectory */
+    rk_basis_type basis_type;        /* when projected: the basis and its build time */
+    int basis_columns;
+    double seconds_basis;
 } rk_koopman_scene_info;
 
 /* The same trajectory from the scene's full-order run already done: frames (3 nv x T,
@@ -64,5 +67,12 @@ int rk_koopman_scene_run_frames(const rk_scene_sim *sim, const double *frames, i
  * done, used for each trajectory that changes nothing. */
 int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_scene_options *o, const rk_basis *basis,
                          const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err);
+
+/* Entry `index` of the scene's rom section end to end: its koopman options (h from the scene), the
+ * entry's basis when it asks for a projection (bo: the entry's basis keys), and the fit. frames
+ * (3 nv x T, may be NULL): the scene's own full-order run, already done; when NULL and something
+ * needs it, it is run here. */
+int rk_koopman_scene_build(const rk_scene *scene, const rk_scene_sim *sim, int index, const rk_basis_options *bo,
+                           const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err);
 
 #endif
