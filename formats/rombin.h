@@ -85,11 +85,13 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_VMAP "VMAP"   /* u32, vertices: the source mesh's vertex number (optional) */
 #define ROMBIN_INFO "INFO"   /* bytes: JSON text about the build (optional) */
 
-/* A Koopman asset (ROMBIN.md "Koopman chunks") has KHED instead of HEAD, and shares VERT, ROWS
- * (its output rows), GRPS, GVTX, GNAM, SURF, VMAP and INFO with the reduced model. */
+/* A Koopman operator (ROMBIN.md "Koopman chunks"): KHED and the chunks below, over the stored
+ * vertices of VERT (with GRPS, GVTX, GNAM, SURF, VMAP and INFO); alone, or beside a reduced model
+ * in the same asset. */
 #define ROMBIN_KHED "KHED"   /* u32 x ROMBIN_KHED_COUNT, critical */
 #define ROMBIN_KPRM "KPRM"   /* real x ROMBIN_KPRM_COUNT, critical */
 #define ROMBIN_KEIG "KEIG"   /* real, r x 2: discrete-time eigenvalues (re, im) in block order */
+#define ROMBIN_KOUT "KOUT"   /* real, vertices x 3 x r: output rows, x_v = X_v + rows y */
 #define ROMBIN_KIMP "KIMP"   /* real, vertices x 3 x r: impulse rows over the vertex mass */
 #define ROMBIN_KACC "KACC"   /* real, r: the constant acceleration's impulse per h h' */
 #define ROMBIN_KINI "KINI"   /* real, r: the state at t = 0 */

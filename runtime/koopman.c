@@ -244,7 +244,7 @@ romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m)
     uint64_t r = (uint64_t)m->r, nv = (uint64_t)m->nv;
     romrt_status st;
     if ((st = rt_reals(L, ROMBIN_KEIG, 2 * r, 1, &m->eig)) || (st = rt_reals(L, ROMBIN_VERT, 3 * nv, 1, &m->X)) ||
-        (st = rt_reals(L, ROMBIN_ROWS, 3 * nv * r, 1, &m->rows)) ||
+        (st = rt_reals(L, ROMBIN_KOUT, 3 * nv * r, 1, &m->rows)) ||
         (st = rt_reals(L, ROMBIN_KIMP, 3 * nv * r, 1, &m->force_rows)) ||
         (st = rt_reals(L, ROMBIN_KACC, r, 1, &m->accel)) || (st = rt_reals(L, ROMBIN_KINI, r, 1, &m->y0)))
         return st;

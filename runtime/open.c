@@ -9,7 +9,7 @@ static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
                                            ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CMAS, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
-                                           ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KIMP, ROMBIN_KACC,
+                                           ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
 
 /* The three passes over one kind of model's chunks. */
@@ -134,8 +134,9 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
     return ROMRT_OK;
 }
 
-static romrt_status load(const void *asset, size_t asset_bytes, void *arena, size_t arena_bytes, size_t *needed,
-                         romrt_model **out, romrt_error *err)
+/* kind: ROMRT_KIND_REDUCED or ROMRT_KIND_KOOPMAN, or -1: the reduced model if there is one. */
+static romrt_status load(const void *asset, size_t asset_bytes, int kind, void *arena, size_t arena_bytes,
+                         size_t *needed, romrt_model **out, romrt_error *err)
 {
     rt_loader L;
     romrt_model scratch, *m;
@@ -179,9 +180,11 @@ static romrt_status load(const void *asset, size_t asset_bytes, void *arena, siz
         static const model_reader reduced = {sizes, arrays, contents};
         static const model_reader koopman = {rt_koopman_sizes, rt_koopman_arrays, rt_koopman_contents};
         int has_head = rombin_find(&L.file, ROMBIN_HEAD, &c), has_khed = rombin_find(&L.file, ROMBIN_KHED, &c);
-        if (has_head && has_khed)
-            return rt_fail(err, ROMRT_E_MODEL, ROMBIN_KHED, "both a reduced model (HEAD) and a Koopman operator");
-        reader = has_khed ? &koopman : &reduced;
+        if (kind == ROMRT_KIND_KOOPMAN && !has_khed)
+            return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_KHED, "the asset has no Koopman operator");
+        if (kind == ROMRT_KIND_REDUCED && !has_head)
+            return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_HEAD, "the asset has no reduced model");
+        reader = kind == ROMRT_KIND_KOOPMAN || (kind < 0 && !has_head) ? &koopman : &reduced;
     }
     if ((st = reader->sizes(&L, m))) return st;
     {
@@ -202,17 +205,42 @@ static romrt_status load(const void *asset, size_t asset_bytes, void *arena, siz
     return ROMRT_OK;
 }
 
-romrt_status romrt_arena_size(const void *asset, size_t asset_bytes, size_t *arena_bytes, romrt_error *err)
+static romrt_status arena_size(const void *asset, size_t asset_bytes, int kind, size_t *arena_bytes, romrt_error *err)
 {
     if (!arena_bytes) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_arena_size: arena_bytes is NULL");
     *arena_bytes = 0;
-    return load(asset, asset_bytes, 0, 0, arena_bytes, 0, err);
+    return load(asset, asset_bytes, kind, 0, 0, arena_bytes, 0, err);
+}
+
+static romrt_status open_model(const void *asset, size_t asset_bytes, int kind, void *arena, size_t arena_bytes,
+                               romrt_model **model, romrt_error *err)
+{
+    if (!arena || !model) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_open: arena or model is NULL");
+    *model = 0;
+    return load(asset, asset_bytes, kind, arena, arena_bytes, 0, model, err);
+}
+
+romrt_status romrt_arena_size(const void *asset, size_t asset_bytes, size_t *arena_bytes, romrt_error *err)
+{
+    return arena_size(asset, asset_bytes, -1, arena_bytes, err);
+}
+
+romrt_status romrt_arena_size_kind(const void *asset, size_t asset_bytes, romrt_kind kind, size_t *arena_bytes,
+                                   romrt_error *err)
+{
+    if (kind != ROMRT_KIND_REDUCED && kind != ROMRT_KIND_KOOPMAN) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "unknown kind");
+    return arena_size(asset, asset_bytes, (int)kind, arena_bytes, err);
 }
 
 romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size_t arena_bytes, romrt_model **model,
                         romrt_error *err)
 {
-    if (!arena || !model) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_open: arena or model is NULL");
-    *model = 0;
-    return load(asset, asset_bytes, arena, arena_bytes, 0, model, err);
+    return open_model(asset, asset_bytes, -1, arena, arena_bytes, model, err);
+}
+
+romrt_status romrt_open_kind(const void *asset, size_t asset_bytes, romrt_kind kind, void *arena, size_t arena_bytes,
+                             romrt_model **model, romrt_error *err)
+{
+    if (kind != ROMRT_KIND_REDUCED && kind != ROMRT_KIND_KOOPMAN) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "unknown kind");
+    return open_model(asset, asset_bytes, (int)kind, arena, arena_bytes, model, err);
 }

@@ -94,6 +94,13 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err);
 void romrt_reset(romrt_model *m);
 
 romrt_kind romrt_model_kind(const romrt_model *m);
+/* An asset may hold a reduced model and a Koopman operator of the same object (a rom entry with both
+ * cubature and koopman); romrt_arena_size / romrt_open take the reduced model when there is one.
+ * These take the model of the given kind (ROMRT_E_UNSUPPORTED, naming it, when the asset has none). */
+romrt_status romrt_arena_size_kind(const void *asset, size_t asset_bytes, romrt_kind kind, size_t *arena_bytes,
+                                   romrt_error *err);
+romrt_status romrt_open_kind(const void *asset, size_t asset_bytes, romrt_kind kind, void *arena, size_t arena_bytes,
+                             romrt_model **model, romrt_error *err);
 /* The ROMRT_MAX_R this library was compiled with: assets with a larger r are refused. */
 int romrt_max_reduced_size(void);
 

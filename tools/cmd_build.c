@@ -102,64 +102,89 @@ static char *info_text(const char *scene_path, const rk_rom_options *o, const rk
     return text;
 }
 
-/* rom.koopman: the operator learned from the scene's own training runs, on the basis's
- * coordinates when it asks for a projection. */
+/* A rom entry's Koopman operator and what baking it needs: the scene's constant acceleration, the
+ * start (where the training runs start: X_0 = [0; h v_0]) and the boundary to show. */
+typedef struct {
+    rk_koopman k;
+    rk_koopman_scene_info ki;
+    double *accel, *u0, *u_prev;
+    rk_koopman_geometry g;
+} koopman_part;
+
+static void koopman_part_free(koopman_part *p)
+{
+    rk_koopman_free(&p->k);
+    free(p->accel);
+    free(p->u0);
+    free(p->u_prev);
+    free(p->g.tris);
+    memset(p, 0, sizeof *p);
+}
+
+static int koopman_part_build(const rk_scene *scene, const rk_scene_sim *sim, int entry, const rk_rom_options *o,
+                              const double *frames, int T, koopman_part *p, rk_error *err)
+{
+    int nv = sim->mesh.nv;
+    memset(p, 0, sizeof *p);
+    if (rk_koopman_scene_build(scene, sim, entry, &o->basis, frames, T, &p->k, &p->ki, err)) return -1;
+    p->accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    p->u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    p->u_prev = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    if (!p->accel || !p->u0 || !p->u_prev) return koopman_part_free(p), -1;
+    for (int v = 0; v < nv; v++)
+        for (int a = 0; a < 3; a++) {
+            int i = 3 * v + a;
+            p->accel[i] = sim->options.gravity[a] + (sim->options.force ? sim->options.force[i] / sim->fem.vertex_mass[v] : 0);
+            p->u_prev[i] = sim->options.velocity0 ? -sim->options.h * sim->options.velocity0[i] : 0;
+        }
+    p->g = (rk_koopman_geometry){nv, sim->mesh.X, sim->fem.vertex_mass, NULL, 0, p->accel, p->u0, p->u_prev,
+                                 sim->mesh.nt, p->ki.trajectories};
+    if (rk_mesh_boundary(&sim->mesh, &p->g.tris, &p->g.ntris, err)) return koopman_part_free(p), -1;
+    return 0;
+}
+
+/* The report's training keys for a Koopman operator. */
+static void add_training(cJSON *report, const rk_koopman_scene_info *ki)
+{
+    cJSON *tj = cJSON_AddObjectToObject(report, "training");
+    cJSON_AddNumberToObject(tj, "trajectories", ki->trajectories);
+    cJSON_AddNumberToObject(tj, "frames", ki->frames);
+    cJSON_AddBoolToObject(tj, "projected", ki->projected);
+}
+
+/* rom.koopman without cubature: an asset holding the Koopman operator only. */
 static int build_koopman(const char *scene_path, const rk_scene *scene, const rk_scene_sim *sim, int entry,
                          const rk_rom_options *o, const rk_asset_options *ao, const double *given, int given_T,
                          const char *out, const char *report_out, double t0, rk_error *err)
 {
-    rk_koopman_scene_info ki;
-    rk_koopman k;
-    int rc = -1;
-    double *accel = NULL, *u0 = NULL, *u_prev = NULL;
-    if (rk_koopman_scene_build(scene, sim, entry, &o->basis, given, given_T, &k, &ki, err)) return -1;
-    int nv = sim->mesh.nv;
-    accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
-    u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
-    u_prev = rk_calloc((size_t)3 * nv, sizeof(double), err);
-    if (!accel || !u0 || !u_prev) goto done;
-    /* the asset starts where the training runs do: X_0 = [0; h v_0] */
-    for (int v = 0; v < nv; v++)
-        for (int a = 0; a < 3; a++) {
-            int i = 3 * v + a;
-            accel[i] = sim->options.gravity[a] + (sim->options.force ? sim->options.force[i] / sim->fem.vertex_mass[v] : 0);
-            u_prev[i] = sim->options.velocity0 ? -sim->options.h * sim->options.velocity0[i] : 0;
-        }
-    rk_koopman_geometry g = {nv, sim->mesh.X, sim->fem.vertex_mass, NULL, 0, accel, u0, u_prev, sim->mesh.nt, ki.trajectories};
-    if (rk_mesh_boundary(&sim->mesh, &g.tris, &g.ntris, err)) goto done;
+    koopman_part p;
+    int nv = sim->mesh.nv, rc;
+    if (koopman_part_build(scene, sim, entry, o, given, given_T, &p, err)) return -1;
     cJSON *report = cJSON_CreateObject(), *j = cJSON_CreateObject();
     const char *slash = strrchr(scene_path, '/');
     cJSON_AddStringToObject(j, "scene", slash ? slash + 1 : scene_path);
     cJSON_AddStringToObject(j, "method", "koopman");
-    cJSON_AddNumberToObject(j, "rank", k.r);
-    cJSON_AddNumberToObject(j, "trajectories", ki.trajectories);
+    cJSON_AddNumberToObject(j, "rank", p.k.r);
+    cJSON_AddNumberToObject(j, "trajectories", p.ki.trajectories);
     char *info = cJSON_PrintUnformatted(j);
     cJSON_Delete(j);
     cJSON_AddNumberToObject(report, "vertices", nv);
     cJSON_AddNumberToObject(report, "tets", sim->mesh.nt);
-    if (ki.projected) {
+    if (p.ki.projected) {
         cJSON *bj = cJSON_AddObjectToObject(report, "basis");
-        cJSON_AddStringToObject(bj, "type", rk_basis_type_name(ki.basis_type));
-        cJSON_AddNumberToObject(bj, "size", ki.basis_columns);
+        cJSON_AddStringToObject(bj, "type", rk_basis_type_name(p.ki.basis_type));
+        cJSON_AddNumberToObject(bj, "size", p.ki.basis_columns);
     }
-    cJSON *tj = cJSON_AddObjectToObject(report, "training");
-    cJSON_AddNumberToObject(tj, "trajectories", ki.trajectories);
-    cJSON_AddNumberToObject(tj, "frames", ki.frames);
-    cJSON_AddBoolToObject(tj, "projected", ki.projected);
+    add_training(report, &p.ki);
     cJSON *sj = cJSON_AddObjectToObject(report, "seconds");
-    cJSON_AddNumberToObject(sj, "fom", ki.seconds_fom);
-    cJSON_AddNumberToObject(sj, "basis", ki.seconds_basis);
-    cJSON_AddNumberToObject(sj, "fit", ki.seconds_fit);
+    cJSON_AddNumberToObject(sj, "fom", p.ki.seconds_fom);
+    cJSON_AddNumberToObject(sj, "basis", p.ki.seconds_basis);
+    cJSON_AddNumberToObject(sj, "fit", p.ki.seconds_fit);
     cJSON_AddNumberToObject(sj, "total", rk_now() - t0);
-    rc = koopman_asset_write(&k, &g, ao, info, out, report_out, report, err);
-    free(g.tris);
+    rc = koopman_asset_write(&p.k, &p.g, ao, info, out, report_out, report, err);
     free(info);
     cJSON_Delete(report);
-done:
-    free(accel);
-    free(u0);
-    free(u_prev);
-    rk_koopman_free(&k);
+    koopman_part_free(&p);
     return rc;
 }
 
@@ -213,6 +238,7 @@ int cmd_build(int argc, char **argv)
     rk_scene scene;
     rk_scene_sim sim;
     rk_scene_rom R;
+    koopman_part kp;
     rk_rom_options o;
     rk_asset_options ao;
     rk_asset_summary sum = {0};
@@ -249,7 +275,8 @@ int cmd_build(int argc, char **argv)
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     stage = 2;
     if (training && load_training(training, &sim, &frames, &T, &err)) goto done;
-    if (rk_koopman_scene_present(scene.rom, entry)) {
+    int with_koopman = rk_koopman_scene_present(scene.rom, entry);
+    if (with_koopman && !o.cubature) {
         rc = build_koopman(scene_path, &scene, &sim, entry, &o, &ao, frames, T, out, report_out, t0, &err) ? 1 : 0;
         goto done;
     }
@@ -259,9 +286,13 @@ int cmd_build(int argc, char **argv)
         goto done;
     if (rk_scene_rom_build(&scene, &sim, &o, frames, T, &R, &err)) goto done;
     stage = 3;
+    /* an entry with cubature and koopman: both models in one asset, trained on the same run */
+    if (with_koopman && koopman_part_build(&scene, &sim, entry, &o, frames, T, &kp, &err)) goto done;
+    stage = with_koopman ? 4 : 3;
     info = info_text(scene_path, &o, &R);
     rombin_writer_init(&w, ao.real_type, ao.compress);
-    if (rk_asset_bake(&sim, &R, &ao, info, &w, &sum, &err) || rombin_serialize(&w, &data, &bytes, &err)) {
+    if (rk_asset_bake_with(&sim, &R, with_koopman ? &kp.k : NULL, with_koopman ? &kp.g : NULL, &ao, info, &w, &sum, &err) ||
+        rombin_serialize(&w, &data, &bytes, &err)) {
         rombin_writer_free(&w);
         goto done;
     }
@@ -269,18 +300,25 @@ int cmd_build(int argc, char **argv)
     if (rombin_save(out, data, bytes, &err)) goto done;
     if (report_out) {
         cJSON *report = make_report(&sim, &R, &sum, data, bytes, rk_now() - t0);
+        if (with_koopman) {
+            cJSON_AddItemToObject(report, "koopman", koopman_report(&kp.k));
+            add_training(report, &kp.ki);
+        }
         int bad = rk_json_write_file(report_out, report, &err);
         cJSON_Delete(report);
         if (bad) goto done;
     }
     printf("%s: %s, r = %d, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes\n", out, o.name,
            R.model.r, R.model.quad.count, sum.vertices, sim.mesh.nv, sum.shown, bytes);
+    if (with_koopman)
+        printf("  and a Koopman operator of rank %d beside it (romkit run --koopman, romrt_open_kind)\n", kp.k.r);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "romkit build: %s\n", err.msg);
     free(data);
     free(info);
     free(frames);
+    if (stage >= 4) koopman_part_free(&kp);
     if (stage >= 3) rk_scene_rom_free(&R);
     if (stage >= 2) rk_scene_sim_free(&sim);
     if (stage >= 1) rk_scene_free(&scene);

@@ -2,6 +2,7 @@
  * model's sizes when the runtime can open it. Exit 1 on any damage. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "args.h"
 #include "commands.h"
@@ -64,15 +65,29 @@ int cmd_inspect(int argc, char **argv)
         free(data);
         return 1;
     }
-    size_t arena;
-    romrt_error rerr;
-    int rc = 0;
-    if (romrt_arena_size(data, size, &arena, &rerr) != ROMRT_OK) {
-        fprintf(stderr, "romkit inspect: %s: %s: %s\n", path, romrt_status_string(rerr.status), rerr.message);
+    /* every model the asset holds: a reduced model, a Koopman operator, or both */
+    static const romrt_kind kinds[2] = {ROMRT_KIND_REDUCED, ROMRT_KIND_KOOPMAN};
+    static const char *const names[2] = {"reduced model", "Koopman operator"};
+    int rc = 0, models = 0;
+    for (int k = 0; k < 2; k++) {
+        size_t arena;
+        romrt_error rerr;
+        romrt_status st = romrt_arena_size_kind(data, size, kinds[k], &arena, &rerr);
+        if (st == ROMRT_E_UNSUPPORTED && strstr(rerr.message, k ? "has no Koopman operator" : "has no reduced model"))
+            continue; /* not in this asset */
+        models++;
+        if (st != ROMRT_OK) {
+            fprintf(stderr, "romkit inspect: %s: %s: %s: %s\n", path, names[k], romrt_status_string(rerr.status), rerr.message);
+            rc = 1;
+            break; /* a damaged container would say the same for the other model */
+        } else {
+            printf("%s: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", names[k],
+                   romrt_max_reduced_size(), arena, inflated ? " once inflated" : "");
+        }
+    }
+    if (!models) {
+        fprintf(stderr, "romkit inspect: %s: holds no model (neither HEAD nor KHED)\n", path);
         rc = 1;
-    } else {
-        printf("model: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", romrt_max_reduced_size(), arena,
-               inflated ? " once inflated" : "");
     }
     free(data);
     return rc;

@@ -22,7 +22,7 @@ static void run_usage(FILE *f)
 {
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
                "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
-               "                  [--reference S.npy] [--quiet]\n"
+               "                  [--reference S.npy] [--frames DIR] [--koopman] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
@@ -30,6 +30,8 @@ static void run_usage(FILE *f)
                "                Newton work, arena and asset bytes\n"
                "  --jump        after the steps, advance a Koopman asset N steps at once (seconds_jump:\n"
                "                the median of 21 timed jumps from the same state)\n"
+               "  --koopman     step the asset's Koopman operator (an asset may hold one beside its reduced\n"
+               "                model; --jump, --dt and --damping imply it)\n"
                "  --dt          a Koopman asset's time step (s), rescaled from the training one (Eq. 21)\n"
                "  --damping     a Koopman asset's eigenvalues times (1 - MU) (Sec. 7.2)\n"
                "  --frames DIR  the shown surface at every frame as DIR/frame_NNNNN.obj (frame 0: the start)\n"
@@ -173,12 +175,12 @@ int cmd_run(int argc, char **argv)
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
     const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL, *frames_dir = NULL;
-    int quiet = 0;
+    int quiet = 0, koopman = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
                                {"--jump", &jump_text, NULL},     {"--dt", &dt_text, NULL},
                                {"--damping", &damping_text, NULL}, {"--reference", &ref_path, NULL},
-                               {"--frames", &frames_dir, NULL},
+                               {"--frames", &frames_dir, NULL},   {"--koopman", NULL, &koopman},
                                {"--quiet", NULL, &quiet},
                                {NULL, NULL, NULL}};
     long steps, jump = 0;
@@ -205,18 +207,25 @@ int cmd_run(int argc, char **argv)
     int inflated;
     if (rombin_inflate_in_place(&data, &size, &inflated, &err)) goto fail;
     romrt_model *m;
-    if (romrt_arena_size(data, size, &arena_bytes, &rerr) != ROMRT_OK) goto runtime_fail;
+    /* an asset may hold a reduced model and a Koopman operator: the Koopman options pick the latter */
+    koopman |= jump_text || dt_text || damping_text;
+    if ((koopman ? romrt_arena_size_kind(data, size, ROMRT_KIND_KOOPMAN, &arena_bytes, &rerr)
+                 : romrt_arena_size(data, size, &arena_bytes, &rerr)) != ROMRT_OK) {
+        if (koopman && rerr.status == ROMRT_E_UNSUPPORTED) {
+            rk_fail(&err, "%s: this asset has no Koopman operator (no KHED chunk)",
+                    jump_text ? "--jump" : dt_text ? "--dt" : damping_text ? "--damping" : "--koopman");
+            goto fail;
+        }
+        goto runtime_fail;
+    }
     arena = aligned_alloc(16, (arena_bytes + 15) / 16 * 16);
     if (!arena) {
         rk_fail(&err, "out of memory for a %zu-byte arena", arena_bytes);
         goto fail;
     }
-    if (romrt_open(data, size, arena, arena_bytes, &m, &rerr) != ROMRT_OK) goto runtime_fail;
-    if ((jump_text || dt_text || damping_text) && romrt_model_kind(m) != ROMRT_KIND_KOOPMAN) {
-        rk_fail(&err, "%s: this asset has no Koopman operator (no KHED chunk)",
-                jump_text ? "--jump" : dt_text ? "--dt" : "--damping");
-        goto fail;
-    }
+    if ((koopman ? romrt_open_kind(data, size, ROMRT_KIND_KOOPMAN, arena, arena_bytes, &m, &rerr)
+                 : romrt_open(data, size, arena, arena_bytes, &m, &rerr)) != ROMRT_OK)
+        goto runtime_fail;
     if (dt_text && romrt_set_time_step(m, (romrt_real)strtod(dt_text, NULL), &rerr) != ROMRT_OK) goto runtime_fail;
     if (damping_text && romrt_set_damping(m, (romrt_real)strtod(damping_text, NULL), &rerr) != ROMRT_OK)
         goto runtime_fail;

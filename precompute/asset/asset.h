@@ -57,6 +57,13 @@ typedef struct {
     int source_tets, trajectories; /* information for KHED */
 } rk_koopman_geometry;
 
+/* rk_asset_bake with a Koopman operator k over the same mesh beside the reduced model (an entry
+ * with both cubature and koopman): one asset, two models; the runtime opens the reduced model by
+ * default and the operator with romrt_open_kind. k, g may be NULL. */
+int rk_asset_bake_with(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_koopman *k, const rk_koopman_geometry *g,
+                       const rk_asset_options *o, const char *info, rombin_writer *w, rk_asset_summary *summary,
+                       rk_error *err);
+
 /* Adds a Koopman asset's chunks (formats/ROMBIN.md "Koopman chunks") for operator k, whose
  * values are g's 3 nv displacements. */
 int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_asset_options *o, const char *info,

@@ -28,21 +28,15 @@ static int add_geometry(const rk_scene_sim *sim, const rk_scene_rom *R, const rk
                         rk_error *err)
 {
     int r = R->model.r, ndof = 3 * s->nv;
-    double *X = rk_calloc((size_t)3 * s->count, sizeof(double), err);
     double *rows = rk_calloc((size_t)3 * s->count * r, sizeof(double), err);
-    int rc = -1;
-    if (X && rows) {
-        for (int i = 0; i < s->count; i++)
-            for (int a = 0; a < 3; a++) {
-                int src = 3 * s->source[i] + a;
-                X[3 * i + a] = sim->fem.X[src];
-                for (int j = 0; j < r; j++) rows[(size_t)(3 * i + a) * r + j] = R->basis.U[(size_t)ndof * j + src];
-            }
-        rc = rombin_add_reals(w, ROMBIN_VERT, 1, X, (size_t)3 * s->count, err) ||
-             rombin_add_reals(w, ROMBIN_ROWS, 1, rows, (size_t)3 * s->count * r, err) ||
-             rk_bake_add_u32s(w, ROMBIN_VMAP, 0, s->source, (size_t)s->count, err);
-    }
-    free(X);
+    if (!rows) return -1;
+    for (int i = 0; i < s->count; i++)
+        for (int a = 0; a < 3; a++) {
+            int src = 3 * s->source[i] + a;
+            for (int j = 0; j < r; j++) rows[(size_t)(3 * i + a) * r + j] = R->basis.U[(size_t)ndof * j + src];
+        }
+    int rc = rk_bake_add_vertices(sim->fem.X, s, w, err) ||
+             rombin_add_reals(w, ROMBIN_ROWS, 1, rows, (size_t)3 * s->count * r, err);
     free(rows);
     return rc ? -1 : 0;
 }
@@ -125,6 +119,13 @@ static int add_contacts(const rk_rom_model *m, const rk_obstacles *ob, const rk_
 int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_options *o, const char *info,
                   rombin_writer *w, rk_asset_summary *summary, rk_error *err)
 {
+    return rk_asset_bake_with(sim, R, NULL, NULL, o, info, w, summary, err);
+}
+
+int rk_asset_bake_with(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_koopman *k, const rk_koopman_geometry *g,
+                       const rk_asset_options *o, const char *info, rombin_writer *w, rk_asset_summary *summary,
+                       rk_error *err)
+{
     const rk_rom_model *m = &R->model;
     if (m->is_static)
         return rk_fail(err, "asset: the runtime steps dynamic models, and this scene asks for a static solve (time.static)");
@@ -155,7 +156,7 @@ int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(sim, R, &s, w, err) || add_operators(m, w, err) ||
              add_elements(&sim->fem, &m->quad, &s, w, err) || add_contacts(m, &sim->options.obstacles, &s, w, err) ||
-             rk_bake_add_groups_and_surface(o, &s, w, err) ||
+             (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     }
     if (!rc && summary) {

@@ -18,6 +18,12 @@ int rk_bake_select(int nv, const double *X, const int *extra, int nextra, const 
                    rk_error *err);
 void rk_bake_state_free(rk_bake_state *s);
 int rk_bake_add_u32s(rombin_writer *w, const char *id, int critical, const int *v, size_t n, rk_error *err);
+/* VERT (the stored vertices' rest positions, from X over all source vertices) and VMAP. */
+int rk_bake_add_vertices(const double *X, const rk_bake_state *s, rombin_writer *w, rk_error *err);
+/* A Koopman operator's own chunks over the stored vertices s (bake_koopman.c): KHED, KPRM, KEIG,
+ * KACC, KINI, KOUT, KIMP. */
+int rk_bake_koopman_chunks(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                           const rk_bake_state *s, rombin_writer *w, rk_error *err);
 /* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */
 int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, rombin_writer *w, rk_error *err);
 

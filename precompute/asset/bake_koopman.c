@@ -6,16 +6,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ROWS and KIMP of the stored vertices from the real form's out (n x r) and in (r x n). */
+/* KOUT and KIMP of the stored vertices from the real form's out (n x r) and in (r x n). */
 static int add_rows(const rk_koopman *k, const rk_koopman_geometry *g, const rk_bake_state *s, const double *out,
                     const double *in, rombin_writer *w, rk_error *err)
 {
     int r = k->r, n = 3 * g->nv;
-    double *X = rk_calloc((size_t)3 * s->count, sizeof(double), err);
     double *rows = rk_calloc((size_t)3 * s->count * r, sizeof(double), err);
     double *imp = rk_calloc((size_t)3 * s->count * r, sizeof(double), err);
     int rc = -1;
-    if (X && rows && imp) {
+    if (rows && imp) {
         for (int i = 0; i < s->count; i++) {
             int v = s->source[i];
             if (!(g->vertex_mass[v] > 0)) {
@@ -24,20 +23,16 @@ static int add_rows(const rk_koopman *k, const rk_koopman_geometry *g, const rk_
             }
             for (int a = 0; a < 3; a++) {
                 int src = 3 * v + a;
-                X[3 * i + a] = g->X[src];
                 for (int j = 0; j < r; j++) {
                     rows[(size_t)(3 * i + a) * r + j] = out[(size_t)n * j + src];
                     imp[(size_t)(3 * i + a) * r + j] = in[(size_t)r * src + j] / g->vertex_mass[v];
                 }
             }
         }
-        rc = rombin_add_reals(w, ROMBIN_VERT, 1, X, (size_t)3 * s->count, err) ||
-             rombin_add_reals(w, ROMBIN_ROWS, 1, rows, (size_t)3 * s->count * r, err) ||
-             rombin_add_reals(w, ROMBIN_KIMP, 1, imp, (size_t)3 * s->count * r, err) ||
-             rk_bake_add_u32s(w, ROMBIN_VMAP, 0, s->source, (size_t)s->count, err);
+        rc = rombin_add_reals(w, ROMBIN_KOUT, 1, rows, (size_t)3 * s->count * r, err) ||
+             rombin_add_reals(w, ROMBIN_KIMP, 1, imp, (size_t)3 * s->count * r, err);
     }
 done:
-    free(X);
     free(rows);
     free(imp);
     return rc ? -1 : 0;
@@ -65,6 +60,37 @@ static int add_dynamics(const rk_koopman *k, const rk_koopman_geometry *g, const
     return rc ? -1 : 0;
 }
 
+int rk_bake_koopman_chunks(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                           const rk_bake_state *s, rombin_writer *w, rk_error *err)
+{
+    int n = 3 * g->nv, r = k->r, rc = -1;
+    double *out = NULL, *in = NULL, *y0 = NULL;
+    if (k->n != n)
+        return rk_fail(err, "the operator has %d values per frame, the geometry %d vertices (%d values)", k->n, g->nv, n);
+    out = rk_calloc((size_t)n * r, sizeof(double), err);
+    in = rk_calloc((size_t)n * r, sizeof(double), err);
+    y0 = rk_calloc((size_t)r, sizeof(double), err);
+    if (out && in && y0 && !rk_koopman_real_form(k, out, in, g->u0, g->u_prev, y0, err)) {
+        uint32_t head[ROMBIN_KHED_COUNT] = {0};
+        head[ROMBIN_KHED_R] = (uint32_t)r;
+        head[ROMBIN_KHED_VERTICES] = (uint32_t)s->count;
+        head[ROMBIN_KHED_SHOWN] = (uint32_t)s->shown;
+        head[ROMBIN_KHED_GROUPS] = (uint32_t)o->ngroups;
+        head[ROMBIN_KHED_SOURCE_VERTICES] = (uint32_t)g->nv;
+        head[ROMBIN_KHED_SOURCE_TETS] = (uint32_t)g->source_tets;
+        head[ROMBIN_KHED_TRAJECTORIES] = (uint32_t)g->trajectories;
+        double parm[ROMBIN_KPRM_COUNT] = {0};
+        parm[ROMBIN_KPRM_H] = k->h;
+        rc = rombin_add_u32(w, ROMBIN_KHED, 1, head, ROMBIN_KHED_COUNT, err) ||
+             rombin_add_reals(w, ROMBIN_KPRM, 1, parm, ROMBIN_KPRM_COUNT, err) || add_dynamics(k, g, in, y0, w, err) ||
+             add_rows(k, g, s, out, in, w, err);
+    }
+    free(out);
+    free(in);
+    free(y0);
+    return rc ? -1 : 0;
+}
+
 int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_asset_options *o, const char *info,
                           rombin_writer *w, rk_asset_summary *summary, rk_error *err)
 {
@@ -73,32 +99,9 @@ int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_
     s.tris = g->tris;
     s.nf = g->tris ? g->ntris : 0;
     g->tris = NULL;
-    int n = 3 * g->nv, r = k->r, rc = -1;
-    double *out = NULL, *in = NULL, *y0 = NULL;
-    if (k->n != n) {
-        rk_fail(err, "the operator has %d values per frame, the geometry %d vertices (%d values)", k->n, g->nv, n);
-        goto done;
-    }
-    out = rk_calloc((size_t)n * r, sizeof(double), err);
-    in = rk_calloc((size_t)n * r, sizeof(double), err);
-    y0 = rk_calloc((size_t)r, sizeof(double), err);
-    if (!out || !in || !y0 || rk_koopman_real_form(k, out, in, g->u0, g->u_prev, y0, err) ||
-        rk_bake_select(g->nv, g->X, NULL, 0, o, &s, err))
-        goto done;
-    uint32_t head[ROMBIN_KHED_COUNT] = {0};
-    head[ROMBIN_KHED_R] = (uint32_t)r;
-    head[ROMBIN_KHED_VERTICES] = (uint32_t)s.count;
-    head[ROMBIN_KHED_SHOWN] = (uint32_t)s.shown;
-    head[ROMBIN_KHED_GROUPS] = (uint32_t)o->ngroups;
-    head[ROMBIN_KHED_SOURCE_VERTICES] = (uint32_t)g->nv;
-    head[ROMBIN_KHED_SOURCE_TETS] = (uint32_t)g->source_tets;
-    head[ROMBIN_KHED_TRAJECTORIES] = (uint32_t)g->trajectories;
-    double parm[ROMBIN_KPRM_COUNT] = {0};
-    parm[ROMBIN_KPRM_H] = k->h;
-    rc = rombin_add_u32(w, ROMBIN_KHED, 1, head, ROMBIN_KHED_COUNT, err) ||
-         rombin_add_reals(w, ROMBIN_KPRM, 1, parm, ROMBIN_KPRM_COUNT, err) || add_dynamics(k, g, in, y0, w, err) ||
-         add_rows(k, g, &s, out, in, w, err) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
-         (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
+    int rc = rk_bake_select(g->nv, g->X, NULL, 0, o, &s, err) || rk_bake_add_vertices(g->X, &s, w, err) ||
+             rk_bake_koopman_chunks(k, g, o, &s, w, err) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
+             (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     if (!rc && summary) {
         memset(summary, 0, sizeof *summary);
         summary->vertices = s.count;
@@ -106,10 +109,6 @@ int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_
         summary->groups = o->ngroups;
         summary->triangles = o->show == RK_SHOW_NONE ? 0 : s.nf;
     }
-done:
-    free(out);
-    free(in);
-    free(y0);
     rk_bake_state_free(&s);
     return rc ? (rk_error_prefix(err, "Koopman asset"), -1) : 0;
 }

@@ -98,3 +98,15 @@ int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, 
     return rk_bake_add_u32s(w, ROMBIN_SURF, 0, s->tris, (size_t)3 * s->nf, err);
 }
 
+
+int rk_bake_add_vertices(const double *X, const rk_bake_state *s, rombin_writer *w, rk_error *err)
+{
+    double *P = rk_calloc((size_t)3 * s->count, sizeof(double), err);
+    if (!P) return -1;
+    for (int i = 0; i < s->count; i++)
+        for (int a = 0; a < 3; a++) P[3 * i + a] = X[3 * s->source[i] + a];
+    int rc = rombin_add_reals(w, ROMBIN_VERT, 1, P, (size_t)3 * s->count, err) ||
+             rk_bake_add_u32s(w, ROMBIN_VMAP, 0, s->source, (size_t)s->count, err);
+    free(P);
+    return rc ? -1 : 0;
+}

@@ -151,23 +151,39 @@ static int fix_crcs(unsigned char *p, size_t size)
 }
 
 /* Arena size, open, the calls on the model, and an arena one byte short. */
-static void run(const void *asset, size_t size)
+/* One model of the asset: kind -1 is romrt_open's choice, else romrt_open_kind's. */
+static void run_kind(const void *asset, size_t size, int kind)
 {
     void *arena = NULL, *small = NULL;
     size_t arena_bytes = 0;
     romrt_error err;
     romrt_model *m = NULL;
+    romrt_status st;
     memset(&err, 0, sizeof err);
-    if (check(romrt_arena_size(asset, size, &arena_bytes, &err), &err) == ROMRT_OK && arena_bytes <= FUZZ_ARENA_CAP) {
+    st = kind < 0 ? romrt_arena_size(asset, size, &arena_bytes, &err)
+                  : romrt_arena_size_kind(asset, size, (romrt_kind)kind, &arena_bytes, &err);
+    if (check(st, &err) == ROMRT_OK && arena_bytes <= FUZZ_ARENA_CAP) {
         arena = alloc16(arena_bytes);
         memset(&err, 0, sizeof err);
-        if (arena && check(romrt_open(asset, size, arena, arena_bytes, &m, &err), &err) == ROMRT_OK) exercise(m);
+        st = !arena ? ROMRT_E_ARENA : kind < 0 ? romrt_open(asset, size, arena, arena_bytes, &m, &err)
+                                               : romrt_open_kind(asset, size, (romrt_kind)kind, arena, arena_bytes, &m, &err);
+        if (arena && check(st, &err) == ROMRT_OK) {
+            if (kind >= 0 && (int)romrt_model_kind(m) != kind) BROKEN("romrt_open_kind opened another kind");
+            exercise(m);
+        }
         /* An arena one byte short may be refused or may suffice, but must not be overrun. */
         small = arena_bytes > 1 ? alloc16(arena_bytes - 1) : NULL;
         if (small) check(romrt_open(asset, size, small, arena_bytes - 1, &m, &err), &err);
     }
     free(small);
     free(arena);
+}
+
+/* The default model, then the Koopman operator when the asset also holds one. */
+static void run(const void *asset, size_t size)
+{
+    run_kind(asset, size, -1);
+    run_kind(asset, size, ROMRT_KIND_KOOPMAN);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -44,8 +44,9 @@ static const char *base_name(const char *path)
     return s ? s + 1 : path;
 }
 
-/* Arena size, open, then `steps` steps; the first failing call's status and error. */
-static romrt_status open_and_step(const unsigned char *asset, size_t size, int steps, romrt_error *err)
+/* Arena size, open, then `steps` steps of one model (kind -1: romrt_open's default); the first
+ * failing call's status and error. */
+static romrt_status open_and_step_kind(const unsigned char *asset, size_t size, int kind, int steps, romrt_error *err)
 {
     size_t bytes = 0;
     void *arena = NULL;
@@ -53,15 +54,30 @@ static romrt_status open_and_step(const unsigned char *asset, size_t size, int s
     romrt_status st;
     int i;
     memset(err, 0, sizeof *err);
-    st = romrt_arena_size(asset, size, &bytes, err);
+    st = kind < 0 ? romrt_arena_size(asset, size, &bytes, err)
+                  : romrt_arena_size_kind(asset, size, (romrt_kind)kind, &bytes, err);
     if (st != ROMRT_OK) return st;
     if (posix_memalign(&arena, 16, bytes ? bytes : 1) != 0) {
         fprintf(stderr, "replay: cannot allocate an arena of %lu bytes\n", (unsigned long)bytes);
         exit(2);
     }
-    st = romrt_open(asset, size, arena, bytes, &m, err);
+    st = kind < 0 ? romrt_open(asset, size, arena, bytes, &m, err)
+                  : romrt_open_kind(asset, size, (romrt_kind)kind, arena, bytes, &m, err);
     for (i = 0; st == ROMRT_OK && i < steps; i++) st = romrt_step(m, err);
     free(arena);
+    return st;
+}
+
+/* Every model the asset holds: the default one, then its Koopman operator if it has one beside a
+ * reduced model (damage there must be refused too). */
+static romrt_status open_and_step(const unsigned char *asset, size_t size, int steps, romrt_error *err)
+{
+    romrt_status st = open_and_step_kind(asset, size, -1, steps, err);
+    romrt_error k;
+    if (st != ROMRT_OK) return st;
+    st = open_and_step_kind(asset, size, ROMRT_KIND_KOOPMAN, steps, &k);
+    if (st == ROMRT_E_UNSUPPORTED && strstr(k.message, "has no Koopman operator")) return ROMRT_OK; /* none */
+    *err = k;
     return st;
 }
 

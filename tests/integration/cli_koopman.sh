@@ -81,6 +81,25 @@ sed '1s/(151, 99, 3), }/(27, 1661), }  /' "$TMP/S.npy" >"$TMP/obs.npy"
     && "$ROMKIT" run "$TMP/o.rombin" --steps 5 --quiet >/dev/null 2>&1 && ok dmd_takes_t_by_d_observables \
     || fail dmd_takes_t_by_d_observables "$(cat "$TMP/err")"
 
+# An entry with both cubature and koopman (DESIGN.md's scene): one asset holding both models.
+sed 's/"koopman": {"rank": 20, "clamp": true},/"cubature": {"tolerance": 0.05}, "koopman": {"rank": 20, "clamp": true},/' \
+    "$TMP/beam.json" >"$TMP/both.json"
+if "$ROMKIT" build "$TMP/both.json" -o "$TMP/both.rombin" --training "$TMP/S.npy" --report "$TMP/both_r.json" --quiet \
+        >"$TMP/out" 2>"$TMP/err"; then
+    case $(flat "$TMP/both_r.json") in *'"cubature":{"elements":'*'"koopman":{"rank":20'*) ok build_both_report_keys ;;
+        *) fail build_both_report_keys "$(head -c 300 "$TMP/both_r.json")" ;; esac
+    "$ROMKIT" inspect "$TMP/both.rombin" >"$TMP/out" 2>&1 && grep -q "^reduced model: opens" "$TMP/out" && \
+        grep -q "^Koopman operator: opens" "$TMP/out" && ok inspect_opens_both_models || fail inspect_opens_both_models "$(tail -3 "$TMP/out")"
+    "$ROMKIT" run "$TMP/both.rombin" --steps 20 --report "$TMP/b1.json" --quiet >/dev/null 2>&1
+    "$ROMKIT" run "$TMP/both.rombin" --steps 150 --koopman --reference "$TMP/S.npy" --report "$TMP/b2.json" --quiet >/dev/null 2>&1
+    e=$(num "$TMP/b2.json" relative_error)
+    case $(flat "$TMP/b1.json") in *'"kind":"reduced"'*) ok run_opens_the_reduced_model_by_default ;;
+        *) fail run_opens_the_reduced_model_by_default "$(head -c 200 "$TMP/b1.json")" ;; esac
+    below "$e" 0.01 && ok run_koopman_opens_the_operator_beside_it || fail run_koopman_opens_the_operator_beside_it "error '$e'"
+else
+    fail build_both_report_keys "$(cat "$TMP/err")"
+fi
+
 # Errors: named, and nothing written.
 expect_fail dmd_needs_dt "are required" "$ROMKIT" dmd --snapshots "$TMP/S.npy" -o "$TMP/x.rombin"
 expect_fail dmd_rank_above_the_data "numerical rank" "$ROMKIT" dmd --snapshots "$TMP/S.npy" --dt 0.01 --rank 400 -o "$TMP/x.rombin"

@@ -22,8 +22,9 @@ replay() {
     fi
 }
 
-# A reduced model (tests/fuzz/seed_scene.json) and a Koopman operator (seed_koopman.json).
-for kind in scene koopman; do
+# A reduced model (tests/fuzz/seed_scene.json), a Koopman operator (seed_koopman.json) and both in
+# one asset (seed_both.json).
+for kind in scene koopman both; do
 for prec in float32 float64; do
     name=$kind-$prec
     seed=$TMP/seed-$name.rombin

@@ -285,10 +285,28 @@ TEST(damaged_eigenvalues_are_refused)
     fixture_close(&f);
 }
 
+TEST(open_kind_names_a_missing_model)
+{
+    rk_error err;
+    fixture f;
+    CHECK_OK(fixture_open(&f, &err));
+    size_t need;
+    romrt_error rerr;
+    romrt_model *m;
+    CHECK(romrt_arena_size_kind(f.asset, f.bytes, ROMRT_KIND_KOOPMAN, &need, &rerr) == ROMRT_OK, "%s", rerr.message);
+    CHECK(romrt_open_kind(f.asset, f.bytes, ROMRT_KIND_KOOPMAN, f.arena, need, &m, &rerr) == ROMRT_OK &&
+              romrt_model_kind(m) == ROMRT_KIND_KOOPMAN, "%s", rerr.message);
+    CHECK(romrt_arena_size_kind(f.asset, f.bytes, ROMRT_KIND_REDUCED, &need, &rerr) == ROMRT_E_UNSUPPORTED &&
+              strstr(rerr.message, "has no reduced model"), "a Koopman-only asset: %s", rerr.message);
+    CHECK(romrt_arena_size_kind(f.asset, f.bytes, (romrt_kind)7, &need, &rerr) == ROMRT_E_ARGUMENT, "kind 7 accepted");
+    fixture_close(&f);
+}
+
 int main(void)
 {
     RUN(steps_as_the_library_does);
     RUN(a_jump_equals_single_steps);
     RUN(damaged_eigenvalues_are_refused);
+    RUN(open_kind_names_a_missing_model);
     return test_finish();
 }
