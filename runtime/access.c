@@ -83,6 +83,34 @@ int romrt_group_count(const romrt_model *m) { return m ? m->ngroups : 0; }
 romrt_real romrt_time(const romrt_model *m) { return m ? m->t : 0; }
 romrt_real romrt_time_step(const romrt_model *m) { return m ? m->h : 0; }
 
+/* Positions are computed in romrt_real: keep them below its largest value with room to spare. */
+#ifdef ROMRT_DOUBLE
+#define RT_POSITION_LIMIT 1e300
+#else
+#define RT_POSITION_LIMIT 1e37
+#endif
+
+void rt_position_bounds(romrt_model *m)
+{
+    int i, j;
+    m->row_bound = m->x_bound = 0;
+    for (i = 0; i < 3 * m->shown; i++) {
+        double s = 0;
+        for (j = 0; j < m->r; j++) s += fabs((double)m->rows[(size_t)i * (size_t)m->r + (size_t)j]);
+        if (s > m->row_bound) m->row_bound = s;
+        if (fabs((double)m->X[i]) > m->x_bound) m->x_bound = fabs((double)m->X[i]);
+    }
+}
+
+int rt_showable(const romrt_model *m, const romrt_real *q)
+{
+    double top = 0;
+    int j;
+    for (j = 0; j < m->r; j++)
+        if (fabs((double)q[j]) > top) top = fabs((double)q[j]);
+    return top * m->row_bound + m->x_bound < RT_POSITION_LIMIT;
+}
+
 romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count)
 {
     int i, a;
@@ -190,6 +218,7 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < count; i++)
         if (!isfinite(state[i])) return ROMRT_E_ARGUMENT;
+    if (!rt_showable(m, state + 2)) return ROMRT_E_ARGUMENT; /* q would draw as Inf */
     if (!(state[1] == 0 || state[1] == 1)) return ROMRT_E_ARGUMENT;
     r = m->r;
     m->t = state[0];

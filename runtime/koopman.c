@@ -122,7 +122,7 @@ romrt_status rt_koopman_step(romrt_model *m, romrt_error *err)
     memcpy(y, m->q, sizeof(romrt_real) * (size_t)m->r);
     apply_blocks(m, m->lam_re, m->lam_im, y);
     for (j = 0; j < m->r; j++) y[j] += c[j];
-    if (!finite_all(y, m->r))
+    if (!finite_all(y, m->r) || !rt_showable(m, y))
         return rt_fail(err, ROMRT_E_DIVERGED, 0, "the Koopman state overflowed (an eigenvalue above 1: bake with clamp)");
     memcpy(m->q, y, sizeof(romrt_real) * (size_t)m->r);
     memset(&m->last, 0, sizeof m->last);
@@ -178,7 +178,7 @@ romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err)
     apply_blocks(m, pr, pi, y);
     apply_blocks(m, sr, si, c);
     for (j = 0; j < m->r; j++) y[j] += c[j];
-    if (!finite_all(y, m->r))
+    if (!finite_all(y, m->r) || !rt_showable(m, y))
         return rt_fail(err, ROMRT_E_DIVERGED, 0, "the Koopman state overflowed over the jump (an eigenvalue above 1)");
     memcpy(m->q, y, sizeof(romrt_real) * (size_t)m->r);
     m->t += m->h * (romrt_real)steps;

@@ -201,6 +201,10 @@ static romrt_status load(const void *asset, size_t asset_bytes, int kind, void *
     }
     L.scanned = 1; /* the sizing pass checked every real; now place them */
     if ((st = reader->arrays(&L, m)) || (st = reader->contents(&L, m))) return st;
+    rt_position_bounds(m);
+    if (!rt_showable(m, m->q)) /* the start: rows and rest positions so large that it draws as Inf */
+        return rt_fail(err, ROMRT_E_MODEL, m->kind == ROMRT_KIND_KOOPMAN ? ROMBIN_KINI : ROMBIN_VERT,
+                       "the start state's positions are not representable (rows or rest positions too large)");
     *out = m;
     return ROMRT_OK;
 }

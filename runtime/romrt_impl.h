@@ -63,6 +63,8 @@ struct romrt_model {
     const uint32_t *tris;     /* ntris x 3 */
     const char *names;        /* ngroups x 32 */
     const romrt_real *force_rows; /* the rows a pushed force goes through: ROWS, or KIMP */
+    double row_bound, x_bound;    /* max over shown coordinates of sum_j |row_j| and of |X|: positions stay
+                                   * finite while max |q| row_bound + x_bound does (rt_showable) */
     /* Koopman assets: h above is the current step h_data * dt_scale */
     romrt_real h_data, dt_scale, damping;
     const romrt_real *eig;    /* r x 2 (KEIG) */
@@ -100,6 +102,11 @@ romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const 
 /* Koopman assets (koopman.c): their chunks, in the loader's passes; the step; back to t = 0. */
 romrt_status rt_koopman_step(romrt_model *m, romrt_error *err);
 void rt_koopman_reset(romrt_model *m);
+
+/* The shown positions' bounds (open.c, once): and whether positions X + rows q stay representable
+ * for this q (steps refuse a state that would draw as Inf). */
+void rt_position_bounds(romrt_model *m);
+int rt_showable(const romrt_model *m, const romrt_real *q);
 
 /* Dense kernels on r x r column-major matrices (dense.c). */
 void rt_symv(int r, const romrt_real *S, const romrt_real *x, romrt_real *y); /* y = S x, S full */

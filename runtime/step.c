@@ -125,6 +125,8 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         if (!isfinite(m->q[i]) || !isfinite(vnew[i]))
             st = rt_fail_n(err, ROMRT_E_DIVERGED, 0, "reduced coordinate ", (uint64_t)i, " is not finite after the step");
     }
+    if (!st && !rt_showable(m, m->q))
+        st = rt_fail(err, ROMRT_E_DIVERGED, 0, "the state grew past what the shown positions can hold");
     if (st) { /* leave the state as it was */
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
         return st;
