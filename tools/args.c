@@ -1,7 +1,9 @@
 /* Option parsing shared by the subcommands. */
 #include "args.h"
 
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 int cli_parse(const char *cmd, int argc, char **argv, const cli_option *opts, const char **positional,
@@ -35,5 +37,23 @@ int cli_parse(const char *cmd, int argc, char **argv, const cli_option *opts, co
         fprintf(stderr, "romkit %s: no %s given\n", cmd, what_positional);
         return -1;
     }
+    return 0;
+}
+
+int cli_whole(const char *text, long lo, long hi, long *out)
+{
+    char *end;
+    long v = text ? strtol(text, &end, 10) : 0;
+    if (!text || end == text || *end || v < lo || v > hi) return -1;
+    *out = v;
+    return 0;
+}
+
+int cli_real(const char *text, double lo, double hi, double *out)
+{
+    char *end;
+    double v = text ? strtod(text, &end) : NAN;
+    if (!text || end == text || *end || !isfinite(v) || v < lo || v > hi) return -1;
+    *out = v;
     return 0;
 }

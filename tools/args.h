@@ -15,4 +15,9 @@ typedef struct {
 int cli_parse(const char *cmd, int argc, char **argv, const cli_option *opts, const char **positional,
               const char *what_positional);
 
+/* The whole of text as a whole number in [lo, hi], or as a finite number in [lo, hi]: 0, or -1
+ * (nothing printed: the caller names the option in its own message). */
+int cli_whole(const char *text, long lo, long hi, long *out);
+int cli_real(const char *text, double lo, double hi, double *out);
+
 #endif

@@ -98,9 +98,8 @@ int cmd_basis(int argc, char **argv)
         basis_usage(stderr);
         return 2;
     }
-    char *end;
-    long index = strtol(entry, &end, 10);
-    if (*end || index < 0 || index > 1000) {
+    long index;
+    if (cli_whole(entry, 0, 1000, &index)) {
         fprintf(stderr, "romkit basis: --entry must be a whole number, got '%s'\n", entry);
         return 2;
     }

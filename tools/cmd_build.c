@@ -256,9 +256,8 @@ int cmd_build(int argc, char **argv)
         goto done;
     }
     if (entry_text) {
-        char *end;
-        long e = strtol(entry_text, &end, 10);
-        if (*end || end == entry_text || e < 0 || e >= rk_rom_entries(scene.rom)) {
+        long e;
+        if (cli_whole(entry_text, 0, rk_rom_entries(scene.rom) - 1, &e)) {
             rk_fail(&err, "--entry must be a rom entry of %s, 0..%d, got '%s'", scene_path, rk_rom_entries(scene.rom) - 1,
                     entry_text);
             goto done;

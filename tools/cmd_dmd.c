@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "args.h"
 #include "basis/basis.h"
 #include "commands.h"
 #include "koopman_asset.h"
@@ -104,13 +105,18 @@ static int parse_args(int argc, char **argv, dmd_args *a)
     return 0;
 }
 
-/* A number (finite, in [lo, hi]) or three comma-separated ones. */
+/* A number (finite, in [lo, hi]), a whole one, or three comma-separated ones. */
 static int number(const char *what, const char *text, double lo, double hi, double *out, rk_error *err)
 {
-    char *end;
-    *out = strtod(text, &end);
-    if (*end || end == text || !isfinite(*out) || *out < lo || *out > hi)
-        return rk_fail(err, "%s must be a number in [%g, %g], got '%s'", what, lo, hi, text);
+    if (cli_real(text, lo, hi, out)) return rk_fail(err, "%s must be a number in [%g, %g], got '%s'", what, lo, hi, text);
+    return 0;
+}
+
+static int whole(const char *what, const char *text, long lo, long hi, int *out, rk_error *err)
+{
+    long v;
+    if (cli_whole(text, lo, hi, &v)) return rk_fail(err, "%s must be a whole number in [%ld, %ld], got '%s'", what, lo, hi, text);
+    *out = (int)v;
     return 0;
 }
 
@@ -278,11 +284,10 @@ int cmd_dmd(int argc, char **argv)
     rk_asset_default_options(&ao);
     rk_koopman_default_options(&o);
     if (asset_flags("dmd", a.precision, a.compress, &ao)) return 2;
-    double value;
     if (number("--dt", a.dt, 1e-12, 1e6, &o.h, &err) ||
-        (a.rank && (number("--rank", a.rank, 1, 4096, &value, &err) || (o.rank = (int)value, 0))) ||
+        (a.rank && whole("--rank", a.rank, 1, 4096, &o.rank, &err)) ||
         (a.energy && number("--energy", a.energy, 1e-12, 1, &o.energy, &err)) ||
-        (a.pod && (number("--pod", a.pod, 1, 100000, &value, &err) || (pod = (int)value, 0))))
+        (a.pod && whole("--pod", a.pod, 1, 100000, &pod, &err)))
         goto done;
     o.clamp = a.clamp;
     if (load_recordings(&a, &rec, &err) || prepare(&a, &rec, gravity, &has_gravity, &err)) goto done_rec;

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "args.h"
 #include "mesh/mesh.h"
 #include "util/timer.h"
 
@@ -60,13 +61,6 @@ static int has_ext(const char *path, const char *list)
 }
 
 static int is_surface(const char *path) { return has_ext(path, ".obj .off .stl .ply"); }
-
-static int parse_number(const char *s, double *v)
-{
-    char *end;
-    *v = strtod(s, &end);
-    return end != s && *end == '\0' && isfinite(*v);
-}
 
 static void summary(const char *in, const char *out, const rk_mesh *m, const rk_mesh_report *rep)
 {
@@ -119,11 +113,11 @@ int cmd_mesh(int argc, char **argv)
             if (++i == argc) return usage_error("-o needs a file name", NULL);
             out = argv[i];
         } else if (strcmp(a, "--quality") == 0) {
-            if (++i == argc || !parse_number(argv[i], &quality) || quality < 1.0)
+            if (++i == argc || cli_real(argv[i], -INFINITY, INFINITY, &quality) || quality < 1.0)
                 return usage_error("--quality needs a number >= 1, got", i < argc ? argv[i] : "nothing");
             surface_options = 1;
         } else if (strcmp(a, "--max-volume") == 0) {
-            if (++i == argc || !parse_number(argv[i], &max_volume) || max_volume <= 0)
+            if (++i == argc || cli_real(argv[i], -INFINITY, INFINITY, &max_volume) || max_volume <= 0)
                 return usage_error("--max-volume needs a positive number, got", i < argc ? argv[i] : "nothing");
             surface_options = 1;
         } else if (strcmp(a, "--quiet") == 0) {

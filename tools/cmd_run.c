@@ -48,14 +48,18 @@ static void run_usage(FILE *f)
 
 static int parse_count(const char *what, const char *text, long *out)
 {
-    char *end;
-    long v = text ? strtol(text, &end, 10) : -1;
-    if (!text || *end || v < 0 || v > 100000000) {
-        fprintf(stderr, "romkit run: %s must be a whole number in 0..1e8, got '%s'\n", what, text ? text : "(none)");
-        return -1;
-    }
-    *out = v;
-    return 0;
+    if (cli_whole(text, 0, 100000000, out) == 0) return 0;
+    fprintf(stderr, "romkit run: %s must be a whole number in 0..1e8, got '%s'\n", what, text ? text : "(none)");
+    return -1;
+}
+
+/* --dt and --damping: a number (what range makes sense, the runtime says when it is set). */
+static int parse_real(const char *what, const char *text, romrt_real *out)
+{
+    double v;
+    if (cli_real(text, -1e30, 1e30, &v) == 0) return *out = (romrt_real)v, 0;
+    fprintf(stderr, "romkit run: %s must be a number, got '%s'\n", what, text);
+    return -1;
 }
 
 /* --reference: the source mesh's frames, the asset's shown vertices among them (VMAP), and
@@ -184,8 +188,10 @@ int cmd_run(int argc, char **argv)
                                {"--quiet", NULL, &quiet},
                                {NULL, NULL, NULL}};
     long steps, jump = 0;
+    romrt_real dt = 0, damping = 0;
     if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
-        (jump_text && parse_count("--jump", jump_text, &jump))) {
+        (jump_text && parse_count("--jump", jump_text, &jump)) || (dt_text && parse_real("--dt", dt_text, &dt)) ||
+        (damping_text && parse_real("--damping", damping_text, &damping))) {
         run_usage(stderr);
         return 2;
     }
@@ -226,8 +232,8 @@ int cmd_run(int argc, char **argv)
     if ((koopman ? romrt_open_kind(data, size, ROMRT_KIND_KOOPMAN, arena, arena_bytes, &m, &rerr)
                  : romrt_open(data, size, arena, arena_bytes, &m, &rerr)) != ROMRT_OK)
         goto runtime_fail;
-    if (dt_text && romrt_set_time_step(m, (romrt_real)strtod(dt_text, NULL), &rerr) != ROMRT_OK) goto runtime_fail;
-    if (damping_text && romrt_set_damping(m, (romrt_real)strtod(damping_text, NULL), &rerr) != ROMRT_OK)
+    if (dt_text && romrt_set_time_step(m, dt, &rerr) != ROMRT_OK) goto runtime_fail;
+    if (damping_text && romrt_set_damping(m, damping, &rerr) != ROMRT_OK)
         goto runtime_fail;
     int n = romrt_shown_count(m);
     xyz = calloc((size_t)3 * n + 1, sizeof(romrt_real));
