@@ -131,12 +131,8 @@ static int koopman_part_build(const rk_scene *scene, const rk_scene_sim *sim, in
     p->u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
     p->u_prev = rk_calloc((size_t)3 * nv, sizeof(double), err);
     if (!p->accel || !p->u0 || !p->u_prev) return koopman_part_free(p), -1;
-    for (int v = 0; v < nv; v++)
-        for (int a = 0; a < 3; a++) {
-            int i = 3 * v + a;
-            p->accel[i] = sim->options.gravity[a] + (sim->options.force ? sim->options.force[i] / sim->fem.vertex_mass[v] : 0);
-            p->u_prev[i] = sim->options.velocity0 ? -sim->options.h * sim->options.velocity0[i] : 0;
-        }
+    rk_koopman_scene_accel(sim, sim->options.gravity, sim->options.force, p->accel);
+    rk_koopman_frame_before(sim, sim->options.velocity0, p->u_prev);
     p->g = (rk_koopman_geometry){nv, sim->mesh.X, sim->fem.vertex_mass, NULL, 0, p->accel, p->u0, p->u_prev,
                                  sim->mesh.nt, p->ki.trajectories};
     if (rk_mesh_boundary(&sim->mesh, &p->g.tris, &p->g.ntris, err)) return koopman_part_free(p), -1;

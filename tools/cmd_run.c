@@ -277,7 +277,7 @@ int cmd_run(int argc, char **argv)
         if (!quiet) rk_progress("run", k + 1, steps);
     }
     if (!quiet) rk_progress_done("run");
-    double seconds_jump = NAN, seconds_positions = timed_positions(m, xyz, n);
+    double seconds_jump = NAN, seconds_positions = report_out ? timed_positions(m, xyz, n) : NAN;
     if (jump_text && timed_jump(m, (unsigned long)jump, &seconds_jump, &rerr) != ROMRT_OK) goto runtime_fail;
     romrt_positions(m, xyz, n);
     for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];

@@ -36,17 +36,11 @@ static int run_init(const rk_koopman *k, const rk_scene_sim *sim, const fom_run 
     K->secs = rk_calloc((size_t)F->T + 1, sizeof(double), err);
     if (!K->out || !K->in || !K->y || !K->c || !K->z || !K->x || !K->u_prev || !K->secs) return -1;
     /* the start, X_0 = [u_0; h v_0] (u_0 = 0: the full-order run starts at rest positions) */
-    for (int i = 0; i < n; i++) K->u_prev[i] = -sim->options.h * F->v[i];
+    rk_koopman_frame_before(sim, F->v, K->u_prev);
     if (rk_koopman_real_form(k, K->out, K->in, K->x, K->u_prev, K->y, err)) return -1;
     /* the forcing's impulse per step, in y: in (gravity + loads / mass) h^2 */
-    double h2 = k->h * k->h;
-    for (int v = 0; v < n / 3; v++)
-        for (int a = 0; a < 3; a++) {
-            double acc = sim->options.gravity[a] +
-                         (sim->options.force ? sim->options.force[3 * v + a] / sim->fem.vertex_mass[v] : 0);
-            K->x[3 * v + a] = acc * h2;
-        }
-    cblas_dgemv(CblasColMajor, CblasNoTrans, r, n, 1.0, K->in, r, K->x, 1, 0.0, K->c, 1);
+    rk_koopman_scene_accel(sim, sim->options.gravity, sim->options.force, K->x);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, r, n, k->h * k->h, K->in, r, K->x, 1, 0.0, K->c, 1);
     return 0;
 }
 

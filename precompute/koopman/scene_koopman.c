@@ -73,6 +73,20 @@ void rk_koopman_run_free(rk_koopman_run *r)
     memset(r, 0, sizeof *r);
 }
 
+void rk_koopman_scene_accel(const rk_scene_sim *sim, const double gravity[3], const double *force, double *accel)
+{
+    for (int p = 0; p < sim->mesh.nv; p++)
+        for (int a = 0; a < 3; a++) {
+            int i = 3 * p + a;
+            accel[i] = gravity[a] + (force ? force[i] / sim->fem.vertex_mass[p] : 0);
+        }
+}
+
+void rk_koopman_frame_before(const rk_scene_sim *sim, const double *vel, double *u_prev)
+{
+    for (int i = 0; i < 3 * sim->mesh.nv; i++) u_prev[i] = vel ? -sim->options.h * vel[i] : 0;
+}
+
 /* A run of T steps under gravity, loads `force` (N, or NULL) and initial velocities `vel` (or
  * NULL): its arrays, the acceleration (gravity plus each load over its vertex's lumped mass) and
  * the frame before the start, u_{-1} = -h v_0 (u_0 = 0 is left to the caller). */
@@ -87,12 +101,8 @@ static int run_start(const rk_scene_sim *sim, const double gravity[3], const dou
         rk_koopman_run_free(out);
         return -1;
     }
-    for (int p = 0; p < nv; p++)
-        for (int a = 0; a < 3; a++) {
-            int i = 3 * p + a;
-            out->accel[i] = gravity[a] + (force ? force[i] / sim->fem.vertex_mass[p] : 0);
-            out->u[i] = vel ? -sim->options.h * vel[i] : 0;
-        }
+    rk_koopman_scene_accel(sim, gravity, force, out->accel);
+    rk_koopman_frame_before(sim, vel, out->u);
     out->t = (rk_koopman_trajectory){out->u, T + 2, out->accel};
     return 0;
 }

@@ -37,6 +37,13 @@ int rk_koopman_scene_present(const cJSON *rom, int index);
 int rk_koopman_scene_options_parse(const cJSON *rom, int index, const char *file, double h,
                                    rk_koopman_scene_options *o, rk_error *err);
 
+/* The forcing as an acceleration of every degree of freedom (3 nv values): gravity plus each load
+ * (force, N, 3 nv or NULL) over its vertex's lumped mass: what a trajectory runs under and what an
+ * asset steps along, as impulses (Eq. 19). */
+void rk_koopman_scene_accel(const rk_scene_sim *sim, const double gravity[3], const double *force, double *accel);
+/* The frame before a start at rest positions moving at vel (3 nv, or NULL: at rest): u_{-1} = -h v. */
+void rk_koopman_frame_before(const rk_scene_sim *sim, const double *vel, double *u_prev);
+
 /* A trajectory of the built scene's full-order run, as the fit takes it (owning its arrays):
  * displacement frames u_{-1} = -h v_0, u_0 = 0, then one per step, so that X_0 = [0; h v_0]
  * starts it; accel: gravity plus each load over its vertex's lumped mass. */
