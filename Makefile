@@ -42,7 +42,7 @@ TEST_DOUBLE := test_runtime_parity test_runtime_koopman
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
-all: $(BUILD)/romkit $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp
+all: $(BUILD)/romkit $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -90,6 +90,10 @@ $(BUILD)/embed: examples/embed/embed.c runtime/romrt.h $(RT_LIB)
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 $(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
 	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
+
+# jsonq: the integration tests read JSON reports through it (tests/tools/jsonq.c).
+$(BUILD)/jsonq: tests/tools/jsonq.c
+	$(CC) $(CFLAGS_PC) -o $@ $< -lcjson -lm
 
 # tests/unit/test_<stage>_<name>.c links the libraries of <stage>.
 test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
