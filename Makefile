@@ -11,23 +11,24 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem fom scene basis cubature rom koopman compare formats asset
+STAGES := util mesh physics fem solver fom scene basis cubature rom koopman compare formats asset
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
-DEPS_fom     := fom fem physics mesh util
-DEPS_scene   := scene fom fem physics mesh util
-DEPS_basis   := basis scene fom fem physics mesh util
-DEPS_cubature := cubature basis scene fom fem physics mesh util
-DEPS_rom     := rom cubature basis scene fom fem physics mesh util
-DEPS_koopman := koopman cubature basis scene fom fem physics mesh util
-DEPS_compare := compare koopman rom cubature basis scene fom fem physics mesh util
+DEPS_solver  := solver physics util
+DEPS_fom     := fom solver fem physics mesh util
+DEPS_scene   := scene fom solver fem physics mesh util
+DEPS_basis   := basis scene fom solver fem physics mesh util
+DEPS_cubature := cubature basis scene fom solver fem physics mesh util
+DEPS_rom     := rom cubature basis scene fom solver fem physics mesh util
+DEPS_koopman := koopman cubature basis scene fom solver fem physics mesh util
+DEPS_compare := compare koopman rom cubature basis scene fom solver fem physics mesh util
 DEPS_formats := formats util
-DEPS_asset   := asset formats koopman rom cubature basis scene fom fem physics mesh util
+DEPS_asset   := asset formats koopman rom cubature basis scene fom solver fem physics mesh util
 DEPS_runtime := $(DEPS_asset)
 # The command line and the benches link every stage.
-DEPS_tools   := asset formats compare koopman rom cubature basis scene fom fem physics mesh util
+DEPS_tools   := asset formats compare koopman rom cubature basis scene fom solver fem physics mesh util
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))

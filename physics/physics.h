@@ -28,6 +28,21 @@ typedef enum {
 /* How a prescribed group moves (fom.h's rk_prescribed, the runtime's PINS chunk). */
 typedef enum { RK_MOTION_FIXED = 0, RK_MOTION_TWIST = 1, RK_MOTION_TRANSLATE = 2 } rk_motion_kind;
 
+/* The Newton solver's constants, written once for the precompute's solver (precompute/solver) and
+ * the runtime's own C99 loop (runtime/step.c), so the two cannot drift apart:
+ *   RK_ARMIJO_C            sufficient decrease: E(x + a d) <= E(x) + c a g.d
+ *   RK_MAX_HALVINGS        backtracking halvings before a direction is given up (a down to ~1e-12,
+ *                          below which the direction is useless)
+ *   RK_ENERGY_NOISE_*      energy differences below this fraction of the terms' magnitude are
+ *                          round-off: near the solution the true decrease (~ d^T H d) falls under it,
+ *                          and a plain Armijo test would then reject every step and stall Newton
+ *                          short of a tight tolerance. Double: 1e-13 (about 450 epsilons, for sums
+ *                          over many elements); float: 64 epsilons. */
+#define RK_ARMIJO_C 1e-4
+#define RK_MAX_HALVINGS 40
+#define RK_ENERGY_NOISE_DOUBLE 1e-13
+#define RK_ENERGY_NOISE_FLOAT 7.6e-6f
+
 /* Lame parameters from Young's modulus and Poisson's ratio. */
 void rk_lame(double young, double poisson, double *mu, double *lambda);
 

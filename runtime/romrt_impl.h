@@ -13,14 +13,14 @@
 #define ROMRT_REAL_TYPE ROMBIN_REAL_F64
 #define RT_SQRT sqrt
 #define RT_FABS fabs
-/* Line-search round-off floor, as the precompute's reduced Newton (rom/newton.c), so the two
- * take the same iterates in double. */
-#define RT_ENERGY_NOISE 7.6e-6f /* 64 float epsilons */
+/* The line search's round-off floor (physics.h): in double the precompute's own, so the runtime
+ * takes the reduced simulator's iterates; in float, float's. */
+#define RT_ENERGY_NOISE RK_ENERGY_NOISE_DOUBLE
 #else
 #define ROMRT_REAL_TYPE ROMBIN_REAL_F32
 #define RT_SQRT sqrtf
 #define RT_FABS fabsf
-#define RT_ENERGY_NOISE 7.6e-6f /* 64 float epsilons */
+#define RT_ENERGY_NOISE RK_ENERGY_NOISE_FLOAT
 #endif
 #define RT_K(x) ((romrt_real)(x))
 

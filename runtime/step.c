@@ -1,12 +1,13 @@
 /* One time step: backward Euler or BDF2 on q, projected Newton with Armijo backtracking, the
- * iteration of the precompute's reduced simulator (precompute/rom/step.c, newton.c) in r x r. */
+ * iteration of the precompute's solver (precompute/solver) on the reduced model (precompute/rom)
+ * in r x r, C99 and fixed buffers; its constants are the solver's (physics/physics.h). */
 #include <math.h>
 #include <string.h>
 
 #include "runtime/romrt_impl.h"
 
-#define ARMIJO_C RT_K(1e-4)
-#define MAX_HALVINGS 40
+#define ARMIJO_C RT_K(RK_ARMIJO_C)
+#define MAX_HALVINGS RK_MAX_HALVINGS
 /* In float, small-strain stresses lose digits (P ~ mu (F - F^-T) cancels), so Newton steps
  * bottom out at a noise level well above the asset's tolerance. A step below 1e-6 of the
  * state's RMS displacement counts as converged, and so does one below 1e-3 of it that shrank

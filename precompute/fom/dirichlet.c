@@ -43,14 +43,10 @@ int rk_fom_check_planes(const rk_fom *s, const double *x, rk_error *err)
     return 0;
 }
 
-void rk_fom_eliminate(const rk_fom *s, double *g, rk_sparse *H)
+void rk_fom_eliminate(const rk_fom *s, rk_sparse *H)
 {
-    if (s->opt.nprescribed == 0) return;
+    if (s->opt.nprescribed == 0 || !H) return;
     const char *fixed = s->impl->prescribed_dof;
-    if (g)
-        for (int i = 0; i < s->impl->n; i++)
-            if (fixed[i]) g[i] = 0;
-    if (!H) return;
     for (int j = 0; j < H->n; j++)
         for (int k = H->colptr[j]; k < H->colptr[j + 1]; k++) {
             int i = H->rowind[k];

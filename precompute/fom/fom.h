@@ -20,9 +20,8 @@
 #define RK_FOM_H
 
 #include "fem/fem.h"
+#include "solver/solver.h"
 #include "util/error.h"
-
-typedef enum { RK_BACKWARD_EULER = 0, RK_BDF2 = 1 } rk_integrator;
 
 /* A group of prescribed vertices. */
 typedef struct {

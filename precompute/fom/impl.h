@@ -6,6 +6,7 @@
 #include <cholmod.h>
 
 #include "fom/fom.h"
+#include "solver/solver.h"
 
 /* The incremental potential being minimised (fom.h, paper Eq. 2 divided by alpha h^2):
  *   E(x) = w_inertia/2 |x - xtilde|_M^2 + Psi(x) + B(x) + w_damping/2 |x - xt|_C^2 - load f.x
@@ -32,12 +33,10 @@ struct rk_fom_impl {
     rk_prescribed *groups;
     rk_plane *planes;
     double *force;
-    /* History and scratch, 3 nv each. */
-    double *x_prev, *v_prev; /* x_{t-1}, v_{t-1} (BDF2) */
-    int have_prev;
-    double *xt, *xtilde, *g, *d, *x_trial, *work, *work2;
+    rk_stepper stepper;     /* backward Euler / BDF2: prediction and history */
+    double *newton_work;    /* RK_NEWTON_WORK(n) */
+    double *work, *work2;   /* scratch, n each */
     double tol_static;      /* |d|_inf (m) */
-    double static_reg;      /* reg of a static solve, relative to the mass */
     /* CHOLMOD: H wrapped without copying, symbolic analysis once, numeric per iteration. */
     cholmod_common cc;
     int cc_started;
@@ -51,19 +50,25 @@ struct rk_fom_impl {
 void rk_fom_prescribe(const rk_fom *s, double t, double *x);
 /* Fails when a prescribed vertex of x lies on or behind a plane (its barrier is infinite). */
 int rk_fom_check_planes(const rk_fom *s, const double *x, rk_error *err);
-/* Prescribed dofs out of the Newton system: zero gradient; zero rows and columns with 1 on the
- * diagonal of H (the pattern stays as it is). */
-void rk_fom_eliminate(const rk_fom *s, double *g, rk_sparse *H);
+/* Prescribed dofs out of the Newton matrix: zero rows and columns with 1 on the diagonal of H
+ * (the pattern stays as it is; the solver zeroes their gradient). */
+void rk_fom_eliminate(const rk_fom *s, rk_sparse *H);
 
-/* E(x); with g, also its gradient; with H, also its Hessian (PSD-projected elastic part).
- * g and H come back with the prescribed dofs eliminated. With magnitude, also the sum of the
- * terms' absolute values: the scale of E's round-off. */
+/* E(x); with g, also its gradient; with H, also its Hessian (PSD-projected elastic part, the
+ * prescribed dofs eliminated). With magnitude, also the sum of the terms' absolute values: the
+ * scale of E's round-off. */
 double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, rk_sparse *H,
                         double *magnitude);
 
-/* Minimises the potential from s->x (updated in place) with projected Newton, CHOLMOD and a
- * backtracking line search; converged when |d|_inf <= tol_d. *converged says whether it was. */
+/* Minimises the potential from s->x (updated in place) with the solver's Newton (CHOLMOD on the
+ * projected Hessian, plane step filtering); converged when |d|_inf <= tol_d. */
 int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err);
+/* The potential as the solver's problem (ctx: a rk_fom_problem_ctx that outlives its use). */
+typedef struct {
+    rk_fom *s;
+    const rk_fom_terms *T;
+} rk_fom_problem_ctx;
+void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p);
 
 /* CHOLMOD on impl->H: analysis (init), factorization and solve of H d = -g. */
 int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err);

@@ -152,10 +152,11 @@ static int alloc_state(rk_fom *s, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     size_t n = (size_t)im->n;
-    double **vecs[] = {&s->x, &s->v, &im->f_ext, &im->force, &im->x_prev, &im->v_prev, &im->xt,
-                       &im->xtilde, &im->g, &im->d, &im->x_trial, &im->work, &im->work2};
+    double **vecs[] = {&s->x, &s->v, &im->f_ext, &im->force, &im->work, &im->work2};
     for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; k++)
         if (!(*vecs[k] = rk_calloc(n, sizeof(double), err))) return -1;
+    if (!(im->newton_work = rk_calloc(RK_NEWTON_WORK(n), sizeof(double), err))) return -1;
+    if (rk_stepper_init(&im->stepper, im->n, s->opt.integrator, s->opt.h, err)) return -1;
     im->prescribed_dof = rk_calloc(n, 1, err);
     return im->prescribed_dof ? 0 : -1;
 }
@@ -213,8 +214,8 @@ void rk_fom_free(rk_fom *s)
         free(im->force);
         free(im->f_ext);
         free(im->prescribed_dof);
-        free(im->x_prev), free(im->v_prev), free(im->xt), free(im->xtilde);
-        free(im->g), free(im->d), free(im->x_trial), free(im->work), free(im->work2);
+        rk_stepper_free(&im->stepper);
+        free(im->newton_work), free(im->work), free(im->work2);
         free(im);
     }
     free(s->x);

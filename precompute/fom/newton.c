@@ -1,68 +1,41 @@
-/* Projected Newton on the incremental potential (paper Sec. 3.10 in full space): direction from
- * the PSD-projected Hessian by CHOLMOD, plane step filtering, backtracking line search with the
- * Armijo condition, termination on the size of the Newton step. */
+/* The full-order incremental potential as the solver's Newton problem (solver.h): CHOLMOD on the
+ * PSD-projected Hessian for the direction, plane step filtering, |d|_inf as the step size. */
 #include "fom/impl.h"
 
-#include <math.h>
-#include <string.h>
-
-#define ARMIJO_C 1e-4
-#define MAX_HALVINGS 40 /* alpha down to ~1e-12: below that the direction is useless */
-/* Energy differences below this fraction of the terms' magnitude are round-off: near the
- * solution the true decrease (~ d^T H d) falls under it, and a plain Armijo test would then
- * reject every step and stall Newton short of a tight tolerance. */
-#define ENERGY_NOISE 1e-13
-
-static double inf_norm(const double *a, int n)
+static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
 {
-    double m = 0;
-    for (int i = 0; i < n; i++) m = fmax(m, fabs(a[i])); /* fmax drops NaN: checked separately */
-    return m;
+    rk_fom_problem_ctx *c = ctx;
+    return rk_fom_potential(c->s, c->T, x, g, hessian ? &c->s->impl->H : NULL, magnitude);
 }
 
-static int all_finite(const double *a, int n)
+static int solve(void *ctx, const double *g, double *d, rk_error *err)
 {
-    for (int i = 0; i < n; i++)
-        if (!isfinite(a[i])) return 0;
-    return 1;
+    rk_fom *s = ((rk_fom_problem_ctx *)ctx)->s;
+    return rk_fom_chol_factor(s, err) || rk_fom_chol_solve(s, g, d, err) ? -1 : 0;
+}
+
+static double max_step(void *ctx, const double *x, const double *d)
+{
+    const rk_fom *s = ((rk_fom_problem_ctx *)ctx)->s;
+    return rk_planes_max_step(&s->opt.obstacles, s->fem->nv, x, d);
+}
+
+void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p)
+{
+    rk_fom *s = ctx->s;
+    *p = (rk_newton_problem){.n = s->impl->n, .ctx = ctx, .what = "incremental potential", .energy = energy,
+                             .solve = solve, .max_step = s->opt.obstacles.count ? max_step : NULL,
+                             .prescribed = s->opt.nprescribed ? s->impl->prescribed_dof : NULL};
 }
 
 int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
 {
-    rk_fom_impl *im = s->impl;
-    int n = im->n;
-    double *x = s->x, *g = im->g, *d = im->d, *trial = im->x_trial;
-    *converged = 0;
-    for (int it = 0; it < s->opt.newton_max_iter; it++) {
-        double magnitude;
-        double E = rk_fom_potential(s, T, x, g, &im->H, &magnitude);
-        if (!isfinite(E) || !all_finite(g, n))
-            return rk_fail(err, "incremental potential is not finite at Newton iteration %d", it);
-        if (rk_fom_chol_factor(s, err) || rk_fom_chol_solve(s, g, d, err))
-            return rk_error_prefix(err, "Newton iteration %d", it);
-        s->stats.newton_iterations++;
-        if (!all_finite(d, n)) return rk_fail(err, "Newton direction is not finite at iteration %d", it);
-        /* Checked before the line search: near the solution the decrease of E drowns in
-         * round-off, and a step this small is the answer anyway. */
-        if (inf_norm(d, n) <= tol_d) {
-            *converged = 1;
-            return 0;
-        }
-        double gd = 0;
-        for (int i = 0; i < n; i++) gd += g[i] * d[i];
-        double alpha = s->opt.obstacles.count ? rk_planes_max_step(&s->opt.obstacles, s->fem->nv, x, d) : 1.0;
-        int accepted = 0;
-        for (int k = 0; k <= MAX_HALVINGS && !accepted; k++) {
-            if (k > 0) {
-                alpha *= 0.5;
-                s->stats.line_search_halvings++;
-            }
-            for (int i = 0; i < n; i++) trial[i] = x[i] + alpha * d[i];
-            double Et = rk_fom_potential(s, T, trial, NULL, NULL, NULL);
-            accepted = Et <= E + ARMIJO_C * alpha * gd || (isfinite(Et) && Et - E <= ENERGY_NOISE * magnitude);
-        }
-        if (!accepted) return 0; /* no decrease along d: stop, unconverged */
-        memcpy(x, trial, (size_t)n * sizeof(double));
-    }
-    return 0;
+    rk_fom_problem_ctx ctx = {s, T};
+    rk_newton_problem p;
+    rk_fom_problem(&ctx, &p);
+    rk_newton_stats stats = {0};
+    int rc = rk_newton_solve(&p, s->x, tol_d, s->opt.newton_max_iter, s->impl->newton_work, converged, &stats, err);
+    s->stats.newton_iterations += stats.iterations;
+    s->stats.line_search_halvings += stats.halvings;
+    return rc;
 }

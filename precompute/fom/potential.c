@@ -64,7 +64,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, doubl
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
     if (H && isfinite(E)) assemble_hessian(s, T, x, H);
-    rk_fom_eliminate(s, g, H);
+    rk_fom_eliminate(s, H);
     s->stats.seconds_assemble += rk_now() - t0;
     return isfinite(E) ? E : INFINITY;
 }

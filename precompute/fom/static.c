@@ -8,6 +8,7 @@
 #include "util/timer.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Hessian shift, relative to the mean diagonal stiffness per unit mass: enough to keep the
@@ -46,24 +47,30 @@ static int solve(rk_fom *s, rk_error *err)
     rk_fom_terms T = {0};
     T.reg = static_reg(s);
     double t_end = s->opt.steps * s->opt.h;
-    memcpy(im->xt, s->x, (size_t)im->n * sizeof(double)); /* the start of every attempt */
+    double *start = rk_calloc((size_t)im->n, sizeof(double), err); /* the start of every attempt */
+    if (!start) return -1;
+    memcpy(start, s->x, (size_t)im->n * sizeof(double));
     static const int increments[] = {1, 4, 16};
     int attempts = (int)(sizeof increments / sizeof increments[0]);
     for (int a = 0; a < attempts; a++) {
         int k = increments[a], converged = 1;
-        memcpy(s->x, im->xt, (size_t)im->n * sizeof(double));
+        memcpy(s->x, start, (size_t)im->n * sizeof(double));
         for (int i = 1; i <= k && converged; i++) {
             double lambda = (double)i / k;
             T.load = lambda;
             rk_fom_prescribe(s, lambda * t_end, s->x);
-            if (rk_fom_check_planes(s, s->x, err) || rk_fom_newton(s, &T, im->tol_static, &converged, err))
+            if (rk_fom_check_planes(s, s->x, err) || rk_fom_newton(s, &T, im->tol_static, &converged, err)) {
+                free(start);
                 return rk_error_prefix(err, "load increment %d of %d", i, k);
+            }
         }
         if (converged) {
             memset(s->v, 0, (size_t)im->n * sizeof(double));
+            free(start);
             return 0;
         }
     }
+    free(start);
     return rk_fail(err, "no convergence to |d|_inf <= %g m within %d Newton iterations, even in %d load increments",
                    im->tol_static, s->opt.newton_max_iter, increments[attempts - 1]);
 }

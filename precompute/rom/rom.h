@@ -80,8 +80,7 @@ typedef struct {
     rk_rom_model *model;
     double t;
     double *q, *v;             /* reduced positions and velocities */
-    double *q_prev, *v_prev;   /* BDF2 history */
-    int have_prev;
+    rk_stepper stepper;        /* backward Euler / BDF2: prediction and history */
     rk_rom_stats stats;
     double *work;              /* scratch */
 } rk_rom;

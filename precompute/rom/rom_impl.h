@@ -18,9 +18,10 @@ typedef struct {
     const double *pin_b;
 } rk_rom_terms;
 
-/* rk_rom.work: vectors of r (indices below), then the r x r Newton matrix. */
-enum { RK_ROM_WORK_QT, RK_ROM_WORK_QTILDE, RK_ROM_WORK_G, RK_ROM_WORK_D, RK_ROM_WORK_TRIAL, RK_ROM_WORK_PIN,
-       RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_VECTORS };
+/* rk_rom.work: vectors of r (indices below; NEWTON is RK_NEWTON_WORK(r) long), then the r x r
+ * Newton matrix. */
+enum { RK_ROM_WORK_PIN, RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_START, RK_ROM_WORK_NEWTON,
+       RK_ROM_WORK_VECTORS = RK_ROM_WORK_NEWTON + 3 };
 
 double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
                         double *magnitude);
@@ -29,8 +30,16 @@ void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
 double rk_rom_contact_distance(const rk_rom_model *m, int c, const double *q);
 /* Largest alpha in (0, 1] keeping every contact distance above 10% of its value along q + alpha dq. */
 double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const double *dq);
-/* Projected Newton from s->q (in place): dense Cholesky, Armijo backtracking; converged when
- * sqrt(dq^T M_r dq / mass) <= tol_d. */
+
+/* The reduced potential as the solver's problem: dense Cholesky (LAPACK) for the direction,
+ * contact step filtering, and sqrt(dq^T M_r dq / mass) as the step size (an RMS displacement, m). */
+typedef struct {
+    rk_rom *s;
+    const rk_rom_terms *T;
+} rk_rom_problem_ctx;
+void rk_rom_problem(rk_rom_problem_ctx *ctx, rk_newton_problem *p);
+/* Minimises the potential from s->q (in place) with the solver's Newton; converged when the step
+ * size above is <= tol_d. */
 int rk_rom_newton(rk_rom *s, const rk_rom_terms *T, double tol_d, int *converged, rk_error *err);
 
 #endif

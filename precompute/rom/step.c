@@ -14,10 +14,8 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->model = m;
     s->q = rk_calloc((size_t)r, sizeof(double), err);
     s->v = rk_calloc((size_t)r, sizeof(double), err);
-    s->q_prev = rk_calloc((size_t)r, sizeof(double), err);
-    s->v_prev = rk_calloc((size_t)r, sizeof(double), err);
     s->work = rk_calloc((size_t)r * (RK_ROM_WORK_VECTORS + r), sizeof(double), err);
-    if (!s->q || !s->v || !s->q_prev || !s->v_prev || !s->work) {
+    if (!s->q || !s->v || !s->work || rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
         rk_rom_free(s);
         return -1;
     }
@@ -46,15 +44,14 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
         s->v[i] = v ? v[i] : 0;
     }
     s->t = t;
-    s->have_prev = 0;
+    rk_stepper_forget(&s->stepper);
 }
 
 void rk_rom_free(rk_rom *s)
 {
     free(s->q);
     free(s->v);
-    free(s->q_prev);
-    free(s->v_prev);
+    rk_stepper_free(&s->stepper);
     free(s->work);
     memset(s, 0, sizeof *s);
 }
@@ -73,7 +70,7 @@ static int static_solve(rk_rom *s, rk_error *err)
 {
     rk_rom_model *m = s->model;
     int r = m->r;
-    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r, *start = s->work + RK_ROM_WORK_QT * (size_t)r;
+    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r, *start = s->work + RK_ROM_WORK_START * (size_t)r;
     rk_rom_terms T = {0};
     T.pin_b = pin;
     T.reg = 1e-10; /* a tiny inertia (1/s^2) on the Hessian only: free rigid modes stay solvable */
@@ -98,40 +95,21 @@ static int static_solve(rk_rom *s, rk_error *err)
 static int dynamic_step(rk_rom *s, rk_error *err)
 {
     rk_rom_model *m = s->model;
-    int r = m->r;
-    double h = m->h;
-    double *qt = s->work + RK_ROM_WORK_QT * (size_t)r, *qtilde = s->work + RK_ROM_WORK_QTILDE * (size_t)r;
-    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r, *d = s->work + RK_ROM_WORK_D * (size_t)r;
-    int bdf2 = m->integrator == RK_BDF2 && s->have_prev;
-    rk_rom_terms T = {0};
-    if (bdf2) {
-        for (int i = 0; i < r; i++)
-            qtilde[i] = (4 * s->q[i] - s->q_prev[i]) / 3 + 2 * h / 9 * (4 * s->v[i] - s->v_prev[i]);
-        T.w_inertia = 9.0 / (4.0 * h * h);
-    } else {
-        for (int i = 0; i < r; i++) qtilde[i] = s->q[i] + h * s->v[i];
-        T.w_inertia = 1.0 / (h * h);
-    }
-    memcpy(qt, s->q, sizeof(double) * r);
-    T.qtilde = qtilde;
-    T.w_damping = 1.0 / h;
-    T.qt = qt;
-    T.load = 1.0;
-    T.pin_b = pin;
-    rk_rom_pin_target(m, s->t + h, pin);
-    for (int i = 0; i < r; i++) d[i] = qtilde[i] - qt[i];
-    if (!m->ncontacts || rk_rom_contact_max_step(m, qt, d) >= 1.0) memcpy(s->q, qtilde, sizeof(double) * r);
+    rk_stepper *st = &s->stepper;
+    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)m->r;
+    rk_stepper_predict(st, s->q, s->v);
+    rk_rom_terms T = {.w_inertia = st->w_inertia, .qtilde = st->xtilde, .w_damping = 1.0 / m->h, .qt = st->xt,
+                      .load = 1.0, .pin_b = pin};
+    rk_rom_pin_target(m, s->t + m->h, pin);
+    rk_rom_problem_ctx ctx = {s, &T};
+    rk_newton_problem p;
+    rk_rom_problem(&ctx, &p);
+    rk_stepper_start(st, &p, s->q);
     int converged;
     if (rk_rom_newton(s, &T, m->newton_tol, &converged, err)) return -1;
     if (!converged) s->stats.unconverged_steps++;
-    for (int i = 0; i < r; i++) {
-        double v_old = s->v[i];
-        s->v[i] = bdf2 ? (3 * s->q[i] - 4 * qt[i] + s->q_prev[i]) / (2 * h) : (s->q[i] - qt[i]) / h;
-        s->q_prev[i] = qt[i];
-        s->v_prev[i] = v_old;
-    }
-    s->have_prev = 1;
-    s->t += h;
+    rk_stepper_finish(st, s->q, s->v);
+    s->t += m->h;
     return 0;
 }
 
