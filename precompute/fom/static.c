@@ -1,14 +1,12 @@
 /* Static equilibrium: minimise Psi + B - f.x (no inertia, no damping) with the same Newton
- * solver; if the full load does not converge within newton_max_iter, restart from the initial
- * state and ramp the load (forces, gravity and the prescribed motions' time) over 4, then 16
- * increments, each solved from the previous one. */
+ * solver, the load (forces, gravity and the prescribed motions' time) ramped by the solver's load
+ * stepping when the full load does not converge within newton_max_iter. */
 #include "fom/impl.h"
 
 #include "fem/element.h"
 #include "util/timer.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 /* Hessian shift, relative to the mean diagonal stiffness per unit mass: enough to keep the
@@ -39,40 +37,35 @@ static int has_load(const rk_fom *s)
     return 0;
 }
 
+typedef struct {
+    rk_fom *s;
+    rk_fom_terms T;
+    double t_end;
+} static_ctx;
+
+/* One load increment: forces at lambda, the prescribed motions at lambda t_end. */
+static int increment(void *ctx, double lambda, double *x, int *converged, rk_error *err)
+{
+    static_ctx *c = ctx;
+    c->T.load = lambda;
+    rk_fom_prescribe(c->s, lambda * c->t_end, x);
+    return rk_fom_check_planes(c->s, x, err) || rk_fom_newton(c->s, &c->T, c->s->impl->tol_static, converged, err)
+               ? -1 : 0;
+}
+
 static int solve(rk_fom *s, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     if (s->opt.nprescribed == 0 && s->opt.obstacles.count == 0 && has_load(s))
         return rk_fail(err, "a loaded body with no prescribed vertex and no obstacle has no equilibrium");
-    rk_fom_terms T = {0};
-    T.reg = static_reg(s);
-    double t_end = s->opt.steps * s->opt.h;
-    double *start = rk_calloc((size_t)im->n, sizeof(double), err); /* the start of every attempt */
-    if (!start) return -1;
-    memcpy(start, s->x, (size_t)im->n * sizeof(double));
-    static const int increments[] = {1, 4, 16};
-    int attempts = (int)(sizeof increments / sizeof increments[0]);
-    for (int a = 0; a < attempts; a++) {
-        int k = increments[a], converged = 1;
-        memcpy(s->x, start, (size_t)im->n * sizeof(double));
-        for (int i = 1; i <= k && converged; i++) {
-            double lambda = (double)i / k;
-            T.load = lambda;
-            rk_fom_prescribe(s, lambda * t_end, s->x);
-            if (rk_fom_check_planes(s, s->x, err) || rk_fom_newton(s, &T, im->tol_static, &converged, err)) {
-                free(start);
-                return rk_error_prefix(err, "load increment %d of %d", i, k);
-            }
-        }
-        if (converged) {
-            memset(s->v, 0, (size_t)im->n * sizeof(double));
-            free(start);
-            return 0;
-        }
-    }
-    free(start);
-    return rk_fail(err, "no convergence to |d|_inf <= %g m within %d Newton iterations, even in %d load increments",
-                   im->tol_static, s->opt.newton_max_iter, increments[attempts - 1]);
+    static_ctx c = {.s = s, .T = {.reg = static_reg(s)}, .t_end = s->opt.steps * s->opt.h};
+    int converged, used;
+    if (rk_load_stepping(im->n, s->x, increment, &c, &converged, &used, err)) return -1;
+    if (!converged)
+        return rk_fail(err, "no convergence to |d|_inf <= %g m within %d Newton iterations, even in %d load increments",
+                       im->tol_static, s->opt.newton_max_iter, used);
+    memset(s->v, 0, (size_t)im->n * sizeof(double));
+    return 0;
 }
 
 int rk_fom_static(rk_fom *s, rk_error *err)

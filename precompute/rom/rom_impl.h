@@ -20,7 +20,7 @@ typedef struct {
 
 /* rk_rom.work: vectors of r (indices below; NEWTON is RK_NEWTON_WORK(r) long), then the r x r
  * Newton matrix. */
-enum { RK_ROM_WORK_PIN, RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_START, RK_ROM_WORK_NEWTON,
+enum { RK_ROM_WORK_PIN, RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_NEWTON,
        RK_ROM_WORK_VECTORS = RK_ROM_WORK_NEWTON + 3 };
 
 double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,

@@ -64,31 +64,33 @@ static int check_state(const rk_rom *s, rk_error *err)
     return 0;
 }
 
-/* Equilibrium at the end time (steps h), with load stepping as in fom/static.c: the full load,
- * or when that does not converge, up to 64 increments, the prescribed targets moving with the load. */
+typedef struct {
+    rk_rom *s;
+    rk_rom_terms T;
+    double *pin;               /* T.pin_b */
+} static_ctx;
+
+/* One load increment: forces at lambda, the pins' targets at lambda times the end time. */
+static int increment(void *ctx, double lambda, double *q, int *converged, rk_error *err)
+{
+    static_ctx *c = ctx;
+    c->T.load = lambda;
+    rk_rom_pin_target(c->s->model, lambda * c->s->model->static_time, c->pin);
+    return rk_rom_newton(c->s, &c->T, c->s->model->newton_tol, converged, err);
+}
+
+/* Equilibrium at the end time (steps h), by the solver's load stepping; an equilibrium not reached
+ * even so is kept and counted as unconverged. */
 static int static_solve(rk_rom *s, rk_error *err)
 {
-    rk_rom_model *m = s->model;
-    int r = m->r;
-    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r, *start = s->work + RK_ROM_WORK_START * (size_t)r;
-    rk_rom_terms T = {0};
-    T.pin_b = pin;
-    T.reg = 1e-10; /* a tiny inertia (1/s^2) on the Hessian only: free rigid modes stay solvable */
-    memcpy(start, s->q, sizeof(double) * r);
-    for (int increments = 1; increments <= 64; increments *= 2) {
-        int converged = 1;
-        memcpy(s->q, start, sizeof(double) * r);
-        for (int k = 1; k <= increments && converged; k++) {
-            T.load = (double)k / increments;
-            rk_rom_pin_target(m, T.load * m->static_time, pin);
-            if (rk_rom_newton(s, &T, m->newton_tol, &converged, err)) return -1;
-        }
-        if (converged) {
-            memset(s->v, 0, sizeof(double) * r);
-            return 0;
-        }
-    }
-    s->stats.unconverged_steps++;
+    int r = s->model->r;
+    /* reg: a tiny inertia (1/s^2) on the Hessian only: free rigid modes stay solvable */
+    double *pin = s->work + RK_ROM_WORK_PIN * (size_t)r;
+    static_ctx c = {.s = s, .T = {.reg = 1e-10, .pin_b = pin}, .pin = pin};
+    int converged;
+    if (rk_load_stepping(r, s->q, increment, &c, &converged, NULL, err)) return -1;
+    if (converged) memset(s->v, 0, sizeof(double) * r);
+    else s->stats.unconverged_steps++;
     return 0;
 }
 

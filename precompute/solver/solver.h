@@ -63,6 +63,16 @@ typedef struct {
 int rk_newton_solve(const rk_newton_problem *p, double *x, double tol, int max_iter, double *work,
                     int *converged, rk_newton_stats *stats, rk_error *err);
 
+/* Load stepping for a static equilibrium: the full load, or when Newton does not converge, the load
+ * ramped over 4, 16 and then 64 equal increments, each minimised from the one before, every attempt
+ * starting again from x as given. increment(ctx, lambda, x, converged, err) minimises the potential
+ * at load fraction lambda in (0, 1] from x, in place (the caller moves its prescribed targets with
+ * lambda). On return x is the last attempt's answer and *converged whether it converged; *used (may
+ * be NULL) the increments of that attempt. Errors of increment are passed on, naming the increment. */
+typedef int (*rk_load_increment)(void *ctx, double lambda, double *x, int *converged, rk_error *err);
+int rk_load_stepping(int n, double *x, rk_load_increment increment, void *ctx, int *converged, int *used,
+                     rk_error *err);
+
 /* The time integrator of a simulator with n unknowns: the prediction of each step and the
  * history BDF2 keeps. */
 typedef struct {

@@ -257,6 +257,40 @@ TEST(backward_euler_is_first_order_and_bdf2_second)
     CHECK(bd1 < be1 / 100, "BDF2 %.3g not far below BE %.3g", bd1, be1);
 }
 
+/* A load step converges only when lambda moves by at most 0.25 from the last converged one (a
+ * Newton basin); x tracks lambda. */
+typedef struct {
+    double last;
+    int calls, fail_at;
+} ramp;
+
+static int ramp_increment(void *ctx, double lambda, double *x, int *converged, rk_error *err)
+{
+    ramp *r = ctx;
+    if (++r->calls == r->fail_at) return rk_fail(err, "solve broke");
+    if (x[0] != r->last && x[0] != 0) return rk_fail(err, "increment did not start where the last ended");
+    *converged = lambda - x[0] <= 0.25 + 1e-15;
+    x[0] = *converged ? lambda : x[0] + 0.1;
+    r->last = x[0];
+    return 0;
+}
+
+TEST(load_stepping_ramps_a_load_newton_cannot_take_at_once)
+{
+    ramp r = {0};
+    double x = 0;
+    int converged, used;
+    rk_error err;
+    CHECK_OK(rk_load_stepping(1, &x, ramp_increment, &r, &converged, &used, &err));
+    /* 1 increment fails; 4 increments of 0.25 converge, each from the last, restarting from 0 */
+    CHECK(converged && used == 4 && x == 1.0 && r.calls == 5, "converged %d, %d increments, x %g, %d calls", converged,
+          used, x, r.calls);
+    ramp broken = {.fail_at = 3};
+    x = 0;
+    CHECK(rk_load_stepping(1, &x, ramp_increment, &broken, &converged, &used, &err) != 0, "error not passed on");
+    CHECK(strstr(err.msg, "load increment 2 of 4: solve broke"), "message: %s", err.msg);
+}
+
 int main(void)
 {
     RUN(a_quadratic_takes_one_newton_step);
@@ -265,5 +299,6 @@ int main(void)
     RUN(prescribed_entries_never_move);
     RUN(a_potential_that_is_not_finite_is_an_error_naming_the_iteration);
     RUN(backward_euler_is_first_order_and_bdf2_second);
+    RUN(load_stepping_ramps_a_load_newton_cannot_take_at_once);
     return test_finish();
 }
