@@ -26,6 +26,7 @@
 #include "fom/fom.h"
 #include "rom/rom.h"
 #include "scene/scene.h"
+#include "util/metrics.h"
 #include "util/timer.h"
 
 #define BENCH_NR 4
@@ -260,25 +261,21 @@ fail:
     return -1;
 }
 
-/* The relative error of reduced trajectory q_traj (r x nf, from bench_time_rom) against the
- * full-order frames 0..nf-1 (both start from rest; frame f is after step f + 1):
- * sqrt(sum_f |x_rom,f - x_fom,f|^2 / sum_f |x_fom,f - X|^2) over every vertex. */
+/* The relative error (util/metrics.h) of reduced trajectory q_traj (r x nf, from bench_time_rom)
+ * against the full-order frames 0..nf-1 (both start from rest; frame f is after step f + 1). */
 static inline double bench_rom_error(const bench_rom_case *bc, int r, const double *q_traj, int nf)
 {
     int n = bc->ndof;
-    double num = 0, den = 0;
     double *x = malloc(sizeof(double) * (size_t)n);
     if (!x) return NAN;
+    rk_run_error e;
+    rk_run_error_init(&e, bc->sim.mesh.X, n / 3);
     for (int f = 0; f < nf && f < bc->nframes; f++) {
-        const double *xf = bc->frames + (size_t)n * f;
         rk_rom_positions(bc->b.U, n, r, bc->sim.mesh.X, q_traj + (size_t)r * f, x);
-        for (int i = 0; i < n; i++) {
-            num += (x[i] - xf[i]) * (x[i] - xf[i]);
-            den += (xf[i] - bc->sim.mesh.X[i]) * (xf[i] - bc->sim.mesh.X[i]);
-        }
+        rk_run_error_add(&e, x, bc->frames + (size_t)n * f);
     }
     free(x);
-    return den > 0 ? sqrt(num / den) : NAN;
+    return rk_relative_error(&e);
 }
 
 #endif

@@ -57,6 +57,7 @@ static cJSON *method_json(const rk_compare_method *m)
     add_number(j, "normalized_mse", m->normalized_mse);
     add_number(j, "normalized_max_error", m->normalized_max_error);
     add_number(j, "max_error", m->max_error_m);
+    add_number(j, "relative_error", m->relative_error);
     add_number(j, "relative_online_error", m->relative_online_error);
     add_number(j, "seconds_per_step", m->seconds_per_step);
     add_number(j, "speedup", m->speedup);
@@ -94,6 +95,7 @@ static cJSON *make_report(const rk_compare_result *res, double seconds)
     cJSON_AddNumberToObject(f, "seconds_per_step", res->fom_seconds_per_step);
     cJSON_AddNumberToObject(f, "normalized_mse", 0);
     cJSON_AddNumberToObject(f, "relative_online_error", 0);
+    cJSON_AddNumberToObject(f, "relative_error", 0);
     cJSON_AddItemToArray(methods, f);
     for (int k = 0; k < res->nmethods; k++) cJSON_AddItemToArray(methods, method_json(&res->methods[k]));
     cJSON *s = cJSON_AddObjectToObject(root, "seconds");

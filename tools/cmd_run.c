@@ -14,6 +14,7 @@
 #include "runtime/romrt.h"
 #include "util/atomic_file.h"
 #include "util/json_out.h"
+#include "util/metrics.h"
 #include "util/npy.h"
 #include "util/sort.h"
 #include "util/timer.h"
@@ -62,17 +63,24 @@ static int parse_real(const char *what, const char *text, romrt_real *out)
     return -1;
 }
 
-/* --reference: the source mesh's frames, the asset's shown vertices among them (VMAP), and
- * the sums of squared errors and of squared reference displacements. */
+/* --reference: the source mesh's frames, the asset's shown vertices among them (VMAP), and the
+ * errors of util/metrics.h over the shown vertices, their rest shape being the reference's frame 0. */
 typedef struct {
     double *frames;     /* T x nv x 3 */
     long T, nv;
     uint32_t *source;   /* shown vertex -> source vertex */
     int shown;
-    double L;           /* rest bounding-box diagonal of the shown vertices */
-    double sum_sq, sum_ref;
-    long compared;
+    double *rest, *at;  /* the shown vertices in frame 0 and in the frame being compared (3 shown) */
+    rk_run_error error;
 } reference;
+
+/* The shown vertices' positions in reference frame k. */
+static void reference_gather(const reference *ref, long k, double *out)
+{
+    const double *F = ref->frames + (size_t)k * ref->nv * 3;
+    for (int i = 0; i < ref->shown; i++)
+        for (int a = 0; a < 3; a++) out[3 * i + a] = F[3 * (size_t)ref->source[i] + a];
+}
 
 static int reference_open(reference *ref, const char *path, const unsigned char *asset, size_t bytes, int shown,
                           rk_error *err)
@@ -91,19 +99,16 @@ static int reference_open(reference *ref, const char *path, const unsigned char 
         return rk_fail(err, "--reference: the asset has no VMAP chunk saying which source vertex each one is");
     ref->shown = shown;
     ref->source = calloc((size_t)shown + 1, sizeof(uint32_t));
-    if (!ref->source) return rk_fail(err, "out of memory");
+    ref->rest = calloc((size_t)3 * shown + 1, sizeof(double));
+    ref->at = calloc((size_t)3 * shown + 1, sizeof(double));
+    if (!ref->source || !ref->rest || !ref->at) return rk_fail(err, "out of memory");
     memcpy(ref->source, c.data, 4 * (size_t)shown);
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < shown; i++) {
+    for (int i = 0; i < shown; i++)
         if (ref->source[i] >= ref->nv)
             return rk_fail(err, "%s has %ld vertices; the asset's vertex %d comes from source vertex %u", path, ref->nv,
                            i, ref->source[i]);
-        for (int a = 0; a < 3; a++) {
-            lo[a] = fmin(lo[a], ref->frames[3 * ref->source[i] + a]);
-            hi[a] = fmax(hi[a], ref->frames[3 * ref->source[i] + a]);
-        }
-    }
-    ref->L = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    reference_gather(ref, 0, ref->rest);
+    rk_run_error_init(&ref->error, ref->rest, shown);
     return 0;
 }
 
@@ -111,15 +116,16 @@ static int reference_open(reference *ref, const char *path, const unsigned char 
 static void reference_add(reference *ref, long k, const double *xyz)
 {
     if (!ref->frames || k >= ref->T) return;
-    const double *F = ref->frames + (size_t)k * ref->nv * 3, *F0 = ref->frames;
-    for (int i = 0; i < ref->shown; i++)
-        for (int a = 0; a < 3; a++) {
-            size_t s = 3 * (size_t)ref->source[i] + a;
-            double d = xyz[3 * i + a] - F[s], u = F[s] - F0[s];
-            ref->sum_sq += d * d;
-            ref->sum_ref += u * u;
-        }
-    ref->compared++;
+    reference_gather(ref, k, ref->at);
+    rk_run_error_add(&ref->error, xyz, ref->at);
+}
+
+static void reference_free(reference *ref)
+{
+    free(ref->frames);
+    free(ref->source);
+    free(ref->rest);
+    free(ref->at);
 }
 
 /* What drawing costs: the median of 21 romrt_positions calls for every shown vertex. */
@@ -307,9 +313,9 @@ int cmd_run(int argc, char **argv)
         cJSON_AddStringToObject(r, "precision", sizeof(romrt_real) == 4 ? "float32" : "float64");
         if (ref.frames) {
             cJSON *rj = cJSON_AddObjectToObject(r, "reference");
-            cJSON_AddNumberToObject(rj, "frames", ref.compared);
-            cJSON_AddNumberToObject(rj, "normalized_mse", ref.compared ? ref.sum_sq / ref.compared / n / (ref.L * ref.L) : NAN);
-            cJSON_AddNumberToObject(rj, "relative_error", ref.sum_ref > 0 ? sqrt(ref.sum_sq / ref.sum_ref) : NAN);
+            cJSON_AddNumberToObject(rj, "frames", (double)ref.error.frames);
+            cJSON_AddNumberToObject(rj, "normalized_mse", rk_normalized_mse(&ref.error));
+            cJSON_AddNumberToObject(rj, "relative_error", rk_relative_error(&ref.error));
         }
         cJSON *a = cJSON_AddObjectToObject(r, "asset");
         cJSON_AddNumberToObject(a, "bytes", (double)file_bytes);
@@ -322,9 +328,9 @@ int cmd_run(int argc, char **argv)
     printf("%s: %ld steps of %g s, r = %d, %d shown vertices, %.3g us/step (median), %ld Newton iterations, "
            "arena %zu bytes\n", path, steps, (double)romrt_time_step(m), romrt_reduced_size(m), n, median * 1e6, newton,
            arena_bytes);
-    if (ref.compared)
-        printf("  against %s over %ld frames: relative error %.3g, normalized MSE %.3g\n", ref_path, ref.compared,
-               sqrt(ref.sum_sq / ref.sum_ref), ref.sum_sq / ref.compared / n / (ref.L * ref.L));
+    if (ref.error.frames)
+        printf("  against %s over %ld frames: relative error %.3g, normalized MSE %.3g\n", ref_path, ref.error.frames,
+               rk_relative_error(&ref.error), rk_normalized_mse(&ref.error));
     if (jump_text) printf("  then a jump of %ld steps in %.3g us, to t = %g s\n", jump, seconds_jump * 1e6, (double)romrt_time(m));
     rc = 0;
     goto done;
@@ -339,8 +345,7 @@ done:
     free(xyz);
     free(frame);
     free(seconds);
-    free(ref.frames);
-    free(ref.source);
+    reference_free(&ref);
     free(tris);
     return rc;
 }

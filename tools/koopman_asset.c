@@ -7,18 +7,17 @@
 #include <string.h>
 
 #include "util/json_out.h"
+#include "util/metrics.h"
 
 cJSON *koopman_report(const rk_koopman *k)
 {
     cJSON *j = cJSON_CreateObject(), *eig = cJSON_CreateArray();
-    double top = 0;
     for (int i = 0; i < k->r; i++) {
         double pair[2] = {k->lambda_re[i], k->lambda_im[i]};
         cJSON_AddItemToArray(eig, rk_json_array(pair, 2));
-        top = fmax(top, hypot(pair[0], pair[1]));
     }
     cJSON_AddNumberToObject(j, "rank", k->r);
-    cJSON_AddNumberToObject(j, "max_abs_eigenvalue", top);
+    cJSON_AddNumberToObject(j, "max_abs_eigenvalue", rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, k->r));
     cJSON_AddItemToObject(j, "eigenvalues", eig);
     cJSON_AddItemToObject(j, "residuals", rk_json_array(k->residual, k->r));
     cJSON_AddNumberToObject(j, "clamped", k->clamped);
@@ -67,8 +66,7 @@ int koopman_asset_write(const rk_koopman *k, rk_koopman_geometry *g, const rk_as
         rc = rk_json_write_file(report_out, report, err);
     }
     if (!rc) {
-        double top = 0;
-        for (int i = 0; i < k->r; i++) top = fmax(top, hypot(k->lambda_re[i], k->lambda_im[i]));
+        double top = rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, k->r);
         printf("%s: Koopman operator, rank %d over %d observables, max |lambda| %.9f%s, %d of %d vertices stored "
                "(%d shown), %zu bytes\n",
                out, k->r, k->d, top, k->clamped ? " (clamped)" : "", sum.vertices, g->nv, sum.shown, bytes);

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/metrics.h"
 #include "util/sort.h"
 #include "util/timer.h"
 
@@ -48,21 +49,9 @@ static void fom_run_free(fom_run *F)
     free(F->step_seconds);
 }
 
-double rk_compare_frame_error(const double *a, const double *b, int ndof, double *max_dist)
-{
-    double sum = 0;
-    for (int v = 0; v < ndof / 3; v++) {
-        double d2 = 0;
-        for (int i = 0; i < 3; i++) d2 += (a[3 * v + i] - b[3 * v + i]) * (a[3 * v + i] - b[3 * v + i]);
-        sum += d2;
-        *max_dist = fmax(*max_dist, sqrt(d2));
-    }
-    return sum;
-}
-
 /* The free run: errors against every full-order frame and the median step time. */
 static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, const rk_sparse *M,
-                    rk_compare_method *out, double L, rk_error *err)
+                    rk_compare_method *out, rk_error *err)
 {
     int r = R->basis.r, ndof = F->ndof;
     double *q0 = rk_calloc((size_t)r, sizeof(double), err), *v0 = rk_calloc((size_t)r, sizeof(double), err);
@@ -74,17 +63,16 @@ static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, 
         rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v, v0, err) ||
         rk_rom_init(&rom, &R->model, q0, v0, err))
         goto out;
-    double sum = 0, maxd = 0;
+    rk_run_error e;
+    rk_run_error_init(&e, sim->mesh.X, ndof / 3);
     for (int s = 0; s < F->T; s++) {
         double t0 = rk_now();
         if (rk_rom_step(&rom, err)) goto out;
         secs[s] = rk_now() - t0;
         rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
-        sum += rk_compare_frame_error(x, F->x + (size_t)ndof * (s + 1), ndof, &maxd);
+        rk_run_error_add(&e, x, F->x + (size_t)ndof * (s + 1));
     }
-    out->normalized_mse = sum / ((double)F->T * (ndof / 3)) / (L * L);
-    out->normalized_max_error = maxd / L;
-    out->max_error_m = maxd;
+    rk_compare_record_errors(out, &e);
     out->seconds_per_step = rk_median(secs, F->T);
     out->newton_iterations = rom.stats.newton_iterations;
     out->unconverged_steps = rom.stats.unconverged_steps;
@@ -108,7 +96,8 @@ static int run_realigned(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run
     int rc = -1;
     rk_rom rom = {0};
     if (!q || !v || !x || rk_rom_init(&rom, &R->model, NULL, NULL, err)) goto out;
-    double num = 0, den = 0;
+    rk_run_error e;
+    rk_run_error_init(&e, sim->mesh.X, ndof / 3);
     for (int s = 0; s < F->T; s++) {
         if (rk_rom_project(&R->model, M, R->basis.U, ndof, sim->mesh.X, F->x + (size_t)ndof * s, q, err) ||
             rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v + (size_t)ndof * s, v, err))
@@ -116,10 +105,9 @@ static int run_realigned(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run
         rk_rom_reset(&rom, q, v, s * sim->options.h);
         if (rk_rom_step(&rom, err)) goto out;
         rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
-        const double *ref = F->x + (size_t)ndof * (s + 1);
-        rk_compare_online_add(x, ref, sim->mesh.X, ndof, &num, &den);
+        rk_run_error_add(&e, x, F->x + (size_t)ndof * (s + 1));
     }
-    out->relative_online_error = den > 0 ? num / den : NAN;
+    out->relative_online_error = rk_relative_online_error(&e);
     rc = 0;
 out:
     rk_rom_free(&rom);
@@ -129,26 +117,23 @@ out:
     return rc;
 }
 
-void rk_compare_online_add(const double *x, const double *ref, const double *X, int ndof, double *num, double *den)
+void rk_compare_record_errors(rk_compare_method *m, const rk_run_error *e)
 {
-    double e = 0, d = 0;
-    for (int i = 0; i < ndof; i++) {
-        e += (x[i] - ref[i]) * (x[i] - ref[i]);
-        d += (ref[i] - X[i]) * (ref[i] - X[i]);
-    }
-    *num += sqrt(e);
-    *den += sqrt(d);
+    m->normalized_mse = rk_normalized_mse(e);
+    m->normalized_max_error = rk_normalized_max_error(e);
+    m->max_error_m = e->max_dist;
+    m->relative_error = rk_relative_error(e);
 }
 
 void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
 {
     snprintf(m->failure, sizeof m->failure, "%s", err->msg);
-    m->normalized_mse = m->normalized_max_error = m->max_error_m = m->relative_online_error = NAN;
+    m->normalized_mse = m->normalized_max_error = m->max_error_m = m->relative_error = m->relative_online_error = NAN;
     m->seconds_per_step = m->speedup = NAN;
 }
 
 static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
-                       const rk_sparse *M, int index, double L, rk_compare_method *m, const rk_compare_result *res)
+                       const rk_sparse *M, int index, rk_compare_method *m, const rk_compare_result *res)
 {
     rk_error err;
     rk_rom_options o;
@@ -166,7 +151,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->reference_nmse = o.reference_nmse;
     memcpy(m->reference_source, o.reference_source, sizeof m->reference_source);
     if (rk_koopman_scene_present(scene->rom, index)) {
-        if (rk_compare_koopman(scene, sim, F, D, index, &o, L, m, &err)) rk_compare_record_failure(m, &err);
+        if (rk_compare_koopman(scene, sim, F, D, index, &o, m, &err)) rk_compare_record_failure(m, &err);
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
@@ -183,7 +168,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->seconds_training_run = R.basis_info.fom_frames ? res->fom_seconds_total : 0;
     memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
     memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
-    if (run_free(sim, &R, F, M, m, L, &err) || run_realigned(sim, &R, F, M, m, &err)) rk_compare_record_failure(m, &err);
+    if (run_free(sim, &R, F, M, m, &err) || run_realigned(sim, &R, F, M, m, &err)) rk_compare_record_failure(m, &err);
     else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
     rk_scene_rom_free(&R);
 }
@@ -214,7 +199,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     if (!out->methods) goto done;
     out->nmethods = n;
     for (int k = 0; k < n; k++) {
-        run_method(scene, &sim, &F, D, &M, k, out->bbox_diagonal, &out->methods[k], out);
+        run_method(scene, &sim, &F, D, &M, k, &out->methods[k], out);
     }
     rc = 0;
 done:

@@ -1,14 +1,9 @@
 /* precompute/compare: the full-order model and every reduced method a scene lists (reduced models,
  * and Koopman operators for entries with a koopman section), run side by side on the scene, with
- * the error metrics of the papers:
- *
- *   normalized MSE   mean over frames and vertices of |x - x_fom|^2, divided by L^2 with L the rest
- *                    bounding-box diagonal (freeform paper Sec. 4: "MSE of simulated point locations
- *                    across the whole shape and all frames, normalized by the bounding box size")
- *   max error        the largest |x - x_fom| over frames and vertices, divided by L
- *   online error     sum_t |x_t - x_fom,t| / sum_t |x_fom,t - X| where each reduced step starts from
- *                    the full-order state at t - 1 projected onto the subspace (Grassmann paper,
- *                    Sec. 5.1: per-step realignment, so drift does not dominate)
+ * the error metrics of util/metrics.h: normalized MSE, max error and relative error of a free run
+ * against every full-order frame, and the total relative online error of a run that starts each
+ * step from the full-order state at t - 1 projected onto the subspace (Grassmann paper, Sec. 5.1:
+ * per-step realignment, so drift does not dominate).
  *
  * Timing: the median wall time of one step (reconstruction of the vertices not counted: a runtime
  * only rebuilds the vertices it shows). A Koopman method steps in its real eigen-coordinates, as
@@ -27,7 +22,7 @@ typedef struct {
     int r;                         /* reduced coordinates */
     int cubature_points;           /* 0: exact */
     double cubature_error;
-    double normalized_mse, normalized_max_error, max_error_m, relative_online_error;
+    double normalized_mse, normalized_max_error, max_error_m, relative_error, relative_online_error; /* util/metrics.h */
     double seconds_per_step, speedup;
     double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
     double seconds_fit;            /* Koopman: the DMD fit */

@@ -5,6 +5,7 @@
 
 #include "compare/compare.h"
 #include "koopman/scene_koopman.h"
+#include "util/metrics.h"
 
 typedef struct {
     int ndof, T;
@@ -12,11 +13,8 @@ typedef struct {
     double *step_seconds;
 } fom_run;
 
-/* Sum over vertices of |a - b|^2 and the largest |a - b|. */
-double rk_compare_frame_error(const double *a, const double *b, int ndof, double *max_dist);
-/* The online error's sums (Grassmann paper Sec. 5.1) for one realigned step: num += |x - ref|,
- * den += |ref - X|. */
-void rk_compare_online_add(const double *x, const double *ref, const double *X, int ndof, double *num, double *den);
+/* A free run's errors (util/metrics.h) into m: normalized MSE, max error, relative error. */
+void rk_compare_record_errors(rk_compare_method *m, const rk_run_error *e);
 /* The method did not run: why, and its numbers NAN. */
 void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
 
@@ -24,6 +22,6 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
  * displacement frames) and any other trajectories it lists, then run free and realigned as the
  * reduced models are. */
 int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
-                       const rk_rom_options *o, double L, rk_compare_method *m, rk_error *err);
+                       const rk_rom_options *o, rk_compare_method *m, rk_error *err);
 
 #endif

@@ -57,13 +57,14 @@ static void positions(const rk_scene_sim *sim, const koopman_run *K)
     cblas_dgemv(CblasColMajor, CblasNoTrans, K->n, K->r, 1.0, K->out, K->n, K->y, 1, 1.0, K->x, 1);
 }
 
-static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, const fom_run *F, double L,
+static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, const fom_run *F,
                                   rk_compare_method *m, rk_error *err)
 {
     koopman_run K;
     int rc = -1, n = F->ndof;
     if (run_init(k, sim, F, &K, err)) goto out;
-    double sum = 0, maxd = 0;
+    rk_run_error e;
+    rk_run_error_init(&e, sim->mesh.X, n / 3);
     for (int s = 0; s < F->T; s++) {
         double t0 = rk_now();
         step(k, &K);
@@ -73,14 +74,13 @@ static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, 
             rk_fail(err, "the Koopman state overflowed at step %d (an eigenvalue above 1: set clamp)", s);
             goto out;
         }
-        sum += rk_compare_frame_error(K.x, F->x + (size_t)n * (s + 1), n, &maxd);
+        rk_run_error_add(&e, K.x, F->x + (size_t)n * (s + 1));
     }
-    m->normalized_mse = sum / ((double)F->T * (n / 3)) / (L * L);
-    m->normalized_max_error = maxd / L;
-    m->max_error_m = maxd;
+    rk_compare_record_errors(m, &e);
     m->seconds_per_step = rk_median(K.secs, F->T);
     /* realigned: each step from the full-order state before it, lifted */
-    double num = 0, den = 0;
+    rk_run_error online;
+    rk_run_error_init(&online, sim->mesh.X, n / 3);
     for (int s = 0; s < F->T; s++) {
         const double *xs = F->x + (size_t)n * s, *ref = F->x + (size_t)n * (s + 1);
         for (int i = 0; i < n; i++) {
@@ -91,9 +91,9 @@ static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, 
         cblas_dgemv(CblasColMajor, CblasNoTrans, k->r, k->r, 1.0, k->Winv, k->r, K.z, 1, 0.0, K.y, 1);
         step(k, &K);
         positions(sim, &K);
-        rk_compare_online_add(K.x, ref, sim->mesh.X, n, &num, &den);
+        rk_run_error_add(&online, K.x, ref);
     }
-    m->relative_online_error = den > 0 ? num / den : NAN;
+    m->relative_online_error = rk_relative_online_error(&online);
     rc = 0;
 out:
     run_free(&K);
@@ -101,7 +101,7 @@ out:
 }
 
 int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
-                       const rk_rom_options *o, double L, rk_compare_method *m, rk_error *err)
+                       const rk_rom_options *o, rk_compare_method *m, rk_error *err)
 {
     rk_koopman_scene_info ki;
     rk_koopman k;
@@ -122,8 +122,8 @@ int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom
              ki.reused ? "measures reconstruction, not prediction" : "measures prediction");
     m->r = k.r;
     m->size = k.d;
-    for (int j = 0; j < k.r; j++) m->max_abs_eigenvalue = fmax(m->max_abs_eigenvalue, hypot(k.lambda_re[j], k.lambda_im[j]));
-    int rc = run_free_and_realigned(&k, sim, F, L, m, err);
+    m->max_abs_eigenvalue = rk_max_abs_eigenvalue(k.lambda_re, k.lambda_im, k.r);
+    int rc = run_free_and_realigned(&k, sim, F, m, err);
     rk_koopman_free(&k);
     return rc;
 }

@@ -106,9 +106,6 @@ int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_vo
                       rk_mesh *out, rk_error *err);
 
 /* Point clouds (PLY vertices with x, y, z; Gaussian-splat PLY included). *X malloc'ed, 3*n. */
-/* Diagonal of the bounding box of n points (3 n coordinates): the size that relative tolerances
- * and normalized errors use. */
-double rk_points_diagonal(const double *X, int n);
 int rk_points_load(const char *path, double **X, int *n, rk_error *err);
 
 #endif

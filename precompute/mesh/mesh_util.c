@@ -46,13 +46,3 @@ int rk_grow(void *p, size_t *cap, size_t need, size_t elem, rk_error *err)
     return 0;
 }
 
-double rk_points_diagonal(const double *X, int n)
-{
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < n; v++)
-        for (int i = 0; i < 3; i++) {
-            lo[i] = fmin(lo[i], X[3 * v + i]);
-            hi[i] = fmax(hi[i], X[3 * v + i]);
-        }
-    return sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-}

@@ -2,6 +2,7 @@
  * concatenated; one material per element (regions override by element centroid, in order);
  * the FEM model; full-order options with prescribed vertex groups, loads and initial velocities. */
 #include "scene/scene.h"
+#include "util/metrics.h"
 
 #include <math.h>
 #include <stdlib.h>
