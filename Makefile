@@ -11,24 +11,25 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem solver fom scene basis cubature rom koopman compare formats asset
+STAGES := util mesh physics fem solver fom basis cubature rom koopman formats asset pipeline compare
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
 DEPS_solver  := solver physics util
 DEPS_fom     := fom solver fem physics mesh util
-DEPS_scene   := scene fom solver fem physics mesh util
-DEPS_basis   := basis scene fom solver fem physics mesh util
-DEPS_cubature := cubature basis scene fom solver fem physics mesh util
-DEPS_rom     := rom cubature basis scene fom solver fem physics mesh util
-DEPS_koopman := koopman cubature basis scene fom solver fem physics mesh util
-DEPS_compare := compare koopman rom cubature basis scene fom solver fem physics mesh util
+DEPS_basis   := basis fem physics mesh util
+DEPS_cubature := cubature fem physics mesh util
+DEPS_rom     := rom cubature fom solver fem physics mesh util
+DEPS_koopman := koopman cubature fem physics mesh util
 DEPS_formats := formats util
-DEPS_asset   := asset formats koopman rom cubature basis scene fom solver fem physics mesh util
-DEPS_runtime := $(DEPS_asset)
+DEPS_asset   := asset formats koopman rom cubature fom solver fem physics mesh util
+# The scene parsed once and the whole-scene orchestration: every stage below it.
+DEPS_pipeline := pipeline asset formats koopman rom cubature basis fom solver fem physics mesh util
+DEPS_compare := compare $(DEPS_pipeline)
+DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
-DEPS_tools   := asset formats compare koopman rom cubature basis scene fom solver fem physics mesh util
+DEPS_tools   := $(DEPS_compare)
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))
@@ -103,9 +104,14 @@ test_stage = $(word 2,$(subst _, ,$(notdir $(1))))
 $(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) $(RT_LIB_DOUBLE)
 	@mkdir -p $(dir $@)
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,runtime) $(RT_LIB_DOUBLE) $(LDLIBS)
-$(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call libs_of,$$(call test_stage,$$*)) $(RT_LIB)
+# A test that checks its stage against a stage above it (an independent reference) names that one:
+# TEST_ALSO_<test> stages are linked before its own.
+TEST_ALSO_test_basis_derivatives := fom solver
+TEST_ALSO_test_basis_pod := fom solver
+test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
+$(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS_PC) -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,$(call test_stage,$*)) $(RT_LIB) $(LDLIBS)
+	$(CC) $(CFLAGS_PC) -Itests -MMD -MP -MF $@.d -o $@ $< $(call test_libs,$*) $(RT_LIB) $(LDLIBS)
 
 $(BUILD)/bench_%: bench/bench_%.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)

@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "scene/scene.h"
+#include "pipeline/pipeline.h"
 #include "util/sort.h"
 
 typedef struct {

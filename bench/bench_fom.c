@@ -14,7 +14,7 @@
 
 #include "bench_cases.h"
 #include "fom/fom.h"
-#include "scene/scene.h"
+#include "pipeline/pipeline.h"
 #include "util/timer.h"
 
 int main(int argc, char **argv)

@@ -46,7 +46,7 @@
 #include "asset/asset.h"
 #include "bench_cases.h"
 #include "formats/rombin_write.h"
-#include "koopman/scene_koopman.h"
+#include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
 #include "runtime/romrt.h"
 #include "util/timer.h"
@@ -193,17 +193,11 @@ static int bake(const mesh_case *mc, const rk_koopman *k, unsigned char **asset,
     double s[FIT_REPEATS];
     int rc = 0;
     *asset = NULL;
+    const double *u = mc->run.t.u; /* the asset starts where the run did: u_0 = u + d, u_-1 = u */
+    rk_koopman_geometry g = {.nv = mc->nv, .X = sim->mesh.X, .vertex_mass = sim->fem.vertex_mass, .tris = tris,
+                             .ntris = ntris, .accel = mc->run.accel, .u0 = u + mc->d, .u_prev = u, .source_tets = mc->nt,
+                             .trajectories = 1};
     for (int i = 0; i < FIT_REPEATS && !rc; i++) {
-        /* the bake takes the triangles over: a copy each time, made before the clock starts */
-        int *copy = rk_calloc((size_t)3 * ntris, sizeof(int), err);
-        if (!copy) {
-            rc = -1;
-            break;
-        }
-        memcpy(copy, tris, sizeof(int) * 3 * (size_t)ntris);
-        const double *u = mc->run.t.u; /* the asset starts where the run did: u_0 = u + d, u_-1 = u */
-        rk_koopman_geometry g = {mc->nv, sim->mesh.X, sim->fem.vertex_mass, copy, ntris, mc->run.accel,
-                                 u + mc->d, u, mc->nt, 1};
         rombin_writer w;
         free(*asset);
         *asset = NULL;
@@ -212,7 +206,6 @@ static int bake(const mesh_case *mc, const rk_koopman *k, unsigned char **asset,
         rc = rk_asset_bake_koopman(k, &g, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, asset, bytes, err);
         rombin_writer_free(&w);
         s[i] = rk_now() - t0;
-        free(g.tris);
     }
     free(tris);
     if (rc) return -1;

@@ -25,7 +25,7 @@
 #include "cubature/cubature.h"
 #include "fom/fom.h"
 #include "rom/rom.h"
-#include "scene/scene.h"
+#include "pipeline/pipeline.h"
 #include "util/metrics.h"
 #include "util/timer.h"
 

@@ -63,7 +63,8 @@ static int bake(const rk_scene_sim *sim, const rk_scene_rom *R, int compress, un
     ao.compress = compress;
     rombin_writer w;
     rombin_writer_init(&w, ROMBIN_REAL_F32, compress);
-    int rc = rk_asset_bake(sim, R, &ao, NULL, &w, summary, err) || rombin_serialize(&w, out, bytes, err);
+    rk_asset_rom source = rk_scene_asset_rom(sim, R);
+    int rc = rk_asset_bake(&source, NULL, NULL, &ao, NULL, &w, summary, err) || rombin_serialize(&w, out, bytes, err);
     rombin_writer_free(&w);
     return rc ? -1 : 0;
 }

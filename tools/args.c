@@ -1,6 +1,8 @@
 /* Option parsing shared by the subcommands. */
 #include "args.h"
 
+#include "formats/rombin.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,5 +57,18 @@ int cli_real(const char *text, double lo, double hi, double *out)
     double v = text ? strtod(text, &end) : NAN;
     if (!text || end == text || *end || !isfinite(v) || v < lo || v > hi) return -1;
     *out = v;
+    return 0;
+}
+
+int cli_precision(const char *cmd, const char *text, int *given, int *real_type)
+{
+    *given = text != NULL;
+    if (!text) return 0;
+    if (strcmp(text, "float32") == 0) *real_type = ROMBIN_REAL_F32;
+    else if (strcmp(text, "float64") == 0) *real_type = ROMBIN_REAL_F64;
+    else {
+        fprintf(stderr, "romkit %s: --precision must be float32 or float64, got '%s'\n", cmd, text);
+        return -1;
+    }
     return 0;
 }

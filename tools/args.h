@@ -20,4 +20,8 @@ int cli_parse(const char *cmd, int argc, char **argv, const cli_option *opts, co
 int cli_whole(const char *text, long lo, long hi, long *out);
 int cli_real(const char *text, double lo, double hi, double *out);
 
+/* "--precision float32|float64" (text NULL: not given, *given = 0): the asset's real type
+ * (formats/rombin.h). Prints "romkit CMD: ..." and returns -1 on another value. */
+int cli_precision(const char *cmd, const char *text, int *given, int *real_type);
+
 #endif

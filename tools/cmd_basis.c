@@ -6,9 +6,8 @@
 #include <string.h>
 
 #include "args.h"
-#include "basis/scene_basis.h"
+#include "pipeline/pipeline.h"
 #include "commands.h"
-#include "util/json_out.h"
 #include "util/npy.h"
 #include "util/timer.h"
 
@@ -107,14 +106,20 @@ int cmd_basis(int argc, char **argv)
     double t0 = rk_now();
     rk_error err = {{0}};
     rk_scene scene;
-    rk_basis_options o;
+    rk_scene_sim sim;
+    const rk_rom_entry *e;
     rk_basis b;
     rk_scene_basis_info info = {0};
-    int have_scene = 0, have_basis = 0, rc = 1;
+    int have_scene = 0, have_sim = 0, have_basis = 0, rc = 1;
     if (rk_scene_load(scene_path, &scene, &err)) goto done;
     have_scene = 1;
-    if (rk_basis_options_parse(scene.rom, (int)index, scene_path, &o, &err)) goto done;
-    if (rk_scene_basis_build(&scene, &o, &b, &info, &err)) goto done;
+    if (rk_scene_entry(&scene, (int)index, &e, &err)) goto done;
+    /* a point cloud has no mesh to build: its basis is mesh-free */
+    if (scene.objects[0].shape != RK_SHAPE_POINTS) {
+        if (rk_scene_build(&scene, &sim, &err)) goto done;
+        have_sim = 1;
+    }
+    if (rk_scene_basis(&scene, have_sim ? &sim : NULL, &e->basis, NULL, 0, &b, &info, &err)) goto done;
     have_basis = 1;
     if (weights_out && !b.W) {
         rk_fail(&err, "--weights: a %s basis has no skinning weights", rk_basis_type_name(b.type));
@@ -143,6 +148,7 @@ done:
     if (rc) fprintf(stderr, "romkit basis: %s\n", err.msg);
     if (have_basis) rk_basis_free(&b);
     rk_scene_basis_info_free(&info);
+    if (have_sim) rk_scene_sim_free(&sim);
     if (have_scene) rk_scene_free(&scene);
     return rc;
 }

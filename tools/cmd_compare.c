@@ -8,7 +8,7 @@
 #include "args.h"
 #include "commands.h"
 #include "compare/compare.h"
-#include "util/json_out.h"
+#include "pipeline/pipeline.h"
 #include "util/timer.h"
 
 static void compare_usage(FILE *f)

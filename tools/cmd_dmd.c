@@ -8,7 +8,8 @@
 #include "args.h"
 #include "basis/basis.h"
 #include "commands.h"
-#include "koopman_asset.h"
+#include "formats/rombin_write.h"
+#include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
 #include "util/npy.h"
 #include "util/timer.h"
@@ -283,7 +284,10 @@ int cmd_dmd(int argc, char **argv)
     memset(&k, 0, sizeof k);
     rk_asset_default_options(&ao);
     rk_koopman_default_options(&o);
-    if (asset_flags("dmd", a.precision, a.compress, &ao)) return 2;
+    int has_real_type, real_type;
+    if (cli_precision("dmd", a.precision, &has_real_type, &real_type)) return 2;
+    if (has_real_type) ao.real_type = real_type;
+    ao.compress = a.compress;
     if (number("--dt", a.dt, 1e-12, 1e6, &o.h, &err) ||
         (a.rank && whole("--rank", a.rank, 1, 4096, &o.rank, &err)) ||
         (a.energy && number("--energy", a.energy, 1e-12, 1, &o.energy, &err)) ||
@@ -296,7 +300,8 @@ int cmd_dmd(int argc, char **argv)
         goto done_rec;
     fit_t = rk_now() - fit_t;
     double *accel = NULL;
-    rk_koopman_geometry g = {rec.nv, rec.X, rec.vertex_mass, NULL, 0, NULL, NULL, NULL, 0, rec.ntraj};
+    int *tris = NULL;
+    rk_koopman_geometry g = {.nv = rec.nv, .X = rec.X, .vertex_mass = rec.vertex_mass, .trajectories = rec.ntraj};
     if (a.mesh) {
         rk_mesh_report mr;
         if (rk_mesh_load(a.mesh, &mesh, &mr, &err)) goto done_rec;
@@ -305,7 +310,8 @@ int cmd_dmd(int argc, char **argv)
             rk_fail(&err, "%s has %d vertices, the recordings %d", a.mesh, mesh.nv, rec.nv);
             goto done_rec;
         }
-        if (rk_mesh_boundary(&mesh, &g.tris, &g.ntris, &err)) goto done_rec;
+        if (rk_mesh_boundary(&mesh, &tris, &g.ntris, &err)) goto done_rec;
+        g.tris = tris;
         g.source_tets = mesh.nt;
     }
     if (has_gravity) {
@@ -317,23 +323,30 @@ int cmd_dmd(int argc, char **argv)
     /* the asset starts at the first recording's first frame, at rest (as a recording of a body
      * released or pushed from rest begins; step k of the runtime is then frame k) */
     g.u_prev = g.u0 = rec.traj[0].u;
-    cJSON *report = cJSON_CreateObject(), *info = cJSON_CreateObject();
-    cJSON_AddNumberToObject(report, "vertices", rec.nv);
-    cJSON_AddNumberToObject(report, "trajectories", rec.ntraj);
-    cJSON *s = cJSON_AddObjectToObject(report, "seconds");
-    cJSON_AddNumberToObject(s, "fit", fit_t);
-    cJSON_AddNumberToObject(s, "total", rk_now() - t0);
+    cJSON *info = cJSON_CreateObject();
     cJSON_AddStringToObject(info, "method", "koopman");
     cJSON_AddStringToObject(info, "source", "romkit dmd");
     cJSON_AddNumberToObject(info, "rank", k.r);
     cJSON_AddNumberToObject(info, "trajectories", rec.ntraj);
     char *info_text = cJSON_PrintUnformatted(info);
     cJSON_Delete(info);
-    rc = koopman_asset_write(&k, &g, &ao, info_text, a.out, a.report, report, &err) ? 1 : 0;
+    rk_baked baked;
+    if (!rk_bake_koopman(&k, &g, &ao, info_text, &baked, &err)) {
+        cJSON_AddNumberToObject(baked.report, "vertices", rec.nv);
+        cJSON_AddNumberToObject(baked.report, "trajectories", rec.ntraj);
+        cJSON *s = cJSON_AddObjectToObject(baked.report, "seconds");
+        cJSON_AddNumberToObject(s, "fit", fit_t);
+        cJSON_AddNumberToObject(s, "total", rk_now() - t0);
+        if (!rombin_save(a.out, baked.data, baked.bytes, &err) &&
+            (!a.report || !rk_json_write_file(a.report, baked.report, &err))) {
+            printf("%s: %s\n", a.out, baked.summary);
+            rc = 0;
+        }
+        rk_baked_free(&baked);
+    }
     free(info_text);
-    free(g.tris);
+    free(tris);
     free(accel);
-    cJSON_Delete(report);
 done_rec:
     recordings_free(&rec);
 done:

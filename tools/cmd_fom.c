@@ -9,8 +9,7 @@
 #include "args.h"
 #include "commands.h"
 #include "fom/fom.h"
-#include "scene/scene.h"
-#include "util/json_out.h"
+#include "pipeline/pipeline.h"
 #include "util/npy.h"
 #include "util/timer.h"
 
@@ -63,9 +62,44 @@ static int write_frame(const fom_args *a, const rk_mesh *m, const double *x, int
     return rk_mesh_write(path, m, x, err);
 }
 
-static cJSON *make_report(const rk_scene_sim *sim, const rk_fom *fom, int steps, double seconds_total)
+/* What a run leaves behind, gathered frame by frame (rk_scene_fom_run). */
+typedef struct {
+    const fom_args *a;
+    const rk_scene_sim *sim;
+    rk_npy_stream snap;
+    int have_snap, steps;
+    double *x;             /* the last frame's positions */
+    cJSON *final;          /* the final state's report keys */
+} fom_output;
+
+static int on_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
 {
-    const rk_fom_stats *st = &fom->stats;
+    fom_output *o = ctx;
+    const rk_scene_sim *sim = o->sim;
+    int nv = sim->mesh.nv;
+    if (o->have_snap) rk_npy_stream_append(&o->snap, fom->x, 3 * (size_t)nv);
+    if (o->a->frames && write_frame(o->a, &sim->mesh, fom->x, step, err)) return -1;
+    memcpy(o->x, fom->x, sizeof(double) * 3 * (size_t)nv);
+    if (step < o->steps) return 0;
+    double min_J, max_disp = 0;
+    int inverted = rk_fem_inverted(&sim->fem, fom->x, &min_J);
+    for (int v = 0; v < nv; v++) {
+        double d2 = 0;
+        for (int i = 0; i < 3; i++) d2 += pow(fom->x[3 * v + i] - sim->mesh.X[3 * v + i], 2);
+        max_disp = fmax(max_disp, sqrt(d2));
+    }
+    cJSON *fin = o->final = cJSON_CreateObject();
+    cJSON_AddNumberToObject(fin, "time", fom->t);
+    cJSON_AddNumberToObject(fin, "inverted_elements", inverted);
+    cJSON_AddNumberToObject(fin, "min_det_F", min_J);
+    cJSON_AddNumberToObject(fin, "max_displacement", max_disp);
+    cJSON_AddNumberToObject(fin, "kinetic_energy", rk_fom_kinetic_energy(fom));
+    cJSON_AddNumberToObject(fin, "elastic_energy", rk_fem_energy(&sim->fem, fom->x));
+    return 0;
+}
+
+static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, int steps, cJSON *final, double seconds_total)
+{
     cJSON *r = cJSON_CreateObject();
     cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
     cJSON_AddNumberToObject(r, "tets", sim->mesh.nt);
@@ -88,20 +122,7 @@ static cJSON *make_report(const rk_scene_sim *sim, const rk_fom *fom, int steps,
     cJSON_AddNumberToObject(mesh, "components", sim->mesh_report.components);
     cJSON_AddNumberToObject(mesh, "reoriented", sim->mesh_report.reoriented);
     cJSON_AddNumberToObject(mesh, "min_quality", sim->mesh_report.min_quality);
-    double min_J, max_disp = 0;
-    int inverted = rk_fem_inverted(&sim->fem, fom->x, &min_J);
-    for (int v = 0; v < sim->mesh.nv; v++) {
-        double d2 = 0;
-        for (int i = 0; i < 3; i++) d2 += pow(fom->x[3 * v + i] - sim->mesh.X[3 * v + i], 2);
-        max_disp = fmax(max_disp, sqrt(d2));
-    }
-    cJSON *fin = cJSON_AddObjectToObject(r, "final");
-    cJSON_AddNumberToObject(fin, "time", fom->t);
-    cJSON_AddNumberToObject(fin, "inverted_elements", inverted);
-    cJSON_AddNumberToObject(fin, "min_det_F", min_J);
-    cJSON_AddNumberToObject(fin, "max_displacement", max_disp);
-    cJSON_AddNumberToObject(fin, "kinetic_energy", rk_fom_kinetic_energy(fom));
-    cJSON_AddNumberToObject(fin, "elastic_energy", rk_fem_energy(&sim->fem, fom->x));
+    cJSON_AddItemToObject(r, "final", final);
     return r;
 }
 
@@ -122,45 +143,37 @@ int cmd_fom(int argc, char **argv)
     rk_error err = {{0}};
     rk_scene scene;
     rk_scene_sim sim;
-    rk_fom fom;
-    rk_npy_stream snap;
-    int have_scene = 0, have_sim = 0, have_fom = 0, have_snap = 0, rc = 1;
+    fom_output out = {.a = &a};
+    int have_scene = 0, have_sim = 0, rc = 1;
     if (rk_scene_load(a.scene, &scene, &err)) goto done;
     have_scene = 1;
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     have_sim = 1;
-    if (rk_fom_init(&fom, &sim.fem, &sim.options, &err)) goto done;
-    have_fom = 1;
     int nv = sim.mesh.nv;
-    int steps = sim.options.is_static ? 1 : sim.steps;
+    out.sim = &sim;
+    out.steps = sim.options.is_static ? 1 : sim.steps;
+    if (!(out.x = rk_calloc(3 * (size_t)nv, sizeof(double), &err))) goto done;
     if (a.frames && mkdir(a.frames, 0777) != 0 && errno != EEXIST) {
         rk_fail(&err, "%s: cannot create frames folder: %s", a.frames, strerror(errno));
         goto done;
     }
     if (a.snapshots) {
-        long shape[3] = {steps + 1, nv, 3};
-        if (rk_npy_stream_open(&snap, a.snapshots, 3, shape, &err)) goto done;
-        have_snap = 1;
-        rk_npy_stream_append(&snap, fom.x, 3 * (size_t)nv);
+        long shape[3] = {out.steps + 1, nv, 3};
+        if (rk_npy_stream_open(&out.snap, a.snapshots, 3, shape, &err)) goto done;
+        out.have_snap = 1;
     }
-    if (a.frames && write_frame(&a, &sim.mesh, fom.x, 0, &err)) goto done;
-    for (int s = 0; s < steps; s++) {
-        int bad = sim.options.is_static ? rk_fom_static(&fom, &err) : rk_fom_step(&fom, &err);
-        if (bad) goto done;
-        if (have_snap) rk_npy_stream_append(&snap, fom.x, 3 * (size_t)nv);
-        if (a.frames && write_frame(&a, &sim.mesh, fom.x, s + 1, &err)) goto done;
-        rk_progress("fom", s + 1, steps);
-    }
-    rk_progress_done("fom");
-    if (have_snap) {
-        have_snap = 0;
-        if (rk_npy_stream_commit(&snap, &err)) goto done;
+    rk_fom_stats stats;
+    if (rk_scene_fom_run(&sim, NULL, "full-order run", on_frame, &out, &stats, &err)) goto done;
+    if (out.have_snap) {
+        out.have_snap = 0;
+        if (rk_npy_stream_commit(&out.snap, &err)) goto done;
     }
     if (a.positions) {
         long shape[2] = {nv, 3};
-        if (rk_npy_write(a.positions, fom.x, 2, shape, &err)) goto done;
+        if (rk_npy_write(a.positions, out.x, 2, shape, &err)) goto done;
     }
-    cJSON *report = make_report(&sim, &fom, steps, rk_now() - t0);
+    cJSON *report = make_report(&sim, &stats, out.steps, out.final, rk_now() - t0);
+    out.final = NULL;
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);
         goto done;
@@ -168,10 +181,10 @@ int cmd_fom(int argc, char **argv)
     const cJSON *fin = cJSON_GetObjectItem(report, "final");
     printf("%s: %d vertices, %d tets; %d %s of %g s: %.4g s/step (factorization %.0f%%), "
            "%.2f Newton iterations/step\n",
-           a.scene, nv, sim.mesh.nt, steps, sim.options.is_static ? "static solve" : "steps", sim.options.h,
+           a.scene, nv, sim.mesh.nt, out.steps, sim.options.is_static ? "static solve" : "steps", sim.options.h,
            cJSON_GetObjectItem(report, "seconds_per_step")->valuedouble,
            100 * cJSON_GetObjectItem(report, "factorization_share")->valuedouble,
-           (double)fom.stats.newton_iterations / steps);
+           (double)stats.newton_iterations / out.steps);
     printf("final: %d inverted elements, max displacement %.4g m, kinetic energy %.4g J\n",
            cJSON_GetObjectItem(fin, "inverted_elements")->valueint,
            cJSON_GetObjectItem(fin, "max_displacement")->valuedouble,
@@ -180,8 +193,9 @@ int cmd_fom(int argc, char **argv)
     rc = 0;
 done:
     if (rc) fprintf(stderr, "romkit fom: %s\n", err.msg);
-    if (have_snap) rk_npy_stream_abort(&snap);
-    if (have_fom) rk_fom_free(&fom);
+    if (out.have_snap) rk_npy_stream_abort(&out.snap);
+    cJSON_Delete(out.final);
+    free(out.x);
     if (have_sim) rk_scene_sim_free(&sim);
     if (have_scene) rk_scene_free(&scene);
     return rc;

@@ -13,7 +13,7 @@
 #include "formats/rombin_write.h"
 #include "runtime/romrt.h"
 #include "util/atomic_file.h"
-#include "util/json_out.h"
+#include "pipeline/pipeline.h"
 #include "util/metrics.h"
 #include "util/npy.h"
 #include "util/sort.h"

@@ -11,7 +11,8 @@
 
 #include "formats/rombin_write.h"
 #include "koopman/koopman.h"
-#include "rom/scene_rom.h"
+#include "mesh/mesh.h"
+#include "rom/rom.h"
 
 typedef enum { RK_SHOW_SURFACE = 0, RK_SHOW_ALL = 1, RK_SHOW_NONE = 2 } rk_show;
 
@@ -30,43 +31,45 @@ typedef struct {
     rk_asset_group groups[RK_ASSET_MAX_GROUPS];
 } rk_asset_options;
 
+/* float32, uncompressed, the surface shown, no groups. */
 void rk_asset_default_options(rk_asset_options *o);
-/* rom[index].asset: {"precision": "float32" | "float64", "compress": bool, "show": "surface" |
- * "all" | "none", "groups": [{"name": "tip", "box": [[..], [..]]}, ...]}; absent keys keep *o. */
-int rk_asset_options_parse(const cJSON *rom, int index, const char *file, rk_asset_options *o, rk_error *err);
 
 typedef struct {
     int vertices, shown, elements, contacts, groups, triangles;
 } rk_asset_summary;
-
-/* Adds every chunk of the reduced model R of the built scene sim to w (its real type and
- * compression are the writer's). info: JSON text for the INFO chunk (may be NULL). */
-int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_options *o, const char *info,
-                  rombin_writer *w, rk_asset_summary *summary, rk_error *err);
 
 /* What a Koopman asset shows and how it is pushed, beyond the operator itself. */
 typedef struct {
     int nv;                      /* vertices: the operator's values are 3 nv displacements */
     const double *X;             /* 3 nv rest positions */
     const double *vertex_mass;   /* nv (kg): an applied force over it is the impulse's acceleration */
-    int *tris, ntris;            /* boundary triangles (source numbers, malloc'd: the bake takes
-                                  * them over), or NULL: every vertex is shown */
+    const int *tris;             /* boundary triangles (source numbers, 3 ntris), or NULL: every vertex is shown */
+    int ntris;
     const double *accel;         /* 3 nv: the constant acceleration stepped along (gravity, loads
                                   * over mass), or NULL for none */
     const double *u0, *u_prev;   /* the first two displacement frames, or NULL: start at rest */
     int source_tets, trajectories; /* information for KHED */
 } rk_koopman_geometry;
 
-/* rk_asset_bake with a Koopman operator k over the same mesh beside the reduced model (an entry
- * with both cubature and koopman): one asset, two models; the runtime opens the reduced model by
- * default and the operator with romrt_open_kind. k, g may be NULL. */
-int rk_asset_bake_with(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_koopman *k, const rk_koopman_geometry *g,
-                       const rk_asset_options *o, const char *info, rombin_writer *w, rk_asset_summary *summary,
-                       rk_error *err);
+/* A reduced model of a mesh, as the bake reads it. */
+typedef struct {
+    const rk_mesh *mesh;         /* the source mesh: its boundary is what is shown */
+    const rk_fem *fem;           /* the elements the cubature points are */
+    const rk_obstacles *obstacles; /* the planes the contacts refer to */
+    const double *U;             /* 3 nv x r basis */
+    const rk_rom_model *model;
+} rk_asset_rom;
+
+/* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and
+ * with k (may be NULL) a Koopman operator over the same mesh beside it (an entry with both
+ * cubature and koopman): one asset, two models; the runtime opens the reduced model by default
+ * and the operator with romrt_open_kind. info: JSON text for the INFO chunk (may be NULL). */
+int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                  const char *info, rombin_writer *w, rk_asset_summary *summary, rk_error *err);
 
 /* Adds a Koopman asset's chunks (formats/ROMBIN.md "Koopman chunks") for operator k, whose
  * values are g's 3 nv displacements. */
-int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_asset_options *o, const char *info,
-                          rombin_writer *w, rk_asset_summary *summary, rk_error *err);
+int rk_asset_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                          const char *info, rombin_writer *w, rk_asset_summary *summary, rk_error *err);
 
 #endif

@@ -1,4 +1,5 @@
-/* rk_asset_bake: the reduced model's chunks (asset.h, formats/ROMBIN.md "Model chunks"). */
+/* rk_asset_bake: the reduced model's chunks (asset.h, formats/ROMBIN.md "Model chunks"), and a
+ * Koopman operator's beside them when there is one. */
 #include "asset/bake_impl.h"
 
 #include <math.h>
@@ -6,36 +7,34 @@
 #include <string.h>
 
 /* The reduced model stores, beyond the shown vertices, those of its cubature elements and contacts. */
-static int select_vertices(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_options *o, rk_bake_state *s,
-                           rk_error *err)
+static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_bake_state *s, rk_error *err)
 {
-    const rk_rom_model *m = &R->model;
+    const rk_rom_model *m = R->model;
     int nextra = 4 * m->quad.count + m->ncontacts, k = 0;
     int *extra = rk_calloc((size_t)nextra + 1, sizeof(int), err);
-    if (!extra || rk_mesh_boundary(&sim->mesh, &s->tris, &s->nf, err)) {
+    if (!extra || rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err)) {
         free(extra);
         return -1;
     }
     for (int i = 0; i < m->quad.count; i++)
-        for (int c = 0; c < 4; c++) extra[k++] = sim->fem.tets[4 * m->quad.source[i] + c];
+        for (int c = 0; c < 4; c++) extra[k++] = R->fem->tets[4 * m->quad.source[i] + c];
     for (int c = 0; c < m->ncontacts; c++) extra[k++] = m->contact_vertex[c];
-    int rc = rk_bake_select(sim->fem.nv, sim->fem.X, extra, nextra, o, s, err);
+    int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, o, s, err);
     free(extra);
     return rc;
 }
 
-static int add_geometry(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_bake_state *s, rombin_writer *w,
-                        rk_error *err)
+static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
 {
-    int r = R->model.r, ndof = 3 * s->nv;
+    int r = R->model->r, ndof = 3 * s->nv;
     double *rows = rk_calloc((size_t)3 * s->count * r, sizeof(double), err);
     if (!rows) return -1;
     for (int i = 0; i < s->count; i++)
         for (int a = 0; a < 3; a++) {
             int src = 3 * s->source[i] + a;
-            for (int j = 0; j < r; j++) rows[(size_t)(3 * i + a) * r + j] = R->basis.U[(size_t)ndof * j + src];
+            for (int j = 0; j < r; j++) rows[(size_t)(3 * i + a) * r + j] = R->U[(size_t)ndof * j + src];
         }
-    int rc = rk_bake_add_vertices(sim->fem.X, s, w, err) ||
+    int rc = rk_bake_add_vertices(R->fem->X, s, w, err) ||
              rombin_add_reals(w, ROMBIN_ROWS, 1, rows, (size_t)3 * s->count * r, err);
     free(rows);
     return rc ? -1 : 0;
@@ -116,22 +115,15 @@ static int add_contacts(const rk_rom_model *m, const rk_obstacles *ob, const rk_
     return rc ? -1 : 0;
 }
 
-int rk_asset_bake(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_asset_options *o, const char *info,
-                  rombin_writer *w, rk_asset_summary *summary, rk_error *err)
+int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                  const char *info, rombin_writer *w, rk_asset_summary *summary, rk_error *err)
 {
-    return rk_asset_bake_with(sim, R, NULL, NULL, o, info, w, summary, err);
-}
-
-int rk_asset_bake_with(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_koopman *k, const rk_koopman_geometry *g,
-                       const rk_asset_options *o, const char *info, rombin_writer *w, rk_asset_summary *summary,
-                       rk_error *err)
-{
-    const rk_rom_model *m = &R->model;
+    const rk_rom_model *m = R->model;
     if (m->is_static)
         return rk_fail(err, "asset: the runtime steps dynamic models, and this scene asks for a static solve (time.static)");
     rk_bake_state s;
     memset(&s, 0, sizeof s);
-    int rc = select_vertices(sim, R, o, &s, err);
+    int rc = select_vertices(R, o, &s, err);
     if (!rc) {
         uint32_t head[ROMBIN_HEAD_COUNT] = {0};
         head[ROMBIN_HEAD_R] = (uint32_t)m->r;
@@ -139,13 +131,13 @@ int rk_asset_bake_with(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_
         head[ROMBIN_HEAD_SHOWN] = (uint32_t)s.shown;
         head[ROMBIN_HEAD_ELEMENTS] = (uint32_t)m->quad.count;
         head[ROMBIN_HEAD_PINS] = (uint32_t)(m->pinned_vertices ? m->npins : 0);
-        head[ROMBIN_HEAD_PLANES] = (uint32_t)sim->options.obstacles.count;
+        head[ROMBIN_HEAD_PLANES] = (uint32_t)R->obstacles->count;
         head[ROMBIN_HEAD_CONTACTS] = (uint32_t)m->ncontacts;
         head[ROMBIN_HEAD_GROUPS] = (uint32_t)o->ngroups;
         head[ROMBIN_HEAD_INTEGRATOR] = (uint32_t)m->integrator;
         head[ROMBIN_HEAD_NEWTON_MAX_ITER] = (uint32_t)m->newton_max_iter;
-        head[ROMBIN_HEAD_SOURCE_VERTICES] = (uint32_t)sim->fem.nv;
-        head[ROMBIN_HEAD_SOURCE_TETS] = (uint32_t)sim->fem.nt;
+        head[ROMBIN_HEAD_SOURCE_VERTICES] = (uint32_t)R->fem->nv;
+        head[ROMBIN_HEAD_SOURCE_TETS] = (uint32_t)R->fem->nt;
         double parm[ROMBIN_PARM_COUNT] = {0};
         parm[ROMBIN_PARM_H] = m->h;
         parm[ROMBIN_PARM_NEWTON_TOL] = m->newton_tol;
@@ -154,8 +146,8 @@ int rk_asset_bake_with(const rk_scene_sim *sim, const rk_scene_rom *R, const rk_
         parm[ROMBIN_PARM_KAPPA] = m->kappa;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
-             add_geometry(sim, R, &s, w, err) || add_operators(m, w, err) ||
-             add_elements(&sim->fem, &m->quad, &s, w, err) || add_contacts(m, &sim->options.obstacles, &s, w, err) ||
+             add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
+             add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, R->obstacles, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     }

@@ -91,14 +91,15 @@ int rk_bake_koopman_chunks(const rk_koopman *k, const rk_koopman_geometry *g, co
     return rc ? -1 : 0;
 }
 
-int rk_asset_bake_koopman(const rk_koopman *k, rk_koopman_geometry *g, const rk_asset_options *o, const char *info,
-                          rombin_writer *w, rk_asset_summary *summary, rk_error *err)
+int rk_asset_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                          const char *info, rombin_writer *w, rk_asset_summary *summary, rk_error *err)
 {
     rk_bake_state s;
     memset(&s, 0, sizeof s);
-    s.tris = g->tris;
     s.nf = g->tris ? g->ntris : 0;
-    g->tris = NULL;
+    s.tris = rk_calloc((size_t)3 * s.nf + 1, sizeof(int), err); /* the state owns (and renumbers) its copy */
+    if (!s.tris) return -1;
+    if (s.nf) memcpy(s.tris, g->tris, sizeof(int) * 3 * (size_t)s.nf);
     int rc = rk_bake_select(g->nv, g->X, NULL, 0, o, &s, err) || rk_bake_add_vertices(g->X, &s, w, err) ||
              rk_bake_koopman_chunks(k, g, o, &s, w, err) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));

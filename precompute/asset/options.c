@@ -1,7 +1,6 @@
-/* The rom entry's "asset" keys (asset.h). */
+/* The asset options' defaults (asset.h); the scene's rom.asset keys are read by the pipeline. */
 #include "asset/asset.h"
 
-#include <stdio.h>
 #include <string.h>
 
 void rk_asset_default_options(rk_asset_options *o)
@@ -9,61 +8,4 @@ void rk_asset_default_options(rk_asset_options *o)
     memset(o, 0, sizeof *o);
     o->real_type = ROMBIN_REAL_F32;
     o->show = RK_SHOW_SURFACE;
-}
-
-static int parse_groups(const rk_json_ctx *c, const cJSON *a, const char *path, rk_asset_options *o)
-{
-    char gpath[128];
-    const cJSON *list = rk_json_child(a, path, "groups", gpath, sizeof gpath);
-    if (!list) return 0;
-    if (!cJSON_IsArray(list)) return rk_json_fail(c, gpath, "must be an array of {\"name\", \"box\"}");
-    int n = cJSON_GetArraySize(list);
-    if (n > RK_ASSET_MAX_GROUPS) return rk_json_fail(c, gpath, "at most %d groups, got %d", RK_ASSET_MAX_GROUPS, n);
-    static const char *const keys[] = {"name", "box", NULL};
-    for (int i = 0; i < n; i++) {
-        char p[160];
-        const cJSON *g = cJSON_GetArrayItem(list, i);
-        snprintf(p, sizeof p, "%s[%d]", gpath, i);
-        if (!cJSON_IsObject(g)) return rk_json_fail(c, p, "must be an object {\"name\", \"box\"}");
-        const char *name;
-        if (rk_json_check_keys(c, g, p, keys) || rk_json_string(c, g, p, "name", 1, &name) ||
-            rk_json_box(c, g, p, &o->groups[i].box))
-            return -1;
-        if (!*name || strlen(name) >= ROMBIN_GROUP_NAME_BYTES)
-            return rk_json_fail(c, p, "name must have 1 to %d characters", ROMBIN_GROUP_NAME_BYTES - 1);
-        for (int j = 0; j < i; j++)
-            if (strcmp(o->groups[j].name, name) == 0) return rk_json_fail(c, p, "name \"%s\" is used twice", name);
-        snprintf(o->groups[i].name, sizeof o->groups[i].name, "%s", name);
-    }
-    o->ngroups = n;
-    return 0;
-}
-
-int rk_asset_options_parse(const cJSON *rom, int index, const char *file, rk_asset_options *o, rk_error *err)
-{
-    rk_json_ctx c = {file, err};
-    char path[64], apath[96];
-    const cJSON *e = cJSON_IsArray(rom) ? cJSON_GetArrayItem(rom, index) : rom;
-    snprintf(path, sizeof path, cJSON_IsArray(rom) ? "rom[%d]" : "rom", index);
-    const cJSON *a = e ? rk_json_child(e, path, "asset", apath, sizeof apath) : NULL;
-    if (!a) return 0;
-    if (!cJSON_IsObject(a)) return rk_json_fail(&c, apath, "must be an object");
-    static const char *const keys[] = {"precision", "compress", "show", "groups", NULL};
-    const char *precision = NULL, *show = NULL;
-    if (rk_json_check_keys(&c, a, apath, keys) || rk_json_string(&c, a, apath, "precision", 0, &precision) ||
-        rk_json_string(&c, a, apath, "show", 0, &show) || rk_json_bool(&c, a, apath, "compress", &o->compress) ||
-        parse_groups(&c, a, apath, o))
-        return -1;
-    if (precision) {
-        if (strcmp(precision, "float32") == 0) o->real_type = ROMBIN_REAL_F32;
-        else if (strcmp(precision, "float64") == 0) o->real_type = ROMBIN_REAL_F64;
-        else return rk_json_fail(&c, apath, "precision must be \"float32\" or \"float64\", got \"%s\"", precision);
-    }
-    if (show) {
-        if (strcmp(show, "surface") == 0) o->show = RK_SHOW_SURFACE;
-        else if (strcmp(show, "all") == 0) o->show = RK_SHOW_ALL;
-        else if (strcmp(show, "none") == 0) o->show = RK_SHOW_NONE;
-        else return rk_json_fail(&c, apath, "show must be \"surface\", \"all\" or \"none\", got \"%s\"", show);
-    }
-    return 0;
 }

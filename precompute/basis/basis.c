@@ -28,3 +28,15 @@ void rk_basis_free(rk_basis *b)
     free(b->rkpm);
     memset(b, 0, sizeof *b);
 }
+
+void rk_basis_default_options(rk_basis_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->kernels = 1000;
+    o->integration_points = 40000;
+}
+
+int rk_basis_needs_frames(const rk_basis_options *o)
+{
+    return o->type == RK_BASIS_POD || o->tolerance > 0;
+}

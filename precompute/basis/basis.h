@@ -28,6 +28,22 @@ const char *rk_basis_type_name(rk_basis_type t);
 /* -1 when the name is not one of the five. */
 int rk_basis_type_parse(const char *name, rk_basis_type *t);
 
+/* What a scene's rom entry asks of the basis (its keys: basis, size, tolerance, modes, kernels,
+ * integration_points). */
+typedef struct {
+    rk_basis_type type;
+    int size;               /* columns (modes, modal_derivatives, pod) or weights m (skinning); 0: by tolerance */
+    double tolerance;       /* relative M-norm projection error of the scene's full-order frames; 0: by size */
+    int modes;              /* modal_derivatives: linear modes to differentiate (0: automatic) */
+    int kernels;            /* rkpm_skinning: kernel centres (default 1000, Sec. 7.1) */
+    int integration_points; /* rkpm_skinning: grid points inside a mesh, or the cloud's cap (default 40000) */
+} rk_basis_options;
+
+/* Defaults: no type chosen, size and tolerance 0, 1000 kernels, 40000 integration points. */
+void rk_basis_default_options(rk_basis_options *o);
+/* Whether building this basis needs full-order frames (POD, or a size by tolerance). */
+int rk_basis_needs_frames(const rk_basis_options *o);
+
 typedef struct {
     rk_basis_type type;
     int n;           /* vertices */

@@ -12,34 +12,29 @@
 #include "util/timer.h"
 
 
+static int keep_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
+{
+    fom_run *F = ctx;
+    memcpy(F->x + (size_t)F->ndof * step, fom->x, sizeof(double) * F->ndof);
+    memcpy(F->v + (size_t)F->ndof * step, fom->v, sizeof(double) * F->ndof);
+    if (step > 0) F->step_seconds[step - 1] = seconds;
+    return 0;
+}
+
 static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
 {
-    rk_fom fom;
-    if (rk_fom_init(&fom, &sim->fem, &sim->options, err)) return -1;
     F->ndof = 3 * sim->mesh.nv;
     F->T = sim->options.is_static ? 1 : sim->steps;
     F->x = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
     F->v = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
     F->step_seconds = rk_calloc((size_t)F->T + 1, sizeof(double), err);
-    int rc = F->x && F->v && F->step_seconds ? 0 : -1;
-    if (!rc) {
-        memcpy(F->x, fom.x, sizeof(double) * F->ndof);
-        memcpy(F->v, fom.v, sizeof(double) * F->ndof);
-    }
-    for (int s = 0; !rc && s < F->T; s++) {
-        double t0 = rk_now();
-        rc = sim->options.is_static ? rk_fom_static(&fom, err) : rk_fom_step(&fom, err);
-        F->step_seconds[s] = rk_now() - t0;
-        memcpy(F->x + (size_t)F->ndof * (s + 1), fom.x, sizeof(double) * F->ndof);
-        memcpy(F->v + (size_t)F->ndof * (s + 1), fom.v, sizeof(double) * F->ndof);
-        rk_progress("full-order run", s + 1, F->T);
-    }
-    rk_progress_done("full-order run");
-    out->fom_seconds_total = fom.stats.seconds_total;
-    out->fom_newton_iterations = fom.stats.newton_iterations;
+    if (!F->x || !F->v || !F->step_seconds) return -1;
+    rk_fom_stats stats;
+    if (rk_scene_fom_run(sim, NULL, "full-order run", keep_frame, F, &stats, err)) return -1;
+    out->fom_seconds_total = stats.seconds_total;
+    out->fom_newton_iterations = stats.newton_iterations;
     out->fom_seconds_per_step = rk_median(F->step_seconds, F->T);
-    rk_fom_free(&fom);
-    return rc ? rk_error_prefix(err, "full-order run") : 0;
+    return 0;
 }
 
 static void fom_run_free(fom_run *F)
@@ -133,29 +128,22 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
 }
 
 static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
-                       const rk_sparse *M, int index, rk_compare_method *m, const rk_compare_result *res)
+                       const rk_sparse *M, const rk_rom_entry *e, rk_compare_method *m, const rk_compare_result *res)
 {
     rk_error err;
-    rk_rom_options o;
     rk_scene_rom R;
     memset(m, 0, sizeof *m);
     m->cubature_error = NAN;
-    if (rk_rom_options_parse(scene->rom, index, scene->path, &o, &err)) {
-        snprintf(m->name, sizeof m->name, "rom[%d]", index);
-        rk_compare_record_failure(m, &err);
-        return;
-    }
-    memcpy(m->name, o.name, sizeof m->name);
-    m->type = o.basis.type;
-
-    m->reference_nmse = o.reference_nmse;
-    memcpy(m->reference_source, o.reference_source, sizeof m->reference_source);
-    if (rk_koopman_scene_present(scene->rom, index)) {
-        if (rk_compare_koopman(scene, sim, F, D, index, &o, m, &err)) rk_compare_record_failure(m, &err);
+    memcpy(m->name, e->name, sizeof m->name);
+    m->type = e->basis.type;
+    m->reference_nmse = e->reference_nmse;
+    memcpy(m->reference_source, e->reference_source, sizeof m->reference_source);
+    if (e->koopman) {
+        if (rk_compare_koopman(scene, sim, F, D, e, m, &err)) rk_compare_record_failure(m, &err);
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
-    if (rk_scene_rom_build(scene, sim, &o, D, F->T, &R, &err)) {
+    if (rk_scene_rom_build(scene, sim, e, D, F->T, &R, &err)) {
         rk_compare_record_failure(m, &err);
         return;
     }
@@ -176,7 +164,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
 int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
-    int n = rk_rom_entries(scene->rom);
+    int n = scene->nentries;
     if (n == 0) return rk_fail(err, "%s: no \"rom\" section: nothing to compare with the full-order model", scene->path);
     rk_scene_sim sim;
     if (rk_scene_build(scene, &sim, err)) return -1;
@@ -199,7 +187,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     if (!out->methods) goto done;
     out->nmethods = n;
     for (int k = 0; k < n; k++) {
-        run_method(scene, &sim, &F, D, &M, k, &out->methods[k], out);
+        run_method(scene, &sim, &F, D, &M, &scene->entries[k], &out->methods[k], out);
     }
     rc = 0;
 done:

@@ -11,7 +11,7 @@
 #ifndef RK_COMPARE_H
 #define RK_COMPARE_H
 
-#include "rom/scene_rom.h"
+#include "pipeline/pipeline.h"
 
 typedef struct {
     char name[96];

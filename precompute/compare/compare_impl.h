@@ -4,7 +4,6 @@
 #define RK_COMPARE_IMPL_H
 
 #include "compare/compare.h"
-#include "koopman/scene_koopman.h"
 #include "util/metrics.h"
 
 typedef struct {
@@ -21,7 +20,7 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
 /* Entry `index` with a koopman section (koopman_method.c): fitted on the full-order run F (D: its
  * displacement frames) and any other trajectories it lists, then run free and realigned as the
  * reduced models are. */
-int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
-                       const rk_rom_options *o, rk_compare_method *m, rk_error *err);
+int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
+                       const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
 #endif

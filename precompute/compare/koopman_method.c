@@ -100,30 +100,30 @@ out:
     return rc;
 }
 
-int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D, int index,
-                       const rk_rom_options *o, rk_compare_method *m, rk_error *err)
+int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
+                       const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
 {
-    rk_koopman_scene_info ki;
-    rk_koopman k;
+    rk_scene_koopman K;
     m->koopman = 1;
-    if (rk_koopman_scene_build(scene, sim, index, &o->basis, D, F->T, &k, &ki, err)) return -1;
-    if (ki.projected)
+    if (rk_scene_koopman_build(scene, sim, e, D, F->T, &K, err)) return -1;
+    const rk_koopman_scene_info *ki = &K.info;
+    if (ki->projected)
         snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on the %s basis's %d coordinates",
-                 rk_basis_type_name(ki.basis_type), ki.basis_columns);
+                 rk_basis_type_name(ki->basis_type), ki->basis_columns);
     else
         snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on full displacements");
-    m->seconds_basis = ki.seconds_basis;
-    m->seconds_training_run = ki.seconds_fom;
-    m->seconds_fit = ki.seconds_fit;
+    m->seconds_basis = ki->seconds_basis;
+    m->seconds_training_run = ki->seconds_fom;
+    m->seconds_fit = ki->seconds_fit;
     /* the scene as written is one of its training runs, unless every trajectory changes something */
     snprintf(m->cubature_reason, sizeof m->cubature_reason, "none (Koopman: rank %d of %d observables, %d "
-             "trajectories, %d clamped; fitted on runs that %s this one, so the error %s)", k.r, k.d,
-             ki.trajectories, k.clamped, ki.reused ? "include" : "differ from",
-             ki.reused ? "measures reconstruction, not prediction" : "measures prediction");
-    m->r = k.r;
-    m->size = k.d;
-    m->max_abs_eigenvalue = rk_max_abs_eigenvalue(k.lambda_re, k.lambda_im, k.r);
-    int rc = run_free_and_realigned(&k, sim, F, m, err);
-    rk_koopman_free(&k);
+             "trajectories, %d clamped; fitted on runs that %s this one, so the error %s)", K.k.r, K.k.d,
+             ki->trajectories, K.k.clamped, ki->reused ? "include" : "differ from",
+             ki->reused ? "measures reconstruction, not prediction" : "measures prediction");
+    m->r = K.k.r;
+    m->size = K.k.d;
+    m->max_abs_eigenvalue = rk_max_abs_eigenvalue(K.k.lambda_re, K.k.lambda_im, K.k.r);
+    int rc = run_free_and_realigned(&K.k, sim, F, m, err);
+    rk_scene_koopman_free(&K);
     return rc;
 }

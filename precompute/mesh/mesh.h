@@ -108,4 +108,12 @@ int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_vo
 /* Point clouds (PLY vertices with x, y, z; Gaussian-splat PLY included). *X malloc'ed, 3*n. */
 int rk_points_load(const char *path, double **X, int *n, rk_error *err);
 
+/* An axis-aligned selection box (scenes select fixed, moving and loaded vertices, regions and
+ * asset groups with them). */
+typedef struct {
+    double min[3], max[3];
+} rk_box;
+/* Whether p lies in b grown by slack on every side. */
+int rk_box_contains(const rk_box *b, const double *p, double slack);
+
 #endif

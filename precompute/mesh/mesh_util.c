@@ -46,3 +46,10 @@ int rk_grow(void *p, size_t *cap, size_t need, size_t elem, rk_error *err)
     return 0;
 }
 
+
+int rk_box_contains(const rk_box *b, const double *p, double slack)
+{
+    for (int i = 0; i < 3; i++)
+        if (p[i] < b->min[i] - slack || p[i] > b->max[i] + slack) return 0;
+    return 1;
+}

@@ -64,18 +64,18 @@ cat >"$TMP/tiny.json" <<'EOF'
   "fixed": [{"box": [[-1, -1, -1], [0.01, 2, 2]]}]}],
  "gravity": [0, -9.81, 0], "time": {"step": 0.01, "duration": 0.05}}
 EOF
-progress='fom: [0-9][0-9]*/[0-9][0-9]* *( *[0-9]*%)'
+progress='full-order run: [0-9][0-9]*/[0-9][0-9]* *( *[0-9]*%)'
 if command -v script >/dev/null 2>&1 && script -qec true /dev/null </dev/null >/dev/null 2>&1; then
     script -qec "\"$ROMKIT\" fom \"$TMP/tiny.json\"" /dev/null </dev/null >"$TMP/tty" 2>&1; rc=$?
-    [ $rc -eq 0 ] && grep -q "$progress" "$TMP/tty" && grep -q "fom: done" "$TMP/tty" && ok progress_on_terminal \
+    [ $rc -eq 0 ] && grep -q "$progress" "$TMP/tty" && grep -q "full-order run: done" "$TMP/tty" && ok progress_on_terminal \
         || fail progress_on_terminal "status $rc: $(head -c 300 "$TMP/tty")"
     script -qec "\"$ROMKIT\" fom \"$TMP/tiny.json\" --quiet" /dev/null </dev/null >"$TMP/tty" 2>&1
-    grep -q "$progress\|fom: done" "$TMP/tty" && fail quiet_on_terminal "$(head -c 300 "$TMP/tty")" \
+    grep -q "$progress\|full-order run: done" "$TMP/tty" && fail quiet_on_terminal "$(head -c 300 "$TMP/tty")" \
         || ok quiet_on_terminal
 else
     ok "progress_on_terminal # skipped: no script command"
     ok "quiet_on_terminal # skipped: no script command"
 fi
 "$ROMKIT" fom "$TMP/tiny.json" >"$TMP/out" 2>"$TMP/err"; rc=$?
-[ $rc -eq 0 ] && ! grep -q "$progress\|fom: done" "$TMP/err" && ! grep -q "$(printf '\r')" "$TMP/err" \
+[ $rc -eq 0 ] && ! grep -q "$progress\|full-order run: done" "$TMP/err" && ! grep -q "$(printf '\r')" "$TMP/err" \
     && ok no_progress_when_not_a_terminal || fail no_progress_when_not_a_terminal "status $rc: $(head -c 300 "$TMP/err")"

@@ -6,7 +6,7 @@
 #include <stdint.h>
 
 #include "testlib.h"
-#include "asset/asset.h"
+#include "pipeline/pipeline.h"
 #include "formats/rombin_read.h"
 #include "runtime/romrt.h"
 
@@ -37,25 +37,22 @@ static inline void rt_fixture_close(rt_fixture *f)
 static inline int rt_fixture_open(rt_fixture *f, const char *json, int real_type, rk_error *err, romrt_error *rerr)
 {
     memset(f, 0, sizeof *f);
-    rk_rom_options o;
-    rk_asset_options ao;
     double *D = NULL;
     int T = 0;
     if (rk_scene_parse(json, "test.json", &f->scene, err)) return -1;
     f->stage = 1;
-    rk_asset_default_options(&ao);
-    if (rk_rom_options_parse(f->scene.rom, 0, "test.json", &o, err) ||
-        rk_asset_options_parse(f->scene.rom, 0, "test.json", &ao, err) || rk_scene_build(&f->scene, &f->sim, err))
-        return -1;
+    const rk_rom_entry *entry = &f->scene.entries[0];
+    if (rk_scene_build(&f->scene, &f->sim, err)) return -1;
     f->stage = 2;
     if (rk_scene_training_frames(&f->sim, &D, &T, err)) return -1;
-    int rc = rk_scene_rom_build(&f->scene, &f->sim, &o, D, T, &f->R, err);
+    int rc = rk_scene_rom_build(&f->scene, &f->sim, entry, D, T, &f->R, err);
     free(D);
     if (rc) return -1;
     f->stage = 3;
     rombin_writer w;
     rombin_writer_init(&w, real_type, 0);
-    rc = rk_asset_bake(&f->sim, &f->R, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
+    rk_asset_rom source = rk_scene_asset_rom(&f->sim, &f->R);
+    rc = rk_asset_bake(&source, NULL, NULL, &entry->asset, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
     rombin_writer_free(&w);
     if (rc) return -1;
     rombin_file file;

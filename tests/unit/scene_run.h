@@ -4,7 +4,7 @@
 
 #include "testlib.h"
 #include "fom/fom.h"
-#include "scene/scene.h"
+#include "pipeline/pipeline.h"
 
 int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
 

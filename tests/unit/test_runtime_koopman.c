@@ -9,7 +9,7 @@
 #include "asset/asset.h"
 #include "formats/rombin_read.h"
 #include "koopman/control.h"
-#include "koopman/scene_koopman.h"
+#include "pipeline/pipeline.h"
 #include "runtime/romrt.h"
 
 #ifdef ROMRT_DOUBLE
@@ -71,23 +71,20 @@ static int open_asset(fixture *f, rk_error *err)
 static int fixture_open(fixture *f, rk_error *err)
 {
     memset(f, 0, sizeof *f);
-    rk_koopman_scene_options ko;
     rk_koopman_scene_info ki;
-    rk_asset_options ao;
     if (rk_scene_parse(scene_json, "test.json", &f->scene, err) || rk_scene_build(&f->scene, &f->sim, err) ||
-        rk_koopman_scene_options_parse(f->scene.rom, 0, "test.json", f->sim.options.h, &ko, err) ||
-        rk_koopman_scene_fit(&f->sim, &ko, NULL, NULL, 0, &f->k, &ki, err))
+        rk_koopman_scene_fit(&f->sim, &f->scene.entries[0].koop, NULL, NULL, 0, &f->k, &ki, err))
         return -1;
-    rk_asset_default_options(&ao);
-    if (rk_asset_options_parse(f->scene.rom, 0, "test.json", &ao, err)) return -1;
+    const rk_asset_options *ao = &f->scene.entries[0].asset;
     int nv = f->sim.mesh.nv;
     f->accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
     if (!f->accel) return -1;
     for (int i = 0; i < 3 * nv; i++) f->accel[i] = f->sim.options.gravity[i % 3];
-    rk_koopman_geometry g = {nv, f->sim.mesh.X, f->sim.fem.vertex_mass, NULL, 0, f->accel, NULL, NULL, 0, 2};
+    rk_koopman_geometry g = {.nv = nv, .X = f->sim.mesh.X, .vertex_mass = f->sim.fem.vertex_mass, .accel = f->accel,
+                             .trajectories = 2};
     rombin_writer w;
     rombin_writer_init(&w, REAL_TYPE, 0);
-    int rc = rk_asset_bake_koopman(&f->k, &g, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
+    int rc = rk_asset_bake_koopman(&f->k, &g, ao, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
     rombin_writer_free(&w);
     return rc ? -1 : open_asset(f, err);
 }

@@ -17,9 +17,9 @@
 #include "testlib.h"
 #include "util/metrics.h"
 #include "koopman/control.h"
-#include "koopman/scene_koopman.h"
+#include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
-#include "scene/scene.h"
+#include "pipeline/pipeline.h"
 
 #define G0 9.81
 

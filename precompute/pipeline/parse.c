@@ -1,6 +1,7 @@
-/* Scene file -> rk_scene. Strict: unknown keys, wrong types and nonsense values are errors
- * naming the JSON path; nothing is guessed. */
-#include "scene/scene.h"
+/* Scene file -> rk_scene (objects, obstacles, time, damping, Newton; the rom section in
+ * parse_rom.c). Strict: unknown keys, wrong types and nonsense values are errors naming the JSON
+ * path; nothing is guessed. */
+#include "pipeline/parse_impl.h"
 
 #include <errno.h>
 #include <math.h>
@@ -8,7 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene/json_get.h"
 
 #define PATH_LEN 512
 
@@ -338,14 +338,7 @@ static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene
         s->newton_max_iter = (int)iters;
     }
     if (rk_json_bool(c, root, "", "lumped_mass", &s->lumped_mass)) return -1;
-    const cJSON *rom = cJSON_GetObjectItemCaseSensitive(root, "rom");
-    if (rom) {
-        if (!cJSON_IsObject(rom) && !cJSON_IsArray(rom))
-            return rk_json_fail(c, "rom", "must be an object or an array of objects");
-        s->rom = cJSON_Duplicate(rom, 1);
-        if (!s->rom) return rk_fail(c->err, "%s: out of memory", c->file);
-    }
-    return 0;
+    return rk_parse_rom(c, cJSON_GetObjectItemCaseSensitive(root, "rom"), s);
 }
 
 int rk_scene_parse(const char *text, const char *path, rk_scene *s, rk_error *err)
@@ -409,6 +402,17 @@ void rk_scene_free(rk_scene *s)
     }
     free(s->objects);
     free(s->planes);
-    cJSON_Delete(s->rom);
+    free(s->entries);
     memset(s, 0, sizeof *s);
+}
+
+int rk_scene_entry(const rk_scene *s, int k, const rk_rom_entry **out, rk_error *err)
+{
+    if (s->nentries == 0)
+        return rk_fail(err, "%s: the scene has no rom section: nothing to build (it names the basis, cubature or "
+                       "Koopman operator)", s->path);
+    if (k < 0 || k >= s->nentries)
+        return rk_fail(err, "%s: no rom entry %d (the scene has %d: 0..%d)", s->path, k, s->nentries, s->nentries - 1);
+    *out = &s->entries[k];
+    return 0;
 }

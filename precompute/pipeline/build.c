@@ -1,7 +1,7 @@
 /* rk_scene -> something to simulate: meshes loaded (surfaces tetrahedralized), placed and
  * concatenated; one material per element (regions override by element centroid, in order);
  * the FEM model; full-order options with prescribed vertex groups, loads and initial velocities. */
-#include "scene/scene.h"
+#include "pipeline/pipeline.h"
 #include "util/metrics.h"
 
 #include <math.h>
@@ -54,13 +54,6 @@ static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
     free(a->tet_tag); /* tags are per file; a joined mesh has none */
     a->tet_tag = NULL;
     return 0;
-}
-
-int rk_box_contains(const rk_box *b, const double *p, double slack)
-{
-    for (int i = 0; i < 3; i++)
-        if (p[i] < b->min[i] - slack || p[i] > b->max[i] + slack) return 0;
-    return 1;
 }
 
 rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])

@@ -1,13 +1,12 @@
-/* A basis for a scene: constraints from its prescribed boxes, per-element or per-point
- * materials, and full-order training frames from its own simulation when POD or a tolerance
- * asks for them. */
-#include "basis/scene_basis.h"
+/* A basis for a scene (pipeline.h): constraints from its prescribed boxes, per-element or
+ * per-point materials, and full-order training frames from its own simulation when POD or a
+ * tolerance asks for them. */
+#include "pipeline/pipeline.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "fom/fom.h"
 #include "util/timer.h"
 
 /* Largest basis tried when only a tolerance is given (columns, or weights for skinning). */
@@ -21,34 +20,6 @@ static double lame_sum(const rk_material *m)
     double mu, lambda;
     rk_lame(m->young, m->poisson, &mu, &lambda);
     return lambda + 4 * mu; /* Prop. 1 */
-}
-
-int rk_basis_needs_frames(const rk_basis_options *o)
-{
-    return o->type == RK_BASIS_POD || o->tolerance > 0;
-}
-
-int rk_scene_training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err)
-{
-    rk_fom fom;
-    if (rk_fom_init(&fom, &sim->fem, &sim->options, err)) return -1;
-    int steps = sim->options.is_static ? 1 : sim->steps, n3 = 3 * sim->mesh.nv;
-    *D = rk_calloc((size_t)n3 * steps, sizeof(double), err);
-    int rc = *D ? 0 : -1;
-    for (int s = 0; !rc && s < steps; s++) {
-        rc = sim->options.is_static ? rk_fom_static(&fom, err) : rk_fom_step(&fom, err);
-        for (int i = 0; !rc && i < n3; i++) (*D)[(size_t)s * n3 + i] = fom.x[i] - sim->mesh.X[i];
-        rk_progress("full-order training run", s + 1, steps);
-    }
-    rk_progress_done("full-order training run");
-    rk_fom_free(&fom);
-    if (rc) {
-        free(*D);
-        *D = NULL;
-        return rk_error_prefix(err, "full-order training run");
-    }
-    *T = steps;
-    return 0;
 }
 
 static int rkpm_on_mesh(const rk_scene_sim *sim, const rk_basis_options *o, int m, rk_basis *b,
@@ -158,14 +129,8 @@ static int meet_tolerance(const rk_basis_options *o, rk_basis *b, const double *
     return 0;
 }
 
-int rk_scene_basis_build(const rk_scene *scene, const rk_basis_options *o, rk_basis *b,
-                         rk_scene_basis_info *info, rk_error *err)
-{
-    return rk_scene_basis_build_frames(scene, o, NULL, 0, b, info, err);
-}
-
-int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o, const double *frames, int T_given,
-                                rk_basis *b, rk_scene_basis_info *info, rk_error *err)
+int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, const double *frames,
+                   int T_given, rk_basis *b, rk_scene_basis_info *info, rk_error *err)
 {
     memset(info, 0, sizeof *info);
     memset(b, 0, sizeof *b);
@@ -177,44 +142,42 @@ int rk_scene_basis_build_frames(const rk_scene *scene, const rk_basis_options *o
         info->seconds_basis = rk_now() - t0;
         return rc;
     }
-    rk_scene_sim sim;
-    if (rk_scene_build(scene, &sim, err)) return -1;
+    if (!sim) return rk_fail(err, "%s: a basis of a mesh needs the built scene", scene->path);
     int rc = -1, T = 0;
     double *D = NULL;
-    unsigned char *fixed = rk_calloc((size_t)sim.mesh.nv, 1, err);
+    unsigned char *fixed = rk_calloc((size_t)sim->mesh.nv, 1, err);
     rk_sparse M = {0};
     if (!fixed) goto out;
-    for (int g = 0; g < sim.options.nprescribed; g++)
-        for (int k = 0; k < sim.options.prescribed[g].count && sim.options.prescribed[g].kind == RK_MOTION_FIXED; k++)
-            fixed[sim.options.prescribed[g].verts[k]] = 1;
+    for (int g = 0; g < sim->options.nprescribed; g++)
+        for (int k = 0; k < sim->options.prescribed[g].count && sim->options.prescribed[g].kind == RK_MOTION_FIXED; k++)
+            fixed[sim->options.prescribed[g].verts[k]] = 1;
     int need_frames = rk_basis_needs_frames(o);
     if (need_frames) {
         double t = rk_now();
         if (frames) T = T_given;
-        else if (rk_scene_training_frames(&sim, &D, &T, err)) goto out;
+        else if (rk_scene_training_frames(sim, &D, &T, err)) goto out;
         info->seconds_fom = frames ? 0 : rk_now() - t;
         info->fom_frames = T;
-        if (rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto out;
-        rk_fem_add_mass(&sim.fem, sim.options.lumped_mass, 1.0, &M);
+        if (rk_sparse_alloc_pattern(&sim->fem, &M, err)) goto out;
+        rk_fem_add_mass(&sim->fem, sim->options.lumped_mass, 1.0, &M);
     }
     int size = o->size ? o->size : default_max(o->type);
     double t = rk_now();
     const double *frames_used = frames ? frames : D;
-    if (build_sized(&sim, o, fixed, size, frames_used, T, &M, b, info, err)) goto out;
+    if (build_sized(sim, o, fixed, size, frames_used, T, &M, b, info, err)) goto out;
     info->seconds_basis = rk_now() - t;
     if (need_frames && meet_tolerance(o, b, frames_used, T, &M, info, err)) goto out;
-    info->vertices = sim.mesh.nv;
-    info->tets = sim.mesh.nt;
-    info->X = rk_calloc(3 * (size_t)sim.mesh.nv, sizeof(double), err);
+    info->vertices = sim->mesh.nv;
+    info->tets = sim->mesh.nt;
+    info->X = rk_calloc(3 * (size_t)sim->mesh.nv, sizeof(double), err);
     if (!info->X) goto out;
-    memcpy(info->X, sim.mesh.X, sizeof(double) * 3 * sim.mesh.nv);
+    memcpy(info->X, sim->mesh.X, sizeof(double) * 3 * sim->mesh.nv);
     rc = 0;
 out:
     if (rc) rk_basis_free(b);
     free(D);
     free(fixed);
     rk_sparse_free(&M);
-    rk_scene_sim_free(&sim);
     return rc;
 }
 

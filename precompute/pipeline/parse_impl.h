@@ -1,11 +1,12 @@
-/* Strict JSON access for the scene parser: every getter checks the type and, on failure,
- * writes "<file>: <json.path>: <what is wrong>" into err. Internal to precompute: the scene
- * parser and the stages that read their own part of the scene (basis: the rom section). */
-#ifndef RK_SCENE_JSON_GET_H
-#define RK_SCENE_JSON_GET_H
+/* Private to precompute/pipeline: strict JSON access for the scene parser (json.c) and the
+ * parsers of the scene's parts. Every getter checks the type and, on failure, writes
+ * "<file>: <json.path>: <what is wrong>" into err. */
+#ifndef RK_PIPELINE_PARSE_IMPL_H
+#define RK_PIPELINE_PARSE_IMPL_H
 
 #include <cjson/cJSON.h>
 
+#include "pipeline/pipeline.h"
 #include "util/error.h"
 
 typedef struct {
@@ -40,5 +41,13 @@ int rk_json_bool(const rk_json_ctx *c, const cJSON *obj, const char *path, const
 /* A string; *out points into the JSON tree. */
 int rk_json_string(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *key,
                    int required, const char **out);
+
+/* "box": [[xmin, ymin, zmin], [xmax, ymax, zmax]] under obj (required). */
+int rk_json_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b);
+
+/* The rom section (an object or a list of them; NULL: none) into s->entries (parse_rom.c). */
+int rk_parse_rom(const rk_json_ctx *c, const cJSON *rom, rk_scene *s);
+/* Entry e's "asset" keys (parse_asset.c); absent keys keep the defaults. */
+int rk_parse_asset(const rk_json_ctx *c, const cJSON *e, const char *path, rk_asset_options *o);
 
 #endif

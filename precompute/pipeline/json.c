@@ -1,4 +1,5 @@
-#include "scene/json_get.h"
+/* Strict JSON getters for the scene parser (parse_impl.h). */
+#include "pipeline/parse_impl.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -1,5 +1,6 @@
-/* rom.koopman: training runs of the scene and the fit on them (scene_koopman.h). */
-#include "koopman/scene_koopman.h"
+/* rom.koopman: training runs of the scene, the fit on them, and what an asset of the operator
+ * needs (pipeline.h). */
+#include "pipeline/pipeline.h"
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -8,63 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fom/fom.h"
-#include "scene/json_get.h"
+#include "util/metrics.h"
 #include "util/timer.h"
-
-static const cJSON *koopman_entry(const cJSON *rom, int index, char *path, size_t size)
-{
-    const cJSON *e = cJSON_IsArray(rom) ? cJSON_GetArrayItem(rom, index) : rom;
-    snprintf(path, size, cJSON_IsArray(rom) ? "rom[%d].koopman" : "rom.koopman", index);
-    return cJSON_IsObject(e) ? cJSON_GetObjectItemCaseSensitive(e, "koopman") : NULL;
-}
-
-int rk_koopman_scene_present(const cJSON *rom, int index)
-{
-    char path[64];
-    return rom && koopman_entry(rom, index, path, sizeof path) != NULL;
-}
-
-int rk_koopman_scene_options_parse(const cJSON *rom, int index, const char *file, double h,
-                                   rk_koopman_scene_options *o, rk_error *err)
-{
-    rk_json_ctx c = {file, err};
-    char path[64], tpath[96];
-    memset(o, 0, sizeof *o);
-    rk_koopman_default_options(&o->fit);
-    o->fit.h = h;
-    const cJSON *k = rom ? koopman_entry(rom, index, path, sizeof path) : NULL;
-    if (!k) return rk_fail(err, "%s: the rom entry has no koopman section", file);
-    if (!cJSON_IsObject(k)) return rk_json_fail(&c, path, "must be an object");
-    static const char *const keys[] = {"rank", "energy", "clamp", "project", "trajectories", NULL};
-    if (rk_json_check_keys(&c, k, path, keys) || rk_json_whole(&c, k, path, "rank", 0, 4096, &o->fit.rank) /* 0: by energy */ ||
-        rk_json_number(&c, k, path, "energy", 0, &o->fit.energy) || rk_json_bool(&c, k, path, "clamp", &o->fit.clamp) ||
-        rk_json_bool(&c, k, path, "project", &o->project))
-        return -1;
-    if (!(o->fit.energy > 0 && o->fit.energy <= 1))
-        return rk_json_fail(&c, path, "energy must be in (0, 1], got %g", o->fit.energy);
-    const cJSON *list = rk_json_child(k, path, "trajectories", tpath, sizeof tpath);
-    if (!list) return 0;
-    if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1 || cJSON_GetArraySize(list) > RK_KOOPMAN_MAX_TRAJECTORIES)
-        return rk_json_fail(&c, tpath, "must be a list of 1 to %d trajectories", RK_KOOPMAN_MAX_TRAJECTORIES);
-    static const char *const tkeys[] = {"gravity", "velocity", "load_scale", NULL};
-    o->ntraj = cJSON_GetArraySize(list);
-    for (int i = 0; i < o->ntraj; i++) {
-        const cJSON *t = cJSON_GetArrayItem(list, i);
-        rk_koopman_variation *v = &o->traj[i];
-        char p[128];
-        snprintf(p, sizeof p, "%s[%d]", tpath, i);
-        if (!cJSON_IsObject(t)) return rk_json_fail(&c, p, "must be an object");
-        v->load_scale = 1;
-        v->has_gravity = cJSON_HasObjectItem(t, "gravity");
-        v->has_velocity = cJSON_HasObjectItem(t, "velocity");
-        if (rk_json_check_keys(&c, t, p, tkeys) || rk_json_vector(&c, t, p, "gravity", 0, 3, v->gravity) ||
-            rk_json_vector(&c, t, p, "velocity", 0, 3, v->velocity) ||
-            rk_json_number(&c, t, p, "load_scale", 0, &v->load_scale))
-            return -1;
-    }
-    return 0;
-}
 
 void rk_koopman_run_free(rk_koopman_run *r)
 {
@@ -107,44 +53,46 @@ static int run_start(const rk_scene_sim *sim, const double gravity[3], const dou
     return 0;
 }
 
+typedef struct {
+    const rk_scene_sim *sim;
+    rk_koopman_run *out;
+} recording;
+
+/* u_0 (step 0: the simulator holds prescribed vertices at their targets from the start), then one
+ * displacement frame per step. */
+static int record(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
+{
+    const recording *r = ctx;
+    int n3 = 3 * r->sim->mesh.nv;
+    for (int i = 0; i < n3; i++) r->out->u[(size_t)(step + 1) * n3 + i] = fom->x[i] - r->sim->mesh.X[i];
+    return 0;
+}
+
 int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v, rk_koopman_run *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
     if (sim->options.is_static) return rk_fail(err, "Koopman: the scene is a static solve; DMD learns dynamics");
-    int n3 = 3 * sim->mesh.nv, steps = sim->steps;
+    int n3 = 3 * sim->mesh.nv, rc = -1;
     rk_fom_options opt = sim->options;
     double *force = rk_calloc((size_t)n3, sizeof(double), err), *vel = rk_calloc((size_t)n3, sizeof(double), err);
-    if (!force || !vel) goto fail;
-    if (v && v->has_gravity) memcpy(opt.gravity, v->gravity, sizeof opt.gravity);
-    for (int i = 0; i < n3; i++) {
-        force[i] = sim->options.force ? sim->options.force[i] * (v ? v->load_scale : 1) : 0;
-        vel[i] = v && v->has_velocity ? v->velocity[i % 3] : sim->options.velocity0 ? sim->options.velocity0[i] : 0;
-    }
-    opt.force = force;
-    opt.velocity0 = vel;
-    if (run_start(sim, opt.gravity, force, vel, steps, out, err)) goto fail;
-    rk_fom fom;
-    if (rk_fom_init(&fom, &sim->fem, &opt, err)) goto fail;
-    /* the simulator holds prescribed vertices at their targets from the start */
-    for (int i = 0; i < n3; i++) out->u[n3 + i] = fom.x[i] - sim->mesh.X[i];
-    for (int s = 0; s < steps; s++) {
-        if (rk_fom_step(&fom, err)) {
-            rk_fom_free(&fom);
-            goto fail;
+    if (force && vel) {
+        if (v && v->has_gravity) memcpy(opt.gravity, v->gravity, sizeof opt.gravity);
+        for (int i = 0; i < n3; i++) {
+            force[i] = sim->options.force ? sim->options.force[i] * (v ? v->load_scale : 1) : 0;
+            vel[i] = v && v->has_velocity ? v->velocity[i % 3] : sim->options.velocity0 ? sim->options.velocity0[i] : 0;
         }
-        for (int i = 0; i < n3; i++) out->u[(size_t)(s + 2) * n3 + i] = fom.x[i] - sim->mesh.X[i];
-        rk_progress("Koopman training run", s + 1, steps);
+        opt.force = force;
+        opt.velocity0 = vel;
+        recording r = {sim, out};
+        rc = run_start(sim, opt.gravity, force, vel, sim->steps, out, err) ||
+                     rk_scene_fom_run(sim, &opt, "Koopman training run", record, &r, NULL, err)
+                 ? -1
+                 : 0;
     }
-    rk_progress_done("Koopman training run");
-    rk_fom_free(&fom);
     free(force);
     free(vel);
-    return 0;
-fail:
-    free(force);
-    free(vel);
-    rk_koopman_run_free(out);
-    return rk_error_prefix(err, "Koopman training run");
+    if (rc) rk_koopman_run_free(out);
+    return rc;
 }
 
 int rk_koopman_scene_run_frames(const rk_scene_sim *sim, const double *frames, int T, rk_koopman_run *out,
@@ -189,7 +137,7 @@ done:
     return rc;
 }
 
-int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_scene_options *o, const rk_basis *basis,
+int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_entry *o, const rk_basis *basis,
                          const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err)
 {
     memset(k, 0, sizeof *k);
@@ -233,38 +181,84 @@ done:
     return rc;
 }
 
-int rk_koopman_scene_build(const rk_scene *scene, const rk_scene_sim *sim, int index, const rk_basis_options *bo,
-                           const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err)
+void rk_scene_koopman_free(rk_scene_koopman *p)
 {
-    rk_koopman_scene_options ko;
+    rk_koopman_free(&p->k);
+    free(p->accel);
+    free(p->u0);
+    free(p->u_prev);
+    free(p->tris);
+    memset(p, 0, sizeof *p);
+}
+
+/* What the asset shows and steps along: the boundary, the scene's forcing, the training start. */
+static int geometry(const rk_scene_sim *sim, rk_scene_koopman *p, rk_error *err)
+{
+    int nv = sim->mesh.nv;
+    p->accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    p->u0 = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    p->u_prev = rk_calloc((size_t)3 * nv, sizeof(double), err);
+    if (!p->accel || !p->u0 || !p->u_prev) return -1;
+    rk_koopman_scene_accel(sim, sim->options.gravity, sim->options.force, p->accel);
+    rk_koopman_frame_before(sim, sim->options.velocity0, p->u_prev);
+    if (rk_mesh_boundary(&sim->mesh, &p->tris, &p->ntris, err)) return -1;
+    p->geometry = (rk_koopman_geometry){.nv = nv, .X = sim->mesh.X, .vertex_mass = sim->fem.vertex_mass,
+                                        .tris = p->tris, .ntris = p->ntris, .accel = p->accel, .u0 = p->u0,
+                                        .u_prev = p->u_prev, .source_tets = sim->mesh.nt,
+                                        .trajectories = p->info.trajectories};
+    return 0;
+}
+
+int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                           const double *frames, int T, rk_scene_koopman *out, rk_error *err)
+{
     rk_basis b;
     rk_scene_basis_info bi;
     double *own = NULL, seconds_basis = 0;
     int have_basis = 0, rc = -1;
-    memset(k, 0, sizeof *k);
-    memset(info, 0, sizeof *info);
-    if (rk_koopman_scene_options_parse(scene->rom, index, scene->path, sim->options.h, &ko, err)) return -1;
-    if (ko.project) {
+    memset(out, 0, sizeof *out);
+    if (!e->koopman) return rk_fail(err, "%s: %s has no koopman section", scene->path, e->path);
+    if (e->koop.project) {
         double t0 = rk_now();
-        if (!frames && rk_basis_needs_frames(bo)) {
+        if (!frames && rk_basis_needs_frames(&e->basis)) {
             if (rk_scene_training_frames(sim, &own, &T, err)) goto done;
             frames = own;
         }
-        if (rk_scene_basis_build_frames(scene, bo, frames, T, &b, &bi, err)) goto done;
+        if (rk_scene_basis(scene, sim, &e->basis, frames, T, &b, &bi, err)) goto done;
         have_basis = 1;
         seconds_basis = rk_now() - t0;
     }
-    rc = rk_koopman_scene_fit(sim, &ko, have_basis ? &b : NULL, frames, T, k, info, err);
+    rc = rk_koopman_scene_fit(sim, &e->koop, have_basis ? &b : NULL, frames, T, &out->k, &out->info, err);
     if (!rc && have_basis) {
-        info->basis_type = b.type;
-        info->basis_columns = b.r;
-        info->seconds_basis = seconds_basis;
+        out->info.basis_type = b.type;
+        out->info.basis_columns = b.r;
+        out->info.seconds_basis = seconds_basis;
     }
+    if (!rc) rc = geometry(sim, out, err);
 done:
     free(own);
     if (have_basis) {
         rk_basis_free(&b);
         rk_scene_basis_info_free(&bi);
     }
+    if (rc) rk_scene_koopman_free(out);
     return rc;
+}
+
+cJSON *rk_koopman_report(const rk_koopman *k)
+{
+    cJSON *j = cJSON_CreateObject(), *eig = cJSON_CreateArray();
+    for (int i = 0; i < k->r; i++) {
+        double pair[2] = {k->lambda_re[i], k->lambda_im[i]};
+        cJSON_AddItemToArray(eig, rk_json_array(pair, 2));
+    }
+    cJSON_AddNumberToObject(j, "rank", k->r);
+    cJSON_AddNumberToObject(j, "max_abs_eigenvalue", rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, k->r));
+    cJSON_AddItemToObject(j, "eigenvalues", eig);
+    cJSON_AddItemToObject(j, "residuals", rk_json_array(k->residual, k->r));
+    cJSON_AddNumberToObject(j, "clamped", k->clamped);
+    cJSON_AddItemToObject(j, "singular_values", rk_json_array(k->singular, k->nsingular < 200 ? k->nsingular : 200));
+    cJSON_AddNumberToObject(j, "observables", k->d);
+    cJSON_AddNumberToObject(j, "h", k->h);
+    return j;
 }

@@ -1,83 +1,15 @@
-/* A scene's reduced model: basis (precompute/basis), exact quadrature, and when asked a trained
- * cubature in its place; with the reasons each size is what it is. */
-#include "rom/scene_rom.h"
+/* A scene's reduced model (pipeline.h): basis (precompute/basis), exact quadrature, and when asked
+ * a trained cubature in its place; with the reasons each size is what it is. */
+#include "pipeline/pipeline.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene/json_get.h"
 #include "util/timer.h"
 
-int rk_rom_entries(const cJSON *rom)
-{
-    if (!rom) return 0;
-    return cJSON_IsArray(rom) ? cJSON_GetArraySize(rom) : 1;
-}
-
-static int parse_cubature(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_options *o)
-{
-    char cpath[128];
-    const cJSON *cub = rk_json_child(e, path, "cubature", cpath, sizeof cpath);
-    rk_cubature_default_options(&o->cub);
-    o->cubature = cub != NULL;
-    if (!cub) return 0;
-    if (!cJSON_IsObject(cub)) return rk_json_fail(c, cpath, "must be an object");
-    static const char *const keys[] = {"tolerance", "max_points", "poses", "sample", NULL};
-    if (rk_json_check_keys(c, cub, cpath, keys)) return -1;
-    double tol = o->cub.tolerance;
-    if (rk_json_number(c, cub, cpath, "tolerance", 0, &tol) ||
-        rk_json_whole(c, cub, cpath, "max_points", 0, 1e7, &o->cub.max_points) ||
-        rk_json_whole(c, cub, cpath, "poses", 1, 10000, &o->cub.poses) ||
-        rk_json_whole(c, cub, cpath, "sample", 0, 1e7, &o->cub.sample))
-        return -1;
-    if (!(tol > 0 && tol < 1)) return rk_json_fail(c, cpath, "tolerance must be in (0, 1), got %g", tol);
-    o->cub.tolerance = tol;
-    return 0;
-}
-
-static int parse_reference(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_options *o)
-{
-    char rpath[128];
-    const cJSON *ref = rk_json_child(e, path, "reference", rpath, sizeof rpath);
-    o->reference_nmse = NAN;
-    o->reference_source[0] = 0;
-    if (!ref) return 0;
-    static const char *const keys[] = {"normalized_mse", "source", NULL};
-    if (!cJSON_IsObject(ref)) return rk_json_fail(c, rpath, "must be an object");
-    if (rk_json_check_keys(c, ref, rpath, keys) || rk_json_number(c, ref, rpath, "normalized_mse", 1, &o->reference_nmse))
-        return -1;
-    const char *src = NULL;
-    if (rk_json_string(c, ref, rpath, "source", 0, &src)) return -1;
-    if (src) snprintf(o->reference_source, sizeof o->reference_source, "%s", src);
-    return 0;
-}
-
-int rk_rom_options_parse(const cJSON *rom, int index, const char *file, rk_rom_options *o, rk_error *err)
-{
-    memset(o, 0, sizeof *o);
-    if (rk_basis_options_parse(rom, index, file, &o->basis, err)) return -1;
-    rk_json_ctx c = {file, err};
-    char path[64];
-    const cJSON *e = cJSON_IsArray(rom) ? cJSON_GetArrayItem(rom, index) : rom;
-    snprintf(path, sizeof path, cJSON_IsArray(rom) ? "rom[%d]" : "rom", index);
-    if (parse_cubature(&c, e, path, o) || parse_reference(&c, e, path, o)) return -1;
-    const char *name = NULL;
-    if (rk_json_string(&c, e, path, "name", 0, &name)) return -1;
-    if (name && (!*name || strlen(name) >= sizeof o->name))
-        return rk_json_fail(&c, path, "name must have 1 to %zu characters", sizeof o->name - 1);
-    if (name) {
-        snprintf(o->name, sizeof o->name, "%s", name);
-    } else {
-        const char *type = rk_basis_type_name(o->basis.type);
-        if (o->basis.size) snprintf(o->name, sizeof o->name, "%s-%d%s", type, o->basis.size, o->cubature ? "-cubature" : "");
-        else snprintf(o->name, sizeof o->name, "%s-tol%g%s", type, o->basis.tolerance, o->cubature ? "-cubature" : "");
-    }
-    return 0;
-}
-
-static void explain_basis(const rk_rom_options *o, rk_scene_rom *R)
+static void explain_basis(const rk_rom_entry *o, rk_scene_rom *R)
 {
     const rk_scene_basis_info *in = &R->basis_info;
     const char *unit = R->basis.W ? "weights" : "columns";
@@ -115,7 +47,7 @@ static double *reduced_frames(const rk_scene_sim *sim, const rk_scene_rom *R, co
     return q;
 }
 
-static int train_cubature(const rk_scene_sim *sim, const rk_rom_options *o, const double *frames, int T,
+static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames, int T,
                           rk_scene_rom *R, rk_error *err)
 {
     double t0 = rk_now();
@@ -150,13 +82,13 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_options *o, cons
     return 0;
 }
 
-int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_options *o,
-                       const double *frames, int T, rk_scene_rom *R, rk_error *err)
+int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames,
+                       int T, rk_scene_rom *R, rk_error *err)
 {
     memset(R, 0, sizeof *R);
     R->cubature_error = NAN;
     double t0 = rk_now();
-    if (rk_scene_basis_build_frames(scene, &o->basis, frames, T, &R->basis, &R->basis_info, err))
+    if (rk_scene_basis(scene, sim, &o->basis, frames, T, &R->basis, &R->basis_info, err))
         return rk_error_prefix(err, "%s", o->name);
     R->seconds_basis = rk_now() - t0;
     explain_basis(o, R);
@@ -186,4 +118,9 @@ void rk_scene_rom_free(rk_scene_rom *R)
     rk_rom_model_free(&R->model);
     rk_basis_free(&R->basis);
     rk_scene_basis_info_free(&R->basis_info);
+}
+
+rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
+{
+    return (rk_asset_rom){&sim->mesh, &sim->fem, &sim->options.obstacles, R->basis.U, &R->model};
 }

@@ -1,4 +1,5 @@
-#include "util/json_out.h"
+/* JSON reports (pipeline.h): written atomically, numbers with full precision. */
+#include "pipeline/pipeline.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -11,7 +11,7 @@
 
 #include "scene_run.h"
 #include "koopman/control.h"
-#include "koopman/scene_koopman.h"
+#include "pipeline/pipeline.h"
 
 /* ---- the summed propagator ---- */
 

@@ -1,0 +1,177 @@
+/* The scene's "rom" section (an object, or a list of them) into rk_rom_entry: the basis keys, the
+ * cubature, the Koopman section, the asset keys (parse_asset.c), the name, the method and a
+ * published reference number. Each key lands in the option struct of the stage that uses it. */
+#include "pipeline/parse_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, rk_basis_options *o)
+{
+    const char *name;
+    if (rk_json_string(c, e, path, "basis", 1, &name)) return -1;
+    rk_basis_default_options(o);
+    if (rk_basis_type_parse(name, &o->type))
+        return rk_json_fail(c, path, "basis must be modes, modal_derivatives, skinning, rkpm_skinning "
+                            "or pod, got \"%s\"", name);
+    double tol = 0;
+    if (rk_json_whole(c, e, path, "size", 0, 4096, &o->size) || rk_json_number(c, e, path, "tolerance", 0, &tol) ||
+        rk_json_whole(c, e, path, "modes", 0, 60, &o->modes) ||
+        rk_json_whole(c, e, path, "kernels", 4, 100000, &o->kernels) ||
+        rk_json_whole(c, e, path, "integration_points", 100, 1e7, &o->integration_points))
+        return -1;
+    if (!(tol >= 0 && tol < 1)) return rk_json_fail(c, path, "tolerance must be in (0, 1), got %g", tol);
+    if (o->size == 0 && tol == 0)
+        return rk_json_fail(c, path, "needs size (how many columns or weights) or tolerance (the "
+                            "largest relative error of the scene's full-order frames)");
+    o->tolerance = tol;
+    return 0;
+}
+
+static int parse_cubature(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    char cpath[128];
+    const cJSON *cub = rk_json_child(e, path, "cubature", cpath, sizeof cpath);
+    rk_cubature_default_options(&o->cub);
+    o->cubature = cub != NULL;
+    if (!cub) return 0;
+    if (!cJSON_IsObject(cub)) return rk_json_fail(c, cpath, "must be an object");
+    static const char *const keys[] = {"tolerance", "max_points", "poses", "sample", NULL};
+    if (rk_json_check_keys(c, cub, cpath, keys)) return -1;
+    double tol = o->cub.tolerance;
+    if (rk_json_number(c, cub, cpath, "tolerance", 0, &tol) ||
+        rk_json_whole(c, cub, cpath, "max_points", 0, 1e7, &o->cub.max_points) ||
+        rk_json_whole(c, cub, cpath, "poses", 1, 10000, &o->cub.poses) ||
+        rk_json_whole(c, cub, cpath, "sample", 0, 1e7, &o->cub.sample))
+        return -1;
+    if (!(tol > 0 && tol < 1)) return rk_json_fail(c, cpath, "tolerance must be in (0, 1), got %g", tol);
+    o->cub.tolerance = tol;
+    return 0;
+}
+
+static int parse_reference(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    char rpath[128];
+    const cJSON *ref = rk_json_child(e, path, "reference", rpath, sizeof rpath);
+    o->reference_nmse = NAN;
+    o->reference_source[0] = 0;
+    if (!ref) return 0;
+    static const char *const keys[] = {"normalized_mse", "source", NULL};
+    if (!cJSON_IsObject(ref)) return rk_json_fail(c, rpath, "must be an object");
+    if (rk_json_check_keys(c, ref, rpath, keys) || rk_json_number(c, ref, rpath, "normalized_mse", 1, &o->reference_nmse))
+        return -1;
+    const char *src = NULL;
+    if (rk_json_string(c, ref, rpath, "source", 0, &src)) return -1;
+    if (src) snprintf(o->reference_source, sizeof o->reference_source, "%s", src);
+    return 0;
+}
+
+static int parse_trajectories(const rk_json_ctx *c, const cJSON *k, const char *path, rk_koopman_entry *o)
+{
+    char tpath[96];
+    const cJSON *list = rk_json_child(k, path, "trajectories", tpath, sizeof tpath);
+    if (!list) return 0;
+    if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1 || cJSON_GetArraySize(list) > RK_KOOPMAN_MAX_TRAJECTORIES)
+        return rk_json_fail(c, tpath, "must be a list of 1 to %d trajectories", RK_KOOPMAN_MAX_TRAJECTORIES);
+    static const char *const tkeys[] = {"gravity", "velocity", "load_scale", NULL};
+    o->ntraj = cJSON_GetArraySize(list);
+    for (int i = 0; i < o->ntraj; i++) {
+        const cJSON *t = cJSON_GetArrayItem(list, i);
+        rk_koopman_variation *v = &o->traj[i];
+        char p[128];
+        snprintf(p, sizeof p, "%s[%d]", tpath, i);
+        if (!cJSON_IsObject(t)) return rk_json_fail(c, p, "must be an object");
+        v->load_scale = 1;
+        v->has_gravity = cJSON_HasObjectItem(t, "gravity");
+        v->has_velocity = cJSON_HasObjectItem(t, "velocity");
+        if (rk_json_check_keys(c, t, p, tkeys) || rk_json_vector(c, t, p, "gravity", 0, 3, v->gravity) ||
+            rk_json_vector(c, t, p, "velocity", 0, 3, v->velocity) ||
+            rk_json_number(c, t, p, "load_scale", 0, &v->load_scale))
+            return -1;
+    }
+    return 0;
+}
+
+/* rom[i].koopman (pipeline.h, rk_koopman_entry); h is the scene's time step. */
+static int parse_koopman(const rk_json_ctx *c, const cJSON *e, const char *path, double h, rk_rom_entry *o)
+{
+    char kpath[64];
+    rk_koopman_entry *ko = &o->koop;
+    memset(ko, 0, sizeof *ko);
+    rk_koopman_default_options(&ko->fit);
+    ko->fit.h = h;
+    const cJSON *k = rk_json_child(e, path, "koopman", kpath, sizeof kpath);
+    o->koopman = k != NULL;
+    if (!k) return 0;
+    if (!cJSON_IsObject(k)) return rk_json_fail(c, kpath, "must be an object");
+    static const char *const keys[] = {"rank", "energy", "clamp", "project", "trajectories", NULL};
+    if (rk_json_check_keys(c, k, kpath, keys) ||
+        rk_json_whole(c, k, kpath, "rank", 0, 4096, &ko->fit.rank) /* 0: by energy */ ||
+        rk_json_number(c, k, kpath, "energy", 0, &ko->fit.energy) || rk_json_bool(c, k, kpath, "clamp", &ko->fit.clamp) ||
+        rk_json_bool(c, k, kpath, "project", &ko->project))
+        return -1;
+    if (!(ko->fit.energy > 0 && ko->fit.energy <= 1))
+        return rk_json_fail(c, kpath, "energy must be in (0, 1], got %g", ko->fit.energy);
+    return parse_trajectories(c, k, kpath, ko);
+}
+
+static int parse_method(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    const char *method = NULL;
+    if (rk_json_string(c, e, path, "method", 0, &method)) return -1;
+    o->method = RK_METHOD_FIXED;
+    if (!method || strcmp(method, "fixed") == 0) return 0;
+    if (strcmp(method, "adaptive_subspace") == 0 || strcmp(method, "adaptive_linear") == 0)
+        return rk_json_fail(c, path, "method \"%s\" is not in this romkit yet (only \"fixed\" is)", method);
+    return rk_json_fail(c, path, "method must be \"fixed\", \"adaptive_subspace\" or \"adaptive_linear\", got \"%s\"",
+                        method);
+}
+
+static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    const char *name = NULL;
+    if (rk_json_string(c, e, path, "name", 0, &name)) return -1;
+    if (name && (!*name || strlen(name) >= sizeof o->name))
+        return rk_json_fail(c, path, "name must have 1 to %zu characters", sizeof o->name - 1);
+    if (name) {
+        snprintf(o->name, sizeof o->name, "%s", name);
+        return 0;
+    }
+    const char *type = rk_basis_type_name(o->basis.type), *cub = o->cubature ? "-cubature" : "";
+    if (o->basis.size) snprintf(o->name, sizeof o->name, "%s-%d%s", type, o->basis.size, cub);
+    else snprintf(o->name, sizeof o->name, "%s-tol%g%s", type, o->basis.tolerance, cub);
+    return 0;
+}
+
+static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, double h, rk_rom_entry *o)
+{
+    if (!cJSON_IsObject(e)) return rk_json_fail(c, path, "must be an object");
+    static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
+                                       "cubature", "koopman", "name", "reference", "asset", "method", NULL};
+    snprintf(o->path, sizeof o->path, "%s", path);
+    return rk_json_check_keys(c, e, path, keys) || parse_method(c, e, path, o) || parse_basis(c, e, path, &o->basis) ||
+                   parse_cubature(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
+                   parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
+               ? -1
+               : 0;
+}
+
+int rk_parse_rom(const rk_json_ctx *c, const cJSON *rom, rk_scene *s)
+{
+    if (!rom) return 0;
+    if (!cJSON_IsObject(rom) && !cJSON_IsArray(rom))
+        return rk_json_fail(c, "rom", "must be an object or an array of objects");
+    int n = cJSON_IsArray(rom) ? cJSON_GetArraySize(rom) : 1;
+    if (n == 0) return 0;
+    s->entries = rk_calloc((size_t)n, sizeof *s->entries, c->err);
+    if (!s->entries) return -1;
+    s->nentries = n;
+    for (int i = 0; i < n; i++) {
+        char path[32];
+        snprintf(path, sizeof path, cJSON_IsArray(rom) ? "rom[%d]" : "rom", i);
+        s->entries[i].index = i;
+        if (parse_entry(c, cJSON_IsArray(rom) ? cJSON_GetArrayItem(rom, i) : rom, path, s->h, &s->entries[i])) return -1;
+    }
+    return 0;
+}

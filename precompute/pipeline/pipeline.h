@@ -1,0 +1,327 @@
+/* precompute/pipeline: the scene file parsed once into typed options for every stage, and the
+ * whole-scene orchestration that romkit build, compare, basis and fom, the benches and the tests
+ * share.
+ *
+ *   rk_scene_load      the scene file (JSON, DESIGN.md "Scene file") into rk_scene: objects,
+ *                      obstacles, time, damping, and every rom entry with its basis, cubature,
+ *                      Koopman and asset options (each the stage's own option struct). Strict:
+ *                      unknown keys, wrong types and nonsense values are errors naming the file and
+ *                      the JSON path, e.g. "beam.json: objects[0].material.poisson: must be in
+ *                      (-1, 0.5), got 0.5". Only this stage sees JSON.
+ *   rk_scene_build     meshes loaded and placed, materials per element, the FEM model and the
+ *                      full-order options: rk_scene_sim
+ *   rk_scene_fom_run   the full-order run of a built scene, frame by frame
+ *   rk_scene_basis     an entry's basis (constraints, materials, training frames from the scene)
+ *   rk_scene_rom_build an entry's reduced model (basis, exact integration or trained cubature)
+ *   rk_scene_koopman   an entry's Koopman operator (the scene's training runs, the fit)
+ *   rk_scene_bake      an entry end to end into a .rombin asset and its report
+ *
+ * Adding a method's scene keys touches parse_rom.c (its keys into the method's option struct,
+ * declared in that method's stage) and that stage only. */
+#ifndef RK_PIPELINE_H
+#define RK_PIPELINE_H
+
+#include <cjson/cJSON.h>
+
+#include "asset/asset.h"
+#include "basis/basis.h"
+#include "cubature/cubature.h"
+#include "fem/fem.h"
+#include "fom/fom.h"
+#include "koopman/koopman.h"
+#include "mesh/mesh.h"
+#include "rom/rom.h"
+#include "util/error.h"
+
+/* ---- JSON reports (report.c): written atomically, numbers with full precision ---- */
+
+int rk_json_write_file(const char *path, const cJSON *root, rk_error *err);
+/* cJSON array from n doubles. */
+cJSON *rk_json_array(const double *v, int n);
+
+/* ---- the scene description (parse.c, parse_rom.c) ---- */
+
+typedef struct {
+    rk_box box;
+    rk_material material;  /* fields the region leaves out are inherited from the object */
+} rk_scene_region;
+
+typedef struct {
+    rk_box box;
+    rk_motion_kind kind;   /* fixed, twist or translate */
+    double axis[3];
+    double center[3];
+    int has_center;        /* otherwise the rest centroid of the selected vertices */
+    double rate;           /* rad/s */
+    double velocity[3];
+} rk_scene_motion;
+
+typedef struct {
+    rk_box box;
+    double force[3];       /* total force (N), shared among the selected vertices by mass */
+} rk_scene_force;
+
+typedef enum { RK_SHAPE_FILE = 0, RK_SHAPE_BOX = 1, RK_SHAPE_POINTS = 2 } rk_shape_kind;
+
+typedef struct {
+    rk_shape_kind shape;
+    char file[4096];       /* tet or surface mesh, or point cloud; resolved against the scene folder */
+    double box_size[3];
+    int box_cells[3];
+    double scale;
+    double translate[3];
+    double quality;        /* surface meshes: tetgen radius-edge bound */
+    double max_volume;     /* surface meshes: tetgen volume bound (m^3), 0 = none */
+    rk_material material;
+    int nregions;
+    rk_scene_region *regions;
+    int nmotions;          /* "fixed" entries come first, as kind RK_MOTION_FIXED */
+    rk_scene_motion *motions;
+    int nloads;
+    rk_scene_force *loads;
+    double velocity[3];
+} rk_scene_object;
+
+/* rom[i].koopman: one training run of the scene with what it names changed. */
+typedef struct {
+    int has_gravity, has_velocity;
+    double gravity[3], velocity[3];
+    double load_scale;               /* 1: as the scene says */
+} rk_koopman_variation;
+
+#define RK_KOOPMAN_MAX_TRAJECTORIES 32
+
+/* rom[i].koopman: {"rank": 24 | "energy": 0.999999, "clamp": true, "project": true,
+ *                  "trajectories": [{"gravity": [0, -9.81, 0], "velocity": [0, 0, 1], "load_scale": 1}, ...]}
+ * No trajectory listed: the scene as written, once. */
+typedef struct {
+    rk_koopman_options fit;          /* h comes from the scene's time step */
+    int project;                     /* fit on the entry's basis coordinates (default 0: full displacements) */
+    int ntraj;
+    rk_koopman_variation traj[RK_KOOPMAN_MAX_TRAJECTORIES];
+} rk_koopman_entry;
+
+/* How a rom entry simulates (DESIGN.md: rom[i].method). */
+typedef enum { RK_METHOD_FIXED = 0 } rk_rom_method;
+
+/* One entry of the scene's rom section. */
+typedef struct {
+    int index;                       /* its place in the list */
+    char path[32];                   /* "rom" or "rom[i]": names it in messages */
+    char name[96];                   /* rom.name, or "<basis>-<size|tol>[-cubature]" */
+    rk_rom_method method;
+    rk_basis_options basis;          /* basis, size, tolerance, modes, kernels, integration_points */
+    int cubature;                    /* 0: exact integration over every element */
+    rk_cubature_options cub;         /* rom.cubature.{tolerance, max_points, poses, sample} */
+    int koopman;                     /* a koopman section: the entry is (also) a Koopman operator */
+    rk_koopman_entry koop;
+    rk_asset_options asset;          /* rom.asset.{precision, compress, show, groups} */
+    double reference_nmse;           /* rom.reference.normalized_mse: a published value to print beside ours; NAN if none */
+    char reference_source[96];       /* rom.reference.source */
+} rk_rom_entry;
+
+typedef struct {
+    char path[4096];
+    int nobjects;
+    rk_scene_object *objects;
+    double gravity[3];
+    int nplanes;
+    rk_plane *planes;
+    double h;
+    double duration;
+    rk_integrator integrator;
+    int is_static;
+    int lumped_mass;
+    double damping_mass, damping_stiffness; /* Rayleigh a, b */
+    double newton_tol;     /* 0 = the simulator's default */
+    int newton_max_iter;   /* 0 = the simulator's default */
+    int nentries;          /* the rom section: one for an object, the list's length, 0 when absent */
+    rk_rom_entry *entries;
+} rk_scene;
+
+int rk_scene_load(const char *path, rk_scene *s, rk_error *err);
+/* Parses JSON text; `path` names it in messages and anchors relative file names. */
+int rk_scene_parse(const char *text, const char *path, rk_scene *s, rk_error *err);
+void rk_scene_free(rk_scene *s);
+/* Entry k, or an error naming the scene and the range when there is none. */
+int rk_scene_entry(const rk_scene *s, int k, const rk_rom_entry **out, rk_error *err);
+
+/* The material at rest point p of an object: its own, overridden by the last region whose box
+ * holds p (for elements, p is the centroid; for point clouds, the point). */
+rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
+
+/* ---- the built scene (build.c) ---- */
+
+/* A scene built into something to simulate. Objects are concatenated into one mesh;
+ * object_first_vertex[k] / object_first_tet[k] say where object k starts. */
+typedef struct {
+    rk_mesh mesh;
+    rk_mesh_report mesh_report;
+    rk_material *materials;   /* one per tet */
+    rk_fem fem;
+    rk_fom_options options;   /* points into arrays owned here */
+    int steps;
+    int *object_first_vertex; /* nobjects + 1 */
+    int *object_first_tet;    /* nobjects + 1 */
+} rk_scene_sim;
+
+int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);
+void rk_scene_sim_free(rk_scene_sim *out);
+
+/* ---- full-order runs (run.c) ---- */
+
+/* Called after every step (and once for the start, step 0) of a full-order run with the state
+ * and the step's seconds (0 for the start); non-zero stops the run with that error. */
+typedef int (*rk_frame_fn)(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err);
+
+/* The built scene run at full order: options as the scene says (opt NULL) or as given, the static
+ * solve or every time step, with progress under `label`. stats (may be NULL) gets the run's. */
+int rk_scene_fom_run(const rk_scene_sim *sim, const rk_fom_options *opt, const char *label, rk_frame_fn frame,
+                     void *ctx, rk_fom_stats *stats, rk_error *err);
+/* The scene's own full-order run as displacement frames after each step (*D: 3 nv x *T,
+ * column-major, malloc'd): what bases, cubature and Koopman fits train on. */
+int rk_scene_training_frames(const rk_scene_sim *sim, double **D, int *T, rk_error *err);
+
+/* ---- an entry's basis (basis.c) ---- */
+
+typedef struct {
+    int vertices, tets;        /* what the basis is evaluated on (tets 0 for a point cloud) */
+    double *X;                 /* 3 vertices rest positions (owned) */
+    int fom_frames;            /* full-order frames it trained on (0 if none) */
+    double projection_error;   /* over those frames (NAN if none) */
+    double projection_error_below; /* with one size less (one weight less for skinning); NAN if none:
+                                    * with a tolerance, why the size is not smaller */
+    double seconds_fom, seconds_basis;
+    rk_rkpm_timing rkpm;       /* rkpm_skinning only */
+    int kernels, integration_points;
+} rk_scene_basis_info;
+
+/* Builds the basis o asks for on the scene's objects (one mesh, or one point cloud for
+ * rkpm_skinning: then sim is NULL). Modes and modal derivatives are computed with the fixed
+ * vertices held (moving ones are free: the reduced model pins them to their targets). frames
+ * (3 nv x T, may be NULL): the scene's full-order displacements when already run; a basis that
+ * needs them (rk_basis_needs_frames) runs the scene otherwise. With a tolerance the smallest basis
+ * (up to size, or a default maximum) whose projection error meets it is kept; failing to reach it
+ * is an error that says how close it came. */
+int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, const double *frames,
+                   int T, rk_basis *b, rk_scene_basis_info *info, rk_error *err);
+void rk_scene_basis_info_free(rk_scene_basis_info *info);
+
+/* ---- an entry's reduced model (rom.c) ---- */
+
+typedef struct {
+    rk_basis basis;
+    rk_scene_basis_info basis_info;
+    rk_rom_model model;
+    int cubature_points;           /* 0 for exact integration */
+    double cubature_error;         /* relative force error on the training poses (NAN: exact) */
+    int cubature_reached, cubature_poses;
+    double seconds_basis, seconds_cubature;
+    char basis_reason[256];        /* which option bound the basis size, with the numbers */
+    char cubature_reason[256];     /* which option bound the cubature size */
+} rk_scene_rom;
+
+/* Builds entry e's reduced model for the built scene sim. frames: the scene's full-order
+ * displacements (3 nv x T, column-major) when they have been run, else NULL (then bases that need
+ * them run their own, and the cubature trains on random poses only). */
+int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                       int T, rk_scene_rom *out, rk_error *err);
+void rk_scene_rom_free(rk_scene_rom *r);
+/* The source of an asset bake (asset.h) for a built scene and its reduced model. */
+rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
+
+/* ---- an entry's Koopman operator (koopman.c) ---- */
+
+/* The forcing as an acceleration of every degree of freedom (3 nv values): gravity plus each load
+ * (force, N, 3 nv or NULL) over its vertex's lumped mass: what a trajectory runs under and what an
+ * asset steps along, as impulses (Eq. 19). */
+void rk_koopman_scene_accel(const rk_scene_sim *sim, const double gravity[3], const double *force, double *accel);
+/* The frame before a start at rest positions moving at vel (3 nv, or NULL: at rest): u_{-1} = -h v. */
+void rk_koopman_frame_before(const rk_scene_sim *sim, const double *vel, double *u_prev);
+
+/* A trajectory of the built scene's full-order run, as the fit takes it (owning its arrays):
+ * displacement frames u_{-1} = -h v_0, u_0 = 0, then one per step, so that X_0 = [0; h v_0]
+ * starts it; accel: gravity plus each load over its vertex's lumped mass. */
+typedef struct {
+    rk_koopman_trajectory t;
+    double *u, *accel;
+} rk_koopman_run;
+/* The scene run again with what v changes (v NULL: as written). */
+int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v, rk_koopman_run *out, rk_error *err);
+/* The same trajectory from the scene's full-order run already done: frames (3 nv x T) are the
+ * displacements after each of its T steps (rk_scene_training_frames). */
+int rk_koopman_scene_run_frames(const rk_scene_sim *sim, const double *frames, int T, rk_koopman_run *out,
+                                rk_error *err);
+void rk_koopman_run_free(rk_koopman_run *r);
+
+typedef struct {
+    int trajectories, frames;        /* runs and frames in all */
+    double seconds_fom, seconds_fit;
+    int projected;                   /* observables are basis coordinates (d = basis columns) */
+    int reused;                      /* the given frames (the scene as written) were a trajectory */
+    rk_basis_type basis_type;        /* when projected: the basis and its build time */
+    int basis_columns;
+    double seconds_basis;
+} rk_koopman_scene_info;
+
+/* Runs every trajectory of ko and fits the operator on their (projected) displacements. basis:
+ * the entry's basis when ko->project, else NULL. frames (may be NULL): the scene's own run,
+ * already done, used for each trajectory that changes nothing. */
+int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_entry *ko, const rk_basis *basis,
+                         const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err);
+
+/* An entry's Koopman operator and what baking it needs: the scene's constant acceleration, the
+ * start (where the training runs start: X_0 = [0; h v_0]) and the boundary to show. */
+typedef struct {
+    rk_koopman k;
+    rk_koopman_scene_info info;
+    double *accel, *u0, *u_prev;
+    int *tris, ntris;                /* the boundary (source numbers) */
+    rk_koopman_geometry geometry;    /* points into the arrays above */
+} rk_scene_koopman;
+
+/* Entry e end to end: the basis when it asks for a projection, the training runs, the fit and the
+ * asset geometry. frames (3 nv x T, may be NULL): the scene's own full-order run, already done;
+ * when NULL and something needs it, it is run here. */
+int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                           const double *frames, int T, rk_scene_koopman *out, rk_error *err);
+void rk_scene_koopman_free(rk_scene_koopman *p);
+/* The report's "koopman" object: rank, max_abs_eigenvalue, eigenvalues [[re, im], ...],
+ * residuals, clamped, singular values, observables, h. */
+cJSON *rk_koopman_report(const rk_koopman *k);
+
+/* ---- an entry baked (bake.c) ---- */
+
+typedef struct {
+    /* The scene's full-order run as romkit fom --snapshots writes it (steps + 1 frames of every
+     * vertex's position, the start first: snapshot_dims = 3, shape steps + 1, nv, 3), trained on
+     * instead of running the scene again; NULL: run when something needs it. */
+    const double *snapshots;
+    int snapshot_dims;
+    long snapshot_shape[4];
+    int has_real_type;               /* real_type overrides rom.asset.precision */
+    int real_type;
+    int compress;                    /* deflate, beside rom.asset.compress */
+} rk_bake_request;
+
+typedef struct {
+    unsigned char *data;             /* the asset (malloc'd) */
+    size_t bytes;
+    cJSON *report;                   /* DESIGN.md's keys: vertices, tets, basis.*, cubature.*, koopman.*, asset.* */
+    char summary[512];               /* one line for a terminal */
+} rk_baked;
+
+/* Entry e of the scene end to end: the full-order run when something trains on it, the basis, the
+ * cubature, the Koopman operator, baked into one asset (reduced model, Koopman operator or both).
+ * Nothing is written; the caller saves data. */
+int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_request *req, rk_baked *out,
+                  rk_error *err);
+void rk_baked_free(rk_baked *b);
+/* A Koopman operator k over geometry g baked alone (romkit dmd's outside snapshots, and a Koopman
+ * entry without cubature): the asset, its report's "koopman" and "asset" objects, the summary. */
+int rk_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *ao, const char *info,
+                    rk_baked *out, rk_error *err);
+/* The asset's chunks, precision and sizes as report keys under a (formats/ROMBIN.md). */
+void rk_asset_report(cJSON *a, const unsigned char *data, size_t bytes, const rk_asset_summary *sum);
+
+#endif
