@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "runtime/loader.h"
+#include "runtime/loader_impl.h"
 
 typedef struct {
     double re, im;

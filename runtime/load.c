@@ -1,9 +1,9 @@
-/* Reading the model's chunks (loader.h): sizes and types against the header, finiteness, index
+/* Reading the model's chunks (loader_impl.h): sizes and types against the header, finiteness, index
  * ranges, and arrays converted into the arena when their precision differs from the runtime's. */
 #include <math.h>
 #include <string.h>
 
-#include "runtime/loader.h"
+#include "runtime/loader_impl.h"
 
 
 /* Value i of a real chunk, whatever the file's real type. */

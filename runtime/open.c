@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "runtime/loader.h"
+#include "runtime/loader_impl.h"
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,

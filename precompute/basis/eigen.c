@@ -3,7 +3,7 @@
  * The eigenvalues nearest sigma converge first; with sigma below the spectrum those are the
  * smallest. Fixed starting vector (deterministic results, DESIGN.md "Determinism"). */
 #include "basis/basis.h"
-#include "basis/shifted.h"
+#include "basis/shifted_impl.h"
 
 #include <arpack/arpack.h>
 #include <math.h>

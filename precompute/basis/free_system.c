@@ -1,5 +1,5 @@
 /* K and M over the free degrees of freedom. */
-#include "basis/free_system.h"
+#include "basis/free_system_impl.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -5,8 +5,8 @@
  * shift plus two steps of iterative refinement, and the solutions made M-orthogonal to the
  * rigid modes. */
 #include "basis/basis.h"
-#include "basis/free_system.h"
-#include "basis/shifted.h"
+#include "basis/free_system_impl.h"
+#include "basis/shifted_impl.h"
 
 #include <cblas.h>
 #include <math.h>

@@ -1,7 +1,7 @@
 /* Linear modes: K v = lambda M v over the free degrees of freedom, K the rest stiffness (linear
  * elasticity, each element's own Lame parameters), M consistent or lumped. */
 #include "basis/basis.h"
-#include "basis/free_system.h"
+#include "basis/free_system_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

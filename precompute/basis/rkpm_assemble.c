@@ -8,7 +8,7 @@
  *      over the chunk's kernels; the blocks are then added into the sparse upper triangles.
  * An entry of a block that no point of the chunk co-supports is an exact zero (every product in
  * it has a zero factor), so skipping block entries outside the pattern loses nothing. */
-#include "basis/rkpm_chunks.h"
+#include "basis/rkpm_chunks_impl.h"
 
 #include <cblas.h>
 #include <math.h>

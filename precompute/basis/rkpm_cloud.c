@@ -2,7 +2,7 @@
  * voxel-downsampled above a budget, with uniform weights from an occupancy volume estimate
  * (freeform paper Sec. 7.1: "for 3DGS we directly use the given points as integration points,
  * after downsampling if necessary"). */
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 #include "util/sort.h"
 
 #include <math.h>
@@ -136,7 +136,7 @@ int rk_rkpm_sample_cloud(const double *X, int n, int max_points, rk_rkpm_points 
     for (int i = 0; i < nk; i++) memcpy(&p->X[3 * i], &X[3 * keep[i]], 3 * sizeof(double));
 
     /* Occupancy volume over all n input points (so it does not depend on max_points): voxels of
-     * edge 2 x the median nearest-neighbour spacing that hold a point (see rkpm.h). */
+     * edge 2 x the median nearest-neighbour spacing that hold a point (see basis.h, RKPM). */
     double g = 2 * median, lo[3], hi[3];
     int dim[3];
     bbox(X, n, lo, hi);

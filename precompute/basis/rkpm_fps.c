@@ -1,6 +1,6 @@
 /* Farthest point sampling of the RKPM kernel centres among the integration points, "to ensure
  * that kernels are equidistantly distributed" (freeform paper Sec. 7.1). */
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

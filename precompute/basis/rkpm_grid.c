@@ -1,6 +1,6 @@
 /* A uniform grid of cells over a point set: neighbour queries for the RKPM kernels (radii,
  * covering kernels) and nearest neighbours for point clouds. */
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

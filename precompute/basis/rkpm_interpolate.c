@@ -2,7 +2,7 @@
  * Eq. 6): the skinning weights W^j at mesh vertices, splat centres or cubature points. The points
  * are walked in spatial chunks (rkpm_chunks.c), so each is tested only against the kernels near
  * its chunk. */
-#include "basis/rkpm_chunks.h"
+#include "basis/rkpm_chunks_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* The RKPM kernels: tapered Gaussians (freeform paper Eq. 6) with radii from the centre spacing
  * (Sec. 7.1), hashed on a uniform grid for neighbour queries. */
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* Integration points inside a tet mesh: a uniform grid over its bounding box, kept where some
  * tet contains the point (freeform paper Sec. 7.1). */
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

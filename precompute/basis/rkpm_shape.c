@@ -12,7 +12,7 @@
  *   d_j phi_k = (d_j w_k) s_k - w_k b_{j+1}/h + w_k Q_k^T d_j b
  *             = (d_j w_k) s_k + w_k Q_k^T v_j,   v_j = M^-1 (e_{j+1}/h - g_j)
  * (the b_{j+1} terms cancel because Q_k[0] = 1). */
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 
 #include <math.h>
 #include <stdio.h>

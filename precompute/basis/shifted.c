@@ -1,7 +1,7 @@
 /* CHOLMOD factorization of A - sigma B, shared by the eigensolver and the modal derivatives. */
-#include "basis/shifted.h"
+#include "basis/shifted_impl.h"
 
-#include "fem/cholmod_view.h"
+#include "fem/fem.h"
 
 #include <math.h>
 #include <stdlib.h>

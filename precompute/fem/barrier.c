@@ -1,6 +1,6 @@
 /* Ground planes: the IPC log barrier (Li et al. 2020) on vertex-plane distances, and the step
  * filter that keeps every line-search trial on the positive side. */
-#include "fem/element.h"
+#include "fem/element_impl.h"
 
 #include <math.h>
 #include <stddef.h>

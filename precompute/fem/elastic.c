@@ -1,5 +1,5 @@
 /* Elastic energy, gradient and Hessian assembled from the physics/ tet kernels. */
-#include "fem/element.h"
+#include "fem/element_impl.h"
 
 #include <math.h>
 

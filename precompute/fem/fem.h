@@ -6,6 +6,9 @@
 #ifndef RK_FEM_H
 #define RK_FEM_H
 
+#include <string.h>
+#include <suitesparse/cholmod.h>
+
 #include "mesh/mesh.h"
 #include "physics/physics.h"
 #include "util/error.h"
@@ -103,5 +106,41 @@ void rk_barrier_add_hessian(const rk_fem *f, const rk_obstacles *o, const double
  * distance along x + alpha * dx never drops below 10% of its current value; so no line-search
  * trial can cross a plane. */
 double rk_planes_max_step(const rk_obstacles *o, int nv, const double *x, const double *dx);
+
+/* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
+ * every column of the vertex (rows are sorted and the column ends at its diagonal). */
+static inline int rk_fem_diag_slot(const rk_sparse *S, int v, int i, int j)
+{
+    return S->colptr[3 * v + j + 1] - 1 - (j - i);
+}
+
+/* rk_sparse and plain vectors seen by CHOLMOD without copying: the one place that knows how an
+ * upper-triangle CSC rk_sparse maps onto cholmod_sparse (stype = 1). Used by the full-order
+ * Newton solver and the shift-invert eigensolver. */
+static inline void rk_cholmod_sparse_view(const rk_sparse *S, cholmod_sparse *A)
+{
+    memset(A, 0, sizeof *A);
+    A->nrow = A->ncol = (size_t)S->n;
+    A->nzmax = (size_t)S->nnz;
+    A->p = S->colptr;
+    A->i = S->rowind;
+    A->x = S->val;
+    A->stype = 1; /* upper triangle stored */
+    A->itype = CHOLMOD_INT;
+    A->xtype = CHOLMOD_REAL;
+    A->dtype = CHOLMOD_DOUBLE;
+    A->sorted = 1;
+    A->packed = 1;
+}
+
+static inline void rk_cholmod_dense_view(const double *x, int n, cholmod_dense *B)
+{
+    memset(B, 0, sizeof *B);
+    B->nrow = B->d = B->nzmax = (size_t)n;
+    B->ncol = 1;
+    B->x = (void *)x;
+    B->xtype = CHOLMOD_REAL;
+    B->dtype = CHOLMOD_DOUBLE;
+}
 
 #endif

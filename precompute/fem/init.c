@@ -1,5 +1,5 @@
 /* rk_fem_init / rk_fem_free: per-element rest data and materials, lumped masses, the pattern. */
-#include "fem/element.h"
+#include "fem/element_impl.h"
 
 #include <math.h>
 #include <stdlib.h>

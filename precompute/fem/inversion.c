@@ -1,5 +1,5 @@
 /* Element inversion: the count of elements whose deformation gradient has det F <= 0. */
-#include "fem/element.h"
+#include "fem/element_impl.h"
 
 #include <math.h>
 

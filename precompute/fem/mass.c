@@ -1,7 +1,7 @@
 /* Mass matrices: consistent P1 (rho vol / 20 (1 + delta_ab) I3 per vertex pair of a tet) or
  * lumped (rho vol / 4 per vertex, the row sums of the consistent one); with unit density, the
  * volume mass that skinning weights are normalized in (freeform paper Eq. 14). */
-#include "fem/element.h"
+#include "fem/element_impl.h"
 
 static void add_mass(const rk_fem *f, int lumped, int unit_density, double scale, rk_sparse *M)
 {

@@ -6,7 +6,7 @@
  * counts j's lower neighbours, and vertex i's rows sit at the same offset 3 pos(i) in all
  * three columns of j. Building it: vertex -> tets lists, then each vertex's lower neighbours
  * (deduplicated with a stamp array, sorted); linear in the mesh size apart from tiny sorts. */
-#include "fem/element.h"
+#include "fem/element_impl.h"
 
 #include <stdlib.h>
 

@@ -2,9 +2,9 @@
  * the fill-reducing ordering and symbolic factorization are computed once, at init, because
  * the pattern never changes; each Newton iteration refactorizes numerically into the same L and
  * solves with cholmod_solve2, which reuses its dense workspaces (no per-iteration allocation). */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
-#include "fem/cholmod_view.h"
+#include "fem/fem.h"
 
 #include "util/timer.h"
 

@@ -1,5 +1,5 @@
 /* Prescribed vertices: their targets in time, and their removal from the Newton system. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
 #include <math.h>
 

@@ -1,5 +1,5 @@
 /* Energies of the current state. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
 double rk_fom_kinetic_energy(const rk_fom *s) { return 0.5 * rk_sparse_dot(&s->impl->M, s->v, s->v); }
 

@@ -1,6 +1,6 @@
 /* rk_fom_init / rk_fom_free: options checked, inputs copied, constant matrices (mass, damping)
  * and loads built once, CHOLMOD's symbolic analysis done once. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 #include "util/metrics.h"
 
 #include <math.h>

@@ -1,6 +1,6 @@
 /* The full-order incremental potential as the solver's Newton problem (solver.h): CHOLMOD on the
  * PSD-projected Hessian for the direction, plane step filtering, |d|_inf as the step size. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
 static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
 {

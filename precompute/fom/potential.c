@@ -1,8 +1,8 @@
-/* The incremental potential (impl.h, rk_fom_terms): one evaluation of value, gradient and
+/* The incremental potential (fom_impl.h, rk_fom_terms): one evaluation of value, gradient and
  * Hessian shared by time steps and static solves. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
-#include "fem/element.h"
+#include "fem/element_impl.h"
 #include "util/timer.h"
 
 #include <math.h>

@@ -1,9 +1,9 @@
 /* Static equilibrium: minimise Psi + B - f.x (no inertia, no damping) with the same Newton
  * solver, the load (forces, gravity and the prescribed motions' time) ramped by the solver's load
  * stepping when the full load does not converge within newton_max_iter. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
-#include "fem/element.h"
+#include "fem/element_impl.h"
 #include "util/timer.h"
 
 #include <math.h>

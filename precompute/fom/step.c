@@ -1,6 +1,6 @@
 /* One time step: backward Euler or BDF2 (solver.h) through the incremental potential, prescribed
  * vertices moved to their targets at t + h first. */
-#include "fom/impl.h"
+#include "fom/fom_impl.h"
 
 #include "util/timer.h"
 

@@ -1,7 +1,7 @@
-/* Control by fast time stepping (control.h; koopman-dmd-log-linear paper, Sec. 7.3, Eq. 25): the
+/* Control by fast time stepping (koopman.h; koopman-dmd-log-linear paper, Sec. 7.3, Eq. 25): the
  * summed propagator in closed form, the forced N-step map, and the iterated least-squares solve
  * for the inputs. */
-#include "koopman/control.h"
+#include "koopman/koopman.h"
 
 #include <cblas.h>
 #include <math.h>

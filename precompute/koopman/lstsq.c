@@ -1,7 +1,7 @@
-/* Dense least squares for the control solve (control.h): the minimum-norm solution by LAPACK's
+/* Dense least squares for the control solve (koopman.h): the minimum-norm solution by LAPACK's
  * SVD solver, and non-negative least squares by the cubature stage's Lawson-Hanson active set
  * (LAPACK has none). */
-#include "koopman/control.h"
+#include "koopman/koopman.h"
 
 #include "cubature/select.h"
 

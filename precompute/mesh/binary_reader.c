@@ -1,4 +1,4 @@
-#include "mesh/binary_reader.h"
+#include "mesh/binary_reader_impl.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,7 +1,7 @@
 #include <string.h>
 
-#include "mesh/binary_reader.h"
-#include "mesh/mesh_internal.h"
+#include "mesh/binary_reader_impl.h"
+#include "mesh/mesh_impl.h"
 
 /* Writes the n bytes of a host-order value in the requested order. */
 static void put(FILE *fp, const void *value, size_t n, int big_endian)

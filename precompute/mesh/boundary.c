@@ -2,7 +2,7 @@
  * vertex triples; each is emitted as its tet sees it from outside. */
 #include <stdlib.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 typedef struct {
     int key[3]; /* sorted vertex indices */

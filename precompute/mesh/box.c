@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 int rk_mesh_box(const double size[3], const int cells[3], rk_mesh *m, rk_error *err)
 {

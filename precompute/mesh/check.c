@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 /* Relative volume below which a tet counts as flat: |V| <= DEGENERATE * diag^3. */
 #define DEGENERATE 1e-12

@@ -1,7 +1,7 @@
 /* Gmsh .msh reader: versions 2.x and 4.1, ASCII and binary.
  *
  * ASCII and binary carry the same fields in the same order, so each section is parsed once
- * with the dual-mode number reads of binary_reader.h; only element records differ (ASCII
+ * with the dual-mode number reads of binary_reader_impl.h; only element records differ (ASCII
  * elements are read a line at a time so a short record is reported on its own line).
  * Tetrahedra are element type 4; second-order tets (type 11) contribute their 4 corner
  * nodes; every other element type is skipped. tet_tag is the element's physical tag (2.x:
@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/binary_reader.h"
-#include "mesh/mesh_internal.h"
+#include "mesh/binary_reader_impl.h"
+#include "mesh/mesh_impl.h"
 
 #define MAX_LINE_INTS 256
 

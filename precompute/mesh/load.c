@@ -1,7 +1,7 @@
 /* Loading by extension: tet meshes (then rk_mesh_check) and surfaces. */
 #include <stdlib.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 static int is_surface_path(const char *path)
 {

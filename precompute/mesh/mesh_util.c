@@ -2,7 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 int rk_path_has_ext(const char *path, const char *ext)
 {

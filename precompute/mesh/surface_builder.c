@@ -1,4 +1,4 @@
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 int rk_sb_vertex(rk_surface_builder *b, const double p[3], rk_error *err)
 {

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 #define INSIDE_OUT 1
 

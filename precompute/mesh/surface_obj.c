@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_internal.h"
-#include "mesh/text_reader.h"
+#include "mesh/mesh_impl.h"
+#include "mesh/text_reader_impl.h"
 
 /* The vertex index of one face reference ("12", "12/3", "-1//7"), 0-based. */
 static int face_reference(rk_reader *r, rk_token tok, int nv, int *out)

@@ -3,8 +3,8 @@
 #include <inttypes.h>
 #include <stdlib.h>
 
-#include "mesh/mesh_internal.h"
-#include "mesh/text_reader.h"
+#include "mesh/mesh_impl.h"
+#include "mesh/text_reader_impl.h"
 
 static int is_off_keyword(rk_token tok)
 {

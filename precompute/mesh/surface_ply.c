@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/binary_reader.h"
-#include "mesh/mesh_internal.h"
+#include "mesh/binary_reader_impl.h"
+#include "mesh/mesh_impl.h"
 
 #define MAX_ELEMENTS 16
 #define MAX_PROPS 64

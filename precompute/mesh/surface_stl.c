@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/binary_reader.h"
-#include "mesh/mesh_internal.h"
+#include "mesh/binary_reader_impl.h"
+#include "mesh/mesh_impl.h"
 
 typedef struct {
     double p[3];

@@ -6,8 +6,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "mesh/mesh_internal.h"
-#include "mesh/text_reader.h"
+#include "mesh/mesh_impl.h"
+#include "mesh/text_reader_impl.h"
 
 /* Reads the next token as an index that must equal `expected`. */
 static int expect_index(rk_reader *r, int64_t expected, const char *what)

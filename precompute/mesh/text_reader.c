@@ -1,4 +1,4 @@
-#include "mesh/text_reader.h"
+#include "mesh/text_reader_impl.h"
 
 #include <errno.h>
 #include <inttypes.h>

@@ -1,7 +1,7 @@
 /* rk_mesh_write: dispatch by extension; .obj/.ply/.off/.stl get the boundary surface. */
 #include <stdlib.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 
 int rk_mesh_validate_for_write(const char *path, const rk_mesh *m, rk_error *err)
 {

@@ -3,7 +3,7 @@
  * volume the tag as its physical tag (none when the tag is 0 or the mesh has no tags). */
 #include <math.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 #include "util/atomic_file.h"
 
 typedef struct {

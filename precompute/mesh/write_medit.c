@@ -1,5 +1,5 @@
 /* MEDIT .mesh writer (ASCII, 1-based, refs from tet_tag). */
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 #include "util/atomic_file.h"
 
 int rk_write_medit(const char *path, const rk_mesh *m, const double *X, rk_error *err)

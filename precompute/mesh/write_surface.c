@@ -2,7 +2,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "mesh/mesh_internal.h"
+#include "mesh/mesh_impl.h"
 #include "util/atomic_file.h"
 
 static void write_obj(FILE *fp, const rk_surface *s)

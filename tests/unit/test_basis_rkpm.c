@@ -1,7 +1,7 @@
 /* precompute/basis RKPM kernels (freeform paper Sec. 3.2): integration points, farthest point
  * sampling, linear reproduction of the corrected shape functions and their gradients, the
  * assembled H_w and M, and the errors for clouds too sparse for their kernels. */
-#include "basis/rkpm.h"
+#include "basis/basis.h"
 #include "testlib.h"
 #include "util/timer.h"
 

@@ -1,4 +1,4 @@
-/* Control by fast time stepping (koopman/control.h; paper Sec. 7.3, Eq. 25):
+/* Control by fast time stepping (koopman/koopman.h; paper Sec. 7.3, Eq. 25):
  *  - the closed-form summed propagator against explicit sums, at and near lambda = 1;
  *  - the forced N-step map against N single forced steps and the true dynamics;
  *  - on exactly linear data (a damped mass-spring chain) the solve recovers known inputs;
@@ -10,7 +10,7 @@
 #include <lapacke.h>
 
 #include "scene_run.h"
-#include "koopman/control.h"
+#include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
 
 /* ---- the summed propagator ---- */

@@ -16,7 +16,7 @@
 
 #include "testlib.h"
 #include "util/metrics.h"
-#include "koopman/control.h"
+#include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
@@ -332,7 +332,7 @@ TEST(a_forced_jump_equals_single_steps)
         rk_koopman_impulse(&k, run->accel, z1);
         rk_koopman_advance(&k, z1, 1, 1, 0);
     }
-    CHECK_OK(rk_koopman_forced(&k, N, run->accel, zN, &err)); /* the closed-form forced map (control.h) */
+    CHECK_OK(rk_koopman_forced(&k, N, run->accel, zN, &err)); /* the closed-form forced map (koopman.h) */
     double zs, us, dz = max_abs_diff(zN, z1, r, &zs);
     rk_koopman_positions(&k, z1, u1);
     rk_koopman_positions(&k, zN, uN);

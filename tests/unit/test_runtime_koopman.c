@@ -8,7 +8,7 @@
 #include "testlib.h"
 #include "asset/asset.h"
 #include "formats/rombin_read.h"
-#include "koopman/control.h"
+#include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
 #include "runtime/romrt.h"
 

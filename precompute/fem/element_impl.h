@@ -43,13 +43,6 @@ static inline void rk_fem_scatter_block(const rk_fem *f, int t, const double He[
         for (int q = p; q < 12; q++) val[*s++] += scale * He[12 * p + q];
 }
 
-/* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
- * every column of the vertex (rows are sorted and the column ends at its diagonal). */
-static inline int rk_fem_diag_slot(const rk_sparse *S, int v, int i, int j)
-{
-    return S->colptr[3 * v + j + 1] - 1 - (j - i);
-}
-
 /* Builds f->pattern (colptr, rowind) and f->slot from f->tets. */
 int rk_fem_build_pattern(rk_fem *f, rk_error *err);
 

@@ -1,11 +1,11 @@
-/* Internal to precompute/mesh: the bounds-checked binary cursor over an rk_reader's buffer,
+/* Private to precompute/mesh: the bounds-checked binary cursor over an rk_reader's buffer,
  * and number reads that work in either mode (token in text mode, raw bytes in binary mode),
  * so a format whose ASCII and binary variants carry the same fields (Gmsh, VTK, PLY) is
  * parsed by one piece of code. */
 #ifndef RK_MESH_BINARY_READER_H
 #define RK_MESH_BINARY_READER_H
 
-#include "mesh/text_reader.h"
+#include "mesh/text_reader_impl.h"
 
 typedef enum { RK_I8, RK_U8, RK_I16, RK_U16, RK_I32, RK_U32, RK_I64, RK_U64, RK_F32, RK_F64 } rk_scalar;
 

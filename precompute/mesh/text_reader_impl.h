@@ -1,8 +1,8 @@
-/* Internal to precompute/mesh: a whole file in memory, read as whitespace-separated tokens.
+/* Private to precompute/mesh: a whole file in memory, read as whitespace-separated tokens.
  *
  * Every reader (ASCII or binary) starts from an rk_reader: the file's bytes, a position and
  * the line number of that position. ASCII formats walk it with the tokenizer below; binary
- * formats switch to the bounds-checked cursor of binary_reader.h on the same buffer (formats
+ * formats switch to the bounds-checked cursor of binary_reader_impl.h on the same buffer (formats
  * like Gmsh, VTK and PLY mix a text header with binary blocks). rk_reader_fail names the file
  * and the line (text mode) or the byte offset (binary mode), so every message says where. */
 #ifndef RK_MESH_TEXT_READER_H
@@ -21,7 +21,7 @@ typedef struct {
     long line;          /* line of `pos`, 1-based */
     long tok_line;      /* line of the last token read */
     char comment;       /* comment character skipped to end of line ('#'), 0 for none */
-    int binary;         /* numbers are raw bytes (binary_reader.h), not tokens */
+    int binary;         /* numbers are raw bytes (binary_reader_impl.h), not tokens */
     int big_endian;     /* byte order of binary numbers */
     rk_error *err;
 } rk_reader;

@@ -4,7 +4,7 @@
 #ifndef RK_RKPM_CHUNKS_H
 #define RK_RKPM_CHUNKS_H
 
-#include "basis/rkpm_internal.h"
+#include "basis/rkpm_impl.h"
 
 typedef struct {
     const rk_rkpm *k;

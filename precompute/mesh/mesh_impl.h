@@ -1,4 +1,4 @@
-/* Internal to precompute/mesh: the per-format readers and writers that load.c and write.c
+/* Private to precompute/mesh: the per-format readers and writers that load.c and write.c
  * dispatch to, and small helpers they share. */
 #ifndef RK_MESH_INTERNAL_H
 #define RK_MESH_INTERNAL_H

@@ -3,7 +3,7 @@
 #ifndef RK_RKPM_INTERNAL_H
 #define RK_RKPM_INTERNAL_H
 
-#include "basis/rkpm.h"
+#include "basis/basis.h"
 
 #include <math.h>
 
