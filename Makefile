@@ -11,21 +11,22 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem solver fom basis cubature rom koopman formats asset pipeline compare
+STAGES := util mesh physics fem contact solver fom basis cubature rom koopman formats asset pipeline compare
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
+DEPS_contact := contact fem physics mesh util
 DEPS_solver  := solver physics util
-DEPS_fom     := fom solver fem physics mesh util
+DEPS_fom     := fom solver contact fem physics mesh util
 DEPS_basis   := basis fem physics mesh util
 DEPS_cubature := cubature fem physics mesh util
-DEPS_rom     := rom cubature fom solver fem physics mesh util
+DEPS_rom     := rom cubature fom solver contact fem physics mesh util
 DEPS_koopman := koopman cubature fem physics mesh util
 DEPS_formats := formats util
-DEPS_asset   := asset formats koopman rom cubature fom solver fem physics mesh util
+DEPS_asset   := asset formats koopman rom cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset formats koopman rom cubature basis fom solver fem physics mesh util
+DEPS_pipeline := pipeline asset formats koopman rom cubature basis fom solver contact fem physics mesh util
 DEPS_compare := compare $(DEPS_pipeline)
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
@@ -106,8 +107,8 @@ $(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) 
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -Itests -MMD -MP -MF $@.d -o $@ $< $(call libs_of,runtime) $(RT_LIB_DOUBLE) $(LDLIBS)
 # A test that checks its stage against a stage above it (an independent reference) names that one:
 # TEST_ALSO_<test> stages are linked before its own.
-TEST_ALSO_test_basis_derivatives := fom solver
-TEST_ALSO_test_basis_pod := fom solver
+TEST_ALSO_test_basis_derivatives := fom solver contact
+TEST_ALSO_test_basis_pod := fom solver contact
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)
