@@ -14,6 +14,7 @@
 
 #include "basis/basis.h"
 #include "bench_cases.h"
+#include "util/random.h"
 #include "util/timer.h"
 
 #define REPEATS 3
@@ -72,11 +73,11 @@ static int time_pod(const rk_scene_sim *sim, const rk_basis *modes, bench_stat *
 {
     int n3 = 3 * sim->mesh.nv, T = 100;
     double *D = malloc(sizeof(double) * n3 * T);
-    srand(7);
+    uint64_t rng = 7; /* util/random.h: the same frames on every platform */
     for (int f = 0; f < T; f++)
-        for (int i = 0; i < n3; i++) D[(size_t)f * n3 + i] = 1e-4 * ((double)rand() / RAND_MAX - 0.5);
+        for (int i = 0; i < n3; i++) D[(size_t)f * n3 + i] = 1e-4 * (rk_uniform(&rng) - 0.5);
     for (int j = 0; j < modes->r; j++) {
-        double w = 1 + j, ph = (double)rand() / RAND_MAX * 6.28, a = 1.0 / (1 + j);
+        double w = 1 + j, ph = rk_uniform(&rng) * 6.28, a = 1.0 / (1 + j);
         for (int f = 0; f < T; f++) {
             double c = a * sin(0.1 * w * f + ph);
             for (int i = 0; i < n3; i++) D[(size_t)f * n3 + i] += c * modes->U[(size_t)j * n3 + i];

@@ -20,6 +20,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "util/random.h"
 #include "util/timer.h"
 
 /* A candidate whose column makes a cosine below this with the residual does not point along it:
@@ -42,18 +43,9 @@ typedef struct {
     int *pool, npool;        /* unselected candidates with a non-zero column */
     int *pos;                /* candidates: position in pool, or -1 */
     int *draw;               /* candidates: the subset scored this iteration */
-    unsigned long long rng;
+    uint64_t rng;            /* the subset draws (util/random.h) */
     double bnorm;
 } greedy;
-
-/* splitmix64 (Steele, Lea & Flood 2014): tiny, and the same sequence on every platform. */
-unsigned long long rk_splitmix64(unsigned long long *state)
-{
-    unsigned long long z = (*state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-}
 
 static int check_problem(const rk_cubature_problem *p, rk_error *err)
 {
@@ -162,7 +154,7 @@ static int draw_subset(greedy *g)
     if (s <= 0 || s >= g->npool) s = g->npool;
     else
         for (int i = 0; i < s; i++)
-            pool_swap(g, i, i + (int)(rk_splitmix64(&g->rng) % (unsigned long long)(g->npool - i)));
+            pool_swap(g, i, i + (int)(rk_splitmix64(&g->rng) % (uint64_t)(g->npool - i)));
     memcpy(g->draw, g->pool, sizeof(int) * s);
     return s;
 }

@@ -25,10 +25,6 @@
 int rk_nnls_normal(int k, const double *gram, const double *atb, double *w, int max_iter,
                    rk_error *err);
 
-/* splitmix64: the project's one seeded generator (same sequence on every platform), for the
- * greedy's subset draws and the training's random poses. */
-unsigned long long rk_splitmix64(unsigned long long *state);
-
 typedef struct {
     int rows;                  /* length of b */
     int candidates;            /* how many columns there are to choose from */
@@ -41,7 +37,8 @@ typedef struct {
                                   means all of them) */
     int sample;                /* candidates scored per iteration (a fresh random subset of the
                                   unselected ones each time), 0 or >= candidates: all of them */
-    unsigned long long seed;   /* the subset draws (splitmix64): same seed, same result */
+    unsigned long long seed;   /* the subset draws (rk_splitmix64, util/random.h):
+                                  same seed, same result */
 } rk_cubature_problem;
 
 typedef struct {

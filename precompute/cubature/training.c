@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "util/random.h"
 #include "util/timer.h"
 
 void rk_cubature_default_options(rk_cubature_options *o)
@@ -20,9 +21,9 @@ void rk_cubature_default_options(rk_cubature_options *o)
     o->seed = 0x5eed;
 }
 
-static double uniform(unsigned long long *s) { return ((double)(rk_splitmix64(s) >> 11) + 0.5) / 9007199254740992.0; }
+static double uniform(uint64_t *s) { return ((double)(rk_splitmix64(s) >> 11) + 0.5) / 9007199254740992.0; }
 
-static double gaussian(unsigned long long *s) /* Box-Muller */
+static double gaussian(uint64_t *s) /* Box-Muller */
 {
     return sqrt(-2 * log(uniform(s))) * cos(2 * M_PI * uniform(s));
 }
@@ -37,7 +38,7 @@ static double rms_displacement(const double *Mr, int r, const double *q, double 
  * rest) with a normal amplitude proportional to 1/w, so soft modes dominate as they do in motion,
  * the whole pose scaled to an RMS displacement uniform in [0.1, 1] x amplitude. */
 static int random_poses(rk_quadrature *Q, const double *Mr, double mass, double amplitude, int count,
-                        unsigned long long seed, double *poses, rk_error *err)
+                        uint64_t seed, double *poses, rk_error *err)
 {
     int r = Q->r;
     double *K = rk_calloc((size_t)r * r, sizeof(double), err), *B = rk_calloc((size_t)r * r, sizeof(double), err);

@@ -18,19 +18,16 @@ scene() { # scene FILE ROM_JSON [FIXED]: a small cantilever (or free object) wit
 }
 JSON
 }
-# json_number FILE KEY: the first number after "KEY":
-json_number() { tr -d ' \n\t' <"$1" | sed -n "s/.*\"$2\":\([-0-9.eE+]*\).*/\1/p"; }
 
 "$ROMKIT" basis --help | grep -q example && ok basis_help_has_example || fail basis_help_has_example "no example"
 
 for b in modes modal_derivatives skinning rkpm_skinning pod; do
     scene "$TMP/$b.json" "{\"basis\": \"$b\", \"size\": 6, \"kernels\": 60, \"integration_points\": 3000}"
     if "$ROMKIT" basis "$TMP/$b.json" --basis "$TMP/$b.npy" --report "$TMP/$b.r.json" >"$TMP/out" 2>"$TMP/err"; then
-        type=$(tr -d ' \n\t' <"$TMP/$b.r.json" | sed -n 's/.*"type":"\([a-z_]*\)".*/\1/p')
-        size=$(json_number "$TMP/$b.r.json" size)
         case $b in skinning|rkpm_skinning) want=84 ;; *) want=6 ;; esac
-        [ "$type" = "$b" ] && [ "$size" = "$want" ] && grep -q "'shape': (99, 3, $want)" "$TMP/$b.npy" \
-            && ok "basis_${b}_builds" || fail "basis_${b}_builds" "type $type size $size $(head -c 100 "$TMP/$b.npy")"
+        json_is "$TMP/$b.r.json" basis.type "\"$b\"" && json_is "$TMP/$b.r.json" basis.size "$want" \
+            && grep -q "'shape': (99, 3, $want)" "$TMP/$b.npy" && ok "basis_${b}_builds" \
+            || fail "basis_${b}_builds" "type $("$JSONQ" get "$TMP/$b.r.json" basis.type 2>&1) size $("$JSONQ" get "$TMP/$b.r.json" basis.size 2>&1) $(head -c 100 "$TMP/$b.npy")"
     else
         fail "basis_${b}_builds" "$(cat "$TMP/err")"
     fi
@@ -39,7 +36,7 @@ done
 # Free object: exactly six zero eigenvalues reported.
 scene "$TMP/free.json" '{"basis": "modes", "size": 10}' ''
 "$ROMKIT" basis "$TMP/free.json" --report "$TMP/free.r.json" >/dev/null 2>"$TMP/err" \
-    && [ "$(json_number "$TMP/free.r.json" zero_eigenvalues)" = 6 ] && ok free_object_six_rigid_modes \
+    && json_is "$TMP/free.r.json" basis.zero_eigenvalues 6 && ok free_object_six_rigid_modes \
     || fail free_object_six_rigid_modes "$(cat "$TMP/err") $(head -c 300 "$TMP/free.r.json")"
 
 # Tolerance: the smallest basis whose projection error of the scene's own frames meets it. The
@@ -49,17 +46,17 @@ for bt in modes:0.05 modal_derivatives:0.01 pod:0.01 skinning:0.01; do
     b=${bt%%:*}; t=${bt#*:}
     scene "$TMP/tol_$b.json" "{\"basis\": \"$b\", \"tolerance\": $t}"
     if "$ROMKIT" basis "$TMP/tol_$b.json" --report "$TMP/tol_$b.r.json" >"$TMP/out" 2>"$TMP/err"; then
-        e=$(json_number "$TMP/tol_$b.r.json" projection_error)
+        e=$(json_num "$TMP/tol_$b.r.json" basis.projection_error)
         awk -v e="$e" -v t="$t" 'BEGIN { exit !(e != "" && e <= t && e >= 0) }' && ok "tolerance_${b}_met" \
             || fail "tolerance_${b}_met" "projection error $e"
     else
         fail "tolerance_${b}_met" "$(cat "$TMP/err")"
     fi
 done
-s1=$(json_number "$TMP/tol_modal_derivatives.r.json" size)
+s1=$(json_num "$TMP/tol_modal_derivatives.r.json" basis.size)
 scene "$TMP/tol2.json" '{"basis": "modal_derivatives", "tolerance": 0.001}'
 "$ROMKIT" basis "$TMP/tol2.json" --report "$TMP/tol2.r.json" >/dev/null 2>&1
-s2=$(json_number "$TMP/tol2.r.json" size)
+s2=$(json_num "$TMP/tol2.r.json" basis.size)
 [ -n "$s1" ] && [ -n "$s2" ] && [ "$s2" -gt "$s1" ] && ok tighter_tolerance_needs_a_bigger_basis \
     || fail tighter_tolerance_needs_a_bigger_basis "1e-2: $s1 columns, 1e-3: $s2 columns"
 scene "$TMP/plateau.json" '{"basis": "modes", "tolerance": 0.001}'

@@ -12,8 +12,6 @@ if [ -n "$missing" ]; then
     exit 0
 fi
 
-json_number() { tr -d ' \n\t' <"$1" | sed -n "s/.*\"$2\":\([-0-9.eE+]*\).*/\1/p"; }
-
 # mcu_run NAME SCENE DIR: one scene on the MCU and the host, its three checks.
 mcu_run() {
     name=$1; scene=$2; dir=$3
@@ -25,13 +23,13 @@ mcu_run() {
     else
         fail ${name}_qemu_run_completes "$(grep -m1 '^error' "$dir/qemu.txt" 2>/dev/null || tail -n 5 "$TMP/out")"
     fi
-    relative=$(json_number "$dir/mcu.json" max_relative_difference 2>/dev/null)
+    relative=$(json_num "$dir/mcu.json" max_relative_difference 2>/dev/null)
     if [ $rc -eq 0 ] && [ -n "$relative" ] && awk -v e="$relative" 'BEGIN { exit !(e <= 1e-4) }'; then
-        ok "${name}_agrees_with_host ($relative of the largest displacement)"
+        ok "${name}_agrees_with_host ($(printf '%.3g' "$relative") of the largest displacement)"
     else
         fail ${name}_agrees_with_host "make mcu exited with $rc, relative difference '$relative': $(grep FAIL "$TMP/out" | head -n 3)"
     fi
-    median=$(json_number "$dir/mcu.json" instructions_per_step_median 2>/dev/null)
+    median=$(json_num "$dir/mcu.json" instructions_per_step_median 2>/dev/null)
     if [ -n "$median" ] && [ "$median" -gt 0 ] 2>/dev/null; then
         ok "${name}_instructions_per_step_measured ($median per step, median)"
     else

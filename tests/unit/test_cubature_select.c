@@ -4,21 +4,15 @@
  * under sampling, and bad input. */
 #include "cubature/select.h"
 #include "testlib.h"
+#include "util/random.h"
 
 #include <cblas.h>
 #include <lapacke.h>
 
-/* The test's own generator (splitmix64), so the problems are the same everywhere. */
-static unsigned long long rng_state;
+/* The project's generator (util/random.h), so the problems are the same everywhere. */
+static uint64_t rng_state;
 
-static double uniform(double lo, double hi)
-{
-    unsigned long long z = (rng_state += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    z ^= z >> 31;
-    return lo + (hi - lo) * ((double)(z >> 11) * 0x1.0p-53);
-}
+static double uniform(double lo, double hi) { return lo + (hi - lo) * rk_uniform(&rng_state); }
 
 /* A small dense problem A (m x k, column-major), b, and its normal equations. */
 typedef struct {
@@ -33,7 +27,7 @@ static void normal_equations(dense *d)
     cblas_dgemv(CblasColMajor, CblasTrans, d->m, d->k, 1.0, d->A, d->m, d->b, 1, 0.0, d->atb, 1);
 }
 
-static void random_dense(dense *d, unsigned long long seed)
+static void random_dense(dense *d, uint64_t seed)
 {
     rng_state = seed;
     d->m = 10;

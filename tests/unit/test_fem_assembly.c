@@ -3,7 +3,6 @@
  * slot map. */
 #include "fem/fem.h"
 #include "testlib.h"
-#include "util/timer.h"
 
 static double rnd(unsigned *state) /* uniform in [-1, 1), deterministic */
 {
@@ -233,24 +232,24 @@ TEST(slot_map_points_at_the_right_entries)
     rk_mesh_free(&m);
 }
 
-TEST(init_handles_200k_tets_quickly)
+/* A 200k-tet mesh initializes with the right sizes. How long it takes is make bench's to say
+ * (bench/bench_fom.c: fem_init_s, the median of repeated rk_fem_init on every bench mesh). */
+TEST(init_handles_200k_tets)
 {
     rk_error err;
     rk_mesh m;
-    CHECK_OK(make_box(20, 20, 84, &m, &err)); /* 201,600 tets */
+    CHECK_OK(make_box(20, 20, 84, &m, &err)); /* 20 x 20 x 84 cells of 6 tets: 201,600 tets */
     rk_material *mats = uniform(m.nt, RK_MAT_NEOHOOKEAN, 1e6, 0.3);
     rk_fem f;
-    double t0 = rk_now();
     CHECK_OK(rk_fem_init(&f, &m, mats, &err));
-    double seconds = rk_now() - t0;
-    printf("# rk_fem_init on %d tets, %d dofs, %d nonzeros: %.3f s\n", f.nt, 3 * f.nv, f.pattern.nnz, seconds);
-    /* Interior vertex of a Kuhn box has 14 neighbours: nnz ~ 9 * 7 nv + 6 nv. */
-    CHECK(f.pattern.nnz < 70 * f.nv, "pattern has %d nonzeros for %d vertices", f.pattern.nnz, f.nv);
-    double limit = getenv("ROMKIT_SANITIZE") ? 30.0 : 2.0;
-    CHECK(seconds < limit, "rk_fem_init took %.2f s (limit %.0f)", seconds, limit);
+    int nt = f.nt, nv = f.nv, nnz = f.pattern.nnz;
     free(mats);
     rk_fem_free(&f);
     rk_mesh_free(&m);
+    printf("# rk_fem_init on %d tets, %d dofs, %d nonzeros\n", nt, 3 * nv, nnz);
+    CHECK(nt == 6 * 20 * 20 * 84 && nv == 21 * 21 * 85, "%d tets, %d vertices", nt, nv);
+    /* Interior vertex of a Kuhn box has 14 neighbours: nnz ~ 9 * 7 nv + 6 nv. */
+    CHECK(nnz < 70 * nv, "pattern has %d nonzeros for %d vertices", nnz, nv);
 }
 
 int main(void)
@@ -261,6 +260,6 @@ int main(void)
     RUN(bad_materials_are_named);
     RUN(inverted_element_is_named);
     RUN(slot_map_points_at_the_right_entries);
-    RUN(init_handles_200k_tets_quickly);
+    RUN(init_handles_200k_tets);
     return test_finish();
 }

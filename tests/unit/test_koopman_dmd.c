@@ -6,6 +6,10 @@
 #include "testlib.h"
 #include "koopman/koopman.h"
 #include "util/metrics.h"
+#include "util/random.h"
+
+/* The random starts and noise: the project's generator (util/random.h), the same everywhere. */
+static uint64_t rng = 7;
 
 #define D 6               /* masses */
 #define N2 (2 * D)
@@ -56,7 +60,7 @@ static void trajectories(const double G[N2 * N2], int ntraj, int frames, double 
     for (int k = 0; k < ntraj; k++) {
         double x[N2], y[N2];
         double *u = buf + (size_t)k * D * frames;
-        for (int i = 0; i < N2; i++) x[i] = 0.01 * (2 * ((double)rand() / RAND_MAX) - 1);
+        for (int i = 0; i < N2; i++) x[i] = 0.01 * (2 * rk_uniform(&rng) - 1);
         for (int i = 0; i < D; i++) u[i] = x[i] - x[D + i]; /* frame 0 = u_prev */
         for (int t = 1; t < frames; t++) {
             for (int i = 0; i < D; i++) u[(size_t)D * t + i] = x[i];
@@ -185,7 +189,7 @@ TEST(noisy_growing_data_is_clamped_to_the_unit_circle)
     chain_map(G);
     for (int i = 0; i < N2 * N2; i++) G[i] *= 1.02; /* a growing system */
     trajectories(G, 4, 10, buf, traj);
-    for (int i = 0; i < 4 * D * 10; i++) buf[i] += 1e-5 * (2 * ((double)rand() / RAND_MAX) - 1);
+    for (int i = 0; i < 4 * D * 10; i++) buf[i] += 1e-5 * (2 * rk_uniform(&rng) - 1);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     o.rank = 10;
@@ -200,7 +204,6 @@ TEST(noisy_growing_data_is_clamped_to_the_unit_circle)
 
 int main(void)
 {
-    srand(7);
     RUN(recovers_the_exact_eigenvalues_of_linear_dynamics);
     RUN(a_jump_of_n_steps_equals_n_single_steps);
     RUN(bad_data_gets_a_clear_message);

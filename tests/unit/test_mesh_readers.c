@@ -83,7 +83,13 @@ TEST(surfaces_load_and_pass_the_check)
     rk_surface_free(&s);
     CHECK(nv == 11533 && nf == 23062, "spot: %d vertices %d faces", nv, nf);
     CHECK(rc == 0, "spot: %s", err.msg);
-    CHECK(vol > 0.68 && vol < 0.69, "spot volume %g", vol);
+    /* The enclosed volume, sum over faces of det[a b c] / 6, computed from the file by awk, not
+     * by the reader (one command line):
+     *   awk '$1=="v"{x[++n]=$2;y[n]=$3;z[n]=$4} $1=="f"{split($2,a,"/");split($3,b,"/");split($4,c,"/");
+     *        i=a[1];j=b[1];k=c[1]; v+=(x[i]*(y[j]*z[k]-z[j]*y[k])-y[i]*(x[j]*z[k]-z[j]*x[k])
+     *        +z[i]*(x[j]*y[k]-y[j]*x[k]))/6} END{printf "%.16g\n", v}' tests/data/meshes/spot.obj
+     * prints 0.6879862645150604 (Python's float sum gives the same digits). */
+    CHECK_CLOSE(vol, 0.6879862645150604, 1e-12);
 
     CHECK_OK(rk_surface_load(test_data("meshes/decimated-knight.off"), &s, &err));
     nv = s.nv, nf = s.nf, rc = rk_surface_check(&s, "knight", &err);
@@ -102,6 +108,15 @@ TEST(gaussian_splat_points)
     for (int i = 0; i < n; i++) sum += X[3 * i];
     double first[3] = {X[0], X[1], X[2]}, last_x = X[3 * (n - 1)];
     free(X);
+    /* The count is SOURCES.md's. The coordinates and the x checksum were read from the file by
+     * Python, not by the reader (binary little-endian, 14 float properties per splat, x y z first;
+     * one command line):
+     *   python3 -c "import struct; b = open('tests/data/meshes/donut_3dgs.ply', 'rb').read();
+     *     o = b.index(b'end_header\n') + 11; x = [struct.unpack_from('<3f', b, o + 56 * i) for i in range(45624)];
+     *     print(repr(sum(p[0] for p in x)), x[0], x[-1][0])"
+     * prints 197.2652318054209 (0.018263084813952446, 0.0904652550816536, 0.040593795478343964)
+     * -0.06805410236120224: the float32 values widened to double, summed in file order (math.fsum,
+     * exact, rounds to the same double). */
     CHECK(n == 45624, "%d splats", n);
     CHECK(first[0] == (double)0.018263084813952446f && first[1] == (double)0.0904652550816536f &&
               first[2] == (double)0.040593795478343964f,

@@ -5,6 +5,7 @@
  * with the library's rk_* functions. */
 #include "testlib.h"
 #include "physics/physics.h"
+#include "util/random.h"
 
 #define PHYS_REAL float
 #define PHYS_FLOAT 1
@@ -25,13 +26,10 @@ static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATE
                                                   RK_MAT_NEOHOOKEAN};
 static const char *const model_names[NMODELS] = {"linear", "corotated", "stvk", "neohookean"};
 
-static unsigned long long rng = 0x853c49e6748fea9bULL;
-static double urand(void) /* uniform in [-1, 1) */
+static uint64_t rng = 0x853c49e6748fea9bULL;
+static double urand(void) /* uniform in [-1, 1), the project's generator (util/random.h) */
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 4503599627370496.0 - 1.0;
+    return 2 * rk_uniform(&rng) - 1;
 }
 
 /* A random n x n orthogonal matrix: modified Gram-Schmidt (twice) on a random matrix;

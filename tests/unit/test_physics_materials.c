@@ -4,20 +4,18 @@
  * elasticity tensor), rotation invariance and frame indifference, and PSD projection. */
 #include "testlib.h"
 #include "physics/physics.h"
+#include "util/random.h"
 
 #define NMODELS 4
 static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATED, RK_MAT_STVK,
                                                   RK_MAT_NEOHOOKEAN};
 static const char *const model_names[NMODELS] = {"linear", "corotated", "stvk", "neohookean"};
 
-/* Deterministic generator: xorshift64, uniform in [-1, 1). */
-static unsigned long long rng = 0x9e3779b97f4a7c15ULL;
+/* Deterministic: the project's generator (util/random.h), uniform in [-1, 1). */
+static uint64_t rng = 0x9e3779b97f4a7c15ULL;
 static double urand(void)
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 4503599627370496.0 - 1.0;
+    return 2 * rk_uniform(&rng) - 1;
 }
 
 static void mul3(const double A[9], const double B[9], double C[9])

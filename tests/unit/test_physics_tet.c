@@ -3,19 +3,17 @@
  * stretched, near-degenerate and inverted configurations; projected Hessians are PSD. */
 #include "testlib.h"
 #include "physics/physics.h"
+#include "util/random.h"
 
 #define NMODELS 4
 static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATED, RK_MAT_STVK,
                                                   RK_MAT_NEOHOOKEAN};
 static const char *const model_names[NMODELS] = {"linear", "corotated", "stvk", "neohookean"};
 
-static unsigned long long rng = 0x2545f4914f6cdd1dULL;
-static double urand(void) /* uniform in [-1, 1) */
+static uint64_t rng = 0x2545f4914f6cdd1dULL;
+static double urand(void) /* uniform in [-1, 1), the project's generator (util/random.h) */
 {
-    rng ^= rng << 13;
-    rng ^= rng >> 7;
-    rng ^= rng << 17;
-    return (double)(rng >> 11) / 4503599627370496.0 - 1.0;
+    return 2 * rk_uniform(&rng) - 1;
 }
 
 /* max |a - b| / max(max |b|, ref_min) */

@@ -12,6 +12,7 @@
 #include "scene_run.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
+#include "util/random.h"
 
 /* ---- the summed propagator ---- */
 
@@ -316,12 +317,12 @@ TEST(nnls_matches_brute_force)
 {
     enum { M = 6, N = 4 };
     rk_error err;
-    srand(11);
+    uint64_t rng = 11; /* the project's generator (util/random.h): the same problems everywhere */
     int bound = 0;
     for (int trial = 0; trial < 20; trial++) {
         double A[M * N], b[M], x[N], best = INFINITY;
-        for (int i = 0; i < M * N; i++) A[i] = 2.0 * rand() / RAND_MAX - 1;
-        for (int i = 0; i < M; i++) b[i] = 2.0 * rand() / RAND_MAX - 1;
+        for (int i = 0; i < M * N; i++) A[i] = 2 * rk_uniform(&rng) - 1;
+        for (int i = 0; i < M; i++) b[i] = 2 * rk_uniform(&rng) - 1;
         CHECK_OK(rk_nnls(M, N, A, b, x, &err));
         for (int mask = 0; mask < 1 << N; mask++) {
             double As[M * N], xs[N], full[N] = {0};

@@ -20,6 +20,10 @@
 #include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
+#include "util/random.h"
+
+/* The measurement noise: the project's generator (util/random.h), the same everywhere. */
+static uint64_t rng = 11;
 
 #define G0 9.81
 
@@ -580,7 +584,7 @@ TEST(noisy_data_with_the_clamp_stays_bounded)
     for (size_t i = 0; i < (size_t)n * frames; i++) peak = fmax(peak, fabs(run->u[i]));
     double *noisy = calloc((size_t)n * frames, sizeof(double)), *out = calloc((size_t)n * long_frames, sizeof(double));
     for (size_t i = 0; i < (size_t)n * frames; i++)
-        noisy[i] = run->u[i] + 1e-3 * peak * (2 * ((double)rand() / RAND_MAX) - 1);
+        noisy[i] = run->u[i] + 1e-3 * peak * (2 * rk_uniform(&rng) - 1);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     o.h = TRAIN.h;
@@ -615,7 +619,6 @@ TEST(noisy_data_with_the_clamp_stays_bounded)
 
 int main(void)
 {
-    srand(11);
     RUN(force_generalization_neohookean);
     RUN(force_generalization_linear_is_exact);
     RUN(a_forced_jump_equals_single_steps);

@@ -5,18 +5,12 @@
 #include "rom/rom.h"
 #include "testlib.h"
 #include "fem_body.h"
+#include "util/random.h"
 
 #include <cblas.h>
 
-static unsigned long long rng_state = 12345;
-static double rnd(void) /* uniform in [-1, 1), splitmix64 */
-{
-    unsigned long long z = (rng_state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return (double)(z >> 11) / 4503599627370496.0 - 1.0;
-}
+static uint64_t rng_state = 12345;
+static double rnd(void) { return 2 * rk_uniform(&rng_state) - 1; } /* uniform in [-1, 1), util/random.h */
 
 static rk_material steel_ish(rk_material_model model) { return (rk_material){model, 1e5, 0.35, 1000.0}; }
 
