@@ -14,8 +14,7 @@
 
 #include "basis/basis.h"
 #include "bench_cases.h"
-#include "util/random.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define REPEATS 3
 #define PAPER_RKPM_SECONDS 3.19
@@ -73,7 +72,7 @@ static int time_pod(const rk_scene_sim *sim, const rk_basis *modes, bench_stat *
 {
     int n3 = 3 * sim->mesh.nv, T = 100;
     double *D = malloc(sizeof(double) * n3 * T);
-    uint64_t rng = 7; /* util/random.h: the same frames on every platform */
+    uint64_t rng = 7; /* util/util.h: the same frames on every platform */
     for (int f = 0; f < T; f++)
         for (int i = 0; i < n3; i++) D[(size_t)f * n3 + i] = 1e-4 * (rk_uniform(&rng) - 0.5);
     for (int j = 0; j < modes->r; j++) {

@@ -12,7 +12,7 @@
 #include <stdlib.h>
 
 #include "pipeline/pipeline.h"
-#include "util/sort.h"
+#include "util/util.h"
 
 typedef struct {
     const char *name;

@@ -18,7 +18,7 @@
 #include "bench_cases.h"
 #include "fom/fom.h"
 #include "pipeline/pipeline.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define INIT_REPEATS 5
 

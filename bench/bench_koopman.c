@@ -49,7 +49,7 @@
 #include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
 #include "runtime/romrt.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define BUDGET_SECONDS 90.0
 #define NMESH 3

@@ -31,7 +31,7 @@
 
 #include "bench_cases.h"
 #include "bench_rom_model.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define NR BENCH_NR
 #define ROM_STEPS 20

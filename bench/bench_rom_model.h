@@ -26,8 +26,7 @@
 #include "fom/fom.h"
 #include "rom/rom.h"
 #include "pipeline/pipeline.h"
-#include "util/metrics.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define BENCH_NR 4
 #define BENCH_MAX_R 64
@@ -261,7 +260,7 @@ fail:
     return -1;
 }
 
-/* The relative error (util/metrics.h) of reduced trajectory q_traj (r x nf, from bench_time_rom)
+/* The relative error (util/util.h) of reduced trajectory q_traj (r x nf, from bench_time_rom)
  * against the full-order frames 0..nf-1 (both start from rest; frame f is after step f + 1). */
 static inline double bench_rom_error(const bench_rom_case *bc, int r, const double *q_traj, int nf)
 {

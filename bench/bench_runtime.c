@@ -36,7 +36,7 @@
 #include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
 #include "runtime/romrt.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define RT_REPEATS 5
 #define BUDGET_SECONDS 150.0

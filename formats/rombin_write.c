@@ -7,7 +7,7 @@
 #include <zlib.h>
 
 #include "formats/rombin_read.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 void rombin_writer_init(rombin_writer *w, int real_type, int compress)
 {

@@ -8,7 +8,7 @@
 #include <stdint.h>
 
 #include "formats/rombin.h"
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     char id[5];

@@ -8,8 +8,7 @@
 #include "args.h"
 #include "pipeline/pipeline.h"
 #include "commands.h"
-#include "util/npy.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 static void basis_usage(FILE *out)
 {

@@ -9,8 +9,7 @@
 #include "commands.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
-#include "util/npy.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 static void build_usage(FILE *f)
 {

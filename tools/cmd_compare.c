@@ -9,7 +9,7 @@
 #include "commands.h"
 #include "compare/compare.h"
 #include "pipeline/pipeline.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 static void compare_usage(FILE *f)
 {

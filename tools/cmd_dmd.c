@@ -11,8 +11,7 @@
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
-#include "util/npy.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #define MAX_FILES 64
 

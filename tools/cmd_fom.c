@@ -10,8 +10,7 @@
 #include "commands.h"
 #include "fom/fom.h"
 #include "pipeline/pipeline.h"
-#include "util/npy.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
 

@@ -13,7 +13,7 @@
 
 #include "args.h"
 #include "mesh/mesh.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 int cmd_mesh(int argc, char **argv);
 

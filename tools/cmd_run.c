@@ -12,12 +12,8 @@
 #include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
 #include "runtime/romrt.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 #include "pipeline/pipeline.h"
-#include "util/metrics.h"
-#include "util/npy.h"
-#include "util/sort.h"
-#include "util/timer.h"
 
 static void run_usage(FILE *f)
 {
@@ -64,7 +60,7 @@ static int parse_real(const char *what, const char *text, romrt_real *out)
 }
 
 /* --reference: the source mesh's frames, the asset's shown vertices among them (VMAP), and the
- * errors of util/metrics.h over the shown vertices, their rest shape being the reference's frame 0. */
+ * errors of util/util.h over the shown vertices, their rest shape being the reference's frame 0. */
 typedef struct {
     double *frames;     /* T x nv x 3 */
     long T, nv;

@@ -1,6 +1,6 @@
 /* The stored vertices of an asset and the chunks that list them (bake_impl.h). */
 #include "asset/bake_impl.h"
-#include "util/metrics.h"
+#include "util/util.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -14,7 +14,7 @@
 
 #include "fem/fem.h"
 #include "mesh/mesh.h"
-#include "util/error.h"
+#include "util/util.h"
 
 /* ==== RKPM: mesh-free reproducing-kernel shape functions, the discretization of the freeform
  * paper's RKPM skinning eigenmodes (Sec. 3.2, Eq. 6-17; construction in Sec. 7.1).

@@ -9,7 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "util/timer.h"
+#include "util/util.h"
 
 /* ARPACK's info codes, in words. */
 static const char *arpack_reason(int info)

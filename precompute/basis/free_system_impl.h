@@ -5,7 +5,7 @@
 #define RK_BASIS_FREE_SYSTEM_H
 
 #include "fem/fem.h"
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     int ndof;       /* 3 nv */

@@ -12,7 +12,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "util/timer.h"
+#include "util/util.h"
 
 /* x -= R (R^T M x) for the M-orthonormal rigid modes R (free vectors), or R (R^T x) on the
  * right-hand-side side: y -= M R (R^T y). */

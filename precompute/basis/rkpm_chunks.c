@@ -1,7 +1,7 @@
 /* Integration points in spatial chunks, and the kernels covering each point of a chunk: the
  * traversal both assembly passes share (rkpm_assemble.c). */
 #include "basis/rkpm_chunks_impl.h"
-#include "util/sort.h"
+#include "util/util.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,7 @@
  * (freeform paper Sec. 7.1: "for 3DGS we directly use the given points as integration points,
  * after downsampling if necessary"). */
 #include "basis/rkpm_impl.h"
-#include "util/sort.h"
+#include "util/util.h"
 
 #include <math.h>
 #include <stdlib.h>

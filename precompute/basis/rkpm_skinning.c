@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/timer.h"
+#include "util/util.h"
 
 int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
                            const double *Xeval, int n, rk_basis *b, rk_rkpm_timing *timing,

@@ -7,7 +7,7 @@
 #include <suitesparse/cholmod.h>
 
 #include "fem/fem.h"
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     int n;

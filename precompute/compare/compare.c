@@ -7,9 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/metrics.h"
-#include "util/sort.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 
 static int keep_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)

@@ -1,6 +1,6 @@
 /* precompute/compare: the full-order model and every reduced method a scene lists (reduced models,
  * and Koopman operators for entries with a koopman section), run side by side on the scene, with
- * the error metrics of util/metrics.h: normalized MSE, max error and relative error of a free run
+ * the error metrics of util/util.h: normalized MSE, max error and relative error of a free run
  * against every full-order frame, and the total relative online error of a run that starts each
  * step from the full-order state at t - 1 projected onto the subspace (Grassmann paper, Sec. 5.1:
  * per-step realignment, so drift does not dominate).
@@ -22,7 +22,7 @@ typedef struct {
     int r;                         /* reduced coordinates */
     int cubature_points;           /* 0: exact */
     double cubature_error;
-    double normalized_mse, normalized_max_error, max_error_m, relative_error, relative_online_error; /* util/metrics.h */
+    double normalized_mse, normalized_max_error, max_error_m, relative_error, relative_online_error; /* util/util.h */
     double seconds_per_step, speedup;
     double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
     double seconds_fit;            /* Koopman: the DMD fit */

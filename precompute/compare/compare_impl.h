@@ -4,7 +4,7 @@
 #define RK_COMPARE_IMPL_H
 
 #include "compare/compare.h"
-#include "util/metrics.h"
+#include "util/util.h"
 
 typedef struct {
     int ndof, T;
@@ -12,7 +12,7 @@ typedef struct {
     double *step_seconds;
 } fom_run;
 
-/* A free run's errors (util/metrics.h) into m: normalized MSE, max error, relative error. */
+/* A free run's errors (util/util.h) into m: normalized MSE, max error, relative error. */
 void rk_compare_record_errors(rk_compare_method *m, const rk_run_error *e);
 /* The method did not run: why, and its numbers NAN. */
 void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);

@@ -8,8 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/sort.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 typedef struct {
     int n, r;

@@ -25,7 +25,7 @@
 
 #include "fem/fem.h"
 #include "mesh/mesh.h"
-#include "util/error.h"
+#include "util/util.h"
 
 /* ---- distances (distance.c) ---- */
 

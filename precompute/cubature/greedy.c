@@ -14,14 +14,13 @@
  * Stopping: the tolerance, max_points, no candidate with a positive score (b is outside the cone
  * of what is left), or an iteration that does not lower the error (the numerical floor of the
  * normal equations has been reached; that pick is undone, so the result is the best set seen). */
-#include "cubature/select.h"
+#include "cubature/cubature.h"
 
 #include <cblas.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include "util/random.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 /* A candidate whose column makes a cosine below this with the residual does not point along it:
  * the dot product's rounding error is of this order. */
@@ -43,7 +42,7 @@ typedef struct {
     int *pool, npool;        /* unselected candidates with a non-zero column */
     int *pos;                /* candidates: position in pool, or -1 */
     int *draw;               /* candidates: the subset scored this iteration */
-    uint64_t rng;            /* the subset draws (util/random.h) */
+    uint64_t rng;            /* the subset draws (util/util.h) */
     double bnorm;
 } greedy;
 

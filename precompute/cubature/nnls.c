@@ -16,7 +16,7 @@
  * the span of the passive ones. Both cases mean the index does not help: it goes back to Z with
  * weight 0, w returns to where it was before the index entered, and the index is barred from
  * entering again until some other index has entered successfully (which changes the duals). */
-#include "cubature/select.h"
+#include "cubature/cubature.h"
 
 #include <cblas.h>
 #include <lapacke.h>

@@ -8,8 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/random.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 void rk_cubature_default_options(rk_cubature_options *o)
 {

@@ -11,7 +11,7 @@
 
 #include "mesh/mesh.h"
 #include "physics/physics.h"
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     rk_material_model model;

@@ -6,7 +6,7 @@
 
 #include "fem/fem.h"
 
-#include "util/timer.h"
+#include "util/util.h"
 
 #include <string.h>
 

@@ -21,7 +21,7 @@
 
 #include "fem/fem.h"
 #include "solver/solver.h"
-#include "util/error.h"
+#include "util/util.h"
 
 /* A group of prescribed vertices. */
 typedef struct {

@@ -1,7 +1,7 @@
 /* rk_fom_init / rk_fom_free: options checked, inputs copied, constant matrices (mass, damping)
  * and loads built once, CHOLMOD's symbolic analysis done once. */
 #include "fom/fom_impl.h"
-#include "util/metrics.h"
+#include "util/util.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
 #include "fom/fom_impl.h"
 
 #include "fem/element_impl.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #include <math.h>
 #include <string.h>

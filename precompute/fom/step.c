@@ -2,7 +2,7 @@
  * vertices moved to their targets at t + h first. */
 #include "fom/fom_impl.h"
 
-#include "util/timer.h"
+#include "util/util.h"
 
 #include <math.h>
 

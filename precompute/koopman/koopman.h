@@ -13,7 +13,7 @@
 #ifndef RK_KOOPMAN_H
 #define RK_KOOPMAN_H
 
-#include "util/error.h"
+#include "util/util.h"
 
 /* One trajectory: u holds `frames` frames of d observables (column-major: frame t at u + d t),
  * frames >= 3 (two frames make the first state, a third its successor). accel (d values, or

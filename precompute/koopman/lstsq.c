@@ -3,7 +3,7 @@
  * (LAPACK has none). */
 #include "koopman/koopman.h"
 
-#include "cubature/select.h"
+#include "cubature/cubature.h"
 
 #include <cblas.h>
 #include <float.h>

@@ -17,7 +17,7 @@
 #ifndef RK_MESH_H
 #define RK_MESH_H
 
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     int nv;          /* vertices */
@@ -64,7 +64,7 @@ void rk_mesh_transform(rk_mesh *m, double scale, const double translate[3]);
 /* Boundary faces (triangles used by exactly one tet), oriented outward. *tris malloc'ed. */
 int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err);
 
-/* Writers, atomic (util/atomic_file.h). By extension: .mesh (MEDIT), .vtk (legacy ASCII,
+/* Writers, atomic (util/util.h). By extension: .mesh (MEDIT), .vtk (legacy ASCII,
  * ParaView), .msh (Gmsh 4.1 ASCII), .node or .ele (TetGen, writes .node and .ele, 0-based),
  * .obj / .ply / .off / .stl (boundary surface only, through rk_surface_write). tet_tag is
  * written as the MEDIT ref, the Gmsh physical tag, the TetGen region attribute and a VTK

@@ -11,7 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     const char *path;   /* for messages */

@@ -4,7 +4,7 @@
 #include <math.h>
 
 #include "mesh/mesh_impl.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 typedef struct {
     FILE *fp;

@@ -1,6 +1,6 @@
 /* MEDIT .mesh writer (ASCII, 1-based, refs from tet_tag). */
 #include "mesh/mesh_impl.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 int rk_write_medit(const char *path, const rk_mesh *m, const double *X, rk_error *err)
 {

@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "mesh/mesh_impl.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 static void write_obj(FILE *fp, const rk_surface *s)
 {

@@ -1,6 +1,6 @@
 /* TetGen writer: PATH.node and PATH.ele (0-based; tet_tag as the region attribute). */
 #include "mesh/mesh_impl.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 int rk_write_tetgen(const char *path, const rk_mesh *m, const double *X, rk_error *err)
 {

@@ -1,6 +1,6 @@
 /* Legacy VTK writer (ParaView): ASCII or BINARY (big-endian, as the format requires). */
 #include "mesh/mesh_impl.h"
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 int rk_write_vtk(const char *path, const rk_mesh *m, const double *X, int binary, rk_error *err)
 {

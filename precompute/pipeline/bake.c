@@ -8,8 +8,7 @@
 #include <string.h>
 
 #include "formats/rombin_read.h"
-#include "util/metrics.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 void rk_asset_report(cJSON *a, const unsigned char *data, size_t bytes, const rk_asset_summary *sum)
 {

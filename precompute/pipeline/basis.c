@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/timer.h"
+#include "util/util.h"
 
 /* Largest basis tried when only a tolerance is given (columns, or weights for skinning). */
 static int default_max(rk_basis_type t)

@@ -2,7 +2,7 @@
  * concatenated; one material per element (regions override by element centroid, in order);
  * the FEM model; full-order options with prescribed vertex groups, loads and initial velocities. */
 #include "pipeline/pipeline.h"
-#include "util/metrics.h"
+#include "util/util.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -9,8 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/metrics.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 void rk_koopman_run_free(rk_koopman_run *r)
 {

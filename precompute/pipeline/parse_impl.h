@@ -7,7 +7,7 @@
 #include <cjson/cJSON.h>
 
 #include "pipeline/pipeline.h"
-#include "util/error.h"
+#include "util/util.h"
 
 typedef struct {
     const char *file;  /* scene file, for messages */

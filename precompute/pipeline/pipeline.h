@@ -31,7 +31,7 @@
 #include "koopman/koopman.h"
 #include "mesh/mesh.h"
 #include "rom/rom.h"
-#include "util/error.h"
+#include "util/util.h"
 
 /* ---- JSON reports (report.c): written atomically, numbers with full precision ---- */
 

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 int rk_json_write_file(const char *path, const cJSON *root, rk_error *err)
 {

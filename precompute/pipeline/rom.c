@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/timer.h"
+#include "util/util.h"
 
 static void explain_basis(const rk_rom_entry *o, rk_scene_rom *R)
 {

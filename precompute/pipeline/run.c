@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/timer.h"
+#include "util/util.h"
 
 int rk_scene_fom_run(const rk_scene_sim *sim, const rk_fom_options *opt, const char *label, rk_frame_fn frame,
                      void *ctx, rk_fom_stats *stats, rk_error *err)

@@ -1,7 +1,7 @@
 /* rk_rom_model_init: the reduced matrices, loads, penalty and contact rows of rom.h, projected
  * once from the full-order setup. */
 #include "rom/rom.h"
-#include "util/metrics.h"
+#include "util/util.h"
 
 #include <cblas.h>
 #include <lapacke.h>

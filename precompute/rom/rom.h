@@ -21,7 +21,7 @@
 #include "cubature/cubature.h"
 #include "fem/fem.h"
 #include "fom/fom.h"
-#include "util/error.h"
+#include "util/util.h"
 
 /* The penalty stiffness relative to the stiffest material's wave speed over the object's size:
  * large against every elastic and inertial stiffness the subspace can see, small enough to keep

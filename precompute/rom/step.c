@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "util/timer.h"
+#include "util/util.h"
 
 int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, rk_error *err)
 {

@@ -21,7 +21,7 @@
 #define RK_SOLVER_H
 
 #include "physics/physics.h"
-#include "util/error.h"
+#include "util/util.h"
 
 typedef enum { RK_BACKWARD_EULER = 0, RK_BDF2 = 1 } rk_integrator;
 

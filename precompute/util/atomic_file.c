@@ -1,4 +1,4 @@
-#include "util/atomic_file.h"
+#include "util/util.h"
 
 #include <errno.h>
 #include <string.h>

@@ -1,5 +1,4 @@
-#include "util/error.h"
-#include "util/timer.h"
+#include "util/util.h"
 
 #include <stdarg.h>
 #include <stdio.h>

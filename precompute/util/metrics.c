@@ -1,5 +1,5 @@
 /* The error metrics of metrics.h, each defined once. */
-#include "util/metrics.h"
+#include "util/util.h"
 
 #include <math.h>
 

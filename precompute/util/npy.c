@@ -1,4 +1,4 @@
-#include "util/npy.h"
+#include "util/util.h"
 
 #include <errno.h>
 #include <stdint.h>

@@ -1,5 +1,5 @@
-/* util/sort.h */
-#include "util/sort.h"
+/* Sorting doubles (util.h): one comparator for qsort, and the median. */
+#include "util/util.h"
 
 #include <math.h>
 #include <stdlib.h>

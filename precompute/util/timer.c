@@ -1,4 +1,4 @@
-#include "util/timer.h"
+#include "util/util.h"
 
 #include <stdio.h>
 #include <time.h>

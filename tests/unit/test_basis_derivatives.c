@@ -5,7 +5,7 @@
 #include "fom/fom.h"
 #include "fem_body.h"
 #include "testlib.h"
-#include "util/random.h"
+#include "util/util.h"
 
 static const rk_material rubber = {RK_MAT_NEOHOOKEAN, 1e6, 0.4, 1000};
 
@@ -18,7 +18,7 @@ TEST(stiffness_derivative_matches_force_differences)
     double *a = malloc(sizeof(double) * n3), *c = malloc(sizeof(double) * n3);
     double *out = malloc(sizeof(double) * n3), *fd = calloc(n3, sizeof(double));
     double *x = malloc(sizeof(double) * n3);
-    uint64_t rng = 3; /* the project's generator (util/random.h): the same a and c everywhere */
+    uint64_t rng = 3; /* the project's generator (util/util.h): the same a and c everywhere */
     for (int i = 0; i < n3; i++) {
         a[i] = 0.01 * (rk_uniform(&rng) - 0.5);
         c[i] = 0.01 * (rk_uniform(&rng) - 0.5);

@@ -4,7 +4,7 @@
  * and the degenerate stencils (a point on the triangle, parallel and crossing edges). */
 #include "contact/contact.h"
 #include "testlib.h"
-#include "util/random.h"
+#include "util/util.h"
 
 static uint64_t seed = 42;
 static double rnd(void) { return 2 * rk_uniform(&seed) - 1; }

@@ -2,14 +2,14 @@
  * the KKT conditions, warm starts, and the greedy selection recovering an exact quadrature rule
  * on [-1, 1] (Caratheodory: at most `rows` points suffice), its stopping rules, reproducibility
  * under sampling, and bad input. */
-#include "cubature/select.h"
+#include "cubature/cubature.h"
 #include "testlib.h"
-#include "util/random.h"
+#include "util/util.h"
 
 #include <cblas.h>
 #include <lapacke.h>
 
-/* The project's generator (util/random.h), so the problems are the same everywhere. */
+/* The project's generator (util/util.h), so the problems are the same everywhere. */
 static uint64_t rng_state;
 
 static double uniform(double lo, double hi) { return lo + (hi - lo) * rk_uniform(&rng_state); }

@@ -5,10 +5,9 @@
 
 #include "testlib.h"
 #include "koopman/koopman.h"
-#include "util/metrics.h"
-#include "util/random.h"
+#include "util/util.h"
 
-/* The random starts and noise: the project's generator (util/random.h), the same everywhere. */
+/* The random starts and noise: the project's generator (util/util.h), the same everywhere. */
 static uint64_t rng = 7;
 
 #define D 6               /* masses */

@@ -5,7 +5,7 @@
  * with the library's rk_* functions. */
 #include "testlib.h"
 #include "physics/physics.h"
-#include "util/random.h"
+#include "util/util.h"
 
 #define PHYS_REAL float
 #define PHYS_FLOAT 1
@@ -27,7 +27,7 @@ static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATE
 static const char *const model_names[NMODELS] = {"linear", "corotated", "stvk", "neohookean"};
 
 static uint64_t rng = 0x853c49e6748fea9bULL;
-static double urand(void) /* uniform in [-1, 1), the project's generator (util/random.h) */
+static double urand(void) /* uniform in [-1, 1), the project's generator (util/util.h) */
 {
     return 2 * rk_uniform(&rng) - 1;
 }

@@ -4,14 +4,14 @@
  * elasticity tensor), rotation invariance and frame indifference, and PSD projection. */
 #include "testlib.h"
 #include "physics/physics.h"
-#include "util/random.h"
+#include "util/util.h"
 
 #define NMODELS 4
 static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATED, RK_MAT_STVK,
                                                   RK_MAT_NEOHOOKEAN};
 static const char *const model_names[NMODELS] = {"linear", "corotated", "stvk", "neohookean"};
 
-/* Deterministic: the project's generator (util/random.h), uniform in [-1, 1). */
+/* Deterministic: the project's generator (util/util.h), uniform in [-1, 1). */
 static uint64_t rng = 0x9e3779b97f4a7c15ULL;
 static double urand(void)
 {

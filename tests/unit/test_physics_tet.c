@@ -3,7 +3,7 @@
  * stretched, near-degenerate and inverted configurations; projected Hessians are PSD. */
 #include "testlib.h"
 #include "physics/physics.h"
-#include "util/random.h"
+#include "util/util.h"
 
 #define NMODELS 4
 static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATED, RK_MAT_STVK,
@@ -11,7 +11,7 @@ static const rk_material_model models[NMODELS] = {RK_MAT_LINEAR, RK_MAT_COROTATE
 static const char *const model_names[NMODELS] = {"linear", "corotated", "stvk", "neohookean"};
 
 static uint64_t rng = 0x2545f4914f6cdd1dULL;
-static double urand(void) /* uniform in [-1, 1), the project's generator (util/random.h) */
+static double urand(void) /* uniform in [-1, 1), the project's generator (util/util.h) */
 {
     return 2 * rk_uniform(&rng) - 1;
 }

@@ -12,7 +12,7 @@
 #include "scene_run.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
-#include "util/random.h"
+#include "util/util.h"
 
 /* ---- the summed propagator ---- */
 
@@ -317,7 +317,7 @@ TEST(nnls_matches_brute_force)
 {
     enum { M = 6, N = 4 };
     rk_error err;
-    uint64_t rng = 11; /* the project's generator (util/random.h): the same problems everywhere */
+    uint64_t rng = 11; /* the project's generator (util/util.h): the same problems everywhere */
     int bound = 0;
     for (int trial = 0; trial < 20; trial++) {
         double A[M * N], b[M], x[N], best = INFINITY;

@@ -15,14 +15,13 @@
 #include <complex.h>
 
 #include "testlib.h"
-#include "util/metrics.h"
+#include "util/util.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
-#include "util/random.h"
 
-/* The measurement noise: the project's generator (util/random.h), the same everywhere. */
+/* The measurement noise: the project's generator (util/util.h), the same everywhere. */
 static uint64_t rng = 11;
 
 #define G0 9.81
@@ -112,8 +111,8 @@ static void rollout(const rk_koopman *k, const double *start, const double *a, i
 
 typedef struct {
     double percent;  /* 100 sum |du|^2 / sum |u_fom|^2 over frames u_1 .. u_T: the Koopman paper's % MSE,
-                      * 100 times the squared relative error of util/metrics.h */
-    double nmse;     /* the normalized MSE of util/metrics.h over those frames */
+                      * 100 times the squared relative error of util/util.h */
+    double nmse;     /* the normalized MSE of util/util.h over those frames */
     double peak;     /* largest |u_fom| over vertices and frames (m) */
 } traj_error;
 

@@ -5,12 +5,12 @@
 #include "rom/rom.h"
 #include "testlib.h"
 #include "fem_body.h"
-#include "util/random.h"
+#include "util/util.h"
 
 #include <cblas.h>
 
 static uint64_t rng_state = 12345;
-static double rnd(void) { return 2 * rk_uniform(&rng_state) - 1; } /* uniform in [-1, 1), util/random.h */
+static double rnd(void) { return 2 * rk_uniform(&rng_state) - 1; } /* uniform in [-1, 1), util/util.h */
 
 static rk_material steel_ish(rk_material_model model) { return (rk_material){model, 1e5, 0.35, 1000.0}; }
 

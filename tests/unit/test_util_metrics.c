@@ -1,6 +1,6 @@
 /* util/metrics on a hand-worked case: two points, two frames, every metric from its definition. */
 #include "testlib.h"
-#include "util/metrics.h"
+#include "util/util.h"
 
 TEST(metrics_match_a_hand_worked_case)
 {

@@ -1,5 +1,5 @@
 #include "testlib.h"
-#include "util/npy.h"
+#include "util/util.h"
 
 #include <unistd.h>
 
