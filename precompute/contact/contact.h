@@ -52,6 +52,22 @@ double rk_contact_distance2(rk_distance_case c, const double *const x[4], double
  * rest), with gradient and Hessian. */
 double rk_edge_edge_mollifier(const double *const x[4], double eps, double *g, double *H);
 
+/* ---- continuous collision detection (ccd.c) ---- */
+
+/* Additive CCD of one stencil (point-triangle, or edge_edge) from positions x moving by dx over
+ * t in [0, tmax], the stencil kept xi apart: 1 with *toi a conservative time of impact (the
+ * stencil at toi is still at least 10% of its starting gap apart), 0 when it stays apart. A
+ * stencil that starts within xi reports toi 0. */
+int rk_ccd_stencil(int edge_edge, const double *const x[4], const double *const dx[4], double xi, double tmax,
+                   double *toi);
+
+/* ---- broad phase (broad.c) ---- */
+
+/* The pairs (a, b) of boxes that overlap, a from boxes_a (na boxes, 6 numbers each: min xyz, max
+ * xyz) and b from boxes_b: *pairs (2 *npairs ints, malloc'd, sorted, each pair once). */
+int rk_broad_phase(const double *boxes_a, int na, const double *boxes_b, int nb, int **pairs, int *npairs,
+                   rk_error *err);
+
 /* ---- exact predicates (exact.c, intersect.c) ---- */
 
 /* The sign (-1, 0, 1) of det[a - d; b - d; c - d], exactly (positive when d lies below the plane
