@@ -77,7 +77,6 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_ELMR "ELMR"   /* real, elements x 12: Dm^-1 (9), weight (m^3), mu, lambda */
 #define ROMBIN_PLAN "PLAN"   /* real, planes x 6: point, unit normal */
 #define ROMBIN_CONT "CONT"   /* u32, contacts x 2: vertex, plane */
-#define ROMBIN_CMAS "CMAS"   /* real, contacts: the contact vertex's lumped mass */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
 #define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
 #define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */

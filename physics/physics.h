@@ -78,6 +78,9 @@ double rk_tet_rest(const double X[12], double Dm_inv[9]);
 /* The IPC log barrier b(d) = -(d - dhat)^2 log(d / dhat), 0 < d < dhat, with b' and b'' when asked
  * (d1, d2 may be NULL). */
 double rk_barrier(double d, double dhat, double *d1, double *d2);
+/* A point's barrier at signed distance d from a surface (physics_impl.h): b(d^2, dhat^2) with its
+ * first derivative in d and the second, clamped at 0. */
+double rk_barrier_distance(double d, double dhat, double *f1, double *f2);
 /* A prescribed group's rigid motion at time t: x = R X + shift (physics_impl.h). */
 void rk_motion(rk_motion_kind kind, const double axis[3], const double center[3], double rate,
                const double velocity[3], double t, double R[9], double shift[3]);

@@ -79,6 +79,7 @@ PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REA
 PHYS_API void PHYS_FN(project_psd)(int n, PHYS_REAL *A);
 PHYS_API PHYS_REAL PHYS_FN(det3)(const PHYS_REAL A[9]);
 PHYS_API PHYS_REAL PHYS_FN(barrier)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *d1, PHYS_REAL *d2);
+PHYS_API PHYS_REAL PHYS_FN(barrier_distance)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *f1, PHYS_REAL *f2);
 PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
                               PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
                               PHYS_REAL shift[3]);
@@ -728,6 +729,28 @@ PHYS_API PHYS_REAL PHYS_FN(barrier)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *d1, 
     if (d1) *d1 = -PHYS_K_(2) * (d - dhat) * lg - (d - dhat) * (d - dhat) / d;
     if (d2) *d2 = -PHYS_K_(2) * lg - PHYS_K_(4) * r + r * r; /* each term >= 0 for d < dhat */
     return -(d - dhat) * (d - dhat) * lg;
+}
+
+/* The contact barrier of a point at signed distance d from a surface it may not cross (a plane, a
+ * sphere, a capsule, a box), as IPC takes it: b(d^2, dhat^2) (the barrier on squared distances,
+ * as between meshes), so 0 for d >= dhat; with f1 = d/dd and f2 = its second derivative, clamped
+ * at 0 (the PSD projection of the point's 3 x 3 block f2 n n^T). The caller treats d <= 0 as a
+ * crossing (its energy is infinite). */
+PHYS_API PHYS_REAL PHYS_FN(barrier_distance)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *f1, PHYS_REAL *f2)
+{
+    PHYS_REAL b1, b2, b;
+    if (d >= dhat) {
+        if (f1) *f1 = 0;
+        if (f2) *f2 = 0;
+        return 0;
+    }
+    b = PHYS_FN(barrier)(d * d, dhat * dhat, &b1, &b2);
+    if (f1) *f1 = PHYS_K_(2) * d * b1;
+    if (f2) {
+        *f2 = PHYS_K_(4) * d * d * b2 + PHYS_K_(2) * b1;
+        if (*f2 < 0) *f2 = 0;
+    }
+    return b;
 }
 
 /* Where a prescribed group's vertices are at time t: x = R X + shift. Fixed: R = I, shift = 0;

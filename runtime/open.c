@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CMAS, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
@@ -84,8 +84,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, 1, &m->elem)) ||
         (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, 1, &m->elem_real)) ||
         (st = rt_reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
-        (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
-        (st = rt_reals(L, ROMBIN_CMAS, (uint64_t)m->ncontacts, m->ncontacts > 0, &m->cmass)))
+        (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)))
         return st;
     m->force_rows = m->rows;
     return rt_load_groups_and_surface(L, m);
@@ -122,8 +121,6 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         if (!(len2 > RT_K(0.99) && len2 < RT_K(1.01)))
             return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_PLAN, "plane ", (uint64_t)k, " has no unit normal");
     }
-    for (k = 0; k < m->ncontacts; k++)
-        if (!(m->cmass[k] >= 0)) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_CMAS, "contact ", (uint64_t)k, " has a negative mass");
     /* M_r must be positive definite: it measures every Newton step. */
     memcpy(m->H, m->M, sizeof(romrt_real) * (size_t)m->r * (size_t)m->r);
     if ((k = rt_cholesky(m->r, m->H)) != 0)

@@ -138,23 +138,24 @@ romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const 
     return alpha;
 }
 
+/* The contacts' barrier (physics.h, barrier_distance: IPC's b(d^2, dhat^2) on each contact
+ * vertex's signed distance to its plane), kappa times it. */
 static romrt_real barrier(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H)
 {
     romrt_real E = 0, *a = m->AG; /* free between elements and here */
     int c, i, j, r = m->r;
     for (c = 0; c < m->ncontacts; c++) {
-        romrt_real d = rt_contact_distance(m, c, q), d1, d2, w;
+        romrt_real d = rt_contact_distance(m, c, q), f1, f2;
         if (!(d > 0)) return (romrt_real)INFINITY;
         if (d >= m->dhat) continue;
-        w = m->kappa * m->cmass[c];
-        E += w * RT_PHYS(barrier)(d, m->dhat, &d1, &d2);
+        E += m->kappa * RT_PHYS(barrier_distance)(d, m->dhat, &f1, &f2);
         if (!g && !H) continue;
         contact_gradient(m, c, a);
         if (g)
-            for (j = 0; j < r; j++) g[j] += w * d1 * a[j];
+            for (j = 0; j < r; j++) g[j] += m->kappa * f1 * a[j];
         if (H)
             for (j = 0; j < r; j++)
-                for (i = 0; i <= j; i++) H[i + (size_t)r * j] += w * d2 * a[i] * a[j];
+                for (i = 0; i <= j; i++) H[i + (size_t)r * j] += m->kappa * f2 * a[i] * a[j];
     }
     return E;
 }

@@ -40,6 +40,7 @@ void romrt_phys_pk1_h(rk_material_model model, romrt_real mu, romrt_real lambda,
 void romrt_phys_dpdf(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9],
                      romrt_real dPdF[81], int project);
 romrt_real romrt_phys_barrier(romrt_real d, romrt_real dhat, romrt_real *d1, romrt_real *d2);
+romrt_real romrt_phys_barrier_distance(romrt_real d, romrt_real dhat, romrt_real *f1, romrt_real *f2);
 void romrt_phys_motion(rk_motion_kind kind, const romrt_real axis[3], const romrt_real center[3], romrt_real rate,
                        const romrt_real velocity[3], romrt_real t, romrt_real R[9], romrt_real shift[3]);
 
@@ -55,7 +56,6 @@ struct romrt_model {
     const romrt_real *pins;   /* npins x (12 + 12 r) */
     const romrt_real *elem_real; /* ne x 12: Dm^-1, weight, mu, lambda */
     const romrt_real *planes; /* nplanes x 6 */
-    const romrt_real *cmass;  /* ncontacts */
     const uint32_t *elem;     /* ne x 5 */
     const uint32_t *contacts; /* ncontacts x 2 */
     const uint32_t *groups;   /* ngroups x 2 */

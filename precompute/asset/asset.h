@@ -55,7 +55,6 @@ typedef struct {
 typedef struct {
     const rk_mesh *mesh;         /* the source mesh: its boundary is what is shown */
     const rk_fem *fem;           /* the elements the cubature points are */
-    const rk_obstacles *obstacles; /* the planes the contacts refer to */
     const double *U;             /* 3 nv x r basis */
     const rk_rom_model *model;
 } rk_asset_rom;

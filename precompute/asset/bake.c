@@ -10,7 +10,7 @@
 static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_bake_state *s, rk_error *err)
 {
     const rk_rom_model *m = R->model;
-    int nextra = 4 * m->quad.count + m->ncontacts, k = 0;
+    int ncontact = m->has_contact ? m->contact.nv : 0, nextra = 4 * m->quad.count + ncontact, k = 0;
     int *extra = rk_calloc((size_t)nextra + 1, sizeof(int), err);
     if (!extra || rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err)) {
         free(extra);
@@ -18,7 +18,7 @@ static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_
     }
     for (int i = 0; i < m->quad.count; i++)
         for (int c = 0; c < 4; c++) extra[k++] = R->fem->tets[4 * m->quad.source[i] + c];
-    for (int c = 0; c < m->ncontacts; c++) extra[k++] = m->contact_vertex[c];
+    for (int c = 0; c < ncontact; c++) extra[k++] = m->contact.vertex[c];
     int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, o, s, err);
     free(extra);
     return rc;
@@ -88,31 +88,53 @@ static int add_elements(const rk_fem *fem, const rk_quadrature *Q, const rk_bake
     return rc ? -1 : 0;
 }
 
-static int add_contacts(const rk_rom_model *m, const rk_obstacles *ob, const rk_bake_state *s, rombin_writer *w,
-                        rk_error *err)
+/* The scene's planes (PLAN) and every (boundary vertex, plane) pair (CONT): what the runtime's
+ * barrier acts on. Other obstacles have no place in the asset yet. */
+static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_writer *w, rk_error *err)
 {
-    if (ob->count == 0) return 0;
+    if (!m->has_contact) return 0;
+    const rk_contact *c = &m->contact;
     double planes[6 * 16];
-    if (ob->count > 16) return rk_fail(err, "asset: at most 16 planes, the scene has %d", ob->count);
-    for (int k = 0; k < ob->count; k++) {
-        const rk_plane *p = &ob->planes[k];
-        double len = sqrt(p->normal[0] * p->normal[0] + p->normal[1] * p->normal[1] + p->normal[2] * p->normal[2]);
-        for (int i = 0; i < 3; i++) {
-            planes[6 * k + i] = p->point[i];
-            planes[6 * k + 3 + i] = p->normal[i] / len;
-        }
+    int np = 0;
+    for (int k = 0; k < c->nobstacles; k++) {
+        if (c->obstacles[k].kind != RK_OBSTACLE_PLANE)
+            return rk_fail(err, "obstacle %d is not a plane: the runtime collides with the scene's planes only "
+                           "(spheres, capsules and boxes are the app's colliders)", k);
+        if (c->obstacles[k].motion != RK_MOTION_FIXED)
+            return rk_fail(err, "plane %d moves: the runtime's scene planes are static (an app moves its colliders)", k);
+        if (np == 16) return rk_fail(err, "at most 16 planes, the scene has more");
+        memcpy(planes + 6 * np, c->obstacles[k].point, 3 * sizeof(double));
+        memcpy(planes + 6 * np + 3, c->obstacles[k].normal, 3 * sizeof(double));
+        np++;
     }
-    int *pairs = rk_calloc((size_t)2 * m->ncontacts + 1, sizeof(int), err);
+    if (c->opt.self || (c->nmesh && c->object[c->nmesh - 1] != 0))
+        return rk_fail(err, "the runtime steps one object without self-contact");
+    if (np == 0) return 0;
+    int *pairs = rk_calloc((size_t)2 * c->nv * np + 1, sizeof(int), err);
     if (!pairs) return -1;
-    for (int c = 0; c < m->ncontacts; c++) {
-        pairs[2 * c] = s->stored[m->contact_vertex[c]];
-        pairs[2 * c + 1] = m->contact_plane[c];
-    }
-    int rc = rombin_add_reals(w, ROMBIN_PLAN, 1, planes, (size_t)6 * ob->count, err) ||
-             rk_bake_add_u32s(w, ROMBIN_CONT, 1, pairs, (size_t)2 * m->ncontacts, err) ||
-             rombin_add_reals(w, ROMBIN_CMAS, 1, m->contact_mass, (size_t)m->ncontacts, err);
+    for (int k = 0; k < np; k++)
+        for (int i = 0; i < c->nv; i++) {
+            pairs[2 * (k * c->nv + i)] = s->stored[c->vertex[i]];
+            pairs[2 * (k * c->nv + i) + 1] = k;
+        }
+    int rc = rombin_add_reals(w, ROMBIN_PLAN, 1, planes, (size_t)6 * np, err) ||
+             rk_bake_add_u32s(w, ROMBIN_CONT, 1, pairs, (size_t)2 * c->nv * np, err);
     free(pairs);
     return rc ? -1 : 0;
+}
+
+/* Contact pairs the asset stores (the CONT count). */
+static int contact_count(const rk_rom_model *m)
+{
+    int np = 0;
+    for (int k = 0; m->has_contact && k < m->contact.nobstacles; k++) np += m->contact.obstacles[k].kind == RK_OBSTACLE_PLANE;
+    return np * (m->has_contact ? m->contact.nv : 0);
+}
+
+/* Planes the asset stores. */
+static int plane_count(const rk_rom_model *m)
+{
+    return m->has_contact && m->contact.nv ? contact_count(m) / m->contact.nv : 0;
 }
 
 int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
@@ -131,8 +153,8 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         head[ROMBIN_HEAD_SHOWN] = (uint32_t)s.shown;
         head[ROMBIN_HEAD_ELEMENTS] = (uint32_t)m->quad.count;
         head[ROMBIN_HEAD_PINS] = (uint32_t)(m->pinned_vertices ? m->npins : 0);
-        head[ROMBIN_HEAD_PLANES] = (uint32_t)R->obstacles->count;
-        head[ROMBIN_HEAD_CONTACTS] = (uint32_t)m->ncontacts;
+        head[ROMBIN_HEAD_PLANES] = (uint32_t)plane_count(m);
+        head[ROMBIN_HEAD_CONTACTS] = (uint32_t)contact_count(m);
         head[ROMBIN_HEAD_GROUPS] = (uint32_t)o->ngroups;
         head[ROMBIN_HEAD_INTEGRATOR] = (uint32_t)m->integrator;
         head[ROMBIN_HEAD_NEWTON_MAX_ITER] = (uint32_t)m->newton_max_iter;
@@ -142,12 +164,12 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_H] = m->h;
         parm[ROMBIN_PARM_NEWTON_TOL] = m->newton_tol;
         parm[ROMBIN_PARM_MASS] = m->mass;
-        parm[ROMBIN_PARM_DHAT] = m->dhat;
-        parm[ROMBIN_PARM_KAPPA] = m->kappa;
+        parm[ROMBIN_PARM_DHAT] = m->has_contact ? m->contact.opt.dhat : 0;
+        parm[ROMBIN_PARM_KAPPA] = m->has_contact ? m->contact.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
-             add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, R->obstacles, &s, w, err) ||
+             add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     }
@@ -155,7 +177,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         summary->vertices = s.count;
         summary->shown = s.shown;
         summary->elements = m->quad.count;
-        summary->contacts = m->ncontacts;
+        summary->contacts = contact_count(m);
         summary->groups = o->ngroups;
         summary->triangles = o->show == RK_SHOW_NONE ? 0 : s.nf;
     }

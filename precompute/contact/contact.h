@@ -68,6 +68,166 @@ int rk_ccd_stencil(int edge_edge, const double *const x[4], const double *const 
 int rk_broad_phase(const double *boxes_a, int na, const double *boxes_b, int nb, int **pairs, int *npairs,
                    rk_error *err);
 
+/* ---- the collision geometry (collision.c) ---- */
+
+typedef enum {
+    RK_OBSTACLE_PLANE = 0,   /* an infinite half-space boundary: point, unit normal toward the free side */
+    RK_OBSTACLE_SPHERE = 1,  /* a solid ball: center, radius */
+    RK_OBSTACLE_CAPSULE = 2, /* a solid capsule: the segment center..end, radius */
+    RK_OBSTACLE_BOX = 3,     /* a solid axis-aligned box: min, max (its 12 triangles) */
+    RK_OBSTACLE_MESH = 4     /* a triangle surface, open or closed: X (3 nv), tris (3 nf) */
+} rk_obstacle_kind;
+
+/* An obstacle: static, or moving by a prescribed motion (fom.h's kinds: translate or twist). */
+typedef struct {
+    rk_obstacle_kind kind;
+    double point[3], normal[3];    /* plane */
+    double center[3], radius;      /* sphere; capsule (center and end) */
+    double end[3];
+    double min[3], max[3];         /* box */
+    int nv, nf;                    /* mesh */
+    const double *X;
+    const int *tris;
+    rk_motion_kind motion;         /* RK_MOTION_FIXED: static */
+    double axis[3], motion_center[3], rate, velocity[3];
+} rk_obstacle;
+
+typedef struct {
+    double dhat;                   /* barrier activation distance (m) */
+    double kappa;                  /* barrier stiffness (J); 0: adaptive, as IPC */
+    double friction;               /* Coulomb coefficient mu (0: frictionless) */
+    double eps_v;                  /* friction smoothing speed (m/s): static below it */
+    int friction_iterations;       /* lagging iterations per step */
+    int self;                      /* self-contact of each object */
+} rk_contact_options;
+
+/* Defaults: dhat 0 (the caller sets it: 1e-3 of the scene's bounding-box diagonal), adaptive kappa,
+ * no friction, eps_v 1e-3 m/s, 3 lagging iterations, no self-contact. */
+void rk_contact_default_options(rk_contact_options *o);
+
+typedef struct {
+    long steps, pairs, max_pairs, ccd_calls;
+    double min_distance;           /* over every evaluation (m): the closest two surfaces came */
+    double seconds_broad, seconds_ccd, seconds_potential;
+} rk_contact_stats;
+
+/* The contact model of a mesh: its boundary surface (the collision vertices, edges and triangles;
+ * positions are the mesh's, x[3 v]) split by object, and the obstacles with their own vertices. */
+typedef struct {
+    rk_contact_options opt;
+    int nmesh;                     /* mesh vertices: x has 3 nmesh entries */
+    int nv, *vertex;               /* collision vertices: their mesh vertex ids */
+    int *object;                   /* nmesh: the object of every mesh vertex */
+    int ne, *edges;                /* 2 ne mesh vertex ids */
+    int nf, *faces;                /* 3 nf mesh vertex ids, outward */
+    double *X;                     /* 3 nmesh rest positions (the mollifier's rest edge lengths) */
+    int nobstacles;
+    rk_obstacle *obstacles;        /* copies (mesh arrays owned below) */
+    int onv;                       /* obstacle vertices: oX at rest, ox at the time set */
+    double *oX, *ox;
+    int *overt_obstacle;           /* onv: its obstacle */
+    int one, *oedges, onf, *ofaces;/* obstacle vertex ids */
+    double *othick;                /* nobstacles: the thickness xi (sphere, capsule radius; else 0) */
+    double *oplane;                /* nobstacles x 6: a plane's point and unit normal where it is now */
+    double *ox_to, *oplane_to;     /* scratch: where the obstacles are going (rk_contact_max_step) */
+    double kappa, kappa_min, kappa_max;
+    int kappa_set;                 /* adaptive kappa initialized */
+    double min_distance_last;      /* the smallest distance at the last kappa update (NAN: none yet) */
+    double bbox_diagonal;
+    int exact_hessian;             /* tests: hand over the Hessian blocks unprojected */
+    rk_contact_stats stats;
+} rk_contact;
+
+/* Builds the contact model of mesh (its rest positions X, its boundary) whose objects start at
+ * object_first_vertex[0..nobjects] (NULL: one object), against the obstacles, with average vertex
+ * mass average_mass (IPC's kappa bounds). Checks every obstacle (finite, positive radius, non-zero
+ * normal, a mesh's indices) and names the first bad one. */
+int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_vertex, int nobjects,
+                    const rk_obstacle *obstacles, int nobstacles, const rk_contact_options *o, double average_mass,
+                    rk_error *err);
+void rk_contact_free(rk_contact *c);
+/* Moves the obstacles to where their motions put them at time t (ox, oplane). */
+void rk_contact_set_time(rk_contact *c, double t);
+
+/* ---- contact pairs and the barrier potential (pairs.c, potential.c) ---- */
+
+typedef enum { RK_PAIR_POINT_TRIANGLE = 0, RK_PAIR_EDGE_EDGE = 1, RK_PAIR_POINT_PLANE = 2 } rk_pair_kind;
+
+/* A stencil: id >= 0 a mesh vertex (a degree of freedom), id < 0 obstacle vertex -1 - id; a
+ * point-plane pair is (vertex, plane obstacle index). */
+typedef struct {
+    rk_pair_kind kind;
+    int id[4];
+    double xi;                     /* thickness */
+    double eps;                    /* edge-edge mollifier threshold (0: none) */
+} rk_contact_pair;
+
+typedef struct {
+    int n, cap;
+    rk_contact_pair *pairs;
+} rk_contact_set;
+
+void rk_contact_set_free(rk_contact_set *s);
+/* The pairs of c closer than dhat (plus their thickness) at mesh positions x, obstacles where
+ * rk_contact_set_time put them. */
+int rk_contact_gather(rk_contact *c, const double *x, rk_contact_set *s, rk_error *err);
+
+/* Called with each pair's Hessian block: ids of its npoints points (obstacle ids negative) and
+ * the 3 npoints x 3 npoints block (row-major, PSD-projected). */
+typedef void (*rk_hessian_sink)(void *ctx, const int *id, int npoints, const double *H);
+
+/* The barrier kappa sum_k m_k b(d_k^2 - xi^2, dhat^2 + 2 xi dhat) over the pairs of s at x (m_k
+ * the mollifier of edge-edge pairs): its value (+INFINITY when a pair touches or a point is
+ * behind a plane), with g (3 nmesh, may be NULL) += its gradient and each pair's projected
+ * Hessian to sink (may be NULL). *min_distance (may be NULL): the smallest distance of the pairs. */
+double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, rk_hessian_sink sink,
+                         void *ctx, double *min_distance);
+
+/* ---- stiffness (stiffness.c) ---- */
+
+/* A fixed kappa for simulators that cannot adapt it (the reduced model and the runtime step the
+ * same asset): a point at dhat / 2 from a surface pushes back with 10 times `weight` (N; a vertex's
+ * weight, m g). */
+double rk_contact_holding_kappa(double dhat, double weight);
+
+/* Adaptive kappa (IPC supplement Sec. 3.3): on the first call with pairs, kappa balances the
+ * barrier's gradient gb (at the current kappa) against the rest of the potential's ge (3 nmesh
+ * each), clamped to
+ * [kappa_min, kappa_max]; later calls double it, up to kappa_max, while the smallest distance keeps
+ * shrinking below 1e-9 of the bounding-box diagonal. A fixed opt.kappa is left alone. */
+void rk_contact_adapt_kappa(rk_contact *c, const double *ge, const double *gb, double min_distance);
+
+/* ---- the feasible step (ccd.c) ---- */
+
+/* The largest alpha in [0, 1] such that moving the mesh by alpha dx (3 nmesh) and the obstacles
+ * alpha of the way from where they are to where they are at time t (t NAN: still) keeps every
+ * pair and every point-plane distance at least 10% of where it starts: additive CCD over the
+ * broad phase's swept boxes. -1 on failure (out of memory). */
+double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, double t, rk_error *err);
+/* Moves the obstacles the fraction (0, 1] of the way from where they are to where they are at
+ * time t (fraction 1: exactly there, rk_contact_set_time). */
+void rk_contact_move_obstacles(rk_contact *c, double t, double fraction);
+
+/* ---- prescribed motion under contact (advance.c) ---- */
+
+/* The fraction (0, 1] of the rest of the prescribed motion to time t that CCD allows from here;
+ * -1 on failure. */
+typedef double (*rk_advance_fraction)(void *ctx, double t, rk_error *err);
+/* Makes that fraction of the move (1: exactly to the targets at t) and solves for the free
+ * degrees of freedom. */
+typedef int (*rk_advance_move)(void *ctx, double t, double fraction, rk_error *err);
+/* Moves in as many safe moves as it takes; fails, naming t, when the motion is locked. */
+int rk_contact_advance(void *ctx, double t, rk_advance_fraction fraction, rk_advance_move move, rk_error *err);
+
+/* ---- measures (intersect.c) ---- */
+
+/* Edge-triangle crossings at x, exactly: between objects, within an object when self-contact is
+ * on (edges and triangles that share no vertex), and against obstacle meshes and boxes; and
+ * points behind planes or inside spheres and capsules. 0 for a valid state. */
+int rk_contact_intersections(rk_contact *c, const double *x, rk_error *err);
+/* The smallest distance between the surfaces at x (m; INFINITY when nothing can touch). */
+double rk_contact_min_distance(rk_contact *c, const double *x, rk_error *err);
+
 /* ---- exact predicates (exact.c, intersect.c) ---- */
 
 /* The sign (-1, 0, 1) of det[a - d; b - d; c - d], exactly (positive when d lies below the plane

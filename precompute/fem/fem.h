@@ -1,7 +1,7 @@
 /* precompute/fem: P1 tetrahedral finite elements over a checked mesh.
  * Per-element materials (heterogeneous objects), consistent and lumped mass, the elastic
- * energy with its gradient and (optionally PSD-projected) Hessian, the rest stiffness used for
- * Rayleigh damping and modal analysis, and ground planes as an IPC log barrier.
+ * energy with its gradient and (optionally PSD-projected) Hessian, and the rest stiffness used for
+ * Rayleigh damping and modal analysis (contact is precompute/contact's).
  * All element physics comes from physics/ (one source of truth, DESIGN.md). */
 #ifndef RK_FEM_H
 #define RK_FEM_H
@@ -80,32 +80,6 @@ void rk_fem_add_gradient(const rk_fem *f, const double *x, double scale, double 
 void rk_fem_add_hessian(const rk_fem *f, const double *x, double scale, int project, rk_sparse *H);
 /* Number of elements with det F <= 0 at x; *min_J (if not NULL) gets the smallest det F. */
 int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
-
-/* Ground planes as obstacles: the IPC log barrier b(d) = -kappa (d - dhat)^2 log(d / dhat) for
- * 0 < d < dhat on each vertex's signed distance d = n.(x - p) to each plane, weighted by vertex
- * mass (zero for d >= dhat, +INFINITY for d <= 0). Its Hessian kappa m b''(d) n n^T is PSD.
- * A vertex must start on the positive side; rk_planes_max_step keeps it there. */
-typedef struct {
-    double point[3];
-    double normal[3];  /* unit */
-} rk_plane;
-
-typedef struct {
-    int count;
-    rk_plane *planes;
-    double dhat;   /* activation distance (m) */
-    double kappa;  /* stiffness (J/kg per vertex, multiplied by vertex mass) */
-} rk_obstacles;
-
-double rk_barrier_energy(const rk_fem *f, const rk_obstacles *o, const double *x);
-void rk_barrier_add_gradient(const rk_fem *f, const rk_obstacles *o, const double *x,
-                             double scale, double *g);
-void rk_barrier_add_hessian(const rk_fem *f, const rk_obstacles *o, const double *x,
-                            double scale, rk_sparse *H);
-/* Step filtering (IPC): the largest alpha in (0, 1] such that, for every vertex and plane, the
- * distance along x + alpha * dx never drops below 10% of its current value; so no line-search
- * trial can cross a plane. */
-double rk_planes_max_step(const rk_obstacles *o, int nv, const double *x, const double *dx);
 
 /* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
  * every column of the vertex (rows are sorted and the column ends at its diagonal). */

@@ -1,7 +1,8 @@
-/* CHOLMOD behind the Newton solver: impl->H is wrapped (no copy) as a symmetric upper matrix;
- * the fill-reducing ordering and symbolic factorization are computed once, at init, because
- * the pattern never changes; each Newton iteration refactorizes numerically into the same L and
- * solves with cholmod_solve2, which reuses its dense workspaces (no per-iteration allocation). */
+/* CHOLMOD behind the Newton solver: impl->N.A is wrapped (no copy) as a symmetric upper matrix;
+ * the fill-reducing ordering and symbolic factorization are computed at init and again only when
+ * contact changes which vertices the matrix couples (never without contact); each Newton
+ * iteration refactorizes numerically into the same L and solves with cholmod_solve2, which reuses
+ * its dense workspaces (no per-iteration allocation). */
 #include "fom/fom_impl.h"
 
 #include "fem/fem.h"
@@ -16,11 +17,17 @@ int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err)
     im->cc_started = 1;
     im->cc.print = 0; /* errors come back through rk_error, not stderr */
     im->cc.error_handler = NULL;
-    rk_cholmod_sparse_view(&im->H, &im->A);
+    return rk_fom_chol_reanalyze(im, err);
+}
+
+int rk_fom_chol_reanalyze(rk_fom_impl *im, rk_error *err)
+{
+    if (im->L) cholmod_free_factor(&im->L, &im->cc);
+    rk_cholmod_sparse_view(&im->N.A, &im->A);
     im->L = cholmod_analyze(&im->A, &im->cc);
     if (!im->L || im->cc.status < CHOLMOD_OK)
         return rk_fail(err, "CHOLMOD symbolic analysis failed (status %d) on %d dofs, %d nonzeros",
-                       im->cc.status, im->H.n, im->H.nnz);
+                       im->cc.status, im->N.A.n, im->N.A.nnz);
     return 0;
 }
 

@@ -24,25 +24,6 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x)
     }
 }
 
-int rk_fom_check_planes(const rk_fom *s, const double *x, rk_error *err)
-{
-    const rk_obstacles *ob = &s->opt.obstacles;
-    for (int g = 0; g < s->opt.nprescribed; g++) {
-        const rk_prescribed *p = &s->opt.prescribed[g];
-        for (int j = 0; j < p->count; j++)
-            for (int k = 0; k < ob->count; k++) {
-                const rk_plane *pl = &ob->planes[k];
-                const double *xv = &x[3 * p->verts[j]];
-                double d = 0;
-                for (int i = 0; i < 3; i++) d += pl->normal[i] * (xv[i] - pl->point[i]);
-                if (!(d > 0))
-                    return rk_fail(err, "prescribed vertex %d is driven onto or through plane %d (distance %g m)",
-                                   p->verts[j], k, d);
-            }
-    }
-    return 0;
-}
-
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H)
 {
     if (s->opt.nprescribed == 0 || !H) return;

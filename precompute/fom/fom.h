@@ -13,12 +13,15 @@
  * per vertex with the lumped masses (the consistent mass's row sums, so the same forces).
  * Newton with PSD-projected element Hessians, CHOLMOD (symbolic analysis once, numeric
  * factorization per iteration), backtracking line search on the incremental potential,
- * plane step filtering, termination on |d|_inf / h <= tol (Sec. 3.10). Prescribed vertices
- * (fixed, twisted, translated) are set to their targets at the start of each step and their
- * degrees of freedom are removed from the Newton system. */
+ * termination on |d|_inf / h <= tol (Sec. 3.10). Contact is IPC (precompute/contact): the
+ * barrier in the potential, every line search step filtered by CCD, kappa adapted. Prescribed
+ * vertices (fixed, twisted, translated) and obstacles move to their targets at the start of each
+ * step (in several moves, each followed by a solve, when CCD finds something in the way) and the
+ * prescribed degrees of freedom are removed from the Newton system. */
 #ifndef RK_FOM_H
 #define RK_FOM_H
 
+#include "contact/contact.h"
 #include "fem/fem.h"
 #include "solver/solver.h"
 #include "util/util.h"
@@ -52,7 +55,11 @@ typedef struct {
                                  inverted: stable Neo-Hookean recovers) */
     double rayleigh_mass;     /* a in (a M + b K0) */
     double rayleigh_stiffness;/* b */
-    rk_obstacles obstacles;
+    int nobstacles;           /* planes, spheres, capsules, boxes, meshes (contact.h), static or moving */
+    const rk_obstacle *obstacles;
+    rk_contact_options contact; /* dhat (0: 1e-3 of the rest bounding-box diagonal), kappa, friction, self */
+    int nobjects;             /* objects collide with each other: object k owns vertices */
+    const int *object_first_vertex; /* [first[k], first[k + 1]) (nobjects + 1 entries; NULL: one object) */
     int nprescribed;
     rk_prescribed *prescribed;
     double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m); <= 0: default */

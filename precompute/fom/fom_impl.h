@@ -5,6 +5,7 @@
 
 #include <cholmod.h>
 
+#include "contact/contact.h"
 #include "fom/fom.h"
 #include "solver/solver.h"
 
@@ -22,22 +23,54 @@ typedef struct {
     double reg;
 } rk_fom_terms;
 
+/* A contact pair's Hessian block as the contact stage hands it over (mesh vertex ids; obstacle
+ * ids negative, dropped). */
+typedef struct {
+    int np, id[4];
+    double H[144];
+} rk_contact_block;
+
+/* What CHOLMOD factors (matrix.c): the elements' pattern plus the vertex pairs contact couples. */
+typedef struct {
+    rk_sparse A;
+    int *base_map;          /* the elements' pattern entry k is A entry base_map[k] */
+    int npairs, *pairs;     /* vertex pairs (a < b) beyond the elements' pattern */
+    int nblocks, capblocks, overflow;
+    rk_contact_block *blocks;/* this iteration's contact blocks */
+} rk_newton_matrix;
+
+int rk_newton_matrix_init(rk_newton_matrix *N, const rk_sparse *base, rk_error *err);
+void rk_newton_matrix_free(rk_newton_matrix *N);
+/* The contact stage's Hessian sink: records a block (ctx: the rk_newton_matrix). */
+void rk_newton_matrix_record(void *ctx, const int *id, int npoints, const double *H);
+/* Rebuilds A's pattern when the recorded blocks couple a different set of vertex pairs. */
+int rk_newton_matrix_couple(rk_newton_matrix *N, const rk_sparse *base, int *changed, rk_error *err);
+/* A = base (values) plus the recorded blocks. */
+void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
+
 struct rk_fom_impl {
     int n;                  /* 3 nv */
     rk_sparse M;            /* inertia mass: consistent or lumped (opt.lumped_mass) */
     rk_sparse C;            /* Rayleigh damping a M + b K0; val NULL when a = b = 0 */
-    rk_sparse H;            /* Newton matrix, rebuilt each iteration on the fem pattern */
+    rk_sparse H;            /* the elements' Hessian, rebuilt each iteration on their pattern */
+    rk_newton_matrix N;     /* H plus contact: what CHOLMOD factors */
     double *f_ext;          /* gravity (lumped masses) + opt.force */
     char *prescribed_dof;   /* 1 where a dof is prescribed */
     /* Owned copies of what opt pointed to (s->opt points here after init). */
     rk_prescribed *groups;
-    rk_plane *planes;
     double *force;
+    /* Contact (when obstacles, several objects or self-contact): the model, this evaluation's pairs,
+     * the barrier's gradient alone (for kappa). */
+    int has_contact;
+    rk_contact contact;
+    rk_contact_set pairs;
+    double *g_barrier;
     rk_stepper stepper;     /* backward Euler / BDF2: prediction and history */
     double *newton_work;    /* RK_NEWTON_WORK(n) */
     double *work, *work2;   /* scratch, n each */
     double tol_static;      /* |d|_inf (m) */
-    /* CHOLMOD: H wrapped without copying, symbolic analysis once, numeric per iteration. */
+    /* CHOLMOD: N.A wrapped without copying, symbolic analysis when its pattern changes (once
+     * without contact), numeric per iteration. */
     cholmod_common cc;
     int cc_started;
     cholmod_sparse A;
@@ -48,17 +81,22 @@ struct rk_fom_impl {
 /* Sets every prescribed vertex of x to its target at time t (fixed: rest; twist: rest rotated by
  * rate t about the axis through center, Rodrigues; translate: rest + velocity t). */
 void rk_fom_prescribe(const rk_fom *s, double t, double *x);
-/* Fails when a prescribed vertex of x lies on or behind a plane (its barrier is infinite). */
-int rk_fom_check_planes(const rk_fom *s, const double *x, rk_error *err);
 /* Prescribed dofs out of the Newton matrix: zero rows and columns with 1 on the diagonal of H
  * (the pattern stays as it is; the solver zeroes their gradient). */
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H);
 
-/* E(x); with g, also its gradient; with H, also its Hessian (PSD-projected elastic part, the
- * prescribed dofs eliminated). With magnitude, also the sum of the terms' absolute values: the
- * scale of E's round-off. */
-double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, rk_sparse *H,
-                        double *magnitude);
+/* E(x); with g, also its gradient; with hessian, also the Newton matrix N.A (PSD-projected
+ * elastic and contact parts, the prescribed dofs eliminated; its pattern follows the contact
+ * pairs). With magnitude, also the sum of the terms' absolute values: the scale of E's round-off.
+ * With contact, the pairs are gathered at x, and kappa adapts at each Hessian. */
+double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, int hessian,
+                        double *magnitude, rk_error *err);
+
+/* Moves the prescribed vertices and the obstacles to where they are at time t and solves solve()
+ * after each move: in one move when nothing is in the way, else in as many as CCD allows (each
+ * Newton solve pushes the free vertices clear before the next). */
+typedef int (*rk_fom_solve_fn)(rk_fom *s, void *ctx, rk_error *err);
+int rk_fom_advance_kinematics(rk_fom *s, double t, rk_fom_solve_fn solve, void *ctx, rk_error *err);
 
 /* Minimises the potential from s->x (updated in place) with the solver's Newton (CHOLMOD on the
  * projected Hessian, plane step filtering); converged when |d|_inf <= tol_d. */
@@ -67,11 +105,14 @@ int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged
 typedef struct {
     rk_fom *s;
     const rk_fom_terms *T;
+    rk_error failure;       /* set when the contact stage failed inside a callback */
 } rk_fom_problem_ctx;
 void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p);
 
 /* CHOLMOD on impl->H: analysis (init), factorization and solve of H d = -g. */
 int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err);
+/* Redoes the symbolic analysis after N.A's pattern changed. */
+int rk_fom_chol_reanalyze(rk_fom_impl *im, rk_error *err);
 int rk_fom_chol_factor(rk_fom *s, rk_error *err);
 int rk_fom_chol_solve(rk_fom *s, const double *g, double *d, rk_error *err);
 void rk_fom_chol_free(rk_fom_impl *im);

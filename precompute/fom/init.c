@@ -36,12 +36,17 @@ int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err)
         if (o->position0 && !isfinite(o->position0[i]))
             return rk_fail(err, "initial position of vertex %d is not finite", i / 3);
     }
-    const rk_obstacles *ob = &o->obstacles;
-    if (ob->count < 0 || (ob->count > 0 && !ob->planes))
-        return rk_fail(err, "obstacles: %d planes given without data", ob->count);
-    if (ob->count > 0 && !(isfinite(ob->dhat) && ob->dhat > 0 && isfinite(ob->kappa) && ob->kappa >= 0))
-        return rk_fail(err, "obstacles: dhat = %g must be positive and kappa = %g non-negative", ob->dhat,
-                       ob->kappa);
+    if (o->nobstacles < 0 || (o->nobstacles > 0 && !o->obstacles))
+        return rk_fail(err, "%d obstacles given without data", o->nobstacles);
+    if (!(isfinite(o->contact.dhat) && o->contact.dhat >= 0))
+        return rk_fail(err, "contact: dhat = %g must not be negative", o->contact.dhat);
+    if (o->nobjects < 0 || (o->nobjects > 1 && !o->object_first_vertex))
+        return rk_fail(err, "%d objects given without their first vertices", o->nobjects);
+    for (int k = 0; o->object_first_vertex && k < o->nobjects; k++)
+        if (o->object_first_vertex[k] > o->object_first_vertex[k + 1] || o->object_first_vertex[0] != 0 ||
+            o->object_first_vertex[o->nobjects] != nv)
+            return rk_fail(err, "objects: object %d's vertices [%d, %d) do not tile the mesh's %d", k,
+                           o->object_first_vertex[k], o->object_first_vertex[k + 1], nv);
     if (o->nprescribed < 0 || (o->nprescribed > 0 && !o->prescribed))
         return rk_fail(err, "%d prescribed groups given without data", o->nprescribed);
     return 0;
@@ -92,22 +97,30 @@ static int copy_prescribed(rk_fom *s, rk_error *err)
     return 0;
 }
 
-static int copy_obstacles(rk_fom *s, rk_error *err)
+/* The contact model when there is something to collide with: obstacles, several objects, or
+ * self-contact. dhat 0 means 1e-3 of the rest bounding-box diagonal (DESIGN.md). */
+static int init_contact(rk_fom *s, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
-    rk_obstacles *ob = &s->opt.obstacles;
-    if (ob->count == 0) {
-        ob->planes = NULL;
-        return 0;
-    }
-    im->planes = rk_calloc((size_t)ob->count, sizeof(rk_plane), err);
-    if (!im->planes) return -1;
-    memcpy(im->planes, ob->planes, (size_t)ob->count * sizeof(rk_plane));
-    ob->planes = im->planes;
-    for (int k = 0; k < ob->count; k++)
-        if (normalize(im->planes[k].normal) || !all_finite(im->planes[k].point, 3))
-            return rk_fail(err, "obstacles: plane %d needs a finite point and a non-zero normal", k);
-    return 0;
+    const rk_fom_options *o = &s->opt;
+    const rk_obstacle *obstacles = o->obstacles;
+    const int *first_vertex = o->object_first_vertex;
+    im->has_contact = o->nobstacles > 0 || o->nobjects > 1 || o->contact.self;
+    s->opt.obstacles = NULL; /* copied into the contact model below; the caller's arrays need not outlive init */
+    s->opt.object_first_vertex = NULL;
+    if (!im->has_contact) return 0;
+    const rk_fem *f = s->fem;
+    rk_contact_options co = o->contact;
+    if (co.dhat == 0) co.dhat = 1e-3 * rk_points_diagonal(f->X, f->nv);
+    double mass = 0;
+    for (int v = 0; v < f->nv; v++) mass += f->vertex_mass[v];
+    rk_mesh view = {.nv = f->nv, .nt = f->nt, .X = (double *)f->X, .tets = (int *)f->tets};
+    if (rk_contact_init(&im->contact, &view, first_vertex, o->nobjects, obstacles, o->nobstacles, &co, mass / f->nv,
+                        err))
+        return -1;
+    s->opt.contact = co;
+    im->g_barrier = rk_calloc((size_t)im->n, sizeof(double), err);
+    return im->g_barrier ? 0 : -1;
 }
 
 /* Inertia mass, Rayleigh damping a M + b K0, and f_ext = m_v g + force. Gravity uses the lumped
@@ -162,19 +175,18 @@ static int alloc_state(rk_fom *s, rk_error *err)
     return im->prescribed_dof ? 0 : -1;
 }
 
-static int check_start(const rk_fom *s, rk_error *err)
+/* The start must be free of intersections (exact test) and keep every barrier finite. */
+static int check_start(rk_fom *s, rk_error *err)
 {
-    const rk_obstacles *ob = &s->opt.obstacles;
-    for (int k = 0; k < ob->count; k++) {
-        const rk_plane *p = &ob->planes[k];
-        for (int v = 0; v < s->fem->nv; v++) {
-            const double *x = &s->x[3 * v];
-            double d = 0;
-            for (int i = 0; i < 3; i++) d += p->normal[i] * (x[i] - p->point[i]);
-            if (!(d > 0))
-                return rk_fail(err, "vertex %d starts on or behind plane %d (distance %g m)", v, k, d);
-        }
-    }
+    rk_fom_impl *im = s->impl;
+    if (!im->has_contact) return 0;
+    int crossings = rk_contact_intersections(&im->contact, s->x, err);
+    if (crossings < 0) return -1;
+    if (crossings > 0)
+        return rk_fail(err, "the start intersects itself, another object or an obstacle (%d crossings or points "
+                       "behind a plane)", crossings);
+    double d = rk_contact_min_distance(&im->contact, s->x, err);
+    if (!(d > 0)) return rk_fail(err, "the start touches an obstacle or another surface (distance %g m)", d);
     return 0;
 }
 
@@ -187,13 +199,12 @@ int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_erro
     s->impl = rk_calloc(1, sizeof *s->impl, err);
     if (!s->impl) return -1;
     s->impl->n = 3 * fem->nv;
-    if (alloc_state(s, err) || copy_prescribed(s, err) || copy_obstacles(s, err) || build_constants(s, err))
-        goto fail;
+    if (alloc_state(s, err) || copy_prescribed(s, err) || build_constants(s, err)) goto fail;
     memcpy(s->x, opt->position0 ? opt->position0 : fem->X, (size_t)s->impl->n * sizeof(double));
     if (opt->velocity0) memcpy(s->v, opt->velocity0, (size_t)s->impl->n * sizeof(double));
-    if (check_start(s, err)) goto fail;
+    if (init_contact(s, err) || check_start(s, err)) goto fail;
     resolve_tolerance(s);
-    if (rk_fom_chol_analyze(s->impl, err)) goto fail;
+    if (rk_newton_matrix_init(&s->impl->N, &s->impl->H, err) || rk_fom_chol_analyze(s->impl, err)) goto fail;
     return 0;
 fail:
     rk_fom_free(s);
@@ -211,7 +222,10 @@ void rk_fom_free(rk_fom *s)
         if (im->groups)
             for (int k = 0; k < s->opt.nprescribed; k++) free(im->groups[k].verts);
         free(im->groups);
-        free(im->planes);
+        if (im->has_contact) rk_contact_free(&im->contact);
+        rk_contact_set_free(&im->pairs);
+        rk_newton_matrix_free(&im->N);
+        free(im->g_barrier);
         free(im->force);
         free(im->f_ext);
         free(im->prescribed_dof);

@@ -1,5 +1,5 @@
 /* The incremental potential (fom_impl.h, rk_fom_terms): one evaluation of value, gradient and
- * Hessian shared by time steps and static solves. */
+ * Newton matrix shared by time steps and static solves. */
 #include "fom/fom_impl.h"
 
 #include "fem/element_impl.h"
@@ -36,19 +36,44 @@ static void assemble_hessian(rk_fom *s, const rk_fom_terms *T, const double *x, 
         for (int v = 0; v < f->nv; v++)
             for (int i = 0; i < 3; i++) H->val[rk_fem_diag_slot(H, v, i, i)] += T->reg * f->vertex_mass[v];
     rk_fem_add_hessian(f, x, 1.0, 1, H);
-    if (s->opt.obstacles.count) rk_barrier_add_hessian(f, &s->opt.obstacles, x, 1.0, H);
 }
 
-double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, rk_sparse *H,
-                        double *magnitude)
+/* The barrier at x: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
+ * the gradient), the blocks recorded for the Newton matrix. */
+static double contact_term(rk_fom *s, const double *x, double *g, int hessian, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    im->N.nblocks = 0;
+    if (rk_contact_gather(&im->contact, x, &im->pairs, err)) return NAN;
+    double closest;
+    if (g && hessian && !im->contact.kappa_set && im->pairs.n > 0) {
+        /* the first contact sets kappa: measure the barrier's push at the current kappa first */
+        memset(im->g_barrier, 0, sizeof(double) * (size_t)im->n);
+        rk_contact_energy(&im->contact, &im->pairs, x, im->g_barrier, NULL, NULL, &closest);
+        for (int i = 0; i < im->n; i++)
+            if (im->prescribed_dof[i]) im->g_barrier[i] = 0;
+        rk_contact_adapt_kappa(&im->contact, g, im->g_barrier, closest);
+    }
+    double B = rk_contact_energy(&im->contact, &im->pairs, x, g, hessian ? rk_newton_matrix_record : NULL, &im->N,
+                                 &closest);
+    if (hessian && im->contact.kappa_set) rk_contact_adapt_kappa(&im->contact, NULL, NULL, closest);
+    if (im->N.overflow) {
+        im->N.overflow = 0;
+        rk_fail(err, "out of memory for the contact Hessian blocks");
+        return NAN;
+    }
+    return B;
+}
+
+double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, int hessian,
+                        double *magnitude, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     const rk_fem *f = s->fem;
     int n = im->n;
     double t0 = rk_now();
     if (g) memset(g, 0, (size_t)n * sizeof(double));
-    double stored = rk_fem_energy(f, x); /* Psi + B */
-    if (s->opt.obstacles.count) stored += rk_barrier_energy(f, &s->opt.obstacles, x);
+    double stored = rk_fem_energy(f, x); /* Psi */
     double work = 0;
     for (int i = 0; i < n; i++) work += im->f_ext[i] * x[i];
     work *= T->load;
@@ -56,15 +81,23 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, doubl
     if (T->w_inertia > 0) quad += quadratic_term(&im->M, T->w_inertia, x, T->xtilde, g, im->work, im->work2, n);
     if (T->w_damping > 0 && im->C.val)
         quad += quadratic_term(&im->C, T->w_damping, x, T->xt, g, im->work, im->work2, n);
-    double E = stored - work + quad;
-    if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
-    if (g && isfinite(E)) {
+    if (g && isfinite(stored)) {
         rk_fem_add_gradient(f, x, 1.0, g);
-        if (s->opt.obstacles.count) rk_barrier_add_gradient(f, &s->opt.obstacles, x, 1.0, g);
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
-    if (H && isfinite(E)) assemble_hessian(s, T, x, H);
-    rk_fom_eliminate(s, H);
+    if (im->has_contact && isfinite(stored)) stored += contact_term(s, x, g, hessian, err);
+    double E = stored - work + quad;
+    if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
+    if (hessian && isfinite(E)) {
+        assemble_hessian(s, T, x, &im->H);
+        int changed = 0;
+        if (rk_newton_matrix_couple(&im->N, &im->H, &changed, err) || (changed && rk_fom_chol_reanalyze(im, err))) {
+            E = NAN;
+        } else {
+            rk_newton_matrix_fill(&im->N, &im->H);
+            rk_fom_eliminate(s, &im->N.A);
+        }
+    }
     s->stats.seconds_assemble += rk_now() - t0;
     return isfinite(E) ? E : INFINITY;
 }

@@ -41,22 +41,38 @@ typedef struct {
     rk_fom *s;
     rk_fom_terms T;
     double t_end;
+    double last_lambda;     /* the previous increment's load fraction */
 } static_ctx;
 
-/* One load increment: forces at lambda, the prescribed motions at lambda t_end. */
+typedef struct {
+    static_ctx *c;
+    int converged;
+} static_solve;
+
+static int solve_increment(rk_fom *s, void *ctx, rk_error *err)
+{
+    static_solve *c = ctx;
+    return rk_fom_newton(s, &c->c->T, s->impl->tol_static, &c->converged, err);
+}
+
+/* One load increment: forces at lambda, the prescribed motions and obstacles at lambda t_end. */
 static int increment(void *ctx, double lambda, double *x, int *converged, rk_error *err)
 {
     static_ctx *c = ctx;
+    /* a new attempt starts over from the initial state: the obstacles too */
+    if (lambda <= c->last_lambda && c->s->impl->has_contact) rk_contact_set_time(&c->s->impl->contact, 0);
+    c->last_lambda = lambda;
     c->T.load = lambda;
-    rk_fom_prescribe(c->s, lambda * c->t_end, x);
-    return rk_fom_check_planes(c->s, x, err) || rk_fom_newton(c->s, &c->T, c->s->impl->tol_static, converged, err)
-               ? -1 : 0;
+    static_solve sv = {c, 1};
+    int rc = rk_fom_advance_kinematics(c->s, lambda * c->t_end, solve_increment, &sv, err);
+    *converged = sv.converged;
+    return rc;
 }
 
 static int solve(rk_fom *s, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
-    if (s->opt.nprescribed == 0 && s->opt.obstacles.count == 0 && has_load(s))
+    if (s->opt.nprescribed == 0 && !s->impl->has_contact && has_load(s))
         return rk_fail(err, "a loaded body with no prescribed vertex and no obstacle has no equilibrium");
     static_ctx c = {.s = s, .T = {.reg = static_reg(s)}, .t_end = s->opt.steps * s->opt.h};
     int converged, used;

@@ -15,6 +15,18 @@ static int check_state(const rk_fom *s, rk_error *err)
     return 0;
 }
 
+typedef struct {
+    const rk_fom_terms *T;
+    int converged;
+} step_solve;
+
+/* Newton on the step's potential from where s->x is now. */
+static int solve_step(rk_fom *s, void *ctx, rk_error *err)
+{
+    step_solve *c = ctx;
+    return rk_fom_newton(s, c->T, s->opt.newton_tol * s->opt.h, &c->converged, err);
+}
+
 static int step(rk_fom *s, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
@@ -24,20 +36,19 @@ static int step(rk_fom *s, rk_error *err)
     rk_stepper_predict(st, s->x, s->v);
     rk_fom_terms T = {.w_inertia = st->w_inertia, .xtilde = st->xtilde, .w_damping = 1.0 / h, .xt = st->xt,
                       .load = 1.0};
-    rk_fom_problem_ctx ctx = {s, &T};
+    rk_fom_problem_ctx ctx = {.s = s, .T = &T};
     rk_newton_problem p;
     rk_fom_problem(&ctx, &p);
-    /* Start Newton from the predictor when it keeps clear of the planes, else from x_t. */
+    /* Start Newton from the predictor when nothing is in the way, else from x_t; the prescribed
+     * vertices and the obstacles then move to their targets at t + h. */
     rk_stepper_start(st, &p, s->x);
-    rk_fom_prescribe(s, s->t + h, s->x);
-    if (rk_fom_check_planes(s, s->x, err)) return -1;
-
-    int converged;
-    if (rk_fom_newton(s, &T, s->opt.newton_tol * h, &converged, err)) return -1;
-    if (!converged) s->stats.unconverged_steps++;
+    step_solve c = {&T, 1};
+    if (rk_fom_advance_kinematics(s, s->t + h, solve_step, &c, err)) return -1;
+    if (!c.converged) s->stats.unconverged_steps++;
     rk_stepper_finish(st, s->x, s->v);
     if (check_state(s, err)) return -1;
     s->t += h;
+    if (im->has_contact) im->contact.stats.steps++;
     return 0;
 }
 

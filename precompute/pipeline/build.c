@@ -157,29 +157,46 @@ static int build_loads_and_velocities(const rk_scene *s, rk_scene_sim *out, doub
     return 0;
 }
 
-/* Obstacles: every vertex must start strictly on the positive side of every plane. */
+/* Obstacles: meshes loaded and placed, the contact options completed (dhat: 1e-3 of the rest
+ * bounding-box diagonal unless given), and every vertex strictly on the free side of every plane
+ * (the simulator checks every other intersection exactly when it starts). */
 static int build_obstacles(const rk_scene *s, rk_scene_sim *out, double diag, rk_error *err)
 {
-    rk_obstacles *ob = &out->options.obstacles;
-    ob->count = s->nplanes;
-    ob->planes = s->nplanes ? rk_calloc((size_t)s->nplanes, sizeof(rk_plane), err) : NULL;
-    if (s->nplanes && !ob->planes) return -1;
-    if (s->nplanes) memcpy(ob->planes, s->planes, sizeof(rk_plane) * (size_t)s->nplanes);
-    /* The barrier acts within dhat of a plane; kappa makes its push at dhat/2 about ten times
-     * the weight, so resting contact sits well inside the activation band. */
-    double g = sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] + s->gravity[2] * s->gravity[2]);
-    ob->dhat = 1e-3 * diag;
-    ob->kappa = 10.0 * fmax(g, 1.0) / ob->dhat;
-    for (int p = 0; p < ob->count; p++)
+    int n = s->nobstacles;
+    rk_fom_options *opt = &out->options;
+    out->obstacles = rk_calloc((size_t)n + 1, sizeof *out->obstacles, err);
+    out->obstacle_meshes = rk_calloc((size_t)n + 1, sizeof *out->obstacle_meshes, err);
+    if (!out->obstacles || !out->obstacle_meshes) return -1;
+    opt->obstacles = out->obstacles;
+    opt->nobstacles = n; /* before the meshes load, so a failure frees those that did */
+    for (int k = 0; k < n; k++) {
+        const rk_scene_obstacle *so = &s->obstacles[k];
+        rk_obstacle *o = &out->obstacles[k];
+        *o = so->shape;
+        if (o->kind == RK_OBSTACLE_MESH) {
+            rk_surface *m = &out->obstacle_meshes[k];
+            if (rk_surface_load(so->file, m, err)) return rk_error_prefix(err, "%s: obstacles[%d].mesh", s->path, k);
+            for (int v = 0; v < m->nv; v++)
+                for (int i = 0; i < 3; i++) m->X[3 * v + i] = so->scale * m->X[3 * v + i] + so->translate[i];
+            o->nv = m->nv;
+            o->nf = m->nf;
+            o->X = m->X;
+            o->tris = m->tris;
+        }
+        if (o->kind != RK_OBSTACLE_PLANE) continue;
         for (int v = 0; v < out->mesh.nv; v++) {
             const double *x = &out->mesh.X[3 * v];
-            const rk_plane *pl = &ob->planes[p];
             double d = 0;
-            for (int i = 0; i < 3; i++) d += (x[i] - pl->point[i]) * pl->normal[i];
+            for (int i = 0; i < 3; i++) d += (x[i] - o->point[i]) * o->normal[i];
             if (!(d > 0))
                 return rk_fail(err, "%s: obstacles[%d]: vertex %d starts on or behind the plane (distance %g m)",
-                               s->path, p, v, d);
+                               s->path, k, v, d);
         }
+    }
+    opt->contact = s->contact;
+    if (opt->contact.dhat == 0) opt->contact.dhat = 1e-3 * diag;
+    opt->nobjects = s->nobjects;
+    opt->object_first_vertex = out->object_first_vertex;
     return 0;
 }
 
@@ -241,7 +258,9 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->options.prescribed);
     free(out->options.force);
     free(out->options.velocity0);
-    free(out->options.obstacles.planes);
+    for (int k = 0; out->obstacle_meshes && k < out->options.nobstacles; k++) rk_surface_free(&out->obstacle_meshes[k]);
+    free(out->obstacle_meshes);
+    free(out->obstacles);
     free(out->object_first_vertex);
     free(out->object_first_tet);
     memset(out, 0, sizeof *out);

@@ -173,11 +173,18 @@ static int parse_moving(const rk_json_ctx *c, const cJSON *it, const char *path,
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     rk_scene_motion *mo = &o->motions[o->nmotions++];
     if (rk_json_box(c, it, path, &mo->box)) return -1;
+    if (!cJSON_HasObjectItem(it, "twist") && !cJSON_HasObjectItem(it, "translate"))
+        return rk_json_fail(c, path, "needs exactly one of 'twist' or 'translate'");
+    return rk_parse_motion(c, it, path, mo);
+}
+
+int rk_parse_motion(const rk_json_ctx *c, const cJSON *it, const char *path, rk_scene_motion *mo)
+{
     char tp[PATH_LEN], sp[PATH_LEN];
     const cJSON *twist = rk_json_child(it, path, "twist", tp, sizeof tp);
     const cJSON *shift = rk_json_child(it, path, "translate", sp, sizeof sp);
-    if ((twist != NULL) == (shift != NULL))
-        return rk_json_fail(c, path, "needs exactly one of 'twist' or 'translate'");
+    mo->kind = RK_MOTION_FIXED;
+    if (twist && shift) return rk_json_fail(c, path, "needs exactly one of 'twist' or 'translate'");
     if (twist) {
         static const char *const tkeys[] = {"axis", "degrees_per_second", "center", NULL};
         if (rk_json_check_keys(c, twist, tp, tkeys)) return -1;
@@ -191,7 +198,7 @@ static int parse_moving(const rk_json_ctx *c, const cJSON *it, const char *path,
         if (rk_json_vector(c, twist, tp, "center", 0, 3, mo->center)) return -1;
         mo->rate = dps * M_PI / 180.0;
         mo->kind = RK_MOTION_TWIST;
-    } else {
+    } else if (shift) {
         static const char *const skeys[] = {"velocity", NULL};
         if (rk_json_check_keys(c, shift, sp, skeys)) return -1;
         if (rk_json_vector(c, shift, sp, "velocity", 1, 3, mo->velocity)) return -1;
@@ -242,26 +249,6 @@ static int parse_object(const rk_json_ctx *c, const cJSON *it, const char *path,
     return rk_json_vector(c, it, path, "velocity", 0, 3, o->velocity);
 }
 
-static int parse_obstacle(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
-{
-    rk_scene *s = user;
-    static const char *const keys[] = {"plane", NULL};
-    if (rk_json_check_keys(c, it, path, keys)) return -1;
-    char p[PATH_LEN];
-    const cJSON *plane = rk_json_child(it, path, "plane", p, sizeof p);
-    if (!plane) return rk_json_fail(c, p, "missing");
-    static const char *const pkeys[] = {"point", "normal", NULL};
-    if (rk_json_check_keys(c, plane, p, pkeys)) return -1;
-    rk_plane *pl = &s->planes[i];
-    if (rk_json_vector(c, plane, p, "point", 1, 3, pl->point)) return -1;
-    if (rk_json_vector(c, plane, p, "normal", 1, 3, pl->normal)) return -1;
-    double len = sqrt(pl->normal[0] * pl->normal[0] + pl->normal[1] * pl->normal[1] +
-                      pl->normal[2] * pl->normal[2]);
-    if (!(len > 0)) return rk_json_fail(c, p, "normal must not be zero");
-    for (int k = 0; k < 3; k++) pl->normal[k] /= len;
-    return 0;
-}
-
 static int parse_time(const rk_json_ctx *c, const cJSON *t, const char *path, rk_scene *s)
 {
     static const char *const keys[] = {"step", "duration", "integrator", "static", NULL};
@@ -297,7 +284,7 @@ static int parse_time(const rk_json_ctx *c, const cJSON *t, const char *path, rk
 
 static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene_dir, rk_scene *s)
 {
-    static const char *const keys[] = {"objects", "gravity", "obstacles", "time", "rom", "damping",
+    static const char *const keys[] = {"objects", "gravity", "obstacles", "contact", "time", "rom", "damping",
                                        "newton", "lumped_mass", NULL};
     if (rk_json_check_keys(c, root, "", keys)) return -1;
     char p[PATH_LEN];
@@ -305,14 +292,17 @@ static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene
     if (!cJSON_IsArray(objects) || cJSON_GetArraySize(objects) < 1)
         return rk_json_fail(c, "objects", "must be a non-empty array of objects");
     s->objects = rk_calloc((size_t)cJSON_GetArraySize(objects), sizeof *s->objects, c->err);
-    s->planes = rk_calloc((size_t)array_size(root, "obstacles"), sizeof *s->planes, c->err);
-    if (!s->objects || !s->planes) return -1;
+    s->obstacles = rk_calloc((size_t)array_size(root, "obstacles") + 1, sizeof *s->obstacles, c->err);
+    if (!s->objects || !s->obstacles) return -1;
     /* Count first so rk_scene_free releases whatever a failed parse allocated. */
     s->nobjects = cJSON_GetArraySize(objects);
     const void *user[2] = {scene_dir, s->objects};
     if (each_item(c, root, "", "objects", &s->nobjects, parse_object, (void *)user)) return -1;
     if (rk_json_vector(c, root, "", "gravity", 0, 3, s->gravity)) return -1;
-    if (each_item(c, root, "", "obstacles", &s->nplanes, parse_obstacle, s)) return -1;
+    const void *obstacle_user[2] = {scene_dir, s};
+    if (each_item(c, root, "", "obstacles", &s->nobstacles, rk_parse_obstacle, (void *)obstacle_user) ||
+        rk_parse_contact(c, root, s))
+        return -1;
     s->h = 0.01;
     s->duration = 1.0;
     const cJSON *t = rk_json_child(root, "", "time", p, sizeof p);
@@ -401,7 +391,7 @@ void rk_scene_free(rk_scene *s)
         free(s->objects[i].loads);
     }
     free(s->objects);
-    free(s->planes);
+    free(s->obstacles);
     free(s->entries);
     memset(s, 0, sizeof *s);
 }

@@ -45,6 +45,15 @@ int rk_json_string(const rk_json_ctx *c, const cJSON *obj, const char *path, con
 /* "box": [[xmin, ymin, zmin], [xmax, ymax, zmax]] under obj (required). */
 int rk_json_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b);
 
+/* "twist": {"axis", "degrees_per_second", "center"} or "translate": {"velocity"} under it (neither:
+ * fixed), into mo (its box left alone). */
+int rk_parse_motion(const rk_json_ctx *c, const cJSON *it, const char *path, rk_scene_motion *mo);
+/* Obstacle i of the "obstacles" list (parse_obstacles.c; user: {scene folder, rk_scene objects},
+ * as each_item hands it over). */
+int rk_parse_obstacle(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user);
+/* The "contact" section into s->contact. */
+int rk_parse_contact(const rk_json_ctx *c, const cJSON *root, rk_scene *s);
+
 /* The rom section (an object or a list of them; NULL: none) into s->entries (parse_rom.c). */
 int rk_parse_rom(const rk_json_ctx *c, const cJSON *rom, rk_scene *s);
 /* Entry e's "asset" keys (parse_asset.c); absent keys keep the defaults. */

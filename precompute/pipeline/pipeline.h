@@ -82,6 +82,14 @@ typedef struct {
     double velocity[3];
 } rk_scene_object;
 
+/* An obstacle as the scene names it: plane, sphere, capsule, box or a triangle mesh file, with an
+ * optional motion ("translate" or "twist", as an object's moving boxes). */
+typedef struct {
+    rk_obstacle shape;     /* kind, geometry and motion; a mesh's arrays come with rk_scene_build */
+    char file[4096];       /* mesh: the surface file, resolved against the scene folder */
+    double scale, translate[3]; /* mesh: placed like an object's mesh */
+} rk_scene_obstacle;
+
 /* rom[i].koopman: one training run of the scene with what it names changed. */
 typedef struct {
     int has_gravity, has_velocity;
@@ -125,8 +133,9 @@ typedef struct {
     int nobjects;
     rk_scene_object *objects;
     double gravity[3];
-    int nplanes;
-    rk_plane *planes;
+    int nobstacles;
+    rk_scene_obstacle *obstacles;
+    rk_contact_options contact;  /* "contact": {"dhat", "friction", "self", "kappa"}; dhat 0: 1e-3 of the diagonal */
     double h;
     double duration;
     rk_integrator integrator;
@@ -160,6 +169,8 @@ typedef struct {
     rk_material *materials;   /* one per tet */
     rk_fem fem;
     rk_fom_options options;   /* points into arrays owned here */
+    rk_obstacle *obstacles;   /* the scene's, meshes loaded (options.obstacles) */
+    rk_surface *obstacle_meshes; /* one per obstacle (empty unless a mesh) */
     int steps;
     int *object_first_vertex; /* nobjects + 1 */
     int *object_first_tet;    /* nobjects + 1 */

@@ -122,5 +122,5 @@ void rk_scene_rom_free(rk_scene_rom *R)
 
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
 {
-    return (rk_asset_rom){&sim->mesh, &sim->fem, &sim->options.obstacles, R->basis.U, &R->model};
+    return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model};
 }

@@ -1,6 +1,6 @@
 /* rk_rom_model_init: the reduced matrices, loads, penalty and contact rows of rom.h, projected
  * once from the full-order setup. */
-#include "rom/rom.h"
+#include "rom/rom_impl.h"
 #include "util/util.h"
 
 #include <cblas.h>
@@ -121,64 +121,6 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     return 0;
 }
 
-/* Vertices on the boundary surface (faces used by one tet): flags, nv of them. */
-static unsigned char *boundary_vertices(const rk_fem *fem, rk_error *err)
-{
-    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets};
-    int *tris = NULL, nf = 0;
-    unsigned char *on = rk_calloc((size_t)fem->nv, 1, err);
-    if (!on || rk_mesh_boundary(&view, &tris, &nf, err)) {
-        free(on);
-        return NULL;
-    }
-    for (int k = 0; k < 3 * nf; k++) on[tris[k]] = 1;
-    free(tris);
-    return on;
-}
-
-static int build_contacts(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
-                          rk_error *err)
-{
-    const rk_obstacles *ob = &opt->obstacles;
-    int r = m->r, ndof = 3 * fem->nv;
-    m->dhat = ob->dhat;
-    m->kappa = ob->kappa;
-    if (ob->count == 0) return 0;
-    unsigned char *on = boundary_vertices(fem, err);
-    if (!on) return -1;
-    int n = 0;
-    for (int v = 0; v < fem->nv; v++) n += on[v];
-    n *= ob->count;
-    m->contact_vertex = rk_calloc((size_t)n, sizeof(int), err);
-    m->contact_plane = rk_calloc((size_t)n, sizeof(int), err);
-    m->contact_d0 = rk_calloc((size_t)n, sizeof(double), err);
-    m->contact_mass = rk_calloc((size_t)n, sizeof(double), err);
-    m->contact_a = rk_calloc((size_t)n * r, sizeof(double), err);
-    if (!m->contact_vertex || !m->contact_plane || !m->contact_d0 || !m->contact_mass || !m->contact_a) {
-        free(on);
-        return -1;
-    }
-    for (int k = 0; k < ob->count; k++) {
-        const rk_plane *p = &ob->planes[k];
-        double len = sqrt(p->normal[0] * p->normal[0] + p->normal[1] * p->normal[1] + p->normal[2] * p->normal[2]);
-        for (int v = 0; v < fem->nv; v++) {
-            if (!on[v]) continue;
-            int c = m->ncontacts++;
-            double d = 0;
-            for (int i = 0; i < 3; i++) {
-                d += p->normal[i] / len * (fem->X[3 * v + i] - p->point[i]);
-                cblas_daxpy(r, p->normal[i] / len, U + 3 * v + i, ndof, m->contact_a + (size_t)r * c, 1);
-            }
-            m->contact_vertex[c] = v;
-            m->contact_plane[c] = k;
-            m->contact_d0[c] = d;
-            m->contact_mass[c] = fem->vertex_mass[v];
-        }
-    }
-    free(on);
-    return 0;
-}
-
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
                       int r, rk_quadrature *quad, rk_error *err)
 {
@@ -210,7 +152,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;
     if (build_matrices(m, fem, opt, U, err) || build_pins(m, fem, opt, U, err) ||
-        build_contacts(m, fem, opt, U, err)) {
+        rk_rom_contact_init(m, fem, opt, U, err)) {
         rk_rom_model_free(m);
         return rk_error_prefix(err, "reduced model");
     }
@@ -226,11 +168,9 @@ void rk_rom_model_free(rk_rom_model *m)
     free(m->A);
     for (int g = 0; m->pins && g < m->npins; g++) free(m->pins[g].T);
     free(m->pins);
-    free(m->contact_vertex);
-    free(m->contact_plane);
-    free(m->contact_d0);
-    free(m->contact_mass);
-    free(m->contact_a);
+    if (m->has_contact) rk_contact_free(&m->contact);
+    free(m->cv_rows);
+    free(m->cv_of);
     rk_quadrature_free(&m->quad);
     memset(m, 0, sizeof *m);
 }

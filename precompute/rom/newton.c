@@ -14,7 +14,7 @@ static double *hessian_of(rk_rom *s)
 static double energy(void *ctx, const double *q, double *g, int hessian, double *magnitude)
 {
     rk_rom_problem_ctx *c = ctx;
-    return rk_rom_potential(c->s, c->T, q, g, hessian ? hessian_of(c->s) : NULL, magnitude);
+    return rk_rom_potential(c->s, c->T, q, g, hessian ? hessian_of(c->s) : NULL, magnitude, &c->failure);
 }
 
 /* d = -H^-1 g by Cholesky of H (upper triangle, overwritten). */
@@ -34,7 +34,9 @@ static int solve(void *ctx, const double *g, double *d, rk_error *err)
 
 static double max_step(void *ctx, const double *q, const double *d)
 {
-    return rk_rom_contact_max_step(((rk_rom_problem_ctx *)ctx)->s->model, q, d);
+    rk_rom_problem_ctx *c = ctx;
+    double alpha = rk_rom_contact_max_step(c->s, q, d, NAN, &c->failure);
+    return alpha >= 0 ? alpha : 0; /* a failed CCD (out of memory) takes no step */
 }
 
 /* sqrt(d^T M_r d / total mass): the step as an RMS displacement. */
@@ -50,13 +52,14 @@ static double step_norm(void *ctx, const double *d)
 void rk_rom_problem(rk_rom_problem_ctx *ctx, rk_newton_problem *p)
 {
     const rk_rom_model *m = ctx->s->model;
+    ctx->failure.msg[0] = 0;
     *p = (rk_newton_problem){.n = m->r, .ctx = ctx, .what = "reduced incremental potential", .energy = energy,
-                             .solve = solve, .max_step = m->ncontacts ? max_step : NULL, .step_norm = step_norm};
+                             .solve = solve, .max_step = m->has_contact ? max_step : NULL, .step_norm = step_norm};
 }
 
 int rk_rom_newton(rk_rom *s, const rk_rom_terms *T, double tol_d, int *converged, rk_error *err)
 {
-    rk_rom_problem_ctx ctx = {s, T};
+    rk_rom_problem_ctx ctx = {.s = s, .T = T};
     rk_newton_problem p;
     rk_rom_problem(&ctx, &p);
     rk_newton_stats stats = {0};
@@ -64,5 +67,9 @@ int rk_rom_newton(rk_rom *s, const rk_rom_terms *T, double tol_d, int *converged
     int rc = rk_newton_solve(&p, s->q, tol_d, s->model->newton_max_iter, work, converged, &stats, err);
     s->stats.newton_iterations += stats.iterations;
     s->stats.line_search_halvings += stats.halvings;
+    if (ctx.failure.msg[0]) { /* what made the potential or the step fail, rather than its symptom */
+        *err = ctx.failure;
+        return -1;
+    }
     return rc;
 }

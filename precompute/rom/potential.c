@@ -1,4 +1,4 @@
-/* The reduced incremental potential of rom.h: value, gradient and dense Hessian. */
+/* The reduced incremental potential of rom.h: value, gradient and dense Hessian (both triangles). */
 #include "rom/rom_impl.h"
 
 #include <cblas.h>
@@ -29,47 +29,8 @@ void rk_rom_pin_target(const rk_rom_model *m, double t, double *b)
     }
 }
 
-double rk_rom_contact_distance(const rk_rom_model *m, int c, const double *q)
-{
-    return m->contact_d0[c] + cblas_ddot(m->r, m->contact_a + (size_t)m->r * c, 1, q, 1);
-}
-
-double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const double *dq)
-{
-    double alpha = 1.0;
-    for (int c = 0; c < m->ncontacts; c++) {
-        double d = rk_rom_contact_distance(m, c, q);
-        double dd = cblas_ddot(m->r, m->contact_a + (size_t)m->r * c, 1, dq, 1);
-        if (dd < 0) alpha = fmin(alpha, 0.9 * d / -dd); /* keep 10% of the distance (fem.h) */
-    }
-    return alpha;
-}
-
-static double barrier(const rk_rom_model *m, const double *q, double *g, double *H)
-{
-    double E = 0;
-    for (int c = 0; c < m->ncontacts; c++) {
-        double d = rk_rom_contact_distance(m, c, q);
-        if (!(d > 0)) return INFINITY;
-        if (d >= m->dhat) continue;
-        double d1, d2, w = m->kappa * m->contact_mass[c];
-        E += w * rk_barrier(d, m->dhat, &d1, &d2);
-        const double *a = m->contact_a + (size_t)m->r * c;
-        if (g) cblas_daxpy(m->r, w * d1, a, 1, g, 1);
-        if (H) cblas_dsyr(CblasColMajor, CblasUpper, m->r, w * d2, a, 1, H, m->r);
-    }
-    return E;
-}
-
-/* Lower triangle from the upper one (dsyr and dsymv work on the upper). */
-static void symmetrize(double *H, int r)
-{
-    for (int j = 0; j < r; j++)
-        for (int i = j + 1; i < r; i++) H[i + (size_t)r * j] = H[j + (size_t)r * i];
-}
-
 double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
-                        double *magnitude)
+                        double *magnitude, rk_error *err)
 {
     rk_rom_model *m = s->model;
     int r = m->r;
@@ -77,7 +38,7 @@ double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, doubl
     if (g) memset(g, 0, sizeof(double) * r);
     if (H) memset(H, 0, sizeof(double) * r * r);
     double stored = rk_quadrature_eval(&m->quad, q, g, H, 1);
-    if (m->ncontacts) stored += barrier(m, q, g, H);
+    if (m->has_contact && isfinite(stored)) stored += rk_rom_contact_energy(s, q, g, H, err);
     if (!isfinite(stored)) return INFINITY;
     /* Loads and the penalty's linear part: -(load f + b(t)) . q. */
     double work = T->load * cblas_ddot(r, m->f, 1, q, 1) + cblas_ddot(r, T->pin_b, 1, q, 1);
@@ -94,7 +55,6 @@ double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, doubl
             if (T->w_damping > 0 && m->C) a += T->w_damping * m->C[k];
             H[k] += a;
         }
-        if (m->ncontacts) symmetrize(H, r);
     }
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;

@@ -6,15 +6,19 @@
  *   q_{t+1} = argmin_q  w/2 |q - q~|_{M_r}^2 + E(q) + B(q) + 1/(2h) |q - q_t|_{C_r}^2 - f_r . q + P(q, t)
  *
  * with M_r = U^T M U, C_r = U^T (a M + b K0) U, f_r = U^T f_ext, E the elastic energy integrated
- * by a quadrature (all elements, or a cubature; cubature.h), B the ground-plane barrier on the
- * contact vertices, and P a penalty that pulls prescribed vertices to their targets where the
- * basis does not already hold them (its rows there are not all zero):
+ * by a quadrature (all elements, or a cubature; cubature.h), B the contact barrier (IPC,
+ * precompute/contact: the boundary vertices x_v = X_v + U_v q against the scene's obstacles, the
+ * other objects and, with self-contact, itself), and P a penalty that pulls prescribed vertices
+ * to their targets where the basis does not already hold them (its rows there are not all zero):
  *
  *   P(q, t) = k/2 sum_i m_i |X_i + B_i q - target_i(t)|^2,   k = RK_ROM_PIN_STIFFNESS (lambda+2mu)/(rho L^2),
  *
  * L the bounding-box diagonal. Backward Euler or BDF2 as in fom.h, projected Newton on a dense
- * r x r Cholesky, Armijo backtracking, plane step filtering. Nothing per step costs O(vertices)
- * except the barrier (O(contact vertices x r), only with planes). */
+ * r x r Cholesky, Armijo backtracking, every step filtered by CCD like full order, moving
+ * obstacles advanced as far as CCD allows before each solve. Nothing per step costs
+ * O(vertices) except contact (O(boundary vertices x r), only with something to collide with).
+ * The barrier stiffness is fixed (the runtime steps the same model): the scene's contact.kappa,
+ * or rk_contact_holding_kappa of the average vertex's weight. */
 #ifndef RK_ROM_H
 #define RK_ROM_H
 
@@ -51,13 +55,12 @@ typedef struct {
     int npins;
     rk_rom_pin *pins;
     int pinned_vertices;       /* prescribed vertices held by the penalty (0: the basis holds them all) */
-    /* Planes: one row per (boundary vertex, plane): distance d0 at q = 0 and its gradient a. Only
-     * boundary vertices: the lowest point of a non-inverted mesh is on its surface, and the
-     * runtime asset stores only surface rows. */
-    int ncontacts;
-    int *contact_vertex, *contact_plane;
-    double *contact_d0, *contact_mass, *contact_a; /* a: r x ncontacts, column-major */
-    double dhat, kappa;
+    /* Contact on the boundary vertices (their rows, and scratch over the mesh's 3 nv entries of
+     * which only those of collision vertices are used). */
+    int has_contact;
+    rk_contact contact;
+    double *cv_rows;           /* 3 nc x r, row-major: U's rows at the collision vertices */
+    int *cv_of;                /* nv: collision vertex index of a mesh vertex, or -1 */
     double mass;               /* total mass (kg) */
     double newton_tol;         /* on sqrt(dq^T M_r dq / mass) (m), per step */
     int newton_max_iter;
@@ -79,6 +82,9 @@ typedef struct {
 typedef struct {
     rk_rom_model *model;
     double t;
+    double *x, *dx, *gx;       /* 3 nv contact scratch: positions, a step, a gradient */
+    double *jb;                /* 12 x r contact scratch */
+    rk_contact_set pairs;      /* this evaluation's contact pairs */
     double *q, *v;             /* reduced positions and velocities */
     rk_stepper stepper;        /* backward Euler / BDF2: prediction and history */
     rk_rom_stats stats;

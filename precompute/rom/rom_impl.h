@@ -23,19 +23,29 @@ typedef struct {
 enum { RK_ROM_WORK_PIN, RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_NEWTON,
        RK_ROM_WORK_VECTORS = RK_ROM_WORK_NEWTON + 3 };
 
+/* The potential at q; with g its gradient, with H its Hessian (r x r, both triangles).
+ * +INFINITY where undefined; NAN (err set) when the contact stage failed. */
 double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
-                        double *magnitude);
+                        double *magnitude, rk_error *err);
 void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
-/* Distance of contact c (vertex c % nv, plane c / nv) to its plane at q. */
-double rk_rom_contact_distance(const rk_rom_model *m, int c, const double *q);
-/* Largest alpha in (0, 1] keeping every contact distance above 10% of its value along q + alpha dq. */
-double rk_rom_contact_max_step(const rk_rom_model *m, const double *q, const double *dq);
+
+/* Contact in the subspace (contact.c). */
+int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U, rk_error *err);
+void rk_rom_contact_positions(rk_rom *s, const double *q);
+/* The barrier at q: value, g += its reduced gradient, H += its reduced Hessian (g, H may be NULL). */
+double rk_rom_contact_energy(rk_rom *s, const double *q, double *g, double *H, rk_error *err);
+/* The largest alpha in [0, 1] CCD allows along q + alpha dq (dq NULL: still) with the obstacles
+ * moving toward time t (NAN: still); -1 on failure. */
+double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, double t, rk_error *err);
+/* Exact crossings at q (rk_contact_intersections). */
+int rk_rom_contact_intersections(rk_rom *s, const double *q, rk_error *err);
 
 /* The reduced potential as the solver's problem: dense Cholesky (LAPACK) for the direction,
  * contact step filtering, and sqrt(dq^T M_r dq / mass) as the step size (an RMS displacement, m). */
 typedef struct {
     rk_rom *s;
     const rk_rom_terms *T;
+    rk_error failure;          /* set when the contact stage failed inside a callback */
 } rk_rom_problem_ctx;
 void rk_rom_problem(rk_rom_problem_ctx *ctx, rk_newton_problem *p);
 /* Minimises the potential from s->q (in place) with the solver's Newton; converged when the step

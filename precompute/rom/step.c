@@ -15,7 +15,15 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->q = rk_calloc((size_t)r, sizeof(double), err);
     s->v = rk_calloc((size_t)r, sizeof(double), err);
     s->work = rk_calloc((size_t)r * (RK_ROM_WORK_VECTORS + r), sizeof(double), err);
-    if (!s->q || !s->v || !s->work || rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
+    if (m->has_contact) {
+        size_t n3 = 3 * (size_t)m->nv + 1;
+        s->x = rk_calloc(n3, sizeof(double), err);
+        s->dx = rk_calloc(n3, sizeof(double), err);
+        s->gx = rk_calloc(n3, sizeof(double), err);
+        s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
+    }
+    if (!s->q || !s->v || !s->work || (m->has_contact && (!s->x || !s->dx || !s->gx || !s->jb)) ||
+        rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
         rk_rom_free(s);
         return -1;
     }
@@ -25,12 +33,12 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
             return rk_fail(err, "reduced start: coordinate %d is not finite", i);
         }
     rk_rom_reset(s, q0, v0, 0.0);
-    for (int c = 0; c < m->ncontacts; c++) {
-        double d = rk_rom_contact_distance(m, c, s->q);
-        if (!(d > 0)) {
+    if (m->has_contact) {
+        int crossings = rk_rom_contact_intersections(s, s->q, err);
+        if (crossings != 0) {
             rk_rom_free(s);
-            return rk_fail(err, "reduced start: vertex %d starts on or behind plane %d (distance %g m)",
-                           m->contact_vertex[c], m->contact_plane[c], d);
+            return crossings < 0 ? -1 : rk_fail(err, "reduced start: the surface intersects an obstacle, another "
+                                                "object or itself (%d crossings or points behind a plane)", crossings);
         }
     }
     return 0;
@@ -45,6 +53,7 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
     }
     s->t = t;
     rk_stepper_forget(&s->stepper);
+    if (s->model->has_contact) rk_contact_set_time(&s->model->contact, t);
 }
 
 void rk_rom_free(rk_rom *s)
@@ -53,6 +62,8 @@ void rk_rom_free(rk_rom *s)
     free(s->v);
     rk_stepper_free(&s->stepper);
     free(s->work);
+    free(s->x), free(s->dx), free(s->gx), free(s->jb);
+    rk_contact_set_free(&s->pairs);
     memset(s, 0, sizeof *s);
 }
 
@@ -66,17 +77,46 @@ static int check_state(const rk_rom *s, rk_error *err)
 
 typedef struct {
     rk_rom *s;
+    const rk_rom_terms *T;
+    int converged;
+} step_solve;
+
+/* The obstacles' motion to t allows this much of itself from here (the subspace holds still). */
+static double obstacle_fraction(void *ctx, double t, rk_error *err)
+{
+    rk_rom *s = ((step_solve *)ctx)->s;
+    return rk_rom_contact_max_step(s, s->q, NULL, t, err);
+}
+
+static int move_and_solve(void *ctx, double t, double fraction, rk_error *err)
+{
+    step_solve *c = ctx;
+    if (c->s->model->has_contact) rk_contact_move_obstacles(&c->s->model->contact, t, fraction);
+    return rk_rom_newton(c->s, c->T, c->s->model->newton_tol, &c->converged, err);
+}
+
+typedef struct {
+    rk_rom *s;
     rk_rom_terms T;
     double *pin;               /* T.pin_b */
+    double last_lambda;        /* the previous increment's load fraction */
 } static_ctx;
 
-/* One load increment: forces at lambda, the pins' targets at lambda times the end time. */
+/* One load increment: forces at lambda, the pins' targets and the obstacles at lambda times the
+ * end time (a new attempt of the load stepping starts the obstacles over). */
 static int increment(void *ctx, double lambda, double *q, int *converged, rk_error *err)
 {
     static_ctx *c = ctx;
+    rk_rom_model *m = c->s->model;
+    if (m->has_contact && lambda <= c->last_lambda) rk_contact_set_time(&m->contact, 0);
+    c->last_lambda = lambda;
     c->T.load = lambda;
-    rk_rom_pin_target(c->s->model, lambda * c->s->model->static_time, c->pin);
-    return rk_rom_newton(c->s, &c->T, c->s->model->newton_tol, converged, err);
+    rk_rom_pin_target(m, lambda * m->static_time, c->pin);
+    step_solve sv = {c->s, &c->T, 1};
+    int rc = m->has_contact ? rk_contact_advance(&sv, lambda * m->static_time, obstacle_fraction, move_and_solve, err)
+                            : move_and_solve(&sv, 0, 1, err);
+    *converged = sv.converged;
+    return rc;
 }
 
 /* Equilibrium at the end time (steps h), by the solver's load stepping; an equilibrium not reached
@@ -103,13 +143,19 @@ static int dynamic_step(rk_rom *s, rk_error *err)
     rk_rom_terms T = {.w_inertia = st->w_inertia, .qtilde = st->xtilde, .w_damping = 1.0 / m->h, .qt = st->xt,
                       .load = 1.0, .pin_b = pin};
     rk_rom_pin_target(m, s->t + m->h, pin);
-    rk_rom_problem_ctx ctx = {s, &T};
+    rk_rom_problem_ctx ctx = {.s = s, .T = &T};
     rk_newton_problem p;
     rk_rom_problem(&ctx, &p);
     rk_stepper_start(st, &p, s->q);
-    int converged;
-    if (rk_rom_newton(s, &T, m->newton_tol, &converged, err)) return -1;
-    if (!converged) s->stats.unconverged_steps++;
+    if (ctx.failure.msg[0]) {
+        *err = ctx.failure;
+        return -1;
+    }
+    step_solve c = {s, &T, 1};
+    if (m->has_contact ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
+                       : move_and_solve(&c, s->t + m->h, 1, err))
+        return -1;
+    if (!c.converged) s->stats.unconverged_steps++;
     rk_stepper_finish(st, s->q, s->v);
     s->t += m->h;
     return 0;

@@ -82,9 +82,11 @@ TEST(bad_options_are_rejected_at_init)
     CHECK(init_fails(&b.f, &opt, "time step", msg), "%s", msg);
 
     rk_fom_default_options(&opt);
-    rk_plane ground = {{0, 0, 0.05}, {0, 0, 1}}; /* the box's bottom layer is below it */
-    opt.obstacles = (rk_obstacles){1, &ground, 1e-3, 100};
-    CHECK(init_fails(&b.f, &opt, "vertex 0 starts on or behind plane 0", msg), "%s", msg);
+    rk_obstacle ground = {.kind = RK_OBSTACLE_PLANE, .point = {0, 0, 0.05}, .normal = {0, 0, 1}}; /* the bottom layer is below it */
+    opt.obstacles = &ground;
+    opt.nobstacles = 1;
+    opt.contact.dhat = 1e-3;
+    CHECK(init_fails(&b.f, &opt, "behind a plane", msg), "%s", msg);
 
     rk_fom_default_options(&opt);
     int a[2] = {0, 1}, c[2] = {3, 1};
@@ -125,18 +127,22 @@ TEST(prescribed_vertex_driven_through_a_plane_fails_with_the_step)
     CHECK_OK(make_body(&b, &err));
     int v0 = 0;
     rk_prescribed down = {.kind = RK_MOTION_TRANSLATE, .count = 1, .verts = &v0, .velocity = {0, 0, -1}};
-    rk_plane ground = {{0, 0, -0.025}, {0, 0, 1}};
+    rk_obstacle ground = {.kind = RK_OBSTACLE_PLANE, .point = {0, 0, -0.025}, .normal = {0, 0, 1}};
     rk_fom_options opt;
     rk_fom_default_options(&opt);
     opt.nprescribed = 1;
     opt.prescribed = &down;
-    opt.obstacles = (rk_obstacles){1, &ground, 1e-3, 100};
+    opt.obstacles = &ground;
+    opt.nobstacles = 1;
+    opt.contact.dhat = 1e-3;
     rk_fom s;
     CHECK_OK(rk_fom_init(&s, &b.f, &opt, &err));
     CHECK_OK(rk_fom_step(&s, &err));
     CHECK_OK(rk_fom_step(&s, &err));
+    /* the third step would take the prescribed vertex 0.005 m below the plane: CCD stops it short,
+     * and the motion cannot go on */
     CHECK(rk_fom_step(&s, &err) != 0, "vertex driven through the plane");
-    CHECK(strstr(err.msg, "step 3") && strstr(err.msg, "prescribed vertex 0"), "message: %s", err.msg);
+    CHECK(strstr(err.msg, "step 3") && strstr(err.msg, "cannot go on"), "message: %s", err.msg);
     rk_fom_free(&s);
     free_body(&b);
 }

@@ -32,7 +32,8 @@ TEST(parses_the_design_example)
           "motions");
     CHECK_CLOSE(o->motions[1].axis[0], 1.0, 1e-15);
     CHECK_CLOSE(o->motions[1].rate, 4 * M_PI, 1e-12);
-    CHECK(s.nplanes == 1 && s.planes[0].normal[1] == 1.0, "plane normal must be normalized");
+    CHECK(s.nobstacles == 1 && s.obstacles[0].shape.kind == RK_OBSTACLE_PLANE && s.obstacles[0].shape.normal[1] == 1.0,
+          "plane normal must be normalized");
     CHECK(s.integrator == RK_BDF2 && s.h == 0.01, "time");
     CHECK(s.nentries == 1 && s.entries[0].basis.type == RK_BASIS_RKPM_SKINNING && s.entries[0].basis.size == 16 &&
               strcmp(s.entries[0].name, "rkpm_skinning-16") == 0 && !s.entries[0].cubature && !s.entries[0].koopman,

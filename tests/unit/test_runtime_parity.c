@@ -107,8 +107,8 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
         CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));                                     \
         double rel = run_both(&f, steps, push, &err, &failed);                                            \
         CHECK(!failed, "%s", err.msg);                                                                    \
-        printf("# %s: relative difference %.3g (tol %g), r = %d, %d cubature elements, %d contacts\n",    \
-               label, rel, (double)(tol), f.R.model.r, f.R.model.quad.count, f.R.model.ncontacts);        \
+        printf("# %s: relative difference %.3g (tol %g), r = %d, %d cubature elements, %d contact vertices\n", \
+               label, rel, (double)(tol), f.R.model.r, f.R.model.quad.count, f.R.model.contact.nv);        \
         CHECK(extra_check, "%s: the scene lacks what it should exercise", label);                         \
         CHECK(rel <= (tol), "relative difference %.3g above %g", rel, (double)(tol));                     \
         rt_fixture_close(&f);                                                                             \
@@ -133,7 +133,7 @@ TEST(stiff_cantilever_matches)
 TEST(twisted_drop_on_a_plane_matches)
 {
     CHECK_PARITY("twisted drop (contact, pins, BDF2)", twisted_drop, 30, NULL, PINNED_TOL,
-                 f.R.model.ncontacts > 0 && f.R.model.npins > 0);
+                 f.R.model.has_contact && f.R.model.npins > 0);
 }
 
 TEST(state_restores_and_reset_returns_to_rest)

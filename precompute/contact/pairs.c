@@ -1,0 +1,217 @@
+/* Contact candidates and the active pairs (contact.h): the broad phase over the boundary
+ * primitives' boxes (grown by dhat for proximity, swept along a step for CCD), then the stencils
+ * that may touch: object points against object and obstacle triangles, obstacle points (sphere
+ * and capsule centres, box and mesh corners) against object triangles, and object edges against
+ * object and obstacle edges. Pairs within one object need self-contact on and no shared vertex. */
+#include "contact/pairs_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "util/util.h"
+
+void rk_contact_set_free(rk_contact_set *s)
+{
+    free(s->pairs);
+    memset(s, 0, sizeof *s);
+}
+
+static int push(rk_contact_set *s, rk_contact_pair p, rk_error *err)
+{
+    if (s->n == s->cap) {
+        int cap = s->cap ? 2 * s->cap : 256;
+        rk_contact_pair *grown = realloc(s->pairs, (size_t)cap * sizeof *grown);
+        if (!grown) return rk_fail(err, "contact: out of memory for %d pairs", cap);
+        s->pairs = grown;
+        s->cap = cap;
+    }
+    s->pairs[s->n++] = p;
+    return 0;
+}
+
+/* Position of stencil id: a mesh vertex, or an obstacle vertex (id < 0). */
+const double *rk_contact_point(const rk_contact *c, const double *x, const double *ox, int id)
+{
+    return id >= 0 ? &x[3 * id] : &ox[3 * (-1 - id)];
+}
+
+/* The box of n points (ids), over x and, when dx is given, x + dx too; grown by grow. */
+static void box_of(const rk_contact *c, const rk_motion_frame *f, const int *ids, int n, double grow, double *box)
+{
+    for (int a = 0; a < 3; a++) box[a] = INFINITY, box[3 + a] = -INFINITY;
+    for (int k = 0; k < n; k++) {
+        const double *p = rk_contact_point(c, f->x, f->ox, ids[k]);
+        const double *d = ids[k] >= 0 ? (f->dx ? &f->dx[3 * ids[k]] : NULL) : (f->odx ? &f->odx[3 * (-1 - ids[k])] : NULL);
+        for (int a = 0; a < 3; a++) {
+            box[a] = fmin(box[a], p[a]);
+            box[3 + a] = fmax(box[3 + a], p[a]);
+            if (d) {
+                box[a] = fmin(box[a], p[a] + d[a]);
+                box[3 + a] = fmax(box[3 + a], p[a] + d[a]);
+            }
+        }
+    }
+    for (int a = 0; a < 3; a++) box[a] -= grow, box[3 + a] += grow;
+}
+
+/* The primitives of one kind: their stencil ids (1, 2 or 3 per primitive) and thickness. */
+typedef struct {
+    int n, size;     /* primitives, points each */
+    int *ids;        /* n x size */
+    double *xi;      /* n, or NULL: 0 */
+    double *boxes;   /* n x 6 */
+} primitives;
+
+static void primitives_free(primitives *p)
+{
+    free(p->ids), free(p->xi), free(p->boxes);
+    memset(p, 0, sizeof *p);
+}
+
+static int primitives_alloc(primitives *p, int n, int size, int thick, rk_error *err)
+{
+    memset(p, 0, sizeof *p);
+    p->n = n;
+    p->size = size;
+    p->ids = rk_calloc((size_t)n * size + 1, sizeof(int), err);
+    p->boxes = rk_calloc(6 * (size_t)n + 1, sizeof(double), err);
+    p->xi = thick ? rk_calloc((size_t)n + 1, sizeof(double), err) : NULL;
+    return p->ids && p->boxes && (!thick || p->xi) ? 0 : -1;
+}
+
+/* The object's points, edges, triangles and the obstacles' (ids < 0), with boxes. */
+static int build_primitives(const rk_contact *c, const rk_motion_frame *f, double grow, primitives P[6], rk_error *err)
+{
+    if (primitives_alloc(&P[OBJ_POINTS], c->nv, 1, 0, err) || primitives_alloc(&P[OBJ_EDGES], c->ne, 2, 0, err) ||
+        primitives_alloc(&P[OBJ_FACES], c->nf, 3, 0, err) || primitives_alloc(&P[OBS_POINTS], c->onv, 1, 1, err) ||
+        primitives_alloc(&P[OBS_EDGES], c->one, 2, 1, err) || primitives_alloc(&P[OBS_FACES], c->onf, 3, 1, err))
+        return -1;
+    memcpy(P[OBJ_POINTS].ids, c->vertex, sizeof(int) * (size_t)c->nv);
+    memcpy(P[OBJ_EDGES].ids, c->edges, sizeof(int) * 2 * (size_t)c->ne);
+    memcpy(P[OBJ_FACES].ids, c->faces, sizeof(int) * 3 * (size_t)c->nf);
+    for (int v = 0; v < c->onv; v++) {
+        P[OBS_POINTS].ids[v] = -1 - v;
+        P[OBS_POINTS].xi[v] = c->othick[c->overt_obstacle[v]];
+    }
+    for (int e = 0; e < c->one; e++) {
+        for (int k = 0; k < 2; k++) P[OBS_EDGES].ids[2 * e + k] = -1 - c->oedges[2 * e + k];
+        P[OBS_EDGES].xi[e] = c->othick[c->overt_obstacle[c->oedges[2 * e]]];
+    }
+    for (int t = 0; t < c->onf; t++)
+        for (int k = 0; k < 3; k++) P[OBS_FACES].ids[3 * t + k] = -1 - c->ofaces[3 * t + k];
+    for (int k = 0; k < 6; k++)
+        for (int i = 0; i < P[k].n; i++)
+            box_of(c, f, P[k].ids + (size_t)P[k].size * i, P[k].size, grow + (P[k].xi ? P[k].xi[i] : 0),
+                   P[k].boxes + 6 * i);
+    return 0;
+}
+
+static int shares(const int *a, int na, const int *b, int nb)
+{
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++)
+            if (a[i] == b[j]) return 1;
+    return 0;
+}
+
+/* Whether two object primitives may touch: different objects, or self-contact on and no shared vertex. */
+static int object_pair_allowed(const rk_contact *c, const int *a, int na, const int *b, int nb)
+{
+    if (shares(a, na, b, nb)) return 0;
+    return c->object[a[0]] != c->object[b[0]] || c->opt.self;
+}
+
+/* The rest |e|^2 of an edge (mesh or obstacle vertex ids). */
+static double edge_rest2(const rk_contact *c, const int *ids)
+{
+    const double *p = ids[0] >= 0 ? &c->X[3 * ids[0]] : &c->oX[3 * (-1 - ids[0])];
+    const double *q = ids[1] >= 0 ? &c->X[3 * ids[1]] : &c->oX[3 * (-1 - ids[1])];
+    return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+}
+
+int rk_contact_candidates(rk_contact *c, const rk_motion_frame *f, double grow, rk_contact_set *s, rk_error *err)
+{
+    primitives P[6];
+    memset(P, 0, sizeof P);
+    s->n = 0;
+    int rc = build_primitives(c, f, grow, P, err);
+    /* the classes of pairs: A side, B side, kind */
+    static const int classes[5][3] = {{OBJ_POINTS, OBJ_FACES, RK_PAIR_POINT_TRIANGLE},
+                                      {OBJ_EDGES, OBJ_EDGES, RK_PAIR_EDGE_EDGE},
+                                      {OBJ_POINTS, OBS_FACES, RK_PAIR_POINT_TRIANGLE},
+                                      {OBS_POINTS, OBJ_FACES, RK_PAIR_POINT_TRIANGLE},
+                                      {OBJ_EDGES, OBS_EDGES, RK_PAIR_EDGE_EDGE}};
+    for (int k = 0; k < 5 && !rc; k++) {
+        const primitives *A = &P[classes[k][0]], *B = &P[classes[k][1]];
+        int *pairs = NULL, np = 0;
+        if (rk_broad_phase(A->boxes, A->n, B->boxes, B->n, &pairs, &np, err)) {
+            rc = -1;
+            break;
+        }
+        for (int p = 0; p < np && !rc; p++) {
+            int a = pairs[2 * p], b = pairs[2 * p + 1];
+            const int *ia = A->ids + (size_t)A->size * a, *ib = B->ids + (size_t)B->size * b;
+            int object_object = k < 2;
+            if (object_object && (!object_pair_allowed(c, ia, A->size, ib, B->size) || (k == 1 && a >= b))) continue;
+            rk_contact_pair q = {.kind = (rk_pair_kind)classes[k][2]};
+            memcpy(q.id, ia, sizeof(int) * (size_t)A->size);
+            memcpy(q.id + A->size, ib, sizeof(int) * (size_t)B->size);
+            q.xi = A->xi ? A->xi[a] : B->xi ? B->xi[b] : 0;
+            if (q.kind == RK_PAIR_EDGE_EDGE) q.eps = 1e-3 * edge_rest2(c, ia) * edge_rest2(c, ib);
+            rc = push(s, q, err);
+        }
+        free(pairs);
+    }
+    for (int k = 0; k < 6; k++) primitives_free(&P[k]);
+    return rc;
+}
+
+/* The stencil's four points at x (mesh) and ox (obstacles). */
+void rk_contact_stencil(const rk_contact *c, const rk_contact_pair *p, const double *x, const double *ox,
+                        const double *out[4])
+{
+    for (int k = 0; k < 4; k++) out[k] = rk_contact_point(c, x, ox, p->id[k]);
+}
+
+double rk_contact_pair_distance2(const rk_contact *c, const rk_contact_pair *p, const double *x, const double *ox)
+{
+    const double *pts[4];
+    rk_contact_stencil(c, p, x, ox, pts);
+    rk_distance_case k = p->kind == RK_PAIR_EDGE_EDGE ? rk_edge_edge_case(pts) : rk_point_triangle_case(pts);
+    return rk_contact_distance2(k, pts, NULL, NULL);
+}
+
+double rk_contact_plane_distance(const rk_contact *c, int plane, const double *p)
+{
+    const double *pl = &c->oplane[6 * plane];
+    return pl[3] * (p[0] - pl[0]) + pl[4] * (p[1] - pl[1]) + pl[5] * (p[2] - pl[2]);
+}
+
+int rk_contact_gather(rk_contact *c, const double *x, rk_contact_set *s, rk_error *err)
+{
+    double t0 = rk_now(), dhat = c->opt.dhat;
+    rk_motion_frame f = {x, NULL, c->ox, NULL};
+    if (rk_contact_candidates(c, &f, dhat, s, err)) return -1;
+    c->stats.seconds_broad += rk_now() - t0;
+    /* keep the stencils within dhat (plus thickness) */
+    int kept = 0;
+    for (int i = 0; i < s->n; i++) {
+        const rk_contact_pair *p = &s->pairs[i];
+        double reach = dhat + p->xi;
+        if (rk_contact_pair_distance2(c, p, x, c->ox) < reach * reach) s->pairs[kept++] = *p;
+    }
+    s->n = kept;
+    for (int k = 0; k < c->nobstacles; k++) {
+        if (c->obstacles[k].kind != RK_OBSTACLE_PLANE) continue;
+        for (int i = 0; i < c->nv; i++) {
+            int v = c->vertex[i];
+            if (rk_contact_plane_distance(c, k, &x[3 * v]) < dhat &&
+                push(s, (rk_contact_pair){.kind = RK_PAIR_POINT_PLANE, .id = {v, k, -1, -1}}, err))
+                return -1;
+        }
+    }
+    c->stats.pairs += s->n;
+    if (s->n > c->stats.max_pairs) c->stats.max_pairs = s->n;
+    return 0;
+}

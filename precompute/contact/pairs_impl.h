@@ -1,0 +1,35 @@
+/* Private to precompute/contact: the candidate stencils that proximity, CCD and the measures
+ * share (pairs.c). */
+#ifndef RK_CONTACT_PAIRS_IMPL_H
+#define RK_CONTACT_PAIRS_IMPL_H
+
+#include "contact/contact.h"
+
+/* The primitive sets of the broad phase. */
+enum { OBJ_POINTS, OBJ_EDGES, OBJ_FACES, OBS_POINTS, OBS_EDGES, OBS_FACES };
+
+/* Where everything is, and where it moves over a step (dx, odx NULL: still). */
+typedef struct {
+    const double *x, *dx;    /* mesh positions (3 nmesh) and their displacement */
+    const double *ox, *odx;  /* obstacle vertex positions (3 onv) and their displacement */
+} rk_motion_frame;
+
+/* Position of stencil point id: mesh vertex id, or obstacle vertex -1 - id. */
+const double *rk_contact_point(const rk_contact *c, const double *x, const double *ox, int id);
+/* The stencils whose primitives' boxes (over x and x + dx) come within grow (plus their thickness)
+ * of each other: point-triangle and edge-edge pairs, into s (emptied first). Points against
+ * planes are not among them. */
+int rk_contact_candidates(rk_contact *c, const rk_motion_frame *f, double grow, rk_contact_set *s, rk_error *err);
+
+/* The stencil's four points at x (mesh) and ox (obstacles). */
+void rk_contact_stencil(const rk_contact *c, const rk_contact_pair *p, const double *x, const double *ox,
+                        const double *out[4]);
+/* Squared distance of a point-triangle or edge-edge pair (its thickness not subtracted). */
+double rk_contact_pair_distance2(const rk_contact *c, const rk_contact_pair *p, const double *x, const double *ox);
+/* Signed distance of point p from plane obstacle `plane` where it is now. */
+double rk_contact_plane_distance(const rk_contact *c, int plane, const double *p);
+
+/* Where the obstacles are at time t into ox_to and oplane_to (collision.c). */
+void rk_contact_obstacle_targets(rk_contact *c, double t);
+
+#endif

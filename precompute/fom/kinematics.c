@@ -1,0 +1,55 @@
+/* The prescribed motion of a step (fom_impl.h, rk_fom_advance_kinematics): prescribed vertices and
+ * obstacles go to their targets. With contact they may only go as far as CCD allows, so the
+ * motion is made in moves: each as far as is safe, each followed by a Newton solve that pushes
+ * the free vertices clear, until the targets are reached (IPC's kinematic boundary conditions,
+ * done by continuation rather than a penalty). */
+#include "fom/fom_impl.h"
+
+#include <string.h>
+
+typedef struct {
+    rk_fom *s;
+    rk_fom_solve_fn solve;
+    void *ctx;
+} kinematics;
+
+/* What is left: the prescribed vertices' way to their targets at t (in work2, which the solve
+ * reuses as scratch: recomputed on every call). */
+static double *remaining(rk_fom *s, double t)
+{
+    rk_fom_impl *im = s->impl;
+    double *dx = im->work2;
+    memcpy(dx, s->x, sizeof(double) * (size_t)im->n);
+    rk_fom_prescribe(s, t, dx);
+    for (int i = 0; i < im->n; i++) dx[i] = im->prescribed_dof[i] ? dx[i] - s->x[i] : 0;
+    return dx;
+}
+
+static double fraction(void *ctx, double t, rk_error *err)
+{
+    rk_fom *s = ((kinematics *)ctx)->s;
+    return rk_contact_max_step(&s->impl->contact, s->x, remaining(s, t), t, err);
+}
+
+static int move(void *ctx, double t, double f, rk_error *err)
+{
+    kinematics *k = ctx;
+    rk_fom *s = k->s;
+    if (f >= 1) rk_fom_prescribe(s, t, s->x); /* exactly on target */
+    else {
+        const double *dx = remaining(s, t);
+        for (int i = 0; i < s->impl->n; i++) s->x[i] += f * dx[i];
+    }
+    rk_contact_move_obstacles(&s->impl->contact, t, f);
+    return k->solve(s, k->ctx, err);
+}
+
+int rk_fom_advance_kinematics(rk_fom *s, double t, rk_fom_solve_fn solve, void *ctx, rk_error *err)
+{
+    if (!s->impl->has_contact) {
+        rk_fom_prescribe(s, t, s->x);
+        return solve(s, ctx, err);
+    }
+    kinematics k = {s, solve, ctx};
+    return rk_contact_advance(&k, t, fraction, move, err);
+}
