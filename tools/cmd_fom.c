@@ -69,9 +69,13 @@ typedef struct {
     int have_snap, steps;
     double *x;             /* the last frame's positions */
     cJSON *final;          /* the final state's report keys */
+    int contact, max_inverted;  /* contact measured; the most inverted elements of a frame */
+    long intersections;    /* exact crossings summed over the frames (0 for a valid run) */
+    rk_contact_stats stats; /* the contact stage's counters at the end */
+    double min_distance;   /* the closest the surfaces came over the frames (m) */
 } fom_output;
 
-static int on_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
+static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     fom_output *o = ctx;
     const rk_scene_sim *sim = o->sim;
@@ -79,9 +83,15 @@ static int on_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_e
     if (o->have_snap) rk_npy_stream_append(&o->snap, fom->x, 3 * (size_t)nv);
     if (o->a->frames && write_frame(o->a, &sim->mesh, fom->x, step, err)) return -1;
     memcpy(o->x, fom->x, sizeof(double) * 3 * (size_t)nv);
+    double min_J, max_disp = 0, closest;
+    int inverted = rk_fem_inverted(&sim->fem, fom->x, &min_J), crossings;
+    if (inverted > o->max_inverted) o->max_inverted = inverted;
+    if (o->contact) {
+        if (rk_fom_contact_measure(fom, &crossings, &closest, err)) return -1;
+        o->intersections += crossings;
+        if (closest < o->min_distance) o->min_distance = closest;
+    }
     if (step < o->steps) return 0;
-    double min_J, max_disp = 0;
-    int inverted = rk_fem_inverted(&sim->fem, fom->x, &min_J);
     for (int v = 0; v < nv; v++) {
         double d2 = 0;
         for (int i = 0; i < 3; i++) d2 += pow(fom->x[3 * v + i] - sim->mesh.X[3 * v + i], 2);
@@ -94,7 +104,23 @@ static int on_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_e
     cJSON_AddNumberToObject(fin, "max_displacement", max_disp);
     cJSON_AddNumberToObject(fin, "kinetic_energy", rk_fom_kinetic_energy(fom));
     cJSON_AddNumberToObject(fin, "elastic_energy", rk_fem_energy(&sim->fem, fom->x));
+    if (o->contact && rk_fom_contact_stats(fom)) o->stats = *rk_fom_contact_stats(fom);
     return 0;
+}
+
+/* The report's "contact" object: what the run came to and what contact cost. */
+static void add_contact(cJSON *r, const fom_output *o, const rk_contact_stats *cs)
+{
+    cJSON *c = cJSON_AddObjectToObject(r, "contact");
+    cJSON_AddNumberToObject(c, "min_distance", o->min_distance);
+    cJSON_AddNumberToObject(c, "intersections", (double)o->intersections);
+    cJSON_AddNumberToObject(c, "mean_pairs", cs->gathers ? (double)cs->pairs / cs->gathers : 0);
+    cJSON_AddNumberToObject(c, "max_pairs", (double)cs->max_pairs);
+    cJSON_AddNumberToObject(c, "ccd_calls", (double)cs->ccd_calls);
+    cJSON *sec = cJSON_AddObjectToObject(c, "seconds");
+    cJSON_AddNumberToObject(sec, "broad_phase", cs->seconds_broad);
+    cJSON_AddNumberToObject(sec, "ccd", cs->seconds_ccd);
+    cJSON_AddNumberToObject(sec, "barrier", cs->seconds_potential);
 }
 
 static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, int steps, cJSON *final, double seconds_total)
@@ -142,7 +168,7 @@ int cmd_fom(int argc, char **argv)
     rk_error err = {{0}};
     rk_scene scene;
     rk_scene_sim sim;
-    fom_output out = {.a = &a};
+    fom_output out = {.a = &a, .min_distance = INFINITY};
     int have_scene = 0, have_sim = 0, rc = 1;
     if (rk_scene_load(a.scene, &scene, &err)) goto done;
     have_scene = 1;
@@ -150,6 +176,7 @@ int cmd_fom(int argc, char **argv)
     have_sim = 1;
     int nv = sim.mesh.nv;
     out.sim = &sim;
+    out.contact = sim.options.nobstacles > 0 || sim.options.nobjects > 1 || sim.options.contact.self;
     out.steps = sim.options.is_static ? 1 : sim.steps;
     if (!(out.x = rk_calloc(3 * (size_t)nv, sizeof(double), &err))) goto done;
     if (a.frames && mkdir(a.frames, 0777) != 0 && errno != EEXIST) {
@@ -173,6 +200,8 @@ int cmd_fom(int argc, char **argv)
     }
     cJSON *report = make_report(&sim, &stats, out.steps, out.final, rk_now() - t0);
     out.final = NULL;
+    cJSON_AddNumberToObject(report, "max_inverted_elements", out.max_inverted);
+    if (out.contact) add_contact(report, &out, &out.stats);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);
         goto done;
@@ -188,6 +217,11 @@ int cmd_fom(int argc, char **argv)
            cJSON_GetObjectItem(fin, "inverted_elements")->valueint,
            cJSON_GetObjectItem(fin, "max_displacement")->valuedouble,
            cJSON_GetObjectItem(fin, "kinetic_energy")->valuedouble);
+    if (out.contact)
+        printf("contact: closest %.3g m, %ld crossings over %d frames, %.1f pairs per evaluation (at most %ld); "
+               "broad phase %.3g s, CCD %.3g s\n", out.min_distance, out.intersections, out.steps + 1,
+               out.stats.gathers ? (double)out.stats.pairs / out.stats.gathers : 0.0, out.stats.max_pairs,
+               out.stats.seconds_broad, out.stats.seconds_ccd);
     cJSON_Delete(report);
     rc = 0;
 done:

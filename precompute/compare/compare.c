@@ -10,7 +10,7 @@
 #include "util/util.h"
 
 
-static int keep_frame(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
+static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     fom_run *F = ctx;
     memcpy(F->x + (size_t)F->ndof * step, fom->x, sizeof(double) * F->ndof);

@@ -245,6 +245,9 @@ int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_
         if (on[v]) c->vertex[c->nv++] = v;
     free(on);
     if (build_obstacles(c, obstacles, nobstacles, err)) goto fail;
+    c->cache_x = rk_calloc(3 * (size_t)c->nv + 1, sizeof(double), err);
+    c->cache_ox = rk_calloc(3 * (size_t)c->onv + 1, sizeof(double), err);
+    if (!c->cache_x || !c->cache_ox) goto fail;
     /* IPC's kappa_min: 4 d0 b''(d0) kappa_min = 1e11 m_avg, with d0 = (1e-8 diagonal)^2 */
     double d0 = 1e-8 * c->bbox_diagonal, d2;
     d0 *= d0;
@@ -264,6 +267,8 @@ void rk_contact_free(rk_contact *c)
     free(c->vertex), free(c->object), free(c->edges), free(c->faces), free(c->X);
     free(c->obstacles), free(c->oX), free(c->ox), free(c->overt_obstacle), free(c->oedges), free(c->ofaces);
     free(c->othick), free(c->oplane), free(c->ox_to), free(c->oplane_to);
+    free(c->cache_x), free(c->cache_ox);
+    rk_contact_set_free(&c->cache);
     memset(c, 0, sizeof *c);
 }
 

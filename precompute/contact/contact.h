@@ -105,8 +105,24 @@ typedef struct {
  * no friction, eps_v 1e-3 m/s, 3 lagging iterations, no self-contact. */
 void rk_contact_default_options(rk_contact_options *o);
 
+typedef enum { RK_PAIR_POINT_TRIANGLE = 0, RK_PAIR_EDGE_EDGE = 1, RK_PAIR_POINT_PLANE = 2 } rk_pair_kind;
+
+/* A stencil: id >= 0 a mesh vertex (a degree of freedom), id < 0 obstacle vertex -1 - id; a
+ * point-plane pair is (vertex, plane obstacle index). */
 typedef struct {
-    long steps, pairs, max_pairs, ccd_calls;
+    rk_pair_kind kind;
+    int id[4];
+    double xi;                     /* thickness */
+    double eps;                    /* edge-edge mollifier threshold (0: none) */
+} rk_contact_pair;
+
+typedef struct {
+    int n, cap;
+    rk_contact_pair *pairs;
+} rk_contact_set;
+
+typedef struct {
+    long steps, gathers, pairs, max_pairs, ccd_calls; /* pairs: summed over the gathers */
     double min_distance;           /* over every evaluation (m): the closest two surfaces came */
     double seconds_broad, seconds_ccd, seconds_potential;
 } rk_contact_stats;
@@ -135,6 +151,11 @@ typedef struct {
     double min_distance_last;      /* the smallest distance at the last kappa update (NAN: none yet) */
     double bbox_diagonal;
     int exact_hessian;             /* tests: hand over the Hessian blocks unprojected */
+    /* The gather's candidates (a Verlet list): stencils within 2 dhat where the surfaces were at
+     * cache_x / cache_ox, good while nothing has moved dhat / 2 since. */
+    rk_contact_set cache;
+    double *cache_x, *cache_ox;    /* 3 nv (collision vertices), 3 onv */
+    int cache_valid;
     rk_contact_stats stats;
 } rk_contact;
 
@@ -150,22 +171,6 @@ void rk_contact_free(rk_contact *c);
 void rk_contact_set_time(rk_contact *c, double t);
 
 /* ---- contact pairs and the barrier potential (pairs.c, potential.c) ---- */
-
-typedef enum { RK_PAIR_POINT_TRIANGLE = 0, RK_PAIR_EDGE_EDGE = 1, RK_PAIR_POINT_PLANE = 2 } rk_pair_kind;
-
-/* A stencil: id >= 0 a mesh vertex (a degree of freedom), id < 0 obstacle vertex -1 - id; a
- * point-plane pair is (vertex, plane obstacle index). */
-typedef struct {
-    rk_pair_kind kind;
-    int id[4];
-    double xi;                     /* thickness */
-    double eps;                    /* edge-edge mollifier threshold (0: none) */
-} rk_contact_pair;
-
-typedef struct {
-    int n, cap;
-    rk_contact_pair *pairs;
-} rk_contact_set;
 
 void rk_contact_set_free(rk_contact_set *s);
 /* The pairs of c closer than dhat (plus their thickness) at mesh positions x, obstacles where

@@ -188,20 +188,44 @@ double rk_contact_plane_distance(const rk_contact *c, int plane, const double *p
     return pl[3] * (p[0] - pl[0]) + pl[4] * (p[1] - pl[1]) + pl[5] * (p[2] - pl[2]);
 }
 
+/* The largest distance any collision vertex or obstacle vertex has moved since the cache. */
+static double moved_since_cache(const rk_contact *c, const double *x)
+{
+    double m2 = 0;
+    for (int i = 0; i < c->nv; i++) {
+        const double *p = &x[3 * c->vertex[i]], *q = &c->cache_x[3 * i];
+        double d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+        if (d2 > m2) m2 = d2;
+    }
+    for (int i = 0; i < c->onv; i++) {
+        const double *p = &c->ox[3 * i], *q = &c->cache_ox[3 * i];
+        double d2 = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+        if (d2 > m2) m2 = d2;
+    }
+    return sqrt(m2);
+}
+
 int rk_contact_gather(rk_contact *c, const double *x, rk_contact_set *s, rk_error *err)
 {
-    double t0 = rk_now(), dhat = c->opt.dhat;
-    rk_motion_frame f = {x, NULL, c->ox, NULL};
-    if (rk_contact_candidates(c, &f, dhat, s, err)) return -1;
-    c->stats.seconds_broad += rk_now() - t0;
-    /* keep the stencils within dhat (plus thickness) */
-    int kept = 0;
-    for (int i = 0; i < s->n; i++) {
-        const rk_contact_pair *p = &s->pairs[i];
-        double reach = dhat + p->xi;
-        if (rk_contact_pair_distance2(c, p, x, c->ox) < reach * reach) s->pairs[kept++] = *p;
+    double dhat = c->opt.dhat;
+    /* a pair's distance changes by at most twice the largest move: the list grown by dhat holds
+     * every pair within dhat while nothing has moved dhat / 2 */
+    if (!c->cache_valid || 2 * moved_since_cache(c, x) > dhat) {
+        double t0 = rk_now();
+        rk_motion_frame f = {x, NULL, c->ox, NULL};
+        if (rk_contact_candidates(c, &f, 2 * dhat, &c->cache, err)) return -1;
+        for (int i = 0; i < c->nv; i++) memcpy(&c->cache_x[3 * i], &x[3 * c->vertex[i]], 3 * sizeof(double));
+        memcpy(c->cache_ox, c->ox, sizeof(double) * 3 * (size_t)c->onv);
+        c->cache_valid = 1;
+        c->stats.seconds_broad += rk_now() - t0;
     }
-    s->n = kept;
+    /* keep the stencils within dhat (plus thickness) */
+    s->n = 0;
+    for (int i = 0; i < c->cache.n; i++) {
+        const rk_contact_pair *p = &c->cache.pairs[i];
+        double reach = dhat + p->xi;
+        if (rk_contact_pair_distance2(c, p, x, c->ox) < reach * reach && push(s, *p, err)) return -1;
+    }
     for (int k = 0; k < c->nobstacles; k++) {
         if (c->obstacles[k].kind != RK_OBSTACLE_PLANE) continue;
         for (int i = 0; i < c->nv; i++) {
@@ -211,6 +235,7 @@ int rk_contact_gather(rk_contact *c, const double *x, rk_contact_set *s, rk_erro
                 return -1;
         }
     }
+    c->stats.gathers++;
     c->stats.pairs += s->n;
     if (s->n > c->stats.max_pairs) c->stats.max_pairs = s->n;
     return 0;

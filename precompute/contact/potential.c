@@ -8,6 +8,28 @@
 
 #include "util/util.h"
 
+/* Projects the Hessian H (12 x 12) to PSD on the points that are degrees of freedom and take part
+ * (a non-zero row): obstacle points and points outside the closest feature drop out, so a
+ * point-point pair projects a 6 x 6 block, a point against an obstacle's triangle a 3 x 3. The
+ * other rows and columns are zeroed (the consumer drops obstacle points anyway). */
+static void project_on_dofs(const rk_contact_pair *p, double *H)
+{
+    int keep[12], n = 0;
+    for (int k = 0; k < 4; k++) {
+        int used = 0;
+        for (int a = 0; a < 3 && p->id[k] >= 0; a++)
+            for (int j = 0; j < 12; j++) used |= H[12 * (3 * k + a) + j] != 0;
+        for (int a = 0; a < 3 && used; a++) keep[n++] = 3 * k + a;
+    }
+    double B[144];
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) B[n * i + j] = H[12 * keep[i] + keep[j]];
+    rk_project_psd(n, B);
+    memset(H, 0, 144 * sizeof(double));
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) H[12 * keep[i] + keep[j]] = B[n * i + j];
+}
+
 /* One pair's energy, gradient (12) and Hessian (144), unscaled by kappa. +INFINITY on contact. */
 static double pair_potential(const rk_contact *c, const rk_contact_pair *p, const double *x, double *g, double *H,
                              double *dist)
@@ -36,7 +58,7 @@ static double pair_potential(const rk_contact *c, const rk_contact_pair *p, cons
             for (int j = 0; j < 12; j++)
                 H[12 * i + j] = m * (b2 * gd[i] * gd[j] + b1 * Hd[12 * i + j]) + b1 * (gd[i] * gm[j] + gm[i] * gd[j]) +
                                 b * Hm[12 * i + j];
-        if (!c->exact_hessian) rk_project_psd(12, H);
+        if (!c->exact_hessian) project_on_dofs(p, H);
     }
     return m * b;
 }

@@ -122,4 +122,10 @@ double rk_fom_kinetic_energy(const rk_fom *s);
 double rk_fom_elastic_energy(const rk_fom *s);
 void rk_fom_free(rk_fom *s);
 
+/* Contact at the current state (0 and INFINITY without contact): exact crossings of its surfaces
+ * (0 for a valid state) and the smallest distance between them (m). */
+int rk_fom_contact_measure(rk_fom *s, int *intersections, double *min_distance, rk_error *err);
+/* The contact stage's counters (pairs, broad phase, CCD and barrier seconds), or NULL without contact. */
+const rk_contact_stats *rk_fom_contact_stats(const rk_fom *s);
+
 #endif

@@ -59,7 +59,7 @@ typedef struct {
 
 /* u_0 (step 0: the simulator holds prescribed vertices at their targets from the start), then one
  * displacement frame per step. */
-static int record(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
+static int record(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     const recording *r = ctx;
     int n3 = 3 * r->sim->mesh.nv;

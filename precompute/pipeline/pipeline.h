@@ -183,7 +183,7 @@ void rk_scene_sim_free(rk_scene_sim *out);
 
 /* Called after every step (and once for the start, step 0) of a full-order run with the state
  * and the step's seconds (0 for the start); non-zero stops the run with that error. */
-typedef int (*rk_frame_fn)(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err);
+typedef int (*rk_frame_fn)(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err);
 
 /* The built scene run at full order: options as the scene says (opt NULL) or as given, the static
  * solve or every time step, with progress under `label`. stats (may be NULL) gets the run's. */

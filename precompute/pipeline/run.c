@@ -31,7 +31,7 @@ typedef struct {
     double *D;
 } training;
 
-static int keep_displacement(void *ctx, int step, const rk_fom *fom, double seconds, rk_error *err)
+static int keep_displacement(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     const training *t = ctx;
     int n3 = 3 * t->sim->mesh.nv;
