@@ -755,7 +755,8 @@ PHYS_API PHYS_REAL PHYS_FN(barrier_distance)(PHYS_REAL d, PHYS_REAL dhat, PHYS_R
 
 /* Where a prescribed group's vertices are at time t: x = R X + shift. Fixed: R = I, shift = 0;
  * translate: shift = velocity t; twist: rotation by rate t (rad) about the axis (any length)
- * through center, by Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T, shift = c - R c. */
+ * through center, by Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T, shift = c - R c, plus
+ * velocity t (zero for a plain twist; a twist that also translates is a screw). */
 PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
                               PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
                               PHYS_REAL shift[3])
@@ -778,7 +779,8 @@ PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], cons
             for (j = 0; j < 3; j++)
                 R[3 * i + j] = (PHYS_REAL)(i == j) * c + sn * cross[3 * i + j] + (PHYS_K_(1) - c) * k[i] * k[j];
         for (i = 0; i < 3; i++)
-            shift[i] = center[i] - (R[3 * i] * center[0] + R[3 * i + 1] * center[1] + R[3 * i + 2] * center[2]);
+            shift[i] = center[i] - (R[3 * i] * center[0] + R[3 * i + 1] * center[1] + R[3 * i + 2] * center[2]) +
+                       velocity[i] * t; /* a screw when the twist also translates */
     }
 }
 

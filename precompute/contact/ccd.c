@@ -72,27 +72,17 @@ int rk_ccd_stencil(int edge_edge, const double *const x[4], const double *const 
     return 1;
 }
 
-double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, double t, rk_error *err)
+double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, const double *odx, rk_error *err)
 {
     double alpha = 1, t0 = rk_now();
-    int moving = !isnan(t);
-    double *odx = NULL;
-    if (moving) {
-        rk_contact_obstacle_targets(c, t);
-        odx = c->ox_to;
-        for (int i = 0; i < 3 * c->onv; i++) odx[i] -= c->ox[i]; /* ox_to becomes the displacement */
-    }
-    /* points against planes, a moving plane's point carried along: keep 10% of each distance */
+    /* points against (still) planes: keep 10% of each distance */
     for (int k = 0; k < c->nobstacles; k++) {
         if (c->obstacles[k].kind != RK_OBSTACLE_PLANE) continue;
         const double *n = &c->oplane[6 * k + 3];
-        double shift = 0;
-        if (moving)
-            for (int i = 0; i < 3; i++) shift += n[i] * (c->oplane_to[6 * k + i] - c->oplane[6 * k + i]);
         for (int i = 0; i < c->nv; i++) {
             int v = c->vertex[i];
             double d = rk_contact_plane_distance(c, k, &x[3 * v]);
-            double rate = n[0] * dx[3 * v] + n[1] * dx[3 * v + 1] + n[2] * dx[3 * v + 2] - shift;
+            double rate = n[0] * dx[3 * v] + n[1] * dx[3 * v + 1] + n[2] * dx[3 * v + 2];
             if (d > 0 && rate < 0 && 0.9 * d < -rate * alpha) alpha = 0.9 * d / -rate;
         }
     }

@@ -277,7 +277,8 @@ static void obstacle_transform(const rk_obstacle *o, double t, double R[9], doub
     rk_motion(o->motion, o->axis, o->motion_center, o->rate, o->velocity, t, R, shift);
 }
 
-/* Where the obstacles are at time t: vertices into ox (3 onv), planes into pl (6 per obstacle). */
+/* Where the obstacles are at time t: vertices into ox (3 onv), planes into pl (6 per obstacle,
+ * or NULL). */
 static void obstacles_at(const rk_contact *c, double t, double *ox, double *pl)
 {
     for (int v = 0; v < c->onv; v++) {
@@ -286,7 +287,7 @@ static void obstacles_at(const rk_contact *c, double t, double *ox, double *pl)
         const double *X = &c->oX[3 * v];
         for (int i = 0; i < 3; i++) ox[3 * v + i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + s[i];
     }
-    for (int k = 0; k < c->nobstacles; k++) {
+    for (int k = 0; pl && k < c->nobstacles; k++) {
         const rk_obstacle *o = &c->obstacles[k];
         if (o->kind != RK_OBSTACLE_PLANE) continue;
         double R[9], s[3], *p = &pl[6 * k];
@@ -296,6 +297,11 @@ static void obstacles_at(const rk_contact *c, double t, double *ox, double *pl)
             p[3 + i] = R[3 * i] * o->normal[0] + R[3 * i + 1] * o->normal[1] + R[3 * i + 2] * o->normal[2];
         }
     }
+}
+
+void rk_contact_obstacles_at(const rk_contact *c, double t, double *out)
+{
+    obstacles_at(c, t, out, NULL);
 }
 
 void rk_contact_set_time(rk_contact *c, double t)

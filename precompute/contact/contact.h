@@ -151,6 +151,7 @@ typedef struct {
     double min_distance_last;      /* the smallest distance at the last kappa update (NAN: none yet) */
     double bbox_diagonal;
     int exact_hessian;             /* tests: hand over the Hessian blocks unprojected */
+    int obstacle_dofs;             /* the simulator moves obstacle vertices as unknowns (their Hessian rows count) */
     /* The gather's candidates (a Verlet list): stencils within 2 dhat where the surfaces were at
      * cache_x / cache_ox, good while nothing has moved dhat / 2 since. */
     rk_contact_set cache;
@@ -169,6 +170,8 @@ int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_
 void rk_contact_free(rk_contact *c);
 /* Moves the obstacles to where their motions put them at time t (ox, oplane). */
 void rk_contact_set_time(rk_contact *c, double t);
+/* Where the obstacle vertices are at time t, into out (3 onv), without moving them. */
+void rk_contact_obstacles_at(const rk_contact *c, double t, double *out);
 
 /* ---- contact pairs and the barrier potential (pairs.c, potential.c) ---- */
 
@@ -183,10 +186,11 @@ typedef void (*rk_hessian_sink)(void *ctx, const int *id, int npoints, const dou
 
 /* The barrier kappa sum_k m_k b(d_k^2 - xi^2, dhat^2 + 2 xi dhat) over the pairs of s at x (m_k
  * the mollifier of edge-edge pairs): its value (+INFINITY when a pair touches or a point is
- * behind a plane), with g (3 nmesh, may be NULL) += its gradient and each pair's projected
- * Hessian to sink (may be NULL). *min_distance (may be NULL): the smallest distance of the pairs. */
-double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, rk_hessian_sink sink,
-                         void *ctx, double *min_distance);
+ * behind a plane), with g (3 nmesh, may be NULL) and og (3 onv, the obstacle vertices, may be
+ * NULL) += its gradient and each pair's projected Hessian to sink (may be NULL). *min_distance
+ * (may be NULL): the smallest distance of the pairs. */
+double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, double *og,
+                         rk_hessian_sink sink, void *ctx, double *min_distance);
 
 /* ---- stiffness (stiffness.c) ---- */
 
@@ -204,11 +208,11 @@ void rk_contact_adapt_kappa(rk_contact *c, const double *ge, const double *gb, d
 
 /* ---- the feasible step (ccd.c) ---- */
 
-/* The largest alpha in [0, 1] such that moving the mesh by alpha dx (3 nmesh) and the obstacles
- * alpha of the way from where they are to where they are at time t (t NAN: still) keeps every
- * pair and every point-plane distance at least 10% of where it starts: additive CCD over the
- * broad phase's swept boxes. -1 on failure (out of memory). */
-double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, double t, rk_error *err);
+/* The largest alpha in [0, 1] such that moving the mesh by alpha dx (3 nmesh) and the obstacle
+ * vertices by alpha odx (3 onv, NULL: still; planes do not move) keeps every pair and every
+ * point-plane distance at least 10% of where it starts: additive CCD over the broad phase's swept
+ * boxes. -1 on failure (out of memory). */
+double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, const double *odx, rk_error *err);
 /* Moves the obstacles the fraction (0, 1] of the way from where they are to where they are at
  * time t (fraction 1: exactly there, rk_contact_set_time). */
 void rk_contact_move_obstacles(rk_contact *c, double t, double fraction);

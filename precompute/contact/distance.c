@@ -18,6 +18,14 @@ static void sub3(double *out, const double *a, const double *b)
     for (int i = 0; i < 3; i++) out[i] = a[i] - b[i];
 }
 
+/* |a x b|^2, from the cross product itself: a a . b b - (a . b)^2 loses every digit for nearly
+ * parallel vectors, where this keeps them. */
+static double cross2(const double *a, const double *b)
+{
+    double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    return dot3(n, n);
+}
+
 /* Point p against segment (a, b): which feature is closest, and the squared distance. */
 static rk_distance_case point_segment_case(const double *p, const double *a, const double *b, int ip, int ia, int ib,
                                            double *d2)
@@ -45,8 +53,8 @@ rk_distance_case rk_point_triangle_case(const double *const x[4])
     sub3(e1, t2, t0);
     sub3(w, p, t0);
     double a = dot3(e0, e0), b = dot3(e0, e1), c = dot3(e1, e1), r0 = dot3(e0, w), r1 = dot3(e1, w);
-    double det = a * c - b * b;
-    if (det > 1e-30 * a * c) {
+    double det = cross2(e0, e1); /* = a c - b^2, without its cancellation */
+    if (det > 1e-20 * a * c) {
         double s = (c * r0 - b * r1) / det, t = (a * r1 - b * r0) / det;
         if (s > 0 && t > 0 && s + t < 1) return (rk_distance_case){.kind = RK_DIST_POINT_PLANE, .v = {0, 1, 2, 3}};
     }
@@ -67,7 +75,7 @@ rk_distance_case rk_edge_edge_case(const double *const x[4])
     sub3(eb, b1, b0);
     sub3(w, a0, b0);
     double a = dot3(ea, ea), b = dot3(ea, eb), c = dot3(eb, eb), d = dot3(ea, w), e = dot3(eb, w);
-    double det = a * c - b * b; /* |ea x eb|^2 */
+    double det = cross2(ea, eb); /* = a c - b^2, without its cancellation */
     if (det > 1e-20 * a * c) {
         double s = (b * e - c * d) / det, t = (a * e - b * d) / det;
         if (s > 0 && s < 1 && t > 0 && t < 1) return (rk_distance_case){.kind = RK_DIST_LINE_LINE, .v = {0, 1, 2, 3}};

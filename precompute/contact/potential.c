@@ -8,16 +8,16 @@
 
 #include "util/util.h"
 
-/* Projects the Hessian H (12 x 12) to PSD on the points that are degrees of freedom and take part
- * (a non-zero row): obstacle points and points outside the closest feature drop out, so a
- * point-point pair projects a 6 x 6 block, a point against an obstacle's triangle a 3 x 3. The
- * other rows and columns are zeroed (the consumer drops obstacle points anyway). */
-static void project_on_dofs(const rk_contact_pair *p, double *H)
+/* Projects the Hessian H (12 x 12) to PSD on the points that take part (a non-zero row) and are
+ * degrees of freedom (mesh vertices, and obstacle vertices when moving obstacles are: dofs_obs):
+ * points outside the closest feature drop out, so a point-point pair projects a 6 x 6 block. The
+ * other rows and columns are zeroed. */
+static void project_on_dofs(const rk_contact_pair *p, int dofs_obs, double *H)
 {
     int keep[12], n = 0;
     for (int k = 0; k < 4; k++) {
         int used = 0;
-        for (int a = 0; a < 3 && p->id[k] >= 0; a++)
+        for (int a = 0; a < 3 && (p->id[k] >= 0 || dofs_obs); a++)
             for (int j = 0; j < 12; j++) used |= H[12 * (3 * k + a) + j] != 0;
         for (int a = 0; a < 3 && used; a++) keep[n++] = 3 * k + a;
     }
@@ -58,7 +58,7 @@ static double pair_potential(const rk_contact *c, const rk_contact_pair *p, cons
             for (int j = 0; j < 12; j++)
                 H[12 * i + j] = m * (b2 * gd[i] * gd[j] + b1 * Hd[12 * i + j]) + b1 * (gd[i] * gm[j] + gm[i] * gd[j]) +
                                 b * Hm[12 * i + j];
-        if (!c->exact_hessian) project_on_dofs(p, H);
+        if (!c->exact_hessian) project_on_dofs(p, c->obstacle_dofs, H);
     }
     return m * b;
 }
@@ -80,8 +80,8 @@ static double plane_potential(const rk_contact *c, const rk_contact_pair *p, con
     return b;
 }
 
-double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, rk_hessian_sink sink,
-                         void *ctx, double *min_distance)
+double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, double *og,
+                         rk_hessian_sink sink, void *ctx, double *min_distance)
 {
     double t0 = rk_now(), E = 0, closest = INFINITY, kappa = c->kappa;
     double gl[12], Hl[144];
@@ -89,16 +89,16 @@ double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x
         const rk_contact_pair *p = &s->pairs[i];
         int plane = p->kind == RK_PAIR_POINT_PLANE, np = plane ? 1 : 4;
         double dist;
-        double e = plane ? plane_potential(c, p, x, g ? gl : NULL, sink ? Hl : NULL, &dist)
-                         : pair_potential(c, p, x, g ? gl : NULL, sink ? Hl : NULL, &dist);
+        double e = plane ? plane_potential(c, p, x, g || og ? gl : NULL, sink ? Hl : NULL, &dist)
+                         : pair_potential(c, p, x, g || og ? gl : NULL, sink ? Hl : NULL, &dist);
         closest = fmin(closest, dist);
         E += kappa * e;
         if (!isfinite(e)) break;
         if (e == 0) continue;
-        if (g)
-            for (int k = 0; k < np; k++)
-                if (p->id[k] >= 0)
-                    for (int a = 0; a < 3; a++) g[3 * p->id[k] + a] += kappa * gl[3 * k + a];
+        for (int k = 0; k < np; k++) {
+            double *to = p->id[k] >= 0 ? (g ? &g[3 * p->id[k]] : NULL) : (og && !plane ? &og[3 * (-1 - p->id[k])] : NULL);
+            for (int a = 0; a < 3 && to; a++) to[a] += kappa * gl[3 * k + a];
+        }
         if (sink) {
             int dim = 3 * np;
             for (int k = 0; k < dim * dim; k++) Hl[k] *= kappa;

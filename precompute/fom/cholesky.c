@@ -39,7 +39,7 @@ int rk_fom_chol_factor(rk_fom *s, rk_error *err)
     s->stats.seconds_factor += rk_now() - t0;
     if (im->cc.status == CHOLMOD_NOT_POSDEF) /* impossible with projected Hessians unless a bug */
         return rk_fail(err, "Newton matrix is not positive definite (CHOLMOD stopped at column %d of %d)",
-                       (int)im->L->minor, im->n);
+                       (int)im->L->minor, im->ndof);
     if (!ok || im->cc.status < CHOLMOD_OK)
         return rk_fail(err, "CHOLMOD factorization failed (status %d)", im->cc.status);
     return 0;
@@ -50,11 +50,11 @@ int rk_fom_chol_solve(rk_fom *s, const double *g, double *d, rk_error *err)
     rk_fom_impl *im = s->impl;
     double t0 = rk_now();
     cholmod_dense B;
-    rk_cholmod_dense_view(g, im->n, &B);
+    rk_cholmod_dense_view(g, im->ndof, &B);
     int ok = cholmod_solve2(CHOLMOD_A, im->L, &B, NULL, &im->sol, NULL, &im->Y, &im->E, &im->cc);
     if (ok) {
         const double *y = im->sol->x;
-        for (int i = 0; i < im->n; i++) d[i] = -y[i];
+        for (int i = 0; i < im->ndof; i++) d[i] = -y[i];
     }
     s->stats.seconds_solve += rk_now() - t0;
     return ok ? 0 : rk_fail(err, "CHOLMOD solve failed (status %d)", im->cc.status);

@@ -26,7 +26,7 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x)
 
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H)
 {
-    if (s->opt.nprescribed == 0 || !H) return;
+    if (!H || (s->opt.nprescribed == 0 && !s->impl->nobs)) return;
     const char *fixed = s->impl->prescribed_dof;
     for (int j = 0; j < H->n; j++)
         for (int k = H->colptr[j]; k < H->colptr[j + 1]; k++) {

@@ -30,8 +30,10 @@ typedef struct {
     double H[144];
 } rk_contact_block;
 
-/* What CHOLMOD factors (matrix.c): the elements' pattern plus the vertex pairs contact couples. */
+/* What CHOLMOD factors (matrix.c): the elements' pattern, the obstacle vertices that are unknowns
+ * (their 3 x 3 diagonal blocks after the mesh's dofs), and the vertex pairs contact couples. */
 typedef struct {
+    int nmesh, nobs;        /* mesh vertices; obstacle vertices among the unknowns (0: none) */
     rk_sparse A;
     int *base_map;          /* the elements' pattern entry k is A entry base_map[k] */
     int npairs, *pairs;     /* vertex pairs (a < b) beyond the elements' pattern */
@@ -39,14 +41,19 @@ typedef struct {
     rk_contact_block *blocks;/* this iteration's contact blocks */
 } rk_newton_matrix;
 
-int rk_newton_matrix_init(rk_newton_matrix *N, const rk_sparse *base, rk_error *err);
+int rk_newton_matrix_init(rk_newton_matrix *N, const rk_sparse *base, int nobs, rk_error *err);
 void rk_newton_matrix_free(rk_newton_matrix *N);
-/* The contact stage's Hessian sink: records a block (ctx: the rk_newton_matrix). */
+/* The contact stage's Hessian sink: records a block (ctx: the rk_newton_matrix); obstacle vertex k
+ * is matrix vertex nmesh + k when obstacles are unknowns, else dropped. */
 void rk_newton_matrix_record(void *ctx, const int *id, int npoints, const double *H);
 /* Rebuilds A's pattern when the recorded blocks couple a different set of vertex pairs. */
 int rk_newton_matrix_couple(rk_newton_matrix *N, const rk_sparse *base, int *changed, rk_error *err);
 /* A = base (values) plus the recorded blocks. */
 void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
+
+/* The moving obstacles' augmented-Lagrangian stiffness at the start of each solve, times 1/h^2
+ * and the average vertex mass: a thousand times the inertia's pull. */
+#define RK_FOM_AL_KAPPA 1e3
 
 struct rk_fom_impl {
     int n;                  /* 3 nv */
@@ -55,7 +62,13 @@ struct rk_fom_impl {
     rk_sparse H;            /* the elements' Hessian, rebuilt each iteration on their pattern */
     rk_newton_matrix N;     /* H plus contact: what CHOLMOD factors */
     double *f_ext;          /* gravity (lumped masses) + opt.force */
-    char *prescribed_dof;   /* 1 where a dof is prescribed */
+    char *prescribed_dof;   /* ndof: 1 where a dof is prescribed (static obstacles' vertices too) */
+    /* The Newton unknowns: the mesh (n) and, when an obstacle moves, every obstacle vertex (3 nobs);
+     * moving ones are pulled to their targets by an augmented Lagrangian (IPC, Sec. 4.6). */
+    int nobs, ndof;
+    double *y;              /* ndof */
+    double *obs_target, *al_lambda; /* 3 nobs: the obstacles' targets, the multipliers */
+    double al_kappa, al_mass;
     /* Owned copies of what opt pointed to (s->opt points here after init). */
     rk_prescribed *groups;
     double *force;
@@ -66,7 +79,7 @@ struct rk_fom_impl {
     rk_contact_set pairs;
     double *g_barrier;
     rk_stepper stepper;     /* backward Euler / BDF2: prediction and history */
-    double *newton_work;    /* RK_NEWTON_WORK(n) */
+    double *newton_work;    /* RK_NEWTON_WORK(ndof) */
     double *work, *work2;   /* scratch, n each */
     double tol_static;      /* |d|_inf (m) */
     /* CHOLMOD: N.A wrapped without copying, symbolic analysis when its pattern changes (once
@@ -85,21 +98,27 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x);
  * (the pattern stays as it is; the solver zeroes their gradient). */
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H);
 
-/* E(x); with g, also its gradient; with hessian, also the Newton matrix N.A (PSD-projected
- * elastic and contact parts, the prescribed dofs eliminated; its pattern follows the contact
- * pairs). With magnitude, also the sum of the terms' absolute values: the scale of E's round-off.
- * With contact, the pairs are gathered at x, and kappa adapts at each Hessian. */
-double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, int hessian,
+/* E(y) over the unknowns y (ndof: the mesh, then the obstacle vertices when they are unknowns);
+ * with g, also its gradient; with hessian, also the Newton matrix N.A (PSD-projected elastic and
+ * contact parts, the prescribed dofs eliminated; its pattern follows the contact pairs). With
+ * magnitude, also the sum of the terms' absolute values: the scale of E's round-off. With contact,
+ * the pairs are gathered at y, kappa adapts at each Hessian, and moving obstacles add their
+ * augmented Lagrangian. */
+double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, double *g, int hessian,
                         double *magnitude, rk_error *err);
+/* The moving obstacles' targets at time t for the next solves (multipliers reset). */
+void rk_fom_obstacle_targets(rk_fom *s, double t);
 
-/* Moves the prescribed vertices and the obstacles to where they are at time t and solves solve()
- * after each move: in one move when nothing is in the way, else in as many as CCD allows (each
- * Newton solve pushes the free vertices clear before the next). */
+/* Moves the prescribed vertices to where they are at time t and solves solve() after each move: in
+ * one move when nothing is in the way, else in as many as CCD allows (each Newton solve pushes the
+ * free vertices clear before the next). */
 typedef int (*rk_fom_solve_fn)(rk_fom *s, void *ctx, rk_error *err);
 int rk_fom_advance_kinematics(rk_fom *s, double t, rk_fom_solve_fn solve, void *ctx, rk_error *err);
 
-/* Minimises the potential from s->x (updated in place) with the solver's Newton (CHOLMOD on the
- * projected Hessian, plane step filtering); converged when |d|_inf <= tol_d. */
+/* Minimises the potential from s->x and the obstacles where they are (both updated in place) with
+ * the solver's Newton (CHOLMOD on the projected Hessian, CCD step filtering), converged when
+ * |d|_inf <= tol_d; with moving obstacles, in augmented-Lagrangian rounds until they are at their
+ * targets. */
 int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err);
 /* The potential as the solver's problem (ctx: a rk_fom_problem_ctx that outlives its use). */
 typedef struct {

@@ -81,7 +81,7 @@ static int copy_prescribed(rk_fom *s, rk_error *err)
         if (src->kind == RK_MOTION_TWIST &&
             (normalize(p->axis) || !isfinite(p->rate) || !all_finite(p->center, 3)))
             return rk_fail(err, "prescribed group %d: twist needs a non-zero axis, a finite rate and center", k);
-        if (src->kind == RK_MOTION_TRANSLATE && !all_finite(p->velocity, 3))
+        if (src->kind != RK_MOTION_FIXED && !all_finite(p->velocity, 3))
             return rk_fail(err, "prescribed group %d: translation velocity is not finite", k);
         for (int j = 0; j < src->count; j++) {
             int v = src->verts[j];
@@ -119,8 +119,30 @@ static int init_contact(rk_fom *s, rk_error *err)
                         err))
         return -1;
     s->opt.contact = co;
-    im->g_barrier = rk_calloc((size_t)im->n, sizeof(double), err);
-    return im->g_barrier ? 0 : -1;
+    /* moving obstacles: every obstacle vertex becomes an unknown (the static ones prescribed) */
+    int moving = 0;
+    for (int k = 0; k < o->nobstacles; k++) moving |= obstacles[k].motion != RK_MOTION_FIXED;
+    im->nobs = moving ? im->contact.onv : 0;
+    im->ndof = im->n + 3 * im->nobs;
+    im->contact.obstacle_dofs = im->nobs > 0;
+    im->al_mass = mass / f->nv;
+    size_t nd = (size_t)im->ndof;
+    char *mask = rk_calloc(nd, 1, err);
+    if (!mask) return -1;
+    memcpy(mask, im->prescribed_dof, (size_t)im->n);
+    free(im->prescribed_dof);
+    im->prescribed_dof = mask;
+    for (int v = 0; v < im->nobs; v++)
+        if (obstacles[im->contact.overt_obstacle[v]].motion == RK_MOTION_FIXED)
+            mask[im->n + 3 * v] = mask[im->n + 3 * v + 1] = mask[im->n + 3 * v + 2] = 1;
+    free(im->newton_work);
+    im->newton_work = rk_calloc(RK_NEWTON_WORK(nd), sizeof(double), err);
+    im->g_barrier = rk_calloc(nd, sizeof(double), err);
+    free(im->y);
+    im->y = rk_calloc(nd, sizeof(double), err);
+    im->obs_target = rk_calloc(3 * (size_t)im->nobs + 1, sizeof(double), err);
+    im->al_lambda = rk_calloc(3 * (size_t)im->nobs + 1, sizeof(double), err);
+    return im->newton_work && im->g_barrier && im->y && im->obs_target && im->al_lambda ? 0 : -1;
 }
 
 /* Inertia mass, Rayleigh damping a M + b K0, and f_ext = m_v g + force. Gravity uses the lumped
@@ -169,6 +191,8 @@ static int alloc_state(rk_fom *s, rk_error *err)
     double **vecs[] = {&s->x, &s->v, &im->f_ext, &im->force, &im->work, &im->work2};
     for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; k++)
         if (!(*vecs[k] = rk_calloc(n, sizeof(double), err))) return -1;
+    im->ndof = im->n;
+    if (!(im->y = rk_calloc(n, sizeof(double), err))) return -1;
     if (!(im->newton_work = rk_calloc(RK_NEWTON_WORK(n), sizeof(double), err))) return -1;
     if (rk_stepper_init(&im->stepper, im->n, s->opt.integrator, s->opt.h, err)) return -1;
     im->prescribed_dof = rk_calloc(n, 1, err);
@@ -204,7 +228,8 @@ int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_erro
     if (opt->velocity0) memcpy(s->v, opt->velocity0, (size_t)s->impl->n * sizeof(double));
     if (init_contact(s, err) || check_start(s, err)) goto fail;
     resolve_tolerance(s);
-    if (rk_newton_matrix_init(&s->impl->N, &s->impl->H, err) || rk_fom_chol_analyze(s->impl, err)) goto fail;
+    if (rk_newton_matrix_init(&s->impl->N, &s->impl->H, s->impl->nobs, err) || rk_fom_chol_analyze(s->impl, err))
+        goto fail;
     return 0;
 fail:
     rk_fom_free(s);
@@ -225,7 +250,7 @@ void rk_fom_free(rk_fom *s)
         if (im->has_contact) rk_contact_free(&im->contact);
         rk_contact_set_free(&im->pairs);
         rk_newton_matrix_free(&im->N);
-        free(im->g_barrier);
+        free(im->g_barrier), free(im->y), free(im->obs_target), free(im->al_lambda);
         free(im->force);
         free(im->f_ext);
         free(im->prescribed_dof);

@@ -1,8 +1,7 @@
-/* The prescribed motion of a step (fom_impl.h, rk_fom_advance_kinematics): prescribed vertices and
- * obstacles go to their targets. With contact they may only go as far as CCD allows, so the
- * motion is made in moves: each as far as is safe, each followed by a Newton solve that pushes
- * the free vertices clear, until the targets are reached (IPC's kinematic boundary conditions,
- * done by continuation rather than a penalty). */
+/* The prescribed vertices' motion of a step (fom_impl.h, rk_fom_advance_kinematics): with contact
+ * they may only go as far as CCD allows, so the motion is made in moves, each as far as is safe
+ * and each followed by a Newton solve that pushes the free vertices clear (rk_contact_advance).
+ * Moving obstacles go to their targets inside the solves (their augmented Lagrangian). */
 #include "fom/fom_impl.h"
 
 #include <string.h>
@@ -28,7 +27,7 @@ static double *remaining(rk_fom *s, double t)
 static double fraction(void *ctx, double t, rk_error *err)
 {
     rk_fom *s = ((kinematics *)ctx)->s;
-    return rk_contact_max_step(&s->impl->contact, s->x, remaining(s, t), t, err);
+    return rk_contact_max_step(&s->impl->contact, s->x, remaining(s, t), NULL, err);
 }
 
 static int move(void *ctx, double t, double f, rk_error *err)
@@ -40,7 +39,6 @@ static int move(void *ctx, double t, double f, rk_error *err)
         const double *dx = remaining(s, t);
         for (int i = 0; i < s->impl->n; i++) s->x[i] += f * dx[i];
     }
-    rk_contact_move_obstacles(&s->impl->contact, t, f);
     return k->solve(s, k->ctx, err);
 }
 

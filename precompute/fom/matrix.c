@@ -35,16 +35,25 @@ void rk_newton_matrix_free(rk_newton_matrix *N)
     memset(N, 0, sizeof *N);
 }
 
-/* A's pattern from the base pattern and N->pairs (vertex pairs a < b: their 3 x 3 upper block in
- * columns 3b..3b+2, rows 3a..3a+2). */
+/* Whether the base pattern (or, beyond it, the obstacle vertices' diagonal blocks) holds the
+ * upper 3 x 3 block of vertices u <= w. */
+static int in_base(const rk_newton_matrix *N, const rk_sparse *base, int u, int w)
+{
+    if (w >= N->nmesh) return u == w;
+    return find(base, 3 * u, 3 * w) >= 0;
+}
+
+/* A's pattern from the base pattern, the obstacle vertices' diagonal blocks and N->pairs (vertex
+ * pairs a < b: their 3 x 3 upper block in columns 3b..3b+2, rows 3a..3a+2). */
 static int build_pattern(rk_newton_matrix *N, const rk_sparse *base, rk_error *err)
 {
-    int n = base->n;
+    int nb = base->n, n = nb + 3 * N->nobs;
     int *count = rk_calloc((size_t)n + 1, sizeof(int), err);
     if (!count) return -1;
     /* extra entries per column: 3 per pair for each of the pair's three columns */
     for (int p = 0; p < N->npairs; p++)
         for (int j = 0; j < 3; j++) count[3 * N->pairs[2 * p + 1] + j] += 3;
+    for (int c = nb; c < n; c++) count[c] += c % 3 + 1; /* the obstacle vertices' diagonal blocks */
     rk_sparse A = {0};
     A.n = n;
     A.colptr = rk_calloc((size_t)n + 1, sizeof(int), err);
@@ -86,7 +95,9 @@ static int build_pattern(rk_newton_matrix *N, const rk_sparse *base, rk_error *e
         int nr = 0, v = c / 3;
         for (int q = by_col_first[v]; q < by_col_first[v + 1]; q++)
             for (int i = 0; i < 3; i++) rows[nr++] = 3 * order[q] + i;
-        int bi = base->colptr[c], be = base->colptr[c + 1], ri = 0;
+        if (c >= nb)
+            for (int i = 3 * v; i <= c; i++) rows[nr++] = i; /* an obstacle vertex's own block */
+        int bi = c < nb ? base->colptr[c] : 0, be = c < nb ? base->colptr[c + 1] : 0, ri = 0;
         while (bi < be || ri < nr) {
             if (ri >= nr || (bi < be && base->rowind[bi] < rows[ri])) {
                 map[bi] = k;
@@ -106,9 +117,11 @@ static int build_pattern(rk_newton_matrix *N, const rk_sparse *base, rk_error *e
     return 0;
 }
 
-int rk_newton_matrix_init(rk_newton_matrix *N, const rk_sparse *base, rk_error *err)
+int rk_newton_matrix_init(rk_newton_matrix *N, const rk_sparse *base, int nobs, rk_error *err)
 {
     memset(N, 0, sizeof *N);
+    N->nmesh = base->n / 3;
+    N->nobs = nobs;
     return build_pattern(N, base, err);
 }
 
@@ -121,7 +134,7 @@ int rk_newton_matrix_couple(rk_newton_matrix *N, const rk_sparse *base, int *cha
         for (int i = 0; i < b->np; i++)
             for (int j = 0; j < b->np; j++) {
                 int u = b->id[i], w = b->id[j];
-                if (u < 0 || w < 0 || u >= w || find(base, 3 * u, 3 * w) >= 0) continue;
+                if (u < 0 || w < 0 || u >= w || in_base(N, base, u, w)) continue;
                 if (np == cap) {
                     cap = cap ? 2 * cap : 64;
                     int *grown = realloc(pairs, sizeof(int) * 2 * (size_t)cap);
@@ -196,6 +209,7 @@ void rk_newton_matrix_record(void *ctx, const int *id, int npoints, const double
     }
     rk_contact_block *b = &N->blocks[N->nblocks++];
     b->np = npoints;
-    memcpy(b->id, id, sizeof(int) * (size_t)npoints);
+    for (int k = 0; k < npoints; k++) /* obstacle vertex k is matrix vertex nmesh + k when unknown */
+        b->id[k] = id[k] >= 0 ? id[k] : N->nobs ? N->nmesh + (-1 - id[k]) : -1;
     memcpy(b->H, H, sizeof(double) * 9 * (size_t)npoints * npoints);
 }

@@ -1,15 +1,20 @@
 /* The full-order incremental potential as the solver's Newton problem (solver.h): CHOLMOD on the
  * PSD-projected Hessian for the direction, CCD step filtering with contact, |d|_inf as the step
- * size. */
+ * size; moving obstacles in augmented-Lagrangian rounds. */
 #include "fom/fom_impl.h"
 
 #include <math.h>
 #include <string.h>
 
-static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
+/* Augmented-Lagrangian rounds before a moving obstacle that cannot reach its target counts as
+ * stuck, and how close to it counts as there (a fraction of dhat). */
+#define AL_ROUNDS 30
+#define AL_TOLERANCE 1e-2
+
+static double energy(void *ctx, const double *y, double *g, int hessian, double *magnitude)
 {
     rk_fom_problem_ctx *c = ctx;
-    return rk_fom_potential(c->s, c->T, x, g, hessian, magnitude, &c->failure);
+    return rk_fom_potential(c->s, c->T, y, g, hessian, magnitude, &c->failure);
 }
 
 static int solve(void *ctx, const double *g, double *d, rk_error *err)
@@ -18,29 +23,77 @@ static int solve(void *ctx, const double *g, double *d, rk_error *err)
     return rk_fom_chol_factor(s, err) || rk_fom_chol_solve(s, g, d, err) ? -1 : 0;
 }
 
-static double max_step(void *ctx, const double *x, const double *d)
+static double max_step(void *ctx, const double *y, const double *d)
 {
     rk_fom_problem_ctx *c = ctx;
-    double alpha = rk_contact_max_step(&c->s->impl->contact, x, d, NAN, &c->failure);
+    rk_fom_impl *im = c->s->impl;
+    if (im->nobs) memcpy(im->contact.ox, y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
+    double alpha = rk_contact_max_step(&im->contact, y, d, im->nobs ? d + im->n : NULL, &c->failure);
     return alpha >= 0 ? alpha : 0; /* a failed CCD (out of memory) takes no step */
 }
 
 void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p)
 {
     rk_fom *s = ctx->s;
+    rk_fom_impl *im = s->impl;
     ctx->failure.msg[0] = 0;
-    *p = (rk_newton_problem){.n = s->impl->n, .ctx = ctx, .what = "incremental potential", .energy = energy,
-                             .solve = solve, .max_step = s->impl->has_contact ? max_step : NULL,
-                             .prescribed = s->opt.nprescribed ? s->impl->prescribed_dof : NULL};
+    *p = (rk_newton_problem){.n = im->ndof, .ctx = ctx, .what = "incremental potential", .energy = energy,
+                             .solve = solve, .max_step = im->has_contact ? max_step : NULL,
+                             .prescribed = s->opt.nprescribed || im->nobs ? im->prescribed_dof : NULL};
+}
+
+/* The largest distance of a moving obstacle vertex from its target. */
+static double obstacle_residual(const rk_fom_impl *im)
+{
+    double r = 0;
+    for (int i = 0; i < 3 * im->nobs; i++)
+        if (!im->prescribed_dof[im->n + i]) r = fmax(r, fabs(im->y[im->n + i] - im->obs_target[i]));
+    return r;
+}
+
+/* Moves the obstacles exactly onto their targets when CCD allows the last bit of the way. */
+static int snap_obstacles(rk_fom *s, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    double *odx = im->g_barrier + im->n; /* scratch */
+    memset(im->g_barrier, 0, sizeof(double) * (size_t)im->n);
+    for (int i = 0; i < 3 * im->nobs; i++) odx[i] = im->prescribed_dof[im->n + i] ? 0 : im->obs_target[i] - im->y[im->n + i];
+    double alpha = rk_contact_max_step(&im->contact, im->y, im->g_barrier, odx, err);
+    if (alpha < 0) return -1;
+    if (alpha >= 1)
+        for (int i = 0; i < 3 * im->nobs; i++) im->y[im->n + i] += odx[i];
+    return 0;
 }
 
 int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
 {
+    rk_fom_impl *im = s->impl;
     rk_fom_problem_ctx ctx = {.s = s, .T = T};
     rk_newton_problem p;
     rk_fom_problem(&ctx, &p);
     rk_newton_stats stats = {0};
-    int rc = rk_newton_solve(&p, s->x, tol_d, s->opt.newton_max_iter, s->impl->newton_work, converged, &stats, err);
+    memcpy(im->y, s->x, sizeof(double) * (size_t)im->n);
+    if (im->nobs) memcpy(im->y + im->n, im->contact.ox, sizeof(double) * 3 * (size_t)im->nobs);
+    double tol_obs = AL_TOLERANCE * im->contact.opt.dhat, last = INFINITY;
+    int rc = 0;
+    for (int round = 0; round < (im->nobs ? AL_ROUNDS : 1) && !rc; round++) {
+        rc = rk_newton_solve(&p, im->y, tol_d, s->opt.newton_max_iter, im->newton_work, converged, &stats, err);
+        if (rc || !im->nobs) break;
+        double r = obstacle_residual(im);
+        if (r <= tol_obs) break;
+        /* the method of multipliers: lambda <- lambda - k m (y - target); k doubles while slow */
+        double k = im->al_kappa * im->al_mass;
+        for (int i = 0; i < 3 * im->nobs; i++)
+            if (!im->prescribed_dof[im->n + i]) im->al_lambda[i] -= k * (im->y[im->n + i] - im->obs_target[i]);
+        if (r > 0.5 * last) im->al_kappa *= 2;
+        last = r;
+        if (round == AL_ROUNDS - 1)
+            rc = rk_fail(err, "a moving obstacle could not reach where it is due (still %.3g m off after %d rounds): "
+                         "is something pinned between it and another obstacle?", r, AL_ROUNDS);
+    }
+    if (!rc && im->nobs) rc = snap_obstacles(s, err);
+    memcpy(s->x, im->y, sizeof(double) * (size_t)im->n);
+    if (im->nobs) memcpy(im->contact.ox, im->y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
     s->stats.newton_iterations += stats.iterations;
     s->stats.line_search_halvings += stats.halvings;
     if (ctx.failure.msg[0]) { /* what made the potential or the step fail, rather than its symptom */

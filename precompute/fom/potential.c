@@ -38,25 +38,28 @@ static void assemble_hessian(rk_fom *s, const rk_fom_terms *T, const double *x, 
     rk_fem_add_hessian(f, x, 1.0, 1, H);
 }
 
-/* The barrier at x: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
- * the gradient), the blocks recorded for the Newton matrix. */
-static double contact_term(rk_fom *s, const double *x, double *g, int hessian, rk_error *err)
+/* The barrier at y: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
+ * the gradient), the blocks recorded for the Newton matrix. The obstacle vertices are at
+ * y[n..] when they are unknowns. */
+static double contact_term(rk_fom *s, const double *y, double *g, int hessian, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
+    rk_contact *c = &im->contact;
     im->N.nblocks = 0;
-    if (rk_contact_gather(&im->contact, x, &im->pairs, err)) return NAN;
+    if (im->nobs) memcpy(c->ox, y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
+    if (rk_contact_gather(c, y, &im->pairs, err)) return NAN;
     double closest;
-    if (g && hessian && !im->contact.kappa_set && im->pairs.n > 0) {
+    double *og = g && im->nobs ? g + im->n : NULL;
+    if (g && hessian && !c->kappa_set && im->pairs.n > 0) {
         /* the first contact sets kappa: measure the barrier's push at the current kappa first */
-        memset(im->g_barrier, 0, sizeof(double) * (size_t)im->n);
-        rk_contact_energy(&im->contact, &im->pairs, x, im->g_barrier, NULL, NULL, &closest);
-        for (int i = 0; i < im->n; i++)
+        memset(im->g_barrier, 0, sizeof(double) * (size_t)im->ndof);
+        rk_contact_energy(c, &im->pairs, y, im->g_barrier, im->nobs ? im->g_barrier + im->n : NULL, NULL, NULL, &closest);
+        for (int i = 0; i < im->ndof; i++)
             if (im->prescribed_dof[i]) im->g_barrier[i] = 0;
-        rk_contact_adapt_kappa(&im->contact, g, im->g_barrier, closest);
+        rk_contact_adapt_kappa(c, g, im->g_barrier, closest);
     }
-    double B = rk_contact_energy(&im->contact, &im->pairs, x, g, hessian ? rk_newton_matrix_record : NULL, &im->N,
-                                 &closest);
-    if (hessian && im->contact.kappa_set) rk_contact_adapt_kappa(&im->contact, NULL, NULL, closest);
+    double B = rk_contact_energy(c, &im->pairs, y, g, og, hessian ? rk_newton_matrix_record : NULL, &im->N, &closest);
+    if (hessian && c->kappa_set) rk_contact_adapt_kappa(c, NULL, NULL, closest);
     if (im->N.overflow) {
         im->N.overflow = 0;
         rk_fail(err, "out of memory for the contact Hessian blocks");
@@ -65,39 +68,69 @@ static double contact_term(rk_fom *s, const double *x, double *g, int hessian, r
     return B;
 }
 
-double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *x, double *g, int hessian,
+/* The moving obstacles' augmented Lagrangian (IPC, Sec. 4.6): k m/2 |y_o - target|^2 - lambda .
+ * (y_o - target) over the vertices of moving obstacles; the Hessian's k m on the diagonal comes
+ * after the fill. */
+static double obstacle_term(rk_fom *s, const double *y, double *g)
+{
+    rk_fom_impl *im = s->impl;
+    double E = 0, k = im->al_kappa * im->al_mass;
+    for (int i = 0; i < 3 * im->nobs; i++) {
+        if (im->prescribed_dof[im->n + i]) continue;
+        double r = y[im->n + i] - im->obs_target[i];
+        E += 0.5 * k * r * r - im->al_lambda[i] * r;
+        if (g) g[im->n + i] += k * r - im->al_lambda[i];
+    }
+    return E;
+}
+
+double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, double *g, int hessian,
                         double *magnitude, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     const rk_fem *f = s->fem;
     int n = im->n;
     double t0 = rk_now();
-    if (g) memset(g, 0, (size_t)n * sizeof(double));
-    double stored = rk_fem_energy(f, x); /* Psi */
+    if (g) memset(g, 0, (size_t)im->ndof * sizeof(double));
+    double stored = rk_fem_energy(f, y); /* Psi */
     double work = 0;
-    for (int i = 0; i < n; i++) work += im->f_ext[i] * x[i];
+    for (int i = 0; i < n; i++) work += im->f_ext[i] * y[i];
     work *= T->load;
     double quad = 0; /* inertia and damping, both >= 0 */
-    if (T->w_inertia > 0) quad += quadratic_term(&im->M, T->w_inertia, x, T->xtilde, g, im->work, im->work2, n);
+    if (T->w_inertia > 0) quad += quadratic_term(&im->M, T->w_inertia, y, T->xtilde, g, im->work, im->work2, n);
     if (T->w_damping > 0 && im->C.val)
-        quad += quadratic_term(&im->C, T->w_damping, x, T->xt, g, im->work, im->work2, n);
+        quad += quadratic_term(&im->C, T->w_damping, y, T->xt, g, im->work, im->work2, n);
     if (g && isfinite(stored)) {
-        rk_fem_add_gradient(f, x, 1.0, g);
+        rk_fem_add_gradient(f, y, 1.0, g);
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
-    if (im->has_contact && isfinite(stored)) stored += contact_term(s, x, g, hessian, err);
+    if (im->nobs) stored += obstacle_term(s, y, g);
+    if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
     if (hessian && isfinite(E)) {
-        assemble_hessian(s, T, x, &im->H);
+        assemble_hessian(s, T, y, &im->H);
         int changed = 0;
         if (rk_newton_matrix_couple(&im->N, &im->H, &changed, err) || (changed && rk_fom_chol_reanalyze(im, err))) {
             E = NAN;
         } else {
             rk_newton_matrix_fill(&im->N, &im->H);
+            for (int i = 0; i < 3 * im->nobs; i++) { /* the augmented Lagrangian's diagonal */
+                int d = n + i;
+                im->N.A.val[im->N.A.colptr[d + 1] - 1] += im->al_kappa * im->al_mass;
+            }
             rk_fom_eliminate(s, &im->N.A);
         }
     }
     s->stats.seconds_assemble += rk_now() - t0;
     return isfinite(E) ? E : INFINITY;
+}
+
+void rk_fom_obstacle_targets(rk_fom *s, double t)
+{
+    rk_fom_impl *im = s->impl;
+    if (!im->nobs) return;
+    rk_contact_obstacles_at(&im->contact, t, im->obs_target);
+    memset(im->al_lambda, 0, sizeof(double) * 3 * (size_t)im->nobs);
+    im->al_kappa = RK_FOM_AL_KAPPA / (s->opt.h * s->opt.h);
 }

@@ -62,6 +62,7 @@ static int increment(void *ctx, double lambda, double *x, int *converged, rk_err
     /* a new attempt starts over from the initial state: the obstacles too */
     if (lambda <= c->last_lambda && c->s->impl->has_contact) rk_contact_set_time(&c->s->impl->contact, 0);
     c->last_lambda = lambda;
+    rk_fom_obstacle_targets(c->s, lambda * c->t_end);
     c->T.load = lambda;
     static_solve sv = {c, 1};
     int rc = rk_fom_advance_kinematics(c->s, lambda * c->t_end, solve_increment, &sv, err);

@@ -5,6 +5,7 @@
 #include "util/util.h"
 
 #include <math.h>
+#include <string.h>
 
 static int check_state(const rk_fom *s, rk_error *err)
 {
@@ -36,12 +37,17 @@ static int step(rk_fom *s, rk_error *err)
     rk_stepper_predict(st, s->x, s->v);
     rk_fom_terms T = {.w_inertia = st->w_inertia, .xtilde = st->xtilde, .w_damping = 1.0 / h, .xt = st->xt,
                       .load = 1.0};
-    rk_fom_problem_ctx ctx = {.s = s, .T = &T};
-    rk_newton_problem p;
-    rk_fom_problem(&ctx, &p);
-    /* Start Newton from the predictor when nothing is in the way, else from x_t; the prescribed
-     * vertices and the obstacles then move to their targets at t + h. */
-    rk_stepper_start(st, &p, s->x);
+    /* Start Newton from the predictor when nothing is in the way (the obstacles where they are),
+     * else from x_t; the prescribed vertices and the obstacles then move to their targets at t + h. */
+    int start_predicted = 1;
+    if (im->has_contact) {
+        for (int i = 0; i < im->n; i++) im->work2[i] = st->xtilde[i] - st->xt[i];
+        double alpha = rk_contact_max_step(&im->contact, st->xt, im->work2, NULL, err);
+        if (alpha < 0) return -1;
+        start_predicted = alpha >= 1;
+    }
+    memcpy(s->x, start_predicted ? st->xtilde : st->xt, sizeof(double) * (size_t)im->n);
+    rk_fom_obstacle_targets(s, s->t + h);
     step_solve c = {&T, 1};
     if (rk_fom_advance_kinematics(s, s->t + h, solve_step, &c, err)) return -1;
     if (!c.converged) s->stats.unconverged_steps++;

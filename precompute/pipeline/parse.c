@@ -174,7 +174,7 @@ static int parse_moving(const rk_json_ctx *c, const cJSON *it, const char *path,
     rk_scene_motion *mo = &o->motions[o->nmotions++];
     if (rk_json_box(c, it, path, &mo->box)) return -1;
     if (!cJSON_HasObjectItem(it, "twist") && !cJSON_HasObjectItem(it, "translate"))
-        return rk_json_fail(c, path, "needs exactly one of 'twist' or 'translate'");
+        return rk_json_fail(c, path, "needs 'twist', 'translate' or both (a screw)");
     return rk_parse_motion(c, it, path, mo);
 }
 
@@ -184,8 +184,13 @@ int rk_parse_motion(const rk_json_ctx *c, const cJSON *it, const char *path, rk_
     const cJSON *twist = rk_json_child(it, path, "twist", tp, sizeof tp);
     const cJSON *shift = rk_json_child(it, path, "translate", sp, sizeof sp);
     mo->kind = RK_MOTION_FIXED;
-    if (twist && shift) return rk_json_fail(c, path, "needs exactly one of 'twist' or 'translate'");
-    if (twist) {
+    if (shift) {
+        static const char *const skeys[] = {"velocity", NULL};
+        if (rk_json_check_keys(c, shift, sp, skeys)) return -1;
+        if (rk_json_vector(c, shift, sp, "velocity", 1, 3, mo->velocity)) return -1;
+        mo->kind = RK_MOTION_TRANSLATE;
+    }
+    if (twist) { /* with translate too: a screw, the twist's center carried along */
         static const char *const tkeys[] = {"axis", "degrees_per_second", "center", NULL};
         if (rk_json_check_keys(c, twist, tp, tkeys)) return -1;
         double dps = 0;
@@ -198,11 +203,6 @@ int rk_parse_motion(const rk_json_ctx *c, const cJSON *it, const char *path, rk_
         if (rk_json_vector(c, twist, tp, "center", 0, 3, mo->center)) return -1;
         mo->rate = dps * M_PI / 180.0;
         mo->kind = RK_MOTION_TWIST;
-    } else if (shift) {
-        static const char *const skeys[] = {"velocity", NULL};
-        if (rk_json_check_keys(c, shift, sp, skeys)) return -1;
-        if (rk_json_vector(c, shift, sp, "velocity", 1, 3, mo->velocity)) return -1;
-        mo->kind = RK_MOTION_TRANSLATE;
     }
     return 0;
 }

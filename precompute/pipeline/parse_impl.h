@@ -45,8 +45,9 @@ int rk_json_string(const rk_json_ctx *c, const cJSON *obj, const char *path, con
 /* "box": [[xmin, ymin, zmin], [xmax, ymax, zmax]] under obj (required). */
 int rk_json_box(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_box *b);
 
-/* "twist": {"axis", "degrees_per_second", "center"} or "translate": {"velocity"} under it (neither:
- * fixed), into mo (its box left alone). */
+/* "twist": {"axis", "degrees_per_second", "center"} and/or "translate": {"velocity"} under it
+ * (neither: fixed; both: a screw, the twist carried along at the velocity), into mo (its box left
+ * alone). */
 int rk_parse_motion(const rk_json_ctx *c, const cJSON *it, const char *path, rk_scene_motion *mo);
 /* Obstacle i of the "obstacles" list (parse_obstacles.c; user: {scene folder, rk_scene objects},
  * as each_item hands it over). */

@@ -104,8 +104,9 @@ int rk_parse_obstacle(const rk_json_ctx *c, const cJSON *it, const char *path, i
     memcpy(sh->axis, mo.axis, sizeof sh->axis);
     memcpy(sh->velocity, mo.velocity, sizeof sh->velocity);
     sh->rate = mo.rate;
+    if (mo.kind != RK_MOTION_FIXED && sh->kind == RK_OBSTACLE_PLANE)
+        return rk_json_fail(c, path, "a plane cannot move (a moving box does what a moving plane would)");
     if (mo.kind == RK_MOTION_TWIST) {
-        if (sh->kind == RK_OBSTACLE_PLANE) return rk_json_fail(c, path, "a plane may translate but not twist");
         if (!mo.has_center) return rk_json_fail(c, path, "twist: an obstacle's twist needs its center");
         memcpy(sh->motion_center, mo.center, sizeof sh->motion_center);
     }

@@ -86,7 +86,8 @@ double rk_rom_contact_energy(rk_rom *s, const double *q, double *g, double *H, r
     for (int i = 0; g && i < m->contact.nv; i++)
         for (int a = 0; a < 3; a++) s->gx[3 * m->contact.vertex[i] + a] = 0;
     reduce_ctx ctx = {m, H, s->jb};
-    double E = rk_contact_energy(&m->contact, &s->pairs, s->x, g ? s->gx : NULL, H ? reduce_block : NULL, &ctx, NULL);
+    double E = rk_contact_energy(&m->contact, &s->pairs, s->x, g ? s->gx : NULL, NULL, H ? reduce_block : NULL, &ctx,
+                                 NULL);
     if (g && isfinite(E))
         for (int i = 0; i < m->contact.nv; i++)
             for (int a = 0; a < 3; a++) {
@@ -106,7 +107,11 @@ double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, dou
         for (int a = 0; a < 3; a++)
             s->dx[3 * v + a] = dq ? cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, dq, 1) : 0;
     }
-    return rk_contact_max_step(&m->contact, s->x, s->dx, t, err);
+    if (!isnan(t)) { /* the obstacles' way to where they are at t */
+        rk_contact_obstacles_at(&m->contact, t, s->odx);
+        for (int i = 0; i < 3 * m->contact.onv; i++) s->odx[i] -= m->contact.ox[i];
+    }
+    return rk_contact_max_step(&m->contact, s->x, s->dx, isnan(t) ? NULL : s->odx, err);
 }
 
 int rk_rom_contact_intersections(rk_rom *s, const double *q, rk_error *err)

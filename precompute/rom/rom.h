@@ -83,6 +83,7 @@ typedef struct {
     rk_rom_model *model;
     double t;
     double *x, *dx, *gx;       /* 3 nv contact scratch: positions, a step, a gradient */
+    double *odx;               /* 3 obstacle vertices: their way over a step */
     double *jb;                /* 12 x r contact scratch */
     rk_contact_set pairs;      /* this evaluation's contact pairs */
     double *q, *v;             /* reduced positions and velocities */

@@ -21,8 +21,9 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
         s->dx = rk_calloc(n3, sizeof(double), err);
         s->gx = rk_calloc(n3, sizeof(double), err);
         s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
+        s->odx = rk_calloc(3 * (size_t)m->contact.onv + 1, sizeof(double), err);
     }
-    if (!s->q || !s->v || !s->work || (m->has_contact && (!s->x || !s->dx || !s->gx || !s->jb)) ||
+    if (!s->q || !s->v || !s->work || (m->has_contact && (!s->x || !s->dx || !s->gx || !s->jb || !s->odx)) ||
         rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
         rk_rom_free(s);
         return -1;
@@ -62,7 +63,7 @@ void rk_rom_free(rk_rom *s)
     free(s->v);
     rk_stepper_free(&s->stepper);
     free(s->work);
-    free(s->x), free(s->dx), free(s->gx), free(s->jb);
+    free(s->x), free(s->dx), free(s->gx), free(s->jb), free(s->odx);
     rk_contact_set_free(&s->pairs);
     memset(s, 0, sizeof *s);
 }

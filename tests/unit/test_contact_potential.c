@@ -112,7 +112,7 @@ TEST(barrier_gradient_and_hessian_match_finite_differences)
     CHECK_OK(rk_contact_gather(&s.c, s.x, &set, &err));
     double *g = calloc(n, sizeof(double)), *gp = calloc(n, sizeof(double)), *gm = calloc(n, sizeof(double));
     dense d = {n, calloc((size_t)n * n, sizeof(double)), 0};
-    double E = rk_contact_energy(&s.c, &set, s.x, g, collect, &d, NULL);
+    double E = rk_contact_energy(&s.c, &set, s.x, g, NULL, collect, &d, NULL);
     CHECK(isfinite(E) && E > 0, "energy %g", E);
     double worst_g = 0, worst_H = 0, h = 1e-7, gscale = 0, Hscale = 0;
     for (int i = 0; i < n; i++) gscale = fmax(gscale, fabs(g[i]));
@@ -121,9 +121,9 @@ TEST(barrier_gradient_and_hessian_match_finite_differences)
         double keep = s.x[i];
         memset(gp, 0, n * sizeof(double)), memset(gm, 0, n * sizeof(double));
         s.x[i] = keep + h;
-        double Ep = rk_contact_energy(&s.c, &set, s.x, gp, NULL, NULL, NULL);
+        double Ep = rk_contact_energy(&s.c, &set, s.x, gp, NULL, NULL, NULL, NULL);
         s.x[i] = keep - h;
-        double Em = rk_contact_energy(&s.c, &set, s.x, gm, NULL, NULL, NULL);
+        double Em = rk_contact_energy(&s.c, &set, s.x, gm, NULL, NULL, NULL, NULL);
         s.x[i] = keep;
         worst_g = fmax(worst_g, fabs((Ep - Em) / (2 * h) - g[i]) / gscale);
         for (int j = 0; j < n; j++) worst_H = fmax(worst_H, fabs((gp[j] - gm[j]) / (2 * h) - d.H[(size_t)n * j + i]) / Hscale);
@@ -135,7 +135,7 @@ TEST(barrier_gradient_and_hessian_match_finite_differences)
     s.c.exact_hessian = 0;
     memset(d.H, 0, sizeof(double) * (size_t)n * n);
     d.not_psd = 0;
-    rk_contact_energy(&s.c, &set, s.x, NULL, collect, &d, NULL);
+    rk_contact_energy(&s.c, &set, s.x, NULL, NULL, collect, &d, NULL);
     CHECK(d.not_psd == 0, "%d negative eigenvalues in projected blocks", d.not_psd);
     free(g), free(gp), free(gm), free(d.H);
     rk_contact_set_free(&set);
@@ -157,7 +157,7 @@ TEST(ccd_step_keeps_every_surface_apart)
         for (int v = 0; v < s.mesh.nv; v++)
             for (int a = 0; a < 3; a++) dx[3 * v + a] = (v < s.first[1] ? -0.5 : 0) * (a == 0) + (v >= s.first[1] ? -1.5 : 0) * (a == 2) +
                                                         0.2 * (2 * rk_uniform(&seed) - 1);
-        double alpha = rk_contact_max_step(&s.c, s.x, dx, NAN, &err);
+        double alpha = rk_contact_max_step(&s.c, s.x, dx, NULL, &err);
         CHECK(alpha >= 0 && alpha <= 1, "alpha %g", alpha);
         stopped += alpha < 1;
         for (int i = 0; i < n; i++) y[i] = s.x[i] + alpha * dx[i];
