@@ -214,7 +214,6 @@ int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_
     c->opt = *o;
     c->nmesh = mesh->nv;
     c->min_distance_last = NAN;
-    c->stats.min_distance = INFINITY;
     if (!(o->dhat > 0 && isfinite(o->dhat))) return rk_fail(err, "contact: dhat = %g must be positive", o->dhat);
     if (!(o->kappa >= 0 && isfinite(o->kappa))) return rk_fail(err, "contact: kappa = %g must not be negative", o->kappa);
     if (!(o->friction >= 0 && isfinite(o->friction)))

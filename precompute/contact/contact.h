@@ -123,7 +123,6 @@ typedef struct {
 
 typedef struct {
     long steps, gathers, pairs, max_pairs, ccd_calls; /* pairs: summed over the gathers */
-    double min_distance;           /* over every evaluation (m): the closest two surfaces came */
     double seconds_broad, seconds_ccd, seconds_potential;
 } rk_contact_stats;
 
