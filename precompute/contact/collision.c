@@ -268,6 +268,8 @@ void rk_contact_free(rk_contact *c)
     free(c->othick), free(c->oplane), free(c->ox_to), free(c->oplane_to);
     free(c->cache_x), free(c->cache_ox);
     rk_contact_set_free(&c->cache);
+    rk_contact_set_free(&c->friction_pairs);
+    free(c->friction), free(c->fx0), free(c->fox0);
     memset(c, 0, sizeof *c);
 }
 

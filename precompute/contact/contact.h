@@ -48,6 +48,10 @@ rk_distance_case rk_edge_edge_case(const double *const x[4]);
 /* The squared distance of case c over the stencil's four points, with its gradient (12, in the
  * order of x) and Hessian (144, row-major) when g, H are not NULL. */
 double rk_contact_distance2(rk_distance_case c, const double *const x[4], double *g, double *H);
+/* The closest points' weights: sum_i w[i] x[i] is the vector from the second feature's closest
+ * point to the first's (point minus triangle, edge a minus edge b), the contact normal's direction
+ * and what friction's relative motion is measured on. */
+void rk_contact_closest_weights(rk_distance_case c, const double *const x[4], double w[4]);
 /* The edge-edge mollifier of x[0] x[1] against x[2] x[3] with threshold eps (1e-3 |ea|^2 |eb|^2 at
  * rest), with gradient and Hessian. */
 double rk_edge_edge_mollifier(const double *const x[4], double eps, double *g, double *H);
@@ -121,6 +125,15 @@ typedef struct {
     rk_contact_pair *pairs;
 } rk_contact_set;
 
+/* A friction pair, lagged (friction.c): its points (stencil ids; one point against a plane), the
+ * closest-point weights, the tangent basis (two orthonormal rows) and the normal force (N). */
+typedef struct {
+    int np, id[4];
+    double w[4];
+    double T[6];
+    double lambda;
+} rk_friction_pair;
+
 typedef struct {
     long steps, gathers, pairs, max_pairs, ccd_calls; /* pairs: summed over the gathers */
     double seconds_broad, seconds_ccd, seconds_potential;
@@ -157,6 +170,11 @@ typedef struct {
     double *cache_x, *cache_ox;    /* 3 nv (collision vertices), 3 onv */
     int cache_valid;
     rk_contact_stats stats;
+    /* Friction: the lagged pairs, and where the mesh and the obstacles were when the step began. */
+    int nfriction, capfriction;
+    rk_friction_pair *friction;
+    rk_contact_set friction_pairs;
+    double *fx0, *fox0;            /* 3 nmesh, 3 onv */
 } rk_contact;
 
 /* Builds the contact model of mesh (its rest positions X, its boundary) whose objects start at
@@ -190,6 +208,19 @@ typedef void (*rk_hessian_sink)(void *ctx, const int *id, int npoints, const dou
  * (may be NULL): the smallest distance of the pairs. */
 double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, double *og,
                          rk_hessian_sink sink, void *ctx, double *min_distance);
+
+/* ---- friction (friction.c) ---- */
+
+/* Records the step's start: mesh positions x and the obstacles where they are (friction's x^t). */
+int rk_contact_friction_start(rk_contact *c, const double *x, rk_error *err);
+/* Lags the friction pairs at x (obstacles where they are): every pair inside dhat with its normal
+ * force kappa |db/dd|, its tangent basis and closest-point weights (nothing without friction). */
+int rk_contact_friction_lag(rk_contact *c, const double *x, rk_error *err);
+/* The lagged friction potential mu sum_k lambda_k f0(|u_k|) at x (obstacles where they are) for a
+ * step of h seconds, with g and og += its gradient and each pair's Hessian block (PSD without
+ * projection) to sink; both may be NULL. */
+double rk_contact_friction_energy(const rk_contact *c, const double *x, double h, double *g, double *og,
+                                  rk_hessian_sink sink, void *ctx);
 
 /* ---- stiffness (stiffness.c) ---- */
 

@@ -204,3 +204,49 @@ double rk_edge_edge_mollifier(const double *const x[4], double eps, double *g, d
             for (int j = 0; j < 12; j++) H[12 * i + j] = m1 * xx.h[12 * i + j] + m2 * xx.g[i] * xx.g[j];
     return m;
 }
+
+/* The parameter in [0, 1] of the point of segment (a, b) closest to p. */
+static double segment_parameter(const double *p, const double *a, const double *b)
+{
+    double e[3], w[3];
+    sub3(e, b, a);
+    sub3(w, p, a);
+    double ee = dot3(e, e);
+    return ee > 0 ? fmin(1, fmax(0, dot3(w, e) / ee)) : 0;
+}
+
+void rk_contact_closest_weights(rk_distance_case c, const double *const x[4], double w[4])
+{
+    w[0] = w[1] = w[2] = w[3] = 0;
+    const int *v = c.v;
+    switch (c.kind) {
+    case RK_DIST_POINT_POINT:
+        w[v[0]] = 1, w[v[1]] = -1;
+        return;
+    case RK_DIST_POINT_EDGE: {
+        double u = segment_parameter(x[v[0]], x[v[1]], x[v[2]]);
+        w[v[0]] = 1, w[v[1]] = -(1 - u), w[v[2]] = -u;
+        return;
+    }
+    case RK_DIST_POINT_PLANE: { /* barycentric coordinates of the projection */
+        double e0[3], e1[3], r[3];
+        sub3(e0, x[v[2]], x[v[1]]);
+        sub3(e1, x[v[3]], x[v[1]]);
+        sub3(r, x[v[0]], x[v[1]]);
+        double a = dot3(e0, e0), b = dot3(e0, e1), cc = dot3(e1, e1), r0 = dot3(e0, r), r1 = dot3(e1, r);
+        double det = cross2(e0, e1), s = (cc * r0 - b * r1) / det, t = (a * r1 - b * r0) / det;
+        w[v[0]] = 1, w[v[1]] = -(1 - s - t), w[v[2]] = -s, w[v[3]] = -t;
+        return;
+    }
+    case RK_DIST_LINE_LINE: {
+        double ea[3], eb[3], r[3];
+        sub3(ea, x[v[1]], x[v[0]]);
+        sub3(eb, x[v[3]], x[v[2]]);
+        sub3(r, x[v[0]], x[v[2]]);
+        double a = dot3(ea, ea), b = dot3(ea, eb), cc = dot3(eb, eb), d = dot3(ea, r), e = dot3(eb, r);
+        double det = cross2(ea, eb), s = (b * e - cc * d) / det, t = (a * e - b * d) / det;
+        w[v[0]] = 1 - s, w[v[1]] = s, w[v[2]] = -(1 - t), w[v[3]] = -t;
+        return;
+    }
+    }
+}

@@ -21,6 +21,7 @@ typedef struct {
     const double *xt;
     double load;
     double reg;
+    int friction;           /* add the lagged friction potential (dynamics with contact.friction > 0) */
 } rk_fom_terms;
 
 /* A contact pair's Hessian block as the contact stage hands it over (mesh vertex ids; obstacle

@@ -106,6 +106,9 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     }
     if (im->nobs) stored += obstacle_term(s, y, g);
     if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);
+    if (T->friction && isfinite(stored))
+        stored += rk_contact_friction_energy(&im->contact, y, s->opt.h, g, g && im->nobs ? g + n : NULL,
+                                             hessian ? rk_newton_matrix_record : NULL, &im->N);
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
     if (hessian && isfinite(E)) {

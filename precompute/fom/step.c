@@ -35,8 +35,13 @@ static int step(rk_fom *s, rk_error *err)
     double h = s->opt.h;
     if (check_state(s, err)) return -1;
     rk_stepper_predict(st, s->x, s->v);
+    int friction = im->has_contact && s->opt.contact.friction > 0;
     rk_fom_terms T = {.w_inertia = st->w_inertia, .xtilde = st->xtilde, .w_damping = 1.0 / h, .xt = st->xt,
-                      .load = 1.0};
+                      .load = 1.0, .friction = friction};
+    /* friction's normal forces and tangents lagged at x_t for the first solve */
+    if (friction && (rk_contact_friction_start(&im->contact, st->xt, err) ||
+                     rk_contact_friction_lag(&im->contact, st->xt, err)))
+        return -1;
     /* Start Newton from the predictor when nothing is in the way (the obstacles where they are),
      * else from x_t; the prescribed vertices and the obstacles then move to their targets at t + h. */
     int start_predicted = 1;
@@ -50,6 +55,12 @@ static int step(rk_fom *s, rk_error *err)
     rk_fom_obstacle_targets(s, s->t + h);
     step_solve c = {&T, 1};
     if (rk_fom_advance_kinematics(s, s->t + h, solve_step, &c, err)) return -1;
+    /* then lagged again at the solution and solved again, until a solve has nothing left to do */
+    for (int k = 1; friction && k < s->opt.contact.friction_iterations; k++) {
+        long before = s->stats.newton_iterations;
+        if (rk_contact_friction_lag(&im->contact, s->x, err) || solve_step(s, &c, err)) return -1;
+        if (s->stats.newton_iterations - before <= 1) break;
+    }
     if (!c.converged) s->stats.unconverged_steps++;
     rk_stepper_finish(st, s->x, s->v);
     if (check_state(s, err)) return -1;

@@ -3,7 +3,8 @@
  *   {"capsule": {"a", "b", "radius"}}, {"box": {"min", "max"}},
  *   {"mesh": {"file", "scale", "translate"}}, each with an optional "translate": {"velocity"} or
  *   "twist": {"axis", "degrees_per_second", "center"};
- *   "contact": {"dhat": m, "friction": mu, "self": bool, "kappa": J}. */
+ *   "contact": {"dhat": m, "friction": mu, "eps_v": m/s, "friction_iterations": n, "self": bool,
+ *               "kappa": J}. */
 #include "pipeline/parse_impl.h"
 
 #include <math.h>
@@ -120,12 +121,15 @@ int rk_parse_contact(const rk_json_ctx *c, const cJSON *root, rk_scene *s)
     const cJSON *k = rk_json_child(root, "", "contact", p, sizeof p);
     if (!k) return 0;
     if (!cJSON_IsObject(k)) return rk_json_fail(c, p, "must be an object");
-    static const char *const keys[] = {"dhat", "friction", "self", "kappa", NULL};
+    static const char *const keys[] = {"dhat", "friction", "eps_v", "friction_iterations", "self", "kappa", NULL};
     rk_contact_options *o = &s->contact;
     if (rk_json_check_keys(c, k, p, keys) || rk_json_number(c, k, p, "dhat", 0, &o->dhat) ||
         rk_json_number(c, k, p, "friction", 0, &o->friction) || rk_json_bool(c, k, p, "self", &o->self) ||
+        rk_json_number(c, k, p, "eps_v", 0, &o->eps_v) ||
+        rk_json_whole(c, k, p, "friction_iterations", 1, 100, &o->friction_iterations) ||
         rk_json_number(c, k, p, "kappa", 0, &o->kappa))
         return -1;
+    if (!(o->eps_v > 0)) return rk_json_fail(c, p, "eps_v must be positive (m/s), got %g", o->eps_v);
     if (!(o->dhat >= 0)) return rk_json_fail(c, p, "dhat must be positive (m), got %g", o->dhat);
     if (cJSON_HasObjectItem(k, "dhat") && !(o->dhat > 0)) return rk_json_fail(c, p, "dhat must be positive (m), got %g", o->dhat);
     if (!(o->friction >= 0)) return rk_json_fail(c, p, "friction must not be negative, got %g", o->friction);

@@ -142,6 +142,47 @@ TEST(barrier_gradient_and_hessian_match_finite_differences)
     free_scene(&s);
 }
 
+TEST(friction_gradient_and_hessian_match_finite_differences)
+{
+    rk_error err;
+    scene s;
+    CHECK_OK(make_scene(&s, &err));
+    s.c.opt.friction = 0.4;
+    int n = 3 * s.mesh.nv;
+    double step = 0.01, eps = s.c.opt.eps_v * step; /* slips below eps are static */
+    CHECK_OK(rk_contact_friction_start(&s.c, s.x, &err));
+    CHECK_OK(rk_contact_friction_lag(&s.c, s.x, &err));
+    int planes = 0;
+    for (int k = 0; k < s.c.nfriction; k++) planes += s.c.friction[k].np == 1;
+    /* slide every vertex by up to 3 eps: pairs on both sides of the smoothing */
+    uint64_t rng = 11;
+    for (int i = 0; i < n; i++) s.x[i] += 3 * eps * (2 * rk_uniform(&rng) - 1);
+    double *g = calloc(n, sizeof(double)), *gp = calloc(n, sizeof(double)), *gm = calloc(n, sizeof(double));
+    dense d = {n, calloc((size_t)n * n, sizeof(double)), 0};
+    double E = rk_contact_friction_energy(&s.c, s.x, step, g, NULL, collect, &d);
+    double worst_g = 0, worst_H = 0, h = 1e-10, gscale = 0, Hscale = 0;
+    for (int i = 0; i < n; i++) gscale = fmax(gscale, fabs(g[i]));
+    for (int i = 0; i < n * n; i++) Hscale = fmax(Hscale, fabs(d.H[i]));
+    for (int i = 0; i < n; i++) {
+        double keep = s.x[i];
+        memset(gp, 0, n * sizeof(double)), memset(gm, 0, n * sizeof(double));
+        s.x[i] = keep + h;
+        double Ep = rk_contact_friction_energy(&s.c, s.x, step, gp, NULL, NULL, NULL);
+        s.x[i] = keep - h;
+        double Em = rk_contact_friction_energy(&s.c, s.x, step, gm, NULL, NULL, NULL);
+        s.x[i] = keep;
+        worst_g = fmax(worst_g, fabs((Ep - Em) / (2 * h) - g[i]) / gscale);
+        for (int j = 0; j < n; j++) worst_H = fmax(worst_H, fabs((gp[j] - gm[j]) / (2 * h) - d.H[(size_t)n * j + i]) / Hscale);
+    }
+    printf("# friction: %d lagged pairs (%d against a plane), energy %.4g: gradient off by %.2e, Hessian by %.2e\n",
+           s.c.nfriction, planes, E, worst_g, worst_H);
+    CHECK(s.c.nfriction > 0 && planes > 0 && planes < s.c.nfriction, "pairs %d, plane pairs %d", s.c.nfriction, planes);
+    CHECK(worst_g < 1e-6 && worst_H < 1e-4, "gradient %g, Hessian %g", worst_g, worst_H);
+    CHECK(d.not_psd == 0, "%d negative eigenvalues in friction blocks", d.not_psd);
+    free(g), free(gp), free(gm), free(d.H);
+    free_scene(&s);
+}
+
 TEST(ccd_step_keeps_every_surface_apart)
 {
     rk_error err;
@@ -175,6 +216,7 @@ int main(void)
 {
     RUN(every_kind_of_pair_is_gathered);
     RUN(barrier_gradient_and_hessian_match_finite_differences);
+    RUN(friction_gradient_and_hessian_match_finite_differences);
     RUN(ccd_step_keeps_every_surface_apart);
     return test_finish();
 }

@@ -1,0 +1,151 @@
+/* Friction (IPC, Li et al. 2020, Sec. 5): the smoothed Coulomb dissipative potential
+ *   D(x) = mu sum_k lambda_k f0(|u_k|),   u_k = T_k sum_i w_ki (x_i - x_i^t)   (Eq. 9-10)
+ * with the normal force lambda_k, the tangent basis T_k (2 x 3) and the closest-point weights
+ * w_k lagged: fixed at the state rk_contact_friction_lag saw, for a whole Newton solve; x^t is
+ * where everything was when the step began. f0 is |u| smoothed to C1 below eps_v h (Eq. 14-15),
+ * so friction is static below the slip speed eps_v. */
+#include "contact/pairs_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "physics/physics.h"
+#include "util/util.h"
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Two unit rows orthogonal to the unit normal n and to each other. */
+static void tangent_basis(const double *n, double *T)
+{
+    int k = fabs(n[0]) < fabs(n[1]) ? (fabs(n[0]) < fabs(n[2]) ? 0 : 2) : (fabs(n[1]) < fabs(n[2]) ? 1 : 2);
+    double e[3] = {0, 0, 0}, *t1 = T, *t2 = T + 3;
+    e[k] = 1; /* the axis least aligned with n */
+    t1[0] = n[1] * e[2] - n[2] * e[1], t1[1] = n[2] * e[0] - n[0] * e[2], t1[2] = n[0] * e[1] - n[1] * e[0];
+    double l = sqrt(dot3(t1, t1));
+    for (int i = 0; i < 3; i++) t1[i] /= l;
+    t2[0] = n[1] * t1[2] - n[2] * t1[1], t2[1] = n[2] * t1[0] - n[0] * t1[2], t2[2] = n[0] * t1[1] - n[1] * t1[0];
+}
+
+int rk_contact_friction_start(rk_contact *c, const double *x, rk_error *err)
+{
+    if (!c->fx0) {
+        c->fx0 = rk_calloc(3 * (size_t)c->nmesh + 1, sizeof(double), err);
+        c->fox0 = rk_calloc(3 * (size_t)c->onv + 1, sizeof(double), err);
+        if (!c->fx0 || !c->fox0) return -1;
+    }
+    memcpy(c->fx0, x, sizeof(double) * 3 * (size_t)c->nmesh);
+    memcpy(c->fox0, c->ox, sizeof(double) * 3 * (size_t)c->onv);
+    c->nfriction = 0;
+    return 0;
+}
+
+/* The lagged quantities of one pair at x, or 0 when the pair exerts no force. */
+static int lag_pair(const rk_contact *c, const rk_contact_pair *p, const double *x, rk_friction_pair *f)
+{
+    double n[3], dhat = c->opt.dhat, b1, b2;
+    memset(f, 0, sizeof *f);
+    if (p->kind == RK_PAIR_POINT_PLANE) {
+        const double *pn = &c->oplane[6 * p->id[1] + 3];
+        double d = rk_contact_plane_distance(c, p->id[1], &x[3 * p->id[0]]);
+        if (!(d > 0 && d < dhat)) return 0;
+        rk_barrier_distance(d, dhat, &b1, &b2);
+        f->lambda = c->kappa * fabs(b1);
+        f->np = 1, f->id[0] = p->id[0], f->w[0] = 1;
+        memcpy(n, pn, sizeof n);
+    } else {
+        const double *pts[4];
+        rk_contact_stencil(c, p, x, c->ox, pts);
+        int ee = p->kind == RK_PAIR_EDGE_EDGE;
+        rk_distance_case k = ee ? rk_edge_edge_case(pts) : rk_point_triangle_case(pts);
+        double d2 = rk_contact_distance2(k, pts, NULL, NULL), s = d2 - p->xi * p->xi;
+        double shat = dhat * dhat + 2 * p->xi * dhat;
+        if (!(s > 0 && s < shat)) return 0;
+        rk_barrier(s, shat, &b1, &b2);
+        double m = ee && p->eps > 0 ? rk_edge_edge_mollifier(pts, p->eps, NULL, NULL) : 1;
+        f->lambda = c->kappa * m * fabs(b1) * 2 * sqrt(d2); /* |dE/dd| with s = d^2 - xi^2 */
+        f->np = 4;
+        memcpy(f->id, p->id, sizeof f->id);
+        rk_contact_closest_weights(k, pts, f->w);
+        for (int a = 0; a < 3; a++) {
+            n[a] = 0;
+            for (int i = 0; i < 4; i++) n[a] += f->w[i] * pts[i][a];
+        }
+        double l = sqrt(dot3(n, n));
+        if (!(l > 0)) return 0;
+        for (int a = 0; a < 3; a++) n[a] /= l;
+    }
+    tangent_basis(n, f->T);
+    return f->lambda > 0;
+}
+
+int rk_contact_friction_lag(rk_contact *c, const double *x, rk_error *err)
+{
+    c->nfriction = 0;
+    if (c->opt.friction <= 0) return 0;
+    if (rk_contact_gather(c, x, &c->friction_pairs, err)) return -1;
+    const rk_contact_set *s = &c->friction_pairs;
+    if (s->n > c->capfriction) {
+        rk_friction_pair *grown = realloc(c->friction, sizeof *grown * (size_t)s->n);
+        if (!grown) return rk_fail(err, "out of memory for %d friction pairs", s->n);
+        c->friction = grown, c->capfriction = s->n;
+    }
+    for (int i = 0; i < s->n; i++) c->nfriction += lag_pair(c, &s->pairs[i], x, &c->friction[c->nfriction]);
+    return 0;
+}
+
+/* The smoothed |u| and its derivatives as f1(y) / y and M = d(f1(y) u / y) / du (2 x 2, PSD for
+ * every y: eigenvalues f1 / y across u and f1' along it, both >= 0). */
+static double smoothed_norm(const double u[2], double eps, double *f1_over_y, double M[4])
+{
+    double y = hypot(u[0], u[1]);
+    if (y >= eps) {
+        *f1_over_y = 1 / y;
+        double y3 = y * y * y;
+        M[0] = 1 / y - u[0] * u[0] / y3, M[1] = M[2] = -u[0] * u[1] / y3, M[3] = 1 / y - u[1] * u[1] / y3;
+        return y;
+    }
+    *f1_over_y = 2 / eps - y / (eps * eps); /* f1 = 2 y / eps - y^2 / eps^2 */
+    double c = y > 0 ? -1 / (eps * eps * y) : 0;
+    M[0] = *f1_over_y + c * u[0] * u[0], M[1] = M[2] = c * u[0] * u[1], M[3] = *f1_over_y + c * u[1] * u[1];
+    return -y * y * y / (3 * eps * eps) + y * y / eps + eps / 3;
+}
+
+double rk_contact_friction_energy(const rk_contact *c, const double *x, double h, double *g, double *og,
+                                  rk_hessian_sink sink, void *ctx)
+{
+    double mu = c->opt.friction, eps = c->opt.eps_v * h, E = 0;
+    for (int k = 0; k < c->nfriction; k++) {
+        const rk_friction_pair *f = &c->friction[k];
+        double rel[3] = {0, 0, 0}; /* sum_i w_i (x_i - x_i^t); planes stay where they are */
+        for (int i = 0; i < f->np; i++) {
+            int id = f->id[i];
+            const double *now = id >= 0 ? &x[3 * id] : &c->ox[3 * (-1 - id)];
+            const double *then = id >= 0 ? &c->fx0[3 * id] : &c->fox0[3 * (-1 - id)];
+            for (int a = 0; a < 3; a++) rel[a] += f->w[i] * (now[a] - then[a]);
+        }
+        double u[2] = {dot3(f->T, rel), dot3(f->T + 3, rel)}, f1y, M[4];
+        double scale = mu * f->lambda;
+        E += scale * smoothed_norm(u, eps, &f1y, M);
+        double gt[3]; /* d D_k / d rel = scale f1/y T^T u */
+        for (int a = 0; a < 3; a++) gt[a] = scale * f1y * (f->T[a] * u[0] + f->T[3 + a] * u[1]);
+        for (int i = 0; i < f->np; i++) {
+            int id = f->id[i];
+            double *to = id >= 0 ? (g ? &g[3 * id] : NULL) : (og ? &og[3 * (-1 - id)] : NULL);
+            for (int a = 0; a < 3 && to; a++) to[a] += f->w[i] * gt[a];
+        }
+        if (!sink) continue;
+        double B[9], H[144]; /* scale T^T M T, then w_i w_j B per block */
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                B[3 * a + b] = scale * (f->T[a] * (M[0] * f->T[b] + M[1] * f->T[3 + b]) +
+                                        f->T[3 + a] * (M[2] * f->T[b] + M[3] * f->T[3 + b]));
+        int dim = 3 * f->np;
+        for (int i = 0; i < f->np; i++)
+            for (int j = 0; j < f->np; j++)
+                for (int a = 0; a < 3; a++)
+                    for (int b = 0; b < 3; b++) H[dim * (3 * i + a) + 3 * j + b] = f->w[i] * f->w[j] * B[3 * a + b];
+        sink(ctx, f->id, f->np, H);
+    }
+    return E;
+}
