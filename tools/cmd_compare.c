@@ -70,6 +70,7 @@ static cJSON *method_json(const rk_compare_method *m)
                             m->seconds_basis + m->seconds_cubature + m->seconds_training_run + m->seconds_fit);
     cJSON_AddNumberToObject(j, "newton_iterations", (double)m->newton_iterations);
     cJSON_AddNumberToObject(j, "unconverged_steps", (double)m->unconverged_steps);
+    cJSON_AddNumberToObject(j, "realign_clipped", m->realign_clipped);
     if (isfinite(m->reference_nmse)) {
         cJSON *ref = cJSON_AddObjectToObject(j, "reference");
         cJSON_AddNumberToObject(ref, "normalized_mse", m->reference_nmse);
@@ -97,7 +98,21 @@ static cJSON *make_report(const rk_compare_result *res, double seconds)
     cJSON_AddNumberToObject(f, "relative_online_error", 0);
     cJSON_AddNumberToObject(f, "relative_error", 0);
     cJSON_AddItemToArray(methods, f);
-    for (int k = 0; k < res->nmethods; k++) cJSON_AddItemToArray(methods, method_json(&res->methods[k]));
+    for (int k = 0; k < res->nmethods; k++) {
+        const rk_compare_method *m = &res->methods[k];
+        cJSON *j = method_json(m);
+        if (res->has_contact && !m->koopman && !m->failure[0]) { /* Koopman models no contact */
+            cJSON *c = cJSON_AddObjectToObject(j, "contact");
+            add_number(c, "min_distance", m->contact_min_distance);
+            cJSON_AddNumberToObject(c, "intersections", m->contact_intersections);
+        }
+        cJSON_AddItemToArray(methods, j);
+    }
+    if (res->has_contact) { /* the full-order run's */
+        cJSON *c = cJSON_AddObjectToObject(root, "contact");
+        add_number(c, "min_distance", res->fom_min_distance);
+        cJSON_AddNumberToObject(c, "intersections", res->fom_intersections);
+    }
     cJSON *s = cJSON_AddObjectToObject(root, "seconds");
     cJSON_AddNumberToObject(s, "total", seconds);
     return root;

@@ -13,6 +13,11 @@
 static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     fom_run *F = ctx;
+    int crossings;
+    double d;
+    if (rk_fom_contact_measure(fom, &crossings, &d, err)) return -1;
+    F->min_distance = fmin(F->min_distance, d);
+    F->intersections = crossings > F->intersections ? crossings : F->intersections;
     memcpy(F->x + (size_t)F->ndof * step, fom->x, sizeof(double) * F->ndof);
     memcpy(F->v + (size_t)F->ndof * step, fom->v, sizeof(double) * F->ndof);
     if (step > 0) F->step_seconds[step - 1] = seconds;
@@ -22,6 +27,7 @@ static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error
 static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
 {
     F->ndof = 3 * sim->mesh.nv;
+    F->min_distance = INFINITY;
     F->T = sim->options.is_static ? 1 : sim->steps;
     F->x = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
     F->v = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
@@ -32,6 +38,9 @@ static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, 
     out->fom_seconds_total = stats.seconds_total;
     out->fom_newton_iterations = stats.newton_iterations;
     out->fom_seconds_per_step = rk_median(F->step_seconds, F->T);
+    out->has_contact = sim->options.nobstacles > 0 || sim->options.nobjects > 1 || sim->options.contact.self;
+    out->fom_min_distance = F->min_distance;
+    out->fom_intersections = F->intersections;
     return 0;
 }
 
@@ -58,10 +67,16 @@ static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, 
         goto out;
     rk_run_error e;
     rk_run_error_init(&e, sim->mesh.X, ndof / 3);
+    out->contact_min_distance = INFINITY;
     for (int s = 0; s < F->T; s++) {
         double t0 = rk_now();
         if (rk_rom_step(&rom, err)) goto out;
         secs[s] = rk_now() - t0;
+        int crossings;
+        double d;
+        if (rk_rom_contact_measure(&rom, &crossings, &d, err)) goto out;
+        out->contact_min_distance = fmin(out->contact_min_distance, d);
+        if (crossings > out->contact_intersections) out->contact_intersections = crossings;
         rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
         rk_run_error_add(&e, x, F->x + (size_t)ndof * (s + 1));
     }
@@ -95,8 +110,9 @@ static int run_realigned(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run
         if (rk_rom_project(&R->model, M, R->basis.U, ndof, sim->mesh.X, F->x + (size_t)ndof * s, q, err) ||
             rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v + (size_t)ndof * s, v, err))
             goto out;
-        rk_rom_reset(&rom, q, v, s * sim->options.h);
-        if (rk_rom_step(&rom, err)) goto out;
+        double reached;
+        if (rk_rom_realign(&rom, q, v, s * sim->options.h, &reached, err) || rk_rom_step(&rom, err)) goto out;
+        out->realign_clipped += reached < 1;
         rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
         rk_run_error_add(&e, x, F->x + (size_t)ndof * (s + 1));
     }

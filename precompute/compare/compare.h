@@ -27,6 +27,10 @@ typedef struct {
     double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
     double seconds_fit;            /* Koopman: the DMD fit */
     long newton_iterations, unconverged_steps;
+    double contact_min_distance;   /* over the free run's frames (INFINITY without contact) */
+    int contact_intersections;     /* the most exact crossings in a frame (0) */
+    int realign_clipped;           /* online error: steps whose projected start lay beyond contact
+                                    * (the realignment stopped short where CCD did) */
     double reference_nmse;
     char reference_source[96];
     char basis_reason[256], cubature_reason[256];
@@ -38,6 +42,9 @@ typedef struct {
     double bbox_diagonal;
     double fom_seconds_per_step, fom_seconds_total;
     long fom_newton_iterations;
+    int has_contact;
+    double fom_min_distance;       /* over the full-order frames */
+    int fom_intersections;         /* the most exact crossings in a frame (0) */
     int nmethods;
     rk_compare_method *methods;
 } rk_compare_result;

@@ -10,6 +10,8 @@ typedef struct {
     int ndof, T;
     double *x, *v;   /* ndof x (T + 1): the start, then after every step */
     double *step_seconds;
+    double min_distance;   /* contact over the frames: closest surfaces (m), most crossings */
+    int intersections;
 } fom_run;
 
 /* A free run's errors (util/util.h) into m: normalized MSE, max error, relative error. */

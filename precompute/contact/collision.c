@@ -240,6 +240,7 @@ int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_
     /* object of every mesh vertex, kept in c->object indexed by mesh vertex */
     for (int k = 0; object_first_vertex && k < nobjects; k++)
         for (int v = object_first_vertex[k]; v < object_first_vertex[k + 1]; v++) c->object[v] = k;
+    c->mesh_pairs = (object_first_vertex && nobjects > 1) || o->self;
     for (int v = 0; v < mesh->nv; v++)
         if (on[v]) c->vertex[c->nv++] = v;
     free(on);

@@ -146,6 +146,7 @@ typedef struct {
     int nmesh;                     /* mesh vertices: x has 3 nmesh entries */
     int nv, *vertex;               /* collision vertices: their mesh vertex ids */
     int *object;                   /* nmesh: the object of every mesh vertex */
+    int mesh_pairs;                /* the mesh can touch itself: several objects, or self-contact */
     int ne, *edges;                /* 2 ne mesh vertex ids */
     int nf, *faces;                /* 3 nf mesh vertex ids, outward */
     double *X;                     /* 3 nmesh rest positions (the mollifier's rest edge lengths) */

@@ -97,7 +97,7 @@ static int count_crossings(const rk_contact *c, const double *x, const int *edge
 int rk_contact_intersections(rk_contact *c, const double *x, rk_error *err)
 {
     long count = 0;
-    if (count_crossings(c, x, c->edges, c->ne, 0, c->faces, c->nf, 0, &count, err) ||
+    if ((c->mesh_pairs && count_crossings(c, x, c->edges, c->ne, 0, c->faces, c->nf, 0, &count, err)) ||
         count_crossings(c, x, c->edges, c->ne, 0, c->ofaces, c->onf, 1, &count, err) ||
         count_crossings(c, x, c->oedges, c->one, 1, c->faces, c->nf, 0, &count, err))
         return -1;

@@ -142,7 +142,7 @@ int rk_contact_candidates(rk_contact *c, const rk_motion_frame *f, double grow, 
                                       {OBJ_POINTS, OBS_FACES, RK_PAIR_POINT_TRIANGLE},
                                       {OBS_POINTS, OBJ_FACES, RK_PAIR_POINT_TRIANGLE},
                                       {OBJ_EDGES, OBS_EDGES, RK_PAIR_EDGE_EDGE}};
-    for (int k = 0; k < 5 && !rc; k++) {
+    for (int k = c->mesh_pairs ? 0 : 2; k < 5 && !rc; k++) {
         const primitives *A = &P[classes[k][0]], *B = &P[classes[k][1]];
         int *pairs = NULL, np = 0;
         if (rk_broad_phase(A->boxes, A->n, B->boxes, B->n, &pairs, &np, err)) {

@@ -98,7 +98,15 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
 int rk_rom_step(rk_rom *s, rk_error *err);
 /* Puts the state back to (q, v) at time t, with no BDF2 history (the online-error realignment). */
 void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t);
+/* rk_rom_reset for a state that may not be reachable: with contact, the model moves from where it
+ * is (a valid state at time t) toward q only as far as CCD allows, since a full-order state
+ * projected onto the subspace can put boundary vertices behind an obstacle. The fraction of the
+ * way it got (1: exactly q) into *reached; -1 on failure. */
+int rk_rom_realign(rk_rom *s, const double *q, const double *v, double t, double *reached, rk_error *err);
 void rk_rom_free(rk_rom *s);
+/* Contact at the current state, as rk_fom_contact_measure: exact crossings of the reduced surfaces
+ * (0 for a valid state) and their smallest distance (INFINITY without contact). */
+int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, rk_error *err);
 
 /* q = argmin |X + U q - x|_M, the M-orthogonal projection of a full-order state onto the subspace
  * (x - X for positions, or a velocity with X = NULL); M is the model's inertia mass. */

@@ -57,6 +57,24 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
     if (s->model->has_contact) rk_contact_set_time(&s->model->contact, t);
 }
 
+int rk_rom_realign(rk_rom *s, const double *q, const double *v, double t, double *reached, rk_error *err)
+{
+    int r = s->model->r;
+    double alpha = 1, *target = s->work + RK_ROM_WORK_TMP2 * (size_t)r; /* scratch */
+    memcpy(target, q, sizeof(double) * (size_t)r);
+    if (s->model->has_contact) {
+        rk_contact_set_time(&s->model->contact, t);
+        double *dq = s->work + RK_ROM_WORK_TMP * (size_t)r;
+        for (int i = 0; i < r; i++) dq[i] = q[i] - s->q[i];
+        alpha = rk_rom_contact_max_step(s, s->q, dq, NAN, err);
+        if (alpha < 0) return -1;
+        for (int i = 0; i < r; i++) target[i] = s->q[i] + alpha * dq[i];
+    }
+    rk_rom_reset(s, target, v, t);
+    *reached = alpha;
+    return 0;
+}
+
 void rk_rom_free(rk_rom *s)
 {
     free(s->q);

@@ -101,24 +101,27 @@ TEST(random_motions_never_pass_through)
     CHECK(impacts > 50 && impacts < checked, "impacts %d of %d", impacts, checked);
 }
 
-TEST(broad_phase_finds_exactly_the_overlapping_boxes)
+/* n random boxes in [-2, 2]^3 of sizes in [lo, hi] (lo 0: some are points). */
+static void random_boxes(double *boxes, int n, double lo, double hi)
 {
-    enum { NA = 300, NB = 400 };
-    static double A[6 * NA], B[6 * NB];
-    for (int i = 0; i < NA + NB; i++) {
-        double *b = i < NA ? A + 6 * i : B + 6 * (i - NA), size = 0.02 + 0.2 * fabs(rnd());
+    for (int i = 0; i < n; i++) {
+        double *b = boxes + 6 * i, size = lo + (hi - lo) * fabs(rnd());
         for (int a = 0; a < 3; a++) {
             b[a] = 2 * rnd();
-            b[3 + a] = b[a] + size * (0.5 + fabs(rnd()));
+            b[3 + a] = b[a] + size * (i % 7 == 0 && lo == 0 ? 0 : 0.5 + fabs(rnd()));
         }
     }
-    B[0] = -50, B[3] = 50; /* one huge box */
+}
+
+/* The broad phase against every pair tested: the same pairs, each once. */
+static int broad_phase_matches_brute_force(const double *A, int na, const double *B, int nb, int *brute_out)
+{
     int *pairs, np;
     rk_error err;
-    CHECK_OK(rk_broad_phase(A, NA, B, NB, &pairs, &np, &err));
+    if (rk_broad_phase(A, na, B, nb, &pairs, &np, &err)) return 0;
     int brute = 0, found = 0;
-    for (int a = 0; a < NA; a++)
-        for (int b = 0; b < NB; b++) {
+    for (int a = 0; a < na; a++)
+        for (int b = 0; b < nb; b++) {
             const double *x = A + 6 * a, *y = B + 6 * b;
             int overlap = !(x[0] > y[3] || x[3] < y[0] || x[1] > y[4] || x[4] < y[1] || x[2] > y[5] || x[5] < y[2]);
             brute += overlap;
@@ -128,9 +131,30 @@ TEST(broad_phase_finds_exactly_the_overlapping_boxes)
                     break;
                 }
         }
-    printf("# broad phase: %d overlapping pairs of %d x %d boxes, %d reported\n", brute, NA, NB, np);
-    CHECK(found == brute && np == brute, "found %d of %d, reported %d", found, brute, np);
     free(pairs);
+    *brute_out = brute;
+    return found == brute && np == brute;
+}
+
+TEST(broad_phase_finds_exactly_the_overlapping_boxes)
+{
+    enum { NA = 300, NB = 400 };
+    static double A[6 * NA], B[6 * NB];
+    /* similar sizes and one huge box; many points against a few big boxes (an obstacle's
+     * triangles against a mesh's vertices), both ways round; big boxes against big boxes */
+    const double sizes[5][4] = {{0.02, 0.22, 0.02, 0.22}, {0, 1e-3, 0.5, 1.5}, {0.5, 1.5, 0, 1e-3},
+                                {0.1, 0.4, 0, 0.05}, {1, 3, 1, 3}};
+    const int counts[5][2] = {{NA, NB}, {NA, 12}, {12, NB}, {NA, NB}, {40, 40}};
+    for (int c = 0; c < 5; c++) {
+        random_boxes(A, counts[c][0], sizes[c][0], sizes[c][1]);
+        random_boxes(B, counts[c][1], sizes[c][2], sizes[c][3]);
+        if (c == 0) B[0] = -50, B[3] = 50; /* one huge box */
+        int brute = -1;
+        int same = broad_phase_matches_brute_force(A, counts[c][0], B, counts[c][1], &brute);
+        printf("# broad phase, %d x %d boxes of %g-%g m and %g-%g m: %d overlapping pairs%s\n", counts[c][0],
+               counts[c][1], sizes[c][0], sizes[c][1], sizes[c][2], sizes[c][3], brute, same ? ", each reported once" : "");
+        CHECK(same, "case %d: the broad phase's pairs differ from the %d overlapping ones", c, brute);
+    }
 }
 
 TEST(orient3d_is_exact_where_floating_point_is_not)
