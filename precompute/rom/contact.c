@@ -77,7 +77,7 @@ static void reduce_block(void *ctx, const int *id, int npoints, const double *B)
         if (rows[i]) cblas_dger(CblasColMajor, r, r, 1.0, rows[i], 1, c->JB + (size_t)i * r, 1, c->H, r);
 }
 
-double rk_rom_contact_energy(rk_rom *s, const double *q, double *g, double *H, rk_error *err)
+double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err)
 {
     rk_rom_model *m = s->model;
     int r = m->r;
@@ -88,6 +88,8 @@ double rk_rom_contact_energy(rk_rom *s, const double *q, double *g, double *H, r
     reduce_ctx ctx = {m, H, s->jb};
     double E = rk_contact_energy(&m->contact, &s->pairs, s->x, g ? s->gx : NULL, NULL, H ? reduce_block : NULL, &ctx,
                                  NULL);
+    if (friction && isfinite(E))
+        E += rk_contact_friction_energy(&m->contact, s->x, m->h, g ? s->gx : NULL, NULL, H ? reduce_block : NULL, &ctx);
     if (g && isfinite(E))
         for (int i = 0; i < m->contact.nv; i++)
             for (int a = 0; a < 3; a++) {
@@ -129,4 +131,16 @@ int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, 
     if (*intersections < 0) return -1;
     *min_distance = rk_contact_min_distance(&s->model->contact, s->x, err); /* s->x: set just above */
     return isnan(*min_distance) ? -1 : 0;
+}
+
+int rk_rom_friction_start(rk_rom *s, const double *q, rk_error *err)
+{
+    rk_rom_contact_positions(s, q);
+    return rk_contact_friction_start(&s->model->contact, s->x, err);
+}
+
+int rk_rom_friction_lag(rk_rom *s, const double *q, rk_error *err)
+{
+    rk_rom_contact_positions(s, q);
+    return rk_contact_friction_lag(&s->model->contact, s->x, err);
 }

@@ -16,6 +16,7 @@ typedef struct {
     double load;
     double reg;
     const double *pin_b;
+    int friction;              /* add the lagged friction potential (dynamics with contact.friction > 0) */
 } rk_rom_terms;
 
 /* rk_rom.work: vectors of r (indices below; NEWTON is RK_NEWTON_WORK(r) long), then the r x r
@@ -32,8 +33,12 @@ void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
 /* Contact in the subspace (contact.c). */
 int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U, rk_error *err);
 void rk_rom_contact_positions(rk_rom *s, const double *q);
-/* The barrier at q: value, g += its reduced gradient, H += its reduced Hessian (g, H may be NULL). */
-double rk_rom_contact_energy(rk_rom *s, const double *q, double *g, double *H, rk_error *err);
+/* The barrier at q (and, with friction, the lagged friction potential of a step of h): value,
+ * g += its reduced gradient, H += its reduced Hessian (g, H may be NULL). */
+double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err);
+/* Friction's step start (positions at q) and its lag at q (contact.h). */
+int rk_rom_friction_start(rk_rom *s, const double *q, rk_error *err);
+int rk_rom_friction_lag(rk_rom *s, const double *q, rk_error *err);
 /* The largest alpha in [0, 1] CCD allows along q + alpha dq (dq NULL: still) with the obstacles
  * moving toward time t (NAN: still); -1 on failure. */
 double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, double t, rk_error *err);

@@ -159,8 +159,11 @@ static int dynamic_step(rk_rom *s, rk_error *err)
     rk_stepper *st = &s->stepper;
     double *pin = s->work + RK_ROM_WORK_PIN * (size_t)m->r;
     rk_stepper_predict(st, s->q, s->v);
+    int friction = m->has_contact && m->contact.opt.friction > 0;
     rk_rom_terms T = {.w_inertia = st->w_inertia, .qtilde = st->xtilde, .w_damping = 1.0 / m->h, .qt = st->xt,
-                      .load = 1.0, .pin_b = pin};
+                      .load = 1.0, .pin_b = pin, .friction = friction};
+    /* friction lagged at q_t for the first solve (as the full-order step) */
+    if (friction && (rk_rom_friction_start(s, st->xt, err) || rk_rom_friction_lag(s, st->xt, err))) return -1;
     rk_rom_pin_target(m, s->t + m->h, pin);
     rk_rom_problem_ctx ctx = {.s = s, .T = &T};
     rk_newton_problem p;
@@ -174,6 +177,12 @@ static int dynamic_step(rk_rom *s, rk_error *err)
     if (m->has_contact ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
                        : move_and_solve(&c, s->t + m->h, 1, err))
         return -1;
+    /* then lagged again at the solution and solved again, until a solve has nothing left to do */
+    for (int k = 1; friction && k < m->contact.opt.friction_iterations; k++) {
+        long before = s->stats.newton_iterations;
+        if (rk_rom_friction_lag(s, s->q, err) || move_and_solve(&c, s->t + m->h, 1, err)) return -1;
+        if (s->stats.newton_iterations - before <= 1) break;
+    }
     if (!c.converged) s->stats.unconverged_steps++;
     rk_stepper_finish(st, s->q, s->v);
     s->t += m->h;
