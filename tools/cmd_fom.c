@@ -151,6 +151,7 @@ static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, int s
      * they used (each named in a warning on stderr when the scene was built). */
     cJSON_AddNumberToObject(mesh, "slivers", sim->mesh_report.slivers);
     cJSON_AddNumberToObject(mesh, "flat_dropped", sim->mesh_report.flat_dropped);
+    cJSON_AddNumberToObject(mesh, "flat_inside", sim->mesh_report.ghosts); /* kept as ghosts (mesh.h) */
     cJSON_AddNumberToObject(mesh, "orphans_removed", sim->mesh_report.orphans_removed);
     cJSON_AddItemToObject(r, "final", final);
     return r;

@@ -92,6 +92,8 @@ static int remove_unused(rk_mesh *m, rk_mesh_report *rep, rk_error *err)
         remap[i] = kept++;
     }
     for (size_t i = 0; i < 4 * (size_t)m->nt; i++) m->tets[i] = remap[m->tets[i]];
+    /* A ghost's vertices are all used by tets (sliver.c makes none of a vertex of its own). */
+    for (size_t i = 0; i < 4 * (size_t)m->nghost; i++) m->ghost[i] = remap[m->ghost[i]];
     rep->unused_removed = m->nv - kept - rep->orphans_removed; /* those were used, by dropped tets */
     m->nv = kept;
     free(remap);

@@ -43,6 +43,7 @@ void rk_mesh_free(rk_mesh *m)
     free(m->X);
     free(m->tets);
     free(m->tet_tag);
+    free(m->ghost);
     *m = (rk_mesh){0};
 }
 

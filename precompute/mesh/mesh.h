@@ -29,6 +29,12 @@ typedef struct {
     int *tets;       /* 4*nt vertex indices, 0-based, positively oriented after the check (flat
                       * tets, kept by a conversion, have volume >= 0) */
     int *tet_tag;    /* nt region tags from the file (Gmsh physical / MEDIT ref), or NULL */
+    /* Ghost tets: flat tets rk_mesh_check (RK_MESH_DROP_FLAT) dropped from inside the body. They
+     * carry no material and are not among the nt tets (writers skip them), but rk_mesh_boundary
+     * matches their faces, so the boundary stays the body's instead of gaining a zero-width closed
+     * pocket where they were (which self-contact would see as two surfaces touching). */
+    int nghost;
+    int *ghost;      /* 4*nghost vertex indices, or NULL */
 } rk_mesh;
 
 typedef struct {
@@ -65,7 +71,9 @@ typedef enum {
     RK_MESH_KEEP_FLAT = 0,
     /* Simulating: flat tets are dropped from the mesh, each named in a warning on stderr
      * (rk_warn), and so are the vertices only they used; every sliver with a thickness above the
-     * rounding is kept (stable Neo-Hookean is defined for any positive volume). */
+     * rounding is kept (stable Neo-Hookean is defined for any positive volume). A group of flat
+     * tets (sharing faces) with no face on the boundary and no vertex of its own stays as ghost
+     * tets (rk_mesh.ghost): no material, but the boundary is the same as with them. */
     RK_MESH_DROP_FLAT = 1
 } rk_mesh_flat_policy;
 
@@ -88,7 +96,8 @@ typedef struct {
     double bbox_min[3], bbox_max[3];
     int slivers;           /* slivers among the input's tets, flat ones included */
     int flat;              /* flat tets among the input's tets */
-    int flat_dropped;      /* flat tets removed (RK_MESH_DROP_FLAT; 0 otherwise) */
+    int flat_dropped;      /* flat tets removed (RK_MESH_DROP_FLAT; 0 otherwise), ghosts included */
+    int ghosts;            /* of those, kept as ghost tets (inside the body) */
     int orphans_removed;   /* vertices used only by dropped tets, removed with them */
     double sliver_volume;  /* RK_MESH_SLIVER * diagonal^3 of this mesh */
     int nlisted;           /* the first min(slivers, RK_MESH_LISTED) slivers by index */
@@ -114,7 +123,8 @@ int rk_mesh_box(const double size[3], const int cells[3], rk_mesh *m, rk_error *
 /* Scales then translates the rest positions. */
 void rk_mesh_transform(rk_mesh *m, double scale, const double translate[3]);
 
-/* Boundary faces (triangles used by exactly one tet), oriented outward. *tris malloc'ed. */
+/* Boundary faces (triangles used by exactly one tet, ghost tets counted), oriented outward.
+ * *tris malloc'ed. */
 int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err);
 
 /* Writers, atomic (util/util.h). By extension: .mesh (MEDIT), .vtk (legacy ASCII,

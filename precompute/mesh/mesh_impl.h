@@ -44,6 +44,11 @@ void rk_put_f64(FILE *fp, double v, int big_endian);
  * place, unused, for the check to remove). Fails when every tet is flat and they are to go. */
 int rk_mesh_slivers(rk_mesh *m, const char *what, rk_mesh_flat_policy policy, rk_mesh_report *rep, rk_error *err);
 
+/* partner[4 t + l] (4 nt ints): the tet across the face of tet t opposite its vertex l, -1 when
+ * no tet is (a boundary face). Ghost tets are not counted. A face of three tets or more (not a
+ * manifold) names the next of them, round. */
+int rk_mesh_face_partners(const rk_mesh *m, int *partner, rk_error *err);
+
 /* Checks that m can be written: counts, indices in range. */
 int rk_mesh_validate_for_write(const char *path, const rk_mesh *m, rk_error *err);
 

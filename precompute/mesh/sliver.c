@@ -80,11 +80,56 @@ static void orphans(const rk_mesh *m, const char *flat, unsigned char *use, cons
                 list + 1, rep->orphans_removed > 8 ? " ..." : "");
 }
 
-/* Drops the flat tets (and their tags), keeping the order of the rest. */
-static void compact(rk_mesh *m, const char *flat)
+static int find_root(int *parent, int i)
 {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Which flat tets become ghosts (flat[t] = 2): those of a group of flat tets (joined by shared
+ * faces) that has no boundary face and no vertex of its own. Dropping such a group outright would
+ * leave a closed zero-width pocket in the boundary (its faces, now unmatched, on both sides of a
+ * flat region); a group on the boundary leaves faces that lie where its boundary faces lay. */
+static int find_ghosts(const rk_mesh *m, char *flat, const unsigned char *use, rk_error *err)
+{
+    size_t nt = (size_t)m->nt;
+    int *partner = rk_calloc(4 * nt, sizeof *partner, err), *parent = rk_calloc(nt, sizeof *parent, err);
+    char *open = rk_calloc(nt, 1, err);
+    int rc = !partner || !parent || !open ? -1 : rk_mesh_face_partners(m, partner, err);
+    for (size_t t = 0; rc == 0 && t < nt; t++) parent[t] = (int)t;
+    for (size_t t = 0; rc == 0 && t < nt; t++)
+        for (int l = 0; flat[t] && l < 4; l++) {
+            int p = partner[4 * t + l];
+            if (p >= 0 && flat[p]) parent[find_root(parent, (int)t)] = find_root(parent, p);
+        }
+    for (size_t t = 0; rc == 0 && t < nt; t++)
+        for (int l = 0; flat[t] && l < 4; l++) {
+            int r = find_root(parent, (int)t);
+            open[r] |= partner[4 * t + l] < 0 || use[m->tets[4 * t + (size_t)l]] == 2;
+        }
+    for (size_t t = 0; rc == 0 && t < nt; t++)
+        if (flat[t] && !open[find_root(parent, (int)t)]) flat[t] = 2;
+    free(partner);
+    free(parent);
+    free(open);
+    return rc;
+}
+
+/* Moves the flat tets out of the tets (and their tags), keeping the order of the rest; those marked
+ * 2 are appended to the ghosts. */
+static int compact(rk_mesh *m, const char *flat, int nghost, rk_error *err)
+{
+    if (nghost > 0) {
+        int *g = realloc(m->ghost, sizeof(int) * 4 * (size_t)(m->nghost + nghost));
+        if (!g) return rk_fail(err, "out of memory keeping %d ghost tets", nghost);
+        m->ghost = g;
+    }
     int kept = 0;
     for (int t = 0; t < m->nt; t++) {
+        if (flat[t] == 2) memcpy(m->ghost + 4 * (size_t)m->nghost++, m->tets + 4 * (size_t)t, 4 * sizeof *m->tets);
         if (flat[t]) continue;
         if (kept != t) {
             memcpy(m->tets + 4 * (size_t)kept, m->tets + 4 * (size_t)t, 4 * sizeof *m->tets);
@@ -93,18 +138,21 @@ static void compact(rk_mesh *m, const char *flat)
         kept++;
     }
     m->nt = kept;
+    return 0;
 }
 
-/* Flat tets as RK_MESH_DROP_FLAT says: the warnings, the vertices they take along. */
+/* Flat tets as RK_MESH_DROP_FLAT says: which are ghosts, the warnings, the vertices they take along. */
 static int drop_flat(rk_mesh *m, const char *what, char *flat, rk_mesh_report *rep, rk_error *err)
 {
     if (rep->flat == m->nt) return rk_fail(err, "%s: all %d tets are flat: nothing is left to simulate", what, m->nt);
     unsigned char *use = rk_calloc((size_t)m->nv, 1, err);
     if (!use) return -1;
-    int warned = 0;
+    int rc = 0, warned = 0;
     orphans(m, flat, use, what, rep);
-    for (int t = 0; t < m->nt; t++) {
+    if (find_ghosts(m, flat, use, err)) rc = -1;
+    for (int t = 0; rc == 0 && t < m->nt; t++) {
         if (!flat[t]) continue;
+        rep->ghosts += flat[t] == 2;
         if (warned++ >= WARN_EACH) continue;
         const int *v = m->tets + 4 * (size_t)t;
         const double *a = m->X + 3 * (size_t)v[0], *b = m->X + 3 * (size_t)v[1], *c = m->X + 3 * (size_t)v[2],
@@ -112,15 +160,16 @@ static int drop_flat(rk_mesh *m, const char *what, char *flat, rk_mesh_report *r
         double h, s;
         rk_tet_is_flat(a, b, c, d, &h, &s);
         rk_warn("%s: tet %d (vertices %d %d %d %d) is flat: volume %.3g, thickness %.3g <= %.3g x its size %.3g, "
-                "so its rest shape is rounding noise: dropped from the model",
-                what, t, v[0], v[1], v[2], v[3], rk_tet_signed_volume(a, b, c, d), h, RK_MESH_FLAT, s);
+                "so its rest shape is rounding noise: dropped from the model%s",
+                what, t, v[0], v[1], v[2], v[3], rk_tet_signed_volume(a, b, c, d), h, RK_MESH_FLAT, s,
+                flat[t] == 2 ? " (inside the body: its faces still close the boundary)" : "");
     }
-    if (rep->flat > WARN_EACH)
+    if (rc == 0 && rep->flat > WARN_EACH)
         rk_warn("%s: %d more flat tets dropped from the model (%d in all)", what, rep->flat - WARN_EACH, rep->flat);
-    compact(m, flat);
-    rep->flat_dropped = rep->flat;
+    if (rc == 0) rc = compact(m, flat, rep->ghosts, err);
+    if (rc == 0) rep->flat_dropped = rep->flat;
     free(use);
-    return 0;
+    return rc;
 }
 
 /* Counts and lists the slivers of an oriented mesh (rep->sliver_volume set) and, under

@@ -42,18 +42,22 @@ static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh
     return rk_mesh_load(o->file, RK_MESH_DROP_FLAT, m, rep, err);
 }
 
-/* Appends b to a (vertices, tets, tags). */
+/* Appends b to a (vertices, tets, ghost tets, tags). */
 static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
 {
     double *X = realloc(a->X, sizeof(double) * 3 * (size_t)(a->nv + b->nv));
     if (X) a->X = X;
     int *T = realloc(a->tets, sizeof(int) * 4 * (size_t)(a->nt + b->nt));
     if (T) a->tets = T;
-    if (!X || !T) return rk_fail(err, "out of memory joining the scene's meshes");
+    int *G = b->nghost ? realloc(a->ghost, sizeof(int) * 4 * (size_t)(a->nghost + b->nghost)) : a->ghost;
+    if (G) a->ghost = G;
+    if (!X || !T || (b->nghost && !G)) return rk_fail(err, "out of memory joining the scene's meshes");
     memcpy(a->X + 3 * (size_t)a->nv, b->X, sizeof(double) * 3 * (size_t)b->nv);
     for (size_t i = 0; i < 4 * (size_t)b->nt; i++) a->tets[4 * (size_t)a->nt + i] = b->tets[i] + a->nv;
+    for (size_t i = 0; i < 4 * (size_t)b->nghost; i++) a->ghost[4 * (size_t)a->nghost + i] = b->ghost[i] + a->nv;
     a->nv += b->nv;
     a->nt += b->nt;
+    a->nghost += b->nghost;
     free(a->tet_tag); /* tags are per file; a joined mesh has none */
     a->tet_tag = NULL;
     return 0;
@@ -220,6 +224,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         repaired.reoriented += rep.reoriented;
         repaired.unused_removed += rep.unused_removed;
         repaired.flat_dropped += rep.flat_dropped;
+        repaired.ghosts += rep.ghosts;
         repaired.orphans_removed += rep.orphans_removed;
         rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
         int rc = append_mesh(&out->mesh, &m, err);
@@ -235,6 +240,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->mesh_report.reoriented += repaired.reoriented;
     out->mesh_report.unused_removed += repaired.unused_removed;
     out->mesh_report.flat_dropped += repaired.flat_dropped;
+    out->mesh_report.ghosts += repaired.ghosts;
     out->mesh_report.orphans_removed += repaired.orphans_removed;
     out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
     if (!out->materials) goto fail;

@@ -166,7 +166,8 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
 typedef struct {
     rk_mesh mesh;
     rk_mesh_report mesh_report; /* the joined mesh measured, plus what each object's own check
-                                 * repaired: reoriented, unused_removed, flat_dropped, orphans_removed */
+                                 * repaired: reoriented, unused_removed, flat_dropped, ghosts,
+                                 * orphans_removed */
     rk_material *materials;   /* one per tet */
     rk_fem fem;
     rk_fom_options options;   /* points into arrays owned here */

@@ -40,8 +40,8 @@ fi
 grep -q "warning: .*beam_sliver.mesh: tet 120 (vertices 16 35 17 54) is flat.*dropped" "$TMP/err" &&
     grep -q "warning: .*vertex 54 used only by dropped flat tets" "$TMP/err" &&
     ok flat_tet_dropped_with_warning || fail flat_tet_dropped_with_warning "$(cat "$TMP/err")"
-json_checks sliver_scene_report "$TMP/r.json" vertices=54 tets=120 mesh.flat_dropped=1 mesh.orphans_removed=1 \
-    mesh.slivers=2 unconverged_steps=0 final.inverted_elements=0
+json_checks sliver_scene_report "$TMP/r.json" vertices=54 tets=120 mesh.flat_dropped=1 mesh.flat_inside=0 \
+    mesh.orphans_removed=1 mesh.slivers=2 unconverged_steps=0 final.inverted_elements=0
 it=$(json_num "$TMP/r.json" newton_iterations)
 awk -v n="$it" 'BEGIN { exit !(n != "" && n <= 66) }' && ok sliver_scene_newton_iterations ||
     fail sliver_scene_newton_iterations "$it Newton iterations (60 without the slivers)"

@@ -104,6 +104,43 @@ TEST(flat_tet_and_its_own_vertices_are_dropped_when_simulating)
     CHECK(rc == 0, "converting a flat tet failed: %s", err.msg);
 }
 
+/* A flat tet inside the body: T = (a, b, c, d) with d inside triangle abc, all in z = 0; tet Q
+ * below covers abc, three tets P above cover the fan abd, bcd, cad. Every face of T is shared. */
+TEST(flat_tet_inside_the_body_stays_a_ghost)
+{
+    rk_error err;
+    double X[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.25, 0.25, 0, 0.3, 0.3, 1, 0.3, 0.3, -1};
+    int tets[] = {0, 1, 2, 3, 0, 1, 2, 5, 0, 1, 3, 4, 1, 2, 3, 4, 2, 0, 3, 4};
+    int nf[2], closed[2], nt[2], nghost[2], ghosts = -1;
+    for (int policy = 0; policy < 2; policy++) {
+        rk_mesh_report rep;
+        rk_mesh m = make_mesh(6, X, 5, tets);
+        CHECK_OK(rk_mesh_check(&m, "inside", (rk_mesh_flat_policy)policy, &rep, &err));
+        int *tris;
+        int rc = rk_mesh_boundary(&m, &tris, &nf[policy], &err);
+        rk_surface surf = {m.nv, nf[policy], m.X, rc ? NULL : tris};
+        closed[policy] = rc == 0 && rk_surface_check(&surf, "inside boundary", &err) == 0;
+        if (rc == 0) free(tris);
+        nt[policy] = m.nt;
+        nghost[policy] = m.nghost;
+        if (policy) ghosts = rep.ghosts;
+        rk_mesh_free(&m);
+    }
+    /* Dropped from the material, kept in the topology: the same six outer faces either way (ten,
+     * a zero-width pocket among them, if T were simply gone). */
+    CHECK(nt[0] == 5 && nghost[0] == 0 && nt[1] == 4 && nghost[1] == 1 && ghosts == 1, "tets %d %d, ghosts %d %d",
+          nt[0], nt[1], nghost[0], nghost[1]);
+    CHECK(nf[0] == 6 && nf[1] == 6 && closed[0] && closed[1], "boundary faces %d and %d: %s", nf[0], nf[1], err.msg);
+    /* On the boundary instead (Q gone: abc is a boundary face), T is simply dropped. */
+    rk_mesh_report rep;
+    int open[] = {0, 1, 2, 3, 0, 1, 3, 4, 1, 2, 3, 4, 2, 0, 3, 4};
+    rk_mesh m = make_mesh(6, X, 4, open);
+    CHECK_OK(rk_mesh_check(&m, "open", RK_MESH_DROP_FLAT, &rep, &err));
+    int n = m.nt, g = m.nghost;
+    rk_mesh_free(&m);
+    CHECK(n == 3 && g == 0 && rep.flat_dropped == 1 && rep.ghosts == 0, "%d tets, %d ghosts", n, g);
+}
+
 TEST(thin_sliver_is_kept_by_both_policies)
 {
     rk_error err;
@@ -367,6 +404,7 @@ int main(void)
     RUN(inverted_tet_is_reoriented_and_counted);
     RUN(flat_tet_is_kept_and_listed_when_converting);
     RUN(flat_tet_and_its_own_vertices_are_dropped_when_simulating);
+    RUN(flat_tet_inside_the_body_stays_a_ghost);
     RUN(thin_sliver_is_kept_by_both_policies);
     RUN(flatness_is_thickness_against_rounding);
     RUN(vertex_used_twice_is_still_an_error);

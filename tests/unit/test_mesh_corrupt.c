@@ -9,11 +9,12 @@
 typedef enum { TET, SURFACE, POINTS } kind;
 
 /* Whether a loaded mesh is valid: indices in range, every tet of volume >= 0 and, for a
- * simulation (flat tets dropped), of volume > 0 and not flat. */
+ * simulation (flat tets dropped), of volume > 0 and not flat, with ghosts on existing vertices. */
 static int valid_mesh(const rk_mesh *m, rk_mesh_flat_policy policy)
 {
     int bad = m->nv <= 0 || m->nt <= 0;
     for (int i = 0; i < 4 * m->nt && !bad; i++) bad = m->tets[i] < 0 || m->tets[i] >= m->nv;
+    for (int i = 0; i < 4 * m->nghost && !bad; i++) bad = m->ghost[i] < 0 || m->ghost[i] >= m->nv;
     for (int t = 0; t < m->nt && !bad; t++) {
         const int *v = m->tets + 4 * t;
         const double *a = m->X + 3 * v[0], *b = m->X + 3 * v[1], *c = m->X + 3 * v[2], *d = m->X + 3 * v[3];
