@@ -303,7 +303,7 @@ int cmd_dmd(int argc, char **argv)
     rk_koopman_geometry g = {.nv = rec.nv, .X = rec.X, .vertex_mass = rec.vertex_mass, .trajectories = rec.ntraj};
     if (a.mesh) {
         rk_mesh_report mr;
-        if (rk_mesh_load(a.mesh, &mesh, &mr, &err)) goto done_rec;
+        if (rk_mesh_load(a.mesh, RK_MESH_KEEP_FLAT, &mesh, &mr, &err)) goto done_rec; /* its vertices as recorded */
         have_mesh = 1;
         if (mesh.nv != rec.nv) {
             rk_fail(&err, "%s has %d vertices, the recordings %d", a.mesh, mesh.nv, rec.nv);

@@ -147,6 +147,12 @@ static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, int s
     cJSON_AddNumberToObject(mesh, "components", sim->mesh_report.components);
     cJSON_AddNumberToObject(mesh, "reoriented", sim->mesh_report.reoriented);
     cJSON_AddNumberToObject(mesh, "min_quality", sim->mesh_report.min_quality);
+    /* Slivers simulated (kept: thicker than rounding) and flat tets dropped, with the vertices only
+     * they used (each named in a warning on stderr when the scene was built). */
+    cJSON_AddNumberToObject(mesh, "slivers", sim->mesh_report.slivers);
+    cJSON_AddNumberToObject(mesh, "flat_dropped", sim->mesh_report.flat_dropped);
+    cJSON_AddNumberToObject(mesh, "flat_inside", sim->mesh_report.ghosts); /* kept as ghosts (mesh.h) */
+    cJSON_AddNumberToObject(mesh, "orphans_removed", sim->mesh_report.orphans_removed);
     cJSON_AddItemToObject(r, "final", final);
     return r;
 }

@@ -2,7 +2,9 @@
  *
  * A tet mesh in (.msh .mesh .node/.ele .vtk) is checked, repaired and converted to OUT's
  * format; a surface in (.obj .off .stl .ply) is checked (flipped if merely inside out) and
- * tetrahedralized with tetgen. A summary goes to stdout unless --quiet.
+ * tetrahedralized with tetgen. A summary goes to stdout unless --quiet. A conversion never drops
+ * a tet: slivers and flat tets are written as they are and listed in the summary (a simulation
+ * drops the flat ones, with a warning; mesh/mesh.h).
  * argv[0] is the subcommand name, as romkit's main passes it. Returns the exit code:
  * 0 done, 1 failed ("romkit mesh: <message>" on stderr), 2 bad usage. */
 #include <ctype.h>
@@ -30,7 +32,10 @@ static void usage(FILE *out)
             "  --max-volume V   surface input: largest tet volume, in the surface's units cubed\n"
             "  --quiet          print nothing on success\n"
             "\n"
-            "Inverted tets are flipped, unused vertices dropped; degenerate tets are an error.\n"
+            "Inverted tets are flipped and unused vertices dropped; every tet is written, slivers\n"
+            "(near-zero volume) and flat tets (volume at rounding level) too, listed in the summary\n"
+            "(a simulation keeps slivers and drops flat tets with a warning). A tet that uses a\n"
+            "vertex twice or a missing one is an error.\n"
             "Exit status 1 when the mesh is unusable, 2 on bad usage.\n"
             "\n"
             "example:\n"
@@ -62,6 +67,21 @@ static int has_ext(const char *path, const char *list)
 
 static int is_surface(const char *path) { return has_ext(path, ".obj .off .stl .ply"); }
 
+/* Slivers and flat tets, kept by the conversion: how many, under which thresholds, the first few. */
+static void slivers(const rk_mesh_report *rep)
+{
+    printf("  slivers      %d (volume <= %.3g = %g x bounding-box diagonal^3, or flat; written as they are)\n",
+           rep->slivers, rep->sliver_volume, RK_MESH_SLIVER);
+    printf("  flat         %d (thickness <= %.3g x the tet's size: no rest shape, dropped when simulated)\n", rep->flat,
+           RK_MESH_FLAT);
+    for (int i = 0; i < rep->nlisted; i++) {
+        const rk_mesh_sliver *l = &rep->listed[i];
+        printf("    tet %d (vertices %d %d %d %d) volume %.3g%s\n", l->tet, l->v[0], l->v[1], l->v[2], l->v[3],
+               l->volume, l->flat ? " flat" : "");
+    }
+    if (rep->slivers > rep->nlisted) printf("    ... %d more\n", rep->slivers - rep->nlisted);
+}
+
 static void summary(const char *in, const char *out, const rk_mesh *m, const rk_mesh_report *rep)
 {
     double total = 0;
@@ -79,6 +99,7 @@ static void summary(const char *in, const char *out, const rk_mesh *m, const rk_
     printf("  volume       min %.4g, max %.4g, total %.6g\n", rep->min_volume, rep->max_volume, total);
     printf("  bounding box (%.6g, %.6g, %.6g) - (%.6g, %.6g, %.6g)\n", rep->bbox_min[0], rep->bbox_min[1],
            rep->bbox_min[2], rep->bbox_max[0], rep->bbox_max[1], rep->bbox_max[2]);
+    slivers(rep);
 }
 
 /* Loads the surface, orients it and fills it with tets. */
@@ -142,8 +163,8 @@ int cmd_mesh(int argc, char **argv)
     rk_mesh m = {0};
     rk_mesh_report rep;
     int rc = is_surface(in) ? tetrahedralize_file(in, quality, max_volume, quiet, &m, &err) ||
-                                  rk_mesh_check(&m, "tetgen output", &rep, &err)
-                            : rk_mesh_load(in, &m, &rep, &err);
+                                  rk_mesh_check(&m, "tetgen output", RK_MESH_KEEP_FLAT, &rep, &err)
+                            : rk_mesh_load(in, RK_MESH_KEEP_FLAT, &m, &rep, &err);
     if (rc == 0) rc = rk_mesh_write(out, &m, NULL, &err);
     if (rc) {
         fprintf(stderr, "romkit mesh: %s\n", err.msg);

@@ -34,6 +34,8 @@ typedef struct {
     int nv, nt;
     const double *X;     /* 3*nv rest positions (borrowed from the mesh) */
     const int *tets;     /* 4*nt (borrowed) */
+    int nghost;          /* the mesh's ghost tets (borrowed): no material here, only their faces for */
+    const int *ghost;    /* the boundary the contact stage builds from this model (rk_mesh.ghost) */
     double *Dm_inv;      /* 9*nt */
     double *vol;         /* nt rest volumes */
     rk_material_model *model; /* nt */

@@ -66,6 +66,8 @@ int rk_fem_init(rk_fem *f, const rk_mesh *m, const rk_material *mats, rk_error *
     f->nt = m->nt;
     f->X = m->X;
     f->tets = m->tets;
+    f->nghost = m->nghost;
+    f->ghost = m->ghost;
     if (alloc_arrays(f, err) || init_elements(f, mats, err) || rk_fem_build_pattern(f, err)) {
         rk_fem_free(f);
         return -1;

@@ -114,7 +114,8 @@ static int init_contact(rk_fom *s, rk_error *err)
     if (co.dhat == 0) co.dhat = 1e-3 * rk_points_diagonal(f->X, f->nv);
     double mass = 0;
     for (int v = 0; v < f->nv; v++) mass += f->vertex_mass[v];
-    rk_mesh view = {.nv = f->nv, .nt = f->nt, .X = (double *)f->X, .tets = (int *)f->tets};
+    rk_mesh view = {.nv = f->nv, .nt = f->nt, .X = (double *)f->X, .tets = (int *)f->tets, .nghost = f->nghost,
+                    .ghost = (int *)f->ghost};
     if (rk_contact_init(&im->contact, &view, first_vertex, o->nobjects, obstacles, o->nobstacles, &co, mass / f->nv,
                         err))
         return -1;

@@ -1,5 +1,6 @@
-/* rk_mesh_boundary: the faces used by exactly one tet. Faces are matched by sorting their
- * vertex triples; each is emitted as its tet sees it from outside. */
+/* rk_mesh_boundary: the faces used by exactly one tet (ghost tets count, but are never emitted),
+ * and rk_mesh_face_partners. Faces are matched by sorting their vertex triples; each is emitted as
+ * its tet sees it from outside. */
 #include <stdlib.h>
 
 #include "mesh/mesh_impl.h"
@@ -7,6 +8,8 @@
 typedef struct {
     int key[3]; /* sorted vertex indices */
     int tri[3]; /* oriented outward from the tet */
+    int tet;    /* its tet: index among the tets, or nt + index among the ghosts */
+    int local;  /* the face opposite that tet's local vertex `local` */
 } tet_face;
 
 static int by_key(const void *a, const void *b)
@@ -27,23 +30,37 @@ static void sort3(int *v)
         }
 }
 
-int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err)
+/* Every face of the tets, and of the ghost tets when `ghosts`, sorted by key (*n of them). */
+static tet_face *sorted_faces(const rk_mesh *m, int ghosts, size_t *n, rk_error *err)
 {
     /* For a positively oriented tet (a,b,c,d) these faces wind counter-clockwise seen from
      * outside: the face opposite each vertex, ordered so its normal points away from it. */
     static const int local[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-    *tris = NULL;
-    *nf = 0;
-    size_t n = 4 * (size_t)m->nt;
-    tet_face *f = rk_calloc(n, sizeof *f, err);
-    if (!f) return -1;
-    for (int t = 0; t < m->nt; t++)
+    int count = m->nt + (ghosts ? m->nghost : 0);
+    *n = 4 * (size_t)count;
+    tet_face *f = rk_calloc(*n, sizeof *f, err);
+    if (!f) return NULL;
+    for (int t = 0; t < count; t++) {
+        const int *v = t < m->nt ? m->tets + 4 * (size_t)t : m->ghost + 4 * (size_t)(t - m->nt);
         for (int l = 0; l < 4; l++) {
             tet_face *face = &f[4 * (size_t)t + l];
-            for (int k = 0; k < 3; k++) face->tri[k] = face->key[k] = m->tets[4 * (size_t)t + local[l][k]];
+            for (int k = 0; k < 3; k++) face->tri[k] = face->key[k] = v[local[l][k]];
             sort3(face->key);
+            face->tet = t;
+            face->local = l;
         }
-    qsort(f, n, sizeof *f, by_key);
+    }
+    qsort(f, *n, sizeof *f, by_key);
+    return f;
+}
+
+int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err)
+{
+    *tris = NULL;
+    *nf = 0;
+    size_t n;
+    tet_face *f = sorted_faces(m, 1, &n, err);
+    if (!f) return -1;
     int *out = rk_calloc(n * 3, sizeof *out, err);
     if (!out) {
         free(f);
@@ -59,7 +76,7 @@ int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err)
             free(out);
             return rk_fail(err, "face (%d, %d, %d) is shared by %zu tets (a mesh face joins at most 2)", a, b, c, j - i);
         }
-        if (j - i == 1) {
+        if (j - i == 1 && f[i].tet < m->nt) { /* a ghost's face is never the body's */
             for (int k = 0; k < 3; k++) out[3 * (size_t)count + k] = f[i].tri[k];
             count++;
         }
@@ -68,5 +85,22 @@ int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err)
     free(f);
     *tris = out;
     *nf = count;
+    return 0;
+}
+
+int rk_mesh_face_partners(const rk_mesh *m, int *partner, rk_error *err)
+{
+    size_t n;
+    tet_face *f = sorted_faces(m, 0, &n, err);
+    if (!f) return -1;
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && by_key(&f[i], &f[j]) == 0) j++;
+        /* one: a boundary face; two: each other; more (not manifold): each the next, round */
+        for (size_t k = i; k < j; k++)
+            partner[4 * (size_t)f[k].tet + f[k].local] = j - i == 1 ? -1 : f[k + 1 < j ? k + 1 : i].tet;
+        i = j;
+    }
+    free(f);
     return 0;
 }

@@ -5,9 +5,6 @@
 
 #include "mesh/mesh_impl.h"
 
-/* Relative volume below which a tet counts as flat: |V| <= DEGENERATE * diag^3. */
-#define DEGENERATE 1e-12
-
 static int check_indices(const rk_mesh *m, const char *what, rk_error *err)
 {
     for (int t = 0; t < m->nt; t++) {
@@ -17,7 +14,9 @@ static int check_indices(const rk_mesh *m, const char *what, rk_error *err)
                 return rk_fail(err, "%s: tet %d references vertex %d, but there are %d vertices", what, t, v[k], m->nv);
             for (int j = 0; j < k; j++)
                 if (v[j] == v[k])
-                    return rk_fail(err, "%s: tet %d is degenerate: it uses vertex %d twice", what, t, v[k]);
+                    return rk_fail(err, "%s: tet %d (vertices %d %d %d %d) uses vertex %d twice: it is not a "
+                                        "tetrahedron",
+                                   what, t, v[0], v[1], v[2], v[3], v[k]);
         }
     }
     return 0;
@@ -49,36 +48,33 @@ static void bounding_box(const rk_mesh *m, rk_mesh_report *rep)
     }
 }
 
-/* Flips inverted tets, rejects flat ones, records the volume range. */
-static int orient(rk_mesh *m, const char *what, rk_mesh_report *rep, rk_error *err)
+/* The sliver volume of the mesh, RK_MESH_SLIVER * diagonal^3 (sliver.c), once the box is known. */
+static int sliver_volume(const char *what, rk_mesh_report *rep, rk_error *err)
 {
     double d[3];
     for (int k = 0; k < 3; k++) d[k] = rep->bbox_max[k] - rep->bbox_min[k];
     double diag = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    double flat = DEGENERATE * diag * diag * diag;
-    if (!isfinite(flat))
+    rep->sliver_volume = RK_MESH_SLIVER * diag * diag * diag;
+    if (!isfinite(rep->sliver_volume))
         return rk_fail(err, "%s: coordinates too large (bounding-box diagonal %g): volumes would overflow", what, diag);
-    rep->min_volume = HUGE_VAL;
-    rep->max_volume = 0;
+    return 0;
+}
+
+/* Flips inverted tets (a flat one whose rounding made it negative too: its sign means nothing,
+ * but then every tet leaves the check with volume >= 0). */
+static void orient(rk_mesh *m, rk_mesh_report *rep)
+{
     for (int t = 0; t < m->nt; t++) {
         int *v = m->tets + 4 * (size_t)t;
         double vol = rk_tet_signed_volume(m->X + 3 * (size_t)v[0], m->X + 3 * (size_t)v[1], m->X + 3 * (size_t)v[2],
                                           m->X + 3 * (size_t)v[3]);
-        if (fabs(vol) <= flat)
-            return rk_fail(err, "%s: tet %d (vertices %d %d %d %d) is degenerate: volume %.3g, at most %.3g "
-                                "(1e-12 * bounding-box diagonal^3)",
-                           what, t, v[0], v[1], v[2], v[3], vol, flat);
         if (vol < 0) {
             int swap = v[2];
             v[2] = v[3];
             v[3] = swap;
             rep->reoriented++;
-            vol = -vol;
         }
-        rep->min_volume = fmin(rep->min_volume, vol);
-        rep->max_volume = fmax(rep->max_volume, vol);
     }
-    return 0;
 }
 
 static int remove_unused(rk_mesh *m, rk_mesh_report *rep, rk_error *err)
@@ -96,7 +92,9 @@ static int remove_unused(rk_mesh *m, rk_mesh_report *rep, rk_error *err)
         remap[i] = kept++;
     }
     for (size_t i = 0; i < 4 * (size_t)m->nt; i++) m->tets[i] = remap[m->tets[i]];
-    rep->unused_removed = m->nv - kept;
+    /* A ghost's vertices are all used by tets (sliver.c makes none of a vertex of its own). */
+    for (size_t i = 0; i < 4 * (size_t)m->nghost; i++) m->ghost[i] = remap[m->ghost[i]];
+    rep->unused_removed = m->nv - kept - rep->orphans_removed; /* those were used, by dropped tets */
     m->nv = kept;
     free(remap);
     return 0;
@@ -131,21 +129,27 @@ static int count_components(const rk_mesh *m, rk_mesh_report *rep, rk_error *err
     return 0;
 }
 
-static void quality(const rk_mesh *m, rk_mesh_report *rep)
+/* Volume range and radius ratios of the tets kept. */
+static void measure(const rk_mesh *m, rk_mesh_report *rep)
 {
     double sum = 0;
     rep->min_quality = 1;
+    rep->min_volume = HUGE_VAL;
+    rep->max_volume = 0;
     for (int t = 0; t < m->nt; t++) {
         const int *v = m->tets + 4 * (size_t)t;
-        double q = rk_tet_radius_ratio(m->X + 3 * (size_t)v[0], m->X + 3 * (size_t)v[1], m->X + 3 * (size_t)v[2],
-                                       m->X + 3 * (size_t)v[3]);
+        const double *a = m->X + 3 * (size_t)v[0], *b = m->X + 3 * (size_t)v[1], *c = m->X + 3 * (size_t)v[2],
+                     *d = m->X + 3 * (size_t)v[3];
+        double q = rk_tet_radius_ratio(a, b, c, d), vol = rk_tet_signed_volume(a, b, c, d);
         rep->min_quality = fmin(rep->min_quality, q);
+        rep->min_volume = fmin(rep->min_volume, vol);
+        rep->max_volume = fmax(rep->max_volume, vol);
         sum += q;
     }
     rep->mean_quality = sum / m->nt;
 }
 
-int rk_mesh_check(rk_mesh *m, const char *what, rk_mesh_report *rep, rk_error *err)
+int rk_mesh_check(rk_mesh *m, const char *what, rk_mesh_flat_policy flat, rk_mesh_report *rep, rk_error *err)
 {
     rk_mesh_report local;
     if (!rep) rep = &local;
@@ -156,7 +160,11 @@ int rk_mesh_check(rk_mesh *m, const char *what, rk_mesh_report *rep, rk_error *e
     if (m->nv == 0 || !m->X) return rk_fail(err, "%s: no vertices", what);
     if (check_indices(m, what, err) || check_finite(m, what, err)) return -1;
     bounding_box(m, rep);
-    if (orient(m, what, rep, err) || remove_unused(m, rep, err) || count_components(m, rep, err)) return -1;
-    quality(m, rep);
+    if (sliver_volume(what, rep, err)) return -1;
+    orient(m, rep);
+    if (rk_mesh_slivers(m, what, flat, rep, err)) return -1;
+    if (rep->flat_dropped) bounding_box(m, rep); /* of what is left */
+    if (remove_unused(m, rep, err) || count_components(m, rep, err)) return -1;
+    measure(m, rep);
     return 0;
 }

@@ -19,7 +19,7 @@ static void drop_zero_tags(rk_mesh *m)
     m->tet_tag = NULL;
 }
 
-int rk_mesh_load(const char *path, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
+int rk_mesh_load(const char *path, rk_mesh_flat_policy flat, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
 {
     int rc;
     *m = (rk_mesh){0};
@@ -32,7 +32,7 @@ int rk_mesh_load(const char *path, rk_mesh *m, rk_mesh_report *rep, rk_error *er
     else return rk_fail(err, "%s: unknown tet mesh format (expected .msh, .mesh, .node/.ele or .vtk)", path);
     if (rc == 0) {
         drop_zero_tags(m);
-        rc = rk_mesh_check(m, path, rep, err);
+        rc = rk_mesh_check(m, path, flat, rep, err);
     }
     if (rc) rk_mesh_free(m);
     return rc;
@@ -43,6 +43,7 @@ void rk_mesh_free(rk_mesh *m)
     free(m->X);
     free(m->tets);
     free(m->tet_tag);
+    free(m->ghost);
     *m = (rk_mesh){0};
 }
 

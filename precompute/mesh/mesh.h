@@ -10,12 +10,15 @@
  * Surface readers (rk_surface_load): .obj .off .stl (ASCII/binary) .ply (ASCII/binary).
  *
  * Every load runs rk_mesh_check: indices in range, finite coordinates, inverted tets
- * reoriented (counted in the report), degenerate tets rejected by index, unused vertices
- * removed, connected components counted. Errors name the file and the line (ASCII) or byte
- * offset (binary). A count in a header is checked against the size of the file before
- * anything is allocated for it. tet_tag is NULL after a load when every tag is 0. */
+ * reoriented (counted in the report), slivers and flat tets reported by index (and flat tets
+ * dropped when the mesh is for a simulation), unused vertices removed, connected components
+ * counted. Errors name the file and the line (ASCII) or byte offset (binary). A count in a header
+ * is checked against the size of the file before anything is allocated for it. tet_tag is NULL
+ * after a load when every tag is 0. */
 #ifndef RK_MESH_H
 #define RK_MESH_H
+
+#include <float.h>
 
 #include "util/util.h"
 
@@ -23,8 +26,15 @@ typedef struct {
     int nv;          /* vertices */
     int nt;          /* tetrahedra */
     double *X;       /* 3*nv rest positions, metres */
-    int *tets;       /* 4*nt vertex indices, 0-based, positively oriented after the check */
+    int *tets;       /* 4*nt vertex indices, 0-based, positively oriented after the check (flat
+                      * tets, kept by a conversion, have volume >= 0) */
     int *tet_tag;    /* nt region tags from the file (Gmsh physical / MEDIT ref), or NULL */
+    /* Ghost tets: flat tets rk_mesh_check (RK_MESH_DROP_FLAT) dropped from inside the body. They
+     * carry no material and are not among the nt tets (writers skip them), but rk_mesh_boundary
+     * matches their faces, so the boundary stays the body's instead of gaining a zero-width closed
+     * pocket where they were (which self-contact would see as two surfaces touching). */
+    int nghost;
+    int *ghost;      /* 4*nghost vertex indices, or NULL */
 } rk_mesh;
 
 typedef struct {
@@ -34,24 +44,76 @@ typedef struct {
     int *tris;       /* 3*nf, 0-based, counter-clockwise seen from outside */
 } rk_surface;
 
+/* Slivers and flat tets (sliver.c; the one place that decides what happens to them).
+ *
+ * A tet is a sliver when |volume| <= RK_MESH_SLIVER * (bounding-box diagonal)^3 (what conversion
+ * used to refuse as degenerate), or when it is flat. It is flat when its thickness (its smallest
+ * height, 6|V| / twice its largest face area) is at most RK_MESH_FLAT times its size s, the larger
+ * of its longest edge and its largest coordinate magnitude: a vertex is only known to about
+ * DBL_EPSILON * s (the file's rounding; the rounding of the edge vectors and the determinant), so
+ * a flat tet's volume, orientation and rest-shape inverse Dm^-1 are rounding noise. RK_MESH_FLAT
+ * is 1024 rounding units: Dm^-1 of a tet just thicker still has about 3 correct digits. Measured on
+ * a 1 x 0.2 x 0.2 m stable Neo-Hookean cantilever (10 x 2 x 2 cells, 20 steps under gravity) with
+ * one interior vertex moved toward a face so that a cap sliver is left with thickness/size t:
+ * from t = 0.14 down to 9000 rounding units (2e-12), Newton takes exactly the iterations it takes
+ * at t = 0.14 (31 at E = 1e9 Pa, 60 at 1e6, 566-571 over 100 steps at 1e5); at 900 units 33 (1e9),
+ * at 90 36, at 9 37, and at 0.9 units 81 with 154 line-search halvings: the first change comes
+ * just below the threshold. Above it, every sliver is kept. */
+#define RK_MESH_SLIVER 1e-12
+#define RK_MESH_FLAT (1024 * DBL_EPSILON)
+/* How many slivers the report lists by index. */
+#define RK_MESH_LISTED 5
+
+/* What rk_mesh_check does with flat tets. */
+typedef enum {
+    /* Converting: every tet is kept exactly as it is (inverted ones reoriented), flat ones
+     * included; slivers are only reported. */
+    RK_MESH_KEEP_FLAT = 0,
+    /* Simulating: flat tets are dropped from the mesh, each named in a warning on stderr
+     * (rk_warn), and so are the vertices only they used; every sliver with a thickness above the
+     * rounding is kept (stable Neo-Hookean is defined for any positive volume). A group of flat
+     * tets (sharing faces) with no face on the boundary and no vertex of its own stays as ghost
+     * tets (rk_mesh.ghost): no material, but the boundary is the same as with them. */
+    RK_MESH_DROP_FLAT = 1
+} rk_mesh_flat_policy;
+
+/* A sliver in the report. */
+typedef struct {
+    int tet;               /* 0-based index among the input's tets */
+    int v[4];              /* its vertices: 0-based input indices, in the order the check left them */
+    double volume;         /* >= 0 (after reorientation) */
+    int flat;
+} rk_mesh_sliver;
+
 /* What rk_mesh_check found and fixed. */
 typedef struct {
     int reoriented;        /* inverted tets flipped to positive orientation */
-    int unused_removed;    /* vertices referenced by no tet, removed */
+    int unused_removed;    /* vertices referenced by no tet of the input, removed */
     int components;        /* connected components (tets sharing a vertex) */
-    double min_volume, max_volume;
-    double min_quality;    /* worst radius ratio 3*r_in/r_out in (0, 1], 1 = regular */
+    double min_volume, max_volume;  /* over the tets kept */
+    double min_quality;    /* worst radius ratio 3*r_in/r_out in [0, 1], 1 = regular, 0 = flat */
     double mean_quality;
     double bbox_min[3], bbox_max[3];
+    int slivers;           /* slivers among the input's tets, flat ones included */
+    int flat;              /* flat tets among the input's tets */
+    int flat_dropped;      /* flat tets removed (RK_MESH_DROP_FLAT; 0 otherwise), ghosts included */
+    int ghosts;            /* of those, kept as ghost tets (inside the body) */
+    int orphans_removed;   /* vertices used only by dropped tets, removed with them */
+    double sliver_volume;  /* RK_MESH_SLIVER * diagonal^3 of this mesh */
+    int nlisted;           /* the first min(slivers, RK_MESH_LISTED) slivers by index */
+    rk_mesh_sliver listed[RK_MESH_LISTED];
 } rk_mesh_report;
 
-/* On failure *m is empty (nothing to free). rep may be NULL. */
-int rk_mesh_load(const char *path, rk_mesh *m, rk_mesh_report *rep, rk_error *err);
+/* On failure *m is empty (nothing to free). rep may be NULL. flat: RK_MESH_KEEP_FLAT to convert
+ * or inspect a file, RK_MESH_DROP_FLAT to simulate it. */
+int rk_mesh_load(const char *path, rk_mesh_flat_policy flat, rk_mesh *m, rk_mesh_report *rep, rk_error *err);
 /* Checks and repairs a mesh in place (see above); `what` names it in messages (a file path).
- * A tet is degenerate when |volume| <= 1e-12 * (bounding-box diagonal)^3; the first one is
- * named by its 0-based index among the tets. Inverted tets get their last two vertices
- * swapped. rep may be NULL. On failure the mesh may be partly repaired; free it. */
-int rk_mesh_check(rk_mesh *m, const char *what, rk_mesh_report *rep, rk_error *err);
+ * Errors: a tet that uses a vertex twice or one that does not exist, a non-finite coordinate,
+ * no tets, and (RK_MESH_DROP_FLAT) a mesh whose tets are all flat. Inverted tets get their last
+ * two vertices swapped; afterwards every tet has a signed volume >= 0 (> 0 unless flat). Slivers
+ * are counted and listed, flat tets handled as `flat` says. rep may be NULL. On failure the mesh
+ * may be partly repaired; free it. */
+int rk_mesh_check(rk_mesh *m, const char *what, rk_mesh_flat_policy flat, rk_mesh_report *rep, rk_error *err);
 void rk_mesh_free(rk_mesh *m);
 
 /* A procedural box [0,size] split into cells[0]*cells[1]*cells[2] hexahedra of 6 tets each
@@ -61,7 +123,8 @@ int rk_mesh_box(const double size[3], const int cells[3], rk_mesh *m, rk_error *
 /* Scales then translates the rest positions. */
 void rk_mesh_transform(rk_mesh *m, double scale, const double translate[3]);
 
-/* Boundary faces (triangles used by exactly one tet), oriented outward. *tris malloc'ed. */
+/* Boundary faces (triangles used by exactly one tet, ghost tets counted), oriented outward.
+ * *tris malloc'ed. */
 int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err);
 
 /* Writers, atomic (util/util.h). By extension: .mesh (MEDIT), .vtk (legacy ASCII,
@@ -95,11 +158,15 @@ void rk_surface_free(rk_surface *s);
 double rk_tet_signed_volume(const double *a, const double *b, const double *c, const double *d);
 /* 3 * inradius / circumradius: 1 for a regular tet, 0 for a flat one. */
 double rk_tet_radius_ratio(const double *a, const double *b, const double *c, const double *d);
+/* Whether the tet is flat (RK_MESH_FLAT above): its volume is rounding noise. Coincident or
+ * collinear vertices are flat too. *thickness and *size (may be NULL) get the two lengths compared. */
+int rk_tet_is_flat(const double *a, const double *b, const double *c, const double *d, double *thickness,
+                   double *size);
 
 /* Tetrahedralizes a surface with the tetgen command (run in a private temporary directory;
- * the surface is checked first). The result has been through rk_mesh_check. The command is
- * $ROMKIT_TETGEN when set, else tetgen on PATH; a missing or failing tetgen is an error that
- * says so (with its exit status and the end of its output).
+ * the surface is checked first). The result has been through rk_mesh_check (RK_MESH_KEEP_FLAT).
+ * The command is $ROMKIT_TETGEN when set, else tetgen on PATH; a missing or failing tetgen is an
+ * error that says so (with its exit status and the end of its output).
  * max_radius_edge: quality bound (tetgen -q), <= 0 for the default 1.4.
  * max_volume: volume bound (tetgen -a), <= 0 for none. */
 int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_volume,

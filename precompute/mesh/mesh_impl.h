@@ -38,6 +38,17 @@ void rk_put_u64(FILE *fp, uint64_t v, int big_endian);
 void rk_put_f32(FILE *fp, float v, int big_endian);
 void rk_put_f64(FILE *fp, double v, int big_endian);
 
+/* rk_mesh_check's handling of slivers (sliver.c): counts and lists them in rep (its
+ * sliver_volume set, every tet oriented) and, under RK_MESH_DROP_FLAT, drops the flat tets with a
+ * warning naming each, counting the vertices only they used in rep->orphans_removed (left in
+ * place, unused, for the check to remove). Fails when every tet is flat and they are to go. */
+int rk_mesh_slivers(rk_mesh *m, const char *what, rk_mesh_flat_policy policy, rk_mesh_report *rep, rk_error *err);
+
+/* partner[4 t + l] (4 nt ints): the tet across the face of tet t opposite its vertex l, -1 when
+ * no tet is (a boundary face). Ghost tets are not counted. A face of three tets or more (not a
+ * manifold) names the next of them, round. */
+int rk_mesh_face_partners(const rk_mesh *m, int *partner, rk_error *err);
+
 /* Checks that m can be written: counts, indices in range. */
 int rk_mesh_validate_for_write(const char *path, const rk_mesh *m, rk_error *err);
 

@@ -118,7 +118,7 @@ int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_vo
     int rc = rk_surface_write(input, s, err);
     if (rc == 0) rc = run_tetgen(program, switches, input, log_path, err);
     if (rc == 0 && rk_read_tetgen(node, out, err)) rc = rk_error_prefix(err, "reading tetgen's output");
-    if (rc == 0) rc = rk_mesh_check(out, "tetgen output", NULL, err);
+    if (rc == 0) rc = rk_mesh_check(out, "tetgen output", RK_MESH_KEEP_FLAT, NULL, err);
     if (rc) rk_mesh_free(out);
     remove_dir(dir);
     return rc;

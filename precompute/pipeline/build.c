@@ -14,9 +14,12 @@ static int has_extension(const char *path, const char *ext)
     return n > m && strcmp(path + n - m, ext) == 0;
 }
 
-static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_error *err)
+/* The object's mesh, checked for simulation: flat tets dropped with a warning (mesh.h); rep gets
+ * what the check repaired. */
+static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
 {
     memset(m, 0, sizeof *m);
+    memset(rep, 0, sizeof *rep);
     switch (o->shape) {
     case RK_SHAPE_BOX:
         return rk_mesh_box(o->box_size, o->box_cells, m, err);
@@ -33,24 +36,28 @@ static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_erro
         int rc = rk_surface_check(&s, o->file, err);
         if (!rc) rc = rk_tetrahedralize(&s, o->quality, o->max_volume, m, err);
         rk_surface_free(&s);
+        if (!rc) rc = rk_mesh_check(m, o->file, RK_MESH_DROP_FLAT, rep, err);
         return rc;
     }
-    rk_mesh_report rep;
-    return rk_mesh_load(o->file, m, &rep, err);
+    return rk_mesh_load(o->file, RK_MESH_DROP_FLAT, m, rep, err);
 }
 
-/* Appends b to a (vertices, tets, tags). */
+/* Appends b to a (vertices, tets, ghost tets, tags). */
 static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
 {
     double *X = realloc(a->X, sizeof(double) * 3 * (size_t)(a->nv + b->nv));
     if (X) a->X = X;
     int *T = realloc(a->tets, sizeof(int) * 4 * (size_t)(a->nt + b->nt));
     if (T) a->tets = T;
-    if (!X || !T) return rk_fail(err, "out of memory joining the scene's meshes");
+    int *G = b->nghost ? realloc(a->ghost, sizeof(int) * 4 * (size_t)(a->nghost + b->nghost)) : a->ghost;
+    if (G) a->ghost = G;
+    if (!X || !T || (b->nghost && !G)) return rk_fail(err, "out of memory joining the scene's meshes");
     memcpy(a->X + 3 * (size_t)a->nv, b->X, sizeof(double) * 3 * (size_t)b->nv);
     for (size_t i = 0; i < 4 * (size_t)b->nt; i++) a->tets[4 * (size_t)a->nt + i] = b->tets[i] + a->nv;
+    for (size_t i = 0; i < 4 * (size_t)b->nghost; i++) a->ghost[4 * (size_t)a->nghost + i] = b->ghost[i] + a->nv;
     a->nv += b->nv;
     a->nt += b->nt;
+    a->nghost += b->nghost;
     free(a->tet_tag); /* tags are per file; a joined mesh has none */
     a->tet_tag = NULL;
     return 0;
@@ -206,12 +213,19 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->object_first_vertex = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     out->object_first_tet = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     if (!out->object_first_vertex || !out->object_first_tet) goto fail;
+    rk_mesh_report repaired = {0}; /* what the objects' own checks changed */
     for (int k = 0; k < s->nobjects; k++) {
         rk_mesh m;
-        if (load_object_mesh(&s->objects[k], k, &m, err)) {
+        rk_mesh_report rep;
+        if (load_object_mesh(&s->objects[k], k, &m, &rep, err)) {
             rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
             goto fail;
         }
+        repaired.reoriented += rep.reoriented;
+        repaired.unused_removed += rep.unused_removed;
+        repaired.flat_dropped += rep.flat_dropped;
+        repaired.ghosts += rep.ghosts;
+        repaired.orphans_removed += rep.orphans_removed;
         rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
         int rc = append_mesh(&out->mesh, &m, err);
         rk_mesh_free(&m);
@@ -219,7 +233,15 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         out->object_first_vertex[k + 1] = out->mesh.nv;
         out->object_first_tet[k + 1] = out->mesh.nt;
     }
-    if (rk_mesh_check(&out->mesh, s->path, &out->mesh_report, err)) goto fail;
+    /* Each object was checked (and its flat tets dropped) on its own, before its vertices were
+     * numbered in the scene: this check of the whole measures it and drops nothing, which would
+     * renumber the vertices the objects own. */
+    if (rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) goto fail;
+    out->mesh_report.reoriented += repaired.reoriented;
+    out->mesh_report.unused_removed += repaired.unused_removed;
+    out->mesh_report.flat_dropped += repaired.flat_dropped;
+    out->mesh_report.ghosts += repaired.ghosts;
+    out->mesh_report.orphans_removed += repaired.orphans_removed;
     out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
     if (!out->materials) goto fail;
     assign_materials(s, out);

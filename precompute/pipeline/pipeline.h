@@ -165,7 +165,9 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
  * object_first_vertex[k] / object_first_tet[k] say where object k starts. */
 typedef struct {
     rk_mesh mesh;
-    rk_mesh_report mesh_report;
+    rk_mesh_report mesh_report; /* the joined mesh measured, plus what each object's own check
+                                 * repaired: reoriented, unused_removed, flat_dropped, ghosts,
+                                 * orphans_removed */
     rk_material *materials;   /* one per tet */
     rk_fem fem;
     rk_fom_options options;   /* points into arrays owned here */

@@ -20,7 +20,8 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
                         opt->gravity[2] * opt->gravity[2]);
         co.kappa = rk_contact_holding_kappa(co.dhat, m->mass / fem->nv * fmax(g, 1.0));
     }
-    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets};
+    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
+                    .nghost = fem->nghost, .ghost = (int *)fem->ghost};
     if (rk_contact_init(&m->contact, &view, opt->object_first_vertex, opt->nobjects, opt->obstacles, opt->nobstacles,
                         &co, m->mass / fem->nv, err))
         return -1;

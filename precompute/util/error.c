@@ -55,3 +55,14 @@ void *rk_calloc(size_t count, size_t size, rk_error *err)
     if (!p) rk_fail(err, "out of memory allocating %zu x %zu bytes", count, size);
     return p;
 }
+
+void rk_warn(const char *fmt, ...)
+{
+    rk_progress_break(); /* the warning gets a line of its own */
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("warning: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}

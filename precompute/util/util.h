@@ -1,6 +1,6 @@
 /* precompute/util: what every stage shares, below them all.
  *
- *   errors       rk_error, rk_fail, rk_calloc: every failure names what and where
+ *   errors       rk_error, rk_fail, rk_calloc: every failure names what and where; rk_warn
  *   timers       a monotonic clock, progress lines on a terminal
  *   sorting      one comparator, one median
  *   files        atomic output (a temporary file, then rename) and NumPy .npy arrays
@@ -33,6 +33,11 @@ void rk_error_clear(rk_error *err);
 
 /* Allocation that reports failure through err instead of crashing. */
 void *rk_calloc(size_t count, size_t size, rk_error *err);
+
+/* "warning: <message>" on stderr, for something the toolchain changed on its own that the user
+ * must hear about (a flat tet dropped from a model). Never silenced, --quiet included: a quiet
+ * run may skip progress, not a change to the user's data. */
+void rk_warn(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 /* ==== timers and progress (timer.c) ==== */
 

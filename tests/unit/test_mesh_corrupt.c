@@ -8,27 +8,41 @@
 
 typedef enum { TET, SURFACE, POINTS } kind;
 
+/* Whether a loaded mesh is valid: indices in range, every tet of volume >= 0 and, for a
+ * simulation (flat tets dropped), of volume > 0 and not flat, with ghosts on existing vertices. */
+static int valid_mesh(const rk_mesh *m, rk_mesh_flat_policy policy)
+{
+    int bad = m->nv <= 0 || m->nt <= 0;
+    for (int i = 0; i < 4 * m->nt && !bad; i++) bad = m->tets[i] < 0 || m->tets[i] >= m->nv;
+    for (int i = 0; i < 4 * m->nghost && !bad; i++) bad = m->ghost[i] < 0 || m->ghost[i] >= m->nv;
+    for (int t = 0; t < m->nt && !bad; t++) {
+        const int *v = m->tets + 4 * t;
+        const double *a = m->X + 3 * v[0], *b = m->X + 3 * v[1], *c = m->X + 3 * v[2], *d = m->X + 3 * v[3];
+        double vol = rk_tet_signed_volume(a, b, c, d);
+        bad = policy == RK_MESH_DROP_FLAT ? !(vol > 0) || rk_tet_is_flat(a, b, c, d, NULL, NULL) : !(vol >= 0);
+    }
+    return !bad;
+}
+
 /* Loads `path` as `k`; 1 when the outcome is acceptable (valid result or a message naming
- * `name`), else 0 with the reason in why. */
+ * `name`), else 0 with the reason in why. A tet mesh is loaded for a conversion and for a
+ * simulation. */
 static int acceptable(const char *path, kind k, const char *name, char *why, size_t cap)
 {
     rk_error err;
     err.msg[0] = '\0';
     int rc;
     if (k == TET) {
-        rk_mesh m;
-        rk_mesh_report rep;
-        rc = rk_mesh_load(path, &m, &rep, &err);
-        if (rc == 0) {
-            int bad = m.nv <= 0 || m.nt <= 0;
-            for (int i = 0; i < 4 * m.nt && !bad; i++) bad = m.tets[i] < 0 || m.tets[i] >= m.nv;
-            for (int t = 0; t < m.nt && !bad; t++) {
-                const int *v = m.tets + 4 * t;
-                bad = !(rk_tet_signed_volume(m.X + 3 * v[0], m.X + 3 * v[1], m.X + 3 * v[2], m.X + 3 * v[3]) > 0);
-            }
+        rc = 0;
+        for (int policy = 0; policy < 2 && rc == 0; policy++) {
+            rk_mesh m;
+            rk_mesh_report rep;
+            rc = rk_mesh_load(path, (rk_mesh_flat_policy)policy, &m, &rep, &err);
+            if (rc) break;
+            int valid = valid_mesh(&m, (rk_mesh_flat_policy)policy);
             rk_mesh_free(&m);
-            if (bad) {
-                snprintf(why, cap, "%s loaded into an invalid mesh", path);
+            if (!valid) {
+                snprintf(why, cap, "%s loaded into an invalid mesh (%s)", path, policy ? "simulation" : "conversion");
                 return 0;
             }
         }
@@ -254,7 +268,7 @@ TEST(messages_name_the_line)
     char path[256], text[1024], want[400];
     snprintf(text, sizeof text, "%sTetrahedra\n1\n1 2 3 999 0\nEnd\n", medit_head);
     text_file(path, sizeof path, ".mesh", text);
-    int rc = rk_mesh_load(path, &m, NULL, &err);
+    int rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
     remove(path);
     snprintf(want, sizeof want, "%s:11: tet 1 references vertex 999", path);
     CHECK(rc != 0 && strstr(err.msg, want), "message: %s", err.msg);
@@ -279,7 +293,7 @@ TEST(messages_name_the_line)
     for (char *c = buf; c < line; c++) lineno += *c == '\n';
     write_all(path, buf, (long)strlen(buf));
     free(buf);
-    rc = rk_mesh_load(path, &m, NULL, &err);
+    rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
     remove(path);
     snprintf(want, sizeof want, "%s:%d: expected 4 node indices for tet element 4, got 3", path, lineno);
     CHECK(rc != 0 && strstr(err.msg, want), "message: %s (wanted %s)", err.msg, want);
@@ -296,7 +310,7 @@ TEST(binary_messages_name_the_byte_offset)
     CHECK(buf, "no data");
     write_all(path, buf, n / 2); /* cut inside the element records */
     free(buf);
-    int rc = rk_mesh_load(path, &m, NULL, &err);
+    int rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
     remove(path);
     char want[300];
     snprintf(want, sizeof want, "%s: byte ", path);
@@ -320,7 +334,7 @@ TEST(huge_counts_fail_before_allocating)
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         text_file(path, sizeof path, cases[i].suffix, cases[i].text);
-        int rc = rk_mesh_load(path, &m, NULL, &err);
+        int rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
         remove(path);
         CHECK(rc != 0 && strstr(err.msg, path), "case %zu: %s", i, rc ? err.msg : "accepted");
         CHECK(strstr(err.msg, "count") || strstr(err.msg, "truncated") || strstr(err.msg, "too large"),
@@ -357,12 +371,12 @@ TEST(huge_counts_fail_before_allocating)
     buf[at + 7 + 8 + 7] = 0x10; /* the second size_t (numNodes), little-endian: its top byte */
     write_all(path, buf, n);
     free(buf);
-    rc = rk_mesh_load(path, &m, NULL, &err);
+    rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
     remove(path);
     CHECK(rc != 0 && strstr(err.msg, "node count"), "msh binary: %s", err.msg);
 }
 
-TEST(non_finite_degenerate_and_inverted_tets_in_files)
+TEST(non_finite_flat_repeated_and_inverted_tets_in_files)
 {
     rk_error err;
     rk_mesh m;
@@ -371,18 +385,34 @@ TEST(non_finite_degenerate_and_inverted_tets_in_files)
     snprintf(text, sizeof text, "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n0 0 0 0\n1 nan 0 0\n0 1 0 0\n0 0 1 0\n"
                                 "Tetrahedra\n1\n1 2 3 4 0\nEnd\n");
     text_file(path, sizeof path, ".mesh", text);
-    int rc = rk_mesh_load(path, &m, NULL, &err);
+    int rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
     remove(path);
     CHECK(rc != 0 && strstr(err.msg, path) && strstr(err.msg, "vertex 1") && strstr(err.msg, "non-finite"), "nan: %s",
           err.msg);
 
+    /* A flat tet (tet 1, in z = 0) loads: kept as it is for a conversion, dropped (with vertex 5,
+     * which only it uses) for a simulation. */
     snprintf(text, sizeof text, "%s1 1 0 0\nTetrahedra\n2\n1 2 3 4 0\n1 2 5 3 0\nEnd\n",
              "MeshVersionFormatted 1\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n");
     text_file(path, sizeof path, ".mesh", text);
-    rc = rk_mesh_load(path, &m, NULL, &err);
+    rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, &rep, &err);
+    int kept = rc == 0 && m.nt == 2 && m.nv == 5 && m.tets[4] == 0 && m.tets[6] == 4 && rep.flat == 1;
+    if (rc == 0) rk_mesh_free(&m);
+    int rc2 = rk_mesh_load(path, RK_MESH_DROP_FLAT, &m, &rep, &err);
+    int dropped = rc2 == 0 && m.nt == 1 && m.nv == 4 && rep.flat_dropped == 1 && rep.orphans_removed == 1;
+    if (rc2 == 0) rk_mesh_free(&m);
     remove(path);
-    CHECK(rc != 0 && strstr(err.msg, path) && strstr(err.msg, "tet 1 ") && strstr(err.msg, "degenerate"),
-          "degenerate: %s", err.msg);
+    CHECK(kept, "converting a flat tet: %s", rc ? err.msg : "changed");
+    CHECK(dropped, "simulating a flat tet: %s", rc2 ? err.msg : "not dropped");
+
+    /* A tet that uses a vertex twice is no tet: an error either way, naming the file and the tet. */
+    snprintf(text, sizeof text, "%s1 1 0 0\nTetrahedra\n2\n1 2 3 4 0\n1 2 5 2 0\nEnd\n",
+             "MeshVersionFormatted 1\nDimension 3\nVertices\n5\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n");
+    text_file(path, sizeof path, ".mesh", text);
+    rc = rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, NULL, &err);
+    remove(path);
+    CHECK(rc != 0 && strstr(err.msg, path) && strstr(err.msg, "tet 1 ") && strstr(err.msg, "twice"), "twice: %s",
+          err.msg);
 
     /* The box with tet 5 inverted, through a Gmsh file: loads, 1 reoriented, all positive. */
     rk_mesh box;
@@ -393,7 +423,7 @@ TEST(non_finite_degenerate_and_inverted_tets_in_files)
     box.tets[4 * 5 + 0] = box.tets[4 * 5 + 1];
     box.tets[4 * 5 + 1] = swap;
     tmp_path(path, sizeof path, ".msh");
-    rc = rk_mesh_write(path, &box, NULL, &err) || rk_mesh_load(path, &m, &rep, &err);
+    rc = rk_mesh_write(path, &box, NULL, &err) || rk_mesh_load(path, RK_MESH_KEEP_FLAT, &m, &rep, &err);
     remove(path);
     rk_mesh_free(&box);
     CHECK(rc == 0, "%s", err.msg);
@@ -414,6 +444,6 @@ int main(void)
     RUN(messages_name_the_line);
     RUN(binary_messages_name_the_byte_offset);
     RUN(huge_counts_fail_before_allocating);
-    RUN(non_finite_degenerate_and_inverted_tets_in_files);
+    RUN(non_finite_flat_repeated_and_inverted_tets_in_files);
     return test_finish();
 }

@@ -22,7 +22,7 @@ static int load_counts(const char *rel, int nv, int nt, char *why, size_t cap)
     rk_error err;
     rk_mesh m;
     rk_mesh_report rep;
-    if (rk_mesh_load(test_data(rel), &m, &rep, &err)) {
+    if (rk_mesh_load(test_data(rel), RK_MESH_KEEP_FLAT, &m, &rep, &err)) {
         snprintf(why, cap, "%s", err.msg);
         return 0;
     }
@@ -66,7 +66,7 @@ TEST(bunny_first_tet_is_read_as_written)
     /* The file's first element is "1 3192 3371 3647 4062"; node tags are 1..4670. */
     rk_error err;
     rk_mesh m;
-    CHECK_OK(rk_mesh_load(test_data("meshes/bunny_19k.msh"), &m, NULL, &err));
+    CHECK_OK(rk_mesh_load(test_data("meshes/bunny_19k.msh"), RK_MESH_KEEP_FLAT, &m, NULL, &err));
     int ok = m.tets[0] == 3191 && m.tets[1] == 3370 && m.tets[2] == 3646 && m.tets[3] == 4061;
     int got[4] = {m.tets[0], m.tets[1], m.tets[2], m.tets[3]};
     rk_mesh_free(&m);
@@ -132,9 +132,11 @@ TEST(splats_are_not_a_surface_nor_a_tet_mesh)
     rk_mesh m;
     CHECK(rk_surface_load(test_data("meshes/donut_3dgs.ply"), &s, &err) != 0, "point cloud accepted as a surface");
     CHECK(strstr(err.msg, "donut_3dgs.ply") && strstr(err.msg, "no face element"), "message: %s", err.msg);
-    CHECK(rk_mesh_load(test_data("meshes/spot.obj"), &m, NULL, &err) != 0, "surface accepted as a tet mesh");
+    CHECK(rk_mesh_load(test_data("meshes/spot.obj"), RK_MESH_KEEP_FLAT, &m, NULL, &err) != 0,
+          "surface accepted as a tet mesh");
     CHECK(strstr(err.msg, "surface"), "message: %s", err.msg);
-    CHECK(rk_mesh_load("/nonexistent/x.msh", &m, NULL, &err) != 0 && strstr(err.msg, "/nonexistent/x.msh"),
+    CHECK(rk_mesh_load("/nonexistent/x.msh", RK_MESH_KEEP_FLAT, &m, NULL, &err) != 0 &&
+              strstr(err.msg, "/nonexistent/x.msh"),
           "message: %s", err.msg);
 }
 

@@ -7,7 +7,7 @@
 /* armadillo with tags 1..3 in runs of varying length (so Gmsh gets several blocks). */
 static int tagged_mesh(rk_mesh *m, rk_error *err)
 {
-    if (rk_mesh_load(test_data("meshes/armadillo_4k.node"), m, NULL, err)) return -1;
+    if (rk_mesh_load(test_data("meshes/armadillo_4k.node"), RK_MESH_KEEP_FLAT, m, NULL, err)) return -1;
     m->tet_tag = malloc(sizeof(int) * (size_t)m->nt);
     for (int t = 0; t < m->nt; t++) m->tet_tag[t] = 1 + (t / 7 + t / 100) % 3;
     return 0;
@@ -21,7 +21,7 @@ static int tagged_mesh(rk_mesh *m, rk_error *err)
         int wrc = (write_call);                                                             \
         rk_mesh back;                                                                       \
         rk_mesh_report rep;                                                                 \
-        int lrc = wrc == 0 ? rk_mesh_load(path, &back, &rep, &err) : -1;                    \
+        int lrc = wrc == 0 ? rk_mesh_load(path, RK_MESH_KEEP_FLAT, &back, &rep, &err) : -1; \
         remove(path);                                                                       \
         CHECK(wrc == 0, "writing %s failed: %s", suffix, err.msg);                          \
         CHECK(lrc == 0, "loading %s failed: %s", suffix, err.msg);                          \
@@ -55,7 +55,7 @@ TEST(tetgen_writer_round_trips_both_files)
     snprintf(node, sizeof node, "%s.node", stem);
     snprintf(ele, sizeof ele, "%s.ele", stem);
     int wrc = rk_mesh_write(node, &m, NULL, &err);
-    int lrc = wrc == 0 ? rk_mesh_load(ele, &back, NULL, &err) : -1;
+    int lrc = wrc == 0 ? rk_mesh_load(ele, RK_MESH_KEEP_FLAT, &back, NULL, &err) : -1;
     remove(stem);
     remove(node);
     remove(ele);
@@ -70,14 +70,14 @@ TEST(untagged_mesh_stays_untagged)
 {
     rk_error err;
     rk_mesh m;
-    CHECK_OK(rk_mesh_load(test_data("meshes/octopus-low.mesh"), &m, NULL, &err));
+    CHECK_OK(rk_mesh_load(test_data("meshes/octopus-low.mesh"), RK_MESH_KEEP_FLAT, &m, NULL, &err));
     CHECK(m.tet_tag == NULL, "octopus has all-zero refs: expected no tags");
     const char *suffixes[] = {".msh", ".vtk", ".mesh"};
     for (int i = 0; i < 3; i++) {
         char path[256];
         rk_mesh back;
         tmp_path(path, sizeof path, suffixes[i]);
-        int rc = rk_mesh_write(path, &m, NULL, &err) || rk_mesh_load(path, &back, NULL, &err);
+        int rc = rk_mesh_write(path, &m, NULL, &err) || rk_mesh_load(path, RK_MESH_KEEP_FLAT, &back, NULL, &err);
         remove(path);
         CHECK(rc == 0, "%s", err.msg);
         int tagged = back.tet_tag != NULL;
@@ -91,7 +91,7 @@ TEST(large_binary_mesh_round_trips)
 {
     rk_error err;
     rk_mesh m;
-    CHECK_OK(rk_mesh_load(test_data("meshes/dinosaur_bin.msh"), &m, NULL, &err));
+    CHECK_OK(rk_mesh_load(test_data("meshes/dinosaur_bin.msh"), RK_MESH_KEEP_FLAT, &m, NULL, &err));
     ROUND_TRIP(".msh", rk_mesh_write_binary(path, &m, NULL, &err), 0, 1);
     ROUND_TRIP(".vtk", rk_mesh_write_binary(path, &m, NULL, &err), 0, 1);
     rk_mesh_free(&m);
@@ -126,7 +126,7 @@ TEST(medit_tetgen_vtk_variants)
     snprintf(node, sizeof node, "%s.node", stem);
     snprintf(ele, sizeof ele, "%s.ele", stem);
     rk_mesh back;
-    int rc = write_tetgen_1based(stem, &m) || rk_mesh_load(node, &back, NULL, &err);
+    int rc = write_tetgen_1based(stem, &m) || rk_mesh_load(node, RK_MESH_KEEP_FLAT, &back, NULL, &err);
     remove(stem);
     remove(node);
     remove(ele);
@@ -141,12 +141,12 @@ TEST(deformed_positions_are_written)
 {
     rk_error err;
     rk_mesh m, back;
-    CHECK_OK(rk_mesh_load(test_data("meshes/octopus-low.mesh"), &m, NULL, &err));
+    CHECK_OK(rk_mesh_load(test_data("meshes/octopus-low.mesh"), RK_MESH_KEEP_FLAT, &m, NULL, &err));
     double *x = malloc(sizeof(double) * 3 * (size_t)m.nv);
     for (int i = 0; i < 3 * m.nv; i++) x[i] = 2 * m.X[i] + 1;
     char path[256];
     tmp_path(path, sizeof path, ".vtk");
-    int rc = rk_mesh_write(path, &m, x, &err) || rk_mesh_load(path, &back, NULL, &err);
+    int rc = rk_mesh_write(path, &m, x, &err) || rk_mesh_load(path, RK_MESH_KEEP_FLAT, &back, NULL, &err);
     remove(path);
     CHECK(rc == 0, "%s", err.msg);
     int ok = back.nv == m.nv;

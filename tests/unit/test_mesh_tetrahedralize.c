@@ -23,7 +23,7 @@ static int fill(const char *rel, double quality, double max_volume, rk_mesh_repo
         return 0;
     }
     double enclosed = rk_surface_volume(&s), filled = tet_volume(&m);
-    int ok = rk_mesh_check(&m, rel, rep, &err) == 0;
+    int ok = rk_mesh_check(&m, rel, RK_MESH_KEEP_FLAT, rep, &err) == 0;
     *nt = m.nt;
     snprintf(why, cap, "%s: check %s, volume %.15g vs enclosed %.15g", rel, ok ? "ok" : err.msg, filled, enclosed);
     ok = ok && fabs(filled - enclosed) <= 1e-6 * enclosed && rep->reoriented == 0 && rep->components == 1;
