@@ -85,6 +85,33 @@ double rk_barrier_distance(double d, double dhat, double *f1, double *f2);
 void rk_motion(rk_motion_kind kind, const double axis[3], const double center[3], double rate,
                const double velocity[3], double t, double R[9], double shift[3]);
 
+/* Colliders an application owns (collider_impl.h): planes, spheres, capsules and boxes acting on
+ * points. A collider is a kind and RK_COLLIDER_REALS reals: position (3), rotation (9, row-major,
+ * local to world), radius (sphere, capsule), half length (capsule, along its local x), half
+ * extents (box, 3). A plane passes through the position, its normal the local z. */
+typedef enum { RK_COLLIDER_PLANE = 0, RK_COLLIDER_SPHERE = 1, RK_COLLIDER_CAPSULE = 2, RK_COLLIDER_BOX = 3 } rk_collider_kind;
+#define RK_COLLIDER_REALS 17
+/* rk_collider_check's answers (0: a valid collider). */
+enum { RK_COLLIDER_NOT_FINITE = 1, RK_COLLIDER_UNKNOWN_KIND, RK_COLLIDER_BAD_SIZE, RK_COLLIDER_NOT_ROTATION };
+int rk_collider_check(int kind, const double *shape);
+/* Signed distance of point x from the collider's surface (positive outside), the outward unit
+ * normal n there (its gradient) and the closest surface point in the collider's own frame (n,
+ * closest may be NULL). */
+double rk_collider_distance(int kind, const double *shape, const double x[3], double n[3], double closest[3]);
+/* The largest alpha in [0, 1] such that the point moving by alpha dx keeps at least 10% of its
+ * starting distance (conservative advancement; exact for a plane), 0 when it starts on or inside. */
+double rk_collider_step(int kind, const double *shape, const double x[3], const double dx[3]);
+/* The pose a fraction s of the way from `from` to `to`: the position along the line, the rotation
+ * by the shortest turn; the size is to's. */
+void rk_collider_pose_at(const double *from, const double *to, double s, double *out);
+/* The largest fraction s of that way with the point x keeping 10% of its starting distance. */
+double rk_collider_motion_step(int kind, const double *from, const double *to, const double x[3]);
+/* Two orthonormal rows orthogonal to the unit normal n (friction's tangent plane). */
+void rk_tangent_basis(const double n[3], double T[6]);
+/* Friction's smoothed |u| (IPC Eq. 14-15) for a tangential slip u over a step with threshold
+ * eps = eps_v h: f0(|u|), f1(|u|) / |u| and M = d(f1 u / |u|) / du (2 x 2, PSD). */
+double rk_friction_smoothed(const double u[2], double eps, double *f1_over_y, double M[4]);
+
 /* Symmetric eigen-decomposition (cyclic Jacobi) of an n x n matrix, n <= 12: A = V diag(w) V^T,
  * V's columns are eigenvectors (row-major storage). A is not modified. */
 void rk_sym_eig(int n, const double *A, double *w, double *V);

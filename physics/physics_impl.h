@@ -36,6 +36,7 @@
 #define PHYS_LOG_ logf
 #define PHYS_COS_ cosf
 #define PHYS_SIN_ sinf
+#define PHYS_ATAN2_ atan2f
 #define PHYS_MATH_TYPE_ float
 #define PHYS_EPS_ PHYS_K_(1.1920928955078125e-7) /* FLT_EPSILON */
 #define PHYS_SQRT_EPS_ PHYS_K_(3.4526698e-4)
@@ -45,6 +46,7 @@
 #define PHYS_LOG_ log
 #define PHYS_COS_ cos
 #define PHYS_SIN_ sin
+#define PHYS_ATAN2_ atan2
 #define PHYS_MATH_TYPE_ double
 #define PHYS_EPS_ PHYS_K_(2.220446049250313e-16) /* DBL_EPSILON */
 #define PHYS_SQRT_EPS_ PHYS_K_(1.4901161193847656e-8)
@@ -83,6 +85,16 @@ PHYS_API PHYS_REAL PHYS_FN(barrier_distance)(PHYS_REAL d, PHYS_REAL dhat, PHYS_R
 PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
                               PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
                               PHYS_REAL shift[3]);
+PHYS_API int PHYS_FN(collider_check)(int kind, const PHYS_REAL *shape);
+PHYS_API PHYS_REAL PHYS_FN(collider_distance)(int kind, const PHYS_REAL *shape, const PHYS_REAL x[3], PHYS_REAL n[3],
+                                              PHYS_REAL closest[3]);
+PHYS_API PHYS_REAL PHYS_FN(collider_step)(int kind, const PHYS_REAL *shape, const PHYS_REAL x[3], const PHYS_REAL dx[3]);
+PHYS_API void PHYS_FN(collider_pose_at)(const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL s, PHYS_REAL *out);
+PHYS_API PHYS_REAL PHYS_FN(collider_motion_step)(int kind, const PHYS_REAL *from, const PHYS_REAL *to,
+                                                 const PHYS_REAL x[3]);
+PHYS_API void PHYS_FN(tangent_basis)(const PHYS_REAL n[3], PHYS_REAL T[6]);
+PHYS_API PHYS_REAL PHYS_FN(friction_smoothed)(const PHYS_REAL u[2], PHYS_REAL eps, PHYS_REAL *f1_over_y,
+                                              PHYS_REAL M[4]);
 
 /* ------------------------------------------------------------------------------------------
  * Small 3x3 helpers (row-major).
@@ -784,6 +796,8 @@ PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], cons
     }
 }
 
+#include "physics/collider_impl.h"
+
 #undef PHYS_JACOBI_MAX_N_
 #undef PHYS_K_
 #undef PHYS_SQRT_
@@ -791,6 +805,7 @@ PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], cons
 #undef PHYS_LOG_
 #undef PHYS_COS_
 #undef PHYS_SIN_
+#undef PHYS_ATAN2_
 #undef PHYS_MATH_TYPE_
 #undef PHYS_EPS_
 #undef PHYS_SQRT_EPS_

@@ -15,18 +15,6 @@
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/* Two unit rows orthogonal to the unit normal n and to each other. */
-static void tangent_basis(const double *n, double *T)
-{
-    int k = fabs(n[0]) < fabs(n[1]) ? (fabs(n[0]) < fabs(n[2]) ? 0 : 2) : (fabs(n[1]) < fabs(n[2]) ? 1 : 2);
-    double e[3] = {0, 0, 0}, *t1 = T, *t2 = T + 3;
-    e[k] = 1; /* the axis least aligned with n */
-    t1[0] = n[1] * e[2] - n[2] * e[1], t1[1] = n[2] * e[0] - n[0] * e[2], t1[2] = n[0] * e[1] - n[1] * e[0];
-    double l = sqrt(dot3(t1, t1));
-    for (int i = 0; i < 3; i++) t1[i] /= l;
-    t2[0] = n[1] * t1[2] - n[2] * t1[1], t2[1] = n[2] * t1[0] - n[0] * t1[2], t2[2] = n[0] * t1[1] - n[1] * t1[0];
-}
-
 int rk_contact_friction_start(rk_contact *c, const double *x, rk_error *err)
 {
     if (!c->fx0) {
@@ -75,7 +63,7 @@ static int lag_pair(const rk_contact *c, const rk_contact_pair *p, const double 
         if (!(l > 0)) return 0;
         for (int a = 0; a < 3; a++) n[a] /= l;
     }
-    tangent_basis(n, f->T);
+    rk_tangent_basis(n, f->T);
     return f->lambda > 0;
 }
 
@@ -94,23 +82,6 @@ int rk_contact_friction_lag(rk_contact *c, const double *x, rk_error *err)
     return 0;
 }
 
-/* The smoothed |u| and its derivatives as f1(y) / y and M = d(f1(y) u / y) / du (2 x 2, PSD for
- * every y: eigenvalues f1 / y across u and f1' along it, both >= 0). */
-static double smoothed_norm(const double u[2], double eps, double *f1_over_y, double M[4])
-{
-    double y = hypot(u[0], u[1]);
-    if (y >= eps) {
-        *f1_over_y = 1 / y;
-        double y3 = y * y * y;
-        M[0] = 1 / y - u[0] * u[0] / y3, M[1] = M[2] = -u[0] * u[1] / y3, M[3] = 1 / y - u[1] * u[1] / y3;
-        return y;
-    }
-    *f1_over_y = 2 / eps - y / (eps * eps); /* f1 = 2 y / eps - y^2 / eps^2 */
-    double c = y > 0 ? -1 / (eps * eps * y) : 0;
-    M[0] = *f1_over_y + c * u[0] * u[0], M[1] = M[2] = c * u[0] * u[1], M[3] = *f1_over_y + c * u[1] * u[1];
-    return -y * y * y / (3 * eps * eps) + y * y / eps + eps / 3;
-}
-
 double rk_contact_friction_energy(const rk_contact *c, const double *x, double h, double *g, double *og,
                                   rk_hessian_sink sink, void *ctx)
 {
@@ -126,7 +97,7 @@ double rk_contact_friction_energy(const rk_contact *c, const double *x, double h
         }
         double u[2] = {dot3(f->T, rel), dot3(f->T + 3, rel)}, f1y, M[4];
         double scale = mu * f->lambda;
-        E += scale * smoothed_norm(u, eps, &f1y, M);
+        E += scale * rk_friction_smoothed(u, eps, &f1y, M);
         double gt[3]; /* d D_k / d rel = scale f1/y T^T u */
         for (int a = 0; a < 3; a++) gt[a] = scale * f1y * (f->T[a] * u[0] + f->T[3 + a] * u[1]);
         for (int i = 0; i < f->np; i++) {
