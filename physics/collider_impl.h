@@ -101,21 +101,6 @@ PHYS_API PHYS_REAL PHYS_FN(collider_distance)(int kind, const PHYS_REAL *shape, 
         (out) = s_;                                                                               \
     } while (0)
 
-PHYS_API PHYS_REAL PHYS_FN(collider_step)(int kind, const PHYS_REAL *shape, const PHYS_REAL x[3], const PHYS_REAL dx[3])
-{
-    PHYS_REAL n[3], y[3], d0 = PHYS_FN(collider_distance)(kind, shape, x, n, 0), alpha;
-    if (kind == RK_COLLIDER_PLANE) { /* exact: the distance is linear along the step */
-        PHYS_REAL dd = PHYS_FN(dot3_)(n, dx);
-        if (!(d0 > 0)) return 0;
-        return dd < 0 && PHYS_K_(0.9) * d0 / -dd < 1 ? PHYS_K_(0.9) * d0 / -dd : PHYS_K_(1);
-    }
-    /* the distance is 1-Lipschitz in the point: it changes by at most |dx| per unit step */
-    PHYS_COLLIDER_ADVANCE_((y[0] = x[0] + s_ * dx[0], y[1] = x[1] + s_ * dx[1], y[2] = x[2] + s_ * dx[2],
-                            PHYS_FN(collider_distance)(kind, shape, y, 0, 0)),
-                           d0, PHYS_SQRT_(PHYS_FN(dot3_)(dx, dx)), alpha);
-    return alpha;
-}
-
 /* The rotation from `from` to `to` (R_from^T R_to) as a unit axis k and an angle theta in [0, pi]. */
 static PHYS_REAL PHYS_FN(collider_turn_)(const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL k[3])
 {
@@ -143,27 +128,66 @@ PHYS_API void PHYS_FN(collider_pose_at)(const PHYS_REAL *from, const PHYS_REAL *
     int i;
     for (i = 0; i < RK_COLLIDER_REALS; i++) out[i] = to[i]; /* the size is the target's */
     if (s >= 1) return;
+    if (s < 0) s = 0;
     for (i = 0; i < 3; i++) out[i] = from[i] + s * (to[i] - from[i]);
     PHYS_FN(motion)(RK_MOTION_TWIST, k, zero, theta, zero, s, Rs, shift);
     for (i = 0; i < 9; i++) R0[i] = from[3 + i];
     PHYS_FN(m3_mul)(R0, Rs, out + 3); /* R_from Rot(k, s theta): the shortest turn */
 }
 
+PHYS_API void PHYS_FN(collider_path_velocity)(const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL s,
+                                              const PHYS_REAL local[3], PHYS_REAL v[3])
+{
+    PHYS_REAL k[3], theta = PHYS_FN(collider_turn_)(from, to, k), pose[RK_COLLIDER_REALS], w[3];
+    const PHYS_REAL *R = pose + 3;
+    int i;
+    PHYS_FN(collider_pose_at)(from, to, s, pose);
+    /* d/ds [p(s) + R_from Rot(k, s theta) c] = dp + R(s) (theta k x c) */
+    w[0] = theta * (k[1] * local[2] - k[2] * local[1]);
+    w[1] = theta * (k[2] * local[0] - k[0] * local[2]);
+    w[2] = theta * (k[0] * local[1] - k[1] * local[0]);
+    for (i = 0; i < 3; i++) v[i] = to[i] - from[i] + R[3 * i] * w[0] + R[3 * i + 1] * w[1] + R[3 * i + 2] * w[2];
+}
+
+PHYS_API PHYS_REAL PHYS_FN(collider_joint_step)(int kind, const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL s,
+                                                PHYS_REAL ds, const PHYS_REAL x[3], const PHYS_REAL dx[3])
+{
+    PHYS_REAL k[3], theta, dp[3], r[3], pose[RK_COLLIDER_REALS], y[3], n[3], move, rho, speed, alpha, d0;
+    int i;
+    PHYS_FN(collider_pose_at)(from, to, s, pose);
+    d0 = PHYS_FN(collider_distance)(kind, pose, x, n, 0);
+    if (!(d0 > 0)) return 0;
+    if (ds == 0 && kind == RK_COLLIDER_PLANE) { /* exact: the distance is linear along the step */
+        PHYS_REAL dd = PHYS_FN(dot3_)(n, dx);
+        return dd < 0 && PHYS_K_(0.9) * d0 / -dd < 1 ? PHYS_K_(0.9) * d0 / -dd : PHYS_K_(1);
+    }
+    theta = PHYS_FN(collider_turn_)(from, to, k);
+    for (i = 0; i < 3; i++) dp[i] = to[i] - from[i], r[i] = x[i] - from[i];
+    /* The distance is 1-Lipschitz in the point, and on the pose path a surface point at rho from
+     * the position moves at most |dp| + theta rho per unit s. The closest surface point lies
+     * within |x - p| + d <= 2 |x - p| + half length of the position (d <= |x - p| + half length
+     * for every kind), with |x(t) - p(s)| <= |x - p_from| + |dx| + |dp| on the way. */
+    move = PHYS_SQRT_(PHYS_FN(dot3_)(dp, dp));
+    rho = PHYS_SQRT_(PHYS_FN(dot3_)(r, r)) + PHYS_SQRT_(PHYS_FN(dot3_)(dx, dx)) + move;
+    speed = move + theta * (2 * rho + PHYS_FABS_(from[13]) + PHYS_FABS_(to[13]));
+    for (i = 12; i < RK_COLLIDER_REALS; i++) speed += PHYS_FABS_(to[i] - from[i]); /* a resize */
+    speed = PHYS_SQRT_(PHYS_FN(dot3_)(dx, dx)) + PHYS_FABS_(ds) * speed;
+    PHYS_COLLIDER_ADVANCE_((y[0] = x[0] + s_ * dx[0], y[1] = x[1] + s_ * dx[1], y[2] = x[2] + s_ * dx[2],
+                            PHYS_FN(collider_pose_at)(from, to, s + s_ * ds, pose),
+                            PHYS_FN(collider_distance)(kind, pose, y, 0, 0)),
+                           d0, speed, alpha);
+    return alpha;
+}
+
+PHYS_API PHYS_REAL PHYS_FN(collider_step)(int kind, const PHYS_REAL *shape, const PHYS_REAL x[3], const PHYS_REAL dx[3])
+{
+    return PHYS_FN(collider_joint_step)(kind, shape, shape, 0, 0, x, dx);
+}
+
 PHYS_API PHYS_REAL PHYS_FN(collider_motion_step)(int kind, const PHYS_REAL *from, const PHYS_REAL *to, const PHYS_REAL x[3])
 {
-    PHYS_REAL k[3], theta = PHYS_FN(collider_turn_)(from, to, k), dp[3], r[3], pose[RK_COLLIDER_REALS], speed, s, move;
-    PHYS_REAL d0 = PHYS_FN(collider_distance)(kind, from, x, 0, 0);
-    int i;
-    for (i = 0; i < 3; i++) dp[i] = to[i] - from[i], r[i] = x[i] - from[i];
-    /* On the path a surface point at rho from the position moves at most |dp| + theta rho per unit
-     * s, and the closest one to x lies within |x - p(s)| + d(s) <= 2 |x - p(s)| + half length of
-     * the position (d <= |x - p| + half length for every kind), |x - p(s)| <= |x - p0| + |dp|. */
-    move = PHYS_SQRT_(PHYS_FN(dot3_)(dp, dp));
-    speed = move + theta * (2 * (PHYS_SQRT_(PHYS_FN(dot3_)(r, r)) + move) + PHYS_FABS_(from[13]) + PHYS_FABS_(to[13]));
-    for (i = 12; i < RK_COLLIDER_REALS; i++) speed += PHYS_FABS_(to[i] - from[i]); /* a resize */
-    PHYS_COLLIDER_ADVANCE_((PHYS_FN(collider_pose_at)(from, to, s_, pose), PHYS_FN(collider_distance)(kind, pose, x, 0, 0)),
-                           d0, speed, s);
-    return s;
+    PHYS_REAL still[3] = {0, 0, 0};
+    return PHYS_FN(collider_joint_step)(kind, from, to, 0, 1, x, still);
 }
 
 PHYS_API void PHYS_FN(tangent_basis)(const PHYS_REAL n[3], PHYS_REAL T[6])

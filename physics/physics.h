@@ -91,6 +91,10 @@ void rk_motion(rk_motion_kind kind, const double axis[3], const double center[3]
  * extents (box, 3). A plane passes through the position, its normal the local z. */
 typedef enum { RK_COLLIDER_PLANE = 0, RK_COLLIDER_SPHERE = 1, RK_COLLIDER_CAPSULE = 2, RK_COLLIDER_BOX = 3 } rk_collider_kind;
 #define RK_COLLIDER_REALS 17
+/* Collider slots (the runtime's default ROMRT_MAX_COLLIDERS), and the pull of a moved collider
+ * toward where the app put it, over the whole mass's inertia along its path (rom.h). */
+#define RK_MAX_COLLIDERS 8
+#define RK_COLLIDER_PULL 1e3
 /* rk_collider_check's answers (0: a valid collider). */
 enum { RK_COLLIDER_NOT_FINITE = 1, RK_COLLIDER_UNKNOWN_KIND, RK_COLLIDER_BAD_SIZE, RK_COLLIDER_NOT_ROTATION };
 int rk_collider_check(int kind, const double *shape);
@@ -101,10 +105,16 @@ double rk_collider_distance(int kind, const double *shape, const double x[3], do
 /* The largest alpha in [0, 1] such that the point moving by alpha dx keeps at least 10% of its
  * starting distance (conservative advancement; exact for a plane), 0 when it starts on or inside. */
 double rk_collider_step(int kind, const double *shape, const double x[3], const double dx[3]);
-/* The pose a fraction s of the way from `from` to `to`: the position along the line, the rotation
- * by the shortest turn; the size is to's. */
+/* The pose a fraction s (clamped to [0, 1]) of the way from `from` to `to`: the position along
+ * the line, the rotation by the shortest turn; the size is to's. */
 void rk_collider_pose_at(const double *from, const double *to, double s, double *out);
-/* The largest fraction s of that way with the point x keeping 10% of its starting distance. */
+/* d/ds of where the collider's own point `local` is on that path at s. */
+void rk_collider_path_velocity(const double *from, const double *to, double s, const double local[3], double v[3]);
+/* The largest alpha in [0, 1] such that the point moving by alpha dx while the collider goes from
+ * s to s + alpha ds on the path keeps at least 10% of its starting distance (conservative
+ * advancement). rk_collider_motion_step: the collider's whole way (s 0, ds 1) past a still point. */
+double rk_collider_joint_step(int kind, const double *from, const double *to, double s, double ds, const double x[3],
+                              const double dx[3]);
 double rk_collider_motion_step(int kind, const double *from, const double *to, const double x[3]);
 /* Two orthonormal rows orthogonal to the unit normal n (friction's tangent plane). */
 void rk_tangent_basis(const double n[3], double T[6]);

@@ -92,6 +92,10 @@ PHYS_API PHYS_REAL PHYS_FN(collider_step)(int kind, const PHYS_REAL *shape, cons
 PHYS_API void PHYS_FN(collider_pose_at)(const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL s, PHYS_REAL *out);
 PHYS_API PHYS_REAL PHYS_FN(collider_motion_step)(int kind, const PHYS_REAL *from, const PHYS_REAL *to,
                                                  const PHYS_REAL x[3]);
+PHYS_API void PHYS_FN(collider_path_velocity)(const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL s,
+                                              const PHYS_REAL local[3], PHYS_REAL v[3]);
+PHYS_API PHYS_REAL PHYS_FN(collider_joint_step)(int kind, const PHYS_REAL *from, const PHYS_REAL *to, PHYS_REAL s,
+                                                PHYS_REAL ds, const PHYS_REAL x[3], const PHYS_REAL dx[3]);
 PHYS_API void PHYS_FN(tangent_basis)(const PHYS_REAL n[3], PHYS_REAL T[6]);
 PHYS_API PHYS_REAL PHYS_FN(friction_smoothed)(const PHYS_REAL u[2], PHYS_REAL eps, PHYS_REAL *f1_over_y,
                                               PHYS_REAL M[4]);

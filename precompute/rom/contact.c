@@ -9,10 +9,43 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The boundary vertices, ascending (as the contact stage lists them). */
+static int boundary_vertices(const rk_mesh *view, rk_rom_model *m, rk_error *err)
+{
+    int *tris = NULL, nf = 0;
+    if (rk_mesh_boundary(view, &tris, &nf, err)) return -1;
+    char *on = rk_calloc((size_t)view->nv + 1, 1, err);
+    m->cv = rk_calloc((size_t)view->nv + 1, sizeof(int), err);
+    if (!on || !m->cv) {
+        free(tris), free(on);
+        return -1;
+    }
+    for (int i = 0; i < 3 * nf; i++) on[tris[i]] = 1;
+    for (int v = 0; v < view->nv; v++)
+        if (on[v]) m->cv[m->ncv++] = v;
+    free(tris), free(on);
+    return 0;
+}
+
 int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U, rk_error *err)
 {
-    m->has_contact = opt->nobstacles > 0 || opt->nobjects > 1 || opt->contact.self;
-    if (!m->has_contact) return 0;
+    /* the boundary vertices and their rows always: the scene's contact and an app's colliders act on them */
+    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
+                    .nghost = fem->nghost, .ghost = (int *)fem->ghost};
+    if (boundary_vertices(&view, m, err)) return -1;
+    int nc = m->ncv, r = m->r, ndof = 3 * fem->nv;
+    m->cv_rows = rk_calloc(3 * (size_t)nc * r + 1, sizeof(double), err);
+    m->cv_X = rk_calloc(3 * (size_t)nc + 1, sizeof(double), err);
+    m->cv_of = rk_calloc((size_t)fem->nv + 1, sizeof(int), err);
+    if (!m->cv_rows || !m->cv_X || !m->cv_of) return -1;
+    for (int v = 0; v < fem->nv; v++) m->cv_of[v] = -1;
+    for (int i = 0; i < nc; i++) {
+        int v = m->cv[i];
+        m->cv_of[v] = i;
+        memcpy(m->cv_X + 3 * i, fem->X + 3 * (size_t)v, 3 * sizeof(double));
+        for (int a = 0; a < 3; a++)
+            for (int j = 0; j < r; j++) m->cv_rows[(size_t)(3 * i + a) * r + j] = U[(size_t)ndof * j + 3 * v + a];
+    }
     rk_contact_options co = opt->contact;
     if (co.dhat == 0) co.dhat = 1e-3 * rk_points_diagonal(fem->X, fem->nv);
     if (co.kappa == 0) {
@@ -20,22 +53,15 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
                         opt->gravity[2] * opt->gravity[2]);
         co.kappa = rk_contact_holding_kappa(co.dhat, m->mass / fem->nv * fmax(g, 1.0));
     }
-    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
-                    .nghost = fem->nghost, .ghost = (int *)fem->ghost};
+    m->contact_options = co;
+    m->has_contact = opt->nobstacles > 0 || opt->nobjects > 1 || opt->contact.self;
+    if (!m->has_contact) return 0;
     if (rk_contact_init(&m->contact, &view, opt->object_first_vertex, opt->nobjects, opt->obstacles, opt->nobstacles,
                         &co, m->mass / fem->nv, err))
         return -1;
-    int nc = m->contact.nv, r = m->r, ndof = 3 * fem->nv;
-    m->cv_rows = rk_calloc(3 * (size_t)nc * r + 1, sizeof(double), err);
-    m->cv_of = rk_calloc((size_t)fem->nv + 1, sizeof(int), err);
-    if (!m->cv_rows || !m->cv_of) return -1;
-    for (int v = 0; v < fem->nv; v++) m->cv_of[v] = -1;
-    for (int i = 0; i < nc; i++) {
-        int v = m->contact.vertex[i];
-        m->cv_of[v] = i;
-        for (int a = 0; a < 3; a++)
-            for (int j = 0; j < r; j++) m->cv_rows[(size_t)(3 * i + a) * r + j] = U[(size_t)ndof * j + 3 * v + a];
-    }
+    if (m->contact.nv != nc || memcmp(m->contact.vertex, m->cv, sizeof(int) * (size_t)nc) != 0)
+        return rk_fail(err, "the contact stage's boundary (%d vertices) is not the reduced model's (%d)",
+                       m->contact.nv, nc);
     return 0;
 }
 
@@ -44,23 +70,16 @@ void rk_rom_contact_positions(rk_rom *s, const double *q)
 {
     const rk_rom_model *m = s->model;
     int r = m->r;
-    for (int i = 0; i < m->contact.nv; i++) {
-        int v = m->contact.vertex[i];
+    for (int i = 0; i < m->ncv; i++) {
+        int v = m->cv[i];
         for (int a = 0; a < 3; a++)
-            s->x[3 * v + a] = m->contact.X[3 * v + a] + cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, q, 1);
+            s->x[3 * v + a] = m->cv_X[3 * i + a] + cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, q, 1);
     }
 }
 
-typedef struct {
-    const rk_rom_model *m;
-    double *H;      /* r x r, column-major (both triangles) */
-    double *JB;     /* 12 x r scratch */
-} reduce_ctx;
-
-/* H += J^T B J for a pair's block B over its points' rows J (obstacle points have none). */
-static void reduce_block(void *ctx, const int *id, int npoints, const double *B)
+void rk_rom_reduce_block(void *ctx, const int *id, int npoints, const double *B)
 {
-    reduce_ctx *c = ctx;
+    rk_rom_reduce_ctx *c = ctx;
     const rk_rom_model *m = c->m;
     int r = m->r, dim = 3 * npoints;
     const double *rows[12] = {0};
@@ -81,23 +100,34 @@ static void reduce_block(void *ctx, const int *id, int npoints, const double *B)
 double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err)
 {
     rk_rom_model *m = s->model;
-    int r = m->r;
     rk_rom_contact_positions(s, q);
     if (rk_contact_gather(&m->contact, s->x, &s->pairs, err)) return NAN;
-    for (int i = 0; g && i < m->contact.nv; i++)
-        for (int a = 0; a < 3; a++) s->gx[3 * m->contact.vertex[i] + a] = 0;
-    reduce_ctx ctx = {m, H, s->jb};
-    double E = rk_contact_energy(&m->contact, &s->pairs, s->x, g ? s->gx : NULL, NULL, H ? reduce_block : NULL, &ctx,
-                                 NULL);
+    if (g) rk_rom_clear_vertex_gradient(s);
+    rk_rom_reduce_ctx ctx = {m, H, s->jb};
+    double E = rk_contact_energy(&m->contact, &s->pairs, s->x, g ? s->gx : NULL, NULL, H ? rk_rom_reduce_block : NULL,
+                                 &ctx, NULL);
     if (friction && isfinite(E))
-        E += rk_contact_friction_energy(&m->contact, s->x, m->h, g ? s->gx : NULL, NULL, H ? reduce_block : NULL, &ctx);
-    if (g && isfinite(E))
-        for (int i = 0; i < m->contact.nv; i++)
-            for (int a = 0; a < 3; a++) {
-                double gv = s->gx[3 * m->contact.vertex[i] + a];
-                if (gv != 0) cblas_daxpy(r, gv, m->cv_rows + (size_t)(3 * i + a) * r, 1, g, 1);
-            }
+        E += rk_contact_friction_energy(&m->contact, s->x, m->h, g ? s->gx : NULL, NULL,
+                                        H ? rk_rom_reduce_block : NULL, &ctx);
+    if (g && isfinite(E)) rk_rom_pull_vertex_gradient(s, g);
     return E;
+}
+
+void rk_rom_clear_vertex_gradient(rk_rom *s)
+{
+    const rk_rom_model *m = s->model;
+    for (int i = 0; i < m->ncv; i++)
+        for (int a = 0; a < 3; a++) s->gx[3 * m->cv[i] + a] = 0;
+}
+
+void rk_rom_pull_vertex_gradient(rk_rom *s, double *g)
+{
+    const rk_rom_model *m = s->model;
+    for (int i = 0; i < m->ncv; i++)
+        for (int a = 0; a < 3; a++) {
+            double gv = s->gx[3 * m->cv[i] + a];
+            if (gv != 0) cblas_daxpy(m->r, gv, m->cv_rows + (size_t)(3 * i + a) * m->r, 1, g, 1);
+        }
 }
 
 double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, double t, rk_error *err)
@@ -105,16 +135,21 @@ double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, dou
     rk_rom_model *m = s->model;
     int r = m->r;
     rk_rom_contact_positions(s, q);
-    for (int i = 0; i < m->contact.nv; i++) {
-        int v = m->contact.vertex[i];
+    for (int i = 0; i < m->ncv; i++) {
+        int v = m->cv[i];
         for (int a = 0; a < 3; a++)
             s->dx[3 * v + a] = dq ? cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, dq, 1) : 0;
     }
-    if (!isnan(t)) { /* the obstacles' way to where they are at t */
-        rk_contact_obstacles_at(&m->contact, t, s->odx);
-        for (int i = 0; i < 3 * m->contact.onv; i++) s->odx[i] -= m->contact.ox[i];
+    double alpha = 1;
+    if (m->has_contact) {
+        if (!isnan(t)) { /* the obstacles' way to where they are at t */
+            rk_contact_obstacles_at(&m->contact, t, s->odx);
+            for (int i = 0; i < 3 * m->contact.onv; i++) s->odx[i] -= m->contact.ox[i];
+        }
+        alpha = rk_contact_max_step(&m->contact, s->x, s->dx, isnan(t) ? NULL : s->odx, err);
     }
-    return rk_contact_max_step(&m->contact, s->x, s->dx, isnan(t) ? NULL : s->odx, err);
+    if (dq && alpha > 0) alpha = fmin(alpha, rk_rom_colliders_max_step(s));
+    return alpha;
 }
 
 int rk_rom_contact_intersections(rk_rom *s, const double *q, rk_error *err)
@@ -137,11 +172,13 @@ int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, 
 int rk_rom_friction_start(rk_rom *s, const double *q, rk_error *err)
 {
     rk_rom_contact_positions(s, q);
-    return rk_contact_friction_start(&s->model->contact, s->x, err);
+    rk_rom_colliders_friction_start(s);
+    return s->model->has_contact ? rk_contact_friction_start(&s->model->contact, s->x, err) : 0;
 }
 
 int rk_rom_friction_lag(rk_rom *s, const double *q, rk_error *err)
 {
     rk_rom_contact_positions(s, q);
-    return rk_contact_friction_lag(&s->model->contact, s->x, err);
+    rk_rom_colliders_friction_lag(s);
+    return s->model->has_contact ? rk_contact_friction_lag(&s->model->contact, s->x, err) : 0;
 }

@@ -171,6 +171,8 @@ void rk_rom_model_free(rk_rom_model *m)
     if (m->has_contact) rk_contact_free(&m->contact);
     free(m->cv_rows);
     free(m->cv_of);
+    free(m->cv);
+    free(m->cv_X);
     rk_quadrature_free(&m->quad);
     memset(m, 0, sizeof *m);
 }

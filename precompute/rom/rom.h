@@ -55,12 +55,15 @@ typedef struct {
     int npins;
     rk_rom_pin *pins;
     int pinned_vertices;       /* prescribed vertices held by the penalty (0: the basis holds them all) */
-    /* Contact on the boundary vertices (their rows, and scratch over the mesh's 3 nv entries of
-     * which only those of collision vertices are used). */
+    /* The collision vertices (the boundary: what the scene's contact and an app's colliders act
+     * on), always, and their rows; the contact model when the scene has something to collide. */
+    int ncv, *cv;              /* ascending mesh vertex ids */
+    double *cv_rows;           /* 3 ncv x r, row-major: U's rows at the collision vertices */
+    double *cv_X;              /* 3 ncv: their rest positions */
+    int *cv_of;                /* nv: collision vertex index of a mesh vertex, or -1 */
+    rk_contact_options contact_options; /* dhat and kappa resolved: the barrier of contact and colliders */
     int has_contact;
     rk_contact contact;
-    double *cv_rows;           /* 3 nc x r, row-major: U's rows at the collision vertices */
-    int *cv_of;                /* nv: collision vertex index of a mesh vertex, or -1 */
     double mass;               /* total mass (kg) */
     double newton_tol;         /* on sqrt(dq^T M_r dq / mass) (m), per step */
     int newton_max_iter;
@@ -79,9 +82,27 @@ typedef struct {
     double seconds_total;
 } rk_rom_stats;
 
+/* An application's collider (physics.h: a kind and its RK_COLLIDER_REALS reals). */
+typedef struct {
+    rk_collider_kind kind;
+    double shape[RK_COLLIDER_REALS];
+} rk_collider;
+
+/* A collider slot of the simulator: where the collider is, where the app wants it, where it was
+ * when the step began and when friction was lagged. */
+typedef struct {
+    int active;
+    rk_collider_kind kind;
+    double now[RK_COLLIDER_REALS], target[RK_COLLIDER_REALS], start[RK_COLLIDER_REALS], lag[RK_COLLIDER_REALS];
+} rk_rom_collider;
+
 typedef struct {
     rk_rom_model *model;
     double t;
+    rk_rom_collider colliders[RK_MAX_COLLIDERS];
+    int ncolliders;            /* active slots */
+    int colliders_behind;      /* the last step left a collider short of its pose (the body was in the way) */
+    double *xs, *xl;           /* 3 nv: collision vertices where the step began and where friction was lagged */
     double *x, *dx, *gx;       /* 3 nv contact scratch: positions, a step, a gradient */
     double *odx;               /* 3 obstacle vertices: their way over a step */
     double *jb;                /* 12 x r contact scratch */
@@ -104,6 +125,15 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t);
  * way it got (1: exactly q) into *reached; -1 on failure. */
 int rk_rom_realign(rk_rom *s, const double *q, const double *v, double t, double *reached, rk_error *err);
 void rk_rom_free(rk_rom *s);
+/* An application's colliders (the runtime's romrt_set_collider, in double): slot 0 ..
+ * RK_MAX_COLLIDERS - 1. A collider of the slot's kind and size moves there in the next step, its
+ * progress along the way solved for with the body (collider_solve.c); where the body cannot give
+ * way it stops short (colliders_behind) and goes on the step after. A new one, or a new kind or
+ * size, must be placed clear of the body. They act on the collision vertices with the barrier of
+ * the scene's planes and, with contact.friction, its friction. A bad collider is refused, naming
+ * what, and changes nothing. */
+int rk_rom_set_collider(rk_rom *s, int slot, const rk_collider *c, rk_error *err);
+int rk_rom_remove_collider(rk_rom *s, int slot, rk_error *err);
 /* Contact at the current state, as rk_fom_contact_measure: exact crossings of the reduced surfaces
  * (0 for a valid state) and their smallest distance (INFINITY without contact). */
 int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, rk_error *err);

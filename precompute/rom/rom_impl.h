@@ -36,6 +36,34 @@ void rk_rom_contact_positions(rk_rom *s, const double *q);
 /* The barrier at q (and, with friction, the lagged friction potential of a step of h): value,
  * g += its reduced gradient, H += its reduced Hessian (g, H may be NULL). */
 double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err);
+/* H += J^T B J for a block B over its points' rows J (mesh vertex ids; obstacle points have
+ * none): the contact stage's Hessian sink (ctx: rk_rom_reduce_ctx). */
+typedef struct {
+    const rk_rom_model *m;
+    double *H;      /* r x r, column-major (both triangles) */
+    double *JB;     /* 12 x r scratch */
+} rk_rom_reduce_ctx;
+void rk_rom_reduce_block(void *ctx, const int *id, int npoints, const double *B);
+/* s->gx zeroed at the collision vertices; g += the rows' pull of s->gx. */
+void rk_rom_clear_vertex_gradient(rk_rom *s);
+void rk_rom_pull_vertex_gradient(rk_rom *s, double *g);
+
+/* The app's colliders (colliders.c): their barrier and lagged friction at q; the largest step
+ * along s->dx from s->x (positions and step set); whether one has somewhere to go; friction's
+ * records (positions in s->x). */
+double rk_rom_colliders_energy(rk_rom *s, const double *q, int friction, double *g, double *H);
+double rk_rom_colliders_max_step(rk_rom *s);
+int rk_rom_colliders_pending(const rk_rom *s);
+/* For collider `slot` at s_k on its path from `from` to its target (its pose now set there):
+ * g_s, H_ss (may be NULL) and H_qs (r, may be NULL) += the derivatives of its terms in s_k. */
+void rk_rom_colliders_path_terms(rk_rom *s, const double *q, int slot, const double *from, double sk, double *gs,
+                                 double *hss, double *hqs);
+/* The step's solve with every moved collider's progress along its path as an unknown
+ * (collider_solve.c); the colliders end where it leaves them. */
+int rk_rom_colliders_solve(rk_rom *s, const rk_rom_terms *T, int *converged, rk_error *err);
+void rk_rom_colliders_friction_start(rk_rom *s);
+void rk_rom_colliders_friction_lag(rk_rom *s);
+
 /* Friction's step start (positions at q) and its lag at q (contact.h). */
 int rk_rom_friction_start(rk_rom *s, const double *q, rk_error *err);
 int rk_rom_friction_lag(rk_rom *s, const double *q, rk_error *err);

@@ -15,15 +15,16 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->q = rk_calloc((size_t)r, sizeof(double), err);
     s->v = rk_calloc((size_t)r, sizeof(double), err);
     s->work = rk_calloc((size_t)r * (RK_ROM_WORK_VECTORS + r), sizeof(double), err);
-    if (m->has_contact) {
-        size_t n3 = 3 * (size_t)m->nv + 1;
-        s->x = rk_calloc(n3, sizeof(double), err);
-        s->dx = rk_calloc(n3, sizeof(double), err);
-        s->gx = rk_calloc(n3, sizeof(double), err);
-        s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
-        s->odx = rk_calloc(3 * (size_t)m->contact.onv + 1, sizeof(double), err);
-    }
-    if (!s->q || !s->v || !s->work || (m->has_contact && (!s->x || !s->dx || !s->gx || !s->jb || !s->odx)) ||
+    /* collision-vertex scratch always: an app may add colliders to any model */
+    size_t n3 = 3 * (size_t)m->nv + 1;
+    s->x = rk_calloc(n3, sizeof(double), err);
+    s->dx = rk_calloc(n3, sizeof(double), err);
+    s->gx = rk_calloc(n3, sizeof(double), err);
+    s->xs = rk_calloc(n3, sizeof(double), err);
+    s->xl = rk_calloc(n3, sizeof(double), err);
+    s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
+    s->odx = rk_calloc(3 * (size_t)(m->has_contact ? m->contact.onv : 0) + 1, sizeof(double), err);
+    if (!s->q || !s->v || !s->work || !s->x || !s->dx || !s->gx || !s->xs || !s->xl || !s->jb || !s->odx ||
         rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
         rk_rom_free(s);
         return -1;
@@ -81,7 +82,7 @@ void rk_rom_free(rk_rom *s)
     free(s->v);
     rk_stepper_free(&s->stepper);
     free(s->work);
-    free(s->x), free(s->dx), free(s->gx), free(s->jb), free(s->odx);
+    free(s->x), free(s->dx), free(s->gx), free(s->xs), free(s->xl), free(s->jb), free(s->odx);
     rk_contact_set_free(&s->pairs);
     memset(s, 0, sizeof *s);
 }
@@ -159,7 +160,7 @@ static int dynamic_step(rk_rom *s, rk_error *err)
     rk_stepper *st = &s->stepper;
     double *pin = s->work + RK_ROM_WORK_PIN * (size_t)m->r;
     rk_stepper_predict(st, s->q, s->v);
-    int friction = m->has_contact && m->contact.opt.friction > 0;
+    int friction = (m->has_contact || s->ncolliders) && m->contact_options.friction > 0;
     rk_rom_terms T = {.w_inertia = st->w_inertia, .qtilde = st->xtilde, .w_damping = 1.0 / m->h, .qt = st->xt,
                       .load = 1.0, .pin_b = pin, .friction = friction};
     /* friction lagged at q_t for the first solve (as the full-order step) */
@@ -174,11 +175,14 @@ static int dynamic_step(rk_rom *s, rk_error *err)
         return -1;
     }
     step_solve c = {s, &T, 1};
+    /* the app's colliders to where it put them, the body pushed ahead of them in the same solve */
+    if (rk_rom_colliders_pending(s) && rk_rom_colliders_solve(s, &T, &c.converged, err)) return -1;
+    s->colliders_behind = rk_rom_colliders_pending(s);
     if (m->has_contact ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
                        : move_and_solve(&c, s->t + m->h, 1, err))
         return -1;
     /* then lagged again at the solution and solved again, until a solve has nothing left to do */
-    for (int k = 1; friction && k < m->contact.opt.friction_iterations; k++) {
+    for (int k = 1; friction && k < m->contact_options.friction_iterations; k++) {
         long before = s->stats.newton_iterations;
         if (rk_rom_friction_lag(s, s->q, err) || move_and_solve(&c, s->t + m->h, 1, err)) return -1;
         if (s->stats.newton_iterations - before <= 1) break;

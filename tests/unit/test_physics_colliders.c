@@ -188,6 +188,56 @@ TEST(a_moving_collider_never_reaches_a_point)
     CHECK(rk_collider_check(RK_COLLIDER_BOX, mid) == 0, "a pose on the way is not a rotation");
 }
 
+/* A random move: 0.5 m and up to 90 degrees. */
+static void random_move(const double *from, double *to)
+{
+    double turn[9], axis[3] = {urand(), urand(), urand()}, zero[3] = {0, 0, 0}, shift[3];
+    memcpy(to, from, RK_COLLIDER_REALS * sizeof(double));
+    for (int i = 0; i < 3; i++) to[i] = from[i] + 0.5 * urand();
+    rk_motion(RK_MOTION_TWIST, axis, zero, 1.57 * urand(), zero, 1.0, turn, shift);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            to[3 + 3 * i + j] = from[3 + 3 * i] * turn[j] + from[4 + 3 * i] * turn[3 + j] + from[5 + 3 * i] * turn[6 + j];
+}
+
+TEST(the_path_velocity_and_a_joint_step)
+{
+    double worst_v = 0, worst_path = INFINITY;
+    int stopped = 0, trials = 0;
+    for (int trial = 0; trial < 1000; trial++) {
+        int kind = trial % 4;
+        double from[RK_COLLIDER_REALS], to[RK_COLLIDER_REALS], a[RK_COLLIDER_REALS], b[RK_COLLIDER_REALS];
+        random_collider(kind, from);
+        random_move(from, to);
+        double local[3] = {urand(), urand(), urand()}, v[3], s = 0.1 + 0.8 * fabs(urand()), h = 1e-6, pa[3], pb[3];
+        rk_collider_path_velocity(from, to, s, local, v);
+        rk_collider_pose_at(from, to, s + h, a);
+        rk_collider_pose_at(from, to, s - h, b);
+        to_world(a, local, pa), to_world(b, local, pb);
+        for (int i = 0; i < 3; i++) worst_v = fmax(worst_v, fabs((pa[i] - pb[i]) / (2 * h) - v[i]));
+        /* the point and the collider both moving, toward each other */
+        double x[3], dx[3], pose[RK_COLLIDER_REALS], ds = (1 - s) * fabs(urand());
+        rk_collider_pose_at(from, to, s, pose);
+        for (int i = 0; i < 3; i++) x[i] = pose[i] + 1.5 * urand();
+        double d0 = rk_collider_distance(kind, pose, x, NULL, NULL);
+        if (!(d0 > 1e-3)) continue;
+        for (int i = 0; i < 3; i++) dx[i] = (pose[i] - x[i]) * 2 * fabs(urand());
+        double alpha = rk_collider_joint_step(kind, from, to, s, ds, x, dx), least = INFINITY;
+        for (int k = 0; k <= 400; k++) {
+            double t = alpha * k / 400, y[3] = {x[0] + t * dx[0], x[1] + t * dx[1], x[2] + t * dx[2]};
+            rk_collider_pose_at(from, to, s + t * ds, pose);
+            least = fmin(least, rk_collider_distance(kind, pose, y, NULL, NULL));
+        }
+        worst_path = fmin(worst_path, least / d0);
+        stopped += alpha < 1;
+        trials++;
+    }
+    printf("# path velocity vs finite differences %.2g; %d joint motions, %d stopped, least distance over the "
+           "start's %.3f\n", worst_v, trials, stopped, worst_path);
+    CHECK(worst_v < 1e-8, "path velocity off by %g", worst_v);
+    CHECK(worst_path >= 0.1 - 1e-9 && stopped > trials / 3, "least %g, stopped %d of %d", worst_path, stopped, trials);
+}
+
 TEST(bad_colliders_are_named)
 {
     double c[RK_COLLIDER_REALS];
@@ -237,6 +287,7 @@ int main(void)
     RUN(distances_match_world_formulas_and_their_gradients);
     RUN(a_point_step_never_enters_a_collider);
     RUN(a_moving_collider_never_reaches_a_point);
+    RUN(the_path_velocity_and_a_joint_step);
     RUN(bad_colliders_are_named);
     RUN(friction_smoothing_matches_finite_differences);
     return test_finish();
