@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 0   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 1   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -77,6 +77,8 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_ELMR "ELMR"   /* real, elements x 12: Dm^-1 (9), weight (m^3), mu, lambda */
 #define ROMBIN_PLAN "PLAN"   /* real, planes x 6: point, unit normal */
 #define ROMBIN_CONT "CONT"   /* u32, contacts x 2: vertex, plane */
+#define ROMBIN_CVTX "CVTX"   /* u32: the collision vertices an app's colliders act on (1.1, optional) */
+#define ROMBIN_FRIC "FRIC"   /* real x ROMBIN_FRIC_COUNT: friction (1.1, optional) */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
 #define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
 #define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */
@@ -109,6 +111,13 @@ enum {
     ROMBIN_HEAD_SOURCE_VERTICES, /* of the full mesh (information) */
     ROMBIN_HEAD_SOURCE_TETS,
     ROMBIN_HEAD_COUNT = 16       /* the rest reserved, 0 */
+};
+
+enum {
+    ROMBIN_FRIC_MU = 0,          /* Coulomb coefficient */
+    ROMBIN_FRIC_EPS_V,           /* slip speed below which friction is static (m/s) */
+    ROMBIN_FRIC_ITERATIONS,      /* lagging iterations per step */
+    ROMBIN_FRIC_COUNT = 4        /* the rest reserved, 0 */
 };
 
 enum {

@@ -70,6 +70,8 @@ void romrt_reset(romrt_model *m)
     memset(&m->last, 0, sizeof m->last);
     m->t = 0;
     m->have_prev = 0;
+    memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
+    m->ncolliders = 0;
     if (m->kind == ROMRT_KIND_KOOPMAN) rt_koopman_reset(m);
 }
 

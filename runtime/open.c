@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
@@ -18,6 +18,29 @@ typedef struct {
     romrt_status (*arrays)(rt_loader *L, romrt_model *m);
     romrt_status (*contents)(rt_loader *L, romrt_model *m);
 } model_reader;
+
+/* FRIC: mu >= 0, eps_v > 0 and 1..100 lagging iterations when mu > 0, the reserved value 0. */
+static romrt_status friction(rt_loader *L, romrt_model *m)
+{
+    rombin_chunk c;
+    int found, k;
+    double f[ROMBIN_FRIC_COUNT];
+    romrt_status st = rt_chunk(L, ROMBIN_FRIC, ROMBIN_TYPE_REAL, ROMBIN_FRIC_COUNT, 0, &c, &found);
+    if (st || !found) return st;
+    for (k = 0; k < ROMBIN_FRIC_COUNT; k++) {
+        f[k] = rt_real_at(L, &c, (uint64_t)k);
+        if (!isfinite(f[k])) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_FRIC, "value ", (uint64_t)k, " is not finite");
+    }
+    if (!(f[ROMBIN_FRIC_MU] >= 0) || (f[ROMBIN_FRIC_MU] > 0 && !(f[ROMBIN_FRIC_EPS_V] > 0)) ||
+        !(f[ROMBIN_FRIC_ITERATIONS] >= 1 && f[ROMBIN_FRIC_ITERATIONS] <= 100) ||
+        f[ROMBIN_FRIC_ITERATIONS] != (double)(int)f[ROMBIN_FRIC_ITERATIONS] || f[ROMBIN_FRIC_COUNT - 1] != 0)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_FRIC,
+                       "mu must not be negative, eps_v positive, the lagging iterations a whole 1..100");
+    m->mu = (romrt_real)f[ROMBIN_FRIC_MU];
+    m->eps_v = (romrt_real)f[ROMBIN_FRIC_EPS_V];
+    m->friction_iterations = (int)f[ROMBIN_FRIC_ITERATIONS];
+    return ROMRT_OK;
+}
 
 static romrt_status sizes(rt_loader *L, romrt_model *m)
 {
@@ -64,6 +87,17 @@ static romrt_status sizes(rt_loader *L, romrt_model *m)
             p[ROMBIN_PARM_KAPPA] < 0 || (m->nplanes && !(p[ROMBIN_PARM_DHAT] > 0)))
             return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_PARM,
                            "time step, tolerance and mass must be positive, kappa non-negative, dhat positive with planes");
+        {
+            rombin_chunk cv;
+            int has_cv;
+            if ((st = rt_chunk(L, ROMBIN_CVTX, ROMBIN_TYPE_U32, 0, 0, &cv, &has_cv))) return st;
+            if (has_cv && (cv.raw / 4 > head[ROMBIN_HEAD_VERTICES] || cv.raw == 0))
+                return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_CVTX, "lists ", cv.raw / 4, " vertices, none or more than stored");
+            m->ncv = has_cv ? (int)(cv.raw / 4) : 0;
+            if (m->ncv && !(p[ROMBIN_PARM_DHAT] > 0 && p[ROMBIN_PARM_KAPPA] > 0))
+                return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_PARM, "dhat and kappa must be positive with collision vertices");
+        }
+        if ((st = friction(L, m))) return st;
         m->h = (romrt_real)p[ROMBIN_PARM_H];
         m->tol = (romrt_real)p[ROMBIN_PARM_NEWTON_TOL];
         m->mass = (romrt_real)p[ROMBIN_PARM_MASS];
@@ -84,7 +118,8 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, 1, &m->elem)) ||
         (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, 1, &m->elem_real)) ||
         (st = rt_reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
-        (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)))
+        (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
+        (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))
         return st;
     m->force_rows = m->rows;
     return rt_load_groups_and_surface(L, m);
@@ -98,7 +133,8 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
     if ((st = rt_indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 0, 4, (uint32_t)m->nv)) ||
         (st = rt_indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 4, 5, RK_MAT_NEOHOOKEAN + 1)) ||
         (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 0, 1, (uint32_t)m->nv)) ||
-        (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 1, 2, (uint32_t)m->nplanes)))
+        (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 1, 2, (uint32_t)m->nplanes)) ||
+        (st = rt_indices_below(L, ROMBIN_CVTX, m->cv, (uint64_t)m->ncv, 1, 0, 1, (uint32_t)m->nv)))
         return st;
     if ((st = rt_check_groups_and_surface(L, m))) return st;
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */

@@ -50,7 +50,7 @@ static void element_G(romrt_model *m, int e)
     }
 }
 
-static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H)
+static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
     int r = m->r, e, i, j, k, l;
     romrt_real E = 0;
@@ -89,7 +89,7 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
              * rank-1 passes would stream the r x r matrix through the cache nine times) */
             for (j = 0; j < r; j++) {
                 const romrt_real *G = m->G;
-                romrt_real *Hj = H + (size_t)r * j, a[9];
+                romrt_real *Hj = H + (size_t)ld * j, a[9];
                 for (k = 0; k < 9; k++) a[k] = m->AG[(size_t)r * k + j];
                 for (i = 0; i <= j; i++)
                     Hj[i] += G[i] * a[0] + G[r + i] * a[1] + G[2 * r + i] * a[2] + G[3 * r + i] * a[3] +
@@ -138,15 +138,70 @@ romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const 
     return alpha;
 }
 
+void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3])
+{
+    int a;
+    for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)v + (size_t)a] + rt_dot(m->r, row_of(m, v, a), q);
+}
+
+void rt_vertex_pull(const romrt_model *m, uint32_t v, const romrt_real gx[3], const romrt_real *B, romrt_real *g,
+                    romrt_real *H, int ld)
+{
+    const romrt_real *row[3];
+    int r = m->r, a, b, i, j;
+    for (a = 0; a < 3; a++) row[a] = row_of(m, v, a);
+    if (g)
+        for (a = 0; a < 3; a++)
+            for (j = 0; j < r; j++) g[j] += gx[a] * row[a][j];
+    if (H && B)
+        for (j = 0; j < r; j++) {
+            romrt_real Bj[3]; /* B J column j */
+            for (a = 0; a < 3; a++) Bj[a] = B[3 * a] * row[0][j] + B[3 * a + 1] * row[1][j] + B[3 * a + 2] * row[2][j];
+            for (b = 0; b < 3; b++)
+                if (Bj[b] != 0)
+                    for (i = 0; i <= j; i++) H[i + (size_t)ld * j] += row[b][i] * Bj[b];
+        }
+}
+
+/* Friction of contact c (a vertex on a plane), lagged at q_lag on its slip since q_t (the
+ * precompute's point-plane friction pair, contact/friction.c): energy, g and H. */
+static romrt_real plane_friction(romrt_model *m, int c, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
+{
+    uint32_t v = m->contacts[2 * (size_t)c];
+    const romrt_real *n = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1] + 3;
+    romrt_real dl = rt_contact_distance(m, c, m->q_lag), f1, f2, T[6], x[3], xs[3], rel[3], u[2], f1y, M[4];
+    romrt_real scale, E, gx[3], B[9];
+    int a, b;
+    if (!(dl > 0 && dl < m->dhat)) return 0;
+    RT_PHYS(barrier_distance)(dl, m->dhat, &f1, &f2);
+    scale = m->mu * m->kappa * RT_FABS(f1);
+    RT_PHYS(tangent_basis)(n, T);
+    rt_vertex_position(m, v, q, x);
+    rt_vertex_position(m, v, m->qt, xs);
+    for (a = 0; a < 3; a++) rel[a] = x[a] - xs[a];
+    u[0] = T[0] * rel[0] + T[1] * rel[1] + T[2] * rel[2];
+    u[1] = T[3] * rel[0] + T[4] * rel[1] + T[5] * rel[2];
+    E = scale * RT_PHYS(friction_smoothed)(u, m->eps_v * m->h, &f1y, M);
+    if (!g && !H) return E;
+    for (a = 0; a < 3; a++) {
+        gx[a] = scale * f1y * (T[a] * u[0] + T[3 + a] * u[1]);
+        for (b = 0; b < 3; b++)
+            B[3 * a + b] = scale * (T[a] * (M[0] * T[b] + M[1] * T[3 + b]) + T[3 + a] * (M[2] * T[b] + M[3] * T[3 + b]));
+    }
+    rt_vertex_pull(m, v, gx, B, g, H, ld);
+    return E;
+}
+
 /* The contacts' barrier (physics.h, barrier_distance: IPC's b(d^2, dhat^2) on each contact
- * vertex's signed distance to its plane), kappa times it. */
-static romrt_real barrier(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H)
+ * vertex's signed distance to its plane), kappa times it; and their friction. */
+static romrt_real barrier(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
 {
     romrt_real E = 0, *a = m->AG; /* free between elements and here */
     int c, i, j, r = m->r;
     for (c = 0; c < m->ncontacts; c++) {
         romrt_real d = rt_contact_distance(m, c, q), f1, f2;
         if (!(d > 0)) return (romrt_real)INFINITY;
+        if (friction) E += plane_friction(m, c, q, g, H, ld);
         if (d >= m->dhat) continue;
         E += m->kappa * RT_PHYS(barrier_distance)(d, m->dhat, &f1, &f2);
         if (!g && !H) continue;
@@ -155,7 +210,7 @@ static romrt_real barrier(romrt_model *m, const romrt_real *q, romrt_real *g, ro
             for (j = 0; j < r; j++) g[j] += m->kappa * f1 * a[j];
         if (H)
             for (j = 0; j < r; j++)
-                for (i = 0; i <= j; i++) H[i + (size_t)r * j] += m->kappa * f2 * a[i] * a[j];
+                for (i = 0; i <= j; i++) H[i + (size_t)ld * j] += m->kappa * f2 * a[i] * a[j];
     }
     return E;
 }
@@ -189,7 +244,7 @@ static romrt_real quadratic(romrt_model *m, const romrt_real *S, romrt_real w, c
     return RT_K(0.5) * w * rt_dot(r, m->tmp, Sd);
 }
 
-romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H,
+romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude)
 {
     int r = m->r, i, j;
@@ -197,9 +252,11 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
     if (g)
         for (i = 0; i < r; i++) g[i] = 0;
     if (H)
-        for (i = 0; i < r * r; i++) H[i] = 0;
-    stored = elastic(m, q, g, H);
-    if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, g, H);
+        for (j = 0; j < r; j++)
+            for (i = 0; i < r; i++) H[i + (size_t)ld * j] = 0;
+    stored = elastic(m, q, g, H, ld);
+    if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, T->friction, g, H, ld);
+    if (m->ncolliders && isfinite(stored)) stored += rt_colliders_energy(m, q, T->friction, g, H, ld);
     if (!isfinite(stored)) return (romrt_real)INFINITY;
     /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . q. */
     work = 0;
@@ -216,7 +273,7 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
                 romrt_real a = T->w_inertia * m->M[k];
                 if (m->A) a += m->A[k];
                 if (m->C) a += T->w_damping * m->C[k];
-                H[k] += a;
+                H[i + (size_t)ld * j] += a;
             }
     E = stored - work + quad;
     if (magnitude) *magnitude = RT_FABS(stored) + RT_FABS(work) + quad;

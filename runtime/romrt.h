@@ -149,11 +149,52 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
 /* The reduced coordinates q (r of them). */
 romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int count);
 
+/* Colliders the application owns: planes, spheres, capsules and boxes acting on the asset's
+ * collision vertices (its boundary, CVTX) with the barrier of the scene's planes, the same step
+ * filter and, when the asset has friction (FRIC), the same friction. A collider has a pose,
+ * position and rotation (row-major, local to world, orthonormal), and a size: a sphere's radius;
+ * a capsule's radius and half length along its local x; a box's half extents. A plane passes
+ * through the position with its normal along the local z (rotation's third column).
+ *
+ * romrt_set_collider on a free slot, or with another kind or size, places the collider there at
+ * once: it must be clear of the body (ROMRT_E_ARGUMENT otherwise). On a slot holding one of the
+ * same kind and size it is a move: the next step takes the collider there along the shortest
+ * path, solving for the body and the collider together (the body is pushed ahead of it, never
+ * crossed); where the body cannot give way the collider stops short (romrt_step_info's
+ * colliders_behind) and goes on at the next step. A NaN, a non-positive size, a rotation that is
+ * not orthonormal or a slot out of range is refused with ROMRT_E_ARGUMENT and changes nothing;
+ * an asset without CVTX (baked with "colliders": false, or by a romkit before 1.1) refuses every
+ * collider with ROMRT_E_UNSUPPORTED. Fixed memory: ROMRT_MAX_COLLIDERS slots. romrt_reset
+ * removes them all. */
+#ifndef ROMRT_MAX_COLLIDERS
+#define ROMRT_MAX_COLLIDERS 8
+#endif
+typedef enum {
+    ROMRT_COLLIDER_PLANE = 0,
+    ROMRT_COLLIDER_SPHERE = 1,
+    ROMRT_COLLIDER_CAPSULE = 2,
+    ROMRT_COLLIDER_BOX = 3
+} romrt_collider_kind;
+typedef struct {
+    romrt_collider_kind kind;
+    romrt_real position[3];
+    romrt_real rotation[9];
+    romrt_real radius;          /* sphere, capsule */
+    romrt_real half_length;     /* capsule */
+    romrt_real half_extents[3]; /* box */
+} romrt_collider;
+romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *c, romrt_error *err);
+romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err);
+/* The ROMRT_MAX_COLLIDERS this library was compiled with; whether the asset takes colliders. */
+int romrt_collider_slots(void);
+int romrt_takes_colliders(const romrt_model *m);
+
 /* Work of the last step, for profiling. */
 typedef struct {
     int newton_iterations;
     int line_search_halvings;
     int converged;
+    int colliders_behind;       /* a moved collider stopped short of its pose (the body was in the way) */
 } romrt_step_info;
 void romrt_last_step(const romrt_model *m, romrt_step_info *info);
 

@@ -23,6 +23,9 @@
 #define RT_ENERGY_NOISE RK_ENERGY_NOISE_FLOAT
 #endif
 #define RT_K(x) ((romrt_real)(x))
+/* The Newton unknowns at most: q and the progress of each moved collider. */
+#define ROMRT_MAX_N (ROMRT_MAX_R + ROMRT_MAX_COLLIDERS)
+#define RT_COLLIDER_REALS RK_COLLIDER_REALS
 
 /* Caps checked before any count is used (ROMBIN.md, "Limits"). */
 #define ROMRT_MAX_VERTICES (1u << 24)
@@ -43,12 +46,33 @@ romrt_real romrt_phys_barrier(romrt_real d, romrt_real dhat, romrt_real *d1, rom
 romrt_real romrt_phys_barrier_distance(romrt_real d, romrt_real dhat, romrt_real *f1, romrt_real *f2);
 void romrt_phys_motion(rk_motion_kind kind, const romrt_real axis[3], const romrt_real center[3], romrt_real rate,
                        const romrt_real velocity[3], romrt_real t, romrt_real R[9], romrt_real shift[3]);
+int romrt_phys_collider_check(int kind, const romrt_real *shape);
+romrt_real romrt_phys_collider_distance(int kind, const romrt_real *shape, const romrt_real x[3], romrt_real n[3],
+                                        romrt_real closest[3]);
+romrt_real romrt_phys_collider_step(int kind, const romrt_real *shape, const romrt_real x[3], const romrt_real dx[3]);
+void romrt_phys_collider_pose_at(const romrt_real *from, const romrt_real *to, romrt_real s, romrt_real *out);
+void romrt_phys_collider_path_velocity(const romrt_real *from, const romrt_real *to, romrt_real s,
+                                       const romrt_real local[3], romrt_real v[3]);
+romrt_real romrt_phys_collider_joint_step(int kind, const romrt_real *from, const romrt_real *to, romrt_real s,
+                                          romrt_real ds, const romrt_real x[3], const romrt_real dx[3]);
+romrt_real romrt_phys_collider_motion_step(int kind, const romrt_real *from, const romrt_real *to, const romrt_real x[3]);
+void romrt_phys_tangent_basis(const romrt_real n[3], romrt_real T[6]);
+romrt_real romrt_phys_friction_smoothed(const romrt_real u[2], romrt_real eps, romrt_real *f1_over_y, romrt_real M[4]);
+
+/* An application's collider slot (as precompute/rom's rk_rom_collider): where it is, where the app
+ * wants it, where it was when the step began and when friction was lagged. */
+typedef struct {
+    int active, kind;
+    romrt_real now[RT_COLLIDER_REALS], target[RT_COLLIDER_REALS], start[RT_COLLIDER_REALS], lag[RT_COLLIDER_REALS];
+} rt_collider;
 
 struct romrt_model {
     romrt_kind kind;
     /* sizes and parameters (HEAD, PARM; a Koopman asset: KHED, KPRM) */
-    int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter;
+    int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter, ncv;
     romrt_real h, tol, mass, dhat, kappa;
+    romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
+    int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
     const romrt_real *X;      /* nv x 3 */
     const romrt_real *rows;   /* nv x 3 x r: row 3v+a of the basis */
@@ -58,6 +82,7 @@ struct romrt_model {
     const romrt_real *planes; /* nplanes x 6 */
     const uint32_t *elem;     /* ne x 5 */
     const uint32_t *contacts; /* ncontacts x 2 */
+    const uint32_t *cv;       /* ncv collision vertices (CVTX), or NULL */
     const uint32_t *groups;   /* ngroups x 2 */
     const uint32_t *gverts;
     const uint32_t *tris;     /* ntris x 3 */
@@ -78,22 +103,53 @@ struct romrt_model {
     romrt_real q[ROMRT_MAX_R], v[ROMRT_MAX_R], q_prev[ROMRT_MAX_R], v_prev[ROMRT_MAX_R];
     romrt_real f_app[ROMRT_MAX_R];   /* reduced forces the app applied */
     romrt_step_info last;
+    /* the app's colliders, and friction's lag (q where it was lagged; q_t is the step's start) */
+    rt_collider colliders[ROMRT_MAX_COLLIDERS];
+    int ncolliders;
+    romrt_real q_lag[ROMRT_MAX_R];
+    /* a step's moved colliders: slot, where they started, their pull and path length */
+    int nmoving, moving[ROMRT_MAX_COLLIDERS];
+    romrt_real move_from[ROMRT_MAX_COLLIDERS][RT_COLLIDER_REALS], move_w[ROMRT_MAX_COLLIDERS], move_L[ROMRT_MAX_COLLIDERS];
     /* scratch of one step */
     romrt_real qt[ROMRT_MAX_R], qtilde[ROMRT_MAX_R], pin_b[ROMRT_MAX_R];
-    romrt_real g[ROMRT_MAX_R], d[ROMRT_MAX_R], trial[ROMRT_MAX_R], tmp[ROMRT_MAX_R];
-    romrt_real H[ROMRT_MAX_R * ROMRT_MAX_R]; /* r x r, column-major, upper triangle used */
+    romrt_real y[ROMRT_MAX_N], g[ROMRT_MAX_N], d[ROMRT_MAX_N], trial[ROMRT_MAX_N], tmp[ROMRT_MAX_R];
+    romrt_real H[ROMRT_MAX_N * ROMRT_MAX_N]; /* n x n (n = r + moved colliders), column-major, upper triangle */
     romrt_real G[9 * ROMRT_MAX_R], AG[9 * ROMRT_MAX_R]; /* one element's dF/dq and dP/dF dF/dq */
 };
 
 /* The incremental potential's weights (as rom_impl.h's rk_rom_terms, dynamics only). */
 typedef struct {
     romrt_real w_inertia, w_damping;
+    int friction;             /* the lagged friction of planes and colliders */
 } rt_terms;
 
-/* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle). *magnitude:
+/* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle, leading
+ * dimension ld >= r). The colliders where they are now, friction when T->friction. *magnitude:
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
-romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H,
+romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
+/* x = X_v + rows_v q of stored vertex v. */
+void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3]);
+/* H (leading dimension ld) += J_v^T B J_v for stored vertex v's rows J_v and a 3 x 3 block B; g += J_v^T gx. */
+void rt_vertex_pull(const romrt_model *m, uint32_t v, const romrt_real gx[3], const romrt_real *B, romrt_real *g,
+                    romrt_real *H, int ld);
+
+/* The app's colliders (colliders.c): barrier and friction at q (colliders where they are now);
+ * the largest step of q along dq against them (moved ones on their paths at y[r..] + d[r..]);
+ * the derivatives in a moved collider's progress (g_s, H_ss, H_qs into column qs of H);
+ * friction's lag; whether any is still short of its pose. */
+romrt_real rt_colliders_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
+romrt_real rt_colliders_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d);
+void rt_colliders_path_terms(romrt_model *m, const romrt_real *q, int k, romrt_real sk, romrt_real *gs, romrt_real *hss,
+                             romrt_real *hqs);
+void rt_colliders_lag(romrt_model *m, const romrt_real *q, int start);
+int rt_colliders_pending(const romrt_model *m);
+/* The step's moved colliders (slots, start poses, pulls and path lengths) from the body at q. */
+void rt_colliders_begin_move(romrt_model *m, const romrt_real *q);
+/* The moved colliders at their progress y[r + k]; at the end of the step's solve, where it left
+ * them (at their poses when within tol and the last bit is safe). */
+void rt_colliders_place(romrt_model *m, const romrt_real *y);
+void rt_colliders_end_move(romrt_model *m, const romrt_real *y);
 /* The pins' linear term at time t into m->pin_b. */
 void rt_pin_target(romrt_model *m, romrt_real t);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);

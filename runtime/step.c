@@ -30,7 +30,7 @@ static int all_finite(const romrt_real *a, int n)
     return 1;
 }
 
-/* sqrt(x^T M x / mass): an RMS displacement (m). */
+/* sqrt(x^T M x / mass) over q's part: an RMS displacement (m). */
 static romrt_real rms(romrt_model *m, const romrt_real *x)
 {
     romrt_real Mx[ROMRT_MAX_R], s;
@@ -39,28 +39,69 @@ static romrt_real rms(romrt_model *m, const romrt_real *x)
     return s > 0 ? RT_SQRT(s) : 0;
 }
 
+/* The step's size: the body's RMS step, or a moved collider's along its path, whichever is larger. */
+static romrt_real step_size(romrt_model *m, const romrt_real *d)
+{
+    romrt_real size = rms(m, d);
+    int k;
+    for (k = 0; k < m->nmoving; k++)
+        if (RT_FABS(d[m->r + k]) * m->move_L[k] > size) size = RT_FABS(d[m->r + k]) * m->move_L[k];
+    return size;
+}
+
+/* The potential over y = (q, the moved colliders' progress s_k): the colliders placed at s_k,
+ * plus w_k/2 (1 - s_k)^2 and the terms' derivatives in s_k (precompute/rom/collider_solve.c). */
+static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *g, romrt_real *H,
+                            romrt_real *magnitude)
+{
+    int r = m->r, n = r + m->nmoving, k, i;
+    romrt_real E;
+    if (m->nmoving) rt_colliders_place(m, y);
+    E = rt_potential(m, T, y, g, H, n, magnitude);
+    if (!isfinite(E)) return E;
+    for (k = 0; k < m->nmoving; k++) {
+        romrt_real sk = y[r + k], gs = 0, hss = 0, pull = m->move_w[k] * (1 - sk), *hqs = H ? H + (size_t)n * (r + k) : 0;
+        if (hqs)
+            for (i = 0; i < n; i++) hqs[i] = 0;
+        if (g || H) rt_colliders_path_terms(m, y, k, sk, &gs, H ? &hss : 0, hqs);
+        E += RT_K(0.5) * pull * (1 - sk);
+        if (magnitude) *magnitude += RT_K(0.5) * pull * (1 - sk);
+        if (g) g[r + k] = gs - pull;
+        if (H) hqs[r + k] = hss + m->move_w[k];
+    }
+    return E;
+}
+
+static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
+{
+    romrt_real alpha = m->ncontacts ? rt_contact_max_step(m, y, d) : 1, c;
+    if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
+    return alpha;
+}
+
+/* Projected Newton on y = (q, moved colliders' progress) from m->y, the precompute solver's loop. */
 static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
-    int r = m->r, it, k, i;
-    romrt_real *q = m->q, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
+    int n = m->r + m->nmoving, it, k, i;
+    romrt_real *y = m->y, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
     for (it = 0; it < m->max_iter; it++) {
-        romrt_real magnitude, E = rt_potential(m, T, q, g, m->H, &magnitude), gd, alpha, tol, step;
+        romrt_real magnitude, E = potential(m, T, y, g, m->H, &magnitude), gd, alpha, tol, step;
         int accepted = 0, armijo = 0;
-        if (!isfinite(E) || !all_finite(g, r))
+        if (!isfinite(E) || !all_finite(g, n))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
                              (uint64_t)it, "");
-        if (rt_cholesky(r, m->H))
+        if (rt_cholesky(n, m->H))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                              (uint64_t)it, "");
-        for (i = 0; i < r; i++) d[i] = -g[i];
-        rt_cholesky_solve(r, m->H, d);
+        for (i = 0; i < n; i++) d[i] = -g[i];
+        rt_cholesky_solve(n, m->H, d);
         m->last.newton_iterations++;
-        if (!all_finite(d, r))
+        if (!all_finite(d, n))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
         tol = m->tol;
-        step = rms(m, d);
+        step = step_size(m, d);
         if (TOL_FLOOR > 0) {
-            romrt_real size = rms(m, q);
+            romrt_real size = rms(m, y);
             if (TOL_FLOOR * size > tol) tol = TOL_FLOOR * size;
             if (step < STAGNATION * size && step > RT_K(0.5) * last) tol = step;
         }
@@ -69,22 +110,22 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
             return ROMRT_OK;
         }
         last = step;
-        gd = rt_dot(r, g, d);
-        alpha = m->ncontacts ? rt_contact_max_step(m, q, d) : 1;
+        gd = rt_dot(n, g, d);
+        alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
         for (k = 0; k <= MAX_HALVINGS && !accepted; k++) {
             romrt_real Et;
             if (k > 0) {
                 alpha *= RT_K(0.5);
                 m->last.line_search_halvings++;
             }
-            for (i = 0; i < r; i++) trial[i] = q[i] + alpha * d[i];
-            Et = rt_potential(m, T, trial, 0, 0, 0);
+            for (i = 0; i < n; i++) trial[i] = y[i] + alpha * d[i];
+            Et = potential(m, T, trial, 0, 0, 0);
             /* (in float, E + c alpha g.d rounds to E for small alpha: demand a real decrease) */
             armijo = Et <= E + ARMIJO_C * alpha * gd && (STAGNATION == 0 || Et < E);
             accepted = armijo || (isfinite(Et) && Et - E <= RT_ENERGY_NOISE * magnitude);
         }
-        if (!accepted) return ROMRT_OK; /* no decrease left to find: keep q */
-        memcpy(q, trial, sizeof(romrt_real) * (size_t)r);
+        if (!accepted) return ROMRT_OK; /* no decrease left to find: keep y */
+        memcpy(y, trial, sizeof(romrt_real) * (size_t)n);
         if (STAGNATION > 0 && !armijo) {
             m->last.converged = 1; /* the energy change was round-off: this is float's answer */
             return ROMRT_OK;
@@ -92,6 +133,23 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 
     }
     return ROMRT_OK;
+}
+
+/* Newton from m->q (with the moved colliders, when there are, from where they are), into m->q. */
+static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders, romrt_error *err)
+{
+    romrt_status st;
+    int k;
+    if (move_colliders) rt_colliders_begin_move(m, m->q);
+    memcpy(m->y, m->q, sizeof(romrt_real) * (size_t)m->r);
+    for (k = 0; k < m->nmoving; k++) m->y[m->r + k] = 0;
+    st = newton(m, T, err);
+    if (m->nmoving) {
+        if (st) m->nmoving = 0; /* the caller puts the colliders back */
+        else rt_colliders_end_move(m, m->y);
+    }
+    if (!st) memcpy(m->q, m->y, sizeof(romrt_real) * (size_t)m->r);
+    return st;
 }
 
 romrt_status romrt_step(romrt_model *m, romrt_error *err)
@@ -115,12 +173,27 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         T.w_inertia = 1 / (h * h);
     }
     T.w_damping = 1 / h;
+    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders);
     memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
+    /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
+    rt_colliders_lag(m, m->qt, 1);
     rt_pin_target(m, m->t + h);
     /* Start from the inertial prediction when no contact is crossed on the way there. */
     for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
-    if (!m->ncontacts || rt_contact_max_step(m, m->qt, m->d) >= 1) memcpy(m->q, m->qtilde, sizeof(romrt_real) * (size_t)r);
-    st = newton(m, &T, err);
+    m->nmoving = 0;
+    if ((!m->ncontacts && !m->ncolliders) || max_step(m, m->qt, m->d) >= 1)
+        memcpy(m->q, m->qtilde, sizeof(romrt_real) * (size_t)r);
+    /* the colliders the app moved, with the body in one solve; then the step's solve; then
+     * friction lagged again at the solution until a solve has nothing left to do */
+    st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;
+    if (!st) st = solve(m, &T, 0, err);
+    for (i = 1; !st && T.friction && i < m->friction_iterations; i++) {
+        int before = m->last.newton_iterations;
+        rt_colliders_lag(m, m->q, 0);
+        st = solve(m, &T, 0, err);
+        if (m->last.newton_iterations - before <= 1) break;
+    }
+    m->last.colliders_behind = rt_colliders_pending(m);
     for (i = 0; i < r && !st; i++) {
         vnew[i] = bdf2 ? (3 * m->q[i] - 4 * m->qt[i] + m->q_prev[i]) / (2 * h) : (m->q[i] - m->qt[i]) / h;
         if (!isfinite(m->q[i]) || !isfinite(vnew[i]))
@@ -128,8 +201,10 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     }
     if (!st && !rt_showable(m, m->q))
         st = rt_fail(err, ROMRT_E_DIVERGED, 0, "the state grew past what the shown positions can hold");
-    if (st) { /* leave the state as it was */
+    if (st) { /* leave the state as it was, the colliders too */
+        int k;
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
+        for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) memcpy(m->colliders[k].now, m->colliders[k].start, sizeof m->colliders[k].now);
         return st;
     }
     for (i = 0; i < r; i++) {

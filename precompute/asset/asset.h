@@ -27,11 +27,12 @@ typedef struct {
     int real_type;            /* ROMBIN_REAL_F32 (default) or ROMBIN_REAL_F64 */
     int compress;             /* deflate the chunks (default 0: the runtime opens stored chunks only) */
     rk_show show;
+    int colliders;            /* store the collision vertices (CVTX) an app's colliders act on (default 1) */
     int ngroups;
     rk_asset_group groups[RK_ASSET_MAX_GROUPS];
 } rk_asset_options;
 
-/* float32, uncompressed, the surface shown, no groups. */
+/* float32, uncompressed, the surface shown, colliders, no groups. */
 void rk_asset_default_options(rk_asset_options *o);
 
 typedef struct {

@@ -6,11 +6,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The reduced model stores, beyond the shown vertices, those of its cubature elements and contacts. */
+/* The collision vertices the asset keeps: the boundary, for the scene's planes and an app's colliders. */
+static int collision_vertices(const rk_rom_model *m, const rk_asset_options *o)
+{
+    return o->colliders || m->has_contact ? m->ncv : 0;
+}
+
+/* The reduced model stores, beyond the shown vertices, those of its cubature elements and collisions. */
 static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_bake_state *s, rk_error *err)
 {
     const rk_rom_model *m = R->model;
-    int ncontact = m->has_contact ? m->contact.nv : 0, nextra = 4 * m->quad.count + ncontact, k = 0;
+    int ncontact = collision_vertices(m, o), nextra = 4 * m->quad.count + ncontact, k = 0;
     int *extra = rk_calloc((size_t)nextra + 1, sizeof(int), err);
     if (!extra || rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err)) {
         free(extra);
@@ -18,7 +24,7 @@ static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_
     }
     for (int i = 0; i < m->quad.count; i++)
         for (int c = 0; c < 4; c++) extra[k++] = R->fem->tets[4 * m->quad.source[i] + c];
-    for (int c = 0; c < ncontact; c++) extra[k++] = m->contact.vertex[c];
+    for (int c = 0; c < ncontact; c++) extra[k++] = m->cv[c];
     int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, o, s, err);
     free(extra);
     return rc;
@@ -123,6 +129,25 @@ static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_wr
     return rc ? -1 : 0;
 }
 
+/* The collision vertices (CVTX) and the friction (FRIC) of the scene's planes and an app's colliders. */
+static int add_collisions(const rk_rom_model *m, const rk_asset_options *o, const rk_bake_state *s, rombin_writer *w,
+                          rk_error *err)
+{
+    int n = collision_vertices(m, o);
+    if (n == 0) return 0;
+    int *ids = rk_calloc((size_t)n, sizeof(int), err);
+    if (!ids) return -1;
+    for (int i = 0; i < n; i++) ids[i] = s->stored[m->cv[i]];
+    int rc = rk_bake_add_u32s(w, ROMBIN_CVTX, 0, ids, (size_t)n, err);
+    free(ids);
+    if (rc || !(m->contact_options.friction > 0)) return rc ? -1 : 0;
+    double fric[ROMBIN_FRIC_COUNT] = {0};
+    fric[ROMBIN_FRIC_MU] = m->contact_options.friction;
+    fric[ROMBIN_FRIC_EPS_V] = m->contact_options.eps_v;
+    fric[ROMBIN_FRIC_ITERATIONS] = m->contact_options.friction_iterations;
+    return rombin_add_reals(w, ROMBIN_FRIC, 0, fric, ROMBIN_FRIC_COUNT, err) ? -1 : 0;
+}
+
 /* Contact pairs the asset stores (the CONT count). */
 static int contact_count(const rk_rom_model *m)
 {
@@ -164,12 +189,14 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_H] = m->h;
         parm[ROMBIN_PARM_NEWTON_TOL] = m->newton_tol;
         parm[ROMBIN_PARM_MASS] = m->mass;
-        parm[ROMBIN_PARM_DHAT] = m->has_contact ? m->contact.opt.dhat : 0;
-        parm[ROMBIN_PARM_KAPPA] = m->has_contact ? m->contact.kappa : 0;
+        int collide = collision_vertices(m, o) > 0; /* the barrier of the planes and the colliders */
+        parm[ROMBIN_PARM_DHAT] = collide ? m->contact_options.dhat : 0;
+        parm[ROMBIN_PARM_KAPPA] = collide ? m->contact_options.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
              add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, &s, w, err) ||
+             add_collisions(m, o, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     }

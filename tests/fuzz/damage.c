@@ -636,8 +636,16 @@ static void model(void)
     MODEL("index", with_u32(ROMBIN_CONT, 0, vertices, "CONT vertex"), "index_CONT_vertex_eq_vertices");
     MODEL("index", with_u32(ROMBIN_CONT, 0, 0xFFFFFFFFu, "CONT vertex"), "index_CONT_vertex_ffffffff");
     MODEL("index", with_u32(ROMBIN_CONT, 1, head(ROMBIN_HEAD_PLANES), "CONT plane"), "index_CONT_plane_eq_planes");
-    if (vertices) /* the HEAD counts (a Koopman asset's are in KHED: koopman()) */
+    if (vertices) { /* the HEAD counts (a Koopman asset's are in KHED: koopman()) */
         MODEL("index", with_u32(ROMBIN_GVTX, 0, vertices, "GVTX vertex"), "index_GVTX_vertex_eq_vertices");
+        MODEL("index", with_u32(ROMBIN_CVTX, 0, vertices, "CVTX vertex"), "index_CVTX_vertex_eq_vertices");
+    }
+    MODEL("index", with_u32(ROMBIN_CVTX, 0, 0xFFFFFFFFu, "CVTX vertex"), "index_CVTX_vertex_ffffffff");
+    /* Friction that makes no sense. */
+    MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_MU, SET_NEG, "mu"), "fric_mu_negative");
+    MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_EPS_V, SET_ZERO, "eps_v"), "fric_eps_v_zero");
+    MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_ITERATIONS, SET_ZERO, "iterations"), "fric_iterations_zero");
+    MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_COUNT - 1, SET_NEG, "reserved"), "fric_reserved_set");
     MODEL("index", with_u32(ROMBIN_GVTX, 0, 0xFFFFFFFFu, "GVTX vertex"), "index_GVTX_vertex_ffffffff");
     MODEL("index", with_u32(ROMBIN_GRPS, 0, 0xFFFFFFFFu, "GRPS first"), "index_GRPS_first_ffffffff");
     MODEL("index", with_u32(ROMBIN_GRPS, 1, 0xFFFFFFFFu, "GRPS count"), "index_GRPS_count_ffffffff");

@@ -12,6 +12,7 @@
  * without libFuzzer. */
 #define _POSIX_C_SOURCE 200112L /* posix_memalign: exact sizes, so ASan sees an overrun by one byte */
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -75,8 +76,30 @@ static void exercise(romrt_model *m)
     }
     if (romrt_add_force(m, groups, f) == ROMRT_OK) BROKEN("force on group `groups` accepted");
 
+    {   /* colliders: bad ones refused whatever the asset; a sphere far off taken by one that takes
+         * colliders (or refused as overlapping, if its rows are wild), moved toward the body */
+        romrt_collider c;
+        memset(&c, 0, sizeof c);
+        c.kind = ROMRT_COLLIDER_SPHERE;
+        c.rotation[0] = c.rotation[4] = c.rotation[8] = 1;
+        c.position[1] = -100;
+        c.radius = -1;
+        if (romrt_set_collider(m, 0, &c, &err) == ROMRT_OK) BROKEN("a negative radius accepted");
+        c.radius = 1;
+        c.position[0] = (romrt_real)NAN;
+        if (romrt_set_collider(m, 0, &c, &err) == ROMRT_OK) BROKEN("a NaN collider accepted");
+        c.position[0] = 0;
+        if (romrt_set_collider(m, ROMRT_MAX_COLLIDERS, &c, &err) == ROMRT_OK) BROKEN("a slot past the end accepted");
+        if (romrt_takes_colliders(m) && check(romrt_set_collider(m, 1, &c, &err), &err) == ROMRT_OK) {
+            c.position[1] = -50;
+            if (check(romrt_set_collider(m, 1, &c, &err), &err) != ROMRT_OK) BROKEN("a collider's move refused");
+        } else if (!romrt_takes_colliders(m) && romrt_set_collider(m, 1, &c, &err) != ROMRT_E_UNSUPPORTED) {
+            BROKEN("a model without collision vertices did not refuse a collider as unsupported");
+        }
+    }
     for (i = 0; i < 3; i++)
         if (check(romrt_step(m, &err), &err) != ROMRT_OK) break;
+    if (romrt_remove_collider(m, 1, &err) != ROMRT_OK) BROKEN("removing a collider refused");
     if (romrt_model_kind(m) == ROMRT_KIND_KOOPMAN) {
         /* a jump, the edits; each either works or leaves a finite state and says why */
         check(romrt_jump(m, 1000, &err), &err);
