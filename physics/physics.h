@@ -54,7 +54,10 @@ double rk_psi_h(rk_material_model model, double mu, double lambda, const double 
 void rk_pk1_h(rk_material_model model, double mu, double lambda, const double Hd[9], double P[9]);
 /* First Piola-Kirchhoff stress P = dPsi/dF. */
 void rk_pk1(rk_material_model model, double mu, double lambda, const double F[9], double P[9]);
-/* dP/dF (9x9); projected to positive semi-definite when project != 0. */
+/* dP/dF (9x9); projected to positive semi-definite when project != 0: by the energy's analytic
+ * eigensystem (Smith et al. 2019), or with project == RK_PROJECT_JACOBI by a Jacobi eigen-solve
+ * of the 9 x 9 matrix (the reference the tests hold the analytic one to). */
+#define RK_PROJECT_JACOBI 2
 void rk_dpdf(rk_material_model model, double mu, double lambda, const double F[9],
              double dPdF[81], int project);
 

@@ -644,11 +644,122 @@ static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL l
     }
 }
 
+/* D += c vec(M) vec(M)^T */
+static void PHYS_FN(add_outer9)(PHYS_REAL D[81], PHYS_REAL c, const PHYS_REAL M[9])
+{
+    int a, b;
+    for (a = 0; a < 9; a++)
+        for (b = 0; b < 9; b++) D[9 * a + b] += c * (M[a] * M[b]);
+}
+
+/* Linear elasticity's fixed eigensystem: 2 mu on the 5 deviatoric symmetric directions,
+ * 2 mu + 3 lambda on the volumetric one, 0 on the 3 skew ones. Clamped when negative. */
+static void PHYS_FN(project_linear)(PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL D[81])
+{
+    PHYS_REAL dev = PHYS_K_(2) * mu, vol = PHYS_K_(2) * mu + PHYS_K_(3) * lambda;
+    int i, j;
+    if (dev >= 0 && vol >= 0) return;
+    dev = dev > 0 ? dev : PHYS_K_(0);
+    vol = vol > 0 ? vol : PHYS_K_(0);
+    memset(D, 0, 81 * sizeof(PHYS_REAL));
+    for (i = 0; i < 3; i++) /* dev (Sym - Vol) + vol Vol, Sym = (d_ik d_jl + d_il d_jk)/2, Vol = d_ij d_kl / 3 */
+        for (j = 0; j < 3; j++) {
+            D[9 * (3 * i + j) + 3 * i + j] += PHYS_K_(0.5) * dev;
+            D[9 * (3 * i + j) + 3 * j + i] += PHYS_K_(0.5) * dev;
+        }
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) D[9 * (4 * i) + 4 * j] += (vol - dev) / PHYS_K_(3);
+}
+
+/* dP/dF projected to PSD through the analytic eigensystem of the isotropic energy (Smith, de Goes
+ * and Kim 2019, "Analytic eigensystems for isotropic distortion energies"; Teran et al. 2005),
+ * from the signed SVD F = U diag(s) V^T and the energy as Psi(s), psi_i = dPsi/ds_i:
+ *  - scaling: the 3 x 3 Hessian A = d2Psi/ds2, its eigenvectors e_k giving U diag(e_k) V^T;
+ *  - for each pair (i, j): the flip (u_i v_j^T + u_j v_i^T)/sqrt 2 with eigenvalue
+ *    (psi_i - psi_j)/(s_i - s_j), and the twist (u_i v_j^T - u_j v_i^T)/sqrt 2 with
+ *    (psi_i + psi_j)/(s_i + s_j), written per model with the division cancelled where it
+ *    cancels (so repeated singular values need no special case).
+ * D holds the raw dP/dF on entry and is left exactly as it is when no eigenvalue is negative (as
+ * the Jacobi projection leaves it); otherwise it is rebuilt from the clamped eigensystem. */
+static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL F[9],
+                                  PHYS_REAL D[81])
+{
+    static const int pair[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}}; /* i, j and the third */
+    PHYS_REAL U[9], V[9], s[3], A[9], wA[3], E[9], flip[3], twist[3], M[9], least;
+    int p, a, b, k;
+    if (model == RK_MAT_LINEAR) {
+        PHYS_FN(project_linear)(mu, lambda, D);
+        return;
+    }
+    if (model != RK_MAT_STVK && model != RK_MAT_COROTATED && model != RK_MAT_NEOHOOKEAN) return;
+    PHYS_FN(svd3)(F, U, s, V);
+    if (model == RK_MAT_STVK) { /* Psi = mu/4 sum (s_i^2 - 1)^2 + lambda/8 (sum s_i^2 - 3)^2 */
+        PHYS_REAL half_li = PHYS_K_(0.5) * lambda * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - PHYS_K_(3));
+        for (a = 0; a < 3; a++)
+            for (b = 0; b < 3; b++)
+                A[3 * a + b] = lambda * (s[a] * s[b]) + (a == b ? mu * (PHYS_K_(3) * s[a] * s[a] - PHYS_K_(1)) + half_li : 0);
+        for (p = 0; p < 3; p++) {
+            PHYS_REAL si = s[pair[p][0]], sj = s[pair[p][1]], q = si * si + sj * sj - PHYS_K_(1);
+            flip[p] = mu * (q + si * sj) + half_li;
+            twist[p] = mu * (q - si * sj) + half_li;
+        }
+    } else if (model == RK_MAT_COROTATED) { /* Psi = mu sum (s_i - 1)^2 + lambda/2 (sum s_i - 3)^2 */
+        PHYS_REAL tr = s[0] + s[1] + s[2] - PHYS_K_(3);
+        for (a = 0; a < 9; a++) A[a] = lambda + (a % 4 == 0 ? PHYS_K_(2) * mu : PHYS_K_(0));
+        for (p = 0; p < 3; p++) {
+            PHYS_REAL den = s[pair[p][0]] + s[pair[p][1]];
+            if (den < PHYS_SQRT_EPS_) den = PHYS_SQRT_EPS_; /* as dpdf_raw: R jumps where s_i + s_j = 0 */
+            flip[p] = PHYS_K_(2) * mu;
+            twist[p] = PHYS_K_(2) * mu + PHYS_K_(2) * (lambda * tr - PHYS_K_(2) * mu) / den;
+        }
+    } else { /* stable Neo-Hookean: Psi = lambda_bar/2 (J - gamma)^2 + mu/2 sum s_i^2 - E0/2 */
+        PHYS_REAL lbar, gam, E0, g[3], h;
+        PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
+        g[0] = s[1] * s[2], g[1] = s[0] * s[2], g[2] = s[0] * s[1]; /* dJ/ds */
+        h = lbar * (s[0] * g[0] - gam);                             /* lambda_bar (J - gamma) */
+        for (a = 0; a < 3; a++)
+            for (b = 0; b < 3; b++) A[3 * a + b] = lbar * (g[a] * g[b]) + (a == b ? mu : h * s[3 - a - b]);
+        for (p = 0; p < 3; p++) {
+            PHYS_REAL sk = s[pair[p][2]];
+            flip[p] = mu - h * sk;
+            twist[p] = mu + h * sk;
+        }
+    }
+    PHYS_FN(sym_eig)(3, A, wA, E);
+    least = wA[0];
+    for (p = 0; p < 3; p++) {
+        if (flip[p] < least) least = flip[p];
+        if (twist[p] < least) least = twist[p];
+    }
+    if (least >= 0) return;
+    memset(D, 0, 81 * sizeof(PHYS_REAL));
+    for (k = 0; k < 3; k++) {
+        if (!(wA[k] > 0)) continue;
+        for (a = 0; a < 3; a++) /* U diag(e_k) V^T */
+            for (b = 0; b < 3; b++)
+                M[3 * a + b] = U[3 * a] * E[3 * 0 + k] * V[3 * b] + U[3 * a + 1] * E[3 * 1 + k] * V[3 * b + 1] +
+                               U[3 * a + 2] * E[3 * 2 + k] * V[3 * b + 2];
+        PHYS_FN(add_outer9)(D, wA[k], M);
+    }
+    for (p = 0; p < 3; p++) {
+        int i = pair[p][0], j = pair[p][1], twisting;
+        for (twisting = 0; twisting < 2; twisting++) {
+            PHYS_REAL w = twisting ? twist[p] : flip[p], sign = twisting ? PHYS_K_(-1) : PHYS_K_(1);
+            if (!(w > 0)) continue;
+            for (a = 0; a < 3; a++)
+                for (b = 0; b < 3; b++)
+                    M[3 * a + b] = PHYS_K_(0.70710678118654752440) * (U[3 * a + i] * V[3 * b + j] + sign * U[3 * a + j] * V[3 * b + i]);
+            PHYS_FN(add_outer9)(D, w, M);
+        }
+    }
+}
+
 PHYS_API void PHYS_FN(dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
                             const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project)
 {
     PHYS_FN(dpdf_raw)(model, mu, lambda, F, dPdF);
-    if (project) PHYS_FN(project_psd)(9, dPdF);
+    if (project == RK_PROJECT_JACOBI) PHYS_FN(project_psd)(9, dPdF);
+    else if (project) PHYS_FN(project_dpdf)(model, mu, lambda, F, dPdF);
 }
 
 /* ------------------------------------------------------------------------------------------
