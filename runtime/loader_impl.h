@@ -23,6 +23,8 @@ romrt_status rt_chunk(rt_loader *L, const char *id, int type, uint64_t count, in
                       int *found);
 /* A real array of `count` values, finite, in place or converted into the arena. */
 romrt_status rt_reals(rt_loader *L, const char *id, uint64_t count, int required, const romrt_real **out);
+/* `count` reals of zeroed scratch in the arena (*out NULL in the sizing pass). */
+void rt_scratch(rt_loader *L, size_t count, romrt_real **out);
 romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out);
 /* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
 romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,

@@ -122,6 +122,14 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))
         return st;
     m->force_rows = m->rows;
+    {
+        /* The Newton matrix has a row per moved collider only when the asset takes colliders. */
+        size_t n = (size_t)r + (m->ncv ? ROMRT_MAX_COLLIDERS : 0), rp = RT_PAD((size_t)r);
+        rt_scratch(L, n * n, &m->H);
+        rt_scratch(L, rp * rp, &m->He);
+        rt_scratch(L, 9 * rp, &m->G);
+        rt_scratch(L, 9 * rp, &m->AG);
+    }
     return rt_load_groups_and_surface(L, m);
 }
 
