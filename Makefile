@@ -41,7 +41,7 @@ TOOL_SRC := $(wildcard tools/*.c)
 TOOL_STAGE := tools
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 # The runtime tests that also run against the double runtime, as <name>_double.
-TEST_DOUBLE := test_runtime_parity test_runtime_koopman test_runtime_colliders test_runtime_newton_modes
+TEST_DOUBLE := test_runtime_parity test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
@@ -130,7 +130,7 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
+bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -139,6 +139,7 @@ bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(B
 	$(BUILD)/bench_rom tests/data/meshes bench/results
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),

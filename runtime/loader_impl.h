@@ -38,6 +38,8 @@ romrt_status rt_head(rt_loader *L, const char *id, uint64_t count, int first_res
 romrt_status rt_load_groups_and_surface(rt_loader *L, romrt_model *m);
 romrt_status rt_check_groups_and_surface(rt_loader *L, const romrt_model *m);
 
+/* SKIN against ROWS: the rows must be linear blend skinning over the stored rest positions. */
+romrt_status rt_skin_check(rt_loader *L, const romrt_model *m);
 /* A Koopman asset's chunks (koopman.c), as sizes / arrays / contents in open.c. */
 romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m);
 romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m);

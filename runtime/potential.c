@@ -115,6 +115,7 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
 {
     int r = m->r, rp = RT_PAD(r), e, i, j, k;
     romrt_real E = 0;
+    if (m->skin) return rt_skin_elastic(m, q, g, H, ld);
     if (H)
         for (i = 0; i < rp * rp; i++) m->He[i] = 0;
     for (e = 0; e < m->ne; e++) {

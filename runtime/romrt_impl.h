@@ -124,6 +124,9 @@ struct romrt_model {
     romrt_real *H;            /* n x n (n = r + moved colliders), column-major, upper triangle */
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
+    /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
+    int skin;
+    romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
 };
 
 /* The incremental potential's weights (as rom_impl.h's rk_rom_terms, dynamics only). */
@@ -137,6 +140,8 @@ typedef struct {
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
+/* The elastic energy (gradient, Hessian) of a skinning basis through its weights (skinning.c). */
+romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
 /* x = X_v + rows_v q of stored vertex v. */
 void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3]);
 /* H (leading dimension ld) += J_v^T B J_v for stored vertex v's rows J_v and a 3 x 3 block B; g += J_v^T gx. */
