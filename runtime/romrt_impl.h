@@ -78,6 +78,7 @@ struct romrt_model {
     int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter, ncv;
     romrt_real h, tol, mass, dhat, kappa;
     int fixed_iterations;     /* 0: Newton to the asset's tolerance; k: exactly k full steps (fixed cost) */
+    int exact_hessian;        /* the elements' dP/dF unprojected (the fixed-cost mode's first try) */
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
