@@ -99,7 +99,10 @@ static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error 
         E = potential(m, T, y, g, m->H, 0);
         indefinite = isfinite(E) && rt_cholesky(n, m->H);
         m->exact_hessian = 0;
-        if (indefinite) E = potential(m, T, y, g, m->H, 0);
+        if (indefinite) {
+            E = potential(m, T, y, g, m->H, 0);
+            m->last.projected_hessians++;
+        }
         if (!isfinite(E) || !all_finite(g, n))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
                              (uint64_t)it, "");
@@ -136,6 +139,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
         for (i = 0; i < n; i++) d[i] = -g[i];
         rt_cholesky_solve(n, m->H, d);
         m->last.newton_iterations++;
+        m->last.projected_hessians++;
         if (!all_finite(d, n))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
         tol = m->tol;
