@@ -4,10 +4,7 @@
 #   1. the full-order run: ground truth, and the training data of everything below;
 #   2. three assets baked from it: RKPM skinning eigenmodes (m = 16) with cubature, a Koopman
 #      operator fitted on this run, and one fitted on a run at half the gravity (a prediction);
-#   3. each stepped by the runtime, as an app would, against the full-order frames: the Koopman
-#      operators in float32, the RKPM model baked float64 and stepped by the double runtime
-#      (romkit-double): its 204 skinning coordinates are ill-conditioned enough that float32
-#      rounding moves the trajectory by a fifth (the double runtime steps it about as fast);
+#   3. each stepped by the float32 runtime, as an app would, against the full-order frames;
 #   4. a table of error against time per step, a chart of it and a strip of rendered frames.
 # Everything goes to $ROMKIT_DEMO_OUT (default build/demo). ROMKIT_DEMO_SCENE and ROMKIT_DEMO_STEPS
 # (the scene's step count) run it on another scene whose rom list has the same three entries
@@ -17,7 +14,6 @@ BUILD=${1:-build}
 OUT=${ROMKIT_DEMO_OUT:-$BUILD/demo}
 SCENE=${ROMKIT_DEMO_SCENE:-examples/scenes/beam_bend.json}
 R=$BUILD/romkit
-RD=$BUILD/romkit-double
 STEPS=${ROMKIT_DEMO_STEPS:-100}
 mkdir -p "$OUT"
 num() { tr -d ' \n\t' <"$1" | grep -o "\"$2\":[-0-9.eE+]*" | head -1 | cut -d: -f2; }
@@ -26,14 +22,13 @@ echo "== 1. full-order run of $SCENE =="
 "$R" fom "$SCENE" --snapshots "$OUT/fom.npy" --frames "$OUT/frames_fom" --report "$OUT/fom.json" --quiet
 
 echo "== 2. bake: RKPM skinning eigenmodes + cubature, and two Koopman operators =="
-"$R" build "$SCENE" --entry 0 --training "$OUT/fom.npy" -o "$OUT/rkpm.rombin" --precision float64 \
-    --report "$OUT/rkpm_build.json" --quiet
+"$R" build "$SCENE" --entry 0 --training "$OUT/fom.npy" -o "$OUT/rkpm.rombin" --report "$OUT/rkpm_build.json" --quiet
 "$R" build "$SCENE" --entry 1 --training "$OUT/fom.npy" -o "$OUT/koopman.rombin" --report "$OUT/koopman_build.json" --quiet
 "$R" build "$SCENE" --entry 2 --training "$OUT/fom.npy" -o "$OUT/koopman_half_g.rombin" \
     --report "$OUT/koopman_half_g_build.json" --quiet
 
 echo "== 3. step each asset with the runtime, against the full-order frames =="
-"$RD" run "$OUT/rkpm.rombin" --steps $STEPS --reference "$OUT/fom.npy" --frames "$OUT/frames_rkpm" \
+"$R" run "$OUT/rkpm.rombin" --steps $STEPS --reference "$OUT/fom.npy" --frames "$OUT/frames_rkpm" \
     --report "$OUT/rkpm_run.json" --quiet
 "$R" run "$OUT/koopman.rombin" --steps $STEPS --reference "$OUT/fom.npy" --frames "$OUT/frames_koopman" \
     --jump 1000000 --report "$OUT/koopman_run.json" --quiet
@@ -61,8 +56,7 @@ for key in rkpm koopman koopman_half_g; do
     printf '"%s" %s %s %s\n' "$label" "$s" "$e" "$m" >>"$OUT/summary.dat"
 done
 echo "(the last row's Koopman operator was fitted on a run at half the gravity: a prediction; the one above it"
-echo " was fitted on this very run, so its error is reconstruction. The RKPM row: the double runtime on a"
-echo " float64 asset; the Koopman rows: the float32 runtime."
+echo " was fitted on this very run, so its error is reconstruction. The reduced rows: the float32 runtime."
 echo " s/step: median of $STEPS steps; + draw: the positions of every shown vertex;"
 echo " speed-up: full order over step + draw; relative error: sqrt(sum |x - x_fom|^2 / sum |x_fom - X|^2) over the"
 echo " shown vertices and all frames; normalized MSE: mean |x - x_fom|^2 over the bounding-box diagonal squared)"
