@@ -126,7 +126,7 @@ struct romrt_model {
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
-    int skin;
+    int skin, rows_from_weights;  /* rows_from_weights: built in the arena from WGHT, not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
 };
 
