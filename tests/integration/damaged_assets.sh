@@ -22,9 +22,9 @@ replay() {
     fi
 }
 
-# A reduced model (tests/fuzz/seed_scene.json), a Koopman operator (seed_koopman.json) and both in
-# one asset (seed_both.json).
-for kind in scene koopman both; do
+# A reduced model (tests/fuzz/seed_scene.json), a Koopman operator (seed_koopman.json), both in
+# one asset (seed_both.json), and a skinning basis stored as its weights (seed_skinning.json: SKIN, WGHT).
+for kind in scene koopman both skinning; do
 for prec in float32 float64; do
     name=$kind-$prec
     seed=$TMP/seed-$name.rombin
