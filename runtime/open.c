@@ -130,11 +130,18 @@ static romrt_status basis_rows(rt_loader *L, romrt_model *m)
     m->rows_from_weights = 1;
     if (!built || !w) return ROMRT_OK; /* the sizing pass */
     for (v = 0; v < m->nv; v++)
-        for (a = 0; a < 3; a++)
-            for (j = 0; j < m->skin; j++)
-                for (c = 0; c < 4; c++)
+        for (j = 0; j < m->skin; j++)
+            for (c = 0; c < 4; c++) {
+                /* as ROWS's values are checked: finite, and in float below its overflow */
+                double x = (double)w[(size_t)v * (size_t)m->skin + (size_t)j] *
+                           (c < 3 ? (double)m->X[3 * (size_t)v + (size_t)c] : 1.0);
+                if (!isfinite(x) || (sizeof(romrt_real) == 4 && fabs(x) > 3.0e38))
+                    return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_WGHT, "stored vertex ", (uint64_t)v,
+                                     "'s weight times its rest position overflows");
+                for (a = 0; a < 3; a++)
                     built[((size_t)3 * v + (size_t)a) * (size_t)r + (size_t)(12 * j + 4 * a + c)] =
                         w[(size_t)v * (size_t)m->skin + (size_t)j] * (c < 3 ? m->X[3 * (size_t)v + (size_t)c] : RT_K(1));
+            }
     return ROMRT_OK;
 }
 
