@@ -79,37 +79,46 @@ static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real
     return alpha;
 }
 
+/* The potential at y, its gradient in m->g, and the Newton matrix factored in m->H: the exact
+ * Hessian first (the elements' dP/dF unprojected, as Vega's tangent stiffness), which the inertia
+ * M_r / h^2 almost always keeps positive definite over the elements' small negative twist
+ * eigenvalues, at no SVD per element; where its Cholesky factorization fails, the projected
+ * Hessian at the same y. The reduced simulator does the same (precompute/rom/newton.c); a solve
+ * that moves colliders always projects, as its model there does. */
+static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *E,
+                                  romrt_real *magnitude, int it, romrt_error *err)
+{
+    int n = m->r + m->nmoving, indefinite;
+    m->exact_hessian = m->nmoving == 0;
+    *E = potential(m, T, y, m->g, m->H, magnitude);
+    indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
+    if (indefinite && m->exact_hessian) {
+        m->exact_hessian = 0;
+        *E = potential(m, T, y, m->g, m->H, magnitude);
+    }
+    m->exact_hessian = 0;
+    if (indefinite) m->last.projected_hessians++;
+    if (!isfinite(*E) || !all_finite(m->g, n))
+        return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
+                         (uint64_t)it, "");
+    if (indefinite && rt_cholesky(n, m->H))
+        return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
+                         (uint64_t)it, "");
+    return ROMRT_OK;
+}
+
 /* The fixed-cost mode (romrt_set_newton_iterations): exactly m->fixed_iterations full Newton
  * steps, no line search and no convergence test (as Vega's reduced StVK runs by default), each
  * shortened only as far as the contacts' step filter demands. The cost of a step is then known in
- * advance; its distance from the converged answer is what the bench reports. Each step first
- * tries the exact Hessian, the elements' dP/dF unprojected (as Vega's tangent stiffness): the
- * reduced matrix is almost always positive definite anyway, its inertia M_r / h^2 outweighing the
- * elements' small negative twist eigenvalues, and that skips every element's SVD. Where its
- * Cholesky factorization fails the step is taken with the projected matrix, as the converged
- * mode always does. */
+ * advance; its distance from the converged answer is what the bench reports. */
 static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
     int n = m->r + m->nmoving, it, i;
-    romrt_real *y = m->y, *g = m->g, *d = m->d, alpha;
+    romrt_real *y = m->y, *d = m->d, alpha, E, magnitude;
+    romrt_status st;
     for (it = 0; it < m->fixed_iterations; it++) {
-        romrt_real E;
-        int indefinite;
-        m->exact_hessian = 1;
-        E = potential(m, T, y, g, m->H, 0);
-        indefinite = isfinite(E) && rt_cholesky(n, m->H);
-        m->exact_hessian = 0;
-        if (indefinite) {
-            E = potential(m, T, y, g, m->H, 0);
-            m->last.projected_hessians++;
-        }
-        if (!isfinite(E) || !all_finite(g, n))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
-                             (uint64_t)it, "");
-        if (indefinite && rt_cholesky(n, m->H))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
-                             (uint64_t)it, "");
-        for (i = 0; i < n; i++) d[i] = -g[i];
+        if ((st = newton_system(m, T, y, &E, &magnitude, it, err))) return st;
+        for (i = 0; i < n; i++) d[i] = -m->g[i];
         rt_cholesky_solve(n, m->H, d);
         m->last.newton_iterations++;
         if (!all_finite(d, n))
@@ -128,18 +137,13 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
     romrt_real *y = m->y, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
     if (m->fixed_iterations) return newton_fixed(m, T, err);
     for (it = 0; it < m->max_iter; it++) {
-        romrt_real magnitude, E = potential(m, T, y, g, m->H, &magnitude), gd, alpha, tol, step;
+        romrt_real magnitude, E, gd, alpha, tol, step;
         int accepted = 0, armijo = 0;
-        if (!isfinite(E) || !all_finite(g, n))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
-                             (uint64_t)it, "");
-        if (rt_cholesky(n, m->H))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
-                             (uint64_t)it, "");
+        romrt_status st = newton_system(m, T, y, &E, &magnitude, it, err);
+        if (st) return st;
         for (i = 0; i < n; i++) d[i] = -g[i];
         rt_cholesky_solve(n, m->H, d);
         m->last.newton_iterations++;
-        m->last.projected_hessians++;
         if (!all_finite(d, n))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
         tol = m->tol;

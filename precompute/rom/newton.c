@@ -1,5 +1,10 @@
 /* The reduced incremental potential as the solver's Newton problem (solver.h): a dense Cholesky
- * (LAPACK dpotrf) of the r x r projected Hessian in place of CHOLMOD. */
+ * (LAPACK dpotrf) of the r x r Hessian in place of CHOLMOD. Each iteration first tries the exact
+ * Hessian (the elements' dP/dF unprojected): the reduced matrix is almost always positive definite
+ * anyway, its inertia M_r / h^2 outweighing the elements' small negative twist eigenvalues, and it
+ * is then Newton's own matrix at no SVD per element; where Cholesky fails, the projected Hessian
+ * (each element's dP/dF clamped to PSD) is assembled at the same point and used instead. The
+ * runtime does the same (runtime/step.c), so both take the same iterates. */
 #include "rom/rom_impl.h"
 
 #include <cblas.h>
@@ -14,17 +19,29 @@ static double *hessian_of(rk_rom *s)
 static double energy(void *ctx, const double *q, double *g, int hessian, double *magnitude)
 {
     rk_rom_problem_ctx *c = ctx;
-    return rk_rom_potential(c->s, c->T, q, g, hessian ? hessian_of(c->s) : NULL, magnitude, &c->failure);
+    if (hessian) c->q = q;
+    c->s->exact_hessian = hessian != 0;
+    double E = rk_rom_potential(c->s, c->T, q, g, hessian ? hessian_of(c->s) : NULL, magnitude, &c->failure);
+    c->s->exact_hessian = 0;
+    return E;
 }
 
-/* d = -H^-1 g by Cholesky of H (upper triangle, overwritten). */
+/* d = -H^-1 g by Cholesky of H (upper triangle, overwritten); the projected H where the exact one
+ * is not positive definite. */
 static int solve(void *ctx, const double *g, double *d, rk_error *err)
 {
-    rk_rom *s = ((rk_rom_problem_ctx *)ctx)->s;
+    rk_rom_problem_ctx *c = ctx;
+    rk_rom *s = c->s;
     int r = s->model->r;
     double *H = hessian_of(s);
     for (int i = 0; i < r; i++) d[i] = -g[i];
     int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', r, H, r);
+    if (info != 0 && c->q) {
+        if (!isfinite(rk_rom_potential(s, c->T, c->q, NULL, H, NULL, &c->failure)))
+            return rk_fail(err, "the reduced potential is not finite where its Hessian was asked for");
+        s->stats.projected_hessians++;
+        info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', r, H, r);
+    }
     if (info != 0)
         return rk_fail(err, "the %d x %d reduced Newton matrix is not positive definite (pivot %d); the basis may "
                        "have dependent columns", r, r, info);

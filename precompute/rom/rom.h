@@ -79,6 +79,7 @@ void rk_rom_model_free(rk_rom_model *m);
 
 typedef struct {
     long steps, newton_iterations, line_search_halvings, unconverged_steps;
+    long projected_hessians;   /* iterations whose exact Hessian was not positive definite (newton.c) */
     double seconds_total;
 } rk_rom_stats;
 
@@ -111,6 +112,7 @@ typedef struct {
     rk_stepper stepper;        /* backward Euler / BDF2: prediction and history */
     rk_rom_stats stats;
     double *work;              /* scratch */
+    int exact_hessian;         /* the elements' dP/dF unprojected (newton.c's first try each iteration) */
 } rk_rom;
 
 /* Starts at q, v (NULL: rest), t = 0. */

@@ -79,6 +79,7 @@ typedef struct {
     rk_rom *s;
     const rk_rom_terms *T;
     rk_error failure;          /* set when the contact stage failed inside a callback */
+    const double *q;           /* where the last Hessian was asked for (the solve may need it again) */
 } rk_rom_problem_ctx;
 void rk_rom_problem(rk_rom_problem_ctx *ctx, rk_newton_problem *p);
 /* Minimises the potential from s->q (in place) with the solver's Newton; converged when the step
