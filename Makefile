@@ -125,7 +125,7 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
+bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -134,6 +134,7 @@ bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(B
 	$(BUILD)/bench_rom tests/data/meshes bench/results
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
+	$(BUILD)/bench_scale tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),
