@@ -184,8 +184,12 @@ int cmd_mesh(int argc, char **argv)
                        levels > 1 ? "s" : "", m.nt, fine.nt, m.nv, fine.nv, rk_now() - t0);
             rk_mesh_free(&m);
             m = fine;
-            /* the summary is the refined mesh's: checked again, converting (nothing dropped) */
+            /* the summary is the refined mesh's: checked again, converting (nothing dropped); the
+             * repairs of the input's check are kept in it */
+            rk_mesh_report before = rep;
             rc = rk_mesh_check(&m, "refined mesh", RK_MESH_KEEP_FLAT, &rep, &err);
+            rep.reoriented += before.reoriented;
+            rep.unused_removed += before.unused_removed;
         }
     }
     if (rc == 0) rc = rk_mesh_write(out, &m, NULL, &err);
