@@ -138,7 +138,7 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
+bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -148,6 +148,7 @@ bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
+	$(BUILD)/bench_scale tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),

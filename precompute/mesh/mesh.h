@@ -123,6 +123,21 @@ int rk_mesh_box(const double size[3], const int cells[3], rk_mesh *m, rk_error *
 /* Scales then translates the rest positions. */
 void rk_mesh_transform(rk_mesh *m, double scale, const double translate[3]);
 
+/* Uniform 1:8 ("red") refinement, `levels` times (precompute/mesh/refine.c): each tet is split at
+ * its edges' midpoints into its four corners and the four tets around the shortest diagonal of the
+ * octahedron between them. Every edge's midpoint is one new vertex (numbered after the old
+ * vertices, in the order of the edges' sorted vertex pairs), so the result is conforming and the
+ * same for the same input; a level makes 8 nt tets and nv + (edges) vertices, keeps the total
+ * volume and the boundary surface (each boundary triangle split in four), gives each child its
+ * parent's tag and orientation (positive after rk_mesh_check), and splits ghost tets alike. Children
+ * are numbered 8 t .. 8 t + 7 after their parent t. levels = 0 copies. Errors: levels outside
+ * [0, RK_MESH_REFINE_MAX_LEVELS], a result above RK_MESH_REFINE_MAX_TETS tets, a bad index or a
+ * tet using a vertex twice, a ghost tet with an edge no tet has. *out must not be *in; on failure it
+ * is empty. */
+#define RK_MESH_REFINE_MAX_LEVELS 4
+#define RK_MESH_REFINE_MAX_TETS (1 << 24)
+int rk_mesh_refine(const rk_mesh *in, int levels, rk_mesh *out, rk_error *err);
+
 /* Boundary faces (triangles used by exactly one tet, ghost tets counted), oriented outward.
  * *tris malloc'ed. */
 int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err);

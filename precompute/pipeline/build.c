@@ -16,7 +16,7 @@ static int has_extension(const char *path, const char *ext)
 
 /* The object's mesh, checked for simulation: flat tets dropped with a warning (mesh.h); rep gets
  * what the check repaired. */
-static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
+static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
 {
     memset(m, 0, sizeof *m);
     memset(rep, 0, sizeof *rep);
@@ -40,6 +40,33 @@ static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh
         return rc;
     }
     return rk_mesh_load(o->file, RK_MESH_DROP_FLAT, m, rep, err);
+}
+
+/* The object's mesh, refined o->refine times (mesh.refine) after its check; the refined mesh is
+ * checked again (children of a sliver are slivers; a tet near the flat threshold may cross it),
+ * whatever that check repairs added to rep. */
+static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
+{
+    if (load_unrefined_mesh(o, k, m, rep, err)) return -1;
+    if (o->refine == 0) return 0;
+    rk_mesh fine;
+    if (rk_mesh_refine(m, o->refine, &fine, err)) { /* "refine: ..." after "objects[k].mesh: " */
+        rk_mesh_free(m);
+        return -1;
+    }
+    rk_mesh_free(m);
+    *m = fine;
+    rk_mesh_report again;
+    if (rk_mesh_check(m, o->file[0] ? o->file : "box", RK_MESH_DROP_FLAT, &again, err)) {
+        rk_mesh_free(m);
+        return rk_error_prefix(err, "refine: %d levels", o->refine);
+    }
+    rep->reoriented += again.reoriented;
+    rep->unused_removed += again.unused_removed;
+    rep->flat_dropped += again.flat_dropped;
+    rep->ghosts += again.ghosts;
+    rep->orphans_removed += again.orphans_removed;
+    return 0;
 }
 
 /* Appends b to a (vertices, tets, ghost tets, tags). */

@@ -102,7 +102,7 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
                       rk_scene_object *o)
 {
     static const char *const keys[] = {"file", "box", "points", "scale", "translate", "quality",
-                                       "max_volume", NULL};
+                                       "max_volume", "refine", NULL};
     if (rk_json_check_keys(c, obj, path, keys)) return -1;
     const char *file = NULL, *points = NULL;
     if (rk_json_string(c, obj, path, "file", 0, &file)) return -1;
@@ -139,6 +139,11 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     if (o->quality != 0 && !(o->quality >= 1.0))
         return rk_json_fail(c, path, "quality (radius-edge ratio bound) must be at least 1, got %g", o->quality);
     if (o->max_volume < 0) return rk_json_fail(c, path, "max_volume must not be negative");
+    /* Levels of 1:8 refinement; the tet count it reaches is checked when the mesh is built
+     * (RK_MESH_REFINE_MAX_TETS), once the file's count is known. */
+    if (rk_json_whole(c, obj, path, "refine", 0, RK_MESH_REFINE_MAX_LEVELS, &o->refine)) return -1;
+    if (o->refine && o->shape == RK_SHAPE_POINTS)
+        return rk_json_fail(c, path, "refine applies to tet meshes (file or box), not to a point cloud");
     return 0;
 }
 

@@ -72,6 +72,7 @@ typedef struct {
     double translate[3];
     double quality;        /* surface meshes: tetgen radius-edge bound */
     double max_volume;     /* surface meshes: tetgen volume bound (m^3), 0 = none */
+    int refine;            /* uniform 1:8 refinements of the tets (rk_mesh_refine), 0 = none */
     rk_material material;
     int nregions;
     rk_scene_region *regions;

@@ -26,3 +26,14 @@ expect_fail truncated_mesh_is_named "cut.msh" "$ROMKIT" mesh "$TMP/cut.msh" -o "
 head -n -3 "$D/decimated-knight.off" | sed '2s/.*/502 997 0/' >"$TMP/open.off"
 expect_fail open_surface_is_refused "open.off.*edge" "$ROMKIT" mesh "$TMP/open.off" -o "$TMP/open.mesh"
 "$ROMKIT" mesh >/dev/null 2>&1; [ $? -eq 2 ] && ok mesh_without_input_exits_2 || fail mesh_without_input_exits_2 "wrong status"
+
+# --refine: the armadillo split 1:8 (3,717 -> 29,736 tets; 1,180 vertices + 5,947 edge midpoints),
+# written and read back; a level count out of range is bad usage (status 2).
+"$ROMKIT" mesh "$D/armadillo_4k.node" -o "$TMP/a8.mesh" --refine 1 >"$TMP/out" 2>&1 \
+    && "$ROMKIT" mesh "$TMP/a8.mesh" -o "$TMP/a8.vtk" >"$TMP/out2" 2>&1
+grep -q "refined 1 time: 3717 -> 29736 tets" "$TMP/out" && grep -q "tetrahedra   29736" "$TMP/out2" \
+    && grep -q "vertices     7127" "$TMP/out2" && grep -q "components   1" "$TMP/out2" \
+    && ok refine_splits_every_tet_in_8 || fail refine_splits_every_tet_in_8 "$(cat "$TMP/out" "$TMP/out2")"
+"$ROMKIT" mesh "$D/armadillo_4k.node" -o "$TMP/a5.mesh" --refine 5 >/dev/null 2>"$TMP/err"; rc=$?
+[ $rc -eq 2 ] && grep -q "from 0 to 4" "$TMP/err" && [ ! -e "$TMP/a5.mesh" ] && ok refine_5_is_bad_usage \
+    || fail refine_5_is_bad_usage "status $rc: $(cat "$TMP/err")"

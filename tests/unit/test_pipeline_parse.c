@@ -81,6 +81,18 @@ static const struct {
     {"twist without axis", "{\"objects\": [{" BEAM_OBJECT ", \"moving\": [{\"box\": [[0,0,0],[1,1,1]], \"twist\": {\"degrees_per_second\": 1}}]}]}",
      "objects[0].moving[0].twist.axis", "missing"},
     {"gravity wrong length", "{\"objects\": [{" BEAM_OBJECT "}], \"gravity\": [0, -9.81]}", "gravity", "3 numbers"},
+    {"negative refine", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}, \"refine\": -1},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "refine must be a whole number from 0 to 4, got -1"},
+    {"refine 5", "{\"objects\": [{\"mesh\": {\"file\": \"a.msh\", \"refine\": 5},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "from 0 to 4, got 5"},
+    {"fractional refine", "{\"objects\": [{\"mesh\": {\"file\": \"a.msh\", \"refine\": 1.5},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "refine must be a whole number"},
+    {"refined point cloud", "{\"objects\": [{\"mesh\": {\"points\": \"a.ply\", \"refine\": 1},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "not to a point cloud"},
     {"zero plane normal", "{\"objects\": [{" BEAM_OBJECT "}], \"obstacles\": [{\"plane\": {\"point\": [0,0,0], \"normal\": [0,0,0]}}]}",
      "obstacles[0].plane", "zero"},
 };
@@ -99,6 +111,36 @@ TEST(bad_scenes_give_one_clear_message)
     }
 }
 
+/* mesh.refine: the object's tets split into 8, the vertices selected afterwards; a count above
+ * the cap is refused when the mesh is built, naming the object's mesh. */
+TEST(refine_key_splits_the_tets)
+{
+    rk_error err;
+    rk_scene s;
+    rk_scene_sim sim;
+    const char *text = "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [2, 1, 1], \"cells\": [2, 1, 1]}, \"refine\": 2},"
+                       " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000},"
+                       " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}]}";
+    CHECK_OK(rk_scene_parse(text, "r.json", &s, &err));
+    CHECK(s.objects[0].refine == 2, "refine %d", s.objects[0].refine);
+    int rc = rk_scene_build(&s, &sim, &err);
+    rk_scene_free(&s);
+    CHECK(rc == 0, "build: %s", err.msg);
+    /* 12 tets -> 768; the x = 0 face of 1 x 1 m at spacing 1/4 has 25 vertices */
+    int nt = sim.mesh.nt, fixed = sim.options.nprescribed ? sim.options.prescribed[0].count : -1;
+    rk_scene_sim_free(&sim);
+    CHECK(nt == 12 * 64, "%d tets", nt);
+    CHECK(fixed == 25, "%d fixed vertices", fixed);
+    const char *big = "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 1, 1], \"cells\": [12, 12, 6]}, \"refine\": 4},"
+                      " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}]}";
+    CHECK_OK(rk_scene_parse(big, "big.json", &s, &err));
+    rc = rk_scene_build(&s, &sim, &err);
+    rk_scene_free(&s);
+    CHECK(rc != 0, "21 million tets were built");
+    CHECK(strstr(err.msg, "big.json: objects[0].mesh: refine: 4 levels would turn 5184 tets into 21233664"),
+          "message: %s", err.msg);
+}
+
 TEST(missing_scene_file_is_named)
 {
     rk_error err;
@@ -112,6 +154,7 @@ int main(void)
     RUN(parses_the_design_example);
     RUN(resolves_files_against_the_scene_folder);
     RUN(bad_scenes_give_one_clear_message);
+    RUN(refine_key_splits_the_tets);
     RUN(missing_scene_file_is_named);
     return test_finish();
 }
