@@ -5,10 +5,12 @@ BUILD    ?= build
 OPT      ?= -O2
 SANFLAGS ?=
 WARN     := -Wall -Wextra -Werror -Wshadow -Wno-unused-parameter -Wno-format-truncation
-CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) \
+CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) -pthread \
              -I. -Iprecompute -I/usr/include/suitesparse
-LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lz -lcjson -lm
-LDFLAGS   := $(SANFLAGS)
+# -lgomp: precompute/util/threads.c, the one place that sets thread counts, keeps CHOLMOD's OpenMP
+# regions on one thread; romkit's own loops run on plain threads (-pthread).
+LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lm
+LDFLAGS   := $(SANFLAGS) -pthread
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
 STAGES := util mesh physics fem contact solver fom basis cubature rom koopman formats asset pipeline compare
