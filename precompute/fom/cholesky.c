@@ -16,7 +16,13 @@
  *
  * (GF: CHOLMOD's flop count.) CHOLMOD's default (nmethods 0) keeps AMD unless its fill is large,
  * which left the bunny 25% slower. NESDIS's analysis costs more (0.03 s against AMD's 0.01 s on
- * the bunny, 0.14 s against 0.03 s at 102k) and is done once without contact. */
+ * the bunny, 0.14 s against 0.03 s at 102k) and is done once without contact. bench_fom measures
+ * them all again (bench/results/fom_orderings.csv).
+ *
+ * OpenBLAS's threads (rk_threads()) from RK_FOM_THREADED_FLOPS on, one below: two threads against
+ * one, median of 9 to 15 factorizations, the other core mostly free: 7.6e6 flops (box_1k) 1.00,
+ * 1.7e7 (armadillo) 0.99, 4.6e8 (box_10k) 1.05, 5.9e8 (bunny) 0.87 to 1.07, 8.7e8 (beam) 0.80,
+ * 1.3e9 0.78, 3.1e9 0.75 to 0.87, 1.1e10 0.69. */
 #include "fom/fom_impl.h"
 
 #include "fem/fem.h"

@@ -57,8 +57,8 @@ void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
 #define RK_FOM_AL_KAPPA 1e3
 
 /* CHOLMOD's flop count from which the factorization and the solves get rk_threads() OpenBLAS
- * threads; below it one (cholesky.c, measured there). */
-#define RK_FOM_THREADED_FLOPS 5e9
+ * threads; below it one, where a second thread gains nothing (cholesky.c, measured there). */
+#define RK_FOM_THREADED_FLOPS 5e8
 
 struct rk_fom_impl {
     int n;                  /* 3 nv */
