@@ -43,7 +43,7 @@ TOOL_SRC := $(wildcard tools/*.c)
 TOOL_STAGE := tools
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 # The runtime tests that also run against the double runtime, as <name>_double.
-TEST_DOUBLE := test_runtime_parity test_runtime_koopman test_runtime_colliders
+TEST_DOUBLE := test_runtime_parity test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
@@ -74,7 +74,12 @@ RT_MAX_R   ?= 256
 # -O3: at -O2 gcc 12 leaves the r x r loops of the Newton Hessian scalar (2.6x slower at r = 204).
 # A sanitizer build (OPT=-O1) keeps its own level.
 RT_OPT     := $(if $(filter -O2,$(OPT)),-O3,$(OPT))
-RT_CFLAGS  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow $(RT_OPT) -g $(SANFLAGS) -I. -DROMRT_MAX_R=$(RT_MAX_R)
+# The desktop libraries use the vector units of the machine that builds them where it has AVX2 and
+# FMA: the element kernels then run 8 float lanes with fused multiply-adds instead of SSE2's 4
+# (bench/bench_speed.sh measures both). `make RT_ARCH=` builds libraries for any x86-64; the
+# Cortex-M, WebAssembly and fuzz builds take their own flags.
+RT_ARCH    ?= $(shell grep -qw avx2 /proc/cpuinfo 2>/dev/null && grep -qw fma /proc/cpuinfo && echo -mavx2 -mfma -ffp-contract=fast)
+RT_CFLAGS  := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow $(RT_OPT) $(RT_ARCH) -g $(SANFLAGS) -I. -DROMRT_MAX_R=$(RT_MAX_R)
 RT_LIB        := $(BUILD)/lib/libromrt.a
 RT_LIB_DOUBLE := $(BUILD)/lib/libromrt_double.a
 $(BUILD)/rt/float/%.o: %.c
@@ -132,7 +137,7 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
+bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -141,6 +146,7 @@ bench: deps $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(B
 	$(BUILD)/bench_rom tests/data/meshes bench/results
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),

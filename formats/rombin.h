@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 1   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 2   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -79,6 +79,7 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_CONT "CONT"   /* u32, contacts x 2: vertex, plane */
 #define ROMBIN_CVTX "CVTX"   /* u32: the collision vertices an app's colliders act on (1.1, optional) */
 #define ROMBIN_FRIC "FRIC"   /* real x ROMBIN_FRIC_COUNT: friction (1.1, optional) */
+#define ROMBIN_SKIN "SKIN"   /* u32 x 1: ROWS are linear blend skinning over this many handles (1.2, optional) */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
 #define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
 #define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */

@@ -186,11 +186,64 @@ static int PHYS_FN(levi)(int a, int b, int c)
 
 /* A = V diag(w) V^T, w ascending, eigenvectors in V's columns (row-major, V[n*r + c]).
  * n outside 1..12 does nothing. */
+/* One Jacobi rotation of the 3 x 3 symmetric a (row-major) in the (p, q) plane, o the third
+ * index, V <- V J; the arithmetic of sym_eig's general loop, unrolled (so 3 x 3 results are the
+ * same to the bit, several times faster: the SVD of every element's F goes through here).
+ * Returns whether it rotated. */
+static int PHYS_FN(jacobi3_rotate)(PHYS_REAL a[9], PHYS_REAL V[9], int p, int q, int o, PHYS_REAL scale)
+{
+    PHYS_REAL apq = a[3 * p + q], app = a[3 * p + p], aqq = a[3 * q + q], theta, t, c, s, akp, akq, vkp, vkq;
+    int k;
+    if (PHYS_FABS_(apq) <= PHYS_K_(0.01) * PHYS_EPS_ * (PHYS_FABS_(app) + PHYS_FABS_(aqq)) ||
+        PHYS_FABS_(apq) <= PHYS_EPS_ * PHYS_EPS_ * scale) {
+        a[3 * p + q] = a[3 * q + p] = PHYS_K_(0);
+        return 0;
+    }
+    theta = (aqq - app) / (PHYS_K_(2) * apq);
+    if (PHYS_FABS_(theta) > PHYS_K_(1))
+        t = PHYS_K_(1) / (PHYS_FABS_(theta) * (PHYS_K_(1) + PHYS_SQRT_(PHYS_K_(1) + PHYS_K_(1) / (theta * theta))));
+    else
+        t = PHYS_K_(1) / (PHYS_FABS_(theta) + PHYS_SQRT_(theta * theta + PHYS_K_(1)));
+    if (theta < PHYS_K_(0)) t = -t;
+    c = PHYS_K_(1) / PHYS_SQRT_(t * t + PHYS_K_(1));
+    s = t * c;
+    akp = a[3 * o + p];
+    akq = a[3 * o + q];
+    a[3 * o + p] = a[3 * p + o] = c * akp - s * akq;
+    a[3 * o + q] = a[3 * q + o] = s * akp + c * akq;
+    a[3 * p + p] = app - t * apq;
+    a[3 * q + q] = aqq + t * apq;
+    a[3 * p + q] = a[3 * q + p] = PHYS_K_(0);
+    for (k = 0; k < 3; k++) {
+        vkp = V[3 * k + p];
+        vkq = V[3 * k + q];
+        V[3 * k + p] = c * vkp - s * vkq;
+        V[3 * k + q] = s * vkp + c * vkq;
+    }
+    return 1;
+}
+
 PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REAL *V)
 {
     PHYS_REAL a[PHYS_JACOBI_MAX_N_ * PHYS_JACOBI_MAX_N_], scale = PHYS_K_(0);
     int i, j, k, p, q, sweep;
     if (n < 1 || n > PHYS_JACOBI_MAX_N_) return;
+    if (n == 3) {
+        for (i = 0; i < 3; i++)
+            for (j = 0; j < 3; j++) {
+                a[3 * i + j] = PHYS_K_(0.5) * (A[3 * i + j] + A[3 * j + i]);
+                V[3 * i + j] = i == j ? PHYS_K_(1) : PHYS_K_(0);
+                scale += a[3 * i + j] * a[3 * i + j];
+            }
+        scale = PHYS_SQRT_(scale);
+        for (sweep = 0; sweep < PHYS_JACOBI_MAX_SWEEPS_; sweep++) {
+            int rotated = PHYS_FN(jacobi3_rotate)(a, V, 0, 1, 2, scale);
+            rotated |= PHYS_FN(jacobi3_rotate)(a, V, 0, 2, 1, scale);
+            rotated |= PHYS_FN(jacobi3_rotate)(a, V, 1, 2, 0, scale);
+            if (!rotated) break;
+        }
+        goto sort;
+    }
     for (i = 0; i < n; i++)
         for (j = 0; j < n; j++) { /* symmetrize: only A's symmetric part is decomposed */
             a[n * i + j] = PHYS_K_(0.5) * (A[n * i + j] + A[n * j + i]);
@@ -244,6 +297,7 @@ PHYS_API void PHYS_FN(sym_eig)(int n, const PHYS_REAL *A, PHYS_REAL *w, PHYS_REA
             }
         if (!rotated) break;
     }
+sort:
     for (i = 0; i < n; i++) w[i] = a[n * i + i];
     /* Sort ascending (selection sort, swapping eigenvector columns along). */
     for (i = 0; i < n - 1; i++) {
@@ -685,7 +739,7 @@ static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_RE
                                   PHYS_REAL D[81])
 {
     static const int pair[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}}; /* i, j and the third */
-    PHYS_REAL U[9], V[9], s[3], A[9], wA[3], E[9], flip[3], twist[3], M[9], least;
+    PHYS_REAL U[9], V[9], s[3], A[9], wA[3], E[9], flip[3], twist[3], M[9];
     int p, a, b, k;
     if (model == RK_MAT_LINEAR) {
         PHYS_FN(project_linear)(mu, lambda, D);
@@ -725,13 +779,58 @@ static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_RE
             twist[p] = mu + h * sk;
         }
     }
-    PHYS_FN(sym_eig)(3, A, wA, E);
-    least = wA[0];
-    for (p = 0; p < 3; p++) {
-        if (flip[p] < least) least = flip[p];
-        if (twist[p] < least) least = twist[p];
+    /* D holds every mode with its eigenvalue (the raw dP/dF is exactly their sum), so when the
+     * negative ones are few and small next to the positive ones (usually a twist or two: the
+     * rotations' eigenvalues are 0 at rest and take either sign under any deformation) the
+     * projection subtracts them, and A's eigenvectors are needed only when A is indefinite. When
+     * a negative eigenvalue dominates (a corotated twist near s_i + s_j = 0 reaches 1/sqrt(eps)),
+     * subtracting it would leave its rounding behind, and D is rebuilt from the positive modes. */
+    {
+        PHYS_REAL neg = PHYS_K_(0), pos = PHYS_K_(0), scale;
+        int a_definite;
+        for (p = 0; p < 3; p++) {
+            neg = -flip[p] > neg ? -flip[p] : neg;
+            neg = -twist[p] > neg ? -twist[p] : neg;
+            pos = flip[p] > pos ? flip[p] : pos;
+            pos = twist[p] > pos ? twist[p] : pos;
+        }
+        scale = PHYS_FABS_(A[0]) > PHYS_FABS_(A[4]) ? PHYS_FABS_(A[0]) : PHYS_FABS_(A[4]);
+        scale = PHYS_FABS_(A[8]) > scale ? PHYS_FABS_(A[8]) : scale;
+        a_definite = PHYS_FN(is_positive_definite)(3, A, PHYS_K_(64) * PHYS_EPS_ * scale);
+        if (a_definite) {
+            for (k = 0; k < 3; k++) pos = A[4 * k] > pos ? A[4 * k] : pos; /* A's diagonal: below its largest eigenvalue */
+        } else {
+            PHYS_FN(sym_eig)(3, A, wA, E);
+            neg = -wA[0] > neg ? -wA[0] : neg;
+            pos = wA[2] > pos ? wA[2] : pos;
+        }
+        if (!(neg > 0)) return;
+        if (neg <= pos) {
+            for (p = 0; p < 3; p++) {
+                int i = pair[p][0], j = pair[p][1], twisting;
+                for (twisting = 0; twisting < 2; twisting++) {
+                    PHYS_REAL w = twisting ? twist[p] : flip[p], sign = twisting ? PHYS_K_(-1) : PHYS_K_(1);
+                    if (!(w < 0)) continue;
+                    for (a = 0; a < 3; a++)
+                        for (b = 0; b < 3; b++)
+                            M[3 * a + b] = PHYS_K_(0.70710678118654752440) *
+                                           (U[3 * a + i] * V[3 * b + j] + sign * U[3 * a + j] * V[3 * b + i]);
+                    PHYS_FN(add_outer9)(D, -w, M);
+                }
+            }
+            if (a_definite) return;
+            for (k = 0; k < 3; k++) {
+                if (!(wA[k] < 0)) continue;
+                for (a = 0; a < 3; a++) /* U diag(e_k) V^T */
+                    for (b = 0; b < 3; b++)
+                        M[3 * a + b] = U[3 * a] * E[3 * 0 + k] * V[3 * b] + U[3 * a + 1] * E[3 * 1 + k] * V[3 * b + 1] +
+                                       U[3 * a + 2] * E[3 * 2 + k] * V[3 * b + 2];
+                PHYS_FN(add_outer9)(D, -wA[k], M);
+            }
+            return;
+        }
+        if (a_definite) PHYS_FN(sym_eig)(3, A, wA, E);
     }
-    if (least >= 0) return;
     memset(D, 0, 81 * sizeof(PHYS_REAL));
     for (k = 0; k < 3; k++) {
         if (!(wA[k] > 0)) continue;

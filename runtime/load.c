@@ -66,6 +66,16 @@ romrt_status rt_reals(rt_loader *L, const char *id, uint64_t count, int required
     return ROMRT_OK;
 }
 
+void rt_scratch(rt_loader *L, size_t count, romrt_real **out)
+{
+    *out = 0;
+    if (L->arena) {
+        *out = (romrt_real *)(void *)(L->arena + L->used);
+        memset(*out, 0, count * sizeof(romrt_real));
+    }
+    L->used += rt_align16(count * sizeof(romrt_real));
+}
+
 romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out)
 {
     rombin_chunk c;

@@ -23,6 +23,8 @@ romrt_status rt_chunk(rt_loader *L, const char *id, int type, uint64_t count, in
                       int *found);
 /* A real array of `count` values, finite, in place or converted into the arena. */
 romrt_status rt_reals(rt_loader *L, const char *id, uint64_t count, int required, const romrt_real **out);
+/* `count` reals of zeroed scratch in the arena (*out NULL in the sizing pass). */
+void rt_scratch(rt_loader *L, size_t count, romrt_real **out);
 romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out);
 /* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
 romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
@@ -36,6 +38,8 @@ romrt_status rt_head(rt_loader *L, const char *id, uint64_t count, int first_res
 romrt_status rt_load_groups_and_surface(rt_loader *L, romrt_model *m);
 romrt_status rt_check_groups_and_surface(rt_loader *L, const romrt_model *m);
 
+/* SKIN against ROWS: the rows must be linear blend skinning over the stored rest positions. */
+romrt_status rt_skin_check(rt_loader *L, const romrt_model *m);
 /* A Koopman asset's chunks (koopman.c), as sizes / arrays / contents in open.c. */
 romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m);
 romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m);

@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
@@ -122,6 +122,27 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))
         return st;
     m->force_rows = m->rows;
+    {
+        const uint32_t *skin;
+        if ((st = rt_u32s(L, ROMBIN_SKIN, 1, 0, &skin))) return st;
+        m->skin = skin && skin[0] <= (uint32_t)ROMRT_MAX_R ? (int)skin[0] : skin ? -1 : 0; /* -1: refused in contents */
+    }
+    {
+        /* The Newton matrix has a row per moved collider only when the asset takes colliders; the
+         * elastic Hessian is kept in whole vectors, in (a, j, c) order for a skinning basis. */
+        size_t n = (size_t)r + (m->ncv ? ROMRT_MAX_COLLIDERS : 0), rp = RT_PAD((size_t)r);
+        size_t sp = m->skin > 0 ? 3 * (size_t)RT_PAD(4 * m->skin) : 0, he = sp > rp ? sp : rp;
+        rt_scratch(L, n * n, &m->H);
+        rt_scratch(L, he * he, &m->He);
+        rt_scratch(L, 9 * rp, &m->G);
+        rt_scratch(L, 9 * rp, &m->AG);
+        if (sp) {
+            rt_scratch(L, sp, &m->skin_N);
+            rt_scratch(L, sp, &m->skin_C);
+            rt_scratch(L, sp, &m->skin_Q);
+            rt_scratch(L, sp, &m->skin_gQ);
+        }
+    }
     return rt_load_groups_and_surface(L, m);
 }
 
@@ -137,7 +158,11 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         (st = rt_indices_below(L, ROMBIN_CVTX, m->cv, (uint64_t)m->ncv, 1, 0, 1, (uint32_t)m->nv)))
         return st;
     if ((st = rt_check_groups_and_surface(L, m))) return st;
+    if (m->skin < 0 || (m->skin > 0 && m->r != 12 * m->skin))
+        return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_SKIN, "names a handle count that does not give r = 12 per handle: r = ",
+                         (uint64_t)m->r, "");
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
+    if (m->skin && (st = rt_skin_check(L, m))) return st;
     for (e = 0; e < m->ne; e++) {
         const romrt_real *er = m->elem_real + 12 * (size_t)e;
         if (!(er[9] >= 0) || !(er[10] > 0) || !(er[11] > -er[10]))

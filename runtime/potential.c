@@ -30,34 +30,100 @@ static void element_H(const romrt_model *m, int e, const romrt_real *q, romrt_re
         }
 }
 
-/* m->G = G_e (9 x r, row-major). */
+/* The element kernels take their rows as restrict-qualified arguments: that is what lets the
+ * compiler vectorize them (through the model's fields it cannot prove the rows apart). */
+
+/* G rows 3a, 3a+1, 3a+2 = Dm^-T (r1 - r0, r2 - r0, r3 - r0) over r columns, zero to rp. */
+static void g_rows(int r, int rp, const romrt_real *RT_RESTRICT r0, const romrt_real *RT_RESTRICT r1,
+                   const romrt_real *RT_RESTRICT r2, const romrt_real *RT_RESTRICT r3, const romrt_real *RT_RESTRICT Dm,
+                   romrt_real *RT_RESTRICT G0, romrt_real *RT_RESTRICT G1, romrt_real *RT_RESTRICT G2)
+{
+    int j;
+    for (j = 0; j < r; j++) {
+        romrt_real e1 = r1[j] - r0[j], e2 = r2[j] - r0[j], e3 = r3[j] - r0[j];
+        G0[j] = e1 * Dm[0] + e2 * Dm[3] + e3 * Dm[6];
+        G1[j] = e1 * Dm[1] + e2 * Dm[4] + e3 * Dm[7];
+        G2[j] = e1 * Dm[2] + e2 * Dm[5] + e3 * Dm[8];
+    }
+    for (; j < rp; j++) G0[j] = G1[j] = G2[j] = 0;
+}
+
+/* m->G = G_e (9 rows of RT_PAD(r), row-major, zero past r), in one pass over the element's four
+ * vertex rows: G row 3a + b = sum_c Dm^-1_cb (B_{v_c+1, a} - B_{v_0, a}). */
 static void element_G(romrt_model *m, int e)
 {
     const uint32_t *ev = m->elem + 5 * (size_t)e;
-    const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
-    int r = m->r, a, b, c, j;
+    int rp = RT_PAD(m->r), a;
     for (a = 0; a < 3; a++) {
-        const romrt_real *r0 = row_of(m, ev[0], a);
-        for (b = 0; b < 3; b++) {
-            romrt_real *Gab = m->G + (size_t)r * (3 * a + b);
-            for (j = 0; j < r; j++) Gab[j] = 0;
-            for (c = 0; c < 3; c++) {
-                const romrt_real *rc = row_of(m, ev[c + 1], a);
-                romrt_real w = Dm[3 * c + b];
-                for (j = 0; j < r; j++) Gab[j] += w * (rc[j] - r0[j]);
-            }
+        romrt_real *G0 = m->G + (size_t)rp * (3 * a);
+        g_rows(m->r, rp, row_of(m, ev[0], a), row_of(m, ev[1], a), row_of(m, ev[2], a), row_of(m, ev[3], a),
+               m->elem_real + 12 * (size_t)e, G0, G0 + rp, G0 + 2 * rp);
+    }
+}
+
+/* out = sum_l a_l G_l over rp columns. */
+static void combine9(int rp, const romrt_real *RT_RESTRICT G, const romrt_real *RT_RESTRICT a, romrt_real *RT_RESTRICT out)
+{
+    int j;
+    for (j = 0; j < rp; j++)
+        out[j] = a[0] * G[j] + a[1] * G[rp + j] + a[2] * G[2 * rp + j] + a[3] * G[3 * rp + j] + a[4] * G[4 * rp + j] +
+                 a[5] * G[5 * rp + j] + a[6] * G[6 * rp + j] + a[7] * G[7 * rp + j] + a[8] * G[8 * rp + j];
+}
+
+/* m->AG = w dP/dF G (9 rows of RT_PAD(r)). */
+static void element_AG(romrt_model *m, const romrt_real A[81], romrt_real w)
+{
+    int rp = RT_PAD(m->r), k, l;
+    for (k = 0; k < 9; k++) {
+        romrt_real a[9];
+        for (l = 0; l < 9; l++) a[l] = w * A[9 * k + l];
+        combine9(rp, m->G, a, m->AG + (size_t)rp * k);
+    }
+}
+
+/* H0 += G^T a, H1 += G^T b over the first len rows: two columns of a rank-9 update, each load of
+ * G serving both. */
+static void rank9_pair(int len, int rp, const romrt_real *RT_RESTRICT G, const romrt_real *RT_RESTRICT a,
+                       const romrt_real *RT_RESTRICT b, romrt_real *RT_RESTRICT H0, romrt_real *RT_RESTRICT H1)
+{
+    int i;
+    for (i = 0; i < len; i++) {
+        romrt_real g0 = G[i], g1 = G[rp + i], g2 = G[2 * rp + i], g3 = G[3 * rp + i], g4 = G[4 * rp + i],
+                   g5 = G[5 * rp + i], g6 = G[6 * rp + i], g7 = G[7 * rp + i], g8 = G[8 * rp + i];
+        H0[i] += g0 * a[0] + g1 * a[1] + g2 * a[2] + g3 * a[3] + g4 * a[4] + g5 * a[5] + g6 * a[6] + g7 * a[7] + g8 * a[8];
+        H1[i] += g0 * b[0] + g1 * b[1] + g2 * b[2] + g3 * b[3] + g4 * b[4] + g5 * b[5] + g6 * b[6] + g7 * b[7] + g8 * b[8];
+    }
+}
+
+/* m->He (RT_PAD(r) square, column-major) += G^T AG over its upper triangle, rounded up to whole
+ * vectors: a single rank-9 pass over the matrix per element (nine rank-1 passes would stream it
+ * through the cache nine times). */
+static void element_hessian(romrt_model *m)
+{
+    int rp = RT_PAD(m->r), j, k;
+    for (j = 0; j < rp; j += 2) {
+        romrt_real a[9], b[9];
+        for (k = 0; k < 9; k++) {
+            a[k] = m->AG[(size_t)rp * k + j];
+            b[k] = m->AG[(size_t)rp * k + j + 1];
         }
+        rank9_pair(RT_PAD(j + 2), rp, m->G, a, b, m->He + (size_t)rp * j, m->He + (size_t)rp * (j + 1));
     }
 }
 
 static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
-    int r = m->r, e, i, j, k, l;
+    int r = m->r, rp = RT_PAD(r), e, i, j, k;
     romrt_real E = 0;
+    if (m->skin) return rt_skin_elastic(m, q, g, H, ld);
+    if (H)
+        for (i = 0; i < rp * rp; i++) m->He[i] = 0;
     for (e = 0; e < m->ne; e++) {
         const romrt_real *er = m->elem_real + 12 * (size_t)e;
         rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
         romrt_real Hd[9], F[9], P[9], A[81], w = er[9], psi;
+        /* F - I from the vertices' displacements (12 dot products), the same arithmetic whether
+         * or not G is formed, so the line search compares energies computed alike */
         element_H(m, e, q, Hd);
         psi = RT_PHYS(psi_h)(model, er[10], er[11], Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
@@ -67,7 +133,7 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
         if (g) {
             RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
             for (k = 0; k < 9; k++) {
-                const romrt_real *Gk = m->G + (size_t)r * k;
+                const romrt_real *Gk = m->G + (size_t)rp * k;
                 romrt_real wp = w * P[k];
                 for (j = 0; j < r; j++) g[j] += wp * Gk[j];
             }
@@ -75,29 +141,13 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
         if (H) {
             for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
             RT_PHYS(dpdf)(model, er[10], er[11], F, A, 1);
-            for (k = 0; k < 9; k++) { /* AG = w dP/dF G */
-                romrt_real *AGk = m->AG + (size_t)r * k;
-                for (j = 0; j < r; j++) AGk[j] = 0;
-                for (l = 0; l < 9; l++) {
-                    const romrt_real *Gl = m->G + (size_t)r * l;
-                    romrt_real a = w * A[9 * k + l];
-                    if (a != 0)
-                        for (j = 0; j < r; j++) AGk[j] += a * Gl[j];
-                }
-            }
-            /* upper triangle of G^T AG as one rank-9 update: a single pass over H per element (nine
-             * rank-1 passes would stream the r x r matrix through the cache nine times) */
-            for (j = 0; j < r; j++) {
-                const romrt_real *G = m->G;
-                romrt_real *Hj = H + (size_t)ld * j, a[9];
-                for (k = 0; k < 9; k++) a[k] = m->AG[(size_t)r * k + j];
-                for (i = 0; i <= j; i++)
-                    Hj[i] += G[i] * a[0] + G[r + i] * a[1] + G[2 * r + i] * a[2] + G[3 * r + i] * a[3] +
-                             G[4 * r + i] * a[4] + G[5 * r + i] * a[5] + G[6 * r + i] * a[6] + G[7 * r + i] * a[7] +
-                             G[8 * r + i] * a[8];
-            }
+            element_AG(m, A, w);
+            element_hessian(m);
         }
     }
+    if (H)
+        for (j = 0; j < r; j++)
+            for (i = 0; i <= j; i++) H[i + (size_t)ld * j] += m->He[i + (size_t)rp * j];
     return E;
 }
 

@@ -90,6 +90,15 @@ romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size
  * (Eq. 19), S its sum over one step of the current size; O(r). On failure the state is unchanged. */
 romrt_status romrt_step(romrt_model *m, romrt_error *err);
 
+/* Reduced models: how a step solves. 0 (the default): Newton with a line search until the step is
+ * below the asset's tolerance (or its iteration limit), the same iterates as the precompute's
+ * reduced simulator. k >= 1: a fixed cost, exactly k full Newton steps per step with no line
+ * search and no convergence test (k = 1 is a linearly implicit step, as Vega's reduced StVK runs
+ * by default): faster and predictable, further from the converged answer (the README's bench
+ * gives both errors); contacts still shorten the steps so nothing is crossed. Kept across
+ * romrt_reset. ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman model. */
+romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_error *err);
+
 /* Back to rest at t = 0, forces cleared (a Koopman asset keeps its time step and damping). */
 void romrt_reset(romrt_model *m);
 

@@ -26,6 +26,12 @@
 /* The Newton unknowns at most: q and the progress of each moved collider. */
 #define ROMRT_MAX_N (ROMRT_MAX_R + ROMRT_MAX_COLLIDERS)
 #define RT_COLLIDER_REALS RK_COLLIDER_REALS
+/* The r-long rows of the element kernels are padded with zeros to whole vectors of RT_LANES reals
+ * (8 floats: one AVX register; 2 SSE or NEON ones), so their loops run without remainders. */
+#define RT_LANES 8
+#define RT_PAD(n) (((n) + RT_LANES - 1) / RT_LANES * RT_LANES)
+/* C99's restrict: the kernels' rows never overlap. */
+#define RT_RESTRICT restrict
 
 /* Caps checked before any count is used (ROMBIN.md, "Limits"). */
 #define ROMRT_MAX_VERTICES (1u << 24)
@@ -71,6 +77,7 @@ struct romrt_model {
     /* sizes and parameters (HEAD, PARM; a Koopman asset: KHED, KPRM) */
     int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter, ncv;
     romrt_real h, tol, mass, dhat, kappa;
+    int fixed_iterations;     /* 0: Newton to the asset's tolerance; k: exactly k full steps (fixed cost) */
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
@@ -113,8 +120,13 @@ struct romrt_model {
     /* scratch of one step */
     romrt_real qt[ROMRT_MAX_R], qtilde[ROMRT_MAX_R], pin_b[ROMRT_MAX_R];
     romrt_real y[ROMRT_MAX_N], g[ROMRT_MAX_N], d[ROMRT_MAX_N], trial[ROMRT_MAX_N], tmp[ROMRT_MAX_R];
-    romrt_real H[ROMRT_MAX_N * ROMRT_MAX_N]; /* n x n (n = r + moved colliders), column-major, upper triangle */
-    romrt_real G[9 * ROMRT_MAX_R], AG[9 * ROMRT_MAX_R]; /* one element's dF/dq and dP/dF dF/dq */
+    /* scratch in the arena, sized by the asset's r (open.c) */
+    romrt_real *H;            /* n x n (n = r + moved colliders), column-major, upper triangle */
+    romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
+    romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
+    /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
+    int skin;
+    romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
 };
 
 /* The incremental potential's weights (as rom_impl.h's rk_rom_terms, dynamics only). */
@@ -128,6 +140,8 @@ typedef struct {
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
+/* The elastic energy (gradient, Hessian) of a skinning basis through its weights (skinning.c). */
+romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
 /* x = X_v + rows_v q of stored vertex v. */
 void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3]);
 /* H (leading dimension ld) += J_v^T B J_v for stored vertex v's rows J_v and a 3 x 3 block B; g += J_v^T gx. */

@@ -79,11 +79,40 @@ static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real
     return alpha;
 }
 
+/* The fixed-cost mode (romrt_set_newton_iterations): exactly m->fixed_iterations full Newton
+ * steps, no line search and no convergence test (as Vega's reduced StVK runs by default), each
+ * shortened only as far as the contacts' step filter demands. The cost of a step is then known in
+ * advance; its distance from the converged answer is what the bench reports. */
+static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error *err)
+{
+    int n = m->r + m->nmoving, it, i;
+    romrt_real *y = m->y, *g = m->g, *d = m->d, alpha;
+    for (it = 0; it < m->fixed_iterations; it++) {
+        romrt_real E = potential(m, T, y, g, m->H, 0);
+        if (!isfinite(E) || !all_finite(g, n))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
+                             (uint64_t)it, "");
+        if (rt_cholesky(n, m->H))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
+                             (uint64_t)it, "");
+        for (i = 0; i < n; i++) d[i] = -g[i];
+        rt_cholesky_solve(n, m->H, d);
+        m->last.newton_iterations++;
+        if (!all_finite(d, n))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
+        alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
+        for (i = 0; i < n; i++) y[i] += alpha * d[i];
+    }
+    m->last.converged = 0; /* not tested */
+    return ROMRT_OK;
+}
+
 /* Projected Newton on y = (q, moved colliders' progress) from m->y, the precompute solver's loop. */
 static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
     int n = m->r + m->nmoving, it, k, i;
     romrt_real *y = m->y, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
+    if (m->fixed_iterations) return newton_fixed(m, T, err);
     for (it = 0; it < m->max_iter; it++) {
         romrt_real magnitude, E = potential(m, T, y, g, m->H, &magnitude), gd, alpha, tol, step;
         int accepted = 0, armijo = 0;
@@ -152,6 +181,17 @@ static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders,
     return st;
 }
 
+romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_error *err)
+{
+    if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_newton_iterations: no model (NULL)");
+    if (m->kind != ROMRT_KIND_REDUCED)
+        return rt_fail(err, ROMRT_E_UNSUPPORTED, 0, "romrt_set_newton_iterations: a Koopman model has no Newton solve");
+    if (iterations < 0 || iterations > (int)ROMRT_MAX_NEWTON)
+        return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_newton_iterations: iterations must be 0 (converged) to 1000");
+    m->fixed_iterations = iterations;
+    return ROMRT_OK;
+}
+
 romrt_status romrt_step(romrt_model *m, romrt_error *err)
 {
     int r, i, bdf2;
@@ -187,7 +227,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
      * friction lagged again at the solution until a solve has nothing left to do */
     st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;
     if (!st) st = solve(m, &T, 0, err);
-    for (i = 1; !st && T.friction && i < m->friction_iterations; i++) {
+    for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
         int before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
         st = solve(m, &T, 0, err);

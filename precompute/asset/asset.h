@@ -58,6 +58,8 @@ typedef struct {
     const rk_fem *fem;           /* the elements the cubature points are */
     const double *U;             /* 3 nv x r basis */
     const rk_rom_model *model;
+    int skin_handles;            /* U is linear blend skinning over this many handles (rk_skinning_to_U
+                                  * over the mesh's rest positions), 0 otherwise: the SKIN chunk */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

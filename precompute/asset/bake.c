@@ -46,6 +46,29 @@ static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_wr
     return rc ? -1 : 0;
 }
 
+/* SKIN (ROMBIN.md): written when the basis says it is linear blend skinning and every stored row
+ * is, to the bit: column 12 j + 4 a + c of row 3v + a is w_j(v) X̄_c, the weight being the entry
+ * at c = 3 (X̄_3 = 1), and every other entry 0. A basis that only claims it gets no chunk (the
+ * runtime refuses a SKIN its rows contradict). */
+static int add_skinning(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
+{
+    int r = R->model->r, H = R->skin_handles, ndof = 3 * s->nv;
+    if (H <= 0 || r != 12 * H) return 0;
+    for (int i = 0; i < s->count; i++) {
+        int v = s->source[i];
+        const double *X = R->fem->X + 3 * (size_t)v;
+        for (int a = 0; a < 3; a++)
+            for (int col = 0; col < r; col++) {
+                int j = col / 12, a_col = col % 12 / 4, c = col % 4;
+                double u = R->U[(size_t)ndof * col + 3 * v + a];
+                double wj = R->U[(size_t)ndof * (12 * j + 4 * a + 3) + 3 * v + a];
+                double want = a_col != a ? 0 : c == 3 ? wj : wj * X[c];
+                if (u != want) return 0;
+            }
+    }
+    return rk_bake_add_u32s(w, ROMBIN_SKIN, 0, &H, 1, err);
+}
+
 static int add_operators(const rk_rom_model *m, rombin_writer *w, rk_error *err)
 {
     size_t rr = (size_t)m->r * m->r;
@@ -194,7 +217,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_KAPPA] = collide ? m->contact_options.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
-             add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
+             add_geometry(R, &s, w, err) || add_skinning(R, &s, w, err) || add_operators(m, w, err) ||
              add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, &s, w, err) ||
              add_collisions(m, o, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||

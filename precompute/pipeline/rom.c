@@ -122,5 +122,6 @@ void rk_scene_rom_free(rk_scene_rom *R)
 
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
 {
-    return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model};
+    int skinning = R->basis.type == RK_BASIS_SKINNING || R->basis.type == RK_BASIS_RKPM_SKINNING;
+    return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0};
 }

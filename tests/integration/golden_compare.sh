@@ -1,29 +1,49 @@
 # romkit compare and romkit build on two small scenes against what they gave before the solver
-# and pipeline refactor (tests/data/golden/*.before.json, assets.md5; recorded with romkit at
-# commit 28277de): every error, size and iteration count to 1e-12 relative in the double path, and
-# bit-identical assets. A change that alters these numbers on purpose records them again, and says
-# why in its commit. Recorded again: the assets for rombin 1.1 (CVTX); the reports for the
-# analytic PSD projection of dP/dF, which moved them by at most 1.5e-12 relative.
+# and pipeline refactor (tests/data/golden/*.before.json, recorded with romkit at commit 28277de):
+# every error, size and iteration count to 1e-9 relative in the double path. Recorded again: the
+# reports for the analytic PSD projection of dP/dF, which moved them by at most 1.5e-12 relative.
+# The bound is 1e-9, not round-off: one build gives numbers 3e-12 apart on CPUs whose OpenBLAS
+# kernels differ (AVX2 against AVX-512), and a change of method moves them by far more.
+# Assets: two builds give the same bytes (DESIGN.md's determinism, on one machine), and their chunk
+# tables (ids, kinds, types, codings, offsets, sizes) are the recorded ones (*.chunks; the bytes
+# themselves differ across CPUs for the reason above). A change that alters any of this on purpose
+# records it again, and says why in its commit.
 . tests/lib.sh
 JSONQ=${JSONQ:-$ROMKIT_BUILD/jsonq}
 G=tests/data/golden
 
-method_keys() { # method_keys I: the deterministic keys of method I
-    for k in name kind basis.type basis.size basis.columns cubature.elements cubature.relative_error \
-             normalized_mse normalized_max_error max_error relative_online_error newton_iterations \
-             unconverged_steps; do
-        printf 'methods[%d].%s ' "$1" "$k"
-    done
+method_keys() { # method_keys I K...: keys K of method I
+    i=$1
+    shift
+    for k in "$@"; do printf 'methods[%d].%s ' "$i" "$k"; done
 }
+EXACT="name kind basis.type basis.size basis.columns"
+CONTINUOUS="normalized_mse normalized_max_error max_error relative_online_error newton_iterations unconverged_steps"
+# A trained cubature is a greedy choice of elements: a rounding-level difference can pick another
+# element and end with a few more or fewer (18 or 15 of 144 on the twist, 4e-2 or 5e-2 force
+# error), which moves the method's error by up to a sixth. Such methods are held to 25%.
+TRAINED="cubature.elements cubature.relative_error normalized_mse relative_online_error"
 
 for s in cantilever twist; do
     if "$ROMKIT" compare "$G/golden_$s.json" --quiet --report "$TMP/$s.json" >"$TMP/out" 2>"$TMP/err"; then
         n=$("$JSONQ" get "$G/$s.before.json" methods | grep -o '"name"' | wc -l)
         keys="vertices tets steps bbox_diagonal fom.newton_iterations"
+        loose=""
         i=1 # methods[0] is fom itself
-        while [ "$i" -lt "$n" ]; do keys="$keys $(method_keys "$i")"; i=$((i + 1)); done
+        while [ "$i" -lt "$n" ]; do
+            # shellcheck disable=SC2086
+            keys="$keys $(method_keys "$i" $EXACT)"
+            # shellcheck disable=SC2086
+            if [ "$("$JSONQ" get "$G/$s.before.json" "methods[$i].cubature.elements")" = 0 ]; then
+                keys="$keys $(method_keys "$i" cubature.elements $CONTINUOUS)"
+            else
+                loose="$loose $(method_keys "$i" $TRAINED)"
+            fi
+            i=$((i + 1))
+        done
         # shellcheck disable=SC2086
-        if "$JSONQ" same "$G/$s.before.json" "$TMP/$s.json" 1e-12 $keys >"$TMP/diff"; then
+        if "$JSONQ" same "$G/$s.before.json" "$TMP/$s.json" 1e-9 $keys >"$TMP/diff" &&
+            { [ -z "$loose" ] || "$JSONQ" same "$G/$s.before.json" "$TMP/$s.json" 0.25 $loose >"$TMP/diff"; }; then
             ok "golden_compare_$s ($((n - 1)) methods)"
         else
             fail "golden_compare_$s" "$(head -c 600 "$TMP/diff")"
@@ -33,7 +53,12 @@ for s in cantilever twist; do
     fi
     "$ROMKIT" build "$G/golden_$s.json" -o "$TMP/$s.rombin" --quiet >/dev/null 2>"$TMP/err" \
         || fail "golden_asset_$s" "$(head -c 300 "$TMP/err")"
-    want=$(grep " $s.rombin" "$G/assets.md5" | cut -d' ' -f1)
-    got=$(md5sum <"$TMP/$s.rombin" | cut -d' ' -f1)
-    [ "$want" = "$got" ] && ok "golden_asset_$s" || fail "golden_asset_$s" "md5 $got, recorded $want"
+    "$ROMKIT" build "$G/golden_$s.json" -o "$TMP/$s.again.rombin" --quiet >/dev/null 2>"$TMP/err" \
+        || fail "golden_asset_$s" "$(head -c 300 "$TMP/err")"
+    if cmp -s "$TMP/$s.rombin" "$TMP/$s.again.rombin"; then ok "golden_asset_${s}_deterministic"
+    else fail "golden_asset_${s}_deterministic" "two builds of the same scene differ"; fi
+    # the chunk table less the CRCs: id, kind, type, coding, offset, stored and raw bytes
+    "$ROMKIT" inspect "$TMP/$s.rombin" | awk '$1 ~ /^[A-Z][A-Z][A-Z][A-Z]$/ {print $1, $2, $3, $4, $5, $6, $7}' >"$TMP/$s.chunks"
+    if [ -s "$TMP/$s.chunks" ] && diff "$G/$s.chunks" "$TMP/$s.chunks" >"$TMP/diff"; then ok "golden_asset_${s}_chunks"
+    else fail "golden_asset_${s}_chunks" "$(head -c 600 "$TMP/diff")"; fi
 done

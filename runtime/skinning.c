@@ -1,0 +1,180 @@
+/* The elastic energy of a skinning basis through its structure (SKIN, formats/ROMBIN.md): with
+ * linear blend skinning over H affine handles, x_v = X_v + sum_j w_j(v) A_j (X_v, 1), q holding
+ * each A_j row by row (column 12 j + 4 a + c is A_j[a][c]). A cubature element's deformation
+ * gradient is then F = I + sum_j A_j N_j with N_j the 4 x 3 matrix
+ *
+ *   N[(j, c), b] = sum_c' Dm^-1_c'b (w_j(v_c'+1) X̄_c(v_c'+1) - w_j(v_0) X̄_c(v_0)),   X̄ = (X, 1),
+ *
+ * so row (a, b) of G_e touches only the 4 H coordinates of row a of the handles: the dense 9 x r
+ * G_e has a third of its entries non-zero. With n = 4 H and the coordinates ordered (a, j, c),
+ * the element Hessian G^T A G is 3 x 3 blocks of n x n, block (a, a') = N^T A_aa' N (A_aa' the
+ * 3 x 3 block of dP/dF between F's rows a and a'): 1.5 r^2 multiply-adds for the upper triangle
+ * against the dense 4.5 r^2 (FreeForm paper, Eq. 1 and 22: F from the weights and the handles).
+ * The energy, gradient and Hessian are the dense path's (potential.c) up to rounding. */
+#include <math.h>
+#include <string.h>
+
+#include "runtime/loader_impl.h"
+
+/* The a = 0 row of stored vertex v: entry 12 j + c is w_j(v) X̄_c(v). */
+static const romrt_real *row0(const romrt_model *m, uint32_t v)
+{
+    return m->rows + (size_t)3 * v * (size_t)m->r;
+}
+
+/* m->skin_N = N_e, 3 rows (b) of RT_PAD(4 H), zero past 4 H. */
+static void element_N(romrt_model *m, int e)
+{
+    const uint32_t *ev = m->elem + 5 * (size_t)e;
+    const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
+    const romrt_real *p0 = row0(m, ev[0]), *p1 = row0(m, ev[1]), *p2 = row0(m, ev[2]), *p3 = row0(m, ev[3]);
+    int H = m->skin, np = RT_PAD(4 * H), j, c, b;
+    romrt_real *N = m->skin_N;
+    for (j = 0; j < H; j++)
+        for (c = 0; c < 4; c++) {
+            int at = 12 * j + c, x = 4 * j + c;
+            romrt_real e1 = p1[at] - p0[at], e2 = p2[at] - p0[at], e3 = p3[at] - p0[at];
+            for (b = 0; b < 3; b++) N[np * b + x] = e1 * Dm[b] + e2 * Dm[3 + b] + e3 * Dm[6 + b];
+        }
+    for (b = 0; b < 3; b++)
+        for (j = 4 * H; j < np; j++) N[np * b + j] = 0;
+}
+
+/* F - I of element e: u_{k, a} = B_{v_k, a} q through the weights, then Dm^-1 (as element_H). */
+static void element_H(const romrt_model *m, int e, romrt_real Hd[9])
+{
+    const uint32_t *ev = m->elem + 5 * (size_t)e;
+    const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
+    int H = m->skin, np = RT_PAD(4 * H), k, a, b, c, j;
+    romrt_real u[12];
+    for (k = 0; k < 4; k++) {
+        const romrt_real *p = row0(m, ev[k]);
+        for (a = 0; a < 3; a++) {
+            const romrt_real *Q = m->skin_Q + (size_t)np * a;
+            romrt_real s = 0;
+            for (j = 0; j < H; j++)
+                for (c = 0; c < 4; c++) s += p[12 * j + c] * Q[4 * j + c];
+            u[3 * k + a] = s;
+        }
+    }
+    for (a = 0; a < 3; a++)
+        for (b = 0; b < 3; b++) {
+            romrt_real s = 0;
+            for (c = 0; c < 3; c++) s += (u[3 * (c + 1) + a] - u[a]) * Dm[3 * c + b];
+            Hd[3 * a + b] = s;
+        }
+}
+
+/* out[x] += C0[x] n0 + C1[x] n1 + C2[x] n2 over len entries: one column of a rank-3 block update. */
+static void rank3_column(int len, const romrt_real *RT_RESTRICT C0, const romrt_real *RT_RESTRICT C1,
+                         const romrt_real *RT_RESTRICT C2, romrt_real n0, romrt_real n1, romrt_real n2,
+                         romrt_real *RT_RESTRICT out)
+{
+    int x;
+    for (x = 0; x < len; x++) out[x] += C0[x] * n0 + C1[x] * n1 + C2[x] * n2;
+}
+
+/* C[b'] = sum_b A[(a, b), (a', b')] N[b] over np entries. */
+static void block_C(int np, const romrt_real *RT_RESTRICT N, const romrt_real *A, int a, int a2, romrt_real w,
+                    romrt_real *RT_RESTRICT C)
+{
+    int b2, x;
+    for (b2 = 0; b2 < 3; b2++) {
+        romrt_real k0 = w * A[9 * (3 * a) + 3 * a2 + b2], k1 = w * A[9 * (3 * a + 1) + 3 * a2 + b2],
+                   k2 = w * A[9 * (3 * a + 2) + 3 * a2 + b2];
+        romrt_real *RT_RESTRICT Cb = C + (size_t)np * b2;
+        for (x = 0; x < np; x++) Cb[x] = k0 * N[x] + k1 * N[np + x] + k2 * N[2 * np + x];
+    }
+}
+
+/* m->He (3 RT_PAD(4H) square, coordinates ordered (a, j, c)) += G^T (w A) G over its upper blocks. */
+static void element_hessian(romrt_model *m, const romrt_real A[81], romrt_real w)
+{
+    int np = RT_PAD(4 * m->skin), L = 3 * np, a, a2, y;
+    const romrt_real *N = m->skin_N, *C = m->skin_C;
+    for (a = 0; a < 3; a++)
+        for (a2 = a; a2 < 3; a2++) {
+            block_C(np, N, A, a, a2, w, m->skin_C);
+            for (y = 0; y < 4 * m->skin; y++)
+                rank3_column(a == a2 ? RT_PAD(y + 1) : np, C, C + np, C + 2 * np, N[y], N[np + y], N[2 * np + y],
+                             m->He + (size_t)L * (a2 * np + y) + a * np);
+        }
+}
+
+/* Where coordinate i = 12 j + 4 a + c sits in the (a, j, c) order of m->He. */
+static int block_index(int i, int np) { return i % 12 / 4 * np + i / 12 * 4 + i % 4; }
+
+romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
+{
+    int r = m->r, np = RT_PAD(4 * m->skin), L = 3 * np, e, i, j, a, b, x;
+    romrt_real E = 0;
+    for (i = 0; i < 3 * np; i++) m->skin_Q[i] = m->skin_gQ[i] = 0;
+    for (i = 0; i < r; i++) m->skin_Q[block_index(i, np)] = q[i];
+    if (H)
+        for (i = 0; i < L * L; i++) m->He[i] = 0;
+    for (e = 0; e < m->ne; e++) {
+        const romrt_real *er = m->elem_real + 12 * (size_t)e;
+        rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
+        romrt_real Hd[9], F[9], P[9], A[81], w = er[9], psi;
+        element_H(m, e, Hd);
+        psi = RT_PHYS(psi_h)(model, er[10], er[11], Hd);
+        if (!isfinite(psi)) return (romrt_real)INFINITY;
+        E += w * psi;
+        if (!g && !H) continue;
+        element_N(m, e);
+        if (g) { /* dE/dA_j[a][c] = w sum_b P_ab N[(j, c), b] */
+            RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
+            for (a = 0; a < 3; a++) {
+                romrt_real *gQ = m->skin_gQ + (size_t)np * a;
+                for (b = 0; b < 3; b++) {
+                    const romrt_real *Nb = m->skin_N + (size_t)np * b;
+                    romrt_real wp = w * P[3 * a + b];
+                    for (x = 0; x < np; x++) gQ[x] += wp * Nb[x];
+                }
+            }
+        }
+        if (H) {
+            for (i = 0; i < 9; i++) F[i] = Hd[i] + (romrt_real)(i % 4 == 0);
+            RT_PHYS(dpdf)(model, er[10], er[11], F, A, 1);
+            element_hessian(m, A, w);
+        }
+    }
+    if (g)
+        for (i = 0; i < r; i++) g[i] += m->skin_gQ[block_index(i, np)];
+    if (H)
+        for (j = 0; j < r; j++) {
+            int bj = block_index(j, np);
+            for (i = 0; i <= j; i++) { /* the block matrix keeps its upper triangle in (a, j, c) order */
+                int bi = block_index(i, np), lo = bi < bj ? bi : bj, hi = bi < bj ? bj : bi;
+                H[i + (size_t)ld * j] += m->He[lo + (size_t)L * hi];
+            }
+        }
+    return E;
+}
+
+romrt_status rt_skin_check(rt_loader *L, const romrt_model *m)
+{
+    /* The rows are stored rounded: w_j X̄_c rounded against the rounded w_j times the rounded X̄_c
+     * differ by a few units in the last place of the coarser of the file's and this build's reals. */
+    double eps = L->file.real_type == ROMBIN_REAL_F32 || sizeof(romrt_real) == 4 ? 1.1920928955078125e-7
+                                                                                : 2.220446049250313e-16;
+    int r = m->r, v, a, col;
+    if (r != 12 * m->skin)
+        return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_SKIN, "names ", (uint64_t)m->skin, " handles, but r = ",
+                          (uint64_t)r, " (12 per handle)");
+    for (v = 0; v < m->nv; v++) {
+        const romrt_real *X = m->X + 3 * (size_t)v;
+        for (a = 0; a < 3; a++) {
+            const romrt_real *row = m->rows + ((size_t)3 * v + (size_t)a) * (size_t)r;
+            for (col = 0; col < r; col++) {
+                int j = col / 12, c = col % 4;
+                double wj = (double)row0(m, (uint32_t)v)[12 * j + 3], xc = c == 3 ? 1.0 : (double)X[c];
+                double want = col % 12 / 4 != a ? 0 : wj * xc;
+                if (!(fabs((double)row[col] - want) <= 8 * eps * fabs(want)))
+                    return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_SKIN, "stored vertex ", (uint64_t)v,
+                                      "'s rows do not follow linear blend skinning (column ", (uint64_t)col, ")");
+            }
+        }
+    }
+    return ROMRT_OK;
+}

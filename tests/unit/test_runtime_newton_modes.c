@@ -1,0 +1,138 @@
+/* The runtime's two Newton modes (romrt_set_newton_iterations): the converged default, and the
+ * fixed cost of k full Newton steps per time step with no line search. Checked against what they
+ * must give: on linear elasticity the incremental potential is quadratic in q, so one full Newton
+ * step is its exact minimizer and the fixed mode at k = 1 equals the converged mode; on stable
+ * Neo-Hookean one step a step drifts a little from the converged trajectory, and two or more meet
+ * it to the converged mode's own tolerance. Also in double
+ * (test_runtime_newton_modes_double). */
+#include "runtime_fixture.h"
+
+#ifdef ROMRT_DOUBLE
+#define ASSET_REAL ROMBIN_REAL_F64
+#define EXACT_TOL 1e-9
+#else
+#define ASSET_REAL ROMBIN_REAL_F32
+#define EXACT_TOL 1e-3 /* float's converged mode itself stops at its noise floor, 1e-6 of the state */
+#endif
+
+static const char *cantilever(const char *model)
+{
+    static char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 0.1, 0.1], \"cells\": [10, 2, 2]}},"
+             " \"material\": {\"model\": \"%s\", \"young\": 2e5, \"poisson\": 0.4, \"density\": 1000},"
+             " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
+             " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 0.5, \"stiffness\": 0.001},"
+             " \"time\": {\"step\": 0.01, \"duration\": 0.4, \"integrator\": \"backward_euler\"},"
+             " \"rom\": {\"basis\": \"modes\", \"size\": 10, \"cubature\": {\"tolerance\": 0.02}}}",
+             model);
+    return json;
+}
+
+/* Steps the model `steps` times from rest with k fixed Newton steps (0: converged) into traj
+ * (steps x 3 shown); the Newton iterations taken, or -1 on a failed step. */
+static long run_mode(rt_fixture *f, int k, int steps, romrt_real *traj)
+{
+    romrt_error rerr;
+    romrt_step_info info;
+    long iterations = 0;
+    int n = romrt_shown_count(f->m);
+    romrt_reset(f->m);
+    if (romrt_set_newton_iterations(f->m, k, &rerr) != ROMRT_OK) return -1;
+    for (int s = 0; s < steps; s++) {
+        if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
+        romrt_last_step(f->m, &info);
+        iterations += info.newton_iterations;
+        romrt_positions(f->m, traj + (size_t)3 * n * s, n);
+    }
+    return iterations;
+}
+
+/* max |a - b| over max |b - rest|, over every step and shown vertex. */
+static double trajectory_difference(const rt_fixture *f, const romrt_real *a, const romrt_real *b, int steps)
+{
+    int n = romrt_shown_count(f->m);
+    double worst = 0, scale = 0;
+    for (int s = 0; s < steps; s++)
+        for (int i = 0; i < 3 * n; i++) {
+            size_t at = (size_t)3 * n * s + i;
+            worst = fmax(worst, fabs((double)a[at] - (double)b[at]));
+            scale = fmax(scale, fabs((double)b[at] - f->sim.mesh.X[3 * (int)f->vmap[i / 3] + i % 3]));
+        }
+    return worst / scale;
+}
+
+TEST(one_full_newton_step_is_exact_on_linear_elasticity)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    const int steps = 40;
+    CHECK_OK(rt_fixture_open(&f, cantilever("linear"), ASSET_REAL, &err, &rerr));
+    int n = romrt_shown_count(f.m);
+    romrt_real *converged = calloc((size_t)3 * n * steps, sizeof(romrt_real)),
+               *fixed = calloc((size_t)3 * n * steps, sizeof(romrt_real));
+    long it0 = run_mode(&f, 0, steps, converged), it1 = run_mode(&f, 1, steps, fixed);
+    CHECK(it0 > 0 && it1 == steps, "iterations: converged %ld, fixed %ld (want %d)", it0, it1, steps);
+    double d = trajectory_difference(&f, fixed, converged, steps);
+    printf("# linear cantilever: one fixed Newton step against converged Newton (%ld iterations): %.3g\n", it0, d);
+    CHECK(d <= EXACT_TOL, "fixed k = 1 differs from converged by %.3g (tol %g)", d, EXACT_TOL);
+    free(converged);
+    free(fixed);
+    rt_fixture_close(&f);
+}
+
+TEST(more_fixed_steps_come_closer_on_neohookean)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    const int steps = 40, ks[3] = {1, 2, 4};
+    CHECK_OK(rt_fixture_open(&f, cantilever("neohookean"), ASSET_REAL, &err, &rerr));
+    int n = romrt_shown_count(f.m);
+    romrt_real *converged = calloc((size_t)3 * n * steps, sizeof(romrt_real)),
+               *fixed = calloc((size_t)3 * n * steps, sizeof(romrt_real));
+    CHECK(run_mode(&f, 0, steps, converged) > steps, "the converged mode should need more than one step each");
+    double d[3];
+    for (int i = 0; i < 3; i++) {
+        CHECK(run_mode(&f, ks[i], steps, fixed) == (long)ks[i] * steps, "k = %d: not exactly k iterations a step", ks[i]);
+        d[i] = trajectory_difference(&f, fixed, converged, steps);
+    }
+    printf("# neo-Hookean cantilever, fixed against converged: k = 1 %.3g, k = 2 %.3g, k = 4 %.3g\n", d[0], d[1], d[2]);
+    CHECK(d[0] < 0.05, "one Newton step a step drifts %.3g from the converged trajectory", d[0]);
+    /* k = 2 and 4 meet the converged trajectory within what the converged mode itself is sure of
+     * (its Newton tolerance), so which of the two is closer is noise */
+    CHECK(d[1] < d[0] && d[2] < d[0], "more steps should come closer: %.3g %.3g %.3g", d[0], d[1], d[2]);
+    CHECK(d[1] < 1e-4 && d[2] < 1e-4, "k = 2, 4: %.3g %.3g from the converged trajectory", d[1], d[2]);
+    free(converged);
+    free(fixed);
+    rt_fixture_close(&f);
+}
+
+TEST(bad_iteration_counts_are_refused_and_change_nothing)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    romrt_step_info info;
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, cantilever("neohookean"), ASSET_REAL, &err, &rerr));
+    CHECK(romrt_set_newton_iterations(f.m, 3, &rerr) == ROMRT_OK, "%s", rerr.message);
+    CHECK(romrt_set_newton_iterations(f.m, -1, &rerr) == ROMRT_E_ARGUMENT, "-1 accepted");
+    CHECK(strstr(rerr.message, "romrt_set_newton_iterations") != NULL, "message: %s", rerr.message);
+    CHECK(romrt_set_newton_iterations(f.m, 1001, &rerr) == ROMRT_E_ARGUMENT, "1001 accepted");
+    CHECK(romrt_set_newton_iterations(NULL, 1, &rerr) == ROMRT_E_ARGUMENT, "NULL model accepted");
+    romrt_reset(f.m); /* keeps the mode */
+    CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
+    romrt_last_step(f.m, &info);
+    CHECK(info.newton_iterations == 3 && !info.converged, "after refusals and a reset: %d iterations, converged %d",
+          info.newton_iterations, info.converged);
+    rt_fixture_close(&f);
+}
+
+int main(void)
+{
+    RUN(one_full_newton_step_is_exact_on_linear_elasticity);
+    RUN(more_fixed_steps_come_closer_on_neohookean);
+    RUN(bad_iteration_counts_are_refused_and_change_nothing);
+    return test_finish();
+}

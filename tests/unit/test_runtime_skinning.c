@@ -1,0 +1,177 @@
+/* A skinning basis stepped through its weights (SKIN, runtime/skinning.c) against the same model
+ * stepped through its dense rows (the same asset baked without SKIN): the structured Hessian and
+ * gradient are the dense ones in another order, so the trajectories agree to round-off (1e-10 in
+ * double, test_runtime_skinning_double; float32 to 5e-3, as float32 contact runs go). Also: SKIN
+ * is written for skinning bases only, and an asset whose SKIN contradicts its rows, or names the
+ * wrong handle count, is refused. */
+#include "runtime_fixture.h"
+
+#ifdef ROMRT_DOUBLE
+#define ASSET_REAL ROMBIN_REAL_F64
+#define TOL 1e-10
+#else
+#define ASSET_REAL ROMBIN_REAL_F32
+/* Float32 runs of a contact scene take other Newton paths for any change of rounding (the barrier
+ * is stiff near the plane); the double build shows the two paths are the same arithmetic. */
+#define TOL 5e-3
+#endif
+
+/* A skinning block thrown onto a plane (contact; no pins, whose stiff penalty makes float32 runs
+ * differ by 1e-2 for any change of rounding: test_runtime_parity). */
+static const char *twisted(const char *basis)
+{
+    static char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.6, 0.1, 0.1], \"cells\": [6, 2, 2]}},"
+             " \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 500},"
+             " \"velocity\": [0, -0.2, 0.3]}],"
+             " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, -0.02, 0], \"normal\": [0, 1, 0]}}],"
+             " \"time\": {\"step\": 0.01, \"duration\": 0.3, \"integrator\": \"bdf2\"},"
+             " \"rom\": {\"basis\": \"%s\", \"size\": %d, \"cubature\": {\"tolerance\": 0.05}}}",
+             basis, strcmp(basis, "modes") ? 3 : 12);
+    return json;
+}
+
+/* The fixture's model baked again with skin_handles as given, opened into *m (arena: *arena). */
+static int bake_open(rt_fixture *f, int skin_handles, unsigned char **asset, size_t *bytes, void **arena, romrt_model **m,
+                     rk_error *err)
+{
+    rombin_writer w;
+    romrt_error rerr;
+    size_t need;
+    rombin_writer_init(&w, ASSET_REAL, 0);
+    rk_asset_rom source = rk_scene_asset_rom(&f->sim, &f->R);
+    source.skin_handles = skin_handles;
+    int rc = rk_asset_bake(&source, NULL, NULL, &f->scene.entries[0].asset, NULL, &w, NULL, err) ||
+             rombin_serialize(&w, asset, bytes, err);
+    rombin_writer_free(&w);
+    if (rc) return -1;
+    if (romrt_arena_size(*asset, *bytes, &need, &rerr) != ROMRT_OK) return rk_fail(err, "arena: %s", rerr.message);
+    *arena = aligned_alloc(16, (need + 15) / 16 * 16);
+    if (!*arena || romrt_open(*asset, *bytes, *arena, need, m, &rerr) != ROMRT_OK) return rk_fail(err, "open: %s", rerr.message);
+    return 0;
+}
+
+static int has_skin(const unsigned char *asset, size_t bytes)
+{
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    return rombin_open(&file, asset, bytes, NULL, &e) == 0 && rombin_find(&file, ROMBIN_SKIN, &c);
+}
+
+TEST(weights_path_matches_the_dense_rows)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    unsigned char *dense_asset = NULL;
+    size_t dense_bytes = 0;
+    void *dense_arena = NULL;
+    romrt_model *dense = NULL;
+    CHECK_OK(rt_fixture_open(&f, twisted("skinning"), ASSET_REAL, &err, &rerr));
+    CHECK(has_skin(f.asset, f.bytes), "a skinning basis should be baked with SKIN");
+    CHECK_OK(bake_open(&f, 0, &dense_asset, &dense_bytes, &dense_arena, &dense, &err));
+    CHECK(!has_skin(dense_asset, dense_bytes), "baked without SKIN it should have none");
+    int n = romrt_shown_count(f.m);
+    romrt_real *a = calloc((size_t)3 * n, sizeof(romrt_real)), *b = calloc((size_t)3 * n, sizeof(romrt_real));
+    double worst = 0, scale = 0;
+    for (int mode = 0; mode < 2; mode++) { /* converged, then one fixed Newton step a step */
+        romrt_reset(f.m);
+        romrt_reset(dense);
+        romrt_set_newton_iterations(f.m, mode, &rerr);
+        romrt_set_newton_iterations(dense, mode, &rerr);
+        for (int s = 0; s < 30; s++) {
+            CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "weights, step %d: %s", s, rerr.message);
+            CHECK(romrt_step(dense, &rerr) == ROMRT_OK, "rows, step %d: %s", s, rerr.message);
+            romrt_positions(f.m, a, n);
+            romrt_positions(dense, b, n);
+            for (int i = 0; i < 3 * n; i++) {
+                worst = fmax(worst, fabs((double)a[i] - (double)b[i]));
+                scale = fmax(scale, fabs((double)b[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));
+            }
+        }
+    }
+    printf("# skinning block thrown on a plane (r = %d, %d cubature elements): weights against rows %.3g of the largest "
+           "displacement %.3g m\n", romrt_reduced_size(f.m), f.R.model.quad.count, worst / scale, scale);
+    CHECK(scale > 1e-3, "the block should move (%.3g m)", scale);
+    CHECK(worst / scale <= TOL, "weights and rows differ by %.3g (tol %g)", worst / scale, TOL);
+    free(a);
+    free(b);
+    free(dense_asset);
+    free(dense_arena);
+    rt_fixture_close(&f);
+}
+
+TEST(skin_is_written_for_skinning_bases_only)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, twisted("modes"), ASSET_REAL, &err, &rerr));
+    CHECK(!has_skin(f.asset, f.bytes), "a modes basis must not claim SKIN");
+    rt_fixture_close(&f);
+}
+
+/* Overwrites n bytes of chunk `id`'s payload at `offset` and recomputes its CRC and the table's,
+ * so the damage reaches the model checks (little-endian machine, as the format). */
+static void patch_chunk(unsigned char *asset, const char *id, size_t offset, const void *bytes, size_t n)
+{
+    uint32_t count, crc;
+    memcpy(&count, asset + ROMBIN_H_CHUNKS, 4);
+    for (uint32_t i = 0; i < count; i++) {
+        unsigned char *e = asset + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES;
+        uint64_t off, stored;
+        if (memcmp(e + ROMBIN_E_ID, id, 4) != 0) continue;
+        memcpy(&off, e + ROMBIN_E_OFFSET, 8);
+        memcpy(&stored, e + ROMBIN_E_STORED, 8);
+        memcpy(asset + off + offset, bytes, n);
+        crc = rombin_crc32(0, asset + off, (size_t)stored);
+        memcpy(e + ROMBIN_E_CRC, &crc, 4);
+    }
+    crc = rombin_crc32(0, asset, ROMBIN_H_TABLE_CRC);
+    crc = rombin_crc32(crc, asset + ROMBIN_HEADER_BYTES, (size_t)count * ROMBIN_ENTRY_BYTES);
+    memcpy(asset + ROMBIN_H_TABLE_CRC, &crc, 4);
+}
+
+TEST(contradicting_skin_is_refused)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    size_t need;
+    CHECK_OK(rt_fixture_open(&f, twisted("skinning"), ASSET_REAL, &err, &rerr));
+    unsigned char *bad = malloc(f.bytes);
+    /* a wrong handle count */
+    memcpy(bad, f.asset, f.bytes);
+    uint32_t two = 2;
+    patch_chunk(bad, ROMBIN_SKIN, 0, &two, sizeof two);
+    CHECK(romrt_arena_size(bad, f.bytes, &need, &rerr) == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_SKIN) == 0,
+          "SKIN naming 2 handles for r = %d: status %d, %s", romrt_reduced_size(f.m), rerr.status, rerr.message);
+    /* a row entry outside the pattern: stored vertex 0, row a = 1, column 0 (belongs to a = 0) */
+    memcpy(bad, f.asset, f.bytes);
+#ifdef ROMRT_DOUBLE
+    double one = 1;
+#else
+    float one = 1;
+#endif
+    size_t at = (size_t)romrt_reduced_size(f.m) * sizeof one; /* row 1 (a = 1), column 0 */
+    patch_chunk(bad, ROMBIN_ROWS, at, &one, sizeof one);
+    void *arena = aligned_alloc(16, ((size_t)1 << 22) + f.bytes);
+    romrt_model *m;
+    CHECK(romrt_arena_size(bad, f.bytes, &need, &rerr) == ROMRT_OK, "the sizing pass does not read values: %s", rerr.message);
+    CHECK(romrt_open(bad, f.bytes, arena, need, &m, &rerr) == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_SKIN) == 0 &&
+              strstr(rerr.message, "stored vertex 0") != NULL,
+          "rows off the skinning pattern: status %d, %s", rerr.status, rerr.message);
+    free(arena);
+    free(bad);
+    rt_fixture_close(&f);
+}
+
+int main(void)
+{
+    RUN(weights_path_matches_the_dense_rows);
+    RUN(skin_is_written_for_skinning_bases_only);
+    RUN(contradicting_skin_is_refused);
+    return test_finish();
+}
