@@ -19,10 +19,17 @@
  * the bunny, 0.14 s against 0.03 s at 102k) and is done once without contact. bench_fom measures
  * them all again (bench/results/fom_orderings.csv).
  *
- * OpenBLAS's threads (rk_threads()) from RK_FOM_THREADED_FLOPS on, one below: two threads against
- * one, median of 9 to 15 factorizations, the other core mostly free: 7.6e6 flops (box_1k) 1.00,
- * 1.7e7 (armadillo) 0.99, 4.6e8 (box_10k) 1.05, 5.9e8 (bunny) 0.87 to 1.07, 8.7e8 (beam) 0.80,
- * 1.3e9 0.78, 3.1e9 0.75 to 0.87, 1.1e10 0.69. */
+ * OpenBLAS's threads (rk_threads()) from RK_FOM_THREADED_FLOPS on, one below. Two threads against
+ * one, median of 5 to 15 factorizations, with the other core mostly free: 7.6e6 flops (box_1k)
+ * 1.00, 1.7e7 (armadillo) 0.99, 4.6e8 (box_10k) 1.05, 5.9e8 (bunny) 0.87 to 1.07, 8.7e8 (beam)
+ * 0.80, 1.3e9 0.78, 3.1e9 0.75 to 0.87, 1.1e10 (box_50k) 0.69, 4.1e10 (box_100k) 0.72; with two
+ * other jobs on the machine: bunny 0.89, box_50k 1.29, box_100k 1.07, and in whole runs the
+ * bunny's factorization took 0.097 s on two threads against 0.026 s on one. Threaded OpenBLAS
+ * also rounds differently for each thread count (the beam's positions after 20 steps differ
+ * between 1, 2 and 3 threads), while everything else here is bit-identical for any count. So the
+ * meshes most runs use factor on one thread, identical and safe on a shared machine, and only
+ * factorizations of 1e10 flops and more (box_50k and up) take the threads: there two are 30%
+ * faster on a free machine, and results are the same for the same ROMKIT_THREADS. */
 #include "fom/fom_impl.h"
 
 #include "fem/fem.h"

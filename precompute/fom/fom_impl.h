@@ -57,8 +57,9 @@ void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
 #define RK_FOM_AL_KAPPA 1e3
 
 /* CHOLMOD's flop count from which the factorization and the solves get rk_threads() OpenBLAS
- * threads; below it one, where a second thread gains nothing (cholesky.c, measured there). */
-#define RK_FOM_THREADED_FLOPS 5e8
+ * threads; below it one, so that results do not depend on the thread count and a loaded machine
+ * does not stall them (cholesky.c, measured there). */
+#define RK_FOM_THREADED_FLOPS 1e10
 
 struct rk_fom_impl {
     int n;                  /* 3 nv */
