@@ -166,15 +166,24 @@ static int start_workers(int want)
 
 void rk_parallel_for(long n, long chunk, rk_range_fn body, void *ctx)
 {
+    rk_parallel_for_beside(n, chunk, body, ctx, NULL, NULL);
+}
+
+void rk_parallel_for_beside(long n, long chunk, rk_range_fn body, void *ctx, void (*first)(void *), void *first_ctx)
+{
     /* one job at a time: a loop started while another runs (from a body, or from another thread
      * of the program) runs on its caller's thread */
     static pthread_mutex_t job = PTHREAD_MUTEX_INITIALIZER;
-    if (n <= 0) return;
+    if (n <= 0) {
+        if (first) first(first_ctx);
+        return;
+    }
     if (chunk < 1) chunk = 1;
     long chunks = (n + chunk - 1) / chunk;
     int nt = rk_threads();
     if (nt > chunks) nt = (int)chunks;
     if (nt <= 1 || pthread_mutex_trylock(&job) != 0) {
+        if (first) first(first_ctx);
         body(ctx, 0, n);
         return;
     }
@@ -192,6 +201,7 @@ void rk_parallel_for(long n, long chunk, rk_range_fn body, void *ctx)
     pool.generation++;
     pthread_cond_broadcast(&pool.wake);
     pthread_mutex_unlock(&pool.lock);
+    if (first) first(first_ctx);
     run_chunks();
     pthread_mutex_lock(&pool.lock);
     while (pool.active > 0) pthread_cond_wait(&pool.done, &pool.lock);

@@ -88,6 +88,10 @@ int rk_threads_blas(int n);
  * another runs (inside a body, or from another thread) runs on its caller's thread alone. */
 typedef void (*rk_range_fn)(void *ctx, long begin, long end);
 void rk_parallel_for(long n, long chunk, rk_range_fn body, void *ctx);
+/* The same, with first(first_ctx) run by the calling thread while the workers start on the
+ * chunks (then it joins them): serial work that can overlap the loop, such as adding up what the
+ * previous loop computed. With one thread, first runs before the loop. */
+void rk_parallel_for_beside(long n, long chunk, rk_range_fn body, void *ctx, void (*first)(void *), void *first_ctx);
 
 /* ==== sorting (sort.c) ==== */
 
