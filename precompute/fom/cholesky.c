@@ -4,9 +4,10 @@
  * iteration refactorizes numerically into the same L and solves with cholmod_solve2, which reuses
  * its dense workspaces (no per-iteration allocation).
  *
- * Supernodal, ordered by CHOLMOD's nested dissection (NESDIS: METIS on the graph, then CAMD on the
- * separators), which wins or ties on every mesh measured. Numeric factorizations of the
- * projected Hessian's pattern (M/h^2 + K), median of 9 (3 at 102k), one thread, 2-core AMD EPYC:
+ * Supernodal, ordered by AMD and by CHOLMOD's nested dissection (NESDIS: METIS on the graph, then
+ * CAMD on the separators), keeping the one whose factor has fewer nonzeros: NESDIS on every mesh
+ * measured but the beam, where AMD's is 5% faster. Numeric factorizations of the projected
+ * Hessian's pattern (M/h^2 + K), median of 9 (3 at 102k), one thread, 2-core AMD EPYC:
  *
  *   mesh (tets)          AMD                METIS              NESDIS             default (AMD or METIS)
  *   beam 40x8x8 (15k)    0.026 s  0.82 GF   0.026 s  0.82 GF   0.027 s  0.87 GF   AMD
@@ -17,7 +18,7 @@
  * (GF: CHOLMOD's flop count.) CHOLMOD's default (nmethods 0) keeps AMD unless its fill is large,
  * which left the bunny 25% slower. NESDIS's analysis costs more (0.03 s against AMD's 0.01 s on
  * the bunny, 0.14 s against 0.03 s at 102k) and is done once without contact. bench_fom measures
- * them all again (bench/results/fom_orderings.csv).
+ * them all again (bench/results/fom_orderings.csv, where "AMD|NESDIS" is this choice).
  *
  * OpenBLAS's threads (rk_threads()) from RK_FOM_THREADED_FLOPS on, one below. Two threads against
  * one, median of 5 to 15 factorizations, with the other core mostly free: 7.6e6 flops (box_1k)
@@ -46,8 +47,9 @@ int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err)
     im->cc.print = 0; /* errors come back through rk_error, not stderr */
     im->cc.error_handler = NULL;
     im->cc.supernodal = CHOLMOD_SUPERNODAL;
-    im->cc.nmethods = 1;
-    im->cc.method[0].ordering = CHOLMOD_NESDIS;
+    im->cc.nmethods = 2; /* both, the one with the sparser factor kept (header) */
+    im->cc.method[0].ordering = CHOLMOD_AMD;
+    im->cc.method[1].ordering = CHOLMOD_NESDIS;
     im->cc.postorder = 1;
     return rk_fom_chol_reanalyze(im, err);
 }
