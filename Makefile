@@ -47,7 +47,7 @@ TEST_DOUBLE := test_runtime_parity test_runtime_koopman test_runtime_colliders t
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench paper-table demo clean deps
-all: $(BUILD)/romkit $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq
+all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -97,6 +97,14 @@ $(RT_LIB_DOUBLE): $(patsubst %.c,$(BUILD)/rt/double/%.o,$(RT_SRC))
 
 $(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_LIB)
 	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
+
+# The same command line over the double runtime (romkit-double run steps an asset as an app built
+# with ROMRT_DOUBLE would): models whose float32 rounding matters, compared in the same units.
+$(BUILD)/obj-double/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -MMD -MP -c $< -o $@
+$(BUILD)/romkit-double: $(patsubst %.c,$(BUILD)/obj-double/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_LIB_DOUBLE)
+	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj-double/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE) $(LDLIBS)
 
 
 # examples/embed: an app that uses only romrt.h (#include "romrt.h", so it also builds against make install's copy), in C and in C++.
@@ -234,7 +242,7 @@ uninstall:
 	      "$(DESTDIR)$(LIBDIR)/libromrt.a" "$(DESTDIR)$(LIBDIR)/libromrt_double.a" "$(DESTDIR)$(LIBDIR)/libromrt.so" \
 	      "$(DESTDIR)$(LIBDIR)/libromrt.so.$(ROMRT_SOMAJOR)" "$(DESTDIR)$(LIBDIR)/libromrt.so.$(ROMRT_VERSION)"
 
--include $(shell find $(BUILD)/obj $(BUILD)/rt $(BUILD)/tests -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj $(BUILD)/obj-double $(BUILD)/rt $(BUILD)/tests -name '*.d' 2>/dev/null)
 
 # make mcu (Cortex-M4F under qemu) and make fuzz: their own fragments.
 include tests/mcu/mcu.mk

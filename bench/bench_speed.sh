@@ -7,7 +7,9 @@
 #          r = 8, 16, 20, 32, 64 linear modes (the first r of one basis), cubature trained to 1%
 #          force error on the full-order run's 100 frames; float32 assets and runtime.
 #  beam    the demo's beam (examples/scenes/beam_bend.json, 15,360 tets): RKPM skinning m = 16
-#          (r = 204) with cubature, as make demo bakes it.
+#          (r = 204) with cubature, as make demo bakes it: float64 through the double runtime
+#          (romkit-double), and float32 through the float one, whose rounding moves this
+#          ill-conditioned model's trajectory (the error column shows by how much).
 #
 # Per model and Newton mode (converged: to the asset's tolerance with a line search; fixed: one full
 # Newton step per time step, romkit run --newton 1):
@@ -76,24 +78,25 @@ echo "runtime built for $arch: peak $peak GFLOP/s per core ($per_cycle flops/cyc
 
 printf 'scene,model,r,cubature_elements,mode,us_per_step,us_per_step_min,us_per_step_max,newton_per_step,relative_error,normalized_mse,gflops,peak_gflops,fom_s_per_step,fom_over_runtime\n' >"$OUT/runtime_speed.csv"
 
-# one_model SCENE NAME ASSET REF FOM_S: both modes of one asset, rows into the CSV
+# one_model SCENE NAME ASSET REF FOM_S [RUNNER]: both modes of one asset, rows into the CSV
 one_model() {
-    scene=$1 name=$2 asset=$3 ref=$4 fom_s=$5
-    r=$("$J" get "$TMP/$name.build.json" basis.size)
-    [ "$("$J" get "$TMP/$name.build.json" basis.type)" = rkpm_skinning ] && r=$((12 * (r + 1)))
-    ne=$("$J" get "$TMP/$name.build.json" cubature.elements)
+    scene=$1 name=$2 asset=$3 ref=$4 fom_s=$5 run=${6:-$R}
+    build=${name%-float32}
+    build=${build%-float64}
+    r=$("$J" get "$TMP/$build.build.json" basis.columns)
+    ne=$("$J" get "$TMP/$build.build.json" cubature.elements)
     for mode in converged fixed; do
         flag=""
         [ "$mode" = fixed ] && flag="--newton 1"
         # shellcheck disable=SC2086
-        "$R" run "$asset" --steps 100 $flag --reference "$ref" --report "$TMP/e.json" --quiet >/dev/null
+        "$run" run "$asset" --steps 100 $flag --reference "$ref" --report "$TMP/e.json" --quiet >/dev/null
         rel=$("$J" get "$TMP/e.json" reference.relative_error)
         nmse=$("$J" get "$TMP/e.json" reference.normalized_mse)
         times="" its=0
         sample=0
         while [ "$sample" -lt "$SAMPLES" ]; do
             # shellcheck disable=SC2086
-            "$R" run "$asset" --steps "$STEPS" $flag --report "$TMP/t.json" --quiet >/dev/null
+            "$run" run "$asset" --steps "$STEPS" $flag --report "$TMP/t.json" --quiet >/dev/null
             times="$times $(awk -v s="$("$J" get "$TMP/t.json" seconds_per_step)" 'BEGIN {printf "%.4f", s * 1e6}')"
             its=$("$J" get "$TMP/t.json" newton_iterations)
             sample=$((sample + 1))
@@ -130,8 +133,12 @@ if [ -z "${ROMKIT_BENCH_QUICK:-}" ]; then
     fom_s=$("$J" get "$TMP/beam.fom.json" seconds_per_step)
     echo "beam full order: $fom_s s/step (mean of 100 steps)"
     "$R" build examples/scenes/beam_bend.json --entry 0 --training "$TMP/beam.npy" -o "$TMP/rkpm-16.rombin" \
-        --report "$TMP/rkpm-16.build.json" --quiet >/dev/null
-    STEPS=100 one_model beam rkpm-16 "$TMP/rkpm-16.rombin" "$TMP/beam.npy" "$fom_s"
+        --precision float64 --report "$TMP/rkpm-16.build.json" --quiet >/dev/null
+    "$R" build examples/scenes/beam_bend.json --entry 0 --training "$TMP/beam.npy" -o "$TMP/rkpm-16-f32.rombin" \
+        --quiet >/dev/null
+    STEPS=100
+    one_model beam rkpm-16-float64 "$TMP/rkpm-16.rombin" "$TMP/beam.npy" "$fom_s" "$BUILD/romkit-double"
+    one_model beam rkpm-16-float32 "$TMP/rkpm-16-f32.rombin" "$TMP/beam.npy" "$fom_s"
 fi
 
 # the JSON beside the CSV

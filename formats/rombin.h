@@ -80,6 +80,7 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_CVTX "CVTX"   /* u32: the collision vertices an app's colliders act on (1.1, optional) */
 #define ROMBIN_FRIC "FRIC"   /* real x ROMBIN_FRIC_COUNT: friction (1.1, optional) */
 #define ROMBIN_SKIN "SKIN"   /* u32 x 1: ROWS are linear blend skinning over this many handles (1.2, optional) */
+#define ROMBIN_WGHT "WGHT"   /* real x vertices x handles: the skinning weights, in place of ROWS (1.2, critical) */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
 #define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
 #define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */

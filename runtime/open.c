@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
@@ -107,11 +107,42 @@ static romrt_status sizes(rt_loader *L, romrt_model *m)
     return ROMRT_OK;
 }
 
+/* The basis rows: ROWS, or for a skinning basis stored as its weights (SKIN and WGHT) the rows
+ * built from them into the arena, row 3v + a holding w_j(v) (X_v, 1) at columns 12 j + 4 a + c. */
+static romrt_status basis_rows(rt_loader *L, romrt_model *m)
+{
+    const uint32_t *skin;
+    const romrt_real *w;
+    romrt_real *built;
+    int r = m->r, v, a, j, c;
+    romrt_status st;
+    rombin_chunk chunk;
+    int has_weights;
+    if ((st = rt_u32s(L, ROMBIN_SKIN, 1, 0, &skin))) return st;
+    m->skin = skin && skin[0] <= (uint32_t)ROMRT_MAX_R ? (int)skin[0] : skin ? -1 : 0; /* -1: refused in contents */
+    has_weights = rombin_find(&L->file, ROMBIN_WGHT, &chunk);
+    if (!has_weights) return rt_reals(L, ROMBIN_ROWS, 3 * (uint64_t)m->nv * (uint64_t)r, 1, &m->rows);
+    if (m->skin <= 0 || r != 12 * m->skin)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_WGHT, "skinning weights without a SKIN chunk whose handles give r");
+    if ((st = rt_reals(L, ROMBIN_WGHT, (uint64_t)m->nv * (uint64_t)m->skin, 1, &w))) return st;
+    rt_scratch(L, (size_t)3 * (size_t)m->nv * (size_t)r, &built);
+    m->rows = built;
+    m->rows_from_weights = 1;
+    if (!built || !w) return ROMRT_OK; /* the sizing pass */
+    for (v = 0; v < m->nv; v++)
+        for (a = 0; a < 3; a++)
+            for (j = 0; j < m->skin; j++)
+                for (c = 0; c < 4; c++)
+                    built[((size_t)3 * v + (size_t)a) * (size_t)r + (size_t)(12 * j + 4 * a + c)] =
+                        w[(size_t)v * (size_t)m->skin + (size_t)j] * (c < 3 ? m->X[3 * (size_t)v + (size_t)c] : RT_K(1));
+    return ROMRT_OK;
+}
+
 static romrt_status arrays(rt_loader *L, romrt_model *m)
 {
     uint64_t r = (uint64_t)m->r, nv = (uint64_t)m->nv, rr = r * r;
     romrt_status st;
-    if ((st = rt_reals(L, ROMBIN_VERT, 3 * nv, 1, &m->X)) || (st = rt_reals(L, ROMBIN_ROWS, 3 * nv * r, 1, &m->rows)) ||
+    if ((st = rt_reals(L, ROMBIN_VERT, 3 * nv, 1, &m->X)) || (st = basis_rows(L, m)) ||
         (st = rt_reals(L, ROMBIN_MASS, rr, 1, &m->M)) || (st = rt_reals(L, ROMBIN_DAMP, rr, 0, &m->C)) ||
         (st = rt_reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = rt_reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
         (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
@@ -122,11 +153,6 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))
         return st;
     m->force_rows = m->rows;
-    {
-        const uint32_t *skin;
-        if ((st = rt_u32s(L, ROMBIN_SKIN, 1, 0, &skin))) return st;
-        m->skin = skin && skin[0] <= (uint32_t)ROMRT_MAX_R ? (int)skin[0] : skin ? -1 : 0; /* -1: refused in contents */
-    }
     {
         /* The Newton matrix has a row per moved collider only when the asset takes colliders; the
          * elastic Hessian is kept in whole vectors, in (a, j, c) order for a skinning basis. */
@@ -162,7 +188,7 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_SKIN, "names a handle count that does not give r = 12 per handle: r = ",
                          (uint64_t)m->r, "");
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
-    if (m->skin && (st = rt_skin_check(L, m))) return st;
+    if (m->skin && !m->rows_from_weights && (st = rt_skin_check(L, m))) return st;
     for (e = 0; e < m->ne; e++) {
         const romrt_real *er = m->elem_real + 12 * (size_t)e;
         if (!(er[9] >= 0) || !(er[10] > 0) || !(er[11] > -er[10]))

@@ -140,7 +140,7 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
         }
         if (H) {
             for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
-            RT_PHYS(dpdf)(model, er[10], er[11], F, A, 1);
+            RT_PHYS(dpdf)(model, er[10], er[11], F, A, !m->exact_hessian);
             element_AG(m, A, w);
             element_hessian(m);
         }

@@ -204,6 +204,9 @@ typedef struct {
     int line_search_halvings;
     int converged;
     int colliders_behind;       /* a moved collider stopped short of its pose (the body was in the way) */
+    int projected_hessians;     /* Newton iterations whose elements' dP/dF was projected to PSD: all of
+                                 * them when converging; in the fixed-cost mode, those whose exact
+                                 * Hessian was not positive definite */
 } romrt_step_info;
 void romrt_last_step(const romrt_model *m, romrt_step_info *info);
 

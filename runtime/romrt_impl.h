@@ -78,6 +78,7 @@ struct romrt_model {
     int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter, ncv;
     romrt_real h, tol, mass, dhat, kappa;
     int fixed_iterations;     /* 0: Newton to the asset's tolerance; k: exactly k full steps (fixed cost) */
+    int exact_hessian;        /* the elements' dP/dF unprojected (the fixed-cost mode's first try) */
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
@@ -125,7 +126,7 @@ struct romrt_model {
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
-    int skin;
+    int skin, rows_from_weights;  /* rows_from_weights: built in the arena from WGHT, not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
 };
 

@@ -135,7 +135,7 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
         }
         if (H) {
             for (i = 0; i < 9; i++) F[i] = Hd[i] + (romrt_real)(i % 4 == 0);
-            RT_PHYS(dpdf)(model, er[10], er[11], F, A, 1);
+            RT_PHYS(dpdf)(model, er[10], er[11], F, A, !m->exact_hessian);
             element_hessian(m, A, w);
         }
     }

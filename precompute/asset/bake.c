@@ -30,27 +30,11 @@ static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_
     return rc;
 }
 
-static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
-{
-    int r = R->model->r, ndof = 3 * s->nv;
-    double *rows = rk_calloc((size_t)3 * s->count * r, sizeof(double), err);
-    if (!rows) return -1;
-    for (int i = 0; i < s->count; i++)
-        for (int a = 0; a < 3; a++) {
-            int src = 3 * s->source[i] + a;
-            for (int j = 0; j < r; j++) rows[(size_t)(3 * i + a) * r + j] = R->U[(size_t)ndof * j + src];
-        }
-    int rc = rk_bake_add_vertices(R->fem->X, s, w, err) ||
-             rombin_add_reals(w, ROMBIN_ROWS, 1, rows, (size_t)3 * s->count * r, err);
-    free(rows);
-    return rc ? -1 : 0;
-}
-
-/* SKIN (ROMBIN.md): written when the basis says it is linear blend skinning and every stored row
- * is, to the bit: column 12 j + 4 a + c of row 3v + a is w_j(v) X̄_c, the weight being the entry
- * at c = 3 (X̄_3 = 1), and every other entry 0. A basis that only claims it gets no chunk (the
- * runtime refuses a SKIN its rows contradict). */
-static int add_skinning(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
+/* A basis the bake may store as skinning weights (ROMBIN.md, SKIN and WGHT): its handle count when
+ * the basis says it is linear blend skinning and every stored row is, to the bit (column 12 j +
+ * 4 a + c of row 3v + a is w_j(v) X̄_c, the weight being the entry at c = 3, every other entry 0);
+ * 0 otherwise (the rows are stored as they are). */
+static int skinning_handles(const rk_asset_rom *R, const rk_bake_state *s)
 {
     int r = R->model->r, H = R->skin_handles, ndof = 3 * s->nv;
     if (H <= 0 || r != 12 * H) return 0;
@@ -66,7 +50,32 @@ static int add_skinning(const rk_asset_rom *R, const rk_bake_state *s, rombin_wr
                 if (u != want) return 0;
             }
     }
-    return rk_bake_add_u32s(w, ROMBIN_SKIN, 0, &H, 1, err);
+    return H;
+}
+
+/* VERT, then the basis: a skinning basis as its weights (SKIN, WGHT: H reals a vertex instead of
+ * 36 H, the runtime rebuilds the rows), any other as its rows (ROWS). */
+static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
+{
+    int r = R->model->r, ndof = 3 * s->nv, H = skinning_handles(R, s);
+    size_t count = H ? (size_t)s->count * H : (size_t)3 * s->count * r;
+    double *vals = rk_calloc(count, sizeof(double), err);
+    if (!vals) return -1;
+    for (int i = 0; i < s->count; i++) {
+        if (H) {
+            for (int j = 0; j < H; j++) vals[(size_t)i * H + j] = R->U[(size_t)ndof * (12 * j + 3) + 3 * s->source[i]];
+            continue;
+        }
+        for (int a = 0; a < 3; a++) {
+            int src = 3 * s->source[i] + a;
+            for (int j = 0; j < r; j++) vals[(size_t)(3 * i + a) * r + j] = R->U[(size_t)ndof * j + src];
+        }
+    }
+    int rc = rk_bake_add_vertices(R->fem->X, s, w, err) ||
+             (H ? rk_bake_add_u32s(w, ROMBIN_SKIN, 0, &H, 1, err) || rombin_add_reals(w, ROMBIN_WGHT, 1, vals, count, err)
+                : rombin_add_reals(w, ROMBIN_ROWS, 1, vals, count, err));
+    free(vals);
+    return rc ? -1 : 0;
 }
 
 static int add_operators(const rk_rom_model *m, rombin_writer *w, rk_error *err)
@@ -217,7 +226,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_KAPPA] = collide ? m->contact_options.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
-             add_geometry(R, &s, w, err) || add_skinning(R, &s, w, err) || add_operators(m, w, err) ||
+             add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
              add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, &s, w, err) ||
              add_collisions(m, o, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||

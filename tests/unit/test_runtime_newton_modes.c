@@ -15,19 +15,21 @@
 #define EXACT_TOL 1e-3 /* float's converged mode itself stops at its noise floor, 1e-6 of the state */
 #endif
 
-static const char *cantilever(const char *model)
+static const char *cantilever_h(const char *model, double young, double h)
 {
     static char json[2048];
     snprintf(json, sizeof json,
              "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 0.1, 0.1], \"cells\": [10, 2, 2]}},"
-             " \"material\": {\"model\": \"%s\", \"young\": 2e5, \"poisson\": 0.4, \"density\": 1000},"
+             " \"material\": {\"model\": \"%s\", \"young\": %g, \"poisson\": 0.4, \"density\": 1000},"
              " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
              " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 0.5, \"stiffness\": 0.001},"
-             " \"time\": {\"step\": 0.01, \"duration\": 0.4, \"integrator\": \"backward_euler\"},"
+             " \"time\": {\"step\": %g, \"duration\": 0.4, \"integrator\": \"backward_euler\"},"
              " \"rom\": {\"basis\": \"modes\", \"size\": 10, \"cubature\": {\"tolerance\": 0.02}}}",
-             model);
+             model, young, h);
     return json;
 }
+
+static const char *cantilever(const char *model) { return cantilever_h(model, 2e5, 0.01); }
 
 /* Steps the model `steps` times from rest with k fixed Newton steps (0: converged) into traj
  * (steps x 3 shown); the Newton iterations taken, or -1 on a failed step. */
@@ -129,10 +131,52 @@ TEST(bad_iteration_counts_are_refused_and_change_nothing)
     rt_fixture_close(&f);
 }
 
+/* The fixed mode tries the exact Hessian first: at h = 10 ms its inertia keeps it definite and no
+ * step is projected; a very soft beam (E = 2 kPa) at h = 0.1 s bends far enough that some exact
+ * Hessians are indefinite (2 of 40 steps), and those steps fall back to the projected one and go
+ * on. The converged mode projects every iteration. */
+TEST(fixed_mode_projects_only_where_the_exact_hessian_is_indefinite)
+{
+    const double cases[2][2] = {{2e5, 0.01}, {2e3, 0.1}};
+    for (int c = 0; c < 2; c++) {
+        rk_error err = {{0}};
+        romrt_error rerr;
+        romrt_step_info info;
+        rt_fixture f;
+        int projected = 0, iterations = 0, finite = 1;
+        CHECK_OK(rt_fixture_open(&f, cantilever_h("neohookean", cases[c][0], cases[c][1]), ASSET_REAL, &err, &rerr));
+        int n = romrt_shown_count(f.m);
+        romrt_real *xyz = calloc((size_t)3 * n, sizeof(romrt_real));
+        CHECK(romrt_set_newton_iterations(f.m, 1, &rerr) == ROMRT_OK, "%s", rerr.message);
+        for (int s = 0; s < 40; s++) {
+            CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "E = %g, h = %g, step %d: %s", cases[c][0], cases[c][1], s, rerr.message);
+            romrt_last_step(f.m, &info);
+            projected += info.projected_hessians;
+            romrt_positions(f.m, xyz, n);
+            for (int i = 0; i < 3 * n; i++) finite &= isfinite(xyz[i]) != 0;
+        }
+        printf("# fixed mode, E = %g Pa, h = %g s: %d of 40 steps projected\n", cases[c][0], cases[c][1], projected);
+        CHECK(finite, "positions not finite");
+        CHECK(c == 0 ? projected == 0 : projected > 0 && projected < 40, "projected steps: %d", projected);
+        romrt_reset(f.m);
+        romrt_set_newton_iterations(f.m, 0, &rerr);
+        for (int s = 0; s < 5; s++) {
+            CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "converged step %d: %s", s, rerr.message);
+            romrt_last_step(f.m, &info);
+            iterations += info.newton_iterations;
+            projected = s == 0 ? info.projected_hessians : projected + info.projected_hessians;
+        }
+        CHECK(projected == iterations, "converged mode: %d of %d iterations projected", projected, iterations);
+        free(xyz);
+        rt_fixture_close(&f);
+    }
+}
+
 int main(void)
 {
     RUN(one_full_newton_step_is_exact_on_linear_elasticity);
     RUN(more_fixed_steps_come_closer_on_neohookean);
     RUN(bad_iteration_counts_are_refused_and_change_nothing);
+    RUN(fixed_mode_projects_only_where_the_exact_hessian_is_indefinite);
     return test_finish();
 }
