@@ -25,9 +25,11 @@ static void fom_usage(FILE *out)
             "  --snapshots S.npy   every frame including the rest state, (steps+1) x n x 3 float64\n"
             "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
             "  --frame-format F    the format of those files: obj (default), ply, vtk or mesh\n"
-            "  --report R.json     counts, timings (seconds_per_step, factorization share), final state\n"
+            "  --report R.json     counts, timings (seconds_per_step; seconds.* and shares.* of the\n"
+            "                      parts: factorization, assembly, solve, line search, contact ...;\n"
+            "                      newton.*: the median iteration against its factorization), final state\n"
             "  --quiet             no progress line on stderr\n"
-            "Nothing is written when the run fails.\n\n"
+            "Nothing is written when the run fails. ROMKIT_THREADS=N: threads (default: the CPUs).\n\n"
             "example:\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy --report fom.json\n");
 }
