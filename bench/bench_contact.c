@@ -203,6 +203,7 @@ out_scene:
 /* One thread per library unless the caller chose (see the header): set, then start again. */
 static void pin_threads(char **argv)
 {
+    setenv("ROMKIT_THREADS", "1", 0); /* romkit's own count (util.h), which sets OpenBLAS's over the variable */
     if (getenv("OPENBLAS_NUM_THREADS") && getenv("OMP_NUM_THREADS") && getenv("OMP_THREAD_LIMIT")) return;
     setenv("OPENBLAS_NUM_THREADS", "1", 0);
     setenv("OMP_NUM_THREADS", "1", 0);

@@ -25,9 +25,11 @@ static void fom_usage(FILE *out)
             "  --snapshots S.npy   every frame including the rest state, (steps+1) x n x 3 float64\n"
             "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
             "  --frame-format F    the format of those files: obj (default), ply, vtk or mesh\n"
-            "  --report R.json     counts, timings (seconds_per_step, factorization share), final state\n"
+            "  --report R.json     counts, timings (seconds_per_step; seconds.* and shares.* of the\n"
+            "                      parts: factorization, assembly, solve, line search, contact ...;\n"
+            "                      newton.*: the median iteration against its factorization), final state\n"
             "  --quiet             no progress line on stderr\n"
-            "Nothing is written when the run fails.\n\n"
+            "Nothing is written when the run fails. ROMKIT_THREADS=N: threads (default: the CPUs).\n\n"
             "example:\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy --report fom.json\n");
 }
@@ -61,6 +63,24 @@ static int write_frame(const fom_args *a, const rk_mesh *m, const double *x, int
     return rk_mesh_write(path, m, x, err);
 }
 
+/* The median of a timing over the Newton iterations, with its spread. */
+typedef struct {
+    double median, min, max;
+} iter_stat;
+
+static iter_stat stat_of(const double *v, long n)
+{
+    iter_stat st = {0, 0, 0};
+    double *t = n > 0 ? malloc(sizeof(double) * (size_t)n) : NULL;
+    if (!t) return st;
+    memcpy(t, v, sizeof(double) * (size_t)n);
+    st.median = rk_median(t, (int)n); /* sorts t */
+    st.min = t[0];
+    st.max = t[n - 1];
+    free(t);
+    return st;
+}
+
 /* What a run leaves behind, gathered frame by frame (rk_scene_fom_run). */
 typedef struct {
     const fom_args *a;
@@ -73,6 +93,7 @@ typedef struct {
     long intersections;    /* exact crossings summed over the frames (0 for a valid run) */
     rk_contact_stats stats; /* the contact stage's counters at the end */
     double min_distance;   /* the closest the surfaces came over the frames (m) */
+    iter_stat iter, factor; /* per Newton iteration: its seconds and its factorization's */
 } fom_output;
 
 static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
@@ -92,6 +113,10 @@ static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *
         if (closest < o->min_distance) o->min_distance = closest;
     }
     if (step < o->steps) return 0;
+    const double *it, *fa;
+    long n = rk_fom_iterations(fom, &it, &fa);
+    o->iter = stat_of(it, n);
+    o->factor = stat_of(fa, n);
     for (int v = 0; v < nv; v++) {
         double d2 = 0;
         for (int i = 0; i < 3; i++) d2 += pow(fom->x[3 * v + i] - sim->mesh.X[3 * v + i], 2);
@@ -123,7 +148,15 @@ static void add_contact(cJSON *r, const fom_output *o, const rk_contact_stats *c
     cJSON_AddNumberToObject(sec, "barrier", cs->seconds_potential);
 }
 
-static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, int steps, cJSON *final, double seconds_total)
+/* seconds.X and shares.X (of seconds.simulate) */
+static void add_part(cJSON *sec, cJSON *shares, const char *name, double seconds, double simulate)
+{
+    cJSON_AddNumberToObject(sec, name, seconds);
+    cJSON_AddNumberToObject(shares, name, simulate > 0 ? seconds / simulate : 0);
+}
+
+static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, const fom_output *o, int steps,
+                          cJSON *final, double seconds_total)
 {
     cJSON *r = cJSON_CreateObject();
     cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
@@ -136,13 +169,45 @@ static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, int s
     cJSON_AddNumberToObject(r, "seconds_per_step", steps > 0 ? st->seconds_total / steps : st->seconds_total);
     cJSON_AddNumberToObject(r, "newton_iterations", (double)st->newton_iterations);
     cJSON_AddNumberToObject(r, "unconverged_steps", (double)st->unconverged_steps);
+    /* Where the simulation's time went: disjoint parts of seconds.simulate, each with its share
+     * (shares.*): CHOLMOD's analyses in steps (contact changing the pattern), numeric
+     * factorizations and solves; the Newton iterations' potential with gradient and Newton matrix
+     * (assembly; the elastic Hessians with their PSD projection are seconds.hessian, a part of
+     * it), the line search's potential values, the contact stage; other: the rest (predictor,
+     * prescribed motion, checks). seconds.analysis_init: the analysis before the first step. */
+    double sim_s = st->seconds_total;
+    double other = sim_s - st->seconds_analyze - st->seconds_factor - st->seconds_solve - st->seconds_assemble -
+                   st->seconds_line_search - st->seconds_contact;
     cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
+    cJSON *shares = cJSON_CreateObject();
     cJSON_AddNumberToObject(sec, "total", seconds_total);
-    cJSON_AddNumberToObject(sec, "simulate", st->seconds_total);
-    cJSON_AddNumberToObject(sec, "factorization", st->seconds_factor);
-    cJSON_AddNumberToObject(sec, "solve", st->seconds_solve);
-    cJSON_AddNumberToObject(sec, "assembly", st->seconds_assemble);
-    cJSON_AddNumberToObject(r, "factorization_share", st->seconds_total > 0 ? st->seconds_factor / st->seconds_total : 0);
+    cJSON_AddNumberToObject(sec, "simulate", sim_s);
+    cJSON_AddNumberToObject(sec, "analysis_init", st->seconds_analyze_init);
+    add_part(sec, shares, "analysis", st->seconds_analyze, sim_s);
+    add_part(sec, shares, "factorization", st->seconds_factor, sim_s);
+    add_part(sec, shares, "solve", st->seconds_solve, sim_s);
+    add_part(sec, shares, "assembly", st->seconds_assemble, sim_s);
+    add_part(sec, shares, "hessian", st->seconds_hessian, sim_s);
+    add_part(sec, shares, "line_search", st->seconds_line_search, sim_s);
+    add_part(sec, shares, "contact", st->seconds_contact, sim_s);
+    add_part(sec, shares, "other", other > 0 ? other : 0, sim_s);
+    cJSON_AddItemToObject(r, "shares", shares);
+    cJSON_AddNumberToObject(r, "factorization_share", sim_s > 0 ? st->seconds_factor / sim_s : 0);
+    /* Per Newton iteration (median over the run's iterations, with the fastest and slowest):
+     * its seconds (potential, factorization, solve, line search) against its numeric
+     * factorization's alone. */
+    cJSON *nw = cJSON_AddObjectToObject(r, "newton");
+    cJSON_AddNumberToObject(nw, "iterations", (double)st->newton_iterations);
+    cJSON_AddNumberToObject(nw, "line_search_halvings", (double)st->line_search_halvings);
+    cJSON_AddNumberToObject(nw, "analyses", (double)st->analyses);
+    cJSON_AddNumberToObject(nw, "seconds_per_iteration", o->iter.median);
+    cJSON_AddNumberToObject(nw, "seconds_per_iteration_min", o->iter.min);
+    cJSON_AddNumberToObject(nw, "seconds_per_iteration_max", o->iter.max);
+    cJSON_AddNumberToObject(nw, "factorization_seconds", o->factor.median);
+    cJSON_AddNumberToObject(nw, "factorization_seconds_min", o->factor.min);
+    cJSON_AddNumberToObject(nw, "factorization_seconds_max", o->factor.max);
+    cJSON_AddNumberToObject(nw, "iteration_per_factorization", o->factor.median > 0 ? o->iter.median / o->factor.median : 0);
+    cJSON_AddNumberToObject(r, "threads", rk_threads());
     cJSON *mesh = cJSON_AddObjectToObject(r, "mesh");
     cJSON_AddNumberToObject(mesh, "components", sim->mesh_report.components);
     cJSON_AddNumberToObject(mesh, "reoriented", sim->mesh_report.reoriented);
@@ -204,7 +269,7 @@ int cmd_fom(int argc, char **argv)
         long shape[2] = {nv, 3};
         if (rk_npy_write(a.positions, out.x, 2, shape, &err)) goto done;
     }
-    cJSON *report = make_report(&sim, &stats, out.steps, out.final, rk_now() - t0);
+    cJSON *report = make_report(&sim, &stats, &out, out.steps, out.final, rk_now() - t0);
     out.final = NULL;
     cJSON_AddNumberToObject(report, "max_inverted_elements", out.max_inverted);
     if (out.contact) add_contact(report, &out, &out.stats);
@@ -219,6 +284,8 @@ int cmd_fom(int argc, char **argv)
            cJSON_GetObjectItem(report, "seconds_per_step")->valuedouble,
            100 * cJSON_GetObjectItem(report, "factorization_share")->valuedouble,
            (double)stats.newton_iterations / out.steps);
+    printf("Newton iteration: %.3g s (median), %.2f x its factorization (%.3g s), %d threads\n", out.iter.median,
+           out.factor.median > 0 ? out.iter.median / out.factor.median : 0.0, out.factor.median, rk_threads());
     printf("final: %d inverted elements, max displacement %.4g m, kinetic energy %.4g J\n",
            cJSON_GetObjectItem(fin, "inverted_elements")->valueint,
            cJSON_GetObjectItem(fin, "max_displacement")->valuedouble,

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "util/util.h"
 
 typedef struct {
     const char *name;
@@ -45,6 +46,11 @@ int main(int argc, char **argv)
     if (argc < 2 || is_help(argv[1])) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
+    }
+    rk_error err;
+    if (rk_threads_init(&err)) { /* OpenBLAS, CHOLMOD and romkit's loops: util.h, threads */
+        fprintf(stderr, "romkit: %s\n", err.msg);
+        return 2;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);

@@ -14,7 +14,7 @@ set ylabel "seconds per step"
 set logscale xy
 set format x "%.0s%c"
 set key outside right top vertical title "r: reduced size (linear modes)" noenhanced
-set xrange [700:300000]
+set xrange [700:600000]
 
 array R[4] = [8, 16, 32, 64]
 array rc[4] = ["#6baed6", "#3182bd", "#08519c", "#08306b"]

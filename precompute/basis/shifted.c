@@ -42,6 +42,7 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
     memcpy(s->S.rowind, A->rowind, (size_t)A->nnz * sizeof(int));
     for (int k = 0; k < A->nnz; k++) s->S.val[k] = A->val[k] - sigma * B->val[k];
 
+    rk_threads(); /* the thread counts set before CHOLMOD starts any (util.h) */
     cholmod_start(&s->cc);
     s->cc_started = 1;
     s->cc.print = 0;

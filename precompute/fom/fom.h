@@ -76,15 +76,25 @@ typedef struct {
  * 50 Newton iterations. */
 void rk_fom_default_options(rk_fom_options *o);
 
+/* Counters and seconds of the steps and static solves so far. The seconds below seconds_total
+ * are disjoint parts of it (what they leave is the rest: predictor, prescribed motion, checks),
+ * except seconds_hessian, a part of seconds_assemble, and seconds_analyze_init, before any step. */
 typedef struct {
     long steps;
     long newton_iterations;
     long line_search_halvings;
     long unconverged_steps;   /* steps that hit newton_max_iter */
+    long analyses;            /* CHOLMOD symbolic analyses, init's included (more only with contact) */
     double seconds_total;
+    double seconds_analyze_init; /* rk_fom_init's analysis (the ordering included) */
+    double seconds_analyze;   /* the analyses in steps: contact changed the matrix's pattern */
     double seconds_factor;    /* CHOLMOD numeric factorization */
     double seconds_solve;     /* triangular solves */
-    double seconds_assemble;  /* energy, gradient, Hessian */
+    double seconds_assemble;  /* the Newton iterations' potential with gradient and Newton matrix
+                               * (elastic, inertia, damping, the matrix fill), contact excluded */
+    double seconds_hessian;   /* the elastic element Hessians (dP/dF projected to PSD), in assemble */
+    double seconds_line_search; /* the line search's potential values, contact excluded */
+    double seconds_contact;   /* the contact terms in the potential, CCD and the pattern updates */
 } rk_fom_stats;
 
 typedef struct rk_fom_impl rk_fom_impl;
@@ -121,6 +131,12 @@ int rk_fom_static(rk_fom *s, rk_error *err);
 double rk_fom_kinetic_energy(const rk_fom *s);
 double rk_fom_elastic_energy(const rk_fom *s);
 void rk_fom_free(rk_fom *s);
+
+/* The seconds of every Newton iteration so far, in order (from its evaluation of the potential
+ * with gradient and Newton matrix to the next one's, or to the end of its solve: factorization,
+ * solve and line search included), and of each one's numeric factorization (*factor_seconds);
+ * returns the count. The arrays belong to s and move when it steps. */
+long rk_fom_iterations(const rk_fom *s, const double **seconds, const double **factor_seconds);
 
 /* Contact at the current state (0 and INFINITY without contact): exact crossings of its surfaces
  * (0 for a valid state) and the smallest distance between them (m). */

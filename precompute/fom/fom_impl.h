@@ -56,6 +56,11 @@ void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
  * and the average vertex mass: a thousand times the inertia's pull. */
 #define RK_FOM_AL_KAPPA 1e3
 
+/* CHOLMOD's flop count from which the factorization and the solves get rk_threads() OpenBLAS
+ * threads; below it one, so that results do not depend on the thread count and a loaded machine
+ * does not stall them (cholesky.c, measured there). */
+#define RK_FOM_THREADED_FLOPS 1e10
+
 struct rk_fom_impl {
     int n;                  /* 3 nv */
     rk_sparse M;            /* inertia mass: consistent or lumped (opt.lumped_mass) */
@@ -90,7 +95,26 @@ struct rk_fom_impl {
     cholmod_sparse A;
     cholmod_factor *L;
     cholmod_dense *sol, *Y, *E;
+    int blas_threads;       /* OpenBLAS's threads in the factorization and solves (cholesky.c) */
+    long analyses;          /* symbolic analyses so far (init's included) and their seconds */
+    double seconds_analyze, seconds_analyze_init;
+    /* Each Newton iteration's seconds (from its Hessian evaluation to the next one's, or to the end
+     * of its solve) and its numeric factorization's (timing.c); recording stops, silently, when
+     * the arrays cannot grow. */
+    long niter, capiter;
+    double *iter_seconds, *iter_factor;
+    int iter_open;
+    double iter_start;
 };
+
+/* Per-iteration timing (timing.c): an iteration starts at its potential evaluation with Hessian
+ * (at t0), its factorization adds its seconds, and it ends at the next start or when the Newton
+ * solve returns. */
+void rk_fom_iteration_start(rk_fom_impl *im, double t0);
+void rk_fom_iteration_factor(rk_fom_impl *im, double seconds);
+void rk_fom_iteration_end(rk_fom_impl *im);
+/* The counters kept in the impl (analyses) copied into s->stats. */
+void rk_fom_sync_stats(rk_fom *s);
 
 /* Sets every prescribed vertex of x to its target at time t (fixed: rest; twist: rest rotated by
  * rate t about the axis through center, Rodrigues; translate: rest + velocity t). */

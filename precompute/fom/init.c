@@ -231,6 +231,7 @@ int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_erro
     resolve_tolerance(s);
     if (rk_newton_matrix_init(&s->impl->N, &s->impl->H, s->impl->nobs, err) || rk_fom_chol_analyze(s->impl, err))
         goto fail;
+    rk_fom_sync_stats(s);
     return 0;
 fail:
     rk_fom_free(s);
@@ -257,6 +258,7 @@ void rk_fom_free(rk_fom *s)
         free(im->prescribed_dof);
         rk_stepper_free(&im->stepper);
         free(im->newton_work), free(im->work), free(im->work2);
+        free(im->iter_seconds), free(im->iter_factor);
         free(im);
     }
     free(s->x);

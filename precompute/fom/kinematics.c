@@ -6,6 +6,8 @@
 
 #include <string.h>
 
+#include "util/util.h"
+
 typedef struct {
     rk_fom *s;
     rk_fom_solve_fn solve;
@@ -27,7 +29,10 @@ static double *remaining(rk_fom *s, double t)
 static double fraction(void *ctx, double t, rk_error *err)
 {
     rk_fom *s = ((kinematics *)ctx)->s;
-    return rk_contact_max_step(&s->impl->contact, s->x, remaining(s, t), NULL, err);
+    double t0 = rk_now();
+    double f = rk_contact_max_step(&s->impl->contact, s->x, remaining(s, t), NULL, err);
+    s->stats.seconds_contact += rk_now() - t0;
+    return f;
 }
 
 static int move(void *ctx, double t, double f, rk_error *err)

@@ -6,6 +6,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "util/util.h"
+
 /* Augmented-Lagrangian rounds before a moving obstacle that cannot reach its target counts as
  * stuck, and how close to it counts as there (a fraction of dhat). */
 #define AL_ROUNDS 30
@@ -28,7 +30,9 @@ static double max_step(void *ctx, const double *y, const double *d)
     rk_fom_problem_ctx *c = ctx;
     rk_fom_impl *im = c->s->impl;
     if (im->nobs) memcpy(im->contact.ox, y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
+    double t0 = rk_now();
     double alpha = rk_contact_max_step(&im->contact, y, d, im->nobs ? d + im->n : NULL, &c->failure);
+    c->s->stats.seconds_contact += rk_now() - t0;
     return alpha >= 0 ? alpha : 0; /* a failed CCD (out of memory) takes no step */
 }
 
@@ -78,6 +82,7 @@ int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged
     int rc = 0;
     for (int round = 0; round < (im->nobs ? AL_ROUNDS : 1) && !rc; round++) {
         rc = rk_newton_solve(&p, im->y, tol_d, s->opt.newton_max_iter, im->newton_work, converged, &stats, err);
+        rk_fom_iteration_end(im);
         if (rc || !im->nobs) break;
         double r = obstacle_residual(im);
         if (r <= tol_obs) break;

@@ -35,7 +35,9 @@ static void assemble_hessian(rk_fom *s, const rk_fom_terms *T, const double *x, 
     if (T->reg > 0)
         for (int v = 0; v < f->nv; v++)
             for (int i = 0; i < 3; i++) H->val[rk_fem_diag_slot(H, v, i, i)] += T->reg * f->vertex_mass[v];
+    double t0 = rk_now();
     rk_fem_add_hessian(f, x, 1.0, 1, H);
+    s->stats.seconds_hessian += rk_now() - t0;
 }
 
 /* The barrier at y: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
@@ -90,7 +92,8 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     rk_fom_impl *im = s->impl;
     const rk_fem *f = s->fem;
     int n = im->n;
-    double t0 = rk_now();
+    double t0 = rk_now(), tc, contact = 0, analysis = 0; /* contact: seconds in the contact stage's terms */
+    if (hessian) rk_fom_iteration_start(im, t0);
     if (g) memset(g, 0, (size_t)im->ndof * sizeof(double));
     double stored = rk_fem_energy(f, y); /* Psi */
     double work = 0;
@@ -105,16 +108,24 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
     if (im->nobs) stored += obstacle_term(s, y, g);
+    tc = rk_now();
     if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);
     if (T->friction && isfinite(stored))
         stored += rk_contact_friction_energy(&im->contact, y, s->opt.h, g, g && im->nobs ? g + n : NULL,
                                              hessian ? rk_newton_matrix_record : NULL, &im->N);
+    contact += rk_now() - tc;
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
     if (hessian && isfinite(E)) {
         assemble_hessian(s, T, y, &im->H);
         int changed = 0;
-        if (rk_newton_matrix_couple(&im->N, &im->H, &changed, err) || (changed && rk_fom_chol_reanalyze(im, err))) {
+        tc = rk_now();
+        int failed = rk_newton_matrix_couple(&im->N, &im->H, &changed, err);
+        contact += rk_now() - tc;
+        tc = rk_now();
+        if (!failed && changed) failed = rk_fom_chol_reanalyze(im, err);
+        analysis = rk_now() - tc; /* counted in seconds_analyze */
+        if (failed) {
             E = NAN;
         } else {
             rk_newton_matrix_fill(&im->N, &im->H);
@@ -125,7 +136,10 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
             rk_fom_eliminate(s, &im->N.A);
         }
     }
-    s->stats.seconds_assemble += rk_now() - t0;
+    double dt = rk_now() - t0;
+    s->stats.seconds_contact += contact;
+    if (g) s->stats.seconds_assemble += dt - contact - analysis;
+    else s->stats.seconds_line_search += dt - contact - analysis;
     return isfinite(E) ? E : INFINITY;
 }
 

@@ -90,5 +90,6 @@ int rk_fom_static(rk_fom *s, rk_error *err)
     double t0 = rk_now();
     int rc = solve(s, err);
     s->stats.seconds_total += rk_now() - t0;
+    rk_fom_sync_stats(s);
     return rc ? rk_error_prefix(err, "static solve") : 0;
 }

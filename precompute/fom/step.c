@@ -47,7 +47,9 @@ static int step(rk_fom *s, rk_error *err)
     int start_predicted = 1;
     if (im->has_contact) {
         for (int i = 0; i < im->n; i++) im->work2[i] = st->xtilde[i] - st->xt[i];
+        double t0 = rk_now();
         double alpha = rk_contact_max_step(&im->contact, st->xt, im->work2, NULL, err);
+        s->stats.seconds_contact += rk_now() - t0;
         if (alpha < 0) return -1;
         start_predicted = alpha >= 1;
     }
@@ -75,6 +77,7 @@ int rk_fom_step(rk_fom *s, rk_error *err)
     long number = s->stats.steps + 1;
     int rc = step(s, err);
     s->stats.seconds_total += rk_now() - t0;
+    rk_fom_sync_stats(s);
     if (rc) return rk_error_prefix(err, "step %ld (t = %g s)", number, s->t + s->opt.h);
     s->stats.steps = number;
     return 0;

@@ -2,6 +2,7 @@
  *
  *   errors       rk_error, rk_fail, rk_calloc: every failure names what and where; rk_warn
  *   timers       a monotonic clock, progress lines on a terminal
+ *   threads      the one thread count (ROMKIT_THREADS) for OpenBLAS, CHOLMOD and romkit's loops
  *   sorting      one comparator, one median
  *   files        atomic output (a temporary file, then rename) and NumPy .npy arrays
  *   metrics      the errors of a run against a reference: normalized MSE, relative and online
@@ -56,6 +57,41 @@ void rk_progress_done(const char *stage);
 /* Ends a progress line left open (a stage failed part-way), so what follows starts on its own
  * line; rk_fail calls it. */
 void rk_progress_break(void);
+
+/* ==== threads (threads.c) ==== */
+
+/* How many threads romkit uses, set in one place: ROMKIT_THREADS (1 to RK_THREADS_MAX), or by
+ * default the CPUs this process may run on (affinity, cgroup quota), at most
+ * RK_THREADS_DEFAULT_MAX. The count goes to OpenBLAS (openblas_set_num_threads, over
+ * OPENBLAS_NUM_THREADS) and to romkit's own loops (rk_parallel_for). Every OpenMP region runs on
+ * one thread: CHOLMOD's supernodal factorization asks for a fixed 4 OpenMP threads for
+ * memory-bound loops that gain nothing from them, and those threads spinning beside OpenBLAS's
+ * made the factorization 2 to 15 times slower on 2 cores (threads.c).
+ *
+ * rk_threads_init: called at start-up by the command line and the benches; fails (naming the
+ * variable) on a ROMKIT_THREADS that is not a count, after setting the default. rk_threads: the
+ * count, set by rk_threads_init first if nothing has (the simulators call it, so tests and other
+ * programs linking the library get the same settings). */
+#define RK_THREADS_MAX 256
+#define RK_THREADS_DEFAULT_MAX 16
+int rk_threads_init(rk_error *err);
+int rk_threads(void);
+/* OpenBLAS's threads for what follows, n clamped to 1..rk_threads(); returns the count before, to
+ * put back. For a caller that knows its BLAS calls are too small to gain from threads. */
+int rk_threads_blas(int n);
+
+/* body(ctx, begin, end) over [0, n) in chunks of `chunk` indices, on up to rk_threads() threads:
+ * the caller's and workers that sleep between loops, dynamically scheduled (a core busy with
+ * something else takes fewer chunks). A body must write only what belongs to its own indices, so
+ * that the result does not depend on the thread count or the schedule; sums over indices go to a
+ * buffer and are added in index order afterwards. One loop at a time: a loop started while
+ * another runs (inside a body, or from another thread) runs on its caller's thread alone. */
+typedef void (*rk_range_fn)(void *ctx, long begin, long end);
+void rk_parallel_for(long n, long chunk, rk_range_fn body, void *ctx);
+/* The same, with first(first_ctx) run by the calling thread while the workers start on the
+ * chunks (then it joins them): serial work that can overlap the loop, such as adding up what the
+ * previous loop computed. With one thread, first runs before the loop. */
+void rk_parallel_for_beside(long n, long chunk, rk_range_fn body, void *ctx, void (*first)(void *), void *first_ctx);
 
 /* ==== sorting (sort.c) ==== */
 

@@ -26,6 +26,16 @@ fi
 # 6 x 2 x 2 = 24 vertices, 5 cells x 6 tets = 30 tets, 10 steps -> 11 frames.
 json_checks report_counts "$TMP/r.json" vertices=24 tets=30
 json_checks report_timings "$TMP/r.json" seconds_per_step seconds.total
+# Where the time went (issue 16): the parts and their shares, the Newton iteration against its
+# factorization, the thread count.
+json_checks report_parts "$TMP/r.json" seconds.factorization seconds.assembly seconds.hessian seconds.solve \
+    seconds.line_search seconds.analysis seconds.contact seconds.other shares.factorization shares.assembly \
+    newton.iterations newton.seconds_per_iteration newton.factorization_seconds newton.iteration_per_factorization threads
+ROMKIT_THREADS=1 "$ROMKIT" fom "$TMP/drop.json" --positions "$TMP/p1.npy" --report "$TMP/r1.json" >/dev/null 2>"$TMP/err" &&
+    ROMKIT_THREADS=3 "$ROMKIT" fom "$TMP/drop.json" --positions "$TMP/p3.npy" >/dev/null 2>>"$TMP/err" &&
+    cmp -s "$TMP/p1.npy" "$TMP/p3.npy" && cmp -s "$TMP/p1.npy" "$TMP/p.npy" && json_is "$TMP/r1.json" threads 1 \
+    && ok same_positions_on_1_and_3_threads || fail same_positions_on_1_and_3_threads "$(head -c 300 "$TMP/err")"
+expect_fail bad_thread_count_is_named "ROMKIT_THREADS=lots" env ROMKIT_THREADS=lots "$ROMKIT" fom "$TMP/drop.json"
 grep -q "'shape': (11, 24, 3)" "$TMP/s.npy" && ok snapshots_shape || fail snapshots_shape "$(head -c 120 "$TMP/s.npy")"
 grep -q "'shape': (24, 3)" "$TMP/p.npy" && ok positions_shape || fail positions_shape "$(head -c 120 "$TMP/p.npy")"
 [ "$(ls "$TMP/frames" | wc -l)" -eq 11 ] && ok one_frame_per_step || fail one_frame_per_step "$(ls "$TMP/frames" | wc -l) frames"

@@ -1,6 +1,6 @@
 /* precompute/fem: assembled elastic energy, gradient and Hessian against finite differences for
  * every material model, per-element materials, material and volume errors, the pattern and the
- * slot map. */
+ * slot map, and the same bits on any number of threads. */
 #include "fem/fem.h"
 #include "testlib.h"
 
@@ -232,6 +232,52 @@ TEST(slot_map_points_at_the_right_entries)
     rk_mesh_free(&m);
 }
 
+/* Energy, gradient and Hessian are assembled in parallel (elastic.c): every sum in element order,
+ * so the results are the same bits on any number of threads. 7,200 tets: two blocks, the second
+ * added while nothing else runs, the first beside the second's computing. */
+TEST(assembly_is_bit_identical_on_any_thread_count)
+{
+    rk_error err;
+    rk_mesh m;
+    CHECK_OK(make_box(12, 10, 10, &m, &err));
+    rk_material *mats = uniform(m.nt, RK_MAT_NEOHOOKEAN, 1e6, 0.45);
+    rk_fem f;
+    CHECK_OK(rk_fem_init(&f, &m, mats, &err));
+    int n = 3 * f.nv;
+    double *x = perturbed(&f, 0.03, 11u), E[4];
+    double *g[4], *H[4];
+    const int counts[4] = {1, 2, 3, 8};
+    for (int k = 0; k < 4; k++) {
+        char v[8];
+        snprintf(v, sizeof v, "%d", counts[k]);
+        setenv("ROMKIT_THREADS", v, 1);
+        CHECK_OK(rk_threads_init(&err));
+        CHECK(rk_threads() == counts[k], "rk_threads() = %d with ROMKIT_THREADS=%s", rk_threads(), v);
+        rk_sparse S;
+        CHECK_OK(rk_sparse_alloc_pattern(&f, &S, &err));
+        g[k] = calloc((size_t)n, sizeof(double));
+        E[k] = rk_fem_energy(&f, x);
+        rk_fem_add_gradient(&f, x, 1.5, g[k]);
+        rk_fem_add_hessian(&f, x, 0.5, 1, &S);
+        H[k] = S.val;
+        S.val = NULL;
+        rk_sparse_free(&S);
+    }
+    for (int k = 1; k < 4; k++) {
+        CHECK(memcmp(&E[k], &E[0], sizeof E[0]) == 0, "energy on %d threads %.17g, on one %.17g", counts[k], E[k], E[0]);
+        CHECK(memcmp(g[k], g[0], sizeof(double) * (size_t)n) == 0, "gradient on %d threads differs", counts[k]);
+        CHECK(memcmp(H[k], H[0], sizeof(double) * (size_t)f.pattern.nnz) == 0, "Hessian on %d threads differs", counts[k]);
+    }
+    CHECK(setenv("ROMKIT_THREADS", "0", 1) == 0 && rk_threads_init(&err) != 0 && strstr(err.msg, "ROMKIT_THREADS"),
+          "ROMKIT_THREADS=0 accepted (%s)", err.msg);
+    unsetenv("ROMKIT_THREADS");
+    CHECK_OK(rk_threads_init(&err));
+    for (int k = 0; k < 4; k++) free(g[k]), free(H[k]);
+    free(x), free(mats);
+    rk_fem_free(&f);
+    rk_mesh_free(&m);
+}
+
 /* A 200k-tet mesh initializes with the right sizes. How long it takes is make bench's to say
  * (bench/bench_fom.c: fem_init_s, the median of repeated rk_fem_init on every bench mesh). */
 TEST(init_handles_200k_tets)
@@ -260,6 +306,7 @@ int main(void)
     RUN(bad_materials_are_named);
     RUN(inverted_element_is_named);
     RUN(slot_map_points_at_the_right_entries);
+    RUN(assembly_is_bit_identical_on_any_thread_count);
     RUN(init_handles_200k_tets);
     return test_finish();
 }
