@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "pipeline/pipeline.h"
 #include "util/util.h"
@@ -41,6 +42,22 @@ static inline int bench_cases(const char *data, bench_case *c)
         else snprintf(c[k].mesh_json, sizeof c[k].mesh_json, "{\"file\": \"%s/%s\"}", data, t[k].file);
     }
     return 9;
+}
+
+/* One thread per library unless the caller chose (the variables all set): romkit's own count
+ * (ROMKIT_THREADS, util.h, which sets OpenBLAS's over its variable), OpenBLAS's and OpenMP's, then
+ * the program starts again so the libraries read them. For benches whose rows must not depend on
+ * how loaded the 2-core machine is. */
+static inline void bench_pin_one_thread(char **argv, const char *name)
+{
+    setenv("ROMKIT_THREADS", "1", 0);
+    if (getenv("OPENBLAS_NUM_THREADS") && getenv("OMP_NUM_THREADS") && getenv("OMP_THREAD_LIMIT")) return;
+    setenv("OPENBLAS_NUM_THREADS", "1", 0);
+    setenv("OMP_NUM_THREADS", "1", 0);
+    setenv("OMP_THREAD_LIMIT", "1", 0);
+    execv("/proc/self/exe", argv);
+    fprintf(stderr, "%s: re-executing with the thread counts set failed\n", name);
+    exit(1);
 }
 
 /* A timing: the median of its samples and their spread (smallest, largest). */

@@ -200,22 +200,9 @@ out_scene:
     return rc;
 }
 
-/* One thread per library unless the caller chose (see the header): set, then start again. */
-static void pin_threads(char **argv)
-{
-    setenv("ROMKIT_THREADS", "1", 0); /* romkit's own count (util.h), which sets OpenBLAS's over the variable */
-    if (getenv("OPENBLAS_NUM_THREADS") && getenv("OMP_NUM_THREADS") && getenv("OMP_THREAD_LIMIT")) return;
-    setenv("OPENBLAS_NUM_THREADS", "1", 0);
-    setenv("OMP_NUM_THREADS", "1", 0);
-    setenv("OMP_THREAD_LIMIT", "1", 0);
-    execv("/proc/self/exe", argv);
-    perror("bench_contact: re-executing with the thread counts set");
-    exit(1);
-}
-
 int main(int argc, char **argv)
 {
-    pin_threads(argv);
+    bench_pin_one_thread(argv, "bench_contact");
     /* argv[1], the mesh folder of the other benches, is not used: these boxes are procedural */
     const char *out_dir = argc > 2 ? argv[2] : "bench/results";
     int quick = getenv("ROMKIT_BENCH_QUICK") != NULL;

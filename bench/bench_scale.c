@@ -256,21 +256,9 @@ static int run_phase(phase_kind kind, const char *data, const scale_case *c, pha
     return 0;
 }
 
-/* One thread per library unless the caller chose (the header): set, then start again. */
-static void pin_threads(char **argv)
-{
-    if (getenv("OPENBLAS_NUM_THREADS") && getenv("OMP_NUM_THREADS") && getenv("OMP_THREAD_LIMIT")) return;
-    setenv("OPENBLAS_NUM_THREADS", "1", 0);
-    setenv("OMP_NUM_THREADS", "1", 0);
-    setenv("OMP_THREAD_LIMIT", "1", 0);
-    execv("/proc/self/exe", argv);
-    perror("bench_scale: re-executing with the thread counts set");
-    exit(1);
-}
-
 int main(int argc, char **argv)
 {
-    pin_threads(argv);
+    bench_pin_one_thread(argv, "bench_scale");
     rk_progress_set_quiet(1);
     const char *data = argc > 1 ? argv[1] : "tests/data/meshes";
     const char *out_dir = argc > 2 ? argv[2] : "bench/results";
