@@ -184,8 +184,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
         memcpy(y, trial, sizeof(romrt_real) * (size_t)n);
         /* The energy change was round-off. That ends the solve only when the step was small too:
          * a large model's energy (gravity's work on a sagging beam) can hide in its float rounding
-         * the decrease of a Newton step that still moves it by centimetres, and stopping there left
-         * the demo's RKPM beam 21% off the converged trajectory (the double runtime's). */
+         * the decrease of a Newton step that still moves it, and Newton then goes on. */
         if (STAGNATION > 0 && !armijo && alpha * step <= STAGNATION * rms(m, y)) {
             m->last.converged = 1;
             return ROMRT_OK;
