@@ -52,6 +52,8 @@ typedef struct {
                                   unselected ones each time), 0 or >= candidates: all of them */
     unsigned long long seed;   /* the subset draws (rk_splitmix64, util/util.h):
                                   same seed, same result */
+    int prune;                 /* after reaching the tolerance, drop points while the rest, re-fitted,
+                                  still meets it (greedy.c) */
 } rk_cubature_problem;
 
 typedef struct {
@@ -61,6 +63,7 @@ typedef struct {
     double relative_error;     /* |A_S w - b| / |b| at the end, computed from the columns */
     int reached;               /* 1 when relative_error <= tolerance */
     int iterations;            /* greedy iterations (picks re-fitted, a final undone one included) */
+    int greedy_count;          /* points the greedy selection ended with, before any pruning */
 } rk_cubature_set;
 
 /* Greedy cubature (An et al. 2008, Sec. 4): residual r = b; each iteration scores the sampled
@@ -113,6 +116,7 @@ typedef struct {
     int sample;           /* candidates scored per greedy iteration (default 1000; 0: all) */
     double amplitude;     /* RMS displacement (m) of the random poses; 0: the largest snapshot's */
     unsigned long long seed;
+    int prune;            /* drop points the tolerance does without (greedy.c; default 0) */
 } rk_cubature_options;
 
 void rk_cubature_default_options(rk_cubature_options *o);

@@ -274,6 +274,71 @@ static int write_set(const greedy *g, double rel, double tolerance, rk_cubature_
     return 0;
 }
 
+/* Pruning: the greedy pick adds the point that best reduces the residual now, and some of the
+ * early ones end up nearly redundant. Tries dropping each point, smallest weighted contribution
+ * w_j |a_j| first, re-fits the others by NNLS, and keeps the drop when the error stays within
+ * the tolerance; repeats until a whole pass drops nothing. The set only shrinks and the
+ * error never exceeds the tolerance. */
+static int prune(greedy *g, double *rel, double tolerance, rk_error *err)
+{
+    int n0 = g->count, dropped = 1, rc = 0;
+    double *score = rk_calloc((size_t)n0 + 1, sizeof(double), err), *atb = rk_calloc((size_t)n0 + 1, sizeof(double), err);
+    double *w = rk_calloc((size_t)n0 + 1, sizeof(double), err);
+    int *order = rk_calloc((size_t)n0 + 1, sizeof(int), err);
+    if (!score || !atb || !w || !order) rc = -1;
+    while (rc == 0 && dropped && g->count > 1) {
+        int n = g->count, m = n - 1;
+        dropped = 0;
+        for (int j = 0; j < n; j++) {
+            order[j] = j;
+            score[j] = g->w[j] * cblas_dnrm2(g->rows, g->cols + (size_t)j * g->rows, 1);
+        }
+        for (int a = 1; a < n; a++) /* insertion sort by score, ties by slot: deterministic */
+            for (int b = a; b > 0 && score[order[b]] < score[order[b - 1]]; b--) {
+                int t = order[b];
+                order[b] = order[b - 1];
+                order[b - 1] = t;
+            }
+        for (int k = 0; k < n && !dropped && rc == 0; k++) {
+            int skip = order[k], a = 0;
+            double *G = g->gram_packed;
+            for (int u = 0; u < n; u++) {
+                if (u == skip) continue;
+                for (int v = 0, b = 0; v < n; v++)
+                    if (v != skip) G[(size_t)a * m + b++] = g->gram[(size_t)u * g->cap + v];
+                atb[a] = g->atb[u];
+                w[a++] = g->w[u];
+            }
+            if ((rc = rk_nnls_normal(m, G, atb, w, 0, err)) != 0) break;
+            /* the residual from the columns, as the greedy loop computes it */
+            memcpy(g->col, g->p->b, sizeof(double) * g->rows);
+            a = 0;
+            for (int u = 0; u < n; u++)
+                if (u != skip) cblas_daxpy(g->rows, -w[a++], g->cols + (size_t)u * g->rows, 1, g->col, 1);
+            double trial = cblas_dnrm2(g->rows, g->col, 1) / g->bnorm;
+            if (!(trial <= tolerance)) continue;
+            /* kept: the re-fit's weights (slot skip's 0); zero-weight points leave the set too */
+            a = 0;
+            for (int u = 0; u < n; u++) g->w[u] = u == skip ? 0 : w[a++];
+            int *keep = order, kept = 0;
+            for (int u = 0; u < n; u++) {
+                if (g->w[u] > 0) keep[kept++] = u;
+                else pool_add(g, g->idx[u]);
+            }
+            for (int c = 0; c < kept; c++)
+                if (keep[c] != c) move_slot(g, keep[c], c, keep, c + 1);
+            g->count = kept;
+            *rel = trial;
+            dropped = 1;
+        }
+    }
+    free(score);
+    free(atb);
+    free(w);
+    free(order);
+    return rc;
+}
+
 int rk_cubature_greedy(const rk_cubature_problem *p, rk_cubature_set *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -295,8 +360,11 @@ int rk_cubature_greedy(const rk_cubature_problem *p, rk_cubature_set *out, rk_er
         rk_progress("cubature points chosen", g.count, 0);
     }
     rk_progress_done("cubature points chosen");
+    int greedy_count = g.count;
+    if (rc == 0 && p->prune && rel <= p->tolerance) rc = prune(&g, &rel, p->tolerance, err);
     if (rc == 0) rc = write_set(&g, rel, p->tolerance, out, err);
     out->iterations = iterations;
+    out->greedy_count = greedy_count;
     greedy_free(&g);
     return rc;
 }

@@ -210,6 +210,7 @@ int rk_cubature_train(rk_quadrature *exact, const double *Mr, double mass, const
     P.max_points = o->max_points > 0 ? o->max_points : exact->count;
     P.sample = o->sample;
     P.seed = o->seed;
+    P.prune = o->prune;
     rc = rk_cubature_greedy(&P, out, err);
     /* The greedy's indices are positions in the exact quadrature: make them element numbers. */
     for (int k = 0; !rc && k < out->count; k++) out->index[k] = exact->source[out->index[k]];

@@ -68,7 +68,11 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
     R->cubature_points = set.count;
     R->cubature_error = set.relative_error;
     R->cubature_reached = set.reached;
-    if (set.reached)
+    if (set.reached && set.greedy_count > set.count)
+        snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d elements "
+                 "(pruned from the greedy selection's %d) reproduce the reduced forces of %d training poses to %.3g",
+                 o->cub.tolerance, set.count, sim->mesh.nt, set.greedy_count, R->cubature_poses, set.relative_error);
+    else if (set.reached)
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d elements "
                  "reproduce the reduced forces of %d training poses to %.3g", o->cub.tolerance, set.count,
                  sim->mesh.nt, R->cubature_poses, set.relative_error);

@@ -110,8 +110,9 @@ TEST(barrier_gradient_and_hessian_match_finite_differences)
     int n = 3 * s.mesh.nv;
     rk_contact_set set = {0};
     CHECK_OK(rk_contact_gather(&s.c, s.x, &set, &err));
-    double *g = calloc(n, sizeof(double)), *gp = calloc(n, sizeof(double)), *gm = calloc(n, sizeof(double));
-    dense d = {n, calloc((size_t)n * n, sizeof(double)), 0};
+    size_t nn = n > 0 ? (size_t)n : 1; /* (gcc -O1 with sanitizers cannot see n > 0 and warns) */
+    double *g = calloc(nn, sizeof(double)), *gp = calloc(nn, sizeof(double)), *gm = calloc(nn, sizeof(double));
+    dense d = {n, calloc(nn * nn, sizeof(double)), 0};
     double E = rk_contact_energy(&s.c, &set, s.x, g, NULL, collect, &d, NULL);
     CHECK(isfinite(E) && E > 0, "energy %g", E);
     double worst_g = 0, worst_H = 0, h = 1e-7, gscale = 0, Hscale = 0;
@@ -157,8 +158,9 @@ TEST(friction_gradient_and_hessian_match_finite_differences)
     /* slide every vertex by up to 3 eps: pairs on both sides of the smoothing */
     uint64_t rng = 11;
     for (int i = 0; i < n; i++) s.x[i] += 3 * eps * (2 * rk_uniform(&rng) - 1);
-    double *g = calloc(n, sizeof(double)), *gp = calloc(n, sizeof(double)), *gm = calloc(n, sizeof(double));
-    dense d = {n, calloc((size_t)n * n, sizeof(double)), 0};
+    size_t nn = n > 0 ? (size_t)n : 1; /* (gcc -O1 with sanitizers cannot see n > 0 and warns) */
+    double *g = calloc(nn, sizeof(double)), *gp = calloc(nn, sizeof(double)), *gm = calloc(nn, sizeof(double));
+    dense d = {n, calloc(nn * nn, sizeof(double)), 0};
     double E = rk_contact_friction_energy(&s.c, s.x, step, g, NULL, collect, &d);
     double worst_g = 0, worst_H = 0, h = 1e-10, gscale = 0, Hscale = 0;
     for (int i = 0; i < n; i++) gscale = fmax(gscale, fabs(g[i]));

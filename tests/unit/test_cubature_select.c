@@ -276,6 +276,68 @@ TEST(greedy_recovers_an_exact_quadrature_rule)
     CHECK(fabs(rec - rel) <= 1e-13, "reported error %.3g, recomputed %.3g", rel, rec);
 }
 
+/* Pruning after the greedy selection: the set only shrinks, its error (recomputed from the
+ * points) stays within the tolerance, the greedy count is reported, and the same input gives the
+ * same set. Several tolerances, with sampling (the greedy set then has more slack). */
+TEST(pruning_keeps_the_tolerance_with_no_more_points)
+{
+    rk_error err;
+    monomials m;
+    double b[10], tols[3] = {1e-2, 1e-4, 1e-8};
+    rk_cubature_problem p;
+    for (int t = 0; t < 3; t++) {
+        rk_cubature_set plain, pruned, again;
+        quadrature_problem(&m, b, &p);
+        p.tolerance = tols[t];
+        p.sample = 20;
+        CHECK_OK(rk_cubature_greedy(&p, &plain, &err));
+        p.prune = 1;
+        CHECK_OK(rk_cubature_greedy(&p, &pruned, &err));
+        CHECK_OK(rk_cubature_greedy(&p, &again, &err));
+        double rec = recomputed_error(&m, b, &pruned);
+        printf("# tolerance %g: greedy %d points (error %.3g), pruned %d (error %.3g)\n", tols[t], plain.count,
+               plain.relative_error, pruned.count, pruned.relative_error);
+        CHECK(pruned.greedy_count == plain.count, "greedy count %d, the unpruned run has %d", pruned.greedy_count, plain.count);
+        CHECK(pruned.count <= plain.count && pruned.count >= 1, "pruned %d, greedy %d", pruned.count, plain.count);
+        CHECK(pruned.reached && rec <= tols[t] * (1 + 1e-9), "pruned error %.3g over tolerance %g", rec, tols[t]);
+        CHECK(fabs(rec - pruned.relative_error) <= 1e-12, "reported %.3g, recomputed %.3g", pruned.relative_error, rec);
+        CHECK(again.count == pruned.count && memcmp(again.index, pruned.index, sizeof(int) * pruned.count) == 0 &&
+                  memcmp(again.weight, pruned.weight, sizeof(double) * pruned.count) == 0,
+              "two pruned runs differ");
+        rk_cubature_set_free(&plain);
+        rk_cubature_set_free(&pruned);
+        rk_cubature_set_free(&again);
+    }
+}
+
+/* Columns of a small dense matrix (column-major, 3 rows). */
+static int dense_column(void *ctx, int c, double *col, rk_error *err)
+{
+    const double *A = ctx;
+    (void)err;
+    memcpy(col, A + 3 * c, 3 * sizeof(double));
+    return 0;
+}
+
+/* A case the greedy order leaves a droppable point in: b = a1 + a2 + 0.05 a3; the first pick is
+ * the column pointing most along b, c0 = a1 + a2 + a3, then a1 and a2 make the fit exact with c0
+ * at weight 0.05. The tolerance 0.05 allows a1 and a2 alone (error 0.035): pruning drops c0. */
+TEST(pruning_drops_the_point_the_tolerance_does_without)
+{
+    rk_error err;
+    double A[12] = {1, 1, 1, 1, 0, 0, 0, 1, 0, 0, 0, 1}, b[3] = {1, 1, 0.05};
+    rk_cubature_problem p = {.rows = 3, .candidates = 4, .column = dense_column, .ctx = A, .b = b,
+                             .tolerance = 0.05, .max_points = 4, .sample = 0, .seed = 1, .prune = 1};
+    rk_cubature_set s;
+    CHECK_OK(rk_cubature_greedy(&p, &s, &err));
+    printf("# greedy %d points, pruned to %d: indices %d %d, error %.4f\n", s.greedy_count, s.count, s.index[0],
+           s.count > 1 ? s.index[1] : -1, s.relative_error);
+    CHECK(s.greedy_count == 3 && s.count == 2 && s.index[0] == 1 && s.index[1] == 2,
+          "greedy %d, pruned %d, first index %d", s.greedy_count, s.count, s.index[0]);
+    CHECK(fabs(s.relative_error - 0.05 / sqrt(2.0025)) < 1e-12 && s.reached, "error %.6f", s.relative_error);
+    rk_cubature_set_free(&s);
+}
+
 TEST(greedy_honours_max_points_and_stops_at_its_floor)
 {
     rk_error err;
@@ -463,6 +525,8 @@ int main(void)
     RUN(nnls_warm_start_gives_the_cold_solution);
     RUN(nnls_survives_dependent_columns);
     RUN(greedy_recovers_an_exact_quadrature_rule);
+    RUN(pruning_keeps_the_tolerance_with_no_more_points);
+    RUN(pruning_drops_the_point_the_tolerance_does_without);
     RUN(greedy_honours_max_points_and_stops_at_its_floor);
     RUN(greedy_scores_by_direction_and_drops_points_the_refit_zeroes);
     RUN(greedy_with_sampling_is_reproducible);
