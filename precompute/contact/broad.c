@@ -205,7 +205,8 @@ int rk_broad_phase(const double *boxes_a, int na, const double *boxes_b, int nb,
         free(list.out);
         return rk_fail(err, "broad phase: out of memory");
     }
-    qsort(list.out, list.n, 2 * sizeof(int), cmp_pair); /* the callers' order, whatever the hash did */
+    if (list.n > 1) /* the callers' order, whatever the hash did (no pairs: list.out may be NULL) */
+        qsort(list.out, list.n, 2 * sizeof(int), cmp_pair);
     *pairs = list.out;
     *npairs = (int)list.n;
     return 0;
