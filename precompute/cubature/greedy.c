@@ -231,6 +231,20 @@ static void move_slot(greedy *g, int from, int to, const int *keep, int kept)
     for (int a = 0; a < kept; a++) g->gram[(size_t)a * cap + to] = g->gram[(size_t)keep[a] * cap + from];
 }
 
+/* Of the n slots, those whose weight is 0 leave the set and return to the pool; the others are
+ * compacted to the front in order. keep: scratch for n indices. */
+static void drop_zero_weights(greedy *g, int n, int *keep)
+{
+    int kept = 0;
+    for (int j = 0; j < n; j++) {
+        if (g->w[j] > 0) keep[kept++] = j;
+        else pool_add(g, g->idx[j]);
+    }
+    for (int a = 0; a < kept; a++)
+        if (keep[a] != a) move_slot(g, keep[a], a, keep, a + 1);
+    g->count = kept;
+}
+
 /* Accepts the trial: the picked candidate joins, the weights and residual become the trial
  * ones, and points whose weight is now 0 leave the set and return to the pool. */
 static void commit_trial(greedy *g, int c)
@@ -240,14 +254,7 @@ static void commit_trial(greedy *g, int c)
     memcpy(g->w, g->w_trial, sizeof(double) * n);
     double *t = g->r; g->r = g->r_trial; g->r_trial = t;
     /* keep[] reuses draw[]'s storage: the subset is not needed until the next pick. */
-    int *keep = g->draw, kept = 0;
-    for (int j = 0; j < n; j++) {
-        if (g->w[j] > 0) keep[kept++] = j;
-        else pool_add(g, g->idx[j]);
-    }
-    for (int a = 0; a < kept; a++)
-        if (keep[a] != a) move_slot(g, keep[a], a, keep, a + 1);
-    g->count = kept;
+    drop_zero_weights(g, n, g->draw);
 }
 
 typedef struct { int index; double weight; } point;
@@ -320,14 +327,7 @@ static int prune(greedy *g, double *rel, double tolerance, rk_error *err)
             /* kept: the re-fit's weights (slot skip's 0); zero-weight points leave the set too */
             a = 0;
             for (int u = 0; u < n; u++) g->w[u] = u == skip ? 0 : w[a++];
-            int *keep = order, kept = 0;
-            for (int u = 0; u < n; u++) {
-                if (g->w[u] > 0) keep[kept++] = u;
-                else pool_add(g, g->idx[u]);
-            }
-            for (int c = 0; c < kept; c++)
-                if (keep[c] != c) move_slot(g, keep[c], c, keep, c + 1);
-            g->count = kept;
+            drop_zero_weights(g, n, order);
             *rel = trial;
             dropped = 1;
         }
