@@ -3,16 +3,6 @@
 #include "testlib.h"
 #include "test_mesh_formats.h"
 
-/* A mesh from literal arrays (copied, so rk_mesh_free works). */
-static rk_mesh make_mesh(int nv, const double *X, int nt, const int *tets)
-{
-    rk_mesh m = {.nv = nv, .nt = nt, .X = malloc(sizeof(double) * 3 * (size_t)nv),
-                 .tets = malloc(sizeof(int) * 4 * (size_t)nt)};
-    memcpy(m.X, X, sizeof(double) * 3 * (size_t)nv);
-    memcpy(m.tets, tets, sizeof(int) * 4 * (size_t)nt);
-    return m;
-}
-
 static const double unit_tet[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
 
 /* |a - b| <= tol |b|: CHECK_CLOSE's tolerance is absolute below 1, too loose for tiny volumes. */

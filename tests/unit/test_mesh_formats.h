@@ -14,6 +14,16 @@
 
 #include "mesh/mesh.h"
 
+/* A mesh from literal arrays (copied, so rk_mesh_free works). */
+static inline rk_mesh make_mesh(int nv, const double *X, int nt, const int *tets)
+{
+    rk_mesh m = {.nv = nv, .nt = nt, .X = malloc(sizeof(double) * 3 * (size_t)nv),
+                 .tets = malloc(sizeof(int) * 4 * (size_t)nt)};
+    memcpy(m.X, X, sizeof(double) * 3 * (size_t)nv);
+    memcpy(m.tets, tets, sizeof(int) * 4 * (size_t)nt);
+    return m;
+}
+
 /* ---- temporary files ---- */
 
 /* A fresh path /tmp/rk_mesh_XXXXXX<suffix> (created empty). */

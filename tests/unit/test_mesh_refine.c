@@ -5,18 +5,9 @@
 #include <stdint.h>
 
 #include "testlib.h"
-#include "mesh/mesh.h"
+#include "test_mesh_formats.h"
 
 static const double unit_tet[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
-
-static rk_mesh make_mesh(int nv, const double *X, int nt, const int *tets)
-{
-    rk_mesh m = {.nv = nv, .nt = nt, .X = malloc(sizeof(double) * 3 * (size_t)nv),
-                 .tets = malloc(sizeof(int) * 4 * (size_t)nt)};
-    memcpy(m.X, X, sizeof(double) * 3 * (size_t)nv);
-    memcpy(m.tets, tets, sizeof(int) * 4 * (size_t)nt);
-    return m;
-}
 
 static double tet_volume(const rk_mesh *m, int t)
 {
