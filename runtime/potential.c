@@ -111,6 +111,24 @@ static void element_hessian(romrt_model *m)
     }
 }
 
+romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9])
+{
+    const romrt_real *er = m->elem_real + 12 * (size_t)e;
+    return RT_PHYS(psi_h)((rk_material_model)m->elem[5 * (size_t)e + 4], er[10], er[11], Hd);
+}
+
+void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romrt_real *P, romrt_real *A)
+{
+    const romrt_real *er = m->elem_real + 12 * (size_t)e;
+    rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
+    romrt_real F[9];
+    int k;
+    if (P) RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
+    if (!A) return;
+    for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
+    RT_PHYS(dpdf)(model, er[10], er[11], F, A, !m->exact_hessian);
+}
+
 static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
     int r = m->r, rp = RT_PAD(r), e, i, j, k;
@@ -119,19 +137,17 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
     if (H)
         for (i = 0; i < rp * rp; i++) m->He[i] = 0;
     for (e = 0; e < m->ne; e++) {
-        const romrt_real *er = m->elem_real + 12 * (size_t)e;
-        rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
-        romrt_real Hd[9], F[9], P[9], A[81], w = er[9], psi;
+        romrt_real Hd[9], P[9], A[81], w = m->elem_real[12 * (size_t)e + 9], psi;
         /* F - I from the vertices' displacements (12 dot products), the same arithmetic whether
          * or not G is formed, so the line search compares energies computed alike */
         element_H(m, e, q, Hd);
-        psi = RT_PHYS(psi_h)(model, er[10], er[11], Hd);
+        psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
         E += w * psi;
         if (!g && !H) continue;
         element_G(m, e);
+        rt_element_stress(m, e, Hd, g ? P : 0, H ? A : 0);
         if (g) {
-            RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
             for (k = 0; k < 9; k++) {
                 const romrt_real *Gk = m->G + (size_t)rp * k;
                 romrt_real wp = w * P[k];
@@ -139,8 +155,6 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
             }
         }
         if (H) {
-            for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
-            RT_PHYS(dpdf)(model, er[10], er[11], F, A, !m->exact_hessian);
             element_AG(m, A, w);
             element_hessian(m);
         }

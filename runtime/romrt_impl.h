@@ -141,6 +141,11 @@ typedef struct {
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
+/* Cubature element e's constitutive part at F - I = Hd (potential.c, for both element paths):
+ * its energy density; P (may be NULL) and dP/dF into A (may be NULL), projected to PSD unless
+ * m->exact_hessian. */
+romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9]);
+void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romrt_real *P, romrt_real *A);
 /* The elastic energy (gradient, Hessian) of a skinning basis through its weights (skinning.c). */
 romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
 /* x = X_v + rows_v q of stored vertex v. */

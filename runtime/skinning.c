@@ -113,17 +113,15 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
     if (H)
         for (i = 0; i < L * L; i++) m->He[i] = 0;
     for (e = 0; e < m->ne; e++) {
-        const romrt_real *er = m->elem_real + 12 * (size_t)e;
-        rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
-        romrt_real Hd[9], F[9], P[9], A[81], w = er[9], psi;
+        romrt_real Hd[9], P[9], A[81], w = m->elem_real[12 * (size_t)e + 9], psi;
         element_H(m, e, Hd);
-        psi = RT_PHYS(psi_h)(model, er[10], er[11], Hd);
+        psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
         E += w * psi;
         if (!g && !H) continue;
         element_N(m, e);
+        rt_element_stress(m, e, Hd, g ? P : 0, H ? A : 0);
         if (g) { /* dE/dA_j[a][c] = w sum_b P_ab N[(j, c), b] */
-            RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
             for (a = 0; a < 3; a++) {
                 romrt_real *gQ = m->skin_gQ + (size_t)np * a;
                 for (b = 0; b < 3; b++) {
@@ -133,11 +131,7 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
                 }
             }
         }
-        if (H) {
-            for (i = 0; i < 9; i++) F[i] = Hd[i] + (romrt_real)(i % 4 == 0);
-            RT_PHYS(dpdf)(model, er[10], er[11], F, A, !m->exact_hessian);
-            element_hessian(m, A, w);
-        }
+        if (H) element_hessian(m, A, w);
     }
     if (g)
         for (i = 0; i < r; i++) g[i] += m->skin_gQ[block_index(i, np)];
