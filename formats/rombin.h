@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 2   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 3   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -81,6 +81,8 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_FRIC "FRIC"   /* real x ROMBIN_FRIC_COUNT: friction (1.1, optional) */
 #define ROMBIN_SKIN "SKIN"   /* u32 x 1: ROWS are linear blend skinning over this many handles (1.2, optional) */
 #define ROMBIN_WGHT "WGHT"   /* real x vertices x handles: the skinning weights, in place of ROWS (1.2, critical) */
+#define ROMBIN_IPNT "IPNT"   /* real, points x (6 + 4 H): mesh-free integration points (1.3, critical with points) */
+#define ROMBIN_IPMD "IPMD"   /* u32, points: their material models (1.3, critical with points) */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
 #define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
 #define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */
@@ -112,6 +114,7 @@ enum {
     ROMBIN_HEAD_NEWTON_MAX_ITER,
     ROMBIN_HEAD_SOURCE_VERTICES, /* of the full mesh (information) */
     ROMBIN_HEAD_SOURCE_TETS,
+    ROMBIN_HEAD_POINTS,          /* mesh-free integration points (IPNT; 1.3) */
     ROMBIN_HEAD_COUNT = 16       /* the rest reserved, 0 */
 };
 

@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
@@ -45,12 +45,14 @@ static romrt_status friction(rt_loader *L, romrt_model *m)
 static romrt_status sizes(rt_loader *L, romrt_model *m)
 {
     const uint32_t *head;
-    romrt_status st = rt_head(L, ROMBIN_HEAD, ROMBIN_HEAD_COUNT, ROMBIN_HEAD_SOURCE_TETS + 1, ROMBIN_HEAD_R,
+    romrt_status st = rt_head(L, ROMBIN_HEAD, ROMBIN_HEAD_COUNT, ROMBIN_HEAD_POINTS + 1, ROMBIN_HEAD_R,
                               ROMBIN_HEAD_VERTICES, ROMBIN_HEAD_SHOWN, &head);
     int k;
     if (st) return st;
-    if (head[ROMBIN_HEAD_ELEMENTS] == 0 || head[ROMBIN_HEAD_ELEMENTS] > ROMRT_MAX_ELEMENTS)
-        return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_HEAD, "element count ", head[ROMBIN_HEAD_ELEMENTS], " out of range");
+    if (head[ROMBIN_HEAD_ELEMENTS] > ROMRT_MAX_ELEMENTS || head[ROMBIN_HEAD_POINTS] > ROMRT_MAX_ELEMENTS ||
+        (uint64_t)head[ROMBIN_HEAD_ELEMENTS] + head[ROMBIN_HEAD_POINTS] == 0)
+        return rt_fail_nn(L->err, ROMRT_E_LIMIT, ROMBIN_HEAD, "element count ", head[ROMBIN_HEAD_ELEMENTS],
+                          " and integration point count ", head[ROMBIN_HEAD_POINTS], ": none, or more than the runtime takes");
     if (head[ROMBIN_HEAD_PINS] > ROMRT_MAX_PINS || head[ROMBIN_HEAD_PLANES] > ROMRT_MAX_PLANES ||
         head[ROMBIN_HEAD_GROUPS] > ROMRT_MAX_GROUPS)
         return rt_fail(L->err, ROMRT_E_LIMIT, ROMBIN_HEAD, "pin, plane or group count above the runtime's limits");
@@ -66,6 +68,7 @@ static romrt_status sizes(rt_loader *L, romrt_model *m)
     m->nv = (int)head[ROMBIN_HEAD_VERTICES];
     m->shown = (int)head[ROMBIN_HEAD_SHOWN];
     m->ne = (int)head[ROMBIN_HEAD_ELEMENTS];
+    m->np = (int)head[ROMBIN_HEAD_POINTS];
     m->npins = (int)head[ROMBIN_HEAD_PINS];
     m->nplanes = (int)head[ROMBIN_HEAD_PLANES];
     m->ncontacts = (int)head[ROMBIN_HEAD_CONTACTS];
@@ -104,6 +107,25 @@ static romrt_status sizes(rt_loader *L, romrt_model *m)
         m->dhat = (romrt_real)p[ROMBIN_PARM_DHAT];
         m->kappa = (romrt_real)p[ROMBIN_PARM_KAPPA];
     }
+    return ROMRT_OK;
+}
+
+/* IPNT and IPMD: mesh-free integration points need a skinning basis (their F comes from the
+ * weights and gradients they carry, runtime/skinning.c). */
+static romrt_status integration_points(rt_loader *L, romrt_model *m)
+{
+    romrt_status st;
+    if (m->np == 0) {
+        rombin_chunk c;
+        int found;
+        if ((st = rt_chunk(L, ROMBIN_IPNT, ROMBIN_TYPE_REAL, 0, 0, &c, &found))) return st;
+        return found ? rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_IPNT, "integration points, but HEAD counts none") : ROMRT_OK;
+    }
+    if (m->skin <= 0)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_IPNT, "mesh-free integration points need a skinning basis (SKIN)");
+    if ((st = rt_reals(L, ROMBIN_IPNT, (uint64_t)m->np * (6 + 4 * (uint64_t)m->skin), 1, &m->pt)) ||
+        (st = rt_u32s(L, ROMBIN_IPMD, (uint64_t)m->np, 1, &m->pt_model)))
+        return st;
     return ROMRT_OK;
 }
 
@@ -153,8 +175,9 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_reals(L, ROMBIN_MASS, rr, 1, &m->M)) || (st = rt_reals(L, ROMBIN_DAMP, rr, 0, &m->C)) ||
         (st = rt_reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = rt_reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
         (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
-        (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, 1, &m->elem)) ||
-        (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, 1, &m->elem_real)) ||
+        (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, m->ne > 0, &m->elem)) ||
+        (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, m->ne > 0, &m->elem_real)) ||
+        (st = integration_points(L, m)) ||
         (st = rt_reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
         (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
         (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))
@@ -188,7 +211,8 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         (st = rt_indices_below(L, ROMBIN_ELEM, m->elem, (uint64_t)m->ne, 5, 4, 5, RK_MAT_NEOHOOKEAN + 1)) ||
         (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 0, 1, (uint32_t)m->nv)) ||
         (st = rt_indices_below(L, ROMBIN_CONT, m->contacts, (uint64_t)m->ncontacts, 2, 1, 2, (uint32_t)m->nplanes)) ||
-        (st = rt_indices_below(L, ROMBIN_CVTX, m->cv, (uint64_t)m->ncv, 1, 0, 1, (uint32_t)m->nv)))
+        (st = rt_indices_below(L, ROMBIN_CVTX, m->cv, (uint64_t)m->ncv, 1, 0, 1, (uint32_t)m->nv)) ||
+        (st = rt_indices_below(L, ROMBIN_IPMD, m->pt_model, (uint64_t)m->np, 1, 0, 1, RK_MAT_NEOHOOKEAN + 1)))
         return st;
     if ((st = rt_check_groups_and_surface(L, m))) return st;
     if (m->skin < 0 || (m->skin > 0 && m->r != 12 * m->skin))
@@ -201,6 +225,16 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         if (!(er[9] >= 0) || !(er[10] > 0) || !(er[11] > -er[10]))
             return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ELMR, "element ", (uint64_t)e,
                              " has a negative weight or impossible Lame parameters");
+    }
+    for (e = 0; e < m->np; e++) {
+        const romrt_real *p = m->pt + (6 + 4 * (size_t)m->skin) * (size_t)e;
+        size_t k2;
+        if (!(p[3] >= 0) || !(p[4] > 0) || !(p[5] > -p[4]))
+            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_IPNT, "integration point ", (uint64_t)e,
+                             " has a negative weight or impossible Lame parameters");
+        for (k2 = 0; k2 < 6 + 4 * (size_t)m->skin; k2++)
+            if (!isfinite(p[k2]))
+                return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_IPNT, "integration point ", (uint64_t)e, " is not finite");
     }
     for (g = 0; g < m->npins; g++) {
         const romrt_real *p = m->pins + (ROMBIN_PIN_PARAMS + 12 * (size_t)m->r) * (size_t)g;

@@ -111,22 +111,35 @@ static void element_hessian(romrt_model *m)
     }
 }
 
+/* The material of element e (ELEM, ELMR), or of integration point e - ne (IPMD, IPNT): its mu and
+ * lambda at lame[0..1]. */
+static rk_material_model material(const romrt_model *m, int e, const romrt_real **lame)
+{
+    if (e < m->ne) {
+        *lame = m->elem_real + 12 * (size_t)e + 10;
+        return (rk_material_model)m->elem[5 * (size_t)e + 4];
+    }
+    *lame = m->pt + (6 + 4 * (size_t)m->skin) * (size_t)(e - m->ne) + 4;
+    return (rk_material_model)m->pt_model[e - m->ne];
+}
+
 romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9])
 {
-    const romrt_real *er = m->elem_real + 12 * (size_t)e;
-    return RT_PHYS(psi_h)((rk_material_model)m->elem[5 * (size_t)e + 4], er[10], er[11], Hd);
+    const romrt_real *lame;
+    rk_material_model model = material(m, e, &lame);
+    return RT_PHYS(psi_h)(model, lame[0], lame[1], Hd);
 }
 
 void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romrt_real *P, romrt_real *A)
 {
-    const romrt_real *er = m->elem_real + 12 * (size_t)e;
-    rk_material_model model = (rk_material_model)m->elem[5 * (size_t)e + 4];
+    const romrt_real *lame;
+    rk_material_model model = material(m, e, &lame);
     romrt_real F[9];
     int k;
-    if (P) RT_PHYS(pk1_h)(model, er[10], er[11], Hd, P);
+    if (P) RT_PHYS(pk1_h)(model, lame[0], lame[1], Hd, P);
     if (!A) return;
     for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
-    RT_PHYS(dpdf)(model, er[10], er[11], F, A, !m->exact_hessian);
+    RT_PHYS(dpdf)(model, lame[0], lame[1], F, A, !m->exact_hessian);
 }
 
 static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)

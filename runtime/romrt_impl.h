@@ -75,7 +75,7 @@ typedef struct {
 struct romrt_model {
     romrt_kind kind;
     /* sizes and parameters (HEAD, PARM; a Koopman asset: KHED, KPRM) */
-    int r, nv, shown, ne, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter, ncv;
+    int r, nv, shown, ne, np, npins, nplanes, ncontacts, ngroups, ntris, integrator, max_iter, ncv;
     romrt_real h, tol, mass, dhat, kappa;
     int fixed_iterations;     /* 0: Newton to the asset's tolerance; k: exactly k full steps (fixed cost) */
     int exact_hessian;        /* the elements' dP/dF unprojected (the fixed-cost mode's first try) */
@@ -89,6 +89,9 @@ struct romrt_model {
     const romrt_real *elem_real; /* ne x 12: Dm^-1, weight, mu, lambda */
     const romrt_real *planes; /* nplanes x 6 */
     const uint32_t *elem;     /* ne x 5 */
+    const romrt_real *pt;     /* np x (6 + 4 skin): mesh-free integration points (IPNT): X, weight, mu, lambda,
+                               * then per handle j its weight and gradient (w_j, dw_j/dX) */
+    const uint32_t *pt_model; /* np (IPMD) */
     const uint32_t *contacts; /* ncontacts x 2 */
     const uint32_t *cv;       /* ncv collision vertices (CVTX), or NULL */
     const uint32_t *groups;   /* ngroups x 2 */
@@ -141,7 +144,8 @@ typedef struct {
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
-/* Cubature element e's constitutive part at F - I = Hd (potential.c, for both element paths):
+/* Cubature element e's constitutive part at F - I = Hd (potential.c, for both element paths;
+ * e >= ne is integration point e - ne):
  * its energy density; P (may be NULL) and dP/dF into A (may be NULL), projected to PSD unless
  * m->exact_hessian. */
 romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9]);

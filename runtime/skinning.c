@@ -10,7 +10,10 @@
  * the element Hessian G^T A G is 3 x 3 blocks of n x n, block (a, a') = N^T A_aa' N (A_aa' the
  * 3 x 3 block of dP/dF between F's rows a and a'): 1.5 r^2 multiply-adds for the upper triangle
  * against the dense 4.5 r^2 (FreeForm paper, Eq. 1 and 22: F from the weights and the handles).
- * The energy, gradient and Hessian are the dense path's (potential.c) up to rounding. */
+ * The energy, gradient and Hessian are the dense path's (potential.c) up to rounding.
+ *
+ * A mesh-free integration point (IPNT) is an element whose N comes straight from the weights and
+ * their gradients at the point (freeform paper Eq. 21): N[(j, c), b] = X̄_c dw_j/dX_b + w_j delta_cb. */
 #include <math.h>
 #include <string.h>
 
@@ -38,6 +41,37 @@ static void element_N(romrt_model *m, int e)
         }
     for (b = 0; b < 3; b++)
         for (j = 4 * H; j < np; j++) N[np * b + j] = 0;
+}
+
+/* m->skin_N for integration point p: from its weights and gradients (IPNT). */
+static void point_N(romrt_model *m, int p)
+{
+    int H = m->skin, np = RT_PAD(4 * H), j, c, b;
+    const romrt_real *s = m->pt + (6 + 4 * (size_t)H) * (size_t)p, *X = s;
+    romrt_real *N = m->skin_N;
+    for (j = 0; j < H; j++) {
+        const romrt_real *wj = s + 6 + 4 * j; /* w_j, dw_j/dX_0..2 */
+        for (b = 0; b < 3; b++) {
+            romrt_real *Nb = N + np * b + 4 * j;
+            for (c = 0; c < 3; c++) Nb[c] = X[c] * wj[1 + b] + (c == b ? wj[0] : 0);
+            Nb[3] = wj[1 + b];
+        }
+    }
+    for (b = 0; b < 3; b++)
+        for (j = 4 * H; j < np; j++) N[np * b + j] = 0;
+}
+
+/* F - I = sum_j A_j N_j with N in m->skin_N (an integration point's). */
+static void point_H(const romrt_model *m, romrt_real Hd[9])
+{
+    int np = RT_PAD(4 * m->skin), a, b, x;
+    for (a = 0; a < 3; a++)
+        for (b = 0; b < 3; b++) {
+            const romrt_real *Q = m->skin_Q + (size_t)np * a, *N = m->skin_N + (size_t)np * b;
+            romrt_real s = 0;
+            for (x = 0; x < 4 * m->skin; x++) s += Q[x] * N[x];
+            Hd[3 * a + b] = s;
+        }
 }
 
 /* F - I of element e: u_{k, a} = B_{v_k, a} q through the weights, then Dm^-1 (as element_H). */
@@ -112,14 +146,20 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
     for (i = 0; i < r; i++) m->skin_Q[block_index(i, np)] = q[i];
     if (H)
         for (i = 0; i < L * L; i++) m->He[i] = 0;
-    for (e = 0; e < m->ne; e++) {
-        romrt_real Hd[9], P[9], A[81], w = m->elem_real[12 * (size_t)e + 9], psi;
-        element_H(m, e, Hd);
+    for (e = 0; e < m->ne + m->np; e++) {
+        int point = e >= m->ne;
+        romrt_real Hd[9], P[9], A[81], psi,
+            w = point ? m->pt[(6 + 4 * (size_t)m->skin) * (size_t)(e - m->ne) + 3] : m->elem_real[12 * (size_t)e + 9];
+        if (point) {
+            point_N(m, e - m->ne);
+            point_H(m, Hd);
+        } else
+            element_H(m, e, Hd);
         psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
         E += w * psi;
         if (!g && !H) continue;
-        element_N(m, e);
+        if (!point) element_N(m, e);
         rt_element_stress(m, e, Hd, g ? P : 0, H ? A : 0);
         if (g) { /* dE/dA_j[a][c] = w sum_b P_ab N[(j, c), b] */
             for (a = 0; a < 3; a++) {

@@ -113,11 +113,8 @@ int cmd_basis(int argc, char **argv)
     if (rk_scene_load(scene_path, &scene, &err)) goto done;
     have_scene = 1;
     if (rk_scene_entry(&scene, (int)index, &e, &err)) goto done;
-    /* a point cloud has no mesh to build: its basis is mesh-free */
-    if (scene.objects[0].shape != RK_SHAPE_POINTS) {
-        if (rk_scene_build(&scene, &sim, &err)) goto done;
-        have_sim = 1;
-    }
+    if (rk_scene_build(&scene, &sim, &err)) goto done;
+    have_sim = 1;
     if (rk_scene_basis(&scene, have_sim ? &sim : NULL, &e->basis, NULL, 0, &b, &info, &err)) goto done;
     have_basis = 1;
     if (weights_out && !b.W) {

@@ -14,7 +14,8 @@
 #include "mesh/mesh.h"
 #include "rom/rom.h"
 
-typedef enum { RK_SHOW_SURFACE = 0, RK_SHOW_ALL = 1, RK_SHOW_NONE = 2 } rk_show;
+/* RK_SHOW_FIRST: the first show_first vertices, in order (a point cloud's points; set by the bake). */
+typedef enum { RK_SHOW_SURFACE = 0, RK_SHOW_ALL = 1, RK_SHOW_NONE = 2, RK_SHOW_FIRST = 3 } rk_show;
 
 typedef struct {
     char name[ROMBIN_GROUP_NAME_BYTES];
@@ -27,6 +28,7 @@ typedef struct {
     int real_type;            /* ROMBIN_REAL_F32 (default) or ROMBIN_REAL_F64 */
     int compress;             /* deflate the chunks (default 0: the runtime opens stored chunks only) */
     rk_show show;
+    int show_first;           /* RK_SHOW_FIRST: how many */
     int colliders;            /* store the collision vertices (CVTX) an app's colliders act on (default 1) */
     int ngroups;
     rk_asset_group groups[RK_ASSET_MAX_GROUPS];
@@ -60,6 +62,10 @@ typedef struct {
     const rk_rom_model *model;
     int skin_handles;            /* U is linear blend skinning over this many handles (rk_skinning_to_U
                                   * over the mesh's rest positions), 0 otherwise: the SKIN chunk */
+    const rk_skin_points *points; /* mesh-free: the model's quadrature points are these integration
+                                  * points (quad.source indexes them; IPNT), not elements; needs skinning */
+    int points_shown;            /* a point cloud: the first points_shown vertices are shown, in order,
+                                  * with no surface (0: the mesh's boundary by o->show) */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

@@ -16,16 +16,18 @@ static int collision_vertices(const rk_rom_model *m, const rk_asset_options *o)
 static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_bake_state *s, rk_error *err)
 {
     const rk_rom_model *m = R->model;
-    int ncontact = collision_vertices(m, o), nextra = 4 * m->quad.count + ncontact, k = 0;
+    int ncontact = collision_vertices(m, o), nelem = R->points ? 0 : m->quad.count, nextra = 4 * nelem + ncontact, k = 0;
     int *extra = rk_calloc((size_t)nextra + 1, sizeof(int), err);
-    if (!extra || rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err)) {
+    if (!extra || (!R->points_shown && rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err))) {
         free(extra);
         return -1;
     }
-    for (int i = 0; i < m->quad.count; i++)
+    for (int i = 0; i < nelem; i++)
         for (int c = 0; c < 4; c++) extra[k++] = R->fem->tets[4 * m->quad.source[i] + c];
     for (int c = 0; c < ncontact; c++) extra[k++] = m->cv[c];
-    int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, o, s, err);
+    rk_asset_options shown = *o;
+    if (R->points_shown) shown.show = RK_SHOW_FIRST, shown.show_first = R->points_shown;
+    int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, &shown, s, err);
     free(extra);
     return rc;
 }
@@ -126,6 +128,35 @@ static int add_elements(const rk_fem *fem, const rk_quadrature *Q, const rk_bake
     return rc ? -1 : 0;
 }
 
+/* Mesh-free integration points (IPNT, IPMD): X, weight, mu, lambda, then (w_j, dw_j/dX) per handle. */
+static int add_points(const rk_skin_points *P, const rk_quadrature *Q, rombin_writer *w, rk_error *err)
+{
+    int H = P->H, per = 6 + 4 * H;
+    int *model = rk_calloc((size_t)Q->count + 1, sizeof(int), err);
+    double *real = rk_calloc((size_t)per * Q->count + 1, sizeof(double), err);
+    int rc = -1;
+    if (model && real) {
+        for (int i = 0; i < Q->count; i++) {
+            int p = Q->source[i];
+            double *o = real + (size_t)per * i;
+            memcpy(o, P->X + 3 * (size_t)p, 3 * sizeof(double));
+            o[3] = Q->weight[i];
+            o[4] = Q->mu[i];
+            o[5] = Q->lambda[i];
+            for (int j = 0; j < H; j++) {
+                o[6 + 4 * j] = P->W[(size_t)p + (size_t)P->n * j];
+                for (int b = 0; b < 3; b++) o[7 + 4 * j + b] = P->dW[3 * (size_t)p + b + 3 * (size_t)P->n * j];
+            }
+            model[i] = (int)Q->model[i];
+        }
+        rc = rk_bake_add_u32s(w, ROMBIN_IPMD, 1, model, (size_t)Q->count, err) ||
+             rombin_add_reals(w, ROMBIN_IPNT, 1, real, (size_t)per * Q->count, err);
+    }
+    free(model);
+    free(real);
+    return rc ? -1 : 0;
+}
+
 /* The scene's planes (PLAN) and every (boundary vertex, plane) pair (CONT): what the runtime's
  * barrier acts on. Other obstacles have no place in the asset yet. */
 static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_writer *w, rk_error *err)
@@ -203,12 +234,16 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
     rk_bake_state s;
     memset(&s, 0, sizeof s);
     int rc = select_vertices(R, o, &s, err);
+    if (!rc && R->points && (R->points->H != R->skin_handles || !skinning_handles(R, &s)))
+        rc = rk_fail(err, "mesh-free integration points need a linear-blend-skinning basis over %d handles",
+                     R->points->H);
     if (!rc) {
         uint32_t head[ROMBIN_HEAD_COUNT] = {0};
         head[ROMBIN_HEAD_R] = (uint32_t)m->r;
         head[ROMBIN_HEAD_VERTICES] = (uint32_t)s.count;
         head[ROMBIN_HEAD_SHOWN] = (uint32_t)s.shown;
-        head[ROMBIN_HEAD_ELEMENTS] = (uint32_t)m->quad.count;
+        head[ROMBIN_HEAD_ELEMENTS] = R->points ? 0 : (uint32_t)m->quad.count;
+        head[ROMBIN_HEAD_POINTS] = R->points ? (uint32_t)m->quad.count : 0;
         head[ROMBIN_HEAD_PINS] = (uint32_t)(m->pinned_vertices ? m->npins : 0);
         head[ROMBIN_HEAD_PLANES] = (uint32_t)plane_count(m);
         head[ROMBIN_HEAD_CONTACTS] = (uint32_t)contact_count(m);
@@ -227,7 +262,8 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
-             add_elements(R->fem, &m->quad, &s, w, err) || add_contacts(m, &s, w, err) ||
+             (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
+             add_contacts(m, &s, w, err) ||
              add_collisions(m, o, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));

@@ -31,7 +31,9 @@ int rk_bake_select(int nv, const double *X, const int *extra, int nextra, const 
     s->group_count = rk_calloc((size_t)o->ngroups + 1, sizeof(int), err);
     s->group_verts = rk_calloc((size_t)nv * (o->ngroups > 0 ? o->ngroups : 1), sizeof(int), err);
     if (!s->need || !s->stored || !s->source || !s->group_first || !s->group_count || !s->group_verts) return -1;
-    if (o->show == RK_SHOW_ALL || (o->show == RK_SHOW_SURFACE && s->nf == 0))
+    if (o->show == RK_SHOW_FIRST)
+        memset(s->need, 1, (size_t)(o->show_first < nv ? o->show_first : nv));
+    else if (o->show == RK_SHOW_ALL || (o->show == RK_SHOW_SURFACE && s->nf == 0))
         memset(s->need, 1, (size_t)nv); /* no surface known: every vertex is shown */
     else if (o->show == RK_SHOW_SURFACE)
         for (int k = 0; k < 3 * s->nf; k++) s->need[s->tris[k]] = 1;

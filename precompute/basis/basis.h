@@ -50,6 +50,11 @@ typedef struct {
  * inside (a mesh thinner than s everywhere). On failure *p is empty. */
 int rk_rkpm_sample_mesh(const rk_mesh *m, int target, rk_rkpm_points *p, rk_error *err);
 
+/* count points uniformly random inside the mesh (tets picked by volume, uniform within each;
+ * splitmix64 from seed: the same seed, the same points), each weighted volume / count: the
+ * "random" sampling of the freeform paper's Table 4. p->tet holds each point's tet. */
+int rk_rkpm_sample_mesh_random(const rk_mesh *m, int count, unsigned long long seed, rk_rkpm_points *p, rk_error *err);
+
 /* The cloud's points (3n coordinates) used directly as integration points (Sec. 7.1, "for 3DGS").
  * When n > max_points, a deterministic voxel-grid downsampling keeps the lowest-index point of
  * each occupied voxel, with the voxel size bisected so that at most max_points remain (as many
@@ -143,9 +148,11 @@ int rk_rkpm_eval(const rk_rkpm *k, const double X[3], int cap, int *idx, double 
  * like rk_rkpm_eval. Otherwise tolerant: a point covered by at least one kernel whose moment
  * matrix is (nearly) singular (a mesh vertex at the tip of a feature thinner than the kernel
  * spacing) is evaluated with the damped moment matrix (constants still exact, see
- * rkpm_shape.c) and counted in *regularized; only a point no kernel covers fails. */
+ * rkpm_shape.c) and counted in *regularized; only a point no kernel covers fails.
+ * dW (may be NULL): the analytic gradients, 3n x m column-major: dW[3 i + b + 3 n j] = d W^j/dX_b
+ * at point i. */
 int rk_rkpm_interpolate(const rk_rkpm *k, const double *X, int n, const double *c, int m, double *W,
-                        int *regularized, rk_error *err);
+                        double *dW, int *regularized, rk_error *err);
 
 /* ---- matrices -------------------------------------------------------------------------- */
 

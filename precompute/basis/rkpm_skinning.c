@@ -45,7 +45,7 @@ int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int ke
     if (rk_weight_eigs(&H, &M, m, b->values, b->C, &b->nzero, err)) goto out;
     tm.eigs = rk_now() - t;
     t = rk_now();
-    if (rk_rkpm_interpolate(b->rkpm, Xeval, n, b->C, m + 1, b->W, &b->damped_points, err)) goto out;
+    if (rk_rkpm_interpolate(b->rkpm, Xeval, n, b->C, m + 1, b->W, NULL, &b->damped_points, err)) goto out;
     b->damped_points += damped_integration;
     rk_skinning_to_U(b->W, n, m + 1, Xeval, b->U);
     tm.evaluate = rk_now() - t;

@@ -92,6 +92,34 @@ typedef struct {
     double *scratch;           /* F, P (9 count each) and w dP/dF G (9 r count) */
 } rk_quadrature;
 
+/* Mesh-free integration points under a linear-blend-skinning basis (freeform paper Eq. 21-22):
+ * H weights W_j with their gradients at each point. With q holding each handle's affine map
+ * row by row (column 12 j + 4 a + c, as rk_skinning_to_U), u(X) = sum_j W_j(X) A_j (X, 1) and
+ *
+ *   dF_ab/dA_j[a][c] = X̄_c dW_j/dX_b + W_j delta_cb   (X̄ = (X, 1), delta_3b = 0),
+ *
+ * so G_i has 4 H non-zeros per row and no element is involved: a point cloud integrates its own
+ * elastic energy, E = sum_i v_i Psi(F(X_i)) (Eq. 22). */
+typedef struct {
+    int n, H;
+    double *X;                 /* 3n */
+    double *W;                 /* n x H, column-major */
+    double *dW;                /* 3n x H, column-major: dW[3 i + b + 3 n j] = dW_j/dX_b at point i */
+    double *volume;            /* n integration weights (m^3) */
+    double *density;           /* n (kg/m^3): the mass the points carry, rho_i v_i */
+    rk_material_model *model;  /* n */
+    double *mu, *lambda;       /* n */
+} rk_skin_points;
+
+void rk_skin_points_free(rk_skin_points *P);
+/* Row 3a + b (columns 0..r-1, r = 12 H) of G at point i into G (9 x r, row-major). */
+void rk_skin_points_G(const rk_skin_points *P, int i, double *G);
+
+/* The points `index` (NULL: all n, in order) of P, each weighted by its volume times weights[k]
+ * (NULL: 1): as rk_quadrature_elements, with source[k] the point's index in P. */
+int rk_quadrature_points(const rk_skin_points *P, int count, const int *index, const double *weights,
+                         rk_quadrature *Q, rk_error *err);
+
 /* The points of `count` elements of f (elements NULL: all nt, in order) in the subspace U (3 nv x r,
  * column-major), each weighted by its rest volume times weights[k] (NULL: 1). */
 int rk_quadrature_elements(const rk_fem *f, const double *U, int r, int count, const int *elements,

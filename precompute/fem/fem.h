@@ -51,6 +51,10 @@ typedef struct {
 /* mats: nt materials (one per element). Fails on non-positive volume (the mesh must be
  * checked), nonsense parameters (E <= 0, nu outside (-1, 0.5), density <= 0, non-finite). */
 int rk_fem_init(rk_fem *f, const rk_mesh *m, const rk_material *mats, rk_error *err);
+/* A model with vertices and no element (a point cloud, whose elastic energy and mass a mesh-free
+ * quadrature integrates): the vertices' lumped masses as given (>= 0: they weigh loads and
+ * pins), the ghost tets kept for the boundary (a contact proxy), every matrix diagonal. */
+int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const double *vertex_mass, rk_error *err);
 void rk_fem_free(rk_fem *f);
 
 /* A zeroed matrix with the fem pattern (shares nothing: its own arrays). */

@@ -75,6 +75,30 @@ int rk_fem_init(rk_fem *f, const rk_mesh *m, const rk_material *mats, rk_error *
     return 0;
 }
 
+int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const double *vertex_mass, rk_error *err)
+{
+    memset(f, 0, sizeof *f);
+    if (m->nv <= 0 || m->nt != 0)
+        return rk_fail(err, "point model: %d vertices and %d elements; needs vertices and no element", m->nv, m->nt);
+    f->nv = m->nv;
+    f->X = m->X;
+    f->tets = m->tets;
+    f->nghost = m->nghost;
+    f->ghost = m->ghost;
+    if (alloc_arrays(f, err) || rk_fem_build_pattern(f, err)) {
+        rk_fem_free(f);
+        return -1;
+    }
+    for (int v = 0; v < m->nv; v++) {
+        if (!(vertex_mass[v] >= 0 && isfinite(vertex_mass[v]))) {
+            rk_fem_free(f);
+            return rk_fail(err, "point model: vertex %d has mass %g", v, vertex_mass[v]);
+        }
+        f->vertex_mass[v] = vertex_mass[v];
+    }
+    return 0;
+}
+
 void rk_fem_free(rk_fem *f)
 {
     free(f->Dm_inv);

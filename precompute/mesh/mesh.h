@@ -190,6 +190,13 @@ int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_vo
 /* Point clouds (PLY vertices with x, y, z; Gaussian-splat PLY included). *X malloc'ed, 3*n. */
 int rk_points_load(const char *path, double **X, int *n, rk_error *err);
 
+/* A closed surface around a point cloud (X, n points) for contact: the union of the voxels of edge
+ * g that hold a point, as ghost tets (Kuhn's 6 per voxel, faces matching between neighbours) over
+ * the voxel corners. out has the n points first (no tets, nothing uses them), then the corners:
+ * rk_mesh_boundary gives the union's outward faces, and every point lies inside the union,
+ * anywhere in its own voxel (so between 0 and g inside the surface). */
+int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err);
+
 /* An axis-aligned selection box (scenes select fixed, moving and loaded vertices, regions and
  * asset groups with them). */
 typedef struct {

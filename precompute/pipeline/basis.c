@@ -42,7 +42,10 @@ static int rkpm_on_mesh(const rk_scene_sim *sim, const rk_basis_options *o, int 
     return rc;
 }
 
-static int rkpm_on_points(const rk_scene *scene, const rk_basis_options *o, rk_basis *b,
+/* A point cloud's RKPM skinning basis: integration points and kernels from its own points (the
+ * first sim->cloud_points vertices), the weights at every vertex (its points, then its contact
+ * proxy's corners). */
+static int rkpm_on_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, rk_basis *b,
                           rk_scene_basis_info *info, rk_error *err)
 {
     const rk_scene_object *obj = &scene->objects[0];
@@ -54,13 +57,10 @@ static int rkpm_on_points(const rk_scene *scene, const rk_basis_options *o, rk_b
     if (o->size == 0)
         return rk_fail(err, "%s: rom.tolerance needs full-order frames, and a point cloud has no mesh "
                        "to simulate: give rom.size", scene->path);
-    double *X = NULL;
-    int n = 0;
-    if (rk_points_load(obj->file, &X, &n, err)) return -1;
-    for (int i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++) X[3 * i + c] = obj->scale * X[3 * i + c] + obj->translate[c];
+    if (!sim) return rk_fail(err, "%s: a point cloud's basis needs the built scene", scene->path);
+    int n = sim->cloud_points;
     rk_rkpm_points pts;
-    if (rk_rkpm_sample_cloud(X, n, o->integration_points, &pts, err)) { free(X); return -1; }
+    if (rk_rkpm_sample_cloud(sim->mesh.X, n, o->integration_points, &pts, err)) return -1;
     double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
     int rc = -1;
     if (coef) {
@@ -68,11 +68,13 @@ static int rkpm_on_points(const rk_scene *scene, const rk_basis_options *o, rk_b
             rk_material mat = rk_scene_material_at(obj, pts.X + 3 * i);
             coef[i] = lame_sum(&mat);
         }
-        rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, o->size, X, n, b, &info->rkpm, err);
+        rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, o->size, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
     }
     info->integration_points = pts.n;
-    info->vertices = n;
-    info->X = X;
+    info->vertices = sim->mesh.nv;
+    info->X = rk_calloc(3 * (size_t)sim->mesh.nv, sizeof(double), err);
+    if (!info->X) rc = -1;
+    else memcpy(info->X, sim->mesh.X, sizeof(double) * 3 * sim->mesh.nv);
     free(coef);
     rk_rkpm_points_free(&pts);
     return rc;
@@ -138,7 +140,7 @@ int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basi
     info->kernels = o->type == RK_BASIS_RKPM_SKINNING ? o->kernels : 0;
     double t0 = rk_now();
     if (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS) {
-        int rc = rkpm_on_points(scene, o, b, info, err);
+        int rc = rkpm_on_points(scene, sim, o, b, info, err);
         info->seconds_basis = rk_now() - t0;
         return rc;
     }

@@ -16,16 +16,26 @@ static int has_extension(const char *path, const char *ext)
 
 /* The object's mesh, checked for simulation: flat tets dropped with a warning (mesh.h); rep gets
  * what the check repaired. */
-static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
+static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
+                               rk_error *err)
 {
     memset(m, 0, sizeof *m);
     memset(rep, 0, sizeof *rep);
     switch (o->shape) {
     case RK_SHAPE_BOX:
         return rk_mesh_box(o->box_size, o->box_cells, m, err);
-    case RK_SHAPE_POINTS:
-        return rk_fail(err, "objects[%d].mesh.points: a point cloud has no elements; the full-order "
-                            "simulator needs a tet mesh or a closed surface (mesh.file)", k);
+    case RK_SHAPE_POINTS: {
+        /* the cloud's points first, in file order, then the corners of its contact proxy (ghost tets) */
+        double *X = NULL;
+        int n = 0;
+        if (rk_points_load(o->file, &X, &n, err)) return -1;
+        double g = o->proxy_voxel > 0 ? o->proxy_voxel / o->scale : rk_points_diagonal(X, n) / RK_PROXY_VOXELS;
+        int rc = rk_points_proxy(X, n, g, m, err);
+        free(X);
+        *cloud_points = n;
+        (void)k;
+        return rc;
+    }
     case RK_SHAPE_FILE:
         break;
     }
@@ -45,9 +55,10 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
 /* The object's mesh, refined o->refine times (mesh.refine) after its check; the refined mesh is
  * checked again (children of a sliver are slivers; a tet near the flat threshold may cross it),
  * whatever that check repairs added to rep. */
-static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, rk_error *err)
+static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
+                            rk_error *err)
 {
-    if (load_unrefined_mesh(o, k, m, rep, err)) return -1;
+    if (load_unrefined_mesh(o, k, m, rep, cloud_points, err)) return -1;
     if (o->refine == 0) return 0;
     rk_mesh fine;
     if (rk_mesh_refine(m, o->refine, &fine, err)) { /* "refine: ..." after "objects[k].mesh: " */
@@ -234,6 +245,28 @@ static int build_obstacles(const rk_scene *s, rk_scene_sim *out, double diag, rk
     return 0;
 }
 
+/* A point cloud's model: no elements (a mesh-free entry integrates its energy and mass), each of its
+ * n points weighing rho V / n with V the cloud's occupancy volume (rk_rkpm_sample_cloud), which
+ * the penalty of pins and the scene's loads go by; the proxy's corners weigh nothing. */
+static int cloud_fem(const rk_scene *s, rk_scene_sim *out, rk_error *err)
+{
+    rk_rkpm_points pts;
+    int first_corner = out->cloud_points;
+    if (rk_rkpm_sample_cloud(out->mesh.X, first_corner, first_corner, &pts, err))
+        return rk_error_prefix(err, "%s: objects[0].mesh.points", s->path);
+    double *mass = rk_calloc((size_t)out->mesh.nv, sizeof(double), err);
+    if (!mass) {
+        rk_rkpm_points_free(&pts);
+        return -1;
+    }
+    for (int v = 0; v < first_corner; v++)
+        mass[v] = rk_scene_material_at(&s->objects[0], out->mesh.X + 3 * (size_t)v).density * pts.volume / first_corner;
+    rk_rkpm_points_free(&pts);
+    int rc = rk_fem_init_points(&out->fem, &out->mesh, mass, err);
+    free(mass);
+    return rc;
+}
+
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
@@ -244,7 +277,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     for (int k = 0; k < s->nobjects; k++) {
         rk_mesh m;
         rk_mesh_report rep;
-        if (load_object_mesh(&s->objects[k], k, &m, &rep, err)) {
+        if (load_object_mesh(&s->objects[k], k, &m, &rep, &out->cloud_points, err)) {
             rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
             goto fail;
         }
@@ -262,8 +295,14 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     }
     /* Each object was checked (and its flat tets dropped) on its own, before its vertices were
      * numbered in the scene: this check of the whole measures it and drops nothing, which would
-     * renumber the vertices the objects own. */
-    if (rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) goto fail;
+     * renumber the vertices the objects own. A point cloud has no tets to check. */
+    int cloud = s->nobjects >= 1 && s->objects[0].shape == RK_SHAPE_POINTS;
+    if (cloud && s->nobjects > 1) {
+        rk_fail(err, "%s: a point-cloud object must be the scene's only object (several objects with clouds "
+                "are not supported yet)", s->path);
+        goto fail;
+    }
+    if (!cloud && rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) goto fail;
     out->mesh_report.reoriented += repaired.reoriented;
     out->mesh_report.unused_removed += repaired.unused_removed;
     out->mesh_report.flat_dropped += repaired.flat_dropped;
@@ -272,7 +311,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
     if (!out->materials) goto fail;
     assign_materials(s, out);
-    if (rk_fem_init(&out->fem, &out->mesh, out->materials, err)) goto fail;
+    if (cloud ? cloud_fem(s, out, err) : rk_fem_init(&out->fem, &out->mesh, out->materials, err)) goto fail;
 
     rk_fom_options *opt = &out->options;
     rk_fom_default_options(opt);

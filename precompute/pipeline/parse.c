@@ -102,7 +102,7 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
                       rk_scene_object *o)
 {
     static const char *const keys[] = {"file", "box", "points", "scale", "translate", "quality",
-                                       "max_volume", "refine", NULL};
+                                       "max_volume", "refine", "proxy_voxel", NULL};
     if (rk_json_check_keys(c, obj, path, keys)) return -1;
     const char *file = NULL, *points = NULL;
     if (rk_json_string(c, obj, path, "file", 0, &file)) return -1;
@@ -144,6 +144,10 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     if (rk_json_whole(c, obj, path, "refine", 0, RK_MESH_REFINE_MAX_LEVELS, &o->refine)) return -1;
     if (o->refine && o->shape == RK_SHAPE_POINTS)
         return rk_json_fail(c, path, "refine applies to tet meshes (file or box), not to a point cloud");
+    if (rk_json_number(c, obj, path, "proxy_voxel", 0, &o->proxy_voxel)) return -1;
+    if (o->proxy_voxel != 0 && (o->shape != RK_SHAPE_POINTS || !(o->proxy_voxel > 0)))
+        return rk_json_fail(c, path, "proxy_voxel (m) is a point cloud's contact-proxy voxel edge: positive, and "
+                            "only with points");
     return 0;
 }
 

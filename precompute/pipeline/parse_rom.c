@@ -51,6 +51,36 @@ static int parse_cubature(const rk_json_ctx *c, const cJSON *e, const char *path
     return 0;
 }
 
+static int parse_mesh_free(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    char mpath[128];
+    const cJSON *mf = rk_json_child(e, path, "mesh_free", mpath, sizeof mpath);
+    o->mesh_free = (rk_mesh_free_options){0, RK_SAMPLING_GRID, 5000, 1};
+    if (!mf) return 0;
+    if (cJSON_IsFalse(mf)) return 0;
+    o->mesh_free.enabled = 1;
+    if (o->basis.type != RK_BASIS_RKPM_SKINNING)
+        return rk_json_fail(c, mpath, "needs basis rkpm_skinning (its weights have gradients anywhere), not %s",
+                            rk_basis_type_name(o->basis.type));
+    if (cJSON_IsTrue(mf)) return 0;
+    if (!cJSON_IsObject(mf)) return rk_json_fail(c, mpath, "must be true, false or an object");
+    static const char *const keys[] = {"sampling", "points", "seed", NULL};
+    const char *sampling = NULL;
+    double seed = 1;
+    if (rk_json_check_keys(c, mf, mpath, keys) || rk_json_string(c, mf, mpath, "sampling", 0, &sampling) ||
+        rk_json_whole(c, mf, mpath, "points", 4, 1e7, &o->mesh_free.points) ||
+        rk_json_number(c, mf, mpath, "seed", 0, &seed))
+        return -1;
+    if (!(seed >= 0 && seed < 9007199254740992.0 && seed == floor(seed)))
+        return rk_json_fail(c, mpath, "seed must be a whole number from 0 to 2^53, got %g", seed);
+    o->mesh_free.seed = (unsigned long long)seed;
+    if (!sampling || !strcmp(sampling, "grid")) o->mesh_free.sampling = RK_SAMPLING_GRID;
+    else if (!strcmp(sampling, "random")) o->mesh_free.sampling = RK_SAMPLING_RANDOM;
+    else if (!strcmp(sampling, "cloud")) o->mesh_free.sampling = RK_SAMPLING_CLOUD;
+    else return rk_json_fail(c, mpath, "sampling must be grid, random or cloud, got \"%s\"", sampling);
+    return 0;
+}
+
 static int parse_reference(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
 {
     char rpath[128];
@@ -140,8 +170,10 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
         return 0;
     }
     const char *type = rk_basis_type_name(o->basis.type), *cub = o->cubature ? "-cubature" : "";
-    if (o->basis.size) snprintf(o->name, sizeof o->name, "%s-%d%s", type, o->basis.size, cub);
-    else snprintf(o->name, sizeof o->name, "%s-tol%g%s", type, o->basis.tolerance, cub);
+    const char *mf = !o->mesh_free.enabled ? "" : o->mesh_free.sampling == RK_SAMPLING_RANDOM ? "-meshfree-random"
+                                                                                                : "-meshfree";
+    if (o->basis.size) snprintf(o->name, sizeof o->name, "%s-%d%s%s", type, o->basis.size, mf, cub);
+    else snprintf(o->name, sizeof o->name, "%s-tol%g%s%s", type, o->basis.tolerance, mf, cub);
     return 0;
 }
 
@@ -149,10 +181,10 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
 {
     if (!cJSON_IsObject(e)) return rk_json_fail(c, path, "must be an object");
     static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
-                                       "cubature", "koopman", "name", "reference", "asset", "method", NULL};
+                                       "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free", NULL};
     snprintf(o->path, sizeof o->path, "%s", path);
     return rk_json_check_keys(c, e, path, keys) || parse_method(c, e, path, o) || parse_basis(c, e, path, &o->basis) ||
-                   parse_cubature(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
+                   parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
                    parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
                ? -1
                : 0;

@@ -73,6 +73,8 @@ typedef struct {
     double quality;        /* surface meshes: tetgen radius-edge bound */
     double max_volume;     /* surface meshes: tetgen volume bound (m^3), 0 = none */
     int refine;            /* uniform 1:8 refinements of the tets (rk_mesh_refine), 0 = none */
+    double proxy_voxel;    /* point cloud: voxel edge (m) of its contact proxy (rk_points_proxy);
+                            * 0: 1/RK_PROXY_VOXELS of the cloud's bounding-box diagonal */
     rk_material material;
     int nregions;
     rk_scene_region *regions;
@@ -110,6 +112,19 @@ typedef struct {
     rk_koopman_variation traj[RK_KOOPMAN_MAX_TRAJECTORIES];
 } rk_koopman_entry;
 
+/* rom.mesh_free: the elastic energy and the mass integrated at points (freeform paper Eq. 22)
+ * instead of over the tets, with an rkpm_skinning basis: {"sampling": "grid" | "random" | "cloud",
+ * "points": 5000, "seed": 1}. Grid: a uniform grid clipped to the object (its tets, or the
+ * tetrahedralized closed surface, as the inside test); random: uniform inside it (Table 4);
+ * cloud: a point cloud's own points, downsampled (the default, and the only one, for clouds). */
+typedef enum { RK_SAMPLING_GRID = 0, RK_SAMPLING_RANDOM = 1, RK_SAMPLING_CLOUD = 2 } rk_sampling;
+typedef struct {
+    int enabled;
+    rk_sampling sampling;
+    int points;                      /* how many (grid: about; default 5000, the paper's Table 4) */
+    unsigned long long seed;         /* random sampling */
+} rk_mesh_free_options;
+
 /* How a rom entry simulates (DESIGN.md: rom[i].method). */
 typedef enum { RK_METHOD_FIXED = 0 } rk_rom_method;
 
@@ -120,6 +135,7 @@ typedef struct {
     char name[96];                   /* rom.name, or "<basis>-<size|tol>[-cubature]" */
     rk_rom_method method;
     rk_basis_options basis;          /* basis, size, tolerance, modes, kernels, integration_points */
+    rk_mesh_free_options mesh_free;  /* rom.mesh_free (point clouds: always) */
     int cubature;                    /* 0: exact integration over every element */
     rk_cubature_options cub;         /* rom.cubature.{tolerance, max_points, poses, sample} */
     int koopman;                     /* a koopman section: the entry is (also) a Koopman operator */
@@ -164,6 +180,9 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
 
 /* A scene built into something to simulate. Objects are concatenated into one mesh;
  * object_first_vertex[k] / object_first_tet[k] say where object k starts. */
+/* A point cloud's default contact-proxy voxel: this fraction of its bounding-box diagonal. */
+#define RK_PROXY_VOXELS 40
+
 typedef struct {
     rk_mesh mesh;
     rk_mesh_report mesh_report; /* the joined mesh measured, plus what each object's own check
@@ -177,6 +196,8 @@ typedef struct {
     int steps;
     int *object_first_vertex; /* nobjects + 1 */
     int *object_first_tet;    /* nobjects + 1 */
+    int cloud_points;         /* a point-cloud object: its points are the mesh's first vertices, in file
+                               * order; the rest are its contact proxy's corners (rk_points_proxy) */
 } rk_scene_sim;
 
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);
@@ -221,12 +242,24 @@ int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basi
                    int T, rk_basis *b, rk_scene_basis_info *info, rk_error *err);
 void rk_scene_basis_info_free(rk_scene_basis_info *info);
 
+/* ---- a mesh-free entry's integration points (mesh_free.c) ---- */
+
+/* Whether entry o integrates at points: rom.mesh_free, or a point-cloud object. */
+int rk_scene_mesh_free(const rk_scene *scene, const rk_rom_entry *o);
+
+/* Samples o's points in the scene's object (point cloud: its own points), weights them by volume,
+ * gives each its object's material there, and the weights W_j and gradients of basis b (which
+ * must be rkpm_skinning) at it. */
+int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_free_options *o,
+                              const rk_basis *b, rk_skin_points *P, rk_error *err);
+
 /* ---- an entry's reduced model (rom.c) ---- */
 
 typedef struct {
     rk_basis basis;
     rk_scene_basis_info basis_info;
     rk_rom_model model;
+    rk_skin_points points;         /* mesh-free: the integration points (n = 0 otherwise) */
     int cubature_points;           /* 0 for exact integration */
     double cubature_error;         /* relative force error on the training poses (NAN: exact) */
     int cubature_reached, cubature_poses;

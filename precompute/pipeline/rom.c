@@ -59,7 +59,10 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
     free(q);
     if (rc) return rk_error_prefix(err, "cubature training");
     rk_quadrature cub;
-    if (rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, set.count, set.index, set.weight, &cub, err)) {
+    int made = R->points.n ? rk_quadrature_points(&R->points, set.count, set.index, set.weight, &cub, err)
+                           : rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, set.count, set.index, set.weight,
+                                                    &cub, err);
+    if (made) {
         rk_cubature_set_free(&set);
         return -1;
     }
@@ -68,19 +71,21 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
     R->cubature_points = set.count;
     R->cubature_error = set.relative_error;
     R->cubature_reached = set.reached;
+    const char *what = R->points.n ? "integration points" : "elements";
+    int candidates = R->points.n ? R->points.n : sim->mesh.nt;
     if (set.reached && set.greedy_count > set.count)
-        snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d elements "
+        snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d %s "
                  "(pruned from the greedy selection's %d) reproduce the reduced forces of %d training poses to %.3g",
-                 o->cub.tolerance, set.count, sim->mesh.nt, set.greedy_count, R->cubature_poses, set.relative_error);
+                 o->cub.tolerance, set.count, candidates, what, set.greedy_count, R->cubature_poses, set.relative_error);
     else if (set.reached)
-        snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d elements "
+        snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d %s "
                  "reproduce the reduced forces of %d training poses to %.3g", o->cub.tolerance, set.count,
-                 sim->mesh.nt, R->cubature_poses, set.relative_error);
+                 candidates, what, R->cubature_poses, set.relative_error);
     else
-        snprintf(R->cubature_reason, sizeof R->cubature_reason, "%s: stopped at %d of %d elements with force error "
+        snprintf(R->cubature_reason, sizeof R->cubature_reason, "%s: stopped at %d of %d %s with force error "
                  "%.3g, above rom.cubature.tolerance %g",
-                 o->cub.max_points && set.count >= o->cub.max_points ? "rom.cubature.max_points" : "no further element helped",
-                 set.count, sim->mesh.nt, set.relative_error, o->cub.tolerance);
+                 o->cub.max_points && set.count >= o->cub.max_points ? "rom.cubature.max_points" : "no further point helped",
+                 set.count, candidates, what, set.relative_error, o->cub.tolerance);
     rk_cubature_set_free(&set);
     R->seconds_cubature = rk_now() - t0;
     return 0;
@@ -102,14 +107,23 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
                        o->name, R->basis.n, sim->mesh.nv);
     }
     rk_quadrature exact;
-    if (rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, sim->mesh.nt, NULL, NULL, &exact, err) ||
-        rk_rom_model_init(&R->model, &sim->fem, &sim->options, R->basis.U, R->basis.r, &exact, err)) {
-        rk_basis_free(&R->basis);
-        rk_scene_basis_info_free(&R->basis_info);
+    int mesh_free = rk_scene_mesh_free(scene, o);
+    rk_mesh_free_options mfo = o->mesh_free;
+    if (mesh_free && scene->objects[0].shape == RK_SHAPE_POINTS && !o->mesh_free.enabled) mfo.sampling = RK_SAMPLING_CLOUD;
+    if ((mesh_free && (rk_scene_mesh_free_points(scene, sim, &mfo, &R->basis, &R->points, err) ||
+                       rk_quadrature_points(&R->points, R->points.n, NULL, NULL, &exact, err))) ||
+        (!mesh_free && rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, sim->mesh.nt, NULL, NULL, &exact, err)) ||
+        rk_rom_model_init(&R->model, &sim->fem, &sim->options, R->basis.U, R->basis.r, &exact,
+                          mesh_free ? &R->points : NULL, err)) {
+        rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
     }
-    snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d elements",
-             sim->mesh.nt);
+    if (mesh_free)
+        snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d "
+                 "mesh-free integration points", R->points.n);
+    else
+        snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d elements",
+                 sim->mesh.nt);
     if (o->cubature && train_cubature(sim, o, frames, T, R, err)) {
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
@@ -117,9 +131,15 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     return 0;
 }
 
+int rk_scene_mesh_free(const rk_scene *scene, const rk_rom_entry *o)
+{
+    return o->mesh_free.enabled || (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS);
+}
+
 void rk_scene_rom_free(rk_scene_rom *R)
 {
     rk_rom_model_free(&R->model);
+    rk_skin_points_free(&R->points);
     rk_basis_free(&R->basis);
     rk_scene_basis_info_free(&R->basis_info);
 }
@@ -127,5 +147,7 @@ void rk_scene_rom_free(rk_scene_rom *R)
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
 {
     int skinning = R->basis.type == RK_BASIS_SKINNING || R->basis.type == RK_BASIS_RKPM_SKINNING;
-    return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0};
+    int cloud = R->points.n && sim->fem.nt == 0; /* a point cloud: its points are the mesh's first vertices */
+    return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0,
+                          R->points.n ? &R->points : NULL, cloud ? sim->cloud_points : 0};
 }

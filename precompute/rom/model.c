@@ -28,8 +28,42 @@ static int basis_moves(const double *U, int ndof, int r, int v)
     return 0;
 }
 
+/* M_r = sum_p rho_p v_p U_p^T U_p over mesh-free integration points (freeform paper: the mass is
+ * integrated at the same points as the energy). With U_p the skinning rows of point p, U_p^T U_p =
+ * (z z^T) (x) I_3 in the (a, j, c) order, z_(j, c) = W_j(X_p) X̄_c: one 4H x 4H sum, spread over
+ * the three rows a. f_r gets gravity the same way. */
+static void point_mass(rk_rom_model *m, const rk_skin_points *P, const double gravity[3], double *f)
+{
+    int H = P->H, n4 = 4 * H, r = m->r;
+    double *S = calloc((size_t)n4 * n4 + n4, sizeof(double)), *z = S ? S + (size_t)n4 * n4 : NULL;
+    if (!S) return; /* caller checks m->M */
+    double total = 0;
+    for (int p = 0; p < P->n; p++) {
+        double mp = P->density[p] * P->volume[p];
+        const double *X = P->X + 3 * (size_t)p;
+        for (int j = 0; j < H; j++) {
+            double w = P->W[(size_t)p + (size_t)P->n * j];
+            for (int c = 0; c < 4; c++) z[4 * j + c] = w * (c < 3 ? X[c] : 1.0);
+        }
+        cblas_dsyr(CblasColMajor, CblasUpper, n4, mp, z, 1, S, n4);
+        for (int k = 0; k < n4; k++)
+            for (int a = 0; a < 3; a++) f[12 * (k / 4) + 4 * a + k % 4] += mp * z[k] * gravity[a];
+        total += mp;
+    }
+    for (int y = 0; y < n4; y++)
+        for (int x = 0; x <= y; x++) {
+            double v = S[x + (size_t)n4 * y];
+            for (int a = 0; a < 3; a++) {
+                int i = 12 * (x / 4) + 4 * a + x % 4, j = 12 * (y / 4) + 4 * a + y % 4;
+                m->M[i + (size_t)r * j] = m->M[j + (size_t)r * i] = v;
+            }
+        }
+    m->mass = total;
+    free(S);
+}
+
 static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
-                          rk_error *err)
+                          const rk_skin_points *points, rk_error *err)
 {
     int r = m->r, ndof = 3 * fem->nv;
     rk_sparse S = {0};
@@ -46,8 +80,19 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
         rk_sparse_free(&S);
         return -1;
     }
-    rk_fem_add_mass(fem, opt->lumped_mass, 1.0, &S);
-    project_matrix(&S, U, ndof, r, SU, m->M);
+    if (points) {
+        m->mass = -1;
+        point_mass(m, points, opt->gravity, m->f);
+        if (m->mass < 0) {
+            free(SU);
+            free(fext);
+            rk_sparse_free(&S);
+            return rk_fail(err, "out of memory integrating the mass at %d points", points->n);
+        }
+    } else {
+        rk_fem_add_mass(fem, opt->lumped_mass, 1.0, &S);
+        project_matrix(&S, U, ndof, r, SU, m->M);
+    }
     memcpy(m->M_chol, m->M, sizeof(double) * r * r);
     int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', r, m->M_chol, r);
     if (info != 0) {
@@ -56,17 +101,28 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
         rk_sparse_free(&S);
         return rk_fail(err, "U^T M U is not positive definite (pivot %d): the basis has dependent columns", info);
     }
-    if (damped) {
+    if (damped && points) {
+        /* C_r = a M_r + b K_r(0), the rest stiffness integrated at the same points */
+        double *q0 = rk_calloc((size_t)r, sizeof(double), err);
+        if (!q0) {
+            free(SU), free(fext), rk_sparse_free(&S);
+            return -1;
+        }
+        rk_quadrature_eval(&m->quad, q0, NULL, m->C, 0);
+        free(q0);
+        for (size_t k = 0; k < (size_t)r * r; k++) m->C[k] = opt->rayleigh_mass * m->M[k] + opt->rayleigh_stiffness * m->C[k];
+    } else if (damped) {
         rk_sparse_zero(&S);
         rk_fem_add_mass(fem, opt->lumped_mass, opt->rayleigh_mass, &S);
         rk_fem_add_rest_stiffness(fem, opt->rayleigh_stiffness, &S);
         project_matrix(&S, U, ndof, r, SU, m->C);
     }
-    /* Gravity with the lumped masses, as the full-order model applies it. */
+    /* Gravity with the lumped masses, as the full-order model applies it (mesh-free: at the
+     * integration points, above); the scene's loads on the vertices. */
     for (int v = 0; v < fem->nv; v++)
         for (int i = 0; i < 3; i++)
-            fext[3 * v + i] = fem->vertex_mass[v] * opt->gravity[i] + (opt->force ? opt->force[3 * v + i] : 0);
-    cblas_dgemv(CblasColMajor, CblasTrans, ndof, r, 1.0, U, ndof, fext, 1, 0.0, m->f, 1);
+            fext[3 * v + i] = (points ? 0 : fem->vertex_mass[v] * opt->gravity[i]) + (opt->force ? opt->force[3 * v + i] : 0);
+    cblas_dgemv(CblasColMajor, CblasTrans, ndof, r, 1.0, U, ndof, fext, 1, 1.0, m->f, 1);
     free(SU);
     free(fext);
     rk_sparse_free(&S);
@@ -122,11 +178,15 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
 }
 
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
-                      int r, rk_quadrature *quad, rk_error *err)
+                      int r, rk_quadrature *quad, const rk_skin_points *points, rk_error *err)
 {
     memset(m, 0, sizeof *m);
     m->quad = *quad;
     memset(quad, 0, sizeof *quad);
+    if (points && r != 12 * points->H) {
+        rk_rom_model_free(m);
+        return rk_fail(err, "reduced model: %d columns, but the integration points carry %d handles", r, points->H);
+    }
     if (r < 1 || m->quad.r != r) {
         rk_rom_model_free(m);
         return rk_fail(err, "reduced model: %d columns, but the quadrature has %d", r, m->quad.r);
@@ -151,7 +211,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     for (int v = 0; v < fem->nv; v++) m->mass += fem->vertex_mass[v];
     double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;
-    if (build_matrices(m, fem, opt, U, err) || build_pins(m, fem, opt, U, err) ||
+    if (build_matrices(m, fem, opt, U, points, err) || build_pins(m, fem, opt, U, err) ||
         rk_rom_contact_init(m, fem, opt, U, err)) {
         rk_rom_model_free(m);
         return rk_error_prefix(err, "reduced model");

@@ -72,9 +72,12 @@ typedef struct {
 
 /* Builds the reduced model of a full-order setup (fem and options exactly as the full-order
  * model gets them) in the subspace U (3 nv x r, column-major), with the elastic energy over
- * quad (taken over: the model owns and frees it, also on failure). */
+ * quad (taken over: the model owns and frees it, also on failure). points (may be NULL): a
+ * mesh-free model (freeform paper Eq. 22), U linear blend skinning over points->H handles: the
+ * mass, gravity and rest stiffness (damping) are integrated at these points instead of over the
+ * fem's elements (the vertices' masses then only weigh the penalty and the loads). */
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
-                      int r, rk_quadrature *quad, rk_error *err);
+                      int r, rk_quadrature *quad, const rk_skin_points *points, rk_error *err);
 void rk_rom_model_free(rk_rom_model *m);
 
 typedef struct {

@@ -187,7 +187,7 @@ TEST(box_kernels_reproduce_linear_fields)
         c[k.K + i] = pk[2] - 3;
     }
     for (int q = 0; q < 150; q++) X[q] = (q % 3 == 0 ? 2 : 1) * rnd(&seed);
-    CHECK_OK(rk_rkpm_interpolate(&k, X, 50, c, 2, W, NULL, &err));
+    CHECK_OK(rk_rkpm_interpolate(&k, X, 50, c, 2, W, NULL, NULL, &err));
     for (int q = 0; q < 50; q++) {
         CHECK_CLOSE(W[q], 2 * X[3 * q] - X[3 * q + 1] + 0.5, 1e-10);
         CHECK_CLOSE(W[50 + q], X[3 * q + 2] - 3, 1e-10);
@@ -357,26 +357,26 @@ TEST(too_sparse_clouds_are_named)
           "message: %s", err.msg);
     /* A point beyond every support, named by its index by rk_rkpm_interpolate. */
     double pts[6] = {0.5, 0.5, 0, 50, 0, 0}, c[4] = {1, 1, 1, 1}, W[2];
-    CHECK(rk_rkpm_interpolate(&k, pts, 2, c, 1, W, NULL, &err) != 0, "interpolation succeeded");
+    CHECK(rk_rkpm_interpolate(&k, pts, 2, c, 1, W, NULL, NULL, &err) != 0, "interpolation succeeded");
     CHECK(strstr(err.msg, "point 0 at (0.5, 0.5, 0)") && strstr(err.msg, "too sparse"), "message: %s", err.msg);
     /* Tolerant interpolation (weights at vertices of thin features): the coplanar point gets
      * the damped moment matrix, reproduces constants and the in-plane linear field exactly
      * enough, is counted; the far point still fails. */
     int damped = -1;
     double lin[8] = {1, 1, 1, 1, 0, 1, 0, 1}, W2[4];
-    CHECK_OK(rk_rkpm_interpolate(&k, pts, 1, lin, 2, W2, &damped, &err));
+    CHECK_OK(rk_rkpm_interpolate(&k, pts, 1, lin, 2, W2, NULL, &damped, &err));
     CHECK(damped == 1, "%d points damped, expected 1", damped);
     CHECK_CLOSE(W2[0], 1.0, 1e-12);
     CHECK(fabs(W2[1] - 0.5) < 1e-3, "in-plane linear field x at x = 0.5 gave %.6g", W2[1]);
-    CHECK(rk_rkpm_interpolate(&k, pts, 2, lin, 2, W2, &damped, &err) != 0 && strstr(err.msg, "point 1"),
+    CHECK(rk_rkpm_interpolate(&k, pts, 2, lin, 2, W2, NULL, &damped, &err) != 0 && strstr(err.msg, "point 1"),
           "far point in tolerant mode: %s", err.msg);
     rk_rkpm_free(&k);
 
     double tet[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
     CHECK_OK(rk_rkpm_init(&k, tet, 4, &err));
-    CHECK_OK(rk_rkpm_interpolate(&k, pts, 1, c, 1, W, NULL, &err));
+    CHECK_OK(rk_rkpm_interpolate(&k, pts, 1, c, 1, W, NULL, NULL, &err));
     CHECK_CLOSE(W[0], 1.0, 1e-12);
-    CHECK(rk_rkpm_interpolate(&k, pts, 2, c, 1, W, NULL, &err) != 0, "a far point was accepted");
+    CHECK(rk_rkpm_interpolate(&k, pts, 2, c, 1, W, NULL, NULL, &err) != 0, "a far point was accepted");
     CHECK(strstr(err.msg, "point 1 at (50, 0, 0) is covered by 0 kernels (4 needed for linear reproduction)") &&
               strstr(err.msg, "the point cloud is too sparse for its kernels"),
           "message: %s", err.msg);

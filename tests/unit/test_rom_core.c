@@ -102,7 +102,7 @@ static double full_basis_gap(rk_integrator integ, double damping, int steps, int
     rk_rom rom;
     if (!rk_fom_init(&fom, &b.f, &opt, err)) {
         if (!rk_quadrature_elements(&b.f, U, r, b.f.nt, NULL, NULL, &Q, err) &&
-            !rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, err)) {
+            !rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, NULL, err)) {
             if (!rk_rom_init(&rom, &m, NULL, NULL, err)) {
                 gap = 0;
                 *fail = 0;
@@ -163,7 +163,7 @@ TEST(free_fall_in_a_translation_basis_is_exact)
     rk_rom_model m;
     rk_rom rom;
     CHECK_OK(rk_quadrature_elements(&b.f, U, r, b.f.nt, NULL, NULL, &Q, &err));
-    CHECK_OK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, &err));
+    CHECK_OK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, NULL, &err));
     CHECK_OK(rk_rom_init(&rom, &m, NULL, NULL, &err));
     double h = opt.h;
     for (int k = 1; k <= 20; k++) {
@@ -203,7 +203,7 @@ TEST(pins_hold_moving_vertices)
     rk_rom_model m;
     rk_rom rom;
     CHECK_OK(rk_quadrature_elements(&b.f, U, r, b.f.nt, NULL, NULL, &Q, &err));
-    CHECK_OK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, &err));
+    CHECK_OK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, NULL, &err));
     CHECK(m.pinned_vertices == nend, "%d vertices pinned, expected the %d moving ones", m.pinned_vertices, nend);
     CHECK_OK(rk_rom_init(&rom, &m, NULL, NULL, &err));
     double worst = 0;
@@ -228,7 +228,7 @@ TEST(pins_hold_moving_vertices)
     int r2;
     double *U2 = identity_basis(nv, both, &r2);
     CHECK_OK(rk_quadrature_elements(&b.f, U2, r2, b.f.nt, NULL, NULL, &Q, &err));
-    CHECK(rk_rom_model_init(&m, &b.f, &opt, U2, r2, &Q, &err) != 0, "a basis that cannot move the twisted end was taken");
+    CHECK(rk_rom_model_init(&m, &b.f, &opt, U2, r2, &Q, NULL, &err) != 0, "a basis that cannot move the twisted end was taken");
     CHECK(strstr(err.msg, "group 1") && strstr(err.msg, "must move"), "message: %s", err.msg);
     free(both);
     free(U2);
@@ -255,7 +255,7 @@ TEST(projection_inverts_reconstruction)
     rk_rom_model m;
     rk_sparse M;
     CHECK_OK(rk_quadrature_elements(&b.f, U, r, b.f.nt, NULL, NULL, &Q, &err));
-    CHECK_OK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, &err));
+    CHECK_OK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, NULL, &err));
     CHECK_OK(rk_sparse_alloc_pattern(&b.f, &M, &err));
     rk_fem_add_mass(&b.f, 0, 1.0, &M);
     rk_rom_positions(U, ndof, r, b.f.X, q, x);
@@ -282,11 +282,11 @@ TEST(bad_input_is_refused)
     rk_rom_model m;
     U[5] = NAN;
     CHECK_OK(rk_quadrature_elements(&b.f, U, r, b.f.nt, NULL, NULL, &Q, &err));
-    CHECK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, &err) != 0 && strstr(err.msg, "not finite"), "NaN basis: %s", err.msg);
+    CHECK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, NULL, &err) != 0 && strstr(err.msg, "not finite"), "NaN basis: %s", err.msg);
     U[5] = 0.5;
     opt.h = -1;
     CHECK_OK(rk_quadrature_elements(&b.f, U, r, b.f.nt, NULL, NULL, &Q, &err));
-    CHECK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, &err) != 0 && strstr(err.msg, "time step"), "h < 0: %s", err.msg);
+    CHECK(rk_rom_model_init(&m, &b.f, &opt, U, r, &Q, NULL, &err) != 0 && strstr(err.msg, "time step"), "h < 0: %s", err.msg);
     int bad = b.f.nt;
     CHECK(rk_quadrature_elements(&b.f, U, r, 1, &bad, NULL, &Q, &err) != 0 && strstr(err.msg, "out of range"),
           "element out of range: %s", err.msg);

@@ -1,0 +1,78 @@
+/* Mesh-free integration points (cubature.h, rk_skin_points): each point's G from the skinning
+ * weights and their gradients (freeform paper Eq. 21), no element anywhere. */
+#include "cubature/cubature.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void rk_skin_points_free(rk_skin_points *P)
+{
+    free(P->X);
+    free(P->W);
+    free(P->dW);
+    free(P->volume);
+    free(P->density);
+    free(P->model);
+    free(P->mu);
+    free(P->lambda);
+    memset(P, 0, sizeof *P);
+}
+
+void rk_skin_points_G(const rk_skin_points *P, int i, double *G)
+{
+    int H = P->H, r = 12 * H;
+    const double *X = P->X + 3 * (size_t)i;
+    memset(G, 0, sizeof(double) * 9 * (size_t)r);
+    for (int j = 0; j < H; j++) {
+        double w = P->W[(size_t)i + (size_t)P->n * j];
+        const double *d = P->dW + 3 * (size_t)i + 3 * (size_t)P->n * j;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) {
+                double *row = G + (size_t)(3 * a + b) * r + 12 * j + 4 * a;
+                for (int c = 0; c < 3; c++) row[c] = X[c] * d[b] + (c == b ? w : 0);
+                row[3] = d[b];
+            }
+    }
+}
+
+int rk_quadrature_points(const rk_skin_points *P, int count, const int *index, const double *weights,
+                         rk_quadrature *Q, rk_error *err)
+{
+    memset(Q, 0, sizeof *Q);
+    int r = 12 * P->H;
+    if (P->H < 1 || count < 0) return rk_fail(err, "quadrature: %d handles, %d points", P->H, count);
+    size_t n = (size_t)(count > 0 ? count : 1);
+    Q->r = r;
+    Q->count = count;
+    Q->G = rk_calloc(n * 9 * r, sizeof(double), err);
+    Q->weight = rk_calloc(n, sizeof(double), err);
+    Q->model = rk_calloc(n, sizeof *Q->model, err);
+    Q->mu = rk_calloc(n, sizeof(double), err);
+    Q->lambda = rk_calloc(n, sizeof(double), err);
+    Q->source = rk_calloc(n, sizeof(int), err);
+    Q->scratch = rk_calloc(n * (18 + 9 * (size_t)r), sizeof(double), err);
+    if (!Q->G || !Q->weight || !Q->model || !Q->mu || !Q->lambda || !Q->source || !Q->scratch) {
+        rk_quadrature_free(Q);
+        return rk_error_prefix(err, "quadrature of %d integration points in %d columns", count, r);
+    }
+    for (int k = 0; k < count; k++) {
+        int i = index ? index[k] : k;
+        if (i < 0 || i >= P->n) {
+            rk_quadrature_free(Q);
+            return rk_fail(err, "quadrature: integration point %d out of range (there are %d)", i, P->n);
+        }
+        double w = weights ? weights[k] : 1.0;
+        if (!(isfinite(w) && w >= 0)) {
+            rk_quadrature_free(Q);
+            return rk_fail(err, "quadrature: weight %g of integration point %d is not a non-negative number", w, i);
+        }
+        rk_skin_points_G(P, i, Q->G + (size_t)k * 9 * r);
+        Q->weight[k] = P->volume[i] * w;
+        Q->model[k] = P->model[i];
+        Q->mu[k] = P->mu[i];
+        Q->lambda[k] = P->lambda[i];
+        Q->source[k] = i;
+    }
+    return 0;
+}

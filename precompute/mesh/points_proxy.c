@@ -1,0 +1,104 @@
+/* rk_points_proxy: a closed surface around a point cloud, for contact (mesh.h). */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mesh/mesh_impl.h"
+
+static int cmp_i64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts and drops duplicates; returns the new count. */
+static size_t unique(int64_t *k, size_t n)
+{
+    if (n == 0) return 0;
+    qsort(k, n, sizeof *k, cmp_i64);
+    size_t m = 1;
+    for (size_t i = 1; i < n; i++)
+        if (k[i] != k[m - 1]) k[m++] = k[i];
+    return m;
+}
+
+static size_t find(const int64_t *k, size_t n, int64_t key)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (k[mid] < key) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* Kuhn's split of the unit cube: the 6 tets around the diagonal 000-111, one per axis order;
+ * corner bits are x | y << 1 | z << 2. Faces on the cube's sides are cut along the diagonal
+ * through the lower corner in every cube alike, so neighbouring voxels' faces match. */
+static const int KUHN[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
+
+int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (n < 1 || !(g > 0) || !isfinite(g)) return rk_fail(err, "contact proxy: %d points, voxel %g", n, g);
+    double lo[3] = {X[0], X[1], X[2]};
+    for (int i = 1; i < n; i++)
+        for (int d = 0; d < 3; d++) lo[d] = fmin(lo[d], X[3 * i + d]);
+    for (int d = 0; d < 3; d++) lo[d] -= 0.5 * g; /* no point on a voxel's lower face at the edge */
+    const int64_t S = 1 << 20;                      /* lattice keys: i + S (j + S k) */
+    int64_t *vox = malloc(sizeof(int64_t) * (size_t)n), *corner = NULL;
+    if (!vox) return rk_fail(err, "contact proxy: out of memory");
+    for (int i = 0; i < n; i++) {
+        int64_t c[3];
+        for (int d = 0; d < 3; d++) c[d] = (int64_t)floor((X[3 * i + d] - lo[d]) / g);
+        if (c[0] >= S - 1 || c[1] >= S - 1 || c[2] >= S - 1) {
+            free(vox);
+            return rk_fail(err, "contact proxy: voxel %g is too small for the cloud's extent", g);
+        }
+        vox[i] = c[0] + S * (c[1] + S * c[2]);
+    }
+    size_t nvox = unique(vox, (size_t)n);
+    corner = malloc(sizeof(int64_t) * 8 * nvox);
+    if (!corner) {
+        free(vox);
+        return rk_fail(err, "contact proxy: out of memory");
+    }
+    for (size_t v = 0; v < nvox; v++)
+        for (int b = 0; b < 8; b++) corner[8 * v + b] = vox[v] + (b & 1) + S * (((b >> 1) & 1) + S * ((b >> 2) & 1));
+    size_t ncorner = unique(corner, 8 * nvox);
+    out->nv = n + (int)ncorner;
+    out->X = malloc(sizeof(double) * 3 * (size_t)out->nv);
+    out->nghost = 6 * (int)nvox;
+    out->ghost = malloc(sizeof(int) * 4 * (size_t)out->nghost);
+    out->tets = malloc(sizeof(int));
+    if (!out->X || !out->ghost || !out->tets) {
+        free(vox), free(corner);
+        rk_mesh_free(out);
+        return rk_fail(err, "contact proxy: out of memory");
+    }
+    memcpy(out->X, X, sizeof(double) * 3 * (size_t)n);
+    for (size_t c = 0; c < ncorner; c++) {
+        int64_t k = corner[c], idx[3] = {k % S, k / S % S, k / S / S};
+        for (int d = 0; d < 3; d++) out->X[3 * (n + c) + d] = lo[d] + g * (double)idx[d];
+    }
+    for (size_t v = 0; v < nvox; v++) {
+        int id[8];
+        for (int b = 0; b < 8; b++)
+            id[b] = n + (int)find(corner, ncorner, vox[v] + (b & 1) + S * (((b >> 1) & 1) + S * ((b >> 2) & 1)));
+        for (int t = 0; t < 6; t++) {
+            int *T = out->ghost + 4 * (6 * v + t);
+            for (int a = 0; a < 4; a++) T[a] = id[KUHN[t][a]];
+            /* orientation: positive volume, as rk_mesh_check leaves every tet */
+            if (rk_tet_signed_volume(&out->X[3 * T[0]], &out->X[3 * T[1]], &out->X[3 * T[2]], &out->X[3 * T[3]]) < 0) {
+                int tmp = T[2];
+                T[2] = T[3];
+                T[3] = tmp;
+            }
+        }
+    }
+    free(vox);
+    free(corner);
+    return 0;
+}
