@@ -76,7 +76,9 @@ int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err)
             free(out);
             return rk_fail(err, "face (%d, %d, %d) is shared by %zu tets (a mesh face joins at most 2)", a, b, c, j - i);
         }
-        if (j - i == 1 && f[i].tet < m->nt) { /* a ghost's face is never the body's */
+        /* a ghost's face is never the body's, except in a body of ghosts only: a point cloud's
+         * contact proxy (rk_points_proxy), whose surface they are */
+        if (j - i == 1 && (f[i].tet < m->nt || m->nt == 0)) {
             for (int k = 0; k < 3; k++) out[3 * (size_t)count + k] = f[i].tri[k];
             count++;
         }

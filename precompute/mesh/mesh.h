@@ -139,6 +139,7 @@ void rk_mesh_transform(rk_mesh *m, double scale, const double translate[3]);
 int rk_mesh_refine(const rk_mesh *in, int levels, rk_mesh *out, rk_error *err);
 
 /* Boundary faces (triangles used by exactly one tet, ghost tets counted), oriented outward.
+ * A mesh of ghost tets only (a point cloud's contact proxy) has their outer faces as boundary.
  * *tris malloc'ed. */
 int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err);
 

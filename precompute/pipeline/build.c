@@ -29,7 +29,18 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
         double *X = NULL;
         int n = 0;
         if (rk_points_load(o->file, &X, &n, err)) return -1;
-        double g = o->proxy_voxel > 0 ? o->proxy_voxel / o->scale : rk_points_diagonal(X, n) / RK_PROXY_VOXELS;
+        /* voxels no finer than twice the points' typical spacing (rk_rkpm_sample_cloud's occupancy
+         * voxel), so that neighbouring points' voxels touch and the union has no holes */
+        double g = o->proxy_voxel / o->scale;
+        if (!(g > 0)) {
+            rk_rkpm_points occupancy;
+            if (rk_rkpm_sample_cloud(X, n, n, &occupancy, err)) {
+                free(X);
+                return -1;
+            }
+            g = fmax(rk_points_diagonal(X, n) / RK_PROXY_VOXELS, occupancy.spacing);
+            rk_rkpm_points_free(&occupancy);
+        }
         int rc = rk_points_proxy(X, n, g, m, err);
         free(X);
         *cloud_points = n;

@@ -31,7 +31,7 @@ static int sample(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_
         if (o->sampling != RK_SAMPLING_CLOUD)
             return rk_fail(err, "objects[0] is a point cloud: it has no inside to sample a grid or random points in; "
                            "mesh_free.sampling must be cloud");
-        return rk_rkpm_sample_cloud(sim->mesh.X, sim->object_first_vertex[1], o->points, pts, err);
+        return rk_rkpm_sample_cloud(sim->mesh.X, sim->cloud_points, o->points, pts, err);
     }
     switch (o->sampling) {
     case RK_SAMPLING_GRID: return rk_rkpm_sample_mesh(&sim->mesh, o->points, pts, err);

@@ -74,7 +74,8 @@ typedef struct {
     double max_volume;     /* surface meshes: tetgen volume bound (m^3), 0 = none */
     int refine;            /* uniform 1:8 refinements of the tets (rk_mesh_refine), 0 = none */
     double proxy_voxel;    /* point cloud: voxel edge (m) of its contact proxy (rk_points_proxy);
-                            * 0: 1/RK_PROXY_VOXELS of the cloud's bounding-box diagonal */
+                            * 0: 1/RK_PROXY_VOXELS of the cloud's bounding-box diagonal, or twice
+                            * the points' median spacing where that is more */
     rk_material material;
     int nregions;
     rk_scene_region *regions;

@@ -108,7 +108,7 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
         double rel = run_both(&f, steps, push, &err, &failed);                                            \
         CHECK(!failed, "%s", err.msg);                                                                    \
         printf("# %s: relative difference %.3g (tol %g), r = %d, %d cubature elements, %d contact vertices\n", \
-               label, rel, (double)(tol), f.R.model.r, f.R.model.quad.count, f.R.model.contact.nv);        \
+               label, rel, (double)(tol), f.R.model.r, f.R.model.quad.count, f.R.model.ncv);             \
         CHECK(extra_check, "%s: the scene lacks what it should exercise", label);                         \
         CHECK(rel <= (tol), "relative difference %.3g above %g", rel, (double)(tol));                     \
         rt_fixture_close(&f);                                                                             \
@@ -153,6 +153,65 @@ TEST(sagging_rkpm_beam_matches)
     CHECK_PARITY("sagging RKPM beam", sagging_rkpm, 60, NULL, PARITY_TOL, f.R.model.r == 60);
 }
 
+/* The same beam mesh-free (freeform paper Eq. 22): the energy and the mass at 600 grid points with the
+ * weights' gradients, a cubature of them in the asset (IPNT), stepped through the skinning path. */
+static const char *sagging_mesh_free =
+    "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 0.2, 0.2], \"cells\": [10, 2, 2]}},"
+    " \"material\": {\"model\": \"neohookean\", \"young\": 2e4, \"poisson\": 0.45, \"density\": 1000},"
+    " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
+    " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 0.6, \"integrator\": \"backward_euler\"},"
+    " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 4, \"kernels\": 60, \"integration_points\": 4000,"
+    "  \"mesh_free\": {\"points\": 600}, \"cubature\": {\"tolerance\": 0.02}}}";
+
+/* HEAD field k of the fixture's asset. */
+static uint32_t head_field(const rt_fixture *f, int k)
+{
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    if (rombin_open(&file, f->asset, f->bytes, NULL, &e) || !rombin_find(&file, ROMBIN_HEAD, &c)) return UINT32_MAX;
+    return ((const uint32_t *)(const void *)c.data)[k];
+}
+
+TEST(mesh_free_rkpm_beam_matches)
+{
+    CHECK_PARITY("mesh-free RKPM beam", sagging_mesh_free, 60, NULL, PARITY_TOL,
+                 f.R.points.n >= 500 && f.R.model.quad.count < f.R.points.n &&
+                     head_field(&f, ROMBIN_HEAD_POINTS) == (uint32_t)f.R.model.quad.count &&
+                     head_field(&f, ROMBIN_HEAD_ELEMENTS) == 0);
+}
+
+/* A point cloud (a 9 x 3 x 3 lattice of points, no mesh) hanging from its left end and falling
+ * onto a plane under its right end: the cloud's proxy surface meets the plane. */
+static const char *hanging_cloud =
+    "{\"objects\": [{\"mesh\": {\"points\": \"/tmp/romkit_test_parity_cloud.ply\"},"
+    " \"material\": {\"model\": \"neohookean\", \"young\": 2e4, \"poisson\": 0.4, \"density\": 1000},"
+    " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
+    " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, -0.16, 0], \"normal\": [0, 1, 0]}}],"
+    " \"time\": {\"step\": 0.01, \"duration\": 0.4, \"integrator\": \"backward_euler\"},"
+    " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 3, \"kernels\": 40}}";
+
+static int write_cloud(const char *path)
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) return -1;
+    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+            21 * 5 * 5);
+    for (int i = 0; i < 21; i++)
+        for (int j = 0; j < 5; j++)
+            for (int k = 0; k < 5; k++) fprintf(fp, "%g %g %g\n", 0.05 * i, 0.05 * j - 0.1, 0.05 * k - 0.1);
+    return fclose(fp);
+}
+
+TEST(point_cloud_on_a_plane_matches)
+{
+    CHECK(write_cloud("/tmp/romkit_test_parity_cloud.ply") == 0, "cannot write the cloud");
+    CHECK_PARITY("point cloud on a plane", hanging_cloud, 40, NULL, PINNED_TOL,
+                 f.R.points.n > 0 && head_field(&f, ROMBIN_HEAD_POINTS) > 0 && romrt_shown_count(f.m) == 21 * 5 * 5 &&
+                     f.R.model.has_contact);
+    remove("/tmp/romkit_test_parity_cloud.ply");
+}
+
 TEST(state_restores_and_reset_returns_to_rest)
 {
     rk_error err = {{0}};
@@ -191,6 +250,8 @@ int main(void)
     RUN(stiff_cantilever_matches);
     RUN(twisted_drop_on_a_plane_matches);
     RUN(sagging_rkpm_beam_matches);
+    RUN(mesh_free_rkpm_beam_matches);
+    RUN(point_cloud_on_a_plane_matches);
     RUN(state_restores_and_reset_returns_to_rest);
     return test_finish();
 }
