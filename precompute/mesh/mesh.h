@@ -239,6 +239,13 @@ typedef struct {
 int rk_splats_read(const char *path, rk_splats *s, rk_error *err);
 void rk_splats_free(rk_splats *s);
 
+/* Rotates real spherical-harmonic coefficients in the 3DGS basis (graphdeco-inria
+ * gaussian-splatting utils/sh_utils.py: band 1 is (-C1 y, C1 z, -C1 x), bands 2 and 3 the C2, C3
+ * polynomials in that order) so that the colour seen from direction R d with the new coefficients
+ * is the colour seen from d with the old ones. coef: channels x K values (K = (degree+1)^2 - 1,
+ * bands 1..degree, channel-major as f_rest), rotated in place. R: row-major, a rotation (det +1,
+ * orthonormal to 1e-6, else an error). degree 0..3. */
+int rk_sh_rotate(const double R[9], int degree, int channels, double *coef, rk_error *err);
 
 /* An axis-aligned selection box (scenes select fixed, moving and loaded vertices, regions and
  * asset groups with them). */

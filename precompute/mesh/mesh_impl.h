@@ -82,4 +82,22 @@ int rk_tag_map_build(rk_tag_map *tm, const int64_t *tags, size_t n, rk_error *er
 int rk_tag_map_find(const rk_tag_map *tm, int64_t tag); /* -1 when absent */
 void rk_tag_map_free(rk_tag_map *tm);
 
+/* Gaussian splats: spherical-harmonic rotation (sh_rotate.c). */
+/* Bands 1..3's rotation matrices, packed: band l's (2l+1)^2 column-major values at
+ * rk_sh_band_offset(l) (0, 9, 34). */
+#define RK_SH_ROTATION_SIZE (9 + 25 + 49)
+int rk_sh_band_offset(int l);
+/* The LU factors of each band's fitting matrix, made once and reused for every rotation. */
+typedef struct {
+    double lu[RK_SPLATS_MAX_DEGREE][49];
+    int piv[RK_SPLATS_MAX_DEGREE][7];
+} rk_sh_rotator;
+int rk_sh_rotator_init(rk_sh_rotator *rot, rk_error *err);
+/* M (RK_SH_ROTATION_SIZE) for the rotation R (row-major, det +1), bands 1..degree. */
+void rk_sh_rotator_matrices(const rk_sh_rotator *rot, const double R[9], int degree, double *M);
+/* One channel's K coefficients (bands 1..degree, band order): out = blockdiag(M) in (out != in). */
+void rk_sh_apply(const double *M, int degree, const double *in, double *out);
+/* Whether R is a rotation: finite, R^T R = I and det R = 1 to tol. */
+int rk_rotation_check(const double R[9], double tol);
+
 #endif
