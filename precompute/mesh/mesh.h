@@ -237,6 +237,20 @@ typedef struct {
 } rk_splats;
 
 int rk_splats_read(const char *path, rk_splats *s, rk_error *err);
+/* Writes s as a binary little-endian 3DGS PLY with the same properties in the same order (a
+ * property the deformation changes that had an integer type is written as float), every splat
+ * moved (splats_deform.c, PhysGaussian's kinematics):
+ *   centre        x[3i..3i+2] (deformed centres); x NULL keeps X
+ *   F             9n, F[9i..] the row-major deformation gradient at splat i; NULL = identity, then
+ *                 only the centres change and every other value is copied bit for bit
+ *   covariance    (with F, scales and rotations present) Sigma = R diag(exp(2 s)) R^T becomes
+ *                 F Sigma F^T, written as a unit quaternion (w >= 0, det +1) and log scales
+ *   colour        SH bands 1..deg rotated by R_F of F's polar decomposition F = R_F S (det R_F =
+ *                 +1); band 0 unchanged
+ *   normals       F^-T n, normalized (zero normals stay zero)
+ * Opacity and every other property are copied. Atomic: on any error (a bad path, a non-finite x
+ * or F, a singular F that collapses a splat) nothing is left at path. */
+int rk_splats_write(const char *path, const rk_splats *s, const double *x, const double *F, rk_error *err);
 void rk_splats_free(rk_splats *s);
 
 /* Rotates real spherical-harmonic coefficients in the 3DGS basis (graphdeco-inria
