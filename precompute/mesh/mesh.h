@@ -188,7 +188,8 @@ int rk_tet_is_flat(const double *a, const double *b, const double *c, const doub
 int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_volume,
                       rk_mesh *out, rk_error *err);
 
-/* Point clouds (PLY vertices with x, y, z; Gaussian-splat PLY included). *X malloc'ed, 3*n. */
+/* Point clouds (PLY vertices with x, y, z; Gaussian-splat PLY included, its other attributes read
+ * past: rk_splats_read below keeps them). *X malloc'ed, 3*n. */
 int rk_points_load(const char *path, double **X, int *n, rk_error *err);
 
 /* A closed surface around a point cloud (X, n points) for contact: the union of the voxels of edge
@@ -197,6 +198,76 @@ int rk_points_load(const char *path, double **X, int *n, rk_error *err);
  * rk_mesh_boundary gives the union's outward faces, and every point lies inside the union,
  * anywhere in its own voxel (so between 0 and g inside the surface). */
 int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err);
+
+/* ==== Gaussian splats (3DGS PLY: Kerbl et al. 2023, the FreeForm paper's splat input) ====
+ *
+ * rk_splats_read keeps every property of the PLY's "vertex" element, in file order, as doubles
+ * (exact for every PLY scalar type), with the PLY type it had, and resolves the ones 3DGS defines:
+ *   x y z                centre (required; finite)
+ *   scale_0..2           log standard deviations along the splat's axes
+ *   rot_0..3             quaternion w x y z (any non-zero length: 3DGS normalizes on use)
+ *   opacity              logit of the opacity
+ *   f_dc_0..2            SH band 0, one per colour channel
+ *   f_rest_0..(3K-1)     SH bands 1..deg, K = (deg+1)^2 - 1 per channel, channel-major:
+ *                        f_rest[c*K + k] is coefficient k (band order) of channel c
+ *   nx ny nz             normals (3DGS writes zeros)
+ * An index is -1 when the property is absent; a group (scale, rot, f_dc, normal) is present whole
+ * or not at all. A plain point cloud (x y z only) is valid, has_splat_attributes = 0. Other elements
+ * (faces) are read past. Errors name the file and what is wrong: a missing x/y/z, part of a group,
+ * an f_rest count that is not 3((d+1)^2 - 1) for d in 1..3, a list property in the vertex element,
+ * a duplicated name, truncated data (byte offset), a non-finite coordinate or splat attribute at
+ * vertex i, a quaternion of zero length at vertex i. */
+#define RK_SPLATS_NAME_MAX 64
+#define RK_SPLATS_MAX_DEGREE 3
+#define RK_SPLATS_MAX_REST 45 /* 3 channels x 15 coefficients (degree 3) */
+typedef struct {
+    char name[RK_SPLATS_NAME_MAX];
+    char type[8];            /* the PLY type: char uchar short ushort int uint float double */
+} rk_splat_property;
+
+typedef struct {
+    int n;                   /* splats (vertices) */
+    double *X;               /* 3n centres, a copy of the x y z columns */
+    int nprop;               /* properties of the vertex element, in file order */
+    rk_splat_property *prop; /* nprop */
+    double *values;          /* n * nprop: values[i * nprop + j] = property j of splat i */
+    /* Column indices into prop / values, -1 when absent. */
+    int xyz[3];
+    int scale[3];
+    int rot[4];
+    int opacity;
+    int f_dc[3];
+    int normal[3];
+    int nrest;               /* f_rest properties: 3K */
+    int f_rest[RK_SPLATS_MAX_REST]; /* f_rest[j] = column of f_rest_j */
+    int sh_degree;           /* 0..3 */
+    int has_splat_attributes; /* scale, rot, opacity and f_dc all present */
+} rk_splats;
+
+int rk_splats_read(const char *path, rk_splats *s, rk_error *err);
+/* Writes s as a binary little-endian 3DGS PLY with the same properties in the same order (a
+ * property the deformation changes that had an integer type is written as float), every splat
+ * moved (splats_deform.c, PhysGaussian's kinematics):
+ *   centre        x[3i..3i+2] (deformed centres); x NULL keeps X
+ *   F             9n, F[9i..] the row-major deformation gradient at splat i; NULL = identity, then
+ *                 only the centres change and every other value is copied bit for bit
+ *   covariance    (with F, scales and rotations present) Sigma = R diag(exp(2 s)) R^T becomes
+ *                 F Sigma F^T, written as a unit quaternion (w >= 0, det +1) and log scales
+ *   colour        SH bands 1..deg rotated by R_F of F's polar decomposition F = R_F S (det R_F =
+ *                 +1); band 0 unchanged
+ *   normals       F^-T n, normalized (zero normals stay zero)
+ * Opacity and every other property are copied. Atomic: on any error (a bad path, a non-finite x
+ * or F, a singular F that collapses a splat) nothing is left at path. */
+int rk_splats_write(const char *path, const rk_splats *s, const double *x, const double *F, rk_error *err);
+void rk_splats_free(rk_splats *s);
+
+/* Rotates real spherical-harmonic coefficients in the 3DGS basis (graphdeco-inria
+ * gaussian-splatting utils/sh_utils.py: band 1 is (-C1 y, C1 z, -C1 x), bands 2 and 3 the C2, C3
+ * polynomials in that order) so that the colour seen from direction R d with the new coefficients
+ * is the colour seen from d with the old ones. coef: channels x K values (K = (degree+1)^2 - 1,
+ * bands 1..degree, channel-major as f_rest), rotated in place. R: row-major, a rotation (det +1,
+ * orthonormal to 1e-6, else an error). degree 0..3. */
+int rk_sh_rotate(const double R[9], int degree, int channels, double *coef, rk_error *err);
 
 /* An axis-aligned selection box (scenes select fixed, moving and loaded vertices, regions and
  * asset groups with them). */

@@ -82,4 +82,38 @@ int rk_tag_map_build(rk_tag_map *tm, const int64_t *tags, size_t n, rk_error *er
 int rk_tag_map_find(const rk_tag_map *tm, int64_t tag); /* -1 when absent */
 void rk_tag_map_free(rk_tag_map *tm);
 
+/* Gaussian splats: spherical-harmonic rotation (sh_rotate.c) and the deformation of one splat
+ * (splats_deform.c). */
+/* Bands 1..3's rotation matrices, packed: band l's (2l+1)^2 column-major values at
+ * rk_sh_band_offset(l) (0, 9, 34). */
+#define RK_SH_ROTATION_SIZE (9 + 25 + 49)
+int rk_sh_band_offset(int l);
+/* The LU factors of each band's fitting matrix, made once and reused for every rotation. */
+typedef struct {
+    double lu[RK_SPLATS_MAX_DEGREE][49];
+    int piv[RK_SPLATS_MAX_DEGREE][7];
+} rk_sh_rotator;
+int rk_sh_rotator_init(rk_sh_rotator *rot, rk_error *err);
+/* M (RK_SH_ROTATION_SIZE) for the rotation R (row-major, det +1), bands 1..degree. */
+void rk_sh_rotator_matrices(const rk_sh_rotator *rot, const double R[9], int degree, double *M);
+/* One channel's K coefficients (bands 1..degree, band order): out = blockdiag(M) in (out != in). */
+void rk_sh_apply(const double *M, int degree, const double *in, double *out);
+/* Whether R is a rotation: finite, R^T R = I and det R = 1 to tol. */
+int rk_rotation_check(const double R[9], double tol);
+
+/* Polar decomposition F = R S with det R = +1 (also for det F <= 0: then R is the rotation
+ * nearest to F, S symmetric but not positive), from the SVD F = U diag(sigma) V^T (one-sided
+ * Jacobi, LAPACKE dgesvj): R = U diag(1, 1, det(U V^T)) V^T. 0, or -1 for a non-finite F or one
+ * of rank below 2. */
+int rk_polar_rotation(const double F[9], double R[9]);
+/* The splat (unit-or-not quaternion q = w x y z of non-zero length, log scales s) deformed by F
+ * (with RF its polar rotation): Sigma' = F R diag(exp(2 s)) R^T F^T written as a unit quaternion qo
+ * (w >= 0) and log scales so. 0, or -1 when Sigma' is singular or not finite (a collapsed splat). */
+int rk_splat_deform_covariance(const double F[9], const double RF[9], const double q[4], const double s[3],
+                               double qo[4], double so[3]);
+/* A normal under F: F^-T n normalized (the cofactor of F, signed by det F); zero stays zero. */
+void rk_splat_deform_normal(const double F[9], const double n[3], double out[3]);
+/* The rotation matrix (row-major) of the quaternion w x y z (normalized here; length > 0). */
+void rk_quat_to_matrix(const double q[4], double R[9]);
+
 #endif
