@@ -83,6 +83,8 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_WGHT "WGHT"   /* real x vertices x handles: the skinning weights, in place of ROWS (1.2, critical) */
 #define ROMBIN_IPNT "IPNT"   /* real, points x (6 + 4 H): mesh-free integration points (1.3, critical with points) */
 #define ROMBIN_IPMD "IPMD"   /* u32, points: their material models (1.3, critical with points) */
+#define ROMBIN_GRAD "GRAD"   /* real, shown x H x 3: the skinning weights' gradients at the shown vertices (1.3, optional) */
+#define ROMBIN_SPLY "SPLY"   /* bytes: the source Gaussian-splat PLY, every attribute (1.3, optional; romkit run --splats) */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */
 #define ROMBIN_GVTX "GVTX"   /* u32: vertices of every group (optional) */
 #define ROMBIN_GNAM "GNAM"   /* bytes, groups x 32: NUL-padded names (optional) */

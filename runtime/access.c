@@ -123,6 +123,29 @@ romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count)
     return ROMRT_OK;
 }
 
+romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, int count)
+{
+    int i, j, a, b, H;
+    if (!m || !F || count < 0 || count > m->shown) return ROMRT_E_ARGUMENT;
+    if (!m->grad) return ROMRT_E_UNSUPPORTED;
+    H = m->skin;
+    for (i = 0; i < count; i++) {
+        const romrt_real *X = m->X + 3 * (size_t)i, *row = m->rows + (size_t)3 * (size_t)i * (size_t)m->r;
+        romrt_real *Fi = F + 9 * (size_t)i;
+        for (a = 0; a < 9; a++) Fi[a] = (romrt_real)(a % 4 == 0);
+        for (j = 0; j < H; j++) {
+            romrt_real w = row[12 * j + 3]; /* row 3i + 0, column 12 j + 3: w_j X̄_3 = w_j */
+            const romrt_real *dw = m->grad + ((size_t)i * (size_t)H + (size_t)j) * 3;
+            for (a = 0; a < 3; a++) {
+                const romrt_real *A = m->q + 12 * j + 4 * a; /* row a of handle j */
+                romrt_real ax = A[0] * X[0] + A[1] * X[1] + A[2] * X[2] + A[3];
+                for (b = 0; b < 3; b++) Fi[3 * a + b] += ax * dw[b] + A[b] * w;
+            }
+        }
+    }
+    return ROMRT_OK;
+}
+
 romrt_status romrt_triangles(const romrt_model *m, int *tri, int count)
 {
     int i;

@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_GRAD, ROMBIN_SPLY, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, 0};
@@ -129,6 +129,17 @@ static romrt_status integration_points(rt_loader *L, romrt_model *m)
     return ROMRT_OK;
 }
 
+/* GRAD: the weights' gradients at the shown vertices (romrt_deformation_gradients), with SKIN only. */
+static romrt_status shown_gradients(rt_loader *L, romrt_model *m)
+{
+    rombin_chunk c;
+    int found;
+    romrt_status st = rt_chunk(L, ROMBIN_GRAD, ROMBIN_TYPE_REAL, 0, 0, &c, &found);
+    if (st || !found) return st;
+    if (m->skin <= 0) return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_GRAD, "weight gradients without a skinning basis (SKIN)");
+    return rt_reals(L, ROMBIN_GRAD, (uint64_t)m->shown * 3 * (uint64_t)m->skin, 1, &m->grad);
+}
+
 /* The basis rows: ROWS, or for a skinning basis stored as its weights (SKIN and WGHT) the rows
  * built from them into the arena, row 3v + a holding w_j(v) (X_v, 1) at columns 12 j + 4 a + c. */
 static romrt_status basis_rows(rt_loader *L, romrt_model *m)
@@ -177,7 +188,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
         (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, m->ne > 0, &m->elem)) ||
         (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, m->ne > 0, &m->elem_real)) ||
-        (st = integration_points(L, m)) ||
+        (st = integration_points(L, m)) || (st = shown_gradients(L, m)) ||
         (st = rt_reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
         (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
         (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))
@@ -226,6 +237,8 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
             return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ELMR, "element ", (uint64_t)e,
                              " has a negative weight or impossible Lame parameters");
     }
+    for (e = 0; m->grad && e < 3 * m->shown * m->skin; e++)
+        if (!isfinite(m->grad[e])) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_GRAD, "value ", (uint64_t)e, " is not finite");
     for (e = 0; e < m->np; e++) {
         const romrt_real *p = m->pt + (6 + 4 * (size_t)m->skin) * (size_t)e;
         size_t k2;

@@ -136,6 +136,12 @@ romrt_real romrt_time_step(const romrt_model *m); /* s */
 
 /* Positions (m) of the shown vertices: xyz has room for 3 * count reals, count <= shown. */
 romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count);
+/* The deformation gradient F (row-major 3 x 3, F[9 i + 3 a + b] = dx_a/dX_b) at each of the first
+ * count shown vertices, for an asset that stores its skinning weights' gradients there (GRAD: a
+ * point cloud's, so that a Gaussian splat's covariance Sigma becomes F Sigma F^T). F = I + sum_j
+ * A_j (X̄ grad w_j^T + w_j [I; 0]) with A_j the handles' affine maps (freeform paper Eq. 21).
+ * ROMRT_E_UNSUPPORTED without GRAD. */
+romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, int count);
 /* Surface triangles (indices into the shown vertices): tri has room for 3 * count ints. */
 romrt_status romrt_triangles(const romrt_model *m, int *tri, int count);
 

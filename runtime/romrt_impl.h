@@ -92,6 +92,7 @@ struct romrt_model {
     const romrt_real *pt;     /* np x (6 + 4 skin): mesh-free integration points (IPNT): X, weight, mu, lambda,
                                * then per handle j its weight and gradient (w_j, dw_j/dX) */
     const uint32_t *pt_model; /* np (IPMD) */
+    const romrt_real *grad;   /* shown x skin x 3: dw_j/dX at the shown vertices (GRAD), or NULL */
     const uint32_t *contacts; /* ncontacts x 2 */
     const uint32_t *cv;       /* ncv collision vertices (CVTX), or NULL */
     const uint32_t *groups;   /* ngroups x 2 */

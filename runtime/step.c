@@ -158,9 +158,11 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
              * search can no longer tell progress from round-off, but this last Newton step is still
              * the best correction there is, and dropping it every time step let the demo's RKPM beam
              * drift a fifth from the double runtime over 100 steps (steps of 0.1-0.5 mm left out) */
-            if (step > m->tol) {
+            if (step > m->tol) { /* kept only where it leaves everything finite (no inverted point) */
                 alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
-                for (i = 0; i < n; i++) y[i] += alpha * d[i];
+                for (i = 0; i < n; i++) m->trial[i] = y[i] + alpha * d[i];
+                if (isfinite(potential(m, T, m->trial, 0, 0, 0))) memcpy(y, m->trial, sizeof(romrt_real) * (size_t)n);
+                else if (m->nmoving) rt_colliders_place(m, y);
             }
             m->last.converged = 1;
             return ROMRT_OK;

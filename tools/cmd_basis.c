@@ -66,15 +66,16 @@ static cJSON *make_report(const rk_basis *b, const rk_scene_basis_info *info, do
     return r;
 }
 
-/* A column-major rows x cols matrix written row by row, as an array of the given shape
- * (whose entries multiply to rows x cols): U (3n x r) as n x 3 x r, W (n x m) as n x m. */
-static int write_rows(const char *path, const double *A, size_t rows, int cols, int ndim, const long *shape,
+/* The first `rows` rows of a column-major matrix with leading dimension ld, written row by row, as
+ * an array of the given shape (whose entries multiply to rows x cols): U (3n x r) as n x 3 x r, W
+ * (n x m) as n x m; a point cloud's first rows are its points, the rest its contact proxy's. */
+static int write_rows(const char *path, const double *A, size_t rows, size_t ld, int cols, int ndim, const long *shape,
                       rk_error *err)
 {
     double *T = rk_calloc(rows * cols, sizeof(double), err);
     if (!T) return -1;
     for (size_t i = 0; i < rows; i++)
-        for (int j = 0; j < cols; j++) T[i * cols + j] = A[(size_t)j * rows + i];
+        for (int j = 0; j < cols; j++) T[i * cols + j] = A[(size_t)j * ld + i];
     int rc = rk_npy_write(path, T, ndim, shape, err);
     free(T);
     return rc;
@@ -121,9 +122,10 @@ int cmd_basis(int argc, char **argv)
         rk_fail(&err, "--weights: a %s basis has no skinning weights", rk_basis_type_name(b.type));
         goto done;
     }
-    long ushape[3] = {b.n, 3, b.r}, wshape[2] = {b.n, b.m};
-    if (basis_out && write_rows(basis_out, b.U, 3 * (size_t)b.n, b.r, 3, ushape, &err)) goto done;
-    if (weights_out && write_rows(weights_out, b.W, (size_t)b.n, b.m, 2, wshape, &err)) goto done;
+    int shown = sim.cloud_points ? sim.cloud_points : b.n;
+    long ushape[3] = {shown, 3, b.r}, wshape[2] = {shown, b.m};
+    if (basis_out && write_rows(basis_out, b.U, 3 * (size_t)shown, 3 * (size_t)b.n, b.r, 3, ushape, &err)) goto done;
+    if (weights_out && write_rows(weights_out, b.W, (size_t)shown, (size_t)b.n, b.m, 2, wshape, &err)) goto done;
     cJSON *report = make_report(&b, &info, rk_now() - t0);
     if (report_out && rk_json_write_file(report_out, report, &err)) {
         cJSON_Delete(report);

@@ -9,6 +9,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "run_splats.h"
 #include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
 #include "runtime/romrt.h"
@@ -19,7 +20,7 @@ static void run_usage(FILE *f)
 {
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
                "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
-               "                  [--reference S.npy] [--frames DIR] [--koopman] [--newton K] [--quiet]\n"
+               "                  [--reference S.npy] [--frames DIR] [--splats DIR] [--koopman] [--newton K] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
@@ -32,6 +33,9 @@ static void run_usage(FILE *f)
                "  --dt          a Koopman asset's time step (s), rescaled from the training one (Eq. 21)\n"
                "  --damping     a Koopman asset's eigenvalues times (1 - MU) (Sec. 7.2)\n"
                "  --frames DIR  the shown surface at every frame as DIR/frame_NNNNN.obj (frame 0: the start)\n"
+               "  --splats DIR  a Gaussian-splat asset's splats at every frame as DIR/frame_NNNNN.ply (3DGS PLY:\n"
+               "                centres moved, covariances F Sigma F^T, view-dependent colour turned with F's\n"
+               "                rotation; frame 0: the start)\n"
                "  --reference   T x n x 3 positions of the whole source mesh (romkit fom --snapshots: frame\n"
                "                0 at t = 0): the report's reference.{normalized_mse, relative_error} over\n"
                "                the shown vertices and the first min(N, T - 1) steps\n"
@@ -184,6 +188,7 @@ int cmd_run(int argc, char **argv)
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
     const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL, *frames_dir = NULL, *newton_text = NULL;
+    const char *splats_dir = NULL;
     int quiet = 0, koopman = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
@@ -191,6 +196,7 @@ int cmd_run(int argc, char **argv)
                                {"--damping", &damping_text, NULL}, {"--reference", &ref_path, NULL},
                                {"--frames", &frames_dir, NULL},   {"--koopman", NULL, &koopman},
                                {"--newton", &newton_text, NULL}, {"--quiet", NULL, &quiet},
+                               {"--splats", &splats_dir, NULL},
                                {NULL, NULL, NULL}};
     long steps, jump = 0, fixed_newton = 0;
     romrt_real dt = 0, damping = 0;
@@ -212,6 +218,8 @@ int cmd_run(int argc, char **argv)
     romrt_real *xyz = NULL;
     rk_npy_stream snap;
     int snapping = 0, rc = 1;
+    run_splats splats;
+    memset(&splats, 0, sizeof splats);
     double t0 = rk_now();
     long newton = 0, unconverged = 0;
     if (rombin_read_file(path, &data, &size, &err)) goto fail;
@@ -262,6 +270,11 @@ int cmd_run(int argc, char **argv)
         romrt_positions(m, xyz, n);
         if (write_obj(frames_dir, 0, m, xyz, tris, &err)) goto fail;
     }
+    if (splats_dir) {
+        if (run_splats_open(&splats, splats_dir, data, size, m, &err)) goto fail;
+        romrt_positions(m, xyz, n);
+        if (run_splats_frame(&splats, m, 0, xyz, &err)) goto fail;
+    }
     if (snap_out) {
         long shape[3] = {steps, n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
@@ -275,12 +288,13 @@ int cmd_run(int argc, char **argv)
         romrt_last_step(m, &info);
         newton += info.newton_iterations;
         unconverged += !info.converged;
-        if (snapping || ref.frames || frames_dir) {
+        if (snapping || ref.frames || frames_dir || splats_dir) {
             romrt_positions(m, xyz, n);
             for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
             if (snapping) rk_npy_stream_append(&snap, frame, (size_t)3 * n);
             reference_add(&ref, k + 1, frame);
             if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
+            if (splats_dir && run_splats_frame(&splats, m, k + 1, xyz, &err)) goto fail;
         }
         if (!quiet) rk_progress("run", k + 1, steps);
     }
@@ -345,6 +359,7 @@ done:
     if (snapping) rk_npy_stream_abort(&snap);
     free(data);
     free(arena);
+    run_splats_close(&splats);
     free(xyz);
     free(frame);
     free(seconds);

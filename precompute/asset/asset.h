@@ -66,6 +66,9 @@ typedef struct {
                                   * points (quad.source indexes them; IPNT), not elements; needs skinning */
     int points_shown;            /* a point cloud: the first points_shown vertices are shown, in order,
                                   * with no surface (0: the mesh's boundary by o->show) */
+    const double *shown_grad;    /* a point cloud: the weights' gradients at those points (3 points_shown x H,
+                                  * column-major, as rk_rkpm_interpolate's dW): GRAD, or NULL */
+    const char *splat_file;      /* a point cloud from a Gaussian-splat PLY: stored whole (SPLY), or NULL */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

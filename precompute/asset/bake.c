@@ -157,6 +157,31 @@ static int add_points(const rk_skin_points *P, const rk_quadrature *Q, rombin_wr
     return rc ? -1 : 0;
 }
 
+/* A point cloud's extras: the weights' gradients at its points (GRAD: an app's F at each splat)
+ * and its source splat file (SPLY: every attribute, for romkit run --splats). */
+static int add_cloud(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
+{
+    int n = R->points_shown, H = R->skin_handles, rc = 0;
+    if (!n) return 0;
+    if (R->shown_grad) {
+        if (s->shown != n) return rk_fail(err, "GRAD: %d points, but %d shown vertices", n, s->shown);
+        double *g = rk_calloc((size_t)3 * n * H + 1, sizeof(double), err);
+        if (!g) return -1;
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < H; j++)
+                for (int b = 0; b < 3; b++) g[((size_t)i * H + j) * 3 + b] = R->shown_grad[3 * (size_t)i + b + 3 * (size_t)n * j];
+        rc = rombin_add_reals(w, ROMBIN_GRAD, 0, g, (size_t)3 * n * H, err);
+        free(g);
+    }
+    if (!rc && R->splat_file) {
+        unsigned char *data = NULL;
+        size_t bytes = 0;
+        rc = rombin_read_file(R->splat_file, &data, &bytes, err) || rombin_add_bytes(w, ROMBIN_SPLY, 0, data, bytes, err);
+        free(data);
+    }
+    return rc ? -1 : 0;
+}
+
 /* The scene's planes (PLAN) and every (boundary vertex, plane) pair (CONT): what the runtime's
  * barrier acts on. Other obstacles have no place in the asset yet. */
 static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_writer *w, rk_error *err)
@@ -263,7 +288,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
-             add_contacts(m, &s, w, err) ||
+             add_contacts(m, &s, w, err) || add_cloud(R, &s, w, err) ||
              add_collisions(m, o, &s, w, err) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));

@@ -136,7 +136,8 @@ static int build_models(const rk_scene *scene, const rk_rom_entry *e, const rk_b
     if (req->snapshots && given_frames(req, s, &T, err)) return -1;
     const double *frames = s->own_frames;
     int reduced = !e->koopman || e->cubature;
-    if (reduced && !frames && (e->cubature || rk_basis_needs_frames(&e->basis))) {
+    /* a point cloud has no full order: its cubature trains on random poses alone */
+    if (reduced && !frames && !s->sim.cloud_points && (e->cubature || rk_basis_needs_frames(&e->basis))) {
         if (rk_scene_training_frames(&s->sim, &s->own_frames, &T, err)) return -1;
         frames = s->own_frames;
     }

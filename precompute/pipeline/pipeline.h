@@ -261,6 +261,8 @@ typedef struct {
     rk_scene_basis_info basis_info;
     rk_rom_model model;
     rk_skin_points points;         /* mesh-free: the integration points (n = 0 otherwise) */
+    double *cloud_grad;            /* a point cloud: the weights' gradients at its points (3 n x H), or NULL */
+    const char *splat_file;        /* a point cloud's source PLY (the scene's; for the asset's SPLY) */
     int cubature_points;           /* 0 for exact integration */
     double cubature_error;         /* relative force error on the training poses (NAN: exact) */
     int cubature_reached, cubature_poses;

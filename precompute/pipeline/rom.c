@@ -47,12 +47,40 @@ static double *reduced_frames(const rk_scene_sim *sim, const rk_scene_rom *R, co
     return q;
 }
 
+/* Without full-order frames (a point cloud), the cubature's snapshot poses come from the scene run
+ * with the exact reduced model itself: r x *T coordinates, the steps it took (it stops early at a
+ * step that fails, keeping what it has). */
+static double *reduced_training_run(const rk_scene_sim *sim, rk_scene_rom *R, int *T, rk_error *err)
+{
+    int r = R->model.r, steps = sim->steps > 0 ? sim->steps : 1;
+    double *q = rk_calloc((size_t)r * steps, sizeof(double), err);
+    rk_rom s;
+    *T = 0;
+    if (!q || rk_rom_init(&s, &R->model, NULL, NULL, err)) {
+        free(q);
+        return NULL;
+    }
+    rk_error ignored = {{0}};
+    while (*T < steps && !rk_rom_step(&s, &ignored)) {
+        memcpy(q + (size_t)r * *T, s.q, sizeof(double) * r);
+        ++*T;
+        rk_progress("cubature training run", *T, steps);
+    }
+    rk_rom_free(&s);
+    return q;
+}
+
 static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames, int T,
                           rk_scene_rom *R, rk_error *err)
 {
     double t0 = rk_now();
     double *q = frames ? reduced_frames(sim, R, frames, T, err) : NULL;
     if (frames && !q) return -1;
+    if (!frames && sim->cloud_points) {
+        q = reduced_training_run(sim, R, &T, err);
+        if (!q) return -1;
+        frames = q; /* (only its presence is read below) */
+    }
     rk_cubature_set set;
     int rc = rk_cubature_train(&R->model.quad, R->model.M, R->model.mass, q, frames ? T : 0, &o->cub, &set,
                                &R->cubature_poses, err);
@@ -118,6 +146,21 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
     }
+    if (mesh_free && sim->cloud_points) {
+        /* the weights' gradients at the cloud's points, for F at each splat (GRAD) */
+        int n = sim->cloud_points, H = R->basis.m;
+        double *W = rk_calloc((size_t)n * H, sizeof(double), err);
+        R->cloud_grad = rk_calloc(3 * (size_t)n * H, sizeof(double), err);
+        int damped = 0;
+        int bad = !W || !R->cloud_grad ||
+                  rk_rkpm_interpolate(R->basis.rkpm, sim->mesh.X, n, R->basis.C, H, W, R->cloud_grad, &damped, err);
+        free(W);
+        if (bad) {
+            rk_scene_rom_free(R);
+            return rk_error_prefix(err, "%s: weight gradients at the cloud's points", o->name);
+        }
+        R->splat_file = scene->objects[0].file;
+    }
     if (mesh_free)
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d "
                  "mesh-free integration points", R->points.n);
@@ -140,6 +183,8 @@ void rk_scene_rom_free(rk_scene_rom *R)
 {
     rk_rom_model_free(&R->model);
     rk_skin_points_free(&R->points);
+    free(R->cloud_grad);
+    R->cloud_grad = NULL;
     rk_basis_free(&R->basis);
     rk_scene_basis_info_free(&R->basis_info);
 }
@@ -149,5 +194,6 @@ rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
     int skinning = R->basis.type == RK_BASIS_SKINNING || R->basis.type == RK_BASIS_RKPM_SKINNING;
     int cloud = R->points.n && sim->fem.nt == 0; /* a point cloud: its points are the mesh's first vertices */
     return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0,
-                          R->points.n ? &R->points : NULL, cloud ? sim->cloud_points : 0};
+                          R->points.n ? &R->points : NULL, cloud ? sim->cloud_points : 0, cloud ? R->cloud_grad : NULL,
+                          cloud ? R->splat_file : NULL};
 }

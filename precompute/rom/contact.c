@@ -51,7 +51,9 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
     if (co.kappa == 0) {
         double g = sqrt(opt->gravity[0] * opt->gravity[0] + opt->gravity[1] * opt->gravity[1] +
                         opt->gravity[2] * opt->gravity[2]);
-        co.kappa = rk_contact_holding_kappa(co.dhat, m->mass / fem->nv * fmax(g, 1.0));
+        /* the average vertex's weight; a point cloud's mass sits on its contact proxy's surface */
+        int carriers = fem->nt == 0 && nc > 0 ? nc : fem->nv;
+        co.kappa = rk_contact_holding_kappa(co.dhat, m->mass / carriers * fmax(g, 1.0));
     }
     m->contact_options = co;
     m->has_contact = opt->nobstacles > 0 || opt->nobjects > 1 || opt->contact.self;
