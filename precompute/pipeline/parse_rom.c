@@ -55,7 +55,7 @@ static int parse_mesh_free(const rk_json_ctx *c, const cJSON *e, const char *pat
 {
     char mpath[128];
     const cJSON *mf = rk_json_child(e, path, "mesh_free", mpath, sizeof mpath);
-    o->mesh_free = (rk_mesh_free_options){0, RK_SAMPLING_GRID, 5000, 1};
+    o->mesh_free = (rk_mesh_free_options){0, RK_SAMPLING_GRID, 0, 5000, 1};
     if (!mf) return 0;
     if (cJSON_IsFalse(mf)) return 0;
     o->mesh_free.enabled = 1;
@@ -74,6 +74,7 @@ static int parse_mesh_free(const rk_json_ctx *c, const cJSON *e, const char *pat
     if (!(seed >= 0 && seed < 9007199254740992.0 && seed == floor(seed)))
         return rk_json_fail(c, mpath, "seed must be a whole number from 0 to 2^53, got %g", seed);
     o->mesh_free.seed = (unsigned long long)seed;
+    o->mesh_free.sampling_given = sampling != NULL;
     if (!sampling || !strcmp(sampling, "grid")) o->mesh_free.sampling = RK_SAMPLING_GRID;
     else if (!strcmp(sampling, "random")) o->mesh_free.sampling = RK_SAMPLING_RANDOM;
     else if (!strcmp(sampling, "cloud")) o->mesh_free.sampling = RK_SAMPLING_CLOUD;

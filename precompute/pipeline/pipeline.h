@@ -122,6 +122,7 @@ typedef enum { RK_SAMPLING_GRID = 0, RK_SAMPLING_RANDOM = 1, RK_SAMPLING_CLOUD =
 typedef struct {
     int enabled;
     rk_sampling sampling;
+    int sampling_given;              /* else: cloud for a point cloud, grid for a mesh */
     int points;                      /* how many (grid: about; default 5000, the paper's Table 4) */
     unsigned long long seed;         /* random sampling */
 } rk_mesh_free_options;

@@ -490,9 +490,9 @@ static void ids(void)
                 BAD("missing_chunk", b, orig_size, "missing_%s", c.id);
             }
         }
-        /* Marked deflated (the bytes are not): the runtime reads stored chunks only. INFO and VMAP
-         * are left out: the runtime never reads them, so ignoring their encoding is right. */
-        if (memcmp(c.id, ROMBIN_INFO, 4) != 0 && memcmp(c.id, ROMBIN_VMAP, 4) != 0) {
+        /* Marked deflated (the bytes are not): the runtime reads stored chunks only. INFO, VMAP and
+         * SPLY are left out: the runtime never reads them, so ignoring their encoding is right. */
+        if (memcmp(c.id, ROMBIN_INFO, 4) != 0 && memcmp(c.id, ROMBIN_VMAP, 4) != 0 && memcmp(c.id, ROMBIN_SPLY, 4) != 0) {
             b = copy();
             put_u32(entry(b, k) + ROMBIN_E_FLAGS,
                     (c.flags & ~ROMBIN_COMP_MASK) | (uint32_t)ROMBIN_COMP_DEFLATE << ROMBIN_COMP_SHIFT);
@@ -602,7 +602,7 @@ static void model(void)
 {
     static const char *head_names[ROMBIN_HEAD_COUNT] = {
         "r", "vertices", "shown", "elements", "pins", "planes", "contacts", "groups", "integrator",
-        "newton_max_iter", "source_vertices", "source_tets", "reserved12", "reserved13", "reserved14", "reserved15"};
+        "newton_max_iter", "source_vertices", "source_tets", "points", "reserved13", "reserved14", "reserved15"};
     unsigned char *b;
     unsigned k;
     int f;
@@ -618,7 +618,11 @@ static void model(void)
     MODEL("head_r", with_u32(ROMBIN_HEAD, ROMBIN_HEAD_R, head(ROMBIN_HEAD_R) + 1, "r + 1"), "head_r_plus_1");
     MODEL("head_count", with_u32(ROMBIN_HEAD, ROMBIN_HEAD_SHOWN, vertices + 1, "shown"), "head_shown_above_vertices");
     MODEL("head_count", with_u32(ROMBIN_HEAD, ROMBIN_HEAD_INTEGRATOR, 2, "integrator"), "head_integrator_2");
-    MODEL("head_count", with_u32(ROMBIN_HEAD, ROMBIN_HEAD_ELEMENTS, 0, "elements"), "head_elements_0");
+    /* no elements and no integration points: nothing to integrate the energy over */
+    if (head(ROMBIN_HEAD_POINTS) == 0)
+        MODEL("head_count", with_u32(ROMBIN_HEAD, ROMBIN_HEAD_ELEMENTS, 0, "elements"), "head_elements_0");
+    else
+        MODEL("head_count", with_u32(ROMBIN_HEAD, ROMBIN_HEAD_POINTS, 0, "points"), "head_points_0");
     /* NaN and Inf in every real chunk: first element; NaN also in the last. */
     for (k = 0; k < file.count; k++) {
         rombin_chunk c;
