@@ -193,6 +193,8 @@ typedef struct {
     int modes;              /* modal_derivatives: linear modes to differentiate (0: automatic) */
     int kernels;            /* rkpm_skinning: kernel centres (default 1000, Sec. 7.1) */
     int integration_points; /* rkpm_skinning: grid points inside a mesh, or the cloud's cap (default 40000) */
+    int from_vertices;      /* rkpm_skinning on a mesh: its vertices taken as a point cloud (no tet used), as a
+                             * cloud sampled from the mesh would be */
 } rk_basis_options;
 
 /* Defaults: no type chosen, size and tolerance 0, 1000 kernels, 40000 integration points. */

@@ -22,17 +22,35 @@ static double lame_sum(const rk_material *m)
     return lambda + 4 * mu; /* Prop. 1 */
 }
 
+/* The first tet that lists vertex v (a checked mesh has no unused vertex). */
+static int vertex_tet(const rk_scene_sim *sim, int v)
+{
+    for (int t = 0; t < sim->mesh.nt; t++)
+        for (int a = 0; a < 4; a++)
+            if (sim->mesh.tets[4 * t + a] == v) return t;
+    return 0;
+}
+
 static int rkpm_on_mesh(const rk_scene_sim *sim, const rk_basis_options *o, int m, rk_basis *b,
                         rk_scene_basis_info *info, rk_error *err)
 {
     rk_rkpm_points pts;
-    if (rk_rkpm_sample_mesh(&sim->mesh, o->integration_points, &pts, err)) return -1;
+    if (o->from_vertices ? rk_rkpm_sample_cloud(sim->mesh.X, sim->mesh.nv, o->integration_points, &pts, err)
+                         : rk_rkpm_sample_mesh(&sim->mesh, o->integration_points, &pts, err))
+        return -1;
     double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
     int rc = -1;
     if (coef) {
         for (int i = 0; i < pts.n; i++) {
-            int t = pts.tet[i];
-            coef[i] = sim->fem.lambda[t] + 4 * sim->fem.mu[t];
+            if (pts.tet) {
+                int t = pts.tet[i];
+                coef[i] = sim->fem.lambda[t] + 4 * sim->fem.mu[t];
+            } else { /* a vertex: the material of a tet around it (the first that lists it) */
+                double mu, lambda;
+                rk_material mat = sim->materials[vertex_tet(sim, pts.source[i])];
+                rk_lame(mat.young, mat.poisson, &mu, &lambda);
+                coef[i] = lambda + 4 * mu;
+            }
         }
         rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, m, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
     }

@@ -36,9 +36,10 @@ static int sample(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_
     switch (o->sampling) {
     case RK_SAMPLING_GRID: return rk_rkpm_sample_mesh(&sim->mesh, o->points, pts, err);
     case RK_SAMPLING_RANDOM: return rk_rkpm_sample_mesh_random(&sim->mesh, o->points, o->seed, pts, err);
-    case RK_SAMPLING_CLOUD: break;
+    case RK_SAMPLING_CLOUD: /* the mesh's vertices as a point cloud sampled from it: no tet used */
+        return rk_rkpm_sample_cloud(sim->mesh.X, sim->mesh.nv, o->points, pts, err);
     }
-    return rk_fail(err, "mesh_free.sampling cloud needs a point-cloud object (mesh.points); objects[0] is a mesh");
+    return rk_fail(err, "unknown mesh_free.sampling");
 }
 
 int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_free_options *o,

@@ -77,7 +77,7 @@ static int parse_mesh_free(const rk_json_ctx *c, const cJSON *e, const char *pat
     o->mesh_free.sampling_given = sampling != NULL;
     if (!sampling || !strcmp(sampling, "grid")) o->mesh_free.sampling = RK_SAMPLING_GRID;
     else if (!strcmp(sampling, "random")) o->mesh_free.sampling = RK_SAMPLING_RANDOM;
-    else if (!strcmp(sampling, "cloud")) o->mesh_free.sampling = RK_SAMPLING_CLOUD;
+    else if (!strcmp(sampling, "cloud")) o->mesh_free.sampling = RK_SAMPLING_CLOUD, o->basis.from_vertices = 1;
     else return rk_json_fail(c, mpath, "sampling must be grid, random or cloud, got \"%s\"", sampling);
     return 0;
 }
@@ -171,8 +171,10 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
         return 0;
     }
     const char *type = rk_basis_type_name(o->basis.type), *cub = o->cubature ? "-cubature" : "";
-    const char *mf = !o->mesh_free.enabled ? "" : o->mesh_free.sampling == RK_SAMPLING_RANDOM ? "-meshfree-random"
-                                                                                                : "-meshfree";
+    const char *mf = !o->mesh_free.enabled                             ? ""
+                     : o->mesh_free.sampling == RK_SAMPLING_RANDOM ? "-meshfree-random"
+                     : o->mesh_free.sampling == RK_SAMPLING_CLOUD  ? "-cloud"
+                                                                   : "-meshfree";
     if (o->basis.size) snprintf(o->name, sizeof o->name, "%s-%d%s%s", type, o->basis.size, mf, cub);
     else snprintf(o->name, sizeof o->name, "%s-tol%g%s%s", type, o->basis.tolerance, mf, cub);
     return 0;
