@@ -114,7 +114,8 @@ int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const i
          * kernels nearby lie along a line or in a plane): damp the linear block. The first row
          * of the damping is zero, so e_1^T M b = 1 still holds and constants are reproduced
          * exactly; linear fields lose exactness only along the missing directions. The gradient
-         * formulas above hold unchanged with M + damping in place of M. */
+         * formulas above hold with M + damping in place of M, plus the damping's own derivative
+         * (below, where the gradients are formed). */
         for (int i = 1; i < 4; i++) M[i][i] += RK_RKPM_REGULARIZE * M[0][0];
         rcond = 0;
         if (chol4(M, L) == 0) {
@@ -132,13 +133,16 @@ int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const i
     }
     double b[4] = {A[0][0], A[1][0], A[2][0], A[3][0]}, v[3][4];
     if (grad) {
-        double g[3][4] = {{0}};
+        double g[3][4] = {{0}}, dsum[3] = {0, 0, 0}, drsum[3] = {0, 0, 0};
         for (int a = 0; a < n; a++) {
             const double *p = &k->centers[3 * kid[a]];
             double Q[4] = {1, (p[0] - X[0]) / h, (p[1] - X[1]) / h, (p[2] - X[2]) / h};
             double s = Q[0] * b[0] + Q[1] * b[1] + Q[2] * b[2] + Q[3] * b[3];
-            for (int j = 0; j < 3; j++)
+            for (int j = 0; j < 3; j++) {
                 for (int i = 0; i < 4; i++) g[j][i] += grad[3 * a + j] * s * Q[i];
+                dsum[j] += grad[3 * a + j];
+                drsum[j] += grad[3 * a + j] * k->radius[kid[a]];
+            }
         }
         for (int j = 0; j < 3; j++)
             for (int i = 0; i < 4; i++) {
@@ -146,6 +150,22 @@ int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const i
                 for (int q = 0; q < 4; q++) t -= A[i][q] * g[j][q];
                 v[j][i] = t;
             }
+        if (regularized && *regularized) {
+            /* The damping d M00 diag(0, 1, 1, 1) (d = RK_RKPM_REGULARIZE) varies with X through
+             * M00 = wsum and, since it acts in the scaled basis, through h: phi_k then depends
+             * on h, which the undamped derivation could hold fixed. With e_j = d_j h / h and
+             * D b = (0, b1, b2, b3), differentiating M b = e_1 adds to d_j b
+             *   -d (2 e_j M00 + d_j M00) M^-1 D b,
+             * and nothing else (the other e_j terms cancel as the b_{j+1} ones do, since D e_1 = 0
+             * and e_1^T D = 0). */
+            double u[4];
+            for (int i = 0; i < 4; i++) u[i] = A[i][1] * b[1] + A[i][2] * b[2] + A[i][3] * b[3];
+            for (int j = 0; j < 3; j++) {
+                double eta = (drsum[j] - h * dsum[j]) / (wsum * h);
+                double coef = RK_RKPM_REGULARIZE * (2 * eta * wsum + dsum[j]);
+                for (int i = 0; i < 4; i++) v[j][i] -= coef * u[i];
+            }
+        }
     }
     for (int a = 0; a < n; a++) {
         const double *p = &k->centers[3 * kid[a]];

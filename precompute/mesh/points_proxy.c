@@ -52,10 +52,20 @@ int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *er
     if (!vox) return rk_fail(err, "contact proxy: out of memory");
     for (int i = 0; i < n; i++) {
         int64_t c[3];
-        for (int d = 0; d < 3; d++) c[d] = (int64_t)floor((X[3 * i + d] - lo[d]) / g);
-        if (c[0] >= S - 1 || c[1] >= S - 1 || c[2] >= S - 1) {
-            free(vox);
-            return rk_fail(err, "contact proxy: voxel %g is too small for the cloud's extent", g);
+        for (int d = 0; d < 3; d++) {
+            /* range-checked as a double: converting a NaN, an infinity or anything past 2^63 to
+             * int64_t is undefined (x86 gives INT64_MIN, which passed the check and wrapped) */
+            double t = floor((X[3 * i + d] - lo[d]) / g);
+            if (!isfinite(X[3 * i + d])) {
+                free(vox);
+                return rk_fail(err, "contact proxy: point %d is not finite (%g, %g, %g)", i, X[3 * i], X[3 * i + 1],
+                               X[3 * i + 2]);
+            }
+            if (!(t >= 0 && t < (double)(S - 1))) {
+                free(vox);
+                return rk_fail(err, "contact proxy: voxel %g is too small for the cloud's extent", g);
+            }
+            c[d] = (int64_t)t;
         }
         vox[i] = c[0] + S * (c[1] + S * c[2]);
     }

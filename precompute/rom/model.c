@@ -132,12 +132,16 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
 /* Penalty rows of every prescribed vertex the basis can move (rom.h: A and each group's T). A
  * vertex that must move and that the basis cannot move is an error: its target is out of reach. */
 static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
-                      rk_error *err)
+                      const rk_skin_points *points, rk_error *err)
 {
     int r = m->r, ndof = 3 * fem->nv;
     double stiff = 0;
     for (int t = 0; t < fem->nt; t++)
         stiff = fmax(stiff, (fem->lambda[t] + 2 * fem->mu[t]) / fem->density[t]);
+    /* mesh-free: the material is at the integration points (a point cloud has no element, and a
+     * stiffness of 0 would leave its pins without any hold) */
+    for (int p = 0; points && p < points->n; p++)
+        if (points->density[p] > 0) stiff = fmax(stiff, (points->lambda[p] + 2 * points->mu[p]) / points->density[p]);
     double L = rk_points_diagonal(fem->X, fem->nv);
     m->pin_k = RK_ROM_PIN_STIFFNESS * stiff / (L * L);
     m->A = rk_calloc((size_t)r * r, sizeof(double), err);
@@ -211,7 +215,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     for (int v = 0; v < fem->nv; v++) m->mass += fem->vertex_mass[v];
     double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;
-    if (build_matrices(m, fem, opt, U, points, err) || build_pins(m, fem, opt, U, err) ||
+    if (build_matrices(m, fem, opt, U, points, err) || build_pins(m, fem, opt, U, points, err) ||
         rk_rom_contact_init(m, fem, opt, U, err)) {
         rk_rom_model_free(m);
         return rk_error_prefix(err, "reduced model");
