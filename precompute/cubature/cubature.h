@@ -90,6 +90,10 @@ typedef struct {
     double *mu, *lambda;       /* count, Lame parameters */
     int *source;               /* count: the element (or integration sample) each point is */
     double *scratch;           /* F, P (9 count each) and w dP/dF G (9 r count) */
+    int skin_H;                /* rk_quadrature_points: G is skinning-structured over this many handles,
+                                * and N (count x 3 x 4H: row b of point i's N[(j, c), b]) holds its
+                                * non-zeros, so the Hessian costs a fifth (quadrature.c); 0 otherwise */
+    double *N;
 } rk_quadrature;
 
 /* Mesh-free integration points under a linear-blend-skinning basis (freeform paper Eq. 21-22):

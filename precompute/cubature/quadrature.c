@@ -73,6 +73,7 @@ void rk_quadrature_free(rk_quadrature *Q)
     free(Q->lambda);
     free(Q->source);
     free(Q->scratch);
+    free(Q->N);
     memset(Q, 0, sizeof *Q);
 }
 
@@ -90,6 +91,42 @@ void rk_quadrature_point_force(const rk_quadrature *Q, int i, const double F[9],
     rk_pk1(Q->model[i], Q->mu[i], Q->lambda[i], F, P);
     cblas_dgemv(CblasRowMajor, CblasTrans, 9, Q->r, Q->weight[i], Q->G + (size_t)i * 9 * Q->r, Q->r, P, 1,
                 0.0, out, 1);
+}
+
+/* The Hessian of a skinning-structured quadrature (rk_quadrature_points): row (a, b) of G_i is
+ * N_i[., b] on the 4H coordinates of row a of the handles, so block (a, a') of G^T D G over those
+ * coordinates is sum_i N_i^T (w_i D_i[(a, .), (a', .)]) N_i: with the points' N stacked (3n x 4H),
+ * one product (4H x 3n)(3n x 4H) per block a <= a', a fifth of the dense product's work. F (9n)
+ * at the current q; scratch holds 3n x 4H. */
+static void skin_hessian(rk_quadrature *Q, const double *F, double *H, int project, double *C)
+{
+    int n = Q->count, L = 4 * Q->skin_H, r = Q->r;
+    double *D = malloc(sizeof(double) * 81 * (size_t)n), *B = malloc(sizeof(double) * (size_t)L * L);
+    if (!D || !B) { /* (the caller's scratch is sized for the dense path, which needs no more) */
+        free(D), free(B);
+        return;
+    }
+    for (int i = 0; i < n; i++) rk_dpdf(Q->model[i], Q->mu[i], Q->lambda[i], F + 9 * i, D + 81 * (size_t)i, project);
+    for (int a = 0; a < 3; a++)
+        for (int a2 = a; a2 < 3; a2++) {
+            for (int i = 0; i < n; i++) /* C_i = (w D_i[(a, b), (a2, b2)]) N_i, rows b */
+                for (int b = 0; b < 3; b++) {
+                    double *Cb = C + ((size_t)i * 3 + b) * L;
+                    const double *Drow = D + 81 * (size_t)i + 9 * (3 * a + b) + 3 * a2;
+                    const double *N = Q->N + (size_t)i * 3 * L;
+                    for (int x = 0; x < L; x++)
+                        Cb[x] = Q->weight[i] * (Drow[0] * N[x] + Drow[1] * N[L + x] + Drow[2] * N[2 * L + x]);
+                }
+            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, L, L, 3 * n, 1.0, Q->N, L, C, L, 0.0, B, L);
+            for (int y = 0; y < L; y++) /* B[x][y]: coordinate (a, x) against (a2, y) */
+                for (int x = 0; x < L; x++) {
+                    int i = 12 * (x / 4) + 4 * a + x % 4, j = 12 * (y / 4) + 4 * a2 + y % 4;
+                    H[i + (size_t)r * j] += B[x * L + y];
+                    if (a != a2) H[j + (size_t)r * i] += B[x * L + y];
+                }
+        }
+    free(D);
+    free(B);
 }
 
 double rk_quadrature_eval(rk_quadrature *Q, const double *q, double *g, double *H, int project)
@@ -115,7 +152,9 @@ double rk_quadrature_eval(rk_quadrature *Q, const double *q, double *g, double *
         }
         cblas_dgemv(CblasRowMajor, CblasTrans, 9 * n, r, 1.0, Q->G, r, P, 1, 1.0, g, 1);
     }
-    if (H) {
+    if (H && Q->skin_H) {
+        skin_hessian(Q, F, H, project, DG);
+    } else if (H) {
         /* H += sum_i G_i^T (w_i dP/dF_i G_i): per point a 9x9 by 9xr product, then one
          * (r x 9n) by (9n x r) product for all points. */
         for (int i = 0; i < n; i++) {

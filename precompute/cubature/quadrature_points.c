@@ -52,7 +52,10 @@ int rk_quadrature_points(const rk_skin_points *P, int count, const int *index, c
     Q->lambda = rk_calloc(n, sizeof(double), err);
     Q->source = rk_calloc(n, sizeof(int), err);
     Q->scratch = rk_calloc(n * (18 + 9 * (size_t)r), sizeof(double), err);
-    if (!Q->G || !Q->weight || !Q->model || !Q->mu || !Q->lambda || !Q->source || !Q->scratch) {
+    Q->skin_H = P->H;
+    Q->N = rk_calloc(n * 12 * (size_t)P->H, sizeof(double), err);
+    if (!Q->N ||
+        !Q->G || !Q->weight || !Q->model || !Q->mu || !Q->lambda || !Q->source || !Q->scratch) {
         rk_quadrature_free(Q);
         return rk_error_prefix(err, "quadrature of %d integration points in %d columns", count, r);
     }
@@ -68,6 +71,11 @@ int rk_quadrature_points(const rk_skin_points *P, int count, const int *index, c
             return rk_fail(err, "quadrature: weight %g of integration point %d is not a non-negative number", w, i);
         }
         rk_skin_points_G(P, i, Q->G + (size_t)k * 9 * r);
+        /* N: row (a = 0, b) of G holds N[(j, c), b] at columns 12 j + c */
+        for (int b = 0; b < 3; b++)
+            for (int j = 0; j < P->H; j++)
+                for (int c = 0; c < 4; c++)
+                    Q->N[((size_t)k * 3 + b) * 4 * P->H + 4 * j + c] = Q->G[(size_t)k * 9 * r + (size_t)b * r + 12 * j + c];
         Q->weight[k] = P->volume[i] * w;
         Q->model[k] = P->model[i];
         Q->mu[k] = P->mu[i];

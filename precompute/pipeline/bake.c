@@ -50,6 +50,14 @@ static void add_rom_report(cJSON *root, const rk_scene_rom *R)
     if (isfinite(R->cubature_error)) cJSON_AddNumberToObject(c, "relative_error", R->cubature_error);
     else cJSON_AddNullToObject(c, "relative_error");
     cJSON_AddStringToObject(c, "bound_by", R->cubature_reason);
+    if (R->points.n) { /* mesh-free: where the energy and the mass were integrated */
+        cJSON *mf = cJSON_AddObjectToObject(root, "mesh_free");
+        double volume = 0;
+        for (int i = 0; i < R->points.n; i++) volume += R->points.volume[i];
+        cJSON_AddNumberToObject(mf, "integration_points", R->points.n);
+        cJSON_AddNumberToObject(mf, "volume", volume);
+        cJSON_AddNumberToObject(mf, "mass", R->model.mass);
+    }
 }
 
 /* The report's "training" object for a Koopman operator fitted on the scene's runs. */

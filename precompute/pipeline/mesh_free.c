@@ -66,6 +66,11 @@ int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, co
     int damped = 0, rc = -1;
     if (!P->W || !P->dW || !P->density || !P->model || !P->mu || !P->lambda) goto out;
     if (rk_rkpm_interpolate(b->rkpm, P->X, n, b->C, H, P->W, P->dW, &damped, err)) goto out;
+    if (o->volume > 0) { /* the given volume, shared as the sampling shared its estimate */
+        double sum = 0;
+        for (int i = 0; i < n; i++) sum += P->volume[i];
+        for (int i = 0; i < n; i++) P->volume[i] *= o->volume / sum;
+    }
     for (int i = 0; i < n; i++) {
         int k = pts.tet ? object_of_tet(sim, scene->nobjects, pts.tet[i])
                         : object_of_vertex(sim, scene->nobjects, pts.source ? pts.source[i] : 0);

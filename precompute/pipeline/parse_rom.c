@@ -55,7 +55,7 @@ static int parse_mesh_free(const rk_json_ctx *c, const cJSON *e, const char *pat
 {
     char mpath[128];
     const cJSON *mf = rk_json_child(e, path, "mesh_free", mpath, sizeof mpath);
-    o->mesh_free = (rk_mesh_free_options){0, RK_SAMPLING_GRID, 0, 5000, 1};
+    o->mesh_free = (rk_mesh_free_options){0, RK_SAMPLING_GRID, 0, 5000, 1, 0};
     if (!mf) return 0;
     if (cJSON_IsFalse(mf)) return 0;
     o->mesh_free.enabled = 1;
@@ -64,13 +64,15 @@ static int parse_mesh_free(const rk_json_ctx *c, const cJSON *e, const char *pat
                             rk_basis_type_name(o->basis.type));
     if (cJSON_IsTrue(mf)) return 0;
     if (!cJSON_IsObject(mf)) return rk_json_fail(c, mpath, "must be true, false or an object");
-    static const char *const keys[] = {"sampling", "points", "seed", NULL};
+    static const char *const keys[] = {"sampling", "points", "seed", "volume", NULL};
     const char *sampling = NULL;
     double seed = 1;
     if (rk_json_check_keys(c, mf, mpath, keys) || rk_json_string(c, mf, mpath, "sampling", 0, &sampling) ||
         rk_json_whole(c, mf, mpath, "points", 4, 1e7, &o->mesh_free.points) ||
-        rk_json_number(c, mf, mpath, "seed", 0, &seed))
+        rk_json_number(c, mf, mpath, "seed", 0, &seed) || rk_json_number(c, mf, mpath, "volume", 0, &o->mesh_free.volume))
         return -1;
+    if (o->mesh_free.volume < 0 || !isfinite(o->mesh_free.volume))
+        return rk_json_fail(c, mpath, "volume (m^3) must be positive, got %g", o->mesh_free.volume);
     if (!(seed >= 0 && seed < 9007199254740992.0 && seed == floor(seed)))
         return rk_json_fail(c, mpath, "seed must be a whole number from 0 to 2^53, got %g", seed);
     o->mesh_free.seed = (unsigned long long)seed;

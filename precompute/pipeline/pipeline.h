@@ -125,6 +125,8 @@ typedef struct {
     int sampling_given;              /* else: cloud for a point cloud, grid for a mesh */
     int points;                      /* how many (grid: about; default 5000, the paper's Table 4) */
     unsigned long long seed;         /* random sampling */
+    double volume;                   /* m^3, the integration weights' sum when known (a point cloud's
+                                      * occupancy estimate overshoots on sparse clouds); 0: sampled */
 } rk_mesh_free_options;
 
 /* How a rom entry simulates (DESIGN.md: rom[i].method). */
