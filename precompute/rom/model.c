@@ -81,6 +81,19 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
         return -1;
     }
     if (points) {
+        /* full-order states project in the fem's own mass (rk_rom_project), when it has one */
+        rk_fem_add_mass(fem, opt->lumped_mass, 1.0, &S);
+        m->M_proj_chol = rk_calloc((size_t)r * r, sizeof(double), err);
+        if (!m->M_proj_chol) {
+            free(SU), free(fext), rk_sparse_free(&S);
+            return -1;
+        }
+        project_matrix(&S, U, ndof, r, SU, m->M_proj_chol);
+        if (LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', r, m->M_proj_chol, r) != 0) {
+            free(m->M_proj_chol); /* (a cloud whose points cannot hold every column: M_r serves) */
+            m->M_proj_chol = NULL;
+        }
+        rk_sparse_zero(&S);
         m->mass = -1;
         point_mass(m, points, opt->gravity, m->f);
         if (m->mass < 0) {
@@ -227,6 +240,7 @@ void rk_rom_model_free(rk_rom_model *m)
 {
     free(m->M);
     free(m->M_chol);
+    free(m->M_proj_chol);
     free(m->C);
     free(m->f);
     free(m->A);

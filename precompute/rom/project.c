@@ -20,7 +20,7 @@ int rk_rom_project(const rk_rom_model *m, const rk_sparse *M, const double *U, i
         cblas_dgemv(CblasColMajor, CblasTrans, ndof, r, 1.0, U, ndof, Md, 1, 0.0, q, 1);
         /* M_r q = U^T M (x - X): the normal equations of min |U q - (x - X)|_M, with the factor of
          * M_r the model made once (it refused a basis with dependent columns then). */
-        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'U', r, 1, m->M_chol, r, q, r);
+        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'U', r, 1, m->M_proj_chol ? m->M_proj_chol : m->M_chol, r, q, r);
         rc = 0;
     }
     free(d);

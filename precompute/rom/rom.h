@@ -48,6 +48,9 @@ typedef struct {
     int is_static;
     double *M;                 /* r x r, U^T M U (column-major) */
     double *M_chol;            /* its Cholesky factor (upper), for projections onto the subspace */
+    double *M_proj_chol;       /* mesh-free models: the factor of U^T M U with the fem's vertex mass, which
+                                * rk_rom_project's full-order states are measured in (M_r is the points'
+                                * mass); NULL: M_chol is that */
     double *C;                 /* r x r, U^T (a M + b K0) U, or NULL without damping */
     double *f;                 /* r, U^T f_ext (gravity with the lumped masses, plus forces) */
     double pin_k;              /* k of the penalty */
