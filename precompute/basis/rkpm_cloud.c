@@ -152,9 +152,43 @@ int rk_rkpm_sample_cloud(const double *X, int n, int max_points, rk_rkpm_points 
         return -1;
     }
     int occupied = rkpm_count_voxels(X, n, lo, dim, g, key);
-    free(key);
     p->spacing = g;
     p->volume = occupied * g * g * g;
-    for (int i = 0; i < nk; i++) p->weight[i] = p->volume / nk;
+    /* Each kept point's share of its voxel: g^3 over the kept points in it, scaled to the volume.
+     * Uniform weights would give every point the same volume, and clouds are rarely uniform (a tet
+     * mesh's vertices crowd its surface; splats, their edges): a dense patch then weighs more than
+     * the space it fills. */
+    long long *own = rk_calloc((size_t)nk, sizeof *own, err);
+    if (!own) {
+        free(key);
+        rk_rkpm_points_free(p);
+        return -1;
+    }
+    rkpm_count_voxels(p->X, nk, lo, dim, g, key); /* key: the kept points' voxels, sorted */
+    for (int i = 0; i < nk; i++) {
+        long long c[3];
+        for (int d = 0; d < 3; d++) {
+            double t = floor((p->X[3 * i + d] - lo[d]) / g);
+            c[d] = t < 0 ? 0 : t >= dim[d] ? dim[d] - 1 : (long long)t;
+        }
+        own[i] = c[0] + (long long)dim[0] * (c[1] + (long long)dim[1] * c[2]);
+    }
+    double sum = 0;
+    for (int i = 0; i < nk; i++) {
+        long long *first = key, *end = key + nk; /* the run of own[i] in the sorted keys */
+        size_t lo_i = 0, hi_i = (size_t)nk;
+        while (lo_i < hi_i) {
+            size_t mid = (lo_i + hi_i) / 2;
+            if (first[mid] < own[i]) lo_i = mid + 1;
+            else hi_i = mid;
+        }
+        size_t k = lo_i;
+        while (first + k < end && first[k] == own[i]) k++;
+        p->weight[i] = g * g * g / (double)(k - lo_i);
+        sum += p->weight[i];
+    }
+    for (int i = 0; i < nk; i++) p->weight[i] *= p->volume / sum;
+    free(own);
+    free(key);
     return 0;
 }

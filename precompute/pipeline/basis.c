@@ -15,6 +15,21 @@ static int default_max(rk_basis_type t)
     return t == RK_BASIS_MODES || t == RK_BASIS_POD ? 64 : 32;
 }
 
+/* Kernels for a point cloud's own points: at most one per RK_CLOUD_POINTS_PER_KERNEL of them. On a
+ * sparse cloud (armadillo_4k's 1,180 vertices) the default 1,000 kernels would put one on almost
+ * every point, each covering only its neighbours, and the weights turn rough: the hanging
+ * armadillo's error against full order was 2.1x the mesh path's at 1,000 kernels, 1.3x at 393 (one
+ * per 3 points), 1.1x at 236 (one per 5), where pulling at its farthest points lost (1.98x, 2.4x):
+ * examples/scenes/armadillo_*.json, make paper-table. */
+#define RK_CLOUD_POINTS_PER_KERNEL 3
+static int cloud_kernels(int kernels, int points, rk_scene_basis_info *info)
+{
+    int cap = points / RK_CLOUD_POINTS_PER_KERNEL;
+    int k = kernels < cap ? kernels : cap < 4 ? 4 : cap;
+    info->kernels = k;
+    return k;
+}
+
 static double lame_sum(const rk_material *m)
 {
     double mu, lambda;
@@ -52,7 +67,8 @@ static int rkpm_on_mesh(const rk_scene_sim *sim, const rk_basis_options *o, int 
                 coef[i] = lambda + 4 * mu;
             }
         }
-        rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, m, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
+        int kernels = o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;
+        rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
     }
     info->integration_points = pts.n;
     free(coef);
@@ -86,7 +102,8 @@ static int rkpm_on_points(const rk_scene *scene, const rk_scene_sim *sim, const 
             rk_material mat = rk_scene_material_at(obj, pts.X + 3 * i);
             coef[i] = lame_sum(&mat);
         }
-        rc = rk_basis_rkpm_skinning(&pts, coef, o->kernels, o->size, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
+        rc = rk_basis_rkpm_skinning(&pts, coef, cloud_kernels(o->kernels, pts.n, info), o->size, sim->mesh.X,
+                                    sim->mesh.nv, b, &info->rkpm, err);
     }
     info->integration_points = pts.n;
     info->vertices = sim->mesh.nv;
@@ -155,7 +172,7 @@ int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basi
     memset(info, 0, sizeof *info);
     memset(b, 0, sizeof *b);
     info->projection_error = info->projection_error_below = NAN;
-    info->kernels = o->type == RK_BASIS_RKPM_SKINNING ? o->kernels : 0;
+    info->kernels = o->type == RK_BASIS_RKPM_SKINNING ? o->kernels : 0; /* (a cloud's: cloud_kernels) */
     double t0 = rk_now();
     if (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS) {
         int rc = rkpm_on_points(scene, sim, o, b, info, err);
