@@ -12,16 +12,20 @@
 # level. Every level's full-order run is kept at the chain's level-0 vertices (the refined meshes
 # number them first), and the normalized MSE between two levels is taken there, over every frame
 # (util/util.h's metric, romkit compare's). Default chains (CELLS:FINEST):
+#   10x2x2:3   240 -> 1,920 -> 15,360 -> 122,880 tets: three pairs, the rate of convergence
 #   20x4x4:3   the table scenes' own mesh (1,920 tets) -> 15,360 -> 122,880 -> 983,040 tets
-#   40x8x8:1   the demo's 15,360-tet beam (another tet layout than 20x4x4 refined) -> 122,880 tets
+#   40x8x8:1   the demo's 15,360-tet beam -> 122,880 tets
+# (a box's 1:8 refinement is not the box with twice the cells: the same vertices, another tet
+# layout, so each chain's levels are meshes of their own).
 # A level over PROBE_TETS tets is probed first (PROBE_STEPS steps): when the whole run would take
 # longer than BUDGET_S seconds by that estimate (every step at the probe's seconds per Newton
 # iteration, with as many iterations per step as the level before took), it is skipped and the
 # estimate recorded.
 #
 # Writes $OUT/beam_reference.csv (one row per level) and $OUT/beam_reference.md. Each level's
-# frames and row stay in WORK (default $BUILD/beam_reference) and are not run again unless FORCE=1:
-# a study cut short goes on where it stopped.
+# frames and row (and probe) stay in WORK (default $BUILD/beam_reference) and are not run again
+# unless FORCE=1: a study cut short goes on where it stopped, and a larger BUDGET_S runs a level
+# skipped before.
 #
 # Environment: BUILD (build), ROMKIT_THREADS (2), SCENES ("bend twist"), CHAINS, BUDGET_S (3600),
 # PROBE_TETS (500000), PROBE_STEPS (3), THRESHOLD (3e-7), WORK, OUT (bench/results), FORCE.
@@ -30,7 +34,7 @@ BUILD=${BUILD:-build}
 TOOL=$BUILD/bench_reference
 export ROMKIT_THREADS="${ROMKIT_THREADS:-2}"
 SCENES=${SCENES:-bend twist}
-CHAINS=${CHAINS:-20x4x4:3 40x8x8:1}
+CHAINS=${CHAINS:-10x2x2:3 20x4x4:3 40x8x8:1}
 BUDGET_S=${BUDGET_S:-3600}
 PROBE_TETS=${PROBE_TETS:-500000}
 PROBE_STEPS=${PROBE_STEPS:-3}
@@ -55,8 +59,8 @@ for scene in $SCENES; do
         finest=${chain#*:}
         tag=${scene}_$cells
         ran=""  # the levels with frames, in order
+        skipped=""  # the level not run: level,probe row,estimated seconds
         level=0
-        rm -f "$WORK/${tag}"_L*.skip
         while [ "$level" -le "$finest" ]; do
             base=$WORK/${tag}_L$level
             if [ -z "$FORCE" ] && [ -s "$base.row" ] && [ -s "$base.npy" ]; then
@@ -68,10 +72,16 @@ for scene in $SCENES; do
             rm -f "$base.row" "$base.npy"
             tets=$(tets_of "$cells" "$level")
             if [ "$level" -gt 0 ] && [ "$tets" -gt "$PROBE_TETS" ]; then
-                echo "# $tag level $level ($tets tets): probing $PROBE_STEPS steps"
-                probe=$("$TOOL" run "$file" "$level" "$base.probe.npy" --cells "$(echo "$cells" | tr x ,)" \
-                    --steps "$PROBE_STEPS")
-                rm -f "$base.probe.npy"
+                if [ -z "$FORCE" ] && [ -s "$base.probe" ]; then
+                    probe=$(cat "$base.probe")
+                else
+                    echo "# $tag level $level ($tets tets): probing $PROBE_STEPS steps"
+                    "$TOOL" run "$file" "$level" "$base.probe.npy" --cells "$(echo "$cells" | tr x ,)" \
+                        --steps "$PROBE_STEPS" >"$base.probe.tmp"
+                    mv "$base.probe.tmp" "$base.probe"
+                    rm -f "$base.probe.npy"
+                    probe=$(cat "$base.probe")
+                fi
                 # every step at the probe's seconds per Newton iteration, as many iterations per step
                 # as the level before took over its whole run (the first steps of the bend take fewer)
                 steps=$(cut -d, -f3 "$WORK/${tag}_L0.row")
@@ -80,7 +90,7 @@ for scene in $SCENES; do
                     '{ printf "%.0f\n", ($4 - $3 * $5) + n * $5 / $6 * it }')
                 echo "# $tag level $level: probe $probe; the whole run would take about $est s (budget $BUDGET_S s)"
                 if [ "$est" -gt "$BUDGET_S" ]; then
-                    echo "$probe,$est" >"$WORK/${tag}_L$level.skip"
+                    skipped="$level,$probe,$est"
                     break
                 fi
             fi
@@ -104,14 +114,11 @@ for scene in $SCENES; do
             awk -F, -v pre="$scene,$cells,$l" -v post="$n0,$to_next,$to_finest" \
                 '{ print pre "," $1 "," $2 "," $3 ",run," $4 "," $5 "," $6 "," $7 "," $8 "," post }' "$base.row" >>"$csv"
         done
-        for skip in "$WORK/${tag}"_L*.skip; do
-            [ -f "$skip" ] || continue
-            l=${skip##*_L}
-            l=${l%.skip}
+        if [ -n "$skipped" ]; then
             steps=$(cut -d, -f3 "$WORK/${tag}_L0.row")
-            awk -F, -v pre="$scene,$cells,$l" -v n="$steps" -v n0="$n0" \
-                '{ print pre "," $1 "," $2 "," n ",skipped_estimate," $9 "," $5 "," $6 ",," $8 "," n0 ",,,," }' "$skip" >>"$csv"
-        done
+            echo "$skipped" | awk -F, -v pre="$scene,$cells" -v n="$steps" -v n0="$n0" \
+                '{ print pre "," $1 "," $2 "," $3 "," n ",skipped_estimate," $10 "," $6 "," $7 ",," $9 "," n0 ",,,," }' >>"$csv"
+        fi
     done
 done
 mv "$csv" "$OUT/beam_reference.csv"
@@ -140,7 +147,10 @@ cpu=$(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null || 
                 $12 == "" ? "" : sprintf("%.0f", $12), $14 == "" ? "-" : sprintf("%.3g", $14),
                 $15 == "" ? "-" : sprintf("%.3g", $15), $16 == "" ? "-" : sprintf("%.3g", $16))
             if ($7 == "run" && $14 != "" && !(key in conv) && $14 + 0 < thr + 0) conv[key] = sprintf("level %s (%s tets, %s vertices): nMSE %.3g to level %d", $3, $5, $4, $14, $3 + 1)
-            if ($7 == "run" && $14 != "") { lastpair[key] = sprintf("level %s to %d: nMSE %.3g", $3, $3 + 1, $14); prev[key] = prevd[key]; prevd[key] = $14 }
+            if ($7 == "run" && $14 != "") {
+                lastpair[key] = sprintf("level %s to %d: nMSE %.3g", $3, $3 + 1, $14)
+                prev[key] = prevd[key]; prevd[key] = $14; lastl[key] = $3 + 0; lastt[key] = $5 + 0
+            }
             coarse[key] = $13
         }
         END {
@@ -154,7 +164,16 @@ cpu=$(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null || 
                 if (k in conv) printf "Converged to %s: %s.\n\n", thr, conv[k]
                 else {
                     printf "No level studied is converged to %s; the finest pair, %s", thr, lastpair[k]
-                    if (prev[k] != "") printf " (the change fell %.1fx from the pair before)", prev[k] / prevd[k]
+                    if (prev[k] != "") {
+                        r = prev[k] / prevd[k]
+                        printf " (the change fell %.1fx from the pair before)", r
+                        if (r > 1) { # the first level whose change to the next would be below thr at that rate
+                            m = 0; d = prevd[k]
+                            while (d >= thr && m < 20) { d /= r; m++ }
+                            t = lastt[k]; for (j = 0; j < m; j++) t *= 8
+                            printf ". At that rate level %d (%.3g tets) would be the first converged", lastl[k] + m, t
+                        }
+                    }
                     printf ".\n\n"
                 }
             }
