@@ -118,7 +118,9 @@ int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom
     snprintf(m->cubature_reason, sizeof m->cubature_reason, "none (Koopman: rank %d of %d observables, %d "
              "trajectories, %d clamped; fitted on runs that %s this one, so the error %s)", K.k.r, K.k.d,
              ki->trajectories, K.k.clamped, ki->reused ? "include" : "differ from",
-             ki->reused ? "measures reconstruction, not prediction" : "measures prediction");
+             !ki->reused ? "measures prediction"
+             : ref == F ? "measures reconstruction, not prediction"
+                        : "against the refined reference is reconstruction plus the scene mesh's own error");
     m->r = K.k.r;
     m->size = K.k.d;
     m->max_abs_eigenvalue = rk_max_abs_eigenvalue(K.k.lambda_re, K.k.lambda_im, K.k.r);
