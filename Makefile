@@ -46,7 +46,7 @@ TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_DOUBLE := test_runtime_parity test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
-.PHONY: all test test-sanitize bench paper-table demo clean deps
+.PHONY: all test test-sanitize bench bench-reference paper-table demo clean deps
 all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq
 
 $(BUILD)/obj/%.o: %.c
@@ -173,6 +173,12 @@ paper-table: deps $(BUILD)/romkit
 	@mkdir -p bench/results
 	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt
 	$(BUILD)/romkit compare examples/scenes/beam_twist_table.json --quiet --report bench/results/paper_table_twist.json | tee bench/results/paper_table_twist.txt
+
+# How fine the beam's full-order reference must be for Table 1 (bench/beam_reference.sh): full-order
+# runs of the table scenes on 1,920 to 983,040 tets, the normalized MSE between levels. Not part of
+# make bench or make test: about an hour on 2 cores, more with the 983k-tet levels.
+bench-reference: deps all $(BUILD)/bench_reference
+	BUILD=$(BUILD) sh bench/beam_reference.sh
 
 demo: deps all
 	@sh tools/demo.sh $(BUILD)

@@ -1,5 +1,7 @@
-/* rk_compare_scene (compare.h): one full-order run, then each reduced method twice: free (error
- * over the whole run, time per step) and realigned every step (online error). */
+/* rk_compare_scene (compare.h): one full-order run (and, with a refined reference, a second on the
+ * refined mesh, kept at the scene mesh's vertices), then each reduced method twice: free (error
+ * over the whole run, time per step) and realigned every step (online error), both against the
+ * reference. */
 #include "compare/compare_impl.h"
 
 #include <math.h>
@@ -18,23 +20,42 @@ static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error
     if (rk_fom_contact_measure(fom, &crossings, &d, err)) return -1;
     F->min_distance = fmin(F->min_distance, d);
     F->intersections = crossings > F->intersections ? crossings : F->intersections;
-    memcpy(F->x + (size_t)F->ndof * step, fom->x, sizeof(double) * F->ndof);
-    memcpy(F->v + (size_t)F->ndof * step, fom->v, sizeof(double) * F->ndof);
+    double *x = F->x + (size_t)F->ndof * step, *v = F->v + (size_t)F->ndof * step;
+    if (F->map) {
+        for (int i = 0; i < F->ndof / 3; i++) {
+            memcpy(x + 3 * (size_t)i, fom->x + 3 * (size_t)F->map[i], 3 * sizeof(double));
+            memcpy(v + 3 * (size_t)i, fom->v + 3 * (size_t)F->map[i], 3 * sizeof(double));
+        }
+    } else {
+        memcpy(x, fom->x, sizeof(double) * F->ndof);
+        memcpy(v, fom->v, sizeof(double) * F->ndof);
+    }
     if (step > 0) F->step_seconds[step - 1] = seconds;
     return 0;
 }
 
-static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
+/* The built scene's full-order run into F, keeping nv vertices: all of them (map NULL) or those map
+ * lists. */
+static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const char *label, fom_run *F,
+                      rk_fom_stats *stats, rk_error *err)
 {
-    F->ndof = 3 * sim->mesh.nv;
+    F->ndof = 3 * nv;
+    F->map = map;
     F->min_distance = INFINITY;
     F->T = sim->options.is_static ? 1 : sim->steps;
     F->x = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
     F->v = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
     F->step_seconds = rk_calloc((size_t)F->T + 1, sizeof(double), err);
     if (!F->x || !F->v || !F->step_seconds) return -1;
+    int rc = rk_scene_fom_run(sim, NULL, label, keep_frame, F, stats, err);
+    F->map = NULL; /* it pointed into the caller's map, kept only while running */
+    return rc;
+}
+
+static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
+{
     rk_fom_stats stats;
-    if (rk_scene_fom_run(sim, NULL, "full-order run", keep_frame, F, &stats, err)) return -1;
+    if (run_frames(sim, NULL, sim->mesh.nv, "full-order run", F, &stats, err)) return -1;
     out->fom_seconds_total = stats.seconds_total;
     out->fom_newton_iterations = stats.newton_iterations;
     out->fom_seconds_per_step = rk_median(F->step_seconds, F->T);
@@ -49,6 +70,55 @@ static void fom_run_free(fom_run *F)
     free(F->x);
     free(F->v);
     free(F->step_seconds);
+}
+
+/* The reference without refinement: the scene's full-order run F itself. */
+static void reference_is_fom(rk_compare_result *out)
+{
+    out->reference_refine = 0;
+    out->reference_vertices = out->vertices;
+    out->reference_tets = out->tets;
+    out->reference_seconds_per_step = out->fom_seconds_per_step;
+    out->reference_seconds_total = out->fom_seconds_total;
+    out->reference_newton_iterations = out->fom_newton_iterations;
+    out->reference_min_distance = out->fom_min_distance;
+    out->reference_intersections = out->fom_intersections;
+    out->fom_normalized_mse = out->fom_normalized_max_error = out->fom_max_error_m = out->fom_relative_error = 0;
+}
+
+/* The scene refined scene->reference_refine more times, run at full order into R (kept at sim's
+ * vertices), and the scene's own run F measured against it. The refined model is freed before
+ * returning: only R's frames stay. */
+static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, fom_run *R,
+                         rk_compare_result *out, rk_error *err)
+{
+    rk_scene_sim fine;
+    int *map = NULL, k = scene->reference_refine;
+    if (rk_scene_build_reference(scene, sim, k, &fine, &map, err)) return -1;
+    out->reference_refine = k;
+    out->reference_vertices = fine.mesh.nv;
+    out->reference_tets = fine.mesh.nt;
+    char label[128];
+    snprintf(label, sizeof label, "reference run (refine %d: %d tets)", k, fine.mesh.nt);
+    rk_fom_stats stats;
+    int rc = run_frames(&fine, map, sim->mesh.nv, label, R, &stats, err);
+    free(map);
+    rk_scene_sim_free(&fine);
+    if (rc) return -1;
+    if (R->T != F->T) return rk_fail(err, "reference run: %d frames, the scene's run %d", R->T, F->T);
+    out->reference_seconds_total = stats.seconds_total;
+    out->reference_newton_iterations = stats.newton_iterations;
+    out->reference_seconds_per_step = rk_median(R->step_seconds, R->T);
+    out->reference_min_distance = R->min_distance;
+    out->reference_intersections = R->intersections;
+    rk_run_error e;
+    rk_run_error_init(&e, sim->mesh.X, sim->mesh.nv);
+    for (int s = 1; s <= F->T; s++) rk_run_error_add(&e, F->x + (size_t)F->ndof * s, R->x + (size_t)R->ndof * s);
+    out->fom_normalized_mse = rk_normalized_mse(&e);
+    out->fom_normalized_max_error = rk_normalized_max_error(&e);
+    out->fom_max_error_m = e.max_dist;
+    out->fom_relative_error = rk_relative_error(&e);
+    return 0;
 }
 
 /* The free run: errors against every full-order frame and the median step time. */
@@ -141,8 +211,10 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
     m->seconds_per_step = m->speedup = NAN;
 }
 
-static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
-                       const rk_sparse *M, const rk_rom_entry *e, rk_compare_method *m, const rk_compare_result *res)
+/* Entry e built on the scene's mesh (trained on F, displacements D) and measured against ref. */
+static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const fom_run *ref,
+                       const double *D, const rk_sparse *M, const rk_rom_entry *e, rk_compare_method *m,
+                       const rk_compare_result *res)
 {
     rk_error err;
     rk_scene_rom R;
@@ -153,7 +225,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->reference_nmse = e->reference_nmse;
     memcpy(m->reference_source, e->reference_source, sizeof m->reference_source);
     if (e->koopman) {
-        if (rk_compare_koopman(scene, sim, F, D, e, m, &err)) rk_compare_record_failure(m, &err);
+        if (rk_compare_koopman(scene, sim, F, ref, D, e, m, &err)) rk_compare_record_failure(m, &err);
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
@@ -170,7 +242,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->seconds_training_run = R.basis_info.fom_frames ? res->fom_seconds_total : 0;
     memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
     memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
-    if (run_free(sim, &R, F, M, m, &err) || run_realigned(sim, &R, F, M, m, &err)) rk_compare_record_failure(m, &err);
+    if (run_free(sim, &R, ref, M, m, &err) || run_realigned(sim, &R, ref, M, m, &err)) rk_compare_record_failure(m, &err);
     else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
     rk_scene_rom_free(&R);
 }
@@ -182,7 +254,8 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     if (n == 0) return rk_fail(err, "%s: no \"rom\" section: nothing to compare with the full-order model", scene->path);
     rk_scene_sim sim;
     if (rk_scene_build(scene, &sim, err)) return -1;
-    fom_run F = {0};
+    fom_run F = {0}, R = {0};
+    const fom_run *ref = &F;
     rk_sparse M = {0};
     double *D = NULL;
     int rc = -1;
@@ -191,6 +264,11 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     out->bbox_diagonal = rk_points_diagonal(sim.mesh.X, sim.mesh.nv);
     if (run_fom(&sim, &F, out, err)) goto done;
     out->steps = F.T;
+    reference_is_fom(out);
+    if (scene->reference_refine > 0) {
+        if (run_reference(scene, &sim, &F, &R, out, err)) goto done;
+        ref = &R;
+    }
     /* Displacement frames, as the bases train on them. */
     D = rk_calloc((size_t)F.ndof * F.T, sizeof(double), err);
     if (!D || rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto done;
@@ -201,13 +279,14 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     if (!out->methods) goto done;
     out->nmethods = n;
     for (int k = 0; k < n; k++) {
-        run_method(scene, &sim, &F, D, &M, &scene->entries[k], &out->methods[k], out);
+        run_method(scene, &sim, &F, ref, D, &M, &scene->entries[k], &out->methods[k], out);
     }
     rc = 0;
 done:
     free(D);
     rk_sparse_free(&M);
     fom_run_free(&F);
+    fom_run_free(&R);
     rk_scene_sim_free(&sim);
     return rc;
 }

@@ -1,9 +1,11 @@
 /* precompute/compare: the full-order model and every reduced method a scene lists (reduced models,
  * and Koopman operators for entries with a koopman section), run side by side on the scene, with
  * the error metrics of util/util.h: normalized MSE, max error and relative error of a free run
- * against every full-order frame, and the total relative online error of a run that starts each
- * step from the full-order state at t - 1 projected onto the subspace (Grassmann paper, Sec. 5.1:
- * per-step realignment, so drift does not dominate).
+ * against every frame of the reference, and the total relative online error of a run that starts
+ * each step from the reference's state at t - 1 projected onto the subspace (Grassmann paper, Sec.
+ * 5.1: per-step realignment, so drift does not dominate). The reference is the full-order run on
+ * the scene's mesh, or with "reference": {"refine": k} the full-order run on that mesh refined k
+ * times, taken at the scene mesh's vertices (a converged reference: FreeForm paper, Table 1).
  *
  * Timing: the median wall time of one step (reconstruction of the vertices not counted: a runtime
  * only rebuilds the vertices it shows). A Koopman method steps in its real eigen-coordinates, as
@@ -45,6 +47,19 @@ typedef struct {
     int has_contact;
     double fom_min_distance;       /* over the full-order frames */
     int fom_intersections;         /* the most exact crossings in a frame (0) */
+    /* What every error is measured against (scene "reference": {"refine": k}): the full-order run
+     * with every object's mesh refined k more times, taken at the scene mesh's vertices (the
+     * refined mesh's first ones: rk_scene_build_reference). The reduced methods still run, and
+     * train, on the scene's mesh; speed-ups are over the full-order run on it. k = 0: the
+     * reference is that run itself (sizes and seconds its own, the fom_* errors 0). */
+    int reference_refine, reference_vertices, reference_tets;
+    double reference_seconds_per_step, reference_seconds_total;
+    long reference_newton_iterations;
+    double reference_min_distance; /* contact over the reference's frames, on its own surface */
+    int reference_intersections;
+    /* The full-order run on the scene's mesh against the reference (its discretization error;
+     * util/util.h's metrics over every frame, as the methods'). */
+    double fom_normalized_mse, fom_normalized_max_error, fom_max_error_m, fom_relative_error;
     int nmethods;
     rk_compare_method *methods;
 } rk_compare_result;

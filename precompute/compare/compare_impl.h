@@ -8,6 +8,7 @@
 
 typedef struct {
     int ndof, T;
+    const int *map;  /* NULL: every vertex of the run; else the run's vertex kept as vertex i (ndof / 3) */
     double *x, *v;   /* ndof x (T + 1): the start, then after every step */
     double *step_seconds;
     double min_distance;   /* contact over the frames: closest surfaces (m), most crossings */
@@ -21,8 +22,8 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
 
 /* Entry `index` with a koopman section (koopman_method.c): fitted on the full-order run F (D: its
  * displacement frames) and any other trajectories it lists, then run free and realigned as the
- * reduced models are. */
-int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const double *D,
-                       const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+ * reduced models are, against the reference `ref` (F itself, or the refined run at sim's vertices). */
+int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const fom_run *ref,
+                       const double *D, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
 #endif

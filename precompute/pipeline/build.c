@@ -364,3 +364,48 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->object_first_tet);
     memset(out, 0, sizeof *out);
 }
+
+int rk_scene_build_reference(const rk_scene *s, const rk_scene_sim *sim, int levels, rk_scene_sim *out, int **map,
+                             rk_error *err)
+{
+    memset(out, 0, sizeof *out);
+    *map = NULL;
+    rk_scene fine = *s; /* shares everything but the objects, which differ in their refine */
+    fine.objects = rk_calloc((size_t)s->nobjects, sizeof *fine.objects, err);
+    if (!fine.objects) return -1;
+    for (int k = 0; k < s->nobjects; k++) {
+        fine.objects[k] = s->objects[k];
+        fine.objects[k].refine += levels;
+    }
+    int rc = rk_scene_build(&fine, out, err);
+    free(fine.objects);
+    if (rc) return rk_error_prefix(err, "reference (refine %d)", levels);
+    int *m = rk_calloc((size_t)sim->mesh.nv + 1, sizeof *m, err);
+    if (!m) goto fail;
+    for (int k = 0; k < s->nobjects; k++) {
+        int first = sim->object_first_vertex[k], n = sim->object_first_vertex[k + 1] - first;
+        int fine_first = out->object_first_vertex[k];
+        if (out->object_first_vertex[k + 1] - fine_first < n) {
+            rk_fail(err, "reference (refine %d): objects[%d] has %d vertices refined, fewer than its %d", levels, k,
+                    out->object_first_vertex[k + 1] - fine_first, n);
+            goto fail;
+        }
+        for (int i = 0; i < n; i++) {
+            const double *a = sim->mesh.X + 3 * (size_t)(first + i), *b = out->mesh.X + 3 * (size_t)(fine_first + i);
+            if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2]) {
+                rk_fail(err, "reference (refine %d): objects[%d] vertex %d at (%g, %g, %g) is the refined mesh's "
+                             "vertex %d at (%g, %g, %g): the refined mesh's check renumbered the vertices, so the "
+                             "errors cannot be taken at the scene mesh's vertices", levels, k, i, a[0], a[1], a[2],
+                        i, b[0], b[1], b[2]);
+                goto fail;
+            }
+            m[first + i] = fine_first + i;
+        }
+    }
+    *map = m;
+    return 0;
+fail:
+    free(m);
+    rk_scene_sim_free(out);
+    return -1;
+}

@@ -291,10 +291,67 @@ static int parse_time(const rk_json_ctx *c, const cJSON *t, const char *path, rk
     return 0;
 }
 
+/* Tets of a box object after `levels` refinements (6 per cell, 8 children each). */
+static double box_tets(const rk_scene_object *o, double levels)
+{
+    return 6.0 * o->box_cells[0] * o->box_cells[1] * o->box_cells[2] * pow(8.0, levels);
+}
+
+/* A tet count for a message: exact while it is one, else its magnitude. */
+static void count_text(char *buf, size_t size, double n)
+{
+    if (n < 1e15) snprintf(buf, size, "%.0f", n);
+    else if (n <= 1e300) snprintf(buf, size, "%.3g", n);
+    else snprintf(buf, size, "over 1e300");
+}
+
+/* "reference": {"refine": k}: romkit compare's full-order reference on every object's mesh refined
+ * k more times (after its own mesh.refine). The levels in all must stay within what rk_mesh_refine
+ * makes; a box's tet count is known here, so the message says what k would make (a mesh file's is
+ * known when it is loaded, and rk_mesh_refine's message says it then). */
+static int parse_reference(const rk_json_ctx *c, const cJSON *ref, const char *path, rk_scene *s)
+{
+    static const char *const keys[] = {"refine", NULL};
+    if (!cJSON_IsObject(ref)) return rk_json_fail(c, path, "must be an object such as {\"refine\": 1}");
+    if (rk_json_check_keys(c, ref, path, keys)) return -1;
+    char p[PATH_LEN];
+    snprintf(p, sizeof p, "%s.refine", path);
+    double k = 0;
+    if (rk_json_number(c, ref, path, "refine", 1, &k)) return -1;
+    if (k < 0 || k != floor(k))
+        return rk_json_fail(c, p, "must be a whole number of 1:8 refinement levels (0: the scene's own mesh, 1, 2, "
+                            "...), got %g", k);
+    for (int i = 0; i < s->nobjects && k > 0; i++) {
+        const rk_scene_object *o = &s->objects[i];
+        if (o->shape == RK_SHAPE_POINTS)
+            return rk_json_fail(c, p, "objects[%d] is a point cloud: only tet meshes (mesh.file or mesh.box) refine", i);
+        double levels = o->refine + k;
+        char n[64];
+        if (o->shape == RK_SHAPE_BOX) {
+            double tets = box_tets(o, levels);
+            count_text(n, sizeof n, tets);
+            if (levels > RK_MESH_REFINE_MAX_LEVELS || tets > RK_MESH_REFINE_MAX_TETS)
+                return rk_json_fail(c, p, "%g level%s would turn objects[%d]'s %d x %d x %d box (%.0f tets after its "
+                                    "mesh.refine %d) into %s tets; a reference may have at most %d tets and %d levels "
+                                    "in all", k, k == 1 ? "" : "s", i, o->box_cells[0], o->box_cells[1], o->box_cells[2],
+                                    box_tets(o, o->refine), o->refine, n, RK_MESH_REFINE_MAX_TETS,
+                                    RK_MESH_REFINE_MAX_LEVELS);
+        } else if (levels > RK_MESH_REFINE_MAX_LEVELS) {
+            count_text(n, sizeof n, pow(8.0, levels));
+            return rk_json_fail(c, p, "%g level%s on top of objects[%d]'s mesh.refine %d would make %s times its "
+                                "file's tets; a reference may have at most %d tets and %d levels in all", k,
+                                k == 1 ? "" : "s", i, o->refine, n,
+                                RK_MESH_REFINE_MAX_TETS, RK_MESH_REFINE_MAX_LEVELS);
+        }
+    }
+    s->reference_refine = (int)k;
+    return 0;
+}
+
 static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene_dir, rk_scene *s)
 {
     static const char *const keys[] = {"objects", "gravity", "obstacles", "contact", "time", "rom", "damping",
-                                       "newton", "lumped_mass", NULL};
+                                       "newton", "lumped_mass", "reference", NULL};
     if (rk_json_check_keys(c, root, "", keys)) return -1;
     char p[PATH_LEN];
     const cJSON *objects = rk_json_child(root, "", "objects", p, sizeof p);
@@ -337,6 +394,8 @@ static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene
         s->newton_max_iter = (int)iters;
     }
     if (rk_json_bool(c, root, "", "lumped_mass", &s->lumped_mass)) return -1;
+    const cJSON *reference = rk_json_child(root, "", "reference", p, sizeof p);
+    if (reference && parse_reference(c, reference, p, s)) return -1;
     return rk_parse_rom(c, cJSON_GetObjectItemCaseSensitive(root, "rom"), s);
 }
 

@@ -167,6 +167,10 @@ typedef struct {
     int newton_max_iter;   /* 0 = the simulator's default */
     int nentries;          /* the rom section: one for an object, the list's length, 0 when absent */
     rk_rom_entry *entries;
+    int reference_refine;  /* "reference": {"refine": k}: romkit compare measures every method against
+                            * a full-order run with each object's mesh refined k more times
+                            * (rk_scene_build_reference), at the scene mesh's vertices; 0 (the
+                            * default): against the full-order run on the scene's own mesh */
 } rk_scene;
 
 int rk_scene_load(const char *path, rk_scene *s, rk_error *err);
@@ -206,6 +210,15 @@ typedef struct {
 
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);
 void rk_scene_sim_free(rk_scene_sim *out);
+/* The scene built again with every object's mesh refined `levels` more times (1:8 each,
+ * rk_mesh_refine, after its own mesh.refine), everything else as the scene says: materials,
+ * regions, fixed and moving boxes, loads and obstacles selected on the refined mesh as
+ * rk_scene_build selects them on any mesh. sim is the scene built as written; *map (sim->mesh.nv
+ * entries, malloc'd) gives for each of its vertices the refined mesh's vertex at the same rest
+ * position (refinement numbers an object's old vertices first; this checks it, bit for bit, and
+ * fails naming the vertex where a mesh check renumbered them). */
+int rk_scene_build_reference(const rk_scene *s, const rk_scene_sim *sim, int levels, rk_scene_sim *out, int **map,
+                             rk_error *err);
 
 /* ---- full-order runs (run.c) ---- */
 

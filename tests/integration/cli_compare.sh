@@ -42,6 +42,24 @@ else
     fail compare_report_keys "$(cat "$TMP/err")"
 fi
 
+# A refined reference: its size in the report and on stdout, the fom row its own error against it.
+scene "$TMP/ref.json" '[{"basis": "modes", "size": 6}], "reference": {"refine": 1}'
+if "$ROMKIT" compare "$TMP/ref.json" --quiet --report "$TMP/ref_r.json" >"$TMP/out" 2>"$TMP/err"; then
+    json_checks compare_reference_keys "$TMP/ref_r.json" reference.refine=1 reference.vertices=425 \
+        reference.tets=1536 reference.measured_vertices=81 reference.seconds_per_step vertices=81 tets=192 \
+        'methods[0].name="fom"' 'methods[0].relative_online_error=null' 'methods[1].normalized_mse'
+    e=$(json_num "$TMP/ref_r.json" 'methods[0].normalized_mse')
+    [ -n "$e" ] && awk -v e="$e" 'BEGIN { exit !(e > 0) }' && ok compare_reference_fom_error \
+        || fail compare_reference_fom_error "fom nMSE against the refined reference: '$e'"
+    grep -q "reference: refine 1, 425 vertices, 1536 tets" "$TMP/out" && ok compare_reference_printed \
+        || fail compare_reference_printed "$(head -c 400 "$TMP/out")"
+else
+    fail compare_reference_keys "$(cat "$TMP/err")"
+fi
+json_checks compare_reference_default "$TMP/r.json" reference.refine=0 'methods[0].normalized_mse=0'
+scene "$TMP/badref.json" '[{"basis": "modes", "size": 6}], "reference": {"refine": 5}'
+expect_fail compare_reference_too_fine "into 6291456 tets" "$ROMKIT" compare "$TMP/badref.json"
+
 # A method that cannot be built is reported by name, the others still run, and the exit is 1.
 scene "$TMP/bad.json" '[{"basis": "modes", "size": 4}, {"basis": "pod", "size": 500}]'
 expect_fail compare_names_failed_method "pod-500 failed" "$ROMKIT" compare "$TMP/bad.json" --quiet
