@@ -67,3 +67,14 @@ if [ -e "$TMP/x.rombin" ] || ls "$TMP" | grep -q 'x.rombin.tmp'; then fail no_pa
 expect_fail run_rejects_bad_steps "whole number" "$ROMKIT" run "$TMP/a.rombin" --steps -3
 expect_fail run_jump_needs_koopman "no Koopman operator" "$ROMKIT" run "$TMP/a.rombin" --steps 1 --jump 10
 expect_fail run_missing_file "cannot open" "$ROMKIT" run "$TMP/none.rombin" --steps 1
+
+# A point cloud, mesh-free (the fuzz seed's lattice): built, stepped, its splats written per frame
+# as PLY (frame 0 the start) with the cloud's points in file order; a mesh asset has none to write,
+# and a point cloud has no full order.
+if "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/p.rombin" --quiet >/dev/null 2>"$TMP/err" \
+    && "$ROMKIT" run "$TMP/p.rombin" --steps 5 --splats "$TMP/splats" --snapshots "$TMP/ps.npy" --quiet >/dev/null 2>>"$TMP/err" \
+    && [ "$(ls "$TMP/splats" | wc -l)" = 6 ] && head -c 300 "$TMP/splats/frame_00005.ply" | grep -q "element vertex 81" \
+    && grep -q "'shape': (5, 81, 3)" "$TMP/ps.npy"; then ok point_cloud_builds_runs_and_writes_splats
+else fail point_cloud_builds_runs_and_writes_splats "$(tail -c 600 "$TMP/err")"; fi
+expect_fail run_splats_needs_a_cloud "holds no Gaussian splats" "$ROMKIT" run "$TMP/a.rombin" --steps 1 --splats "$TMP/nosplats"
+expect_fail point_cloud_has_no_full_order "a point cloud has no elements" "$ROMKIT" fom tests/fuzz/seed_points.json
