@@ -173,6 +173,8 @@ paper-table: deps $(BUILD)/romkit
 	@mkdir -p bench/results
 	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt
 	$(BUILD)/romkit compare examples/scenes/beam_twist_table.json --quiet --report bench/results/paper_table_twist.json | tee bench/results/paper_table_twist.txt
+	for s in armadillo_fix_side armadillo_hang armadillo_pull; do \
+	    $(BUILD)/romkit compare examples/scenes/$$s.json --quiet --report bench/results/$$s.json | tee bench/results/$$s.txt; done
 
 # How fine the beam's full-order reference must be for Table 1 (bench/beam_reference.sh): full-order
 # runs of the table scenes on 1,920 to 983,040 tets, the normalized MSE between levels. Not part of

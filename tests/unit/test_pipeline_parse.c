@@ -95,6 +95,17 @@ static const struct {
      "objects[0].mesh", "not to a point cloud"},
     {"zero plane normal", "{\"objects\": [{" BEAM_OBJECT "}], \"obstacles\": [{\"plane\": {\"point\": [0,0,0], \"normal\": [0,0,0]}}]}",
      "obstacles[0].plane", "zero"},
+    {"mesh-free modes", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"modes\", \"size\": 4, \"mesh_free\": true}}",
+     "rom.mesh_free", "needs basis rkpm_skinning"},
+    {"unknown sampling", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 4,"
+     " \"mesh_free\": {\"sampling\": \"sobol\"}}}", "rom.mesh_free", "sampling must be grid, random or cloud"},
+    {"negative volume", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 4,"
+     " \"mesh_free\": {\"volume\": -1}}}", "rom.mesh_free", "volume (m^3) must be positive"},
+    {"too few points", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 4,"
+     " \"mesh_free\": {\"points\": 2}}}", "rom.mesh_free", "points"},
+    {"proxy voxel on a mesh", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}, \"proxy_voxel\": 0.1},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "only with points"},
 };
 
 TEST(bad_scenes_give_one_clear_message)
