@@ -98,7 +98,14 @@ void rt_position_bounds(romrt_model *m)
     m->row_bound = m->x_bound = 0;
     for (i = 0; i < 3 * m->shown; i++) {
         double s = 0;
-        for (j = 0; j < m->r; j++) s += fabs((double)m->rows[(size_t)i * (size_t)m->r + (size_t)j]);
+        if (m->w) /* sum_j |w_j| |X̄| over the handles of row a */
+            for (j = 0; j < m->skin; j++) {
+                const romrt_real *X = m->X + 3 * (size_t)(i / 3);
+                s += fabs((double)rt_weight(m, (uint32_t)(i / 3), j)) *
+                     (fabs((double)X[0]) + fabs((double)X[1]) + fabs((double)X[2]) + 1);
+            }
+        else
+            for (j = 0; j < m->r; j++) s += fabs((double)m->rows[(size_t)i * (size_t)m->r + (size_t)j]);
         if (s > m->row_bound) m->row_bound = s;
         if (fabs((double)m->X[i]) > m->x_bound) m->x_bound = fabs((double)m->X[i]);
     }
@@ -119,7 +126,7 @@ romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count)
     if (!m || !xyz || count < 0 || count > m->shown) return ROMRT_E_ARGUMENT;
     for (i = 0; i < count; i++)
         for (a = 0; a < 3; a++)
-            xyz[3 * i + a] = m->X[3 * i + a] + rt_dot(m->r, m->rows + ((size_t)3 * i + (size_t)a) * (size_t)m->r, m->q);
+            xyz[3 * i + a] = m->X[3 * i + a] + rt_row_dot(m, (uint32_t)i, a, m->q);
     return ROMRT_OK;
 }
 
@@ -130,11 +137,11 @@ romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, in
     if (!m->grad) return ROMRT_E_UNSUPPORTED;
     H = m->skin;
     for (i = 0; i < count; i++) {
-        const romrt_real *X = m->X + 3 * (size_t)i, *row = m->rows + (size_t)3 * (size_t)i * (size_t)m->r;
+        const romrt_real *X = m->X + 3 * (size_t)i;
         romrt_real *Fi = F + 9 * (size_t)i;
         for (a = 0; a < 9; a++) Fi[a] = (romrt_real)(a % 4 == 0);
         for (j = 0; j < H; j++) {
-            romrt_real w = row[12 * j + 3]; /* row 3i + 0, column 12 j + 3: w_j X̄_3 = w_j */
+            romrt_real w = rt_weight(m, (uint32_t)i, j);
             const romrt_real *dw = m->grad + ((size_t)i * (size_t)H + (size_t)j) * 3;
             for (a = 0; a < 3; a++) {
                 const romrt_real *A = m->q + 12 * j + 4 * a; /* row a of handle j */
@@ -174,7 +181,9 @@ static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
     int a, j;
     for (a = 0; a < 3; a++) {
         const romrt_real *row = m->force_rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
-        for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
+        if (m->kind == ROMRT_KIND_REDUCED) rt_row_axpy(m, v, a, f[a], m->f_app); /* B_v^T f */
+        else
+            for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
     }
 }
 

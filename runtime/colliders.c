@@ -159,17 +159,14 @@ static void along_path(const romrt_model *m, uint32_t v, const romrt_real *from,
                        romrt_real *hss, romrt_real *hqs)
 {
     romrt_real w[3], Bw[3];
-    int a, j;
+    int a;
     RT_PHYS(collider_path_velocity)(from, to, sk, local, w);
     for (a = 0; a < 3; a++) w[a] = -w[a];
     for (a = 0; a < 3; a++) Bw[a] = B[3 * a] * w[0] + B[3 * a + 1] * w[1] + B[3 * a + 2] * w[2];
     *gs += gx[0] * w[0] + gx[1] * w[1] + gx[2] * w[2];
     if (hss) *hss += w[0] * Bw[0] + w[1] * Bw[1] + w[2] * Bw[2];
     if (hqs)
-        for (a = 0; a < 3; a++) {
-            const romrt_real *row = m->rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
-            for (j = 0; j < m->r; j++) hqs[j] += Bw[a] * row[j];
-        }
+        for (a = 0; a < 3; a++) rt_row_axpy(m, v, a, Bw[a], hqs);
 }
 
 void rt_colliders_path_terms(romrt_model *m, const romrt_real *q, int k, romrt_real sk, romrt_real *gs, romrt_real *hss,
@@ -196,7 +193,7 @@ romrt_real rt_colliders_max_step(romrt_model *m, const romrt_real *y, const romr
     }
     for (i = 0; i < m->ncv && alpha > 0; i++) {
         rt_vertex_position(m, m->cv[i], y, x);
-        for (a = 0; a < 3; a++) dx[a] = rt_dot(r, m->rows + ((size_t)3 * m->cv[i] + (size_t)a) * (size_t)r, d);
+        for (a = 0; a < 3; a++) dx[a] = rt_row_dot(m, m->cv[i], a, d);
         for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) {
             const rt_collider *c = &m->colliders[k];
             romrt_real s;

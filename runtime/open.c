@@ -140,14 +140,13 @@ static romrt_status shown_gradients(rt_loader *L, romrt_model *m)
     return rt_reals(L, ROMBIN_GRAD, (uint64_t)m->shown * 3 * (uint64_t)m->skin, 1, &m->grad);
 }
 
-/* The basis rows: ROWS, or for a skinning basis stored as its weights (SKIN and WGHT) the rows
- * built from them into the arena, row 3v + a holding w_j(v) (X_v, 1) at columns 12 j + 4 a + c. */
+/* The basis rows: ROWS, or for a skinning basis stored as its weights (SKIN and WGHT) the weights,
+ * the rows formed from them where needed (rows.c). */
 static romrt_status basis_rows(rt_loader *L, romrt_model *m)
 {
     const uint32_t *skin;
     const romrt_real *w;
-    romrt_real *built;
-    int r = m->r, v, a, j, c;
+    int r = m->r, v, j, c;
     romrt_status st;
     rombin_chunk chunk;
     int has_weights;
@@ -158,10 +157,10 @@ static romrt_status basis_rows(rt_loader *L, romrt_model *m)
     if (m->skin <= 0 || r != 12 * m->skin)
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_WGHT, "skinning weights without a SKIN chunk whose handles give r");
     if ((st = rt_reals(L, ROMBIN_WGHT, (uint64_t)m->nv * (uint64_t)m->skin, 1, &w))) return st;
-    rt_scratch(L, (size_t)3 * (size_t)m->nv * (size_t)r, &built);
-    m->rows = built;
+    m->w = w;
+    m->rows = 0;
     m->rows_from_weights = 1;
-    if (!built || !w) return ROMRT_OK; /* the sizing pass */
+    if (!w) return ROMRT_OK; /* the sizing pass */
     for (v = 0; v < m->nv; v++)
         for (j = 0; j < m->skin; j++)
             for (c = 0; c < 4; c++) {
@@ -171,9 +170,6 @@ static romrt_status basis_rows(rt_loader *L, romrt_model *m)
                 if (!isfinite(x) || (sizeof(romrt_real) == 4 && fabs(x) > 3.0e38))
                     return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_WGHT, "stored vertex ", (uint64_t)v,
                                      "'s weight times its rest position overflows");
-                for (a = 0; a < 3; a++)
-                    built[((size_t)3 * v + (size_t)a) * (size_t)r + (size_t)(12 * j + 4 * a + c)] =
-                        w[(size_t)v * (size_t)m->skin + (size_t)j] * (c < 3 ? m->X[3 * (size_t)v + (size_t)c] : RT_K(1));
             }
     return ROMRT_OK;
 }

@@ -185,10 +185,7 @@ static void contact_gradient(const romrt_model *m, int c, romrt_real *out)
     const romrt_real *n = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1] + 3;
     int j, a;
     for (j = 0; j < m->r; j++) out[j] = 0;
-    for (a = 0; a < 3; a++) {
-        const romrt_real *row = row_of(m, v, a);
-        for (j = 0; j < m->r; j++) out[j] += n[a] * row[j];
-    }
+    for (a = 0; a < 3; a++) rt_row_axpy(m, v, a, n[a], out);
 }
 
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q)
@@ -197,7 +194,7 @@ romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q)
     const romrt_real *p = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1], *X = m->X + 3 * (size_t)v;
     romrt_real d = 0;
     int a;
-    for (a = 0; a < 3; a++) d += p[3 + a] * (X[a] - p[a] + rt_dot(m->r, row_of(m, v, a), q));
+    for (a = 0; a < 3; a++) d += p[3 + a] * (X[a] - p[a] + rt_row_dot(m, v, a, q));
     return d;
 }
 
@@ -220,7 +217,7 @@ romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const 
         uint32_t v = m->contacts[2 * (size_t)c];
         const romrt_real *n = m->planes + 6 * (size_t)m->contacts[2 * (size_t)c + 1] + 3;
         romrt_real dd = 0, d = rt_contact_distance(m, c, q);
-        for (a = 0; a < 3; a++) dd += n[a] * rt_dot(m->r, row_of(m, v, a), dq);
+        for (a = 0; a < 3; a++) dd += n[a] * rt_row_dot(m, v, a, dq);
         if (dd < 0 && RT_K(0.9) * (d - floor) / -dd < alpha) alpha = RT_K(0.9) * (d - floor) / -dd;
         if (alpha < 0) alpha = 0;
     }
@@ -230,15 +227,21 @@ romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const 
 void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3])
 {
     int a;
-    for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)v + (size_t)a] + rt_dot(m->r, row_of(m, v, a), q);
+    for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)v + (size_t)a] + rt_row_dot(m, v, a, q);
 }
 
 void rt_vertex_pull(const romrt_model *m, uint32_t v, const romrt_real gx[3], const romrt_real *B, romrt_real *g,
                     romrt_real *H, int ld)
 {
     const romrt_real *row[3];
-    int r = m->r, a, b, i, j;
-    for (a = 0; a < 3; a++) row[a] = row_of(m, v, a);
+    int r = m->r, rp = RT_PAD(r), a, b, i, j;
+    for (a = 0; a < 3; a++) { /* stored rows, or formed into m->AG (free here: no element is being summed) */
+        if (m->rows) row[a] = row_of(m, v, a);
+        else {
+            rt_row(m, v, a, m->AG + (size_t)rp * a);
+            row[a] = m->AG + (size_t)rp * a;
+        }
+    }
     if (g)
         for (a = 0; a < 3; a++)
             for (j = 0; j < r; j++) g[j] += gx[a] * row[a][j];

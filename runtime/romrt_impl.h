@@ -83,7 +83,8 @@ struct romrt_model {
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
     const romrt_real *X;      /* nv x 3 */
-    const romrt_real *rows;   /* nv x 3 x r: row 3v+a of the basis */
+    const romrt_real *rows;   /* nv x 3 x r: row 3v+a of the basis (ROWS), or NULL with w */
+    const romrt_real *w;      /* nv x skin: a skinning basis's weights (WGHT), its rows formed from them (rows.c) */
     const romrt_real *M, *C, *f, *A; /* r x r (column-major, symmetric), f: r; C, A may be NULL */
     const romrt_real *pins;   /* npins x (12 + 12 r) */
     const romrt_real *elem_real; /* ne x 12: Dm^-1, weight, mu, lambda */
@@ -130,7 +131,7 @@ struct romrt_model {
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
-    int skin, rows_from_weights;  /* rows_from_weights: built in the arena from WGHT, not read from ROWS */
+    int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
 };
 
@@ -153,6 +154,12 @@ romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9]);
 void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romrt_real *P, romrt_real *A);
 /* The elastic energy (gradient, Hessian) of a skinning basis through its weights (skinning.c). */
 romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
+/* The basis rows of stored vertex v (rows.c): row 3v + a dotted with y (r reals), s times it added
+ * to out, or written out (r reals); weight j of a skinning basis. */
+romrt_real rt_row_dot(const romrt_model *m, uint32_t v, int a, const romrt_real *y);
+void rt_row_axpy(const romrt_model *m, uint32_t v, int a, romrt_real s, romrt_real *out);
+void rt_row(const romrt_model *m, uint32_t v, int a, romrt_real *out);
+romrt_real rt_weight(const romrt_model *m, uint32_t v, int j);
 /* x = X_v + rows_v q of stored vertex v. */
 void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3]);
 /* H (leading dimension ld) += J_v^T B J_v for stored vertex v's rows J_v and a 3 x 3 block B; g += J_v^T gx. */

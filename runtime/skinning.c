@@ -19,10 +19,17 @@
 
 #include "runtime/loader_impl.h"
 
-/* The a = 0 row of stored vertex v: entry 12 j + c is w_j(v) X̄_c(v). */
+/* The a = 0 row of stored vertex v (ROWS): entry 12 j + c is w_j(v) X̄_c(v). */
 static const romrt_real *row0(const romrt_model *m, uint32_t v)
 {
     return m->rows + (size_t)3 * v * (size_t)m->r;
+}
+
+/* That entry, w_j(v) X̄_c(v), from the rows or formed from the weights (WGHT: the same product). */
+static romrt_real wx(const romrt_model *m, uint32_t v, int j, int c)
+{
+    return m->w ? m->w[(size_t)v * (size_t)m->skin + (size_t)j] * (c < 3 ? m->X[3 * (size_t)v + (size_t)c] : RT_K(1))
+                : row0(m, v)[12 * j + c];
 }
 
 /* m->skin_N = N_e, 3 rows (b) of RT_PAD(4 H), zero past 4 H. */
@@ -30,13 +37,13 @@ static void element_N(romrt_model *m, int e)
 {
     const uint32_t *ev = m->elem + 5 * (size_t)e;
     const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
-    const romrt_real *p0 = row0(m, ev[0]), *p1 = row0(m, ev[1]), *p2 = row0(m, ev[2]), *p3 = row0(m, ev[3]);
     int H = m->skin, np = RT_PAD(4 * H), j, c, b;
     romrt_real *N = m->skin_N;
     for (j = 0; j < H; j++)
         for (c = 0; c < 4; c++) {
-            int at = 12 * j + c, x = 4 * j + c;
-            romrt_real e1 = p1[at] - p0[at], e2 = p2[at] - p0[at], e3 = p3[at] - p0[at];
+            int x = 4 * j + c;
+            romrt_real p0 = wx(m, ev[0], j, c), e1 = wx(m, ev[1], j, c) - p0, e2 = wx(m, ev[2], j, c) - p0,
+                       e3 = wx(m, ev[3], j, c) - p0;
             for (b = 0; b < 3; b++) N[np * b + x] = e1 * Dm[b] + e2 * Dm[3 + b] + e3 * Dm[6 + b];
         }
     for (b = 0; b < 3; b++)
@@ -81,16 +88,14 @@ static void element_H(const romrt_model *m, int e, romrt_real Hd[9])
     const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
     int H = m->skin, np = RT_PAD(4 * H), k, a, b, c, j;
     romrt_real u[12];
-    for (k = 0; k < 4; k++) {
-        const romrt_real *p = row0(m, ev[k]);
+    for (k = 0; k < 4; k++)
         for (a = 0; a < 3; a++) {
             const romrt_real *Q = m->skin_Q + (size_t)np * a;
             romrt_real s = 0;
             for (j = 0; j < H; j++)
-                for (c = 0; c < 4; c++) s += p[12 * j + c] * Q[4 * j + c];
+                for (c = 0; c < 4; c++) s += wx(m, ev[k], j, c) * Q[4 * j + c];
             u[3 * k + a] = s;
         }
-    }
     for (a = 0; a < 3; a++)
         for (b = 0; b < 3; b++) {
             romrt_real s = 0;
