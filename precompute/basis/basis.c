@@ -26,6 +26,10 @@ void rk_basis_free(rk_basis *b)
     free(b->C);
     if (b->rkpm) rk_rkpm_free(b->rkpm);
     free(b->rkpm);
+    for (int k = 0; b->part && k < b->nparts; k++) rk_basis_free(&b->part[k]);
+    free(b->part);
+    free(b->part_vertex);
+    free(b->part_handle);
     memset(b, 0, sizeof *b);
 }
 

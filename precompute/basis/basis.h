@@ -202,7 +202,7 @@ void rk_basis_default_options(rk_basis_options *o);
 /* Whether building this basis needs full-order frames (POD, or a size by tolerance). */
 int rk_basis_needs_frames(const rk_basis_options *o);
 
-typedef struct {
+typedef struct rk_basis {
     rk_basis_type type;
     int n;           /* vertices */
     int r;           /* columns of U */
@@ -225,7 +225,21 @@ typedef struct {
     int damped_points; /* integration and evaluation points in features thinner than the kernel
                         * spacing, where the weights reproduce constants but not every linear
                         * field (the RKPM section above, tolerant evaluation) */
+    /* Several objects (rk_basis_join): each its own skinning basis over its own vertices, their
+     * handles one after another (an object's weights are zero on every other object); the parts
+     * keep their kernels for evaluation elsewhere. nparts = 0 for one object. */
+    int nparts;
+    struct rk_basis *part;     /* nparts, each over its object's vertices */
+    int *part_vertex;          /* nparts + 1: the first vertex of each part */
+    int *part_handle;          /* nparts + 1: its first weight */
 } rk_basis;
+
+/* Joins the skinning bases of nparts objects (part k over the nv vertices from first_vertex[k] to
+ * first_vertex[k + 1]) into one over all nv (X: their rest positions): W block-diagonal, U its
+ * linear blend skinning, values and zero counts one after another. Takes the parts over (array and
+ * all, also on failure). */
+int rk_basis_join(rk_basis *parts, int nparts, const int *first_vertex, const double *X, int nv, rk_basis *out,
+                  rk_error *err);
 
 void rk_basis_free(rk_basis *b);
 

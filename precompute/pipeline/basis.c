@@ -46,77 +46,82 @@ static int vertex_tet(const rk_scene_sim *sim, int v)
     return 0;
 }
 
-static int rkpm_on_mesh(const rk_scene_sim *sim, const rk_basis_options *o, int m, rk_basis *b,
-                        rk_scene_basis_info *info, rk_error *err)
+/* The RKPM skinning eigenmodes of object k alone: integration points from its tets (a grid), its
+ * vertices taken as a cloud (from_vertices), or a point cloud's own points; the weights at all its
+ * vertices. */
+static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, int m, int k,
+                       rk_basis *b, rk_scene_basis_info *info, rk_error *err)
 {
+    rk_object_view ov;
+    if (rk_scene_object_view(sim, k, &ov, err)) return -1;
+    const rk_scene_object *obj = &scene->objects[k];
+    int cloud = obj->shape == RK_SHAPE_POINTS, rc = -1;
     rk_rkpm_points pts;
-    if (o->from_vertices ? rk_rkpm_sample_cloud(sim->mesh.X, sim->mesh.nv, o->integration_points, &pts, err)
-                         : rk_rkpm_sample_mesh(&sim->mesh, o->integration_points, &pts, err))
+    int sampled = cloud ? rk_rkpm_sample_cloud(ov.mesh.X, ov.points, o->integration_points, &pts, err)
+                  : o->from_vertices ? rk_rkpm_sample_cloud(ov.mesh.X, ov.mesh.nv, o->integration_points, &pts, err)
+                                     : rk_rkpm_sample_mesh(&ov.mesh, o->integration_points, &pts, err);
+    if (sampled) {
+        free(ov.mesh.tets);
         return -1;
+    }
     double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
-    int rc = -1;
     if (coef) {
         for (int i = 0; i < pts.n; i++) {
-            if (pts.tet) {
-                int t = pts.tet[i];
-                coef[i] = sim->fem.lambda[t] + 4 * sim->fem.mu[t];
-            } else { /* a vertex: the material of a tet around it (the first that lists it) */
-                double mu, lambda;
-                rk_material mat = sim->materials[vertex_tet(sim, pts.source[i])];
-                rk_lame(mat.young, mat.poisson, &mu, &lambda);
-                coef[i] = lambda + 4 * mu;
-            }
+            rk_material mat;
+            if (cloud) mat = rk_scene_material_at(obj, pts.X + 3 * i);
+            else if (pts.tet) mat = sim->materials[ov.t0 + pts.tet[i]];
+            else mat = sim->materials[vertex_tet(sim, ov.v0 + pts.source[i])]; /* a vertex: a tet around it */
+            coef[i] = lame_sum(&mat);
         }
-        int kernels = o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;
-        rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, sim->mesh.X, sim->mesh.nv, b, &info->rkpm, err);
+        int kernels = cloud || o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;
+        rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, ov.mesh.X, ov.mesh.nv, b, &info->rkpm, err);
     }
-    info->integration_points = pts.n;
+    info->integration_points += pts.n;
     free(coef);
+    free(ov.mesh.tets);
     rk_rkpm_points_free(&pts);
-    return rc;
+    return rc ? rk_error_prefix(err, "objects[%d]", k) : 0;
 }
 
-/* A point cloud's RKPM skinning basis: integration points and kernels from its own points (the
- * first sim->cloud_points vertices), the weights at every vertex (its points, then its contact
- * proxy's corners). */
+/* The scene's RKPM skinning basis: one object's, or each object's own side by side (rk_basis_join:
+ * a disconnected body has no single constant weight). */
+static int rkpm_scene(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, int m, rk_basis *b,
+                      rk_scene_basis_info *info, rk_error *err)
+{
+    int n = scene->nobjects;
+    if (n == 1) return rkpm_object(scene, sim, o, m, 0, b, info, err);
+    rk_basis *parts = rk_calloc((size_t)n, sizeof *parts, err);
+    if (!parts) return -1;
+    for (int k = 0; k < n; k++)
+        if (rkpm_object(scene, sim, o, m, k, &parts[k], info, err)) {
+            for (int i = 0; i < k; i++) rk_basis_free(&parts[i]);
+            free(parts);
+            return -1;
+        }
+    return rk_basis_join(parts, n, sim->object_first_vertex, sim->mesh.X, sim->mesh.nv, b, err);
+}
+
+/* A point cloud's RKPM skinning basis (every object a point cloud). */
 static int rkpm_on_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, rk_basis *b,
                           rk_scene_basis_info *info, rk_error *err)
 {
-    const rk_scene_object *obj = &scene->objects[0];
     if (o->type != RK_BASIS_RKPM_SKINNING)
         return rk_fail(err, "%s: objects[0] is a point cloud: only basis rkpm_skinning works without "
                        "a mesh, not %s", scene->path, rk_basis_type_name(o->type));
-    if (scene->nobjects != 1)
-        return rk_fail(err, "%s: a point-cloud object must be the scene's only object", scene->path);
     if (o->size == 0)
         return rk_fail(err, "%s: rom.tolerance needs full-order frames, and a point cloud has no mesh "
                        "to simulate: give rom.size", scene->path);
     if (!sim) return rk_fail(err, "%s: a point cloud's basis needs the built scene", scene->path);
-    int n = sim->cloud_points;
-    rk_rkpm_points pts;
-    if (rk_rkpm_sample_cloud(sim->mesh.X, n, o->integration_points, &pts, err)) return -1;
-    double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
-    int rc = -1;
-    if (coef) {
-        for (int i = 0; i < pts.n; i++) {
-            rk_material mat = rk_scene_material_at(obj, pts.X + 3 * i);
-            coef[i] = lame_sum(&mat);
-        }
-        rc = rk_basis_rkpm_skinning(&pts, coef, cloud_kernels(o->kernels, pts.n, info), o->size, sim->mesh.X,
-                                    sim->mesh.nv, b, &info->rkpm, err);
-    }
-    info->integration_points = pts.n;
+    int rc = rkpm_scene(scene, sim, o, o->size, b, info, err);
     info->vertices = sim->mesh.nv;
     info->X = rk_calloc(3 * (size_t)sim->mesh.nv, sizeof(double), err);
     if (!info->X) rc = -1;
     else memcpy(info->X, sim->mesh.X, sizeof(double) * 3 * sim->mesh.nv);
-    free(coef);
-    rk_rkpm_points_free(&pts);
     return rc;
 }
 
 /* The basis of one size (columns, or weights m for skinning). */
-static int build_sized(const rk_scene_sim *sim, const rk_basis_options *o, const unsigned char *fixed,
+static int build_sized(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, const unsigned char *fixed,
                        int size, const double *D, int T, const rk_sparse *M, rk_basis *b,
                        rk_scene_basis_info *info, rk_error *err)
 {
@@ -126,7 +131,7 @@ static int build_sized(const rk_scene_sim *sim, const rk_basis_options *o, const
     case RK_BASIS_MODAL_DERIVATIVES:
         return rk_basis_modal_derivatives(&sim->fem, fixed, lumped, size, o->modes, b, err);
     case RK_BASIS_SKINNING: return rk_basis_skinning(&sim->fem, lumped, size, b, err);
-    case RK_BASIS_RKPM_SKINNING: return rkpm_on_mesh(sim, o, size, b, info, err);
+    case RK_BASIS_RKPM_SKINNING: return rkpm_scene(scene, sim, o, size, b, info, err);
     case RK_BASIS_POD: {
         int max_r = size < T ? size : T;
         if (o->size && o->size > T)
@@ -142,6 +147,8 @@ static int build_sized(const rk_scene_sim *sim, const rk_basis_options *o, const
 static int meet_tolerance(const rk_basis_options *o, rk_basis *b, const double *D, int T,
                           const rk_sparse *M, rk_scene_basis_info *info, rk_error *err)
 {
+    if (b->nparts && o->tolerance > 0)
+        return rk_fail(err, "rom.tolerance: a scene of several objects takes rom.size (each object gets that many weights)");
     int group = b->W ? 12 : 1, ng = b->r / group;
     double *e = rk_calloc((size_t)ng, sizeof(double), err);
     if (!e || rk_projection_errors(b->U, 3 * b->n, b->r, group, D, T, M, e, err)) { free(e); return -1; }
@@ -201,7 +208,7 @@ int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basi
     int size = o->size ? o->size : default_max(o->type);
     double t = rk_now();
     const double *frames_used = frames ? frames : D;
-    if (build_sized(sim, o, fixed, size, frames_used, T, &M, b, info, err)) goto out;
+    if (build_sized(scene, sim, o, fixed, size, frames_used, T, &M, b, info, err)) goto out;
     info->seconds_basis = rk_now() - t;
     if (need_frames && meet_tolerance(o, b, frames_used, T, &M, info, err)) goto out;
     info->vertices = sim->mesh.nv;

@@ -96,7 +96,8 @@ static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
 {
     double *X = realloc(a->X, sizeof(double) * 3 * (size_t)(a->nv + b->nv));
     if (X) a->X = X;
-    int *T = realloc(a->tets, sizeof(int) * 4 * (size_t)(a->nt + b->nt));
+    int *T = realloc(a->tets, sizeof(int) * 4 * (size_t)(a->nt + b->nt + 1)); /* (+1: point clouds have no tets,
+                                                                                 * and realloc to 0 bytes frees) */
     if (T) a->tets = T;
     int *G = b->nghost ? realloc(a->ghost, sizeof(int) * 4 * (size_t)(a->nghost + b->nghost)) : a->ghost;
     if (G) a->ghost = G;
@@ -256,23 +257,24 @@ static int build_obstacles(const rk_scene *s, rk_scene_sim *out, double diag, rk
     return 0;
 }
 
-/* A point cloud's model: no elements (a mesh-free entry integrates its energy and mass), each of its
- * n points weighing rho V / n with V the cloud's occupancy volume (rk_rkpm_sample_cloud), which
- * the penalty of pins and the scene's loads go by; the proxy's corners weigh nothing. */
+/* Point clouds' model: no elements (a mesh-free entry integrates their energy and mass), each
+ * object's n points weighing rho V / n with V its occupancy volume (rk_rkpm_sample_cloud), which the
+ * penalty of pins and the scene's loads go by; the proxies' corners weigh nothing. */
 static int cloud_fem(const rk_scene *s, rk_scene_sim *out, rk_error *err)
 {
-    rk_rkpm_points pts;
-    int first_corner = out->cloud_points;
-    if (rk_rkpm_sample_cloud(out->mesh.X, first_corner, first_corner, &pts, err))
-        return rk_error_prefix(err, "%s: objects[0].mesh.points", s->path);
     double *mass = rk_calloc((size_t)out->mesh.nv, sizeof(double), err);
-    if (!mass) {
+    if (!mass) return -1;
+    for (int k = 0; k < s->nobjects; k++) {
+        rk_rkpm_points pts;
+        int v0 = out->object_first_vertex[k], n = out->object_points[k];
+        if (rk_rkpm_sample_cloud(out->mesh.X + 3 * (size_t)v0, n, n, &pts, err)) {
+            free(mass);
+            return rk_error_prefix(err, "%s: objects[%d].mesh.points", s->path, k);
+        }
+        for (int v = v0; v < v0 + n; v++)
+            mass[v] = rk_scene_material_at(&s->objects[k], out->mesh.X + 3 * (size_t)v).density * pts.volume / n;
         rk_rkpm_points_free(&pts);
-        return -1;
     }
-    for (int v = 0; v < first_corner; v++)
-        mass[v] = rk_scene_material_at(&s->objects[0], out->mesh.X + 3 * (size_t)v).density * pts.volume / first_corner;
-    rk_rkpm_points_free(&pts);
     int rc = rk_fem_init_points(&out->fem, &out->mesh, mass, err);
     free(mass);
     return rc;
@@ -284,11 +286,20 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->object_first_vertex = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     out->object_first_tet = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     if (!out->object_first_vertex || !out->object_first_tet) goto fail;
+    int clouds = 0;
+    for (int k = 0; k < s->nobjects; k++) clouds += s->objects[k].shape == RK_SHAPE_POINTS;
+    if (clouds && clouds < s->nobjects) {
+        rk_fail(err, "%s: point clouds and meshes in one scene are not supported yet: %d of its %d objects are clouds",
+                s->path, clouds, s->nobjects);
+        goto fail;
+    }
+    if (clouds && !(out->object_points = rk_calloc((size_t)s->nobjects, sizeof(int), err))) goto fail;
     rk_mesh_report repaired = {0}; /* what the objects' own checks changed */
     for (int k = 0; k < s->nobjects; k++) {
         rk_mesh m;
         rk_mesh_report rep;
-        if (load_object_mesh(&s->objects[k], k, &m, &rep, &out->cloud_points, err)) {
+        int points = 0;
+        if (load_object_mesh(&s->objects[k], k, &m, &rep, &points, err)) {
             rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
             goto fail;
         }
@@ -302,17 +313,14 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         rk_mesh_free(&m);
         if (rc) goto fail;
         out->object_first_vertex[k + 1] = out->mesh.nv;
+        if (out->object_points) out->object_points[k] = points;
+        out->cloud_points += points;
         out->object_first_tet[k + 1] = out->mesh.nt;
     }
     /* Each object was checked (and its flat tets dropped) on its own, before its vertices were
      * numbered in the scene: this check of the whole measures it and drops nothing, which would
      * renumber the vertices the objects own. A point cloud has no tets to check. */
-    int cloud = s->nobjects >= 1 && s->objects[0].shape == RK_SHAPE_POINTS;
-    if (cloud && s->nobjects > 1) {
-        rk_fail(err, "%s: a point-cloud object must be the scene's only object (several objects with clouds "
-                "are not supported yet)", s->path);
-        goto fail;
-    }
+    int cloud = clouds > 0;
     if (!cloud && rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) goto fail;
     out->mesh_report.reoriented += repaired.reoriented;
     out->mesh_report.unused_removed += repaired.unused_removed;
@@ -348,6 +356,21 @@ fail:
     return -1;
 }
 
+int rk_scene_object_view(const rk_scene_sim *sim, int k, rk_object_view *ov, rk_error *err)
+{
+    memset(ov, 0, sizeof *ov);
+    ov->v0 = sim->object_first_vertex[k];
+    ov->t0 = sim->object_first_tet[k];
+    ov->mesh.nv = sim->object_first_vertex[k + 1] - ov->v0;
+    ov->mesh.nt = sim->object_first_tet[k + 1] - ov->t0;
+    ov->mesh.X = sim->mesh.X + 3 * (size_t)ov->v0;
+    ov->points = sim->object_points ? sim->object_points[k] : 0;
+    ov->mesh.tets = rk_calloc(4 * (size_t)ov->mesh.nt + 1, sizeof(int), err);
+    if (!ov->mesh.tets) return -1;
+    for (size_t i = 0; i < 4 * (size_t)ov->mesh.nt; i++) ov->mesh.tets[i] = sim->mesh.tets[4 * (size_t)ov->t0 + i] - ov->v0;
+    return 0;
+}
+
 void rk_scene_sim_free(rk_scene_sim *out)
 {
     rk_fem_free(&out->fem);
@@ -362,6 +385,7 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->obstacles);
     free(out->object_first_vertex);
     free(out->object_first_tet);
+    free(out->object_points);
     memset(out, 0, sizeof *out);
 }
 

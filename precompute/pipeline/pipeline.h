@@ -204,11 +204,22 @@ typedef struct {
     int steps;
     int *object_first_vertex; /* nobjects + 1 */
     int *object_first_tet;    /* nobjects + 1 */
-    int cloud_points;         /* a point-cloud object: its points are the mesh's first vertices, in file
-                               * order; the rest are its contact proxy's corners (rk_points_proxy) */
+    int cloud_points;         /* point-cloud objects: how many points they have in all; each object's
+                               * points are its first vertices, in file order, the rest its contact
+                               * proxy's corners (rk_points_proxy); 0 for meshes */
+    int *object_points;       /* nobjects: each point-cloud object's points (NULL for meshes) */
 } rk_scene_sim;
 
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);
+
+/* Object k of a built scene on its own: its vertices (mesh.X borrowed: global positions), its tets
+ * renumbered from 0 (mesh.tets owned: free it), its first vertex and tet in the scene, and for a
+ * point cloud how many of its vertices are its points (the rest: its contact proxy). */
+typedef struct {
+    rk_mesh mesh;
+    int v0, t0, points;
+} rk_object_view;
+int rk_scene_object_view(const rk_scene_sim *sim, int k, rk_object_view *ov, rk_error *err);
 void rk_scene_sim_free(rk_scene_sim *out);
 /* The scene built again with every object's mesh refined `levels` more times (1:8 each,
  * rk_mesh_refine, after its own mesh.refine), everything else as the scene says: materials,

@@ -146,7 +146,7 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
     }
-    if (mesh_free && sim->cloud_points) {
+    if (mesh_free && sim->cloud_points && scene->nobjects == 1) {
         /* the weights' gradients at the cloud's points, for F at each splat (GRAD) */
         int n = sim->cloud_points, H = R->basis.m;
         double *W = rk_calloc((size_t)n * H, sizeof(double), err);

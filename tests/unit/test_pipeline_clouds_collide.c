@@ -1,0 +1,128 @@
+/* Several point-cloud objects in the reduced simulator: each gets its own RKPM skinning basis (the
+ * scene is not one body: there is no single constant weight), and they collide through the contact
+ * stage on their voxel proxies. A slab of points lies on a plane and a smaller block of points falls
+ * onto it. On every frame: no exact crossing between the proxies (rk_rom_contact_measure) and no
+ * point of either cloud inside the other's proxy (ray parity against its deformed triangles); and
+ * the block does come to rest on the slab, not short of it. */
+#include <math.h>
+#include <stdio.h>
+
+#include "testlib.h"
+#include "pipeline/pipeline.h"
+
+static int write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) return -1;
+    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+            nx * ny * nz);
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++)
+            for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
+    return fclose(fp);
+}
+
+/* Whether the segment p + t e (t in [0, 1]) crosses triangle (a, b, c) (Moller-Trumbore). */
+static int crosses(const double *p, const double *e, const double *a, const double *b, const double *c)
+{
+    double e1[3], e2[3], s[3], h[3], q[3];
+    for (int i = 0; i < 3; i++) e1[i] = b[i] - a[i], e2[i] = c[i] - a[i], s[i] = p[i] - a[i];
+    h[0] = e[1] * e2[2] - e[2] * e2[1], h[1] = e[2] * e2[0] - e[0] * e2[2], h[2] = e[0] * e2[1] - e[1] * e2[0];
+    double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+    if (fabs(det) < 1e-300) return 0;
+    double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
+    q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
+    double v = (e[0] * q[0] + e[1] * q[1] + e[2] * q[2]) / det;
+    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    return u >= 0 && v >= 0 && u + v <= 1 && t >= 0 && t <= 1;
+}
+
+TEST(a_block_of_points_lands_on_a_slab_of_points)
+{
+    const char *slab = "/tmp/romkit_test_slab.ply", *block = "/tmp/romkit_test_block.ply";
+    const double o1[3] = {0, 0, 0}, o2[3] = {0.1, 0.2, 0.1};
+    CHECK(write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && write_lattice(block, 5, 5, 5, 0.04, o2) == 0, "lattices");
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
+             " \"poisson\": 0.4, \"density\": 1000}},"
+             " {\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 5e4, \"poisson\": 0.4,"
+             " \"density\": 1000}}],"
+             " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, -0.05, 0], \"normal\": [0, 1, 0]}}],"
+             " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.5},"
+             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40}}",
+             slab, block);
+    rk_error err = {{0}};
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_scene_rom R;
+    rk_rom s;
+    CHECK_OK(rk_scene_parse(json, "clouds.json", &scene, &err));
+    CHECK_OK(rk_scene_build(&scene, &sim, &err));
+    CHECK_OK(rk_scene_rom_build(&scene, &sim, &scene.entries[0], NULL, 0, &R, &err));
+    CHECK(R.basis.nparts == 2 && R.basis.m == 6 && R.model.r == 72, "%d parts, %d weights, r = %d", R.basis.nparts,
+          R.basis.m, R.model.r);
+    CHECK(R.model.has_contact && sim.cloud_points == 363 + 125, "contact %d, %d points", R.model.has_contact, sim.cloud_points);
+    /* each object's weights vanish on the other */
+    double leak = 0;
+    for (int j = 0; j < R.basis.m; j++)
+        for (int v = 0; v < sim.mesh.nv; v++) {
+            int obj = v >= sim.object_first_vertex[1], part = j >= R.basis.part_handle[1];
+            if (obj != part) leak = fmax(leak, fabs(R.basis.W[(size_t)v + (size_t)sim.mesh.nv * j]));
+        }
+    CHECK(leak == 0, "a weight of one object is %g on the other", leak);
+    int *tris = NULL, nf = 0;
+    CHECK_OK(rk_mesh_boundary(&sim.mesh, &tris, &nf, &err));
+    CHECK_OK(rk_rom_init(&s, &R.model, NULL, NULL, &err));
+    int ndof = 3 * sim.mesh.nv, worst_inter = 0, inside = 0, frames = 50;
+    double *x = calloc((size_t)ndof, sizeof(double)), min_d = INFINITY, block_low = INFINITY, slab_top = -INFINITY;
+    for (int f = 1; f <= frames; f++) {
+        CHECK_OK(rk_rom_step(&s, &err));
+        int inter;
+        double d;
+        CHECK_OK(rk_rom_contact_measure(&s, &inter, &d, &err));
+        worst_inter = inter > worst_inter ? inter : worst_inter;
+        min_d = fmin(min_d, d);
+        rk_rom_positions(R.basis.U, ndof, R.model.r, sim.mesh.X, s.q, x);
+        /* every cloud point against the other object's proxy: an odd number of crossings along +x */
+        for (int k = 0; k < 2; k++) {
+            int v0 = sim.object_first_vertex[k], n = sim.object_points[k];
+            for (int v = v0; v < v0 + n; v++) {
+                double e[3] = {10, 0.0123, 0.0071}; /* off-axis, so it never runs along a lattice row */
+                int count = 0;
+                for (int t = 0; t < nf; t++) {
+                    const int *T = tris + 3 * t;
+                    int other = (T[0] >= sim.object_first_vertex[1]) != k;
+                    if (other && crosses(x + 3 * v, e, x + 3 * T[0], x + 3 * T[1], x + 3 * T[2])) count++;
+                }
+                inside += count % 2;
+            }
+        }
+        if (f == frames) {
+            for (int v = sim.object_first_vertex[1]; v < sim.object_first_vertex[1] + sim.object_points[1]; v++)
+                block_low = fmin(block_low, x[3 * v + 1]);
+            for (int v = 0; v < sim.object_points[0]; v++) slab_top = fmax(slab_top, x[3 * v + 1]);
+        }
+    }
+    printf("# %d frames: %d exact crossings at most, smallest distance %.3g m, %d point-in-other events; at the end the "
+           "block's lowest point %.4f m over the slab's highest %.4f m\n",
+           frames, worst_inter, min_d, inside, block_low, slab_top);
+    CHECK(worst_inter == 0, "%d crossings", worst_inter);
+    CHECK(min_d > 0, "smallest distance %g", min_d);
+    CHECK(inside == 0, "%d times a point was inside the other object", inside);
+    CHECK(block_low > slab_top && block_low < slab_top + 0.1, "the block rests at %g over the slab's %g", block_low, slab_top);
+    free(x);
+    free(tris);
+    rk_rom_free(&s);
+    rk_scene_rom_free(&R);
+    rk_scene_sim_free(&sim);
+    rk_scene_free(&scene);
+    remove(slab);
+    remove(block);
+}
+
+int main(void)
+{
+    RUN(a_block_of_points_lands_on_a_slab_of_points);
+    return test_finish();
+}
