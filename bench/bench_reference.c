@@ -11,9 +11,10 @@
  *       seconds_total: the whole run (rk_fom_stats.seconds_total); seconds_per_step: the median step;
  *       peak_rss_mib: this process's peak resident memory (ru_maxrss), the level's alone.
  *       --steps N: only the first N steps (a probe, to estimate what the whole run costs).
- *   bench_reference nmse A.npy B.npy
+ *   bench_reference nmse A.npy B.npy [--steps N]
  *       Two such files of the same vertices and frames (the same rest positions, checked): prints
  *           normalized_mse,normalized_max_error
+ *       over every frame after the start, or over the first N (--steps N).
  *       util/util.h's metrics (the FreeForm paper's normalized MSE: mean over the vertices and the
  *       frames after the start of |a - b|^2 over the squared rest bounding-box diagonal), as romkit
  *       compare reports them.
@@ -106,7 +107,7 @@ done:
     return rc;
 }
 
-static int nmse(const char *a_path, const char *b_path, rk_error *err)
+static int nmse(const char *a_path, const char *b_path, int steps, rk_error *err)
 {
     double *a = NULL, *b = NULL;
     int nda, ndb, rc = -1;
@@ -117,6 +118,7 @@ static int nmse(const char *a_path, const char *b_path, rk_error *err)
         goto done;
     }
     int n = (int)sa[1], T = (int)sa[0] - 1;
+    if (steps > 0 && steps < T) T = steps;
     if (memcmp(a, b, sizeof(double) * 3 * (size_t)n)) {
         rk_fail(err, "%s and %s: the first frames (rest positions) differ: not the same vertices", a_path, b_path);
         goto done;
@@ -135,7 +137,7 @@ done:
 static void usage(void)
 {
     fprintf(stderr, "usage: bench_reference run SCENE.json LEVEL FRAMES.npy [--cells X,Y,Z] [--steps N]\n"
-                    "       bench_reference nmse A.npy B.npy\n");
+                    "       bench_reference nmse A.npy B.npy [--steps N]\n");
 }
 
 int main(int argc, char **argv)
@@ -165,8 +167,14 @@ int main(int argc, char **argv)
             }
         }
         if (run_level(argv[2], (int)level, argv[4], c, (int)steps, &err) == 0) return 0;
-    } else if (argc == 4 && strcmp(argv[1], "nmse") == 0) {
-        if (nmse(argv[2], argv[3], &err) == 0) return 0;
+    } else if ((argc == 4 || (argc == 6 && strcmp(argv[4], "--steps") == 0)) && strcmp(argv[1], "nmse") == 0) {
+        char *end = NULL;
+        long steps = argc == 6 ? strtol(argv[5], &end, 10) : 0;
+        if (argc == 6 && (*end || steps < 1)) {
+            usage();
+            return 2;
+        }
+        if (nmse(argv[2], argv[3], (int)steps, &err) == 0) return 0;
     } else {
         usage();
         return 2;
