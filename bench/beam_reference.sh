@@ -144,8 +144,10 @@ cpu=$(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null || 
     echo "MSE between two levels at the coarsest level's vertices over every frame (mean |x - x'|^2 over the"
     echo "squared bounding-box diagonal, 27 m^2); \"first $FIRST_STEPS\": over the first $FIRST_STEPS steps only. A level"
     echo "is converged when its nMSE to the next is below $THRESHOLD, a tenth of the smallest error Table 1 asks"
-    echo "for (2.93e-6, bend m = 32; 3.46e-6, twist m = 16). Seconds are wall time on a machine shared with other"
-    echo "work (its load varied from 2 to 7 on 2 cores during the study): compare them loosely."
+    echo "for (2.93e-6, bend m = 32; 3.46e-6, twist m = 16). Seconds: wall time of each level's own run (kept"
+    echo "levels keep theirs), load average $(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null) when this was written; on a"
+    echo "shared machine they vary with its load. A skipped level's row holds its probe: the estimated seconds,"
+    echo "the probe's s/step and Newton/step (its first $PROBE_STEPS steps), its peak memory."
     echo
     awk -F, -v thr="$THRESHOLD" '
         function verdict(k, what, c,    r, m, d, t, j) {

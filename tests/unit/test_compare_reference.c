@@ -31,20 +31,25 @@ static const char *beam(const char *mesh_extra, const char *root_extra)
 }
 
 typedef struct {
-    int nv;        /* vertices kept: the first nv of the run */
+    int nv;        /* vertices kept: the first `per_object` of each object, in order */
     int ndof, T;
+    int per_object;
+    const int *first;  /* the run's object_first_vertex */
+    int nobjects;
     double *x;     /* 3 nv x (T + 1) */
 } first_vertices;
 
 static int keep_first(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     first_vertices *f = ctx;
-    memcpy(f->x + (size_t)f->ndof * step, fom->x, sizeof(double) * f->ndof);
+    for (int k = 0; k < f->nobjects; k++)
+        memcpy(f->x + (size_t)f->ndof * step + 3 * (size_t)k * f->per_object, fom->x + 3 * (size_t)f->first[k],
+               sizeof(double) * 3 * f->per_object);
     return 0;
 }
 
-/* The scene run at full order, keeping the first nv vertices of every frame. */
-static int run_first(const char *json, int nv, first_vertices *f, rk_error *err)
+/* The scene run at full order, keeping the first per_object vertices of each object in every frame. */
+static int run_first(const char *json, int per_object, first_vertices *f, rk_error *err)
 {
     rk_scene scene;
     rk_scene_sim sim;
@@ -53,14 +58,26 @@ static int run_first(const char *json, int nv, first_vertices *f, rk_error *err)
         rk_scene_free(&scene);
         return -1;
     }
-    f->nv = nv;
-    f->ndof = 3 * nv;
+    f->per_object = per_object;
+    f->nobjects = scene.nobjects;
+    f->first = sim.object_first_vertex;
+    f->nv = per_object * scene.nobjects;
+    f->ndof = 3 * f->nv;
     f->T = sim.steps;
     f->x = calloc((size_t)f->ndof * (f->T + 1), sizeof(double));
     int rc = f->x ? rk_scene_fom_run(&sim, NULL, "test run", keep_first, f, NULL, err) : -1;
     rk_scene_sim_free(&sim);
     rk_scene_free(&scene);
     return rc;
+}
+
+/* util's normalized MSE between two such runs, over the frames after the start. */
+static double nmse_between(const first_vertices *a, const first_vertices *b)
+{
+    rk_run_error e;
+    rk_run_error_init(&e, a->x, a->nv);
+    for (int s = 1; s <= a->T; s++) rk_run_error_add(&e, a->x + (size_t)a->ndof * s, b->x + (size_t)b->ndof * s);
+    return rk_normalized_mse(&e);
 }
 
 /* Refine 1 against refine 0: the reference is 8 times the tets, its size is reported, the full-order
@@ -100,11 +117,7 @@ TEST(refined_reference_is_measured_at_the_scene_vertices)
     first_vertices coarse = {0}, fine = {0};
     CHECK_OK(run_first(beam("", ""), 99, &coarse, &err));
     CHECK_OK(run_first(beam(", \"refine\": 1", ""), 99, &fine, &err));
-    rk_run_error e;
-    rk_run_error_init(&e, coarse.x, 99);
-    for (int s = 1; s <= coarse.T; s++)
-        rk_run_error_add(&e, coarse.x + (size_t)coarse.ndof * s, fine.x + (size_t)fine.ndof * s);
-    double nmse = rk_normalized_mse(&e);
+    double nmse = nmse_between(&coarse, &fine);
     printf("# by hand: nMSE %.6e, compare %.6e\n", nmse, r1.fom_normalized_mse);
     CHECK(nmse > 1e-6 && fabs(nmse - r1.fom_normalized_mse) <= 1e-12 * nmse, "by hand %.12g, compare %.12g", nmse,
           r1.fom_normalized_mse);
@@ -112,6 +125,41 @@ TEST(refined_reference_is_measured_at_the_scene_vertices)
     free(fine.x);
     rk_compare_result_free(&r0);
     rk_compare_result_free(&r1);
+}
+
+/* Two objects: the refined scene numbers each object's vertices after the previous object's refined
+ * ones, so the second object's scene vertices sit further down; the errors still pair them up. */
+TEST(each_object_is_measured_at_its_own_vertices)
+{
+    const char *fmt =
+        "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 0.2, 0.2], \"cells\": [4, 1, 1]}%s},"
+        " \"material\": {\"model\": \"neohookean\", \"young\": 2e6, \"poisson\": 0.4, \"density\": 1000},"
+        " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 1, 1]]}]},"
+        " {\"mesh\": {\"box\": {\"size\": [1, 0.2, 0.2], \"cells\": [4, 1, 1]}, \"translate\": [0, 0, 1]%s},"
+        " \"material\": {\"model\": \"neohookean\", \"young\": 5e5, \"poisson\": 0.4, \"density\": 1000},"
+        " \"fixed\": [{\"box\": [[-1, -1, 0.9], [0.01, 1, 2]]}]}],"
+        " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 0.2},"
+        " \"rom\": [{\"basis\": \"modes\", \"size\": 6}]%s}";
+    char with_ref[2048], coarse_text[2048], fine_text[2048];
+    snprintf(with_ref, sizeof with_ref, fmt, "", "", ", \"reference\": {\"refine\": 1}");
+    snprintf(coarse_text, sizeof coarse_text, fmt, "", "", "");
+    snprintf(fine_text, sizeof fine_text, fmt, ", \"refine\": 1", ", \"refine\": 1", "");
+    rk_error err;
+    rk_compare_result r;
+    CHECK_OK(compare_text(with_ref, &r, &err));
+    first_vertices coarse = {0}, fine = {0};
+    CHECK_OK(run_first(coarse_text, 20, &coarse, &err));
+    CHECK_OK(run_first(fine_text, 20, &fine, &err));
+    double nmse = nmse_between(&coarse, &fine);
+    printf("# two objects: %d -> %d vertices; scene mesh nMSE %.6e, by hand %.6e; modes-6 %.3e\n", r.vertices,
+           r.reference_vertices, r.fom_normalized_mse, nmse, r.methods[0].normalized_mse);
+    CHECK(r.vertices == 40 && r.reference_vertices == 2 * 81, "%d and %d vertices", r.vertices, r.reference_vertices);
+    CHECK(nmse > 1e-6 && fabs(nmse - r.fom_normalized_mse) <= 1e-12 * nmse, "by hand %.12g, compare %.12g", nmse,
+          r.fom_normalized_mse);
+    CHECK(!r.methods[0].failure[0], "modes-6: %s", r.methods[0].failure);
+    free(coarse.x);
+    free(fine.x);
+    rk_compare_result_free(&r);
 }
 
 /* A linear-elastic bar with nu = 0, clamped at one end and pulled 0.1 m at the other, solved
@@ -189,6 +237,7 @@ TEST(bad_reference_values_name_the_path)
 int main(void)
 {
     RUN(refined_reference_is_measured_at_the_scene_vertices);
+    RUN(each_object_is_measured_at_its_own_vertices);
     RUN(refinement_changes_nothing_where_the_mesh_is_exact);
     RUN(bad_reference_values_name_the_path);
     return test_finish();
