@@ -94,6 +94,7 @@ typedef struct {
                                 * and N (count x 3 x 4H: row b of point i's N[(j, c), b]) holds its
                                 * non-zeros, so the Hessian costs a fifth (quadrature.c); 0 otherwise */
     double *N;
+    double *skin_scratch;      /* with skin_H: 81 count (each point's dP/dF) + (4H)^2 (one Hessian block) */
 } rk_quadrature;
 
 /* Mesh-free integration points under a linear-blend-skinning basis (freeform paper Eq. 21-22):
@@ -129,6 +130,10 @@ int rk_quadrature_points(const rk_skin_points *P, int count, const int *index, c
 int rk_quadrature_elements(const rk_fem *f, const double *U, int r, int count, const int *elements,
                            const double *weights, rk_quadrature *Q, rk_error *err);
 void rk_quadrature_free(rk_quadrature *Q);
+/* The arrays of a quadrature of count points in r columns, zeroed, for its constructors
+ * (rk_quadrature_elements, rk_quadrature_points); skin_H > 0 adds the skinning structure's (N and
+ * its scratch). On failure Q is empty and err names `what` (e.g. "integration points"). */
+int rk_quadrature_alloc(rk_quadrature *Q, int r, int count, int skin_H, const char *what, rk_error *err);
 
 /* Elastic energy at q; with g, adds its gradient; with H (r x r, column-major), adds its Hessian
  * (each point's dP/dF projected to PSD when project != 0, like the full-order model). Returns

@@ -24,12 +24,10 @@ static void tet_G(const rk_fem *f, int t, const double *U, int r, double *G)
     }
 }
 
-int rk_quadrature_elements(const rk_fem *f, const double *U, int r, int count, const int *elements,
-                           const double *weights, rk_quadrature *Q, rk_error *err)
+int rk_quadrature_alloc(rk_quadrature *Q, int r, int count, int skin_H, const char *what, rk_error *err)
 {
     memset(Q, 0, sizeof *Q);
-    if (r < 1 || count < 0) return rk_fail(err, "quadrature: %d columns, %d points", r, count);
-    size_t n = (size_t)(count > 0 ? count : 1);
+    size_t n = (size_t)(count > 0 ? count : 1), L = 4 * (size_t)skin_H;
     Q->r = r;
     Q->count = count;
     Q->G = rk_calloc(n * 9 * r, sizeof(double), err);
@@ -39,10 +37,25 @@ int rk_quadrature_elements(const rk_fem *f, const double *U, int r, int count, c
     Q->lambda = rk_calloc(n, sizeof(double), err);
     Q->source = rk_calloc(n, sizeof(int), err);
     Q->scratch = rk_calloc(n * (18 + 9 * (size_t)r), sizeof(double), err);
-    if (!Q->G || !Q->weight || !Q->model || !Q->mu || !Q->lambda || !Q->source || !Q->scratch) {
-        rk_quadrature_free(Q);
-        return rk_error_prefix(err, "quadrature of %d points in %d columns", count, r);
+    Q->skin_H = skin_H;
+    if (skin_H) {
+        Q->N = rk_calloc(n * 3 * L, sizeof(double), err);
+        Q->skin_scratch = rk_calloc(81 * n + L * L, sizeof(double), err);
     }
+    if (!Q->G || !Q->weight || !Q->model || !Q->mu || !Q->lambda || !Q->source || !Q->scratch ||
+        (skin_H && (!Q->N || !Q->skin_scratch))) {
+        rk_quadrature_free(Q);
+        return rk_error_prefix(err, "quadrature of %d %s in %d columns", count, what, r);
+    }
+    return 0;
+}
+
+int rk_quadrature_elements(const rk_fem *f, const double *U, int r, int count, const int *elements,
+                           const double *weights, rk_quadrature *Q, rk_error *err)
+{
+    memset(Q, 0, sizeof *Q);
+    if (r < 1 || count < 0) return rk_fail(err, "quadrature: %d columns, %d points", r, count);
+    if (rk_quadrature_alloc(Q, r, count, 0, "points", err)) return -1;
     for (int k = 0; k < count; k++) {
         int t = elements ? elements[k] : k;
         if (t < 0 || t >= f->nt) {
@@ -74,6 +87,7 @@ void rk_quadrature_free(rk_quadrature *Q)
     free(Q->source);
     free(Q->scratch);
     free(Q->N);
+    free(Q->skin_scratch);
     memset(Q, 0, sizeof *Q);
 }
 
@@ -97,15 +111,11 @@ void rk_quadrature_point_force(const rk_quadrature *Q, int i, const double F[9],
  * N_i[., b] on the 4H coordinates of row a of the handles, so block (a, a') of G^T D G over those
  * coordinates is sum_i N_i^T (w_i D_i[(a, .), (a', .)]) N_i: with the points' N stacked (3n x 4H),
  * one product (4H x 3n)(3n x 4H) per block a <= a', a fifth of the dense product's work. F (9n)
- * at the current q; scratch holds 3n x 4H. */
+ * at the current q; C (3n x 4H) is the caller's scratch, D and B the quadrature's own. */
 static void skin_hessian(rk_quadrature *Q, const double *F, double *H, int project, double *C)
 {
     int n = Q->count, L = 4 * Q->skin_H, r = Q->r;
-    double *D = malloc(sizeof(double) * 81 * (size_t)n), *B = malloc(sizeof(double) * (size_t)L * L);
-    if (!D || !B) { /* (the caller's scratch is sized for the dense path, which needs no more) */
-        free(D), free(B);
-        return;
-    }
+    double *D = Q->skin_scratch, *B = D + 81 * (size_t)n;
     for (int i = 0; i < n; i++) rk_dpdf(Q->model[i], Q->mu[i], Q->lambda[i], F + 9 * i, D + 81 * (size_t)i, project);
     for (int a = 0; a < 3; a++)
         for (int a2 = a; a2 < 3; a2++) {
@@ -125,8 +135,6 @@ static void skin_hessian(rk_quadrature *Q, const double *F, double *H, int proje
                     if (a != a2) H[j + (size_t)r * i] += B[x * L + y];
                 }
         }
-    free(D);
-    free(B);
 }
 
 double rk_quadrature_eval(rk_quadrature *Q, const double *q, double *g, double *H, int project)

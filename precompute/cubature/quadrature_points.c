@@ -42,23 +42,7 @@ int rk_quadrature_points(const rk_skin_points *P, int count, const int *index, c
     memset(Q, 0, sizeof *Q);
     int r = 12 * P->H;
     if (P->H < 1 || count < 0) return rk_fail(err, "quadrature: %d handles, %d points", P->H, count);
-    size_t n = (size_t)(count > 0 ? count : 1);
-    Q->r = r;
-    Q->count = count;
-    Q->G = rk_calloc(n * 9 * r, sizeof(double), err);
-    Q->weight = rk_calloc(n, sizeof(double), err);
-    Q->model = rk_calloc(n, sizeof *Q->model, err);
-    Q->mu = rk_calloc(n, sizeof(double), err);
-    Q->lambda = rk_calloc(n, sizeof(double), err);
-    Q->source = rk_calloc(n, sizeof(int), err);
-    Q->scratch = rk_calloc(n * (18 + 9 * (size_t)r), sizeof(double), err);
-    Q->skin_H = P->H;
-    Q->N = rk_calloc(n * 12 * (size_t)P->H, sizeof(double), err);
-    if (!Q->N ||
-        !Q->G || !Q->weight || !Q->model || !Q->mu || !Q->lambda || !Q->source || !Q->scratch) {
-        rk_quadrature_free(Q);
-        return rk_error_prefix(err, "quadrature of %d integration points in %d columns", count, r);
-    }
+    if (rk_quadrature_alloc(Q, r, count, P->H, "integration points", err)) return -1;
     for (int k = 0; k < count; k++) {
         int i = index ? index[k] : k;
         if (i < 0 || i >= P->n) {
