@@ -27,79 +27,34 @@ static int sample(const rk_scene_object *obj, const rk_object_view *ov, const rk
     return rk_fail(err, "unknown mesh_free.sampling");
 }
 
-/* Object k's points appended to P (its columns from handle h0 on, through its own basis part). */
-static int add_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_free_options *o,
-                      const rk_basis *part, int h0, int k, rk_skin_points *P, rk_error *err)
+/* Object k's n sampled points into P from row `at` on: position, volume, material, and its own
+ * handles' weights and gradients (columns h0 .. h0 + part->m - 1; the rest stay 0). */
+static int fill_object(const rk_scene *scene, const rk_mesh_free_options *o, const rk_basis *part, int h0, int k,
+                       const rk_rkpm_points *pts, int at, rk_skin_points *P, rk_error *err)
 {
-    rk_object_view ov;
-    rk_rkpm_points pts;
-    if (rk_scene_object_view(sim, k, &ov, err)) return -1;
-    int rc = sample(&scene->objects[k], &ov, o, &pts, err);
-    free(ov.mesh.tets);
-    if (rc) return rk_error_prefix(err, "objects[%d]", k);
-    int n = pts.n, Hk = part->m, at = P->n, total = at + n, H = P->H;
+    int n = pts->n, Hk = part->m, damped = 0;
     double *W = rk_calloc((size_t)n * Hk, sizeof(double), err), *dW = rk_calloc(3 * (size_t)n * Hk, sizeof(double), err);
-    double *X = realloc(P->X, sizeof(double) * 3 * (size_t)total);
-    if (X) P->X = X;
-    double *vol = realloc(P->volume, sizeof(double) * (size_t)total);
-    if (vol) P->volume = vol;
-    double *dens = realloc(P->density, sizeof(double) * (size_t)total);
-    if (dens) P->density = dens;
-    rk_material_model *model = realloc(P->model, sizeof *model * (size_t)total);
-    if (model) P->model = model;
-    double *mu = realloc(P->mu, sizeof(double) * (size_t)total);
-    if (mu) P->mu = mu;
-    double *lambda = realloc(P->lambda, sizeof(double) * (size_t)total);
-    if (lambda) P->lambda = lambda;
-    int damped = 0;
-    rc = -1;
-    if (!W || !dW || !X || !vol || !dens || !model || !mu || !lambda)
-        rk_fail(err, "out of memory for %d integration points", total);
-    else if (!rk_rkpm_interpolate(part->rkpm, pts.X, n, part->C, Hk, W, dW, &damped, err)) {
-        double sum = 0;
-        for (int i = 0; i < n; i++) sum += pts.weight[i];
-        for (int i = 0; i < n; i++) {
-            int p = at + i;
-            memcpy(P->X + 3 * (size_t)p, pts.X + 3 * (size_t)i, 3 * sizeof(double));
-            /* the given volume, shared as the sampling shared its estimate */
-            P->volume[p] = o->volume > 0 ? pts.weight[i] * o->volume / sum : pts.weight[i];
-            rk_material mat = rk_scene_material_at(&scene->objects[k], pts.X + 3 * (size_t)i);
-            P->model[p] = mat.model;
-            P->density[p] = mat.density;
-            rk_lame(mat.young, mat.poisson, &P->mu[p], &P->lambda[p]);
+    int rc = !W || !dW || rk_rkpm_interpolate(part->rkpm, pts->X, n, part->C, Hk, W, dW, &damped, err) ? -1 : 0;
+    double sum = 0;
+    for (int i = 0; i < n; i++) sum += pts->weight[i];
+    for (int i = 0; !rc && i < n; i++) {
+        int p = at + i;
+        memcpy(P->X + 3 * (size_t)p, pts->X + 3 * (size_t)i, 3 * sizeof(double));
+        /* the given volume, shared as the sampling shared its estimate */
+        P->volume[p] = o->volume > 0 ? pts->weight[i] * o->volume / sum : pts->weight[i];
+        rk_material mat = rk_scene_material_at(&scene->objects[k], pts->X + 3 * (size_t)i);
+        P->model[p] = mat.model;
+        P->density[p] = mat.density;
+        rk_lame(mat.young, mat.poisson, &P->mu[p], &P->lambda[p]);
+        for (int j = 0; j < Hk; j++) {
+            P->W[(size_t)p + (size_t)P->n * (h0 + j)] = W[(size_t)i + (size_t)n * j];
+            for (int b = 0; b < 3; b++)
+                P->dW[3 * (size_t)p + b + 3 * (size_t)P->n * (h0 + j)] = dW[3 * (size_t)i + b + 3 * (size_t)n * j];
         }
-        P->n = total; /* then the weights, in the grown (total x H) layout */
-        rc = 0;
-    }
-    if (!rc) {
-        double *Wn = rk_calloc((size_t)total * H, sizeof(double), err), *dWn = rk_calloc(3 * (size_t)total * H, sizeof(double), err);
-        if (!Wn || !dWn) rc = -1;
-        else {
-            for (int j = 0; j < H; j++) {
-                for (int i = 0; i < at; i++) {
-                    Wn[(size_t)i + (size_t)total * j] = P->W[(size_t)i + (size_t)at * j];
-                    for (int b = 0; b < 3; b++) dWn[3 * (size_t)i + b + 3 * (size_t)total * j] = P->dW[3 * (size_t)i + b + 3 * (size_t)at * j];
-                }
-            }
-            for (int j = 0; j < Hk; j++)
-                for (int i = 0; i < n; i++) {
-                    Wn[(size_t)(at + i) + (size_t)total * (h0 + j)] = W[(size_t)i + (size_t)n * j];
-                    for (int b = 0; b < 3; b++)
-                        dWn[3 * (size_t)(at + i) + b + 3 * (size_t)total * (h0 + j)] = dW[3 * (size_t)i + b + 3 * (size_t)n * j];
-                }
-            free(P->W);
-            free(P->dW);
-            P->W = Wn;
-            P->dW = dWn;
-            Wn = dWn = NULL;
-        }
-        free(Wn);
-        free(dWn);
     }
     free(W);
     free(dW);
-    rk_rkpm_points_free(&pts);
-    return rc ? rk_error_prefix(err, "objects[%d]", k) : 0;
+    return rc;
 }
 
 int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_free_options *o,
@@ -108,13 +63,43 @@ int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, co
     memset(P, 0, sizeof *P);
     if (b->type != RK_BASIS_RKPM_SKINNING || (!b->nparts && (!b->rkpm || !b->C)))
         return rk_fail(err, "mesh-free integration needs an rkpm_skinning basis (weights with gradients anywhere)");
-    P->H = b->m;
-    for (int k = 0; k < scene->nobjects; k++) {
-        const rk_basis *part = b->nparts ? &b->part[k] : b;
-        if (add_object(scene, sim, o, part, b->nparts ? b->part_handle[k] : 0, k, P, err)) {
-            rk_skin_points_free(P);
-            return rk_error_prefix(err, "mesh-free integration points");
+    int nobj = scene->nobjects, rc = -1, sampled = 0;
+    rk_rkpm_points *pts = rk_calloc((size_t)nobj, sizeof *pts, err);
+    if (!pts) return -1;
+    for (; sampled < nobj; sampled++) { /* every object's points first, then one allocation */
+        rk_object_view ov;
+        if (rk_scene_object_view(sim, sampled, &ov, err)) goto out;
+        int bad = sample(&scene->objects[sampled], &ov, o, &pts[sampled], err);
+        free(ov.mesh.tets);
+        if (bad) {
+            rk_error_prefix(err, "objects[%d]", sampled);
+            goto out;
         }
+        P->n += pts[sampled].n;
     }
-    return 0;
+    size_t n = (size_t)P->n;
+    P->H = b->m;
+    P->X = rk_calloc(3 * n, sizeof(double), err);
+    P->W = rk_calloc(n * P->H, sizeof(double), err);
+    P->dW = rk_calloc(3 * n * P->H, sizeof(double), err);
+    P->volume = rk_calloc(n, sizeof(double), err);
+    P->density = rk_calloc(n, sizeof(double), err);
+    P->model = rk_calloc(n, sizeof *P->model, err);
+    P->mu = rk_calloc(n, sizeof(double), err);
+    P->lambda = rk_calloc(n, sizeof(double), err);
+    if (!P->X || !P->W || !P->dW || !P->volume || !P->density || !P->model || !P->mu || !P->lambda) goto out;
+    for (int k = 0, at = 0; k < nobj; at += pts[k].n, k++)
+        if (fill_object(scene, o, b->nparts ? &b->part[k] : b, b->nparts ? b->part_handle[k] : 0, k, &pts[k], at, P, err)) {
+            rk_error_prefix(err, "objects[%d]", k);
+            goto out;
+        }
+    rc = 0;
+out:
+    for (int k = 0; k < sampled; k++) rk_rkpm_points_free(&pts[k]);
+    free(pts);
+    if (rc) {
+        rk_skin_points_free(P);
+        rk_error_prefix(err, "mesh-free integration points");
+    }
+    return rc;
 }
