@@ -13,7 +13,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson 
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact solver fom basis cubature rom koopman formats asset pipeline compare
+STAGES := util mesh physics fem contact solver fom adaptive basis cubature rom koopman formats asset pipeline compare
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -21,6 +21,7 @@ DEPS_fem     := fem physics mesh util
 DEPS_contact := contact fem physics mesh util
 DEPS_solver  := solver physics util
 DEPS_fom     := fom solver contact fem physics mesh util
+DEPS_adaptive := adaptive fom solver contact fem physics mesh util
 DEPS_basis   := basis fem physics mesh util
 DEPS_cubature := cubature fem physics mesh util
 DEPS_rom     := rom cubature fom solver contact fem physics mesh util
@@ -28,7 +29,7 @@ DEPS_koopman := koopman cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats koopman rom cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset formats koopman rom cubature basis fom solver contact fem physics mesh util
+DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive fom solver contact fem physics mesh util
 DEPS_compare := compare $(DEPS_pipeline)
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
@@ -129,6 +130,7 @@ $(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) 
 # TEST_ALSO_<test> stages are linked before its own.
 TEST_ALSO_test_basis_derivatives := fom solver contact
 TEST_ALSO_test_basis_pod := fom solver contact
+TEST_ALSO_test_adaptive_subspace := basis
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)

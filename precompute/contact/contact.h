@@ -210,6 +210,11 @@ typedef void (*rk_hessian_sink)(void *ctx, const int *id, int npoints, const dou
 double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x, double *g, double *og,
                          rk_hessian_sink sink, void *ctx, double *min_distance);
 
+/* Each pair's barrier energy (as rk_contact_energy counts it) shared equally among its mesh
+ * points, added into e (nmesh; +INFINITY where a pair touches): the per-vertex energies the
+ * adaptive subspace oracle's progress measure sums over one-rings. */
+void rk_contact_point_energy(const rk_contact *c, const rk_contact_set *s, const double *x, double *e);
+
 /* ---- friction (friction.c) ---- */
 
 /* Records the step's start: mesh positions x and the obstacles where they are (friction's x^t). */

@@ -109,3 +109,17 @@ double rk_contact_energy(rk_contact *c, const rk_contact_set *s, const double *x
     c->stats.seconds_potential += rk_now() - t0;
     return isfinite(E) ? E : INFINITY;
 }
+
+void rk_contact_point_energy(const rk_contact *c, const rk_contact_set *s, const double *x, double *e)
+{
+    for (int i = 0; i < s->n; i++) {
+        const rk_contact_pair *p = &s->pairs[i];
+        int plane = p->kind == RK_PAIR_POINT_PLANE, np = plane ? 1 : 4, mesh = 0;
+        double dist;
+        double b = c->kappa * (plane ? plane_potential(c, p, x, NULL, NULL, &dist) : pair_potential(c, p, x, NULL, NULL, &dist));
+        if (b == 0) continue;
+        for (int k = 0; k < np; k++) mesh += p->id[k] >= 0;
+        for (int k = 0; k < np; k++)
+            if (p->id[k] >= 0) e[p->id[k]] += b / mesh;
+    }
+}

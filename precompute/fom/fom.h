@@ -76,6 +76,28 @@ typedef struct {
  * 50 Newton iterations. */
 void rk_fom_default_options(rk_fom_options *o);
 
+/* The incremental potential being minimised (fom.h, paper Eq. 2 divided by alpha h^2):
+ *   E(x) = w_inertia/2 |x - xtilde|_M^2 + Psi(x) + B(x) + w_damping/2 |x - xt|_C^2 - load f.x
+ * with C = a M + b K0. Dynamics: w_inertia = 1/(alpha h^2), w_damping = 1/h, load = 1.
+ * Static: w_inertia = w_damping = 0, load in (0, 1] (load stepping) and a tiny mass-proportional
+ * shift `reg` added to the Hessian only (free rigid modes, projected-away directions). */
+typedef struct {
+    double w_inertia;
+    const double *xtilde;
+    double w_damping;
+    const double *xt;
+    double load;
+    double reg;
+    int friction;           /* add the lagged friction potential (dynamics with contact.friction > 0) */
+} rk_fom_terms;
+
+/* A contact pair's Hessian block as the contact stage hands it over (mesh vertex ids; obstacle
+ * ids negative, dropped). */
+typedef struct {
+    int np, id[4];
+    double H[144];
+} rk_contact_block;
+
 /* Counters and seconds of the steps and static solves so far. The seconds below seconds_total
  * are disjoint parts of it (what they leave is the rest: predictor, prescribed motion, checks),
  * except seconds_hessian, a part of seconds_assemble, and seconds_analyze_init, before any step. */
@@ -131,6 +153,47 @@ int rk_fom_static(rk_fom *s, rk_error *err);
 double rk_fom_kinetic_energy(const rk_fom *s);
 double rk_fom_elastic_energy(const rk_fom *s);
 void rk_fom_free(rk_fom *s);
+
+/* ---- the step's potential, for a solver of the step other than the full-order Newton ----
+ * (precompute/adaptive solves each time step's minimisation itself, on the same potential, the
+ * same contact and the same prescribed motion.) */
+
+/* What rk_fom_potential computes with its Hessian. */
+enum { RK_FOM_NO_HESSIAN = 0, RK_FOM_NEWTON_MATRIX = 1, RK_FOM_CONTACT_BLOCKS = 2 };
+/* E(y) over the unknowns y (ndof: the mesh, then the obstacle vertices when they are unknowns);
+ * with g, also its gradient; with hessian = RK_FOM_NEWTON_MATRIX, also the Newton matrix N.A
+ * (PSD-projected elastic and contact parts, the prescribed dofs eliminated; its pattern follows the
+ * contact pairs); with RK_FOM_CONTACT_BLOCKS only the contact and friction pairs' Hessian blocks
+ * (rk_fom_view's blocks) and kappa's adaptation. With magnitude, also the sum of the terms'
+ * absolute values: the scale of E's round-off. With contact, the pairs are gathered at y, kappa
+ * adapts at each Hessian, and moving obstacles add their augmented Lagrangian. */
+double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, double *g, int hessian,
+                        double *magnitude, rk_error *err);
+
+/* The constant parts of the potential and the contact blocks of its last Hessian. */
+typedef struct {
+    int n;                      /* 3 nv: the mesh's unknowns */
+    int nobs;                   /* obstacle vertices among the unknowns (moving obstacles); 0 otherwise */
+    const rk_sparse *M, *C;     /* inertia mass; Rayleigh damping (C->val NULL: none) */
+    const double *f_ext;        /* gravity and forces (n) */
+    const char *prescribed;     /* n flags: the dofs the prescribed motion holds */
+    int has_contact;
+    int nblocks;                /* the last rk_fom_potential(..., hessian != 0)'s contact blocks */
+    const rk_contact_block *blocks;
+    rk_contact *contact;        /* NULL without contact */
+} rk_fom_view;
+void rk_fom_view_get(const rk_fom *s, rk_fom_view *v);
+
+/* A solver of the step's minimisation: from s->x (prescribed dofs already where they are due),
+ * minimise T's potential in place to |d|_inf <= tol_d (m); *converged as rk_newton_solve's. */
+typedef int (*rk_fom_newton_fn)(void *ctx, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged,
+                                rk_error *err);
+/* One time step as rk_fom_step takes it (prediction, friction lagging, prescribed motion in
+ * CCD-safe moves, velocity update), each minimisation by newton(ctx, ...). */
+int rk_fom_step_with(rk_fom *s, rk_fom_newton_fn newton, void *ctx, rk_error *err);
+/* The largest alpha in (0, 1] that keeps the surfaces apart moving x by alpha d (1 without contact);
+ * -1 on failure. */
+double rk_fom_max_step(rk_fom *s, const double *x, const double *d, rk_error *err);
 
 /* The seconds of every Newton iteration so far, in order (from its evaluation of the potential
  * with gradient and Newton matrix to the next one's, or to the end of its solve: factorization,

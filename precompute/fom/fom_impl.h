@@ -9,27 +9,7 @@
 #include "fom/fom.h"
 #include "solver/solver.h"
 
-/* The incremental potential being minimised (fom.h, paper Eq. 2 divided by alpha h^2):
- *   E(x) = w_inertia/2 |x - xtilde|_M^2 + Psi(x) + B(x) + w_damping/2 |x - xt|_C^2 - load f.x
- * with C = a M + b K0. Dynamics: w_inertia = 1/(alpha h^2), w_damping = 1/h, load = 1.
- * Static: w_inertia = w_damping = 0, load in (0, 1] (load stepping) and a tiny mass-proportional
- * shift `reg` added to the Hessian only (free rigid modes, projected-away directions). */
-typedef struct {
-    double w_inertia;
-    const double *xtilde;
-    double w_damping;
-    const double *xt;
-    double load;
-    double reg;
-    int friction;           /* add the lagged friction potential (dynamics with contact.friction > 0) */
-} rk_fom_terms;
 
-/* A contact pair's Hessian block as the contact stage hands it over (mesh vertex ids; obstacle
- * ids negative, dropped). */
-typedef struct {
-    int np, id[4];
-    double H[144];
-} rk_contact_block;
 
 /* What CHOLMOD factors (matrix.c): the elements' pattern, the obstacle vertices that are unknowns
  * (their 3 x 3 diagonal blocks after the mesh's dofs), and the vertex pairs contact couples. */
@@ -123,14 +103,6 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x);
  * (the pattern stays as it is; the solver zeroes their gradient). */
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H);
 
-/* E(y) over the unknowns y (ndof: the mesh, then the obstacle vertices when they are unknowns);
- * with g, also its gradient; with hessian, also the Newton matrix N.A (PSD-projected elastic and
- * contact parts, the prescribed dofs eliminated; its pattern follows the contact pairs). With
- * magnitude, also the sum of the terms' absolute values: the scale of E's round-off. With contact,
- * the pairs are gathered at y, kappa adapts at each Hessian, and moving obstacles add their
- * augmented Lagrangian. */
-double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, double *g, int hessian,
-                        double *magnitude, rk_error *err);
 /* The moving obstacles' targets at time t for the next solves (multipliers reset). */
 void rk_fom_obstacle_targets(rk_fom *s, double t);
 

@@ -116,7 +116,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     contact += rk_now() - tc;
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
-    if (hessian && isfinite(E)) {
+    if (hessian == RK_FOM_NEWTON_MATRIX && isfinite(E)) {
         assemble_hessian(s, T, y, &im->H);
         int changed = 0;
         tc = rk_now();
@@ -150,4 +150,23 @@ void rk_fom_obstacle_targets(rk_fom *s, double t)
     rk_contact_obstacles_at(&im->contact, t, im->obs_target);
     memset(im->al_lambda, 0, sizeof(double) * 3 * (size_t)im->nobs);
     im->al_kappa = RK_FOM_AL_KAPPA / (s->opt.h * s->opt.h);
+}
+
+void rk_fom_view_get(const rk_fom *s, rk_fom_view *v)
+{
+    const rk_fom_impl *im = s->impl;
+    *v = (rk_fom_view){.n = im->n, .nobs = im->nobs, .M = &im->M, .C = &im->C, .f_ext = im->f_ext,
+                       .prescribed = im->prescribed_dof, .has_contact = im->has_contact,
+                       .nblocks = im->N.nblocks, .blocks = im->N.blocks,
+                       .contact = im->has_contact ? (rk_contact *)&im->contact : NULL};
+}
+
+double rk_fom_max_step(rk_fom *s, const double *x, const double *d, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    if (!im->has_contact) return 1;
+    double t0 = rk_now();
+    double alpha = rk_contact_max_step(&im->contact, x, d, NULL, err);
+    s->stats.seconds_contact += rk_now() - t0;
+    return alpha;
 }

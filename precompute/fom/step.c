@@ -19,16 +19,20 @@ static int check_state(const rk_fom *s, rk_error *err)
 typedef struct {
     const rk_fom_terms *T;
     int converged;
+    rk_fom_newton_fn newton;  /* NULL: the full-order Newton */
+    void *newton_ctx;
 } step_solve;
 
 /* Newton on the step's potential from where s->x is now. */
 static int solve_step(rk_fom *s, void *ctx, rk_error *err)
 {
     step_solve *c = ctx;
-    return rk_fom_newton(s, c->T, s->opt.newton_tol * s->opt.h, &c->converged, err);
+    double tol = s->opt.newton_tol * s->opt.h;
+    if (c->newton) return c->newton(c->newton_ctx, s, c->T, tol, &c->converged, err);
+    return rk_fom_newton(s, c->T, tol, &c->converged, err);
 }
 
-static int step(rk_fom *s, rk_error *err)
+static int step(rk_fom *s, rk_fom_newton_fn newton, void *newton_ctx, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     rk_stepper *st = &im->stepper;
@@ -55,7 +59,7 @@ static int step(rk_fom *s, rk_error *err)
     }
     memcpy(s->x, start_predicted ? st->xtilde : st->xt, sizeof(double) * (size_t)im->n);
     rk_fom_obstacle_targets(s, s->t + h);
-    step_solve c = {&T, 1};
+    step_solve c = {&T, 1, newton, newton_ctx};
     if (rk_fom_advance_kinematics(s, s->t + h, solve_step, &c, err)) return -1;
     /* then lagged again at the solution and solved again, until a solve has nothing left to do */
     for (int k = 1; friction && k < s->opt.contact.friction_iterations; k++) {
@@ -73,9 +77,14 @@ static int step(rk_fom *s, rk_error *err)
 
 int rk_fom_step(rk_fom *s, rk_error *err)
 {
+    return rk_fom_step_with(s, NULL, NULL, err);
+}
+
+int rk_fom_step_with(rk_fom *s, rk_fom_newton_fn newton, void *ctx, rk_error *err)
+{
     double t0 = rk_now();
     long number = s->stats.steps + 1;
-    int rc = step(s, err);
+    int rc = step(s, newton, ctx, err);
     s->stats.seconds_total += rk_now() - t0;
     rk_fom_sync_stats(s);
     if (rc) return rk_error_prefix(err, "step %ld (t = %g s)", number, s->t + s->opt.h);

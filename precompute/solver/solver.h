@@ -98,4 +98,19 @@ void rk_stepper_start(rk_stepper *s, const rk_newton_problem *p, double *x);
 /* Ends the step at x: v becomes v_{t+1}, and x_t, v_t become the history. */
 void rk_stepper_finish(rk_stepper *s, const double *x, double *v);
 
+/* Preconditioned conjugate gradients on a symmetric positive definite operator: apply(ctx, x, y)
+ * sets y = A x, precondition(ctx, r, z) sets z = P^-1 r (NULL: z = r). Solves A x = b from the x
+ * given, until |r| <= tol |b| or max_iter iterations; *relres (may be NULL) gets |r| / |b|.
+ * Returns the iterations taken. work: 4 n. A breakdown (p^T A p <= 0: not positive definite)
+ * stops it where it is. The one CG of the precompute: the adaptive subspace method's Schur
+ * complement solve and the full-space block-Jacobi baseline. */
+typedef struct {
+    int n;
+    void *ctx;
+    void (*apply)(void *ctx, const double *x, double *y);
+    void (*precondition)(void *ctx, const double *r, double *z);
+} rk_pcg_problem;
+int rk_pcg(const rk_pcg_problem *p, const double *b, double *x, double tol, int max_iter, double *work,
+           double *relres);
+
 #endif

@@ -1,0 +1,290 @@
+/* The adaptive subspace simulator (adaptive.h): set-up, and each time step's minimisation as the
+ * solver's projected Newton (solver.h) whose direction comes from the running reduced model
+ * (Algorithm 1): at each iteration the potential and gradient in full space, the subspace
+ * Hessian, the oracle's updates, the Schur-complement solve; then the shared line search (CCD
+ * filtered) and termination on |d|_inf / h. Downdating follows the step. */
+#include "adaptive/adaptive_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void rk_adaptive_default_options(rk_adaptive_options *o)
+{
+    *o = (rk_adaptive_options){.block = 12, .initial_blocks = 1, .eps_g_modal = 0.5, .eps_g_nodal = 0.5,
+                               .eps_e = 1e-4, .eps_d = 0.1, .subdomains = 0, .downdate = 1, .modal = 1,
+                               .nodal = 1, .exact_hessian = 0, .pcg_tol = 1e-5, .pcg_max_iter = 10000};
+}
+
+static int check_options(const rk_adaptive_options *o, const rk_fem *f, int r, rk_error *err)
+{
+    if (!(o->eps_g_modal > 0) || !isfinite(o->eps_g_modal))
+        return rk_fail(err, "eps_g_modal (the modal error threshold) must be positive, got %g", o->eps_g_modal);
+    if (!(o->eps_g_nodal > 0) || !isfinite(o->eps_g_nodal))
+        return rk_fail(err, "eps_g_nodal (the nodal error threshold) must be positive, got %g", o->eps_g_nodal);
+    if (!isfinite(o->eps_e)) return rk_fail(err, "eps_e (the progress threshold) must be finite, got %g", o->eps_e);
+    if (!(o->eps_d > 0) || !isfinite(o->eps_d))
+        return rk_fail(err, "eps_d (the downdating threshold) must be positive, got %g", o->eps_d);
+    if (!(o->pcg_tol > 0 && o->pcg_tol < 1)) return rk_fail(err, "pcg_tol must be in (0, 1), got %g", o->pcg_tol);
+    if (o->pcg_max_iter < 1) return rk_fail(err, "pcg_max_iter must be at least 1, got %d", o->pcg_max_iter);
+    if (o->block < 1) return rk_fail(err, "block (columns per candidate) must be at least 1, got %d", o->block);
+    if (r < o->block || r % o->block)
+        return rk_fail(err, "the candidate basis has %d columns, not a whole number of blocks of %d", r, o->block);
+    if (o->initial_blocks < 1 || o->initial_blocks * o->block > r)
+        return rk_fail(err, "initial_blocks must be from 1 to %d (the candidate blocks), got %d", r / o->block,
+                       o->initial_blocks);
+    if (f->nt == 0) return rk_fail(err, "needs a tetrahedral mesh (a point cloud has no elements to enrich)");
+    if (o->subdomains < 0 || o->subdomains > f->nv)
+        return rk_fail(err, "subdomains must be from 1 to the %d vertices, got %d", f->nv, o->subdomains);
+    return 0;
+}
+
+#define ALLOC(p, count) (((p) = rk_calloc((size_t)(count) + 1, sizeof *(p), err)) == NULL)
+
+static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
+{
+    size_t n = (size_t)im->n, nv = (size_t)im->nv, r = (size_t)im->r;
+    size_t work = n > 12 * r ? n : 12 * r;
+    if (ALLOC(im->psi_bar, nv) || ALLOC(im->area, nv) || ALLOC(im->volume, nv) || ALLOC(im->G, nv) ||
+        ALLOC(im->dE, nv) || ALLOC(im->e0, nv) || ALLOC(im->e1, nv) || ALLOC(im->block_on, im->nblocks) ||
+        ALLOC(im->cols, r) || ALLOC(im->enriched, nv) || ALLOC(im->xdof, n) || ALLOC(im->xindex, n) ||
+        ALLOC(im->q_total, r) || ALLOC(im->elem_exact, nt) || ALLOC(im->He, (size_t)nt * RK_TET_SLOTS) ||
+        ALLOC(im->coup_pos, n) || ALLOC(im->block_size, n) || ALLOC(im->part_mark_dofs, n) ||
+        ALLOC(im->Dinv, 9 * n) || ALLOC(im->dx, n) || ALLOC(im->rhs, n) || ALLOC(im->work, work) ||
+        ALLOC(im->pcg_work, 4 * n) || ALLOC(im->xtry, n) || ALLOC(im->sc_a, r) || ALLOC(im->sc1, n) ||
+        ALLOC(im->sc2, n) || ALLOC(im->sc3, n) || ALLOC(im->sc4, n) || ALLOC(im->elem_e, nt) ||
+        ALLOC(im->fixed_vertex, nv) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
+        ALLOC(im->newton_work, RK_NEWTON_WORK(n)) || ALLOC(im->x_start, n))
+        return -1;
+    return 0;
+}
+
+/* M and C (upper-stored on the fem pattern) on the full pattern. */
+static int full_values(rk_adaptive_impl *im, const rk_sparse *S, double **out, rk_error *err)
+{
+    if (!S->val) {
+        *out = NULL;
+        return 0;
+    }
+    if (S->nnz != im->f->pattern.nnz) return rk_fail(err, "the mass matrix is not on the mesh's pattern");
+    if (ALLOC(*out, im->P.nnz)) return -1;
+    for (int k = 0; k < S->nnz; k++) {
+        (*out)[im->P.up[k]] = S->val[k];
+        (*out)[im->P.lo[k]] = S->val[k];
+    }
+    return 0;
+}
+
+int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *fo, const double *U, int r,
+                     const rk_adaptive_options *o, rk_error *err)
+{
+    memset(ad, 0, sizeof *ad);
+    if (check_options(o, fem, r, err)) return -1;
+    if (fo->is_static) return rk_fail(err, "simulates dynamics only (the scene asks for a static solve)");
+    ad->opt = *o;
+    if (rk_fom_init(&ad->fom, fem, fo, err)) return -1;
+    rk_adaptive_impl *im = rk_calloc(1, sizeof *im, err);
+    if (!im) goto fail;
+    ad->impl = im;
+    im->f = fem;
+    im->nv = fem->nv;
+    im->n = 3 * fem->nv;
+    im->r = r;
+    im->nblocks = r / o->block;
+    rk_fom_view_get(&ad->fom, &im->view);
+    if (im->view.nobs) {
+        rk_fail(err, "moving obstacles are not supported (they are unknowns of the full-order solve)");
+        goto fail;
+    }
+    if (alloc_impl(im, fem->nt, err) || ALLOC(im->U, (size_t)im->n * r)) goto fail;
+    for (size_t k = 0; k < (size_t)im->n * r; k++) {
+        if (!isfinite(U[k])) {
+            rk_fail(err, "the candidate basis has a non-finite entry (row %zu, column %zu)", k % im->n, k / im->n);
+            goto fail;
+        }
+        im->U[k] = im->view.prescribed[k % im->n] ? 0 : U[k];
+    }
+    for (int v = 0; v < im->nv; v++)
+        im->fixed_vertex[v] =
+            (char)(im->view.prescribed[3 * v] && im->view.prescribed[3 * v + 1] && im->view.prescribed[3 * v + 2]);
+    rk_adaptive_vertex_scales(fem, im->psi_bar, im->area, im->volume);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < im->nv; v++)
+        for (int c = 0; c < 3; c++) {
+            lo[c] = fmin(lo[c], fem->X[3 * v + c]);
+            hi[c] = fmax(hi[c], fem->X[3 * v + c]);
+        }
+    im->length = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    int parts = o->subdomains ? o->subdomains : fem->nt / 250;
+    if (parts < 2) parts = 2;
+    if (parts > im->nv) parts = im->nv;
+    ad->opt.subdomains = parts;
+    if (ALLOC(im->part_mark, parts) || rk_adaptive_partition(im, parts, err) ||
+        rk_full_pattern_init(&im->P, &fem->pattern, err) || full_values(im, im->view.M, &im->Mf, err) ||
+        full_values(im, im->view.C, &im->Cf, err) || ALLOC(im->Hf, im->P.nnz))
+        goto fail;
+    for (int b = 0; b < o->initial_blocks; b++) im->block_on[b] = 1;
+    ad->enriched = im->enriched;
+    if (rk_adaptive_set_columns(ad, err)) goto fail;
+    return 0;
+fail:
+    rk_adaptive_free(ad);
+    return -1;
+}
+
+void rk_adaptive_free(rk_adaptive *ad)
+{
+    rk_adaptive_impl *im = ad->impl;
+    if (im) {
+        rk_adaptive_partition_free(im);
+        rk_full_pattern_free(&im->P);
+        rk_contact_set_free(&im->pairs);
+        void *arrays[] = {im->U, im->psi_bar, im->area, im->volume, im->G, im->dE, im->e0, im->e1, im->block_on,
+                          im->cols, im->Ua, im->Ba, im->enriched, im->xdof, im->xindex, im->q_total, im->Mf,
+                          im->Cf, im->Hf, im->UMU, im->UCU, im->BMB, im->BCB, im->Ha, im->Hq, im->Lq,
+                          im->elem_exact, im->He, im->hx_rowptr, im->hx_col, im->hx_val, im->coup_dof, im->Cq,
+                          im->Dinv, im->coup_pos, im->block_size, im->part_mark_dofs, im->gq, im->dq, im->dx,
+                          im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
+                          im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
+                          im->dq_last, im->newton_work, im->x_start};
+        for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
+        free(im);
+    }
+    rk_fom_free(&ad->fom);
+    memset(ad, 0, sizeof *ad);
+}
+
+/* ---- the Newton iterations of a step ---- */
+
+typedef struct {
+    rk_adaptive *ad;
+    const rk_fom_terms *T;
+    rk_error failure;
+} newton_ctx;
+
+/* What the last line search did: x moved by alpha d_last; alpha d_q is the secant's s (Eq. 20) and
+ * adds to the step's modal coordinates (downdating). */
+static void account_step(rk_adaptive_impl *im, const double *x)
+{
+    if (!im->have_prev) return;
+    double dd = 0, xd = 0;
+    for (int i = 0; i < im->n; i++) {
+        dd += im->d_last[i] * im->d_last[i];
+        xd += (x[i] - im->x_prev[i]) * im->d_last[i];
+    }
+    double alpha = dd > 0 ? xd / dd : 0;
+    for (int j = 0; j < im->a; j++) {
+        im->dq_last[j] *= alpha;
+        im->q_total[im->cols[j]] += im->dq_last[j];
+    }
+    im->have_step = alpha > 0;
+    im->have_prev = 0;
+}
+
+static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
+{
+    newton_ctx *c = ctx;
+    rk_adaptive *ad = c->ad;
+    rk_adaptive_impl *im = ad->impl;
+    double t0 = rk_now();
+    if (!hessian) {
+        double E = rk_fom_potential(&ad->fom, c->T, x, g, RK_FOM_NO_HESSIAN, magnitude, &c->failure);
+        ad->stats.seconds_line_search += rk_now() - t0;
+        return E;
+    }
+    double E = rk_fom_potential(&ad->fom, c->T, x, g, RK_FOM_CONTACT_BLOCKS, magnitude, &c->failure);
+    ad->stats.seconds_potential += rk_now() - t0;
+    if (!isfinite(E)) return E;
+    for (int i = 0; i < im->n; i++)
+        if (im->view.prescribed[i]) g[i] = 0;
+    rk_fom_view_get(&ad->fom, &im->view);
+    account_step(im, x);
+    double t1 = rk_now();
+    int changed_modes = 0, changed_nodes = 0;
+    if (im->first_iteration) { /* BFGS starts each solve at the exact subspace Hessians */
+        if (rk_adaptive_bfgs_restart(ad, x, &c->failure)) return NAN;
+        im->first_iteration = 0;
+    }
+    if (!ad->opt.exact_hessian) rk_adaptive_bfgs_update(ad, x);
+    if (rk_adaptive_subspace_hessian(ad, c->T, x, &c->failure)) return NAN;
+    double t2 = rk_now();
+    ad->stats.seconds_hessian += t2 - t1;
+    if (rk_adaptive_oracle(ad, c->T, x, E, g, &changed_modes, &changed_nodes, &c->failure)) return NAN;
+    double t3 = rk_now();
+    ad->stats.seconds_oracle += t3 - t2;
+    if (changed_modes) { /* new columns: the subspace Hessians from scratch (Sec. 3.10) */
+        if (rk_adaptive_set_columns(ad, &c->failure) || rk_adaptive_bfgs_restart(ad, x, &c->failure)) return NAN;
+        if (!ad->opt.exact_hessian) rk_adaptive_bfgs_update(ad, x);
+    } else if (changed_nodes) {
+        rk_adaptive_update_mask(ad);
+    }
+    if ((changed_modes || changed_nodes) && rk_adaptive_subspace_hessian(ad, c->T, x, &c->failure)) return NAN;
+    ad->stats.seconds_hessian += rk_now() - t3;
+    memcpy(im->x_prev, x, sizeof(double) * (size_t)im->n);
+    return E;
+}
+
+static int solve(void *ctx, const double *g, double *d, rk_error *err)
+{
+    newton_ctx *c = ctx;
+    rk_adaptive_impl *im = c->ad->impl;
+    if (rk_adaptive_solve(c->ad, c->T, g, d, err)) return -1;
+    memcpy(im->d_last, d, sizeof(double) * (size_t)im->n);
+    memcpy(im->dq_last, im->dq, sizeof(double) * (size_t)im->a);
+    im->have_prev = 1;
+    return 0;
+}
+
+static double max_step(void *ctx, const double *x, const double *d)
+{
+    newton_ctx *c = ctx;
+    double alpha = rk_fom_max_step(&c->ad->fom, x, d, &c->failure);
+    return alpha >= 0 ? alpha : 0;
+}
+
+static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
+{
+    rk_adaptive *ad = ctx;
+    rk_adaptive_impl *im = ad->impl;
+    newton_ctx c = {.ad = ad, .T = T};
+    rk_newton_problem p = {.n = im->n, .ctx = &c, .what = "incremental potential (adaptive subspace)",
+                           .energy = energy, .solve = solve,
+                           .max_step = im->view.has_contact ? max_step : NULL,
+                           .prescribed = im->view.prescribed};
+    im->first_iteration = 1;
+    im->have_prev = 0;
+    im->have_step = 0;
+    rk_newton_stats stats = {0};
+    int rc = rk_newton_solve(&p, s->x, tol_d, s->opt.newton_max_iter, im->newton_work, converged, &stats, err);
+    account_step(im, s->x);
+    ad->stats.newton_iterations += stats.iterations;
+    s->stats.newton_iterations += stats.iterations;
+    s->stats.line_search_halvings += stats.halvings;
+    if (c.failure.msg[0]) {
+        *err = c.failure;
+        return -1;
+    }
+    return rc;
+}
+
+int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    double t0 = rk_now();
+    if (im->model_dirty) {
+        if (rk_adaptive_set_columns(ad, err)) return -1;
+        im->model_dirty = 0;
+    }
+    memset(im->q_total, 0, sizeof(double) * (size_t)im->r);
+    memcpy(im->x_start, ad->fom.x, sizeof(double) * (size_t)im->n);
+    if (rk_fom_step_with(&ad->fom, adaptive_newton, ad, err)) return -1;
+    ad->stats.steps++;
+    ad->stats.sum_modes += ad->modes;
+    ad->stats.sum_nodes += ad->nodes;
+    if (ad->modes > ad->stats.max_modes) ad->stats.max_modes = ad->modes;
+    if (ad->nodes > ad->stats.max_nodes) ad->stats.max_nodes = ad->nodes;
+    if (ad->opt.downdate) rk_adaptive_downdate(ad, im->x_start, ad->fom.x);
+    ad->stats.seconds_total += rk_now() - t0;
+    return 0;
+}

@@ -1,0 +1,124 @@
+/* precompute/adaptive: adaptive subspace simulation with an oracle and nodal enrichment (the
+ * adaptive-subspace paper, Trusty et al.). A full-order-quality simulator: the full positions x
+ * are the state (Sec. 3.2), and each time step's minimisation of the incremental potential (the
+ * full-order simulator's own, fom.h: the same contact, friction lagging, prescribed motion and
+ * integrators) is solved in a running reduced model that the oracle updates inside the Newton
+ * iterations:
+ *
+ *   x <- x + alpha (B_a d_q + S_x d_x)     B_a: the active columns U_a of a candidate basis U,
+ *                                           masked (zero) at enriched and prescribed dofs;
+ *                                           S_x: the enriched vertices' selection (Sec. 3.6)
+ *
+ *   error     G_i = ||g_i|| / s_i, s_i = h^2 A_i psi_i (Eq. 5, 10); modes: Eq. 12, 14, 16
+ *   progress  E_i = dE_i / c_i, c_i = h^2 V_i psi_i (Eq. 7, 8, 11); modes: Eq. 13, 15, 17
+ *             dE_i: the one-ring potential's decrease along the active subspace's line-searched
+ *             Newton direction (Eq. 18)
+ *   oracle    activates every candidate with G > eps_G and E < eps_E (Sec. 3.7); a vertex
+ *             enriches its whole METIS part (Sec. 3.6)
+ *   system    Eq. 19 by its Schur complement on the enriched dofs: H_q factored (dense
+ *             Cholesky), block-Jacobi PCG to a relative residual (Eq. 21-22, Sec. 3.10)
+ *   H_q       exact inertia, damping and contact; elasticity by one BFGS matrix per subdomain
+ *             (Eq. 20), exact in subdomains that hold an enriched vertex (Sec. 3.9)
+ *   downdate  after the step, modes and vertices whose displacement did not pay (Sec. 3.11)
+ *
+ * The paper's scaling: its potential is K + alpha h^2 (Psi + ...); romkit's solver minimises that
+ * divided by alpha h^2, so the paper's gradient and energy changes are alpha h^2 times ours and
+ * G_i = alpha |g_i| / (A_i psi_i), E_i = alpha dE_i / (V_i psi_i) here.
+ *
+ * Where the paper is silent (each said again where it is implemented):
+ *  - an element belongs to the METIS part of its first vertex; a subdomain is the set of elements
+ *    of one part, and its secant pair is its own elastic energy's gradient (the paper averages
+ *    the gradient at interface vertices instead; both sum to the whole);
+ *  - BFGS matrices start each time step (and each change of the active modes) at the exact
+ *    subspace Hessians of their subdomains;
+ *  - the initial blocks are never downdated, so the model always keeps its rigid motion;
+ *  - the oracle's per-vertex energies split each element's energy equally among its four
+ *    vertices, the consistent mass's quadratic form by rows, a contact pair's barrier equally
+ *    among its mesh points; lagged friction is left out of them (it is in the system);
+ *  - moving obstacles (unknowns of the full-order solve) and static solves are refused. */
+#ifndef RK_ADAPTIVE_H
+#define RK_ADAPTIVE_H
+
+#include "fem/fem.h"
+#include "fom/fom.h"
+#include "util/util.h"
+
+typedef struct {
+    int block;              /* columns per candidate (skinning: 12, one weight's affine handle; modes: 1) */
+    int initial_blocks;     /* the first blocks of U, active from the start and never downdated (1) */
+    double eps_g_modal;     /* error thresholds (Table 2: 0.5, 0.5) */
+    double eps_g_nodal;
+    double eps_e;           /* progress threshold (1e-4, Sec. 4) */
+    double eps_d;           /* downdating threshold (0.1) */
+    int subdomains;         /* METIS parts (0: one per 250 tets, at least 2) */
+    int downdate;           /* 1: downdate after each step (Sec. 3.11) */
+    int modal, nodal;       /* 1: the oracle may add modes / enrich vertices */
+    int exact_hessian;      /* 1: every subdomain exact (no BFGS): the ablation and the tests' reference */
+    double pcg_tol;         /* relative residual of the Schur PCG (1e-5) */
+    int pcg_max_iter;       /* 10000 */
+} rk_adaptive_options;
+
+void rk_adaptive_default_options(rk_adaptive_options *o);
+
+typedef struct {
+    long steps, newton_iterations, pcg_iterations, solves;
+    long oracle_modes_added, oracle_nodes_added, modes_downdated, nodes_downdated;
+    long bfgs_updates, bfgs_skipped;
+    double sum_modes, sum_nodes;  /* active columns and enriched vertices at each step's end, summed */
+    int max_modes, max_nodes;
+    double seconds_total;
+    double seconds_potential;     /* the full-space potential and gradient (contact included) */
+    double seconds_oracle;        /* the measures, the subspace direction and its line search */
+    double seconds_hessian;       /* the subspace Hessian: BFGS updates, exact subdomains, inertia */
+    double seconds_system;        /* the enriched rows and the coupling */
+    double seconds_pcg;           /* the Schur complement PCG (with H_q's factorization) */
+    double seconds_line_search;
+} rk_adaptive_stats;
+
+typedef struct rk_adaptive_impl rk_adaptive_impl;
+
+typedef struct {
+    rk_fom fom;             /* the full-space state (fom.x, fom.v, fom.t) and its potential */
+    rk_adaptive_options opt;
+    rk_adaptive_stats stats;
+    int modes;              /* active columns now */
+    int nodes;              /* enriched vertices now */
+    const char *enriched;   /* nv flags */
+    rk_adaptive_impl *impl;
+} rk_adaptive;
+
+/* The simulator of fem under the full-order options fo (dynamics; no moving obstacle) with the
+ * candidate basis U (3 nv x r, column-major; r a multiple of o->block; copied). Fails, naming
+ * the key, on a threshold <= 0, more subdomains than vertices, a basis of the wrong shape. */
+int rk_adaptive_init(rk_adaptive *a, const rk_fem *fem, const rk_fom_options *fo, const double *U, int r,
+                     const rk_adaptive_options *o, rk_error *err);
+int rk_adaptive_step(rk_adaptive *a, rk_error *err);
+void rk_adaptive_free(rk_adaptive *a);
+
+/* ---- the measures (measures.c), public for the tests ---- */
+
+/* Per vertex: psi_bar (the rest energy density Hessian's 2-norm averaged over the vertex's
+ * elements: 2 mu + 3 lambda for every model, which share the linear tangent at rest), A (the
+ * area of the faces opposite the vertex in its elements: its one-ring's surface) and V (a
+ * quarter of each element's volume). nv each. */
+void rk_adaptive_vertex_scales(const rk_fem *f, double *psi_bar, double *area, double *volume);
+/* Nodal error (Eq. 10): G_i = alpha |g_i| / (A_i psi_i) for gradient g (3 nv). */
+void rk_adaptive_nodal_error(int nv, const double *g, const double *area, const double *psi_bar, double alpha,
+                             double *G);
+/* Modal error of a block of k columns Um (3 nv x k, column-major; Eq. 12, 14, 16):
+ * max_i alpha |(sum_j u_j u_j^T g / u_j^T u_j)_i| / (A_i psi_i). work: 3 nv. */
+double rk_adaptive_modal_error(int nv, const double *Um, int k, const double *g, const double *area,
+                               const double *psi_bar, double alpha, double *work);
+/* Modal progress (Eq. 13, 15, 17): with ubar_j the per-vertex average of u_j's three coordinates,
+ * sum_i alpha (sum_j ubar_j ubar_j^T dE / ubar_j^T ubar_j)_i / (V_i psi_i). */
+double rk_adaptive_modal_progress(int nv, const double *Um, int k, const double *dE, const double *volume,
+                                  const double *psi_bar, double alpha);
+
+/* ---- the baseline of the linear-solve comparison (baseline.c) ---- */
+
+/* Conjugate gradients with a 3 x 3 block-Jacobi preconditioner on the full-space system A d = -g
+ * (A upper-stored symmetric, the full-order Newton matrix): the paper's IPC-CG. Returns the
+ * iterations (max_iter when it did not reach tol); d starts at 0. */
+int rk_block_jacobi_cg(const rk_sparse *A, const double *g, double *d, double tol, int max_iter, rk_error *err);
+
+#endif

@@ -1,0 +1,132 @@
+/* Private to precompute/adaptive: the running reduced model and the pieces of a Newton iteration. */
+#ifndef RK_ADAPTIVE_IMPL_H
+#define RK_ADAPTIVE_IMPL_H
+
+#include "adaptive/adaptive.h"
+#include "contact/contact.h"
+#include "fem/element_impl.h"
+
+/* A subdomain: the elements of one METIS part (an element belongs to its first vertex's part),
+ * over the local vertices they touch. */
+typedef struct {
+    int ne, *elem;
+    int nv, *vert;          /* local vertex -> mesh vertex */
+    int *local;             /* 4 ne: each element's vertices, local */
+    int exact;              /* holds an enriched vertex: integrated exactly (Sec. 3.9) */
+    double *B;              /* a x a: its BFGS elastic subspace Hessian; when exact, the masked exact one */
+    double *Bu;             /* a x a: when exact, the unmasked exact one (the oracle's) */
+    double *proj;           /* a: U_l^T grad Psi_l at the last iterate (the secant's y, Eq. 20) */
+    int have_proj;
+} rk_subdomain;
+
+/* The full symmetric pattern (both triangles, rows sorted) of the fem pattern, and where each
+ * upper-stored entry k lands: up[k] at (row, col), lo[k] at (col, row) (the same on the diagonal). */
+typedef struct {
+    int n, nnz;
+    int *rowptr, *col;
+    int *up, *lo;
+} rk_full_pattern;
+
+struct rk_adaptive_impl {
+    const rk_fem *f;
+    int nv, n;                  /* vertices, 3 nv */
+    rk_fom_view view;
+    /* the candidate basis, prescribed rows zeroed (the subspace cannot move what is prescribed) */
+    double *U;                  /* n x r */
+    int r, nblocks;
+    /* the measures' scales (measures.c) and the oracle's per-vertex buffers */
+    double *psi_bar, *area, *volume;
+    double *G, *dE, *e0, *e1;   /* nv */
+    double length;              /* the rest bounding-box diagonal (downdating, Sec. 3.11) */
+    /* the partition */
+    int *part;                  /* nv: METIS part of each vertex */
+    int L;
+    rk_subdomain *sub;
+    int *part_first, *part_vert;/* the vertices of each part (L + 1 offsets) */
+    /* the active model */
+    char *block_on;             /* nblocks */
+    int a, *cols;               /* active columns of U */
+    double *Ua;                 /* n x a, unmasked */
+    double *Ba;                 /* n x a, masked at enriched dofs */
+    char *enriched;             /* nv */
+    int nx, *xdof;              /* enriched dofs (free ones), ascending */
+    int *xindex;                /* n: position in xdof or -1 */
+    double *q_total;            /* r: each column's coordinate summed over the step (downdating) */
+    /* the system's pieces */
+    rk_full_pattern P;
+    double *Mf, *Cf;            /* M and C on the full pattern */
+    double *Hf;                 /* w_i M + w_d C + the exact elements' Hessians, full pattern */
+    double *UMU, *UCU;          /* a x a: U_a^T M U_a, U_a^T C U_a */
+    double *BMB, *BCB;          /* a x a: masked */
+    int inertia_valid;          /* UMU..BCB are for the current columns and mask */
+    double *Ha, *Hq;            /* a x a: unmasked (the oracle's) and masked (the system's) */
+    double *Lq;                 /* a x a Cholesky factor of Hq */
+    char *elem_exact;           /* nt: in an exact subdomain */
+    double *He;                 /* nt x 78: the element Hessians computed this iteration (exact ones) */
+    /* the Schur system over the enriched dofs */
+    int *hx_rowptr, *hx_col;    /* the enriched dofs' rows restricted to enriched columns */
+    double *hx_val;
+    int hx_cap;
+    int ncoup, *coup_dof;       /* enriched dofs coupled to the modal dofs: C's columns */
+    double *Cq;                 /* a x ncoup */
+    double *Dinv;               /* 9 per enriched vertex: the block-Jacobi preconditioner */
+    int *coup_pos;              /* n: each enriched dof's column in Cq or -1 */
+    int *block_size;            /* n: the preconditioner's block at its first dof */
+    char *part_mark_dofs;       /* n */
+    /* scratch */
+    double *gq, *dq, *dx, *rhs, *work, *pcg_work, *xtry, *sc_a;
+    double *sc1, *sc2, *sc3, *sc4;  /* n each */
+    double *elem_e;             /* nt element energies */
+    char *part_mark;            /* L */
+    char *fixed_vertex;         /* nv: every dof prescribed (never enriched) */
+    int model_dirty;            /* downdating changed the model: rebuild before the next solve */
+    /* the Newton iteration the solver is in */
+    const rk_fom_terms *T;
+    double *g, *x_prev, *d_last;/* n: the gradient, the iterate and direction of the last Hessian */
+    int have_prev;
+    double *newton_work;        /* RK_NEWTON_WORK(n) */
+    double *x_start;            /* n: the step's start (downdating) */
+    rk_contact_set pairs;       /* the oracle's own contact pairs */
+    int first_iteration;        /* the next Newton iteration is a solve's first (BFGS restarts) */
+    double *dq_last;            /* a: alpha d_q of the last Newton step (the secant's s) */
+    int have_step;
+};
+
+/* partition.c */
+int rk_adaptive_partition(rk_adaptive_impl *im, int parts, rk_error *err);
+void rk_adaptive_partition_free(rk_adaptive_impl *im);
+int rk_full_pattern_init(rk_full_pattern *P, const rk_sparse *upper, rk_error *err);
+void rk_full_pattern_free(rk_full_pattern *P);
+/* y = A x on the full pattern's values val. */
+void rk_full_mul(const rk_full_pattern *P, const double *val, const double *x, double *y);
+
+/* model.c: the active columns and the mask */
+int rk_adaptive_set_columns(rk_adaptive *a, rk_error *err);
+void rk_adaptive_update_mask(rk_adaptive *a);
+int rk_adaptive_enrich_part(rk_adaptive *a, int part);
+
+/* hessian.c: the subspace Hessians Ha and Hq at x (g: the full gradient there) */
+int rk_adaptive_element_hessians(rk_adaptive *a, const double *x, int all, rk_error *err);
+int rk_adaptive_subspace_hessian(rk_adaptive *a, const rk_fom_terms *T, const double *x, rk_error *err);
+/* The BFGS secant pairs from the elastic gradient at x (the step that led here: im->dq_last). */
+void rk_adaptive_bfgs_update(rk_adaptive *a, const double *x);
+/* Exact subspace Hessians of every subdomain at x into their BFGS matrices (a solve's start, a
+ * change of the active columns). */
+int rk_adaptive_bfgs_restart(rk_adaptive *a, const double *x, rk_error *err);
+
+/* oracle.c */
+/* Solves H z = b (a x a) by Cholesky into L (a shift when not definite); -1 when that fails. */
+int rk_adaptive_spd_solve(int a, const double *H, double *L, const double *b, double *z);
+int rk_adaptive_oracle(rk_adaptive *a, const rk_fom_terms *T, const double *x, double E, const double *g,
+                       int *changed_modes, int *changed_nodes, rk_error *err);
+void rk_adaptive_downdate(rk_adaptive *a, const double *x_start, const double *x_end);
+
+/* system.c: d (n) from Eq. 19 by the Schur complement */
+int rk_adaptive_solve(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);
+
+/* Dense helpers (OpenBLAS): C = A^T B with A n x a, B n x b (column-major). */
+void rk_dense_atb(int n, int a, int b, const double *A, const double *B, double *C);
+/* The per-vertex one-ring potential e (nv) at x (energy.c); +INFINITY where undefined. */
+int rk_adaptive_vertex_energy(rk_adaptive *a, const rk_fom_terms *T, const double *x, double *e, rk_error *err);
+
+#endif

@@ -1,0 +1,162 @@
+/* The update oracle (adaptive-subspace paper, Sec. 3.7) and downdating (Sec. 3.11). */
+#include "adaptive/adaptive_impl.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Solves H z = b (a x a, symmetric positive definite up to round-off) by Cholesky into L; a
+ * matrix that is not definite gets a growing diagonal shift. -1 when nothing helps. */
+int rk_adaptive_spd_solve(int a, const double *H, double *L, const double *b, double *z)
+{
+    if (a == 0) return 0;
+    double scale = 0;
+    for (int i = 0; i < a; i++) scale = fmax(scale, fabs(H[(size_t)i * a + i]));
+    if (!(scale > 0)) scale = 1; /* every column masked out (all enriched): the shift alone */
+    for (int attempt = 0; attempt < 8; attempt++) {
+        double shift = attempt ? scale * pow(10.0, -12 + 2 * attempt) : 0;
+        memcpy(L, H, sizeof(double) * (size_t)a * a);
+        for (int i = 0; i < a; i++) L[(size_t)i * a + i] += shift;
+        if (LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', a, L, a) != 0) continue;
+        memcpy(z, b, sizeof(double) * (size_t)a);
+        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', a, 1, L, a, z, a);
+        return 0;
+    }
+    return -1;
+}
+
+/* The integrator's alpha from the potential's inertia weight 1 / (alpha h^2). */
+static double integrator_alpha(const rk_adaptive *ad, const rk_fom_terms *T)
+{
+    double h = ad->fom.opt.h;
+    return T->w_inertia > 0 ? 1.0 / (T->w_inertia * h * h) : 1.0;
+}
+
+/* The active subspace's Newton direction p = -H_a^-1 U_a^T g, line-searched (Eq. 18): the
+ * displacement U_a alpha p into dx. Returns alpha (0: no decrease found). */
+static double subspace_direction(rk_adaptive *ad, const rk_fom_terms *T, const double *x, double E,
+                                 const double *g, double *dx, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    int a = im->a, n = im->n;
+    double *b = im->gq, *p = im->dq;
+    rk_dense_atb(n, a, 1, im->Ua, g, b);
+    for (int k = 0; k < a; k++) b[k] = -b[k];
+    if (rk_adaptive_spd_solve(a, im->Ha, im->Lq, b, p)) return 0;
+    memset(dx, 0, sizeof(double) * (size_t)n);
+    for (int j = 0; j < a; j++)
+        for (int i = 0; i < n; i++) dx[i] += im->Ua[(size_t)j * n + i] * p[j];
+    double gd = 0;
+    for (int i = 0; i < n; i++) gd += g[i] * dx[i];
+    if (!(gd < 0)) return 0;
+    double alpha = rk_fom_max_step(&ad->fom, x, dx, err);
+    if (alpha < 0) return -1;
+    alpha = fmin(1, alpha);
+    for (int k = 0; k <= RK_MAX_HALVINGS; k++, alpha *= 0.5) {
+        for (int i = 0; i < n; i++) im->xtry[i] = x[i] + alpha * dx[i];
+        double Et = rk_fom_potential(&ad->fom, T, im->xtry, NULL, 0, NULL, err);
+        if (Et <= E + RK_ARMIJO_C * alpha * gd) {
+            for (int i = 0; i < n; i++) dx[i] *= alpha;
+            return alpha;
+        }
+    }
+    return 0;
+}
+
+int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, double E, const double *g,
+                       int *changed_modes, int *changed_nodes, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    const rk_adaptive_options *o = &ad->opt;
+    int nv = im->nv, n = im->n;
+    *changed_modes = *changed_nodes = 0;
+    if (!o->modal && !o->nodal) return 0;
+    double alpha_int = integrator_alpha(ad, T);
+    /* progress: the one-ring potentials before and after the subspace's own step */
+    double *dx = im->sc3;
+    double step = subspace_direction(ad, T, x, E, g, dx, err);
+    if (step < 0) return -1;
+    int rc = rk_adaptive_vertex_energy(ad, T, x, im->e0, err);
+    if (rc < 0) return -1;
+    if (step > 0) {
+        for (int i = 0; i < n; i++) im->xtry[i] = x[i] + dx[i];
+        rc = rk_adaptive_vertex_energy(ad, T, im->xtry, im->e1, err);
+        if (rc < 0) return -1;
+    }
+    for (int v = 0; v < nv; v++) im->dE[v] = step > 0 && rc == 0 ? im->e0[v] - im->e1[v] : 0;
+    if (o->nodal) {
+        rk_adaptive_nodal_error(nv, g, im->area, im->psi_bar, alpha_int, im->G);
+        char *grow = im->part_mark;
+        memset(grow, 0, (size_t)im->L);
+        for (int v = 0; v < nv; v++) {
+            if (im->enriched[v] || im->fixed_vertex[v]) continue;
+            double s = im->volume[v] * im->psi_bar[v];
+            double progress = s > 0 ? alpha_int * im->dE[v] / s : 0;
+            if (im->G[v] > o->eps_g_nodal && progress < o->eps_e) grow[im->part[v]] = 1;
+        }
+        for (int l = 0; l < im->L; l++)
+            if (grow[l]) {
+                int added = rk_adaptive_enrich_part(ad, l);
+                ad->stats.oracle_nodes_added += added;
+                *changed_nodes |= added > 0;
+            }
+    }
+    if (o->modal) {
+        int k = o->block;
+        for (int b = 0; b < im->nblocks; b++) {
+            if (im->block_on[b]) continue;
+            const double *Um = im->U + (size_t)b * k * n;
+            double Gm = rk_adaptive_modal_error(nv, Um, k, g, im->area, im->psi_bar, alpha_int, im->sc4);
+            double Em = rk_adaptive_modal_progress(nv, Um, k, im->dE, im->volume, im->psi_bar, alpha_int);
+            if (Gm > o->eps_g_modal && Em < o->eps_e) {
+                im->block_on[b] = 1;
+                ad->stats.oracle_modes_added += k;
+                *changed_modes = 1;
+            }
+        }
+    }
+    return 0;
+}
+
+void rk_adaptive_downdate(rk_adaptive *ad, const double *x_start, const double *x_end)
+{
+    rk_adaptive_impl *im = ad->impl;
+    const rk_adaptive_options *o = &ad->opt;
+    int n = im->n, k = o->block;
+    double scale = im->length * ad->fom.opt.h, *u = im->sc3;
+    /* modes: the displacement each active block made over the step */
+    int modes_changed = 0;
+    for (int b = o->initial_blocks; b < im->nblocks; b++) {
+        if (!im->block_on[b]) continue;
+        memset(u, 0, sizeof(double) * (size_t)n);
+        for (int j = b * k; j < (b + 1) * k; j++)
+            for (int i = 0; i < n; i++) u[i] += im->U[(size_t)j * n + i] * im->q_total[j];
+        double m = 0;
+        for (int i = 0; i < n; i++) m = fmax(m, fabs(u[i]));
+        if (m / scale < o->eps_d) {
+            im->block_on[b] = 0;
+            ad->stats.modes_downdated += k;
+            modes_changed = 1;
+        }
+    }
+    /* vertices: what the enrichment added beyond the subspace's own displacement there */
+    memset(u, 0, sizeof(double) * (size_t)n);
+    for (int j = 0; j < im->r; j++)
+        if (im->q_total[j] != 0)
+            for (int i = 0; i < n; i++) u[i] += im->U[(size_t)j * n + i] * im->q_total[j];
+    for (int v = 0; v < im->nv; v++) {
+        if (!im->enriched[v]) continue;
+        double e = 0;
+        for (int c = 0; c < 3; c++) {
+            double r = x_end[3 * v + c] - x_start[3 * v + c] - u[3 * v + c];
+            e += r * r;
+        }
+        if (sqrt(e) / scale < o->eps_d) {
+            im->enriched[v] = 0;
+            ad->stats.nodes_downdated++;
+        }
+    }
+    im->model_dirty = 1;
+    (void)modes_changed;
+}
