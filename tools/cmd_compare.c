@@ -40,7 +40,7 @@ static cJSON *method_json(const rk_compare_method *m)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "name", m->name);
-    cJSON_AddStringToObject(j, "kind", m->koopman ? "koopman" : "reduced");
+    cJSON_AddStringToObject(j, "kind", m->koopman ? "koopman" : m->adaptive ? "adaptive_subspace" : "reduced");
     if (m->failure[0]) {
         cJSON_AddStringToObject(j, "failure", m->failure);
         return j;
@@ -50,6 +50,24 @@ static cJSON *method_json(const rk_compare_method *m)
     cJSON_AddNumberToObject(b, "size", m->size);
     cJSON_AddNumberToObject(b, "columns", m->r);
     cJSON_AddStringToObject(b, "bound_by", m->basis_reason);
+    if (m->adaptive) {
+        cJSON *a = cJSON_AddObjectToObject(j, "adaptive");
+        cJSON_AddNumberToObject(a, "mean_modes", m->mean_modes);
+        cJSON_AddNumberToObject(a, "max_modes", m->max_modes);
+        cJSON_AddNumberToObject(a, "mean_enriched_vertices", m->mean_nodes);
+        cJSON_AddNumberToObject(a, "max_enriched_vertices", m->max_nodes);
+        cJSON_AddNumberToObject(a, "enriched_share", m->enriched_share);
+        cJSON_AddNumberToObject(a, "subdomains", m->subdomains);
+        cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", m->pcg_per_solve);
+        cJSON_AddNumberToObject(a, "newton_iterations_per_step", m->newton_per_step);
+        cJSON *sh = cJSON_AddObjectToObject(a, "shares");
+        cJSON_AddNumberToObject(sh, "potential", m->share_potential);
+        cJSON_AddNumberToObject(sh, "oracle", m->share_oracle);
+        cJSON_AddNumberToObject(sh, "subspace_hessian", m->share_hessian);
+        cJSON_AddNumberToObject(sh, "enriched_rows", m->share_system);
+        cJSON_AddNumberToObject(sh, "pcg", m->share_pcg);
+        cJSON_AddNumberToObject(sh, "line_search", m->share_line_search);
+    }
     if (m->koopman) {
         cJSON *k = cJSON_AddObjectToObject(j, "koopman");
         cJSON_AddNumberToObject(k, "rank", m->r);
@@ -172,7 +190,15 @@ static void print_table(const char *path, const rk_compare_result *res)
     }
     for (int k = 0; k < res->nmethods; k++) {
         const rk_compare_method *m = &res->methods[k];
-        if (!m->failure[0]) printf("  %s: basis %s; cubature %s\n", m->name, m->basis_reason, m->cubature_reason);
+        if (m->failure[0]) continue;
+        if (m->adaptive)
+            printf("  %s: %.1f modes (max %d), %.1f enriched vertices (%.1f%%, max %d) of %d subdomains; %.1f Newton "
+                   "iterations a step, %.1f PCG iterations a solve; time: potential %.0f%%, oracle %.0f%%, subspace "
+                   "Hessian %.0f%%, enriched rows %.0f%%, PCG %.0f%%, line search %.0f%%\n",
+                   m->name, m->mean_modes, m->max_modes, m->mean_nodes, 100 * m->enriched_share, m->max_nodes,
+                   m->subdomains, m->newton_per_step, m->pcg_per_solve, 100 * m->share_potential, 100 * m->share_oracle,
+                   100 * m->share_hessian, 100 * m->share_system, 100 * m->share_pcg, 100 * m->share_line_search);
+        else printf("  %s: basis %s; cubature %s\n", m->name, m->basis_reason, m->cubature_reason);
     }
 }
 

@@ -33,6 +33,13 @@ typedef struct {
     int contact_intersections;     /* the most exact crossings in a frame (0) */
     int realign_clipped;           /* online error: steps whose projected start lay beyond contact
                                     * (the realignment stopped short where CCD did) */
+    /* method adaptive_subspace (adaptive = 1): the free run's model sizes at each step's end
+     * (active columns, enriched vertices and their share of the mesh), Schur PCG iterations per
+     * solve, Newton iterations per step, and the shares of its time (adaptive.h's stats) */
+    int adaptive;
+    double mean_modes, mean_nodes, enriched_share, pcg_per_solve, newton_per_step;
+    int max_modes, max_nodes, subdomains;
+    double share_potential, share_oracle, share_hessian, share_system, share_pcg, share_line_search;
     double reference_nmse;
     char reference_source[96];
     char basis_reason[256], cubature_reason[256];

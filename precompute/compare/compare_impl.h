@@ -26,4 +26,9 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
 int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const fom_run *ref,
                        const double *D, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
+/* Entry e with method adaptive_subspace: its free run against ref (error, time, model sizes) and
+ * its realigned run (online error), each step from ref's state before it. */
+int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
+                        const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+
 #endif

@@ -154,6 +154,12 @@ double rk_fom_kinetic_energy(const rk_fom *s);
 double rk_fom_elastic_energy(const rk_fom *s);
 void rk_fom_free(rk_fom *s);
 
+/* Puts the state back to (x, v) at time t (obstacles where they are then), with (x_prev, v_prev)
+ * as BDF2's history (both NULL: none, the next step is backward Euler): the online-error
+ * realignment of a method built on this simulator. */
+void rk_fom_set_state(rk_fom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
+                      double t);
+
 /* ---- the step's potential, for a solver of the step other than the full-order Newton ----
  * (precompute/adaptive solves each time step's minimisation itself, on the same potential, the
  * same contact and the same prescribed motion.) */

@@ -91,3 +91,19 @@ int rk_fom_step_with(rk_fom *s, rk_fom_newton_fn newton, void *ctx, rk_error *er
     s->stats.steps = number;
     return 0;
 }
+
+void rk_fom_set_state(rk_fom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
+                      double t)
+{
+    rk_fom_impl *im = s->impl;
+    memcpy(s->x, x, sizeof(double) * (size_t)im->n);
+    memcpy(s->v, v, sizeof(double) * (size_t)im->n);
+    s->t = t;
+    rk_stepper_forget(&im->stepper);
+    if (x_prev && v_prev) {
+        memcpy(im->stepper.x_prev, x_prev, sizeof(double) * (size_t)im->n);
+        memcpy(im->stepper.v_prev, v_prev, sizeof(double) * (size_t)im->n);
+        im->stepper.have_prev = 1;
+    }
+    if (im->has_contact) rk_contact_set_time(&im->contact, t);
+}

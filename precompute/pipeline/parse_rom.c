@@ -7,10 +7,12 @@
 #include <stdio.h>
 #include <string.h>
 
-static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, rk_basis_options *o)
+static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, int method, rk_basis_options *o)
 {
-    const char *name;
-    if (rk_json_string(c, e, path, "basis", 1, &name)) return -1;
+    const char *name = NULL;
+    /* an adaptive subspace's candidates are skinning eigenmodes unless the entry says otherwise (Sec. 4) */
+    if (rk_json_string(c, e, path, "basis", method == RK_METHOD_FIXED, &name)) return -1;
+    if (!name) name = "skinning";
     rk_basis_default_options(o);
     if (rk_basis_type_parse(name, &o->type))
         return rk_json_fail(c, path, "basis must be modes, modal_derivatives, skinning, rkpm_skinning "
@@ -156,10 +158,49 @@ static int parse_method(const rk_json_ctx *c, const cJSON *e, const char *path, 
     if (rk_json_string(c, e, path, "method", 0, &method)) return -1;
     o->method = RK_METHOD_FIXED;
     if (!method || strcmp(method, "fixed") == 0) return 0;
-    if (strcmp(method, "adaptive_subspace") == 0 || strcmp(method, "adaptive_linear") == 0)
-        return rk_json_fail(c, path, "method \"%s\" is not in this romkit yet (only \"fixed\" is)", method);
+    if (strcmp(method, "adaptive_subspace") == 0) {
+        o->method = RK_METHOD_ADAPTIVE_SUBSPACE;
+        return 0;
+    }
+    if (strcmp(method, "adaptive_linear") == 0)
+        return rk_json_fail(c, path, "method \"%s\" is not in this romkit yet", method);
     return rk_json_fail(c, path, "method must be \"fixed\", \"adaptive_subspace\" or \"adaptive_linear\", got \"%s\"",
                         method);
+}
+
+/* The adaptive subspace method's keys (adaptive.h; the paper's Table 2 names them). */
+static int parse_adaptive(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    rk_adaptive_options *a = &o->adaptive;
+    rk_adaptive_default_options(a);
+    o->adaptive_initial_size = 0;
+    if (o->method != RK_METHOD_ADAPTIVE_SUBSPACE) return 0;
+    if (cJSON_HasObjectItem(e, "cubature") || cJSON_HasObjectItem(e, "koopman") ||
+        cJSON_HasObjectItem(e, "mesh_free") || cJSON_HasObjectItem(e, "tolerance"))
+        return rk_json_fail(c, path, "method adaptive_subspace takes a candidate basis by size, with no cubature, "
+                            "koopman, mesh_free or tolerance (it integrates every element)");
+    const char *hessian = NULL;
+    if (rk_json_number(c, e, path, "eps_g_modal", 0, &a->eps_g_modal) ||
+        rk_json_number(c, e, path, "eps_g_nodal", 0, &a->eps_g_nodal) ||
+        rk_json_number(c, e, path, "eps_e", 0, &a->eps_e) || rk_json_number(c, e, path, "eps_d", 0, &a->eps_d) ||
+        rk_json_whole(c, e, path, "subdomains", 0, 1e7, &a->subdomains) ||
+        rk_json_whole(c, e, path, "initial_size", 0, 1e6, &o->adaptive_initial_size) ||
+        rk_json_bool(c, e, path, "downdate", &a->downdate) || rk_json_bool(c, e, path, "modal", &a->modal) ||
+        rk_json_bool(c, e, path, "nodal", &a->nodal) || rk_json_number(c, e, path, "pcg_tol", 0, &a->pcg_tol) ||
+        rk_json_string(c, e, path, "hessian", 0, &hessian))
+        return -1;
+    static const char *const positive[4] = {"eps_g_modal", "eps_g_nodal", "eps_d", "pcg_tol"};
+    double values[4] = {a->eps_g_modal, a->eps_g_nodal, a->eps_d, a->pcg_tol};
+    for (int k = 0; k < 4; k++)
+        if (!(values[k] > 0) || !isfinite(values[k]))
+            return rk_json_fail(c, path, "%s must be a positive number, got %g", positive[k], values[k]);
+    if (a->pcg_tol >= 1) return rk_json_fail(c, path, "pcg_tol must be below 1, got %g", a->pcg_tol);
+    if (!isfinite(a->eps_e)) return rk_json_fail(c, path, "eps_e must be finite, got %g", a->eps_e);
+    if (hessian && strcmp(hessian, "bfgs") && strcmp(hessian, "exact"))
+        return rk_json_fail(c, path, "hessian must be \"bfgs\" or \"exact\", got \"%s\"", hessian);
+    a->exact_hessian = hessian && !strcmp(hessian, "exact");
+    if (o->basis.size == 0) return rk_json_fail(c, path, "method adaptive_subspace needs size (the candidate basis)");
+    return 0;
 }
 
 static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
@@ -170,6 +211,10 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
         return rk_json_fail(c, path, "name must have 1 to %zu characters", sizeof o->name - 1);
     if (name) {
         snprintf(o->name, sizeof o->name, "%s", name);
+        return 0;
+    }
+    if (o->method == RK_METHOD_ADAPTIVE_SUBSPACE) {
+        snprintf(o->name, sizeof o->name, "adaptive_subspace-%d", o->basis.size);
         return 0;
     }
     const char *type = rk_basis_type_name(o->basis.type), *cub = o->cubature ? "-cubature" : "";
@@ -186,9 +231,18 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
 {
     if (!cJSON_IsObject(e)) return rk_json_fail(c, path, "must be an object");
     static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
-                                       "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free", NULL};
+                                       "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
+                                       "eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
+                                       "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
+    static const char *const adaptive_keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains",
+                                                "initial_size", "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
     snprintf(o->path, sizeof o->path, "%s", path);
-    return rk_json_check_keys(c, e, path, keys) || parse_method(c, e, path, o) || parse_basis(c, e, path, &o->basis) ||
+    if (rk_json_check_keys(c, e, path, keys) || parse_method(c, e, path, o)) return -1;
+    if (o->method != RK_METHOD_ADAPTIVE_SUBSPACE)
+        for (int k = 0; adaptive_keys[k]; k++)
+            if (cJSON_HasObjectItem(e, adaptive_keys[k]))
+                return rk_json_fail(c, path, "%s is a key of method adaptive_subspace", adaptive_keys[k]);
+    return parse_basis(c, e, path, o->method, &o->basis) || parse_adaptive(c, e, path, o) ||
                    parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
                    parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
                ? -1

@@ -28,6 +28,7 @@
 #include "cubature/cubature.h"
 #include "fem/fem.h"
 #include "fom/fom.h"
+#include "adaptive/adaptive.h"
 #include "koopman/koopman.h"
 #include "mesh/mesh.h"
 #include "rom/rom.h"
@@ -130,7 +131,7 @@ typedef struct {
 } rk_mesh_free_options;
 
 /* How a rom entry simulates (DESIGN.md: rom[i].method). */
-typedef enum { RK_METHOD_FIXED = 0 } rk_rom_method;
+typedef enum { RK_METHOD_FIXED = 0, RK_METHOD_ADAPTIVE_SUBSPACE = 1 } rk_rom_method;
 
 /* One entry of the scene's rom section. */
 typedef struct {
@@ -144,6 +145,12 @@ typedef struct {
     rk_cubature_options cub;         /* rom.cubature.{tolerance, max_points, poses, sample} */
     int koopman;                     /* a koopman section: the entry is (also) a Koopman operator */
     rk_koopman_entry koop;
+    /* method adaptive_subspace: the basis above is the candidate basis (block: 12 columns per
+     * skinning weight, else 1); keys eps_g_modal, eps_g_nodal, eps_e, eps_d, subdomains,
+     * initial_size (columns active from the start: default one block, or the rigid modes of a
+     * modes basis), downdate, modal, nodal, hessian ("bfgs" or "exact"), pcg_tol */
+    rk_adaptive_options adaptive;
+    int adaptive_initial_size;       /* 0: the default above */
     rk_asset_options asset;          /* rom.asset.{precision, compress, show, groups} */
     double reference_nmse;           /* rom.reference.normalized_mse: a published value to print beside ours; NAN if none */
     char reference_source[96];       /* rom.reference.source */
@@ -306,6 +313,15 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
 void rk_scene_rom_free(rk_scene_rom *r);
 /* The source of an asset bake (asset.h) for a built scene and its reduced model. */
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
+
+/* ---- an adaptive subspace entry (adaptive.c) ---- */
+
+/* Entry e (method adaptive_subspace) on the built scene: its candidate basis built as rk_scene_basis
+ * builds it (frames as there), grouped in blocks (a skinning weight's 12 columns, else single
+ * columns), the initial columns (initial_size, or one block, or a modes basis's rigid modes), and
+ * rk_adaptive_init under the scene's options. *seconds_basis (may be NULL): the basis's time. */
+int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                           const double *frames, int T, rk_adaptive *ad, double *seconds_basis, rk_error *err);
 
 /* ---- an entry's Koopman operator (koopman.c) ---- */
 

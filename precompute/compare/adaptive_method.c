@@ -1,0 +1,72 @@
+/* An adaptive subspace entry beside full order (compare_impl.h, rk_compare_adaptive): the free run
+ * from the scene's start, and the realigned run that starts each step from the reference's state. */
+#include "compare/compare_impl.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void record_model(rk_compare_method *m, const rk_adaptive *ad, int nv)
+{
+    const rk_adaptive_stats *s = &ad->stats;
+    m->adaptive = 1;
+    m->r = ad->impl ? ad->modes : 0;
+    m->mean_modes = s->steps ? s->sum_modes / s->steps : 0;
+    m->mean_nodes = s->steps ? s->sum_nodes / s->steps : 0;
+    m->enriched_share = m->mean_nodes / nv;
+    m->max_modes = s->max_modes;
+    m->max_nodes = s->max_nodes;
+    m->subdomains = ad->opt.subdomains;
+    m->pcg_per_solve = s->solves ? (double)s->pcg_iterations / s->solves : 0;
+    m->newton_per_step = s->steps ? (double)s->newton_iterations / s->steps : 0;
+    m->newton_iterations = s->newton_iterations;
+    m->unconverged_steps = ad->fom.stats.unconverged_steps;
+    double total = s->seconds_total > 0 ? s->seconds_total : 1;
+    m->share_potential = s->seconds_potential / total;
+    m->share_oracle = s->seconds_oracle / total;
+    m->share_hessian = s->seconds_hessian / total;
+    m->share_system = s->seconds_system / total;
+    m->share_pcg = (s->seconds_pcg - s->seconds_system) / total; /* the PCG's own, the rows built counted apart */
+    m->share_line_search = s->seconds_line_search / total;
+}
+
+int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
+                        const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
+{
+    int ndof = ref->ndof, rc = -1;
+    rk_adaptive ad = {0};
+    double *secs = rk_calloc((size_t)T + 1, sizeof(double), err);
+    if (!secs || rk_scene_adaptive_init(scene, sim, e, D, T, &ad, &m->seconds_basis, err)) goto out;
+    m->size = e->basis.size;
+    rk_run_error er;
+    rk_run_error_init(&er, sim->mesh.X, ndof / 3);
+    m->contact_min_distance = INFINITY;
+    for (int s = 0; s < T; s++) {
+        double t0 = rk_now();
+        if (rk_adaptive_step(&ad, err)) goto out;
+        secs[s] = rk_now() - t0;
+        int crossings;
+        double d;
+        if (rk_fom_contact_measure(&ad.fom, &crossings, &d, err)) goto out;
+        m->contact_min_distance = fmin(m->contact_min_distance, d);
+        if (crossings > m->contact_intersections) m->contact_intersections = crossings;
+        rk_run_error_add(&er, ad.fom.x, ref->x + (size_t)ndof * (s + 1));
+    }
+    rk_compare_record_errors(m, &er);
+    m->seconds_per_step = rk_median(secs, T);
+    record_model(m, &ad, sim->mesh.nv);
+    /* realigned: the same simulator (its model as the free run left it) from each reference state */
+    rk_run_error_init(&er, sim->mesh.X, ndof / 3);
+    for (int s = 0; s < T; s++) {
+        const double *xp = s > 0 ? ref->x + (size_t)ndof * (s - 1) : NULL, *vp = s > 0 ? ref->v + (size_t)ndof * (s - 1) : NULL;
+        rk_fom_set_state(&ad.fom, ref->x + (size_t)ndof * s, ref->v + (size_t)ndof * s, xp, vp, s * sim->options.h);
+        if (rk_adaptive_step(&ad, err)) goto out;
+        rk_run_error_add(&er, ad.fom.x, ref->x + (size_t)ndof * (s + 1));
+    }
+    m->relative_online_error = rk_relative_online_error(&er);
+    rc = 0;
+out:
+    rk_adaptive_free(&ad);
+    free(secs);
+    return rc;
+}
