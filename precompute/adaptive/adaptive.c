@@ -54,7 +54,7 @@ static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
         ALLOC(im->pcg_work, 4 * n) || ALLOC(im->xtry, n) || ALLOC(im->sc_a, r) || ALLOC(im->sc1, n) ||
         ALLOC(im->sc2, n) || ALLOC(im->sc3, n) || ALLOC(im->sc4, n) || ALLOC(im->elem_e, nt) ||
         ALLOC(im->fixed_vertex, nv) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
-        ALLOC(im->newton_work, RK_NEWTON_WORK(n)) || ALLOC(im->x_start, n))
+        ALLOC(im->newton_work, RK_NEWTON_WORK(n)) || ALLOC(im->x_moved, n))
         return -1;
     return 0;
 }
@@ -147,7 +147,7 @@ void rk_adaptive_free(rk_adaptive *ad)
                           im->Dinv, im->coup_pos, im->block_size, im->part_mark_dofs, im->gq, im->dq, im->dx,
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
-                          im->dq_last, im->newton_work, im->x_start};
+                          im->dq_last, im->newton_work, im->x_moved};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }
@@ -178,6 +178,7 @@ static void account_step(rk_adaptive_impl *im, const double *x)
         im->dq_last[j] *= alpha;
         im->q_total[im->cols[j]] += im->dq_last[j];
     }
+    for (int i = 0; i < im->n; i++) im->x_moved[i] += alpha * im->d_last[i];
     im->have_step = alpha > 0;
     im->have_prev = 0;
 }
@@ -225,11 +226,55 @@ static double energy(void *ctx, const double *x, double *g, int hessian, double 
     return E;
 }
 
+/* The same iterate's full-space Newton system, by CHOLMOD and by block-Jacobi CG (opt.probe). */
+static int probe(rk_adaptive *ad, const rk_fom_terms *T, const double *d_ours, double seconds_ours, long pcg_before,
+                 rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    rk_adaptive_probe *p = &ad->stats.probe;
+    int n = im->n;
+    double *g = im->sc3, *d = im->sc4;
+    p->modes = im->a;
+    p->enriched_dofs = im->nx;
+    p->coupled_dofs = im->nx ? im->ncoup : 0;
+    p->schur_seconds = seconds_ours;
+    p->schur_iterations = (int)(ad->stats.pcg_iterations - pcg_before);
+    p->schur_nnz = (long)im->a * im->a + (long)im->a * p->coupled_dofs + (im->nx ? im->hx_rowptr[im->nx] : 0);
+    if (!isfinite(rk_fom_potential(&ad->fom, T, im->x_prev, g, RK_FOM_NEWTON_MATRIX, NULL, err))) return -1;
+    for (int i = 0; i < n; i++)
+        if (im->view.prescribed[i]) g[i] = 0;
+    double t0 = rk_now();
+    if (rk_fom_newton_direction(&ad->fom, g, d, err)) return -1;
+    p->cholmod_seconds = rk_now() - t0;
+    const rk_sparse *A = rk_fom_newton_matrix(&ad->fom);
+    p->full_nnz = 2L * A->nnz - A->n;
+    double *dcg = malloc(sizeof(double) * (size_t)A->n);
+    if (!dcg) return rk_fail(err, "out of memory for the probe");
+    t0 = rk_now();
+    p->bjcg_iterations = rk_block_jacobi_cg(A, g, dcg, ad->opt.pcg_tol, ad->opt.pcg_max_iter, err);
+    p->bjcg_seconds = rk_now() - t0;
+    free(dcg);
+    double diff = 0, size = 0;
+    for (int i = 0; i < n; i++) {
+        diff = fmax(diff, fabs(d_ours[i] - d[i]));
+        size = fmax(size, fabs(d[i]));
+    }
+    p->direction_difference = size > 0 ? diff / size : 0;
+    p->done = 1;
+    rk_fom_view_get(&ad->fom, &im->view); /* the contact blocks are the same pairs, at the same iterate */
+    return 0;
+}
+
 static int solve(void *ctx, const double *g, double *d, rk_error *err)
 {
     newton_ctx *c = ctx;
     rk_adaptive_impl *im = c->ad->impl;
+    double t0 = rk_now();
+    long pcg_before = c->ad->stats.pcg_iterations;
     if (rk_adaptive_solve(c->ad, c->T, g, d, err)) return -1;
+    if (c->ad->opt.probe && !c->ad->stats.probe.done &&
+        probe(c->ad, c->T, d, rk_now() - t0, pcg_before, err))
+        return -1;
     memcpy(im->d_last, d, sizeof(double) * (size_t)im->n);
     memcpy(im->dq_last, im->dq, sizeof(double) * (size_t)im->a);
     im->have_prev = 1;
@@ -258,6 +303,18 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
     rk_newton_stats stats = {0};
     int rc = rk_newton_solve(&p, s->x, tol_d, s->opt.newton_max_iter, im->newton_work, converged, &stats, err);
     account_step(im, s->x);
+    if (!rc && ad->opt.residual) { /* the full-order Newton step that would remain from here */
+        double *g = im->sc3, *d = im->sc4, r = 0;
+        if (!isfinite(rk_fom_potential(s, T, s->x, g, RK_FOM_NEWTON_MATRIX, NULL, err))) return -1;
+        for (int i = 0; i < im->n; i++)
+            if (im->view.prescribed[i]) g[i] = 0;
+        if (rk_fom_newton_direction(s, g, d, err)) return -1;
+        for (int i = 0; i < im->n; i++) r = fmax(r, fabs(d[i]));
+        r /= s->opt.h;
+        ad->stats.residual_last = r;
+        ad->stats.residual_max = fmax(ad->stats.residual_max, r);
+        ad->stats.residual_sum += r;
+    }
     ad->stats.newton_iterations += stats.iterations;
     s->stats.newton_iterations += stats.iterations;
     s->stats.line_search_halvings += stats.halvings;
@@ -277,14 +334,14 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
         im->model_dirty = 0;
     }
     memset(im->q_total, 0, sizeof(double) * (size_t)im->r);
-    memcpy(im->x_start, ad->fom.x, sizeof(double) * (size_t)im->n);
+    memset(im->x_moved, 0, sizeof(double) * (size_t)im->n);
     if (rk_fom_step_with(&ad->fom, adaptive_newton, ad, err)) return -1;
     ad->stats.steps++;
     ad->stats.sum_modes += ad->modes;
     ad->stats.sum_nodes += ad->nodes;
     if (ad->modes > ad->stats.max_modes) ad->stats.max_modes = ad->modes;
     if (ad->nodes > ad->stats.max_nodes) ad->stats.max_nodes = ad->nodes;
-    if (ad->opt.downdate) rk_adaptive_downdate(ad, im->x_start, ad->fom.x);
+    if (ad->opt.downdate) rk_adaptive_downdate(ad);
     ad->stats.seconds_total += rk_now() - t0;
     return 0;
 }

@@ -56,7 +56,25 @@ typedef struct {
     int exact_hessian;      /* 1: every subdomain exact (no BFGS): the ablation and the tests' reference */
     double pcg_tol;         /* relative residual of the Schur PCG (1e-5) */
     int pcg_max_iter;       /* 10000 */
+    int residual;           /* 1: after each solve, the full-space Newton step at its answer, |d_full|_inf / h
+                             * (m/s; CHOLMOD, one factorization): the paper's accuracy measure (Fig. 12) */
+    int probe;              /* 1: at the next Newton iteration, also solve the full-space system at the same
+                             * iterate by CHOLMOD and by block-Jacobi CG (rk_adaptive_probe; for make bench) */
 } rk_adaptive_options;
+
+/* One Newton iteration's linear solve three ways, on the same iterate (the paper's Table 3). */
+typedef struct {
+    int done;
+    int modes, enriched_dofs, coupled_dofs;
+    double schur_seconds;     /* ours: H_q's factorization, the Schur PCG and the back-substitution */
+    int schur_iterations;
+    long schur_nnz;           /* H_q (dense), C (dense, coupled columns) and H_x's non-zeros */
+    double cholmod_seconds;   /* the full Newton matrix: numeric factorization and solve */
+    double bjcg_seconds;      /* the full Newton matrix by block-Jacobi CG to the same relative residual */
+    int bjcg_iterations;
+    long full_nnz;            /* the full Newton matrix's non-zeros (both triangles) */
+    double direction_difference; /* |d_ours - d_full|_inf / |d_full|_inf */
+} rk_adaptive_probe;
 
 void rk_adaptive_default_options(rk_adaptive_options *o);
 
@@ -73,6 +91,8 @@ typedef struct {
     double seconds_system;        /* the enriched rows and the coupling */
     double seconds_pcg;           /* the Schur complement PCG (with H_q's factorization) */
     double seconds_line_search;
+    rk_adaptive_probe probe;      /* with opt.probe */
+    double residual_last, residual_max, residual_sum; /* with opt.residual: per step, |d_full|_inf / h */
 } rk_adaptive_stats;
 
 typedef struct rk_adaptive_impl rk_adaptive_impl;

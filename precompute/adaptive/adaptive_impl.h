@@ -85,7 +85,8 @@ struct rk_adaptive_impl {
     double *g, *x_prev, *d_last;/* n: the gradient, the iterate and direction of the last Hessian */
     int have_prev;
     double *newton_work;        /* RK_NEWTON_WORK(n) */
-    double *x_start;            /* n: the step's start (downdating) */
+    double *x_moved;            /* n: what the step's Newton iterations moved x by (downdating; Newton
+                                 * may start from the prediction, which no coordinate accounts for) */
     rk_contact_set pairs;       /* the oracle's own contact pairs */
     int first_iteration;        /* the next Newton iteration is a solve's first (BFGS restarts) */
     double *dq_last;            /* a: alpha d_q of the last Newton step (the secant's s) */
@@ -119,7 +120,7 @@ int rk_adaptive_bfgs_restart(rk_adaptive *a, const double *x, rk_error *err);
 int rk_adaptive_spd_solve(int a, const double *H, double *L, const double *b, double *z);
 int rk_adaptive_oracle(rk_adaptive *a, const rk_fom_terms *T, const double *x, double E, const double *g,
                        int *changed_modes, int *changed_nodes, rk_error *err);
-void rk_adaptive_downdate(rk_adaptive *a, const double *x_start, const double *x_end);
+void rk_adaptive_downdate(rk_adaptive *a);
 
 /* system.c: d (n) from Eq. 19 by the Schur complement */
 int rk_adaptive_solve(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);

@@ -119,7 +119,7 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
     return 0;
 }
 
-void rk_adaptive_downdate(rk_adaptive *ad, const double *x_start, const double *x_end)
+void rk_adaptive_downdate(rk_adaptive *ad)
 {
     rk_adaptive_impl *im = ad->impl;
     const rk_adaptive_options *o = &ad->opt;
@@ -140,7 +140,9 @@ void rk_adaptive_downdate(rk_adaptive *ad, const double *x_start, const double *
             modes_changed = 1;
         }
     }
-    /* vertices: what the enrichment added beyond the subspace's own displacement there */
+    /* vertices: what the enrichment added beyond the subspace's own displacement there: the Newton
+     * iterations' displacement (x_{t+1} - x_t in the paper's Algorithm 1, which starts at x_t; here
+     * Newton may start at the prediction) against U_a q */
     memset(u, 0, sizeof(double) * (size_t)n);
     for (int j = 0; j < im->r; j++)
         if (im->q_total[j] != 0)
@@ -149,7 +151,7 @@ void rk_adaptive_downdate(rk_adaptive *ad, const double *x_start, const double *
         if (!im->enriched[v]) continue;
         double e = 0;
         for (int c = 0; c < 3; c++) {
-            double r = x_end[3 * v + c] - x_start[3 * v + c] - u[3 * v + c];
+            double r = im->x_moved[3 * v + c] - u[3 * v + c];
             e += r * r;
         }
         if (sqrt(e) / scale < o->eps_d) {

@@ -197,6 +197,11 @@ typedef int (*rk_fom_newton_fn)(void *ctx, rk_fom *s, const rk_fom_terms *T, dou
 /* One time step as rk_fom_step takes it (prediction, friction lagging, prescribed motion in
  * CCD-safe moves, velocity update), each minimisation by newton(ctx, ...). */
 int rk_fom_step_with(rk_fom *s, rk_fom_newton_fn newton, void *ctx, rk_error *err);
+/* The Newton matrix of the last rk_fom_potential(..., RK_FOM_NEWTON_MATRIX) (upper-stored, the
+ * prescribed dofs eliminated), and d = -H^-1 g by CHOLMOD on it (numeric factorization, solve):
+ * the full-space solve another solver is measured against. */
+const rk_sparse *rk_fom_newton_matrix(const rk_fom *s);
+int rk_fom_newton_direction(rk_fom *s, const double *g, double *d, rk_error *err);
 /* The largest alpha in (0, 1] that keeps the surfaces apart moving x by alpha d (1 without contact);
  * -1 on failure. */
 double rk_fom_max_step(rk_fom *s, const double *x, const double *d, rk_error *err);

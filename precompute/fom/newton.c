@@ -107,3 +107,13 @@ int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged
     }
     return rc;
 }
+
+const rk_sparse *rk_fom_newton_matrix(const rk_fom *s)
+{
+    return &s->impl->N.A;
+}
+
+int rk_fom_newton_direction(rk_fom *s, const double *g, double *d, rk_error *err)
+{
+    return rk_fom_chol_factor(s, err) || rk_fom_chol_solve(s, g, d, err) ? -1 : 0;
+}

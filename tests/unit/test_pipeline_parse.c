@@ -103,6 +103,20 @@ static const struct {
      " \"mesh_free\": {\"volume\": -1}}}", "rom.mesh_free", "volume (m^3) must be positive"},
     {"too few points", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 4,"
      " \"mesh_free\": {\"points\": 2}}}", "rom.mesh_free", "points"},
+    {"adaptive threshold zero", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"eps_g_nodal\": 0}}", "rom", "eps_g_nodal must be a positive number"},
+    {"adaptive negative downdating", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"eps_d\": -1}}", "rom", "eps_d must be a positive number"},
+    {"adaptive hessian", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"hessian\": \"lbfgs\"}}", "rom", "hessian must be \"bfgs\" or \"exact\""},
+    {"adaptive without size", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\"}}",
+     "rom", "needs size"},
+    {"adaptive with cubature", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"cubature\": {}}}", "rom", "no cubature"},
+    {"adaptive key on a fixed basis", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"modes\", \"size\": 4,"
+     " \"subdomains\": 8}}", "rom", "subdomains is a key of method adaptive_subspace"},
+    {"adaptive fractional subdomains", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"subdomains\": 2.5}}", "rom", "subdomains"},
     {"proxy voxel on a mesh", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}, \"proxy_voxel\": 0.1},"
      " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
      "objects[0].mesh", "only with points"},

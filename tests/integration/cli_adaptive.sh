@@ -1,0 +1,63 @@
+# romkit compare with method adaptive_subspace (issue 18): the report's adaptive keys, an
+# everything-enriched run that is the full-order run, and the errors a user meets.
+. tests/lib.sh
+
+scene() { # scene FILE ROM_JSON: a small clamped slab dropped on a sphere
+    cat >"$1" <<JSON
+{
+  "objects": [{
+    "mesh": {"box": {"size": [0.4, 0.2, 0.1], "cells": [8, 4, 2]}, "translate": [-0.2, -0.1, 0.001]},
+    "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000},
+    "velocity": [0, 0, -0.5],
+    "fixed": [{"box": [[-1, -1, -1], [-0.199, 1, 1]]}, {"box": [[0.199, -1, -1], [1, 1, 1]]}]
+  }],
+  "gravity": [0, 0, -9.81],
+  "obstacles": [{"sphere": {"center": [0, 0, -0.05], "radius": 0.05}}],
+  "contact": {"dhat": 1e-3},
+  "time": {"step": 0.01, "duration": 0.04, "integrator": "bdf2"},
+  "newton": {"tolerance": 1e-4, "max_iterations": 1000},
+  "rom": $2
+}
+JSON
+}
+
+scene "$TMP/a.json" '[{"method": "adaptive_subspace", "basis": "modes", "size": 12, "initial_size": 6, "eps_g_nodal": 1e-3, "eps_g_modal": 1e-3},
+  {"method": "adaptive_subspace", "basis": "modes", "size": 12, "eps_g_nodal": 1e-12, "eps_g_modal": 1e-12, "eps_e": 1e300, "name": "all"}]'
+if "$ROMKIT" compare "$TMP/a.json" --report "$TMP/r.json" >"$TMP/out" 2>"$TMP/err"; then
+    set -- 'methods[1].name="adaptive_subspace-12"' 'methods[1].kind="adaptive_subspace"' 'methods[2].name="all"'
+    for k in mean_modes max_modes mean_enriched_vertices max_enriched_vertices enriched_share subdomains \
+             pcg_iterations_per_solve newton_iterations_per_step shares.potential shares.oracle \
+             shares.subspace_hessian shares.pcg; do
+        set -- "$@" "methods[1].adaptive.$k"
+    done
+    set -- "$@" 'methods[1].normalized_mse' 'methods[1].relative_online_error' 'methods[1].seconds_per_step' \
+        'methods[1].contact.intersections=0'
+    json_checks compare_adaptive_keys "$TMP/r.json" "$@"
+    # Every free vertex enriched from the first iteration (the clamped ninth never is): the full-order
+    # answer, to its Newton tolerance.
+    share=$(json_num "$TMP/r.json" 'methods[2].adaptive.enriched_share')
+    err=$(json_num "$TMP/r.json" 'methods[2].normalized_max_error')
+    awk -v s="$share" -v e="$err" 'BEGIN { exit !(s > 0.85 && e < 1e-4) }' && ok compare_adaptive_everything_is_full_order \
+        || fail compare_adaptive_everything_is_full_order "enriched share $share, max error $err of the diagonal"
+    grep -q "enriched vertices" "$TMP/out" && ok compare_adaptive_prints_sizes \
+        || fail compare_adaptive_prints_sizes "$(head -c 300 "$TMP/out")"
+else
+    fail compare_adaptive_runs "$(head -c 400 "$TMP/err")"
+fi
+
+# Nothing to bake: the method runs in the precompute only.
+scene "$TMP/b.json" '{"method": "adaptive_subspace", "size": 2}'
+if "$ROMKIT" build "$TMP/b.json" -o "$TMP/b.rombin" >"$TMP/out" 2>"$TMP/err"; then
+    fail build_refuses_adaptive "built an asset"
+else
+    grep -q "adaptive_subspace" "$TMP/err" && grep -q "romkit compare" "$TMP/err" && [ ! -e "$TMP/b.rombin" ] \
+        && ok build_refuses_adaptive || fail build_refuses_adaptive "$(cat "$TMP/err")"
+fi
+
+# A bad threshold is named with its key, and nothing runs.
+scene "$TMP/c.json" '{"method": "adaptive_subspace", "size": 2, "eps_g_modal": -1}'
+if "$ROMKIT" compare "$TMP/c.json" >"$TMP/out" 2>"$TMP/err"; then
+    fail compare_adaptive_bad_threshold "accepted eps_g_modal -1"
+else
+    grep -q "eps_g_modal" "$TMP/err" && ok compare_adaptive_bad_threshold || fail compare_adaptive_bad_threshold "$(cat "$TMP/err")"
+fi
