@@ -147,7 +147,7 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale
+bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -158,14 +158,15 @@ bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
 	$(BUILD)/bench_scale tests/data/meshes bench/results
+	$(BUILD)/bench_adaptive tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),
-# step_time_vs_tets.png, koopman_jump.png. Draws from the CSVs already there; runs no benchmark.
+# step_time_vs_tets.png, koopman_jump.png, adaptive.png. Draws from the CSVs already there; runs no benchmark.
 .PHONY: bench-plots
 bench-plots:
 	@if command -v gnuplot >/dev/null 2>&1; then \
-	    for p in pareto step_time_vs_tets koopman_jump; do \
+	    for p in pareto step_time_vs_tets koopman_jump adaptive; do \
 	        gnuplot bench/plots/$$p.gp || exit 1; echo "bench/results/$$p.png"; \
 	    done; \
 	else echo "bench-plots: gnuplot not found; no charts drawn (the CSVs are in bench/results)"; fi

@@ -23,8 +23,8 @@
  *              per solve, and at the first Newton iteration of the contact step (PROBE_STEP) the
  *              same iterate's full-space system by block-Jacobi CG (iterations, seconds) and CHOLMOD
  *  speed       n = SIZES (24k to 162k tets), E = 1e5, EPS_FIXED: median seconds per step of full
- *              order (CHOLMOD) and adaptive over the same STEPS steps, the final-state difference,
- *              and the linear solve three ways at PROBE_STEP (Table 3)
+ *              order (CHOLMOD) and adaptive over the same STEPS steps (with downdating and without),
+ *              the final-state difference, and the linear solve three ways at PROBE_STEP (Table 3)
  *  downdate    (Fig. 11) n = 10, the same run (10 steps) with downdating on and off: seconds per step, enrichment
  *  mesh        (Fig. 9) the same scene at n = 6 and n = 12: the share of vertices enriched
  *
@@ -256,7 +256,8 @@ static void speed(const char *dir, const int *sizes, int nsizes)
                        "s_per_step,s_per_step_min,s_per_step_max,newton_per_step,speedup,difference,enriched_share,"
                        "modes,probe_schur_s,probe_schur_iterations,probe_cholmod_s,probe_bjcg_s,"
                        "probe_bjcg_iterations,probe_schur_nnz,probe_full_nnz,solve_speedup_cholmod,"
-                       "solve_speedup_bjcg");
+                       "solve_speedup_bjcg,no_downdate_s_per_step,no_downdate_newton_per_step,no_downdate_speedup,"
+                       "no_downdate_difference");
     for (int k = 0; k < nsizes; k++) {
         built b;
         if (build(&b, sizes[k], 1e5, NEWTON_TOL, rom_entry(rom, sizeof rom, EPS_FIXED, EPS_FIXED, 1), &err)) FAIL("speed scene");
@@ -264,15 +265,23 @@ static void speed(const char *dir, const int *sizes, int nsizes)
         ad_result r;
         if (run_fom(&b, &F, &err)) FAIL("speed full order");
         if (run_adaptive(&b, F.x, STEPS, 0, &r, &err)) FAIL("speed adaptive");
+        built b2;
+        ad_result r2;
+        if (build(&b2, sizes[k], 1e5, NEWTON_TOL, rom_entry(rom, sizeof rom, EPS_FIXED, EPS_FIXED, 0), &err) ||
+            run_adaptive(&b2, F.x, STEPS, 0, &r2, &err))
+            FAIL("speed adaptive without downdating");
+        unbuild(&b2);
         const rk_adaptive_probe *p = &r.probe;
         char line[1024];
         snprintf(line, sizeof line,
-                 "%d,%d,%.4g,%.4g,%.4g,%.1f,%.4g,%.4g,%.4g,%.1f,%.2f,%.4g,%.4f,%.1f,%.4g,%d,%.4g,%.4g,%d,%ld,%ld,%.1f,%.1f",
+                 "%d,%d,%.4g,%.4g,%.4g,%.1f,%.4g,%.4g,%.4g,%.1f,%.2f,%.4g,%.4f,%.1f,%.4g,%d,%.4g,%.4g,%d,%ld,%ld,%.1f,%.1f,"
+                 "%.4g,%.1f,%.2f,%.4g",
                  b.sim.mesh.nt, b.sim.mesh.nv, F.step.median, F.step.min, F.step.max, (double)F.newton / STEPS,
                  r.step.median, r.step.min, r.step.max, r.newton_per_step, F.step.median / r.step.median,
                  r.difference, r.share, r.modes, p->schur_seconds, p->schur_iterations, p->cholmod_seconds,
                  p->bjcg_seconds, p->bjcg_iterations, p->schur_nnz, p->full_nnz, p->cholmod_seconds / p->schur_seconds,
-                 p->bjcg_seconds / p->schur_seconds);
+                 p->bjcg_seconds / p->schur_seconds, r2.step.median, r2.newton_per_step, F.step.median / r2.step.median,
+                 r2.difference);
         fprintf(f, "%s\n", line);
         printf("%s\n", line);
         fflush(f);

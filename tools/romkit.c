@@ -14,6 +14,7 @@ typedef struct {
 static const command commands[] = { /* in pipeline order */
     {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
+    {"adaptive", cmd_adaptive, "a scene's adaptive_subspace entry on its own (romkit fom's outputs, the model's sizes)"},
     {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
     {"build", cmd_build, "bake the scene's reduced model into a .rombin asset for the runtime"},
     {"run", cmd_run, "step a .rombin asset with the runtime, as an application would"},

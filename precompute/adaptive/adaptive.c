@@ -53,7 +53,7 @@ static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
         ALLOC(im->Dinv, 9 * n) || ALLOC(im->dx, n) || ALLOC(im->rhs, n) || ALLOC(im->work, work) ||
         ALLOC(im->pcg_work, 4 * n) || ALLOC(im->xtry, n) || ALLOC(im->sc_a, r) || ALLOC(im->sc1, n) ||
         ALLOC(im->sc2, n) || ALLOC(im->sc3, n) || ALLOC(im->sc4, n) || ALLOC(im->elem_e, nt) ||
-        ALLOC(im->fixed_vertex, nv) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
+        ALLOC(im->fixed_vertex, nv) || ALLOC(im->elem_psi, nt) || ALLOC(im->elem_g, 12 * (size_t)nt) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
         ALLOC(im->newton_work, RK_NEWTON_WORK(n)) || ALLOC(im->x_moved, n))
         return -1;
     return 0;
@@ -147,7 +147,7 @@ void rk_adaptive_free(rk_adaptive *ad)
                           im->Dinv, im->coup_pos, im->block_size, im->part_mark_dofs, im->gq, im->dq, im->dx,
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
-                          im->dq_last, im->newton_work, im->x_moved};
+                          im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }
@@ -194,9 +194,16 @@ static double energy(void *ctx, const double *x, double *g, int hessian, double 
         ad->stats.seconds_line_search += rk_now() - t0;
         return E;
     }
-    double E = rk_fom_potential(&ad->fom, c->T, x, g, RK_FOM_CONTACT_BLOCKS, magnitude, &c->failure);
+    /* the elastic terms element by element (kept for BFGS's secants and the oracle), the rest by
+     * the full-order potential */
+    rk_fom_terms rest = *c->T;
+    rest.no_elastic = 1;
+    double E = rk_fom_potential(&ad->fom, &rest, x, g, RK_FOM_CONTACT_BLOCKS, magnitude, &c->failure);
+    double psi = isfinite(E) ? rk_adaptive_elastic(ad, x, g) : INFINITY;
+    E += psi;
+    if (magnitude) *magnitude += fabs(psi);
     ad->stats.seconds_potential += rk_now() - t0;
-    if (!isfinite(E)) return E;
+    if (!isfinite(E)) return INFINITY;
     for (int i = 0; i < im->n; i++)
         if (im->view.prescribed[i]) g[i] = 0;
     rk_fom_view_get(&ad->fom, &im->view);
@@ -335,7 +342,12 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     }
     memset(im->q_total, 0, sizeof(double) * (size_t)im->r);
     memset(im->x_moved, 0, sizeof(double) * (size_t)im->n);
-    if (rk_fom_step_with(&ad->fom, adaptive_newton, ad, err)) return -1;
+    /* The dense products are small (a columns): OpenBLAS on one thread, so that the results do not
+     * depend on the thread count (a threaded product splits its sums differently). */
+    int blas = rk_threads_blas(1);
+    int rc = rk_fom_step_with(&ad->fom, adaptive_newton, ad, err);
+    rk_threads_blas(blas);
+    if (rc) return -1;
     ad->stats.steps++;
     ad->stats.sum_modes += ad->modes;
     ad->stats.sum_nodes += ad->nodes;

@@ -76,7 +76,8 @@ struct rk_adaptive_impl {
     /* scratch */
     double *gq, *dq, *dx, *rhs, *work, *pcg_work, *xtry, *sc_a;
     double *sc1, *sc2, *sc3, *sc4;  /* n each */
-    double *elem_e;             /* nt element energies */
+    double *elem_e;             /* nt element energies (the oracle's scratch) */
+    double *elem_psi, *elem_g;  /* nt, 12 nt: each element's elastic energy and gradient at the iterate */
     char *part_mark;            /* L */
     char *fixed_vertex;         /* nv: every dof prescribed (never enriched) */
     int model_dirty;            /* downdating changed the model: rebuild before the next solve */
@@ -109,7 +110,8 @@ int rk_adaptive_enrich_part(rk_adaptive *a, int part);
 /* hessian.c: the subspace Hessians Ha and Hq at x (g: the full gradient there) */
 int rk_adaptive_element_hessians(rk_adaptive *a, const double *x, int all, rk_error *err);
 int rk_adaptive_subspace_hessian(rk_adaptive *a, const rk_fom_terms *T, const double *x, rk_error *err);
-/* The BFGS secant pairs from the elastic gradient at x (the step that led here: im->dq_last). */
+/* The BFGS secant pairs from the elastic gradient at x, element by element in im->elem_g (the step
+ * that led here: im->dq_last). */
 void rk_adaptive_bfgs_update(rk_adaptive *a, const double *x);
 /* Exact subspace Hessians of every subdomain at x into their BFGS matrices (a solve's start, a
  * change of the active columns). */
@@ -128,6 +130,12 @@ int rk_adaptive_solve(rk_adaptive *a, const rk_fom_terms *T, const double *g, do
 /* Dense helpers (OpenBLAS): C = A^T B with A n x a, B n x b (column-major). */
 void rk_dense_atb(int n, int a, int b, const double *A, const double *B, double *C);
 /* The per-vertex one-ring potential e (nv) at x (energy.c); +INFINITY where undefined. */
-int rk_adaptive_vertex_energy(rk_adaptive *a, const rk_fom_terms *T, const double *x, double *e, rk_error *err);
+int rk_adaptive_vertex_energy(rk_adaptive *a, const rk_fom_terms *T, const double *x, const double *elem_psi,
+                              double *e, rk_error *err);
+/* The elastic energy's terms at x, element by element, into im->elem_psi and elem_g (energy.c);
+ * returns their sum (+INFINITY where undefined) and adds the gradient into g. */
+double rk_adaptive_elastic(rk_adaptive *a, const double *x, double *g);
+/* The elastic energy at x, each element's into elem (nt); +INFINITY where undefined. */
+double rk_adaptive_elastic_energy(rk_adaptive *a, const double *x, double *elem);
 
 #endif

@@ -35,16 +35,62 @@ static void quadratic_share(const rk_adaptive_impl *im, const double *val, doubl
     for (int i = 0; i < im->n; i++) e[i / 3] += 0.5 * w * r[i] * Sr[i];
 }
 
-int rk_adaptive_vertex_energy(rk_adaptive *ad, const rk_fom_terms *T, const double *x, double *e, rk_error *err)
+typedef struct {
+    const rk_fem *f;
+    const double *x;
+    double *psi, *g;
+} elastic_job;
+
+static void elastic_range(void *ctx, long begin, long end)
+{
+    elastic_job *j = ctx;
+    const rk_fem *f = j->f;
+    for (long t = begin; t < end; t++) {
+        double xe[12], *g = j->g + 12 * (size_t)t;
+        rk_fem_gather(f, (int)t, j->x, xe);
+        j->psi[t] = rk_tet_energy(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t]);
+        memset(g, 0, 12 * sizeof(double));
+        rk_tet_gradient(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t], g);
+    }
+}
+
+double rk_adaptive_elastic(rk_adaptive *ad, const double *x, double *g)
 {
     rk_adaptive_impl *im = ad->impl;
     const rk_fem *f = im->f;
-    energy_job j = {f, x, im->elem_e};
+    elastic_job j = {f, x, im->elem_psi, im->elem_g};
+    rk_parallel_for(f->nt, 512, elastic_range, &j);
+    double E = 0; /* in element order: the same sum on any thread count */
+    for (int t = 0; t < f->nt; t++) {
+        E += im->elem_psi[t];
+        rk_fem_scatter_vector(f, t, &im->elem_g[12 * (size_t)t], 1.0, g);
+    }
+    return isfinite(E) ? E : INFINITY;
+}
+
+double rk_adaptive_elastic_energy(rk_adaptive *ad, const double *x, double *elem)
+{
+    const rk_fem *f = ad->impl->f;
+    energy_job j = {f, x, elem};
     rk_parallel_for(f->nt, 512, energy_range, &j);
+    double E = 0;
+    for (int t = 0; t < f->nt; t++) E += elem[t];
+    return isfinite(E) ? E : INFINITY;
+}
+
+int rk_adaptive_vertex_energy(rk_adaptive *ad, const rk_fom_terms *T, const double *x, const double *elem_psi,
+                              double *e, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    const rk_fem *f = im->f;
+    if (!elem_psi) {
+        rk_adaptive_elastic_energy(ad, x, im->elem_e);
+        elem_psi = im->elem_e;
+    }
     memset(e, 0, sizeof(double) * (size_t)im->nv);
     for (int t = 0; t < f->nt; t++) {
-        if (!isfinite(im->elem_e[t])) return 1;
-        for (int k = 0; k < 4; k++) e[f->tets[4 * t + k]] += 0.25 * im->elem_e[t];
+        if (!isfinite(elem_psi[t])) return 1;
+        for (int k = 0; k < 4; k++) e[f->tets[4 * t + k]] += 0.25 * elem_psi[t];
     }
     if (T->w_inertia > 0) quadratic_share(im, im->Mf, T->w_inertia, x, T->xtilde, im->sc1, im->sc2, e);
     if (T->w_damping > 0 && im->Cf) quadratic_share(im, im->Cf, T->w_damping, x, T->xt, im->sc1, im->sc2, e);

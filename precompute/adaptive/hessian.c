@@ -158,7 +158,6 @@ static void bfgs_range(void *ctx, long begin, long end)
 {
     bfgs_job *j = ctx;
     rk_adaptive_impl *im = j->ad->impl;
-    const rk_fem *f = im->f;
     int a = im->a;
     for (long l = begin; l < end; l++) {
         rk_subdomain *s = &im->sub[l];
@@ -168,10 +167,7 @@ static void bfgs_range(void *ctx, long begin, long end)
         if (!g) continue;
         double *proj = g + m, *y = proj + a, *Bs = y + a;
         for (int e = 0; e < s->ne; e++) { /* the subdomain's own elastic energy's gradient */
-            int t = s->elem[e];
-            double xe[12], ge[12] = {0};
-            rk_fem_gather(f, t, j->x, xe);
-            rk_tet_gradient(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t], ge);
+            const double *ge = &im->elem_g[12 * (size_t)s->elem[e]];
             for (int k = 0; k < 12; k++) g[3 * s->local[4 * e + k / 3] + k % 3] += ge[k];
         }
         for (int c = 0; c < a; c++) {

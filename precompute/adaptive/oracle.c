@@ -53,9 +53,13 @@ static double subspace_direction(rk_adaptive *ad, const rk_fom_terms *T, const d
     double alpha = rk_fom_max_step(&ad->fom, x, dx, err);
     if (alpha < 0) return -1;
     alpha = fmin(1, alpha);
+    rk_fom_terms rest = *T; /* the elastic part element by element: the accepted trial's are kept in
+                             * im->elem_e for the progress measure's one-ring energies */
+    rest.no_elastic = 1;
     for (int k = 0; k <= RK_MAX_HALVINGS; k++, alpha *= 0.5) {
         for (int i = 0; i < n; i++) im->xtry[i] = x[i] + alpha * dx[i];
-        double Et = rk_fom_potential(&ad->fom, T, im->xtry, NULL, 0, NULL, err);
+        double Et = rk_fom_potential(&ad->fom, &rest, im->xtry, NULL, 0, NULL, err);
+        if (isfinite(Et)) Et += rk_adaptive_elastic_energy(ad, im->xtry, im->elem_e);
         if (Et <= E + RK_ARMIJO_C * alpha * gd) {
             for (int i = 0; i < n; i++) dx[i] *= alpha;
             return alpha;
@@ -77,11 +81,11 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
     double *dx = im->sc3;
     double step = subspace_direction(ad, T, x, E, g, dx, err);
     if (step < 0) return -1;
-    int rc = rk_adaptive_vertex_energy(ad, T, x, im->e0, err);
+    int rc = rk_adaptive_vertex_energy(ad, T, x, im->elem_psi, im->e0, err); /* the iterate's, computed already */
     if (rc < 0) return -1;
     if (step > 0) {
         for (int i = 0; i < n; i++) im->xtry[i] = x[i] + dx[i];
-        rc = rk_adaptive_vertex_energy(ad, T, im->xtry, im->e1, err);
+        rc = rk_adaptive_vertex_energy(ad, T, im->xtry, im->elem_e, im->e1, err);
         if (rc < 0) return -1;
     }
     for (int v = 0; v < nv; v++) im->dE[v] = step > 0 && rc == 0 ? im->e0[v] - im->e1[v] : 0;

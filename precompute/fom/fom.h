@@ -89,6 +89,8 @@ typedef struct {
     double load;
     double reg;
     int friction;           /* add the lagged friction potential (dynamics with contact.friction > 0) */
+    int no_elastic;         /* leave Psi and its gradient out: a caller that adds them itself, element by
+                             * element (precompute/adaptive); not with the Newton matrix */
 } rk_fom_terms;
 
 /* A contact pair's Hessian block as the contact stage hands it over (mesh vertex ids; obstacle

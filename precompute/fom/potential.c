@@ -95,7 +95,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     double t0 = rk_now(), tc, contact = 0, analysis = 0; /* contact: seconds in the contact stage's terms */
     if (hessian) rk_fom_iteration_start(im, t0);
     if (g) memset(g, 0, (size_t)im->ndof * sizeof(double));
-    double stored = rk_fem_energy(f, y); /* Psi */
+    double stored = T->no_elastic ? 0 : rk_fem_energy(f, y); /* Psi */
     double work = 0;
     for (int i = 0; i < n; i++) work += im->f_ext[i] * y[i];
     work *= T->load;
@@ -104,7 +104,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     if (T->w_damping > 0 && im->C.val)
         quad += quadratic_term(&im->C, T->w_damping, y, T->xt, g, im->work, im->work2, n);
     if (g && isfinite(stored)) {
-        rk_fem_add_gradient(f, y, 1.0, g);
+        if (!T->no_elastic) rk_fem_add_gradient(f, y, 1.0, g);
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
     if (im->nobs) stored += obstacle_term(s, y, g);

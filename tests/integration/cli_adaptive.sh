@@ -61,3 +61,18 @@ if "$ROMKIT" compare "$TMP/c.json" >"$TMP/out" 2>"$TMP/err"; then
 else
     grep -q "eps_g_modal" "$TMP/err" && ok compare_adaptive_bad_threshold || fail compare_adaptive_bad_threshold "$(cat "$TMP/err")"
 fi
+
+# romkit adaptive: one entry on its own, romkit fom's outputs; bit-identical on 1 and 3 threads (with
+# skinning candidates: the linear modes' ARPACK run is not bit-identical across thread counts).
+scene "$TMP/d.json" '[{"basis": "modes", "size": 2}, {"method": "adaptive_subspace", "size": 4, "eps_g_nodal": 1e-3, "eps_g_modal": 1e-3}]'
+if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$TMP/d.json" --positions "$TMP/p1.npy" --snapshots "$TMP/s.npy" \
+        --report "$TMP/ar.json" --quiet >"$TMP/out" 2>"$TMP/err" &&
+   ROMKIT_THREADS=3 "$ROMKIT" adaptive "$TMP/d.json" --entry 1 --positions "$TMP/p3.npy" --quiet >/dev/null 2>>"$TMP/err"; then
+    grep -q "'shape': (5, 135, 3)" "$TMP/s.npy" && cmp -s "$TMP/p1.npy" "$TMP/p3.npy" \
+        && json_checks adaptive_report_keys "$TMP/ar.json" seconds_per_step newton_iterations adaptive.max_enriched_vertices \
+               adaptive.pcg_iterations_per_solve 'contact.intersections=0' \
+        && ok adaptive_command_outputs || fail adaptive_command_outputs "$(head -c 120 "$TMP/s.npy"; cat "$TMP/err")"
+else
+    fail adaptive_command_outputs "$(cat "$TMP/err")"
+fi
+expect_fail adaptive_needs_an_adaptive_entry "no rom entry" "$ROMKIT" adaptive "$TMP/b.json" --entry 5

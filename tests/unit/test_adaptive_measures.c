@@ -131,10 +131,22 @@ TEST(vertex_energies_add_up_to_the_potential)
     double E = rk_fom_potential(&ad.fom, &T, x, NULL, RK_FOM_NO_HESSIAN, NULL, &err);
     rk_fom_view_get(&ad.fom, &ad.impl->view);
     double *e = malloc(sizeof(double) * b.m.nv), sum = 0;
-    CHECK(rk_adaptive_vertex_energy(&ad, &T, x, e, &err) == 0, "vertex energies failed: %s", err.msg);
+    CHECK(rk_adaptive_vertex_energy(&ad, &T, x, NULL, e, &err) == 0, "vertex energies failed: %s", err.msg);
     for (int v = 0; v < b.m.nv; v++) sum += e[v];
     CHECK(ad.impl->pairs.n > 0, "the state should be in contact (%d pairs)", ad.impl->pairs.n);
     CHECK(fabs(sum - E) <= 1e-10 * fabs(E), "vertex energies sum to %.15g, the potential is %.15g", sum, E);
+    /* the elastic terms element by element: the fem's energy and gradient, and the same shares */
+    double *g1 = calloc((size_t)n, sizeof(double)), *g2 = calloc((size_t)n, sizeof(double));
+    double psi = rk_adaptive_elastic(&ad, x, g1);
+    rk_fem_add_gradient(&b.f, x, 1.0, g2);
+    CHECK_CLOSE(psi, rk_fem_energy(&b.f, x), 1e-13);
+    for (int i = 0; i < n; i++) CHECK(fabs(g1[i] - g2[i]) <= 1e-12 * (1 + fabs(g2[i])), "gradient %d: %g vs %g", i, g1[i], g2[i]);
+    double sum2 = 0;
+    CHECK(rk_adaptive_vertex_energy(&ad, &T, x, ad.impl->elem_psi, e, &err) == 0, "vertex energies failed: %s", err.msg);
+    for (int v = 0; v < b.m.nv; v++) sum2 += e[v];
+    CHECK(fabs(sum2 - sum) <= 1e-13 * fabs(E), "with the kept element energies: %.15g, computed: %.15g", sum2, sum);
+    free(g1);
+    free(g2);
     free(e);
     free(x);
     free(xt);

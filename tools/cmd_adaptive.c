@@ -1,0 +1,201 @@
+/* romkit adaptive SCENE.json: one adaptive_subspace entry of a scene run on its own, with the
+ * outputs of romkit fom (positions, snapshots, frames) and the model's sizes in the report. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "args.h"
+#include "commands.h"
+#include "pipeline/pipeline.h"
+#include "util/util.h"
+
+static void adaptive_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: romkit adaptive SCENE.json [--entry K] [--positions P.npy] [--snapshots S.npy]\n"
+            "                       [--frames DIR] [--report R.json] [--quiet]\n\n"
+            "Runs the scene with the adaptive subspace simulator of its rom entry K (default: the first\n"
+            "entry with \"method\": \"adaptive_subspace\"), without the full-order run, and writes what is asked:\n"
+            "  --positions P.npy   final positions, n x 3 float64\n"
+            "  --snapshots S.npy   every frame including the start, (steps+1) x n x 3 float64\n"
+            "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
+            "  --report R.json     seconds_per_step, newton_iterations, the model's sizes (adaptive.*:\n"
+            "                      active columns, enriched vertices, PCG iterations, time shares), contact\n"
+            "  --quiet             no progress line on stderr\n"
+            "Nothing is written when the run fails. romkit compare runs it beside full order.\n\n"
+            "example:\n"
+            "  romkit adaptive examples/scenes/adaptive_trampoline.json --snapshots S.npy --report a.json\n");
+}
+
+typedef struct {
+    const char *scene, *entry, *positions, *snapshots, *frames, *report;
+    int quiet;
+} adaptive_args;
+
+static int pick_entry(const rk_scene *s, const char *given, const rk_rom_entry **e, rk_error *err)
+{
+    if (given) {
+        char *end;
+        long k = strtol(given, &end, 10);
+        if (*end || k < 0 || k > 1000000) return rk_fail(err, "--entry must be a rom entry's index, got \"%s\"", given);
+        if (rk_scene_entry(s, (int)k, e, err)) return -1;
+        if ((*e)->method != RK_METHOD_ADAPTIVE_SUBSPACE)
+            return rk_fail(err, "%s: %s is not method adaptive_subspace", s->path, (*e)->path);
+        return 0;
+    }
+    for (int k = 0; k < s->nentries; k++)
+        if (s->entries[k].method == RK_METHOD_ADAPTIVE_SUBSPACE) {
+            *e = &s->entries[k];
+            return 0;
+        }
+    return rk_fail(err, "%s: no rom entry with \"method\": \"adaptive_subspace\"", s->path);
+}
+
+static cJSON *make_report(const rk_scene_sim *sim, const rk_adaptive *ad, const double *secs, int steps,
+                          double min_distance, long crossings, int contact)
+{
+    const rk_adaptive_stats *s = &ad->stats;
+    cJSON *r = cJSON_CreateObject();
+    cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
+    cJSON_AddNumberToObject(r, "tets", sim->mesh.nt);
+    cJSON_AddNumberToObject(r, "steps", steps);
+    double *t = malloc(sizeof(double) * (size_t)(steps > 0 ? steps : 1));
+    if (t) memcpy(t, secs, sizeof(double) * (size_t)steps);
+    cJSON_AddNumberToObject(r, "seconds_per_step", t && steps > 0 ? rk_median(t, steps) : 0);
+    free(t);
+    cJSON_AddNumberToObject(r, "newton_iterations", (double)s->newton_iterations);
+    cJSON_AddNumberToObject(r, "unconverged_steps", (double)ad->fom.stats.unconverged_steps);
+    cJSON *a = cJSON_AddObjectToObject(r, "adaptive");
+    cJSON_AddNumberToObject(a, "mean_modes", s->steps ? s->sum_modes / s->steps : 0);
+    cJSON_AddNumberToObject(a, "max_modes", s->max_modes);
+    cJSON_AddNumberToObject(a, "mean_enriched_vertices", s->steps ? s->sum_nodes / s->steps : 0);
+    cJSON_AddNumberToObject(a, "max_enriched_vertices", s->max_nodes);
+    cJSON_AddNumberToObject(a, "subdomains", ad->opt.subdomains);
+    cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", s->solves ? (double)s->pcg_iterations / s->solves : 0);
+    cJSON_AddNumberToObject(a, "modes_added", (double)s->oracle_modes_added);
+    cJSON_AddNumberToObject(a, "vertices_added", (double)s->oracle_nodes_added);
+    cJSON_AddNumberToObject(a, "modes_downdated", (double)s->modes_downdated);
+    cJSON_AddNumberToObject(a, "vertices_downdated", (double)s->nodes_downdated);
+    cJSON_AddNumberToObject(a, "bfgs_updates", (double)s->bfgs_updates);
+    cJSON_AddNumberToObject(a, "bfgs_skipped", (double)s->bfgs_skipped);
+    cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
+    cJSON_AddNumberToObject(sec, "simulate", s->seconds_total);
+    cJSON_AddNumberToObject(sec, "potential", s->seconds_potential);
+    cJSON_AddNumberToObject(sec, "oracle", s->seconds_oracle);
+    cJSON_AddNumberToObject(sec, "subspace_hessian", s->seconds_hessian);
+    cJSON_AddNumberToObject(sec, "enriched_rows", s->seconds_system);
+    cJSON_AddNumberToObject(sec, "pcg", s->seconds_pcg - s->seconds_system);
+    cJSON_AddNumberToObject(sec, "line_search", s->seconds_line_search);
+    if (contact) {
+        cJSON *c = cJSON_AddObjectToObject(r, "contact");
+        cJSON_AddNumberToObject(c, "min_distance", min_distance);
+        cJSON_AddNumberToObject(c, "intersections", (double)crossings);
+    }
+    return r;
+}
+
+int cmd_adaptive(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            adaptive_usage(stdout);
+            return 0;
+        }
+    adaptive_args a = {0};
+    const cli_option opts[] = {{"--entry", &a.entry, NULL},     {"--positions", &a.positions, NULL},
+                               {"--snapshots", &a.snapshots, NULL}, {"--frames", &a.frames, NULL},
+                               {"--report", &a.report, NULL},   {"--quiet", NULL, &a.quiet},
+                               {NULL, NULL, NULL}};
+    if (cli_parse("adaptive", argc, argv, opts, &a.scene, "scene file")) {
+        adaptive_usage(stderr);
+        return 2;
+    }
+    rk_progress_set_quiet(a.quiet);
+    rk_error err = {{0}};
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_adaptive ad = {0};
+    rk_npy_stream snap;
+    int have_scene = 0, have_sim = 0, have_snap = 0, rc = 1;
+    double *secs = NULL;
+    const rk_rom_entry *e;
+    if (rk_scene_load(a.scene, &scene, &err)) goto done;
+    have_scene = 1;
+    if (pick_entry(&scene, a.entry, &e, &err) || rk_scene_build(&scene, &sim, &err)) goto done;
+    have_sim = 1;
+    if (sim.options.is_static) {
+        rk_fail(&err, "%s: method adaptive_subspace simulates dynamics; the scene asks for a static solve", e->path);
+        goto done;
+    }
+    if (rk_scene_adaptive_init(&scene, &sim, e, NULL, 0, &ad, NULL, &err)) goto done;
+    int nv = sim.mesh.nv, steps = sim.steps;
+    int contact = sim.options.nobstacles > 0 || sim.options.nobjects > 1 || sim.options.contact.self;
+    if (!(secs = rk_calloc((size_t)steps + 1, sizeof(double), &err))) goto done;
+    if (a.frames && mkdir(a.frames, 0777) != 0 && errno != EEXIST) {
+        rk_fail(&err, "%s: cannot create frames folder: %s", a.frames, strerror(errno));
+        goto done;
+    }
+    if (a.snapshots) {
+        long shape[3] = {steps + 1, nv, 3};
+        if (rk_npy_stream_open(&snap, a.snapshots, 3, shape, &err)) goto done;
+        have_snap = 1;
+        rk_npy_stream_append(&snap, ad.fom.x, 3 * (size_t)nv);
+    }
+    double min_distance = INFINITY;
+    long crossings = 0;
+    char frame[4096];
+    for (int s = 0; s <= steps; s++) {
+        if (s > 0) {
+            double t0 = rk_now();
+            if (rk_adaptive_step(&ad, &err)) goto done;
+            secs[s - 1] = rk_now() - t0;
+            if (have_snap) rk_npy_stream_append(&snap, ad.fom.x, 3 * (size_t)nv);
+            rk_progress(e->name, s, steps);
+        }
+        if (a.frames) {
+            snprintf(frame, sizeof frame, "%s/frame_%05d.obj", a.frames, s);
+            if (rk_mesh_write(frame, &sim.mesh, ad.fom.x, &err)) goto done;
+        }
+        if (contact) {
+            int c;
+            double d;
+            if (rk_fom_contact_measure(&ad.fom, &c, &d, &err)) goto done;
+            crossings += c;
+            min_distance = fmin(min_distance, d);
+        }
+    }
+    rk_progress_done(e->name);
+    if (have_snap) {
+        have_snap = 0;
+        if (rk_npy_stream_commit(&snap, &err)) goto done;
+    }
+    if (a.positions) {
+        long shape[2] = {nv, 3};
+        if (rk_npy_write(a.positions, ad.fom.x, 2, shape, &err)) goto done;
+    }
+    cJSON *report = make_report(&sim, &ad, secs, steps, min_distance, crossings, contact);
+    if (a.report && rk_json_write_file(a.report, report, &err)) {
+        cJSON_Delete(report);
+        goto done;
+    }
+    cJSON_Delete(report);
+    const rk_adaptive_stats *st = &ad.stats;
+    printf("%s (%s): %d vertices, %d tets; %d steps: %.4g s/step, %.1f Newton iterations a step; %.1f columns "
+           "(max %d), %.1f enriched vertices (max %d) of %d subdomains; %.1f PCG iterations a solve\n",
+           a.scene, e->name, nv, sim.mesh.nt, steps, rk_median(secs, steps), (double)st->newton_iterations / steps,
+           st->sum_modes / steps, st->max_modes, st->sum_nodes / steps, st->max_nodes, ad.opt.subdomains,
+           st->solves ? (double)st->pcg_iterations / st->solves : 0.0);
+    if (contact) printf("contact: closest %.3g m, %ld crossings over %d frames\n", min_distance, crossings, steps + 1);
+    rc = 0;
+done:
+    if (rc) fprintf(stderr, "romkit adaptive: %s\n", err.msg);
+    if (have_snap) rk_npy_stream_abort(&snap);
+    free(secs);
+    rk_adaptive_free(&ad);
+    if (have_sim) rk_scene_sim_free(&sim);
+    if (have_scene) rk_scene_free(&scene);
+    return rc;
+}
