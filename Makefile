@@ -13,7 +13,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson 
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact solver fom adaptive basis cubature rom koopman formats asset pipeline compare
+STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature rom koopman formats asset pipeline compare
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -22,6 +22,7 @@ DEPS_contact := contact fem physics mesh util
 DEPS_solver  := solver physics util
 DEPS_fom     := fom solver contact fem physics mesh util
 DEPS_adaptive := adaptive fom solver contact fem physics mesh util
+DEPS_grassmann := grassmann fom solver contact fem physics mesh util
 DEPS_basis   := basis fem physics mesh util
 DEPS_cubature := cubature fem physics mesh util
 DEPS_rom     := rom cubature fom solver contact fem physics mesh util
@@ -29,7 +30,7 @@ DEPS_koopman := koopman cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats koopman rom cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive fom solver contact fem physics mesh util
+DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive grassmann fom solver contact fem physics mesh util
 DEPS_compare := compare $(DEPS_pipeline)
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
@@ -131,6 +132,7 @@ $(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) 
 TEST_ALSO_test_basis_derivatives := fom solver contact
 TEST_ALSO_test_basis_pod := fom solver contact
 TEST_ALSO_test_adaptive_subspace := basis
+TEST_ALSO_test_grassmann_alrom := basis
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)

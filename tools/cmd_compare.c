@@ -40,7 +40,11 @@ static cJSON *method_json(const rk_compare_method *m)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "name", m->name);
-    cJSON_AddStringToObject(j, "kind", m->koopman ? "koopman" : m->adaptive ? "adaptive_subspace" : "reduced");
+    cJSON_AddStringToObject(j, "kind", m->koopman    ? "koopman"
+                                       : m->adaptive ? "adaptive_subspace"
+                                       : m->alrom    ? "adaptive_linear"
+                                                     : "reduced");
+    if (m->alrom) cJSON_AddNumberToObject(j, "history_share", m->history_share);
     if (m->failure[0]) {
         cJSON_AddStringToObject(j, "failure", m->failure);
         return j;

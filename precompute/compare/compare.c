@@ -229,6 +229,11 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
+    if (e->method == RK_METHOD_ADAPTIVE_LINEAR) {
+        if (rk_compare_alrom(scene, sim, ref, F->T, e, m, &err)) rk_compare_record_failure(m, &err);
+        else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
+        return;
+    }
     if (e->method == RK_METHOD_ADAPTIVE_SUBSPACE) {
         if (rk_compare_adaptive(scene, sim, ref, D, F->T, e, m, &err)) rk_compare_record_failure(m, &err);
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;

@@ -40,6 +40,10 @@ typedef struct {
     double mean_modes, mean_nodes, enriched_share, pcg_per_solve, newton_per_step;
     int max_modes, max_nodes, subdomains;
     double share_potential, share_oracle, share_hessian, share_system, share_pcg, share_line_search;
+    /* method adaptive_linear (alrom = 1): the share of the free run's steps whose basis blended
+     * the history (the rest used the decoder's alone: the history did not span r directions yet) */
+    int alrom;
+    double history_share;
     double reference_nmse;
     char reference_source[96];
     char basis_reason[256], cubature_reason[256];

@@ -212,6 +212,9 @@ int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_re
 {
     double t0 = rk_now();
     memset(out, 0, sizeof *out);
+    if (e->method == RK_METHOD_ADAPTIVE_LINEAR)
+        return rk_fail(err, "%s: method adaptive_linear is not baked into assets yet (the runtime does not step it); "
+                       "romkit compare runs it", e->path);
     if (e->method == RK_METHOD_ADAPTIVE_SUBSPACE)
         return rk_fail(err, "%s: method adaptive_subspace simulates in the precompute (full-order quality, every "
                        "element); it has no runtime asset to bake: romkit compare runs it", e->path);

@@ -162,8 +162,10 @@ static int parse_method(const rk_json_ctx *c, const cJSON *e, const char *path, 
         o->method = RK_METHOD_ADAPTIVE_SUBSPACE;
         return 0;
     }
-    if (strcmp(method, "adaptive_linear") == 0)
-        return rk_json_fail(c, path, "method \"%s\" is not in this romkit yet", method);
+    if (strcmp(method, "adaptive_linear") == 0) {
+        o->method = RK_METHOD_ADAPTIVE_LINEAR;
+        return 0;
+    }
     return rk_json_fail(c, path, "method must be \"fixed\", \"adaptive_subspace\" or \"adaptive_linear\", got \"%s\"",
                         method);
 }
@@ -203,6 +205,27 @@ static int parse_adaptive(const rk_json_ctx *c, const cJSON *e, const char *path
     return 0;
 }
 
+/* The adaptive linear ROM's keys (grassmann.h; the paper's r, m, lambda). */
+static int parse_alrom(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+{
+    rk_alrom_default_options(&o->alrom);
+    if (o->method != RK_METHOD_ADAPTIVE_LINEAR) return 0;
+    if (cJSON_HasObjectItem(e, "cubature") || cJSON_HasObjectItem(e, "koopman") || cJSON_HasObjectItem(e, "mesh_free") ||
+        cJSON_HasObjectItem(e, "tolerance") || cJSON_HasObjectItem(e, "basis"))
+        return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis, "
+                            "tolerance, cubature, koopman or mesh_free");
+    const char *decoder = NULL;
+    if (rk_json_whole(c, e, path, "history", 1, 10000, &o->alrom.history) ||
+        rk_json_number(c, e, path, "lambda", 0, &o->alrom.lambda) || rk_json_string(c, e, path, "decoder", 0, &decoder))
+        return -1;
+    if (!(o->alrom.lambda >= 0 && o->alrom.lambda <= 1))
+        return rk_json_fail(c, path, "lambda must be in [0, 1], got %g", o->alrom.lambda);
+    if (decoder && strcmp(decoder, "quadratic"))
+        return rk_json_fail(c, path, "decoder must be \"quadratic\" (a trained CROM decoder is not in this romkit yet), got \"%s\"", decoder);
+    if (o->basis.size == 0) return rk_json_fail(c, path, "method adaptive_linear needs size (r, the latent coordinates)");
+    return 0;
+}
+
 static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
 {
     const char *name = NULL;
@@ -213,8 +236,9 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
         snprintf(o->name, sizeof o->name, "%s", name);
         return 0;
     }
-    if (o->method == RK_METHOD_ADAPTIVE_SUBSPACE) {
-        snprintf(o->name, sizeof o->name, "adaptive_subspace-%d", o->basis.size);
+    if (o->method == RK_METHOD_ADAPTIVE_SUBSPACE || o->method == RK_METHOD_ADAPTIVE_LINEAR) {
+        snprintf(o->name, sizeof o->name, "%s-%d", o->method == RK_METHOD_ADAPTIVE_LINEAR ? "adaptive_linear" : "adaptive_subspace",
+                 o->basis.size);
         return 0;
     }
     const char *type = rk_basis_type_name(o->basis.type), *cub = o->cubature ? "-cubature" : "";
@@ -233,7 +257,8 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
     static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
                                        "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
                                        "eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
-                                       "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
+                                       "downdate", "modal", "nodal", "hessian", "pcg_tol", "history", "lambda",
+                                       "decoder", NULL};
     static const char *const adaptive_keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains",
                                                 "initial_size", "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
     snprintf(o->path, sizeof o->path, "%s", path);
@@ -242,7 +267,14 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
         for (int k = 0; adaptive_keys[k]; k++)
             if (cJSON_HasObjectItem(e, adaptive_keys[k]))
                 return rk_json_fail(c, path, "%s is a key of method adaptive_subspace", adaptive_keys[k]);
-    return parse_basis(c, e, path, o->method, &o->basis) || parse_adaptive(c, e, path, o) ||
+    static const char *const alrom_keys[] = {"history", "lambda", "decoder", NULL};
+    if (o->method != RK_METHOD_ADAPTIVE_LINEAR)
+        for (int k = 0; alrom_keys[k]; k++)
+            if (cJSON_HasObjectItem(e, alrom_keys[k]))
+                return rk_json_fail(c, path, "%s is a key of method adaptive_linear", alrom_keys[k]);
+    if (o->method == RK_METHOD_ADAPTIVE_LINEAR && cJSON_HasObjectItem(e, "basis"))
+        return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis");
+    return parse_basis(c, e, path, o->method, &o->basis) || parse_adaptive(c, e, path, o) || parse_alrom(c, e, path, o) ||
                    parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
                    parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
                ? -1

@@ -29,6 +29,7 @@
 #include "fem/fem.h"
 #include "fom/fom.h"
 #include "adaptive/adaptive.h"
+#include "grassmann/grassmann.h"
 #include "koopman/koopman.h"
 #include "mesh/mesh.h"
 #include "rom/rom.h"
@@ -131,7 +132,7 @@ typedef struct {
 } rk_mesh_free_options;
 
 /* How a rom entry simulates (DESIGN.md: rom[i].method). */
-typedef enum { RK_METHOD_FIXED = 0, RK_METHOD_ADAPTIVE_SUBSPACE = 1 } rk_rom_method;
+typedef enum { RK_METHOD_FIXED = 0, RK_METHOD_ADAPTIVE_SUBSPACE = 1, RK_METHOD_ADAPTIVE_LINEAR = 2 } rk_rom_method;
 
 /* One entry of the scene's rom section. */
 typedef struct {
@@ -151,6 +152,9 @@ typedef struct {
      * modes basis), downdate, modal, nodal, hessian ("bfgs" or "exact"), pcg_tol */
     rk_adaptive_options adaptive;
     int adaptive_initial_size;       /* 0: the default above */
+    /* method adaptive_linear: size is r; keys history (m, 20), lambda (0.2), decoder ("quadratic":
+     * linear modes and their modal derivatives, no training) */
+    rk_alrom_options alrom;
     rk_asset_options asset;          /* rom.asset.{precision, compress, show, groups} */
     double reference_nmse;           /* rom.reference.normalized_mse: a published value to print beside ours; NAN if none */
     char reference_source[96];       /* rom.reference.source */
@@ -322,6 +326,15 @@ rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
  * rk_adaptive_init under the scene's options. *seconds_basis (may be NULL): the basis's time. */
 int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_adaptive *ad, double *seconds_basis, rk_error *err);
+
+/* ---- an adaptive linear ROM entry (alrom.c) ---- */
+
+/* Entry e (method adaptive_linear) on the built scene: its decoder into *dec (a quadratic manifold
+ * from the entry's size r linear modes with the fixed vertices held and their modal derivatives)
+ * and rk_alrom_init under the scene's options (dec must outlive s; free both). *seconds_decoder (may
+ * be NULL): the decoder's build time. */
+int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, rk_alrom *s,
+                        rk_decoder *dec, double *seconds_decoder, rk_error *err);
 
 /* ---- an entry's Koopman operator (koopman.c) ---- */
 

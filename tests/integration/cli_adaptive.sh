@@ -76,3 +76,15 @@ else
     fail adaptive_command_outputs "$(cat "$TMP/err")"
 fi
 expect_fail adaptive_needs_an_adaptive_entry "no rom entry" "$ROMKIT" adaptive "$TMP/b.json" --entry 5
+
+# method adaptive_linear beside the PCA baseline (pod), with its online error.
+scene "$TMP/l.json" '[{"method": "adaptive_linear", "size": 4}, {"basis": "pod", "size": 4}]'
+if "$ROMKIT" compare "$TMP/l.json" --report "$TMP/lr.json" >"$TMP/out" 2>"$TMP/err"; then
+    json_checks compare_adaptive_linear_keys "$TMP/lr.json" 'methods[1].name="adaptive_linear-4"' \
+        'methods[1].kind="adaptive_linear"' methods[1].relative_online_error methods[1].normalized_mse \
+        methods[1].history_share methods[1].seconds_per_step 'methods[2].name="pod-4"'
+else
+    fail compare_adaptive_linear_keys "$(head -c 400 "$TMP/err")"
+fi
+scene "$TMP/m.json" '{"method": "adaptive_linear", "size": 6}'
+expect_fail build_refuses_adaptive_linear "adaptive_linear" "$ROMKIT" build "$TMP/m.json" -o "$TMP/m.rombin"

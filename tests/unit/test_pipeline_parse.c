@@ -117,6 +117,16 @@ static const struct {
      " \"subdomains\": 8}}", "rom", "subdomains is a key of method adaptive_subspace"},
     {"adaptive fractional subdomains", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
      " \"subdomains\": 2.5}}", "rom", "subdomains"},
+    {"adaptive linear lambda", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
+     " \"lambda\": 2}}", "rom", "lambda must be in [0, 1]"},
+    {"adaptive linear decoder", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
+     " \"decoder\": \"crom\"}}", "rom", "decoder must be"},
+    {"adaptive linear basis", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
+     " \"basis\": \"pod\"}}", "rom", "no basis"},
+    {"adaptive linear without size", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\"}}",
+     "rom", "needs size"},
+    {"history on a fixed basis", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"modes\", \"size\": 4,"
+     " \"history\": 8}}", "rom", "history is a key of method adaptive_linear"},
     {"proxy voxel on a mesh", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}, \"proxy_voxel\": 0.1},"
      " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
      "objects[0].mesh", "only with points"},

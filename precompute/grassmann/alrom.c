@@ -1,0 +1,250 @@
+/* The adaptive linear ROM simulator (grassmann.h; the paper's Algorithms 1-4): each step's basis
+ * from the decoder and the history, then the full-order step (fom.h) minimised over u(t-1) +
+ * U_interp q by the solver's Newton with the reduced gradient U^T g and Hessian U^T H U (Eq. 11-12). */
+#include "grassmann/grassmann.h"
+
+#include <cblas.h>
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct rk_alrom_impl {
+    const rk_fem *f;
+    const rk_decoder *dec;
+    int n, r, m;
+    int count, head;        /* history entries held, the next slot */
+    double *D, *P;          /* n x m, r x m: displacements and latent codes, a ring */
+    double *u, *p, *U, *Phi, *Ui, *HU, *Hq, *L, *gq, *dq; /* n, r, n r, n r, n r, n r, r r, r r, r, r */
+    double *Dc, *Pc;        /* the ring in time order (n x count, r x count) */
+    double *newton_work;
+    const char *prescribed;
+    rk_error failure;
+};
+
+void rk_alrom_default_options(rk_alrom_options *o)
+{
+    *o = (rk_alrom_options){.history = 20, .lambda = 0.2, .reg = 1e-8};
+}
+
+void rk_alrom_free(rk_alrom *s)
+{
+    rk_alrom_impl *im = s->impl;
+    if (im) {
+        void *arrays[] = {im->D, im->P, im->u, im->p, im->U, im->Phi, im->Ui, im->HU, im->Hq, im->L, im->gq, im->dq,
+                          im->Dc, im->Pc, im->newton_work};
+        for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
+        free(im);
+    }
+    rk_fom_free(&s->fom);
+    memset(s, 0, sizeof *s);
+}
+
+int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, const rk_decoder *dec,
+                  const rk_alrom_options *o, rk_error *err)
+{
+    memset(s, 0, sizeof *s);
+    if (o->history < 1) return rk_fail(err, "history (m) must be at least 1, got %d", o->history);
+    if (!(o->lambda >= 0 && o->lambda <= 1)) return rk_fail(err, "lambda must be in [0, 1], got %g", o->lambda);
+    if (!(o->reg >= 0)) return rk_fail(err, "the history's regularisation must be >= 0, got %g", o->reg);
+    if (dec->n != 3 * fem->nv || dec->r < 1)
+        return rk_fail(err, "the decoder maps %d latent coordinates to %d dofs; the mesh has %d", dec->r, dec->n,
+                       3 * fem->nv);
+    if (fo->is_static) return rk_fail(err, "simulates dynamics only (the scene asks for a static solve)");
+    s->opt = *o;
+    if (rk_fom_init(&s->fom, fem, fo, err)) return -1;
+    rk_alrom_impl *im = rk_calloc(1, sizeof *im, err);
+    if (!im) {
+        rk_alrom_free(s);
+        return -1;
+    }
+    s->impl = im;
+    im->f = fem;
+    im->dec = dec;
+    im->n = dec->n;
+    im->r = dec->r;
+    im->m = o->history;
+    size_t n = (size_t)im->n, r = (size_t)im->r, m = (size_t)im->m;
+    im->D = malloc(sizeof(double) * n * m);
+    im->P = malloc(sizeof(double) * r * m);
+    im->Dc = malloc(sizeof(double) * n * m);
+    im->Pc = malloc(sizeof(double) * r * m);
+    im->u = malloc(sizeof(double) * n);
+    im->p = malloc(sizeof(double) * r);
+    im->U = malloc(sizeof(double) * n * r);
+    im->Phi = malloc(sizeof(double) * n * r);
+    im->Ui = malloc(sizeof(double) * n * r);
+    im->HU = malloc(sizeof(double) * n * r);
+    im->Hq = malloc(sizeof(double) * r * r);
+    im->L = malloc(sizeof(double) * r * r);
+    im->gq = malloc(sizeof(double) * r);
+    im->dq = malloc(sizeof(double) * r);
+    im->newton_work = malloc(sizeof(double) * RK_NEWTON_WORK(n));
+    if (!im->D || !im->P || !im->Dc || !im->Pc || !im->u || !im->p || !im->U || !im->Phi || !im->Ui || !im->HU ||
+        !im->Hq || !im->L || !im->gq || !im->dq || !im->newton_work) {
+        rk_alrom_free(s);
+        return rk_fail(err, "out of memory for the adaptive linear ROM (%zu dofs, r %zu, m %zu)", n, r, m);
+    }
+    rk_fom_view view;
+    rk_fom_view_get(&s->fom, &view);
+    if (view.nobs) {
+        rk_alrom_free(s);
+        return rk_fail(err, "moving obstacles are not supported (they are unknowns of the full-order solve)");
+    }
+    im->prescribed = view.prescribed;
+    return 0;
+}
+
+/* ---- the step's basis (Algorithm 3, lines 3-6) ---- */
+
+static void zero_prescribed_rows(const rk_alrom_impl *im, double *A)
+{
+    for (int j = 0; j < im->r; j++)
+        for (int i = 0; i < im->n; i++)
+            if (im->prescribed[i]) A[(size_t)j * im->n + i] = 0;
+}
+
+/* Orthonormal columns spanning A (thin QR), in place; -1 when A has rank below r. */
+static int orthonormalize(int n, int r, double *A)
+{
+    double tau[256], *t = r <= 256 ? tau : malloc(sizeof(double) * (size_t)r);
+    if (!t) return -1;
+    int rc = LAPACKE_dgeqrf(LAPACK_COL_MAJOR, n, r, A, n, t);
+    double big = 0, small = INFINITY;
+    for (int i = 0; i < r && !rc; i++) {
+        big = fmax(big, fabs(A[(size_t)i * n + i]));
+        small = fmin(small, fabs(A[(size_t)i * n + i]));
+    }
+    if (!rc && !(small > 1e-12 * big)) rc = -1;
+    if (!rc) rc = LAPACKE_dorgqr(LAPACK_COL_MAJOR, n, r, r, A, n, t);
+    if (t != tau) free(t);
+    return rc ? -1 : 0;
+}
+
+static int step_basis(rk_alrom *s, rk_error *err)
+{
+    rk_alrom_impl *im = s->impl;
+    const rk_decoder *dec = im->dec;
+    int n = im->n, r = im->r;
+    for (int i = 0; i < n; i++) im->u[i] = s->fom.x[i] - im->f->X[i];
+    if (dec->encode(dec->ctx, im->u, im->p, err) || dec->jacobian(dec->ctx, im->p, im->U, err))
+        return rk_error_prefix(err, "the decoder at step %ld", s->stats.steps + 1);
+    zero_prescribed_rows(im, im->U);
+    /* the history ring: this step's start and its latent code */
+    memcpy(im->D + (size_t)im->head * n, im->u, sizeof(double) * (size_t)n);
+    memcpy(im->P + (size_t)im->head * r, im->p, sizeof(double) * (size_t)r);
+    im->head = (im->head + 1) % im->m;
+    if (im->count < im->m) im->count++;
+    for (int k = 0; k < im->count; k++) { /* oldest first */
+        int slot = (im->head - im->count + k + im->m) % im->m;
+        memcpy(im->Dc + (size_t)k * n, im->D + (size_t)slot * n, sizeof(double) * (size_t)n);
+        memcpy(im->Pc + (size_t)k * r, im->P + (size_t)slot * r, sizeof(double) * (size_t)r);
+    }
+    /* Phi, then the geodesic from span(Phi) to span(U); while the history spans fewer than r
+     * directions (at rest it is all zero) the decoder's basis alone */
+    rk_error quiet;
+    int blended = !rk_history_basis(n, r, im->count, im->Dc, im->Pc, s->opt.reg, im->Phi, &quiet);
+    if (blended) {
+        zero_prescribed_rows(im, im->Phi);
+        blended = !rk_grassmann_interpolate(n, r, im->Phi, im->U, s->opt.lambda, im->Ui, &quiet);
+    }
+    if (!blended) {
+        memcpy(im->Ui, im->U, sizeof(double) * (size_t)n * r);
+        if (orthonormalize(n, r, im->Ui))
+            return rk_fail(err, "step %ld: the decoder's basis has rank below %d", s->stats.steps + 1, r);
+    }
+    s->stats.history_used += blended;
+    return 0;
+}
+
+/* ---- Newton on q (Algorithm 2) ---- */
+
+typedef struct {
+    rk_alrom *s;
+    const rk_fom_terms *T;
+} newton_ctx;
+
+static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
+{
+    newton_ctx *c = ctx;
+    rk_alrom *s = c->s;
+    rk_alrom_impl *im = s->impl;
+    double E = rk_fom_potential(&s->fom, c->T, x, g, hessian ? RK_FOM_NEWTON_MATRIX : RK_FOM_NO_HESSIAN, magnitude,
+                                &im->failure);
+    if (!hessian || !isfinite(E)) return E;
+    /* Eq. 12: U^T H U with the full-order Newton matrix (the prescribed dofs eliminated) */
+    const rk_sparse *H = rk_fom_newton_matrix(&s->fom);
+    int n = im->n, r = im->r;
+    for (int k = 0; k < r; k++) rk_sparse_mul(H, im->Ui + (size_t)k * n, im->HU + (size_t)k * n);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, n, 1.0, im->Ui, n, im->HU, n, 0.0, im->Hq, r);
+    return E;
+}
+
+static int solve(void *ctx, const double *g, double *d, rk_error *err)
+{
+    newton_ctx *c = ctx;
+    rk_alrom_impl *im = c->s->impl;
+    int n = im->n, r = im->r;
+    cblas_dgemv(CblasColMajor, CblasTrans, n, r, -1.0, im->Ui, n, g, 1, 0.0, im->dq, 1); /* Eq. 11 */
+    double scale = 0;
+    for (int i = 0; i < r; i++) scale = fmax(scale, fabs(im->Hq[(size_t)i * r + i]));
+    for (int attempt = 0; attempt < 6; attempt++) {
+        memcpy(im->L, im->Hq, sizeof(double) * (size_t)r * r);
+        for (int i = 0; i < r && attempt; i++) im->L[(size_t)i * r + i] += scale * pow(10.0, -12 + 2 * attempt);
+        if (LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', r, im->L, r) == 0) {
+            LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, 1, im->L, r, im->dq, r);
+            cblas_dgemv(CblasColMajor, CblasNoTrans, n, r, 1.0, im->Ui, n, im->dq, 1, 0.0, d, 1);
+            return 0;
+        }
+    }
+    return rk_fail(err, "the reduced Hessian U^T H U (%d x %d) is not positive definite", r, r);
+}
+
+static double max_step(void *ctx, const double *x, const double *d)
+{
+    newton_ctx *c = ctx;
+    double a = rk_fom_max_step(&c->s->fom, x, d, &c->s->impl->failure);
+    return a >= 0 ? a : 0;
+}
+
+static int newton(void *ctx, rk_fom *fom, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
+{
+    rk_alrom *s = ctx;
+    rk_alrom_impl *im = s->impl;
+    newton_ctx c = {s, T};
+    rk_fom_view view;
+    rk_fom_view_get(fom, &view);
+    rk_newton_problem p = {.n = im->n, .ctx = &c, .what = "incremental potential (adaptive linear ROM)",
+                           .energy = energy, .solve = solve, .max_step = view.has_contact ? max_step : NULL,
+                           .prescribed = im->prescribed};
+    rk_newton_stats stats = {0};
+    im->failure.msg[0] = 0;
+    int rc = rk_newton_solve(&p, fom->x, tol_d, fom->opt.newton_max_iter, im->newton_work, converged, &stats, err);
+    s->stats.newton_iterations += stats.iterations;
+    fom->stats.newton_iterations += stats.iterations;
+    if (im->failure.msg[0]) {
+        *err = im->failure;
+        return -1;
+    }
+    return rc;
+}
+
+int rk_alrom_step(rk_alrom *s, rk_error *err)
+{
+    double t0 = rk_now();
+    int blas = rk_threads_blas(1); /* small dense products: the same sums on any thread count */
+    int rc = step_basis(s, err);
+    s->stats.seconds_basis += rk_now() - t0;
+    if (!rc) rc = rk_fom_step_with(&s->fom, newton, s, err);
+    rk_threads_blas(blas);
+    if (rc) return -1;
+    s->stats.steps++;
+    s->stats.seconds_total += rk_now() - t0;
+    return 0;
+}
+
+void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
+                        double t)
+{
+    rk_fom_set_state(&s->fom, x, v, x_prev, v_prev, t);
+}

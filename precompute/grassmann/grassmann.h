@@ -1,0 +1,97 @@
+/* precompute/grassmann: the adaptive linear ROM (the adaptive-linear-rom-grassmann paper): a
+ * linear ROM in incremental form whose basis follows the state,
+ *
+ *   p = e(u(t-1))                       encoder (Eq. 7)
+ *   U = dg/dp (p)                       the decoder's Jacobian at the vertices (Eq. 8)
+ *   Phi = D P^T (P P^T + 1e-8 I)^-1     the history basis of the last m steps (Eq. 13)
+ *   U_interp = Grassmann(Phi, U, lambda) (Algorithm 4)
+ *   u(t) = u(t-1) + U_interp q,  q minimising the incremental potential (Eq. 5-6, 9-12)
+ *
+ * on the full-order step's own potential (fom.h: the same contact, integrators and prescribed
+ * motion), Newton on q with the exact reduced Hessian U^T H U (every element's PSD-projected
+ * Hessian: the "exact" reduced forces; the paper's per-step cost needs cubature, which the
+ * runtime's fixed-basis models have and this simulator does not yet).
+ *
+ * A decoder is an interface: a quadratic manifold g(p) = Phi p + 1/2 sum_ij Psi_ij p_i p_j from
+ * linear modes and modal derivatives (no training, rk_quadratic_decoder), or a CROM network. */
+#ifndef RK_GRASSMANN_H
+#define RK_GRASSMANN_H
+
+#include "fem/fem.h"
+#include "fom/fom.h"
+#include "util/util.h"
+
+/* ---- Grassmann interpolation and the history basis (interpolate.c, history.c) ---- */
+
+/* Algorithm 4: the point at lambda on the Grassmann geodesic from span(Phi) (lambda = 0) to
+ * span(U) (lambda = 1), n x r column-major each, as an orthonormal basis out (n x r). Fails when
+ * either has rank below r (naming which) or the two spans are orthogonal somewhere (a principal
+ * angle of pi/2: no unique geodesic). */
+int rk_grassmann_interpolate(int n, int r, const double *Phi, const double *U, double lambda, double *out,
+                             rk_error *err);
+/* The principal angles (radians, ascending) between span(A) and span(B), n x r each. */
+int rk_principal_angles(int n, int r, const double *A, const double *B, double *theta, rk_error *err);
+
+/* Eq. 13: Phi = D P^T (P P^T + reg I)^-1 for displacements D (n x m) and latent codes P (r x m),
+ * both column-major; reg = 1e-8 in the paper. */
+int rk_history_basis(int n, int r, int m, const double *D, const double *P, double reg, double *Phi, rk_error *err);
+
+/* ---- decoders ---- */
+
+typedef struct {
+    int n, r;         /* displacement dofs (3 nv), latent size */
+    void *ctx;
+    /* p = e(u) */
+    int (*encode)(void *ctx, const double *u, double *p, rk_error *err);
+    /* U = dg/dp at p: n x r, column-major */
+    int (*jacobian)(void *ctx, const double *p, double *U, rk_error *err);
+    /* u = g(p) */
+    int (*decode)(void *ctx, const double *p, double *u, rk_error *err);
+    void (*destroy)(void *ctx);
+} rk_decoder;
+
+/* The quadratic manifold g(p) = Phi p + 1/2 sum_ij Psi_ij p_i p_j: Phi (n x r) linear modes, Psi
+ * their modal derivatives (n x r(r+1)/2, pairs i <= j row-major, rk_modal_derivatives' layout;
+ * rigid modes have none: their columns are zero). The encoder minimises |g(p) - u|_M over p by
+ * Gauss-Newton from the mass projection (M: the fem's mass, upper-stored). Copies what it needs. */
+typedef struct rk_quadratic rk_quadratic;
+int rk_quadratic_decoder(int n, int r, const double *Phi, const double *Psi, const rk_sparse *M, rk_decoder *dec,
+                         rk_error *err);
+/* Frees the decoder's context (destroy) and zeroes it. */
+void rk_decoder_free(rk_decoder *dec);
+
+/* ---- the simulator (alrom.c) ---- */
+
+typedef struct {
+    int history;       /* m: the steps the history basis spans (20) */
+    double lambda;     /* the interpolation parameter (0.2): 1 is the decoder's basis alone */
+    double reg;        /* P P^T's regularisation (1e-8) */
+} rk_alrom_options;
+void rk_alrom_default_options(rk_alrom_options *o);
+
+typedef struct {
+    long steps, newton_iterations, history_used; /* steps whose basis blended the history */
+    double seconds_total, seconds_basis;         /* the basis (encoder, Jacobian, history, Grassmann) */
+} rk_alrom_stats;
+
+typedef struct rk_alrom_impl rk_alrom_impl;
+
+typedef struct {
+    rk_fom fom;            /* the state: fom.x = X + u */
+    rk_alrom_options opt;
+    rk_alrom_stats stats;
+    rk_alrom_impl *impl;
+} rk_alrom;
+
+/* dec is borrowed (it must outlive the simulator). Fails on bad options (history < 1, lambda
+ * outside [0, 1]) naming the key, and on a decoder of the wrong size. */
+int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, const rk_decoder *dec,
+                  const rk_alrom_options *o, rk_error *err);
+int rk_alrom_step(rk_alrom *s, rk_error *err);
+/* The online-error realignment: the state put back to (x, v) at t (BDF2 history as
+ * rk_fom_set_state); the basis history records it as the step's state. */
+void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
+                        double t);
+void rk_alrom_free(rk_alrom *s);
+
+#endif

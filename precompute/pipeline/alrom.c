@@ -1,0 +1,65 @@
+/* An adaptive linear ROM entry on the built scene (pipeline.h, rk_scene_alrom_init): its decoder
+ * and the simulator under the scene's own options. The quadratic-manifold decoder: the entry's r
+ * linear modes (computed with the fixed vertices held) and their modal derivatives, the pairs of
+ * rigid modes left zero. */
+#include "pipeline/pipeline.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, rk_decoder *dec, rk_error *err)
+{
+    int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
+    unsigned char *fixed = rk_calloc((size_t)nv, 1, err);
+    double *Psi = NULL, *raw = NULL;
+    rk_basis modes = {0};
+    rk_sparse M = {0};
+    if (!fixed) return -1;
+    for (int g = 0; g < sim->options.nprescribed; g++)
+        for (int k = 0; k < sim->options.prescribed[g].count && sim->options.prescribed[g].kind == RK_MOTION_FIXED; k++)
+            fixed[sim->options.prescribed[g].verts[k]] = 1;
+    int lumped = sim->options.lumped_mass;
+    if (rk_basis_modes(&sim->fem, fixed, lumped, r, &modes, err)) goto out;
+    int nrigid = modes.nzero, k = r - nrigid;
+    size_t pairs = (size_t)r * (r + 1) / 2, raw_pairs = (size_t)k * (k + 1) / 2;
+    Psi = calloc((size_t)n * pairs + 1, sizeof(double));
+    raw = calloc((size_t)n * raw_pairs + 1, sizeof(double));
+    if (!Psi || !raw) {
+        rk_fail(err, "out of memory for %zu modal derivatives", pairs);
+        goto out;
+    }
+    double residual;
+    if (k > 0 && rk_modal_derivatives(&sim->fem, fixed, lumped, modes.U, r, nrigid, raw, &residual, err)) goto out;
+    /* the non-rigid pairs (a <= b) in row-major order over k, into pairs over all r */
+    for (int a = 0, src = 0; a < k; a++)
+        for (int b = a; b < k; b++, src++) {
+            int i = a + nrigid, j = b + nrigid;
+            size_t dst = (size_t)i * r - (size_t)i * (i - 1) / 2 + (size_t)(j - i);
+            memcpy(Psi + dst * n, raw + (size_t)src * n, sizeof(double) * (size_t)n);
+        }
+    if (rk_sparse_alloc_pattern(&sim->fem, &M, err)) goto out;
+    rk_fem_add_mass(&sim->fem, lumped, 1.0, &M);
+    rc = rk_quadratic_decoder(n, r, modes.U, Psi, &M, dec, err);
+out:
+    rk_sparse_free(&M);
+    rk_basis_free(&modes);
+    free(Psi);
+    free(raw);
+    free(fixed);
+    return rc;
+}
+
+int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, rk_alrom *s,
+                        rk_decoder *dec, double *seconds_decoder, rk_error *err)
+{
+    if (sim->cloud_points) return rk_fail(err, "%s: method adaptive_linear needs tetrahedral meshes, not point clouds", e->path);
+    double t0 = rk_now();
+    if (quadratic(sim, e, dec, err)) return rk_error_prefix(err, "%s: the quadratic-manifold decoder", e->path);
+    if (seconds_decoder) *seconds_decoder = rk_now() - t0;
+    if (rk_alrom_init(s, &sim->fem, &sim->options, dec, &e->alrom, err)) {
+        rk_decoder_free(dec);
+        return rk_error_prefix(err, "%s", e->path);
+    }
+    (void)scene;
+    return 0;
+}
