@@ -13,7 +13,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson 
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature rom koopman formats asset pipeline compare
+STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -25,12 +25,14 @@ DEPS_adaptive := adaptive fom solver contact fem physics mesh util
 DEPS_grassmann := grassmann fom solver contact fem physics mesh util
 DEPS_basis   := basis fem physics mesh util
 DEPS_cubature := cubature fem physics mesh util
+# Dense MLPs (the CROM encoder and decoder of the adaptive linear ROM): BLAS and util only.
+DEPS_neural  := neural util
 DEPS_rom     := rom cubature fom solver contact fem physics mesh util
 DEPS_koopman := koopman cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats koopman rom cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive grassmann fom solver contact fem physics mesh util
+DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive grassmann fom solver contact fem physics mesh neural util
 DEPS_compare := compare $(DEPS_pipeline)
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
