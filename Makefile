@@ -22,7 +22,7 @@ DEPS_contact := contact fem physics mesh util
 DEPS_solver  := solver physics util
 DEPS_fom     := fom solver contact fem physics mesh util
 DEPS_adaptive := adaptive fom solver contact fem physics mesh util
-DEPS_grassmann := grassmann fom solver contact fem physics mesh util
+DEPS_grassmann := grassmann neural fom solver contact fem physics mesh util
 DEPS_basis   := basis fem physics mesh util
 DEPS_cubature := cubature fem physics mesh util
 # Dense MLPs (the CROM encoder and decoder of the adaptive linear ROM): BLAS and util only.

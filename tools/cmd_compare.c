@@ -45,6 +45,7 @@ static cJSON *method_json(const rk_compare_method *m)
                                        : m->alrom    ? "adaptive_linear"
                                                      : "reduced");
     if (m->alrom) cJSON_AddNumberToObject(j, "history_share", m->history_share);
+    cJSON_AddNumberToObject(j, "training_frames", m->training_frames);
     if (m->failure[0]) {
         cJSON_AddStringToObject(j, "failure", m->failure);
         return j;

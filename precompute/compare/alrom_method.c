@@ -7,20 +7,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, int T, const rk_rom_entry *e,
-                     rk_compare_method *m, rk_error *err)
+int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
+                     const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
 {
-    int ndof = ref->ndof, rc = -1;
+    int ndof = ref->ndof, rc = -1, steps = ref->T; /* T: the training frames in D; steps: the run's */
     rk_alrom s = {0};
     rk_decoder dec = {0};
-    double *secs = rk_calloc((size_t)T + 1, sizeof(double), err);
-    if (!secs || rk_scene_alrom_init(scene, sim, e, &s, &dec, &m->seconds_basis, err)) goto out;
+    double *secs = rk_calloc((size_t)steps + 1, sizeof(double), err);
+    if (!secs || rk_scene_alrom_init(scene, sim, e, D, T, &s, &dec, &m->seconds_basis, err)) goto out;
     m->alrom = 1;
     m->size = m->r = e->basis.size;
     rk_run_error er;
     rk_run_error_init(&er, sim->mesh.X, ndof / 3);
     m->contact_min_distance = INFINITY;
-    for (int t = 0; t < T; t++) {
+    for (int t = 0; t < steps; t++) {
         double t0 = rk_now();
         if (rk_alrom_step(&s, err)) goto out;
         secs[t] = rk_now() - t0;
@@ -32,16 +32,16 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
         rk_run_error_add(&er, s.fom.x, ref->x + (size_t)ndof * (t + 1));
     }
     rk_compare_record_errors(m, &er);
-    m->seconds_per_step = rk_median(secs, T);
+    m->seconds_per_step = rk_median(secs, steps);
     m->newton_iterations = s.stats.newton_iterations;
     m->unconverged_steps = s.fom.stats.unconverged_steps;
     m->history_share = s.stats.steps ? (double)s.stats.history_used / s.stats.steps : 0;
-    /* realigned: the same simulator from each reference state (its history then holds them) */
+    /* realigned: a fresh simulator (the same decoder) from each reference state (its history then
+     * holds them) */
     rk_alrom_free(&s);
-    rk_decoder_free(&dec);
-    if (rk_scene_alrom_init(scene, sim, e, &s, &dec, NULL, err)) goto out;
+    if (rk_alrom_init(&s, &sim->fem, &sim->options, &dec, &e->alrom, err)) goto out;
     rk_run_error_init(&er, sim->mesh.X, ndof / 3);
-    for (int t = 0; t < T; t++) {
+    for (int t = 0; t < steps; t++) {
         const double *xp = t > 0 ? ref->x + (size_t)ndof * (t - 1) : NULL, *vp = t > 0 ? ref->v + (size_t)ndof * (t - 1) : NULL;
         rk_alrom_set_state(&s, ref->x + (size_t)ndof * t, ref->v + (size_t)ndof * t, xp, vp, t * sim->options.h);
         if (rk_alrom_step(&s, err)) goto out;

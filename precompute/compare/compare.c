@@ -211,10 +211,28 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
     m->seconds_per_step = m->speedup = NAN;
 }
 
-/* Entry e built on the scene's mesh (trained on F, displacements D) and measured against ref. */
+/* The training set last built, kept for the next entry that lists the same runs (a scene usually
+ * gives every data-driven method the same list). */
+typedef struct {
+    const rk_rom_entry *from;   /* the entry whose list it is; NULL: none */
+    double *D;
+    int T;
+} training_cache;
+
+static int same_list(const rk_rom_entry *a, const rk_rom_entry *b)
+{
+    if (a->ntraining != b->ntraining) return 0;
+    for (int k = 0; k < a->ntraining; k++)
+        if (a->training[k].snapshots != b->training[k].snapshots || strcmp(a->training[k].file, b->training[k].file))
+            return 0;
+    return 1;
+}
+
+/* Entry e built on the scene's mesh (trained on F, displacements D, or its own training set) and
+ * measured against ref. */
 static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const fom_run *ref,
                        const double *D, const rk_sparse *M, const rk_rom_entry *e, rk_compare_method *m,
-                       const rk_compare_result *res)
+                       const rk_compare_result *res, training_cache *cache)
 {
     rk_error err;
     rk_scene_rom R;
@@ -229,8 +247,24 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
+    /* what trains on full-order runs: the entry's training set when it lists one, else this run */
+    int Tt = F->T;
+    if (e->ntraining) {
+        if (!cache->from || !same_list(cache->from, e)) {
+            free(cache->D);
+            cache->from = NULL;
+            if (rk_scene_training_set(scene, sim, e, &cache->D, &cache->T, &err)) {
+                rk_compare_record_failure(m, &err);
+                return;
+            }
+            cache->from = e;
+        }
+        D = cache->D;
+        Tt = cache->T;
+    }
+    m->training_frames = Tt;
     if (e->method == RK_METHOD_ADAPTIVE_LINEAR) {
-        if (rk_compare_alrom(scene, sim, ref, F->T, e, m, &err)) rk_compare_record_failure(m, &err);
+        if (rk_compare_alrom(scene, sim, ref, D, Tt, e, m, &err)) rk_compare_record_failure(m, &err);
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
@@ -239,7 +273,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
-    if (rk_scene_rom_build(scene, sim, e, D, F->T, &R, &err)) {
+    if (rk_scene_rom_build(scene, sim, e, D, Tt, &R, &err)) {
         rk_compare_record_failure(m, &err);
         return;
     }
@@ -288,9 +322,11 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     out->methods = rk_calloc((size_t)n, sizeof *out->methods, err);
     if (!out->methods) goto done;
     out->nmethods = n;
+    training_cache cache = {0};
     for (int k = 0; k < n; k++) {
-        run_method(scene, &sim, &F, ref, D, &M, &scene->entries[k], &out->methods[k], out);
+        run_method(scene, &sim, &F, ref, D, &M, &scene->entries[k], &out->methods[k], out, &cache);
     }
+    free(cache.D);
     rc = 0;
 done:
     free(D);

@@ -44,6 +44,7 @@ typedef struct {
      * the history (the rest used the decoder's alone: the history did not span r directions yet) */
     int alrom;
     double history_share;
+    int training_frames;           /* the full-order frames its data-driven parts trained on */
     double reference_nmse;
     char reference_source[96];
     char basis_reason[256], cubature_reason[256];

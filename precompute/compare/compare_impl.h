@@ -32,7 +32,7 @@ int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fo
                         const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
 /* Entry e with method adaptive_linear: its free run against ref and its realigned run. */
-int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, int T, const rk_rom_entry *e,
-                     rk_compare_method *m, rk_error *err);
+int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
+                     const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
 #endif

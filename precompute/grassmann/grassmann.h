@@ -60,6 +60,30 @@ int rk_quadratic_decoder(int n, int r, const double *Phi, const double *Psi, con
 /* Frees the decoder's context (destroy) and zeroes it. */
 void rk_decoder_free(rk_decoder *dec);
 
+/* The CROM decoder (crom.c; Sec. 3.2): an encoder MLP e(u) (3 nv inputs, encoder_layers hidden
+ * layers of encoder_width, r outputs) and a decoder MLP g(p, X) (r + 3 inputs, decoder_layers x
+ * decoder_width, 3 outputs), ELU, trained jointly on T displacement snapshots D (3 nv x T,
+ * column-major) at rest positions X: each step snapshots_per_batch snapshots, each at `points`
+ * random vertices, Adam at rk_lr_phased(base_lr) (neural.h), MSE. The paper's sizes are 2 x 128 and
+ * 8 x 128; the defaults here, 2 x 128 and 4 x 64, keep a bench object's training within minutes on
+ * 2 cores. Deterministic for a seed. Fails on T < r, a non-finite snapshot (naming it), all-zero
+ * data, or a loss that diverges. */
+typedef struct rk_crom rk_crom;
+typedef struct {
+    int encoder_width, encoder_layers, decoder_width, decoder_layers;
+    int epochs, snapshots_per_batch, points;
+    double base_lr;
+    unsigned long long seed;
+} rk_crom_options;
+void rk_crom_default_options(rk_crom_options *o);
+typedef struct {
+    double first_loss, final_loss;   /* the first and last epoch's mean squared error (m^2 per component) */
+    double seconds;
+    long steps, encoder_params, decoder_params;
+} rk_crom_report;
+int rk_crom_train(const double *D, int T, const double *X, int nv, int r, const rk_crom_options *o, rk_decoder *out,
+                  rk_crom_report *report, rk_error *err);
+
 /* ---- the simulator (alrom.c) ---- */
 
 typedef struct {

@@ -49,12 +49,28 @@ out:
     return rc;
 }
 
-int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, rk_alrom *s,
-                        rk_decoder *dec, double *seconds_decoder, rk_error *err)
+/* A CROM on the scene's full-order frames (run here when the caller has none). */
+static int crom(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T, rk_decoder *dec,
+                rk_error *err)
+{
+    double *own = NULL;
+    if (!frames) {
+        if (rk_scene_training_frames(sim, &own, &T, err)) return -1;
+        frames = own;
+    }
+    rk_crom_report rep;
+    int rc = rk_crom_train(frames, T, sim->mesh.X, sim->mesh.nv, e->basis.size, &e->crom_opt, dec, &rep, err);
+    free(own);
+    return rc;
+}
+
+int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                        int T, rk_alrom *s, rk_decoder *dec, double *seconds_decoder, rk_error *err)
 {
     if (sim->cloud_points) return rk_fail(err, "%s: method adaptive_linear needs tetrahedral meshes, not point clouds", e->path);
     double t0 = rk_now();
-    if (quadratic(sim, e, dec, err)) return rk_error_prefix(err, "%s: the quadratic-manifold decoder", e->path);
+    if (e->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, dec, err))
+        return rk_error_prefix(err, "%s: the %s decoder", e->path, e->crom ? "CROM" : "quadratic-manifold");
     if (seconds_decoder) *seconds_decoder = rk_now() - t0;
     if (rk_alrom_init(s, &sim->fem, &sim->options, dec, &e->alrom, err)) {
         rk_decoder_free(dec);

@@ -205,6 +205,52 @@ static int parse_adaptive(const rk_json_ctx *c, const cJSON *e, const char *path
     return 0;
 }
 
+/* rom.training: scene files or {"scene": F} / {"snapshots": F}, resolved against the scene's folder. */
+static int parse_training(const rk_json_ctx *c, const cJSON *e, const char *path, const char *scene_path,
+                          rk_rom_entry *o)
+{
+    char tpath[128];
+    const cJSON *list = rk_json_child(e, path, "training", tpath, sizeof tpath);
+    o->ntraining = 0;
+    if (!list) return 0;
+    if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1 || cJSON_GetArraySize(list) > RK_MAX_TRAINING)
+        return rk_json_fail(c, tpath, "must be a list of 1 to %d scene or snapshot files", RK_MAX_TRAINING);
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", scene_path);
+    char *slash = strrchr(dir, '/');
+    if (slash) *slash = 0;
+    else dir[0] = 0;
+    for (int i = 0; i < cJSON_GetArraySize(list); i++) {
+        const cJSON *it = cJSON_GetArrayItem(list, i);
+        char ip[160];
+        snprintf(ip, sizeof ip, "%s[%d]", tpath, i);
+        const char *file = NULL;
+        int snapshots = 0;
+        if (cJSON_IsString(it)) {
+            file = it->valuestring;
+        } else if (cJSON_IsObject(it)) {
+            static const char *const keys[] = {"scene", "snapshots", NULL};
+            const char *sc = NULL, *sn = NULL;
+            if (rk_json_check_keys(c, it, ip, keys) || rk_json_string(c, it, ip, "scene", 0, &sc) ||
+                rk_json_string(c, it, ip, "snapshots", 0, &sn))
+                return -1;
+            if ((sc != NULL) == (sn != NULL)) return rk_json_fail(c, ip, "needs exactly one of 'scene' or 'snapshots'");
+            file = sc ? sc : sn;
+            snapshots = sn != NULL;
+        } else {
+            return rk_json_fail(c, ip, "must be a scene file name or an object {\"scene\": ...} or {\"snapshots\": ...}");
+        }
+        if (!file[0]) return rk_json_fail(c, ip, "names no file");
+        o->training[i].snapshots = snapshots;
+        if (file[0] == '/' || !dir[0]) snprintf(o->training[i].file, sizeof o->training[i].file, "%s", file);
+        else snprintf(o->training[i].file, sizeof o->training[i].file, "%s/%s", dir, file);
+        o->ntraining++;
+    }
+    if (o->method == RK_METHOD_FIXED && o->basis.type != RK_BASIS_POD)
+        return rk_json_fail(c, tpath, "is for what trains on full-order runs: basis pod or method adaptive_linear");
+    return 0;
+}
+
 /* The adaptive linear ROM's keys (grassmann.h; the paper's r, m, lambda). */
 static int parse_alrom(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
 {
@@ -220,8 +266,32 @@ static int parse_alrom(const rk_json_ctx *c, const cJSON *e, const char *path, r
         return -1;
     if (!(o->alrom.lambda >= 0 && o->alrom.lambda <= 1))
         return rk_json_fail(c, path, "lambda must be in [0, 1], got %g", o->alrom.lambda);
-    if (decoder && strcmp(decoder, "quadratic"))
-        return rk_json_fail(c, path, "decoder must be \"quadratic\" (a trained CROM decoder is not in this romkit yet), got \"%s\"", decoder);
+    if (decoder && strcmp(decoder, "quadratic") && strcmp(decoder, "crom"))
+        return rk_json_fail(c, path, "decoder must be \"quadratic\" or \"crom\", got \"%s\"", decoder);
+    o->crom = decoder && !strcmp(decoder, "crom");
+    rk_crom_default_options(&o->crom_opt);
+    char cpath[128];
+    const cJSON *cr = rk_json_child(e, path, "crom", cpath, sizeof cpath);
+    if (cr && !o->crom) return rk_json_fail(c, cpath, "is for decoder \"crom\"");
+    if (cr) {
+        static const char *const keys[] = {"encoder_width", "encoder_layers", "decoder_width", "decoder_layers",
+                                           "epochs", "snapshots_per_batch", "points", "base_lr", "seed", NULL};
+        rk_crom_options *co = &o->crom_opt;
+        double seed = (double)co->seed;
+        if (!cJSON_IsObject(cr) || rk_json_check_keys(c, cr, cpath, keys) ||
+            rk_json_whole(c, cr, cpath, "encoder_width", 1, 4096, &co->encoder_width) ||
+            rk_json_whole(c, cr, cpath, "encoder_layers", 1, 64, &co->encoder_layers) ||
+            rk_json_whole(c, cr, cpath, "decoder_width", 1, 4096, &co->decoder_width) ||
+            rk_json_whole(c, cr, cpath, "decoder_layers", 1, 64, &co->decoder_layers) ||
+            rk_json_whole(c, cr, cpath, "epochs", 1, 1e6, &co->epochs) ||
+            rk_json_whole(c, cr, cpath, "snapshots_per_batch", 1, 1e6, &co->snapshots_per_batch) ||
+            rk_json_whole(c, cr, cpath, "points", 1, 1e8, &co->points) ||
+            rk_json_number(c, cr, cpath, "base_lr", 0, &co->base_lr) || rk_json_number(c, cr, cpath, "seed", 0, &seed))
+            return cJSON_IsObject(cr) ? -1 : rk_json_fail(c, cpath, "must be an object");
+        if (!(co->base_lr > 0 && co->base_lr < 1)) return rk_json_fail(c, cpath, "base_lr must be in (0, 1), got %g", co->base_lr);
+        if (!(seed >= 0 && seed == floor(seed))) return rk_json_fail(c, cpath, "seed must be a whole number, got %g", seed);
+        co->seed = (unsigned long long)seed;
+    }
     if (o->basis.size == 0) return rk_json_fail(c, path, "method adaptive_linear needs size (r, the latent coordinates)");
     return 0;
 }
@@ -251,14 +321,15 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
     return 0;
 }
 
-static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, double h, rk_rom_entry *o)
+static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, double h, const char *scene_path,
+                       rk_rom_entry *o)
 {
     if (!cJSON_IsObject(e)) return rk_json_fail(c, path, "must be an object");
     static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
                                        "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
                                        "eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
                                        "downdate", "modal", "nodal", "hessian", "pcg_tol", "history", "lambda",
-                                       "decoder", NULL};
+                                       "decoder", "crom", "training", NULL};
     static const char *const adaptive_keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains",
                                                 "initial_size", "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
     snprintf(o->path, sizeof o->path, "%s", path);
@@ -267,7 +338,7 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
         for (int k = 0; adaptive_keys[k]; k++)
             if (cJSON_HasObjectItem(e, adaptive_keys[k]))
                 return rk_json_fail(c, path, "%s is a key of method adaptive_subspace", adaptive_keys[k]);
-    static const char *const alrom_keys[] = {"history", "lambda", "decoder", NULL};
+    static const char *const alrom_keys[] = {"history", "lambda", "decoder", "crom", NULL};
     if (o->method != RK_METHOD_ADAPTIVE_LINEAR)
         for (int k = 0; alrom_keys[k]; k++)
             if (cJSON_HasObjectItem(e, alrom_keys[k]))
@@ -275,6 +346,7 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
     if (o->method == RK_METHOD_ADAPTIVE_LINEAR && cJSON_HasObjectItem(e, "basis"))
         return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis");
     return parse_basis(c, e, path, o->method, &o->basis) || parse_adaptive(c, e, path, o) || parse_alrom(c, e, path, o) ||
+                   parse_training(c, e, path, scene_path, o) ||
                    parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
                    parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
                ? -1
@@ -295,7 +367,8 @@ int rk_parse_rom(const rk_json_ctx *c, const cJSON *rom, rk_scene *s)
         char path[32];
         snprintf(path, sizeof path, cJSON_IsArray(rom) ? "rom[%d]" : "rom", i);
         s->entries[i].index = i;
-        if (parse_entry(c, cJSON_IsArray(rom) ? cJSON_GetArrayItem(rom, i) : rom, path, s->h, &s->entries[i])) return -1;
+        if (parse_entry(c, cJSON_IsArray(rom) ? cJSON_GetArrayItem(rom, i) : rom, path, s->h, s->path, &s->entries[i]))
+            return -1;
     }
     return 0;
 }

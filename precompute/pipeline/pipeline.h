@@ -131,6 +131,9 @@ typedef struct {
                                       * occupancy estimate overshoots on sparse clouds); 0: sampled */
 } rk_mesh_free_options;
 
+/* The most training runs a rom entry lists. */
+#define RK_MAX_TRAINING 32
+
 /* How a rom entry simulates (DESIGN.md: rom[i].method). */
 typedef enum { RK_METHOD_FIXED = 0, RK_METHOD_ADAPTIVE_SUBSPACE = 1, RK_METHOD_ADAPTIVE_LINEAR = 2 } rk_rom_method;
 
@@ -153,8 +156,19 @@ typedef struct {
     rk_adaptive_options adaptive;
     int adaptive_initial_size;       /* 0: the default above */
     /* method adaptive_linear: size is r; keys history (m, 20), lambda (0.2), decoder ("quadratic":
-     * linear modes and their modal derivatives, no training) */
+     * linear modes and their modal derivatives, no training; "crom": trained on the scene's
+     * full-order frames with the options of the "crom" key) */
     rk_alrom_options alrom;
+    int crom;                        /* decoder "crom" */
+    rk_crom_options crom_opt;
+    /* "training": what the data-driven parts (a POD basis, a CROM) train on instead of the scene's
+     * own full-order run: other scenes of the same object (each run at full order, one job each)
+     * and snapshot files of such runs (romkit fom --snapshots), merged in list order */
+    int ntraining;
+    struct {
+        int snapshots;               /* 1: file is a .npy of (T + 1) x nv x 3 positions; 0: a scene */
+        char file[1024];             /* resolved against the scene folder */
+    } training[RK_MAX_TRAINING];
     rk_asset_options asset;          /* rom.asset.{precision, compress, show, groups} */
     double reference_nmse;           /* rom.reference.normalized_mse: a published value to print beside ours; NAN if none */
     char reference_source[96];       /* rom.reference.source */
@@ -327,14 +341,25 @@ rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
 int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_adaptive *ad, double *seconds_basis, rk_error *err);
 
+/* ---- an entry's training set (training.c) ---- */
+
+/* Entry e's training displacements (*D: 3 nv x *T, column-major, malloc'd): every scene of its
+ * "training" list run at full order (each must be the same object: the same vertices at the same
+ * rest positions, checked) and every snapshot file (frames after the first, as displacements from
+ * sim's rest positions), in list order, so the set is the same however the runs were produced.
+ * Fails naming the item. */
+int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, double **D, int *T,
+                          rk_error *err);
+
 /* ---- an adaptive linear ROM entry (alrom.c) ---- */
 
 /* Entry e (method adaptive_linear) on the built scene: its decoder into *dec (a quadratic manifold
- * from the entry's size r linear modes with the fixed vertices held and their modal derivatives)
+ * from the entry's size r linear modes with the fixed vertices held and their modal derivatives,
+ * or a CROM trained on frames: the scene's full-order displacements, 3 nv x T, run here when NULL)
  * and rk_alrom_init under the scene's options (dec must outlive s; free both). *seconds_decoder (may
  * be NULL): the decoder's build time. */
-int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, rk_alrom *s,
-                        rk_decoder *dec, double *seconds_decoder, rk_error *err);
+int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                        int T, rk_alrom *s, rk_decoder *dec, double *seconds_decoder, rk_error *err);
 
 /* ---- an entry's Koopman operator (koopman.c) ---- */
 

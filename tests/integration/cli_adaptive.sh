@@ -88,3 +88,24 @@ else
 fi
 scene "$TMP/m.json" '{"method": "adaptive_linear", "size": 6}'
 expect_fail build_refuses_adaptive_linear "adaptive_linear" "$ROMKIT" build "$TMP/m.json" -o "$TMP/m.rombin"
+
+# A training set from scenes run here, or from the snapshots of the same runs made as separate jobs
+# (romkit fom --snapshots): the same frames, so the same PCA basis and the same errors.
+scene "$TMP/t1.json" '{"basis": "modes", "size": 2}'
+sed 's/"velocity": \[0, 0, -0.5\]/"velocity": [0, 0, -0.3]/' "$TMP/t1.json" >"$TMP/t2.json"
+"$ROMKIT" fom "$TMP/t1.json" --snapshots "$TMP/s1.npy" --quiet >/dev/null 2>"$TMP/err"
+"$ROMKIT" fom "$TMP/t2.json" --snapshots "$TMP/s2.npy" --quiet >/dev/null 2>>"$TMP/err"
+scene "$TMP/ts.json" '[{"basis": "pod", "size": 4, "training": ["t1.json", "t2.json"], "name": "from-scenes"},
+  {"basis": "pod", "size": 4, "training": [{"snapshots": "s1.npy"}, {"snapshots": "s2.npy"}], "name": "from-snapshots"}]'
+if "$ROMKIT" compare "$TMP/ts.json" --report "$TMP/tr.json" >/dev/null 2>>"$TMP/err"; then
+    a=$(json_num "$TMP/tr.json" 'methods[1].relative_online_error')
+    b=$(json_num "$TMP/tr.json" 'methods[2].relative_online_error')
+    f=$(json_num "$TMP/tr.json" 'methods[1].training_frames')
+    [ -n "$a" ] && [ "$a" = "$b" ] && [ "$f" = 8 ] && ok training_set_same_from_scenes_or_snapshots \
+        || fail training_set_same_from_scenes_or_snapshots "online errors $a and $b, $f frames"
+else
+    fail training_set_same_from_scenes_or_snapshots "$(cat "$TMP/err")"
+fi
+printf '\223NUMPY' >"$TMP/bad.npy"
+scene "$TMP/tb.json" '{"basis": "pod", "size": 4, "training": [{"snapshots": "bad.npy"}]}'
+expect_fail training_bad_snapshots_named "training\[0\]" "$ROMKIT" compare "$TMP/tb.json"
