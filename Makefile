@@ -163,14 +163,15 @@ bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact
 	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
 	$(BUILD)/bench_scale tests/data/meshes bench/results
 	$(BUILD)/bench_adaptive tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),
-# step_time_vs_tets.png, koopman_jump.png, adaptive.png. Draws from the CSVs already there; runs no benchmark.
+# step_time_vs_tets.png, koopman_jump.png, adaptive.png, alrom.png. Draws from the CSVs already there; runs no benchmark.
 .PHONY: bench-plots
 bench-plots:
 	@if command -v gnuplot >/dev/null 2>&1; then \
-	    for p in pareto step_time_vs_tets koopman_jump adaptive; do \
+	    for p in pareto step_time_vs_tets koopman_jump adaptive alrom; do \
 	        gnuplot bench/plots/$$p.gp || exit 1; echo "bench/results/$$p.png"; \
 	    done; \
 	else echo "bench-plots: gnuplot not found; no charts drawn (the CSVs are in bench/results)"; fi

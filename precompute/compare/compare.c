@@ -217,6 +217,7 @@ typedef struct {
     const rk_rom_entry *from;   /* the entry whose list it is; NULL: none */
     double *D;
     int T;
+    rk_compare_decoder_cache decoder;
 } training_cache;
 
 static int same_list(const rk_rom_entry *a, const rk_rom_entry *b)
@@ -264,7 +265,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     }
     m->training_frames = Tt;
     if (e->method == RK_METHOD_ADAPTIVE_LINEAR) {
-        if (rk_compare_alrom(scene, sim, ref, D, Tt, e, m, &err)) rk_compare_record_failure(m, &err);
+        if (rk_compare_alrom(scene, sim, ref, D, Tt, e, m, &cache->decoder, &err)) rk_compare_record_failure(m, &err);
         else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
         return;
     }
@@ -327,6 +328,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
         run_method(scene, &sim, &F, ref, D, &M, &scene->entries[k], &out->methods[k], out, &cache);
     }
     free(cache.D);
+    rk_compare_decoder_cache_free(&cache.decoder);
     rc = 0;
 done:
     free(D);

@@ -32,7 +32,14 @@ int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fo
                         const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
 /* Entry e with method adaptive_linear: its free run against ref and its realigned run. */
+/* The decoder last built, kept for the next entry that would build the same one. */
+typedef struct {
+    const rk_rom_entry *from;   /* NULL: none */
+    rk_decoder dec;
+    double seconds;             /* its build (training) time */
+} rk_compare_decoder_cache;
+void rk_compare_decoder_cache_free(rk_compare_decoder_cache *c);
 int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
-                     const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+                     const rk_rom_entry *e, rk_compare_method *m, rk_compare_decoder_cache *cache, rk_error *err);
 
 #endif

@@ -64,18 +64,25 @@ static int crom(const rk_scene_sim *sim, const rk_rom_entry *e, const double *fr
     return rc;
 }
 
+int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                           int T, rk_decoder *dec, rk_error *err)
+{
+    if (sim->cloud_points) return rk_fail(err, "%s: method adaptive_linear needs tetrahedral meshes, not point clouds", e->path);
+    if (e->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, dec, err))
+        return rk_error_prefix(err, "%s: the %s decoder", e->path, e->crom ? "CROM" : "quadratic-manifold");
+    (void)scene;
+    return 0;
+}
+
 int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                         int T, rk_alrom *s, rk_decoder *dec, double *seconds_decoder, rk_error *err)
 {
-    if (sim->cloud_points) return rk_fail(err, "%s: method adaptive_linear needs tetrahedral meshes, not point clouds", e->path);
     double t0 = rk_now();
-    if (e->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, dec, err))
-        return rk_error_prefix(err, "%s: the %s decoder", e->path, e->crom ? "CROM" : "quadratic-manifold");
+    if (rk_scene_alrom_decoder(scene, sim, e, frames, T, dec, err)) return -1;
     if (seconds_decoder) *seconds_decoder = rk_now() - t0;
     if (rk_alrom_init(s, &sim->fem, &sim->options, dec, &e->alrom, err)) {
         rk_decoder_free(dec);
         return rk_error_prefix(err, "%s", e->path);
     }
-    (void)scene;
     return 0;
 }

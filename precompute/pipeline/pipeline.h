@@ -360,6 +360,9 @@ int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const 
  * be NULL): the decoder's build time. */
 int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                         int T, rk_alrom *s, rk_decoder *dec, double *seconds_decoder, rk_error *err);
+/* The decoder alone (rk_scene_alrom_init's first half). */
+int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                           int T, rk_decoder *dec, rk_error *err);
 
 /* ---- an entry's Koopman operator (koopman.c) ---- */
 
