@@ -120,7 +120,13 @@ static const struct {
     {"adaptive linear lambda", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
      " \"lambda\": 2}}", "rom", "lambda must be in [0, 1]"},
     {"adaptive linear decoder", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
-     " \"decoder\": \"crom\"}}", "rom", "decoder must be"},
+     " \"decoder\": \"vae\"}}", "rom", "decoder must be \"quadratic\" or \"crom\""},
+    {"crom options without crom", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
+     " \"crom\": {\"epochs\": 3}}}", "rom.crom", "is for decoder"},
+    {"empty training list", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
+     " \"training\": []}}", "rom.training", "1 to 32"},
+    {"training for modes", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"basis\": \"modes\", \"size\": 4,"
+     " \"training\": [\"a.json\"]}}", "rom.training", "basis pod or method adaptive_linear"},
     {"adaptive linear basis", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
      " \"basis\": \"pod\"}}", "rom", "no basis"},
     {"adaptive linear without size", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\"}}",
