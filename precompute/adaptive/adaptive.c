@@ -147,7 +147,7 @@ void rk_adaptive_free(rk_adaptive *ad)
                           im->Dinv, im->coup_pos, im->block_size, im->part_mark_dofs, im->gq, im->dq, im->dx,
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
-                          im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g};
+                          im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g, im->MU, im->CU, im->ctri_r, im->ctri_v};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }

@@ -58,7 +58,9 @@ struct rk_adaptive_impl {
     double *Hf;                 /* w_i M + w_d C + the exact elements' Hessians, full pattern */
     double *UMU, *UCU;          /* a x a: U_a^T M U_a, U_a^T C U_a */
     double *BMB, *BCB;          /* a x a: masked */
-    int inertia_valid;          /* UMU..BCB are for the current columns and mask */
+    double *MU, *CU;            /* n x a: M U_a, C U_a */
+    int columns_valid;          /* MU, CU, UMU, UCU are for the current columns */
+    int inertia_valid;          /* BMB, BCB are for the current columns and mask */
     double *Ha, *Hq;            /* a x a: unmasked (the oracle's) and masked (the system's) */
     double *Lq;                 /* a x a Cholesky factor of Hq */
     char *elem_exact;           /* nt: in an exact subdomain */
@@ -70,6 +72,8 @@ struct rk_adaptive_impl {
     int ncoup, *coup_dof;       /* enriched dofs coupled to the modal dofs: C's columns */
     double *Cq;                 /* a x ncoup */
     double *Dinv;               /* 9 per enriched vertex: the block-Jacobi preconditioner */
+    int nctri, capctri, *ctri_r;/* contact entries among enriched dofs: (row, column) pairs */
+    double *ctri_v;             /* and their values */
     int *coup_pos;              /* n: each enriched dof's column in Cq or -1 */
     int *block_size;            /* n: the preconditioner's block at its first dof */
     char *part_mark_dofs;       /* n */

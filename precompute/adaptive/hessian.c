@@ -206,31 +206,57 @@ void rk_adaptive_bfgs_update(rk_adaptive *ad, const double *x)
 
 /* ---- inertia, damping and contact, exactly ---- */
 
-/* A^T S A for the full-pattern matrix S (values val) and the n x a matrix A. */
-static int sandwich(rk_adaptive_impl *im, const double *val, const double *A, double *out, rk_error *err)
+/* SA = S A and AtSA = A^T S A for the full-pattern matrix S (values val) and U_a (n x a). */
+static void sandwich(rk_adaptive_impl *im, const double *val, double *SA, double *AtSA)
 {
     int n = im->n, a = im->a;
-    double *SA = malloc(sizeof(double) * ((size_t)n * a + 1));
-    if (!SA) return rk_fail(err, "out of memory for the subspace inertia");
-    for (int j = 0; j < a; j++) rk_full_mul(&im->P, val, A + (size_t)j * n, SA + (size_t)j * n);
-    rk_dense_atb(n, a, a, A, SA, out);
-    free(SA);
-    return 0;
+    for (int j = 0; j < a; j++) rk_full_mul(&im->P, val, im->Ua + (size_t)j * n, SA + (size_t)j * n);
+    rk_dense_atb(n, a, a, im->Ua, SA, AtSA);
+}
+
+/* B^T S B from U^T S U and S U, B = U - E with E the enriched rows of U: only those rows enter,
+ *   B^T S B = U^T S U - E^T S U - U^T S E + E^T S E,
+ * so a change of the enriched set costs its rows, not the whole mesh. */
+static void masked(rk_adaptive_impl *im, const double *val, const double *SU, const double *UtSU, double *out)
+{
+    int n = im->n, a = im->a, nx = im->nx;
+    size_t aa = (size_t)a * a;
+    memcpy(out, UtSU, sizeof(double) * aa);
+    for (int k = 0; k < nx; k++) {
+        int r = im->xdof[k];
+        const double *Ur = im->Ua + r, *SUr = SU + r; /* row r of U and of S U, stride n */
+        /* E^T S E's row r: sum over enriched columns c of S[r, c] U[c, :] */
+        double *t = im->sc_a;
+        memset(t, 0, sizeof(double) * (size_t)a);
+        for (int e = im->P.rowptr[r]; e < im->P.rowptr[r + 1]; e++) {
+            int c = im->P.col[e];
+            if (im->xindex[c] < 0 || val[e] == 0) continue;
+            for (int j = 0; j < a; j++) t[j] += val[e] * im->Ua[(size_t)j * n + c];
+        }
+        for (int j = 0; j < a; j++)
+            for (int i = 0; i < a; i++)
+                out[(size_t)j * a + i] += -Ur[(size_t)i * n] * SUr[(size_t)j * n] - SUr[(size_t)i * n] * Ur[(size_t)j * n] +
+                                          Ur[(size_t)i * n] * t[j];
+    }
 }
 
 static int inertia(rk_adaptive *ad, rk_error *err)
 {
     rk_adaptive_impl *im = ad->impl;
-    if (im->inertia_valid) return 0;
     size_t aa = (size_t)im->a * im->a;
-    if (sandwich(im, im->Mf, im->Ua, im->UMU, err) || sandwich(im, im->Mf, im->Ba, im->BMB, err)) return -1;
-    if (im->Cf) {
-        if (sandwich(im, im->Cf, im->Ua, im->UCU, err) || sandwich(im, im->Cf, im->Ba, im->BCB, err)) return -1;
-    } else {
-        memset(im->UCU, 0, sizeof(double) * aa);
-        memset(im->BCB, 0, sizeof(double) * aa);
+    if (!im->columns_valid) {
+        sandwich(im, im->Mf, im->MU, im->UMU);
+        if (im->Cf) sandwich(im, im->Cf, im->CU, im->UCU);
+        else memset(im->UCU, 0, sizeof(double) * aa);
+        im->columns_valid = 1;
+        im->inertia_valid = 0;
     }
+    if (im->inertia_valid) return 0;
+    masked(im, im->Mf, im->MU, im->UMU, im->BMB);
+    if (im->Cf) masked(im, im->Cf, im->CU, im->UCU, im->BCB);
+    else memset(im->BCB, 0, sizeof(double) * aa);
     im->inertia_valid = 1;
+    (void)err;
     return 0;
 }
 

@@ -23,7 +23,7 @@ int rk_adaptive_set_columns(rk_adaptive *ad, rk_error *err)
             for (int j = 0; j < block; j++) im->cols[a++] = b * block + j;
     im->a = a;
     size_t na = (size_t)im->n * (size_t)a, aa = (size_t)a * (size_t)a;
-    if (grow(&im->Ua, na, err) || grow(&im->Ba, na, err) || grow(&im->UMU, aa, err) || grow(&im->UCU, aa, err) ||
+    if (grow(&im->Ua, na, err) || grow(&im->Ba, na, err) || grow(&im->MU, na, err) || grow(&im->CU, na, err) || grow(&im->UMU, aa, err) || grow(&im->UCU, aa, err) ||
         grow(&im->BMB, aa, err) || grow(&im->BCB, aa, err) || grow(&im->Ha, aa, err) || grow(&im->Hq, aa, err) ||
         grow(&im->Lq, aa, err) || grow(&im->gq, (size_t)a, err) || grow(&im->dq, (size_t)a, err) ||
         grow(&im->dq_last, (size_t)a, err))
@@ -36,6 +36,7 @@ int rk_adaptive_set_columns(rk_adaptive *ad, rk_error *err)
     for (int j = 0; j < a; j++)
         memcpy(im->Ua + (size_t)j * im->n, im->U + (size_t)im->cols[j] * im->n, sizeof(double) * (size_t)im->n);
     ad->modes = a;
+    im->columns_valid = 0;
     im->inertia_valid = 0;
     im->have_step = 0;
     rk_adaptive_update_mask(ad);

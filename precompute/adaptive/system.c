@@ -106,6 +106,31 @@ static int build_blocks(rk_adaptive *ad, rk_error *err)
                 if (xd >= 0) coupled[xd] = 1;
             }
     }
+    /* the contact pairs' entries among enriched dofs, listed once for the PCG's products */
+    im->nctri = 0;
+    for (int b = 0; b < im->view.nblocks; b++) {
+        const rk_contact_block *blk = &blocks[b];
+        int m = 3 * blk->np;
+        for (int p = 0; p < m; p++) {
+            int xr = blk->id[p / 3] >= 0 ? im->xindex[3 * blk->id[p / 3] + p % 3] : -1;
+            for (int q = 0; q < m && xr >= 0; q++) {
+                int xc = blk->id[q / 3] >= 0 ? im->xindex[3 * blk->id[q / 3] + q % 3] : -1;
+                if (xc < 0 || blk->H[p * m + q] == 0) continue;
+                if (im->nctri == im->capctri) {
+                    int grown = im->capctri ? 2 * im->capctri : 1024;
+                    int *ri = realloc(im->ctri_r, sizeof(int) * 2 * (size_t)grown);
+                    double *rv = realloc(im->ctri_v, sizeof(double) * (size_t)grown);
+                    if (ri) im->ctri_r = ri;
+                    if (rv) im->ctri_v = rv;
+                    if (!ri || !rv) return rk_fail(err, "out of memory for the enriched contact entries");
+                    im->capctri = grown;
+                }
+                im->ctri_r[2 * im->nctri] = xr;
+                im->ctri_r[2 * im->nctri + 1] = xc;
+                im->ctri_v[im->nctri++] = blk->H[p * m + q];
+            }
+        }
+    }
     im->ncoup = 0;
     for (int k = 0; k < nx; k++)
         if (coupled[k]) {
@@ -152,20 +177,7 @@ static void hx_apply(const rk_adaptive_impl *im, const double *x, double *y)
         for (int e = im->hx_rowptr[k]; e < im->hx_rowptr[k + 1]; e++) s += im->hx_val[e] * x[im->hx_col[e]];
         y[k] = s;
     }
-    for (int b = 0; b < im->view.nblocks; b++) {
-        const rk_contact_block *blk = &im->view.blocks[b];
-        int m = 3 * blk->np;
-        for (int p = 0; p < m; p++) {
-            if (blk->id[p / 3] < 0) continue;
-            int xr = im->xindex[3 * blk->id[p / 3] + p % 3];
-            if (xr < 0) continue;
-            for (int q = 0; q < m; q++) {
-                if (blk->id[q / 3] < 0) continue;
-                int xc = im->xindex[3 * blk->id[q / 3] + q % 3];
-                if (xc >= 0) y[xr] += blk->H[p * m + q] * x[xc];
-            }
-        }
-    }
+    for (int k = 0; k < im->nctri; k++) y[im->ctri_r[2 * k]] += im->ctri_v[k] * x[im->ctri_r[2 * k + 1]];
 }
 
 /* t (a) = C x (x over the enriched dofs). */
