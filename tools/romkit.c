@@ -30,7 +30,7 @@ static void usage(FILE *out)
     fprintf(out, "romkit: reduced-order models of deformable solids, baked offline, stepped in real time.\n\n"
                  "usage: romkit COMMAND [ARGS]   (romkit COMMAND --help for details)\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
+        fprintf(out, "  %-9s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\nLong stages show progress on stderr when it is a terminal (--quiet: none).\n"
                  "\ntypical pipeline, from the repository root:\n"
                  "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"

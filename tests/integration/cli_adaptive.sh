@@ -109,3 +109,7 @@ fi
 printf '\223NUMPY' >"$TMP/bad.npy"
 scene "$TMP/tb.json" '{"basis": "pod", "size": 4, "training": [{"snapshots": "bad.npy"}]}'
 expect_fail training_bad_snapshots_named "training\[0\]" "$ROMKIT" compare "$TMP/tb.json"
+# A training run of another object is refused, naming the list item.
+sed 's/"cells": \[8, 4, 2\]/"cells": [4, 2, 2]/' "$TMP/t1.json" >"$TMP/other.json"
+scene "$TMP/to.json" '{"basis": "pod", "size": 4, "training": ["other.json"]}'
+expect_fail training_other_object_refused "not the same object" "$ROMKIT" compare "$TMP/to.json"
