@@ -11,6 +11,7 @@
 static int same_decoder(const rk_rom_entry *a, const rk_rom_entry *b)
 {
     if (a->crom != b->crom || a->basis.size != b->basis.size || a->ntraining != b->ntraining) return 0;
+    if (a->cubature != b->cubature || (a->cubature && memcmp(&a->cub, &b->cub, sizeof a->cub))) return 0;
     if (a->crom && memcmp(&a->crom_opt, &b->crom_opt, sizeof a->crom_opt)) return 0;
     for (int k = 0; k < a->ntraining; k++)
         if (a->training[k].snapshots != b->training[k].snapshots || strcmp(a->training[k].file, b->training[k].file))
@@ -21,6 +22,11 @@ static int same_decoder(const rk_rom_entry *a, const rk_rom_entry *b)
 void rk_compare_decoder_cache_free(rk_compare_decoder_cache *c)
 {
     rk_decoder_free(&c->dec);
+    free(c->cub_element);
+    free(c->cub_weight);
+    c->cub_element = NULL;
+    c->cub_weight = NULL;
+    c->ncub = 0;
     c->from = NULL;
 }
 
@@ -34,13 +40,20 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
     if (!cache->from || !same_decoder(cache->from, e)) { /* a sweep of m or lambda trains one decoder */
         rk_compare_decoder_cache_free(cache);
         double t0 = rk_now();
-        if (rk_scene_alrom_decoder(scene, sim, e, D, T, &cache->dec, err)) goto out;
+        if (rk_scene_alrom_decoder(scene, sim, e, D, T, &cache->dec, err) ||
+            rk_scene_alrom_cubature(scene, sim, e, D, T, &cache->cub_element, &cache->cub_weight, &cache->ncub, err))
+            goto out;
         cache->from = e;
         cache->seconds = rk_now() - t0;
     }
     m->seconds_basis = cache->seconds;
     const rk_decoder *dec = &cache->dec;
-    if (rk_alrom_init(&s, &sim->fem, &sim->options, dec, &e->alrom, err)) {
+    rk_alrom_options o = e->alrom;
+    o.ncub = cache->ncub;
+    o.cub_element = cache->cub_element;
+    o.cub_weight = cache->cub_weight;
+    m->cubature_points = cache->ncub;
+    if (rk_alrom_init(&s, &sim->fem, &sim->options, dec, &o, err)) {
         rk_error_prefix(err, "%s", e->path);
         goto out;
     }
@@ -68,7 +81,7 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
     /* realigned: a fresh simulator (the same decoder) from each reference state (its history then
      * holds them) */
     rk_alrom_free(&s);
-    if (rk_alrom_init(&s, &sim->fem, &sim->options, dec, &e->alrom, err)) goto out;
+    if (rk_alrom_init(&s, &sim->fem, &sim->options, dec, &o, err)) goto out;
     rk_run_error_init(&er, sim->mesh.X, ndof / 3);
     for (int t = 0; t < steps; t++) {
         const double *xp = t > 0 ? ref->x + (size_t)ndof * (t - 1) : NULL, *vp = t > 0 ? ref->v + (size_t)ndof * (t - 1) : NULL;

@@ -37,6 +37,8 @@ typedef struct {
     const rk_rom_entry *from;   /* NULL: none */
     rk_decoder dec;
     double seconds;             /* its build (training) time */
+    int ncub, *cub_element;     /* the entry's cubature (rom.cubature), or none */
+    double *cub_weight;
 } rk_compare_decoder_cache;
 void rk_compare_decoder_cache_free(rk_compare_decoder_cache *c);
 int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,

@@ -3,6 +3,8 @@
  * U_interp q by the solver's Newton with the reduced gradient U^T g and Hessian U^T H U (Eq. 11-12). */
 #include "grassmann/grassmann.h"
 
+#include "fem/element_impl.h"
+
 #include <cblas.h>
 #include <lapacke.h>
 #include <math.h>
@@ -17,6 +19,8 @@ struct rk_alrom_impl {
     double *D, *P;          /* n x m, r x m: displacements and latent codes, a ring */
     double *u, *p, *U, *Phi, *Ui, *HU, *Hq, *L, *gq, *dq; /* n, r, n r, n r, n r, n r, r r, r r, r, r */
     double *Dc, *Pc;        /* the ring in time order (n x count, r x count) */
+    double *UMU, *UCU;      /* r x r: the step basis' inertia and damping (cubature) */
+    int inertia_valid;
     double *newton_work;
     const char *prescribed;
     rk_error failure;
@@ -32,7 +36,7 @@ void rk_alrom_free(rk_alrom *s)
     rk_alrom_impl *im = s->impl;
     if (im) {
         void *arrays[] = {im->D, im->P, im->u, im->p, im->U, im->Phi, im->Ui, im->HU, im->Hq, im->L, im->gq, im->dq,
-                          im->Dc, im->Pc, im->newton_work};
+                          im->Dc, im->Pc, im->newton_work, im->UMU, im->UCU};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }
@@ -47,6 +51,13 @@ int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, cons
     if (o->history < 1) return rk_fail(err, "history (m) must be at least 1, got %d", o->history);
     if (!(o->lambda >= 0 && o->lambda <= 1)) return rk_fail(err, "lambda must be in [0, 1], got %g", o->lambda);
     if (!(o->reg >= 0)) return rk_fail(err, "the history's regularisation must be >= 0, got %g", o->reg);
+    if (o->ncub < 0 || (o->ncub > 0 && (!o->cub_element || !o->cub_weight)))
+        return rk_fail(err, "a cubature needs its elements and weights (%d given)", o->ncub);
+    for (int k = 0; k < o->ncub; k++)
+        if (o->cub_element[k] < 0 || o->cub_element[k] >= fem->nt || !(o->cub_weight[k] > 0))
+            return rk_fail(err, "cubature point %d: element %d of %d, weight %g", k, o->cub_element[k], fem->nt,
+                           o->cub_weight[k]);
+    if (o->ncub > 0 && dec->r > 64) return rk_fail(err, "a cubature handles r up to 64, got %d", dec->r);
     if (dec->n != 3 * fem->nv || dec->r < 1)
         return rk_fail(err, "the decoder maps %d latent coordinates to %d dofs; the mesh has %d", dec->r, dec->n,
                        3 * fem->nv);
@@ -80,8 +91,10 @@ int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, cons
     im->gq = malloc(sizeof(double) * r);
     im->dq = malloc(sizeof(double) * r);
     im->newton_work = malloc(sizeof(double) * RK_NEWTON_WORK(n));
+    im->UMU = malloc(sizeof(double) * r * r);
+    im->UCU = malloc(sizeof(double) * r * r);
     if (!im->D || !im->P || !im->Dc || !im->Pc || !im->u || !im->p || !im->U || !im->Phi || !im->Ui || !im->HU ||
-        !im->Hq || !im->L || !im->gq || !im->dq || !im->newton_work) {
+        !im->Hq || !im->L || !im->gq || !im->dq || !im->newton_work || !im->UMU || !im->UCU) {
         rk_alrom_free(s);
         return rk_fail(err, "out of memory for the adaptive linear ROM (%zu dofs, r %zu, m %zu)", n, r, m);
     }
@@ -154,6 +167,7 @@ static int step_basis(rk_alrom *s, rk_error *err)
             return rk_fail(err, "step %ld: the decoder's basis has rank below %d", s->stats.steps + 1, r);
     }
     s->stats.history_used += blended;
+    im->inertia_valid = 0; /* a new basis */
     return 0;
 }
 
@@ -164,11 +178,107 @@ typedef struct {
     const rk_fom_terms *T;
 } newton_ctx;
 
+/* The cubature's elastic energy at x; with g, its gradient added; with H (r x r), its reduced
+ * Hessian sum_k w_k U_e^T H_e U_e added. */
+static double cubature_terms(rk_alrom *s, const double *x, double *g, double *H)
+{
+    rk_alrom_impl *im = s->impl;
+    const rk_fem *f = im->f;
+    const rk_alrom_options *o = &s->opt;
+    int n = im->n, r = im->r;
+    double E = 0;
+    for (int k = 0; k < o->ncub; k++) {
+        int t = o->cub_element[k];
+        double w = o->cub_weight[k], xe[12];
+        const int *v = &f->tets[4 * t];
+        for (int a = 0; a < 4; a++)
+            for (int b = 0; b < 3; b++) xe[3 * a + b] = x[3 * v[a] + b];
+        E += w * rk_tet_energy(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t]);
+        if (g) {
+            double ge[12] = {0};
+            rk_tet_gradient(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t], ge);
+            for (int a = 0; a < 4; a++)
+                for (int b = 0; b < 3; b++) g[3 * v[a] + b] += w * ge[3 * a + b];
+        }
+        if (H) {
+            double He[144], Ue[12 * 64], HU[12 * 64];
+            rk_tet_hessian(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t], He, 1);
+            for (int j = 0; j < r; j++)
+                for (int a = 0; a < 4; a++)
+                    for (int b = 0; b < 3; b++) Ue[12 * j + 3 * a + b] = im->Ui[(size_t)j * n + 3 * v[a] + b];
+            for (int j = 0; j < r; j++)
+                for (int p = 0; p < 12; p++) {
+                    double acc = 0;
+                    for (int q = 0; q < 12; q++) acc += He[12 * p + q] * Ue[12 * j + q];
+                    HU[12 * j + p] = acc;
+                }
+            for (int j = 0; j < r; j++)
+                for (int i = 0; i < r; i++) {
+                    double acc = 0;
+                    for (int p = 0; p < 12; p++) acc += Ue[12 * i + p] * HU[12 * j + p];
+                    H[(size_t)j * r + i] += w * acc;
+                }
+        }
+    }
+    return isfinite(E) ? E : INFINITY;
+}
+
+/* U^T A U for A upper-stored on the fem pattern (the inertia and damping: constant in a step). */
+static void sandwich(rk_alrom_impl *im, const rk_sparse *A, double *out)
+{
+    int n = im->n, r = im->r;
+    for (int k = 0; k < r; k++) rk_sparse_mul(A, im->Ui + (size_t)k * n, im->HU + (size_t)k * n);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, n, 1.0, im->Ui, n, im->HU, n, 0.0, out, r);
+}
+
+static double energy_cubature(newton_ctx *c, const double *x, double *g, int hessian, double *magnitude)
+{
+    rk_alrom *s = c->s;
+    rk_alrom_impl *im = s->impl;
+    int r = im->r;
+    rk_fom_terms rest = *c->T;
+    rest.no_elastic = 1;
+    double E = rk_fom_potential(&s->fom, &rest, x, g, hessian ? RK_FOM_CONTACT_BLOCKS : RK_FOM_NO_HESSIAN, magnitude,
+                                &im->failure);
+    if (!isfinite(E)) return E;
+    if (hessian) { /* inertia and damping exactly, in this step's basis */
+        rk_fom_view view;
+        rk_fom_view_get(&s->fom, &view);
+        if (!im->inertia_valid) {
+            sandwich(im, view.M, im->UMU);
+            if (view.C->val) sandwich(im, view.C, im->UCU);
+            else memset(im->UCU, 0, sizeof(double) * (size_t)r * r);
+            im->inertia_valid = 1;
+        }
+        for (int k = 0; k < r * r; k++) im->Hq[k] = c->T->w_inertia * im->UMU[k] + c->T->w_damping * im->UCU[k];
+        for (int b = 0; b < view.nblocks; b++) { /* contact blocks */
+            const rk_contact_block *blk = &view.blocks[b];
+            int m = 3 * blk->np;
+            for (int j = 0; j < r; j++)
+                for (int i = 0; i < r; i++) {
+                    double acc = 0;
+                    for (int p = 0; p < m; p++) {
+                        if (blk->id[p / 3] < 0) continue;
+                        double ui = im->Ui[(size_t)i * im->n + 3 * blk->id[p / 3] + p % 3];
+                        for (int q = 0; q < m; q++)
+                            if (blk->id[q / 3] >= 0)
+                                acc += ui * blk->H[p * m + q] * im->Ui[(size_t)j * im->n + 3 * blk->id[q / 3] + q % 3];
+                    }
+                    im->Hq[(size_t)j * r + i] += acc;
+                }
+        }
+    }
+    double psi = cubature_terms(s, x, g, hessian ? im->Hq : NULL);
+    if (magnitude) *magnitude += fabs(psi);
+    return E + psi;
+}
+
 static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
 {
     newton_ctx *c = ctx;
     rk_alrom *s = c->s;
     rk_alrom_impl *im = s->impl;
+    if (s->opt.ncub > 0) return energy_cubature(c, x, g, hessian, magnitude);
     double E = rk_fom_potential(&s->fom, c->T, x, g, hessian ? RK_FOM_NEWTON_MATRIX : RK_FOM_NO_HESSIAN, magnitude,
                                 &im->failure);
     if (!hessian || !isfinite(E)) return E;

@@ -8,9 +8,9 @@
  *   u(t) = u(t-1) + U_interp q,  q minimising the incremental potential (Eq. 5-6, 9-12)
  *
  * on the full-order step's own potential (fom.h: the same contact, integrators and prescribed
- * motion), Newton on q with the exact reduced Hessian U^T H U (every element's PSD-projected
- * Hessian: the "exact" reduced forces; the paper's per-step cost needs cubature, which the
- * runtime's fixed-basis models have and this simulator does not yet).
+ * motion), Newton on q with the reduced gradient U^T g and Hessian U^T H U: exactly (every
+ * element's PSD-projected Hessian), or with the elastic part by a cubature (options: the elements
+ * and weights a fixed basis trained; inertia, damping, loads and contact stay exact).
  *
  * A decoder is an interface: a quadratic manifold g(p) = Phi p + 1/2 sum_ij Psi_ij p_i p_j from
  * linear modes and modal derivatives (no training, rk_quadratic_decoder), or a CROM network. */
@@ -90,6 +90,11 @@ typedef struct {
     int history;       /* m: the steps the history basis spans (20) */
     double lambda;     /* the interpolation parameter (0.2): 1 is the decoder's basis alone */
     double reg;        /* P P^T's regularisation (1e-8) */
+    /* the elastic energy by a cubature (An et al. 2008) instead of every element: ncub elements
+     * with weights (multiplying each element's energy); 0: every element. Borrowed. */
+    int ncub;
+    const int *cub_element;
+    const double *cub_weight;
 } rk_alrom_options;
 void rk_alrom_default_options(rk_alrom_options *o);
 

@@ -86,3 +86,42 @@ int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk
     }
     return 0;
 }
+
+int rk_scene_alrom_cubature(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                            int T, int **element, double **weight, int *count, rk_error *err)
+{
+    *element = NULL;
+    *weight = NULL;
+    *count = 0;
+    if (!e->cubature) return 0;
+    /* the PCA basis of the same frames at the same r, and the cubature trained for it: An et al.'s
+     * weights depend on the basis they were trained in; here they integrate a basis that moves */
+    rk_rom_entry pe = *e;
+    pe.method = RK_METHOD_FIXED;
+    pe.basis.type = RK_BASIS_POD;
+    pe.ntraining = 0;
+    rk_scene_rom R;
+    if (rk_scene_rom_build(scene, sim, &pe, frames, T, &R, err))
+        return rk_error_prefix(err, "%s: the cubature (trained with a POD basis of the same frames)", e->path);
+    const rk_quadrature *Q = &R.model.quad;
+    int rc = 0;
+    *element = malloc(sizeof(int) * (size_t)(Q->count + 1));
+    *weight = malloc(sizeof(double) * (size_t)(Q->count + 1));
+    if (!*element || !*weight) {
+        rc = rk_fail(err, "out of memory for a cubature of %d elements", Q->count);
+    } else {
+        for (int k = 0; k < Q->count; k++) { /* Q's weights carry the rest volume; the energy has it too */
+            (*element)[k] = Q->source[k];
+            (*weight)[k] = Q->weight[k] / sim->fem.vol[Q->source[k]];
+        }
+        *count = Q->count;
+    }
+    rk_scene_rom_free(&R);
+    if (rc) {
+        free(*element);
+        free(*weight);
+        *element = NULL;
+        *weight = NULL;
+    }
+    return rc;
+}

@@ -256,10 +256,10 @@ static int parse_alrom(const rk_json_ctx *c, const cJSON *e, const char *path, r
 {
     rk_alrom_default_options(&o->alrom);
     if (o->method != RK_METHOD_ADAPTIVE_LINEAR) return 0;
-    if (cJSON_HasObjectItem(e, "cubature") || cJSON_HasObjectItem(e, "koopman") || cJSON_HasObjectItem(e, "mesh_free") ||
+    if (cJSON_HasObjectItem(e, "koopman") || cJSON_HasObjectItem(e, "mesh_free") ||
         cJSON_HasObjectItem(e, "tolerance") || cJSON_HasObjectItem(e, "basis"))
-        return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis, "
-                            "tolerance, cubature, koopman or mesh_free");
+        return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda, decoder and cubature; no "
+                            "basis, tolerance, koopman or mesh_free");
     const char *decoder = NULL;
     if (rk_json_whole(c, e, path, "history", 1, 10000, &o->alrom.history) ||
         rk_json_number(c, e, path, "lambda", 0, &o->alrom.lambda) || rk_json_string(c, e, path, "decoder", 0, &decoder))

@@ -360,6 +360,11 @@ int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const 
  * be NULL): the decoder's build time. */
 int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                         int T, rk_alrom *s, rk_decoder *dec, double *seconds_decoder, rk_error *err);
+/* With rom.cubature: the elements and weights (multiplying each element's energy) of a cubature
+ * trained, as a fixed basis's is, for the POD basis of the same frames at the same r; none (count
+ * 0) without. malloc'd. */
+int rk_scene_alrom_cubature(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
+                            int T, int **element, double **weight, int *count, rk_error *err);
 /* The decoder alone (rk_scene_alrom_init's first half). */
 int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                            int T, rk_decoder *dec, rk_error *err);
