@@ -122,8 +122,9 @@ void rk_adaptive_bfgs_update(rk_adaptive *a, const double *x);
 int rk_adaptive_bfgs_restart(rk_adaptive *a, const double *x, rk_error *err);
 
 /* oracle.c */
-/* Solves H z = b (a x a) by Cholesky into L (a shift when not definite); -1 when that fails. */
-int rk_adaptive_spd_solve(int a, const double *H, double *L, const double *b, double *z);
+/* The subspace systems' diagonal shifts tried before giving up (rk_spd_solve_shifted): up to
+ * 1e2 times the largest diagonal entry, for a masked H_q that is near zero. */
+#define RK_ADAPTIVE_SHIFTS 8
 int rk_adaptive_oracle(rk_adaptive *a, const rk_fom_terms *T, const double *x, double E, const double *g,
                        int *changed_modes, int *changed_nodes, rk_error *err);
 void rk_adaptive_downdate(rk_adaptive *a);

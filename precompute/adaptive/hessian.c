@@ -260,34 +260,6 @@ static int inertia(rk_adaptive *ad, rk_error *err)
     return 0;
 }
 
-/* Each contact block's A_p^T H_b A_p added into out (A: n x a; the block's points' rows). */
-static void contact_sandwich(rk_adaptive_impl *im, const double *A, double *out)
-{
-    int a = im->a, n = im->n;
-    double *R = im->work; /* 12 x a rows */
-    for (int b = 0; b < im->view.nblocks; b++) {
-        const rk_contact_block *blk = &im->view.blocks[b];
-        int m = 3 * blk->np;
-        for (int j = 0; j < a; j++)
-            for (int p = 0; p < blk->np; p++)
-                for (int k = 0; k < 3; k++) /* an obstacle's point (id < 0) does not move with the subspace */
-                    R[(size_t)j * m + 3 * p + k] = blk->id[p] >= 0 ? A[(size_t)j * n + 3 * blk->id[p] + k] : 0;
-        double HR[12 * 12];
-        for (int j = 0; j < a; j++) {
-            for (int r = 0; r < m; r++) {
-                double v = 0;
-                for (int c = 0; c < m; c++) v += blk->H[r * m + c] * R[(size_t)j * m + c];
-                HR[r] = v;
-            }
-            for (int i = 0; i < a; i++) {
-                double v = 0;
-                for (int r = 0; r < m; r++) v += R[(size_t)i * m + r] * HR[r];
-                out[(size_t)j * a + i] += v;
-            }
-        }
-    }
-}
-
 int rk_adaptive_subspace_hessian(rk_adaptive *ad, const rk_fom_terms *T, const double *x, rk_error *err)
 {
     rk_adaptive_impl *im = ad->impl;
@@ -309,7 +281,7 @@ int rk_adaptive_subspace_hessian(rk_adaptive *ad, const rk_fom_terms *T, const d
             im->Hq[k] += s->B[k];
         }
     }
-    contact_sandwich(im, im->Ua, im->Ha);
-    contact_sandwich(im, im->Ba, im->Hq);
+    rk_fom_contact_sandwich(&im->view, im->n, a, im->Ua, im->work, im->Ha);
+    rk_fom_contact_sandwich(&im->view, im->n, a, im->Ba, im->work, im->Hq);
     return 0;
 }

@@ -6,26 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Solves H z = b (a x a, symmetric positive definite up to round-off) by Cholesky into L; a
- * matrix that is not definite gets a growing diagonal shift. -1 when nothing helps. */
-int rk_adaptive_spd_solve(int a, const double *H, double *L, const double *b, double *z)
-{
-    if (a == 0) return 0;
-    double scale = 0;
-    for (int i = 0; i < a; i++) scale = fmax(scale, fabs(H[(size_t)i * a + i]));
-    if (!(scale > 0)) scale = 1; /* every column masked out (all enriched): the shift alone */
-    for (int attempt = 0; attempt < 8; attempt++) {
-        double shift = attempt ? scale * pow(10.0, -12 + 2 * attempt) : 0;
-        memcpy(L, H, sizeof(double) * (size_t)a * a);
-        for (int i = 0; i < a; i++) L[(size_t)i * a + i] += shift;
-        if (LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', a, L, a) != 0) continue;
-        memcpy(z, b, sizeof(double) * (size_t)a);
-        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', a, 1, L, a, z, a);
-        return 0;
-    }
-    return -1;
-}
-
 /* The integrator's alpha from the potential's inertia weight 1 / (alpha h^2). */
 static double integrator_alpha(const rk_adaptive *ad, const rk_fom_terms *T)
 {
@@ -43,7 +23,7 @@ static double subspace_direction(rk_adaptive *ad, const rk_fom_terms *T, const d
     double *b = im->gq, *p = im->dq;
     rk_dense_atb(n, a, 1, im->Ua, g, b);
     for (int k = 0; k < a; k++) b[k] = -b[k];
-    if (rk_adaptive_spd_solve(a, im->Ha, im->Lq, b, p)) return 0;
+    if (rk_spd_solve_shifted(a, im->Ha, im->Lq, b, p, RK_ADAPTIVE_SHIFTS)) return 0;
     memset(dx, 0, sizeof(double) * (size_t)n);
     for (int j = 0; j < a; j++)
         for (int i = 0; i < n; i++) dx[i] += im->Ua[(size_t)j * n + i] * p[j];

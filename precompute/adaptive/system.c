@@ -268,7 +268,7 @@ int rk_adaptive_solve(rk_adaptive *ad, const rk_fom_terms *T, const double *g, d
     int a = im->a, n = im->n, nx = im->nx;
     double t0 = rk_now();
     rk_dense_atb(n, a, 1, im->Ba, g, im->gq);
-    if (rk_adaptive_spd_solve(a, im->Hq, im->Lq, im->gq, im->dq))
+    if (rk_spd_solve_shifted(a, im->Hq, im->Lq, im->gq, im->dq, RK_ADAPTIVE_SHIFTS))
         return rk_fail(err, "the subspace Hessian (%d modes) is not positive definite", a);
     double *dx = im->dx;
     if (nx > 0) {

@@ -191,6 +191,10 @@ typedef struct {
     rk_contact *contact;        /* NULL without contact */
 } rk_fom_view;
 void rk_fom_view_get(const rk_fom *s, rk_fom_view *v);
+/* Each of v's contact blocks sandwiched in a subspace: out (a x a, column-major) += A_p^T H_b A_p,
+ * A_p the rows of A (n x a, column-major) at the block's points (an obstacle's point: zero rows).
+ * work: 12 a doubles. */
+void rk_fom_contact_sandwich(const rk_fom_view *v, int n, int a, const double *A, double *work, double *out);
 
 /* A solver of the step's minimisation: from s->x (prescribed dofs already where they are due),
  * minimise T's potential in place to |d|_inf <= tol_d (m); *converged as rk_newton_solve's. */

@@ -170,3 +170,29 @@ double rk_fom_max_step(rk_fom *s, const double *x, const double *d, rk_error *er
     s->stats.seconds_contact += rk_now() - t0;
     return alpha;
 }
+
+void rk_fom_contact_sandwich(const rk_fom_view *v, int n, int a, const double *A, double *work, double *out)
+{
+    double *R = work; /* the block's rows of A: 3 np x a */
+    for (int b = 0; b < v->nblocks; b++) {
+        const rk_contact_block *blk = &v->blocks[b];
+        int m = 3 * blk->np;
+        for (int j = 0; j < a; j++)
+            for (int p = 0; p < blk->np; p++)
+                for (int k = 0; k < 3; k++) /* an obstacle's point (id < 0) does not move with the subspace */
+                    R[(size_t)j * m + 3 * p + k] = blk->id[p] >= 0 ? A[(size_t)j * n + 3 * blk->id[p] + k] : 0;
+        double HR[12];
+        for (int j = 0; j < a; j++) {
+            for (int r = 0; r < m; r++) {
+                double s = 0;
+                for (int c = 0; c < m; c++) s += blk->H[r * m + c] * R[(size_t)j * m + c];
+                HR[r] = s;
+            }
+            for (int i = 0; i < a; i++) {
+                double s = 0;
+                for (int r = 0; r < m; r++) s += R[(size_t)i * m + r] * HR[r];
+                out[(size_t)j * a + i] += s;
+            }
+        }
+    }
+}

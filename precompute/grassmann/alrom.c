@@ -1,7 +1,7 @@
 /* The adaptive linear ROM simulator (grassmann.h; the paper's Algorithms 1-4): each step's basis
  * from the decoder and the history, then the full-order step (fom.h) minimised over u(t-1) +
  * U_interp q by the solver's Newton with the reduced gradient U^T g and Hessian U^T H U (Eq. 11-12). */
-#include "grassmann/grassmann.h"
+#include "grassmann/grassmann_impl.h"
 
 #include "fem/element_impl.h"
 
@@ -117,23 +117,6 @@ static void zero_prescribed_rows(const rk_alrom_impl *im, double *A)
             if (im->prescribed[i]) A[(size_t)j * im->n + i] = 0;
 }
 
-/* Orthonormal columns spanning A (thin QR), in place; -1 when A has rank below r. */
-static int orthonormalize(int n, int r, double *A)
-{
-    double tau[256], *t = r <= 256 ? tau : malloc(sizeof(double) * (size_t)r);
-    if (!t) return -1;
-    int rc = LAPACKE_dgeqrf(LAPACK_COL_MAJOR, n, r, A, n, t);
-    double big = 0, small = INFINITY;
-    for (int i = 0; i < r && !rc; i++) {
-        big = fmax(big, fabs(A[(size_t)i * n + i]));
-        small = fmin(small, fabs(A[(size_t)i * n + i]));
-    }
-    if (!rc && !(small > 1e-12 * big)) rc = -1;
-    if (!rc) rc = LAPACKE_dorgqr(LAPACK_COL_MAJOR, n, r, r, A, n, t);
-    if (t != tau) free(t);
-    return rc ? -1 : 0;
-}
-
 static int step_basis(rk_alrom *s, rk_error *err)
 {
     rk_alrom_impl *im = s->impl;
@@ -161,11 +144,8 @@ static int step_basis(rk_alrom *s, rk_error *err)
         zero_prescribed_rows(im, im->Phi);
         blended = !rk_grassmann_interpolate(n, r, im->Phi, im->U, s->opt.lambda, im->Ui, &quiet);
     }
-    if (!blended) {
-        memcpy(im->Ui, im->U, sizeof(double) * (size_t)n * r);
-        if (orthonormalize(n, r, im->Ui))
-            return rk_fail(err, "step %ld: the decoder's basis has rank below %d", s->stats.steps + 1, r);
-    }
+    if (!blended && rk_thin_q(n, r, im->U, im->Ui, "the decoder's basis", err))
+        return rk_error_prefix(err, "step %ld", s->stats.steps + 1);
     s->stats.history_used += blended;
     im->inertia_valid = 0; /* a new basis */
     return 0;
@@ -191,14 +171,12 @@ static double cubature_terms(rk_alrom *s, const double *x, double *g, double *H)
         int t = o->cub_element[k];
         double w = o->cub_weight[k], xe[12];
         const int *v = &f->tets[4 * t];
-        for (int a = 0; a < 4; a++)
-            for (int b = 0; b < 3; b++) xe[3 * a + b] = x[3 * v[a] + b];
+        rk_fem_gather(f, t, x, xe);
         E += w * rk_tet_energy(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t]);
         if (g) {
             double ge[12] = {0};
             rk_tet_gradient(f->model[t], f->mu[t], f->lambda[t], xe, &f->Dm_inv[9 * t], f->vol[t], ge);
-            for (int a = 0; a < 4; a++)
-                for (int b = 0; b < 3; b++) g[3 * v[a] + b] += w * ge[3 * a + b];
+            rk_fem_scatter_vector(f, t, ge, w, g);
         }
         if (H) {
             double He[144], Ue[12 * 64], HU[12 * 64];
@@ -251,22 +229,7 @@ static double energy_cubature(newton_ctx *c, const double *x, double *g, int hes
             im->inertia_valid = 1;
         }
         for (int k = 0; k < r * r; k++) im->Hq[k] = c->T->w_inertia * im->UMU[k] + c->T->w_damping * im->UCU[k];
-        for (int b = 0; b < view.nblocks; b++) { /* contact blocks */
-            const rk_contact_block *blk = &view.blocks[b];
-            int m = 3 * blk->np;
-            for (int j = 0; j < r; j++)
-                for (int i = 0; i < r; i++) {
-                    double acc = 0;
-                    for (int p = 0; p < m; p++) {
-                        if (blk->id[p / 3] < 0) continue;
-                        double ui = im->Ui[(size_t)i * im->n + 3 * blk->id[p / 3] + p % 3];
-                        for (int q = 0; q < m; q++)
-                            if (blk->id[q / 3] >= 0)
-                                acc += ui * blk->H[p * m + q] * im->Ui[(size_t)j * im->n + 3 * blk->id[q / 3] + q % 3];
-                    }
-                    im->Hq[(size_t)j * r + i] += acc;
-                }
-        }
+        rk_fom_contact_sandwich(&view, im->n, r, im->Ui, im->HU, im->Hq); /* HU: scratch here */
     }
     double psi = cubature_terms(s, x, g, hessian ? im->Hq : NULL);
     if (magnitude) *magnitude += fabs(psi);
@@ -282,11 +245,7 @@ static double energy(void *ctx, const double *x, double *g, int hessian, double 
     double E = rk_fom_potential(&s->fom, c->T, x, g, hessian ? RK_FOM_NEWTON_MATRIX : RK_FOM_NO_HESSIAN, magnitude,
                                 &im->failure);
     if (!hessian || !isfinite(E)) return E;
-    /* Eq. 12: U^T H U with the full-order Newton matrix (the prescribed dofs eliminated) */
-    const rk_sparse *H = rk_fom_newton_matrix(&s->fom);
-    int n = im->n, r = im->r;
-    for (int k = 0; k < r; k++) rk_sparse_mul(H, im->Ui + (size_t)k * n, im->HU + (size_t)k * n);
-    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, n, 1.0, im->Ui, n, im->HU, n, 0.0, im->Hq, r);
+    sandwich(im, rk_fom_newton_matrix(&s->fom), im->Hq); /* Eq. 12, the prescribed dofs eliminated */
     return E;
 }
 
@@ -295,19 +254,11 @@ static int solve(void *ctx, const double *g, double *d, rk_error *err)
     newton_ctx *c = ctx;
     rk_alrom_impl *im = c->s->impl;
     int n = im->n, r = im->r;
-    cblas_dgemv(CblasColMajor, CblasTrans, n, r, -1.0, im->Ui, n, g, 1, 0.0, im->dq, 1); /* Eq. 11 */
-    double scale = 0;
-    for (int i = 0; i < r; i++) scale = fmax(scale, fabs(im->Hq[(size_t)i * r + i]));
-    for (int attempt = 0; attempt < 6; attempt++) {
-        memcpy(im->L, im->Hq, sizeof(double) * (size_t)r * r);
-        for (int i = 0; i < r && attempt; i++) im->L[(size_t)i * r + i] += scale * pow(10.0, -12 + 2 * attempt);
-        if (LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', r, im->L, r) == 0) {
-            LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, 1, im->L, r, im->dq, r);
-            cblas_dgemv(CblasColMajor, CblasNoTrans, n, r, 1.0, im->Ui, n, im->dq, 1, 0.0, d, 1);
-            return 0;
-        }
-    }
-    return rk_fail(err, "the reduced Hessian U^T H U (%d x %d) is not positive definite", r, r);
+    cblas_dgemv(CblasColMajor, CblasTrans, n, r, -1.0, im->Ui, n, g, 1, 0.0, im->gq, 1); /* Eq. 11 */
+    if (rk_spd_solve_shifted(r, im->Hq, im->L, im->gq, im->dq, 6))
+        return rk_fail(err, "the reduced Hessian U^T H U (%d x %d) is not positive definite", r, r);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, n, r, 1.0, im->Ui, n, im->dq, 1, 0.0, d, 1);
+    return 0;
 }
 
 static double max_step(void *ctx, const double *x, const double *d)

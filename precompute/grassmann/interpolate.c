@@ -1,5 +1,5 @@
 /* Grassmann interpolation (adaptive-linear-rom paper, Algorithm 4) and principal angles. */
-#include "grassmann/grassmann.h"
+#include "grassmann/grassmann_impl.h"
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -7,9 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Q (n x r, orthonormal) of the thin QR of A; fails when a diagonal entry of R is below 1e-12 of
- * the largest (rank below r). */
-static int thin_q(int n, int r, const double *A, double *Q, const char *what, rk_error *err)
+int rk_thin_q(int n, int r, const double *A, double *Q, const char *what, rk_error *err)
 {
     double *tau = malloc(sizeof(double) * (size_t)r);
     if (!tau) return rk_fail(err, "out of memory for a QR factorization");
@@ -47,7 +45,7 @@ int rk_principal_angles(int n, int r, const double *A, const double *B, double *
     double *QA = malloc(sizeof(double) * (2 * (size_t)n * r + 2 * (size_t)r * r));
     if (!QA) return rk_fail(err, "out of memory for the principal angles");
     double *QB = QA + (size_t)n * r, *V = QB + (size_t)n * r, *WT = V + (size_t)r * r;
-    int rc = thin_q(n, r, A, QA, "the first basis", err) || thin_q(n, r, B, QB, "the second basis", err) ||
+    int rc = rk_thin_q(n, r, A, QA, "the first basis", err) || rk_thin_q(n, r, B, QB, "the second basis", err) ||
              cosines(n, r, QA, QB, V, theta, WT, err);
     for (int i = 0; i < r && !rc; i++) theta[i] = acos(fmin(1.0, fmax(-1.0, theta[i])));
     free(QA);
@@ -62,7 +60,7 @@ int rk_grassmann_interpolate(int n, int r, const double *Phi, const double *U, d
     double *QP = malloc(sizeof(double) * (3 * nr + 2 * rr + 2 * (size_t)r));
     if (!QP) return rk_fail(err, "out of memory for the Grassmann interpolation");
     double *QU = QP + nr, *S = QU + nr, *V = S + nr, *WT = V + rr, *c = WT + rr, *theta = c + r;
-    int rc = thin_q(n, r, Phi, QP, "the history basis", err) || thin_q(n, r, U, QU, "the decoder's basis", err) ||
+    int rc = rk_thin_q(n, r, Phi, QP, "the history basis", err) || rk_thin_q(n, r, U, QU, "the decoder's basis", err) ||
              cosines(n, r, QP, QU, V, c, WT, err);
     if (!rc) {
         /* S = (Q_U W - Q_Phi V cos) / sin, column by column; QPV = Q_Phi V into out for now */
@@ -82,7 +80,7 @@ int rk_grassmann_interpolate(int n, int r, const double *Phi, const double *U, d
             }
         }
         memcpy(S, out, sizeof(double) * nr);
-        rc = thin_q(n, r, S, out, "the interpolated basis", err);
+        rc = rk_thin_q(n, r, S, out, "the interpolated basis", err);
     }
     free(QP);
     return rc ? -1 : 0;

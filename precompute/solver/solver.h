@@ -104,6 +104,12 @@ void rk_stepper_finish(rk_stepper *s, const double *x, double *v);
  * Returns the iterations taken. work: 4 n. A breakdown (p^T A p <= 0: not positive definite)
  * stops it where it is. The one CG of the precompute: the adaptive subspace method's Schur
  * complement solve and the full-space block-Jacobi baseline. */
+/* Solves H z = b for a small dense symmetric H (n x n, column-major) by Cholesky into L (n x n,
+ * lower, for later dpotrs solves); when H is not positive definite, by H + s I with s = 1e-10, 1e-8,
+ * ... times its largest diagonal entry, up to `attempts` tries in all (the first unshifted).
+ * -1 when none factors. */
+int rk_spd_solve_shifted(int n, const double *H, double *L, const double *b, double *z, int attempts);
+
 typedef struct {
     int n;
     void *ctx;
