@@ -10,13 +10,10 @@
 /* Whether entries a and b build the same decoder from the same data. */
 static int same_decoder(const rk_rom_entry *a, const rk_rom_entry *b)
 {
-    if (a->crom != b->crom || a->basis.size != b->basis.size || a->ntraining != b->ntraining) return 0;
+    if (a->crom != b->crom || a->basis.size != b->basis.size) return 0;
     if (a->cubature != b->cubature || (a->cubature && memcmp(&a->cub, &b->cub, sizeof a->cub))) return 0;
     if (a->crom && memcmp(&a->crom_opt, &b->crom_opt, sizeof a->crom_opt)) return 0;
-    for (int k = 0; k < a->ntraining; k++)
-        if (a->training[k].snapshots != b->training[k].snapshots || strcmp(a->training[k].file, b->training[k].file))
-            return 0;
-    return 1;
+    return rk_compare_same_training(a, b);
 }
 
 void rk_compare_decoder_cache_free(rk_compare_decoder_cache *c)

@@ -220,7 +220,7 @@ typedef struct {
     rk_compare_decoder_cache decoder;
 } training_cache;
 
-static int same_list(const rk_rom_entry *a, const rk_rom_entry *b)
+int rk_compare_same_training(const rk_rom_entry *a, const rk_rom_entry *b)
 {
     if (a->ntraining != b->ntraining) return 0;
     for (int k = 0; k < a->ntraining; k++)
@@ -251,7 +251,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     /* what trains on full-order runs: the entry's training set when it lists one, else this run */
     int Tt = F->T;
     if (e->ntraining) {
-        if (!cache->from || !same_list(cache->from, e)) {
+        if (!cache->from || !rk_compare_same_training(cache->from, e)) {
             free(cache->D);
             cache->from = NULL;
             if (rk_scene_training_set(scene, sim, e, &cache->D, &cache->T, &err)) {

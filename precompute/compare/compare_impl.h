@@ -32,6 +32,9 @@ int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fo
                         const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
 /* Entry e with method adaptive_linear: its free run against ref and its realigned run. */
+/* Whether two entries list the same training runs (the same files, in the same order). */
+int rk_compare_same_training(const rk_rom_entry *a, const rk_rom_entry *b);
+
 /* The decoder last built, kept for the next entry that would build the same one. */
 typedef struct {
     const rk_rom_entry *from;   /* NULL: none */

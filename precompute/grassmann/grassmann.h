@@ -59,6 +59,9 @@ int rk_quadratic_decoder(int n, int r, const double *Phi, const double *Psi, con
                          rk_error *err);
 /* Frees the decoder's context (destroy) and zeroes it. */
 void rk_decoder_free(rk_decoder *dec);
+/* Psi (n x r(r+1)/2, the decoder's pairs) from rk_modal_derivatives' raw output (the pairs of the
+ * r - nrigid non-rigid modes, i <= j row-major); the pairs of rigid modes zero. */
+void rk_quadratic_pairs(int n, int r, int nrigid, const double *raw, double *Psi);
 
 /* The CROM decoder (crom.c; Sec. 3.2): an encoder MLP e(u) (3 nv inputs, encoder_layers hidden
  * layers of encoder_width, r outputs) and a decoder MLP g(p, X) (r + 3 inputs, decoder_layers x

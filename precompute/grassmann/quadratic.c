@@ -31,6 +31,15 @@ static int pair(int r, int i, int j)
     return i * r - i * (i - 1) / 2 + (j - i);
 }
 
+void rk_quadratic_pairs(int n, int r, int nrigid, const double *raw, double *Psi)
+{
+    int k = r - nrigid;
+    memset(Psi, 0, sizeof(double) * (size_t)n * ((size_t)r * (r + 1) / 2));
+    for (int a = 0, src = 0; a < k; a++)
+        for (int b = a; b < k; b++, src++)
+            memcpy(Psi + (size_t)pair(r, a + nrigid, b + nrigid) * n, raw + (size_t)src * n, sizeof(double) * (size_t)n);
+}
+
 static int decode(void *ctx, const double *p, double *u, rk_error *err)
 {
     rk_quadratic *q = ctx;

@@ -10,14 +10,11 @@
 static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, rk_decoder *dec, rk_error *err)
 {
     int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
-    unsigned char *fixed = rk_calloc((size_t)nv, 1, err);
+    unsigned char *fixed = rk_scene_fixed_vertices(sim, err);
     double *Psi = NULL, *raw = NULL;
     rk_basis modes = {0};
     rk_sparse M = {0};
     if (!fixed) return -1;
-    for (int g = 0; g < sim->options.nprescribed; g++)
-        for (int k = 0; k < sim->options.prescribed[g].count && sim->options.prescribed[g].kind == RK_MOTION_FIXED; k++)
-            fixed[sim->options.prescribed[g].verts[k]] = 1;
     int lumped = sim->options.lumped_mass;
     if (rk_basis_modes(&sim->fem, fixed, lumped, r, &modes, err)) goto out;
     int nrigid = modes.nzero, k = r - nrigid;
@@ -30,13 +27,7 @@ static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, rk_decoder 
     }
     double residual;
     if (k > 0 && rk_modal_derivatives(&sim->fem, fixed, lumped, modes.U, r, nrigid, raw, &residual, err)) goto out;
-    /* the non-rigid pairs (a <= b) in row-major order over k, into pairs over all r */
-    for (int a = 0, src = 0; a < k; a++)
-        for (int b = a; b < k; b++, src++) {
-            int i = a + nrigid, j = b + nrigid;
-            size_t dst = (size_t)i * r - (size_t)i * (i - 1) / 2 + (size_t)(j - i);
-            memcpy(Psi + dst * n, raw + (size_t)src * n, sizeof(double) * (size_t)n);
-        }
+    rk_quadratic_pairs(n, r, nrigid, raw, Psi);
     if (rk_sparse_alloc_pattern(&sim->fem, &M, err)) goto out;
     rk_fem_add_mass(&sim->fem, lumped, 1.0, &M);
     rc = rk_quadratic_decoder(n, r, modes.U, Psi, &M, dec, err);

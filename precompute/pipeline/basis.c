@@ -37,6 +37,16 @@ static double lame_sum(const rk_material *m)
     return lambda + 4 * mu; /* Prop. 1 */
 }
 
+unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err)
+{
+    unsigned char *fixed = rk_calloc((size_t)sim->mesh.nv, 1, err);
+    if (!fixed) return NULL;
+    for (int g = 0; g < sim->options.nprescribed; g++)
+        for (int k = 0; k < sim->options.prescribed[g].count && sim->options.prescribed[g].kind == RK_MOTION_FIXED; k++)
+            fixed[sim->options.prescribed[g].verts[k]] = 1;
+    return fixed;
+}
+
 /* The first tet that lists vertex v (a checked mesh has no unused vertex). */
 static int vertex_tet(const rk_scene_sim *sim, int v)
 {
@@ -189,12 +199,9 @@ int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basi
     if (!sim) return rk_fail(err, "%s: a basis of a mesh needs the built scene", scene->path);
     int rc = -1, T = 0;
     double *D = NULL;
-    unsigned char *fixed = rk_calloc((size_t)sim->mesh.nv, 1, err);
+    unsigned char *fixed = rk_scene_fixed_vertices(sim, err);
     rk_sparse M = {0};
     if (!fixed) goto out;
-    for (int g = 0; g < sim->options.nprescribed; g++)
-        for (int k = 0; k < sim->options.prescribed[g].count && sim->options.prescribed[g].kind == RK_MOTION_FIXED; k++)
-            fixed[sim->options.prescribed[g].verts[k]] = 1;
     int need_frames = rk_basis_needs_frames(o);
     if (need_frames) {
         double t = rk_now();

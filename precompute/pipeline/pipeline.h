@@ -291,6 +291,9 @@ typedef struct {
  * needs them (rk_basis_needs_frames) runs the scene otherwise. With a tolerance the smallest basis
  * (up to size, or a default maximum) whose projection error meets it is kept; failing to reach it
  * is an error that says how close it came. */
+/* nv flags (calloc'd): the vertices the scene holds fixed (moving ones are free), which linear
+ * modes and modal derivatives are computed with. NULL on failure. */
+unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err);
 int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, const double *frames,
                    int T, rk_basis *b, rk_scene_basis_info *info, rk_error *err);
 void rk_scene_basis_info_free(rk_scene_basis_info *info);

@@ -96,12 +96,7 @@ static int recovery_run(double lambda, double *left, double *fom_left, rk_error 
     raw = calloc((size_t)n * (k * (k + 1) / 2 + 1), sizeof(double));
     Psi = calloc((size_t)n * np, sizeof(double));
     if (rk_modal_derivatives(&b.f, fixed, 0, modes.U, r, modes.nzero, raw, &res, err)) goto out;
-    for (int a = 0, src = 0; a < k; a++)
-        for (int c = a; c < k; c++, src++) {
-            int i = a + modes.nzero, j = c + modes.nzero;
-            size_t dst = (size_t)i * r - (size_t)i * (i - 1) / 2 + (size_t)(j - i);
-            memcpy(Psi + dst * n, raw + (size_t)src * n, sizeof(double) * n);
-        }
+    rk_quadratic_pairs(n, r, modes.nzero, raw, Psi);
     if (rk_sparse_alloc_pattern(&b.f, &M, err)) goto out;
     rk_fem_add_mass(&b.f, 0, 1.0, &M);
     if (rk_quadratic_decoder(n, r, modes.U, Psi, &M, &dec, err)) goto out;
