@@ -62,6 +62,13 @@ typedef struct {
     rk_scene_sim sim;
 } built;
 
+static int parse_and_build(built *b, const char *json, const char *name, rk_error *err)
+{
+    memset(b, 0, sizeof *b);
+    if (rk_scene_parse(json, name, &b->scene, err)) return -1;
+    return rk_scene_build(&b->scene, &b->sim, err);
+}
+
 /* The slab clamped at both ends, or (free) the same slab as a free box. */
 static int build_scene(built *b, int n, double young, double tol, int free_box, const char *rom, rk_error *err)
 {
@@ -80,9 +87,7 @@ static int build_scene(built *b, int n, double young, double tol, int free_box, 
              4 * n, 2 * n, n, GAP, young, DROP_SPEED,
              free_box ? "" : ", \"fixed\": [{\"box\": [[-1, -1, -1], [-0.199, 1, 1]]}, {\"box\": [[0.199, -1, -1], [1, 1, 1]]}]",
              0.01 * STEPS, tol, rom);
-    memset(b, 0, sizeof *b);
-    if (rk_scene_parse(json, "bench_adaptive.json", &b->scene, err)) return -1;
-    return rk_scene_build(&b->scene, &b->sim, err);
+    return parse_and_build(b, json, "bench_adaptive.json", err);
 }
 
 static int build(built *b, int n, double young, double tol, const char *rom, rk_error *err)
@@ -352,9 +357,7 @@ static int build_moving(built *b, int cells, int downdate, rk_error *err)
              " \"rom\": {\"method\": \"adaptive_subspace\", \"basis\": \"modes\", \"size\": 24, \"initial_size\": 12,"
              " \"eps_g_nodal\": %g, \"eps_g_modal\": %g, \"downdate\": %s}}",
              4 * cells, cells / 3 > 0 ? cells / 3 : 1, cells, NEWTON_TOL, EPS_FIXED, EPS_FIXED, downdate ? "true" : "false");
-    memset(b, 0, sizeof *b);
-    if (rk_scene_parse(json, "bench_adaptive_moving.json", &b->scene, err)) return -1;
-    return rk_scene_build(&b->scene, &b->sim, err);
+    return parse_and_build(b, json, "bench_adaptive_moving.json", err);
 }
 
 static void moving(const char *dir, int cells)

@@ -46,7 +46,6 @@ int rk_adaptive_set_columns(rk_adaptive *ad, rk_error *err)
 void rk_adaptive_update_mask(rk_adaptive *ad)
 {
     rk_adaptive_impl *im = ad->impl;
-    const rk_fem *f = im->f;
     int nx = 0, nodes = 0;
     for (int i = 0; i < im->n; i++) im->xindex[i] = -1;
     for (int v = 0; v < im->nv; v++) {
@@ -71,7 +70,6 @@ void rk_adaptive_update_mask(rk_adaptive *ad)
         s->exact = exact;
         for (int e = 0; e < s->ne; e++) im->elem_exact[s->elem[e]] = (char)exact;
     }
-    (void)f;
     im->inertia_valid = 0;
 }
 

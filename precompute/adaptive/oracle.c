@@ -1,7 +1,6 @@
 /* The update oracle (adaptive-subspace paper, Sec. 3.7) and downdating (Sec. 3.11). */
 #include "adaptive/adaptive_impl.h"
 
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
