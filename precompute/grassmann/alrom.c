@@ -21,6 +21,7 @@ struct rk_alrom_impl {
     double *Dc, *Pc;        /* the ring in time order (n x count, r x count) */
     double *UMU, *UCU;      /* r x r: the step basis' inertia and damping (cubature) */
     int inertia_valid;
+    int first_solve;        /* the step's first Newton solve: it starts from u(t-1) (Algorithm 2) */
     double *newton_work;
     const char *prescribed;
     rk_error failure;
@@ -280,6 +281,14 @@ static int newton(void *ctx, rk_fom *fom, const rk_fom_terms *T, double tol_d, i
                            .prescribed = im->prescribed};
     rk_newton_stats stats = {0};
     im->failure.msg[0] = 0;
+    /* Algorithm 2: u_k = u(t-1) + U q_k from q_0 = 0, so the free dofs start where the step did (the
+     * full-order step starts them at its predictor x_t + h v_t, which lies outside the subspace
+     * and would carry into the solution motion the basis cannot express); the prescribed ones are
+     * at their targets */
+    if (im->first_solve)
+        for (int i = 0; i < im->n; i++)
+            if (!im->prescribed[i]) fom->x[i] = T->xt[i];
+    im->first_solve = 0;
     int rc = rk_newton_solve(&p, fom->x, tol_d, fom->opt.newton_max_iter, im->newton_work, converged, &stats, err);
     s->stats.newton_iterations += stats.iterations;
     fom->stats.newton_iterations += stats.iterations;
@@ -296,6 +305,7 @@ int rk_alrom_step(rk_alrom *s, rk_error *err)
     int blas = rk_threads_blas(1); /* small dense products: the same sums on any thread count */
     int rc = step_basis(s, err);
     s->stats.seconds_basis += rk_now() - t0;
+    s->impl->first_solve = 1;
     if (!rc) rc = rk_fom_step_with(&s->fom, newton, s, err);
     rk_threads_blas(blas);
     if (rc) return -1;

@@ -7,6 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* A diagonal of R below this fraction of the largest is rank loss. Not round-off's 1e-12: the
+ * history basis D P^T (P P^T + 1e-8 I)^-1 of a history that spans fewer than r directions has its
+ * missing columns at round-off amplified by the regularisation (1e-10 of the others and more),
+ * and a QR that took them would blend directions set by rounding, different in every
+ * implementation; at 1e-6 the blend is decided by the data (the runtime uses the same floor). */
+#define RK_THINQ_TOL 1e-6
+
 int rk_thin_q(int n, int r, const double *A, double *Q, const char *what, rk_error *err)
 {
     double *tau = malloc(sizeof(double) * (size_t)r);
@@ -19,7 +26,7 @@ int rk_thin_q(int n, int r, const double *A, double *Q, const char *what, rk_err
         big = fmax(big, d);
         small = fmin(small, d);
     }
-    if (!rc && !(small > 1e-12 * big && big > 0)) {
+    if (!rc && !(small > RK_THINQ_TOL * big && big > 0)) {
         free(tau);
         return rk_fail(err, "%s has rank below %d (its QR's smallest diagonal %.3g, largest %.3g)", what, r, small, big);
     }
