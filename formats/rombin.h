@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 3   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 4   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -91,6 +91,32 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_SURF "SURF"   /* u32, triangles x 3 over the shown vertices (optional) */
 #define ROMBIN_VMAP "VMAP"   /* u32, vertices: the source mesh's vertex number (optional) */
 #define ROMBIN_INFO "INFO"   /* bytes: JSON text about the build (optional) */
+
+/* An adaptive linear ROM (ROMBIN.md "Adaptive linear ROM chunks", 1.4): beside a reduced model's
+ * chunks, whose ROWS are then the quadratic decoder's linear part at the stored vertices. */
+#define ROMBIN_ALRH "ALRH"   /* u32 x ROMBIN_ALRH_COUNT, critical */
+#define ROMBIN_ALRP "ALRP"   /* real x ROMBIN_ALRP_COUNT, critical */
+#define ROMBIN_QDRV "QDRV"   /* real, vertices x 3 x pairs: the decoder's modal derivatives */
+#define ROMBIN_VMSS "VMSS"   /* real, vertices: each stored vertex's mass (kg), the mesh's lumped onto them */
+#define ROMBIN_VLOD "VLOD"   /* real, vertices x 3: the external force on each (N): gravity and loads */
+#define ROMBIN_AMOV "AMOV"   /* u32, vertices: a stored vertex's prescribed motion, or ROMBIN_NO_MOTION */
+#define ROMBIN_AMOT "AMOT"   /* real, motions x ROMBIN_PIN_PARAMS: kind, axis, center, rate, velocity, 0 */
+#define ROMBIN_NO_MOTION 0xFFFFFFFFu
+#define ROMBIN_MAX_MOTIONS 64u   /* AMOT entries a reader takes (ROMBIN.md "Limits") */
+
+enum {
+    ROMBIN_ALRH_HISTORY = 0,     /* m: the steps the history basis spans */
+    ROMBIN_ALRH_PAIRS,           /* r (r + 1) / 2: the modal derivatives per row */
+    ROMBIN_ALRH_MOTIONS,         /* prescribed motions (AMOT) */
+    ROMBIN_ALRH_COUNT = 8        /* the rest reserved, 0 */
+};
+
+enum {
+    ROMBIN_ALRP_LAMBDA = 0,      /* the Grassmann interpolation parameter, 0..1 */
+    ROMBIN_ALRP_REG,             /* P P^T's regularisation (1e-8) */
+    ROMBIN_ALRP_DAMPING,         /* a of the mass-proportional damping a M */
+    ROMBIN_ALRP_COUNT = 8        /* the rest reserved, 0 */
+};
 
 /* A Koopman operator (ROMBIN.md "Koopman chunks"): KHED and the chunks below, over the stored
  * vertices of VERT (with GRPS, GVTX, GNAM, SURF, VMAP and INFO); alone, or beside a reduced model

@@ -73,6 +73,7 @@ void romrt_reset(romrt_model *m)
     memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
     m->ncolliders = 0;
     if (m->kind == ROMRT_KIND_KOOPMAN) rt_koopman_reset(m);
+    if (m->alrom) rt_alrom_reset(m);
 }
 
 romrt_kind romrt_model_kind(const romrt_model *m) { return m ? m->kind : ROMRT_KIND_REDUCED; }
@@ -210,6 +211,12 @@ romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3])
     first = m->groups[2 * group];
     count = m->groups[2 * group + 1];
     for (k = 0; k < 3; k++) share[k] = f[k] / (romrt_real)count;
+    if (m->alrom) { /* all or nothing */
+        for (k = 0; k < count; k++)
+            if (rt_alrom_push(m, m->gverts[first + k], share, 0)) return ROMRT_E_ARGUMENT;
+        for (k = 0; k < count; k++) rt_alrom_push(m, m->gverts[first + k], share, 1);
+        return ROMRT_OK;
+    }
     for (k = 0; k < count; k++) push(m, m->gverts[first + k], share);
     return checked(m, before);
 }
@@ -218,6 +225,7 @@ romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romr
 {
     romrt_real before[ROMRT_MAX_R];
     if (!m || !f || shown_vertex < 0 || shown_vertex >= m->shown || !finite3(f)) return ROMRT_E_ARGUMENT;
+    if (m->alrom) return rt_alrom_push(m, (uint32_t)shown_vertex, f, 1) ? ROMRT_E_ARGUMENT : ROMRT_OK;
     memcpy(before, m->f_app, sizeof(romrt_real) * (size_t)m->r);
     push(m, (uint32_t)shown_vertex, f);
     return checked(m, before);
@@ -225,15 +233,19 @@ romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romr
 
 void romrt_clear_forces(romrt_model *m)
 {
-    if (m) memset(m->f_app, 0, sizeof m->f_app);
+    if (!m) return;
+    memset(m->f_app, 0, sizeof m->f_app);
+    if (m->alrom) memset(m->al.f_app, 0, sizeof(romrt_real) * 3 * (size_t)m->nv);
 }
 
-/* State layout: t, have_prev, q, v, q_prev, v_prev, f_app (2 + 5 r reals). */
-int romrt_state_size(const romrt_model *m) { return m ? 2 + 5 * m->r : 0; }
+/* State layout: t, have_prev, q, v, q_prev, v_prev, f_app (2 + 5 r reals). An adaptive linear ROM's
+ * state is its stored vertices' positions, velocities and history (not saved yet: 0, refused). */
+int romrt_state_size(const romrt_model *m) { return m && !m->alrom ? 2 + 5 * m->r : 0; }
 
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
 {
     int r;
+    if (m && m->alrom) return ROMRT_E_UNSUPPORTED;
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     r = m->r;
     state[0] = m->t;
@@ -249,6 +261,7 @@ romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
 {
     int i, r;
+    if (m && m->alrom) return ROMRT_E_UNSUPPORTED;
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < count; i++)
         if (!isfinite(state[i])) return ROMRT_E_ARGUMENT;

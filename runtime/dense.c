@@ -22,38 +22,43 @@ romrt_real rt_dot(int r, const romrt_real *a, const romrt_real *b)
     return s;
 }
 
-/* H = U^T U with U upper triangular, column by column (LAPACK's dpotrf 'U' order). */
-int rt_cholesky(int r, romrt_real *H)
-{
-    int i, j, k;
-    for (j = 0; j < r; j++) {
-        romrt_real *cj = H + (size_t)r * j, d;
-        for (i = 0; i < j; i++) {
-            const romrt_real *ci = H + (size_t)r * i;
-            romrt_real s = cj[i];
-            for (k = 0; k < i; k++) s -= ci[k] * cj[k];
-            cj[i] = s / ci[i];
-        }
-        d = cj[j];
-        for (k = 0; k < j; k++) d -= cj[k] * cj[k];
-        if (!(d > 0)) return j + 1;
-        cj[j] = RT_SQRT(d);
+/* H = U^T U with U upper triangular, column by column (LAPACK's dpotrf 'U' order), and the solve
+ * (U^T U) x = b with it: written once for a real type T, compiled for romrt_real and for double
+ * (rt_cholesky_wide: the adaptive linear ROM's ill-conditioned small systems, in either build). */
+#define RT_CHOLESKY(NAME, SOLVE, T, SQRT)                                                                              \
+    int NAME(int r, T *H)                                                                                             \
+    {                                                                                                                 \
+        int i, j, k;                                                                                                  \
+        for (j = 0; j < r; j++) {                                                                                     \
+            T *cj = H + (size_t)r * j, d;                                                                             \
+            for (i = 0; i < j; i++) {                                                                                 \
+                const T *ci = H + (size_t)r * i;                                                                      \
+                T s = cj[i];                                                                                          \
+                for (k = 0; k < i; k++) s -= ci[k] * cj[k];                                                           \
+                cj[i] = s / ci[i];                                                                                    \
+            }                                                                                                         \
+            d = cj[j];                                                                                                \
+            for (k = 0; k < j; k++) d -= cj[k] * cj[k];                                                               \
+            if (!(d > 0)) return j + 1;                                                                               \
+            cj[j] = SQRT(d);                                                                                          \
+        }                                                                                                             \
+        return 0;                                                                                                     \
+    }                                                                                                                 \
+    void SOLVE(int r, const T *U, T *b)                                                                               \
+    {                                                                                                                 \
+        int i, k;                                                                                                     \
+        for (i = 0; i < r; i++) { /* U^T y = b */                                                                     \
+            const T *ci = U + (size_t)r * i;                                                                          \
+            T s = b[i];                                                                                               \
+            for (k = 0; k < i; k++) s -= ci[k] * b[k];                                                                \
+            b[i] = s / ci[i];                                                                                         \
+        }                                                                                                             \
+        for (i = r - 1; i >= 0; i--) { /* U x = y */                                                                  \
+            T s = b[i];                                                                                               \
+            for (k = i + 1; k < r; k++) s -= U[i + (size_t)r * k] * b[k];                                            \
+            b[i] = s / U[i + (size_t)r * i];                                                                          \
+        }                                                                                                             \
     }
-    return 0;
-}
 
-void rt_cholesky_solve(int r, const romrt_real *U, romrt_real *b)
-{
-    int i, k;
-    for (i = 0; i < r; i++) { /* U^T y = b */
-        const romrt_real *ci = U + (size_t)r * i;
-        romrt_real s = b[i];
-        for (k = 0; k < i; k++) s -= ci[k] * b[k];
-        b[i] = s / ci[i];
-    }
-    for (i = r - 1; i >= 0; i--) { /* U x = y */
-        romrt_real s = b[i];
-        for (k = i + 1; k < r; k++) s -= U[i + (size_t)r * k] * b[k];
-        b[i] = s / U[i + (size_t)r * i];
-    }
-}
+RT_CHOLESKY(rt_cholesky, rt_cholesky_solve, romrt_real, RT_SQRT)
+RT_CHOLESKY(rt_cholesky_wide, rt_cholesky_solve_wide, double, sqrt)

@@ -76,6 +76,16 @@ void rt_scratch(rt_loader *L, size_t count, romrt_real **out)
     L->used += rt_align16(count * sizeof(romrt_real));
 }
 
+void rt_scratch_wide(rt_loader *L, size_t count, double **out)
+{
+    *out = 0;
+    if (L->arena) {
+        *out = (double *)(void *)(L->arena + L->used);
+        memset(*out, 0, count * sizeof(double));
+    }
+    L->used += rt_align16(count * sizeof(double));
+}
+
 romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out)
 {
     rombin_chunk c;

@@ -25,6 +25,8 @@ romrt_status rt_chunk(rt_loader *L, const char *id, int type, uint64_t count, in
 romrt_status rt_reals(rt_loader *L, const char *id, uint64_t count, int required, const romrt_real **out);
 /* `count` reals of zeroed scratch in the arena (*out NULL in the sizing pass). */
 void rt_scratch(rt_loader *L, size_t count, romrt_real **out);
+/* The same for doubles, in either build. */
+void rt_scratch_wide(rt_loader *L, size_t count, double **out);
 romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out);
 /* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
 romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
@@ -40,6 +42,10 @@ romrt_status rt_check_groups_and_surface(rt_loader *L, const romrt_model *m);
 
 /* SKIN against ROWS: the rows must be linear blend skinning over the stored rest positions. */
 romrt_status rt_skin_check(rt_loader *L, const romrt_model *m);
+/* An adaptive linear ROM's chunks (alrom.c; ALRH and the rest, when there): its arrays and scratch
+ * after the reduced model's, then their contents. */
+romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m);
+romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m);
 /* A Koopman asset's chunks (koopman.c), as sizes / arrays / contents in open.c. */
 romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m);
 romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m);

@@ -10,7 +10,8 @@ static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT
                                            ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_GRAD, ROMBIN_SPLY, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
-                                           ROMBIN_KINI, 0};
+                                           ROMBIN_KINI, ROMBIN_ALRH, ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS,
+                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, 0};
 
 /* The three passes over one kind of model's chunks. */
 typedef struct {
@@ -206,6 +207,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
             rt_scratch(L, sp, &m->skin_gQ);
         }
     }
+    if ((st = rt_alrom_arrays(L, m))) return st;
     return rt_load_groups_and_surface(L, m);
 }
 
@@ -221,7 +223,7 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         (st = rt_indices_below(L, ROMBIN_CVTX, m->cv, (uint64_t)m->ncv, 1, 0, 1, (uint32_t)m->nv)) ||
         (st = rt_indices_below(L, ROMBIN_IPMD, m->pt_model, (uint64_t)m->np, 1, 0, 1, RK_MAT_NEOHOOKEAN + 1)))
         return st;
-    if ((st = rt_check_groups_and_surface(L, m))) return st;
+    if ((st = rt_check_groups_and_surface(L, m)) || (st = rt_alrom_contents(L, m))) return st;
     if (m->skin < 0 || (m->skin > 0 && m->r != 12 * m->skin))
         return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_SKIN, "names a handle count that does not give r = 12 per handle: r = ",
                          (uint64_t)m->r, "");
@@ -336,6 +338,7 @@ static romrt_status load(const void *asset, size_t asset_bytes, int kind, void *
     L.scanned = 1; /* the sizing pass checked every real; now place them */
     if ((st = reader->arrays(&L, m)) || (st = reader->contents(&L, m))) return st;
     rt_position_bounds(m);
+    if (m->alrom) rt_alrom_reset(m);
     if (!rt_showable(m, m->q)) /* the start: rows and rest positions so large that it draws as Inf */
         return rt_fail(err, ROMRT_E_MODEL, m->kind == ROMRT_KIND_KOOPMAN ? ROMBIN_KINI : ROMBIN_VERT,
                        "the start state's positions are not representable (rows or rest positions too large)");

@@ -28,6 +28,8 @@ static void element_H(const romrt_model *m, int e, const romrt_real *q, romrt_re
             for (c = 0; c < 3; c++) s += (u[3 * (c + 1) + a] - u[a]) * Dm[3 * c + b];
             Hd[3 * a + b] = s;
         }
+    if (m->alrom) /* the incremental form: F = F(x_ref) + G_e q */
+        for (k = 0; k < 9; k++) Hd[k] += m->al.Hd0[9 * (size_t)e + k];
 }
 
 /* The element kernels take their rows as restrict-qualified arguments: that is what lets the

@@ -72,6 +72,39 @@ typedef struct {
     romrt_real now[RT_COLLIDER_REALS], target[RT_COLLIDER_REALS], start[RT_COLLIDER_REALS], lag[RT_COLLIDER_REALS];
 } rt_collider;
 
+/* An adaptive linear ROM's data and state (alrom.c): the basis is rebuilt before every step from the
+ * quadratic decoder at the latent code of the state and the history of the last m steps, over the
+ * stored vertices only; a step is then the reduced model's Newton in the incremental form
+ * x = x_ref + U q, with the model's X, rows, M, C and f pointing at the buffers below. */
+typedef struct {
+    int m, pairs, nmotions;
+    romrt_real lambda, reg, damping;
+    const romrt_real *X0;      /* nv x 3: rest positions (VERT) */
+    const romrt_real *phi;     /* nv x 3 x r: the decoder's linear part (ROWS) */
+    const romrt_real *psi;     /* nv x 3 x pairs: its modal derivatives (QDRV) */
+    const romrt_real *mass;    /* nv (VMSS) */
+    const romrt_real *load;    /* nv x 3 (VLOD) */
+    const uint32_t *motion_of; /* nv (AMOV) */
+    const romrt_real *motions; /* nmotions x 12 (AMOT) */
+    /* state */
+    romrt_real *x, *v, *x_prev, *v_prev; /* nv x 3: where the step starts, and BDF2's history */
+    romrt_real *f_app;         /* nv x 3: the app's forces on the stored vertices */
+    double *D, *P;             /* (m + 1) slots of nv x 3 displacements and r latent codes: a ring */
+    int count, head;           /* entries held (<= m), the slot the next step writes */
+    long blended;              /* steps whose basis blended the history */
+    /* the step's model: m->X, rows, M, C, f point here */
+    romrt_real *x_ref, *rows, *M, *C, *f;
+    romrt_real *Hd0;           /* ne x 9: each element's F - I at x_ref */
+    /* scratch: the basis is built in double in either build (the history's small systems are
+     * conditioned far beyond float: P P^T + 1e-8 I, Q's rank decided at 1e-6) */
+    double *U, *Q1, *Q2;       /* nv x 3 x r */
+    double *u, *res;           /* nv x 3 */
+    double *pp;                /* pairs: the products p_i p_j the decoder's second-order term takes */
+    double *work;              /* 4 r x r: the small matrices of the encoder and the interpolation */
+    double p[ROMRT_MAX_R];
+    romrt_real *x_new, *v_new; /* nv x 3: a step's result before it is kept */
+} rt_alrom;
+
 struct romrt_model {
     romrt_kind kind;
     /* sizes and parameters (HEAD, PARM; a Koopman asset: KHED, KPRM) */
@@ -133,6 +166,8 @@ struct romrt_model {
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
     int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
+    int alrom;                /* an adaptive linear ROM (ALRH): its data and state in al */
+    rt_alrom al;
 };
 
 /* The incremental potential's weights (as rom_impl.h's rk_rom_terms, dynamics only). */
@@ -187,6 +222,16 @@ void rt_pin_target(romrt_model *m, romrt_real t);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
 romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);
 
+/* Adaptive linear ROMs (alrom.c): the step's basis, inertia and forces before its solve, the state
+ * moved on after it (or put back after a failed one); back to rest. */
+romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err);
+romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err);
+void rt_alrom_abort(romrt_model *m);
+void rt_alrom_reset(romrt_model *m);
+/* The app's force f on stored vertex v, kept in the full space (an adaptive basis changes every
+ * step): added when apply; -1, adding nothing, when the sum would overflow. */
+int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply);
+
 /* Koopman assets (koopman.c): their chunks, in the loader's passes; the step; back to t = 0. */
 romrt_status rt_koopman_step(romrt_model *m, romrt_error *err);
 void rt_koopman_reset(romrt_model *m);
@@ -203,6 +248,9 @@ romrt_real rt_dot(int r, const romrt_real *a, const romrt_real *b);
 int rt_cholesky(int r, romrt_real *H);
 /* Solves (U^T U) x = b in place with the factor of rt_cholesky. */
 void rt_cholesky_solve(int r, const romrt_real *U, romrt_real *b);
+/* The same two in double whatever the build's precision. */
+int rt_cholesky_wide(int r, double *H);
+void rt_cholesky_solve_wide(int r, const double *U, double *b);
 
 /* Writes status, chunk and message into err (which may be NULL). Returns status. */
 romrt_status rt_error_from(romrt_error *err, romrt_status status, const rombin_error *e);

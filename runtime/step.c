@@ -236,7 +236,12 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     h = m->h;
     bdf2 = m->integrator == 1 && m->have_prev;
     memset(&m->last, 0, sizeof m->last);
-    if (bdf2) {
+    if (m->alrom) { /* this step's basis, and the prediction in it (alrom.c) */
+        if ((st = rt_alrom_begin(m, &T.w_inertia, err))) {
+            rt_alrom_abort(m);
+            return st;
+        }
+    } else if (bdf2) {
         for (i = 0; i < r; i++)
             m->qtilde[i] = (4 * m->q[i] - m->q_prev[i]) / 3 + 2 * h / 9 * (4 * m->v[i] - m->v_prev[i]);
         T.w_inertia = RT_K(9.0) / (RT_K(4.0) * h * h);
@@ -277,7 +282,19 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         int k;
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
         for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) memcpy(m->colliders[k].now, m->colliders[k].start, sizeof m->colliders[k].now);
+        if (m->alrom) rt_alrom_abort(m);
         return st;
+    }
+    if (m->alrom) { /* the stored vertices moved on; q back to 0 in the next step's basis */
+        if ((st = rt_alrom_commit(m, err))) {
+            int k;
+            for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) memcpy(m->colliders[k].now, m->colliders[k].start, sizeof m->colliders[k].now);
+            rt_alrom_abort(m);
+            return st;
+        }
+        m->have_prev = 1;
+        m->t += h;
+        return ROMRT_OK;
     }
     for (i = 0; i < r; i++) {
         m->q_prev[i] = m->qt[i];

@@ -54,6 +54,17 @@ typedef struct {
     int source_tets, trajectories; /* information for KHED */
 } rk_koopman_geometry;
 
+/* An adaptive linear ROM beside the reduced model (ROMBIN.md "Adaptive linear ROM chunks"): U is
+ * then its quadratic decoder's linear part Phi, the model is built on Phi (its pin penalty is not
+ * stored: the runtime moves prescribed vertices itself) and its quadrature is the cubature the
+ * runtime integrates every step's basis with. */
+typedef struct {
+    int history;                 /* m */
+    double lambda, reg;
+    const double *Psi;           /* 3 nv x r(r+1)/2, column-major: the decoder's modal derivatives */
+    const rk_fom_options *options; /* the prescribed motions, gravity, loads and damping it steps under */
+} rk_asset_alrom;
+
 /* A reduced model of a mesh, as the bake reads it. */
 typedef struct {
     const rk_mesh *mesh;         /* the source mesh: its boundary is what is shown */
@@ -69,6 +80,7 @@ typedef struct {
     const double *shown_grad;    /* a point cloud: the weights' gradients at those points (3 points_shown x H,
                                   * column-major, as rk_rkpm_interpolate's dW): GRAD, or NULL */
     const char *splat_file;      /* a point cloud from a Gaussian-splat PLY: stored whole (SPLY), or NULL */
+    const rk_asset_alrom *alrom; /* an adaptive linear ROM (bake_alrom.c), or NULL */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

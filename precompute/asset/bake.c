@@ -80,13 +80,13 @@ static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_wr
     return rc ? -1 : 0;
 }
 
-static int add_operators(const rk_rom_model *m, rombin_writer *w, rk_error *err)
+static int add_operators(const rk_rom_model *m, int penalty, rombin_writer *w, rk_error *err)
 {
     size_t rr = (size_t)m->r * m->r;
     if (rombin_add_reals(w, ROMBIN_MASS, 1, m->M, rr, err) || rombin_add_reals(w, ROMBIN_LOAD, 1, m->f, (size_t)m->r, err))
         return -1;
     if (m->C && rombin_add_reals(w, ROMBIN_DAMP, 1, m->C, rr, err)) return -1;
-    if (m->pinned_vertices == 0) return 0; /* the basis holds every prescribed vertex: no penalty */
+    if (!penalty) return 0; /* the basis holds every prescribed vertex (or the runtime moves them): no penalty */
     size_t per = ROMBIN_PIN_PARAMS + 12 * (size_t)m->r;
     double *pins = rk_calloc(per * m->npins, sizeof(double), err);
     if (!pins) return -1;
@@ -269,7 +269,9 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         head[ROMBIN_HEAD_SHOWN] = (uint32_t)s.shown;
         head[ROMBIN_HEAD_ELEMENTS] = R->points ? 0 : (uint32_t)m->quad.count;
         head[ROMBIN_HEAD_POINTS] = R->points ? (uint32_t)m->quad.count : 0;
-        head[ROMBIN_HEAD_PINS] = (uint32_t)(m->pinned_vertices ? m->npins : 0);
+        /* an adaptive linear ROM moves its prescribed vertices itself (AMOT), with no penalty */
+        int pins = m->pinned_vertices && !R->alrom;
+        head[ROMBIN_HEAD_PINS] = (uint32_t)(pins ? m->npins : 0);
         head[ROMBIN_HEAD_PLANES] = (uint32_t)plane_count(m);
         head[ROMBIN_HEAD_CONTACTS] = (uint32_t)contact_count(m);
         head[ROMBIN_HEAD_GROUPS] = (uint32_t)o->ngroups;
@@ -286,10 +288,10 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_KAPPA] = collide ? m->contact_options.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
-             add_geometry(R, &s, w, err) || add_operators(m, w, err) ||
+             add_geometry(R, &s, w, err) || add_operators(m, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
              add_contacts(m, &s, w, err) || add_cloud(R, &s, w, err) ||
-             add_collisions(m, o, &s, w, err) ||
+             add_collisions(m, o, &s, w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     }

@@ -24,6 +24,10 @@ int rk_bake_add_vertices(const double *X, const rk_bake_state *s, rombin_writer 
  * KACC, KINI, KOUT, KIMP. */
 int rk_bake_koopman_chunks(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
                            const rk_bake_state *s, rombin_writer *w, rk_error *err);
+/* An adaptive linear ROM's chunks over the stored vertices s (bake_alrom.c): ALRH, ALRP, QDRV, and
+ * VMSS and VLOD with each unstored vertex's mass and load moved to its nearest stored vertex along
+ * the mesh's edges, AMOV and AMOT. */
+int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err);
 /* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */
 int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, rombin_writer *w, rk_error *err);
 

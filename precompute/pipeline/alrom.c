@@ -7,36 +7,55 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, rk_decoder *dec, rk_error *err)
+int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, double **Phi, double **Psi, rk_error *err)
 {
     int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
     unsigned char *fixed = rk_scene_fixed_vertices(sim, err);
-    double *Psi = NULL, *raw = NULL;
+    double *raw = NULL;
     rk_basis modes = {0};
-    rk_sparse M = {0};
+    *Phi = *Psi = NULL;
     if (!fixed) return -1;
     int lumped = sim->options.lumped_mass;
     if (rk_basis_modes(&sim->fem, fixed, lumped, r, &modes, err)) goto out;
     int nrigid = modes.nzero, k = r - nrigid;
     size_t pairs = (size_t)r * (r + 1) / 2, raw_pairs = (size_t)k * (k + 1) / 2;
-    Psi = calloc((size_t)n * pairs + 1, sizeof(double));
+    *Psi = calloc((size_t)n * pairs + 1, sizeof(double));
+    *Phi = malloc(sizeof(double) * (size_t)n * r);
     raw = calloc((size_t)n * raw_pairs + 1, sizeof(double));
-    if (!Psi || !raw) {
+    if (!*Psi || !*Phi || !raw) {
         rk_fail(err, "out of memory for %zu modal derivatives", pairs);
         goto out;
     }
     double residual;
     if (k > 0 && rk_modal_derivatives(&sim->fem, fixed, lumped, modes.U, r, nrigid, raw, &residual, err)) goto out;
-    rk_quadratic_pairs(n, r, nrigid, raw, Psi);
-    if (rk_sparse_alloc_pattern(&sim->fem, &M, err)) goto out;
-    rk_fem_add_mass(&sim->fem, lumped, 1.0, &M);
-    rc = rk_quadratic_decoder(n, r, modes.U, Psi, &M, dec, err);
+    rk_quadratic_pairs(n, r, nrigid, raw, *Psi);
+    memcpy(*Phi, modes.U, sizeof(double) * (size_t)n * r);
+    rc = 0;
 out:
-    rk_sparse_free(&M);
+    if (rc) {
+        free(*Phi);
+        free(*Psi);
+        *Phi = *Psi = NULL;
+    }
     rk_basis_free(&modes);
-    free(Psi);
     free(raw);
     free(fixed);
+    return rc;
+}
+
+static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, rk_decoder *dec, rk_error *err)
+{
+    double *Phi, *Psi;
+    rk_sparse M = {0};
+    if (rk_scene_quadratic_parts(sim, e, &Phi, &Psi, err)) return -1;
+    int rc = rk_sparse_alloc_pattern(&sim->fem, &M, err);
+    if (!rc) {
+        rk_fem_add_mass(&sim->fem, sim->options.lumped_mass, 1.0, &M);
+        rc = rk_quadratic_decoder(3 * sim->mesh.nv, e->basis.size, Phi, Psi, &M, dec, err);
+    }
+    rk_sparse_free(&M);
+    free(Phi);
+    free(Psi);
     return rc;
 }
 

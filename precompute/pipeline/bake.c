@@ -212,15 +212,17 @@ int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_re
 {
     double t0 = rk_now();
     memset(out, 0, sizeof *out);
-    if (e->method == RK_METHOD_ADAPTIVE_LINEAR)
-        return rk_fail(err, "%s: method adaptive_linear is not baked into assets yet (the runtime does not step it); "
-                       "romkit compare runs it", e->path);
     if (e->method == RK_METHOD_ADAPTIVE_SUBSPACE)
         return rk_fail(err, "%s: method adaptive_subspace simulates in the precompute (full-order quality, every "
                        "element); it has no runtime asset to bake: romkit compare runs it", e->path);
     rk_asset_options ao = e->asset;
     if (req->has_real_type) ao.real_type = req->real_type;
     if (req->compress) ao.compress = 1;
+    if (e->method == RK_METHOD_ADAPTIVE_LINEAR) {
+        if (req->snapshots)
+            return rk_fail(err, "%s: method adaptive_linear trains on its entry's training list, not on --snapshots", e->path);
+        return rk_scene_bake_alrom(scene, e, &ao, out, err);
+    }
     bake_state s;
     memset(&s, 0, sizeof s);
     int rc = build_models(scene, e, req, &s, err);

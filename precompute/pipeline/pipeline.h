@@ -354,7 +354,12 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
 int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, double **D, int *T,
                           rk_error *err);
 
-/* ---- an adaptive linear ROM entry (alrom.c) ---- */
+/* ---- an adaptive linear ROM entry (alrom.c, bake_alrom.c) ---- */
+
+/* The quadratic-manifold decoder's parts for entry e: Phi, its r linear modes with the fixed
+ * vertices held (3 nv x r), and Psi, their modal derivatives (3 nv x r(r+1)/2, the pairs of rigid
+ * modes zero), both column-major and the caller's to free. */
+int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, double **Phi, double **Psi, rk_error *err);
 
 /* Entry e (method adaptive_linear) on the built scene: its decoder into *dec (a quadratic manifold
  * from the entry's size r linear modes with the fixed vertices held and their modal derivatives,
@@ -459,6 +464,10 @@ typedef struct {
 int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_request *req, rk_baked *out,
                   rk_error *err);
 void rk_baked_free(rk_baked *b);
+/* rk_scene_bake of an adaptive_linear entry (bake_alrom.c): the quadratic decoder's asset with the
+ * chunks the runtime's adaptive step reads (formats/ROMBIN.md); a CROM decoder is refused. */
+int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
+                        rk_error *err);
 /* A Koopman operator k over geometry g baked alone (romkit dmd's outside snapshots, and a Koopman
  * entry without cubature): the asset, its report's "koopman" and "asset" objects, the summary. */
 int rk_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *ao, const char *info,

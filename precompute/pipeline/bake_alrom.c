@@ -1,0 +1,99 @@
+/* An adaptive linear ROM entry into an asset (pipeline.h, rk_scene_bake_alrom): the quadratic
+ * decoder's parts, the cubature the runtime integrates every step's basis with (trained as
+ * rk_scene_alrom_cubature trains it for romkit compare, or every element), a reduced model on the
+ * decoder's linear part for the chunks a reduced model has (its pin penalty left out: the runtime
+ * moves the prescribed vertices itself), and the adaptive chunks beside them. */
+#include "pipeline/pipeline.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e, const rk_rom_model *model,
+                   const rk_asset_summary *sum, double seconds)
+{
+    cJSON *b = cJSON_AddObjectToObject(out->report, "basis");
+    cJSON_AddStringToObject(b, "type", "quadratic_manifold");
+    cJSON_AddNumberToObject(b, "size", model->r);
+    cJSON_AddNumberToObject(b, "columns", model->r);
+    cJSON *c = cJSON_AddObjectToObject(out->report, "cubature");
+    cJSON_AddNumberToObject(c, "elements", model->quad.count);
+    cJSON *a = cJSON_AddObjectToObject(out->report, "adaptive_linear");
+    cJSON_AddNumberToObject(a, "history", e->alrom.history);
+    cJSON_AddNumberToObject(a, "lambda", e->alrom.lambda);
+    cJSON_AddStringToObject(a, "decoder", "quadratic");
+    rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, sum);
+    cJSON_AddNumberToObject(out->report, "vertices", sim->mesh.nv);
+    cJSON_AddNumberToObject(out->report, "tets", sim->mesh.nt);
+    cJSON_AddNumberToObject(cJSON_AddObjectToObject(out->report, "seconds"), "total", seconds);
+    snprintf(out->summary, sizeof out->summary, "%s (adaptive linear ROM, quadratic decoder), r = %d, history %d, "
+             "lambda %g, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes", e->name, model->r,
+             e->alrom.history, e->alrom.lambda, model->quad.count, sum->vertices, sim->mesh.nv, sum->shown, out->bytes);
+}
+
+int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
+                        rk_error *err)
+{
+    double t0 = rk_now();
+    if (e->crom)
+        return rk_fail(err, "%s: the runtime steps the quadratic-manifold decoder; a CROM decoder (a network at every "
+                       "stored vertex each step) is not baked into assets yet: use \"decoder\": \"quadratic\", or romkit "
+                       "compare for CROM", e->path);
+    rk_scene_sim sim;
+    if (rk_scene_build(scene, &sim, err)) return -1;
+    double *D = NULL, *Phi = NULL, *Psi = NULL, *cub_weight = NULL;
+    int *cub_element = NULL, ncub = 0, T = 0, r = e->basis.size, rc = -1, have_model = 0;
+    rk_rom_model model;
+    rk_quadrature quad = {0};
+    if (sim.options.is_static) {
+        rk_fail(err, "%s: an adaptive linear ROM steps dynamics; the scene asks for a static solve", e->path);
+        goto out;
+    }
+    if (e->cubature && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
+                                     : rk_scene_training_frames(&sim, &D, &T, err)))
+        goto out;
+    if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err) ||
+        rk_scene_quadratic_parts(&sim, e, &Phi, &Psi, err))
+        goto out;
+    if (rk_quadrature_elements(&sim.fem, Phi, r, ncub ? ncub : sim.mesh.nt, ncub ? cub_element : NULL,
+                               ncub ? cub_weight : NULL, &quad, err) ||
+        rk_rom_model_init(&model, &sim.fem, &sim.options, Phi, r, &quad, NULL, err)) {
+        rk_error_prefix(err, "%s: the reduced model on the decoder's linear part", e->path);
+        goto out;
+    }
+    have_model = 1;
+    rk_asset_alrom A = {e->alrom.history, e->alrom.lambda, e->alrom.reg, Psi, &sim.options};
+    rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A};
+    rk_asset_summary sum = {0};
+    rombin_writer w;
+    rombin_writer_init(&w, ao->real_type, ao->compress);
+    const char *slash = strrchr(scene->path, '/');
+    cJSON *ij = cJSON_CreateObject();
+    cJSON_AddStringToObject(ij, "scene", slash ? slash + 1 : scene->path);
+    cJSON_AddStringToObject(ij, "method", e->name);
+    cJSON_AddStringToObject(ij, "basis", "quadratic_manifold");
+    cJSON_AddNumberToObject(ij, "columns", r);
+    cJSON_AddNumberToObject(ij, "cubature_elements", model.quad.count);
+    char *info = cJSON_PrintUnformatted(ij);
+    cJSON_Delete(ij);
+    rc = rk_asset_bake(&R, NULL, NULL, ao, info, &w, &sum, err) || rombin_serialize(&w, &out->data, &out->bytes, err)
+             ? -1 : 0;
+    rombin_writer_free(&w);
+    free(info);
+    if (!rc) {
+        out->report = cJSON_CreateObject();
+        report(out, &sim, e, &model, &sum, rk_now() - t0);
+    } else {
+        rk_error_prefix(err, "%s", e->path);
+    }
+out:
+    if (have_model) rk_rom_model_free(&model);
+    free(D);
+    free(Phi);
+    free(Psi);
+    free(cub_element);
+    free(cub_weight);
+    rk_scene_sim_free(&sim);
+    return rc;
+}

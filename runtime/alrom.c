@@ -1,0 +1,584 @@
+/* The adaptive linear ROM in the runtime (the adaptive-linear-rom-grassmann paper, Algorithms 1-4),
+ * over the asset's stored vertices only and in fixed arena buffers. Before each step:
+ *
+ *   p = e(u)                          the quadratic decoder's encoder: Gauss-Newton on |g(p) - u|_M
+ *   U = dg/dp (p)                     its Jacobian, Phi_k + sum_j Psi_kj p_j (Eq. 8)
+ *   Phi_h = D P^T (P P^T + reg I)^-1  the last m steps' displacements D and codes P (Eq. 13)
+ *   U_interp = Grassmann(Phi_h, U, lambda)   (Algorithm 4: thin QRs, the SVD of Q_Phi^T Q_U)
+ *
+ * then the reduced model's own Newton (step.c) in the incremental form x = x_ref + U_interp q
+ * (Eq. 5-6), with M_r = U^T M U over the stored vertices' masses (the mesh's lumped mass gathered
+ * onto them), C_r = a M_r, f_r = U^T f and the cubature elements' F = F(x_ref) + G_e q. The
+ * prescribed vertices move to their targets in x_ref and their rows are zero, as in the
+ * precompute's simulator (precompute/grassmann/alrom.c), which this reproduces when every vertex
+ * is stored and the mass is lumped. Inner products are Euclidean over the stored rows. */
+#include <math.h>
+#include <string.h>
+
+#include "runtime/loader_impl.h"
+
+/* A QR diagonal below this fraction of the largest is rank loss, the precompute's rk_thin_q floor
+ * (precompute/grassmann/interpolate.c: the history's missing directions are amplified round-off
+ * above 1e-12, so the data decides only from well above it). */
+#define RANK_TOL 1e-6
+#define ENCODE_ITERATIONS 20
+#define MAX_HISTORY 1000u
+
+/* ---- the loader ---- */
+
+romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
+{
+    const uint32_t *head;
+    const romrt_real *parm;
+    rt_alrom *al = &m->al;
+    uint64_t nv = (uint64_t)m->nv, r = (uint64_t)m->r, n = 3 * nv;
+    romrt_status st;
+    int k;
+    if ((st = rt_u32s(L, ROMBIN_ALRH, ROMBIN_ALRH_COUNT, 0, &head))) return st;
+    if (!head) return ROMRT_OK;
+    for (k = ROMBIN_ALRH_MOTIONS + 1; k < ROMBIN_ALRH_COUNT; k++)
+        if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "reserved field ", (uint64_t)k, " is not 0");
+    if (head[ROMBIN_ALRH_HISTORY] < 1 || head[ROMBIN_ALRH_HISTORY] > MAX_HISTORY)
+        return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "history of ", head[ROMBIN_ALRH_HISTORY], " steps is not in 1..1000");
+    if ((uint64_t)head[ROMBIN_ALRH_PAIRS] != r * (r + 1) / 2)
+        return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "names ", head[ROMBIN_ALRH_PAIRS],
+                          " modal-derivative pairs; r gives ", r * (r + 1) / 2, "");
+    if (head[ROMBIN_ALRH_MOTIONS] > ROMBIN_MAX_MOTIONS)
+        return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "prescribed motion count ", head[ROMBIN_ALRH_MOTIONS],
+                         " is above 64");
+    m->alrom = 1;
+    al->m = (int)head[ROMBIN_ALRH_HISTORY];
+    al->pairs = (int)head[ROMBIN_ALRH_PAIRS];
+    al->nmotions = (int)head[ROMBIN_ALRH_MOTIONS];
+    if ((st = rt_reals(L, ROMBIN_ALRP, ROMBIN_ALRP_COUNT, 1, &parm)) ||
+        (st = rt_reals(L, ROMBIN_QDRV, n * (uint64_t)al->pairs, 1, &al->psi)) ||
+        (st = rt_reals(L, ROMBIN_VMSS, nv, 1, &al->mass)) || (st = rt_reals(L, ROMBIN_VLOD, n, 1, &al->load)) ||
+        (st = rt_u32s(L, ROMBIN_AMOV, nv, 1, &al->motion_of)) ||
+        (st = rt_reals(L, ROMBIN_AMOT, (uint64_t)al->nmotions * ROMBIN_PIN_PARAMS, al->nmotions > 0, &al->motions)))
+        return st;
+    if (parm) {
+        al->lambda = parm[ROMBIN_ALRP_LAMBDA];
+        al->reg = parm[ROMBIN_ALRP_REG];
+        al->damping = parm[ROMBIN_ALRP_DAMPING];
+        for (k = ROMBIN_ALRP_DAMPING + 1; k < ROMBIN_ALRP_COUNT; k++)
+            if (parm[k] != 0) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRP, "reserved value ", (uint64_t)k, " is not 0");
+    }
+    al->X0 = m->X;
+    al->phi = m->rows;
+    rt_scratch(L, n, &al->x);
+    rt_scratch(L, n, &al->v);
+    rt_scratch(L, n, &al->x_prev);
+    rt_scratch(L, n, &al->v_prev);
+    rt_scratch(L, n, &al->f_app);
+    rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->D);
+    rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
+    rt_scratch(L, n, &al->x_ref);
+    rt_scratch(L, n * r, &al->rows);
+    rt_scratch(L, r * r, &al->M);
+    rt_scratch(L, r * r, &al->C);
+    rt_scratch(L, r, &al->f);
+    rt_scratch(L, 9 * (uint64_t)m->ne, &al->Hd0);
+    rt_scratch_wide(L, n * r, &al->U);
+    rt_scratch_wide(L, n * r, &al->Q1);
+    rt_scratch_wide(L, n * r, &al->Q2);
+    rt_scratch_wide(L, n, &al->u);
+    rt_scratch_wide(L, n, &al->res);
+    rt_scratch_wide(L, (uint64_t)al->pairs, &al->pp);
+    rt_scratch_wide(L, 4 * r * r, &al->work);
+    rt_scratch(L, n, &al->x_new);
+    rt_scratch(L, n, &al->v_new);
+    return ROMRT_OK;
+}
+
+romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
+{
+    const rt_alrom *al = &m->al;
+    double total = 0;
+    int v, g;
+    if (!m->alrom) return ROMRT_OK;
+    if (m->skin || m->np || m->npins || m->ne < 1)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRH,
+                       "an adaptive linear ROM needs cubature elements and dense rows, and holds its prescribed "
+                       "vertices itself (no SKIN, IPNT or PINS)");
+    for (v = 0; v < m->nv; v++)
+        if (al->motion_of[v] != ROMBIN_NO_MOTION && al->motion_of[v] >= (uint32_t)al->nmotions)
+            return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_AMOV, "stored vertex ", (uint64_t)v, " names motion ",
+                              al->motion_of[v], ", beyond AMOT");
+    if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
+    if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0))
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP, "lambda must be in [0, 1], the regularisation and damping >= 0");
+    for (v = 0; v < m->nv; v++) {
+        if (!(al->mass[v] >= 0)) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_VMSS, "stored vertex ", (uint64_t)v, " has a negative mass");
+        total += al->mass[v];
+    }
+    if (!(total > 0)) return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_VMSS, "the stored vertices carry no mass");
+    for (g = 0; g < al->nmotions; g++) {
+        const romrt_real *p = al->motions + ROMBIN_PIN_PARAMS * (size_t)g;
+        if (!(p[0] == 0 || p[0] == 1 || p[0] == 2) || p[ROMBIN_PIN_PARAMS - 1] != 0)
+            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_AMOT, "motion ", (uint64_t)g, " has an unknown kind");
+        if (p[0] == 1 && !(p[1] * p[1] + p[2] * p[2] + p[3] * p[3] > 0))
+            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_AMOT, "motion ", (uint64_t)g, " twists about a zero axis");
+    }
+    return ROMRT_OK;
+}
+
+/* ---- small dense helpers (rows: n x r, row i's r reals contiguous) ---- */
+
+static int prescribed(const rt_alrom *al, int row) { return al->motion_of[row / 3] != ROMBIN_NO_MOTION; }
+
+static void zero_prescribed_rows(const romrt_model *m, double *A)
+{
+    int i, n = 3 * m->nv;
+    for (i = 0; i < n; i++)
+        if (prescribed(&m->al, i)) memset(A + (size_t)i * (size_t)m->r, 0, sizeof(double) * (size_t)m->r);
+}
+
+/* Pair (i, j), i <= j, row-major over r (the precompute's rk_quadratic_pairs layout). */
+static int pair(int r, int i, int j)
+{
+    if (i > j) {
+        int t = i;
+        i = j;
+        j = t;
+    }
+    return i * r - i * (i - 1) / 2 + (j - i);
+}
+
+/* U = dg/dp: row i, column k = Phi_ik + sum_j Psi_i,(k,j) p_j. */
+static void jacobian(const romrt_model *m, const double *p, double *U)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, i, k, j;
+    for (i = 0; i < n; i++) {
+        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)al->pairs;
+        double *Ui = U + (size_t)i * (size_t)r;
+        for (k = 0; k < r; k++) {
+            double s = phi[k];
+            int at = pair(r, 0, k);
+            for (j = 0; j < k; j++) { /* pairs (j, k): their index grows by r - j - 1 */
+                s += psi[at] * p[j];
+                at += r - j - 1;
+            }
+            for (j = k; j < r; j++) s += psi[at + (j - k)] * p[j]; /* pairs (k, j), contiguous */
+            Ui[k] = s;
+        }
+    }
+}
+
+/* res = u - g(p), g(p) = Phi p + 1/2 sum_ij Psi_ij p_i p_j over ordered pairs (each unordered pair
+ * i < j once, i = j with 1/2). */
+static void residual(const romrt_model *m, const double *u, const double *p, double *res)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, i, j, k;
+    for (i = 0; i < r; i++)
+        for (j = i; j < r; j++) al->pp[pair(r, i, j)] = (i == j ? 0.5 : 1) * p[i] * p[j];
+    for (i = 0; i < n; i++) {
+        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)al->pairs;
+        double g = 0;
+        for (k = 0; k < r; k++) g += phi[k] * p[k];
+        for (k = 0; k < al->pairs; k++) g += psi[k] * al->pp[k];
+        res[i] = u[i] - g;
+    }
+}
+
+/* x = (J^T W J + shift I)^-1 J^T W b over the stored rows, W their vertices' masses (the mass-norm
+ * least squares of the encoder); A: r x r scratch. */
+static romrt_status mass_lsq(const romrt_model *m, const double *J, const double *b, double *x, double *A,
+                             romrt_error *err)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, i, j, k;
+    double scale = 0;
+    for (k = 0; k < r * r; k++) A[k] = 0;
+    for (k = 0; k < r; k++) x[k] = 0;
+    for (i = 0; i < n; i++) {
+        const double *Ji = J + (size_t)i * (size_t)r;
+        double w = al->mass[i / 3], wb = w * b[i];
+        if (w == 0) continue;
+        for (k = 0; k < r; k++) {
+            double wk = w * Ji[k];
+            x[k] += wb * Ji[k];
+            for (j = k; j < r; j++) A[k + (size_t)r * j] += wk * Ji[j]; /* upper */
+        }
+    }
+    for (k = 0; k < r; k++) scale = A[k + (size_t)r * k] > scale ? A[k + (size_t)r * k] : scale;
+    for (k = 0; k < r; k++) A[k + (size_t)r * k] += 1e-12 * scale; /* rigid or repeated columns */
+    if (rt_cholesky_wide(r, A))
+        return rt_fail_n(err, ROMRT_E_DIVERGED, ROMBIN_ALRH, "the decoder's Jacobian has rank below r = ", (uint64_t)r,
+                         " (the encoder's mass least squares)");
+    rt_cholesky_solve_wide(r, A, x);
+    return ROMRT_OK;
+}
+
+/* p = e(u): the mass projection onto the linear part, then Gauss-Newton on |g(p) - u|_M^2 (the
+ * precompute's quadratic encoder, precompute/grassmann/quadratic.c). Leaves J(p) in al->U. */
+static romrt_status encode(romrt_model *m, romrt_error *err)
+{
+    rt_alrom *al = &m->al;
+    double rhs[ROMRT_MAX_R];
+    int r = m->r, it, k;
+    romrt_status st;
+    for (k = 0; k < r; k++) al->p[k] = 0;
+    jacobian(m, al->p, al->U); /* the linear part, Phi */
+    st = mass_lsq(m, al->U, al->u, al->p, al->work, err);
+    for (it = 0; !st && it < ENCODE_ITERATIONS; it++) {
+        double step = 0, size = 0;
+        residual(m, al->u, al->p, al->res);
+        jacobian(m, al->p, al->U);
+        if ((st = mass_lsq(m, al->U, al->res, rhs, al->work, err))) break;
+        for (k = 0; k < r; k++) {
+            al->p[k] += rhs[k];
+            step = fabs(rhs[k]) > step ? fabs(rhs[k]) : step;
+            size = fabs(al->p[k]) > size ? fabs(al->p[k]) : size;
+        }
+        if (step <= 1e-12 * (size > 0 ? size : 1)) break;
+    }
+    if (!st) jacobian(m, al->p, al->U);
+    return st;
+}
+
+/* Q: orthonormal columns spanning A's (n x r; Q may be A), classical Gram-Schmidt run twice per
+ * column (as stable as Householder for this purpose, and row by row over memory). -1 when a
+ * column's remainder, R's diagonal, is below RANK_TOL of the largest: rank below r. */
+static int thin_q(int n, int r, const double *A, double *Q)
+{
+    double d[ROMRT_MAX_R], big = 0, small = INFINITY;
+    int i, j, k, pass;
+    if (Q != A) memcpy(Q, A, sizeof(double) * (size_t)n * (size_t)r);
+    for (j = 0; j < r; j++) {
+        double norm2 = 0, norm;
+        for (pass = 0; pass < 2 && j > 0; pass++) {
+            for (k = 0; k < j; k++) d[k] = 0;
+            for (i = 0; i < n; i++) {
+                const double *Qi = Q + (size_t)i * (size_t)r;
+                for (k = 0; k < j; k++) d[k] += Qi[k] * Qi[j];
+            }
+            for (i = 0; i < n; i++) {
+                double *Qi = Q + (size_t)i * (size_t)r, s = Qi[j];
+                for (k = 0; k < j; k++) s -= d[k] * Qi[k];
+                Qi[j] = s;
+            }
+        }
+        for (i = 0; i < n; i++) norm2 += Q[(size_t)i * (size_t)r + (size_t)j] * Q[(size_t)i * (size_t)r + (size_t)j];
+        norm = sqrt(norm2);
+        if (!(norm > 0) || !isfinite(norm)) return -1;
+        big = norm > big ? norm : big;
+        small = norm < small ? norm : small;
+        for (i = 0; i < n; i++) Q[(size_t)i * (size_t)r + (size_t)j] /= norm;
+    }
+    return small > RANK_TOL * big ? 0 : -1;
+}
+
+/* The SVD of the r x r matrix M (column-major) by one-sided Jacobi: M W = V diag(s), W and V
+ * orthogonal, s >= 0 (unsorted: every use here is column by column). M is overwritten. */
+static void jacobi_svd(int r, double *M, double *W, double *V, double *s)
+{
+    int i, j, k, sweep, rotated = 1;
+    for (k = 0; k < r * r; k++) W[k] = (double)(k % (r + 1) == 0);
+    for (sweep = 0; sweep < 60 && rotated; sweep++) {
+        rotated = 0;
+        for (i = 0; i < r; i++)
+            for (j = i + 1; j < r; j++) {
+                double *a = M + (size_t)r * i, *b = M + (size_t)r * j, al = 0, be = 0, ga = 0, zeta, t, c, sn;
+                for (k = 0; k < r; k++) {
+                    al += a[k] * a[k];
+                    be += b[k] * b[k];
+                    ga += a[k] * b[k];
+                }
+                if (!(fabs(ga) > 1e-15 * sqrt(al * be))) continue;
+                rotated = 1;
+                zeta = (be - al) / (2 * ga);
+                t = (zeta >= 0 ? 1 : -1) / (fabs(zeta) + sqrt(1 + zeta * zeta));
+                c = 1 / sqrt(1 + t * t);
+                sn = c * t;
+                for (k = 0; k < r; k++) {
+                    double x = a[k], y = b[k];
+                    a[k] = c * x - sn * y;
+                    b[k] = sn * x + c * y;
+                    x = W[(size_t)r * i + k];
+                    y = W[(size_t)r * j + k];
+                    W[(size_t)r * i + k] = c * x - sn * y;
+                    W[(size_t)r * j + k] = sn * x + c * y;
+                }
+            }
+    }
+    for (j = 0; j < r; j++) {
+        double n2 = 0;
+        for (k = 0; k < r; k++) n2 += M[(size_t)r * j + k] * M[(size_t)r * j + k];
+        s[j] = sqrt(n2);
+    }
+    /* V = M W / s; a zero s (orthogonal directions) gets a unit vector clear of the other columns */
+    for (j = 0; j < r; j++) {
+        double *vj = V + (size_t)r * j;
+        if (s[j] > RANK_TOL) {
+            for (k = 0; k < r; k++) vj[k] = M[(size_t)r * j + k] / s[j];
+            continue;
+        }
+        s[j] = 0;
+        for (i = 0; i < r; i++) {
+            double n2 = 0;
+            int l;
+            for (k = 0; k < r; k++) vj[k] = (double)(k == i);
+            for (l = 0; l < r; l++) {
+                double dot = 0;
+                if (l == j || (l > j && s[l] <= RANK_TOL)) continue;
+                for (k = 0; k < r; k++) dot += vj[k] * V[(size_t)r * l + k];
+                for (k = 0; k < r; k++) vj[k] -= dot * V[(size_t)r * l + k];
+            }
+            for (k = 0; k < r; k++) n2 += vj[k] * vj[k];
+            if (n2 > 0.25) {
+                for (k = 0; k < r; k++) vj[k] /= sqrt(n2);
+                break;
+            }
+        }
+    }
+}
+
+/* Algorithm 4 from Q1 = Q_Phi and Q2 = Q_U (orthonormal): with Q1^T Q2 = V cos(Theta) W^T, the
+ * geodesic point G = Q1 V cos(lambda Theta) + S sin(lambda Theta), S = (Q2 W - Q1 V cos Theta)
+ * / sin Theta, written as G = Q1 V diag(a) + Q2 W diag(b), b = sin(lambda theta) / sin theta
+ * (-> lambda as theta -> 0, where the spans share a direction), a = cos(lambda theta) - b cos theta.
+ * Into out (n x r, not orthonormalised). */
+static void geodesic(romrt_model *m, double *out)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, i, j, k;
+    double *Mq = al->work, *W = Mq + (size_t)r * r, *V = W + (size_t)r * r, *A = V + (size_t)r * r, s[ROMRT_MAX_R];
+    double a[ROMRT_MAX_R], b[ROMRT_MAX_R], lambda = al->lambda;
+    for (k = 0; k < r * r; k++) Mq[k] = 0;
+    for (i = 0; i < n; i++) { /* Mq = Q1^T Q2, column-major */
+        const double *q1 = al->Q1 + (size_t)i * (size_t)r, *q2 = al->Q2 + (size_t)i * (size_t)r;
+        for (j = 0; j < r; j++)
+            for (k = 0; k < r; k++) Mq[k + (size_t)r * j] += q1[k] * q2[j];
+    }
+    jacobi_svd(r, Mq, W, V, s);
+    for (j = 0; j < r; j++) {
+        double c = s[j] < 1 ? s[j] : 1, sn = sqrt(1 - c * c), theta = atan2(sn, c);
+        b[j] = theta > 1e-4 ? sin(lambda * theta) / sn : lambda * (1 + (1 - lambda * lambda) * theta * theta / 6);
+        a[j] = cos(lambda * theta) - b[j] * c;
+    }
+    /* A = V diag(a) (r x r), Mq reused for W diag(b); out = Q1 A + Q2 (W diag b) */
+    for (j = 0; j < r; j++)
+        for (k = 0; k < r; k++) {
+            A[k + (size_t)r * j] = V[k + (size_t)r * j] * a[j];
+            Mq[k + (size_t)r * j] = W[k + (size_t)r * j] * b[j];
+        }
+    for (i = 0; i < n; i++) {
+        const double *q1 = al->Q1 + (size_t)i * (size_t)r, *q2 = al->Q2 + (size_t)i * (size_t)r;
+        double *o = out + (size_t)i * (size_t)r;
+        for (j = 0; j < r; j++) {
+            double acc = 0;
+            for (k = 0; k < r; k++) acc += q1[k] * A[k + (size_t)r * j] + q2[k] * Mq[k + (size_t)r * j];
+            o[j] = acc;
+        }
+    }
+}
+
+/* Phi_h = D P^T (P P^T + reg I)^-1 over the newest `count` ring entries (Eq. 13) into al->Q1; the
+ * order of the entries does not matter to it. -1 when P P^T + reg I is not positive definite. */
+static int history_basis(romrt_model *m, int count)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, slots = al->m + 1, e, i, j, k;
+    double *A = al->work;
+    for (k = 0; k < r * r; k++) A[k] = 0;
+    for (i = 0; i < n * r; i++) al->Q1[i] = 0;
+    for (e = 0; e < count; e++) {
+        int slot = (al->head - e + slots) % slots;
+        const double *d = al->D + (size_t)slot * (size_t)n, *p = al->P + (size_t)slot * (size_t)r;
+        for (j = 0; j < r; j++)
+            for (k = 0; k <= j; k++) A[k + (size_t)r * j] += p[k] * p[j];
+        for (i = 0; i < n; i++) {
+            double *Bi = al->Q1 + (size_t)i * (size_t)r;
+            if (d[i] != 0)
+                for (j = 0; j < r; j++) Bi[j] += d[i] * p[j];
+        }
+    }
+    for (k = 0; k < r; k++) A[k + (size_t)r * k] += al->reg;
+    if (rt_cholesky_wide(r, A)) return -1;
+    for (i = 0; i < n; i++) rt_cholesky_solve_wide(r, A, al->Q1 + (size_t)i * (size_t)r); /* row i: A^-1 B_i^T */
+    return 0;
+}
+
+/* ---- a step ---- */
+
+/* x_ref: where the step starts, the prescribed vertices moved to their targets at time t. */
+static void place_prescribed(romrt_model *m, romrt_real t)
+{
+    rt_alrom *al = &m->al;
+    int v, a, g;
+    romrt_real R[ROMBIN_MAX_MOTIONS][9], shift[ROMBIN_MAX_MOTIONS][3];
+    for (g = 0; g < al->nmotions; g++) {
+        const romrt_real *p = al->motions + ROMBIN_PIN_PARAMS * (size_t)g;
+        RT_PHYS(motion)((rk_motion_kind)(int)p[0], p + 1, p + 4, p[7], p + 8, t, R[g], shift[g]);
+    }
+    for (v = 0; v < m->nv; v++) {
+        uint32_t g2 = al->motion_of[v];
+        const romrt_real *X = al->X0 + 3 * (size_t)v;
+        if (g2 == ROMBIN_NO_MOTION) continue;
+        for (a = 0; a < 3; a++)
+            al->x_ref[3 * v + a] = R[g2][3 * a] * X[0] + R[g2][3 * a + 1] * X[1] + R[g2][3 * a + 2] * X[2] + shift[g2][a];
+    }
+}
+
+/* Each cubature element's F - I at x_ref, from its vertices' displacements. */
+static void element_offsets(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    int e, k, a, b, c;
+    for (e = 0; e < m->ne; e++) {
+        const uint32_t *ev = m->elem + 5 * (size_t)e;
+        const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
+        romrt_real u[12];
+        for (k = 0; k < 4; k++)
+            for (a = 0; a < 3; a++) u[3 * k + a] = al->x_ref[3 * ev[k] + a] - al->X0[3 * ev[k] + a];
+        for (a = 0; a < 3; a++)
+            for (b = 0; b < 3; b++) {
+                romrt_real s = 0;
+                for (c = 0; c < 3; c++) s += (u[3 * (c + 1) + a] - u[a]) * Dm[3 * c + b];
+                al->Hd0[9 * (size_t)e + 3 * a + b] = s;
+            }
+    }
+}
+
+/* M_r = U^T diag(mass) U (full), f_r = U^T (f + f_app), C_r = a M_r; qtilde = M_r^-1 U^T M (x~ - x_ref). */
+static romrt_status reduced_terms(romrt_model *m, const double *xtilde, romrt_error *err)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, i, j, k;
+    romrt_real *b = m->qtilde;
+    for (k = 0; k < r * r; k++) al->M[k] = 0;
+    for (k = 0; k < r; k++) al->f[k] = b[k] = 0;
+    for (i = 0; i < n; i++) {
+        const romrt_real *Ui = al->rows + (size_t)i * (size_t)r;
+        romrt_real w = al->mass[i / 3], fi = al->load[i] + al->f_app[i], wd = w * (romrt_real)(xtilde[i] - al->x_ref[i]);
+        for (k = 0; k < r; k++) {
+            romrt_real wk = w * Ui[k];
+            al->f[k] += fi * Ui[k];
+            b[k] += wd * Ui[k];
+            for (j = k; j < r; j++) al->M[k + (size_t)r * j] += wk * Ui[j];
+        }
+    }
+    for (j = 0; j < r; j++)
+        for (k = 0; k < j; k++) al->M[j + (size_t)r * k] = al->M[k + (size_t)r * j];
+    for (k = 0; k < r * r; k++) al->C[k] = al->damping * al->M[k];
+    memcpy(m->H, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r);
+    if (rt_cholesky(r, m->H))
+        return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_VMSS, "the step basis has no mass on some direction (U^T M U is singular)");
+    rt_cholesky_solve(r, m->H, b);
+    return ROMRT_OK;
+}
+
+romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
+{
+    rt_alrom *al = &m->al;
+    int n = 3 * m->nv, r = m->r, i, count, blended = 0, bdf2 = m->integrator == 1 && m->have_prev;
+    romrt_real h = m->h;
+    double *xtilde = al->res, *basis = al->Q2;
+    romrt_status st;
+    /* Algorithm 3, lines 3-6: the code of the state, the decoder's basis there, the history */
+    for (i = 0; i < n; i++) al->u[i] = (double)al->x[i] - (double)al->X0[i];
+    if ((st = encode(m, err))) return st;
+    zero_prescribed_rows(m, al->U);
+    if (thin_q(n, r, al->U, al->Q2))
+        return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_QDRV, "the decoder's basis lost rank at this state");
+    memcpy(al->D + (size_t)al->head * (size_t)n, al->u, sizeof(double) * (size_t)n);
+    memcpy(al->P + (size_t)al->head * (size_t)r, al->p, sizeof(double) * (size_t)r);
+    count = al->count < al->m ? al->count + 1 : al->m;
+    if (!history_basis(m, count)) { /* Phi_h in Q1, then the geodesic from it toward Q2 into U */
+        zero_prescribed_rows(m, al->Q1);
+        if (!thin_q(n, r, al->Q1, al->Q1)) {
+            geodesic(m, al->U);
+            blended = !thin_q(n, r, al->U, al->U);
+        }
+    }
+    if (blended) basis = al->U;
+    al->blended += blended;
+    for (i = 0; i < n * r; i++) al->rows[i] = (romrt_real)basis[i];
+    /* the step's reference: the start with the prescribed vertices at their targets */
+    memcpy(al->x_ref, al->x, sizeof(romrt_real) * (size_t)n);
+    place_prescribed(m, m->t + h);
+    element_offsets(m);
+    for (i = 0; i < n; i++)
+        xtilde[i] = bdf2 ? (4 * (double)al->x[i] - al->x_prev[i]) / 3 + 2 * (double)h / 9 * (4 * (double)al->v[i] - al->v_prev[i])
+                         : (double)al->x[i] + (double)h * al->v[i];
+    *w_inertia = bdf2 ? RT_K(9.0) / (RT_K(4.0) * h * h) : 1 / (h * h);
+    if ((st = reduced_terms(m, xtilde, err))) return st;
+    m->C = al->damping > 0 ? al->C : 0;
+    for (i = 0; i < r; i++) m->q[i] = m->v[i] = m->f_app[i] = 0;
+    return ROMRT_OK;
+}
+
+romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
+{
+    rt_alrom *al = &m->al;
+    int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
+    romrt_real h = m->h, *x_new = al->x_new, *v_new = al->v_new;
+    double top = 0;
+    for (i = 0; i < n; i++) {
+        x_new[i] = al->x_ref[i] + rt_dot(r, al->rows + (size_t)i * (size_t)r, m->q);
+        v_new[i] = bdf2 ? (3 * x_new[i] - 4 * al->x[i] + al->x_prev[i]) / (2 * h) : (x_new[i] - al->x[i]) / h;
+        if (!isfinite(x_new[i]) || !isfinite(v_new[i]))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
+        if (i < 3 * m->shown && fabs((double)x_new[i]) > top) top = fabs((double)x_new[i]);
+    }
+    memcpy(al->x_prev, al->x, sizeof(romrt_real) * (size_t)n);
+    memcpy(al->v_prev, al->v, sizeof(romrt_real) * (size_t)n);
+    memcpy(al->x, x_new, sizeof(romrt_real) * (size_t)n);
+    memcpy(al->v, v_new, sizeof(romrt_real) * (size_t)n);
+    memcpy(al->x_ref, x_new, sizeof(romrt_real) * (size_t)n);
+    al->head = (al->head + 1) % (al->m + 1);
+    if (al->count < al->m) al->count++;
+    for (i = 0; i < r; i++) m->q[i] = 0;
+    m->x_bound = top;
+    return ROMRT_OK;
+}
+
+void rt_alrom_abort(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    int i;
+    memcpy(al->x_ref, al->x, sizeof(romrt_real) * (size_t)(3 * m->nv));
+    for (i = 0; i < m->r; i++) m->q[i] = 0;
+}
+
+void rt_alrom_reset(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    size_t n = 3 * (size_t)m->nv;
+    memcpy(al->x, al->X0, sizeof(romrt_real) * n);
+    memcpy(al->x_ref, al->X0, sizeof(romrt_real) * n);
+    memset(al->v, 0, sizeof(romrt_real) * n);
+    memset(al->x_prev, 0, sizeof(romrt_real) * n);
+    memset(al->v_prev, 0, sizeof(romrt_real) * n);
+    memset(al->f_app, 0, sizeof(romrt_real) * n);
+    memset(al->Hd0, 0, sizeof(romrt_real) * 9 * (size_t)m->ne);
+    al->count = al->head = 0;
+    al->blended = 0;
+    /* until the first step, the decoder's linear part (orthonormalised by that step) */
+    memcpy(al->rows, al->phi, sizeof(romrt_real) * n * (size_t)m->r);
+    {
+        size_t i;
+        for (i = 0; i < n; i++)
+            if (prescribed(al, (int)i)) memset(al->rows + i * (size_t)m->r, 0, sizeof(romrt_real) * (size_t)m->r);
+    }
+    m->X = al->x_ref;
+    m->rows = al->rows;
+    m->force_rows = al->rows;
+    m->M = al->M;
+    m->f = al->f;
+    m->C = 0;
+    /* positions are x_ref + rows q with q = 0 between steps and orthonormal rows within one */
+    m->row_bound = m->r;
+}
+
+int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply)
+{
+    romrt_real *fa = m->al.f_app + 3 * (size_t)v;
+    int a;
+    for (a = 0; a < 3; a++)
+        if (!isfinite(fa[a] + f[a])) return -1;
+    for (a = 0; a < 3 && apply; a++) fa[a] += f[a];
+    return 0;
+}
