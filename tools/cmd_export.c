@@ -1,6 +1,6 @@
 /* romkit export ASSET.rombin --gltf OUT.glb [--steps N]: the asset's shown vertices as a glTF 2.0
- * morph-target mesh (precompute/export), and a run of N steps by the runtime, from rest under the
- * asset's own scene, as the morph weights' animation. The runtime opens (validates) and steps the
+ * morph-target mesh (precompute/export), and a run of N steps by the runtime, from the asset's start
+ * under its own scene, as the morph weights' animation. The runtime opens (validates) and steps the
  * asset, and says what is shown, its triangles and the reduced coordinates at every frame; the
  * rows those coordinates multiply come from the container. */
 #include <stdio.h>
@@ -20,10 +20,10 @@ static void export_usage(FILE *f)
                "  writes the asset's shown vertices as a glTF 2.0 binary mesh at rest (the surface's triangles,\n"
                "  or POINTS for a point cloud; no normals: viewers derive them from the moving positions),\n"
                "  its basis as morph targets (one per reduced coordinate: the shown vertices' rows as POSITION\n"
-               "  deltas) and a run as the weights' animation (LINEAR keyframes): N runtime steps from rest\n"
-               "  under the asset's own scene (gravity, pins, planes as baked), frame 0 the start. At every\n"
-               "  frame the mesh's rest positions plus the weighted targets are the runtime's positions, to\n"
-               "  float precision.\n"
+               "  deltas) and a run as the weights' animation (LINEAR keyframes): N runtime steps from the\n"
+               "  asset's start (rest; a Koopman asset's initial state) under its own scene (gravity, pins,\n"
+               "  planes as baked), frame 0 the start, keyframe k at k h. At every frame the rest positions\n"
+               "  plus the weighted targets are the runtime's positions to float32 rounding (romkit run's).\n"
                "  --gltf      the .glb to write (atomically: nothing is left on failure)\n"
                "  --steps     frames after the start (default 100; 0: no animation, the mesh at the start)\n"
                "  --koopman   export the asset's Koopman operator (targets: its output rows, weights: its\n"
