@@ -13,7 +13,7 @@ LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson 
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare
+STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
@@ -34,9 +34,11 @@ DEPS_asset   := asset formats koopman rom cubature fom solver contact fem physic
 # The scene parsed once and the whole-scene orchestration: every stage below it.
 DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive grassmann fom solver contact fem physics mesh neural util
 DEPS_compare := compare $(DEPS_pipeline)
+# An asset's shown vertices as glTF (romkit export): the container's rows, the skinning rows of basis.
+DEPS_export  := export basis formats fem physics mesh util
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
-DEPS_tools   := $(DEPS_compare)
+DEPS_tools   := export $(DEPS_compare)
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))

@@ -12,6 +12,7 @@ int cmd_build(int argc, char **argv);
 int cmd_run(int argc, char **argv);
 int cmd_dmd(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);
+int cmd_export(int argc, char **argv);
 
 /* Shared by the commands: is argv[i] "--help" or "-h". */
 int is_help(const char *arg);

@@ -21,6 +21,7 @@ static const command commands[] = { /* in pipeline order */
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
     {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
     {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
+    {"export", cmd_export, "a .rombin asset as glTF 2.0 (.glb): its surface, basis as morph targets, a run as animation"},
 };
 
 int is_help(const char *arg) { return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0; }
@@ -37,6 +38,7 @@ static void usage(FILE *out)
                  "  romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
                  "  romkit run cantilever.rombin --steps 50 --reference S.npy\n"
                  "  romkit inspect cantilever.rombin\n"
+                 "  romkit export cantilever.rombin --gltf cantilever.glb --steps 50\n"
                  "a Koopman asset from recorded snapshots (here the full-order run's):\n"
                  "  romkit dmd --snapshots S.npy --dt 0.01 --from-rest --gravity 0,-9.81,0 --clamp -o koopman.rombin\n"
                  "  romkit run koopman.rombin --steps 50 --jump 1000\n");
