@@ -37,6 +37,9 @@ int rk_export_rows(const void *asset, size_t bytes, int koopman, int shown, int 
     rombin_error e;
     rombin_chunk vert, rows, skin;
     if (rombin_open(&f, asset, bytes, NULL, &e)) return rk_fail(err, "%s", e.message);
+    if (!koopman && rombin_find(&f, ROMBIN_ALRH, &rows))
+        return rk_fail(err, "an adaptive linear ROM's basis changes every step, so its motion is not a fixed set of "
+                       "morph targets; export of adaptive assets is not supported yet (romkit run --frames writes OBJ)");
     if (!rombin_find(&f, ROMBIN_VERT, &vert) || vert.raw % (3 * (f.real_type == ROMBIN_REAL_F64 ? 8 : 4)))
         return rk_fail(err, "the asset has no VERT chunk of whole vertices");
     size_t nv = vert.raw / (3 * (f.real_type == ROMBIN_REAL_F64 ? 8 : 4));
