@@ -153,7 +153,11 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
+# Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).
+$(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
+
+bench: deps all $(BUILD)/bench_assets $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -166,6 +170,7 @@ bench: deps all $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact
 	$(BUILD)/bench_scale tests/data/meshes bench/results
 	$(BUILD)/bench_adaptive tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),

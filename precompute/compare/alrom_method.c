@@ -10,7 +10,7 @@
 /* Whether entries a and b build the same decoder from the same data. */
 static int same_decoder(const rk_rom_entry *a, const rk_rom_entry *b)
 {
-    if (a->crom != b->crom || a->basis.size != b->basis.size) return 0;
+    if (a->crom != b->crom || a->quadratic_pod != b->quadratic_pod || a->basis.size != b->basis.size) return 0;
     if (a->cubature != b->cubature || (a->cubature && memcmp(&a->cub, &b->cub, sizeof a->cub))) return 0;
     if (a->crom && memcmp(&a->crom_opt, &b->crom_opt, sizeof a->crom_opt)) return 0;
     return rk_compare_same_training(a, b);

@@ -57,6 +57,14 @@ typedef struct {
 typedef struct rk_quadratic rk_quadratic;
 int rk_quadratic_decoder(int n, int r, const double *Phi, const double *Psi, const rk_sparse *M, rk_decoder *dec,
                          rk_error *err);
+/* A quadratic manifold fitted to data (no modal derivatives): given r mass-orthonormal columns V
+ * (n x r, a POD basis of the frames) and T displacement frames D (n x T), Psi (n x r(r+1)/2, the
+ * decoder's layout) is the ridge least-squares fit of the frames' residuals u - V p by the pairs
+ * p_i p_j of their codes p = V^T M u (relative ridge 1e-6 of the pairs' largest energy). The
+ * fraction of the frames' energy the linear part misses and the fit still misses, into
+ * *linear_miss and *fit_miss (may be NULL). */
+int rk_quadratic_fit(int n, int r, const double *V, const rk_sparse *M, const double *D, int T, double *Psi,
+                     double *linear_miss, double *fit_miss, rk_error *err);
 /* Frees the decoder's context (destroy) and zeroes it. */
 void rk_decoder_free(rk_decoder *dec);
 /* Psi (n x r(r+1)/2, the decoder's pairs) from rk_modal_derivatives' raw output (the pairs of the

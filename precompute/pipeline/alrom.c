@@ -7,8 +7,41 @@
 #include <stdlib.h>
 #include <string.h>
 
-int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, double **Phi, double **Psi, rk_error *err)
+/* Decoder "quadratic_pod": the frames' POD and the quadratic term fitted to them. */
+static int quadratic_pod_parts(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T,
+                               double **Phi, double **Psi, rk_error *err)
 {
+    int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
+    rk_basis pod = {0};
+    rk_sparse M = {0};
+    *Phi = *Psi = NULL;
+    if (!frames || T < r) return rk_fail(err, "decoder quadratic_pod trains on at least r = %d frames, got %d", r, T);
+    if (rk_sparse_alloc_pattern(&sim->fem, &M, err)) return -1;
+    rk_fem_add_mass(&sim->fem, sim->options.lumped_mass, 1.0, &M);
+    *Phi = malloc(sizeof(double) * (size_t)n * r);
+    *Psi = malloc(sizeof(double) * (size_t)n * ((size_t)r * (r + 1) / 2) + 1);
+    if (!*Phi || !*Psi) rk_fail(err, "out of memory for the quadratic decoder (%d x %d)", n, r);
+    else if (!rk_basis_pod(frames, nv, T, &M, r, 0, &pod, err)) {
+        if (pod.r < r) rk_fail(err, "the frames span only %d directions, fewer than r = %d", pod.r, r);
+        else {
+            memcpy(*Phi, pod.U, sizeof(double) * (size_t)n * r);
+            rc = rk_quadratic_fit(n, r, *Phi, &M, frames, T, *Psi, NULL, NULL, err);
+        }
+    }
+    if (rc) {
+        free(*Phi);
+        free(*Psi);
+        *Phi = *Psi = NULL;
+    }
+    rk_basis_free(&pod);
+    rk_sparse_free(&M);
+    return rc;
+}
+
+int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T,
+                             double **Phi, double **Psi, rk_error *err)
+{
+    if (e->quadratic_pod) return quadratic_pod_parts(sim, e, frames, T, Phi, Psi, err);
     int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
     unsigned char *fixed = rk_scene_fixed_vertices(sim, err);
     double *raw = NULL;
@@ -43,11 +76,18 @@ out:
     return rc;
 }
 
-static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, rk_decoder *dec, rk_error *err)
+static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T, rk_decoder *dec,
+                     rk_error *err)
 {
-    double *Phi, *Psi;
+    double *Phi, *Psi, *own = NULL;
     rk_sparse M = {0};
-    if (rk_scene_quadratic_parts(sim, e, &Phi, &Psi, err)) return -1;
+    if (e->quadratic_pod && !frames) {
+        if (rk_scene_training_frames(sim, &own, &T, err)) return -1;
+        frames = own;
+    }
+    int parts = rk_scene_quadratic_parts(sim, e, frames, T, &Phi, &Psi, err);
+    free(own);
+    if (parts) return -1;
     int rc = rk_sparse_alloc_pattern(&sim->fem, &M, err);
     if (!rc) {
         rk_fem_add_mass(&sim->fem, sim->options.lumped_mass, 1.0, &M);
@@ -78,7 +118,7 @@ int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const
                            int T, rk_decoder *dec, rk_error *err)
 {
     if (sim->cloud_points) return rk_fail(err, "%s: method adaptive_linear needs tetrahedral meshes, not point clouds", e->path);
-    if (e->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, dec, err))
+    if (e->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, frames, T, dec, err))
         return rk_error_prefix(err, "%s: the %s decoder", e->path, e->crom ? "CROM" : "quadratic-manifold");
     (void)scene;
     return 0;

@@ -14,7 +14,7 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
                    const rk_asset_summary *sum, double seconds)
 {
     cJSON *b = cJSON_AddObjectToObject(out->report, "basis");
-    cJSON_AddStringToObject(b, "type", "quadratic_manifold");
+    cJSON_AddStringToObject(b, "type", e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
     cJSON_AddNumberToObject(b, "size", model->r);
     cJSON_AddNumberToObject(b, "columns", model->r);
     cJSON *c = cJSON_AddObjectToObject(out->report, "cubature");
@@ -22,7 +22,7 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
     cJSON *a = cJSON_AddObjectToObject(out->report, "adaptive_linear");
     cJSON_AddNumberToObject(a, "history", e->alrom.history);
     cJSON_AddNumberToObject(a, "lambda", e->alrom.lambda);
-    cJSON_AddStringToObject(a, "decoder", "quadratic");
+    cJSON_AddStringToObject(a, "decoder", e->quadratic_pod ? "quadratic_pod" : "quadratic");
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, sum);
     cJSON_AddNumberToObject(out->report, "vertices", sim->mesh.nv);
     cJSON_AddNumberToObject(out->report, "tets", sim->mesh.nt);
@@ -50,12 +50,14 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         rk_fail(err, "%s: an adaptive linear ROM steps dynamics; the scene asks for a static solve", e->path);
         goto out;
     }
-    if (e->cubature && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
-                                     : rk_scene_training_frames(&sim, &D, &T, err)))
+    if ((e->cubature || e->quadratic_pod) && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
+                                                           : rk_scene_training_frames(&sim, &D, &T, err)))
         goto out;
-    if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err) ||
-        rk_scene_quadratic_parts(&sim, e, &Phi, &Psi, err))
+    if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err)) goto out;
+    if (rk_scene_quadratic_parts(&sim, e, D, T, &Phi, &Psi, err)) {
+        rk_error_prefix(err, "%s: the decoder", e->path);
         goto out;
+    }
     if (rk_quadrature_elements(&sim.fem, Phi, r, ncub ? ncub : sim.mesh.nt, ncub ? cub_element : NULL,
                                ncub ? cub_weight : NULL, &quad, err) ||
         rk_rom_model_init(&model, &sim.fem, &sim.options, Phi, r, &quad, NULL, err)) {
@@ -72,7 +74,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     cJSON *ij = cJSON_CreateObject();
     cJSON_AddStringToObject(ij, "scene", slash ? slash + 1 : scene->path);
     cJSON_AddStringToObject(ij, "method", e->name);
-    cJSON_AddStringToObject(ij, "basis", "quadratic_manifold");
+    cJSON_AddStringToObject(ij, "basis", e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
     cJSON_AddNumberToObject(ij, "columns", r);
     cJSON_AddNumberToObject(ij, "cubature_elements", model.quad.count);
     char *info = cJSON_PrintUnformatted(ij);

@@ -266,9 +266,10 @@ static int parse_alrom(const rk_json_ctx *c, const cJSON *e, const char *path, r
         return -1;
     if (!(o->alrom.lambda >= 0 && o->alrom.lambda <= 1))
         return rk_json_fail(c, path, "lambda must be in [0, 1], got %g", o->alrom.lambda);
-    if (decoder && strcmp(decoder, "quadratic") && strcmp(decoder, "crom"))
-        return rk_json_fail(c, path, "decoder must be \"quadratic\" or \"crom\", got \"%s\"", decoder);
+    if (decoder && strcmp(decoder, "quadratic") && strcmp(decoder, "quadratic_pod") && strcmp(decoder, "crom"))
+        return rk_json_fail(c, path, "decoder must be \"quadratic\", \"quadratic_pod\" or \"crom\", got \"%s\"", decoder);
     o->crom = decoder && !strcmp(decoder, "crom");
+    o->quadratic_pod = decoder && !strcmp(decoder, "quadratic_pod");
     rk_crom_default_options(&o->crom_opt);
     char cpath[128];
     const cJSON *cr = rk_json_child(e, path, "crom", cpath, sizeof cpath);

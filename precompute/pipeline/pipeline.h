@@ -160,6 +160,8 @@ typedef struct {
      * full-order frames with the options of the "crom" key) */
     rk_alrom_options alrom;
     int crom;                        /* decoder "crom" */
+    int quadratic_pod;               /* decoder "quadratic_pod": the training frames' POD modes and a
+                                      * quadratic term fitted to them (rk_quadratic_fit) */
     rk_crom_options crom_opt;
     /* "training": what the data-driven parts (a POD basis, a CROM) train on instead of the scene's
      * own full-order run: other scenes of the same object (each run at full order, one job each)
@@ -356,10 +358,13 @@ int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const 
 
 /* ---- an adaptive linear ROM entry (alrom.c, bake_alrom.c) ---- */
 
-/* The quadratic-manifold decoder's parts for entry e: Phi, its r linear modes with the fixed
- * vertices held (3 nv x r), and Psi, their modal derivatives (3 nv x r(r+1)/2, the pairs of rigid
- * modes zero), both column-major and the caller's to free. */
-int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, double **Phi, double **Psi, rk_error *err);
+/* The quadratic-manifold decoder's parts for entry e, both column-major and the caller's to free:
+ * Phi (3 nv x r) and Psi (3 nv x r(r+1)/2). Decoder "quadratic": Phi its r linear modes with the
+ * fixed vertices held, Psi their modal derivatives (the pairs of rigid modes zero); decoder
+ * "quadratic_pod": Phi the POD modes of the frames (3 nv x T displacements, needed), Psi the
+ * quadratic term fitted to them. */
+int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T,
+                             double **Phi, double **Psi, rk_error *err);
 
 /* Entry e (method adaptive_linear) on the built scene: its decoder into *dec (a quadratic manifold
  * from the entry's size r linear modes with the fixed vertices held and their modal derivatives,

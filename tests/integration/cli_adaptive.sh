@@ -86,8 +86,25 @@ if "$ROMKIT" compare "$TMP/l.json" --report "$TMP/lr.json" >"$TMP/out" 2>"$TMP/e
 else
     fail compare_adaptive_linear_keys "$(head -c 400 "$TMP/err")"
 fi
-scene "$TMP/m.json" '{"method": "adaptive_linear", "size": 6}'
-expect_fail build_refuses_adaptive_linear "adaptive_linear" "$ROMKIT" build "$TMP/m.json" -o "$TMP/m.rombin"
+# An adaptive_linear asset (the runtime has no spheres: the scene's obstacle left out) steps in the
+# runtime; a CROM decoder is refused by name, and so is a fitted quadratic decoder with fewer training
+# frames than r; neither writes a file.
+scene "$TMP/m.json" '{"method": "adaptive_linear", "size": 3, "history": 4, "decoder": "quadratic_pod"}'
+grep -v '"obstacles"' "$TMP/m.json" >"$TMP/m2.json"
+if "$ROMKIT" build "$TMP/m2.json" -o "$TMP/m.rombin" --quiet >/dev/null 2>"$TMP/err" &&
+    "$ROMKIT" run "$TMP/m.rombin" --steps 4 --report "$TMP/mr.json" --quiet >/dev/null 2>>"$TMP/err"; then
+    json_checks build_and_run_adaptive_linear "$TMP/mr.json" seconds_per_step
+else
+    fail build_and_run_adaptive_linear "$(head -c 400 "$TMP/err")"
+fi
+scene "$TMP/n.json" '{"method": "adaptive_linear", "size": 6, "decoder": "crom"}'
+grep -v '"obstacles"' "$TMP/n.json" >"$TMP/n2.json"
+expect_fail build_refuses_crom_decoder "CROM decoder" "$ROMKIT" build "$TMP/n2.json" -o "$TMP/n.rombin"
+[ ! -e "$TMP/n.rombin" ] && ok crom_refusal_writes_nothing || fail crom_refusal_writes_nothing "n.rombin exists"
+scene "$TMP/p.json" '{"method": "adaptive_linear", "size": 40, "decoder": "quadratic_pod"}'
+grep -v '"obstacles"' "$TMP/p.json" >"$TMP/p2.json"
+expect_fail quadratic_pod_needs_frames "at least r = 40 frames" "$ROMKIT" build "$TMP/p2.json" -o "$TMP/p.rombin"
+[ ! -e "$TMP/p.rombin" ] && ok untrainable_writes_nothing || fail untrainable_writes_nothing "p.rombin exists"
 
 # A training set from scenes run here, or from the snapshots of the same runs made as separate jobs
 # (romkit fom --snapshots): the same frames, so the same PCA basis and the same errors.

@@ -120,7 +120,7 @@ static const struct {
     {"adaptive linear lambda", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
      " \"lambda\": 2}}", "rom", "lambda must be in [0, 1]"},
     {"adaptive linear decoder", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
-     " \"decoder\": \"vae\"}}", "rom", "decoder must be \"quadratic\" or \"crom\""},
+     " \"decoder\": \"vae\"}}", "rom", "decoder must be \"quadratic\", \"quadratic_pod\" or \"crom\""},
     {"crom options without crom", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
      " \"crom\": {\"epochs\": 3}}}", "rom.crom", "is for decoder"},
     {"empty training list", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"

@@ -1,0 +1,59 @@
+#!/bin/sh
+# make bench, the adaptive linear ROM in the runtime (issue 19): its per-step cost against PCA's,
+# both baked assets stepped by the float32 runtime in one process (bench_assets: interleaved
+# rounds of 40 steps from rest, medians and spread), and each one's error against the full-order
+# run (romkit run --reference: relative error of the shown vertices over the free run, no
+# realignment). The armadillo's compress and bend scenes of examples/scenes/alrom/, r = 16:
+#   pca        POD of the six training runs, cubature trained on them (tolerance 0.01)
+#   adaptive   the quadratic manifold fitted to the same training frames (decoder quadratic_pod:
+#              their 16 POD modes and a least-squares quadratic term),
+#              m = 20, lambda = 0.2, the cubature trained as romkit compare trains it (for the POD
+#              basis of the same frames); stepped over the stored vertices only
+# The training runs are romkit fom jobs whose snapshots both entries list (the job-array form).
+# Writes bench/results/alrom_runtime.csv (scenario, method, us_per_step, us_min, us_max,
+# ratio_to_pca, newton_iterations, relative_error, stored_vertices).
+set -e
+BUILD=${BUILD:-build}
+OUT=${2:-bench/results}
+ROMKIT=$BUILD/romkit
+JSONQ=$BUILD/jsonq
+DIR=$(cd examples/scenes/alrom && pwd)
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+mkdir -p "$OUT"
+fix() { sed "s|../../../tests|$PWD/tests|" "$1"; }
+train=""
+for s in "$DIR"/armadillo_train_*.json; do
+    name=$(basename "$s" .json)
+    fix "$s" >"$TMP/$name.json"
+    OPENBLAS_NUM_THREADS=1 "$ROMKIT" fom "$TMP/$name.json" --snapshots "$TMP/$name.npy" --quiet
+    train="${train:+$train, }{\"snapshots\": \"$TMP/$name.npy\"}"
+done
+entries="{\"basis\": \"pod\", \"size\": 16, \"name\": \"pca\", \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]},
+ {\"method\": \"adaptive_linear\", \"decoder\": \"quadratic_pod\", \"size\": 16, \"history\": 20, \"lambda\": 0.2, \"name\": \"adaptive\",
+  \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]}"
+echo "scenario,method,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error,stored_vertices" >"$OUT/alrom_runtime.csv"
+for sc in compress bend; do
+    fix "$DIR/armadillo_$sc.json" | python3 -c "
+import json, sys
+s = json.load(sys.stdin)
+s['rom'] = json.loads('[' + sys.argv[1] + ']')
+json.dump(s, open(sys.argv[2], 'w'))" "$entries" "$TMP/$sc.json"
+    OPENBLAS_NUM_THREADS=1 "$ROMKIT" fom "$TMP/$sc.json" --snapshots "$TMP/$sc.ref.npy" --quiet
+    steps=$(python3 -c "import json; t = json.load(open('$TMP/$sc.json'))['time']; print(round(t['duration'] / t['step']))")
+    for k in 0 1; do
+        name=$(test $k = 0 && echo pca || echo adaptive)
+        "$ROMKIT" build "$TMP/$sc.json" --entry $k -o "$TMP/$sc.$name.rombin" --report "$TMP/$sc.$name.build.json" --quiet
+        "$ROMKIT" run "$TMP/$sc.$name.rombin" --steps "$steps" --reference "$TMP/$sc.ref.npy" \
+            --report "$TMP/$sc.$name.run.json" --quiet >/dev/null
+    done
+    "$BUILD/bench_assets" "$steps" 7 "$TMP/$sc.pca.rombin" "$TMP/$sc.adaptive.rombin" | tail -n +2 >"$TMP/$sc.times"
+    while IFS=, read -r asset us lo hi ratio its; do
+        name=$(echo "$asset" | sed 's/.*\.\([a-z]*\)\.rombin/\1/')
+        err=$("$JSONQ" get "$TMP/$sc.$name.run.json" reference.relative_error)
+        stored=$("$JSONQ" get "$TMP/$sc.$name.build.json" asset.stored_vertices)
+        echo "$sc,$name,$us,$lo,$hi,$ratio,$its,$err,$stored" >>"$OUT/alrom_runtime.csv"
+    done <"$TMP/$sc.times"
+done
+echo "$OUT/alrom_runtime.csv"
+cat "$OUT/alrom_runtime.csv"
