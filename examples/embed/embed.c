@@ -67,7 +67,7 @@ int main(int argc, char **argv)
     {
         romrt_real *all = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n);
         int best = 0;
-        if (!all || romrt_positions(m, all, n) != ROMRT_OK) return 1;
+        if (!all || romrt_positions(m, all, n, 3) != ROMRT_OK) return 1;
         for (i = 1; i < n; i++)
             if (all[3 * i] > all[3 * best]) best = i;
         for (i = 0; i < 3; i++) xyz[i] = all[3 * best + i];
