@@ -3,7 +3,7 @@
 set -eu
 PKGS="build-essential pkg-config libsuitesparse-dev libarpack2-dev libopenblas-dev liblapacke-dev \
 libmetis-dev zlib1g-dev libcjson-dev tetgen gnuplot-nox clang libclang-rt-14-dev \
-gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm xxd"
+gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm xxd python3 python3-numpy"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
