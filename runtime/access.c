@@ -89,8 +89,8 @@ double romrt_time(const romrt_model *m) { return m ? rt_clock(m, 0) : 0; }
 romrt_real romrt_time_step(const romrt_model *m) { return m ? m->h : 0; }
 
 /* The clock: a step count and the time it counts from, t = t0 + steps h with one rounding (a
- * running sum of h in float is 0.5 ms off after 432,000 steps of 1/60 s). A count that would
- * wrap folds into t0 first. */
+ * running sum of h in float reads 7183.14 s after 432,000 steps of 1/60 s, 16.9 s short). A count
+ * that would wrap folds into t0 first. */
 double rt_clock(const romrt_model *m, unsigned long ahead)
 {
     return m->t0 + ((double)m->steps + (double)ahead) * (double)m->h;

@@ -96,6 +96,14 @@ if "$ROMKIT" build examples/scenes/cantilever_small.json -o "$TMP/a.rombin" --qu
     else
         fail asan_build "$(head -c 400 "$TMP/cc.err")"
     fi
+    # The embed examples' GPU path (X and U once, q per frame) lands where romrt_positions does.
+    make -s "$B/embed" "$B/embed_cpp" >/dev/null 2>&1
+    for e in embed embed_cpp; do
+        "$B/$e" "$TMP/a.rombin" 20 >"$TMP/$e.out" 2>&1
+        off=$(sed -n 's/.*\(against romrt_positions:\|shader sum off by\) \([0-9.e+-]*\) m.*/\2/p' "$TMP/$e.out")
+        [ -n "$off" ] && awk -v d="$off" 'BEGIN { exit !(d < 1e-6) }' && ok "${e}_gpu_deformation_matches" \
+            || fail "${e}_gpu_deformation_matches" "$(cat "$TMP/$e.out")"
+    done
 else
     fail asan_asset_builds "$(head -c 300 "$TMP/out")"
 fi
