@@ -8,7 +8,7 @@
  *   romrt_arena_size(asset, asset_bytes, &bytes, &err);      // ask
  *   romrt_model *m;
  *   romrt_open(asset, asset_bytes, arena, bytes, &m, &err);  // open in place, validated once
- *   n = romrt_shown_count(m);                                // size the vertex buffer once
+ *   int n = romrt_shown_count(m);                            // size the vertex buffer once
  *   for (;;) {
  *       romrt_step(m, &err);                                 // implicit Newton, or Koopman
  *       romrt_positions(m, xyz, n, 3);                       // the shown vertices, xyz[3 * i + k]
