@@ -12,6 +12,12 @@ CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) -pthread \
 LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lm
 LDFLAGS   := $(SANFLAGS) -pthread
 
+# The runtime's version, read from romrt.h (ROMRT_VERSION_MAJOR/MINOR/PATCH): the shared library's
+# file name and soname, the pkg-config files.
+rt_version_part = $(shell sed -n 's/^\#define ROMRT_VERSION_$(1) \([0-9][0-9]*\)$$/\1/p' runtime/romrt.h)
+ROMRT_SOMAJOR := $(call rt_version_part,MAJOR)
+ROMRT_VERSION := $(ROMRT_SOMAJOR).$(call rt_version_part,MINOR).$(call rt_version_part,PATCH)
+
 # Stages and what each links against (itself first, then what it uses); data flows one way.
 STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
 DEPS_util    := util
@@ -49,11 +55,12 @@ TOOL_SRC := $(wildcard tools/*.c)
 TOOL_STAGE := tools
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 # The runtime tests that also run against the double runtime, as <name>_double.
-TEST_DOUBLE := test_runtime_parity test_runtime_alrom test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients
+TEST_DOUBLE := test_runtime_engine test_runtime_parity test_runtime_alrom test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench bench-reference paper-table demo clean deps
-all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq
+all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq \
+     $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
 $(BUILD)/obj/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -94,12 +101,27 @@ $(BUILD)/rt/float/%.o: %.c
 $(BUILD)/rt/double/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -MMD -MP -c $< -o $@
-$(RT_LIB): $(patsubst %.c,$(BUILD)/rt/float/%.o,$(RT_SRC))
+# The link names of the functions romrt.h declares, one a line, for a precision (romrt_f32_* for
+# float, romrt_f64_* for double: the header maps romrt_X to them): what the libraries export.
+$(BUILD)/rt/float/romrt.syms: runtime/romrt.h
 	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
-$(RT_LIB_DOUBLE): $(patsubst %.c,$(BUILD)/rt/double/%.o,$(RT_SRC))
+	$(CC) -E -P -x c runtime/romrt.h | grep -o 'romrt_f32_[a-z0-9_]*' | sort -u >$@.tmp && mv $@.tmp $@
+$(BUILD)/rt/double/romrt.syms: runtime/romrt.h
 	@mkdir -p $(dir $@)
-	rm -f $@ && ar rcs $@ $^
+	$(CC) -E -P -x c -DROMRT_DOUBLE runtime/romrt.h | grep -o 'romrt_f64_[a-z0-9_]*' | sort -u >$@.tmp && mv $@.tmp $@
+# The static libraries export romrt.h's functions and nothing else: the objects are linked into one
+# (ld -r) whose other globals (rt_*, rombin_*, romrt_phys_*) objcopy makes local, so an app's own
+# rt_dot or rombin_open never meets the runtime's. $(call rt_archive,PRECISION) $@ from $^.
+rt_archive = rm -f $@ $(BUILD)/rt/$(1)/romrt_all.o && $(LD) -r -o $(BUILD)/rt/$(1)/romrt_all.o $(filter %.o,$^) && \
+             $(OBJCOPY) --keep-global-symbols=$(BUILD)/rt/$(1)/romrt.syms $(BUILD)/rt/$(1)/romrt_all.o && \
+             ar rcs $@ $(BUILD)/rt/$(1)/romrt_all.o
+OBJCOPY ?= objcopy
+$(RT_LIB): $(patsubst %.c,$(BUILD)/rt/float/%.o,$(RT_SRC)) $(BUILD)/rt/float/romrt.syms
+	@mkdir -p $(dir $@)
+	$(call rt_archive,float)
+$(RT_LIB_DOUBLE): $(patsubst %.c,$(BUILD)/rt/double/%.o,$(RT_SRC)) $(BUILD)/rt/double/romrt.syms
+	@mkdir -p $(dir $@)
+	$(call rt_archive,double)
 
 $(BUILD)/romkit: $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(ALL_LIBS) $(RT_LIB)
 	$(CC) $(LDFLAGS) -o $@ $(patsubst %.c,$(BUILD)/obj/%.o,$(TOOL_SRC)) $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
@@ -119,6 +141,11 @@ $(BUILD)/embed: examples/embed/embed.c runtime/romrt.h $(RT_LIB)
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 $(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
 	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
+
+# rt_push: the float runtime stepped with pushes, positions as raw float32 (the Python binding's
+# test compares against it; tests/tools/rt_push.c).
+$(BUILD)/rt_push: tests/tools/rt_push.c runtime/romrt.h $(RT_LIB)
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 
 # jsonq: the integration tests read JSON reports through it (tests/tools/jsonq.c).
 $(BUILD)/jsonq: tests/tools/jsonq.c
@@ -229,21 +256,31 @@ LIBDIR       ?= $(PREFIX)/lib
 INCLUDEDIR   ?= $(PREFIX)/include
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 INSTALL      ?= install
-ROMRT_VERSION := 1.0.0
-ROMRT_SOMAJOR := 1
 RT_SO  := $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION)
 RT_MAP := $(BUILD)/rt/pic/romrt.map
 $(BUILD)/rt/pic/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -fPIC -MMD -MP -c $< -o $@
 # The shared library exports what romrt.h declares and nothing else (no rt_*, rombin_*, romrt_phys_*).
-$(RT_MAP): runtime/romrt.h
+$(BUILD)/rt/%/romrt.map: $(BUILD)/rt/%/romrt.syms
+	{ echo 'ROMRT_$(ROMRT_SOMAJOR) {'; echo '  global:'; sed 's/.*/    &;/' $<; echo '  local: *;'; echo '};'; } >$@.tmp && mv $@.tmp $@
+$(BUILD)/rt/pic/romrt.syms: $(BUILD)/rt/float/romrt.syms
 	@mkdir -p $(dir $@)
-	{ echo 'ROMRT_$(ROMRT_SOMAJOR) {'; echo '  global:'; grep -o 'romrt_[a-z0-9_]*(' runtime/romrt.h | tr -d '(' | sort -u | sed 's/.*/    &;/'; \
-	  echo '  local: *;'; echo '};'; } >$@.tmp && mv $@.tmp $@
+	cp $< $@
 $(RT_SO): $(patsubst %.c,$(BUILD)/rt/pic/%.o,$(RT_SRC)) $(RT_MAP)
 	@mkdir -p $(dir $@)
 	$(CC) -shared $(LDFLAGS) -Wl,-soname,libromrt.so.$(ROMRT_SOMAJOR) -Wl,--version-script=$(RT_MAP) -o $@ $(filter %.o,$^) -lm
+# The double runtime as a shared library too, for bindings/python (romrt.Model(..., double=True));
+# not installed (make install's double runtime is the static library).
+$(BUILD)/rt/pic-double/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -fPIC -MMD -MP -c $< -o $@
+$(BUILD)/rt/pic-double/romrt.syms: $(BUILD)/rt/double/romrt.syms
+	@mkdir -p $(dir $@)
+	cp $< $@
+$(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION): $(patsubst %.c,$(BUILD)/rt/pic-double/%.o,$(RT_SRC)) $(BUILD)/rt/pic-double/romrt.map
+	@mkdir -p $(dir $@)
+	$(CC) -shared $(LDFLAGS) -Wl,-soname,libromrt_double.so.$(ROMRT_SOMAJOR) -Wl,--version-script=$(filter %.map,$^) -o $@ $(filter %.o,$^) -lm
 # romrt.pc from runtime/romrt.pc.in: $(call romrt_pc,NAME,LIB,EXTRA_CFLAGS,DESCRIPTION) > file
 pc_rel = $(patsubst $(PREFIX)/%,$${prefix}/%,$(1))
 romrt_pc = sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(call pc_rel,$(LIBDIR))|' -e 's|@INCLUDEDIR@|$(call pc_rel,$(INCLUDEDIR))|' \

@@ -83,7 +83,7 @@ PHYS_API PHYS_REAL PHYS_FN(det3)(const PHYS_REAL A[9]);
 PHYS_API PHYS_REAL PHYS_FN(barrier)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *d1, PHYS_REAL *d2);
 PHYS_API PHYS_REAL PHYS_FN(barrier_distance)(PHYS_REAL d, PHYS_REAL dhat, PHYS_REAL *f1, PHYS_REAL *f2);
 PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
-                              PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
+                              PHYS_REAL rate, const PHYS_REAL velocity[3], double t, PHYS_REAL R[9],
                               PHYS_REAL shift[3]);
 PHYS_API int PHYS_FN(collider_check)(int kind, const PHYS_REAL *shape);
 PHYS_API PHYS_REAL PHYS_FN(collider_distance)(int kind, const PHYS_REAL *shape, const PHYS_REAL x[3], PHYS_REAL n[3],
@@ -982,22 +982,29 @@ PHYS_API PHYS_REAL PHYS_FN(barrier_distance)(PHYS_REAL d, PHYS_REAL dhat, PHYS_R
 /* Where a prescribed group's vertices are at time t: x = R X + shift. Fixed: R = I, shift = 0;
  * translate: shift = velocity t; twist: rotation by rate t (rad) about the axis (any length)
  * through center, by Rodrigues: R = cos I + sin [k]x + (1 - cos) k k^T, shift = c - R c, plus
- * velocity t (zero for a plain twist; a twist that also translates is a screw). */
+ * velocity t (zero for a plain twist; a twist that also translates is a screw). t is a double in
+ * every precision (the runtime's clock), and the products with it are taken in double; in float the
+ * angle is reduced to one turn first (cosf of 9e4 rad, two hours at 720 degrees a second, would be
+ * off by a float's spacing there, 8e-3 rad). In double this is rate * t as it always was. */
 PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], const PHYS_REAL center[3],
-                              PHYS_REAL rate, const PHYS_REAL velocity[3], PHYS_REAL t, PHYS_REAL R[9],
+                              PHYS_REAL rate, const PHYS_REAL velocity[3], double t, PHYS_REAL R[9],
                               PHYS_REAL shift[3])
 {
     int i, j;
     for (i = 0; i < 9; i++) R[i] = (PHYS_REAL)(i % 4 == 0);
     for (i = 0; i < 3; i++) shift[i] = PHYS_K_(0);
     if (kind == RK_MOTION_TRANSLATE) {
-        for (i = 0; i < 3; i++) shift[i] = velocity[i] * t;
+        for (i = 0; i < 3; i++) shift[i] = (PHYS_REAL)((double)velocity[i] * t);
     } else if (kind == RK_MOTION_TWIST) {
         PHYS_REAL len = PHYS_SQRT_(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
         PHYS_REAL k[3], cross[9], c, sn;
+        double angle = (double)rate * t;
+#ifdef PHYS_FLOAT
+        angle = fmod(angle, 6.283185307179586);
+#endif
         for (i = 0; i < 3; i++) k[i] = axis[i] / len;
-        c = PHYS_COS_(rate * t);
-        sn = PHYS_SIN_(rate * t);
+        c = PHYS_COS_((PHYS_REAL)angle);
+        sn = PHYS_SIN_((PHYS_REAL)angle);
         cross[0] = 0; cross[1] = -k[2]; cross[2] = k[1];
         cross[3] = k[2]; cross[4] = 0; cross[5] = -k[0];
         cross[6] = -k[1]; cross[7] = k[0]; cross[8] = 0;
@@ -1006,7 +1013,7 @@ PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], cons
                 R[3 * i + j] = (PHYS_REAL)(i == j) * c + sn * cross[3 * i + j] + (PHYS_K_(1) - c) * k[i] * k[j];
         for (i = 0; i < 3; i++)
             shift[i] = center[i] - (R[3 * i] * center[0] + R[3 * i + 1] * center[1] + R[3 * i + 2] * center[2]) +
-                       velocity[i] * t; /* a screw when the twist also translates */
+                       (PHYS_REAL)((double)velocity[i] * t); /* a screw when the twist also translates */
     }
 }
 

@@ -1,4 +1,5 @@
-/* The model's accessors: sizes, positions, triangles, groups and forces, state, status texts. */
+/* The model's accessors: sizes, the clock, positions, rest positions and basis rows, triangles,
+ * groups and forces, state, status texts, the version. */
 #include <math.h>
 #include <string.h>
 
@@ -68,7 +69,8 @@ void romrt_reset(romrt_model *m)
     memset(m->v_prev, 0, sizeof m->v_prev);
     memset(m->f_app, 0, sizeof m->f_app);
     memset(&m->last, 0, sizeof m->last);
-    m->t = 0;
+    m->t0 = 0;
+    m->steps = 0;
     m->have_prev = 0;
     memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
     m->ncolliders = 0;
@@ -78,13 +80,34 @@ void romrt_reset(romrt_model *m)
 
 romrt_kind romrt_model_kind(const romrt_model *m) { return m ? m->kind : ROMRT_KIND_REDUCED; }
 int romrt_max_reduced_size(void) { return ROMRT_MAX_R; }
+int romrt_version(void) { return ROMRT_VERSION_NUMBER; }
 
 int romrt_reduced_size(const romrt_model *m) { return m ? m->r : 0; }
 int romrt_shown_count(const romrt_model *m) { return m ? m->shown : 0; }
 int romrt_triangle_count(const romrt_model *m) { return m ? m->ntris : 0; }
 int romrt_group_count(const romrt_model *m) { return m ? m->ngroups : 0; }
-romrt_real romrt_time(const romrt_model *m) { return m ? m->t : 0; }
+double romrt_time(const romrt_model *m) { return m ? rt_clock(m, 0) : 0; }
 romrt_real romrt_time_step(const romrt_model *m) { return m ? m->h : 0; }
+
+/* The clock: a step count and the time it counts from, t = t0 + steps h with one rounding (a
+ * running sum of h in float reads 7183.14 s after 432,000 steps of 1/60 s, 16.9 s short). A count
+ * that would wrap folds into t0 first. */
+double rt_clock(const romrt_model *m, unsigned long ahead)
+{
+    return m->t0 + ((double)m->steps + (double)ahead) * (double)m->h;
+}
+
+void rt_clock_rebase(romrt_model *m)
+{
+    m->t0 = rt_clock(m, 0);
+    m->steps = 0;
+}
+
+void rt_clock_advance(romrt_model *m, unsigned long n)
+{
+    if (n > (unsigned long)-1 - m->steps) rt_clock_rebase(m);
+    m->steps += n;
+}
 
 /* Positions are computed in romrt_real: keep them below its largest value with room to spare. */
 #ifdef ROMRT_DOUBLE
@@ -121,13 +144,41 @@ int rt_showable(const romrt_model *m, const romrt_real *q)
     return top * m->row_bound + m->x_bound < RT_POSITION_LIMIT;
 }
 
-romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count)
+/* Whether a vertex buffer of `capacity` vertices `stride` reals apart takes every shown vertex. */
+static int holds_shown(const romrt_model *m, const romrt_real *xyz, int capacity, int stride)
+{
+    return m && xyz && stride >= 3 && capacity >= m->shown;
+}
+
+romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride)
 {
     int i, a;
-    if (!m || !xyz || count < 0 || count > m->shown) return ROMRT_E_ARGUMENT;
-    for (i = 0; i < count; i++)
-        for (a = 0; a < 3; a++)
-            xyz[3 * i + a] = m->X[3 * i + a] + rt_row_dot(m, (uint32_t)i, a, m->q);
+    if (!holds_shown(m, xyz, capacity, stride)) return ROMRT_E_ARGUMENT;
+    for (i = 0; i < m->shown; i++) {
+        romrt_real *x = xyz + (size_t)stride * (size_t)i;
+        for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)i + (size_t)a] + rt_row_dot(m, (uint32_t)i, a, m->q);
+    }
+    return ROMRT_OK;
+}
+
+romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride)
+{
+    int i, a;
+    if (!holds_shown(m, xyz, capacity, stride)) return ROMRT_E_ARGUMENT;
+    for (i = 0; i < m->shown; i++)
+        for (a = 0; a < 3; a++) xyz[(size_t)stride * (size_t)i + (size_t)a] = m->X[3 * (size_t)i + (size_t)a];
+    return ROMRT_OK;
+}
+
+romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t capacity)
+{
+    int i, a;
+    size_t r;
+    if (!m || !rows) return ROMRT_E_ARGUMENT;
+    r = (size_t)m->r;
+    if (capacity / 3 / r < (size_t)m->shown) return ROMRT_E_ARGUMENT; /* 3 shown r would not fit (or overflow) */
+    for (i = 0; i < m->shown; i++)
+        for (a = 0; a < 3; a++) rt_row(m, (uint32_t)i, a, rows + (3 * (size_t)i + (size_t)a) * r);
     return ROMRT_OK;
 }
 
@@ -238,23 +289,39 @@ void romrt_clear_forces(romrt_model *m)
     if (m->alrom) memset(m->al.f_app, 0, sizeof(romrt_real) * 3 * (size_t)m->nv);
 }
 
-/* State layout: t, have_prev, q, v, q_prev, v_prev, f_app (2 + 5 r reals). An adaptive linear ROM's
- * state is its stored vertices' positions, velocities and history (not saved yet: 0, refused). */
-int romrt_state_size(const romrt_model *m) { return m && !m->alrom ? 2 + 5 * m->r : 0; }
+/* State layout: the clock as a pair t_hi + t_lo (t_hi the clock rounded to romrt_real, t_lo what
+ * is left, so a float state keeps the double clock), have_prev, q, v, q_prev, v_prev, f_app
+ * (3 + 5 r reals). An adaptive linear ROM's state is its stored vertices' positions, velocities
+ * and history: not saved yet (size 0, refused). */
+#define RT_STATE_HEAD 3
+#ifdef ROMRT_DOUBLE
+#define RT_TOWARD_ZERO(x) nextafter((x), 0.0)
+#else
+#define RT_TOWARD_ZERO(x) nextafterf((x), 0.0f)
+#endif
+int romrt_state_size(const romrt_model *m) { return m && !m->alrom ? RT_STATE_HEAD + 5 * m->r : 0; }
 
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
 {
     int r;
+    double t, rest;
+    romrt_real lo;
     if (m && m->alrom) return ROMRT_E_UNSUPPORTED;
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     r = m->r;
-    state[0] = m->t;
-    state[1] = (romrt_real)m->have_prev;
-    memcpy(state + 2, m->q, sizeof(romrt_real) * (size_t)r);
-    memcpy(state + 2 + r, m->v, sizeof(romrt_real) * (size_t)r);
-    memcpy(state + 2 + 2 * r, m->q_prev, sizeof(romrt_real) * (size_t)r);
-    memcpy(state + 2 + 3 * r, m->v_prev, sizeof(romrt_real) * (size_t)r);
-    memcpy(state + 2 + 4 * r, m->f_app, sizeof(romrt_real) * (size_t)r);
+    t = rt_clock(m, 0);
+    state[0] = (romrt_real)t;
+    rest = t - (double)state[0]; /* exact */
+    lo = (romrt_real)rest;
+    /* rounded toward zero, so t_hi + t_lo rounds back to t_hi and the pair reads back the same */
+    if (fabs((double)lo) > fabs(rest)) lo = RT_TOWARD_ZERO(lo);
+    state[1] = lo;
+    state[2] = (romrt_real)m->have_prev;
+    memcpy(state + RT_STATE_HEAD, m->q, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + RT_STATE_HEAD + r, m->v, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + RT_STATE_HEAD + 2 * r, m->q_prev, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + RT_STATE_HEAD + 3 * r, m->v_prev, sizeof(romrt_real) * (size_t)r);
+    memcpy(state + RT_STATE_HEAD + 4 * r, m->f_app, sizeof(romrt_real) * (size_t)r);
     return ROMRT_OK;
 }
 
@@ -265,23 +332,24 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < count; i++)
         if (!isfinite(state[i])) return ROMRT_E_ARGUMENT;
-    if (!rt_showable(m, state + 2)) return ROMRT_E_ARGUMENT; /* q would draw as Inf */
-    if (!(state[1] == 0 || state[1] == 1)) return ROMRT_E_ARGUMENT;
+    if (!rt_showable(m, state + RT_STATE_HEAD)) return ROMRT_E_ARGUMENT; /* q would draw as Inf */
+    if (!(state[2] == 0 || state[2] == 1)) return ROMRT_E_ARGUMENT;
     r = m->r;
-    m->t = state[0];
-    m->have_prev = state[1] == 1;
-    memcpy(m->q, state + 2, sizeof(romrt_real) * (size_t)r);
-    memcpy(m->v, state + 2 + r, sizeof(romrt_real) * (size_t)r);
-    memcpy(m->q_prev, state + 2 + 2 * r, sizeof(romrt_real) * (size_t)r);
-    memcpy(m->v_prev, state + 2 + 3 * r, sizeof(romrt_real) * (size_t)r);
-    memcpy(m->f_app, state + 2 + 4 * r, sizeof(romrt_real) * (size_t)r);
+    m->t0 = (double)state[0] + (double)state[1];
+    m->steps = 0;
+    m->have_prev = state[2] == 1;
+    memcpy(m->q, state + RT_STATE_HEAD, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->v, state + RT_STATE_HEAD + r, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->q_prev, state + RT_STATE_HEAD + 2 * r, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->v_prev, state + RT_STATE_HEAD + 3 * r, sizeof(romrt_real) * (size_t)r);
+    memcpy(m->f_app, state + RT_STATE_HEAD + 4 * r, sizeof(romrt_real) * (size_t)r);
     return ROMRT_OK;
 }
 
-romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int count)
+romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int capacity)
 {
-    if (!m || !q || count != m->r) return ROMRT_E_ARGUMENT;
-    memcpy(q, m->q, sizeof(romrt_real) * (size_t)count);
+    if (!m || !q || capacity < m->r) return ROMRT_E_ARGUMENT;
+    memcpy(q, m->q, sizeof(romrt_real) * (size_t)m->r);
     return ROMRT_OK;
 }
 

@@ -404,7 +404,7 @@ static int history_basis(romrt_model *m, int count)
 /* ---- a step ---- */
 
 /* x_ref: where the step starts, the prescribed vertices moved to their targets at time t. */
-static void place_prescribed(romrt_model *m, romrt_real t)
+static void place_prescribed(romrt_model *m, double t)
 {
     rt_alrom *al = &m->al;
     int v, a, g;
@@ -498,7 +498,7 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     for (i = 0; i < n * r; i++) al->rows[i] = (romrt_real)basis[i];
     /* the step's reference: the start with the prescribed vertices at their targets */
     memcpy(al->x_ref, al->x, sizeof(romrt_real) * (size_t)n);
-    place_prescribed(m, m->t + h);
+    place_prescribed(m, rt_clock(m, 1));
     element_offsets(m);
     for (i = 0; i < n; i++)
         xtilde[i] = bdf2 ? (4 * (double)al->x[i] - al->x_prev[i]) / 3 + 2 * (double)h / 9 * (4 * (double)al->v[i] - al->v_prev[i])

@@ -127,7 +127,7 @@ romrt_status rt_koopman_step(romrt_model *m, romrt_error *err)
     memcpy(m->q, y, sizeof(romrt_real) * (size_t)m->r);
     memset(&m->last, 0, sizeof m->last);
     m->last.converged = 1;
-    m->t += m->h;
+    rt_clock_advance(m, 1);
     return ROMRT_OK;
 }
 
@@ -181,7 +181,7 @@ romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err)
     if (!finite_all(y, m->r) || !rt_showable(m, y))
         return rt_fail(err, ROMRT_E_DIVERGED, 0, "the Koopman state overflowed over the jump (an eigenvalue above 1)");
     memcpy(m->q, y, sizeof(romrt_real) * (size_t)m->r);
-    m->t += m->h * (romrt_real)steps;
+    rt_clock_advance(m, steps);
     memset(&m->last, 0, sizeof m->last);
     m->last.converged = 1;
     return ROMRT_OK;
@@ -193,6 +193,7 @@ romrt_status romrt_set_time_step(romrt_model *m, romrt_real h, romrt_error *err)
                                       "Koopman asset rescales it", err);
     if (st) return st;
     if (!(h > 0) || !isfinite(h)) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_time_step: h must be positive and finite");
+    rt_clock_rebase(m); /* the steps so far were of the old h */
     m->dt_scale = h / m->h_data;
     m->h = h;
     set_blocks(m);

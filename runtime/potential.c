@@ -309,7 +309,7 @@ static romrt_real barrier(romrt_model *m, const romrt_real *q, int friction, rom
     return E;
 }
 
-void rt_pin_target(romrt_model *m, romrt_real t)
+void rt_pin_target(romrt_model *m, double t)
 {
     int r = m->r, g, j, k;
     size_t per = ROMBIN_PIN_PARAMS + 12 * (size_t)r;

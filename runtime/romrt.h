@@ -8,9 +8,10 @@
  *   romrt_arena_size(asset, asset_bytes, &bytes, &err);      // ask
  *   romrt_model *m;
  *   romrt_open(asset, asset_bytes, arena, bytes, &m, &err);  // open in place, validated once
+ *   int n = romrt_shown_count(m);                            // size the vertex buffer once
  *   for (;;) {
  *       romrt_step(m, &err);                                 // implicit Newton, or Koopman
- *       romrt_positions(m, xyz, romrt_shown_count(m));       // the shown vertices, xyz[3 * i + k]
+ *       romrt_positions(m, xyz, n, 3);                       // the shown vertices, xyz[3 * i + k]
  *   }
  *
  * The asset stays the caller's: it must outlive the model, stay unchanged, and start at an
@@ -20,7 +21,15 @@
  * a bad asset is refused there with a status and a message naming the chunk and index.
  *
  * Precision: float by default; define ROMRT_DOUBLE (the same way for the runtime's sources and
- * for the application) for double. */
+ * for the application) for double. The precision is part of every function's link name (the
+ * header maps romrt_step to romrt_f32_step, or with ROMRT_DOUBLE to romrt_f64_step), so an app
+ * compiled for one precision and linked against the other library fails to link instead of
+ * passing floats where doubles are read.
+ *
+ * Threads: the runtime has no global or static mutable state. A model belongs to one thread at a
+ * time (calls on one model are not synchronized; hand a model to another thread only with the
+ * app's own synchronization). Any number of models may step concurrently on different threads,
+ * each in its own arena, and they may share one asset: the asset is only ever read. */
 #ifndef ROMRT_H
 #define ROMRT_H
 
@@ -30,11 +39,66 @@
 extern "C" {
 #endif
 
+/* The runtime's version (the Makefile's ROMRT_VERSION and the shared library's file name are read
+ * from these lines); romrt_version() is the library's ROMRT_VERSION_NUMBER, to check at run time
+ * that a shared library is the one the app was compiled against (same major version). */
+#define ROMRT_VERSION_MAJOR 2
+#define ROMRT_VERSION_MINOR 0
+#define ROMRT_VERSION_PATCH 0
+#define ROMRT_VERSION_NUMBER (ROMRT_VERSION_MAJOR * 10000 + ROMRT_VERSION_MINOR * 100 + ROMRT_VERSION_PATCH)
+
 #ifdef ROMRT_DOUBLE
 typedef double romrt_real;
 #else
 typedef float romrt_real;
 #endif
+
+/* Link names: every function below is romrt_f32_NAME in the float library and romrt_f64_NAME in the
+ * double one (the names an app, a binding or a symbol table sees); write romrt_NAME in code. */
+#ifdef ROMRT_DOUBLE
+#define ROMRT_LINK_NAME(name) romrt_f64_##name
+#else
+#define ROMRT_LINK_NAME(name) romrt_f32_##name
+#endif
+#define romrt_add_force             ROMRT_LINK_NAME(add_force)
+#define romrt_add_vertex_force      ROMRT_LINK_NAME(add_vertex_force)
+#define romrt_arena_size            ROMRT_LINK_NAME(arena_size)
+#define romrt_arena_size_kind       ROMRT_LINK_NAME(arena_size_kind)
+#define romrt_basis_rows            ROMRT_LINK_NAME(basis_rows)
+#define romrt_clear_forces          ROMRT_LINK_NAME(clear_forces)
+#define romrt_collider_slots        ROMRT_LINK_NAME(collider_slots)
+#define romrt_deformation_gradients ROMRT_LINK_NAME(deformation_gradients)
+#define romrt_find_group            ROMRT_LINK_NAME(find_group)
+#define romrt_get_state             ROMRT_LINK_NAME(get_state)
+#define romrt_group_count           ROMRT_LINK_NAME(group_count)
+#define romrt_group_name            ROMRT_LINK_NAME(group_name)
+#define romrt_jump                  ROMRT_LINK_NAME(jump)
+#define romrt_last_step             ROMRT_LINK_NAME(last_step)
+#define romrt_max_reduced_size      ROMRT_LINK_NAME(max_reduced_size)
+#define romrt_model_kind            ROMRT_LINK_NAME(model_kind)
+#define romrt_open                  ROMRT_LINK_NAME(open)
+#define romrt_open_kind             ROMRT_LINK_NAME(open_kind)
+#define romrt_positions             ROMRT_LINK_NAME(positions)
+#define romrt_reduced_coordinates   ROMRT_LINK_NAME(reduced_coordinates)
+#define romrt_reduced_size          ROMRT_LINK_NAME(reduced_size)
+#define romrt_remove_collider       ROMRT_LINK_NAME(remove_collider)
+#define romrt_reset                 ROMRT_LINK_NAME(reset)
+#define romrt_rest_positions        ROMRT_LINK_NAME(rest_positions)
+#define romrt_set_collider          ROMRT_LINK_NAME(set_collider)
+#define romrt_set_damping           ROMRT_LINK_NAME(set_damping)
+#define romrt_set_newton_iterations ROMRT_LINK_NAME(set_newton_iterations)
+#define romrt_set_state             ROMRT_LINK_NAME(set_state)
+#define romrt_set_time_step         ROMRT_LINK_NAME(set_time_step)
+#define romrt_shown_count           ROMRT_LINK_NAME(shown_count)
+#define romrt_state_size            ROMRT_LINK_NAME(state_size)
+#define romrt_status_string         ROMRT_LINK_NAME(status_string)
+#define romrt_step                  ROMRT_LINK_NAME(step)
+#define romrt_takes_colliders       ROMRT_LINK_NAME(takes_colliders)
+#define romrt_time                  ROMRT_LINK_NAME(time)
+#define romrt_time_step             ROMRT_LINK_NAME(time_step)
+#define romrt_triangle_count        ROMRT_LINK_NAME(triangle_count)
+#define romrt_triangles             ROMRT_LINK_NAME(triangles)
+#define romrt_version               ROMRT_LINK_NAME(version)
 
 /* The largest reduced size this build steps; every r x r buffer is ROMRT_MAX_R^2 reals. The
  * runtime's sources take it from their own build (the Makefile's desktop libraries use 256, the
@@ -112,6 +176,8 @@ romrt_status romrt_open_kind(const void *asset, size_t asset_bytes, romrt_kind k
                              romrt_model **model, romrt_error *err);
 /* The ROMRT_MAX_R this library was compiled with: assets with a larger r are refused. */
 int romrt_max_reduced_size(void);
+/* The library's ROMRT_VERSION_NUMBER. */
+int romrt_version(void);
 
 /* Koopman assets only (ROMRT_E_UNSUPPORTED otherwise): advances `steps` steps at once, the
  * applied forces held, at a cost that grows like log(steps) (repeated squaring of the 1 x 1 and
@@ -131,11 +197,28 @@ int romrt_reduced_size(const romrt_model *m);     /* r */
 int romrt_shown_count(const romrt_model *m);      /* vertices an app draws */
 int romrt_triangle_count(const romrt_model *m);   /* surface triangles over them (0 if none stored) */
 int romrt_group_count(const romrt_model *m);      /* named vertex groups an app may push */
-romrt_real romrt_time(const romrt_model *m);      /* s */
+/* The model's clock (s), in double whatever the precision: the runtime counts steps and returns
+ * t = t_start + steps h, so it does not drift (a float running sum of 1/60 s reads 7183.14 s
+ * after two hours, and a float near 7200 s is only good to 0.5 ms, 3% of a step) and time-driven
+ * pins (a scene's twist or translate) follow it. */
+double romrt_time(const romrt_model *m);
 romrt_real romrt_time_step(const romrt_model *m); /* s */
 
-/* Positions (m) of the shown vertices: xyz has room for 3 * count reals, count <= shown. */
-romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int count);
+/* Positions (m) of all shown vertices, vertex i at xyz[stride * i + k], k = 0, 1, 2: stride 3 for a
+ * packed array, more for an interleaved vertex buffer (the reals between are left alone). xyz has
+ * room for `capacity` vertices of `stride` reals; a capacity below romrt_shown_count or a stride
+ * below 3 is refused with ROMRT_E_ARGUMENT and nothing is written. */
+romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride);
+/* Deforming on the GPU (x = X + U q in a vertex shader): the shown vertices' rest positions X (as
+ * romrt_positions lays them out), and their basis rows U, 3 r reals a vertex: rows[(3 i + k) r + j]
+ * is dx_ik/dq_j, so x_ik = X_ik + sum_j rows[(3 i + k) r + j] q_j with q from
+ * romrt_reduced_coordinates, the same sum romrt_positions takes. A skinning basis stored as its
+ * weights gives its rows formed from them (dense, as ROWS would hold them); a Koopman asset its
+ * output rows (KOUT), q then being its eigen-coordinates y. capacity counts reals (at least
+ * 3 shown r; ROMRT_E_ARGUMENT otherwise, nothing written). The rows and X do not change while the
+ * model runs: upload them once, then q (r reals) per frame. */
+romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride);
+romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t capacity);
 /* The deformation gradient F (row-major 3 x 3, F[9 i + 3 a + b] = dx_a/dX_b) at each of the first
  * count shown vertices, for an asset that stores its skinning weights' gradients there (GRAD: a
  * point cloud's, so that a Gaussian splat's covariance Sigma becomes F Sigma F^T). F = I + sum_j
@@ -156,13 +239,15 @@ romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romr
 void romrt_clear_forces(romrt_model *m);
 
 /* The whole dynamic state (time, reduced positions, velocities, integrator history, applied
- * forces) as romrt_state_size reals, to save and restore (undo, networking, replays). A state
- * with a non-finite value or from a model of another size is refused. */
+ * forces) as romrt_state_size reals, to save and restore (undo, networking, replays). The time
+ * takes two reals (a float pair holds the double clock to about 48 bits). A state with a
+ * non-finite value or from a model of another size is refused. */
 int romrt_state_size(const romrt_model *m);
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count);
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count);
-/* The reduced coordinates q (r of them). */
-romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int count);
+/* The reduced coordinates q (r of them; a Koopman model's eigen-coordinates y): q has room for
+ * capacity >= r reals. */
+romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int capacity);
 
 /* Colliders the application owns: planes, spheres, capsules and boxes acting on the asset's
  * collision vertices (its boundary, CVTX) with the barrier of the scene's planes, the same step

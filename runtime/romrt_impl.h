@@ -51,7 +51,7 @@ void romrt_phys_dpdf(rk_material_model model, romrt_real mu, romrt_real lambda, 
 romrt_real romrt_phys_barrier(romrt_real d, romrt_real dhat, romrt_real *d1, romrt_real *d2);
 romrt_real romrt_phys_barrier_distance(romrt_real d, romrt_real dhat, romrt_real *f1, romrt_real *f2);
 void romrt_phys_motion(rk_motion_kind kind, const romrt_real axis[3], const romrt_real center[3], romrt_real rate,
-                       const romrt_real velocity[3], romrt_real t, romrt_real R[9], romrt_real shift[3]);
+                       const romrt_real velocity[3], double t, romrt_real R[9], romrt_real shift[3]);
 int romrt_phys_collider_check(int kind, const romrt_real *shape);
 romrt_real romrt_phys_collider_distance(int kind, const romrt_real *shape, const romrt_real x[3], romrt_real n[3],
                                         romrt_real closest[3]);
@@ -143,8 +143,9 @@ struct romrt_model {
     const romrt_real *y0;     /* r (KINI) */
     romrt_real lam_re[ROMRT_MAX_R], lam_im[ROMRT_MAX_R]; /* the blocks at the current step and damping */
     romrt_real sum_re[ROMRT_MAX_R], sum_im[ROMRT_MAX_R]; /* what a constant forcing adds per step */
-    /* state */
-    romrt_real t;
+    /* state; the clock is t = t0 + steps h in double (rt_clock), never a running float sum */
+    double t0;
+    unsigned long steps;
     int have_prev;
     romrt_real q[ROMRT_MAX_R], v[ROMRT_MAX_R], q_prev[ROMRT_MAX_R], v_prev[ROMRT_MAX_R];
     romrt_real f_app[ROMRT_MAX_R];   /* reduced forces the app applied */
@@ -218,7 +219,12 @@ void rt_colliders_begin_move(romrt_model *m, const romrt_real *q);
 void rt_colliders_place(romrt_model *m, const romrt_real *y);
 void rt_colliders_end_move(romrt_model *m, const romrt_real *y);
 /* The pins' linear term at time t into m->pin_b. */
-void rt_pin_target(romrt_model *m, romrt_real t);
+void rt_pin_target(romrt_model *m, double t);
+/* The clock (access.c): t `ahead` steps from now; advancing it by n steps; restarting it from
+ * t = rt_clock(m, 0) before the step h changes. */
+double rt_clock(const romrt_model *m, unsigned long ahead);
+void rt_clock_advance(romrt_model *m, unsigned long n);
+void rt_clock_rebase(romrt_model *m);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
 romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);
 

@@ -254,7 +254,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
     /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
     rt_colliders_lag(m, m->qt, 1);
-    rt_pin_target(m, m->t + h);
+    rt_pin_target(m, rt_clock(m, 1));
     /* Start from the inertial prediction when no contact is crossed on the way there. */
     for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
     m->nmoving = 0;
@@ -293,7 +293,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
             return st;
         }
         m->have_prev = 1;
-        m->t += h;
+        rt_clock_advance(m, 1);
         return ROMRT_OK;
     }
     for (i = 0; i < r; i++) {
@@ -302,6 +302,6 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         m->v[i] = vnew[i];
     }
     m->have_prev = 1;
-    m->t += h;
+    rt_clock_advance(m, 1);
     return ROMRT_OK;
 }

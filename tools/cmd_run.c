@@ -138,7 +138,7 @@ static double timed_positions(const romrt_model *m, romrt_real *xyz, int n)
     double t[REPEATS];
     for (int k = 0; k < REPEATS; k++) {
         double t0 = rk_now();
-        romrt_positions(m, xyz, n);
+        romrt_positions(m, xyz, n, 3);
         t[k] = rk_now() - t0;
     }
     return rk_median(t, REPEATS);
@@ -267,12 +267,12 @@ int cmd_run(int argc, char **argv)
             goto fail;
         }
         romrt_triangles(m, tris, romrt_triangle_count(m));
-        romrt_positions(m, xyz, n);
+        romrt_positions(m, xyz, n, 3);
         if (write_obj(frames_dir, 0, m, xyz, tris, &err)) goto fail;
     }
     if (splats_dir) {
         if (run_splats_open(&splats, splats_dir, data, size, m, &err)) goto fail;
-        romrt_positions(m, xyz, n);
+        romrt_positions(m, xyz, n, 3);
         if (run_splats_frame(&splats, m, 0, xyz, &err)) goto fail;
     }
     if (snap_out) {
@@ -289,7 +289,7 @@ int cmd_run(int argc, char **argv)
         newton += info.newton_iterations;
         unconverged += !info.converged;
         if (snapping || ref.frames || frames_dir || splats_dir) {
-            romrt_positions(m, xyz, n);
+            romrt_positions(m, xyz, n, 3);
             for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
             if (snapping) rk_npy_stream_append(&snap, frame, (size_t)3 * n);
             reference_add(&ref, k + 1, frame);
@@ -301,7 +301,7 @@ int cmd_run(int argc, char **argv)
     if (!quiet) rk_progress_done("run");
     double seconds_jump = NAN, seconds_positions = report_out ? timed_positions(m, xyz, n) : NAN;
     if (jump_text && timed_jump(m, (unsigned long)jump, &seconds_jump, &rerr) != ROMRT_OK) goto runtime_fail;
-    romrt_positions(m, xyz, n);
+    romrt_positions(m, xyz, n, 3);
     for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
     if (snapping) {
         snapping = 0;

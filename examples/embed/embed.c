@@ -1,5 +1,8 @@
 /* A host program that embeds the romkit runtime, using only romrt.h: load an asset, ask for the
- * arena, open it in place, push the "tip" group for a while, step, print where the tip is.
+ * arena, open it in place, push the "tip" group for a while, step, print where the tip is. Then
+ * what an engine deforming on the GPU does: the rest positions X and basis rows U of the shown
+ * vertices uploaded once, the r reduced coordinates q per frame, x = X + U q in the vertex shader
+ * (here a loop standing in for it, checked against romrt_positions).
  * Build from the tree: the Makefile's $(BUILD)/embed (-Iruntime); against an installed runtime
  * (make install): cc embed.c $(pkg-config --cflags --libs romrt). Run: embed ASSET.rombin [STEPS]. */
 #include <stdio.h>
@@ -32,7 +35,7 @@ int main(int argc, char **argv)
     romrt_model *m;
     romrt_error err;
     romrt_real xyz[3];
-    int steps = argc > 2 ? atoi(argv[2]) : 100, tip, k, i, n;
+    int steps = argc > 2 ? atoi(argv[2]) : 100, tip, k, i, n, r;
     if (argc < 2) {
         fprintf(stderr, "usage: embed ASSET.rombin [STEPS]\n");
         return 2;
@@ -62,19 +65,48 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    /* The shown vertex farthest along x stands for the tip. */
+    /* The shown vertex farthest along x stands for the tip. The buffer holds romrt_shown_count
+     * vertices and says so: romrt_positions refuses a smaller one rather than overrun it. */
     n = romrt_shown_count(m);
     {
         romrt_real *all = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n);
         int best = 0;
-        if (!all || romrt_positions(m, all, n) != ROMRT_OK) return 1;
+        if (!all || romrt_positions(m, all, n, 3) != ROMRT_OK) return 1;
         for (i = 1; i < n; i++)
             if (all[3 * i] > all[3 * best]) best = i;
         for (i = 0; i < 3; i++) xyz[i] = all[3 * best + i];
         free(all);
     }
-    printf("after %d steps (t = %.3f s): tip at %.6f %.6f %.6f\n", steps, (double)romrt_time(m), (double)xyz[0],
+    printf("after %d steps (t = %.3f s): tip at %.6f %.6f %.6f\n", steps, romrt_time(m), (double)xyz[0],
            (double)xyz[1], (double)xyz[2]);
+
+    /* On the GPU: an interleaved vertex buffer (position and normal, 6 reals a vertex) takes the
+     * rest positions at stride 6; the rows U (3 r reals a vertex: rows[(3 i + k) r + j]) go to a
+     * storage buffer once; per frame only q (r reals) is uploaded and the shader computes
+     * x_ik = X_ik + sum_j U[(3 i + k) r + j] q_j. */
+    r = romrt_reduced_size(m);
+    {
+        romrt_real *vbo = (romrt_real *)calloc(6 * (size_t)n, sizeof(romrt_real));
+        romrt_real *rows = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n * (size_t)r);
+        romrt_real *q = (romrt_real *)malloc(sizeof(romrt_real) * (size_t)r);
+        romrt_real *x = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n);
+        double worst = 0;
+        if (!vbo || !rows || !q || !x || romrt_rest_positions(m, vbo, n, 6) != ROMRT_OK ||
+            romrt_basis_rows(m, rows, 3 * (size_t)n * (size_t)r) != ROMRT_OK ||
+            romrt_reduced_coordinates(m, q, r) != ROMRT_OK || romrt_positions(m, x, n, 3) != ROMRT_OK)
+            return 1;
+        for (i = 0; i < 3 * n; i++) { /* the vertex shader's sum: vertex i / 3, axis i % 3 */
+            double s = vbo[6 * (i / 3) + i % 3], d;
+            for (k = 0; k < r; k++) s += (double)rows[(size_t)i * (size_t)r + (size_t)k] * q[k];
+            d = s > x[i] ? s - x[i] : x[i] - s;
+            if (d > worst) worst = d;
+        }
+        printf("on the GPU: X + U q (r = %d) against romrt_positions: %.1e m at most\n", r, worst);
+        free(vbo);
+        free(rows);
+        free(q);
+        free(x);
+    }
     free(arena);
     free(asset);
     return 0;

@@ -1,5 +1,9 @@
 // romrt.h from C++: the header compiles as C++ and links against the C runtime. Opens the asset
-// given on the command line and takes one step.
+// given on the command line, takes one step, and sets up what a GPU renderer needs: the rest
+// positions X and basis rows U of the shown vertices once (std::vector sized by the model; every
+// romrt call is told the buffer's capacity), then the r reduced coordinates q per frame for a
+// vertex shader computing x = X + U q.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <vector>
@@ -15,6 +19,10 @@ int main(int argc, char **argv)
     std::copy(bytes.begin(), bytes.end(), reinterpret_cast<char *>(asset.data()));
     size_t arena_bytes = 0;
     romrt_error err;
+    if (romrt_version() / 10000 != ROMRT_VERSION_MAJOR) { // a shared library from another major version
+        std::fprintf(stderr, "embed_cpp: runtime %d, header %d\n", romrt_version(), ROMRT_VERSION_NUMBER);
+        return 1;
+    }
     if (romrt_arena_size(asset.data(), bytes.size(), &arena_bytes, &err) != ROMRT_OK) {
         std::fprintf(stderr, "embed_cpp: %s\n", err.message);
         return 1;
@@ -27,5 +35,26 @@ int main(int argc, char **argv)
         return 1;
     }
     std::printf("embed_cpp: one step of r = %d done\n", romrt_reduced_size(m));
+
+    // Once: X (into an interleaved position + normal buffer, stride 6) and U for the GPU.
+    const int n = romrt_shown_count(m), r = romrt_reduced_size(m);
+    std::vector<romrt_real> vertices(6 * static_cast<size_t>(n)), rows(3 * static_cast<size_t>(n) * r), q(r);
+    if (romrt_rest_positions(m, vertices.data(), n, 6) != ROMRT_OK ||
+        romrt_basis_rows(m, rows.data(), rows.size()) != ROMRT_OK)
+        return 1;
+    // Per frame: step, then q (r reals) is all that goes to the GPU.
+    if (romrt_step(m, &err) != ROMRT_OK || romrt_reduced_coordinates(m, q.data(), r) != ROMRT_OK) return 1;
+    // What the vertex shader computes for the last shown vertex, against the runtime's own positions.
+    std::vector<romrt_real> x(3 * static_cast<size_t>(n));
+    if (romrt_positions(m, x.data(), n, 3) != ROMRT_OK) return 1;
+    double worst = 0;
+    for (int k = 0; k < 3; k++) {
+        size_t row = 3 * static_cast<size_t>(n - 1) + k;
+        double s = vertices[6 * static_cast<size_t>(n - 1) + k];
+        for (int j = 0; j < r; j++) s += static_cast<double>(rows[row * r + j]) * q[j];
+        worst = std::max(worst, s > x[row] ? s - x[row] : x[row] - s);
+    }
+    std::printf("embed_cpp: %d vertices x %d rows uploaded once, %d reals a frame; shader sum off by %.1e m\n", n, r, r,
+                worst);
     return 0;
 }

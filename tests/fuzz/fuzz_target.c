@@ -115,7 +115,7 @@ static void exercise(romrt_model *m)
 
     xyz = alloc16(sizeof(romrt_real) * 3 * (size_t)shown);
     if (xyz && shown > 0) {
-        if (romrt_positions(m, xyz, shown) != ROMRT_OK) BROKEN("positions refused");
+        if (romrt_positions(m, xyz, shown, 3) != ROMRT_OK) BROKEN("positions refused");
         /* A step either succeeds with a finite state or leaves the state as it was. */
         for (i = 0; i < 3 * shown; i++)
             if (xyz[i] - xyz[i] != 0) BROKEN("a non-finite position");

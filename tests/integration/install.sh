@@ -13,6 +13,10 @@ I=$D$P
 pc() { PKG_CONFIG_PATH=$I/lib/pkgconfig PKG_CONFIG_LIBDIR=$I/lib/pkgconfig pkg-config --define-variable=prefix="$I" "$@"; }
 # Under make test-sanitize the installed runtime is instrumented: the apps link the sanitizer too.
 SAN=${SANFLAGS:-}
+# The version the header states (the Makefile reads it from there): the shared library's names.
+part() { sed -n "s/^#define ROMRT_VERSION_$1 \([0-9][0-9]*\)\$/\1/p" runtime/romrt.h; }
+MAJ=$(part MAJOR)
+VER=$MAJ.$(part MINOR).$(part PATCH)
 
 : >"$TMP/stamp"
 if make -s install BUILD="$B" DESTDIR="$D" PREFIX="$P" >"$TMP/out" 2>&1; then
@@ -22,21 +26,22 @@ else
     exit 0
 fi
 
-want="bin/romkit include/romrt.h lib/libromrt.a lib/libromrt.so lib/libromrt.so.1 lib/libromrt.so.1.0.0 lib/libromrt_double.a
+want="bin/romkit include/romrt.h lib/libromrt.a lib/libromrt.so lib/libromrt.so.$MAJ lib/libromrt.so.$VER lib/libromrt_double.a
 lib/pkgconfig/romrt-double.pc lib/pkgconfig/romrt.pc"
 got=$(cd "$I" 2>/dev/null && find . ! -type d | sed 's|^\./||' | sort | tr '\n' ' ')
 [ "$got" = "$(echo $want | tr ' ' '\n' | sort | tr '\n' ' ')" ] && ok install_layout || fail install_layout "installed: $got"
 outside=$(cd "$D" && find . ! -type d | grep -v "^\.$P/"; find "$TMP" -newer "$TMP/stamp" ! -type d ! -path "$D/*" ! -path "$TMP/out")
 [ -z "$outside" ] && [ ! -e "$P" ] && ok install_stays_in_destdir_prefix || fail install_stays_in_destdir_prefix "outside DESTDIR$P: $outside"
-[ "$(readlink "$I/lib/libromrt.so")" = libromrt.so.1 ] && [ "$(readlink "$I/lib/libromrt.so.1")" = libromrt.so.1.0.0 ] \
+[ "$(readlink "$I/lib/libromrt.so")" = libromrt.so.$MAJ ] && [ "$(readlink "$I/lib/libromrt.so.$MAJ")" = libromrt.so.$VER ] \
     && ls -l "$I/bin/romkit" | grep -q '^-rwxr-xr-x' && ls -l "$I/include/romrt.h" | grep -q '^-rw-r--r--' \
     && ok install_links_and_modes || fail install_links_and_modes "$(ls -l "$I/lib" "$I/bin" "$I/include")"
 
-# The shared library: its soname, and only the functions romrt.h declares are exported.
-readelf -d "$I/lib/libromrt.so.1.0.0" | grep -q 'SONAME.*\[libromrt\.so\.1\]' && ok shared_library_soname \
-    || fail shared_library_soname "$(readelf -d "$I/lib/libromrt.so.1.0.0" | grep SONAME)"
+# The shared library: its soname, and only the functions romrt.h declares are exported, under their
+# float link names (romrt_f32_*: the installed header read as an app's compiler reads it).
+readelf -d "$I/lib/libromrt.so.$VER" | grep -q "SONAME.*\[libromrt\.so\.$MAJ\]" && ok shared_library_soname \
+    || fail shared_library_soname "$(readelf -d "$I/lib/libromrt.so.$VER" | grep SONAME)"
 exported=$(nm -D --defined-only "$I/lib/libromrt.so" | awk '$2 == "T" {sub(/@.*/, "", $3); print $3}' | sort -u)
-declared=$(grep -o 'romrt_[a-z0-9_]*(' "$I/include/romrt.h" | tr -d '(' | sort -u)
+declared=$(grep -o 'romrt_[a-z0-9_]*(' "$I/include/romrt.h" | tr -d '(' | sort -u | sed 's/^romrt_/romrt_f32_/')
 [ -n "$exported" ] && [ "$exported" = "$declared" ] && ok shared_library_exports_only_romrt_h \
     || fail shared_library_exports_only_romrt_h "$(echo "$exported" | tr '\n' ' ')"
 
@@ -54,9 +59,9 @@ tree=$(grep "tip at" "$TMP/tree.out")
 
 # Shared: cc embed.c $(pkg-config --cflags --libs romrt), run with LD_LIBRARY_PATH.
 if $CC -std=c99 -pedantic -Wall -Wextra -Werror $SAN -o "$TMP/embed_shared" examples/embed/embed.c $(pc --cflags --libs romrt) 2>"$TMP/err"; then
-    readelf -d "$TMP/embed_shared" | grep -q 'NEEDED.*\[libromrt\.so\.1\]' && ok embed_links_the_shared_library \
+    readelf -d "$TMP/embed_shared" | grep -q "NEEDED.*\[libromrt\.so\.$MAJ\]" && ok embed_links_the_shared_library \
         || fail embed_links_the_shared_library "$(readelf -d "$TMP/embed_shared" | grep NEEDED)"
-    LD_LIBRARY_PATH=$I/lib ldd "$TMP/embed_shared" | grep -q "libromrt.so.1 => $I/lib/libromrt.so.1" \
+    LD_LIBRARY_PATH=$I/lib ldd "$TMP/embed_shared" | grep -q "libromrt.so.$MAJ => $I/lib/libromrt.so.$MAJ" \
         && LD_LIBRARY_PATH=$I/lib "$TMP/embed_shared" "$TMP/a.rombin" 40 >"$TMP/out" 2>&1 \
         && [ -n "$tree" ] && [ "$(grep "tip at" "$TMP/out")" = "$tree" ] && ok embed_shared_runs_like_the_tree_build \
         || fail embed_shared_runs_like_the_tree_build "$(cat "$TMP/out") / tree: $tree"

@@ -134,7 +134,7 @@ static double run_both(fixture *f, int steps, rk_fom *fom, double *err_rt, doubl
             *failed = 1;
             break;
         }
-        romrt_positions(f->m, xyz, n);
+        romrt_positions(f->m, xyz, n, 3);
         for (int i = 0; i < 3 * n; i++) {
             int dof = 3 * (int)f->vmap[i / 3] + i % 3;
             worst = fmax(worst, fabs((double)xyz[i] - f->s.fom.x[dof]));
@@ -198,7 +198,7 @@ static void stepped(romrt_model *m, int steps, const romrt_real *push, romrt_rea
     romrt_error rerr;
     if (push) romrt_add_force(m, romrt_find_group(m, "middle"), push);
     for (int k = 0; k < steps; k++) romrt_step(m, &rerr);
-    romrt_positions(m, xyz, romrt_shown_count(m));
+    romrt_positions(m, xyz, romrt_shown_count(m), 3);
 }
 
 TEST(push_reset_and_refusals)

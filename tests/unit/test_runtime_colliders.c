@@ -78,7 +78,7 @@ static int run_script(rt_fixture *f, int steps, script_fn script, run_result *ou
         out->behind += info.colliders_behind;
         out->rt_iterations += info.newton_iterations;
         rt_fixture_reference(f, s.q, ref);
-        romrt_positions(f->m, xyz, n);
+        romrt_positions(f->m, xyz, n, 3);
         x1 = 0;
         for (int i = 0; i < 3 * n; i++) {
             out->rel = fmax(out->rel, fabs((double)xyz[i] - ref[i]));
@@ -197,8 +197,8 @@ TEST(bad_colliders_are_refused_with_a_status_and_change_nothing)
     int n = romrt_shown_count(f.m);
     romrt_real *a = calloc((size_t)3 * n, sizeof(romrt_real)), *b = calloc((size_t)3 * n, sizeof(romrt_real));
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr), romrt_step(g.m, &rerr);
-    romrt_positions(f.m, a, n);
-    romrt_positions(g.m, b, n);
+    romrt_positions(f.m, a, n, 3);
+    romrt_positions(g.m, b, n, 3);
     CHECK(memcmp(a, b, sizeof(romrt_real) * 3 * n) == 0, "refused colliders changed the steps");
     free(a);
     free(b);

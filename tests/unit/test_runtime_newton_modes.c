@@ -45,7 +45,7 @@ static long run_mode(rt_fixture *f, int k, int steps, romrt_real *traj)
         if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
         romrt_last_step(f->m, &info);
         iterations += info.newton_iterations;
-        romrt_positions(f->m, traj + (size_t)3 * n * s, n);
+        romrt_positions(f->m, traj + (size_t)3 * n * s, n, 3);
     }
     return iterations;
 }
@@ -152,7 +152,7 @@ TEST(newton_projects_only_where_the_exact_hessian_is_indefinite)
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "E = %g, h = %g, step %d: %s", cases[c][0], cases[c][1], s, rerr.message);
             romrt_last_step(f.m, &info);
             projected += info.projected_hessians;
-            romrt_positions(f.m, xyz, n);
+            romrt_positions(f.m, xyz, n, 3);
             for (int i = 0; i < 3 * n; i++) finite &= isfinite(xyz[i]) != 0;
         }
         printf("# fixed mode, E = %g Pa, h = %g s: %d of 40 steps projected\n", cases[c][0], cases[c][1], projected);

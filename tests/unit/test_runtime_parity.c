@@ -84,7 +84,7 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
             break;
         }
         rt_fixture_reference(f, s.q, ref);
-        romrt_positions(f->m, xyz, n);
+        romrt_positions(f->m, xyz, n, 3);
         for (int i = 0; i < 3 * n; i++) {
             worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
             scale = fmax(scale, fabs(ref[i] - f->sim.mesh.X[3 * (int)f->vmap[i / 3] + i % 3]));
@@ -224,16 +224,16 @@ TEST(state_restores_and_reset_returns_to_rest)
     for (int k = 0; k < 5; k++) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
     CHECK(romrt_get_state(f.m, state, ns) == ROMRT_OK, "get_state");
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr);
-    romrt_positions(f.m, a, n);
+    romrt_positions(f.m, a, n, 3);
     CHECK(romrt_set_state(f.m, state, ns) == ROMRT_OK, "set_state");
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr);
-    romrt_positions(f.m, b, n);
+    romrt_positions(f.m, b, n, 3);
     CHECK(memcmp(a, b, sizeof(romrt_real) * 3 * n) == 0, "replaying from a saved state differs");
     state[2] = (romrt_real)NAN;
     CHECK(romrt_set_state(f.m, state, ns) == ROMRT_E_ARGUMENT, "a NaN state must be refused");
     CHECK(romrt_set_state(f.m, state, ns - 1) == ROMRT_E_ARGUMENT, "a state of the wrong size must be refused");
     romrt_reset(f.m);
-    romrt_positions(f.m, a, n);
+    romrt_positions(f.m, a, n, 3);
     for (int i = 0; i < 3 * n; i++)
         CHECK(a[i] == (romrt_real)f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3], "reset: vertex %d not at rest", i / 3);
     CHECK(romrt_time(f.m) == 0, "reset: time %g", (double)romrt_time(f.m));

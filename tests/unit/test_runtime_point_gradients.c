@@ -93,7 +93,7 @@ TEST(cloud_F_matches_the_weights_gradients)
     /* the cloud hangs from its fixed end: those points stay while the far end sags */
     romrt_real *xyz = calloc(3 * (size_t)n, sizeof(romrt_real));
     double held = 0, sag = 0;
-    CHECK(romrt_positions(f.m, xyz, n) == ROMRT_OK, "positions");
+    CHECK(romrt_positions(f.m, xyz, n, 3) == ROMRT_OK, "positions");
     for (int i = 0; i < n; i++) {
         const double *X = &f.sim.mesh.X[3 * (int)f.vmap[i]];
         double d = fabs((double)xyz[3 * i + 1] - X[1]);

@@ -100,8 +100,8 @@ TEST(weights_path_matches_the_dense_rows)
         for (int s = 0; s < 30; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "weights, step %d: %s", s, rerr.message);
             CHECK(romrt_step(dense, &rerr) == ROMRT_OK, "rows, step %d: %s", s, rerr.message);
-            romrt_positions(f.m, a, n);
-            romrt_positions(dense, b, n);
+            romrt_positions(f.m, a, n, 3);
+            romrt_positions(dense, b, n, 3);
             for (int i = 0; i < 3 * n; i++) {
                 worst = fmax(worst, fabs((double)a[i] - (double)b[i]));
                 scale = fmax(scale, fabs((double)b[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));

@@ -36,7 +36,7 @@ TEST(donut_splats_drop_onto_a_plane_and_read_back)
     const char *path = "/tmp/romkit_test_splats_frame.ply";
     for (int k = 0; k <= steps; k++) {
         if (k) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "step %d: %s", k, rerr.message);
-        CHECK(romrt_positions(f.m, xyz, n) == ROMRT_OK && romrt_deformation_gradients(f.m, Fr, n) == ROMRT_OK, "F");
+        CHECK(romrt_positions(f.m, xyz, n, 3) == ROMRT_OK && romrt_deformation_gradients(f.m, Fr, n) == ROMRT_OK, "F");
         for (int i = 0; i < 3 * n; i++) x[i] = (double)xyz[i];
         for (int i = 0; i < 9 * n; i++) F[i] = (double)Fr[i];
         CHECK_OK(rk_splats_write(path, &src, x, F, &err));
