@@ -179,7 +179,7 @@ static inline int bench_rom_exact_model(bench_rom_case *bc, int r, rk_rom_model 
     rk_quadrature Q;
     *snap = NULL;
     if (rk_quadrature_elements(&bc->sim.fem, bc->b.U, r, bc->nt, NULL, NULL, &Q, err)) return -1;
-    if (rk_rom_model_init(m, &bc->sim.fem, &bc->opt, bc->b.U, r, &Q, err)) return -1;
+    if (rk_rom_model_init(m, &bc->sim.fem, &bc->opt, bc->b.U, r, &Q, NULL, err)) return -1;
     *snap = malloc(sizeof(double) * (size_t)r * bc->nframes);
     if (!*snap) return rk_fail(err, "out of memory");
     for (int f = 0; f < bc->nframes; f++)
