@@ -35,7 +35,14 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     romrt_status st;
     int k;
     if ((st = rt_u32s(L, ROMBIN_ALRH, ROMBIN_ALRH_COUNT, 0, &head))) return st;
-    if (!head) return ROMRT_OK;
+    if (!head) { /* the rest without their header: a damaged asset, not a fixed-basis model */
+        static const char *const rest[] = {ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS, ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT};
+        rombin_chunk c;
+        for (k = 0; k < (int)(sizeof rest / sizeof *rest); k++)
+            if (rombin_find(&L->file, rest[k], &c))
+                return rt_fail(L->err, ROMRT_E_MODEL, rest[k], "an adaptive linear ROM's chunk without its header ALRH");
+        return ROMRT_OK;
+    }
     for (k = ROMBIN_ALRH_MOTIONS + 1; k < ROMBIN_ALRH_COUNT; k++)
         if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "reserved field ", (uint64_t)k, " is not 0");
     if (head[ROMBIN_ALRH_HISTORY] < 1 || head[ROMBIN_ALRH_HISTORY] > MAX_HISTORY)

@@ -24,8 +24,9 @@ replay() {
 
 # A reduced model (tests/fuzz/seed_scene.json), a Koopman operator (seed_koopman.json), both in
 # one asset (seed_both.json), a skinning basis stored as its weights (seed_skinning.json: SKIN, WGHT),
-# and a point cloud on mesh-free integration points (seed_points.json: IPNT, IPMD, GRAD, SPLY).
-for kind in scene koopman both skinning points; do
+# a point cloud on mesh-free integration points (seed_points.json: IPNT, IPMD, GRAD, SPLY), and an
+# adaptive linear ROM (seed_adaptive.json: ALRH, ALRP, QDRV, VMSS, VLOD, AMOV, AMOT).
+for kind in scene koopman both skinning points adaptive; do
 for prec in float32 float64; do
     name=$kind-$prec
     seed=$TMP/seed-$name.rombin
