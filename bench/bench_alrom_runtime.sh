@@ -47,7 +47,7 @@ json.dump(s, open(sys.argv[2], 'w'))" "$entries" "$TMP/$sc.json"
         "$ROMKIT" run "$TMP/$sc.$name.rombin" --steps "$steps" --reference "$TMP/$sc.ref.npy" \
             --report "$TMP/$sc.$name.run.json" --quiet >/dev/null
     done
-    "$BUILD/bench_assets" "$steps" 7 "$TMP/$sc.pca.rombin" "$TMP/$sc.adaptive.rombin" | tail -n +2 >"$TMP/$sc.times"
+    OPENBLAS_NUM_THREADS=1 "$BUILD/bench_assets" "$steps" 7 "$TMP/$sc.pca.rombin" "$TMP/$sc.adaptive.rombin" | tail -n +2 >"$TMP/$sc.times"
     while IFS=, read -r asset us lo hi ratio its; do
         name=$(echo "$asset" | sed 's/.*\.\([a-z]*\)\.rombin/\1/')
         err=$("$JSONQ" get "$TMP/$sc.$name.run.json" reference.relative_error)

@@ -24,6 +24,17 @@
 #define ENCODE_ITERATIONS 20
 #define MAX_HISTORY 1000u
 
+/* Pair (i, j), i <= j, row-major over r (the precompute's rk_quadratic_pairs layout). */
+static int pair(int r, int i, int j)
+{
+    if (i > j) {
+        int t = i;
+        i = j;
+        j = t;
+    }
+    return i * r - i * (i - 1) / 2 + (j - i);
+}
+
 /* ---- the loader ---- */
 
 romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
@@ -79,6 +90,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, n, &al->f_app);
     rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->D);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
+    rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->coef);
     rt_scratch(L, n, &al->x_ref);
     rt_scratch(L, n * r, &al->rows);
     rt_scratch(L, r * r, &al->M);
@@ -90,7 +102,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, n * r, &al->Q2);
     rt_scratch_wide(L, n, &al->u);
     rt_scratch_wide(L, n, &al->res);
-    rt_scratch_wide(L, (uint64_t)al->pairs, &al->pp);
+    rt_scratch(L, n * r * r, &al->psi_full);
     rt_scratch_wide(L, 4 * r * r, &al->work);
     rt_scratch(L, n, &al->x_new);
     rt_scratch(L, n, &al->v_new);
@@ -112,6 +124,14 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
             return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_AMOV, "stored vertex ", (uint64_t)v, " names motion ",
                               al->motion_of[v], ", beyond AMOT");
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
+    {
+        int r = m->r, i, k, j;
+        for (i = 0; i < 3 * m->nv; i++)
+            for (k = 0; k < r; k++)
+                for (j = 0; j < r; j++)
+                    al->psi_full[((size_t)i * (size_t)r + (size_t)k) * (size_t)r + (size_t)j] =
+                        al->psi[(size_t)i * (size_t)al->pairs + (size_t)pair(r, k, j)];
+    }
     if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP, "lambda must be in [0, 1], the regularisation and damping >= 0");
     for (v = 0; v < m->nv; v++) {
@@ -140,52 +160,25 @@ static void zero_prescribed_rows(const romrt_model *m, double *A)
         if (prescribed(&m->al, i)) memset(A + (size_t)i * (size_t)m->r, 0, sizeof(double) * (size_t)m->r);
 }
 
-/* Pair (i, j), i <= j, row-major over r (the precompute's rk_quadratic_pairs layout). */
-static int pair(int r, int i, int j)
-{
-    if (i > j) {
-        int t = i;
-        i = j;
-        j = t;
-    }
-    return i * r - i * (i - 1) / 2 + (j - i);
-}
-
-/* U = dg/dp: row i, column k = Phi_ik + sum_j Psi_i,(k,j) p_j. */
-static void jacobian(const romrt_model *m, const double *p, double *U)
+/* U = dg/dp, row i column k = Phi_ik + sum_j Psi_i,kj p_j (Psi_i the row's symmetric r x r
+ * second-order term, expanded from QDRV's pairs at open); with res, also res_i = u_i - g_i(p),
+ * g_i = Phi_i p + 1/2 sum_kj Psi_i,kj p_k p_j = Phi_i p + 1/2 p . (U_i - Phi_i): one pass for both. */
+static void jacobian(const romrt_model *m, const double *p, double *U, const double *u, double *res)
 {
     const rt_alrom *al = &m->al;
     int r = m->r, n = 3 * m->nv, i, k, j;
     for (i = 0; i < n; i++) {
-        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)al->pairs;
-        double *Ui = U + (size_t)i * (size_t)r;
+        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi_full + (size_t)i * (size_t)r * (size_t)r;
+        double *Ui = U + (size_t)i * (size_t)r, lin = 0, quad = 0;
         for (k = 0; k < r; k++) {
-            double s = phi[k];
-            int at = pair(r, 0, k);
-            for (j = 0; j < k; j++) { /* pairs (j, k): their index grows by r - j - 1 */
-                s += psi[at] * p[j];
-                at += r - j - 1;
-            }
-            for (j = k; j < r; j++) s += psi[at + (j - k)] * p[j]; /* pairs (k, j), contiguous */
-            Ui[k] = s;
+            const romrt_real *row = psi + (size_t)k * (size_t)r;
+            double s = 0;
+            for (j = 0; j < r; j++) s += row[j] * p[j];
+            Ui[k] = phi[k] + s;
+            lin += phi[k] * p[k];
+            quad += p[k] * s;
         }
-    }
-}
-
-/* res = u - g(p), g(p) = Phi p + 1/2 sum_ij Psi_ij p_i p_j over ordered pairs (each unordered pair
- * i < j once, i = j with 1/2). */
-static void residual(const romrt_model *m, const double *u, const double *p, double *res)
-{
-    const rt_alrom *al = &m->al;
-    int r = m->r, n = 3 * m->nv, i, j, k;
-    for (i = 0; i < r; i++)
-        for (j = i; j < r; j++) al->pp[pair(r, i, j)] = (i == j ? 0.5 : 1) * p[i] * p[j];
-    for (i = 0; i < n; i++) {
-        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)al->pairs;
-        double g = 0;
-        for (k = 0; k < r; k++) g += phi[k] * p[k];
-        for (k = 0; k < al->pairs; k++) g += psi[k] * al->pp[k];
-        res[i] = u[i] - g;
+        if (res) res[i] = u[i] - (lin + 0.5 * quad);
     }
 }
 
@@ -227,12 +220,11 @@ static romrt_status encode(romrt_model *m, romrt_error *err)
     int r = m->r, it, k;
     romrt_status st;
     for (k = 0; k < r; k++) al->p[k] = 0;
-    jacobian(m, al->p, al->U); /* the linear part, Phi */
+    jacobian(m, al->p, al->U, 0, 0); /* the linear part, Phi */
     st = mass_lsq(m, al->U, al->u, al->p, al->work, err);
     for (it = 0; !st && it < ENCODE_ITERATIONS; it++) {
         double step = 0, size = 0;
-        residual(m, al->u, al->p, al->res);
-        jacobian(m, al->p, al->U);
+        jacobian(m, al->p, al->U, al->u, al->res);
         if ((st = mass_lsq(m, al->U, al->res, rhs, al->work, err))) break;
         for (k = 0; k < r; k++) {
             al->p[k] += rhs[k];
@@ -241,7 +233,7 @@ static romrt_status encode(romrt_model *m, romrt_error *err)
         }
         if (step <= 1e-12 * (size > 0 ? size : 1)) break;
     }
-    if (!st) jacobian(m, al->p, al->U);
+    if (!st) jacobian(m, al->p, al->U, 0, 0);
     return st;
 }
 
@@ -390,21 +382,27 @@ static int history_basis(romrt_model *m, int count)
     int r = m->r, n = 3 * m->nv, slots = al->m + 1, e, i, j, k;
     double *A = al->work;
     for (k = 0; k < r * r; k++) A[k] = 0;
-    for (i = 0; i < n * r; i++) al->Q1[i] = 0;
     for (e = 0; e < count; e++) {
-        int slot = (al->head - e + slots) % slots;
-        const double *d = al->D + (size_t)slot * (size_t)n, *p = al->P + (size_t)slot * (size_t)r;
+        const double *p = al->P + (size_t)((al->head - e + slots) % slots) * (size_t)r;
         for (j = 0; j < r; j++)
             for (k = 0; k <= j; k++) A[k + (size_t)r * j] += p[k] * p[j];
-        for (i = 0; i < n; i++) {
-            double *Bi = al->Q1 + (size_t)i * (size_t)r;
-            if (d[i] != 0)
-                for (j = 0; j < r; j++) Bi[j] += d[i] * p[j];
-        }
     }
     for (k = 0; k < r; k++) A[k + (size_t)r * k] += al->reg;
     if (rt_cholesky_wide(r, A)) return -1;
-    for (i = 0; i < n; i++) rt_cholesky_solve_wide(r, A, al->Q1 + (size_t)i * (size_t)r); /* row i: A^-1 B_i^T */
+    /* Phi_h = D C with C's row e = (A^-1 p_e)^T: count small solves, then one pass over the rows */
+    for (e = 0; e < count; e++) {
+        double *c = al->coef + (size_t)e * (size_t)r;
+        memcpy(c, al->P + (size_t)((al->head - e + slots) % slots) * (size_t)r, sizeof(double) * (size_t)r);
+        rt_cholesky_solve_wide(r, A, c);
+    }
+    for (i = 0; i < n * r; i++) al->Q1[i] = 0;
+    for (e = 0; e < count; e++) {
+        const double *d = al->D + (size_t)((al->head - e + slots) % slots) * (size_t)n, *c = al->coef + (size_t)e * (size_t)r;
+        for (i = 0; i < n; i++) {
+            double *Phi = al->Q1 + (size_t)i * (size_t)r, di = d[i];
+            for (j = 0; j < r; j++) Phi[j] += di * c[j];
+        }
+    }
     return 0;
 }
 

@@ -99,7 +99,8 @@ typedef struct {
      * conditioned far beyond float: P P^T + 1e-8 I, Q's rank decided at 1e-6) */
     double *U, *Q1, *Q2;       /* nv x 3 x r */
     double *u, *res;           /* nv x 3 */
-    double *pp;                /* pairs: the products p_i p_j the decoder's second-order term takes */
+    double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
+    romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
     double *work;              /* 4 r x r: the small matrices of the encoder and the interpolation */
     double p[ROMRT_MAX_R];
     romrt_real *x_new, *v_new; /* nv x 3: a step's result before it is kept */
