@@ -83,10 +83,11 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     }
     al->X0 = m->X;
     al->phi = m->rows;
-    rt_scratch(L, n, &al->x);
-    rt_scratch(L, n, &al->v);
-    rt_scratch(L, n, &al->x_prev);
-    rt_scratch(L, n, &al->v_prev);
+    rt_scratch_wide(L, n, &al->u_t);
+    rt_scratch_wide(L, n, &al->v);
+    rt_scratch_wide(L, n, &al->u_prev);
+    rt_scratch_wide(L, n, &al->v_prev);
+    rt_scratch_wide(L, n, &al->u_ref);
     rt_scratch(L, n, &al->f_app);
     rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->D);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
@@ -104,8 +105,8 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, n, &al->res);
     rt_scratch(L, n * r * r, &al->psi_full);
     rt_scratch_wide(L, 4 * r * r, &al->work);
-    rt_scratch(L, n, &al->x_new);
-    rt_scratch(L, n, &al->v_new);
+    rt_scratch_wide(L, n, &al->u_new);
+    rt_scratch_wide(L, n, &al->v_new);
     return ROMRT_OK;
 }
 
@@ -423,7 +424,8 @@ static void place_prescribed(romrt_model *m, double t)
         const romrt_real *X = al->X0 + 3 * (size_t)v;
         if (g2 == ROMBIN_NO_MOTION) continue;
         for (a = 0; a < 3; a++)
-            al->x_ref[3 * v + a] = R[g2][3 * a] * X[0] + R[g2][3 * a + 1] * X[1] + R[g2][3 * a + 2] * X[2] + shift[g2][a];
+            al->u_ref[3 * v + a] = (double)R[g2][3 * a] * X[0] + (double)R[g2][3 * a + 1] * X[1] +
+                                   (double)R[g2][3 * a + 2] * X[2] + shift[g2][a] - X[a];
     }
 }
 
@@ -435,14 +437,14 @@ static void element_offsets(romrt_model *m)
     for (e = 0; e < m->ne; e++) {
         const uint32_t *ev = m->elem + 5 * (size_t)e;
         const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
-        romrt_real u[12];
+        double u[12];
         for (k = 0; k < 4; k++)
-            for (a = 0; a < 3; a++) u[3 * k + a] = al->x_ref[3 * ev[k] + a] - al->X0[3 * ev[k] + a];
+            for (a = 0; a < 3; a++) u[3 * k + a] = al->u_ref[3 * ev[k] + a];
         for (a = 0; a < 3; a++)
             for (b = 0; b < 3; b++) {
-                romrt_real s = 0;
+                double s = 0;
                 for (c = 0; c < 3; c++) s += (u[3 * (c + 1) + a] - u[a]) * Dm[3 * c + b];
-                al->Hd0[9 * (size_t)e + 3 * a + b] = s;
+                al->Hd0[9 * (size_t)e + 3 * a + b] = (romrt_real)s;
             }
     }
 }
@@ -457,7 +459,7 @@ static romrt_status reduced_terms(romrt_model *m, const double *xtilde, romrt_er
     for (k = 0; k < r; k++) al->f[k] = b[k] = 0;
     for (i = 0; i < n; i++) {
         const romrt_real *Ui = al->rows + (size_t)i * (size_t)r;
-        romrt_real w = al->mass[i / 3], fi = al->load[i] + al->f_app[i], wd = w * (romrt_real)(xtilde[i] - al->x_ref[i]);
+        romrt_real w = al->mass[i / 3], fi = al->load[i] + al->f_app[i], wd = w * (romrt_real)(xtilde[i] - al->u_ref[i]);
         for (k = 0; k < r; k++) {
             romrt_real wk = w * Ui[k];
             al->f[k] += fi * Ui[k];
@@ -483,7 +485,7 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     double *xtilde = al->res, *basis = al->Q2;
     romrt_status st;
     /* Algorithm 3, lines 3-6: the code of the state, the decoder's basis there, the history */
-    for (i = 0; i < n; i++) al->u[i] = (double)al->x[i] - (double)al->X0[i];
+    memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
     if ((st = encode(m, err))) return st;
     zero_prescribed_rows(m, al->U);
     if (thin_q(n, r, al->U, al->Q2))
@@ -502,12 +504,13 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     al->blended += blended;
     for (i = 0; i < n * r; i++) al->rows[i] = (romrt_real)basis[i];
     /* the step's reference: the start with the prescribed vertices at their targets */
-    memcpy(al->x_ref, al->x, sizeof(romrt_real) * (size_t)n);
+    memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
     place_prescribed(m, rt_clock(m, 1));
+    for (i = 0; i < n; i++) al->x_ref[i] = (romrt_real)(al->X0[i] + al->u_ref[i]);
     element_offsets(m);
     for (i = 0; i < n; i++)
-        xtilde[i] = bdf2 ? (4 * (double)al->x[i] - al->x_prev[i]) / 3 + 2 * (double)h / 9 * (4 * (double)al->v[i] - al->v_prev[i])
-                         : (double)al->x[i] + (double)h * al->v[i];
+        xtilde[i] = bdf2 ? (4 * al->u_t[i] - al->u_prev[i]) / 3 + 2 * (double)h / 9 * (4 * al->v[i] - al->v_prev[i])
+                         : al->u_t[i] + (double)h * al->v[i];
     *w_inertia = bdf2 ? RT_K(9.0) / (RT_K(4.0) * h * h) : 1 / (h * h);
     if ((st = reduced_terms(m, xtilde, err))) return st;
     m->C = al->damping > 0 ? al->C : 0;
@@ -519,20 +522,25 @@ romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
-    romrt_real h = m->h, *x_new = al->x_new, *v_new = al->v_new;
+    double h = m->h, *u_new = al->u_new, *v_new = al->v_new;
     double top = 0;
     for (i = 0; i < n; i++) {
-        x_new[i] = al->x_ref[i] + rt_dot(r, al->rows + (size_t)i * (size_t)r, m->q);
-        v_new[i] = bdf2 ? (3 * x_new[i] - 4 * al->x[i] + al->x_prev[i]) / (2 * h) : (x_new[i] - al->x[i]) / h;
-        if (!isfinite(x_new[i]) || !isfinite(v_new[i]))
+        const romrt_real *row = al->rows + (size_t)i * (size_t)r;
+        double du = 0;
+        int j;
+        for (j = 0; j < r; j++) du += (double)row[j] * m->q[j];
+        u_new[i] = al->u_ref[i] + du;
+        v_new[i] = bdf2 ? (3 * u_new[i] - 4 * al->u_t[i] + al->u_prev[i]) / (2 * h) : (u_new[i] - al->u_t[i]) / h;
+        if (!isfinite(u_new[i]) || !isfinite(v_new[i]) || !isfinite(u_new[i] + al->X0[i]))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
-        if (i < 3 * m->shown && fabs((double)x_new[i]) > top) top = fabs((double)x_new[i]);
+        if (i < 3 * m->shown && fabs(u_new[i] + al->X0[i]) > top) top = fabs(u_new[i] + al->X0[i]);
     }
-    memcpy(al->x_prev, al->x, sizeof(romrt_real) * (size_t)n);
-    memcpy(al->v_prev, al->v, sizeof(romrt_real) * (size_t)n);
-    memcpy(al->x, x_new, sizeof(romrt_real) * (size_t)n);
-    memcpy(al->v, v_new, sizeof(romrt_real) * (size_t)n);
-    memcpy(al->x_ref, x_new, sizeof(romrt_real) * (size_t)n);
+    memcpy(al->u_prev, al->u_t, sizeof(double) * (size_t)n);
+    memcpy(al->v_prev, al->v, sizeof(double) * (size_t)n);
+    memcpy(al->u_t, u_new, sizeof(double) * (size_t)n);
+    memcpy(al->v, v_new, sizeof(double) * (size_t)n);
+    memcpy(al->u_ref, u_new, sizeof(double) * (size_t)n);
+    for (i = 0; i < n; i++) al->x_ref[i] = (romrt_real)(al->X0[i] + u_new[i]);
     al->head = (al->head + 1) % (al->m + 1);
     if (al->count < al->m) al->count++;
     for (i = 0; i < r; i++) m->q[i] = 0;
@@ -543,20 +551,22 @@ romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
 void rt_alrom_abort(romrt_model *m)
 {
     rt_alrom *al = &m->al;
-    int i;
-    memcpy(al->x_ref, al->x, sizeof(romrt_real) * (size_t)(3 * m->nv));
-    for (i = 0; i < m->r; i++) m->q[i] = 0;
+    int n = 3 * m->nv, k;
+    memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
+    for (k = 0; k < n; k++) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_t[k]);
+    for (k = 0; k < m->r; k++) m->q[k] = 0;
 }
 
 void rt_alrom_reset(romrt_model *m)
 {
     rt_alrom *al = &m->al;
     size_t n = 3 * (size_t)m->nv;
-    memcpy(al->x, al->X0, sizeof(romrt_real) * n);
+    memset(al->u_t, 0, sizeof(double) * n);
+    memset(al->u_ref, 0, sizeof(double) * n);
     memcpy(al->x_ref, al->X0, sizeof(romrt_real) * n);
-    memset(al->v, 0, sizeof(romrt_real) * n);
-    memset(al->x_prev, 0, sizeof(romrt_real) * n);
-    memset(al->v_prev, 0, sizeof(romrt_real) * n);
+    memset(al->v, 0, sizeof(double) * n);
+    memset(al->u_prev, 0, sizeof(double) * n);
+    memset(al->v_prev, 0, sizeof(double) * n);
     memset(al->f_app, 0, sizeof(romrt_real) * n);
     memset(al->Hd0, 0, sizeof(romrt_real) * 9 * (size_t)m->ne);
     al->count = al->head = 0;

@@ -86,13 +86,15 @@ typedef struct {
     const romrt_real *load;    /* nv x 3 (VLOD) */
     const uint32_t *motion_of; /* nv (AMOV) */
     const romrt_real *motions; /* nmotions x 12 (AMOT) */
-    /* state */
-    romrt_real *x, *v, *x_prev, *v_prev; /* nv x 3: where the step starts, and BDF2's history */
+    /* state, in double in either build: displacements from rest (an absolute position in float
+     * would lose the digits a step moves), velocities, and BDF2's history */
+    double *u_t, *v, *u_prev, *v_prev; /* nv x 3 */
+    double *u_ref;             /* nv x 3: the step's reference, u_t with the prescribed at their targets */
     romrt_real *f_app;         /* nv x 3: the app's forces on the stored vertices */
     double *D, *P;             /* (m + 1) slots of nv x 3 displacements and r latent codes: a ring */
     int count, head;           /* entries held (<= m), the slot the next step writes */
     long blended;              /* steps whose basis blended the history */
-    /* the step's model: m->X, rows, M, C, f point here */
+    /* the step's model: m->X, rows, M, C, f point here (x_ref = X0 + u_ref) */
     romrt_real *x_ref, *rows, *M, *C, *f;
     romrt_real *Hd0;           /* ne x 9: each element's F - I at x_ref */
     /* scratch: the basis is built in double in either build (the history's small systems are
@@ -103,7 +105,7 @@ typedef struct {
     romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
     double *work;              /* 4 r x r: the small matrices of the encoder and the interpolation */
     double p[ROMRT_MAX_R];
-    romrt_real *x_new, *v_new; /* nv x 3: a step's result before it is kept */
+    double *u_new, *v_new;     /* nv x 3: a step's result before it is kept */
 } rt_alrom;
 
 struct romrt_model {

@@ -16,7 +16,7 @@
 #define PARITY_TOL 1e-6
 #else
 #define ASSET_REAL "float32"
-#define PARITY_TOL 1e-2
+#define PARITY_TOL 1e-3
 #endif
 
 /* A bar clamped at x = 0 whose far end is driven down and sideways (a bend, under
