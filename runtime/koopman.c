@@ -18,6 +18,21 @@ typedef struct {
 #define RT_EXP_ZERO (-105.0)
 #endif
 
+/* sin and cos of y / 2 for polar_power, which reads them only through s^2 and s c (a sign flip of
+ * both changes nothing). In float, y is first reduced to [-pi, pi] in double (y - 2 pi k, exact
+ * to the double rounding of y itself) and sinf / cosf take half of it: the powers are rounded to
+ * float anyway, and the float functions cost half as much as sin / cos, which dominate a jump. */
+static void half_angle(double y, double *s, double *c)
+{
+#ifdef ROMRT_DOUBLE
+    *s = sin(0.5 * y), *c = cos(0.5 * y);
+#else
+    const double two_pi = 6.283185307179586476925;
+    float h = (float)(0.5 * (y - two_pi * nearbyint(y / two_pi)));
+    *s = sinf(h), *c = cosf(h);
+#endif
+}
+
 static rt_complex cmul(rt_complex a, rt_complex b)
 {
     rt_complex c;
@@ -51,7 +66,7 @@ static double log_modulus(rt_complex l)
  * relative precision: with x = p lm, y = p th, |l^p| = e^x. Away from the unit circle (|x| > 0.5)
  * P = e^x (cos y + i sin y) and e = P - 1 cannot cancel; near it, e = expm1(x) cos y - 2 sin^2(y/2)
  * + i e^x sin y keeps its digits as l^p nears 1, and P = 1 + e cannot cancel (|P| > 0.6). cos y
- * and sin y come from sin(y/2), cos(y/2): at most three libm calls (one for a positive real l)
+ * and sin y come from sin(y/2), cos(y/2) (half_angle): at most three libm calls (one for a positive real l)
  * whatever p, and none once |l^p| rounds to 0 in romrt_real (a decayed mode: P = 0, as the power
  * itself would round, and e = -1). For a real l (th = 0 or pi) the imaginary part is dropped: a
  * negative l at a fractional p takes the real part of the principal power (Sec. 5.2), exactly
@@ -64,7 +79,7 @@ static void polar_power(double lm, double th, double p, int real, rt_complex *P,
         return;
     }
     y = p * th, s = 0, c = 1;
-    if (y != 0) s = sin(0.5 * y), c = cos(0.5 * y); /* a positive real l turns by nothing */
+    if (y != 0) half_angle(y, &s, &c); /* a positive real l turns by nothing */
     cy = 1 - 2 * s * s, sy = real ? 0 : 2 * s * c;
     if (fabs(x) > 0.5) {
         double ex = exp(x);
