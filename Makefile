@@ -164,6 +164,8 @@ TEST_ALSO_test_basis_derivatives := fom solver contact
 TEST_ALSO_test_basis_pod := fom solver contact
 TEST_ALSO_test_adaptive_subspace := basis
 TEST_ALSO_test_grassmann_alrom := basis
+# The chain's default fit is baked and jumped in the runtime.
+TEST_ALSO_test_koopman_dmd := asset formats
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)

@@ -11,6 +11,28 @@ typedef struct {
     double re, im;
 } rt_complex;
 
+/* e^x below e^RT_EXP_ZERO rounds to 0 in romrt_real (under half its smallest subnormal). */
+#ifdef ROMRT_DOUBLE
+#define RT_EXP_ZERO (-746.0)
+#else
+#define RT_EXP_ZERO (-105.0)
+#endif
+
+/* sin and cos of y / 2 for polar_power, which reads them only through s^2 and s c (a sign flip of
+ * both changes nothing). In float, y is first reduced to [-pi, pi] in double (y - 2 pi k, exact
+ * to the double rounding of y itself) and sinf / cosf take half of it: the powers are rounded to
+ * float anyway, and the float functions cost half as much as sin / cos, which dominate a jump. */
+static void half_angle(double y, double *s, double *c)
+{
+#ifdef ROMRT_DOUBLE
+    *s = sin(0.5 * y), *c = cos(0.5 * y);
+#else
+    const double two_pi = 6.283185307179586476925;
+    float h = (float)(0.5 * (y - two_pi * nearbyint(y / two_pi)));
+    *s = sinf(h), *c = cosf(h);
+#endif
+}
+
 static rt_complex cmul(rt_complex a, rt_complex b)
 {
     rt_complex c;
@@ -31,47 +53,86 @@ static rt_complex cdiv(rt_complex a, rt_complex b)
     return c;
 }
 
-/* lambda^sigma - 1, keeping its digits when lambda^sigma is near 1 (expm1, log1p); a negative
- * real lambda at a fractional sigma takes the real part of the principal power (the imaginary
- * part is projected out, Sec. 5.2), exactly (+-1)^sigma |lambda|^sigma at whole sigma. */
-static rt_complex power_minus_one(rt_complex l, double sigma)
+/* log |l|, keeping its digits when |l| is near 1: log1p(|l|^2 - 1) / 2 with |l|^2 - 1 formed as
+ * (|re| - 1)(|re| + 1) + im^2, whose first factor is exact for |re| in [0.5, 2] (Sterbenz), next to
+ * -1 as next to 1. */
+static double log_modulus(rt_complex l)
 {
-    rt_complex e;
-    double dr = l.re - 1, q2 = dr * (2 + dr) + l.im * l.im; /* |l|^2 - 1 without cancellation */
-    double x = sigma * (fabs(q2) < 0.5 ? 0.5 * log1p(q2) : log(sqrt(l.re * l.re + l.im * l.im)));
-    double y = sigma * atan2(l.im, l.re), half = sin(0.5 * y);
-    e.re = expm1(x) * cos(y) - 2 * half * half;
-    e.im = l.im == 0 ? 0 : exp(x) * sin(y);
-    return e;
+    double dr = fabs(l.re) - 1, q2 = dr * (2 + dr) + l.im * l.im;
+    return fabs(q2) < 0.5 ? 0.5 * log1p(q2) : log(sqrt(l.re * l.re + l.im * l.im));
+}
+
+/* P = l^p and e = l^p - 1 for l = exp(lm + i th) (lm = log |l|, th = arg l), each to its own
+ * relative precision: with x = p lm, y = p th, |l^p| = e^x. Away from the unit circle (|x| > 0.5)
+ * P = e^x (cos y + i sin y) and e = P - 1 cannot cancel; near it, e = expm1(x) cos y - 2 sin^2(y/2)
+ * + i e^x sin y keeps its digits as l^p nears 1, and P = 1 + e cannot cancel (|P| > 0.6). cos y
+ * and sin y come from sin(y/2), cos(y/2) (half_angle): at most three libm calls (one for a positive real l)
+ * whatever p, and none once |l^p| rounds to 0 in romrt_real (a decayed mode: P = 0, as the power
+ * itself would round, and e = -1). For a real l (th = 0 or pi) the imaginary part is dropped: a
+ * negative l at a fractional p takes the real part of the principal power (Sec. 5.2), exactly
+ * (+-1)^p |l|^p at whole p. */
+static void polar_power(double lm, double th, double p, int real, rt_complex *P, rt_complex *e)
+{
+    double x = p * lm, y, s, c, cy, sy;
+    if (x < RT_EXP_ZERO) {
+        P->re = P->im = e->im = 0, e->re = -1;
+        return;
+    }
+    y = p * th, s = 0, c = 1;
+    if (y != 0) half_angle(y, &s, &c); /* a positive real l turns by nothing */
+    cy = 1 - 2 * s * s, sy = real ? 0 : 2 * s * c;
+    if (fabs(x) > 0.5) {
+        double ex = exp(x);
+        P->re = ex * cy, P->im = ex * sy;
+        e->re = P->re - 1, e->im = P->im;
+    } else {
+        double em = expm1(x);
+        e->re = em * cy - 2 * s * s, e->im = (em + 1) * sy;
+        P->re = e->re + 1, P->im = e->im;
+    }
 }
 
 /* The blocks of one step of sigma training steps with damping mu: P = l^sigma for
  * l = (1 - mu) lambda (Sec. 7.2, then Eq. 21, so both hold per second of motion), and what a
  * forcing c held over the step adds, sum_{t=1}^{sigma} l^t c = l (l^sigma - 1) / (l - 1) c: for
- * whole sigma exactly sigma training steps with the impulse of Eq. 19 before each. */
+ * whole sigma exactly sigma training steps with the impulse of Eq. 19 before each (at sigma = 1
+ * both are l itself, as trained). Then each block's step factor m = P, as rounded to romrt_real
+ * (the factor romrt_step applies), in the polar form romrt_jump powers: log |m|, arg m, and
+ * 1 / (m - 1) (0 at m = 1, where the jump's sum is N). */
 static void set_blocks(romrt_model *m)
 {
     int j;
     double sigma = (double)m->dt_scale, keep = 1 - (double)m->damping;
     for (j = 0; j < m->r; j++) {
-        rt_complex l, e, S;
+        rt_complex l, P, e, S, mu;
         l.re = keep * m->eig[2 * j], l.im = keep * m->eig[2 * j + 1];
-        if (l.re == 0 && l.im == 0) {
-            m->lam_re[j] = m->lam_im[j] = m->sum_re[j] = m->sum_im[j] = 0;
-            continue;
-        }
-        e = power_minus_one(l, sigma);
-        if (l.re == 1 && l.im == 0) {
-            S.re = sigma, S.im = 0;
+        if ((l.re == 0 && l.im == 0) || sigma == 1) {
+            P = S = l;
         } else {
-            rt_complex d;
-            d.re = l.re - 1, d.im = l.im;
-            S = cmul(l, cdiv(e, d));
+            polar_power(log_modulus(l), atan2(l.im, l.re), sigma, l.im == 0, &P, &e);
+            if (l.re == 1 && l.im == 0) {
+                S.re = sigma, S.im = 0;
+            } else {
+                rt_complex d;
+                d.re = l.re - 1, d.im = l.im;
+                S = cmul(l, cdiv(e, d));
+            }
         }
-        m->lam_re[j] = (romrt_real)(e.re + 1);
-        m->lam_im[j] = (romrt_real)e.im;
+        m->lam_re[j] = (romrt_real)P.re;
+        m->lam_im[j] = (romrt_real)P.im;
         m->sum_re[j] = (romrt_real)S.re;
         m->sum_im[j] = (romrt_real)S.im;
+        mu.re = m->lam_re[j], mu.im = m->lam_im[j];
+        m->jump_log[j] = mu.re == 0 && mu.im == 0 ? 0 : log_modulus(mu);
+        m->jump_arg[j] = atan2(mu.im, mu.re);
+        if (mu.re == 1 && mu.im == 0) {
+            m->jump_inv_re[j] = m->jump_inv_im[j] = 0;
+        } else {
+            rt_complex one, d;
+            one.re = 1, one.im = 0, d.re = mu.re - 1, d.im = mu.im;
+            d = cdiv(one, d);
+            m->jump_inv_re[j] = d.re, m->jump_inv_im[j] = d.im;
+        }
     }
 }
 
@@ -80,20 +141,24 @@ void rt_koopman_reset(romrt_model *m)
     memcpy(m->q, m->y0, sizeof(romrt_real) * (size_t)m->r);
 }
 
+/* Block j of v times the block [[a, b], [-b, a]] (a pair, from its first index) or a (a real one). */
+static void block_mul(const romrt_model *m, int j, romrt_real a, romrt_real b, romrt_real *v)
+{
+    if (m->eig[2 * j + 1] == 0) {
+        v[j] *= a;
+    } else {
+        romrt_real v0 = v[j], v1 = v[j + 1];
+        v[j] = a * v0 + b * v1;
+        v[j + 1] = -b * v0 + a * v1;
+    }
+}
+
 /* y <- B y, blockwise. */
 static void apply_blocks(const romrt_model *m, const romrt_real *lr, const romrt_real *li, romrt_real *y)
 {
     int j;
-    for (j = 0; j < m->r; j++) {
-        if (!block_starts(m, j)) continue;
-        if (m->eig[2 * j + 1] == 0) {
-            y[j] *= lr[j];
-        } else {
-            romrt_real a = lr[j], b = li[j], y0 = y[j], y1 = y[j + 1];
-            y[j] = a * y0 + b * y1;
-            y[j + 1] = -b * y0 + a * y1;
-        }
-    }
+    for (j = 0; j < m->r; j++)
+        if (block_starts(m, j)) block_mul(m, j, lr[j], li[j], y);
 }
 
 static int finite_all(const romrt_real *a, int n)
@@ -139,44 +204,49 @@ static romrt_status koopman_only(const romrt_model *m, const char *what, romrt_e
     return ROMRT_OK;
 }
 
-/* P = lambda^n and S = sum_{k=1}^n lambda^k by binary powering from the top bit:
- * doubling n: S <- S + P S, P <- P^2; adding one: P <- P lambda, S <- S + P. */
-static void power_and_sum(rt_complex lambda, unsigned long n, rt_complex *P, rt_complex *S)
-{
-    unsigned long bit = 1;
-    P->re = 1, P->im = 0, S->re = 0, S->im = 0;
-    while (bit <= n / 2) bit <<= 1;
-    for (; bit; bit >>= 1) {
-        rt_complex PS = cmul(*P, *S);
-        S->re += PS.re, S->im += PS.im;
-        *P = cmul(*P, *P);
-        if (n & bit) {
-            *P = cmul(*P, lambda);
-            S->re += P->re, S->im += P->im;
-        }
-    }
-}
-
+/* A jump of N steps in closed form per block, at the cost of about one step whatever N (the
+ * paper's Eq. 20 powers Lambda by repeated squaring, O(log N)): with the step factor
+ * m = exp(lm + i th) (set_blocks), m^N and e = m^N - 1 come from polar_power at p = N, and the
+ * forcing the N steps add, sum_{k<N} m^k c, has G = (m^N - 1) / (m - 1) = e / (m - 1) (G = N at
+ * m = 1; G = 1 at m = 0, 0^0 = 1). e keeps its digits as m^N approaches 1 (expm1), and m - 1 is
+ * exact near 1, so G is accurate for m next to 1. A negative real m takes its sign from N's
+ * parity, exact for any N (N th would lose it once N passes 2^53). */
 romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err)
 {
-    romrt_real y[ROMRT_MAX_R], c[ROMRT_MAX_R], pr[ROMRT_MAX_R], pi[ROMRT_MAX_R], sr[ROMRT_MAX_R], si[ROMRT_MAX_R];
+    romrt_real y[ROMRT_MAX_R], c[ROMRT_MAX_R];
     romrt_status st = koopman_only(m, "romrt_jump: the asset has no Koopman operator (no KHED chunk)", err);
+    double N = (double)steps;
     int j;
-    if (st) return st;
-    memset(pr, 0, sizeof pr), memset(pi, 0, sizeof pi), memset(sr, 0, sizeof sr), memset(si, 0, sizeof si);
-    for (j = 0; j < m->r; j++) {
-        rt_complex lambda, P, S;
-        lambda.re = m->lam_re[j], lambda.im = m->lam_im[j];
-        power_and_sum(lambda, steps, &P, &S);
-        /* sum_{k=0}^{N-1} P^k = 1 + S - P^N multiplies each step's forcing */
-        pr[j] = (romrt_real)P.re, pi[j] = (romrt_real)P.im;
-        sr[j] = (romrt_real)(1 + S.re - P.re), si[j] = (romrt_real)(S.im - P.im);
-    }
-    /* y_N = P^N y + sum_{k=0}^{N-1} P^k c, c the forcing one step adds */
-    forcing(m, c);
+    if (st || steps == 0) return st;
+    forcing(m, c); /* c: what one step's forcing adds */
     memcpy(y, m->q, sizeof(romrt_real) * (size_t)m->r);
-    apply_blocks(m, pr, pi, y);
-    apply_blocks(m, sr, si, c);
+    for (j = 0; j < m->r; j++) {
+        rt_complex P, G;
+        int real = m->eig[2 * j + 1] == 0; /* a 1 x 1 block, as block_mul reads it */
+        if (!block_starts(m, j)) continue; /* a pair's second: its first holds the block */
+        if (steps == 1 || (real && m->lam_re[j] == 0)) { /* one step is the step; 0^N = 0, 0^0 = 1 */
+            P.re = steps == 1 ? m->lam_re[j] : 0, P.im = steps == 1 ? m->lam_im[j] : 0;
+            G.re = 1, G.im = 0;
+        } else {
+            rt_complex e;
+            if (real && m->lam_re[j] < 0) { /* |m|^N (-1)^N */
+                polar_power(m->jump_log[j], 0, N, 1, &P, &e);
+                if (steps & 1) P.re = -P.re, e.re = P.re - 1;
+            } else {
+                polar_power(m->jump_log[j], m->jump_arg[j], N, real, &P, &e);
+            }
+            if (real && m->lam_re[j] == 1) {
+                G.re = N, G.im = 0;
+            } else {
+                rt_complex inv;
+                inv.re = m->jump_inv_re[j], inv.im = m->jump_inv_im[j];
+                G = cmul(e, inv);
+            }
+        }
+        /* y_N = m^N y + G c */
+        block_mul(m, j, (romrt_real)P.re, (romrt_real)P.im, y);
+        block_mul(m, j, (romrt_real)G.re, (romrt_real)G.im, c);
+    }
     for (j = 0; j < m->r; j++) y[j] += c[j];
     if (!finite_all(y, m->r) || !rt_showable(m, y))
         return rt_fail(err, ROMRT_E_DIVERGED, 0, "the Koopman state overflowed over the jump (an eigenvalue above 1)");

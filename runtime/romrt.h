@@ -183,8 +183,11 @@ int romrt_max_reduced_size(void);
 int romrt_version(void);
 
 /* Koopman assets only (ROMRT_E_UNSUPPORTED otherwise): advances `steps` steps at once, the
- * applied forces held, at a cost that grows like log(steps) (repeated squaring of the 1 x 1 and
- * 2 x 2 eigen-blocks); equal to that many romrt_step calls up to rounding. */
+ * applied forces held, at a cost independent of `steps` (about one romrt_step plus up to three
+ * libm calls per eigen-block: each block's power in polar form, |lambda|^N and N arg lambda, and
+ * the held forces' sum (lambda^N - 1) / (lambda - 1) in closed form, computed in double); equal
+ * to that many romrt_step calls up to rounding (an error that may grow like steps x the double
+ * epsilon, as the phase N arg lambda inherits arg lambda's rounding). */
 romrt_status romrt_jump(romrt_model *m, unsigned long steps, romrt_error *err);
 /* Koopman assets only: a new time step h (s) by the eigenvalue rescaling lambda^(h / h_data)
  * (Eq. 21 of the Koopman paper), which keeps each mode's frequency and decay per second; a force

@@ -146,6 +146,9 @@ struct romrt_model {
     const romrt_real *y0;     /* r (KINI) */
     romrt_real lam_re[ROMRT_MAX_R], lam_im[ROMRT_MAX_R]; /* the blocks at the current step and damping */
     romrt_real sum_re[ROMRT_MAX_R], sum_im[ROMRT_MAX_R]; /* what a constant forcing adds per step */
+    /* each block's step factor mu = lam in polar form, log|mu| and arg mu, and 1 / (mu - 1), in
+     * double for romrt_jump (koopman.c, set_blocks) */
+    double jump_log[ROMRT_MAX_R], jump_arg[ROMRT_MAX_R], jump_inv_re[ROMRT_MAX_R], jump_inv_im[ROMRT_MAX_R];
     /* state; the clock is t = t0 + steps h in double (rt_clock), never a running float sum */
     double t0;
     unsigned long steps;

@@ -24,22 +24,31 @@ void rk_koopman_lift(const rk_koopman *k, const double *u, const double *u_prev,
     if (!X) return;
     observe(k, u, X);
     observe(k, u_prev, X + n2);
-    for (int i = 0; i < d; i++) X[d + i] = X[i] - X[n2 + i];
+    for (int i = 0; i < d; i++) X[d + i] = k->vscale * (X[i] - X[n2 + i]); /* the fit's scaled state */
     cblas_dgemv(CblasColMajor, CblasTrans, n2, k->r, 1.0, k->U, n2, X, 1, 0.0, z, 1);
     free(X);
 }
 
-void rk_koopman_positions(const rk_koopman *k, const double *z, double *u)
+/* n values from one block of U_r z: rows `row0` .. row0 + d - 1 (0: displacements, d: velocities),
+ * times `scale`, through P_out when the fit was projected. */
+static void read_block(const rk_koopman *k, const double *z, int row0, double scale, double *out)
 {
     if (!k->P_out) {
-        cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, 1.0, k->U, 2 * k->d, z, 1, 0.0, u, 1);
+        cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, scale, k->U + row0, 2 * k->d, z, 1, 0.0, out, 1);
         return;
     }
     double *x = malloc(sizeof(double) * (size_t)k->d);
     if (!x) return;
-    cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, 1.0, k->U, 2 * k->d, z, 1, 0.0, x, 1);
-    cblas_dgemv(CblasColMajor, CblasNoTrans, k->n, k->d, 1.0, k->P_out, k->n, x, 1, 0.0, u, 1);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, k->d, k->r, scale, k->U + row0, 2 * k->d, z, 1, 0.0, x, 1);
+    cblas_dgemv(CblasColMajor, CblasNoTrans, k->n, k->d, 1.0, k->P_out, k->n, x, 1, 0.0, out, 1);
     free(x);
+}
+
+void rk_koopman_positions(const rk_koopman *k, const double *z, double *u) { read_block(k, z, 0, 1.0, u); }
+
+void rk_koopman_velocities(const rk_koopman *k, const double *z, double *v)
+{
+    read_block(k, z, k->d, 1 / k->vscale, v); /* the fit scaled this block by beta */
 }
 
 void rk_koopman_impulse(const rk_koopman *k, const double *a, double *z)
@@ -47,7 +56,7 @@ void rk_koopman_impulse(const rk_koopman *k, const double *a, double *z)
     double h2 = k->h * k->h, *x = malloc(sizeof(double) * (size_t)k->d);
     if (!x) return;
     observe(k, a, x);
-    cblas_dgemv(CblasColMajor, CblasTrans, k->d, k->r, h2, k->U + k->d, 2 * k->d, x, 1, 1.0, z, 1);
+    cblas_dgemv(CblasColMajor, CblasTrans, k->d, k->r, k->vscale * h2, k->U + k->d, 2 * k->d, x, 1, 1.0, z, 1);
     free(x);
 }
 
@@ -97,8 +106,8 @@ int rk_koopman_real_form(const rk_koopman *k, double *out, double *in, const dou
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n, r, d, 1.0, k->P_out, n, UW, n2, 0.0, out, n);
     else
         for (int j = 0; j < r; j++) memcpy(out + (size_t)n * j, UW + (size_t)n2 * j, sizeof(double) * d);
-    /* in = Winv U_v^T P_in: (r x d) (d x n) */
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, d, r, r, 1.0, k->U + d, n2, k->Winv, r, 0.0, VWi, d);
+    /* in = beta Winv U_v^T P_in: (r x d) (d x n), beta the fit's velocity scale */
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, d, r, r, k->vscale, k->U + d, n2, k->Winv, r, 0.0, VWi, d);
     if (k->P_in)
         cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, n, d, 1.0, VWi, d, k->P_in, d, 0.0, in, r);
     else

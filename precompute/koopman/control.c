@@ -87,7 +87,7 @@ int rk_koopman_summed_apply(const rk_koopman *k, long long N, double *z, rk_erro
 static void forced(const rk_koopman *k, long long N, const double *a, double *z, double *g, double *w)
 {
     if (a) {
-        rk_koopman_impulse(k, a, g); /* Eq. 19: g = U_r^T [0; P_in a h^2] */
+        rk_koopman_impulse(k, a, g); /* Eq. 19: g = U_r^T [0; beta P_in a h^2] */
         summed_apply(k, N, g, w);
     }
     rk_koopman_advance(k, z, N, 1, 0);
@@ -149,13 +149,12 @@ typedef struct {
     double *g, *w;    /* r scratch */
     double *u, *v;    /* n: values and velocities of one reduced state */
     double *ufree, *vfree, *ucur, *a;
-    double *x;        /* d scratch */
     double *A, *b;    /* m x k, m: the system */
 } control_ws;
 
 static void ws_free(control_ws *s)
 {
-    double *all[] = {s->zfree, s->zN, s->Z, s->g, s->u, s->ufree, s->x, s->A};
+    double *all[] = {s->zfree, s->zN, s->Z, s->g, s->u, s->ufree, s->A};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) free(all[i]);
 }
 
@@ -171,9 +170,8 @@ static int ws_alloc(const rk_koopman *k, const rk_koopman_control_problem *p, co
     s->g = rk_calloc((size_t)2 * r, sizeof(double), err);
     s->u = rk_calloc((size_t)4 * n, sizeof(double), err);
     s->ufree = rk_calloc((size_t)2 * n, sizeof(double), err);
-    s->x = rk_calloc((size_t)k->d, sizeof(double), err);
     s->A = rk_calloc((size_t)s->m * (kk + 1), sizeof(double), err);
-    if (!s->zfree || !s->zN || !s->Z || !s->g || !s->u || !s->ufree || !s->x || !s->A) {
+    if (!s->zfree || !s->zN || !s->Z || !s->g || !s->u || !s->ufree || !s->A) {
         ws_free(s);
         return -1;
     }
@@ -187,16 +185,10 @@ static int ws_alloc(const rk_koopman *k, const rk_koopman_control_problem *p, co
 }
 
 /* The n values and n velocities (u_N - u_{N-1}: the velocity part of X = U_r z) of z. */
-static void state_values(const rk_koopman *k, const double *z, double *x, double *u, double *v)
+static void state_values(const rk_koopman *k, const double *z, double *u, double *v)
 {
-    int d = k->d, r = k->r;
     rk_koopman_positions(k, z, u);
-    if (!k->P_out) {
-        cblas_dgemv(CblasColMajor, CblasNoTrans, d, r, 1.0, k->U + d, 2 * d, z, 1, 0.0, v, 1);
-        return;
-    }
-    cblas_dgemv(CblasColMajor, CblasNoTrans, d, r, 1.0, k->U + d, 2 * d, z, 1, 0.0, x, 1);
-    cblas_dgemv(CblasColMajor, CblasNoTrans, k->n, d, 1.0, k->P_out, k->n, x, 1, 0.0, v, 1);
+    rk_koopman_velocities(k, z, v);
 }
 
 /* Rows of the state (u, v) that the system reads: target values, then weighted velocities. */
@@ -215,7 +207,7 @@ static void free_state(const rk_koopman *k, const rk_koopman_control_problem *p,
     if (p->z0) memcpy(s->zfree, p->z0, sizeof(double) * (size_t)k->r);
     memset(s->g, 0, sizeof(double) * (size_t)k->r);
     forced(k, p->steps, p->accel, s->zfree, s->g, s->w);
-    state_values(k, s->zfree, s->x, s->ufree, s->vfree);
+    state_values(k, s->zfree, s->ufree, s->vfree);
     rows_of(p, s, s->ufree, s->vfree, s->b);
     for (int i = 0; i < s->m; i++) s->b[i] = (i < p->ntargets ? p->targets[i].goal : 0) - s->b[i];
     memcpy(s->ucur, s->ufree, sizeof(double) * (size_t)k->n);
@@ -235,7 +227,7 @@ static int input_column(const rk_koopman *k, const rk_koopman_control_problem *p
     memset(Zj, 0, sizeof(double) * (size_t)r);
     rk_koopman_impulse(k, s->a, Zj);
     summed_apply(k, p->steps, Zj, s->w);
-    state_values(k, Zj, s->x, s->u, s->v);
+    state_values(k, Zj, s->u, s->v);
     rows_of(p, s, s->u, s->v, s->A + (size_t)s->m * j);
     if (!all_finite(s->A + (size_t)s->m * j, s->m))
         return rk_fail(err, "input field %d: its response over %lld steps is not finite (an eigenvalue above 1 in "

@@ -3,6 +3,7 @@
 #include "koopman/koopman.h"
 
 #include <cblas.h>
+#include <float.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -68,13 +69,52 @@ static int snapshot_pairs(const rk_koopman_trajectory *traj, int ntraj, int d, d
     return 0;
 }
 
-/* The rank: o->rank, or the smallest keeping o->energy of sum sigma^2; never above the numerical
- * rank (sigma > 1e-12 sigma_0 * max size). */
-static int choose_rank(const double *s, int ns, int rows, int cols, const rk_koopman_options *o, int *r, rk_error *err)
+/* Balances the two blocks of the state before the SVD (rows 0..d-1 displacements u, rows d..2d-1
+ * velocities delta = u - u_prev, in X and X' alike): the velocity rows are multiplied by
+ * beta = |U|_F / |Delta|_F, so both blocks carry equal energy. delta is about omega h times u, so
+ * unscaled, the SVD's energy truncation saw the velocity block as noise and dropped directions
+ * only it carries, and the Galerkin operator U_r^T K U_r (Eq. 13) of what was left could leave the
+ * unit circle though the data's dynamics do not. Any D = diag(I, beta I) leaves the dynamics'
+ * eigenvalues as they are (D K D^-1 is similar to K): the fit works on D X, D X', and beta is kept
+ * (k->vscale) so that lifting, forcing and reading back undo it. The energies are those of the
+ * successors X', which hold the recorded motion only: X's velocity rows also carry the impulses
+ * a h^2 (Eq. 19), which are inputs, not motion (a body held still under gravity has delta = 0 and
+ * keeps beta = 1, as does any data with an all-zero block). *noise: choose_rank's floor. */
+static double balance_blocks(double *X, double *Y, int d, int M, double *noise)
+{
+    double eu = 0, ev = 0;
+    for (int c = 0; c < M; c++)
+        for (int i = 0; i < d; i++) {
+            double u = Y[(size_t)2 * d * c + i], v = Y[(size_t)2 * d * c + d + i];
+            eu += u * u, ev += v * v;
+        }
+    double beta = eu > 0 && ev > 0 ? sqrt(eu / ev) : 1;
+    *noise = DBL_EPSILON * sqrt(eu + beta * beta * (4 * eu + ev)); /* choose_rank's |E|_F */
+    if (beta != 1)
+        for (int c = 0; c < M; c++) {
+            cblas_dscal(d, beta, X + (size_t)2 * d * c + d, 1);
+            cblas_dscal(d, beta, Y + (size_t)2 * d * c + d, 1);
+        }
+    return beta;
+}
+
+/* The rank: o->rank, or the smallest r for which each block, displacements and (scaled)
+ * velocities, keeps o->energy of its own energy in the rank-r approximation U_r S_r V_r^T (block
+ * b keeps sum_{i<r} sigma_i^2 |U_b(:, i)|^2), so that neither block's directions are dropped as
+ * the other's noise; never above the numerical rank, the count of singular values above the
+ * data's rounding noise. The data holds u to double precision and delta = u - u_prev is formed
+ * from it, so entry by entry the noise is eps |u| in the displacement rows and about
+ * beta eps (|u| + |u_prev|) in the scaled velocity rows (plus beta eps |delta|: an impulse a h^2
+ * enters there too); a perturbation E of that size moves every singular value by at most
+ * |E|_2 <= |E|_F (Weyl), so singular values below
+ * |E|_F = eps sqrt(|U|_F^2 + beta^2 (4 |U|_F^2 + |Delta|_F^2)) are not told apart from zero. (A
+ * fixed ratio to sigma_0 refused exactly linear data whose smallest directions were well above
+ * the noise.) U: the 2d x ns left singular vectors. */
+static int choose_rank(const double *s, const double *U, int d, int ns, double noise, const rk_koopman_options *o,
+                       int *r, rk_error *err)
 {
     int numerical = 0;
-    double floor = 1e-12 * s[0] * (rows > cols ? rows : cols);
-    while (numerical < ns && s[numerical] > floor) numerical++;
+    while (numerical < ns && s[numerical] > noise) numerical++;
     if (numerical == 0) return rk_fail(err, "the snapshot data is all zero: nothing moves");
     if (o->rank > 0) {
         if (o->rank > numerical)
@@ -83,10 +123,20 @@ static int choose_rank(const double *s, int ns, int rows, int cols, const rk_koo
         *r = o->rank;
         return 0;
     }
-    double total = 0, kept = 0;
-    for (int i = 0; i < numerical; i++) total += s[i] * s[i];
+    double total[2] = {0, 0}, kept[2] = {0, 0};
+    for (int i = 0; i < numerical; i++)
+        for (int b = 0; b < 2; b++) {
+            double n = cblas_dnrm2(d, U + (size_t)2 * d * i + (size_t)d * b, 1);
+            total[b] += s[i] * s[i] * n * n;
+        }
     *r = 0;
-    while (*r < numerical && kept < o->energy * total) kept += s[*r] * s[*r], (*r)++;
+    while (*r < numerical && (kept[0] < o->energy * total[0] || kept[1] < o->energy * total[1])) {
+        for (int b = 0; b < 2; b++) {
+            double n = cblas_dnrm2(d, U + (size_t)2 * d * *r + (size_t)d * b, 1);
+            kept[b] += s[*r] * s[*r] * n * n;
+        }
+        (*r)++;
+    }
     return 0;
 }
 
@@ -151,7 +201,9 @@ int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk
         return rk_fail(err, "Koopman fit: rank must be >= 1, or energy in (0, 1]");
     double *X = NULL, *Y = NULL, *Vt = NULL, *Ys = NULL;
     int M = 0, n2 = 2 * d, rc = -1;
+    double noise = 0;
     if (snapshot_pairs(traj, ntraj, d, o->h, &X, &Y, &M, err)) goto done;
+    k->vscale = balance_blocks(X, Y, d, M, &noise);
     int ns = n2 < M ? n2 : M;
     double *Uall = rk_calloc((size_t)n2 * ns, sizeof(double), err);
     k->singular = rk_calloc((size_t)ns, sizeof(double), err);
@@ -168,7 +220,7 @@ int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk
         goto done;
     }
     k->nsingular = ns;
-    if (choose_rank(k->singular, ns, n2, M, o, &k->r, err)) {
+    if (choose_rank(k->singular, Uall, d, ns, noise, o, &k->r, err)) {
         free(Uall);
         goto done;
     }

@@ -2,7 +2,8 @@
  * (koopman-dmd-log-linear paper, Sec. 3-4), in a real form that steps, jumps N steps in O(1)
  * per mode, changes time step and damping without leaving real arithmetic.
  *
- * State (Eq. 18): X_t = [u_t; u_t - u_{t-1}] (2d numbers for d observables per frame). Pairs
+ * State (Eq. 18): X_t = [u_t; u_t - u_{t-1}] (2d numbers for d observables per frame), its
+ * velocity block scaled to the displacement block's energy before the fit (k->vscale). Pairs
  * (X_t, X_{t+1}) from every trajectory are fitted jointly: X' ~ K X. With the truncated SVD
  * X = U_r S_r V_r^T the reduced operator is K' = U_r^T X' V_r S_r^-1 (Eq. 13), r x r, and the
  * reduced state is z = U_r^T X. K' = phi Lambda phi^-1 (Eq. 14); in real form K' = W B W^-1 with
@@ -28,8 +29,9 @@ typedef struct {
 
 typedef struct {
     int rank;            /* r; 0: by energy */
-    double energy;       /* when rank is 0: the smallest r whose singular values keep this
-                          * fraction of sum sigma^2 (default 0.999999) */
+    double energy;       /* when rank is 0: the smallest r for which the rank-r SVD keeps this
+                          * fraction of each block's energy, displacements and (scaled)
+                          * velocities alike (default 0.999999) */
     int clamp;           /* scale every |lambda| > 1 down to 1 (stable rollouts) */
     double h;            /* the data's time step (s) */
 } rk_koopman_options;
@@ -43,20 +45,24 @@ typedef struct {
     int d;               /* observables per frame */
     int r;
     double h;
-    double *U;           /* 2d x r, column-major: the lifted state's basis U_r */
+    double vscale;       /* beta: the fit saw the state as [u; beta (u - u_prev)], both blocks of equal
+                          * energy (fit.c, balance_blocks); U, K, W and the residuals are in those
+                          * coordinates, the functions below take and give unscaled values */
+    double *U;           /* 2d x r, column-major: the (scaled) lifted state's basis U_r */
     double *K;           /* r x r, column-major: K' (Eq. 13) */
     double *lambda_re, *lambda_im; /* r discrete-time eigenvalues (clamped if asked) */
-    double *residual;    /* r: |X' xi - lambda X xi| / |X xi| over the data for each mode's xi
+    double *residual;    /* r: |X' xi - lambda X xi| / |X xi| over the (scaled) data for each mode's xi
                           * = V_r S_r^-1 phi: how far the data is from following the mode */
     double *W, *Winv;    /* r x r: real eigenvector matrix and its inverse */
     int *block;          /* r: 1 for a real eigenvalue, 2 at the first of a complex pair, 0 at its second */
     int nsingular;
-    double *singular;    /* the data's singular values, descending */
+    double *singular;    /* the (scaled) data's singular values, descending */
     int clamped;         /* eigenvalues scaled down to |lambda| = 1 */
 } rk_koopman;
 
 /* Fits the operator to ntraj trajectories of d values per frame, jointly. Fails with a message
- * on rank above the data's numerical rank, non-finite data, or a trajectory too short. */
+ * on rank above the data's numerical rank (the singular values above its rounding noise, fit.c),
+ * non-finite data, or a trajectory too short. */
 int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk_koopman_options *o, rk_koopman *out,
                    rk_error *err);
 /* The same on projected observables (a POD basis first, Sec. 4.1's optional reduction): the
@@ -68,16 +74,19 @@ int rk_koopman_fit_projected(const rk_koopman_trajectory *traj, int ntraj, int n
 void rk_koopman_free(rk_koopman *k);
 
 /* All of the following take and give the n values per frame (projected as the fit was). */
-/* z = U_r^T X for X = [u; u - u_prev]. */
+/* z = U_r^T X for X = [u; beta (u - u_prev)]. */
 void rk_koopman_lift(const rk_koopman *k, const double *u, const double *u_prev, double *z);
 /* u from z: the first d rows of U_r z. */
 void rk_koopman_positions(const rk_koopman *k, const double *z, double *u);
+/* u - u_prev from z: the last d rows of U_r z over beta (in metres per data step h). */
+void rk_koopman_velocities(const rk_koopman *k, const double *z, double *v);
 /* z <- K'^n z through the real blocks: cost O(r^2), whatever n (n >= 0). dt_scale rescales the
  * time step (h' = dt_scale h, Eq. 21) and damping multiplies every |lambda| by (1 - damping)
  * (Sec. 7.2); 1 and 0 leave the operator as fitted. */
 void rk_koopman_advance(const rk_koopman *k, double *z, long long n, double dt_scale, double damping);
 /* An external push during one step as an impulse on the velocity part, [0; a h^2] (Eq. 19), added
- * to z; a is the acceleration it causes (force over mass, m/s^2), so a h^2 is a displacement. */
+ * to z (as U_r^T [0; beta a h^2]); a is the acceleration it causes (force over mass, m/s^2), so
+ * a h^2 is a displacement. */
 void rk_koopman_impulse(const rk_koopman *k, const double *a, double *z);
 
 /* The operator in its real eigen-coordinates y = W^-1 z, where one step is y <- B y with B's
@@ -96,7 +105,7 @@ void rk_koopman_real_step(const rk_koopman *k, double *y);
  * With the impulse convention of Eq. 19 (the push is added before each propagation), a constant
  * acceleration a held for N steps from z0 gives
  *
- *   z_N = K'^N z0 + sum_{t=1}^N K'^t g(a),    g(a) = U_r^T [0; P_in a h^2],
+ *   z_N = K'^N z0 + sum_{t=1}^N K'^t g(a),    g(a) = U_r^T [0; beta P_in a h^2],
  *
  * and sum_{t=1}^N K'^t = W S_N W^-1 with S_N = sum_{t=1}^N B^t, which has a closed form on each
  * real block and complex pair (the "time-integrated propagator" of Eq. 25). With a = a_g + A C

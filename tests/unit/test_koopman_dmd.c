@@ -1,82 +1,139 @@
-/* Koopman/DMD on data whose dynamics are exactly linear in [u_t; u_t - u_{t-1}]: a damped
- * mass-spring chain stepped by backward Euler. DMD must recover the true one-step operator's
- * eigenvalues, jump N steps as N single steps, rescale the step, and refuse bad data clearly. */
+/* Koopman/DMD on data whose dynamics are exactly linear in [u_t; u_t - u_{t-1}]: damped
+ * mass-spring chains stepped by backward Euler (6 masses; 48 masses, a 96-number state, as T x 48
+ * observables). DMD must recover the true one-step operator's eigenvalues (all 96 at full rank),
+ * fit stable data stably by default, jump N steps as N single steps, rescale the step, and refuse
+ * bad data clearly. */
 #include <lapacke.h>
 
 #include "testlib.h"
+#include "asset/asset.h"
+#include "formats/rombin_write.h"
 #include "koopman/koopman.h"
+#include "runtime/romrt.h"
 #include "util/util.h"
 
 /* The random starts and noise: the project's generator (util/util.h), the same everywhere. */
 static uint64_t rng = 7;
 
-#define D 6               /* masses */
-#define N2 (2 * D)
-#define H 0.01
+#define MAXD 48
 
-/* The chain's exact one-step map G on X = [u; delta], delta = u - u_prev (M = I, springs k,
- * dampers c between neighbours and to the walls): with A = I + h C + h^2 K,
- * delta' = A^-1 (delta - h^2 K u), u' = u + delta'. */
-static void chain_map(double G[N2 * N2])
+/* A chain of d unit masses stepped by backward Euler at h: K tridiagonal with 2 k_i on the diagonal
+ * and -k_i beside it, k_i = k0 + dk i (increasing, so K is diagonally dominant: SPD), C the same
+ * pattern with c. */
+typedef struct {
+    int d;
+    double h, k0, dk, c;
+} chain;
+
+/* 6 masses: the small chain of the first tests. */
+static const chain SMALL = {6, 0.01, 400, 50, 0.3};
+/* 48 masses (a 96-number state), k from 300 to 6175 N/m: graded, so the spectrum spreads instead
+ * of crowding at the top of the band, and at h = 5 ms every mode both turns and survives long
+ * enough in 64 frames to be resolved (the data's smallest singular value ~1e-6 of the largest). */
+static const chain LONG = {48, 0.005, 300, 125, 0.3};
+/* 48 masses, softer and started at rest (delta_0 = 0): slow motion, so u - u_prev is a few
+ * hundredths of u and the data's smallest directions lie near 1e-9 of its largest. */
+static const chain SLOW = {48, 0.01, 100, 10, 0.3};
+
+/* The chain's exact one-step map G on X = [u; delta], delta = u - u_prev (row-major, 2d x 2d):
+ * with A = I + h C + h^2 K, delta' = A^-1 (delta - h^2 K u), u' = u + delta'. */
+static void chain_map(const chain *ch, double *G)
 {
-    double K[D * D] = {0}, C[D * D] = {0}, A[D * D], Ainv[D * D];
+    static double K[MAXD * MAXD], C[MAXD * MAXD], A[MAXD * MAXD];
+    int D = ch->d, N2 = 2 * D, piv[MAXD];
+    double H = ch->h;
+    memset(K, 0, sizeof K);
+    memset(C, 0, sizeof C);
     for (int i = 0; i < D; i++) {
-        K[i * D + i] = 2 * (400.0 + 50 * i);
-        C[i * D + i] = 2 * 0.3;
+        K[i * D + i] = 2 * (ch->k0 + ch->dk * i);
+        C[i * D + i] = 2 * ch->c;
         if (i + 1 < D) {
-            K[i * D + i + 1] = K[(i + 1) * D + i] = -(400.0 + 50 * i);
-            C[i * D + i + 1] = C[(i + 1) * D + i] = -0.3;
+            K[i * D + i + 1] = K[(i + 1) * D + i] = -(ch->k0 + ch->dk * i);
+            C[i * D + i + 1] = C[(i + 1) * D + i] = -ch->c;
         }
     }
     for (int i = 0; i < D * D; i++) A[i] = (i % (D + 1) == 0) + H * C[i] + H * H * K[i];
-    int piv[D];
-    for (int i = 0; i < D * D; i++) Ainv[i] = A[i];
-    LAPACKE_dgetrf(LAPACK_ROW_MAJOR, D, D, Ainv, D, piv);
-    LAPACKE_dgetri(LAPACK_ROW_MAJOR, D, Ainv, D, piv);
-    /* row-major G: rows 0..D-1 give u', rows D..2D-1 give delta' */
+    LAPACKE_dgetrf(LAPACK_ROW_MAJOR, D, D, A, D, piv);
+    LAPACKE_dgetri(LAPACK_ROW_MAJOR, D, A, D, piv); /* A^-1 */
+    /* rows 0..D-1 give u', rows D..2D-1 give delta' */
     for (int i = 0; i < D; i++)
         for (int j = 0; j < D; j++) {
             double AK = 0;
-            for (int m = 0; m < D; m++) AK += Ainv[i * D + m] * H * H * K[m * D + j];
+            for (int m = 0; m < D; m++) AK += A[i * D + m] * H * H * K[m * D + j];
             G[(D + i) * N2 + j] = -AK;
-            G[(D + i) * N2 + D + j] = Ainv[i * D + j];
+            G[(D + i) * N2 + D + j] = A[i * D + j];
             G[i * N2 + j] = (i == j) - AK;
-            G[i * N2 + D + j] = Ainv[i * D + j];
+            G[i * N2 + D + j] = A[i * D + j];
         }
 }
 
-static void apply(const double G[N2 * N2], const double *x, double *y)
+static void apply(int n2, const double *G, const double *x, double *y)
 {
-    for (int i = 0; i < N2; i++) {
+    for (int i = 0; i < n2; i++) {
         y[i] = 0;
-        for (int j = 0; j < N2; j++) y[i] += G[i * N2 + j] * x[j];
+        for (int j = 0; j < n2; j++) y[i] += G[i * n2 + j] * x[j];
     }
 }
 
-/* ntraj trajectories of `frames` frames from random starts (u and delta). */
-static void trajectories(const double G[N2 * N2], int ntraj, int frames, double *buf, rk_koopman_trajectory *traj)
+/* ntraj trajectories of `frames` frames of the chain's d displacements, each from a random start
+ * (u and delta uniform in +-0.01; at_rest: delta = 0) drawn from *state. */
+static void trajectories(const chain *ch, const double *G, int ntraj, int frames, int at_rest, uint64_t *state,
+                         double *buf, rk_koopman_trajectory *traj)
 {
+    int D = ch->d, N2 = 2 * D;
     for (int k = 0; k < ntraj; k++) {
-        double x[N2], y[N2];
+        double x[2 * MAXD], y[2 * MAXD];
         double *u = buf + (size_t)k * D * frames;
-        for (int i = 0; i < N2; i++) x[i] = 0.01 * (2 * rk_uniform(&rng) - 1);
+        for (int i = 0; i < N2; i++) x[i] = 0.01 * (2 * rk_uniform(state) - 1) * (i < D || !at_rest);
         for (int i = 0; i < D; i++) u[i] = x[i] - x[D + i]; /* frame 0 = u_prev */
         for (int t = 1; t < frames; t++) {
             for (int i = 0; i < D; i++) u[(size_t)D * t + i] = x[i];
-            apply(G, x, y);
+            apply(N2, G, x, y);
             for (int i = 0; i < N2; i++) x[i] = y[i];
         }
         traj[k] = (rk_koopman_trajectory){u, frames, NULL};
     }
 }
 
-/* The chain's map G and a full-rank fit to 4 trajectories of 8 frames. */
+/* The exact map's n eigenvalues (LAPACK dgeev on a copy of G, row-major n x n). */
+static void exact_eigenvalues(int n, const double *G, double *wr, double *wi)
+{
+    double *Gc = malloc(sizeof(double) * (size_t)n * n), vr[1];
+    memcpy(Gc, G, sizeof(double) * (size_t)n * n);
+    LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', n, Gc, n, wr, wi, vr, 1, vr, 1);
+    free(Gc);
+}
+
+/* Pairs each exact eigenvalue with the nearest fitted one not yet taken (k->r >= n) and returns the
+ * largest distance of a pair: every exact eigenvalue must have its own fitted one. */
+static double worst_pairing(int n, const double *wr, const double *wi, const rk_koopman *k)
+{
+    int taken[2 * MAXD] = {0};
+    double worst = 0;
+    for (int i = 0; i < n; i++) {
+        int best = -1;
+        double dist = INFINITY;
+        for (int j = 0; j < k->r; j++)
+            if (!taken[j] && hypot(wr[i] - k->lambda_re[j], wi[i] - k->lambda_im[j]) < dist)
+                dist = hypot(wr[i] - k->lambda_re[j], wi[i] - k->lambda_im[j]), best = j;
+        if (best < 0) return INFINITY;
+        taken[best] = 1;
+        worst = fmax(worst, dist);
+    }
+    return worst;
+}
+
+#define D 6 /* the small chain */
+#define N2 (2 * D)
+#define H 0.01
+
+/* The small chain's map G and a full-rank fit to 4 trajectories of 8 frames. */
 static int fit_chain(double G[N2 * N2], rk_koopman *k, rk_error *err)
 {
     static double buf[4 * D * 8];
     rk_koopman_trajectory traj[4];
-    chain_map(G);
-    trajectories(G, 4, 8, buf, traj);
+    chain_map(&SMALL, G);
+    trajectories(&SMALL, G, 4, 8, 0, &rng, buf, traj);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
     o.rank = N2;
@@ -86,19 +143,13 @@ static int fit_chain(double G[N2 * N2], rk_koopman *k, rk_error *err)
 
 TEST(recovers_the_exact_eigenvalues_of_linear_dynamics)
 {
-    double G[N2 * N2], wr[N2], wi[N2], Gc[N2 * N2], vr[1];
+    double G[N2 * N2], wr[N2], wi[N2];
     rk_error err;
     rk_koopman k;
     CHECK_OK(fit_chain(G, &k, &err));
-    for (int i = 0; i < N2 * N2; i++) Gc[i] = G[i];
-    LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', N2, Gc, N2, wr, wi, vr, 1, vr, 1);
-    double worst = 0, worst_res = 0;
-    for (int i = 0; i < N2; i++) { /* each true eigenvalue has a fitted one next to it */
-        double best = INFINITY;
-        for (int j = 0; j < k.r; j++) best = fmin(best, hypot(wr[i] - k.lambda_re[j], wi[i] - k.lambda_im[j]));
-        worst = fmax(worst, best);
-        worst_res = fmax(worst_res, k.residual[i]);
-    }
+    exact_eigenvalues(N2, G, wr, wi);
+    double worst = worst_pairing(N2, wr, wi, &k), worst_res = 0;
+    for (int i = 0; i < k.r; i++) worst_res = fmax(worst_res, k.residual[i]);
     printf("# %d eigenvalues from 4 trajectories of 8 frames: worst distance %.2e, worst residual %.2e\n", N2, worst,
            worst_res);
     CHECK(worst < 1e-8, "eigenvalues off by %.3g", worst);
@@ -124,7 +175,7 @@ TEST(a_jump_of_n_steps_equals_n_single_steps)
     const int n = 1000;
     for (int s = 0; s < n; s++) {
         rk_koopman_advance(&k, z1, 1, 1, 0);
-        apply(G, x, y);
+        apply(N2, G, x, y);
         for (int i = 0; i < N2; i++) x[i] = y[i];
     }
     rk_koopman_advance(&k, zN, n, 1, 0);
@@ -169,8 +220,8 @@ TEST(bad_data_gets_a_clear_message)
     CHECK(rk_koopman_fit(traj, 2, D, &o, &k, &err) != 0 && strstr(err.msg, "nothing moves"), "%s", err.msg);
     double G[N2 * N2], tb[D * 5];
     rk_koopman_trajectory one[1];
-    chain_map(G);
-    trajectories(G, 1, 5, tb, one); /* 3 pairs: numerical rank 3 at most */
+    chain_map(&SMALL, G);
+    trajectories(&SMALL, G, 1, 5, 0, &rng, tb, one); /* 3 pairs: numerical rank 3 at most */
     o.rank = 8;
     CHECK(rk_koopman_fit(one, 1, D, &o, &k, &err) != 0 && strstr(err.msg, "numerical rank"), "%s", err.msg);
     tb[7] = NAN;
@@ -185,13 +236,14 @@ TEST(noisy_growing_data_is_clamped_to_the_unit_circle)
     double G[N2 * N2], buf[4 * D * 10];
     rk_koopman_trajectory traj[4];
     rk_error err;
-    chain_map(G);
+    chain_map(&SMALL, G);
     for (int i = 0; i < N2 * N2; i++) G[i] *= 1.02; /* a growing system */
-    trajectories(G, 4, 10, buf, traj);
+    trajectories(&SMALL, G, 4, 10, 0, &rng, buf, traj);
     for (int i = 0; i < 4 * D * 10; i++) buf[i] += 1e-5 * (2 * rk_uniform(&rng) - 1);
     rk_koopman_options o;
     rk_koopman_default_options(&o);
-    o.rank = 10;
+    o.rank = N2; /* the whole state, so the fit sees the growth whichever directions a truncation
+                  * would keep (with balanced blocks, rank 10 keeps only decaying ones) */
     o.clamp = 1;
     rk_koopman k;
     CHECK_OK(rk_koopman_fit(traj, 4, D, &o, &k, &err));
@@ -201,11 +253,153 @@ TEST(noisy_growing_data_is_clamped_to_the_unit_circle)
     rk_koopman_free(&k);
 }
 
+#undef D
+#undef N2
+#undef H
+
+/* ---------------------------------------------------------------- the 48-mass chain */
+
+#define FRAMES 64
+#define NTRAJ 5
+#define LN2 (2 * MAXD)
+#define SEEDS 30
+
+/* Five trajectories of 64 frames of chain ch (48 observables per frame), their starts drawn from
+ * `seed` (so the data does not depend on the tests before), the map G and its exact eigenvalues. */
+static void long_chain_data(const chain *ch, int at_rest, uint64_t seed, double *G, double *wr, double *wi,
+                            double *buf, rk_koopman_trajectory *traj)
+{
+    chain_map(ch, G);
+    exact_eigenvalues(2 * ch->d, G, wr, wi);
+    trajectories(ch, G, NTRAJ, FRAMES, at_rest, &seed, buf, traj);
+}
+
+/* Exact DMD at full rank is the least-squares operator X' X^+ on data that spans the whole state,
+ * so it is the chain's map up to the data's rounding: all 96 eigenvalues to 1e-10, for each of 30
+ * sets of random starts. */
+TEST(a_48_mass_chain_at_full_rank_gives_all_96_eigenvalues)
+{
+    static double G[LN2 * LN2], buf[NTRAJ * MAXD * FRAMES];
+    double wr[LN2], wi[LN2], worst = 0, worst_res = 0, beta = 0, cond = 0;
+    rk_koopman_trajectory traj[NTRAJ];
+    rk_koopman_options o;
+    rk_koopman_default_options(&o);
+    o.rank = LN2;
+    o.h = LONG.h;
+    for (uint64_t seed = 1; seed <= SEEDS; seed++) {
+        long_chain_data(&LONG, 0, seed, G, wr, wi, buf, traj);
+        rk_koopman k;
+        rk_error err;
+        CHECK_OK(rk_koopman_fit(traj, NTRAJ, MAXD, &o, &k, &err));
+        worst = fmax(worst, worst_pairing(LN2, wr, wi, &k));
+        for (int i = 0; i < k.r; i++) worst_res = fmax(worst_res, k.residual[i]);
+        beta = fmax(beta, k.vscale);
+        cond = fmax(cond, k.singular[0] / k.singular[LN2 - 1]);
+        rk_koopman_free(&k);
+    }
+    printf("# 48-mass chain, %d trajectories of %d frames, rank %d, %d sets of starts: worst eigenvalue distance "
+           "%.2e (one-to-one pairing), worst residual %.2e; velocity scale up to %.3g, sigma_0 / sigma_95 up to "
+           "%.2e\n", NTRAJ, FRAMES, LN2, SEEDS, worst, worst_res, beta, cond);
+    CHECK(worst <= 1e-10, "eigenvalues off by %.3g", worst);
+}
+
+/* The default fit (rank by energy) of the same stable data must be stable, for each of the 30 sets
+ * of starts, and an asset baked from one must survive a jump of a million steps in the runtime.
+ * Before the blocks were balanced, 22 of these 30 fits left the unit circle (up to |lambda| =
+ * 1.026; set 7: rank 64, 1.00504), and set 7's jump overflowed: the velocity block holds 1/84 of
+ * the displacement block's energy here, so the directions only it carries fell below the stacked
+ * data's energy cut. */
+TEST(a_default_fit_of_the_chain_is_stable_over_a_million_steps)
+{
+    static double G[LN2 * LN2], buf[NTRAJ * MAXD * FRAMES];
+    double wr[LN2], wi[LN2], top = 0;
+    rk_koopman_trajectory traj[NTRAJ];
+    rk_koopman_options o;
+    rk_koopman_default_options(&o);
+    o.h = LONG.h;
+    rk_koopman k;
+    rk_error err;
+    int rmin = LN2, rmax = 0;
+    for (uint64_t seed = 1; seed <= SEEDS; seed++) {
+        long_chain_data(&LONG, 0, seed, G, wr, wi, buf, traj);
+        CHECK_OK(rk_koopman_fit(traj, NTRAJ, MAXD, &o, &k, &err));
+        double t = rk_max_abs_eigenvalue(k.lambda_re, k.lambda_im, k.r);
+        top = fmax(top, t);
+        rmin = k.r < rmin ? k.r : rmin, rmax = k.r > rmax ? k.r : rmax;
+        rk_koopman_free(&k);
+        CHECK(t <= 1, "starts %d: the default fit of a stable chain has max |lambda| %.17g", (int)seed, t);
+    }
+    printf("# default fits (energy %g) of %d sets of starts: rank %d .. %d, max |lambda| up to %.9f (the chain's: "
+           "%.9f)\n", o.energy, SEEDS, rmin, rmax, top, rk_max_abs_eigenvalue(wr, wi, LN2));
+    long_chain_data(&LONG, 0, 7, G, wr, wi, buf, traj);
+    CHECK_OK(rk_koopman_fit(traj, NTRAJ, MAXD, &o, &k, &err));
+    /* set 7, baked as 16 points of 3 observables each, starting from trajectory 0's first two frames */
+    double X[MAXD] = {0}, mass[MAXD / 3], scale = 0;
+    for (int v = 0; v < MAXD / 3; v++) mass[v] = 1;
+    for (int i = 0; i < NTRAJ * MAXD * FRAMES; i++) scale = fmax(scale, fabs(buf[i]));
+    rk_koopman_geometry g = {.nv = MAXD / 3, .X = X, .vertex_mass = mass, .u0 = traj[0].u + MAXD,
+                             .u_prev = traj[0].u, .trajectories = NTRAJ};
+    rk_asset_options ao;
+    rk_asset_default_options(&ao);
+    rombin_writer w;
+    unsigned char *asset = NULL;
+    size_t bytes = 0, need = 0;
+    rombin_writer_init(&w, ao.real_type, 0);
+    int rc = rk_asset_bake_koopman(&k, &g, &ao, NULL, &w, NULL, &err) || rombin_serialize(&w, &asset, &bytes, &err);
+    rombin_writer_free(&w);
+    rk_koopman_free(&k);
+    CHECK(rc == 0, "bake: %s", err.msg);
+    romrt_error re = {0};
+    romrt_model *m = NULL;
+    void *arena = NULL;
+    if (romrt_arena_size(asset, bytes, &need, &re) == ROMRT_OK) arena = aligned_alloc(16, (need + 15) / 16 * 16);
+    romrt_status st = arena ? romrt_open(asset, bytes, arena, need, &m, &re) : ROMRT_E_ARGUMENT;
+    romrt_real x[MAXD];
+    if (st == ROMRT_OK) st = romrt_jump(m, 1000000, &re);
+    if (st == ROMRT_OK) st = romrt_positions(m, x, MAXD / 3, 3);
+    double after = 0;
+    for (int i = 0; st == ROMRT_OK && i < MAXD; i++)
+        after = isfinite((double)x[i]) ? fmax(after, fabs((double)x[i])) : INFINITY;
+    free(arena);
+    free(asset);
+    CHECK(st == ROMRT_OK, "the runtime's jump of 10^6 steps: status %d (%s)", (int)st, re.message);
+    printf("# set 7's asset after a jump of 10^6 steps: largest |u| %.3g (the data's %.3g)\n", after, scale);
+    CHECK(after <= scale, "after 10^6 steps |u| = %.3g, above the data's largest %.3g", after, scale);
+}
+
+/* Slow data: at rest at first, u - u_prev small beside u, so the stacked data's smallest singular
+ * values lie far below its largest (about 1e-9 here). A fixed floor (1e-12 sigma_0 times the
+ * matrix's larger size) called it numerical rank 93 and refused rank 96; the data's rounding noise
+ * is far lower, so rank 96 is fitted, and its eigenvalues are as good as such data allow (the
+ * error of a least-squares fit is about eps times the condition number). */
+TEST(slow_data_is_fitted_at_full_rank_above_its_noise)
+{
+    static double G[LN2 * LN2], buf[NTRAJ * MAXD * FRAMES];
+    double wr[LN2], wi[LN2];
+    rk_koopman_trajectory traj[NTRAJ];
+    long_chain_data(&SLOW, 1, 20, G, wr, wi, buf, traj);
+    rk_koopman_options o;
+    rk_koopman_default_options(&o);
+    o.rank = LN2;
+    o.h = SLOW.h;
+    rk_koopman k;
+    rk_error err;
+    CHECK_OK(rk_koopman_fit(traj, NTRAJ, MAXD, &o, &k, &err));
+    double worst = worst_pairing(LN2, wr, wi, &k), cond = k.singular[0] / k.singular[LN2 - 1];
+    printf("# slow chain at rest, rank %d: singular values %.2e .. %.2e (ratio %.2e), worst eigenvalue distance "
+           "%.2e\n", k.r, k.singular[0], k.singular[LN2 - 1], cond, worst);
+    CHECK(worst <= 1e-6, "eigenvalues off by %.3g", worst);
+    rk_koopman_free(&k);
+}
+
 int main(void)
 {
     RUN(recovers_the_exact_eigenvalues_of_linear_dynamics);
     RUN(a_jump_of_n_steps_equals_n_single_steps);
     RUN(bad_data_gets_a_clear_message);
     RUN(noisy_growing_data_is_clamped_to_the_unit_circle);
+    RUN(a_48_mass_chain_at_full_rank_gives_all_96_eigenvalues);
+    RUN(a_default_fit_of_the_chain_is_stable_over_a_million_steps);
+    RUN(slow_data_is_fitted_at_full_rank_above_its_noise);
     return test_finish();
 }

@@ -389,11 +389,8 @@ static void model_kinetic(const rk_koopman *k, const double *start, int steps, d
     rk_koopman_lift(k, start + n, start, z);
     for (int t = 0; t <= steps; t++) {
         if (t) rk_koopman_advance(k, z, 1, dt_scale, 0);
-        for (int i = 0; i < n; i++) {
-            double s = 0;
-            for (int j = 0; j < r; j++) s += k->U[(size_t)2 * n * j + n + i] * z[j];
-            v[i] = s / k->h;
-        }
+        rk_koopman_velocities(k, z, v);
+        for (int i = 0; i < n; i++) v[i] /= k->h;
         ke[t] = kinetic(mass, n / 3, v);
     }
     free(z);

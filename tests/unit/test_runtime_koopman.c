@@ -1,8 +1,10 @@
 /* The runtime steps a Koopman asset as the precompute's operator does: single steps, forces as
  * impulses, the time-step rescale of Eq. 21 and the damping edit of Sec. 7.2 against the
- * library's rollout; jumps of N steps against N single steps; damaged eigenvalue tables refused.
- * Built twice: in float (the default runtime) and in double (test_runtime_koopman_double), where
- * the jump must match single steps to 1e-6 relative. */
+ * library's rollout; jumps of N steps against N single steps, and jumps of up to 10^9 steps over
+ * eigenvalues at and next to 1, -1 and 0 against repeated squaring in long double; damaged
+ * eigenvalue tables refused. Built twice: in float (the default runtime) and in double
+ * (test_runtime_koopman_double), where the jump must match single steps to 1e-6 relative. */
+#include <float.h>
 #include <stdint.h>
 
 #include "testlib.h"
@@ -209,8 +211,13 @@ TEST(a_jump_equals_single_steps)
     romrt_real F[3] = {1, 0, 0};
     for (int t = 0; t < 40; t++) romrt_step(f.m, NULL);
     romrt_add_force(f.m, romrt_find_group(f.m, "tip"), F);
+#ifdef ROMRT_DOUBLE
+    /* in double, 10^6 single steps too (float's own steps drift by more than TOL_JUMP by then) */
+    static const unsigned long N[] = {1, 7, 1000, 100000, 1000000};
+#else
     static const unsigned long N[] = {1, 7, 1000, 100000};
-    for (int i = 0; i < 4; i++) {
+#endif
+    for (int i = 0; i < (int)(sizeof N / sizeof N[0]); i++) {
         double d = jump_against_steps(&f, N[i]);
         printf("# jump of %lu steps against single steps: %.2e (tol %.0e)\n", N[i], d, TOL_JUMP);
         CHECK(d < TOL_JUMP, "jump of %lu differs by %.3g", N[i], d);
@@ -263,8 +270,9 @@ static void put_u32(unsigned char *p, uint32_t v)
     for (int b = 0; b < 4; b++) p[b] = (unsigned char)(v >> (8 * b));
 }
 
-/* Patches KEIG value i of the asset (recomputing the chunk CRC) and expects romrt_open to refuse. */
-static int refuses_keig(fixture *f, int i, double value, const char *needle)
+/* A copy of the asset (aligned, malloc'd) with KEIG values `at`.. replaced by `values` (n of them;
+ * the entry's and the table's CRCs recomputed, formats/ROMBIN.md). */
+static unsigned char *patched_keig(const fixture *f, int at, const double *values, int n)
 {
     rombin_file file;
     rombin_error e;
@@ -274,13 +282,14 @@ static int refuses_keig(fixture *f, int i, double value, const char *needle)
     rombin_open(&file, copy, f->bytes, NULL, &e);
     rombin_find(&file, ROMBIN_KEIG, &c);
     unsigned char *p = (unsigned char *)c.data;
-    if (REAL_TYPE == ROMBIN_REAL_F32) {
-        float x = (float)value;
-        memcpy(p + 4 * i, &x, 4);
-    } else {
-        memcpy(p + 8 * i, &value, 8);
+    for (int i = 0; i < n; i++) {
+        if (REAL_TYPE == ROMBIN_REAL_F32) {
+            float x = (float)values[i];
+            memcpy(p + 4 * (at + i), &x, 4);
+        } else {
+            memcpy(p + 8 * (at + i), &values[i], 8);
+        }
     }
-    /* the entry's CRC, then the table's (formats/ROMBIN.md) */
     for (unsigned k = 0; k < file.count; k++) {
         rombin_chunk ck;
         rombin_chunk_get(&file, k, &ck);
@@ -290,6 +299,13 @@ static int refuses_keig(fixture *f, int i, double value, const char *needle)
     uint32_t table = rombin_crc32(0, copy, ROMBIN_H_TABLE_CRC);
     table = rombin_crc32(table, copy + ROMBIN_HEADER_BYTES, ROMBIN_ENTRY_BYTES * (size_t)file.count);
     put_u32(copy + ROMBIN_H_TABLE_CRC, table);
+    return copy;
+}
+
+/* Patches KEIG value i of the asset and expects romrt_open to refuse. */
+static int refuses_keig(fixture *f, int i, double value, const char *needle)
+{
+    unsigned char *copy = patched_keig(f, i, &value, 1);
     size_t need;
     romrt_error rerr;
     romrt_status st = romrt_arena_size(copy, f->bytes, &need, &rerr);
@@ -337,10 +353,170 @@ TEST(open_kind_names_a_missing_model)
     fixture_close(&f);
 }
 
+/* A chunk's values as doubles (n of them). */
+static void chunk_values(const unsigned char *asset, size_t bytes, const char *id, double *out, int n)
+{
+    rombin_file file;
+    rombin_error e;
+    rombin_chunk c;
+    rombin_open(&file, asset, bytes, NULL, &e);
+    rombin_find(&file, id, &c);
+    for (int i = 0; i < n; i++) {
+        if (REAL_TYPE == ROMBIN_REAL_F32) {
+            float x;
+            memcpy(&x, c.data + 4 * i, 4);
+            out[i] = x;
+        } else {
+            memcpy(&out[i], c.data + 8 * i, 8);
+        }
+    }
+}
+
+typedef struct {
+    long double re, im;
+} ld_complex;
+
+static ld_complex ld_mul(ld_complex a, ld_complex b)
+{
+    return (ld_complex){a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+}
+
+/* The jump the runtime replaced, in long double: P = mu^N and G = sum_{k<N} mu^k by binary
+ * powering from the top bit (doubling: S <- S + P S, P <- P^2; adding one: P <- P mu, S <- S + P,
+ * with S = sum_{k=1}^n mu^k; G = 1 + S - P). */
+static void squaring(ld_complex mu, unsigned long n, ld_complex *P, ld_complex *G)
+{
+    ld_complex S = {0, 0};
+    unsigned long bit = 1;
+    *P = (ld_complex){1, 0};
+    while (bit <= n / 2) bit <<= 1;
+    for (; n && bit; bit >>= 1) {
+        ld_complex PS = ld_mul(*P, S);
+        S.re += PS.re, S.im += PS.im;
+        *P = ld_mul(*P, *P);
+        if (n & bit) {
+            *P = ld_mul(*P, mu);
+            S.re += P->re, S.im += P->im;
+        }
+    }
+    *G = (ld_complex){1 + S.re - P->re, S.im - P->im};
+}
+
+/* Eigenvalues where a closed form can go wrong, written over the fitted ones (the structure of
+ * real slots and pairs kept): exactly 1 (the forcing sum is N), 1 - delta (mu^N - 1 and mu - 1
+ * both tiny), -1 and -(1 - delta) (the sign is N's parity), 0 (0^0 = 1), -0.5, a pair on the unit
+ * circle, a pair next to 1 (|mu| = 1 - delta, angle 1e-3), a pair next to -1, an ordinary pair.
+ * delta: 1e-9 in double, 2^-20 in float (the float nearest to 1 - 1e-9 is 1). Then jumps of N = 1
+ * .. 10^9 steps from a moving state with gravity and a pushed force held, against the squaring
+ * above in long double from the same state, each block's error relative to the size of the
+ * terms it sums, |P| |y| + |G| |c|. A jump computes its powers in double from the step factors,
+ * so the error may grow like N eps_double (N arg mu and N log |mu| inherit their factor's rounding,
+ * as repeated squaring's does), on top of the state's own rounding in romrt_real. */
+TEST(a_jump_of_any_length_matches_repeated_squaring)
+{
+    rk_error err;
+    fixture f;
+    CHECK_OK(fixture_open(&f, &err));
+    int r = f.k.r;
+    double delta = REAL_TYPE == ROMBIN_REAL_F32 ? 0x1p-20 : 1e-9;
+    const double reals[] = {1, 1 - delta, -1, -(1 - delta), 0, -0.5};
+    const double pairs[][2] = {{cos(0.7), sin(0.7)}, {(1 - delta) * cos(1e-3), (1 - delta) * sin(1e-3)},
+                               {cos(M_PI - 1e-3), sin(M_PI - 1e-3)}, {0.9 * cos(0.3), 0.9 * sin(0.3)}};
+    const char *real_name[] = {"1", "1 - delta", "-1", "-(1 - delta)", "0", "-0.5"};
+    const char *pair_name[] = {"e^0.7i", "(1 - delta) e^0.001i", "e^(pi - 0.001)i", "0.9 e^0.3i"};
+    double *eig = calloc((size_t)2 * r, sizeof(double));
+    int *kind = calloc((size_t)r, sizeof(int)), nreal = 0, npair = 0, pairs_left = 0;
+    for (int j = 0; j < r; j++) pairs_left += f.k.lambda_im[j] > 0;
+    for (int j = 0; j < r; j++) {
+        if (f.k.lambda_im[j] < 0) continue; /* a conjugate, written with its pair */
+        /* a pair's two slots hold two real eigenvalues instead while reals are short */
+        int as_reals = f.k.lambda_im[j] > 0 && nreal < 6 && pairs_left > 4;
+        pairs_left -= f.k.lambda_im[j] > 0;
+        if (f.k.lambda_im[j] == 0 || as_reals) {
+            for (int i = 0; i < (as_reals ? 2 : 1); i++, nreal++) {
+                kind[j + i] = nreal % 6;
+                eig[2 * (j + i)] = reals[nreal % 6];
+            }
+        } else { /* a pair's first, then its conjugate */
+            kind[j] = kind[j + 1] = 6 + npair % 4;
+            eig[2 * j] = eig[2 * j + 2] = pairs[npair % 4][0];
+            eig[2 * j + 1] = pairs[npair % 4][1];
+            eig[2 * j + 3] = -pairs[npair++ % 4][1];
+        }
+    }
+    CHECK(nreal >= 6 && npair >= 4, "the fitted operator has %d real slots and %d pairs (6 and 4 needed)", nreal, npair);
+    unsigned char *asset = patched_keig(&f, 0, eig, 2 * r);
+    chunk_values(asset, f.bytes, ROMBIN_KEIG, eig, 2 * r); /* as stored (float in float) */
+    double *acc = calloc((size_t)r, sizeof(double)), prm[8];
+    chunk_values(asset, f.bytes, ROMBIN_KACC, acc, r);
+    chunk_values(asset, f.bytes, ROMBIN_KPRM, prm, 8);
+    size_t need;
+    romrt_error rerr;
+    romrt_model *m;
+    void *arena = NULL;
+    romrt_status st = romrt_arena_size(asset, f.bytes, &need, &rerr);
+    if (st == ROMRT_OK) arena = aligned_alloc(16, (need + 15) / 16 * 16);
+    if (arena) st = romrt_open(asset, f.bytes, arena, need, &m, &rerr);
+    CHECK(arena && st == ROMRT_OK, "the patched asset: %s", rerr.message);
+    /* a moving state: y_j = 0.01 (j + 1) / r, alternating in sign; a force held on the tip */
+    int ns = romrt_state_size(m);
+    romrt_real *state = calloc((size_t)ns, sizeof(romrt_real)), *y = calloc((size_t)r, sizeof(romrt_real));
+    romrt_real F[3] = {0, 0.5, 1};
+    romrt_add_force(m, romrt_find_group(m, "tip"), F);
+    romrt_get_state(m, state, ns);
+    int head = ns - 5 * r; /* the clock and have_prev, then y */
+    for (int j = 0; j < r; j++) state[head + j] = (romrt_real)(0.01 * (j + 1) / r * (j % 2 ? -1 : 1));
+    CHECK(romrt_set_state(m, state, ns) == ROMRT_OK, "set_state");
+    static const unsigned long N[] = {1, 2, 7, 1000, 1000000, 1000000000};
+    double eps = REAL_TYPE == ROMBIN_REAL_F32 ? FLT_EPSILON : DBL_EPSILON, worst_all = 0;
+    for (int n = 0; n < 6; n++) {
+        double worst_kind[10] = {0}, tol = 8 * eps + 16 * (double)N[n] * DBL_EPSILON;
+        CHECK(romrt_set_state(m, state, ns) == ROMRT_OK && romrt_jump(m, N[n], &rerr) == ROMRT_OK, "jump %lu: %s",
+              N[n], rerr.message);
+        romrt_reduced_coordinates(m, y, r);
+        long double h2 = (long double)prm[0] * prm[0];
+        for (int j = 0; j < r; j++) {
+            int pair = eig[2 * j + 1] != 0, w = pair ? 2 : 1;
+            ld_complex mu = {eig[2 * j], eig[2 * j + 1]}, P, G;
+            /* c = h^2 (KACC + f_app), then one step's sum of mu^t, mu (sigma = 1): the runtime's forcing */
+            ld_complex cin = {h2 * (acc[j] + state[head + 4 * r + j]), pair ? h2 * (acc[j + 1] + state[head + 4 * r + j + 1]) : 0};
+            ld_complex y0 = {state[head + j], pair ? state[head + j + 1] : 0};
+            /* a pair's block acts on w = y_j - i y_{j+1} as multiplication by mu (runtime/koopman.c) */
+            cin.im = -cin.im, y0.im = -y0.im;
+            ld_complex c = ld_mul(mu, cin);
+            squaring(mu, N[n], &P, &G);
+            ld_complex ref = ld_mul(P, y0), Gc = ld_mul(G, c);
+            ref.re += Gc.re, ref.im += Gc.im;
+            long double got_re = y[j], got_im = pair ? -(long double)y[j + 1] : 0;
+            long double size = hypotl(P.re, P.im) * hypotl(y0.re, y0.im) + hypotl(G.re, G.im) * hypotl(c.re, c.im);
+            double e = (double)(hypotl(got_re - ref.re, got_im - ref.im) / (size > 0 ? size : 1));
+            worst_kind[kind[j]] = fmax(worst_kind[kind[j]], e);
+            j += w - 1;
+        }
+        printf("# N = %lu (tol %.1e):", N[n], tol);
+        for (int k = 0; k < 10; k++) {
+            printf(" %s %.1e%s", k < 6 ? real_name[k] : pair_name[k - 6], worst_kind[k], k < 9 ? "," : "\n");
+            worst_all = fmax(worst_all, worst_kind[k] / tol);
+            CHECK(worst_kind[k] <= tol, "N = %lu, mu = %s: off by %.3g (tol %.3g)", N[n], k < 6 ? real_name[k] :
+                  pair_name[k - 6], worst_kind[k], tol);
+        }
+    }
+    printf("# worst error over the tolerance: %.2f\n", worst_all);
+    free(state);
+    free(y);
+    free(arena);
+    free(asset);
+    free(eig);
+    free(kind);
+    free(acc);
+    fixture_close(&f);
+}
+
 int main(void)
 {
     RUN(steps_as_the_library_does);
     RUN(a_jump_equals_single_steps);
+    RUN(a_jump_of_any_length_matches_repeated_squaring);
     RUN(damaged_eigenvalues_are_refused);
     RUN(two_hours_of_steps_keep_the_clock_and_the_rows);
     RUN(open_kind_names_a_missing_model);
