@@ -51,7 +51,8 @@ static cJSON *method_json(const rk_compare_method *m)
         return j;
     }
     cJSON *b = cJSON_AddObjectToObject(j, "basis");
-    cJSON_AddStringToObject(b, "type", rk_basis_type_name(m->type));
+    /* an adaptive linear ROM's basis is its decoder's Jacobian: the decoder names it */
+    cJSON_AddStringToObject(b, "type", m->alrom ? "decoder" : rk_basis_type_name(m->type));
     cJSON_AddNumberToObject(b, "size", m->size);
     cJSON_AddNumberToObject(b, "columns", m->r);
     cJSON_AddStringToObject(b, "bound_by", m->basis_reason);

@@ -4,6 +4,7 @@
 #include "compare/compare_impl.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,6 +57,9 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
     }
     m->alrom = 1;
     m->size = m->r = e->basis.size;
+    snprintf(m->basis_reason, sizeof m->basis_reason, "decoder %s, r %d, m %d, lambda %g%s",
+             e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic", e->basis.size, e->alrom.history,
+             e->alrom.lambda, e->crom || e->quadratic_pod ? ", trained on the entry's frames" : "");
     rk_run_error er;
     rk_run_error_init(&er, sim->mesh.X, ndof / 3);
     m->contact_min_distance = INFINITY;
