@@ -18,9 +18,9 @@ set xlabel "r"
 set logscale x 2
 set format x "%g"
 set xrange [3:40]
-plot sel("compress", "r", "adaptive") using "value":"online_error" with linespoints lw 2 pt 7 lc rgb palette[1] title "adaptive, compression", \
+plot sel("compress", "r", "adaptive") using "value":"online_error" with linespoints lw 2 pt 7 lc rgb palette[1] title "adaptive (CROM), compression", \
      sel("compress", "r", "pca") using "value":"online_error" with linespoints lw 2 dt 2 pt 6 lc rgb palette[1] title "PCA, compression", \
-     sel("bend", "r", "adaptive") using "value":"online_error" with linespoints lw 2 pt 5 lc rgb palette[2] title "adaptive, bending", \
+     sel("bend", "r", "adaptive") using "value":"online_error" with linespoints lw 2 pt 5 lc rgb palette[2] title "adaptive (CROM), bending", \
      sel("bend", "r", "pca") using "value":"online_error" with linespoints lw 2 dt 2 pt 4 lc rgb palette[2] title "PCA, bending", \
      sel("compress", "r", "adaptive_quadratic_pod") using "value":"online_error" with linespoints lw 2 dt 3 pt 9 lc rgb palette[1] title "adaptive (fitted quadratic), compression", \
      sel("bend", "r", "adaptive_quadratic_pod") using "value":"online_error" with linespoints lw 2 dt 3 pt 11 lc rgb palette[2] title "adaptive (fitted quadratic), bending"
