@@ -34,10 +34,12 @@ else
     exit 1
 fi
 browser=$(json_num "$TMP/browser.json" browser_ms_per_step) || { fail browser_step_time_read "no browser_ms_per_step"; exit 1; }
+lo=$(json_num "$TMP/browser.json" browser_ms_per_step_min)
+hi=$(json_num "$TMP/browser.json" browser_ms_per_step_max)
 shown=$(json_num "$TMP/browser.json" shown)
 r=$(json_num "$TMP/browser.json" r)
 echo "ms per step, rkpm.rombin (the demo's RKPM model: $shown shown vertices, r = $r), median of the first $STEPS steps from rest:"
-awk -v b="$browser" -v n="$native" 'BEGIN {
-    printf "  browser (chromium headless, WebAssembly, SIMD128): %.3f ms\n", b
-    printf "  native  (romkit run, float32 runtime):             %.3f ms\n", n * 1000
-    printf "  browser / native: %.2f\n", b / (n * 1000) }'
+awk -v b="$browser" -v lo="$lo" -v hi="$hi" -v n="$native" 'BEGIN {
+    printf "  browser (chromium headless, WebAssembly SIMD128): %.1f ms (fastest %.1f, slowest %.1f; the timer ticks in 0.1 ms)\n", b, lo, hi
+    printf "  native  (romkit run, the float32 runtime library): %.1f ms\n", n * 1000
+    printf "  browser / native: %.1f\n", b / (n * 1000) }'
