@@ -2,8 +2,9 @@
 // web/package-lock.json). Serves WEB_DIR with python3's http.server, as make web tells a user to;
 // opens the demo's RKPM asset, times its first steps, drags its free end up and checks that the
 // surface followed; then a Koopman asset with the jump slider, and a point cloud through the file
-// picker. Prints ok/FAIL lines and writes the measured numbers as JSON.
-// Usage: node tests/web/page.mjs WEB_DIR POINTS.rombin OUT.json
+// picker, and a damaged asset, which must be refused with the runtime's message. Prints ok/FAIL
+// lines and writes the measured numbers as JSON.
+// Usage: node tests/web/page.mjs WEB_DIR PICK_DIR OUT.json (PICK_DIR: points.rombin, damaged.rombin)
 import { createRequire } from 'node:module';
 import { spawn } from 'node:child_process';
 import { writeFileSync } from 'node:fs';
@@ -11,7 +12,7 @@ import { join } from 'node:path';
 
 const require = createRequire(new URL('../../web/package.json', import.meta.url));
 const { chromium } = require('playwright-core');
-const [webDir, pointsAsset, outJson] = process.argv.slice(2);
+const [webDir, pickDir, outJson] = process.argv.slice(2);
 const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
 // The steps timed from rest, the same as the native `romkit run --steps` beside it.
 const TIMED_STEPS = Number(process.env.WEB_TIMED_STEPS || 100);
@@ -168,7 +169,7 @@ try {
         `${k.steps - s.steps} steps, t ${s.time} -> ${k.time} at h ${k.h}; finite ${finite(x)}; error ${k.error}`);
 
   // 5. A point cloud through the file picker: drawn as points, stepping.
-  await page.setInputFiles('#file', pointsAsset);
+  await page.setInputFiles('#file', join(pickDir, 'points.rombin'));
   await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'points.rombin' &&
                             (window.romkitState.steps >= 20 || window.romkitState.error));
   s = await state(page);
@@ -176,6 +177,15 @@ try {
   x = await positions(page);
   check('file_picker_opens_a_point_cloud_as_points', s.drawn === 'points' && s.triangles === 0 && !s.error &&
         finite(x) && maxMove(x, pr) > 0, `${JSON.stringify(s)}; largest move ${maxMove(x, pr)}`);
+
+  // 6. A damaged asset: refused with the runtime's own message (read from romrt_error in the heap).
+  await page.setInputFiles('#file', join(pickDir, 'damaged.rombin'));
+  await waitFor(page, () => window.romkitState.asset === 'damaged.rombin' && window.romkitState.error, undefined, 10000)
+    .catch(() => {});
+  s = await state(page);
+  const shown = await page.textContent('#error');
+  check('damaged_asset_refused_with_the_runtime_message', !s.ready && /damaged asset: .*CRC mismatch/.test(s.error) &&
+        shown.includes('CRC mismatch'), `ready ${s.ready}, error ${s.error}, shown "${shown}"`);
 
   check('no_page_errors', problems.length === 0, problems.join('; '));
 } catch (e) {

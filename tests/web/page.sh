@@ -14,14 +14,17 @@ if [ ! -f "$WEB/romrt.wasm" ] || [ ! -f "$WEB/rkpm.rombin" ]; then
     fail web_built "no $WEB/romrt.wasm or $WEB/rkpm.rombin: make web builds them"
     exit 1
 fi
-# A point cloud for the file picker (the demo has none): RKPM skinning on 81 points, a second to bake.
+# For the file picker: a point cloud (the demo has none; RKPM skinning on 81 points, a second to
+# bake), and a copy with one byte flipped, which the page must refuse with the runtime's message.
 mkdir -p "$TMP/pick"
 if ! "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/pick/points.rombin" --quiet >/dev/null 2>"$TMP/err"; then
     fail point_cloud_baked "$(head -c 600 "$TMP/err")"
     exit 1
 fi
+cp "$TMP/pick/points.rombin" "$TMP/pick/damaged.rombin"
+printf '\377' | dd of="$TMP/pick/damaged.rombin" bs=1 seek=2000 conv=notrunc 2>/dev/null
 
-WEB_TIMED_STEPS=$STEPS node tests/web/page.mjs "$WEB" "$TMP/pick/points.rombin" "$TMP/browser.json"
+WEB_TIMED_STEPS=$STEPS node tests/web/page.mjs "$WEB" "$TMP/pick" "$TMP/browser.json"
 [ -f "$WEB/screenshot.png" ] && echo "screenshot: $WEB/screenshot.png"
 
 # The same asset from rest in the native float runtime (the desktop library: -O3, AVX2 and FMA
