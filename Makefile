@@ -307,6 +307,7 @@ uninstall:
 
 -include $(shell find $(BUILD)/obj $(BUILD)/obj-double $(BUILD)/rt $(BUILD)/tests -name '*.d' 2>/dev/null)
 
-# make mcu (Cortex-M4F under qemu) and make fuzz: their own fragments.
+# make mcu (Cortex-M4F under qemu), make fuzz, make web and make test-web: their own fragments.
 include tests/mcu/mcu.mk
 include tests/fuzz/fuzz.mk
+include web/web.mk

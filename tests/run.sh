@@ -2,9 +2,12 @@
 # Runs every unit test executable and integration script, counts "ok"/"FAIL" lines and
 # prints the closing line "N passed, N failed". An executable that crashes or exits non-zero
 # without saying FAIL counts as one failure of its own.
-# Usage: BUILD=build sh tests/run.sh [filter]
+# Usage: BUILD=build [SUITES="unit integration"] sh tests/run.sh [filter]
+# SUITES: unit (the executables $BUILD/tests/test_*) and folders of tests/ whose *.sh run
+# (make test: unit integration; make test-web: web).
 BUILD=${BUILD:-build}
 FILTER=${1:-}
+SUITES=${SUITES:-unit integration}
 export ROMKIT=${ROMKIT:-$PWD/$BUILD/romkit}
 export ROMKIT_BUILD=$BUILD
 passed=0
@@ -30,16 +33,21 @@ run_one() {
     failed=$((failed + f))
     echo "# $name: $p passed, $f failed, $(( $(date +%s) - start )) s"
 }
-for t in "$BUILD"/tests/test_*; do
-    case "$t" in *.d) continue ;; esac
-    [ -x "$t" ] || continue
-    case "$t" in *"$FILTER"*) ;; *) continue ;; esac
-    run_one "$(basename "$t")" "$t"
-done
-for t in tests/integration/*.sh; do
-    [ -f "$t" ] || continue
-    case "$t" in *"$FILTER"*) ;; *) continue ;; esac
-    run_one "$(basename "$t")" sh "$t"
+for suite in $SUITES; do
+    if [ "$suite" = unit ]; then
+        for t in "$BUILD"/tests/test_*; do
+            case "$t" in *.d) continue ;; esac
+            [ -x "$t" ] || continue
+            case "$t" in *"$FILTER"*) ;; *) continue ;; esac
+            run_one "$(basename "$t")" "$t"
+        done
+        continue
+    fi
+    for t in tests/"$suite"/*.sh; do
+        [ -f "$t" ] || continue
+        case "$t" in *"$FILTER"*) ;; *) continue ;; esac
+        run_one "$(basename "$t")" sh "$t"
+    done
 done
 rm -f "$log"
 echo "$passed passed, $failed failed"

@@ -1,0 +1,198 @@
+// page.mjs: the page of make web in Debian's chromium, headless, through playwright-core (from
+// web/package-lock.json). Serves WEB_DIR with python3's http.server, as make web tells a user to;
+// opens the demo's RKPM asset, times its first steps, drags its free end up and checks that the
+// surface followed; then a Koopman asset with the jump slider, and a point cloud through the file
+// picker, and a damaged asset, which must be refused with the runtime's message. Prints ok/FAIL
+// lines and writes the measured numbers as JSON.
+// Usage: node tests/web/page.mjs WEB_DIR PICK_DIR OUT.json (PICK_DIR: points.rombin, damaged.rombin)
+import { createRequire } from 'node:module';
+import { spawn } from 'node:child_process';
+import { writeFileSync } from 'node:fs';
+import { join } from 'node:path';
+
+const require = createRequire(new URL('../../web/package.json', import.meta.url));
+const { chromium } = require('playwright-core');
+const [webDir, pickDir, outJson] = process.argv.slice(2);
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+// The steps timed from rest, the same as the native `romkit run --steps` beside it.
+const TIMED_STEPS = Number(process.env.WEB_TIMED_STEPS || 100);
+
+let failures = 0;
+function check(name, pass, why) {
+  if (pass) console.log(`ok ${name}`);
+  else { console.log(`FAIL ${name}: ${why}`); failures++; }
+  return pass;
+}
+
+// python3 -m http.server on a free port (0), read back from its first line.
+function serve(dir) {
+  const server = spawn('python3', ['-u', '-m', 'http.server', '0', '--bind', '127.0.0.1', '--directory', dir],
+                       { stdio: ['ignore', 'pipe', 'ignore'] });
+  return new Promise((resolve, reject) => {
+    let text = '';
+    server.stdout.on('data', (d) => {
+      text += d;
+      const m = text.match(/port (\d+)/);
+      if (m) resolve({ server, url: `http://127.0.0.1:${m[1]}/` });
+    });
+    server.on('exit', (code) => reject(new Error(`http.server exited (${code}) before serving`)));
+  });
+}
+
+const median = (v) => v.slice().sort((a, b) => a - b)[v.length >> 1];
+const state = (page) => page.evaluate(() => {
+  const s = window.romkitState;
+  return s && { ready: s.ready, asset: s.asset, kind: s.kind, drawn: s.drawn, shown: s.shown, triangles: s.triangles,
+                r: s.r, h: s.h, steps: s.steps, frames: s.frames, time: s.time, error: s.error, picked: s.picked,
+                force: s.force, target: s.target, stiffness: s.stiffness };
+});
+const positions = (page) => page.evaluate(() => window.romkitState.positions());
+const finite = (xs) => xs.every(Number.isFinite);
+const maxMove = (a, b) => Math.max(...a.map((v, i) => Math.abs(v - b[i])));
+async function waitFor(page, fn, arg, timeout = 60000) {
+  await page.waitForFunction(fn, arg, { timeout, polling: 50 });
+}
+
+const { server, url } = await serve(webDir);
+const browser = await chromium.launch({
+  executablePath: CHROMIUM,
+  // WebGL on the CPU (SwiftShader): a headless machine has no GPU.
+  args: ['--enable-unsafe-swiftshader', '--use-angle=swiftshader'],
+});
+const out = {};
+try {
+  const page = await browser.newPage({ viewport: { width: 960, height: 640 } });
+  const problems = [];
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+
+  // 1. The demo's RKPM asset from rest: it opens, draws its surface, and its first steps are timed.
+  await page.goto(`${url}index.html?asset=rkpm.rombin`);
+  try {
+    await waitFor(page, (n) => window.romkitState && (window.romkitState.error || window.romkitState.steps >= n), TIMED_STEPS);
+  } catch (e) {
+    check('rkpm_opens_and_steps', false, `${e.message}; ${JSON.stringify(await state(page))}; ${problems.join('; ')}`);
+    throw e;
+  }
+  let s = await state(page);
+  check('rkpm_opens_and_steps', !s.error && s.kind === 'reduced' && s.steps >= TIMED_STEPS, JSON.stringify(s));
+  check('rkpm_draws_its_surface', s.drawn === 'surface' && s.triangles > 0 && s.shown > 0, JSON.stringify(s));
+  const stepMs = await page.evaluate((n) => window.romkitState.stepMs.slice(0, n), TIMED_STEPS);
+  out.asset = 'rkpm.rombin';
+  out.shown = s.shown;
+  out.r = s.r;
+  out.browser_ms_per_step = median(stepMs);
+  out.browser_ms_per_step_min = Math.min(...stepMs);
+  out.browser_ms_per_step_max = Math.max(...stepMs);
+  check('rkpm_step_time_recorded', stepMs.length === TIMED_STEPS && out.browser_ms_per_step > 0,
+        `${stepMs.length} times, median ${out.browser_ms_per_step}`);
+  const rest = await page.evaluate(() => window.romkitState.rest());
+  let x = await positions(page);
+  check('rkpm_positions_finite_and_moving', finite(x) && maxMove(x, rest) > 1e-3,
+        `finite ${finite(x)}, largest move from rest ${maxMove(x, rest)}`);
+
+  // 2. Drag: press on the free end (the shown vertex farthest along +x, on the face towards the
+  // camera), pull 300 px up and hold. Gravity alone only sags the beam below its rest shape, so
+  // the grabbed vertex rising well above its rest height is the drag's doing; and it must end
+  // nearer the pointer's target than where it was grabbed.
+  const n = rest.length / 3;
+  let xmax = -Infinity, zmax = -Infinity;
+  for (let i = 0; i < n; i++) { xmax = Math.max(xmax, rest[3 * i]); zmax = Math.max(zmax, rest[3 * i + 2]); }
+  let ymid = 0, count = 0;
+  for (let i = 0; i < n; i++) if (rest[3 * i] > xmax - 1e-6) { ymid += rest[3 * i + 1]; count++; }
+  ymid /= count;
+  let grab = -1, best = Infinity;
+  for (let i = 0; i < n; i++) {
+    if (rest[3 * i + 2] < zmax - 1e-6) continue; // the front face
+    const d = (xmax - rest[3 * i]) ** 2 + (rest[3 * i + 1] - ymid) ** 2;
+    if (d < best) { best = d; grab = i; }
+  }
+  // a little inside the surface from that vertex, so the ray hits the front face
+  const at = await page.evaluate((i) => window.romkitState.project(i), grab);
+  const size = Math.hypot(...[0, 1, 2].map((k) => Math.max(...rest.filter((_, j) => j % 3 === k)) -
+                                                  Math.min(...rest.filter((_, j) => j % 3 === k))));
+  await page.mouse.move(at.x - 4, at.y);
+  await page.mouse.down();
+  await waitFor(page, () => window.romkitState.picked >= 0, undefined, 5000).catch(() => {});
+  s = await state(page);
+  const picked = s.picked;
+  check('press_on_the_surface_grabs_a_vertex', picked >= 0, `picked ${picked} at ${JSON.stringify(at)}`);
+  const steps0 = s.steps;
+  const grabbed = (await positions(page)).slice(3 * picked, 3 * picked + 3);
+  for (let k = 1; k <= 10; k++) await page.mouse.move(at.x - 4, at.y - 30 * k);
+  await waitFor(page, (n0) => window.romkitState.steps >= n0 + 80, steps0, 60000).catch(() => {});
+  s = await state(page);
+  x = await positions(page);
+  const yRest = rest[3 * picked + 1], now = x.slice(3 * picked, 3 * picked + 3);
+  const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+  out.drag_rise_m = now[1] - yRest;
+  check('drag_pulls_the_surface_up', picked >= 0 && now[1] > yRest + 0.05 * size,
+        `vertex ${picked}: y ${now[1]} against rest ${yRest} (bounding-box diagonal ${size}), ${s.steps - steps0} steps`);
+  check('dragged_vertex_follows_the_pointer', s.target && dist(now, s.target) < 0.5 * dist(grabbed, s.target),
+        `vertex ${picked} at ${now}, grabbed at ${grabbed}, target ${s.target}`);
+  await page.screenshot({ path: join(webDir, 'screenshot.png') });
+  // The force follows the pointer: 200 px to the right, the target moves along +x and, the beam
+  // being stiff along its length, the pull gets a +x part.
+  const held = s;
+  await page.mouse.move(at.x + 196, at.y - 300, { steps: 5 });
+  await waitFor(page, (n0) => window.romkitState.steps >= n0 + 5, s.steps, 20000).catch(() => {});
+  s = await state(page);
+  check('force_follows_the_drag', s.picked === picked && s.target && s.force &&
+        s.target[0] > held.target[0] + 0.05 * size && s.force[0] > 0,
+        `vertex ${s.picked}, target ${held.target} -> ${s.target}, force ${s.force}`);
+  await page.mouse.up();
+  await waitFor(page, () => window.romkitState.force === null, undefined, 5000).catch(() => {});
+  s = await state(page);
+  check('release_leaves_no_force', s.force === null && s.picked === -1, JSON.stringify(s));
+
+  // 3. Frames keep coming: the page keeps stepping and drawing for a second after the drag.
+  const before = await state(page);
+  await page.waitForTimeout(1000);
+  const after = await state(page);
+  out.frames_per_second = after.frames - before.frames;
+  check('frames_keep_coming', after.frames - before.frames >= 10 && after.steps > before.steps && !after.error,
+        `${after.frames - before.frames} frames and ${after.steps - before.steps} steps in 1 s; error ${after.error}`);
+
+  // 4. A Koopman asset from the list: the jump slider at 10^3 steps a frame moves its clock 10^3 h a frame.
+  await page.selectOption('#demo', 'koopman.rombin');
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'koopman.rombin' &&
+                            window.romkitState.steps > 0);
+  check('jump_slider_shown_for_koopman', await page.isVisible('#jump'), 'the slider is hidden');
+  await page.evaluate(() => { const j = document.getElementById('jump'); j.value = '3'; j.dispatchEvent(new Event('input')); });
+  s = await state(page);
+  await waitFor(page, (n0) => window.romkitState.steps >= n0 + 3000, s.steps, 20000).catch(() => {});
+  const k = await state(page);
+  const jumps = (k.steps - s.steps) / 1000;
+  x = await positions(page);
+  check('koopman_jumps', k.kind === 'koopman' && Number.isInteger(jumps) && jumps >= 3 &&
+        Math.abs((k.time - s.time) - jumps * 1000 * k.h) < 1e-6 * k.time && finite(x) && !k.error,
+        `${k.steps - s.steps} steps, t ${s.time} -> ${k.time} at h ${k.h}; finite ${finite(x)}; error ${k.error}`);
+
+  // 5. A point cloud through the file picker: drawn as points, stepping.
+  await page.setInputFiles('#file', join(pickDir, 'points.rombin'));
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'points.rombin' &&
+                            (window.romkitState.steps >= 20 || window.romkitState.error));
+  s = await state(page);
+  const pr = await page.evaluate(() => window.romkitState.rest());
+  x = await positions(page);
+  check('file_picker_opens_a_point_cloud_as_points', s.drawn === 'points' && s.triangles === 0 && !s.error &&
+        finite(x) && maxMove(x, pr) > 0, `${JSON.stringify(s)}; largest move ${maxMove(x, pr)}`);
+
+  // 6. A damaged asset: refused with the runtime's own message (read from romrt_error in the heap).
+  await page.setInputFiles('#file', join(pickDir, 'damaged.rombin'));
+  await waitFor(page, () => window.romkitState.asset === 'damaged.rombin' && window.romkitState.error, undefined, 10000)
+    .catch(() => {});
+  s = await state(page);
+  const shown = await page.textContent('#error');
+  check('damaged_asset_refused_with_the_runtime_message', !s.ready && /damaged asset: .*CRC mismatch/.test(s.error) &&
+        shown.includes('CRC mismatch'), `ready ${s.ready}, error ${s.error}, shown "${shown}"`);
+
+  check('no_page_errors', problems.length === 0, problems.join('; '));
+} catch (e) {
+  check('web_page', false, e.stack || e.message);
+} finally {
+  await browser.close();
+  server.kill();
+}
+writeFileSync(outJson, JSON.stringify(out, null, 2) + '\n');
+process.exit(failures ? 1 : 0);

@@ -1,0 +1,133 @@
+// model.js: one .rombin asset stepped by the runtime compiled to WebAssembly (romrt.js, made by
+// `make web` from runtime/ with emscripten). Direct calls to the exported C functions: the float
+// build's link names, romrt_f32_* (romrt.h maps every romrt_NAME to them).
+//
+// The asset, the arena and the buffers live in the wasm heap and belong to this object; free()
+// gives them back. Nothing in the runtime allocates, so the heap does not grow while a model
+// steps and the views taken after each call stay valid until the next one.
+
+export const KIND_REDUCED = 0;
+export const KIND_KOOPMAN = 1;
+
+// romrt_error in wasm32: status (a 4-byte enum), chunk[5], message[160]: 172 bytes.
+const ERROR_BYTES = 176;
+const ERROR_MESSAGE = 9;
+
+export class Model {
+  // M: the emscripten module (await createRomrt()); bytes: the asset's bytes (Uint8Array).
+  constructor(M, bytes) {
+    this.M = M;
+    this.blocks = [];
+    this.c = (name, ...args) => M['_romrt_f32_' + name](...args);
+    try {
+      this.open(bytes);
+    } catch (e) {
+      this.free();
+      throw e;
+    }
+  }
+
+  open(bytes) {
+    const M = this.M, c = this.c;
+    this.err = this.alloc(ERROR_BYTES);
+    const out = this.alloc(8); // a size_t or a pointer (4 bytes each in wasm32)
+    // The runtime reads the asset in place and wants it aligned to 8 bytes (16 recommended).
+    this.asset = this.alloc(bytes.length);
+    M.HEAPU8.set(bytes, this.asset);
+    this.check(c('arena_size', this.asset, bytes.length, out, this.err));
+    const arenaBytes = M.HEAPU32[out >> 2];
+    this.arena = this.alloc(arenaBytes);
+    this.check(c('open', this.asset, bytes.length, this.arena, arenaBytes, out, this.err));
+    this.model = M.HEAPU32[out >> 2];
+    this.kind = c('model_kind', this.model);
+    this.shown = c('shown_count', this.model);
+    this.triangleCount = c('triangle_count', this.model);
+    this.r = c('reduced_size', this.model);
+    this.arenaBytes = arenaBytes;
+    this.xyz = this.alloc(12 * this.shown);
+    this.force = this.alloc(12);
+  }
+
+  // A heap block aligned to 16 bytes (malloc promises 8 here), freed with the model.
+  alloc(bytes) {
+    const p = this.M._malloc(bytes + 15);
+    if (!p) throw new Error(`out of memory (${bytes} bytes)`);
+    this.blocks.push(p);
+    return (p + 15) & ~15;
+  }
+
+  // Throws for a failed status: the runtime's message for the calls that fill this.err, else the
+  // status's name and the call.
+  check(status, call) {
+    if (status === 0) return;
+    const M = this.M;
+    const name = M.UTF8ToString(this.c('status_string', status));
+    throw new Error(call ? `romrt_${call}: ${name}` : `${name}: ${M.UTF8ToString(this.err + ERROR_MESSAGE)}`);
+  }
+
+  // The shown vertices now, xyz[3 i + k]: a view into the heap, valid until the next call.
+  positions() {
+    this.check(this.c('positions', this.model, this.xyz, this.shown, 3), 'positions');
+    return this.M.HEAPF32.subarray(this.xyz >> 2, (this.xyz >> 2) + 3 * this.shown);
+  }
+
+  restPositions() {
+    this.check(this.c('rest_positions', this.model, this.xyz, this.shown, 3), 'rest_positions');
+    return this.M.HEAPF32.slice(this.xyz >> 2, (this.xyz >> 2) + 3 * this.shown);
+  }
+
+  // The surface triangles over the shown vertices (empty for a point cloud).
+  triangles() {
+    const n = this.triangleCount;
+    if (n === 0) return new Uint32Array(0);
+    const p = this.M._malloc(12 * n);
+    try {
+      this.check(this.c('triangles', this.model, p, n), 'triangles');
+      return new Uint32Array(this.M.HEAP32.slice(p >> 2, (p >> 2) + 3 * n));
+    } finally {
+      this.M._free(p);
+    }
+  }
+
+  // The whole dynamic state (romrt_get_state), or null where the asset cannot save it (an
+  // adaptive linear ROM); setState puts one back.
+  getState() {
+    const n = this.c('state_size', this.model);
+    if (n === 0) return null;
+    const p = this.M._malloc(4 * n);
+    try {
+      this.check(this.c('get_state', this.model, p, n), 'get_state');
+      return this.M.HEAPF32.slice(p >> 2, (p >> 2) + n);
+    } finally {
+      this.M._free(p);
+    }
+  }
+  setState(state) {
+    const p = this.M._malloc(4 * state.length);
+    try {
+      this.M.HEAPF32.set(state, p >> 2);
+      this.check(this.c('set_state', this.model, p, state.length), 'set_state');
+    } finally {
+      this.M._free(p);
+    }
+  }
+
+  step() { this.check(this.c('step', this.model, this.err)); }
+  // Koopman assets: `steps` steps at once (cost grows like log(steps)).
+  jump(steps) { this.check(this.c('jump', this.model, steps, this.err)); }
+  reset() { this.c('reset', this.model); }
+  time() { return this.c('time', this.model); }
+  timeStep() { return this.c('time_step', this.model); }
+
+  // Adds f (N) on one shown vertex; it acts on every following step until clearForces().
+  addVertexForce(vertex, f) {
+    this.M.HEAPF32.set(f, this.force >> 2);
+    this.check(this.c('add_vertex_force', this.model, vertex, this.force), 'add_vertex_force');
+  }
+  clearForces() { this.c('clear_forces', this.model); }
+
+  free() {
+    for (const p of this.blocks) this.M._free(p);
+    this.blocks = [];
+  }
+}
