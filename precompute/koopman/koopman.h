@@ -180,6 +180,31 @@ void rk_koopman_control_default(rk_koopman_control_problem *p);
 int rk_koopman_control(const rk_koopman *k, const rk_koopman_control_problem *p, double *C, double *residual,
                        double *z_final, rk_error *err);
 
+/* Following a target trajectory (track.c; Sec. 7.3, Figs. 14-15: the user draws a path and the
+ * inputs that make the model follow it are solved for). Receding horizon on rk_koopman_control:
+ * at each frame t the input C_t is the constant input that, held for H steps from the model's
+ * current state, brings the chosen values to their goals at frame t + H (Eq. 25 over H steps;
+ * the horizon shrinks at the end); only its first step is applied (the forced step of Eq. 19),
+ * and the next frame solves again from where the model then is. */
+typedef struct {
+    int frames;                      /* T >= 2: goal frames; frame 0 is the start (no input acts before it) */
+    int horizon;                     /* H >= 1 */
+    int m;                           /* values that follow the goals */
+    const int *index;                /* m value indices (0..n-1) */
+    const double *goal;              /* m x T, column-major: goal[m t + i] for value index[i] at frame t */
+    const double *z0;                /* r: the start, or NULL: rest */
+    const double *accel;             /* n: constant acceleration (gravity, loads), or NULL */
+    int inputs;                      /* k >= 1 */
+    rk_koopman_input_fn input_field; /* as rk_koopman_control's; evaluated at the predicted goal frame */
+    void *ctx;
+    int nonnegative;
+    int iterations;                  /* >= 1 per frame */
+} rk_koopman_track_problem;
+
+/* C: k x (T - 1), column-major (C[k t + j]: input j during the step from frame t to t + 1).
+ * u (n x T, or NULL): the model's values at every frame under those inputs. */
+int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, double *C, double *u, rk_error *err);
+
 /* Dense solvers (lstsq.c); A is m x n, column-major, left unchanged.
  * x = the minimum-norm least-squares solution of A x ~ b (dgelsd, relative singular value cut 1e-12). */
 int rk_lstsq(int m, int n, const double *A, const double *b, double *x, rk_error *err);
