@@ -34,6 +34,11 @@ typedef struct {
                           * velocities alike (default 0.999999) */
     int clamp;           /* scale every |lambda| > 1 down to 1 (stable rollouts) */
     double h;            /* the data's time step (s) */
+    int displacement_only; /* the ablation of Sec. 4.2 / Fig. 4: the state is X_t = u_t alone (the
+                          * velocity block held at zero, so U_r, the lift and the operator see u
+                          * only) and a force enters as the displacement a h^2 added to u_t before
+                          * the step, Eq. 19's impulse moved to the only block there is. Only for
+                          * measuring what the momentum term buys (test_koopman_momentum.c). */
 } rk_koopman_options;
 
 void rk_koopman_default_options(rk_koopman_options *o);
@@ -58,6 +63,7 @@ typedef struct {
     int nsingular;
     double *singular;    /* the (scaled) data's singular values, descending */
     int clamped;         /* eigenvalues scaled down to |lambda| = 1 */
+    int displacement_only; /* fitted with rk_koopman_options.displacement_only */
 } rk_koopman;
 
 /* Fits the operator to ntraj trajectories of d values per frame, jointly. Fails with a message
