@@ -211,6 +211,16 @@ typedef struct {
  * u (n x T, or NULL): the model's values at every frame under those inputs. */
 int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, double *C, double *u, rk_error *err);
 
+/* Sparse to dense (markers.c; Sec. 7.5, learning from video): marker trajectories, the
+ * displacements of k tracked vertices (3 values each, as optical flow on dots would give them),
+ * become coordinates of a basis of the whole mesh: q_t = argmin |S Phi q - m_t|_2, S the rows of
+ * the k vertices, by least squares (rk_lstsq); DMD is then fitted on q (rk_koopman_fit with d = b)
+ * and Phi q is the dense deformation. Phi: n3 x b, column-major; vertex: k indices; markers:
+ * 3k x T, column-major (frame t's markers at 3k t, vertex by vertex); q: b x T out. Fails when
+ * 3k < b (fewer equations than coordinates) or a vertex is out of range. */
+int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex, int k, const double *markers, int T,
+                             double *q, rk_error *err);
+
 /* Dense solvers (lstsq.c); A is m x n, column-major, left unchanged.
  * x = the minimum-norm least-squares solution of A x ~ b (dgelsd, relative singular value cut 1e-12). */
 int rk_lstsq(int m, int n, const double *A, const double *b, double *x, rk_error *err);
