@@ -53,14 +53,14 @@ static int pick_markers(const rk_scene_sim *sim, int k, int *vertex)
     return 0;
 }
 
-/* max_t |Phi q_t - u_t| / max_t |u_t| over frames t = first..last of the run (trajectory indices). */
-static double dense_error(const double *Phi, int n3, int b, const double *q, int qstride0, const rk_koopman_run *run,
+/* max_t |Phi q_t - u_t| / max_t |u_t| over frames t = first..last of the run (trajectory indices;
+ * q's column 0 is trajectory index q0). */
+static double dense_error(const double *Phi, int n3, int b, const double *q, int q0, const rk_koopman_run *run,
                           int first, int last)
 {
-    double worst = 0, scale = 0, *u = malloc(sizeof(double) * (size_t)n3);
-    if (!u) return NAN;
+    double worst = 0, scale = 0;
     for (int t = first; t <= last; t++) {
-        const double *qt = q + (size_t)b * (t - qstride0), *ref = run->u + (size_t)n3 * t;
+        const double *qt = q + (size_t)b * (t - q0), *ref = run->u + (size_t)n3 * t;
         double e = 0, r = 0;
         for (int i = 0; i < n3; i++) {
             double s = 0;
@@ -70,7 +70,6 @@ static double dense_error(const double *Phi, int n3, int b, const double *q, int
         worst = isfinite(e) ? fmax(worst, sqrt(e)) : INFINITY;
         scale = fmax(scale, sqrt(r));
     }
-    free(u);
     return worst / fmax(scale, 1e-300);
 }
 
