@@ -57,3 +57,9 @@ json_checks() {
     done
     if [ -z "$jq_bad" ]; then ok "$jq_name"; else fail "$jq_name" "$jq_file:$jq_bad"; fi
 }
+# .npy files (format version 1, little-endian float64, as romkit writes them): the header is 10
+# bytes plus the length stored in bytes 8-9, a Python dict text holding 'shape': (...).
+npy_header_bytes() { set -- $(od -A n -t u1 -j 8 -N 2 "$1"); echo $(($1 + 256 * $2 + 10)); }
+npy_shape() { head -c "$(npy_header_bytes "$1")" "$1" | LC_ALL=C sed -n "s/.*'shape': (\([0-9, ]*\)).*/\1/p"; }
+# npy_values FILE: every value, one per line, in file order (od prints doubles round-trip exact).
+npy_values() { od -A n -v -t f8 -j "$(npy_header_bytes "$1")" "$1" | tr -s ' ' '\n' | sed '/^$/d'; }

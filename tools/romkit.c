@@ -20,6 +20,7 @@ static const command commands[] = { /* in pipeline order */
     {"run", cmd_run, "step a .rombin asset with the runtime, as an application would"},
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
     {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
+    {"control", cmd_control, "forces on named groups that make a scene's Koopman model follow a target trajectory"},
     {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
     {"export", cmd_export, "a .rombin asset as glTF 2.0 (.glb): its surface, basis as morph targets, a run as animation"},
 };

@@ -162,6 +162,11 @@ void rk_fom_free(rk_fom *s);
 void rk_fom_set_state(rk_fom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
                       double t);
 
+/* Replaces the extra external forces (N, 3 nv values, copied; NULL: none) from the next step on,
+ * gravity kept: a load that changes between steps (a controller's input) without restarting the
+ * integrator (BDF2 keeps its history, as a fresh rk_fom_init per step would not). */
+void rk_fom_set_force(rk_fom *s, const double *force);
+
 /* ---- the step's potential, for a solver of the step other than the full-order Newton ----
  * (precompute/adaptive solves each time step's minimisation itself, on the same potential, the
  * same contact and the same prescribed motion.) */

@@ -107,3 +107,16 @@ void rk_fom_set_state(rk_fom *s, const double *x, const double *v, const double 
     }
     if (im->has_contact) rk_contact_set_time(&im->contact, t);
 }
+
+void rk_fom_set_force(rk_fom *s, const double *force)
+{
+    rk_fom_impl *im = s->impl;
+    for (int v = 0; v < s->fem->nv; v++)
+        for (int i = 0; i < 3; i++) im->f_ext[3 * v + i] = s->fem->vertex_mass[v] * s->opt.gravity[i];
+    if (force)
+        memcpy(im->force, force, sizeof(double) * (size_t)im->n);
+    else
+        memset(im->force, 0, sizeof(double) * (size_t)im->n);
+    for (int i = 0; i < im->n; i++) im->f_ext[i] += im->force[i];
+    s->opt.force = im->force;
+}

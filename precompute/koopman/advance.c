@@ -56,7 +56,9 @@ void rk_koopman_impulse(const rk_koopman *k, const double *a, double *z)
     double h2 = k->h * k->h, *x = malloc(sizeof(double) * (size_t)k->d);
     if (!x) return;
     observe(k, a, x);
-    cblas_dgemv(CblasColMajor, CblasTrans, k->d, k->r, k->vscale * h2, k->U + k->d, 2 * k->d, x, 1, 1.0, z, 1);
+    /* Eq. 19 on the velocity rows; a displacement-only fit has none and takes it on u (koopman.h) */
+    int row0 = k->displacement_only ? 0 : k->d;
+    cblas_dgemv(CblasColMajor, CblasTrans, k->d, k->r, k->vscale * h2, k->U + row0, 2 * k->d, x, 1, 1.0, z, 1);
     free(x);
 }
 
@@ -107,7 +109,8 @@ int rk_koopman_real_form(const rk_koopman *k, double *out, double *in, const dou
     else
         for (int j = 0; j < r; j++) memcpy(out + (size_t)n * j, UW + (size_t)n2 * j, sizeof(double) * d);
     /* in = beta Winv U_v^T P_in: (r x d) (d x n), beta the fit's velocity scale */
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, d, r, r, k->vscale, k->U + d, n2, k->Winv, r, 0.0, VWi, d);
+    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, d, r, r, k->vscale, k->U + (k->displacement_only ? 0 : d), n2,
+                k->Winv, r, 0.0, VWi, d);
     if (k->P_in)
         cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, n, d, 1.0, VWi, d, k->P_in, d, 0.0, in, r);
     else

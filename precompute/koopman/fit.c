@@ -34,8 +34,8 @@ void rk_koopman_free(rk_koopman *k)
 
 /* X and X' (2d x M each, column-major) from the trajectories; a known acceleration enters each
  * state's velocity part as the impulse a h^2 (Eq. 19). */
-static int snapshot_pairs(const rk_koopman_trajectory *traj, int ntraj, int d, double h, double **X, double **Y,
-                          int *M, rk_error *err)
+static int snapshot_pairs(const rk_koopman_trajectory *traj, int ntraj, int d, double h, int disp_only, double **X,
+                          double **Y, int *M, rk_error *err)
 {
     int m = 0, n2 = 2 * d;
     for (int k = 0; k < ntraj; k++) {
@@ -59,8 +59,14 @@ static int snapshot_pairs(const rk_koopman_trajectory *traj, int ntraj, int d, d
             const double *up = traj[k].u + (size_t)d * (t - 1), *u = up + d, *un = u + d, *a = traj[k].accel;
             double *x = *X + (size_t)n2 * c, *y = *Y + (size_t)n2 * c;
             for (int i = 0; i < d; i++) {
+                double impulse = a ? a[i] * h * h : 0;
+                if (disp_only) { /* options.displacement_only: X_t = u_t, the impulse on u itself */
+                    x[i] = u[i] + impulse;
+                    y[i] = un[i];
+                    continue; /* velocity rows stay zero */
+                }
                 x[i] = u[i];
-                x[d + i] = u[i] - up[i] + (a ? a[i] * h * h : 0);
+                x[d + i] = u[i] - up[i] + impulse;
                 y[i] = un[i];
                 y[d + i] = un[i] - u[i];
             }
@@ -202,7 +208,8 @@ int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk
     double *X = NULL, *Y = NULL, *Vt = NULL, *Ys = NULL;
     int M = 0, n2 = 2 * d, rc = -1;
     double noise = 0;
-    if (snapshot_pairs(traj, ntraj, d, o->h, &X, &Y, &M, err)) goto done;
+    if (snapshot_pairs(traj, ntraj, d, o->h, o->displacement_only, &X, &Y, &M, err)) goto done;
+    k->displacement_only = o->displacement_only;
     k->vscale = balance_blocks(X, Y, d, M, &noise);
     int ns = n2 < M ? n2 : M;
     double *Uall = rk_calloc((size_t)n2 * ns, sizeof(double), err);

@@ -34,6 +34,11 @@ typedef struct {
                           * velocities alike (default 0.999999) */
     int clamp;           /* scale every |lambda| > 1 down to 1 (stable rollouts) */
     double h;            /* the data's time step (s) */
+    int displacement_only; /* the ablation of Sec. 4.2 / Fig. 4: the state is X_t = u_t alone (the
+                          * velocity block held at zero, so U_r, the lift and the operator see u
+                          * only) and a force enters as the displacement a h^2 added to u_t before
+                          * the step, Eq. 19's impulse moved to the only block there is. Only for
+                          * measuring what the momentum term buys (test_koopman_momentum.c). */
 } rk_koopman_options;
 
 void rk_koopman_default_options(rk_koopman_options *o);
@@ -58,6 +63,7 @@ typedef struct {
     int nsingular;
     double *singular;    /* the (scaled) data's singular values, descending */
     int clamped;         /* eigenvalues scaled down to |lambda| = 1 */
+    int displacement_only; /* fitted with rk_koopman_options.displacement_only */
 } rk_koopman;
 
 /* Fits the operator to ntraj trajectories of d values per frame, jointly. Fails with a message
@@ -179,6 +185,41 @@ void rk_koopman_control_default(rk_koopman_control_problem *p);
  * NULL): the predicted final reduced state under the returned C. */
 int rk_koopman_control(const rk_koopman *k, const rk_koopman_control_problem *p, double *C, double *residual,
                        double *z_final, rk_error *err);
+
+/* Following a target trajectory (track.c; Sec. 7.3, Figs. 14-15: the user draws a path and the
+ * inputs that make the model follow it are solved for). Receding horizon on rk_koopman_control:
+ * at each frame t the input C_t is the constant input that, held for H steps from the model's
+ * current state, brings the chosen values to their goals at frame t + H (Eq. 25 over H steps;
+ * the horizon shrinks at the end); only its first step is applied (the forced step of Eq. 19),
+ * and the next frame solves again from where the model then is. */
+typedef struct {
+    int frames;                      /* T >= 2: goal frames; frame 0 is the start (no input acts before it) */
+    int horizon;                     /* H >= 1 */
+    int m;                           /* values that follow the goals */
+    const int *index;                /* m value indices (0..n-1) */
+    const double *goal;              /* m x T, column-major: goal[m t + i] for value index[i] at frame t */
+    const double *z0;                /* r: the start, or NULL: rest */
+    const double *accel;             /* n: constant acceleration (gravity, loads), or NULL */
+    int inputs;                      /* k >= 1 */
+    rk_koopman_input_fn input_field; /* as rk_koopman_control's; evaluated at the predicted goal frame */
+    void *ctx;
+    int nonnegative;
+    int iterations;                  /* >= 1 per frame */
+} rk_koopman_track_problem;
+
+/* C: k x (T - 1), column-major (C[k t + j]: input j during the step from frame t to t + 1).
+ * u (n x T, or NULL): the model's values at every frame under those inputs. */
+int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, double *C, double *u, rk_error *err);
+
+/* Sparse to dense (markers.c; Sec. 7.5, learning from video): marker trajectories, the
+ * displacements of k tracked vertices (3 values each, as optical flow on dots would give them),
+ * become coordinates of a basis of the whole mesh: q_t = argmin |S Phi q - m_t|_2, S the rows of
+ * the k vertices, by least squares (rk_lstsq); DMD is then fitted on q (rk_koopman_fit with d = b)
+ * and Phi q is the dense deformation. Phi: n3 x b, column-major; vertex: k indices; markers:
+ * 3k x T, column-major (frame t's markers at 3k t, vertex by vertex); q: b x T out. Fails when
+ * 3k < b (fewer equations than coordinates) or a vertex is out of range. */
+int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex, int k, const double *markers, int T,
+                             double *q, rk_error *err);
 
 /* Dense solvers (lstsq.c); A is m x n, column-major, left unchanged.
  * x = the minimum-norm least-squares solution of A x ~ b (dgelsd, relative singular value cut 1e-12). */

@@ -5,12 +5,6 @@
 g3() { if [ -n "$1" ]; then printf '%.3g' "$1"; else printf '?'; fi; } # a number for a # line
 # below A B: A is a number (not empty, not text that awk would read as 0) and A < B.
 below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a ~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/ && a + 0 < b + 0) }'; }
-# .npy files (format version 1, little-endian float64, as romkit writes them): the header is 10
-# bytes plus the length stored in bytes 8-9, a Python dict text holding 'shape': (...).
-npy_header_bytes() { set -- $(od -A n -t u1 -j 8 -N 2 "$1"); echo $(($1 + 256 * $2 + 10)); }
-npy_shape() { head -c "$(npy_header_bytes "$1")" "$1" | LC_ALL=C sed -n "s/.*'shape': (\([0-9, ]*\)).*/\1/p"; }
-# npy_values FILE: every value, one per line, in file order (od prints doubles round-trip exact).
-npy_values() { od -A n -v -t f8 -j "$(npy_header_bytes "$1")" "$1" | tr -s ' ' '\n' | sed '/^$/d'; }
 # npy_frames FILE K OUT: frames 0, K, 2K, ... of a T x n x 3 file as a file of their own. The
 # header's shape is rewritten in place (padded with spaces to the same length); fails unless the
 # new header says the new shape and the file has exactly the bytes it promises.

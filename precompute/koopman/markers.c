@@ -1,0 +1,31 @@
+/* rk_koopman_marker_coords (koopman.h): tracked markers to basis coordinates, the sparse-to-dense
+ * step of Sec. 7.5. The paper's neural fields evaluate the modes anywhere; with a mesh basis the
+ * same role is played by the basis rows at the tracked vertices. */
+#include "koopman/koopman.h"
+
+#include <stdlib.h>
+
+int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex, int k, const double *markers, int T,
+                             double *q, rk_error *err)
+{
+    if (b < 1 || k < 1 || T < 1) return rk_fail(err, "markers: %d basis columns, %d markers, %d frames", b, k, T);
+    if (3 * k < b)
+        return rk_fail(err, "markers: %d markers give %d equations per frame for %d basis coordinates; track at least "
+                       "%d vertices or use a smaller basis", k, 3 * k, b, (b + 2) / 3);
+    int m = 3 * k;
+    double *A = rk_calloc((size_t)m * b, sizeof(double), err);
+    if (!A) return -1;
+    for (int i = 0; i < k; i++) {
+        if (vertex[i] < 0 || 3 * vertex[i] >= n3) {
+            free(A);
+            return rk_fail(err, "markers: marker %d is vertex %d, outside 0..%d", i, vertex[i], n3 / 3 - 1);
+        }
+        for (int j = 0; j < b; j++)
+            for (int c = 0; c < 3; c++) A[(size_t)m * j + 3 * i + c] = Phi[(size_t)n3 * j + 3 * vertex[i] + c];
+    }
+    int rc = 0;
+    for (int t = 0; t < T && !rc; t++)
+        rc = rk_lstsq(m, b, A, markers + (size_t)m * t, q + (size_t)b * t, err);
+    free(A);
+    return rc ? rk_error_prefix(err, "markers") : 0;
+}

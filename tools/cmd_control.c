@@ -1,0 +1,295 @@
+/* romkit control SCENE.json --target T.npy --inputs GROUP:AXES[,...]: the forces on named vertex
+ * groups that make a Koopman model follow a target trajectory (koopman-dmd-log-linear paper,
+ * Sec. 7.3, Figs. 14-15), checked by running the full-order model under them.
+ *
+ * Why a scene and not a .rombin: the control needs the fitted operator in double precision with
+ * its lifted basis (rk_koopman; an asset holds only the runtime's real form, in float32 by
+ * default), training runs that show the model each input's push, and the full-order model to
+ * check the answer against. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "args.h"
+#include "commands.h"
+#include "pipeline/pipeline.h"
+#include "util/util.h"
+
+static void control_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: romkit control SCENE.json --target T.npy --inputs GROUP:AXES[,GROUP:AXES...]\n"
+            "                      [--follow GROUP[,GROUP...]] [--horizon H] [--train-force N] [--nonnegative]\n"
+            "                      [--report R.json] [--forces C.npy] [--snapshots S.npy] [--quiet]\n"
+            "  solves for forces on the scene's named vertex groups (rom.asset.groups of the first rom\n"
+            "  entry with a koopman section) that make its Koopman model follow a target trajectory\n"
+            "  (Sec. 7.3), then runs the full-order model under those forces and reports the error.\n"
+            "  T.npy        T x n x 3 positions, frame 0 the scene's start, one frame per scene time step\n"
+            "               (romkit fom --snapshots of the same object under other loads)\n"
+            "  --inputs     the controlled forces: tip:xyz is three inputs, tip's total force along x, y\n"
+            "               and z (newtons, spread over the group's vertices by mass)\n"
+            "  --follow     the groups whose vertices must follow the target (default: the inputs' groups)\n"
+            "  --horizon    each frame's force is the constant one that meets the target H frames later,\n"
+            "               applied for one step, solved again at the next frame (default 1)\n"
+            "  --train-force  newtons held on each input during its training run (default: the group's weight)\n"
+            "  --nonnegative  forces >= 0 (NNLS)\n"
+            "  --report     per-frame errors (%% of the target's largest displacement, every vertex):\n"
+            "               full order under the forces vs target, model vs target, model vs full order\n"
+            "  --forces     the solved forces, (T - 1) x inputs (row t acts from frame t to t + 1)\n"
+            "  --snapshots  the full-order run under them, T x n x 3 positions\n"
+            "  Nothing is written when anything fails.\n\n"
+            "example (follow the tip of a run pushed by a load, with forces on the tip alone):\n"
+            "  romkit fom pushed.json --snapshots target.npy\n"
+            "  romkit control beam.json --target target.npy --inputs tip:xyz --report control.json\n");
+}
+
+typedef struct {
+    const char *scene, *target, *inputs, *follow, *horizon, *train_force, *report, *forces, *snapshots;
+    int nonnegative, quiet;
+} control_args;
+
+static int group_index(const rk_rom_entry *e, const char *name, size_t len, rk_error *err)
+{
+    for (int q = 0; q < e->asset.ngroups; q++)
+        if (strlen(e->asset.groups[q].name) == len && !strncmp(e->asset.groups[q].name, name, len)) return q;
+    return rk_fail(err, "no group \"%.*s\" in %s.asset.groups (%d named)", (int)len, name, e->path, e->asset.ngroups);
+}
+
+/* "tip:xyz,base:y" into inputs; "tip,base" into follow groups. */
+static int parse_inputs(const rk_rom_entry *e, const char *text, rk_control_options *o, rk_error *err)
+{
+    for (const char *p = text; *p;) {
+        const char *end = strchr(p, ','), *colon = strchr(p, ':');
+        if (!end) end = p + strlen(p);
+        if (!colon || colon > end || colon + 1 == end)
+            return rk_fail(err, "--inputs: '%.*s' is not GROUP:AXES (axes among x, y, z)", (int)(end - p), p);
+        int q = group_index(e, p, (size_t)(colon - p), err);
+        if (q < 0) return rk_error_prefix(err, "--inputs");
+        for (const char *a = colon + 1; a < end; a++) {
+            if (*a < 'x' || *a > 'z') return rk_fail(err, "--inputs: axis '%c' in '%.*s' is not x, y or z", *a, (int)(end - p), p);
+            if (o->ninputs == RK_CONTROL_MAX_INPUTS) return rk_fail(err, "--inputs: at most %d", RK_CONTROL_MAX_INPUTS);
+            o->input[o->ninputs++] = (rk_control_input){q, *a - 'x'};
+        }
+        p = *end ? end + 1 : end;
+    }
+    return o->ninputs ? 0 : rk_fail(err, "--inputs names no input");
+}
+
+static int parse_follow(const rk_rom_entry *e, const char *text, rk_control_options *o, rk_error *err)
+{
+    for (const char *p = text; *p;) {
+        const char *end = strchr(p, ',');
+        if (!end) end = p + strlen(p);
+        int q = group_index(e, p, (size_t)(end - p), err);
+        if (q < 0) return rk_error_prefix(err, "--follow");
+        if (o->nfollow < RK_ASSET_MAX_GROUPS) o->follow[o->nfollow++] = q;
+        p = *end ? end + 1 : end;
+    }
+    return 0;
+}
+
+/* The target as displacements (3 nv x T) from the scene's rest positions; its shape checked. */
+static int load_target(const char *path, const rk_scene_sim *sim, double **u, int *T, rk_error *err)
+{
+    int ndim, nv = sim->mesh.nv;
+    long shape[4] = {0};
+    if (rk_npy_read(path, u, &ndim, shape, err)) return rk_error_prefix(err, "--target");
+    if (ndim != 3 || shape[1] != nv || shape[2] != 3 || shape[0] < 2) {
+        char got[96] = "";
+        for (int i = 0; i < ndim && i < 4; i++)
+            snprintf(got + strlen(got), sizeof got - strlen(got), "%s%ld", i ? " x " : "", shape[i]);
+        free(*u);
+        *u = NULL;
+        return rk_fail(err, "--target %s: shape %s; expected T x %d x 3 positions of the scene's %d vertices, T >= 2 "
+                       "(romkit fom --snapshots of the same object)", path, got, nv, nv);
+    }
+    *T = (int)shape[0];
+    for (size_t i = 0; i < (size_t)3 * nv * *T; i++) {
+        if (!isfinite((*u)[i])) {
+            free(*u);
+            *u = NULL;
+            return rk_fail(err, "--target %s: frame %zu vertex %zu is not finite", path, i / (3 * (size_t)nv), i / 3 % nv);
+        }
+        (*u)[i] -= sim->mesh.X[i % (3 * (size_t)nv)];
+    }
+    return 0;
+}
+
+/* Per-frame |a_t - b_t| over every vertex, in % of scale. */
+static cJSON *frame_errors(const double *a, const double *b, int n3, int T, double scale, double *max_out)
+{
+    cJSON *o = cJSON_CreateObject(), *per = cJSON_CreateArray();
+    double mx = 0;
+    int under2 = 0, under6 = 0;
+    for (int t = 0; t < T; t++) {
+        double s = 0;
+        for (int i = 0; i < n3; i++) {
+            double d = a[(size_t)n3 * t + i] - b[(size_t)n3 * t + i];
+            s += d * d;
+        }
+        double e = 100 * sqrt(s) / scale;
+        mx = fmax(mx, e);
+        under2 += e < 2, under6 += e < 6;
+        cJSON_AddItemToArray(per, cJSON_CreateNumber(e));
+    }
+    cJSON_AddNumberToObject(o, "max_percent", mx);
+    cJSON_AddNumberToObject(o, "frames_under_2_percent", under2);
+    cJSON_AddNumberToObject(o, "frames_under_6_percent", under6);
+    cJSON_AddItemToObject(o, "per_frame_percent", per);
+    *max_out = mx;
+    return o;
+}
+
+static cJSON *build_report(const rk_rom_entry *e, const rk_control_options *o, const rk_control_result *r,
+                           const double *target, int n3, double scale, double mx[3])
+{
+    cJSON *rep = cJSON_CreateObject(), *in = cJSON_AddArrayToObject(rep, "inputs");
+    cJSON_AddNumberToObject(rep, "vertices", n3 / 3);
+    cJSON_AddNumberToObject(rep, "frames", r->T);
+    cJSON_AddNumberToObject(rep, "horizon", o->horizon);
+    for (int j = 0; j < o->ninputs; j++) {
+        cJSON *x = cJSON_CreateObject();
+        cJSON_AddStringToObject(x, "group", e->asset.groups[o->input[j].group].name);
+        cJSON_AddStringToObject(x, "axis", (const char *[]){"x", "y", "z"}[o->input[j].axis]);
+        cJSON_AddItemToArray(in, x);
+    }
+    cJSON_AddNumberToObject(rep, "followed_values", r->follow_values);
+    cJSON *k = cJSON_AddObjectToObject(rep, "koopman");
+    cJSON_AddNumberToObject(k, "rank", r->rank);
+    cJSON_AddNumberToObject(k, "max_abs_eigenvalue", r->max_abs_eigenvalue);
+    cJSON_AddNumberToObject(k, "trajectories", r->trajectories);
+    cJSON *er = cJSON_AddObjectToObject(rep, "error");
+    cJSON_AddStringToObject(er, "definition", "per frame |u_a - u_b| over every vertex, in % of the target's largest "
+                            "such norm over the frames (displacements from rest)");
+    cJSON_AddNumberToObject(er, "target_max_displacement", scale);
+    cJSON_AddItemToObject(er, "fom_vs_target", frame_errors(r->u_fom, target, n3, r->T, scale, &mx[0]));
+    cJSON_AddItemToObject(er, "model_vs_target", frame_errors(r->u_model, target, n3, r->T, scale, &mx[1]));
+    cJSON_AddItemToObject(er, "model_vs_fom", frame_errors(r->u_model, r->u_fom, n3, r->T, scale, &mx[2]));
+    cJSON *s = cJSON_AddObjectToObject(rep, "seconds");
+    cJSON_AddNumberToObject(s, "training", r->seconds_training);
+    cJSON_AddNumberToObject(s, "fit", r->seconds_fit);
+    cJSON_AddNumberToObject(s, "solve", r->seconds_solve);
+    cJSON_AddNumberToObject(s, "solve_per_frame", r->seconds_solve / (r->T - 1));
+    cJSON_AddNumberToObject(s, "fom", r->seconds_fom);
+    return rep;
+}
+
+/* Every output, only once all of them are ready. */
+static int write_outputs(const control_args *a, const rk_control_result *r, const rk_scene_sim *sim, cJSON *rep,
+                         rk_error *err)
+{
+    int n3 = 3 * sim->mesh.nv, rc = 0;
+    if (a->forces) {
+        long shape[2] = {r->T - 1, r->inputs};
+        rc = rk_npy_write(a->forces, r->C, 2, shape, err);
+    }
+    if (!rc && a->snapshots) {
+        double *x = rk_calloc((size_t)n3 * r->T, sizeof(double), err);
+        if (!x) return -1;
+        for (size_t i = 0; i < (size_t)n3 * r->T; i++) x[i] = r->u_fom[i] + sim->mesh.X[i % n3];
+        long shape[3] = {r->T, sim->mesh.nv, 3};
+        rc = rk_npy_write(a->snapshots, x, 3, shape, err);
+        free(x);
+    }
+    if (!rc && a->report) rc = rk_json_write_file(a->report, rep, err);
+    return rc;
+}
+
+static int run_control(const control_args *a, rk_error *err)
+{
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_control_options o;
+    rk_control_result r;
+    memset(&o, 0, sizeof o);
+    memset(&r, 0, sizeof r);
+    const rk_rom_entry *e = NULL;
+    double *target = NULL;
+    int T = 0, rc = -1;
+    long h = 1;
+    if (rk_scene_load(a->scene, &scene, err)) return -1;
+    for (int i = 0; i < scene.nentries && !e; i++)
+        if (scene.entries[i].koopman) e = &scene.entries[i];
+    if (!e) {
+        rk_fail(err, "%s: no rom entry has a koopman section", a->scene);
+        rk_scene_free(&scene);
+        return -1;
+    }
+    if (a->horizon && cli_whole(a->horizon, 1, 100000, &h)) {
+        rk_fail(err, "--horizon must be a whole number >= 1, got '%s'", a->horizon);
+        goto done_scene;
+    }
+    o.horizon = (int)h;
+    o.nonnegative = a->nonnegative;
+    if (a->train_force && cli_real(a->train_force, 1e-300, 1e300, &o.train_force)) {
+        rk_fail(err, "--train-force must be a positive number of newtons, got '%s'", a->train_force);
+        goto done_scene;
+    }
+    if (parse_inputs(e, a->inputs, &o, err) || (a->follow && parse_follow(e, a->follow, &o, err))) goto done_scene;
+    if (rk_scene_build(&scene, &sim, err)) goto done_scene;
+    if (load_target(a->target, &sim, &target, &T, err)) goto done_sim;
+    int n3 = 3 * sim.mesh.nv;
+    double scale = 0, mx[3];
+    for (int t = 0; t < T; t++) {
+        double s = 0;
+        for (int i = 0; i < n3; i++) s += target[(size_t)n3 * t + i] * target[(size_t)n3 * t + i];
+        scale = fmax(scale, sqrt(s));
+    }
+    if (!(scale > 0)) {
+        rk_fail(err, "--target %s never leaves the rest positions: nothing to follow", a->target);
+        goto done_sim;
+    }
+    if (rk_scene_control(&sim, e, &o, target, T, &r, err)) goto done_sim;
+    cJSON *rep = build_report(e, &o, &r, target, n3, scale, mx);
+    if (!write_outputs(a, &r, &sim, rep, err)) {
+        const cJSON *fe = cJSON_GetObjectItem(cJSON_GetObjectItem(rep, "error"), "fom_vs_target");
+        int under2 = cJSON_GetObjectItem(fe, "frames_under_2_percent")->valueint;
+        printf("control: %d frames, %d inputs, Koopman rank %d; per-frame error in %% of the target's largest "
+               "displacement: full order under the solved forces vs target max %.3g%% (%d of %d frames under 2%%), "
+               "model vs target max %.3g%%, model vs full order max %.3g%%\n",
+               T, o.ninputs, r.rank, mx[0], under2, T, mx[1], mx[2]);
+        rc = 0;
+    }
+    cJSON_Delete(rep);
+    rk_control_result_free(&r);
+done_sim:
+    free(target);
+    rk_scene_sim_free(&sim);
+done_scene:
+    rk_scene_free(&scene);
+    return rc;
+}
+
+int cmd_control(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (is_help(argv[i])) {
+            control_usage(stdout);
+            return 0;
+        }
+    control_args a;
+    memset(&a, 0, sizeof a);
+    const cli_option opts[] = {{"--target", &a.target, NULL},   {"--inputs", &a.inputs, NULL},
+                               {"--follow", &a.follow, NULL},   {"--horizon", &a.horizon, NULL},
+                               {"--train-force", &a.train_force, NULL}, {"--nonnegative", NULL, &a.nonnegative},
+                               {"--report", &a.report, NULL},   {"--forces", &a.forces, NULL},
+                               {"--snapshots", &a.snapshots, NULL}, {"--quiet", NULL, &a.quiet},
+                               {NULL, NULL, NULL}};
+    if (cli_parse("control", argc, argv, opts, &a.scene, "scene file")) {
+        control_usage(stderr);
+        return 2;
+    }
+    if (!a.target || !a.inputs) {
+        fprintf(stderr, "romkit control: --target and --inputs are required\n");
+        control_usage(stderr);
+        return 2;
+    }
+    rk_progress_set_quiet(a.quiet);
+    rk_error err = {{0}};
+    if (run_control(&a, &err)) {
+        fprintf(stderr, "romkit control: %s\n", err.msg);
+        return 1;
+    }
+    return 0;
+}
