@@ -86,7 +86,7 @@ static int snapshot_pairs(const rk_koopman_trajectory *traj, int ntraj, int d, d
  * successors X', which hold the recorded motion only: X's velocity rows also carry the impulses
  * a h^2 (Eq. 19), which are inputs, not motion (a body held still under gravity has delta = 0 and
  * keeps beta = 1, as does any data with an all-zero block). *noise: choose_rank's floor. */
-static double balance_blocks(double *X, double *Y, int d, int M, double *noise)
+static double balance_blocks(double *X, double *Y, int d, int M, int balance, double *noise)
 {
     double eu = 0, ev = 0;
     for (int c = 0; c < M; c++)
@@ -94,7 +94,7 @@ static double balance_blocks(double *X, double *Y, int d, int M, double *noise)
             double u = Y[(size_t)2 * d * c + i], v = Y[(size_t)2 * d * c + d + i];
             eu += u * u, ev += v * v;
         }
-    double beta = eu > 0 && ev > 0 ? sqrt(eu / ev) : 1;
+    double beta = balance && eu > 0 && ev > 0 ? sqrt(eu / ev) : 1;
     *noise = DBL_EPSILON * sqrt(eu + beta * beta * (4 * eu + ev)); /* choose_rank's |E|_F */
     if (beta != 1)
         for (int c = 0; c < M; c++) {
@@ -210,7 +210,7 @@ int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk
     double noise = 0;
     if (snapshot_pairs(traj, ntraj, d, o->h, o->displacement_only, &X, &Y, &M, err)) goto done;
     k->displacement_only = o->displacement_only;
-    k->vscale = balance_blocks(X, Y, d, M, &noise);
+    k->vscale = balance_blocks(X, Y, d, M, !o->unbalanced, &noise);
     int ns = n2 < M ? n2 : M;
     double *Uall = rk_calloc((size_t)n2 * ns, sizeof(double), err);
     k->singular = rk_calloc((size_t)ns, sizeof(double), err);

@@ -33,6 +33,10 @@ typedef struct {
                           * fraction of each block's energy, displacements and (scaled)
                           * velocities alike (default 0.999999) */
     int clamp;           /* scale every |lambda| > 1 down to 1 (stable rollouts) */
+    int unbalanced;      /* 0 (default): the velocity block scaled to the displacements' energy
+                          * before the SVD (fit.c's balance_blocks); 1: as recorded, which can fit
+                          * a smooth single run better at a fixed rank but truncates the velocity
+                          * directions of livelier data away (scene key "balance": false) */
     double h;            /* the data's time step (s) */
     int displacement_only; /* the ablation of Sec. 4.2 / Fig. 4: the state is X_t = u_t alone (the
                           * velocity block held at zero, so U_r, the lift and the operator see u

@@ -141,14 +141,17 @@ static int parse_koopman(const rk_json_ctx *c, const cJSON *e, const char *path,
     o->koopman = k != NULL;
     if (!k) return 0;
     if (!cJSON_IsObject(k)) return rk_json_fail(c, kpath, "must be an object");
-    static const char *const keys[] = {"rank", "energy", "clamp", "project", "trajectories", NULL};
+    static const char *const keys[] = {"rank", "energy", "clamp", "balance", "project", "trajectories", NULL};
+    int balance = 1;
     if (rk_json_check_keys(c, k, kpath, keys) ||
         rk_json_whole(c, k, kpath, "rank", 0, 4096, &ko->fit.rank) /* 0: by energy */ ||
         rk_json_number(c, k, kpath, "energy", 0, &ko->fit.energy) || rk_json_bool(c, k, kpath, "clamp", &ko->fit.clamp) ||
+        rk_json_bool(c, k, kpath, "balance", &balance) ||
         rk_json_bool(c, k, kpath, "project", &ko->project))
         return -1;
     if (!(ko->fit.energy > 0 && ko->fit.energy <= 1))
         return rk_json_fail(c, kpath, "energy must be in (0, 1], got %g", ko->fit.energy);
+    ko->fit.unbalanced = !balance;
     return parse_trajectories(c, k, kpath, ko);
 }
 
