@@ -290,33 +290,43 @@ void romrt_clear_forces(romrt_model *m)
 }
 
 /* State layout: the clock as a pair t_hi + t_lo (t_hi the clock rounded to romrt_real, t_lo what
- * is left, so a float state keeps the double clock), have_prev, q, v, q_prev, v_prev, f_app
- * (3 + 5 r reals). An adaptive linear ROM's state is its stored vertices' positions, velocities
- * and history: not saved yet (size 0, refused). */
+ * is left, so a float state keeps the double clock), have_prev, then q, v, q_prev, v_prev, f_app
+ * (3 + 5 r reals); an adaptive linear ROM's (alrom.c) after the same three. */
 #define RT_STATE_HEAD 3
 #ifdef ROMRT_DOUBLE
 #define RT_TOWARD_ZERO(x) nextafter((x), 0.0)
 #else
 #define RT_TOWARD_ZERO(x) nextafterf((x), 0.0f)
 #endif
-int romrt_state_size(const romrt_model *m) { return m && !m->alrom ? RT_STATE_HEAD + 5 * m->r : 0; }
+int romrt_state_size(const romrt_model *m)
+{
+    if (!m) return 0;
+    return m->alrom ? RT_STATE_HEAD + rt_alrom_state_size(m) : RT_STATE_HEAD + 5 * m->r;
+}
+
+void rt_split(double x, romrt_real *pair)
+{
+    double rest;
+    romrt_real lo;
+    pair[0] = (romrt_real)x;
+    rest = x - (double)pair[0]; /* exact */
+    lo = (romrt_real)rest;
+    /* rounded toward zero, so hi + lo rounds back to hi and the pair reads back the same */
+    if (fabs((double)lo) > fabs(rest)) lo = RT_TOWARD_ZERO(lo);
+    pair[1] = lo;
+}
 
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
 {
     int r;
-    double t, rest;
-    romrt_real lo;
-    if (m && m->alrom) return ROMRT_E_UNSUPPORTED;
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     r = m->r;
-    t = rt_clock(m, 0);
-    state[0] = (romrt_real)t;
-    rest = t - (double)state[0]; /* exact */
-    lo = (romrt_real)rest;
-    /* rounded toward zero, so t_hi + t_lo rounds back to t_hi and the pair reads back the same */
-    if (fabs((double)lo) > fabs(rest)) lo = RT_TOWARD_ZERO(lo);
-    state[1] = lo;
+    rt_split(rt_clock(m, 0), state);
     state[2] = (romrt_real)m->have_prev;
+    if (m->alrom) {
+        rt_alrom_get_state(m, state + RT_STATE_HEAD);
+        return ROMRT_OK;
+    }
     memcpy(state + RT_STATE_HEAD, m->q, sizeof(romrt_real) * (size_t)r);
     memcpy(state + RT_STATE_HEAD + r, m->v, sizeof(romrt_real) * (size_t)r);
     memcpy(state + RT_STATE_HEAD + 2 * r, m->q_prev, sizeof(romrt_real) * (size_t)r);
@@ -328,16 +338,20 @@ romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
 {
     int i, r;
-    if (m && m->alrom) return ROMRT_E_UNSUPPORTED;
     if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < count; i++)
         if (!isfinite(state[i])) return ROMRT_E_ARGUMENT;
-    if (!rt_showable(m, state + RT_STATE_HEAD)) return ROMRT_E_ARGUMENT; /* q would draw as Inf */
     if (!(state[2] == 0 || state[2] == 1)) return ROMRT_E_ARGUMENT;
+    if (m->alrom) {
+        if (rt_alrom_set_state(m, state + RT_STATE_HEAD)) return ROMRT_E_ARGUMENT;
+    } else if (!rt_showable(m, state + RT_STATE_HEAD)) {
+        return ROMRT_E_ARGUMENT; /* q would draw as Inf */
+    }
     r = m->r;
     m->t0 = (double)state[0] + (double)state[1];
     m->steps = 0;
     m->have_prev = state[2] == 1;
+    if (m->alrom) return ROMRT_OK;
     memcpy(m->q, state + RT_STATE_HEAD, sizeof(romrt_real) * (size_t)r);
     memcpy(m->v, state + RT_STATE_HEAD + r, sizeof(romrt_real) * (size_t)r);
     memcpy(m->q_prev, state + RT_STATE_HEAD + 2 * r, sizeof(romrt_real) * (size_t)r);

@@ -597,3 +597,69 @@ int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply)
     for (a = 0; a < 3 && apply; a++) fa[a] += f[a];
     return 0;
 }
+
+/* The state after the clock and have_prev (access.c): the ring's count and head, then as pairs
+ * (rt_split: the state is double in either build) u_t, v, u_prev, v_prev, the ring's D and P,
+ * then the applied forces (romrt_real, as the app gave them). */
+int rt_alrom_state_size(const romrt_model *m)
+{
+    const rt_alrom *al = &m->al;
+    int n = 3 * m->nv, slots = al->m + 1;
+    return 2 + 2 * (4 * n + slots * (n + m->r)) + n;
+}
+
+static romrt_real *put(romrt_real *s, const double *x, size_t count)
+{
+    size_t i;
+    for (i = 0; i < count; i++, s += 2) rt_split(x[i], s);
+    return s;
+}
+
+static const romrt_real *take(const romrt_real *s, double *x, size_t count)
+{
+    size_t i;
+    for (i = 0; i < count; i++, s += 2) x[i] = (double)s[0] + (double)s[1];
+    return s;
+}
+
+void rt_alrom_get_state(const romrt_model *m, romrt_real *s)
+{
+    const rt_alrom *al = &m->al;
+    size_t n = 3 * (size_t)m->nv, slots = (size_t)al->m + 1;
+    *s++ = (romrt_real)al->count;
+    *s++ = (romrt_real)al->head;
+    s = put(s, al->u_t, n);
+    s = put(s, al->v, n);
+    s = put(s, al->u_prev, n);
+    s = put(s, al->v_prev, n);
+    s = put(s, al->D, slots * n);
+    s = put(s, al->P, slots * (size_t)m->r);
+    memcpy(s, al->f_app, sizeof(romrt_real) * n);
+}
+
+int rt_alrom_set_state(romrt_model *m, const romrt_real *s)
+{
+    rt_alrom *al = &m->al;
+    size_t n = 3 * (size_t)m->nv, slots = (size_t)al->m + 1, k;
+    romrt_real count = s[0], head = s[1];
+    if (!(count >= 0 && count <= al->m && count == (romrt_real)(int)count) ||
+        !(head >= 0 && head <= al->m && head == (romrt_real)(int)head))
+        return -1;
+    for (k = 0; k < n; k++) /* positions that would not be representable */
+        if (!((double)s[2 + 2 * k] + al->X0[k] < 1e30 && (double)s[2 + 2 * k] + al->X0[k] > -1e30)) return -1;
+    al->count = (int)count;
+    al->head = (int)head;
+    s += 2;
+    s = take(s, al->u_t, n);
+    s = take(s, al->v, n);
+    s = take(s, al->u_prev, n);
+    s = take(s, al->v_prev, n);
+    s = take(s, al->D, slots * n);
+    s = take(s, al->P, slots * (size_t)m->r);
+    memcpy(al->f_app, s, sizeof(romrt_real) * n);
+    rt_alrom_abort(m); /* x_ref and q from u_t */
+    m->x_bound = 0;
+    for (k = 0; k < 3 * (size_t)m->shown; k++)
+        if (fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+    return 0;
+}

@@ -139,7 +139,7 @@ typedef struct romrt_model romrt_model;
  * and damping edits apply to it only). A reduced model may be an adaptive linear ROM (formats/
  * ROMBIN.md, ALRH): before each step it rebuilds its basis from a decoder and its last steps over
  * the stored vertices (runtime/alrom.c), which costs O(stored vertices x r^2) a step; its reduced
- * coordinates are then relative to the step's start, and its state cannot be saved (below). */
+ * coordinates are then relative to the step's start, and its saved state is large (below). */
 typedef enum { ROMRT_KIND_REDUCED = 0, ROMRT_KIND_KOOPMAN = 1 } romrt_kind;
 
 /* Arena bytes romrt_open will need for this asset (validates the asset fully). */
@@ -247,9 +247,9 @@ void romrt_clear_forces(romrt_model *m);
 /* The whole dynamic state (time, reduced positions, velocities, integrator history, applied
  * forces) as romrt_state_size reals, to save and restore (undo, networking, replays). The time
  * takes two reals (a float pair holds the double clock to about 48 bits). A state with a
- * non-finite value or from a model of another size is refused. An adaptive linear ROM's state
- * (its stored vertices' positions, velocities and history) is not saved yet: its size is 0 and
- * get/set return ROMRT_E_UNSUPPORTED. */
+ * non-finite value or from a model of another size is refused. An adaptive linear ROM's state is
+ * its stored vertices' displacements, velocities and the last m steps' history (each double as a
+ * pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m) reals. */
 int romrt_state_size(const romrt_model *m);
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count);
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count);

@@ -240,6 +240,14 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
 romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err);
 void rt_alrom_abort(romrt_model *m);
 void rt_alrom_reset(romrt_model *m);
+/* Its state after the clock and have_prev (access.c's layout): rt_alrom_state_size reals; set
+ * refuses (-1, changing nothing) ring counters out of range. */
+int rt_alrom_state_size(const romrt_model *m);
+void rt_alrom_get_state(const romrt_model *m, romrt_real *state);
+int rt_alrom_set_state(romrt_model *m, const romrt_real *state);
+/* A double as a pair of reals, hi + lo (hi the double rounded, lo the rest rounded toward zero):
+ * exact in double, about 48 bits in float. */
+void rt_split(double x, romrt_real *pair);
 /* The app's force f on stored vertex v, kept in the full space (an adaptive basis changes every
  * step): added when apply; -1, adding nothing, when the sum would overflow. */
 int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply);
