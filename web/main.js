@@ -1,7 +1,11 @@
 // main.js: the page. Loads the runtime (romrt.js) once, then an asset from the demo list
 // (assets.json, written by make web) or the file picker; every animation frame it sets the drag's
 // force, advances the model one step (a Koopman asset: a jump of the slider's steps), times that
-// call and draws the positions. window.romkitState is what tests/web/page.mjs reads.
+// call and draws the positions. A .glb (romkit export's glTF: ?gltf=NAME, the list or the picker)
+// is opened by three.js's GLTFLoader instead and its morph-weight animation played by an
+// AnimationMixer, the runtime not involved. window.romkitState is what tests/web/page.mjs reads.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import createRomrt from './romrt.js';
 import { Model, KIND_KOOPMAN } from './model.js';
 import { View } from './view.js';
@@ -12,6 +16,9 @@ const view = new View($('view'));
 const drag = new Drag(view, () => Number($('pull').value));
 const jumpSteps = () => 10 ** Number($('jump').value);
 let M = null, model = null, rest = null, running = false;
+// the open glTF: its animation's mixer, the morphed object, the clock that plays it
+let mixer = null, action = null, morphed = null;
+const clock = new THREE.Clock();
 
 const state = window.romkitState = {
   ready: false, asset: null, kind: null, drawn: null, shown: 0, triangles: 0, r: 0, h: 0,
@@ -24,6 +31,20 @@ const state = window.romkitState = {
   rest: () => Array.from(rest),
   // shown vertex i's position on the canvas, CSS pixels
   project: (i) => view.projectVertex(i),
+  // an open glTF: what GLTFLoader made of it (null otherwise)
+  gltf: null,
+  // the glTF's morphed positions (rest plus the weighted targets, as three.js draws them) with its
+  // animation set to time t: xyz of every vertex, in the file's vertex order
+  gltfPositions: (t) => {
+    mixer.setTime(t);
+    const p = morphed.geometry.attributes.position, v = new THREE.Vector3(), out = new Array(3 * p.count);
+    for (let i = 0; i < p.count; i++) {
+      morphed.getVertexPosition(i, v);
+      out[3 * i] = v.x; out[3 * i + 1] = v.y; out[3 * i + 2] = v.z;
+    }
+    return out;
+  },
+  gltfTimes: () => Array.from(action.getClip().tracks[0].times),
 };
 
 function showError(e) {
@@ -33,13 +54,57 @@ function showError(e) {
 window.addEventListener('error', (e) => showError(e.error || e.message));
 window.addEventListener('unhandledrejection', (e) => showError(e.reason));
 
-function open(name, bytes) {
+// Closes what is open (a model or a glTF) and starts on `name`.
+function close(name) {
   if (model) model.free();
   model = null;
+  if (mixer) mixer.stopAllAction();
+  mixer = action = morphed = null;
   drag.up(); // a vertex of the last model
   running = false;
-  Object.assign(state, { ready: false, asset: name, error: null, steps: 0, stepMs: [] });
+  Object.assign(state, { ready: false, asset: name, error: null, steps: 0, stepMs: [], gltf: null });
   $('error').textContent = '';
+}
+
+// A .glb: its scene drawn, its first animation looping; the first mesh (or points) with morph
+// targets is the one state.gltfPositions reads.
+async function openGltf(name, bytes) {
+  close(name);
+  let gltf;
+  try {
+    gltf = await new GLTFLoader().parseAsync(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.length), '');
+  } catch (e) {
+    showError(`${name}: ${e.message}`);
+    return;
+  }
+  if (state.asset !== name) return; // another was opened meanwhile
+  const objects = [];
+  gltf.scene.traverse((o) => { if (o.isMesh || o.isPoints) objects.push(o); });
+  morphed = objects.find((o) => o.morphTargetInfluences) || null;
+  for (const o of objects) if (o.isMesh) o.material.side = THREE.DoubleSide; // winding not promised
+  view.showGltf(gltf.scene);
+  mixer = new THREE.AnimationMixer(gltf.scene);
+  const clip = gltf.animations[0];
+  if (clip) action = mixer.clipAction(clip).play();
+  clock.getDelta();
+  const p = morphed ? morphed.geometry.attributes.position : null;
+  Object.assign(state, {
+    kind: 'gltf', drawn: 'gltf', shown: p ? p.count : 0, r: 0, h: 0, time: 0, ready: true,
+    triangles: morphed && morphed.isMesh && morphed.geometry.index ? morphed.geometry.index.count / 3 : 0,
+    gltf: {
+      objects: objects.length, morphed: morphed ? (morphed.isMesh ? 'mesh' : 'points') : null,
+      morphTargets: morphed ? morphed.morphTargetInfluences.length : 0,
+      animations: gltf.animations.length,
+      tracks: clip ? clip.tracks.map((t) => ({ name: t.name, keyframes: t.times.length })) : [],
+      duration: clip ? clip.duration : 0,
+    },
+  });
+  $('jump-row').hidden = true;
+}
+
+function open(name, bytes) {
+  if (/\.glb$/i.test(name)) return openGltf(name, bytes).catch(showError);
+  close(name);
   try {
     model = new Model(M, bytes);
   } catch (e) {
@@ -59,7 +124,7 @@ function open(name, bytes) {
 async function openUrl(name) {
   const response = await fetch(name);
   if (!response.ok) throw new Error(`${name}: ${response.status} ${response.statusText}`);
-  open(name, new Uint8Array(await response.arrayBuffer()));
+  await open(name, new Uint8Array(await response.arrayBuffer()));
 }
 
 function median(values) {
@@ -69,6 +134,13 @@ function median(values) {
 }
 
 function hud(callMs, steps) {
+  if (mixer && state.gltf) {
+    const g = state.gltf;
+    $('hud').textContent = `${state.asset}: glTF (three.js GLTFLoader), ${state.shown} vertices, ` +
+      `${g.morphTargets} morph targets\nanimation: ${g.tracks.length ? g.tracks[0].keyframes : 0} keyframes, ` +
+      `t = ${state.time.toFixed(2)} of ${g.duration.toFixed(2)} s`;
+    return;
+  }
   if (!model) return;
   const last = median(state.stepMs.slice(-120));
   const what = state.drawn === 'surface' ? `${state.shown} vertices, ${state.triangles} triangles`
@@ -105,6 +177,11 @@ function frame() {
     state.target = drag.force ? drag.target.toArray() : null;
     state.stiffness = drag.k; // N/m, measured at the press
   }
+  const dt = clock.getDelta();
+  if (mixer) {
+    mixer.update(dt);
+    state.time = action ? action.time : 0;
+  }
   view.render();
   state.frames++;
   hud(callMs, steps);
@@ -136,8 +213,8 @@ async function main() {
   const demos = await (await fetch('assets.json')).json();
   for (const name of demos) $('demo').add(new Option(name, name));
   $('demo').addEventListener('change', (e) => openUrl(e.target.value).catch(showError));
-  const asked = new URLSearchParams(location.search).get('asset');
-  const first = asked || demos[0];
+  const query = new URLSearchParams(location.search);
+  const first = query.get('gltf') || query.get('asset') || demos[0];
   if (first) {
     $('demo').value = first;
     await openUrl(first);

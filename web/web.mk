@@ -30,9 +30,11 @@ web/node_modules/.package-lock.json: web/package.json web/package-lock.json
 $(WEB)/three/%.js: web/node_modules/.package-lock.json
 	@mkdir -p $(dir $@)
 	cp web/node_modules/three/build/$*.js $@
-$(WEB)/three/addons/controls/OrbitControls.js: web/node_modules/.package-lock.json
+# OrbitControls, and GLTFLoader with the two addons it imports.
+WEB_ADDONS := controls/OrbitControls.js loaders/GLTFLoader.js utils/BufferGeometryUtils.js utils/SkeletonUtils.js
+$(WEB)/three/addons/%.js: web/node_modules/.package-lock.json
 	@mkdir -p $(dir $@)
-	cp web/node_modules/three/examples/jsm/controls/OrbitControls.js $@
+	cp web/node_modules/three/examples/jsm/$*.js $@
 
 $(WEB)/%: web/%
 	@mkdir -p $(dir $@)
@@ -45,9 +47,16 @@ $(WEB_DEMO:%=$(BUILD)/demo/%.rombin) &: | $(BUILD)/romkit
 $(WEB)/%.rombin: $(BUILD)/demo/%.rombin
 	@mkdir -p $(dir $@)
 	cp $< $@
+# One glTF export of the RKPM asset (romkit export: the shown surface, its r basis columns as morph
+# targets, WEB_GLTF_STEPS runtime steps as the weights' animation), which the page opens with
+# three.js's GLTFLoader (index.html?gltf=demo.glb, or the file picker). tests/web/page.sh expects
+# these steps and this asset.
+WEB_GLTF_STEPS := 20
+$(WEB)/demo.glb: $(WEB)/rkpm.rombin $(BUILD)/romkit
+	$(BUILD)/romkit export $(WEB)/rkpm.rombin --gltf $@ --steps $(WEB_GLTF_STEPS) --quiet
 $(WEB)/assets.json: web/web.mk
 	@mkdir -p $(dir $@)
-	echo '[$(patsubst %,"%.rombin",$(WEB_DEMO))]' | sed 's/" "/", "/g' >$@
+	echo '[$(patsubst %,"%.rombin",$(WEB_DEMO)) "demo.glb"]' | sed 's/" "/", "/g' >$@
 
 # deps first, on its own: it may install emscripten, chromium and the libraries romkit links.
 .PHONY: web web-files web-test-files test-web
@@ -57,7 +66,8 @@ web: deps
 	@echo "    python3 -m http.server -d $(WEB) 8000"
 	@echo "and open http://localhost:8000/ (a browser will not run WebAssembly from file://)"
 web-files: $(WEB)/romrt.js $(WEB_PAGE:%=$(WEB)/%) $(WEB_THREE:%=$(WEB)/three/%) \
-           $(WEB)/three/addons/controls/OrbitControls.js $(WEB_DEMO:%=$(WEB)/%.rombin) $(WEB)/assets.json
+           $(WEB_ADDONS:%=$(WEB)/three/addons/%) $(WEB_DEMO:%=$(WEB)/%.rombin) $(WEB)/assets.json \
+           $(WEB)/demo.glb
 
 # The page in headless chromium (tests/web/page.sh): ok/FAIL lines, the browser's and the native
 # ms per step, and "N passed, N failed".
