@@ -7,7 +7,8 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import createRomrt from './romrt.js';
-import { Model, KIND_KOOPMAN } from './model.js';
+import { Model, KIND_KOOPMAN, rombinChunk } from './model.js';
+import { Splats } from './splats.js';
 import { View } from './view.js';
 import { Drag } from './drag.js';
 
@@ -16,9 +17,9 @@ const view = new View($('view'));
 const drag = new Drag(view, () => Number($('pull').value));
 const jumpSteps = () => 10 ** Number($('jump').value);
 let M = null, model = null, rest = null, running = false;
-// the open glTF: its animation's mixer, the morphed object, the clock that plays it
-let mixer = null, action = null, morphed = null;
-const clock = new THREE.Clock();
+let opened = null; // the last asset opened: { name, bytes }, opened again when the splats box changes
+// the open glTF: its animation's mixer, the morphed object; the last frame's time (ms)
+let mixer = null, action = null, morphed = null, lastFrame = performance.now();
 
 const state = window.romkitState = {
   ready: false, asset: null, kind: null, drawn: null, shown: 0, triangles: 0, r: 0, h: 0,
@@ -45,6 +46,11 @@ const state = window.romkitState = {
     return out;
   },
   gltfTimes: () => Array.from(action.getClip().tracks[0].times),
+  // a point cloud drawn as Gaussian splats: their count, whether their covariances follow F, and
+  // how many frames moved them (null otherwise)
+  splats: null,
+  // the splats' centres as the library holds them now
+  splatCenters: () => view.splats.centers(),
 };
 
 function showError(e) {
@@ -62,7 +68,7 @@ function close(name) {
   mixer = action = morphed = null;
   drag.up(); // a vertex of the last model
   running = false;
-  Object.assign(state, { ready: false, asset: name, error: null, steps: 0, stepMs: [], gltf: null });
+  Object.assign(state, { ready: false, asset: name, error: null, steps: 0, stepMs: [], gltf: null, splats: null });
   $('error').textContent = '';
 }
 
@@ -86,7 +92,6 @@ async function openGltf(name, bytes) {
   mixer = new THREE.AnimationMixer(gltf.scene);
   const clip = gltf.animations[0];
   if (clip) action = mixer.clipAction(clip).play();
-  clock.getDelta();
   const p = morphed ? morphed.geometry.attributes.position : null;
   Object.assign(state, {
     kind: 'gltf', drawn: 'gltf', shown: p ? p.count : 0, r: 0, h: 0, time: 0, ready: true,
@@ -102,7 +107,23 @@ async function openGltf(name, bytes) {
   $('jump-row').hidden = true;
 }
 
+// A point cloud's source splats (its SPLY chunk) drawn in place of its points, once loaded; the
+// points stay if the library cannot take them (the reason shown).
+async function openSplats(name, m, ply, restXyz) {
+  try {
+    const F = m.deformationGradients(); // its heap block, taken now: no allocation while stepping
+    const splats = await Splats.load(ply, m.shown, restXyz);
+    if (model !== m) { splats.dispose(); return; } // another asset was opened meanwhile
+    view.showSplats(splats);
+    state.drawn = view.drawn;
+    state.splats = { count: splats.count, covariances: splats.covariances && F !== null, updates: 0 };
+  } catch (e) {
+    if (model === m) $('error').textContent = `${name}: drawn as points, not splats: ${e.message}`;
+  }
+}
+
 function open(name, bytes) {
+  opened = { name, bytes };
   if (/\.glb$/i.test(name)) return openGltf(name, bytes).catch(showError);
   close(name);
   try {
@@ -113,6 +134,8 @@ function open(name, bytes) {
   }
   rest = model.restPositions();
   view.show(model, rest);
+  const ply = model.triangleCount === 0 && $('splats').checked ? rombinChunk(bytes, 'SPLY') : null;
+  if (ply) openSplats(name, model, ply.slice(), rest);
   Object.assign(state, {
     kind: model.kind === KIND_KOOPMAN ? 'koopman' : 'reduced', drawn: view.drawn, shown: model.shown,
     triangles: model.triangleCount, r: model.r, h: model.timeStep(), time: 0, ready: true,
@@ -144,7 +167,7 @@ function hud(callMs, steps) {
   if (!model) return;
   const last = median(state.stepMs.slice(-120));
   const what = state.drawn === 'surface' ? `${state.shown} vertices, ${state.triangles} triangles`
-                                         : `${state.shown} points`;
+    : state.drawn === 'splats' ? `${state.shown} Gaussian splats` : `${state.shown} points`;
   // performance.now() ticks in 0.1 ms on a page that is not cross-origin isolated
   const ms = (t) => (t > 0 ? `${t.toFixed(3)} ms` : 'under 0.1 ms');
   let timing = `${ms(last)} a step (median of the last ${Math.min(120, state.stepMs.length)})`;
@@ -167,7 +190,13 @@ function frame() {
       if (state.stepMs.length > 20000) state.stepMs.splice(0, 10000);
       state.steps += steps;
       state.time = model.time();
-      view.update(model.positions());
+      if (view.splats) {
+        const F = model.deformationGradients();
+        view.update(model.positions(), F);
+        state.splats.updates = view.splats.updates;
+      } else {
+        view.update(model.positions());
+      }
     } catch (e) {
       running = false; // the runtime leaves the state as it was before a failed step
       showError(`${state.asset}: ${e.message} (reset to go on)`);
@@ -177,7 +206,8 @@ function frame() {
     state.target = drag.force ? drag.target.toArray() : null;
     state.stiffness = drag.k; // N/m, measured at the press
   }
-  const dt = clock.getDelta();
+  const now = performance.now(), dt = (now - lastFrame) / 1000;
+  lastFrame = now;
   if (mixer) {
     mixer.update(dt);
     state.time = action ? action.time : 0;
@@ -197,6 +227,7 @@ async function main() {
   $('pull').addEventListener('input', sliderLabels);
   $('jump').addEventListener('input', sliderLabels);
   sliderLabels();
+  $('splats').addEventListener('change', () => { if (opened) open(opened.name, opened.bytes); });
   $('reset').addEventListener('click', () => {
     if (!model) return;
     model.reset();

@@ -19,6 +19,7 @@ export class View {
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.object = null;
     this.gltf = null;
+    this.splats = null;
     this.helpers = [];
     this.resize = () => {
       const w = container.clientWidth, h = container.clientHeight;
@@ -32,6 +33,7 @@ export class View {
 
   // Takes away what is drawn: the model's object, or a glTF scene.
   clear() {
+    this.hideSplats();
     if (this.object) {
       this.scene.remove(this.object);
       this.object.geometry.dispose();
@@ -84,6 +86,25 @@ export class View {
     this.frame(box);
   }
 
+  // Draws a point cloud's Gaussian splats (a Splats, moved by update) in place of its points; the
+  // points stay, hidden, for picking.
+  showSplats(splats) {
+    this.hideSplats();
+    this.splats = splats;
+    this.scene.add(splats.viewer);
+    this.object.visible = false;
+    this.drawn = 'splats';
+  }
+
+  hideSplats() {
+    if (!this.splats) return;
+    this.scene.remove(this.splats.viewer);
+    this.splats.dispose();
+    this.splats = null;
+    if (this.object) this.object.visible = true;
+    if (this.drawn === 'splats') this.drawn = 'points';
+  }
+
   // A floor grid under the box, and the camera in front of it (+z), a little above.
   frame(box) {
     const size = box.getSize(new THREE.Vector3()).length();
@@ -101,8 +122,10 @@ export class View {
     this.size = size;
   }
 
-  // Draws the model's positions (romrt_positions' xyz) this frame.
-  update(xyz) {
+  // Draws the model's positions (romrt_positions' xyz) this frame; with splats, F (9 per point,
+  // romrt_deformation_gradients, or null) turns their covariances.
+  update(xyz, F) {
+    if (this.splats) this.splats.update(xyz, F);
     const geometry = this.object.geometry;
     geometry.attributes.position.array.set(xyz);
     geometry.attributes.position.needsUpdate = true;
@@ -127,7 +150,7 @@ export class View {
     ray.setFromCamera(ndc, this.camera);
     const hit = ray.intersectObject(this.object)[0];
     if (!hit) return null;
-    if (this.drawn === 'points') return { vertex: hit.index, point: hit.point };
+    if (this.object.isPoints) return { vertex: hit.index, point: hit.point };
     const p = this.object.geometry.attributes.position;
     let best = -1, bestD = Infinity;
     for (const v of [hit.face.a, hit.face.b, hit.face.c]) {

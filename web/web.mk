@@ -12,7 +12,7 @@ WEB_EMCC := NODE_PATH=/usr/share/nodejs $(EMCC)
 # with WebAssembly SIMD, Chrome 91, Firefox 89, Safari 16.4).
 WEB_CFLAGS := -std=c99 -pedantic -Wall -Wextra -Werror -Wshadow -O3 -msimd128 -I. -DROMRT_MAX_R=$(RT_MAX_R)
 # The page's sources, copied as they are; three.js comes from web/node_modules (npm ci).
-WEB_PAGE  := index.html main.js model.js view.js drag.js
+WEB_PAGE  := index.html main.js model.js view.js drag.js splats.js
 WEB_THREE := three.module.js three.core.js
 # The demo's assets (tools/demo.sh bakes them into $(BUILD)/demo) the page lists; the first opens.
 WEB_DEMO  := rkpm koopman koopman_half_g
@@ -36,6 +36,10 @@ $(WEB)/three/addons/%.js: web/node_modules/.package-lock.json
 	@mkdir -p $(dir $@)
 	cp web/node_modules/three/examples/jsm/$*.js $@
 
+# @mkkellogg/gaussian-splats-3d (npm, pinned), which web/splats.js draws a point cloud's splats with.
+$(WEB)/gaussian-splats-3d.module.js: web/node_modules/.package-lock.json
+	@mkdir -p $(dir $@)
+	cp web/node_modules/@mkkellogg/gaussian-splats-3d/build/gaussian-splats-3d.module.js $@
 $(WEB)/%: web/%
 	@mkdir -p $(dir $@)
 	cp $< $@
@@ -67,7 +71,7 @@ web: deps
 	@echo "and open http://localhost:8000/ (a browser will not run WebAssembly from file://)"
 web-files: $(WEB)/romrt.js $(WEB_PAGE:%=$(WEB)/%) $(WEB_THREE:%=$(WEB)/three/%) \
            $(WEB_ADDONS:%=$(WEB)/three/addons/%) $(WEB_DEMO:%=$(WEB)/%.rombin) $(WEB)/assets.json \
-           $(WEB)/demo.glb
+           $(WEB)/demo.glb $(WEB)/gaussian-splats-3d.module.js
 
 # The page in headless chromium (tests/web/page.sh): ok/FAIL lines, the browser's and the native
 # ms per step, and "N passed, N failed".
