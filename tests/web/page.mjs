@@ -6,7 +6,7 @@
 // that make web exported from the RKPM asset (demo.glb), opened with three.js's GLTFLoader and
 // played by an AnimationMixer, against the native runtime's run of the same steps. Prints ok/FAIL
 // lines and writes the measured numbers as JSON.
-// Usage: node tests/web/page.mjs WEB_DIR PICK_DIR OUT.json (PICK_DIR: points.rombin,
+// Usage: node tests/web/page.mjs WEB_DIR PICK_DIR OUT.json (PICK_DIR: points.rombin, splats.rombin,
 // damaged.rombin, and gltf_run.npy: `romkit run rkpm.rombin --steps GLTF_STEPS --snapshots`)
 import { createRequire } from 'node:module';
 import { spawn } from 'node:child_process';
@@ -184,7 +184,8 @@ try {
         Math.abs((k.time - s.time) - jumps * 1000 * k.h) < 1e-6 * k.time && finite(x) && !k.error,
         `${k.steps - s.steps} steps, t ${s.time} -> ${k.time} at h ${k.h}; finite ${finite(x)}; error ${k.error}`);
 
-  // 5. A point cloud through the file picker: drawn as points, stepping.
+  // 5. A point cloud through the file picker, the splats box unticked: drawn as points, stepping.
+  await page.uncheck('#splats');
   await page.setInputFiles('#file', join(pickDir, 'points.rombin'));
   await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'points.rombin' &&
                             (window.romkitState.steps >= 20 || window.romkitState.error));
@@ -193,6 +194,51 @@ try {
   x = await positions(page);
   check('file_picker_opens_a_point_cloud_as_points', s.drawn === 'points' && s.triangles === 0 && !s.error &&
         finite(x) && maxMove(x, pr) > 0, `${JSON.stringify(s)}; largest move ${maxMove(x, pr)}`);
+
+  // 5b. The same lattice as 3DGS splats (splats.rombin, its SPLY a binary 3DGS PLY), the box ticked
+  // (which opens it again): its splats drawn by gaussian-splats-3d, their centres the runtime's
+  // positions every frame, their covariances turned by F, frames keep coming.
+  await page.setInputFiles('#file', join(pickDir, 'splats.rombin'));
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'splats.rombin' &&
+                            window.romkitState.steps > 0);
+  await page.check('#splats');
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'splats.rombin' &&
+                            (window.romkitState.drawn === 'splats' || window.romkitState.error), undefined, 30000)
+    .catch(() => {});
+  s = await state(page);
+  const sp = await page.evaluate(() => window.romkitState.splats);
+  const why = await page.textContent('#error');
+  check('point_cloud_drawn_as_gaussian_splats', s.drawn === 'splats' && sp && sp.count === s.shown && !s.error,
+        `drawn ${s.drawn}, splats ${JSON.stringify(sp)}, ${s.shown} points; error ${s.error}; shown "${why}"`);
+  if (s.drawn === 'splats') {
+    const b = await page.evaluate(() => ({ frames: window.romkitState.frames, updates: window.romkitState.splats.updates }));
+    await page.waitForTimeout(1000);
+    const a = await page.evaluate(() => ({ frames: window.romkitState.frames, updates: window.romkitState.splats.updates,
+                                           x: window.romkitState.positions(), c: window.romkitState.splatCenters(),
+                                           error: window.romkitState.error }));
+    out.splat_frames_per_second = a.frames - b.frames;
+    check('splat_frames_keep_coming', a.frames - b.frames >= 10 && a.updates - b.updates >= 10 && !a.error,
+          `${a.frames - b.frames} frames and ${a.updates - b.updates} splat updates in 1 s; error ${a.error}`);
+    const sr = await page.evaluate(() => window.romkitState.rest());
+    check('splat_centres_follow_the_runtime', finite(a.c) && maxMove(a.c, a.x) < 1e-6 * (1 + Math.max(...a.x.map(Math.abs))) &&
+          maxMove(a.c, sr) > 1e-4, `largest difference from the positions ${maxMove(a.c, a.x)}, move from rest ${maxMove(a.c, sr)}`);
+    check('splat_covariances_follow_f', sp.covariances === true, 'the covariances stay at rest');
+    // They are drawn: the canvas has orange pixels (the far end's splats, red well above blue;
+    // the points are drawn blue, the floor grey).
+    const orange = await page.evaluate(() => {
+      const gl = document.querySelector('#view canvas'), c = document.createElement('canvas');
+      c.width = gl.width; c.height = gl.height;
+      const g = c.getContext('2d');
+      g.drawImage(gl, 0, 0);
+      const d = g.getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (d[i] - d[i + 2] > 100) n++;
+      return n / (c.width * c.height);
+    });
+    out.splat_orange_fraction = orange;
+    check('splats_drawn_on_the_canvas', orange > 0.005, `${(100 * orange).toFixed(3)} % of the canvas orange`);
+    await page.screenshot({ path: join(webDir, 'splats.png') });
+  }
 
   // 6. A damaged asset: refused with the runtime's own message (read from romrt_error in the heap).
   await page.setInputFiles('#file', join(pickDir, 'damaged.rombin'));

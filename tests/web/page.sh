@@ -21,6 +21,13 @@ if ! "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/pick/points.rombin" --
     fail point_cloud_baked "$(head -c 600 "$TMP/err")"
     exit 1
 fi
+# The same lattice as binary 3DGS splats (tests/web/splats_ply.py), for the page's Gaussian splats.
+python3 tests/web/splats_ply.py tests/fuzz/seed_points.ply "$TMP/pick/splats.ply" &&
+    sed "s#\"seed_points.ply\"#\"$TMP/pick/splats.ply\"#" tests/fuzz/seed_points.json >"$TMP/pick/splats.json"
+if ! "$ROMKIT" build "$TMP/pick/splats.json" -o "$TMP/pick/splats.rombin" --quiet >/dev/null 2>"$TMP/err"; then
+    fail splat_cloud_baked "$(head -c 600 "$TMP/err")"
+    exit 1
+fi
 cp "$TMP/pick/points.rombin" "$TMP/pick/damaged.rombin"
 printf '\377' | dd of="$TMP/pick/damaged.rombin" bs=1 seek=2000 conv=notrunc 2>/dev/null
 
