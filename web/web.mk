@@ -51,6 +51,11 @@ $(WEB_DEMO:%=$(BUILD)/demo/%.rombin) &: | $(BUILD)/romkit
 $(WEB)/%.rombin: $(BUILD)/demo/%.rombin
 	@mkdir -p $(dir $@)
 	cp $< $@
+# A point cloud for the page's Gaussian splats: the example donut (45,624 splats of a 3DGS capture,
+# RKPM skinning, mesh-free; about 15 s to bake, once: a rebuilt romkit does not bake it again).
+$(WEB)/donut.rombin: examples/scenes/donut_splats.json tests/data/meshes/donut_3dgs.ply | $(BUILD)/romkit
+	@mkdir -p $(dir $@)
+	$(BUILD)/romkit build $< -o $@ --quiet
 # One glTF export of the RKPM asset (romkit export: the shown surface, its r basis columns as morph
 # targets, WEB_GLTF_STEPS runtime steps as the weights' animation), which the page opens with
 # three.js's GLTFLoader (index.html?gltf=demo.glb, or the file picker). tests/web/page.sh expects
@@ -60,7 +65,7 @@ $(WEB)/demo.glb: $(WEB)/rkpm.rombin $(BUILD)/romkit
 	$(BUILD)/romkit export $(WEB)/rkpm.rombin --gltf $@ --steps $(WEB_GLTF_STEPS) --quiet
 $(WEB)/assets.json: web/web.mk
 	@mkdir -p $(dir $@)
-	echo '[$(patsubst %,"%.rombin",$(WEB_DEMO)) "demo.glb"]' | sed 's/" "/", "/g' >$@
+	echo '[$(patsubst %,"%.rombin",$(WEB_DEMO)) "donut.rombin" "demo.glb"]' | sed 's/" "/", "/g' >$@
 
 # deps first, on its own: it may install emscripten, chromium and the libraries romkit links.
 .PHONY: web web-files web-test-files test-web
@@ -71,7 +76,7 @@ web: deps
 	@echo "and open http://localhost:8000/ (a browser will not run WebAssembly from file://)"
 web-files: $(WEB)/romrt.js $(WEB_PAGE:%=$(WEB)/%) $(WEB_THREE:%=$(WEB)/three/%) \
            $(WEB_ADDONS:%=$(WEB)/three/addons/%) $(WEB_DEMO:%=$(WEB)/%.rombin) $(WEB)/assets.json \
-           $(WEB)/demo.glb $(WEB)/gaussian-splats-3d.module.js
+           $(WEB)/demo.glb $(WEB)/gaussian-splats-3d.module.js $(WEB)/donut.rombin
 
 # The page in headless chromium (tests/web/page.sh): ok/FAIL lines, the browser's and the native
 # ms per step, and "N passed, N failed".
