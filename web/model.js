@@ -13,6 +13,26 @@ export const KIND_KOOPMAN = 1;
 const ERROR_BYTES = 176;
 const ERROR_MESSAGE = 9;
 
+// The bytes of chunk `id` (four ASCII letters) of a .rombin, stored uncompressed; null if absent
+// (formats/rombin.h: a 64-byte header, the chunk count at 40, 40-byte entries from 64: the id, the
+// flags at 4, the offset at 8 and the stored size at 16, both u64). Read before the runtime
+// validates the file: out-of-range entries give null.
+export function rombinChunk(bytes, id) {
+  if (bytes.length < 64) return null;
+  const d = new DataView(bytes.buffer, bytes.byteOffset, bytes.length);
+  const count = d.getUint32(40, true);
+  for (let i = 0; i < count && 64 + 40 * (i + 1) <= bytes.length; i++) {
+    const e = 64 + 40 * i;
+    if (String.fromCharCode(...bytes.subarray(e, e + 4)) !== id) continue;
+    const compressed = (d.getUint32(e + 4, true) >> 16) & 0xf;
+    const offset = d.getUint32(e + 8, true) + 2 ** 32 * d.getUint32(e + 12, true);
+    const stored = d.getUint32(e + 16, true) + 2 ** 32 * d.getUint32(e + 20, true);
+    if (compressed || offset + stored > bytes.length) return null;
+    return bytes.subarray(offset, offset + stored);
+  }
+  return null;
+}
+
 export class Model {
   // M: the emscripten module (await createRomrt()); bytes: the asset's bytes (Uint8Array).
   constructor(M, bytes) {
@@ -69,6 +89,14 @@ export class Model {
   positions() {
     this.check(this.c('positions', this.model, this.xyz, this.shown, 3), 'positions');
     return this.M.HEAPF32.subarray(this.xyz >> 2, (this.xyz >> 2) + 3 * this.shown);
+  }
+
+  // The deformation gradient at each shown vertex, F[9 i + 3 a + b] = dx_a/dX_b: a view into the
+  // heap, valid until the next call; null for an asset without the weights' gradients (GRAD).
+  deformationGradients() {
+    if (this.F === undefined) this.F = this.alloc(36 * this.shown);
+    if (this.c('deformation_gradients', this.model, this.F, this.shown) !== 0) return null;
+    return this.M.HEAPF32.subarray(this.F >> 2, (this.F >> 2) + 9 * this.shown);
   }
 
   restPositions() {

@@ -1,6 +1,6 @@
 // view.js: the three.js scene that draws a model's shown vertices: its surface triangles as a
 // mesh, or, for a point cloud (no triangles), the points. The geometry's position buffer is
-// refilled from romrt_positions every frame.
+// refilled from romrt_positions every frame. Or a glTF file's scene (romkit export's morph targets).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -18,6 +18,8 @@ export class View {
     this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.object = null;
+    this.gltf = null;
+    this.splats = null;
     this.helpers = [];
     this.resize = () => {
       const w = container.clientWidth, h = container.clientHeight;
@@ -29,14 +31,37 @@ export class View {
     this.resize();
   }
 
-  // Replaces what is drawn by the model's shown vertices (rest: their rest positions).
-  show(model, rest) {
+  // Takes away what is drawn: the model's object, or a glTF scene.
+  clear() {
+    this.hideSplats();
     if (this.object) {
       this.scene.remove(this.object);
       this.object.geometry.dispose();
       this.object.material.dispose();
+      this.object = null;
+    }
+    if (this.gltf) {
+      this.scene.remove(this.gltf);
+      this.gltf.traverse((o) => { if (o.geometry) o.geometry.dispose(); if (o.material) o.material.dispose(); });
+      this.gltf = null;
     }
     for (const h of this.helpers) this.scene.remove(h);
+    this.helpers = [];
+  }
+
+  // Replaces what is drawn by a glTF file's scene (GLTFLoader's gltf.scene), as it is: its
+  // morph targets and animation are the page's (main.js) to play. Nothing in it can be dragged.
+  showGltf(root) {
+    this.clear();
+    this.gltf = root;
+    this.scene.add(root);
+    this.frame(new THREE.Box3().setFromObject(root));
+    this.drawn = 'gltf';
+  }
+
+  // Replaces what is drawn by the model's shown vertices (rest: their rest positions).
+  show(model, rest) {
+    this.clear();
     const geometry = new THREE.BufferGeometry();
     const position = new THREE.BufferAttribute(new Float32Array(rest), 3);
     position.setUsage(THREE.DynamicDrawUsage);
@@ -58,7 +83,31 @@ export class View {
     }
     this.drawn = tris.length > 0 ? 'surface' : 'points';
     this.scene.add(this.object);
-    // A floor grid under the rest shape, and the camera in front of it (+z), a little above.
+    this.frame(box);
+  }
+
+  // Draws a point cloud's Gaussian splats (a Splats, moved by update) in place of its points; the
+  // points stay, hidden, for picking.
+  showSplats(splats) {
+    this.hideSplats();
+    this.splats = splats;
+    this.scene.add(splats.viewer);
+    this.object.visible = false;
+    this.drawn = 'splats';
+  }
+
+  hideSplats() {
+    if (!this.splats) return;
+    this.scene.remove(this.splats.viewer);
+    this.splats.dispose();
+    this.splats = null;
+    if (this.object) this.object.visible = true;
+    if (this.drawn === 'splats') this.drawn = 'points';
+  }
+
+  // A floor grid under the box, and the camera in front of it (+z), a little above.
+  frame(box) {
+    const size = box.getSize(new THREE.Vector3()).length();
     const center = box.getCenter(new THREE.Vector3());
     const grid = new THREE.GridHelper(2 * size, 20, 0xb0b0a8, 0xd0d0c8);
     grid.position.set(center.x, box.min.y - 0.25 * size, center.z);
@@ -73,8 +122,10 @@ export class View {
     this.size = size;
   }
 
-  // Draws the model's positions (romrt_positions' xyz) this frame.
-  update(xyz) {
+  // Draws the model's positions (romrt_positions' xyz) this frame; with splats, F (9 per point,
+  // romrt_deformation_gradients, or null) turns their covariances.
+  update(xyz, F) {
+    if (this.splats) this.splats.update(xyz, F);
     const geometry = this.object.geometry;
     geometry.attributes.position.array.set(xyz);
     geometry.attributes.position.needsUpdate = true;
@@ -99,7 +150,7 @@ export class View {
     ray.setFromCamera(ndc, this.camera);
     const hit = ray.intersectObject(this.object)[0];
     if (!hit) return null;
-    if (this.drawn === 'points') return { vertex: hit.index, point: hit.point };
+    if (this.object.isPoints) return { vertex: hit.index, point: hit.point };
     const p = this.object.geometry.attributes.position;
     let best = -1, bestD = Infinity;
     for (const v of [hit.face.a, hit.face.b, hit.face.c]) {

@@ -2,12 +2,15 @@
 // web/package-lock.json). Serves WEB_DIR with python3's http.server, as make web tells a user to;
 // opens the demo's RKPM asset, times its first steps, drags its free end up and checks that the
 // surface followed; then a Koopman asset with the jump slider, and a point cloud through the file
-// picker, and a damaged asset, which must be refused with the runtime's message. Prints ok/FAIL
+// picker, and a damaged asset, which must be refused with the runtime's message; last the glTF
+// that make web exported from the RKPM asset (demo.glb), opened with three.js's GLTFLoader and
+// played by an AnimationMixer, against the native runtime's run of the same steps. Prints ok/FAIL
 // lines and writes the measured numbers as JSON.
-// Usage: node tests/web/page.mjs WEB_DIR PICK_DIR OUT.json (PICK_DIR: points.rombin, damaged.rombin)
+// Usage: node tests/web/page.mjs WEB_DIR PICK_DIR OUT.json (PICK_DIR: points.rombin, splats.rombin,
+// damaged.rombin, and gltf_run.npy: `romkit run rkpm.rombin --steps GLTF_STEPS --snapshots`)
 import { createRequire } from 'node:module';
 import { spawn } from 'node:child_process';
-import { writeFileSync } from 'node:fs';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { join } from 'node:path';
 
 const require = createRequire(new URL('../../web/package.json', import.meta.url));
@@ -39,6 +42,19 @@ function serve(dir) {
   });
 }
 
+// The steps make web exported into demo.glb (WEB_GLTF_STEPS of web/web.mk): keyframes 0..GLTF_STEPS.
+const GLTF_STEPS = Number(process.env.WEB_GLTF_STEPS || 20);
+
+// A .npy of little-endian float64 (romkit run --snapshots): its shape and values.
+function readNpy(path) {
+  const b = readFileSync(path);
+  const headerLen = b.readUInt16LE(8), header = b.toString('latin1', 10, 10 + headerLen);
+  if (!/'descr': *'<f8'/.test(header) || /'fortran_order': *True/.test(header)) throw new Error(`${path}: ${header}`);
+  const shape = header.match(/'shape': *\(([^)]*)\)/)[1].split(',').filter((t) => t.trim()).map(Number);
+  const data = new Float64Array(b.buffer.slice(b.byteOffset + 10 + headerLen, b.byteOffset + b.length));
+  return { shape, data };
+}
+
 const median = (v) => v.slice().sort((a, b) => a - b)[v.length >> 1];
 const state = (page) => page.evaluate(() => {
   const s = window.romkitState;
@@ -48,7 +64,7 @@ const state = (page) => page.evaluate(() => {
 });
 const positions = (page) => page.evaluate(() => window.romkitState.positions());
 const finite = (xs) => xs.every(Number.isFinite);
-const maxMove = (a, b) => Math.max(...a.map((v, i) => Math.abs(v - b[i])));
+const maxMove = (a, b) => a.reduce((m, v, i) => Math.max(m, Math.abs(v - b[i])), 0); // no spread: 10^5 values
 async function waitFor(page, fn, arg, timeout = 60000) {
   await page.waitForFunction(fn, arg, { timeout, polling: 50 });
 }
@@ -168,7 +184,8 @@ try {
         Math.abs((k.time - s.time) - jumps * 1000 * k.h) < 1e-6 * k.time && finite(x) && !k.error,
         `${k.steps - s.steps} steps, t ${s.time} -> ${k.time} at h ${k.h}; finite ${finite(x)}; error ${k.error}`);
 
-  // 5. A point cloud through the file picker: drawn as points, stepping.
+  // 5. A point cloud through the file picker, the splats box unticked: drawn as points, stepping.
+  await page.uncheck('#splats');
   await page.setInputFiles('#file', join(pickDir, 'points.rombin'));
   await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'points.rombin' &&
                             (window.romkitState.steps >= 20 || window.romkitState.error));
@@ -178,6 +195,74 @@ try {
   check('file_picker_opens_a_point_cloud_as_points', s.drawn === 'points' && s.triangles === 0 && !s.error &&
         finite(x) && maxMove(x, pr) > 0, `${JSON.stringify(s)}; largest move ${maxMove(x, pr)}`);
 
+  // 5b. The same lattice as 3DGS splats (splats.rombin, its SPLY a binary 3DGS PLY), the box ticked
+  // (which opens it again): its splats drawn by gaussian-splats-3d, their centres the runtime's
+  // positions every frame, their covariances turned by F, frames keep coming.
+  await page.setInputFiles('#file', join(pickDir, 'splats.rombin'));
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'splats.rombin' &&
+                            window.romkitState.steps > 0);
+  await page.check('#splats');
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'splats.rombin' &&
+                            (window.romkitState.drawn === 'splats' || window.romkitState.error), undefined, 30000)
+    .catch(() => {});
+  s = await state(page);
+  const sp = await page.evaluate(() => window.romkitState.splats);
+  const why = await page.textContent('#error');
+  check('point_cloud_drawn_as_gaussian_splats', s.drawn === 'splats' && sp && sp.count === s.shown && !s.error,
+        `drawn ${s.drawn}, splats ${JSON.stringify(sp)}, ${s.shown} points; error ${s.error}; shown "${why}"`);
+  if (s.drawn === 'splats') {
+    const b = await page.evaluate(() => ({ frames: window.romkitState.frames, updates: window.romkitState.splats.updates }));
+    await page.waitForTimeout(1000);
+    const a = await page.evaluate(() => ({ frames: window.romkitState.frames, updates: window.romkitState.splats.updates,
+                                           x: window.romkitState.positions(), c: window.romkitState.splatCenters(),
+                                           error: window.romkitState.error }));
+    out.splat_frames_per_second = a.frames - b.frames;
+    check('splat_frames_keep_coming', a.frames - b.frames >= 10 && a.updates - b.updates >= 10 && !a.error,
+          `${a.frames - b.frames} frames and ${a.updates - b.updates} splat updates in 1 s; error ${a.error}`);
+    const sr = await page.evaluate(() => window.romkitState.rest());
+    check('splat_centres_follow_the_runtime', finite(a.c) && maxMove(a.c, a.x) < 1e-6 * (1 + Math.max(...a.x.map(Math.abs))) &&
+          maxMove(a.c, sr) > 1e-4, `largest difference from the positions ${maxMove(a.c, a.x)}, move from rest ${maxMove(a.c, sr)}`);
+    check('splat_covariances_follow_f', sp.covariances === true, 'the covariances stay at rest');
+    // They are drawn: the canvas has orange pixels (the far end's splats, red well above blue;
+    // the points are drawn blue, the floor grey).
+    const orange = await page.evaluate(() => {
+      const gl = document.querySelector('#view canvas'), c = document.createElement('canvas');
+      c.width = gl.width; c.height = gl.height;
+      const g = c.getContext('2d');
+      g.drawImage(gl, 0, 0);
+      const d = g.getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (d[i] - d[i + 2] > 100) n++;
+      return n / (c.width * c.height);
+    });
+    out.splat_orange_fraction = orange;
+    check('splats_drawn_on_the_canvas', orange > 0.005, `${(100 * orange).toFixed(3)} % of the canvas orange`);
+    await page.screenshot({ path: join(webDir, 'splats.png') });
+  }
+
+  // 5c. The demo's point cloud from the list (donut.rombin, 45,624 splats of a 3DGS capture): drawn
+  // as splats, moved every frame. Frames are slow here: SwiftShader draws the splats on the CPU.
+  await page.selectOption('#demo', 'donut.rombin');
+  await waitFor(page, () => window.romkitState.ready && window.romkitState.asset === 'donut.rombin' &&
+                            (window.romkitState.drawn === 'splats' || window.romkitState.error), undefined, 60000)
+    .catch(() => {});
+  s = await state(page);
+  const ds = await page.evaluate(() => window.romkitState.splats);
+  check('demo_point_cloud_drawn_as_gaussian_splats', s.drawn === 'splats' && ds && ds.count === s.shown && ds.covariances &&
+        !s.error, `drawn ${s.drawn}, splats ${JSON.stringify(ds)}, ${s.shown} points; error ${s.error}; shown "${await page.textContent('#error')}"`);
+  if (s.drawn === 'splats') {
+    const b = await page.evaluate(() => ({ frames: window.romkitState.frames, updates: window.romkitState.splats.updates, steps: window.romkitState.steps }));
+    await page.waitForTimeout(3000);
+    const a = await page.evaluate(() => ({ frames: window.romkitState.frames, updates: window.romkitState.splats.updates,
+                                           steps: window.romkitState.steps, error: window.romkitState.error,
+                                           x: window.romkitState.positions(), c: window.romkitState.splatCenters() }));
+    out.donut_frames_in_3_s = a.frames - b.frames;
+    check('demo_splat_frames_keep_coming', a.frames - b.frames >= 3 && a.updates - b.updates >= 3 && a.steps > b.steps &&
+          !a.error && maxMove(a.c, a.x) < 1e-5, `${a.frames - b.frames} frames, ${a.updates - b.updates} splat updates, ` +
+          `${a.steps - b.steps} steps in 3 s; centres off the positions by ${maxMove(a.c, a.x)}; error ${a.error}`);
+    await page.screenshot({ path: join(webDir, 'donut.png') });
+  }
+
   // 6. A damaged asset: refused with the runtime's own message (read from romrt_error in the heap).
   await page.setInputFiles('#file', join(pickDir, 'damaged.rombin'));
   await waitFor(page, () => window.romkitState.asset === 'damaged.rombin' && window.romkitState.error, undefined, 10000)
@@ -186,6 +271,59 @@ try {
   const shown = await page.textContent('#error');
   check('damaged_asset_refused_with_the_runtime_message', !s.ready && /damaged asset: .*CRC mismatch/.test(s.error) &&
         shown.includes('CRC mismatch'), `ready ${s.ready}, error ${s.error}, shown "${shown}"`);
+
+  // 7. The glTF make web exported from the RKPM asset (romkit export --steps GLTF_STEPS), opened by
+  // three.js's GLTFLoader and played by an AnimationMixer: one morphed mesh with a target per
+  // reduced coordinate (the r the runtime reported for rkpm.rombin above), one weights track of
+  // GLTF_STEPS + 1 keyframes; the morphed positions three.js computes at keyframes k (the mixer set
+  // to time t_k) are the native runtime's positions after k steps, and differ from the start.
+  await page.goto(`${url}index.html?gltf=demo.glb`);
+  await waitFor(page, () => window.romkitState && (window.romkitState.error ||
+                            (window.romkitState.ready && window.romkitState.asset === 'demo.glb')), undefined, 30000)
+    .catch(() => {});
+  s = await page.evaluate(() => window.romkitState && { ...window.romkitState, gltfPositions: undefined });
+  const g = s && s.gltf;
+  check('gltf_opens_with_three_gltfloader', s && !s.error && s.kind === 'gltf' && g && g.morphed === 'mesh' &&
+        s.triangles > 0, JSON.stringify(s && { error: s.error, kind: s.kind, gltf: g, triangles: s.triangles }));
+  if (g) {
+    out.gltf_morph_targets = g.morphTargets;
+    out.gltf_keyframes = g.tracks.length ? g.tracks[0].keyframes : 0;
+    check('gltf_has_a_morph_target_per_reduced_coordinate', g.morphTargets === out.r && g.morphTargets > 0,
+          `${g.morphTargets} morph targets, rkpm.rombin has r = ${out.r}`);
+    check('gltf_has_the_runs_keyframes', g.animations === 1 && g.tracks.length === 1 &&
+          /morphTargetInfluences$/.test(g.tracks[0].name) && g.tracks[0].keyframes === GLTF_STEPS + 1,
+          `${g.animations} animations, tracks ${JSON.stringify(g.tracks)}, expected one weights track of ${GLTF_STEPS + 1} keyframes`);
+    const f0 = await page.evaluate(() => window.romkitState.frames);
+    await page.waitForTimeout(500);
+    const playing = await page.evaluate(() => ({ frames: window.romkitState.frames, time: window.romkitState.time }));
+    check('gltf_animation_plays', playing.frames > f0 && playing.time > 0,
+          `${playing.frames - f0} frames in 0.5 s, animation time ${playing.time}`);
+    const native = readNpy(join(pickDir, 'gltf_run.npy'));
+    const times = await page.evaluate(() => window.romkitState.gltfTimes());
+    const x0 = await page.evaluate((t) => window.romkitState.gltfPositions(t), times[0]);
+    const nv = x0.length / 3;
+    let span = 0;
+    for (let k = 0; k < 3; k++) {
+      const c = x0.filter((_, j) => j % 3 === k);
+      span = Math.max(span, Math.max(...c) - Math.min(...c));
+    }
+    // keyframes half way and one before the last (a looping action wraps at the clip's end)
+    let worst = 0, moved = 0, shapeOk = native.shape.length === 3 && native.shape[0] === GLTF_STEPS &&
+                                         native.shape[1] === nv && native.shape[2] === 3;
+    for (const k of [GLTF_STEPS >> 1, GLTF_STEPS - 1]) {
+      const x = await page.evaluate((t) => window.romkitState.gltfPositions(t), times[k]);
+      moved = Math.max(moved, maxMove(x, x0));
+      if (!shapeOk) break;
+      const ref = Array.from(native.data.subarray((k - 1) * 3 * nv, k * 3 * nv));
+      worst = Math.max(worst, maxMove(x, ref));
+    }
+    out.gltf_largest_move_m = moved;
+    out.gltf_max_error_against_native_m = worst;
+    check('gltf_animation_moves_the_vertices', moved > 1e-3 * span,
+          `largest move from keyframe 0: ${moved} m (extent ${span} m)`);
+    check('gltf_morphed_positions_are_the_native_run', shapeOk && worst <= 1e-5 * span,
+          `native snapshots shape ${native.shape} for ${nv} vertices; largest difference ${worst} m (extent ${span} m)`);
+  }
 
   check('no_page_errors', problems.length === 0, problems.join('; '));
 } catch (e) {

@@ -21,10 +21,29 @@ if ! "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/pick/points.rombin" --
     fail point_cloud_baked "$(head -c 600 "$TMP/err")"
     exit 1
 fi
+# The same lattice as binary 3DGS splats (tests/web/splats_ply.py), for the page's Gaussian splats.
+python3 tests/web/splats_ply.py tests/fuzz/seed_points.ply "$TMP/pick/splats.ply" &&
+    sed "s#\"seed_points.ply\"#\"$TMP/pick/splats.ply\"#" tests/fuzz/seed_points.json >"$TMP/pick/splats.json"
+if ! "$ROMKIT" build "$TMP/pick/splats.json" -o "$TMP/pick/splats.rombin" --quiet >/dev/null 2>"$TMP/err"; then
+    fail splat_cloud_baked "$(head -c 600 "$TMP/err")"
+    exit 1
+fi
 cp "$TMP/pick/points.rombin" "$TMP/pick/damaged.rombin"
 printf '\377' | dd of="$TMP/pick/damaged.rombin" bs=1 seek=2000 conv=notrunc 2>/dev/null
 
-WEB_TIMED_STEPS=$STEPS node tests/web/page.mjs "$WEB" "$TMP/pick" "$TMP/browser.json"
+# The glTF make web exported (demo.glb: romkit export rkpm.rombin --steps GLTF_STEPS): its frames
+# are checked in the page against the native runtime's run of those steps.
+GLTF_STEPS=20
+if [ ! -f "$WEB/demo.glb" ]; then
+    fail web_gltf_built "no $WEB/demo.glb: make web exports it"
+    exit 1
+fi
+if ! "$ROMKIT" run "$WEB/rkpm.rombin" --steps $GLTF_STEPS --snapshots "$TMP/pick/gltf_run.npy" --quiet >/dev/null 2>"$TMP/err"; then
+    fail gltf_native_run "$(head -c 600 "$TMP/err")"
+    exit 1
+fi
+
+WEB_GLTF_STEPS=$GLTF_STEPS WEB_TIMED_STEPS=$STEPS node tests/web/page.mjs "$WEB" "$TMP/pick" "$TMP/browser.json"
 [ -f "$WEB/screenshot.png" ] && echo "screenshot: $WEB/screenshot.png"
 
 # The same asset from rest in the native float runtime (the desktop library: -O3, AVX2 and FMA
