@@ -36,7 +36,7 @@ DEPS_neural  := neural util
 DEPS_rom     := rom cubature fom solver contact fem physics mesh util
 DEPS_koopman := koopman cubature fem physics mesh util
 DEPS_formats := formats util
-DEPS_asset   := asset formats koopman rom cubature fom solver contact fem physics mesh util
+DEPS_asset   := asset formats koopman rom grassmann neural cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
 DEPS_pipeline := pipeline asset formats koopman rom cubature basis adaptive grassmann fom solver contact fem physics mesh neural util
 DEPS_compare := compare $(DEPS_pipeline)

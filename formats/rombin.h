@@ -101,6 +101,9 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_VLOD "VLOD"   /* real, vertices x 3: the external force on each (N): gravity and loads */
 #define ROMBIN_AMOV "AMOV"   /* u32, vertices: a stored vertex's prescribed motion, or ROMBIN_NO_MOTION */
 #define ROMBIN_AMOT "AMOT"   /* real, motions x ROMBIN_PIN_PARAMS: kind, axis, center, rate, velocity, 0 */
+#define ROMBIN_CRMS "CRMS"   /* u32: a CROM decoder's layer counts and sizes (1.4) */
+#define ROMBIN_CRMX "CRMX"   /* real, vertices x 3: the decoder's normalised rest positions */
+#define ROMBIN_CRMW "CRMW"   /* real: the encoder's, then the decoder's parameters, and the scale */
 #define ROMBIN_NO_MOTION 0xFFFFFFFFu
 #define ROMBIN_MAX_MOTIONS 64u   /* AMOT entries a reader takes (ROMBIN.md "Limits") */
 
@@ -108,6 +111,7 @@ enum {
     ROMBIN_ALRH_HISTORY = 0,     /* m: the steps the history basis spans */
     ROMBIN_ALRH_PAIRS,           /* r (r + 1) / 2: the modal derivatives per row */
     ROMBIN_ALRH_MOTIONS,         /* prescribed motions (AMOT) */
+    ROMBIN_ALRH_DECODER,         /* 0: quadratic (QDRV), 1: CROM (CRMS, CRMX, CRMW) */
     ROMBIN_ALRH_COUNT = 8        /* the rest reserved, 0 */
 };
 

@@ -11,7 +11,9 @@
  * onto them), C_r = a M_r, f_r = U^T f and the cubature elements' F = F(x_ref) + G_e q. The
  * prescribed vertices move to their targets in x_ref and their rows are zero, as in the
  * precompute's simulator (precompute/grassmann/alrom.c), which this reproduces when every vertex
- * is stored and the mass is lumped. Inner products are Euclidean over the stored rows. */
+ * is stored and the mass is lumped. Inner products are Euclidean over the stored rows. With a
+ * CROM decoder (ALRH's decoder 1) the code is the encoder network's output and U the decoder
+ * network's Jacobian at each stored vertex (forward mode), every vertex stored for the encoder. */
 #include <math.h>
 #include <string.h>
 
@@ -37,6 +39,53 @@ static int pair(int r, int i, int j)
 
 /* ---- the loader ---- */
 
+/* A CROM's chunks: CRMS's sizes (the encoder 3 nv -> .. -> r, the decoder r + 3 -> .. -> 3, 1 to
+ * 64 layers of 1 to 4096 units), CRMX, CRMW (both networks' parameters and the scale), and the
+ * buffers of the widest layer. */
+static romrt_status crom_arrays(rt_loader *L, romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    rombin_chunk c;
+    int found, k;
+    const uint32_t *sz;
+    uint64_t count = 0, e_count = 0, d_count = 0;
+    romrt_status st = rt_chunk(L, ROMBIN_CRMS, ROMBIN_TYPE_U32, 0, 1, &c, &found);
+    const romrt_real *w;
+    if (st) return st;
+    sz = (const uint32_t *)(const void *)c.data;
+    if (c.raw < 8 || sz[0] < 1 || sz[0] > 64 || sz[1] < 1 || sz[1] > 64 || c.raw != 4 * (4 + (uint64_t)sz[0] + sz[1]))
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMS, "layer counts out of 1..64 or sizes missing");
+    al->enc_layers = (int)sz[0];
+    al->dec_layers = (int)sz[1];
+    al->enc_sizes = sz + 2;
+    al->dec_sizes = sz + 3 + al->enc_layers;
+    if (al->enc_sizes[0] != 3 * (uint32_t)m->nv || al->enc_sizes[al->enc_layers] != (uint32_t)m->r ||
+        al->dec_sizes[0] != (uint32_t)m->r + 3 || al->dec_sizes[al->dec_layers] != 3)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMS,
+                       "the encoder must map every stored coordinate to r, the decoder r + 3 to 3");
+    al->widest = 3 * m->nv;
+    for (k = 0; k <= al->enc_layers + al->dec_layers + 1; k++) {
+        uint32_t units = k <= al->enc_layers ? al->enc_sizes[k] : al->dec_sizes[k - al->enc_layers - 1];
+        if (units < 1 || (units > 4096 && !(k == 0)))
+            return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_CRMS, "a layer of ", units, " units (1..4096)");
+        if ((int)units > al->widest) al->widest = (int)units;
+    }
+    for (k = 0; k < al->enc_layers; k++) e_count += (uint64_t)al->enc_sizes[k + 1] * (al->enc_sizes[k] + 1);
+    for (k = 0; k < al->dec_layers; k++) d_count += (uint64_t)al->dec_sizes[k + 1] * (al->dec_sizes[k] + 1);
+    count = e_count + d_count + 1;
+    if ((st = rt_reals(L, ROMBIN_CRMX, 3 * (uint64_t)m->nv, 1, &al->crom_x)) ||
+        (st = rt_reals(L, ROMBIN_CRMW, count, 1, &w)))
+        return st;
+    al->enc_w = w;
+    al->dec_w = w ? w + e_count : 0;
+    al->u_scale = w ? (double)w[count - 1] : 1;
+    rt_scratch_wide(L, (uint64_t)al->widest, &al->act[0]);
+    rt_scratch_wide(L, (uint64_t)al->widest, &al->act[1]);
+    rt_scratch_wide(L, (uint64_t)al->widest * (uint64_t)m->r, &al->tan[0]);
+    rt_scratch_wide(L, (uint64_t)al->widest * (uint64_t)m->r, &al->tan[1]);
+    return ROMRT_OK;
+}
+
 romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
 {
     const uint32_t *head;
@@ -47,15 +96,18 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     int k;
     if ((st = rt_u32s(L, ROMBIN_ALRH, ROMBIN_ALRH_COUNT, 0, &head))) return st;
     if (!head) { /* the rest without their header: a damaged asset, not a fixed-basis model */
-        static const char *const rest[] = {ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS, ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT};
+        static const char *const rest[] = {ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS, ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT,
+                                           ROMBIN_CRMS, ROMBIN_CRMX, ROMBIN_CRMW};
         rombin_chunk c;
         for (k = 0; k < (int)(sizeof rest / sizeof *rest); k++)
             if (rombin_find(&L->file, rest[k], &c))
                 return rt_fail(L->err, ROMRT_E_MODEL, rest[k], "an adaptive linear ROM's chunk without its header ALRH");
         return ROMRT_OK;
     }
-    for (k = ROMBIN_ALRH_MOTIONS + 1; k < ROMBIN_ALRH_COUNT; k++)
+    for (k = ROMBIN_ALRH_DECODER + 1; k < ROMBIN_ALRH_COUNT; k++)
         if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "reserved field ", (uint64_t)k, " is not 0");
+    if (head[ROMBIN_ALRH_DECODER] > 1)
+        return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "unknown decoder ", head[ROMBIN_ALRH_DECODER], "");
     if (head[ROMBIN_ALRH_HISTORY] < 1 || head[ROMBIN_ALRH_HISTORY] > MAX_HISTORY)
         return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "history of ", head[ROMBIN_ALRH_HISTORY], " steps is not in 1..1000");
     if ((uint64_t)head[ROMBIN_ALRH_PAIRS] != r * (r + 1) / 2)
@@ -65,11 +117,13 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "prescribed motion count ", head[ROMBIN_ALRH_MOTIONS],
                          " is above 64");
     m->alrom = 1;
+    al->decoder = (int)head[ROMBIN_ALRH_DECODER];
     al->m = (int)head[ROMBIN_ALRH_HISTORY];
     al->pairs = (int)head[ROMBIN_ALRH_PAIRS];
     al->nmotions = (int)head[ROMBIN_ALRH_MOTIONS];
     if ((st = rt_reals(L, ROMBIN_ALRP, ROMBIN_ALRP_COUNT, 1, &parm)) ||
-        (st = rt_reals(L, ROMBIN_QDRV, n * (uint64_t)al->pairs, 1, &al->psi)) ||
+        (!al->decoder && (st = rt_reals(L, ROMBIN_QDRV, n * (uint64_t)al->pairs, 1, &al->psi))) ||
+        (al->decoder && (st = crom_arrays(L, m))) ||
         (st = rt_reals(L, ROMBIN_VMSS, nv, 1, &al->mass)) || (st = rt_reals(L, ROMBIN_VLOD, n, 1, &al->load)) ||
         (st = rt_u32s(L, ROMBIN_AMOV, nv, 1, &al->motion_of)) ||
         (st = rt_reals(L, ROMBIN_AMOT, (uint64_t)al->nmotions * ROMBIN_PIN_PARAMS, al->nmotions > 0, &al->motions)))
@@ -103,7 +157,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, n * r, &al->Q2);
     rt_scratch_wide(L, n, &al->u);
     rt_scratch_wide(L, n, &al->res);
-    rt_scratch(L, n * r * r, &al->psi_full);
+    if (!al->decoder) rt_scratch(L, n * r * r, &al->psi_full);
     rt_scratch_wide(L, 4 * r * r, &al->work);
     rt_scratch_wide(L, n, &al->u_new);
     rt_scratch_wide(L, n, &al->v_new);
@@ -125,7 +179,9 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
             return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_AMOV, "stored vertex ", (uint64_t)v, " names motion ",
                               al->motion_of[v], ", beyond AMOT");
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
-    {
+    if (al->decoder && !(al->u_scale > 0))
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMW, "the displacement scale must be positive");
+    if (!al->decoder) {
         int r = m->r, i, k, j;
         for (i = 0; i < 3 * m->nv; i++)
             for (k = 0; k < r; k++)
@@ -214,12 +270,97 @@ static romrt_status mass_lsq(const romrt_model *m, const double *J, const double
 
 /* p = e(u): the mass projection onto the linear part, then Gauss-Newton on |g(p) - u|_M^2 (the
  * precompute's quadratic encoder, precompute/grassmann/quadratic.c). Leaves J(p) in al->U. */
+/* ---- a CROM decoder: networks z = W a + b, ELU on all layers but the last (precompute/neural) ---- */
+
+static double elu(double z) { return z > 0 ? z : exp(z) - 1; }
+
+/* The network of L layers with sizes and params (neural.h's layout) on one input x (sizes[0]
+ * values): its output into out (sizes[L]); al->act as scratch. */
+static void mlp_forward(rt_alrom *al, int L, const uint32_t *sizes, const romrt_real *w, const double *x, double *out)
+{
+    const double *in = x;
+    int l, o, i;
+    for (l = 0; l < L; l++) {
+        int n_in = (int)sizes[l], n_out = (int)sizes[l + 1];
+        double *z = l + 1 == L ? out : al->act[l % 2];
+        const romrt_real *b = w + (size_t)n_out * (size_t)n_in;
+        for (o = 0; o < n_out; o++) {
+            const romrt_real *row = w + (size_t)o * (size_t)n_in;
+            double s = b[o];
+            for (i = 0; i < n_in; i++) s += row[i] * in[i];
+            z[o] = l + 1 == L ? s : elu(s);
+        }
+        w = b + n_out;
+        in = z;
+    }
+}
+
+/* The decoder's output and its Jacobian in the first r inputs at x = [p, X_v] (forward mode, r
+ * tangents): J (3 x r, row-major). */
+static void mlp_jacobian(rt_alrom *al, int r, const double *x, double *J)
+{
+    int L = al->dec_layers, l, o, i, j;
+    const uint32_t *sizes = al->dec_sizes;
+    const romrt_real *w = al->dec_w;
+    const double *in = x, *tin = 0;
+    for (l = 0; l < L; l++) {
+        int n_in = (int)sizes[l], n_out = (int)sizes[l + 1];
+        double *z = al->act[l % 2], *t = l + 1 == L ? J : al->tan[l % 2];
+        const romrt_real *b = w + (size_t)n_out * (size_t)n_in;
+        for (o = 0; o < n_out; o++) {
+            const romrt_real *row = w + (size_t)o * (size_t)n_in;
+            double s = b[o], *to = t + (size_t)o * (size_t)r;
+            for (i = 0; i < n_in; i++) s += row[i] * in[i];
+            if (l == 0) /* the input's tangents are the identity on p */
+                for (j = 0; j < r; j++) to[j] = row[j];
+            else {
+                for (j = 0; j < r; j++) to[j] = 0;
+                for (i = 0; i < n_in; i++) {
+                    const double *ti = tin + (size_t)i * (size_t)r;
+                    double wi = row[i];
+                    for (j = 0; j < r; j++) to[j] += wi * ti[j];
+                }
+            }
+            if (l + 1 < L) { /* ELU and its derivative, exp(z) = a + 1 below 0 */
+                double a = elu(s), d = s > 0 ? 1 : a + 1;
+                z[o] = a;
+                for (j = 0; j < r; j++) to[j] *= d;
+            }
+        }
+        w = b + n_out;
+        in = z;
+        tin = t;
+    }
+}
+
+/* p = e(u) by the encoder, and U: the decoder's Jacobian at every stored vertex (the precompute's
+ * CROM, precompute/grassmann/crom.c: inputs scaled by u_scale, positions normalised). */
+static void crom_encode(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    int n = 3 * m->nv, r = m->r, v, a, j;
+    double x[ROMRT_MAX_R + 3], J[3 * ROMRT_MAX_R];
+    for (j = 0; j < n; j++) al->res[j] = al->u[j] / al->u_scale;
+    mlp_forward(al, al->enc_layers, al->enc_sizes, al->enc_w, al->res, al->p);
+    memcpy(x, al->p, sizeof(double) * (size_t)r);
+    for (v = 0; v < m->nv; v++) {
+        for (a = 0; a < 3; a++) x[r + a] = al->crom_x[3 * v + a];
+        mlp_jacobian(al, r, x, J);
+        for (a = 0; a < 3; a++)
+            for (j = 0; j < r; j++) al->U[((size_t)3 * v + a) * (size_t)r + j] = al->u_scale * J[a * r + j];
+    }
+}
+
 static romrt_status encode(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     double rhs[ROMRT_MAX_R];
     int r = m->r, it, k;
     romrt_status st;
+    if (al->decoder) {
+        crom_encode(m);
+        return ROMRT_OK;
+    }
     for (k = 0; k < r; k++) al->p[k] = 0;
     jacobian(m, al->p, al->U, 0, 0); /* the linear part, Phi */
     st = mass_lsq(m, al->U, al->u, al->p, al->work, err);

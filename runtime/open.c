@@ -11,7 +11,7 @@ static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, ROMBIN_ALRH, ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS,
-                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, 0};
+                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, ROMBIN_CRMS, ROMBIN_CRMX, ROMBIN_CRMW, 0};
 
 /* The three passes over one kind of model's chunks. */
 typedef struct {

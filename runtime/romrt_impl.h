@@ -103,6 +103,13 @@ typedef struct {
     double *u, *res;           /* nv x 3 */
     double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
     romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
+    /* a CROM decoder (ALRH's decoder 1): layer counts, sizes (CRMS: encoder's then decoder's),
+     * normalised rest positions (CRMX), parameters (CRMW), the widest layer's buffers */
+    int decoder, enc_layers, dec_layers, widest;
+    const uint32_t *enc_sizes, *dec_sizes;
+    const romrt_real *crom_x, *enc_w, *dec_w;
+    double u_scale;
+    double *act[2], *tan[2];   /* widest; widest x r */
     double *work;              /* 4 r x r: the small matrices of the encoder and the interpolation */
     double p[ROMRT_MAX_R];
     double *u_new, *v_new;     /* nv x 3: a step's result before it is kept */

@@ -10,6 +10,7 @@
 #define RK_ASSET_H
 
 #include "formats/rombin_write.h"
+#include "grassmann/grassmann.h"
 #include "koopman/koopman.h"
 #include "mesh/mesh.h"
 #include "rom/rom.h"
@@ -61,7 +62,10 @@ typedef struct {
 typedef struct {
     int history;                 /* m */
     double lambda, reg;
-    const double *Psi;           /* 3 nv x r(r+1)/2, column-major: the decoder's modal derivatives */
+    const double *Psi;           /* 3 nv x r(r+1)/2, column-major: the quadratic decoder's second-order
+                                  * term, or NULL with crom */
+    const rk_crom_parts *crom;   /* a CROM decoder (every vertex is then stored: its encoder reads them
+                                  * all), or NULL */
     const rk_fom_options *options; /* the prescribed motions, gravity, loads and damping it steps under */
 } rk_asset_alrom;
 

@@ -16,7 +16,9 @@ static int collision_vertices(const rk_rom_model *m, const rk_asset_options *o)
 static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_bake_state *s, rk_error *err)
 {
     const rk_rom_model *m = R->model;
-    int ncontact = collision_vertices(m, o), nelem = R->points ? 0 : m->quad.count, nextra = 4 * nelem + ncontact, k = 0;
+    int every = R->alrom && R->alrom->crom ? R->fem->nv : 0; /* a CROM's encoder reads every vertex */
+    int ncontact = collision_vertices(m, o), nelem = R->points ? 0 : m->quad.count, nextra = 4 * nelem + ncontact + every,
+        k = 0;
     int *extra = rk_calloc((size_t)nextra + 1, sizeof(int), err);
     if (!extra || (!R->points_shown && rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err))) {
         free(extra);
@@ -25,6 +27,7 @@ static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_
     for (int i = 0; i < nelem; i++)
         for (int c = 0; c < 4; c++) extra[k++] = R->fem->tets[4 * m->quad.source[i] + c];
     for (int c = 0; c < ncontact; c++) extra[k++] = m->cv[c];
+    for (int v = 0; v < every; v++) extra[k++] = v;
     rk_asset_options shown = *o;
     if (R->points_shown) shown.show = RK_SHOW_FIRST, shown.show_first = R->points_shown;
     int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, &shown, s, err);

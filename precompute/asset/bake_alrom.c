@@ -108,6 +108,44 @@ static int *motion_of_vertices(const rk_fom_options *o, int nv, rk_error *err)
     return g;
 }
 
+/* A CROM decoder's chunks: CRMS (L_e, L_d, the encoder's sizes, the decoder's), CRMX (the
+ * normalised rest positions of the stored vertices), CRMW (the encoder's parameters with its
+ * first layer's columns in the stored vertices' order, the decoder's, then the displacement
+ * scale). */
+static int crom_chunks(const rk_crom_parts *c, const rk_bake_state *s, int nv, rombin_writer *w, rk_error *err)
+{
+    int ns = 2 + c->enc_layers + 1 + c->dec_layers + 1, n = 3 * nv, n1 = c->enc_sizes[1];
+    if (s->count != nv || c->enc_sizes[0] != n)
+        return rk_fail(err, "a CROM encoder reads all %d vertices; %d are stored", nv, s->count);
+    int *sizes = rk_calloc((size_t)ns, sizeof(int), err);
+    double *X = rk_calloc(3 * (size_t)nv, sizeof(double), err);
+    double *W = rk_calloc((size_t)(c->enc_count + c->dec_count + 1), sizeof(double), err);
+    int rc = -1;
+    if (sizes && X && W) {
+        sizes[0] = c->enc_layers;
+        sizes[1] = c->dec_layers;
+        memcpy(sizes + 2, c->enc_sizes, sizeof(int) * (size_t)(c->enc_layers + 1));
+        memcpy(sizes + 3 + c->enc_layers, c->dec_sizes, sizeof(int) * (size_t)(c->dec_layers + 1));
+        for (int i = 0; i < nv; i++)
+            for (int a = 0; a < 3; a++) X[3 * i + a] = c->Xn[3 * s->source[i] + a];
+        memcpy(W, c->enc_params, sizeof(double) * (size_t)c->enc_count);
+        for (int o = 0; o < n1; o++) /* W_0 (n1 x 3 nv, row-major): its columns in stored order */
+            for (int i = 0; i < nv; i++)
+                for (int a = 0; a < 3; a++)
+                    W[(size_t)o * n + 3 * i + a] = c->enc_params[(size_t)o * n + 3 * s->source[i] + a];
+        memcpy(W + c->enc_count, c->dec_params, sizeof(double) * (size_t)c->dec_count);
+        W[c->enc_count + c->dec_count] = c->u_scale;
+        rc = rk_bake_add_u32s(w, ROMBIN_CRMS, 1, sizes, (size_t)ns, err) ||
+             rombin_add_reals(w, ROMBIN_CRMX, 1, X, 3 * (size_t)nv, err) ||
+             rombin_add_reals(w, ROMBIN_CRMW, 1, W, (size_t)(c->enc_count + c->dec_count + 1), err)
+                 ? -1 : 0;
+    }
+    free(sizes);
+    free(X);
+    free(W);
+    return rc;
+}
+
 int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
 {
     const rk_asset_alrom *A = R->alrom;
@@ -137,7 +175,7 @@ int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_w
     for (int i = 0; i < count; i++) {
         int v = s->source[i];
         amov[i] = motion[v] >= 0 ? motion[v] : (int)ROMBIN_NO_MOTION;
-        for (int a = 0; a < 3; a++)
+        for (int a = 0; a < 3 && A->Psi; a++)
             for (int p = 0; p < pairs; p++) psi[(size_t)(3 * i + a) * pairs + p] = A->Psi[(size_t)p * n + 3 * v + a];
     }
     for (int k = 0; k < o->nprescribed; k++) {
@@ -153,13 +191,14 @@ int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_w
     head[ROMBIN_ALRH_HISTORY] = (uint32_t)A->history;
     head[ROMBIN_ALRH_PAIRS] = (uint32_t)pairs;
     head[ROMBIN_ALRH_MOTIONS] = (uint32_t)o->nprescribed;
+    head[ROMBIN_ALRH_DECODER] = A->crom ? 1 : 0;
     double parm[ROMBIN_ALRP_COUNT] = {0};
     parm[ROMBIN_ALRP_LAMBDA] = A->lambda;
     parm[ROMBIN_ALRP_REG] = A->reg;
     parm[ROMBIN_ALRP_DAMPING] = o->rayleigh_mass;
     rc = rombin_add_u32(w, ROMBIN_ALRH, 1, head, ROMBIN_ALRH_COUNT, err) ||
          rombin_add_reals(w, ROMBIN_ALRP, 1, parm, ROMBIN_ALRP_COUNT, err) ||
-         rombin_add_reals(w, ROMBIN_QDRV, 1, psi, 3 * (size_t)count * pairs, err) ||
+         (A->crom ? crom_chunks(A->crom, s, nv, w, err) : rombin_add_reals(w, ROMBIN_QDRV, 1, psi, 3 * (size_t)count * pairs, err)) ||
          rombin_add_reals(w, ROMBIN_VMSS, 1, mass, (size_t)count, err) ||
          rombin_add_reals(w, ROMBIN_VLOD, 1, load, 3 * (size_t)count, err) ||
          rk_bake_add_u32s(w, ROMBIN_AMOV, 1, amov, (size_t)count, err) ||

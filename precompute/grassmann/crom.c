@@ -254,3 +254,12 @@ out:
                         .destroy = destroy};
     return 0;
 }
+
+int rk_crom_parts_of(const rk_decoder *dec, rk_crom_parts *out)
+{
+    if (!dec || dec->encode != encode) return -1;
+    const rk_crom *c = dec->ctx;
+    *out = (rk_crom_parts){c->enc.nlayers, c->dec.nlayers, c->enc.sizes, c->dec.sizes, c->enc.params, c->dec.params,
+                           rk_mlp_params(&c->enc), rk_mlp_params(&c->dec), c->u_scale, c->Xn};
+    return 0;
+}

@@ -95,6 +95,19 @@ typedef struct {
 int rk_crom_train(const double *D, int T, const double *X, int nv, int r, const rk_crom_options *o, rk_decoder *out,
                   rk_crom_report *report, rk_error *err);
 
+/* A trained CROM's parts, for the bake (borrowed from the decoder): the encoder's and decoder's
+ * sizes and parameters (neural.h's layout), the displacement scale and the normalised rest
+ * positions (3 nv) the decoder takes. -1 when dec is not a CROM. */
+typedef struct {
+    int enc_layers, dec_layers;          /* L of each */
+    const int *enc_sizes, *dec_sizes;    /* L + 1 each */
+    const double *enc_params, *dec_params;
+    long enc_count, dec_count;
+    double u_scale;
+    const double *Xn;
+} rk_crom_parts;
+int rk_crom_parts_of(const rk_decoder *dec, rk_crom_parts *out);
+
 /* ---- the simulator (alrom.c) ---- */
 
 typedef struct {

@@ -1,8 +1,9 @@
-/* An adaptive linear ROM entry into an asset (pipeline.h, rk_scene_bake_alrom): the quadratic
- * decoder's parts, the cubature the runtime integrates every step's basis with (trained as
- * rk_scene_alrom_cubature trains it for romkit compare, or every element), a reduced model on the
- * decoder's linear part for the chunks a reduced model has (its pin penalty left out: the runtime
- * moves the prescribed vertices itself), and the adaptive chunks beside them. */
+/* An adaptive linear ROM entry into an asset (pipeline.h, rk_scene_bake_alrom): the decoder (a
+ * quadratic one's parts, or a trained CROM's networks), the cubature the runtime integrates every
+ * step's basis with (trained as rk_scene_alrom_cubature trains it for romkit compare, or every
+ * element), a reduced model on the decoder's linear part (a CROM's Jacobian at p = 0) for the
+ * chunks a reduced model has (its pin penalty left out: the runtime moves the prescribed vertices
+ * itself), and the adaptive chunks beside them. */
 #include "pipeline/pipeline.h"
 
 #include <math.h>
@@ -14,7 +15,7 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
                    const rk_asset_summary *sum, double seconds)
 {
     cJSON *b = cJSON_AddObjectToObject(out->report, "basis");
-    cJSON_AddStringToObject(b, "type", e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
+    cJSON_AddStringToObject(b, "type", e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
     cJSON_AddNumberToObject(b, "size", model->r);
     cJSON_AddNumberToObject(b, "columns", model->r);
     cJSON *c = cJSON_AddObjectToObject(out->report, "cubature");
@@ -22,13 +23,14 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
     cJSON *a = cJSON_AddObjectToObject(out->report, "adaptive_linear");
     cJSON_AddNumberToObject(a, "history", e->alrom.history);
     cJSON_AddNumberToObject(a, "lambda", e->alrom.lambda);
-    cJSON_AddStringToObject(a, "decoder", e->quadratic_pod ? "quadratic_pod" : "quadratic");
+    cJSON_AddStringToObject(a, "decoder", e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic");
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, sum);
     cJSON_AddNumberToObject(out->report, "vertices", sim->mesh.nv);
     cJSON_AddNumberToObject(out->report, "tets", sim->mesh.nt);
     cJSON_AddNumberToObject(cJSON_AddObjectToObject(out->report, "seconds"), "total", seconds);
-    snprintf(out->summary, sizeof out->summary, "%s (adaptive linear ROM, quadratic decoder), r = %d, history %d, "
-             "lambda %g, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes", e->name, model->r,
+    snprintf(out->summary, sizeof out->summary, "%s (adaptive linear ROM, %s decoder), r = %d, history %d, "
+             "lambda %g, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes", e->name,
+             e->crom ? "CROM" : e->quadratic_pod ? "fitted quadratic" : "quadratic", model->r,
              e->alrom.history, e->alrom.lambda, model->quad.count, sum->vertices, sim->mesh.nv, sum->shown, out->bytes);
 }
 
@@ -36,25 +38,29 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
                         rk_error *err)
 {
     double t0 = rk_now();
-    if (e->crom)
-        return rk_fail(err, "%s: the runtime steps the quadratic-manifold decoder; a CROM decoder (a network at every "
-                       "stored vertex each step) is not baked into assets yet: use \"decoder\": \"quadratic\", or romkit "
-                       "compare for CROM", e->path);
     rk_scene_sim sim;
     if (rk_scene_build(scene, &sim, err)) return -1;
     double *D = NULL, *Phi = NULL, *Psi = NULL, *cub_weight = NULL;
     int *cub_element = NULL, ncub = 0, T = 0, r = e->basis.size, rc = -1, have_model = 0;
     rk_rom_model model;
     rk_quadrature quad = {0};
+    rk_decoder dec = {0};
+    rk_crom_parts crom;
     if (sim.options.is_static) {
         rk_fail(err, "%s: an adaptive linear ROM steps dynamics; the scene asks for a static solve", e->path);
         goto out;
     }
-    if ((e->cubature || e->quadratic_pod) && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
+    if ((e->cubature || e->quadratic_pod || e->crom) && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
                                                            : rk_scene_training_frames(&sim, &D, &T, err)))
         goto out;
     if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err)) goto out;
-    if (rk_scene_quadratic_parts(&sim, e, D, T, &Phi, &Psi, err)) {
+    if (e->crom) { /* the trained CROM; its Jacobian at p = 0 stands as the model's rows */
+        size_t nr = (size_t)3 * sim.mesh.nv * r;
+        double p0[4096] = {0};
+        if (r > 4096 || rk_scene_alrom_decoder(scene, &sim, e, D, T, &dec, err) || rk_crom_parts_of(&dec, &crom) ||
+            !(Phi = rk_calloc(nr, sizeof(double), err)) || dec.jacobian(dec.ctx, p0, Phi, err))
+            goto out;
+    } else if (rk_scene_quadratic_parts(&sim, e, D, T, &Phi, &Psi, err)) {
         rk_error_prefix(err, "%s: the decoder", e->path);
         goto out;
     }
@@ -65,7 +71,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         goto out;
     }
     have_model = 1;
-    rk_asset_alrom A = {e->alrom.history, e->alrom.lambda, e->alrom.reg, Psi, &sim.options};
+    rk_asset_alrom A = {e->alrom.history, e->alrom.lambda, e->alrom.reg, Psi, e->crom ? &crom : NULL, &sim.options};
     rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A};
     rk_asset_summary sum = {0};
     rombin_writer w;
@@ -74,7 +80,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     cJSON *ij = cJSON_CreateObject();
     cJSON_AddStringToObject(ij, "scene", slash ? slash + 1 : scene->path);
     cJSON_AddStringToObject(ij, "method", e->name);
-    cJSON_AddStringToObject(ij, "basis", e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
+    cJSON_AddStringToObject(ij, "basis", e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
     cJSON_AddNumberToObject(ij, "columns", r);
     cJSON_AddNumberToObject(ij, "cubature_elements", model.quad.count);
     char *info = cJSON_PrintUnformatted(ij);
@@ -91,6 +97,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     }
 out:
     if (have_model) rk_rom_model_free(&model);
+    rk_decoder_free(&dec);
     free(D);
     free(Phi);
     free(Psi);

@@ -509,8 +509,8 @@ typedef struct {
 int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_request *req, rk_baked *out,
                   rk_error *err);
 void rk_baked_free(rk_baked *b);
-/* rk_scene_bake of an adaptive_linear entry (bake_alrom.c): the quadratic decoder's asset with the
- * chunks the runtime's adaptive step reads (formats/ROMBIN.md); a CROM decoder is refused. */
+/* rk_scene_bake of an adaptive_linear entry (bake_alrom.c): the decoder's asset (quadratic, fitted
+ * quadratic or CROM) with the chunks the runtime's adaptive step reads (formats/ROMBIN.md). */
 int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
                         rk_error *err);
 /* A Koopman operator k over geometry g baked alone (romkit dmd's outside snapshots, and a Koopman

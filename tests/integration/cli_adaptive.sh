@@ -87,8 +87,8 @@ else
     fail compare_adaptive_linear_keys "$(head -c 400 "$TMP/err")"
 fi
 # An adaptive_linear asset (the runtime has no spheres: the scene's obstacle left out) steps in the
-# runtime; a CROM decoder is refused by name, and so is a fitted quadratic decoder with fewer training
-# frames than r; neither writes a file.
+# runtime, with a fitted quadratic decoder or a CROM; a fitted decoder with fewer training frames
+# than r is refused by name and writes nothing.
 scene "$TMP/m.json" '{"method": "adaptive_linear", "size": 3, "history": 4, "decoder": "quadratic_pod"}'
 grep -v '"obstacles"' "$TMP/m.json" >"$TMP/m2.json"
 if "$ROMKIT" build "$TMP/m2.json" -o "$TMP/m.rombin" --quiet >/dev/null 2>"$TMP/err" &&
@@ -97,10 +97,16 @@ if "$ROMKIT" build "$TMP/m2.json" -o "$TMP/m.rombin" --quiet >/dev/null 2>"$TMP/
 else
     fail build_and_run_adaptive_linear "$(head -c 400 "$TMP/err")"
 fi
-scene "$TMP/n.json" '{"method": "adaptive_linear", "size": 6, "decoder": "crom"}'
+scene "$TMP/n.json" '{"method": "adaptive_linear", "size": 3, "history": 4, "decoder": "crom",
+  "crom": {"encoder_width": 8, "encoder_layers": 1, "decoder_width": 8, "decoder_layers": 2, "epochs": 5}}'
 grep -v '"obstacles"' "$TMP/n.json" >"$TMP/n2.json"
-expect_fail build_refuses_crom_decoder "CROM decoder" "$ROMKIT" build "$TMP/n2.json" -o "$TMP/n.rombin"
-[ ! -e "$TMP/n.rombin" ] && ok crom_refusal_writes_nothing || fail crom_refusal_writes_nothing "n.rombin exists"
+if "$ROMKIT" build "$TMP/n2.json" -o "$TMP/n.rombin" --report "$TMP/nb.json" --quiet >/dev/null 2>"$TMP/err" &&
+    "$ROMKIT" run "$TMP/n.rombin" --steps 4 --report "$TMP/nr.json" --quiet >/dev/null 2>>"$TMP/err"; then
+    json_checks build_crom_decoder "$TMP/nb.json" 'basis.type="crom"' 'adaptive_linear.decoder="crom"'
+    json_checks run_crom_decoder "$TMP/nr.json" seconds_per_step
+else
+    fail build_crom_decoder "$(head -c 400 "$TMP/err")"
+fi
 scene "$TMP/p.json" '{"method": "adaptive_linear", "size": 40, "decoder": "quadratic_pod"}'
 grep -v '"obstacles"' "$TMP/p.json" >"$TMP/p2.json"
 expect_fail quadratic_pod_needs_frames "at least r = 40 frames" "$ROMKIT" build "$TMP/p2.json" -o "$TMP/p.rombin"

@@ -21,7 +21,13 @@
 
 /* A bar clamped at x = 0 whose far end is driven down and sideways (a bend, under
  * gravity), the quadratic decoder of 6 modes, a history of 8 steps; cubature on or off. */
+static const char *bar_with(const char *show, int cubature, const char *decoder);
 static const char *bar(const char *show, int cubature)
+{
+    return bar_with(show, cubature, "\"decoder\": \"quadratic\"");
+}
+
+static const char *bar_with(const char *show, int cubature, const char *decoder)
 {
     static char json[2048];
     snprintf(json, sizeof json,
@@ -31,10 +37,10 @@ static const char *bar(const char *show, int cubature)
              " \"moving\": [{\"box\": [[0.99, -1, -1], [2, 2, 2]], \"translate\": {\"velocity\": [0, -0.5, 0.3]}}]}],"
              " \"gravity\": [0, -9.81, 0], \"lumped_mass\": true, \"newton\": {\"tolerance\": 1e-9},"
              " \"time\": {\"step\": 0.01, \"duration\": 0.3, \"integrator\": \"backward_euler\"},"
-             " \"rom\": {\"method\": \"adaptive_linear\", \"size\": 6, \"decoder\": \"quadratic\", \"history\": 8,"
+             " \"rom\": {\"method\": \"adaptive_linear\", \"size\": 6, %s, \"history\": 8,"
              "  %s \"asset\": {\"show\": \"%s\", \"precision\": \"%s\","
              "   \"groups\": [{\"name\": \"middle\", \"box\": [[0.45, -1, -1], [0.55, 2, 2]]}]}}}",
-             cubature ? "\"cubature\": {\"tolerance\": 0.01}," : "", show, ASSET_REAL);
+             decoder, cubature ? "\"cubature\": {\"tolerance\": 0.01}," : "", show, ASSET_REAL);
     return json;
 }
 
@@ -173,6 +179,25 @@ TEST(every_vertex_stored_takes_the_precompute_steps)
     }
 }
 
+/* A CROM decoder (small networks, a short training on the scene's own run): its weights in the
+ * asset, every vertex stored for its encoder, the same steps as the precompute's simulator. */
+TEST(crom_decoder_takes_the_precompute_steps)
+{
+    rk_error err = {{0}};
+    fixture f;
+    int failed;
+    CHECK_OK(fixture_open(&f, bar_with("surface", 0, "\"decoder\": \"crom\", \"crom\": {\"encoder_width\": 16, "
+                                       "\"encoder_layers\": 1, \"decoder_width\": 16, \"decoder_layers\": 2, \"epochs\": 30}"),
+                          &err));
+    CHECK(romrt_shown_count(f.m) < f.sim.mesh.nv, "the surface is shown, every vertex stored");
+    double rel = run_both(&f, 10, NULL, NULL, NULL, &err, &failed);
+    CHECK(!failed, "%s", err.msg);
+    printf("# CROM decoder: relative difference %.3g over 10 steps (tol %g), history blended in %ld\n", rel, PARITY_TOL,
+           f.s.stats.history_used);
+    CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+    fixture_close(&f);
+}
+
 TEST(surface_and_cubature_vertices_as_accurate)
 {
     rk_error err = {{0}};
@@ -265,6 +290,7 @@ TEST(push_reset_and_refusals)
 int main(void)
 {
     RUN(every_vertex_stored_takes_the_precompute_steps);
+    RUN(crom_decoder_takes_the_precompute_steps);
     RUN(surface_and_cubature_vertices_as_accurate);
     RUN(push_reset_and_refusals);
     return test_finish();
