@@ -9,6 +9,8 @@
 #              their 16 POD modes and a least-squares quadratic term),
 #              m = 20, lambda = 0.2, the cubature trained as romkit compare trains it (for the POD
 #              basis of the same frames); stepped over the stored vertices only
+#   crom       the same with the CROM decoder trained on those frames (every vertex stored; the
+#              decoder network's Jacobian at each vertex each step)
 # The training runs are romkit fom jobs whose snapshots both entries list (the job-array form).
 # Writes bench/results/alrom_runtime.csv (scenario, method, us_per_step, us_min, us_max,
 # ratio_to_pca, newton_iterations, relative_error, stored_vertices).
@@ -31,6 +33,8 @@ for s in "$DIR"/armadillo_train_*.json; do
 done
 entries="{\"basis\": \"pod\", \"size\": 16, \"name\": \"pca\", \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]},
  {\"method\": \"adaptive_linear\", \"decoder\": \"quadratic_pod\", \"size\": 16, \"history\": 20, \"lambda\": 0.2, \"name\": \"adaptive\",
+  \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]},
+ {\"method\": \"adaptive_linear\", \"decoder\": \"crom\", \"size\": 16, \"history\": 20, \"lambda\": 0.2, \"name\": \"crom\",
   \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]}"
 echo "scenario,method,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error,stored_vertices" >"$OUT/alrom_runtime.csv"
 for sc in compress bend; do
@@ -41,13 +45,13 @@ s['rom'] = json.loads('[' + sys.argv[1] + ']')
 json.dump(s, open(sys.argv[2], 'w'))" "$entries" "$TMP/$sc.json"
     OPENBLAS_NUM_THREADS=1 "$ROMKIT" fom "$TMP/$sc.json" --snapshots "$TMP/$sc.ref.npy" --quiet
     steps=$(python3 -c "import json; t = json.load(open('$TMP/$sc.json'))['time']; print(round(t['duration'] / t['step']))")
-    for k in 0 1; do
-        name=$(test $k = 0 && echo pca || echo adaptive)
+    for k in 0 1 2; do
+        name=$(echo pca adaptive crom | cut -d' ' -f$((k + 1)))
         "$ROMKIT" build "$TMP/$sc.json" --entry $k -o "$TMP/$sc.$name.rombin" --report "$TMP/$sc.$name.build.json" --quiet
         "$ROMKIT" run "$TMP/$sc.$name.rombin" --steps "$steps" --reference "$TMP/$sc.ref.npy" \
             --report "$TMP/$sc.$name.run.json" --quiet >/dev/null
     done
-    OPENBLAS_NUM_THREADS=1 "$BUILD/bench_assets" "$steps" 7 "$TMP/$sc.pca.rombin" "$TMP/$sc.adaptive.rombin" | tail -n +2 >"$TMP/$sc.times"
+    OPENBLAS_NUM_THREADS=1 "$BUILD/bench_assets" "$steps" 7 "$TMP/$sc.pca.rombin" "$TMP/$sc.adaptive.rombin" "$TMP/$sc.crom.rombin" | tail -n +2 >"$TMP/$sc.times"
     while IFS=, read -r asset us lo hi ratio its; do
         name=$(echo "$asset" | sed 's/.*\.\([a-z]*\)\.rombin/\1/')
         err=$("$JSONQ" get "$TMP/$sc.$name.run.json" reference.relative_error)
