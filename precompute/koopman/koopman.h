@@ -271,12 +271,15 @@ typedef struct {
     double base_lr;       /* rk_lr_phased's base for those steps (default 2e-4) */
     double h;             /* the data's time step (s) */
     unsigned long long seed;
+    int window;           /* K >= 1: the step term rolls out K forced steps from each projected state,
+                           * (1/K) sum_k |Phi a_k - X_{t+k}|^2 with a_1 = B y_t, a_{k+1} = B (a_k + Phi^* F)
+                           * (Eq. 19); 1 (default) is Eq. 23 itself, more is beyond the paper */
 } rk_koopman_neural_options;
 
 void rk_koopman_neural_default_options(rk_koopman_neural_options *o);
 
 typedef struct {
-    int r;
+    int r, window;        /* window: the training's K (options) */
     double h, vscale;     /* beta */
     int *block;           /* r: 1 real, 2 first of a pair, 0 its second (as rk_koopman's) */
     double *eig;          /* r raw parameters: s for a real block; (s, t) for a pair */

@@ -22,6 +22,7 @@ void rk_koopman_neural_default_options(rk_koopman_neural_options *o)
     o->base_lr = 2e-4;
     o->h = 0.01;
     o->seed = 1;
+    o->window = 1;
 }
 
 void rk_koopman_neural_free(rk_koopman_neural *nk)
@@ -141,8 +142,10 @@ done:
 /* One mesh's training pairs in the scaled lifted space (as fit.c's snapshot_pairs, with beta):
  * Xp = X^+_t = [u_t; beta (u_t - u_{t-1} + a h^2)] (Eq. 18-19), Xn = X_{t+1}; 6 nv x M each. */
 typedef struct {
-    int nv, M;
+    int nv, M, ntraj;
     double *in, *Xp, *Xn, weight; /* weight: 1 / (M E_m) */
+    double *F;                    /* 6 nv x ntraj: each trajectory's impulse [0; beta a h^2] (Eq. 19) */
+    int *traj, *last;             /* M: a column's trajectory, and that trajectory's last column */
 } mesh_data;
 
 static int mesh_data_init(mesh_data *md, const rk_koopman_neural *nk, const rk_koopman_neural_mesh *m, rk_error *err)
@@ -160,7 +163,15 @@ static int mesh_data_init(mesh_data *md, const rk_koopman_neural *nk, const rk_k
     md->in = rk_calloc((size_t)m->nv * 3, sizeof(double), err);
     md->Xp = rk_calloc(D * M, sizeof(double), err);
     md->Xn = rk_calloc(D * M, sizeof(double), err);
-    if (!md->in || !md->Xp || !md->Xn) return -1;
+    md->ntraj = m->ntraj;
+    md->F = rk_calloc(D * (size_t)m->ntraj, sizeof(double), err);
+    md->traj = rk_calloc((size_t)M, sizeof(int), err);
+    md->last = rk_calloc((size_t)M, sizeof(int), err);
+    if (!md->in || !md->Xp || !md->Xn || !md->F || !md->traj || !md->last) return -1;
+    for (int k = 0, c0 = 0; k < m->ntraj; c0 += m->traj[k].frames - 2, k++) {
+        for (int c = c0; c < c0 + m->traj[k].frames - 2; c++) md->traj[c] = k, md->last[c] = c0 + m->traj[k].frames - 3;
+        for (int i = 0; m->traj[k].accel && i < d; i++) md->F[D * k + d + i] = beta * m->traj[k].accel[i] * h2;
+    }
     inputs(nk, m->X, m->nv, md->in);
     double e = 0;
     int c = 0;
@@ -184,32 +195,49 @@ static int mesh_data_init(mesh_data *md, const rk_koopman_neural *nk, const rk_k
 
 static void mesh_data_free(mesh_data *md)
 {
+    free(md->F);
+    free(md->traj);
+    free(md->last);
     free(md->in);
     free(md->Xp);
     free(md->Xn);
 }
 
 /* L for one mesh (Eq. 22 + Eq. 23, see koopman.h) and, when dPhi is not NULL, its gradient with
- * respect to Phi (6 nv x r) and B (dB, r x r, added to), through the least-squares projection:
- *   y = G^-1 Phi^T x, G = Phi^T Phi;  e = x - Phi y;  p = B y;  s = Phi p - x'.
- * Reconstruction |e|^2: y minimises it, so only its explicit dependence counts: -2 e y^T.
- * Prediction |s|^2: explicitly 2 s p^T, and through y with g = dL/dy = 2 B^T Phi^T s: from
- * dy = G^-1 (dPhi^T e - Phi^T dPhi y), the term e q^T - Phi q y^T with q = G^-1 g.
- * dL/dB = 2 Phi^T s y^T. Everything times the mesh's weight. ws: scratch. */
-static int mesh_loss(const mesh_data *md, int r, const double *Phi, const double *B, double *dPhi, double *dB,
+ * respect to Phi (6 nv x r, written) and B (dB, r x r, added to), through the least-squares
+ * projections:
+ *   y = G^-1 Phi^T x, G = Phi^T Phi;  e = x - Phi y;  g = G^-1 Phi^T F (the impulse's coordinates);
+ *   a_1 = B y,  a_{k+1} = B (a_k + g)  (the forced rollout of Eq. 19 over a window of K steps);
+ *   s_k = Phi a_k - X_{t+k}  (k = 1..K while the trajectory lasts; K = 1 is Eq. 23 itself).
+ * L = w (|e|^2 + (1/K) sum_k |s_k|^2). Reconstruction: y minimises |e|^2, so only its explicit
+ * dependence counts: -2 e y^T. Rollout, by reverse accumulation through the recurrence:
+ * l_k = dL/da_k = 2 Phi^T s_k / K + B^T l_{k+1};  dB += l_1 y^T + sum_{k>=2} l_k (a_{k-1} + g)^T;
+ * dL/dy = B^T l_1 and dL/dg = sum_{k>=2} B^T l_k (summed over a trajectory's columns). Explicitly
+ * dPhi += sum_k 2 s_k a_k^T / K; through a projection p = G^-1 Phi^T v with gradient h
+ * (dp = G^-1 (dPhi^T (v - Phi p) - Phi^T dPhi p)): (v - Phi p) q^T - Phi q p^T, q = G^-1 h.
+ * Everything times the mesh's weight w. */
+static int mesh_loss(const mesh_data *md, int r, int K, const double *Phi, const double *B, double *dPhi, double *dB,
                      double *loss, rk_error *err)
 {
-    size_t D = 6 * (size_t)md->nv;
-    int M = md->M, rc = -1;
+    size_t D = 6 * (size_t)md->nv, RM = (size_t)r * md->M;
+    int M = md->M, nt = md->ntraj, rc = -1;
+    double w = md->weight, wk = 2.0 / K;
     double *G = rk_calloc((size_t)r * r, sizeof(double), err);
-    double *Y = rk_calloc((size_t)r * M, sizeof(double), err);
-    double *P = rk_calloc((size_t)r * M, sizeof(double), err);
-    double *Q = rk_calloc((size_t)r * M, sizeof(double), err);
+    double *Y = rk_calloc(RM, sizeof(double), err);
+    double *g = rk_calloc((size_t)r * nt, sizeof(double), err);
+    double *Gm = rk_calloc(RM, sizeof(double), err);      /* g of each column's trajectory */
+    double *A = rk_calloc(RM * K, sizeof(double), err);   /* a_1 .. a_K */
+    double *L = rk_calloc(RM * K, sizeof(double), err);   /* l_1 .. l_K */
+    double *T = rk_calloc(RM, sizeof(double), err);
     double *E = rk_calloc(D * M, sizeof(double), err);
     double *S = rk_calloc(D * M, sizeof(double), err);
-    if (!G || !Y || !P || !Q || !E || !S) goto done;
+    double *EF = rk_calloc(D * nt, sizeof(double), err);
+    double *dg = rk_calloc((size_t)r * nt, sizeof(double), err);
+    double *QY = rk_calloc((size_t)r * r, sizeof(double), err);
+    if (!G || !Y || !g || !Gm || !A || !L || !T || !E || !S || !EF || !dg || !QY) goto done;
     cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, r, (int)D, 1.0, Phi, (int)D, Phi, (int)D, 0.0, G, r);
     cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, (int)D, 1.0, Phi, (int)D, md->Xp, (int)D, 0.0, Y, r);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, nt, (int)D, 1.0, Phi, (int)D, md->F, (int)D, 0.0, g, r);
     int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'L', r, G, r);
     if (info) {
         rk_fail(err, "the modes are linearly dependent on a mesh of %d vertices (Cholesky of Phi^T Phi, info %d)",
@@ -217,38 +245,86 @@ static int mesh_loss(const mesh_data *md, int r, const double *Phi, const double
         goto done;
     }
     LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, M, G, r, Y, r); /* y = Phi^* x (Eq. 22's least squares) */
+    LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, nt, G, r, g, r);
+    for (int c = 0; c < M; c++) memcpy(Gm + (size_t)r * c, g + (size_t)r * md->traj[c], sizeof(double) * r);
     memcpy(E, md->Xp, sizeof(double) * D * M);
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)D, M, r, -1.0, Phi, (int)D, Y, r, 1.0, E, (int)D);
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, r, M, r, 1.0, B, r, Y, r, 0.0, P, r); /* B y */
-    memcpy(S, md->Xn, sizeof(double) * D * M);
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)D, M, r, 1.0, Phi, (int)D, P, r, -1.0, S, (int)D);
-    double le = cblas_ddot((int)(D * M), E, 1, E, 1), ls = cblas_ddot((int)(D * M), S, 1, S, 1);
-    *loss = md->weight * (le + ls);
-    if (dPhi) {
-        double w = md->weight;
-        /* Q = G^-1 (2 B^T Phi^T s): first P <- Phi^T s (P is free now: p enters below as B y again) */
-        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, (int)D, 1.0, Phi, (int)D, S, (int)D, 0.0, Q, r);
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, r, r, M, 2 * w, Q, r, Y, r, 1.0, dB, r);
-        double *T = rk_calloc((size_t)r * M, sizeof(double), err);
-        if (!T) goto done;
-        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, r, 2.0, B, r, Q, r, 0.0, T, r);
-        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, M, G, r, T, r); /* q */
-        /* dPhi = w (-2 e y^T + 2 s p^T + e q^T - Phi q y^T) */
+    double le = cblas_ddot((int)(D * M), E, 1, E, 1), ls = 0;
+    if (dPhi)
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, (int)D, r, M, -2 * w, E, (int)D, Y, r, 0.0, dPhi, (int)D);
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, (int)D, r, M, 2 * w, S, (int)D, P, r, 1.0, dPhi, (int)D);
+    /* forward: a_k, s_k (columns whose step k runs past their trajectory: s = 0), l_k's own part */
+    for (int k = 1; k <= K; k++) {
+        double *a = A + RM * (k - 1);
+        if (k == 1) {
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, r, M, r, 1.0, B, r, Y, r, 0.0, a, r);
+        } else {
+            for (size_t i = 0; i < RM; i++) T[i] = (a - RM)[i] + Gm[i];
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, r, M, r, 1.0, B, r, T, r, 0.0, a, r);
+        }
+        for (int c = 0; c < M; c++) {
+            double *sc = S + D * c;
+            if (c + k - 1 > md->last[c]) {
+                memset(sc, 0, sizeof(double) * D);
+                continue;
+            }
+            memcpy(sc, md->Xn + D * (c + k - 1), sizeof(double) * D);
+            cblas_dgemv(CblasColMajor, CblasNoTrans, (int)D, r, 1.0, Phi, (int)D, a + (size_t)r * c, 1, -1.0, sc, 1);
+        }
+        ls += cblas_ddot((int)(D * M), S, 1, S, 1);
+        if (dPhi) {
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, (int)D, r, M, wk * w, S, (int)D, a, r, 1.0, dPhi,
+                        (int)D);
+            cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, (int)D, wk, Phi, (int)D, S, (int)D, 0.0,
+                        L + RM * (k - 1), r);
+        }
+    }
+    *loss = w * (le + ls / K);
+    if (dPhi) {
+        /* backward through the recurrence */
+        for (int k = K - 1; k >= 1; k--)
+            cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, r, 1.0, B, r, L + RM * k, r, 1.0,
+                        L + RM * (k - 1), r);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, r, r, M, w, L, r, Y, r, 1.0, dB, r);
+        for (int k = 2; k <= K; k++) {
+            for (size_t i = 0; i < RM; i++) T[i] = A[RM * (k - 2) + i] + Gm[i];
+            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, r, r, M, w, L + RM * (k - 1), r, T, r, 1.0, dB, r);
+        }
+        /* dL/dg per column: sum_{k>=2} B^T l_k, gathered per trajectory */
+        memset(T, 0, sizeof(double) * RM);
+        for (int k = 2; k <= K; k++)
+            cblas_daxpy((int)RM, 1.0, L + RM * (k - 1), 1, T, 1);
+        double *Tg = Gm; /* Gm is free now */
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, r, 1.0, B, r, T, r, 0.0, Tg, r);
+        for (int c = 0; c < M; c++) cblas_daxpy(r, 1.0, Tg + (size_t)r * c, 1, dg + (size_t)r * md->traj[c], 1);
+        /* dL/dy = B^T l_1 */
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, r, M, r, 1.0, B, r, L, r, 0.0, T, r);
+        /* through y: e q^T - Phi q y^T, q = G^-1 dL/dy */
+        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, M, G, r, T, r);
         cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, (int)D, r, M, w, E, (int)D, T, r, 1.0, dPhi, (int)D);
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, r, r, M, 1.0, T, r, Y, r, 0.0, G, r); /* q y^T */
-        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)D, r, r, -w, Phi, (int)D, G, r, 1.0, dPhi, (int)D);
-        free(T);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, r, r, M, 1.0, T, r, Y, r, 0.0, QY, r);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)D, r, r, -w, Phi, (int)D, QY, r, 1.0, dPhi, (int)D);
+        /* through g: e_F q_F^T - Phi q_F g^T */
+        memcpy(EF, md->F, sizeof(double) * D * nt);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)D, nt, r, -1.0, Phi, (int)D, g, r, 1.0, EF, (int)D);
+        LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', r, nt, G, r, dg, r);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, (int)D, r, nt, w, EF, (int)D, dg, r, 1.0, dPhi, (int)D);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasTrans, r, r, nt, 1.0, dg, r, g, r, 0.0, QY, r);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, (int)D, r, r, -w, Phi, (int)D, QY, r, 1.0, dPhi, (int)D);
     }
     rc = 0;
 done:
     free(G);
     free(Y);
-    free(P);
-    free(Q);
+    free(g);
+    free(Gm);
+    free(A);
+    free(L);
+    free(T);
     free(E);
     free(S);
+    free(EF);
+    free(dg);
+    free(QY);
     return rc;
 }
 
@@ -272,7 +348,7 @@ static int total_loss(rk_koopman_neural *nk, mesh_data *md, int nmesh, rk_mlp_wo
         double l;
         if (rk_mlp_forward(&nk->net, w, md[m].nv, md[m].in, Yo, err)) goto done;
         outputs_to_phi(Yo, md[m].nv, r, Phi);
-        if (mesh_loss(&md[m], r, Phi, B, grad_net ? dPhi : NULL, dB, &l, err)) goto done;
+        if (mesh_loss(&md[m], r, nk->window, Phi, B, grad_net ? dPhi : NULL, dB, &l, err)) goto done;
         *loss += l;
         if (grad_net) {
             phi_to_outputs(dPhi, md[m].nv, r, Yo);
@@ -380,7 +456,7 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         o = &def;
     }
     if (nmesh < 1 || o->rank < 1 || o->hidden < 1 || o->depth < 1 || o->epochs < 0 || !(o->h > 0) ||
-        !(o->base_lr > 0) || o->init_mesh >= nmesh)
+        !(o->base_lr > 0) || o->init_mesh >= nmesh || o->window < 1)
         return rk_fail(err, "neural DMD: bad options (%d meshes, rank %d, hidden %d x %d, epochs %d, h %g)", nmesh,
                        o->rank, o->hidden, o->depth, o->epochs, o->h);
     struct timespec t0, t1;
@@ -391,6 +467,7 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
     if (!md || o->depth > 14) goto fail;
     nk->r = r;
     nk->h = o->h;
+    nk->window = o->window;
     nk->block = rk_calloc((size_t)r, sizeof(int), err);
     nk->eig = rk_calloc((size_t)r, sizeof(double), err);
     if (!nk->block || !nk->eig) goto fail;
