@@ -243,7 +243,7 @@ int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex
  *   real:  lambda = tanh(s);
  *   pair:  a + ib = rho (cos theta, sin theta), rho = sigmoid(s), theta = pi sigmoid(t) in (0, pi).
  * They depend on no mesh (Sec. 5: the spectrum is the continuous operator's, meshes only
- * approximate it).
+ * approximate it). No shape code gamma yet: one object, several discretizations.
  *
  * Training (Eq. 22-23, Fig. 6) minimises, over every mesh m and every pair of successive states
  * of its trajectories, with X^+_t = X_t + [0; beta a h^2] the forced state (Eq. 19),
