@@ -34,7 +34,7 @@ DEPS_cubature := cubature fem physics mesh util
 # Dense MLPs (the CROM encoder and decoder of the adaptive linear ROM): BLAS and util only.
 DEPS_neural  := neural util
 DEPS_rom     := rom cubature fom solver contact fem physics mesh util
-DEPS_koopman := koopman cubature fem physics mesh util
+DEPS_koopman := koopman neural cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset formats koopman rom grassmann neural cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
@@ -166,6 +166,8 @@ TEST_ALSO_test_adaptive_subspace := basis
 TEST_ALSO_test_grassmann_alrom := basis
 # The chain's default fit is baked and jumped in the runtime.
 TEST_ALSO_test_koopman_dmd := asset formats
+# the neural DMD test builds its beams with the pipeline (scenes from JSON, full-order runs)
+TEST_ALSO_test_koopman_neural := $(DEPS_pipeline)
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)

@@ -14,6 +14,7 @@
 #ifndef RK_KOOPMAN_H
 #define RK_KOOPMAN_H
 
+#include "neural/neural.h"
 #include "util/util.h"
 
 /* One trajectory: u holds `frames` frames of d observables (column-major: frame t at u + d t),
@@ -224,6 +225,90 @@ int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, dou
  * 3k < b (fewer equations than coordinates) or a vertex is out of range. */
 int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex, int k, const double *markers, int T,
                              double *q, rk_error *err);
+
+/* ---- Neural, discretization-agnostic DMD (neural.c; koopman-dmd-log-linear paper, Sec. 5, Fig. 6)
+ *
+ * The modes are a field over the rest position: an MLP (precompute/neural) phi: R^3 -> R^{6r}
+ * gives, at a point x of the object, for each of the r real eigen-coordinates j the six values of
+ * mode j there: its displacement part and its velocity part, the latter scaled by beta as the
+ * classical fit scales it (the momentum state X_t = [u_t; beta (u_t - u_{t-1})], Eq. 18). On a
+ * mesh of any resolution, the modes evaluated at its vertices form Phi (6 nv x r: rows 0..3nv-1
+ * displacements, 3nv..6nv-1 scaled velocities), and the reduced coordinates of a state are its
+ * least-squares projection y = Phi^* X = (Phi^T Phi)^-1 Phi^T X (Eq. 22-23: "(Phi)^* is
+ * implemented through a least-squares solve"; every vertex weighs the same, no mass weighting).
+ * The paper's complex modes appear in their realified form (Sec. 5.2): one real column per real
+ * eigenvalue and the (Re, Im) column pair per complex pair, the eigenvalues as the blocks B of
+ * the classical real form ([[a, b], [-b, a]] per pair, 1 x 1 per real one), parametrised so that
+ * |lambda| < 1 holds by construction (Eq. 24):
+ *   real:  lambda = tanh(s);
+ *   pair:  a + ib = rho (cos theta, sin theta), rho = sigmoid(s), theta = pi sigmoid(t) in (0, pi).
+ * They depend on no mesh (Sec. 5: the spectrum is the continuous operator's, meshes only
+ * approximate it). No shape code gamma yet: one object, several discretizations.
+ *
+ * Training (Eq. 22-23, Fig. 6) minimises, over every mesh m and every pair of successive states
+ * of its trajectories, with X^+_t = X_t + [0; beta a h^2] the forced state (Eq. 19),
+ *   L = sum_m (1 / (F_m E_m)) sum_t |Phi y_t - X^+_t|^2 + |Phi B y_t - X_{t+1}|^2,  y_t = Phi^* X^+_t,
+ * F_m the mesh's pairs and E_m its mean |X_{t+1}|^2 (every resolution weighs the same): Eq. 22's
+ * reconstruction, and Eq. 23's one-step prediction measured after lifting (Phi B y_t against
+ * X_{t+1}, what a rollout is judged by). The gradient runs through the least-squares projection
+ * exactly (neural.c), then through the network in reverse mode; Adam with the phased rate. Start:
+ * a classical DMD (rk_koopman_fit) at rank r of one training mesh gives the block structure, the
+ * first eigenvalues and beta, and the network is first regressed onto its modes at that mesh's
+ * vertices (rk_mlp_train). */
+typedef struct {
+    const double *X;                     /* 3 nv rest positions */
+    int nv;
+    const rk_koopman_trajectory *traj;   /* ntraj trajectories of 3 nv displacements per frame */
+    int ntraj;
+} rk_koopman_neural_mesh;
+
+typedef struct {
+    int rank;             /* r >= 1 */
+    int hidden, depth;    /* the modes' MLP: `depth` hidden ELU layers of `hidden` units (64, 3) */
+    int init_mesh;        /* the mesh whose classical fit starts the training (-1, default: the last) */
+    int pretrain_epochs;  /* the regression onto those classical modes (default 300) */
+    int epochs;           /* full-batch Adam steps on L (default 400) */
+    double base_lr;       /* rk_lr_phased's base for those steps (default 2e-4) */
+    double h;             /* the data's time step (s) */
+    unsigned long long seed;
+    int window;           /* K >= 1: the step term rolls out K forced steps from each projected state,
+                           * (1/K) sum_k |Phi a_k - X_{t+k}|^2 with a_1 = B y_t, a_{k+1} = B (a_k + Phi^* F)
+                           * (Eq. 19); 1 (default) is Eq. 23 itself, more is beyond the paper */
+} rk_koopman_neural_options;
+
+void rk_koopman_neural_default_options(rk_koopman_neural_options *o);
+
+typedef struct {
+    int r, window;        /* window: the training's K (options) */
+    double h, vscale;     /* beta */
+    int *block;           /* r: 1 real, 2 first of a pair, 0 its second (as rk_koopman's) */
+    double *eig;          /* r raw parameters: s for a real block; (s, t) for a pair */
+    rk_mlp net;           /* 3 -> 6 r: output 6 j + c is mode j's component c (0-2 u, 3-5 beta v) */
+    double center[3], scale; /* network input (x - center) / scale */
+} rk_koopman_neural;
+
+typedef struct {
+    double pretrained_loss, final_loss; /* L after the regression onto the classical modes, after training */
+    double seconds;
+} rk_koopman_neural_report;
+
+/* Trains on nmesh meshes (each >= 1 trajectory). Deterministic for the options' seed. */
+int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const rk_koopman_neural_options *o,
+                            rk_koopman_neural *out, rk_koopman_neural_report *report, rk_error *err);
+void rk_koopman_neural_free(rk_koopman_neural *nk);
+/* L (above) of a trained or partly trained model on the meshes given, and when grad_net is not
+ * NULL its gradient: grad_net (rk_mlp_params(&nk->net) values, overwritten) and grad_eig (r). */
+int rk_koopman_neural_loss(rk_koopman_neural *nk, const rk_koopman_neural_mesh *mesh, int nmesh, double *grad_net,
+                           double *grad_eig, double *loss, rk_error *err);
+/* Eigenvalues (r each), as rk_koopman's lambda_re / lambda_im (a pair: +b at its first, -b at its second). */
+void rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, double *re, double *im);
+/* Phi (6 nv x r, column-major) at rest positions X (3 nv). */
+int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv, double *Phi, rk_error *err);
+/* The model on one mesh as a classical operator: Phi = Q R (thin QR), U_r = Q, W = R, W^-1 = R^-1,
+ * the eigenvalues and blocks as trained, so that rk_koopman_lift gives z = Q^T X and W^-1 z =
+ * Phi^* X, the least-squares coordinates; every rk_koopman function (rollouts, jumps, real form)
+ * and the asset bake (rk_asset_bake_koopman) then work on it unchanged. */
+int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int nv, rk_koopman *out, rk_error *err);
 
 /* Dense solvers (lstsq.c); A is m x n, column-major, left unchanged.
  * x = the minimum-norm least-squares solution of A x ~ b (dgelsd, relative singular value cut 1e-12). */
