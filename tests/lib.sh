@@ -63,3 +63,5 @@ npy_header_bytes() { set -- $(od -A n -t u1 -j 8 -N 2 "$1"); echo $(($1 + 256 * 
 npy_shape() { head -c "$(npy_header_bytes "$1")" "$1" | LC_ALL=C sed -n "s/.*'shape': (\([0-9, ]*\)).*/\1/p"; }
 # npy_values FILE: every value, one per line, in file order (od prints doubles round-trip exact).
 npy_values() { od -A n -v -t f8 -j "$(npy_header_bytes "$1")" "$1" | tr -s ' ' '\n' | sed '/^$/d'; }
+# below A B: A is a number (not empty, not text that awk would read as 0) and A < B.
+below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a ~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/ && a + 0 < b + 0) }'; }

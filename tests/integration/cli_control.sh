@@ -6,8 +6,6 @@
 # beam): at most 0.09%, 0.03%, 0.02%; the same beam 10x softer (0.2 m tip deflection, geometric
 # nonlinearity) stays under 6% but not under 2% for most frames (NOTES-kctl.md).
 . tests/lib.sh
-# below A B: A is a number and A < B.
-below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a ~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/ && a + 0 < b + 0) }'; }
 
 cat >"$TMP/beam.json" <<'JSON'
 {

@@ -3,8 +3,6 @@
 # full-order frames; the report keys of DESIGN.md; and the errors a user meets.
 . tests/lib.sh
 g3() { if [ -n "$1" ]; then printf '%.3g' "$1"; else printf '?'; fi; } # a number for a # line
-# below A B: A is a number (not empty, not text that awk would read as 0) and A < B.
-below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a ~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/ && a + 0 < b + 0) }'; }
 # npy_frames FILE K OUT: frames 0, K, 2K, ... of a T x n x 3 file as a file of their own. The
 # header's shape is rewritten in place (padded with spaces to the same length); fails unless the
 # new header says the new shape and the file has exactly the bytes it promises.
