@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "args.h"
+#include "asset_open.h"
 #include "commands.h"
 #include "export/export.h"
 #include "formats/rombin_write.h"
@@ -91,26 +92,13 @@ int cmd_export(int argc, char **argv)
     }
     rk_error err = {{0}};
     romrt_error rerr;
-    unsigned char *data = NULL, *arena = NULL;
+    tool_asset asset = {0};
     double *X = NULL, *D = NULL, *times = NULL, *weights = NULL;
     romrt_real *q = NULL;
     uint32_t *tris = NULL;
     int *itris = NULL, rc = 1;
-    size_t size = 0, arena_bytes = 0;
-    int inflated;
-    romrt_model *m;
-    if (rombin_read_file(path, &data, &size, &err) || rombin_inflate_in_place(&data, &size, &inflated, &err)) goto fail;
-    if ((koopman ? romrt_arena_size_kind(data, size, ROMRT_KIND_KOOPMAN, &arena_bytes, &rerr)
-                 : romrt_arena_size(data, size, &arena_bytes, &rerr)) != ROMRT_OK)
-        goto runtime_fail;
-    arena = aligned_alloc(16, (arena_bytes + 15) / 16 * 16);
-    if (!arena) {
-        rk_fail(&err, "out of memory for a %zu-byte arena", arena_bytes);
-        goto fail;
-    }
-    if ((koopman ? romrt_open_kind(data, size, ROMRT_KIND_KOOPMAN, arena, arena_bytes, &m, &rerr)
-                 : romrt_open(data, size, arena, arena_bytes, &m, &rerr)) != ROMRT_OK)
-        goto runtime_fail;
+    if (tool_asset_open(&asset, path, koopman, &rerr, &err)) goto fail;
+    romrt_model *m = asset.m;
     int n = romrt_shown_count(m), r = romrt_reduced_size(m), nt = romrt_triangle_count(m);
     int is_koopman = romrt_model_kind(m) == ROMRT_KIND_KOOPMAN;
     if (n < 1) {
@@ -130,7 +118,7 @@ int cmd_export(int argc, char **argv)
     }
     romrt_triangles(m, itris, nt);
     for (int k = 0; k < 3 * nt; k++) tris[k] = (uint32_t)itris[k];
-    if (rk_export_rows(data, size, is_koopman, n, r, X, D, &err) ||
+    if (rk_export_rows(asset.data, asset.bytes, is_koopman, n, r, X, D, &err) ||
         run_frames(m, steps, quiet, times, weights, q, &err)) {
         rk_error_prefix(&err, "%s", path);
         goto fail;
@@ -146,13 +134,10 @@ int cmd_export(int argc, char **argv)
            (double)romrt_time_step(m));
     rc = 0;
     goto done;
-runtime_fail:
-    rk_fail(&err, "%s: %s: %s", path, romrt_status_string(rerr.status), rerr.message);
 fail:
     fprintf(stderr, "romkit export: %s\n", err.msg);
 done:
-    free(data);
-    free(arena);
+    tool_asset_close(&asset);
     free(X);
     free(D);
     free(times);

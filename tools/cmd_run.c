@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "args.h"
+#include "asset_open.h"
 #include "commands.h"
 #include "run_splats.h"
 #include "formats/rombin_read.h"
@@ -209,8 +210,7 @@ int cmd_run(int argc, char **argv)
     }
     rk_error err = {{0}};
     romrt_error rerr;
-    unsigned char *data = NULL, *arena = NULL;
-    size_t size = 0, arena_bytes = 0;
+    tool_asset asset = {0};
     double *frame = NULL, *seconds = NULL;
     int *tris = NULL;
     reference ref;
@@ -222,30 +222,17 @@ int cmd_run(int argc, char **argv)
     memset(&splats, 0, sizeof splats);
     double t0 = rk_now();
     long newton = 0, unconverged = 0;
-    if (rombin_read_file(path, &data, &size, &err)) goto fail;
-    size_t file_bytes = size;
-    int inflated;
-    if (rombin_inflate_in_place(&data, &size, &inflated, &err)) goto fail;
-    romrt_model *m;
     /* an asset may hold a reduced model and a Koopman operator: the Koopman options pick the latter */
     koopman |= jump_text || dt_text || damping_text;
-    if ((koopman ? romrt_arena_size_kind(data, size, ROMRT_KIND_KOOPMAN, &arena_bytes, &rerr)
-                 : romrt_arena_size(data, size, &arena_bytes, &rerr)) != ROMRT_OK) {
-        if (koopman && rerr.status == ROMRT_E_UNSUPPORTED) {
+    if (tool_asset_open(&asset, path, koopman, &rerr, &err)) {
+        if (koopman && rerr.status == ROMRT_E_UNSUPPORTED)
             rk_fail(&err, "%s: this asset has no Koopman operator (no KHED chunk)",
                     jump_text ? "--jump" : dt_text ? "--dt" : damping_text ? "--damping" : "--koopman");
-            goto fail;
-        }
-        goto runtime_fail;
-    }
-    arena = aligned_alloc(16, (arena_bytes + 15) / 16 * 16);
-    if (!arena) {
-        rk_fail(&err, "out of memory for a %zu-byte arena", arena_bytes);
         goto fail;
     }
-    if ((koopman ? romrt_open_kind(data, size, ROMRT_KIND_KOOPMAN, arena, arena_bytes, &m, &rerr)
-                 : romrt_open(data, size, arena, arena_bytes, &m, &rerr)) != ROMRT_OK)
-        goto runtime_fail;
+    romrt_model *m = asset.m;
+    const unsigned char *data = asset.data;
+    size_t size = asset.bytes;
     if (dt_text && romrt_set_time_step(m, dt, &rerr) != ROMRT_OK) goto runtime_fail;
     if (damping_text && romrt_set_damping(m, damping, &rerr) != ROMRT_OK)
         goto runtime_fail;
@@ -326,7 +313,7 @@ int cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(r, "newton_iterations", (double)newton);
         cJSON_AddNumberToObject(r, "unconverged_steps", (double)unconverged);
         cJSON_AddNumberToObject(r, "fixed_newton_iterations", (double)fixed_newton); /* 0: converged mode */
-        cJSON_AddNumberToObject(r, "arena_bytes", (double)arena_bytes);
+        cJSON_AddNumberToObject(r, "arena_bytes", (double)asset.arena_bytes);
         cJSON_AddStringToObject(r, "precision", sizeof(romrt_real) == 4 ? "float32" : "float64");
         if (ref.frames) {
             cJSON *rj = cJSON_AddObjectToObject(r, "reference");
@@ -335,7 +322,7 @@ int cmd_run(int argc, char **argv)
             cJSON_AddNumberToObject(rj, "relative_error", rk_relative_error(&ref.error));
         }
         cJSON *a = cJSON_AddObjectToObject(r, "asset");
-        cJSON_AddNumberToObject(a, "bytes", (double)file_bytes);
+        cJSON_AddNumberToObject(a, "bytes", (double)asset.file_bytes);
         cJSON *s = cJSON_AddObjectToObject(r, "seconds");
         cJSON_AddNumberToObject(s, "total", rk_now() - t0);
         int bad = rk_json_write_file(report_out, r, &err);
@@ -344,7 +331,7 @@ int cmd_run(int argc, char **argv)
     }
     printf("%s: %ld steps of %g s, r = %d, %d shown vertices, %.3g us/step (median), %ld Newton iterations, "
            "arena %zu bytes\n", path, steps, (double)romrt_time_step(m), romrt_reduced_size(m), n, median * 1e6, newton,
-           arena_bytes);
+           asset.arena_bytes);
     if (ref.error.frames)
         printf("  against %s over %ld frames: relative error %.3g, normalized MSE %.3g\n", ref_path, ref.error.frames,
                rk_relative_error(&ref.error), rk_normalized_mse(&ref.error));
@@ -357,8 +344,7 @@ fail:
     fprintf(stderr, "romkit run: %s\n", err.msg);
 done:
     if (snapping) rk_npy_stream_abort(&snap);
-    free(data);
-    free(arena);
+    tool_asset_close(&asset);
     run_splats_close(&splats);
     free(xyz);
     free(frame);
