@@ -92,6 +92,18 @@ static romrt_status reduced_terms(romrt_model *m, const double *xtilde, romrt_er
     return ROMRT_OK;
 }
 
+/* x_ref = X0 + u_ref (the model's X, for positions and contacts), and the shown positions' bound
+ * rt_showable checks (q is 0 between steps, and the rows orthonormal within one). */
+static void reference_positions(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    size_t n = 3 * (size_t)m->nv, k;
+    for (k = 0; k < n; k++) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_ref[k]);
+    m->x_bound = 0;
+    for (k = 0; k < 3 * (size_t)m->shown; k++)
+        if (fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+}
+
 romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
 {
     rt_alrom *al = &m->al;
@@ -103,7 +115,7 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     /* the step's reference: the start with the prescribed vertices at their targets */
     memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
     place_prescribed(m, rt_clock(m, 1));
-    for (i = 0; i < n; i++) al->x_ref[i] = (romrt_real)(al->X0[i] + al->u_ref[i]);
+    reference_positions(m);
     element_offsets(m);
     for (i = 0; i < n; i++)
         xtilde[i] = bdf2 ? (4 * al->u_t[i] - al->u_prev[i]) / 3 + 2 * (double)h / 9 * (4 * al->v[i] - al->v_prev[i])
@@ -120,7 +132,6 @@ romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
     double h = m->h, *u_new = al->u_new, *v_new = al->v_new;
-    double top = 0;
     for (i = 0; i < n; i++) {
         const romrt_real *row = al->rows + (size_t)i * (size_t)r;
         double du = 0;
@@ -130,18 +141,16 @@ romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
         v_new[i] = bdf2 ? (3 * u_new[i] - 4 * al->u_t[i] + al->u_prev[i]) / (2 * h) : (u_new[i] - al->u_t[i]) / h;
         if (!isfinite(u_new[i]) || !isfinite(v_new[i]) || !isfinite(u_new[i] + al->X0[i]))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
-        if (i < 3 * m->shown && fabs(u_new[i] + al->X0[i]) > top) top = fabs(u_new[i] + al->X0[i]);
     }
     memcpy(al->u_prev, al->u_t, sizeof(double) * (size_t)n);
     memcpy(al->v_prev, al->v, sizeof(double) * (size_t)n);
     memcpy(al->u_t, u_new, sizeof(double) * (size_t)n);
     memcpy(al->v, v_new, sizeof(double) * (size_t)n);
     memcpy(al->u_ref, u_new, sizeof(double) * (size_t)n);
-    for (i = 0; i < n; i++) al->x_ref[i] = (romrt_real)(al->X0[i] + u_new[i]);
+    reference_positions(m);
     al->head = (al->head + 1) % (al->m + 1);
     if (al->count < al->m) al->count++;
     for (i = 0; i < r; i++) m->q[i] = 0;
-    m->x_bound = top;
     return ROMRT_OK;
 }
 
@@ -150,7 +159,7 @@ void rt_alrom_abort(romrt_model *m)
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, k;
     memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
-    for (k = 0; k < n; k++) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_t[k]);
+    reference_positions(m);
     for (k = 0; k < m->r; k++) m->q[k] = 0;
 }
 
@@ -160,14 +169,13 @@ void rt_alrom_reset(romrt_model *m)
     size_t n = 3 * (size_t)m->nv;
     memset(al->u_t, 0, sizeof(double) * n);
     memset(al->u_ref, 0, sizeof(double) * n);
-    memcpy(al->x_ref, al->X0, sizeof(romrt_real) * n);
     memset(al->v, 0, sizeof(double) * n);
     memset(al->u_prev, 0, sizeof(double) * n);
     memset(al->v_prev, 0, sizeof(double) * n);
     memset(al->f_app, 0, sizeof(romrt_real) * n);
     memset(al->Hd0, 0, sizeof(romrt_real) * 9 * (size_t)m->ne);
     al->count = al->head = 0;
-    al->blended = 0;
+    reference_positions(m); /* the rest */
     /* until the first step, the decoder's linear part (orthonormalised by that step) */
     memcpy(al->rows, al->phi, sizeof(romrt_real) * n * (size_t)m->r);
     {
@@ -253,9 +261,6 @@ int rt_alrom_set_state(romrt_model *m, const romrt_real *s)
     s = take(s, al->D, slots * n);
     s = take(s, al->P, slots * (size_t)m->r);
     memcpy(al->f_app, s, sizeof(romrt_real) * n);
-    rt_alrom_abort(m); /* x_ref and q from u_t */
-    m->x_bound = 0;
-    for (k = 0; k < 3 * (size_t)m->shown; k++)
-        if (fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+    rt_alrom_abort(m); /* x_ref, its bound and q from u_t */
     return 0;
 }

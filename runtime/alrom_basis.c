@@ -197,7 +197,6 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
         }
     }
     if (blended) basis = al->U;
-    al->blended += blended;
     for (i = 0; i < n * r; i++) al->rows[i] = (romrt_real)basis[i];
     return ROMRT_OK;
 }

@@ -93,7 +93,6 @@ typedef struct {
     romrt_real *f_app;         /* nv x 3: the app's forces on the stored vertices */
     double *D, *P;             /* (m + 1) slots of nv x 3 displacements and r latent codes: a ring */
     int count, head;           /* entries held (<= m), the slot the next step writes */
-    long blended;              /* steps whose basis blended the history */
     /* the step's model: m->X, rows, M, C, f point here (x_ref = X0 + u_ref) */
     romrt_real *x_ref, *rows, *M, *C, *f;
     romrt_real *Hd0;           /* ne x 9: each element's F - I at x_ref */

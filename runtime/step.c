@@ -278,6 +278,8 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     }
     if (!st && !rt_showable(m, m->q))
         st = rt_fail(err, ROMRT_E_DIVERGED, 0, "the state grew past what the shown positions can hold");
+    /* an adaptive model's stored vertices move on; its q is back at 0 in the next step's basis */
+    if (!st && m->alrom) st = rt_alrom_commit(m, err);
     if (st) { /* leave the state as it was, the colliders too */
         int k;
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
@@ -285,18 +287,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         if (m->alrom) rt_alrom_abort(m);
         return st;
     }
-    if (m->alrom) { /* the stored vertices moved on; q back to 0 in the next step's basis */
-        if ((st = rt_alrom_commit(m, err))) {
-            int k;
-            for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) memcpy(m->colliders[k].now, m->colliders[k].start, sizeof m->colliders[k].now);
-            rt_alrom_abort(m);
-            return st;
-        }
-        m->have_prev = 1;
-        rt_clock_advance(m, 1);
-        return ROMRT_OK;
-    }
-    for (i = 0; i < r; i++) {
+    for (i = 0; i < r && !m->alrom; i++) {
         m->q_prev[i] = m->qt[i];
         m->v_prev[i] = m->v[i];
         m->v[i] = vnew[i];
