@@ -56,10 +56,12 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err)) goto out;
     if (e->crom) { /* the trained CROM; its Jacobian at p = 0 stands as the model's rows */
         size_t nr = (size_t)3 * sim.mesh.nv * r;
-        double p0[4096] = {0};
-        if (r > 4096 || rk_scene_alrom_decoder(scene, &sim, e, D, T, &dec, err) || rk_crom_parts_of(&dec, &crom) ||
-            !(Phi = rk_calloc(nr, sizeof(double), err)) || dec.jacobian(dec.ctx, p0, Phi, err))
-            goto out;
+        double *p0 = NULL;
+        int bad = rk_scene_alrom_decoder(scene, &sim, e, D, T, &dec, err) || rk_crom_parts_of(&dec, &crom) ||
+                  !(p0 = rk_calloc((size_t)r, sizeof(double), err)) || !(Phi = rk_calloc(nr, sizeof(double), err)) ||
+                  dec.jacobian(dec.ctx, p0, Phi, err);
+        free(p0);
+        if (bad) goto out;
     } else if (rk_scene_quadratic_parts(&sim, e, D, T, &Phi, &Psi, err)) {
         rk_error_prefix(err, "%s: the decoder", e->path);
         goto out;
