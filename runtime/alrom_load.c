@@ -179,11 +179,8 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
     }
     if (!(total > 0)) return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_VMSS, "the stored vertices carry no mass");
     for (g = 0; g < al->nmotions; g++) {
-        const romrt_real *p = al->motions + ROMBIN_PIN_PARAMS * (size_t)g;
-        if (!(p[0] == 0 || p[0] == 1 || p[0] == 2) || p[ROMBIN_PIN_PARAMS - 1] != 0)
-            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_AMOT, "motion ", (uint64_t)g, " has an unknown kind");
-        if (p[0] == 1 && !(p[1] * p[1] + p[2] * p[2] + p[3] * p[3] > 0))
-            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_AMOT, "motion ", (uint64_t)g, " twists about a zero axis");
+        romrt_status st = rt_check_motion(L, ROMBIN_AMOT, "motion ", (uint64_t)g, al->motions + ROMBIN_PIN_PARAMS * (size_t)g);
+        if (st) return st;
     }
     return ROMRT_OK;
 }

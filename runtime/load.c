@@ -173,3 +173,12 @@ romrt_status rt_head(rt_loader *L, const char *id, uint64_t count, int first_res
     *out = head;
     return ROMRT_OK;
 }
+
+romrt_status rt_check_motion(rt_loader *L, const char *id, const char *what, uint64_t i, const romrt_real *p)
+{
+    if (!(p[0] == 0 || p[0] == 1 || p[0] == 2) || p[ROMBIN_PIN_PARAMS - 1] != 0)
+        return rt_fail_n(L->err, ROMRT_E_MODEL, id, what, i, " has an unknown motion kind");
+    if (p[0] == 1 && !(p[1] * p[1] + p[2] * p[2] + p[3] * p[3] > 0))
+        return rt_fail_n(L->err, ROMRT_E_MODEL, id, what, i, " twists about a zero axis");
+    return ROMRT_OK;
+}

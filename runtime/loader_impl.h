@@ -31,6 +31,9 @@ romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required,
 /* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
 romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
                               uint64_t lo, uint64_t hi, uint32_t limit);
+/* A prescribed motion's ROMBIN_PIN_PARAMS values p (PINS, AMOT): kind 0, 1 or 2, the reserved last
+ * value 0, a twist's axis non-zero; refused naming `what` and i ("pin ", g). */
+romrt_status rt_check_motion(rt_loader *L, const char *id, const char *what, uint64_t i, const romrt_real *p);
 /* A model's header chunk `id` of `count` u32s: fields from first_reserved on are 0, r (at r_at)
  * is 1..ROMRT_MAX_R, stored vertices (at vertices_at) 1..ROMRT_MAX_VERTICES, shown (at shown_at)
  * at most those. */

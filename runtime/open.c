@@ -247,13 +247,10 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
             if (!isfinite(p[k2]))
                 return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_IPNT, "integration point ", (uint64_t)e, " is not finite");
     }
-    for (g = 0; g < m->npins; g++) {
-        const romrt_real *p = m->pins + (ROMBIN_PIN_PARAMS + 12 * (size_t)m->r) * (size_t)g;
-        if (!(p[0] == 0 || p[0] == 1 || p[0] == 2) || p[ROMBIN_PIN_PARAMS - 1] != 0)
-            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_PINS, "pin ", (uint64_t)g, " has an unknown motion kind");
-        if (p[0] == 1 && !(p[1] * p[1] + p[2] * p[2] + p[3] * p[3] > 0))
-            return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_PINS, "pin ", (uint64_t)g, " twists about a zero axis");
-    }
+    for (g = 0; g < m->npins; g++)
+        if ((st = rt_check_motion(L, ROMBIN_PINS, "pin ", (uint64_t)g,
+                                  m->pins + (ROMBIN_PIN_PARAMS + 12 * (size_t)m->r) * (size_t)g)))
+            return st;
     for (k = 0; k < m->nplanes; k++) {
         const romrt_real *n = m->planes + 6 * (size_t)k + 3;
         romrt_real len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
