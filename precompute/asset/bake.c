@@ -83,6 +83,16 @@ static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_wr
     return rc ? -1 : 0;
 }
 
+void rk_bake_motion_params(const rk_prescribed *p, double *out)
+{
+    memset(out, 0, sizeof(double) * ROMBIN_PIN_PARAMS);
+    out[0] = p->kind;
+    memcpy(out + 1, p->axis, sizeof p->axis);
+    memcpy(out + 4, p->center, sizeof p->center);
+    out[7] = p->rate;
+    memcpy(out + 8, p->velocity, sizeof p->velocity);
+}
+
 static int add_operators(const rk_rom_model *m, int penalty, rombin_writer *w, rk_error *err)
 {
     size_t rr = (size_t)m->r * m->r;
@@ -94,13 +104,8 @@ static int add_operators(const rk_rom_model *m, int penalty, rombin_writer *w, r
     double *pins = rk_calloc(per * m->npins, sizeof(double), err);
     if (!pins) return -1;
     for (int g = 0; g < m->npins; g++) {
-        const rk_prescribed *p = &m->pins[g].motion;
         double *o = pins + per * g;
-        o[0] = p->kind;
-        memcpy(o + 1, p->axis, sizeof p->axis);
-        memcpy(o + 4, p->center, sizeof p->center);
-        o[7] = p->rate;
-        memcpy(o + 8, p->velocity, sizeof p->velocity);
+        rk_bake_motion_params(&m->pins[g].motion, o);
         memcpy(o + ROMBIN_PIN_PARAMS, m->pins[g].T, sizeof(double) * 12 * m->r);
     }
     int rc = rombin_add_reals(w, ROMBIN_PENA, 1, m->A, rr, err) || rombin_add_reals(w, ROMBIN_PINS, 1, pins, per * m->npins, err);

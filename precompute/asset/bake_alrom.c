@@ -178,15 +178,7 @@ int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_w
         for (int a = 0; a < 3 && A->Psi; a++)
             for (int p = 0; p < pairs; p++) psi[(size_t)(3 * i + a) * pairs + p] = A->Psi[(size_t)p * n + 3 * v + a];
     }
-    for (int k = 0; k < o->nprescribed; k++) {
-        const rk_prescribed *p = &o->prescribed[k];
-        double *m = mot + (size_t)ROMBIN_PIN_PARAMS * k;
-        m[0] = p->kind;
-        memcpy(m + 1, p->axis, sizeof p->axis);
-        memcpy(m + 4, p->center, sizeof p->center);
-        m[7] = p->rate;
-        memcpy(m + 8, p->velocity, sizeof p->velocity);
-    }
+    for (int k = 0; k < o->nprescribed; k++) rk_bake_motion_params(&o->prescribed[k], mot + (size_t)ROMBIN_PIN_PARAMS * k);
     uint32_t head[ROMBIN_ALRH_COUNT] = {0};
     head[ROMBIN_ALRH_HISTORY] = (uint32_t)A->history;
     head[ROMBIN_ALRH_PAIRS] = (uint32_t)pairs;

@@ -24,6 +24,9 @@ int rk_bake_add_vertices(const double *X, const rk_bake_state *s, rombin_writer 
  * KACC, KINI, KOUT, KIMP. */
 int rk_bake_koopman_chunks(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
                            const rk_bake_state *s, rombin_writer *w, rk_error *err);
+/* A prescribed group's motion as ROMBIN_PIN_PARAMS values (PINS, AMOT): kind, axis, center, rate,
+ * velocity, 0. */
+void rk_bake_motion_params(const rk_prescribed *p, double *out);
 /* An adaptive linear ROM's chunks over the stored vertices s (bake_alrom.c): ALRH, ALRP, QDRV, and
  * VMSS and VLOD with each unstored vertex's mass and load moved to its nearest stored vertex along
  * the mesh's edges, AMOV and AMOT. */
