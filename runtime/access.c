@@ -72,6 +72,7 @@ void romrt_reset(romrt_model *m)
     m->t0 = 0;
     m->steps = 0;
     m->have_prev = 0;
+    m->hessian_age = -1; /* a kept Newton matrix belongs to the motion it was built in */
     memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
     m->ncolliders = 0;
     if (m->kind == ROMRT_KIND_KOOPMAN) rt_koopman_reset(m);
@@ -348,6 +349,7 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
         return ROMRT_E_ARGUMENT; /* q would draw as Inf */
     }
     r = m->r;
+    m->hessian_age = -1;
     m->t0 = (double)state[0] + (double)state[1];
     m->steps = 0;
     m->have_prev = state[2] == 1;

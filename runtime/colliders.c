@@ -53,6 +53,7 @@ romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *
                              m->cv[i], ": place it clear, then move it");
     }
     m->ncolliders += !k->active;
+    m->hessian_age = -1; /* a kept Newton matrix lacks the new collider's terms */
     k->active = 1;
     k->kind = (int)c->kind;
     memcpy(k->now, shape, sizeof shape);
@@ -69,6 +70,7 @@ romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_remove_collider: slot out of range");
     m->ncolliders -= m->colliders[slot].active;
     m->colliders[slot].active = 0;
+    m->hessian_age = -1;
     return ROMRT_OK;
 }
 

@@ -208,6 +208,11 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         }
     }
     if ((st = rt_alrom_arrays(L, m))) return st;
+    /* A fixed basis of stored rows maps q to each element's F linearly: that map, G_e, formed once
+     * here (rt_form_element_G) saves re-forming it from four vertices' rows at every potential
+     * (12 r dot products and 63 r flops an element, the step's largest cost after the Hessian). */
+    if (!m->alrom && !m->skin && !m->rows_from_weights && m->ne > 0)
+        rt_scratch(L, (size_t)m->ne * 9 * (size_t)RT_PAD((size_t)r), &m->G_all);
     return rt_load_groups_and_surface(L, m);
 }
 
@@ -264,6 +269,7 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
     for (k = 0; k < m->ncontacts; k++)
         if (!(rt_contact_distance(m, k, m->q) > 0))
             return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_CONT, "contact ", (uint64_t)k, " starts on or behind its plane");
+    rt_form_element_G(m);
     return ROMRT_OK;
 }
 

@@ -50,14 +50,14 @@ static void g_rows(int r, int rp, const romrt_real *RT_RESTRICT r0, const romrt_
     for (; j < rp; j++) G0[j] = G1[j] = G2[j] = 0;
 }
 
-/* m->G = G_e (9 rows of RT_PAD(r), row-major, zero past r), in one pass over the element's four
+/* G = G_e (9 rows of RT_PAD(r), row-major, zero past r), in one pass over the element's four
  * vertex rows: G row 3a + b = sum_c Dm^-1_cb (B_{v_c+1, a} - B_{v_0, a}). */
-static void element_G(romrt_model *m, int e)
+static void element_G(const romrt_model *m, int e, romrt_real *G)
 {
     const uint32_t *ev = m->elem + 5 * (size_t)e;
     int rp = RT_PAD(m->r), a;
     for (a = 0; a < 3; a++) {
-        romrt_real *G0 = m->G + (size_t)rp * (3 * a);
+        romrt_real *G0 = G + (size_t)rp * (3 * a);
         g_rows(m->r, rp, row_of(m, ev[0], a), row_of(m, ev[1], a), row_of(m, ev[2], a), row_of(m, ev[3], a),
                m->elem_real + 12 * (size_t)e, G0, G0 + rp, G0 + 2 * rp);
     }
@@ -73,13 +73,13 @@ static void combine9(int rp, const romrt_real *RT_RESTRICT G, const romrt_real *
 }
 
 /* m->AG = w dP/dF G (9 rows of RT_PAD(r)). */
-static void element_AG(romrt_model *m, const romrt_real A[81], romrt_real w)
+static void element_AG(romrt_model *m, const romrt_real *G, const romrt_real A[81], romrt_real w)
 {
     int rp = RT_PAD(m->r), k, l;
     for (k = 0; k < 9; k++) {
         romrt_real a[9];
         for (l = 0; l < 9; l++) a[l] = w * A[9 * k + l];
-        combine9(rp, m->G, a, m->AG + (size_t)rp * k);
+        combine9(rp, G, a, m->AG + (size_t)rp * k);
     }
 }
 
@@ -100,7 +100,7 @@ static void rank9_pair(int len, int rp, const romrt_real *RT_RESTRICT G, const r
 /* m->He (RT_PAD(r) square, column-major) += G^T AG over its upper triangle, rounded up to whole
  * vectors: a single rank-9 pass over the matrix per element (nine rank-1 passes would stream it
  * through the cache nine times). */
-static void element_hessian(romrt_model *m)
+static void element_hessian(romrt_model *m, const romrt_real *G)
 {
     int rp = RT_PAD(m->r), j, k;
     for (j = 0; j < rp; j += 2) {
@@ -109,7 +109,7 @@ static void element_hessian(romrt_model *m)
             a[k] = m->AG[(size_t)rp * k + j];
             b[k] = m->AG[(size_t)rp * k + j + 1];
         }
-        rank9_pair(RT_PAD(j + 2), rp, m->G, a, b, m->He + (size_t)rp * j, m->He + (size_t)rp * (j + 1));
+        rank9_pair(RT_PAD(j + 2), rp, G, a, b, m->He + (size_t)rp * j, m->He + (size_t)rp * (j + 1));
     }
 }
 
@@ -144,6 +144,19 @@ void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romr
     RT_PHYS(dpdf)(model, lame[0], lame[1], F, A, !m->exact_hessian);
 }
 
+void rt_form_element_G(romrt_model *m)
+{
+    int e;
+    for (e = 0; m->G_all && e < m->ne; e++) element_G(m, e, m->G_all + (size_t)9 * RT_PAD(m->r) * (size_t)e);
+}
+
+/* Hd = F - I = G q over the formed G's rows (9 dot products). */
+static void element_H_formed(int r, int rp, const romrt_real *RT_RESTRICT G, const romrt_real *RT_RESTRICT q, romrt_real Hd[9])
+{
+    int k;
+    for (k = 0; k < 9; k++) Hd[k] = rt_dot(r, G + (size_t)rp * k, q);
+}
+
 static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
     int r = m->r, rp = RT_PAD(r), e, i, j, k;
@@ -153,25 +166,28 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
         for (i = 0; i < rp * rp; i++) m->He[i] = 0;
     for (e = 0; e < m->ne; e++) {
         romrt_real Hd[9], P[9], A[81], w = m->elem_real[12 * (size_t)e + 9], psi;
-        /* F - I from the vertices' displacements (12 dot products), the same arithmetic whether
-         * or not G is formed, so the line search compares energies computed alike */
-        element_H(m, e, q, Hd);
+        const romrt_real *G = m->G_all ? m->G_all + (size_t)9 * rp * (size_t)e : m->G;
+        /* F - I by the same arithmetic whether or not the gradient is asked, so the line search
+         * compares energies computed alike: G q with G formed at open, else from the vertices'
+         * displacements (12 dot products) */
+        if (m->G_all) element_H_formed(r, rp, G, q, Hd);
+        else element_H(m, e, q, Hd);
         psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
         E += w * psi;
         if (!g && !H) continue;
-        element_G(m, e);
+        if (!m->G_all) element_G(m, e, m->G);
         rt_element_stress(m, e, Hd, g ? P : 0, H ? A : 0);
         if (g) {
             for (k = 0; k < 9; k++) {
-                const romrt_real *Gk = m->G + (size_t)rp * k;
+                const romrt_real *Gk = G + (size_t)rp * k;
                 romrt_real wp = w * P[k];
                 for (j = 0; j < r; j++) g[j] += wp * Gk[j];
             }
         }
         if (H) {
-            element_AG(m, A, w);
-            element_hessian(m);
+            element_AG(m, G, A, w);
+            element_hessian(m, G);
         }
     }
     if (H)

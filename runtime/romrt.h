@@ -87,6 +87,7 @@ typedef float romrt_real;
 #define romrt_set_collider          ROMRT_LINK_NAME(set_collider)
 #define romrt_set_damping           ROMRT_LINK_NAME(set_damping)
 #define romrt_set_newton_iterations ROMRT_LINK_NAME(set_newton_iterations)
+#define romrt_set_hessian_reuse ROMRT_LINK_NAME(set_hessian_reuse)
 #define romrt_set_state             ROMRT_LINK_NAME(set_state)
 #define romrt_set_time_step         ROMRT_LINK_NAME(set_time_step)
 #define romrt_shown_count           ROMRT_LINK_NAME(shown_count)
@@ -165,6 +166,19 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err);
  * gives both errors); contacts still shorten the steps so nothing is crossed. Kept across
  * romrt_reset. ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman model. */
 romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_error *err);
+
+/* Reduced models: how often Newton's r x r matrix is built and factored. 0 or 1 (the default): at
+ * every Newton iteration. k >= 2: a factor is kept for up to k time steps and each iteration
+ * solves with it (a modified Newton step: only the potential and its gradient are evaluated, the
+ * cubature's r x r Hessian and its Cholesky factorization are not). In the converged mode a fresh
+ * matrix replaces it wherever its steps stop halving or its line search has to shorten one, so the
+ * answer meets the same tolerance; in the fixed-cost mode it is replaced only by age, and the
+ * error against the converged answer grows with k (the README's bench gives it). A kept factor is
+ * dropped by romrt_reset, romrt_set_state, placing or removing a collider, a collider's move and
+ * a change of the integrator's inertia weight (BDF2's first step), so a restored state's steps may
+ * differ from the uninterrupted run's by up to the solve's tolerance. Kept across romrt_reset.
+ * ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman or adaptive model. */
+romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err);
 
 /* Back to rest at t = 0, forces cleared (a Koopman asset keeps its time step and damping). */
 void romrt_reset(romrt_model *m);

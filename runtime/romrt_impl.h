@@ -121,6 +121,10 @@ struct romrt_model {
     romrt_real h, tol, mass, dhat, kappa;
     int fixed_iterations;     /* 0: Newton to the asset's tolerance; k: exactly k full steps (fixed cost) */
     int exact_hessian;        /* the elements' dP/dF unprojected (the fixed-cost mode's first try) */
+    int hessian_reuse;        /* romrt_set_hessian_reuse: 0 or 1, a fresh Newton matrix every iteration;
+                               * k >= 2, the factor in H kept for up to k steps (step.c) */
+    int hessian_age;          /* steps since H's factor was built for the body alone (-1: none kept) */
+    romrt_real hessian_w;     /* the inertia weight that factor was built with */
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
@@ -176,6 +180,8 @@ struct romrt_model {
     romrt_real *H;            /* n x n (n = r + moved colliders), column-major, upper triangle */
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
+    romrt_real *G_all;        /* ne x 9 rows of RT_PAD(r): every cubature element's dF/dq, formed once at
+                               * open for a basis of stored rows (a fixed linear map), or NULL */
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
     int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
@@ -192,6 +198,8 @@ typedef struct {
 /* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle, leading
  * dimension ld >= r). The colliders where they are now, friction when T->friction. *magnitude:
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
+/* Every cubature element's G_e into m->G_all (allocated at open for a basis of stored rows). */
+void rt_form_element_G(romrt_model *m);
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
 /* Cubature element e's constitutive part at F - I = Hd (potential.c, for both element paths;

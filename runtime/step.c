@@ -79,16 +79,35 @@ static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real
     return alpha;
 }
 
+/* Whether the Newton matrix factored in m->H may serve this iteration (romrt_set_hessian_reuse):
+ * built for the body alone (a solve that moves colliders builds its own, of another size), for
+ * this step's inertia weight (BDF2's first step changes it), fewer than m->hessian_reuse steps ago. */
+static int kept_matrix(const romrt_model *m, const rt_terms *T)
+{
+    return m->hessian_reuse > 1 && m->nmoving == 0 && m->hessian_age >= 0 && m->hessian_age < m->hessian_reuse &&
+           m->hessian_w == T->w_inertia;
+}
+
 /* The potential at y, its gradient in m->g, and the Newton matrix factored in m->H: the exact
  * Hessian first (the elements' dP/dF unprojected, as Vega's tangent stiffness), which the inertia
  * M_r / h^2 almost always keeps positive definite over the elements' small negative twist
  * eigenvalues, at no SVD per element; where its Cholesky factorization fails, the projected
  * Hessian at the same y. The reduced simulator does the same (precompute/rom/newton.c); a solve
- * that moves colliders always projects, as its model there does. */
+ * that moves colliders always projects, as its model there does. With fresh == 0 and a kept
+ * matrix (kept_matrix), only the potential and gradient are evaluated: the factor stays, and the
+ * direction it gives is a modified Newton step, still a descent direction (the matrix is SPD). */
 static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *E,
-                                  romrt_real *magnitude, int it, romrt_error *err)
+                                  romrt_real *magnitude, int it, int fresh, int *kept, romrt_error *err)
 {
     int n = m->r + m->nmoving, indefinite;
+    *kept = !fresh && kept_matrix(m, T);
+    if (*kept) {
+        *E = potential(m, T, y, m->g, 0, magnitude);
+        if (!isfinite(*E) || !all_finite(m->g, n))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
+                             (uint64_t)it, "");
+        return ROMRT_OK;
+    }
     m->exact_hessian = m->nmoving == 0;
     *E = potential(m, T, y, m->g, m->H, magnitude);
     indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
@@ -97,6 +116,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
         *E = potential(m, T, y, m->g, m->H, magnitude);
     }
     m->exact_hessian = 0;
+    m->hessian_age = -1; /* H is being rewritten */
     if (indefinite) m->last.projected_hessians++;
     if (!isfinite(*E) || !all_finite(m->g, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
@@ -104,6 +124,22 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
     if (indefinite && rt_cholesky(n, m->H))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
+    if (m->nmoving == 0 && !m->alrom) {
+        m->hessian_age = 0;
+        m->hessian_w = T->w_inertia;
+    }
+    return ROMRT_OK;
+}
+
+/* d = -H^-1 g from the factor in m->H. */
+static romrt_status direction(romrt_model *m, int n, int it, romrt_error *err)
+{
+    int i;
+    for (i = 0; i < n; i++) m->d[i] = -m->g[i];
+    rt_cholesky_solve(n, m->H, m->d);
+    m->last.newton_iterations++;
+    if (!all_finite(m->d, n))
+        return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
     return ROMRT_OK;
 }
 
@@ -113,16 +149,12 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
  * advance; its distance from the converged answer is what the bench reports. */
 static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
-    int n = m->r + m->nmoving, it, i;
+    int n = m->r + m->nmoving, it, i, kept;
     romrt_real *y = m->y, *d = m->d, alpha, E, magnitude;
     romrt_status st;
     for (it = 0; it < m->fixed_iterations; it++) {
-        if ((st = newton_system(m, T, y, &E, &magnitude, it, err))) return st;
-        for (i = 0; i < n; i++) d[i] = -m->g[i];
-        rt_cholesky_solve(n, m->H, d);
-        m->last.newton_iterations++;
-        if (!all_finite(d, n))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
+        if ((st = newton_system(m, T, y, &E, &magnitude, it, 0, &kept, err))) return st;
+        if ((st = direction(m, n, it, err))) return st;
         alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
         for (i = 0; i < n; i++) y[i] += alpha * d[i];
     }
@@ -133,21 +165,22 @@ static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error 
 /* Projected Newton on y = (q, moved colliders' progress) from m->y, the precompute solver's loop. */
 static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
-    int n = m->r + m->nmoving, it, k, i;
+    int n = m->r + m->nmoving, it, k, i, fresh = 0;
     romrt_real *y = m->y, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
     if (m->fixed_iterations) return newton_fixed(m, T, err);
     for (it = 0; it < m->max_iter; it++) {
         romrt_real magnitude, E, gd, alpha, tol, step;
-        int accepted = 0, armijo = 0;
-        romrt_status st = newton_system(m, T, y, &E, &magnitude, it, err);
-        if (st) return st;
-        for (i = 0; i < n; i++) d[i] = -g[i];
-        rt_cholesky_solve(n, m->H, d);
-        m->last.newton_iterations++;
-        if (!all_finite(d, n))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton direction is not finite at iteration ", (uint64_t)it, "");
-        tol = m->tol;
+        int accepted = 0, armijo = 0, kept;
+        romrt_status st = newton_system(m, T, y, &E, &magnitude, it, fresh, &kept, err);
+        if (st || (st = direction(m, n, it, err))) return st;
         step = step_size(m, d);
+        /* A kept matrix converges linearly; once its step is not half the last, a fresh one at y. */
+        if (kept && step > RT_K(0.5) * last) {
+            if ((st = newton_system(m, T, y, &E, &magnitude, it, 1, &kept, err)) || (st = direction(m, n, it, err)))
+                return st;
+            step = step_size(m, d);
+        }
+        tol = m->tol;
         if (TOL_FLOOR > 0) {
             romrt_real size = rms(m, y);
             if (TOL_FLOOR * size > tol) tol = TOL_FLOOR * size;
@@ -182,7 +215,12 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
             armijo = Et <= E + ARMIJO_C * alpha * gd && (STAGNATION == 0 || Et < E);
             accepted = armijo || (isfinite(Et) && Et - E <= RT_ENERGY_NOISE * magnitude);
         }
+        if (!accepted && kept) { /* the kept matrix's direction failed here: a fresh one */
+            fresh = 1;
+            continue;
+        }
         if (!accepted) return ROMRT_OK; /* no decrease left to find: keep y */
+        fresh = kept && k > 1; /* a kept matrix whose step had to be shortened is replaced */
         memcpy(y, trial, sizeof(romrt_real) * (size_t)n);
         /* The energy change was round-off. That ends the solve only when the step was small too:
          * a large model's energy (gravity's work on a sagging beam) can hide in its float rounding
@@ -221,6 +259,21 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_e
     if (iterations < 0 || iterations > (int)ROMRT_MAX_NEWTON)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_newton_iterations: iterations must be 0 (converged) to 1000");
     m->fixed_iterations = iterations;
+    return ROMRT_OK;
+}
+
+romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err)
+{
+    if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: no model (NULL)");
+    if (m->kind != ROMRT_KIND_REDUCED)
+        return rt_fail(err, ROMRT_E_UNSUPPORTED, 0, "romrt_set_hessian_reuse: a Koopman model has no Newton solve");
+    if (m->alrom)
+        return rt_fail(err, ROMRT_E_UNSUPPORTED, 0,
+                       "romrt_set_hessian_reuse: an adaptive model's basis changes every step, and its Newton matrix with it");
+    if (steps < 0 || steps > (int)ROMRT_MAX_NEWTON)
+        return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: steps must be 0 to 1000");
+    m->hessian_reuse = steps;
+    m->hessian_age = -1;
     return ROMRT_OK;
 }
 
@@ -293,6 +346,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         m->v[i] = vnew[i];
     }
     m->have_prev = 1;
+    if (m->hessian_age >= 0) m->hessian_age++;
     rt_clock_advance(m, 1);
     return ROMRT_OK;
 }

@@ -21,7 +21,8 @@ static void run_usage(FILE *f)
 {
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
                "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
-               "                  [--reference S.npy] [--frames DIR] [--splats DIR] [--koopman] [--newton K] [--quiet]\n"
+               "                  [--reference S.npy] [--frames DIR] [--splats DIR] [--koopman] [--newton K]\n"
+               "                  [--hessian-reuse K] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
@@ -43,6 +44,9 @@ static void run_usage(FILE *f)
                "  --newton K    a reduced model's fixed-cost mode: exactly K full Newton steps per time step,\n"
                "                no line search or convergence test (romrt_set_newton_iterations; 0, the\n"
                "                default: Newton to the asset's tolerance)\n"
+               "  --hessian-reuse K  a reduced model's Newton matrix kept for up to K steps (modified Newton:\n"
+               "                only the gradient per iteration; romrt_set_hessian_reuse; 0 or 1, the\n"
+               "                default: a fresh matrix every iteration)\n"
                "  --quiet       no progress line on stderr\n"
                "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n\n"
                "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
@@ -189,7 +193,7 @@ int cmd_run(int argc, char **argv)
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
     const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL, *frames_dir = NULL, *newton_text = NULL;
-    const char *splats_dir = NULL;
+    const char *splats_dir = NULL, *reuse_text = NULL;
     int quiet = 0, koopman = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
@@ -197,14 +201,15 @@ int cmd_run(int argc, char **argv)
                                {"--damping", &damping_text, NULL}, {"--reference", &ref_path, NULL},
                                {"--frames", &frames_dir, NULL},   {"--koopman", NULL, &koopman},
                                {"--newton", &newton_text, NULL}, {"--quiet", NULL, &quiet},
-                               {"--splats", &splats_dir, NULL},
+                               {"--splats", &splats_dir, NULL}, {"--hessian-reuse", &reuse_text, NULL},
                                {NULL, NULL, NULL}};
-    long steps, jump = 0, fixed_newton = 0;
+    long steps, jump = 0, fixed_newton = 0, reuse = 0;
     romrt_real dt = 0, damping = 0;
     if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
         (jump_text && parse_count("--jump", jump_text, &jump)) || (dt_text && parse_real("--dt", dt_text, &dt)) ||
         (damping_text && parse_real("--damping", damping_text, &damping)) ||
-        (newton_text && parse_count("--newton", newton_text, &fixed_newton))) {
+        (newton_text && parse_count("--newton", newton_text, &fixed_newton)) ||
+        (reuse_text && parse_count("--hessian-reuse", reuse_text, &reuse))) {
         run_usage(stderr);
         return 2;
     }
@@ -237,6 +242,8 @@ int cmd_run(int argc, char **argv)
     if (damping_text && romrt_set_damping(m, damping, &rerr) != ROMRT_OK)
         goto runtime_fail;
     if (newton_text && romrt_set_newton_iterations(m, (int)(fixed_newton > 100000 ? 100000 : fixed_newton), &rerr) != ROMRT_OK)
+        goto runtime_fail;
+    if (reuse_text && romrt_set_hessian_reuse(m, (int)(reuse > 100000 ? 100000 : reuse), &rerr) != ROMRT_OK)
         goto runtime_fail;
     int n = romrt_shown_count(m);
     xyz = calloc((size_t)3 * n + 1, sizeof(romrt_real));
@@ -313,6 +320,7 @@ int cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(r, "newton_iterations", (double)newton);
         cJSON_AddNumberToObject(r, "unconverged_steps", (double)unconverged);
         cJSON_AddNumberToObject(r, "fixed_newton_iterations", (double)fixed_newton); /* 0: converged mode */
+        cJSON_AddNumberToObject(r, "hessian_reuse", (double)reuse);
         cJSON_AddNumberToObject(r, "arena_bytes", (double)asset.arena_bytes);
         cJSON_AddStringToObject(r, "precision", sizeof(romrt_real) == 4 ? "float32" : "float64");
         if (ref.frames) {

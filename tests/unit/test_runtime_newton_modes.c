@@ -31,16 +31,18 @@ static const char *cantilever_h(const char *model, double young, double h)
 
 static const char *cantilever(const char *model) { return cantilever_h(model, 2e5, 0.01); }
 
-/* Steps the model `steps` times from rest with k fixed Newton steps (0: converged) into traj
+/* Steps the model `steps` times from rest with k fixed Newton steps (0: converged) and the Newton
+ * matrix kept for `reuse` steps (romrt_set_hessian_reuse; 0: fresh every iteration) into traj
  * (steps x 3 shown); the Newton iterations taken, or -1 on a failed step. */
-static long run_mode(rt_fixture *f, int k, int steps, romrt_real *traj)
+static long run_reusing(rt_fixture *f, int k, int reuse, int steps, romrt_real *traj)
 {
     romrt_error rerr;
     romrt_step_info info;
     long iterations = 0;
     int n = romrt_shown_count(f->m);
     romrt_reset(f->m);
-    if (romrt_set_newton_iterations(f->m, k, &rerr) != ROMRT_OK) return -1;
+    if (romrt_set_newton_iterations(f->m, k, &rerr) != ROMRT_OK || romrt_set_hessian_reuse(f->m, reuse, &rerr) != ROMRT_OK)
+        return -1;
     for (int s = 0; s < steps; s++) {
         if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
         romrt_last_step(f->m, &info);
@@ -49,6 +51,8 @@ static long run_mode(rt_fixture *f, int k, int steps, romrt_real *traj)
     }
     return iterations;
 }
+
+static long run_mode(rt_fixture *f, int k, int steps, romrt_real *traj) { return run_reusing(f, k, 0, steps, traj); }
 
 /* max |a - b| over max |b - rest|, over every step and shown vertex. */
 static double trajectory_difference(const rt_fixture *f, const romrt_real *a, const romrt_real *b, int steps)
@@ -175,11 +179,60 @@ TEST(newton_projects_only_where_the_exact_hessian_is_indefinite)
     }
 }
 
+/* A kept Newton matrix (romrt_set_hessian_reuse). Linear elasticity's Hessian is constant, so a
+ * matrix kept for the whole run gives the fresh one's steps; on neo-Hookean the converged mode
+ * still meets its tolerance (a fresh matrix wherever the kept one's steps stop halving), while
+ * the fixed mode's one modified Newton step a step drifts, by a measured amount, and differs from
+ * the fresh fixed mode (so the matrix really was kept). A reset drops the kept matrix: the same
+ * run twice gives the same bits. */
+TEST(a_kept_newton_matrix_meets_the_same_answers)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    const int steps = 40;
+    CHECK_OK(rt_fixture_open(&f, cantilever("linear"), ASSET_REAL, &err, &rerr));
+    int n = romrt_shown_count(f.m);
+    size_t bytes = sizeof(romrt_real) * 3 * (size_t)n * steps;
+    romrt_real *fresh = malloc(bytes), *kept = malloc(bytes), *again = malloc(bytes);
+    CHECK(run_reusing(&f, 0, 0, steps, fresh) > 0 && run_reusing(&f, 1, 1000, steps, kept) == steps, "linear runs failed");
+    double linear = trajectory_difference(&f, kept, fresh, steps);
+    rt_fixture_close(&f);
+    CHECK_OK(rt_fixture_open(&f, cantilever("neohookean"), ASSET_REAL, &err, &rerr));
+    long it_fresh = run_reusing(&f, 0, 0, steps, fresh), it_kept = run_reusing(&f, 0, 10, steps, kept);
+    CHECK(it_fresh > 0 && it_kept > 0, "neo-Hookean converged runs failed");
+    double converged = trajectory_difference(&f, kept, fresh, steps);
+    romrt_real *fixed_fresh = malloc(bytes);
+    CHECK(run_reusing(&f, 1, 0, steps, fixed_fresh) == steps && run_reusing(&f, 1, 10, steps, kept) == steps &&
+              run_reusing(&f, 1, 10, steps, again) == steps,
+          "fixed runs failed");
+    double fixed = trajectory_difference(&f, kept, fresh, steps), apart = trajectory_difference(&f, kept, fixed_fresh, steps);
+    printf("# kept Newton matrix: linear, fixed k = 1 kept 1000 steps against converged %.3g; neo-Hookean, converged "
+           "kept 10 steps against fresh %.3g (%ld against %ld iterations); fixed k = 1 kept 10 steps against converged "
+           "%.3g, against fixed fresh %.3g\n",
+           linear, converged, it_kept, it_fresh, fixed, apart);
+    CHECK(linear <= EXACT_TOL, "linear: the kept matrix changed the answer by %.3g", linear);
+    CHECK(converged < 1e-4, "converged mode with a kept matrix is %.3g from the fresh one", converged);
+    CHECK(fixed < 0.05, "fixed mode with a kept matrix drifts %.3g from converged", fixed);
+    CHECK(apart > 0, "the fixed mode gave the same bits with and without a kept matrix: nothing was kept");
+    CHECK(memcmp(kept, again, bytes) == 0, "a reset did not drop the kept matrix: two runs from rest differ");
+    CHECK(romrt_set_hessian_reuse(f.m, -1, &rerr) == ROMRT_E_ARGUMENT && strstr(rerr.message, "romrt_set_hessian_reuse"),
+          "-1 accepted (%s)", rerr.message);
+    CHECK(romrt_set_hessian_reuse(f.m, 1001, &rerr) == ROMRT_E_ARGUMENT, "1001 accepted");
+    CHECK(romrt_set_hessian_reuse(NULL, 2, &rerr) == ROMRT_E_ARGUMENT, "NULL model accepted");
+    free(fresh);
+    free(kept);
+    free(again);
+    free(fixed_fresh);
+    rt_fixture_close(&f);
+}
+
 int main(void)
 {
     RUN(one_full_newton_step_is_exact_on_linear_elasticity);
     RUN(more_fixed_steps_come_closer_on_neohookean);
     RUN(bad_iteration_counts_are_refused_and_change_nothing);
     RUN(newton_projects_only_where_the_exact_hessian_is_indefinite);
+    RUN(a_kept_newton_matrix_meets_the_same_answers);
     return test_finish();
 }
