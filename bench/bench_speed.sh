@@ -12,7 +12,9 @@
 #          ill-conditioned model's trajectory (the error column shows by how much).
 #
 # Per model and Newton mode (converged: to the asset's tolerance with a line search; fixed: one full
-# Newton step per time step, romkit run --newton 1):
+# Newton step per time step, romkit run --newton 1; converged-kept and fixed-kept: the same with
+# Newton's matrix kept for up to KEEP = 10 steps, romkit run --hessian-reuse, whose GFLOP/s is not
+# given since the Hessians it builds are not counted):
 #   us/step     the median, fastest and slowest of SAMPLES runs of STEPS steps from rest (each run's
 #               own figure is the median of its steps' times, romkit run's seconds_per_step)
 #   newton      Newton iterations per step
@@ -36,6 +38,7 @@ BUILD=${BUILD:-build}
 R=$BUILD/romkit
 J=$BUILD/jsonq
 STEPS=${STEPS:-3000}
+KEEP=${KEEP:-10} # the kept modes' romkit run --hessian-reuse
 SAMPLES=${SAMPLES:-5}
 [ -n "${ROMKIT_BENCH_QUICK:-}" ] && STEPS=300 && SAMPLES=3
 TMP=$(mktemp -d)
@@ -85,9 +88,13 @@ one_model() {
     build=${build%-float64}
     r=$("$J" get "$TMP/$build.build.json" basis.columns)
     ne=$("$J" get "$TMP/$build.build.json" cubature.elements)
-    for mode in converged fixed; do
-        flag=""
-        [ "$mode" = fixed ] && flag="--newton 1"
+    for mode in converged fixed converged-kept fixed-kept; do
+        case $mode in
+        converged) flag="" ;;
+        fixed) flag="--newton 1" ;;
+        converged-kept) flag="--hessian-reuse $KEEP" ;;
+        fixed-kept) flag="--newton 1 --hessian-reuse $KEEP" ;;
+        esac
         # shellcheck disable=SC2086
         "$run" run "$asset" --steps 100 $flag --reference "$ref" --report "$TMP/e.json" --quiet >/dev/null
         rel=$("$J" get "$TMP/e.json" reference.relative_error)
@@ -106,15 +113,16 @@ one_model() {
         us=$1 lo=$2 hi=$3
         nps=$(awk -v i="$its" -v s="$STEPS" 'BEGIN {printf "%.3f", i / s}')
         gf=$(awk -v r="$r" -v e="$ne" -v n="$nps" -v us="$us" 'BEGIN {printf "%.2f", e * n * (9 * r * (r + 1) + 258 * r) / (us * 1e3)}')
+        case $mode in *kept) gf=nan ;; esac # the Hessians built per step are not counted
         sp=$(awk -v f="$fom_s" -v us="$us" 'BEGIN {printf "%.0f", f * 1e6 / us}')
-        printf '%-7s %-26s %4s %5s %-9s %9.1f %9.1f %9.1f %6.2f %10.3g %10.3g %7.2f %8.0f\n' "$scene" "$name" "$r" "$ne" \
+        printf '%-7s %-26s %4s %5s %-14s %9.1f %9.1f %9.1f %6.2f %10.3g %10.3g %7.2f %8.0f\n' "$scene" "$name" "$r" "$ne" \
             "$mode" "$us" "$lo" "$hi" "$nps" "$rel" "$nmse" "$gf" "$sp"
         printf '%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n' "$scene" "$name" "$r" "$ne" "$mode" "$us" "$lo" "$hi" \
             "$nps" "$rel" "$nmse" "$gf" "$peak" "$fom_s" "$sp" >>"$OUT/runtime_speed.csv"
     done
 }
 
-printf '%-7s %-26s %4s %5s %-9s %9s %9s %9s %6s %10s %10s %7s %8s\n' scene model r elems mode "us/step" min max \
+printf '%-7s %-26s %4s %5s %-14s %9s %9s %9s %6s %10s %10s %7s %8s\n' scene model r elems mode "us/step" min max \
     newton "rel.error" "norm.MSE" GFLOP/s "fom/rt"
 
 "$R" fom "$TMP/bunny.json" --snapshots "$TMP/bunny.npy" --report "$TMP/bunny.fom.json" --quiet >/dev/null

@@ -101,7 +101,7 @@ def load_library(double=False, library=None):
         "open_kind": (S, [P, Z, I, P, Z, ctypes.POINTER(P), E]),
         "step": (S, [P, E]), "jump": (S, [P, ctypes.c_ulong, E]),
         "set_time_step": (S, [P, real, E]), "set_damping": (S, [P, real, E]),
-        "set_newton_iterations": (S, [P, I, E]), "reset": (None, [P]),
+        "set_newton_iterations": (S, [P, I, E]), "set_hessian_reuse": (S, [P, I, E]), "reset": (None, [P]),
         "model_kind": (I, [P]), "reduced_size": (I, [P]), "shown_count": (I, [P]),
         "triangle_count": (I, [P]), "group_count": (I, [P]),
         "time": (ctypes.c_double, [P]), "time_step": (real, [P]),
@@ -237,6 +237,10 @@ class Model:
     def set_newton_iterations(self, k):
         err = _Err()
         self._check(self._f["set_newton_iterations"](self._m, int(k), ctypes.byref(err)), err)
+
+    def set_hessian_reuse(self, k):
+        err = _Err()
+        self._check(self._f["set_hessian_reuse"](self._m, int(k), ctypes.byref(err)), err)
 
     def reset(self):
         self._f["reset"](self._m)

@@ -197,6 +197,27 @@ def errors():
 attempt("errors_raise_with_the_runtime_message", errors)
 
 
+# The Newton modes through the binding: a matrix kept 10 steps stays near the fresh run; -1 is refused.
+def newton_modes():
+    fresh = frames(romrt.Model(beam), 20)
+    m = romrt.Model(beam)
+    m.set_newton_iterations(1)
+    m.set_hessian_reuse(10)
+    kept = frames(m, 20)
+    scale = np.abs(fresh - fresh[0]).max() + 1e-30
+    drift = np.abs(kept - fresh).max() / scale
+    try:
+        m.set_hessian_reuse(-1)
+        return False, "-1 accepted"
+    except romrt.Error as e:
+        if "romrt_set_hessian_reuse" not in e.message:
+            return False, str(e)
+    return np.isfinite(kept).all() and drift < 0.05, "kept matrix drifts %.3g of the motion" % drift
+
+
+attempt("newton_modes_through_the_binding", newton_modes)
+
+
 # 7. The library checks: version, precision names.
 def library():
     v = romrt.version()

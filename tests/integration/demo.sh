@@ -8,7 +8,7 @@ if ROMKIT_DEMO_SCENE=tests/data/demo_small.json ROMKIT_DEMO_STEPS=40 ROMKIT_DEMO
 else
     fail demo_runs "$(tail -c 800 "$TMP/out")"
 fi
-grep -q "^rkpm_skinning-4-meshfree-cubature" "$TMP/out" && grep -q "the same, 1 Newton step" "$TMP/out" && grep -q "^koopman-from-half-g" "$TMP/out" && grep -q "speed-up" "$TMP/out" \
+grep -q "^rkpm_skinning-4-meshfree-cubature" "$TMP/out" && grep -q "the same, 1 Newton step" "$TMP/out" && grep -q "the same, matrix kept 10 steps" "$TMP/out" && grep -q "^koopman-from-half-g" "$TMP/out" && grep -q "speed-up" "$TMP/out" \
     && ok demo_prints_the_table || fail demo_prints_the_table "$(tail -c 800 "$TMP/out")"
 for png in error_time strip; do
     f=$TMP/demo/$png.png

@@ -78,6 +78,11 @@ int main(void)
     s = romrt_open(romkit_asset, romkit_asset_len, arena, sizeof arena, &m, &err);
     if (s != ROMRT_OK)
         return failed(s, &err);
+#ifdef HESSIAN_REUSE /* make mcu MCU_REUSE=k: Newton's matrix kept for up to k steps */
+    s = romrt_set_hessian_reuse(m, HESSIAN_REUSE, &err);
+    if (s != ROMRT_OK)
+        return failed(s, &err);
+#endif
     shown = romrt_shown_count(m);
     printf("r %d\nshown %d\nsteps %d\n", romrt_reduced_size(m), shown, STEPS);
     if (shown > MAX_SHOWN) {

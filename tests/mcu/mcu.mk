@@ -11,7 +11,9 @@ MCU_CC     ?= arm-none-eabi-gcc
 MCU_QEMU   ?= qemu-system-arm
 MCU_STEPS  ?= 100
 MCU_ARCH   := -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
-MCU_COMMON := $(MCU_ARCH) -Os -g -std=c99 -DROMRT_MAX_R=32 -DROMRT_MAX_COLLIDERS=2 -DSTEPS=$(MCU_STEPS) \
+MCU_REUSE  ?=
+MCU_KNOBS  := -DSTEPS=$(MCU_STEPS) $(if $(MCU_REUSE),-DHESSIAN_REUSE=$(MCU_REUSE))
+MCU_COMMON := $(MCU_ARCH) -Os -g -std=c99 -DROMRT_MAX_R=32 -DROMRT_MAX_COLLIDERS=2 $(MCU_KNOBS) \
               -ffunction-sections -fdata-sections -I. -I$(MCU_DIR) -Itests/mcu
 # The runtime must build warning-free as strict C99 for the MCU too; the harness (the vector
 # table casts a linker symbol to a function pointer, the generated array uses an attribute)
@@ -71,7 +73,7 @@ $(MCU_DIR)/romrt-m4.elf: $(MCU_RT_OBJ) $(MCU_H_OBJ) tests/mcu/link.ld
 # contracting a * b + c into fused multiply-adds (as on the MCU build), so both round alike.
 $(MCU_DIR)/romrt-host: tests/mcu/main.c $(MCU_RT_SRC) $(wildcard runtime/*.h formats/*.h physics/*.h) \
                      $(MCU_DIR)/asset_data.c $(MCU_DIR)/asset_data.h
-	$(CC) -std=c99 -O2 -g -Wall -Wextra -DROMRT_MAX_R=32 -DROMRT_MAX_COLLIDERS=2 -DSTEPS=$(MCU_STEPS) -I. -I$(MCU_DIR) \
+	$(CC) -std=c99 -O2 -g -Wall -Wextra -DROMRT_MAX_R=32 -DROMRT_MAX_COLLIDERS=2 $(MCU_KNOBS) -I. -I$(MCU_DIR) \
 	  -o $@ tests/mcu/main.c $(MCU_RT_SRC) $(MCU_DIR)/asset_data.c -lm
 
 -include $(shell find $(MCU_DIR)/obj -name '*.d' 2>/dev/null)
