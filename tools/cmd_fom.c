@@ -200,6 +200,7 @@ static cJSON *make_report(const rk_scene_sim *sim, const rk_fom_stats *st, const
     cJSON_AddNumberToObject(nw, "iterations", (double)st->newton_iterations);
     cJSON_AddNumberToObject(nw, "line_search_halvings", (double)st->line_search_halvings);
     cJSON_AddNumberToObject(nw, "analyses", (double)st->analyses);
+    cJSON_AddNumberToObject(nw, "projected_hessians", (double)st->projected_hessians);
     cJSON_AddNumberToObject(nw, "seconds_per_iteration", o->iter.median);
     cJSON_AddNumberToObject(nw, "seconds_per_iteration_min", o->iter.min);
     cJSON_AddNumberToObject(nw, "seconds_per_iteration_max", o->iter.max);

@@ -79,6 +79,7 @@ int rk_fom_chol_factor(rk_fom *s, rk_error *err)
     double dt = rk_now() - t0;
     s->stats.seconds_factor += dt;
     rk_fom_iteration_factor(im, dt);
+    if (im->cc.status == CHOLMOD_NOT_POSDEF && im->exact_elastic) return RK_FOM_NOT_POSDEF;
     if (im->cc.status == CHOLMOD_NOT_POSDEF) /* impossible with projected Hessians unless a bug */
         return rk_fail(err, "Newton matrix is not positive definite (CHOLMOD stopped at column %d of %d)",
                        (int)im->L->minor, im->ndof);

@@ -109,6 +109,8 @@ typedef struct {
     long line_search_halvings;
     long unconverged_steps;   /* steps that hit newton_max_iter */
     long analyses;            /* CHOLMOD symbolic analyses, init's included (more only with contact) */
+    long projected_hessians;  /* time-step Newton iterations whose exact Newton matrix was not
+                               * positive definite, so the elements' dP/dF was projected (newton.c) */
     double seconds_total;
     double seconds_analyze_init; /* rk_fom_init's analysis (the ordering included) */
     double seconds_analyze;   /* the analyses in steps: contact changed the matrix's pattern */
@@ -116,7 +118,7 @@ typedef struct {
     double seconds_solve;     /* triangular solves */
     double seconds_assemble;  /* the Newton iterations' potential with gradient and Newton matrix
                                * (elastic, inertia, damping, the matrix fill), contact excluded */
-    double seconds_hessian;   /* the elastic element Hessians (dP/dF projected to PSD), in assemble */
+    double seconds_hessian;   /* the elastic element Hessians (dP/dF exact or projected to PSD), in assemble */
     double seconds_line_search; /* the line search's potential values, contact excluded */
     double seconds_contact;   /* the contact terms in the potential, CCD and the pattern updates */
 } rk_fom_stats;

@@ -47,6 +47,7 @@ struct rk_fom_impl {
     rk_sparse C;            /* Rayleigh damping a M + b K0; val NULL when a = b = 0 */
     rk_sparse H;            /* the elements' Hessian, rebuilt each iteration on their pattern */
     rk_newton_matrix N;     /* H plus contact: what CHOLMOD factors */
+    int exact_elastic;      /* the elements' dP/dF unprojected in the next Newton matrix (newton.c) */
     double *f_ext;          /* gravity (lumped masses) + opt.force */
     char *prescribed_dof;   /* ndof: 1 where a dof is prescribed (static obstacles' vertices too) */
     /* The Newton unknowns: the mesh (n) and, when an obstacle moves, every obstacle vertex (3 nobs);
@@ -121,6 +122,7 @@ int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged
 typedef struct {
     rk_fom *s;
     const rk_fom_terms *T;
+    const double *y;        /* where the last Newton matrix was built */
     rk_error failure;       /* set when the contact stage failed inside a callback */
 } rk_fom_problem_ctx;
 void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p);
@@ -129,7 +131,12 @@ void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p);
 int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err);
 /* Redoes the symbolic analysis after N.A's pattern changed. */
 int rk_fom_chol_reanalyze(rk_fom_impl *im, rk_error *err);
+/* 0, -1 on failure, RK_FOM_NOT_POSDEF (no message set) when the matrix is not positive definite
+ * and im->exact_elastic says it may not be. */
+#define RK_FOM_NOT_POSDEF 1
 int rk_fom_chol_factor(rk_fom *s, rk_error *err);
+/* The Newton matrix N.A at y again, the elements' dP/dF projected this time (potential.c). */
+int rk_fom_newton_matrix_projected(rk_fom *s, const rk_fom_terms *T, const double *y, rk_error *err);
 int rk_fom_chol_solve(rk_fom *s, const double *g, double *d, rk_error *err);
 void rk_fom_chol_free(rk_fom_impl *im);
 

@@ -13,16 +13,32 @@
 #define AL_ROUNDS 30
 #define AL_TOLERANCE 1e-2
 
+/* Each time step's Newton iteration builds its matrix from the elements' exact dP/dF first (the
+ * tangent stiffness: Newton proper, and no SVD per element), which the inertia M / h^2 keeps
+ * positive definite almost always; where CHOLMOD finds it is not, the same matrix with dP/dF
+ * projected to PSD (Smith et al. 2019), factored again. The reduced simulator and the runtime do
+ * the same (precompute/rom/newton.c, runtime/step.c). Static solves, with no inertia, project. */
 static double energy(void *ctx, const double *y, double *g, int hessian, double *magnitude)
 {
     rk_fom_problem_ctx *c = ctx;
+    if (hessian) {
+        c->s->impl->exact_elastic = c->T->w_inertia > 0;
+        c->y = y;
+    }
     return rk_fom_potential(c->s, c->T, y, g, hessian, magnitude, &c->failure);
 }
 
 static int solve(void *ctx, const double *g, double *d, rk_error *err)
 {
-    rk_fom *s = ((rk_fom_problem_ctx *)ctx)->s;
-    return rk_fom_chol_factor(s, err) || rk_fom_chol_solve(s, g, d, err) ? -1 : 0;
+    rk_fom_problem_ctx *c = ctx;
+    rk_fom *s = c->s;
+    int rc = rk_fom_chol_factor(s, err);
+    if (rc == RK_FOM_NOT_POSDEF) {
+        s->stats.projected_hessians++;
+        rc = rk_fom_newton_matrix_projected(s, c->T, c->y, err) ? -1 : rk_fom_chol_factor(s, err);
+    }
+    s->impl->exact_elastic = 0;
+    return rc || rk_fom_chol_solve(s, g, d, err) ? -1 : 0;
 }
 
 static double max_step(void *ctx, const double *y, const double *d)

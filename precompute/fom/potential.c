@@ -36,8 +36,43 @@ static void assemble_hessian(rk_fom *s, const rk_fom_terms *T, const double *x, 
         for (int v = 0; v < f->nv; v++)
             for (int i = 0; i < 3; i++) H->val[rk_fem_diag_slot(H, v, i, i)] += T->reg * f->vertex_mass[v];
     double t0 = rk_now();
-    rk_fem_add_hessian(f, x, 1.0, 1, H);
+    rk_fem_add_hessian(f, x, 1.0, !im->exact_elastic, H);
     s->stats.seconds_hessian += rk_now() - t0;
+}
+
+/* N.A from the elements' Hessian at y, the contact blocks recorded by the potential, the
+ * moving obstacles' diagonal, the prescribed dofs eliminated. Its seconds: contact's share in
+ * *contact, the symbolic analysis (when contact changed the pattern) in *analysis. */
+static int newton_matrix(rk_fom *s, const rk_fom_terms *T, const double *y, double *contact, double *analysis,
+                         rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    assemble_hessian(s, T, y, &im->H);
+    int changed = 0;
+    double tc = rk_now();
+    int failed = rk_newton_matrix_couple(&im->N, &im->H, &changed, err);
+    *contact += rk_now() - tc;
+    tc = rk_now();
+    if (!failed && changed) failed = rk_fom_chol_reanalyze(im, err);
+    *analysis += rk_now() - tc; /* counted in seconds_analyze */
+    if (failed) return -1;
+    rk_newton_matrix_fill(&im->N, &im->H);
+    for (int i = 0; i < 3 * im->nobs; i++) { /* the augmented Lagrangian's diagonal */
+        int d = im->n + i;
+        im->N.A.val[im->N.A.colptr[d + 1] - 1] += im->al_kappa * im->al_mass;
+    }
+    rk_fom_eliminate(s, &im->N.A);
+    return 0;
+}
+
+int rk_fom_newton_matrix_projected(rk_fom *s, const rk_fom_terms *T, const double *y, rk_error *err)
+{
+    double t0 = rk_now(), contact = 0, analysis = 0;
+    s->impl->exact_elastic = 0;
+    int rc = newton_matrix(s, T, y, &contact, &analysis, err);
+    s->stats.seconds_contact += contact;
+    s->stats.seconds_assemble += rk_now() - t0 - contact - analysis;
+    return rc;
 }
 
 /* The barrier at y: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
@@ -116,26 +151,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     contact += rk_now() - tc;
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
-    if (hessian == RK_FOM_NEWTON_MATRIX && isfinite(E)) {
-        assemble_hessian(s, T, y, &im->H);
-        int changed = 0;
-        tc = rk_now();
-        int failed = rk_newton_matrix_couple(&im->N, &im->H, &changed, err);
-        contact += rk_now() - tc;
-        tc = rk_now();
-        if (!failed && changed) failed = rk_fom_chol_reanalyze(im, err);
-        analysis = rk_now() - tc; /* counted in seconds_analyze */
-        if (failed) {
-            E = NAN;
-        } else {
-            rk_newton_matrix_fill(&im->N, &im->H);
-            for (int i = 0; i < 3 * im->nobs; i++) { /* the augmented Lagrangian's diagonal */
-                int d = n + i;
-                im->N.A.val[im->N.A.colptr[d + 1] - 1] += im->al_kappa * im->al_mass;
-            }
-            rk_fom_eliminate(s, &im->N.A);
-        }
-    }
+    if (hessian == RK_FOM_NEWTON_MATRIX && isfinite(E) && newton_matrix(s, T, y, &contact, &analysis, err)) E = NAN;
     double dt = rk_now() - t0;
     s->stats.seconds_contact += contact;
     if (g) s->stats.seconds_assemble += dt - contact - analysis;
