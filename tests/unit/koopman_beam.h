@@ -5,8 +5,11 @@
 #define RK_TEST_KOOPMAN_BEAM_H
 
 #include "testlib.h"
+#include "asset/asset.h"
+#include "formats/rombin_write.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
+#include "runtime/romrt.h"
 #include "util/util.h"
 
 /* A cantilever 1 x thick x 0.2 m (the box spans [0, 1] x [0, thick] x [0, 0.2]), clamped at x = 0,
@@ -114,6 +117,54 @@ done:
     free(z);
     free(u);
     return rc;
+}
+
+/* The operator k on beam u's mesh baked by the existing Koopman bake (rk_asset_bake_koopman) and
+ * stepped by the runtime (float) from the run's start under its gravity, against the precompute's
+ * double rollout of the same operator (rk_koopman_forced, one step at a time): the largest
+ * |x - X - u| over every value and frame in *worst, the largest |u| in *peak. */
+static inline int runtime_against_rollout(const rk_koopman *k, const beam *u, double *worst, double *peak,
+                                          rk_error *err)
+{
+    int nv = u->sim.mesh.nv, n = 3 * nv, T = u->run.t.frames, rc;
+    rk_koopman_geometry g = {.nv = nv, .X = u->sim.mesh.X, .vertex_mass = u->sim.fem.vertex_mass,
+                             .accel = u->run.accel, .u0 = u->run.u + n, .u_prev = u->run.u, .trajectories = 2};
+    rk_asset_options ao;
+    rk_asset_default_options(&ao);
+    rombin_writer w;
+    unsigned char *asset = NULL;
+    size_t bytes = 0, need = 0;
+    rombin_writer_init(&w, ao.real_type, 0);
+    rc = rk_asset_bake_koopman(k, &g, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, &asset, &bytes, err);
+    rombin_writer_free(&w);
+    romrt_error re = {0};
+    romrt_model *rm = NULL;
+    void *arena = NULL;
+    romrt_status st = ROMRT_E_ARGUMENT;
+    if (!rc && romrt_arena_size(asset, bytes, &need, &re) == ROMRT_OK) arena = aligned_alloc(16, (need + 15) / 16 * 16);
+    if (arena) st = romrt_open(asset, bytes, arena, need, &rm, &re);
+    double *z = calloc((size_t)k->r, sizeof(double)), *ud = calloc((size_t)n, sizeof(double));
+    romrt_real *x = calloc((size_t)n, sizeof(romrt_real));
+    *worst = *peak = 0;
+    rk_koopman_lift(k, u->run.u + n, u->run.u, z);
+    for (int t = 2; st == ROMRT_OK && t < T; t++) {
+        st = romrt_step(rm, &re);
+        if (st == ROMRT_OK) st = romrt_positions(rm, x, nv, 3);
+        rk_koopman_forced(k, 1, u->run.accel, z, err);
+        rk_koopman_positions(k, z, ud);
+        for (int i = 0; st == ROMRT_OK && i < n; i++) {
+            *worst = fmax(*worst, fabs((double)x[i] - u->sim.mesh.X[i] - ud[i]));
+            *peak = fmax(*peak, fabs(ud[i]));
+        }
+    }
+    free(z);
+    free(ud);
+    free(x);
+    free(arena);
+    free(asset);
+    if (rc) return rk_error_prefix(err, "bake");
+    if (st != ROMRT_OK) return rk_fail(err, "runtime: status %d (%s)", (int)st, re.message);
+    return 0;
 }
 
 #endif

@@ -11,12 +11,6 @@
  * then one step: rk_koopman_forced). */
 #include "testlib.h"
 #include "koopman_beam.h"
-#include "asset/asset.h"
-#include "formats/rombin_write.h"
-#include "koopman/koopman.h"
-#include "runtime/romrt.h"
-#include "pipeline/pipeline.h"
-#include "util/util.h"
 
 /* ---------------------------------------------------------------- 1. gradient */
 
@@ -218,45 +212,11 @@ TEST(bakes_into_an_asset_the_runtime_steps)
     beam_close(&b[1]);
     if (rc) beam_close(&u);
     CHECK(rc == 0, "%s", err.msg);
-    int nv = u.sim.mesh.nv, n = 3 * nv, T = u.run.t.frames;
-    rk_koopman_geometry g = {.nv = nv, .X = u.sim.mesh.X, .vertex_mass = u.sim.fem.vertex_mass,
-                             .accel = u.run.accel, .u0 = u.run.u + n, .u_prev = u.run.u, .trajectories = 2};
-    rk_asset_options ao;
-    rk_asset_default_options(&ao);
-    rombin_writer w;
-    unsigned char *asset = NULL;
-    size_t bytes = 0, need = 0;
-    rombin_writer_init(&w, ao.real_type, 0);
-    rc = rk_asset_bake_koopman(&k, &g, &ao, NULL, &w, NULL, &err) || rombin_serialize(&w, &asset, &bytes, &err);
-    rombin_writer_free(&w);
-    romrt_error re = {0};
-    romrt_model *rm = NULL;
-    void *arena = NULL;
-    romrt_status st = ROMRT_E_ARGUMENT;
-    if (!rc && romrt_arena_size(asset, bytes, &need, &re) == ROMRT_OK) arena = aligned_alloc(16, (need + 15) / 16 * 16);
-    if (arena) st = romrt_open(asset, bytes, arena, need, &rm, &re);
-    double *z = calloc((size_t)k.r, sizeof(double)), *ud = calloc((size_t)n, sizeof(double)), worst = 0, peak = 0;
-    romrt_real *x = calloc((size_t)n, sizeof(romrt_real));
-    rk_koopman_lift(&k, u.run.u + n, u.run.u, z);
-    for (int t = 2; st == ROMRT_OK && t < T; t++) {
-        st = romrt_step(rm, &re);
-        if (st == ROMRT_OK) st = romrt_positions(rm, x, nv, 3);
-        rk_koopman_forced(&k, 1, u.run.accel, z, &err);
-        rk_koopman_positions(&k, z, ud);
-        for (int i = 0; st == ROMRT_OK && i < n; i++) {
-            worst = fmax(worst, fabs((double)x[i] - u.sim.mesh.X[i] - ud[i]));
-            peak = fmax(peak, fabs(ud[i]));
-        }
-    }
-    free(z);
-    free(ud);
-    free(x);
-    free(arena);
-    free(asset);
+    double worst = 0, peak = 0;
+    rc = runtime_against_rollout(&k, &u, &worst, &peak, &err);
     rk_koopman_free(&k);
     beam_close(&u);
-    CHECK(rc == 0, "bake: %s", err.msg);
-    CHECK(st == ROMRT_OK, "runtime: status %d (%s)", (int)st, re.message);
+    CHECK(rc == 0, "%s", err.msg);
     printf("# runtime (float) against the precompute's rollout of the baked neural operator: max |du| %.3g m, "
            "peak |u| %.3g m\n", worst, peak);
     CHECK(worst <= 1e-3 * peak, "runtime frames differ by %.3g m (peak %.3g m)", worst, peak);
