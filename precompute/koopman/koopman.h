@@ -253,13 +253,17 @@ int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex
  * Training (Eq. 22-23, Fig. 6) minimises, over every mesh m and every pair of successive states
  * of its trajectories, with X^+_t = X_t + [0; beta a h^2] the forced state (Eq. 19),
  *   L = sum_m (1 / (F_m E_m)) sum_t |Phi y_t - X^+_t|^2 + |Phi B y_t - X_{t+1}|^2,  y_t = Phi^* X^+_t,
- * F_m the mesh's pairs and E_m its mean |X_{t+1}|^2 (every resolution weighs the same): Eq. 22's
+ * F_m the mesh's pairs and E_m its mean |X_{t+1}|^2 (every resolution weighs the same), Phi and B
+ * those of the mesh's vertices and code, Phi(gamma_m, X_m) and Lambda(gamma_m): Eq. 22's
  * reconstruction, and Eq. 23's one-step prediction measured after lifting (Phi B y_t against
  * X_{t+1}, what a rollout is judged by). The gradient runs through the least-squares projection
  * exactly (neural.c), then through the network in reverse mode; Adam with the phased rate. Start:
  * a classical DMD (rk_koopman_fit) at rank r of one training mesh gives the block structure, the
  * first eigenvalues and beta, and the network is first regressed onto its modes at that mesh's
- * vertices (rk_mlp_train). */
+ * vertices (rk_mlp_train). With g > 0 that regression sees the start mesh's code; the modes
+ * network is then made independent of gamma (its first layer's gamma weights folded into the
+ * bias) and the eigenvalue network starts constant at the classical spectrum, so every shape
+ * starts from one consistent basis and training learns how it bends with gamma. */
 typedef struct {
     const double *X;                     /* 3 nv rest positions */
     int nv;

@@ -21,6 +21,8 @@ int rk_koopman_shape_objective(const rk_koopman_shape_problem *p, const double *
     rk_koopman_shape s;
     rk_koopman k;
     memset(&s, 0, sizeof s);
+    if (!p || !p->nk || !p->shape || !gamma || p->steps < 1)
+        return rk_fail(err, "shape optimisation: the objective needs a model, a shape function, gamma and steps >= 1");
     for (int c = 0; c < p->nk->g; c++)
         if (!isfinite(gamma[c])) return rk_fail(err, "shape optimisation: gamma[%d] is %g", c, gamma[c]);
     if (p->shape(p->ctx, gamma, &s, err)) return rk_error_prefix(err, "shape optimisation: the shape at gamma[0] = %g", gamma[0]);
@@ -44,8 +46,9 @@ int rk_koopman_shape_objective(const rk_koopman_shape_problem *p, const double *
 
 static int check_problem(const rk_koopman_shape_problem *p, const double *gamma, rk_error *err)
 {
-    if (!p || !p->nk || p->nk->g < 1 || !p->shape)
-        return rk_fail(err, "shape optimisation: needs a model trained with a shape code (g >= 1) and a shape function");
+    if (!p || !p->nk || p->nk->g < 1 || !p->shape || !gamma)
+        return rk_fail(err, "shape optimisation: needs a model trained with a shape code (g >= 1), a shape function and "
+                       "a start gamma");
     if (p->steps < 1 || !(p->tolerance > 0) || !(p->epsilon > 0) || p->max_iterations < 1)
         return rk_fail(err, "shape optimisation: bad settings (steps %lld, tolerance %g, epsilon %g, iterations %d)",
                        p->steps, p->tolerance, p->epsilon, p->max_iterations);

@@ -47,7 +47,7 @@ TEST(loss_gradient_with_a_shape_code_matches_finite_differences)
     double worst = 0;
     /* a spread of both networks' parameters (first layer to last), and the modes network's weights
      * on its gamma input (column 3 of its first layer, W_0 row-major hidden x 4) */
-    for (int q = 0; q < 36; q++) {
+    for (int q = 0; q < 24 + o.hidden; q++) {
         double *p, g;
         if (q < 12) {
             long i = (long)q * (ne - 1) / 11;
@@ -56,7 +56,7 @@ TEST(loss_gradient_with_a_shape_code_matches_finite_differences)
             long i = (long)(q - 12) * (np - 1) / 11;
             p = &nk.net.params[i], g = gn[i];
         } else {
-            long i = 4L * (q - 24 < o.hidden ? q - 24 : 0) + 3;
+            long i = 4L * (q - 24) + 3;
             p = &nk.net.params[i], g = gn[i];
         }
         double keep = *p, hstep = 1e-5 * fmax(1, fabs(keep)), lp, lm;
