@@ -103,20 +103,35 @@ static const double thickness[NTRAIN + NUNSEEN] = {0.14, 0.18, 0.22, 0.26, 0.16,
 static rk_koopman_neural family;
 static int family_ready;
 
-/* The % MSE of nk at code gamma on beam b (neural) and of a classical DMD fitted on b's own run. */
-static int errors_at(const rk_koopman_neural *nk, const beam *b, double gamma, double *npct, double *cpct, rk_error *err)
+/* The lowest frequency (Hz) among an operator's weakly damped pairs (|lambda| > 0.9): the beam's
+ * first bending mode, whose frequency grows with the thickness (as gamma for a beam in bending). */
+static double slowest_hz(const rk_koopman *k)
+{
+    double f = INFINITY;
+    for (int j = 0; j < k->r; j++)
+        if (k->block[j] == 2 && hypot(k->lambda_re[j], k->lambda_im[j]) > 0.9)
+            f = fmin(f, atan2(k->lambda_im[j], k->lambda_re[j]) / (2 * M_PI * k->h));
+    return f;
+}
+
+/* The % MSE of nk at code gamma on beam b (neural) and of a classical DMD fitted on b's own run;
+ * hz[0], hz[1]: their slowest frequencies. */
+static int errors_at(const rk_koopman_neural *nk, const beam *b, double gamma, double *npct, double *cpct, double hz[2],
+                     rk_error *err)
 {
     rk_koopman kn, kc;
     rk_koopman_options ko;
     double peak;
     if (rk_koopman_neural_operator(nk, b->sim.mesh.X, b->sim.mesh.nv, &gamma, &kn, err)) return -1;
     int rc = rollout_error(&kn, &b->run, npct, &peak, err);
+    hz[0] = slowest_hz(&kn);
     rk_koopman_free(&kn);
     rk_koopman_default_options(&ko);
     ko.rank = RANK;
     ko.h = 0.01;
     if (rc || rk_koopman_fit(&b->run.t, 1, 3 * b->sim.mesh.nv, &ko, &kc, err)) return -1;
     rc = rollout_error(&kc, &b->run, cpct, &peak, err);
+    hz[1] = slowest_hz(&kc);
     rk_koopman_free(&kc);
     return rc;
 }
@@ -203,22 +218,22 @@ TEST(generalizes_to_unseen_thicknesses)
     rk_koopman_neural_report rep;
     if (!rc) rc = rk_koopman_neural_train(m, NTRAIN, &o, &family, &rep, &err);
     family_ready = !rc;
-    double npct[NB], cpct[NB], near[NB], tm[NB], tf[NB], worst = 0, peak = 0;
+    double npct[NB], cpct[NB], near[NB], tm[NB], tf[NB], hz[NB][2], worst = 0, peak = 0;
     if (!rc)
         printf("# neural DMD with shape code (thickness), rank %d, %d x %d modes MLP, %d x %d eigenvalue MLP, window "
                "K = %d: L %.4g after the regression, %.4g after %d steps (%.1f s)\n", family.r, o.depth, o.hidden,
                o.eig_depth, o.eig_hidden, o.window, rep.pretrained_loss, rep.final_loss, o.epochs, rep.seconds);
-    printf("# %-20s %12s %15s %22s %15s %14s\n", "thickness gamma (m)", "neural MSE%", "classical MSE%",
-           "nearest training run%", "model tip 1s(m)", "full tip 1s(m)");
+    printf("# %-20s %12s %15s %22s %15s %14s %18s\n", "thickness gamma (m)", "neural MSE%", "classical MSE%",
+           "nearest training run%", "model tip 1s(m)", "full tip 1s(m)", "slowest Hz (n / c)");
     for (int i = 0; i < NB && !rc; i++) {
-        rc = errors_at(&family, &b[i], thickness[i], &npct[i], &cpct[i], &err) ||
+        rc = errors_at(&family, &b[i], thickness[i], &npct[i], &cpct[i], hz[i], &err) ||
              tip_heights(&b[i], thickness[i], &tm[i], &tf[i], &err);
         near[i] = i < NTRAIN ? 0 : nearest_run(b, i);
         if (rc) break;
         char nr[32] = "-";
         if (i >= NTRAIN) snprintf(nr, sizeof nr, "%.4g", near[i]);
-        printf("# %.2f %-15s %12.4g %15.4g %22s %15.5f %14.5f\n", thickness[i], i < NTRAIN ? "(training)" : "(unseen)",
-               npct[i], cpct[i], nr, tm[i], tf[i]);
+        printf("# %.2f %-15s %12.4g %15.4g %22s %15.5f %14.5f %8.3f / %-7.3f\n", thickness[i],
+               i < NTRAIN ? "(training)" : "(unseen)", npct[i], cpct[i], nr, tm[i], tf[i], hz[i][0], hz[i][1]);
     }
     /* the operator at an unseen code is an ordinary one: baked and stepped by the runtime */
     rk_koopman k;
@@ -233,6 +248,12 @@ TEST(generalizes_to_unseen_thicknesses)
     printf("# runtime (float) against the rollout of the operator at gamma %.2f: max |du| %.3g m, peak |u| %.3g m\n",
            thickness[NTRAIN + 1], worst, peak);
     CHECK(worst <= 1e-3 * peak, "runtime frames differ by %.3g m (peak %.3g m)", worst, peak);
+    /* Lambda(gamma) learned the family's trend: the slowest mode's frequency rises with the
+     * thickness, at the unseen codes too (thickness[] sorted: 0.14 .. 0.26 then 0.16 .. 0.24) */
+    static const int order[NB] = {0, 4, 1, 5, 2, 6, 3};
+    for (int i = 1; i < NB; i++)
+        CHECK(hz[order[i]][0] > hz[order[i - 1]][0], "slowest frequency %.4g Hz at gamma %.2f, %.4g Hz at %.2f",
+              hz[order[i]][0], thickness[order[i]], hz[order[i - 1]][0], thickness[order[i - 1]]);
     double worst_train = 0;
     for (int i = 0; i < NTRAIN; i++) worst_train = fmax(worst_train, npct[i]);
     for (int i = NTRAIN; i < NB; i++) {
