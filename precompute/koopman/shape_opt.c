@@ -6,7 +6,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 void rk_koopman_shape_default(rk_koopman_shape_problem *p)
 {
@@ -87,8 +86,7 @@ int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, 
     if (check_problem(p, gamma, err)) return -1;
     const rk_koopman_neural *nk = p->nk;
     int g = nk->g, evals = 1, it = 0, rc = -1;
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    double t0 = rk_now();
     double f, grad[RK_KOOPMAN_SHAPE_MAX], trial[RK_KOOPMAN_SHAPE_MAX];
     if (rk_koopman_shape_objective(p, gamma, &f, err)) return -1;
     while (fabs(f - p->target) > p->tolerance && it < p->max_iterations) {
@@ -123,12 +121,11 @@ int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, 
         rc = 0;
     }
 done:
-    clock_gettime(CLOCK_MONOTONIC, &t1);
     if (report) {
         report->iterations = it;
         report->evaluations = evals;
         report->value = f;
-        report->seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        report->seconds = rk_now() - t0;
     }
     return rc;
 }
