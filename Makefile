@@ -166,8 +166,9 @@ TEST_ALSO_test_adaptive_subspace := basis
 TEST_ALSO_test_grassmann_alrom := basis
 # The chain's default fit is baked and jumped in the runtime.
 TEST_ALSO_test_koopman_dmd := asset formats
-# the neural DMD test builds its beams with the pipeline (scenes from JSON, full-order runs)
+# the neural DMD tests build their beams with the pipeline (scenes from JSON, full-order runs)
 TEST_ALSO_test_koopman_neural := $(DEPS_pipeline)
+TEST_ALSO_test_koopman_shape := $(DEPS_pipeline)
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
 	@mkdir -p $(dir $@)

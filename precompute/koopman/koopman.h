@@ -228,8 +228,10 @@ int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex
 
 /* ---- Neural, discretization-agnostic DMD (neural.c; koopman-dmd-log-linear paper, Sec. 5, Fig. 6)
  *
- * The modes are a field over the rest position: an MLP (precompute/neural) phi: R^3 -> R^{6r}
- * gives, at a point x of the object, for each of the r real eigen-coordinates j the six values of
+ * The modes are a field over the rest position and the shape code: an MLP (precompute/neural)
+ * phi: R^{3+g} -> R^{6r} of [x; gamma] gives, at a point x of the object of shape gamma (g >= 0
+ * values, the training codes' range normalised to [-1, 1] per component), for each of the r real
+ * eigen-coordinates j the six values of
  * mode j there: its displacement part and its velocity part, the latter scaled by beta as the
  * classical fit scales it (the momentum state X_t = [u_t; beta (u_t - u_{t-1})], Eq. 18). On a
  * mesh of any resolution, the modes evaluated at its vertices form Phi (6 nv x r: rows 0..3nv-1
@@ -243,24 +245,35 @@ int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex
  *   real:  lambda = tanh(s);
  *   pair:  a + ib = rho (cos theta, sin theta), rho = sigmoid(s), theta = pi sigmoid(t) in (0, pi).
  * They depend on no mesh (Sec. 5: the spectrum is the continuous operator's, meshes only
- * approximate it). No shape code gamma yet: one object, several discretizations.
+ * approximate it), only on the shape: with g = 0 (one object, several discretizations) the raw
+ * parameters (s, t) are free; with g > 0 they are the output of a second MLP of gamma,
+ * Lambda(gamma) (Sec. 5, "Eigenvalue Representation"), fed through the same bounded maps, so
+ * |lambda| < 1 holds for every gamma. Every mesh of the family carries its own gamma.
  *
  * Training (Eq. 22-23, Fig. 6) minimises, over every mesh m and every pair of successive states
  * of its trajectories, with X^+_t = X_t + [0; beta a h^2] the forced state (Eq. 19),
  *   L = sum_m (1 / (F_m E_m)) sum_t |Phi y_t - X^+_t|^2 + |Phi B y_t - X_{t+1}|^2,  y_t = Phi^* X^+_t,
- * F_m the mesh's pairs and E_m its mean |X_{t+1}|^2 (every resolution weighs the same): Eq. 22's
+ * F_m the mesh's pairs and E_m its mean |X_{t+1}|^2 (every resolution weighs the same), Phi and B
+ * those of the mesh's vertices and code, Phi(gamma_m, X_m) and Lambda(gamma_m): Eq. 22's
  * reconstruction, and Eq. 23's one-step prediction measured after lifting (Phi B y_t against
  * X_{t+1}, what a rollout is judged by). The gradient runs through the least-squares projection
  * exactly (neural.c), then through the network in reverse mode; Adam with the phased rate. Start:
  * a classical DMD (rk_koopman_fit) at rank r of one training mesh gives the block structure, the
  * first eigenvalues and beta, and the network is first regressed onto its modes at that mesh's
- * vertices (rk_mlp_train). */
+ * vertices (rk_mlp_train). With g > 0 that regression sees the start mesh's code; the modes
+ * network is then made independent of gamma (its first layer's gamma weights folded into the
+ * bias) and the eigenvalue network starts constant at the classical spectrum, so every shape
+ * starts from one consistent basis and training learns how it bends with gamma. */
 typedef struct {
     const double *X;                     /* 3 nv rest positions */
     int nv;
     const rk_koopman_trajectory *traj;   /* ntraj trajectories of 3 nv displacements per frame */
     int ntraj;
+    const double *gamma;                 /* the shape code of this mesh (options' shape_dim values;
+                                          * NULL when that is 0) */
 } rk_koopman_neural_mesh;
+
+#define RK_KOOPMAN_SHAPE_MAX 64
 
 typedef struct {
     int rank;             /* r >= 1 */
@@ -274,17 +287,26 @@ typedef struct {
     int window;           /* K >= 1: the step term rolls out K forced steps from each projected state,
                            * (1/K) sum_k |Phi a_k - X_{t+k}|^2 with a_1 = B y_t, a_{k+1} = B (a_k + Phi^* F)
                            * (Eq. 19); 1 (default) is Eq. 23 itself, more is beyond the paper */
+    int shape_dim;        /* g, 0 .. RK_KOOPMAN_SHAPE_MAX: the shape code's values (0, default: none) */
+    int eig_hidden, eig_depth; /* with g > 0 the eigenvalue MLP gamma -> r: `eig_depth` hidden ELU layers
+                           * of `eig_hidden` units (32, 2); it starts constant at the classical
+                           * start's spectrum (output weights zero) */
 } rk_koopman_neural_options;
 
 void rk_koopman_neural_default_options(rk_koopman_neural_options *o);
 
 typedef struct {
     int r, window;        /* window: the training's K (options) */
+    int g;                /* the shape code's values */
     double h, vscale;     /* beta */
     int *block;           /* r: 1 real, 2 first of a pair, 0 its second (as rk_koopman's) */
-    double *eig;          /* r raw parameters: s for a real block; (s, t) for a pair */
-    rk_mlp net;           /* 3 -> 6 r: output 6 j + c is mode j's component c (0-2 u, 3-5 beta v) */
+    double *eig;          /* r raw parameters: s for a real block; (s, t) for a pair (g = 0; with
+                           * g > 0 the classical start's, which the eigenvalue network starts at) */
+    rk_mlp net;           /* 3 + g -> 6 r: output 6 j + c is mode j's component c (0-2 u, 3-5 beta v) */
+    rk_mlp eignet;        /* g > 0: g -> r raw parameters at gamma */
     double center[3], scale; /* network input (x - center) / scale */
+    double *gamma_lo, *gamma_hi; /* g > 0: the training codes' range per component; the inputs
+                           * see gamma as (gamma - mid) / half of it */
 } rk_koopman_neural;
 
 typedef struct {
@@ -296,19 +318,81 @@ typedef struct {
 int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const rk_koopman_neural_options *o,
                             rk_koopman_neural *out, rk_koopman_neural_report *report, rk_error *err);
 void rk_koopman_neural_free(rk_koopman_neural *nk);
+/* The eigenvalues' trainable parameters: nk->eig (count r) with g = 0, the eigenvalue network's
+ * params (rk_mlp_params(&nk->eignet)) with g > 0. */
+double *rk_koopman_neural_eig_params(rk_koopman_neural *nk, long *count);
 /* L (above) of a trained or partly trained model on the meshes given, and when grad_net is not
- * NULL its gradient: grad_net (rk_mlp_params(&nk->net) values, overwritten) and grad_eig (r). */
+ * NULL its gradient: grad_net (rk_mlp_params(&nk->net) values, overwritten) and grad_eig (the
+ * count rk_koopman_neural_eig_params gives, overwritten). */
 int rk_koopman_neural_loss(rk_koopman_neural *nk, const rk_koopman_neural_mesh *mesh, int nmesh, double *grad_net,
                            double *grad_eig, double *loss, rk_error *err);
-/* Eigenvalues (r each), as rk_koopman's lambda_re / lambda_im (a pair: +b at its first, -b at its second). */
-void rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, double *re, double *im);
-/* Phi (6 nv x r, column-major) at rest positions X (3 nv). */
-int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv, double *Phi, rk_error *err);
-/* The model on one mesh as a classical operator: Phi = Q R (thin QR), U_r = Q, W = R, W^-1 = R^-1,
- * the eigenvalues and blocks as trained, so that rk_koopman_lift gives z = Q^T X and W^-1 z =
- * Phi^* X, the least-squares coordinates; every rk_koopman function (rollouts, jumps, real form)
- * and the asset bake (rk_asset_bake_koopman) then work on it unchanged. */
-int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int nv, rk_koopman *out, rk_error *err);
+/* Eigenvalues at shape code gamma (g values; NULL when g = 0), r each, as rk_koopman's lambda_re /
+ * lambda_im (a pair: +b at its first, -b at its second). */
+int rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, const double *gamma, double *re, double *im,
+                                  rk_error *err);
+/* Phi (6 nv x r, column-major) at rest positions X (3 nv) of shape gamma (as above). */
+int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv, const double *gamma, double *Phi,
+                            rk_error *err);
+/* The model on one mesh of shape gamma (g values; NULL when g = 0; any finite code, outside the
+ * training range too) as a classical operator: Phi = Phi(gamma, X) = Q R (thin QR), U_r = Q,
+ * W = R, W^-1 = R^-1, the blocks as trained and the eigenvalues Lambda(gamma), so that
+ * rk_koopman_lift gives z = Q^T X and W^-1 z = Phi^* X, the least-squares coordinates; every
+ * rk_koopman function (rollouts, jumps, real form) and the asset bake (rk_asset_bake_koopman)
+ * then work on it unchanged. */
+int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int nv, const double *gamma,
+                               rk_koopman *out, rk_error *err);
+
+/* Shape optimisation through the Koopman jump (shape_opt.c; Sec. 7.4, Fig. 16): find the shape
+ * code gamma, inside the training range of a model trained with g >= 1, for which one value of the
+ * final frame after N steps from rest reaches a target. For each gamma the caller's `shape`
+ * gives the mesh of that shape; the objective is its position
+ *   f(gamma) = X[index] + u_N[index],  u_N from z_N = K'(gamma)^N 0 + sum_{t=1}^N K'(gamma)^t g(a)
+ * (rk_koopman_forced on rk_koopman_neural_operator's form: Eq. 19's impulses, the closed form of
+ * Eq. 25, O(r^2) whatever N). The gradient of f is by central differences with the paper's step
+ * (eps = 1e-4, Sec. 7.4) on each component, taken in units of the component's training
+ * half-range; the iteration is Gauss-Newton on the residual f - target (for g = 1 Newton's method
+ * on f(gamma) = target) with the step halved until |f - target| decreases and gamma clamped to the
+ * training range. The paper runs gradient descent (rate 0.025, 150 steps) on a loss it maximises;
+ * a target on one value has a root, which Newton finds in a few steps. */
+typedef struct {
+    const double *X;      /* 3 nv rest positions of the shape; valid until the next call */
+    int nv;
+    const double *accel;  /* 3 nv: the constant acceleration (gravity, loads), or NULL */
+    int index;            /* 0 .. 3 nv - 1: the value whose final position is the objective */
+} rk_koopman_shape;
+
+/* Fills s for shape code gamma (g values); returns non-zero (with err set) to stop. */
+typedef int (*rk_koopman_shape_fn)(void *ctx, const double *gamma, rk_koopman_shape *s, rk_error *err);
+
+typedef struct {
+    const rk_koopman_neural *nk; /* g >= 1 */
+    rk_koopman_shape_fn shape;
+    void *ctx;
+    long long steps;      /* N >= 1: the objective's time N h after the start at rest */
+    double target;        /* the position f should reach (m) */
+    double tolerance;     /* > 0: stop when |f - target| <= tolerance (m) */
+    double epsilon;       /* > 0: the central difference's step (default 1e-4, the paper's) */
+    int max_iterations;   /* >= 1 (default 50) */
+} rk_koopman_shape_problem;
+
+/* tolerance 1e-5 m, epsilon 1e-4, max_iterations 50; nk, shape, steps and target must be set. */
+void rk_koopman_shape_default(rk_koopman_shape_problem *p);
+
+typedef struct {
+    int iterations;       /* Gauss-Newton steps taken */
+    int evaluations;      /* objective evaluations (operators built and jumped) */
+    double value;         /* f at the returned gamma */
+    double seconds;
+} rk_koopman_shape_report;
+
+/* f(gamma) (above) for one code. Fails on a non-finite gamma or objective, naming them. */
+int rk_koopman_shape_objective(const rk_koopman_shape_problem *p, const double *gamma, double *value, rk_error *err);
+/* gamma (g values): the start in, the optimum out. Fails with a message on bad input (a start
+ * that is not finite or outside the training range, naming the component; a non-finite target;
+ * bad settings), a non-finite objective (naming gamma), or no convergence within max_iterations
+ * (gamma then holds the best code found and report its value). report may be NULL. */
+int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, rk_koopman_shape_report *report,
+                              rk_error *err);
 
 /* Dense solvers (lstsq.c); A is m x n, column-major, left unchanged.
  * x = the minimum-norm least-squares solution of A x ~ b (dgelsd, relative singular value cut 1e-12). */

@@ -1,6 +1,7 @@
 /* Neural, discretization-agnostic DMD (koopman.h; koopman-dmd-log-linear paper, Sec. 5, Eq. 22-24,
- * Fig. 6, with Sec. 5.2's realified operator): modes as an MLP of the rest position, eigenvalues
- * as bounded block parameters, trained on several meshes of one object at once. */
+ * Fig. 6, with Sec. 5.2's realified operator): modes as an MLP of the rest position and the shape
+ * code, phi(gamma, x); eigenvalues as bounded block parameters, free (g = 0) or the output of an
+ * MLP of gamma, Lambda(gamma); trained on several meshes of one object or of a family at once. */
 #include "koopman/koopman.h"
 
 #include <cblas.h>
@@ -23,13 +24,19 @@ void rk_koopman_neural_default_options(rk_koopman_neural_options *o)
     o->h = 0.01;
     o->seed = 1;
     o->window = 1;
+    o->shape_dim = 0;
+    o->eig_hidden = 32;
+    o->eig_depth = 2;
 }
 
 void rk_koopman_neural_free(rk_koopman_neural *nk)
 {
     free(nk->block);
     free(nk->eig);
+    free(nk->gamma_lo);
+    free(nk->gamma_hi);
     rk_mlp_free(&nk->net);
+    rk_mlp_free(&nk->eignet);
     memset(nk, 0, sizeof *nk);
 }
 
@@ -39,14 +46,14 @@ static double logit(double p) { return log(p / (1 - p)); }
 /* Eq. 24 by construction: a real block's lambda = tanh(s); a pair's rho = sigmoid(s) < 1 at the
  * angle theta = pi sigmoid(t) in (0, pi), so b = rho sin theta > 0 as the classical real form has
  * it at a pair's first coordinate. */
-void rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, double *re, double *im)
+static void eigenvalues(const rk_koopman_neural *nk, const double *raw, double *re, double *im)
 {
     for (int j = 0; j < nk->r; j++) {
         if (nk->block[j] == 1) {
-            re[j] = tanh(nk->eig[j]);
+            re[j] = tanh(raw[j]);
             im[j] = 0;
         } else if (nk->block[j] == 2) {
-            double rho = sigmoid(nk->eig[j]), th = M_PI * sigmoid(nk->eig[j + 1]);
+            double rho = sigmoid(raw[j]), th = M_PI * sigmoid(raw[j + 1]);
             re[j] = re[j + 1] = rho * cos(th);
             im[j] = rho * sin(th);
             im[j + 1] = -im[j];
@@ -54,16 +61,63 @@ void rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, double *re, doub
     }
 }
 
-/* B (r x r, column-major): the realified operator's blocks, y <- B y (koopman.h's real form). */
-static void block_matrix(const rk_koopman_neural *nk, double *B)
+/* The normalised shape code (gamma - mid) / half over the training range, g values. */
+static void shape_input(const rk_koopman_neural *nk, const double *gamma, double *in)
+{
+    for (int c = 0; c < nk->g; c++) {
+        double half = 0.5 * (nk->gamma_hi[c] - nk->gamma_lo[c]);
+        in[c] = (gamma[c] - 0.5 * (nk->gamma_hi[c] + nk->gamma_lo[c])) / (half > 0 ? half : 1);
+    }
+}
+
+/* The raw eigenvalue parameters (r) at shape code gamma: the free ones with g = 0, else the
+ * eigenvalue network's output Lambda(gamma) before Eq. 24's bounding maps (Sec. 5). */
+static int raw_eigs(const rk_koopman_neural *nk, const double *gamma, double *raw, rk_error *err)
+{
+    if (nk->g == 0) {
+        memcpy(raw, nk->eig, sizeof(double) * nk->r);
+        return 0;
+    }
+    double in[RK_KOOPMAN_SHAPE_MAX];
+    rk_mlp_work w;
+    shape_input(nk, gamma, in);
+    if (rk_mlp_work_init(&w, &nk->eignet, 1, 0, err)) return -1;
+    int rc = rk_mlp_forward(&nk->eignet, &w, 1, in, raw, err);
+    rk_mlp_work_free(&w);
+    return rc;
+}
+
+/* A shape code as the model takes it: g finite values (NULL only when g = 0). */
+static int check_gamma(const rk_koopman_neural *nk, const double *gamma, rk_error *err)
+{
+    if (nk->g > 0 && !gamma) return rk_fail(err, "neural DMD: no shape code given; the model takes %d values", nk->g);
+    for (int c = 0; c < nk->g; c++)
+        if (!isfinite(gamma[c])) return rk_fail(err, "neural DMD: shape code component %d is %g", c, gamma[c]);
+    return 0;
+}
+
+int rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, const double *gamma, double *re, double *im,
+                                  rk_error *err)
+{
+    if (check_gamma(nk, gamma, err)) return -1;
+    double *raw = rk_calloc((size_t)nk->r, sizeof(double), err);
+    int rc = raw ? raw_eigs(nk, gamma, raw, err) : -1;
+    if (!rc) eigenvalues(nk, raw, re, im);
+    free(raw);
+    return rc;
+}
+
+/* B (r x r, column-major) from the raw parameters: the realified operator's blocks, y <- B y
+ * (koopman.h's real form). */
+static void block_matrix(const rk_koopman_neural *nk, const double *raw, double *B)
 {
     int r = nk->r;
     memset(B, 0, sizeof(double) * (size_t)r * r);
     for (int j = 0; j < r; j++) {
         if (nk->block[j] == 1) {
-            B[(size_t)r * j + j] = tanh(nk->eig[j]);
+            B[(size_t)r * j + j] = tanh(raw[j]);
         } else if (nk->block[j] == 2) { /* [[a, b], [-b, a]] */
-            double rho = sigmoid(nk->eig[j]), th = M_PI * sigmoid(nk->eig[j + 1]);
+            double rho = sigmoid(raw[j]), th = M_PI * sigmoid(raw[j + 1]);
             double a = rho * cos(th), b = rho * sin(th);
             B[(size_t)r * j + j] = B[(size_t)r * (j + 1) + j + 1] = a;
             B[(size_t)r * (j + 1) + j] = b;
@@ -72,16 +126,16 @@ static void block_matrix(const rk_koopman_neural *nk, double *B)
     }
 }
 
-/* dL/d(eig) from dL/dB (r x r, column-major), by the chain rule through the parametrisation. */
-static void block_grad(const rk_koopman_neural *nk, const double *dB, double *g)
+/* dL/d(raw) from dL/dB (r x r, column-major), by the chain rule through the parametrisation. */
+static void block_grad(const rk_koopman_neural *nk, const double *raw, const double *dB, double *g)
 {
     int r = nk->r;
     for (int j = 0; j < r; j++) {
         if (nk->block[j] == 1) {
-            double l = tanh(nk->eig[j]);
+            double l = tanh(raw[j]);
             g[j] = dB[(size_t)r * j + j] * (1 - l * l);
         } else if (nk->block[j] == 2) {
-            double sr = sigmoid(nk->eig[j]), st = sigmoid(nk->eig[j + 1]);
+            double sr = sigmoid(raw[j]), st = sigmoid(raw[j + 1]);
             double rho = sr, th = M_PI * st, c = cos(th), s = sin(th);
             double da = dB[(size_t)r * j + j] + dB[(size_t)r * (j + 1) + j + 1];
             double db = dB[(size_t)r * (j + 1) + j] - dB[(size_t)r * j + j + 1];
@@ -92,11 +146,15 @@ static void block_grad(const rk_koopman_neural *nk, const double *dB, double *g)
     }
 }
 
-/* The network's input for rest positions X (3 nv): (x - center) / scale, row-major nv x 3. */
-static void inputs(const rk_koopman_neural *nk, const double *X, int nv, double *in)
+/* The modes network's input for rest positions X (3 nv) of shape gamma: [(x - center) / scale;
+ * the normalised gamma] (Sec. 5: phi(gamma, x)), row-major nv x (3 + g). */
+static void inputs(const rk_koopman_neural *nk, const double *X, int nv, const double *gamma, double *in)
 {
-    for (int p = 0; p < nv; p++)
-        for (int c = 0; c < 3; c++) in[3 * p + c] = (X[3 * p + c] - nk->center[c]) / nk->scale;
+    int w = 3 + nk->g;
+    for (int p = 0; p < nv; p++) {
+        for (int c = 0; c < 3; c++) in[(size_t)w * p + c] = (X[3 * p + c] - nk->center[c]) / nk->scale;
+        if (nk->g) shape_input(nk, gamma, in + (size_t)w * p + 3);
+    }
 }
 
 /* Network outputs (nv x 6r, row-major) <-> Phi (6 nv x r, column-major). */
@@ -122,14 +180,16 @@ static void phi_to_outputs(const double *Phi, int nv, int r, double *Y)
             }
 }
 
-int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv, double *Phi, rk_error *err)
+int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv, const double *gamma, double *Phi,
+                            rk_error *err)
 {
+    if (check_gamma(nk, gamma, err)) return -1;
     rk_mlp_work w;
-    double *in = rk_calloc((size_t)nv * 3, sizeof(double), err);
+    double *in = rk_calloc((size_t)nv * (3 + nk->g), sizeof(double), err);
     double *Y = rk_calloc((size_t)nv * 6 * nk->r, sizeof(double), err);
     int rc = -1;
     if (!in || !Y || rk_mlp_work_init(&w, &nk->net, nv, 0, err)) goto done;
-    inputs(nk, X, nv, in);
+    inputs(nk, X, nv, gamma, in);
     rc = rk_mlp_forward(&nk->net, &w, nv, in, Y, err);
     rk_mlp_work_free(&w);
     if (!rc) outputs_to_phi(Y, nv, nk->r, Phi);
@@ -143,6 +203,7 @@ done:
  * Xp = X^+_t = [u_t; beta (u_t - u_{t-1} + a h^2)] (Eq. 18-19), Xn = X_{t+1}; 6 nv x M each. */
 typedef struct {
     int nv, M, ntraj;
+    const double *gamma;          /* the mesh's shape code (g values) */
     double *in, *Xp, *Xn, weight; /* weight: 1 / (M E_m) */
     double *F;                    /* 6 nv x ntraj: each trajectory's impulse [0; beta a h^2] (Eq. 19) */
     int *traj, *last;             /* M: a column's trajectory, and that trajectory's last column */
@@ -158,9 +219,11 @@ static int mesh_data_init(mesh_data *md, const rk_koopman_neural *nk, const rk_k
         if (m->traj[k].frames < 3) return rk_fail(err, "trajectory %d has %d frames (3 at least)", k, m->traj[k].frames);
         M += m->traj[k].frames - 2;
     }
+    if (check_gamma(nk, m->gamma, err)) return -1;
     md->nv = m->nv;
     md->M = M;
-    md->in = rk_calloc((size_t)m->nv * 3, sizeof(double), err);
+    md->gamma = m->gamma;
+    md->in = rk_calloc((size_t)m->nv * (3 + nk->g), sizeof(double), err);
     md->Xp = rk_calloc(D * M, sizeof(double), err);
     md->Xn = rk_calloc(D * M, sizeof(double), err);
     md->ntraj = m->ntraj;
@@ -172,7 +235,7 @@ static int mesh_data_init(mesh_data *md, const rk_koopman_neural *nk, const rk_k
         for (int c = c0; c < c0 + m->traj[k].frames - 2; c++) md->traj[c] = k, md->last[c] = c0 + m->traj[k].frames - 3;
         for (int i = 0; m->traj[k].accel && i < d; i++) md->F[D * k + d + i] = beta * m->traj[k].accel[i] * h2;
     }
-    inputs(nk, m->X, m->nv, md->in);
+    inputs(nk, m->X, m->nv, m->gamma, md->in);
     double e = 0;
     int c = 0;
     for (int k = 0; k < m->ntraj; k++)
@@ -328,10 +391,31 @@ done:
     return rc;
 }
 
-/* L over all meshes and (grad not NULL) its gradient: grad_net (the network's params layout,
- * zeroed here) and grad_eig (r). */
-static int total_loss(rk_koopman_neural *nk, mesh_data *md, int nmesh, rk_mlp_work *w, double *grad_net,
-                      double *grad_eig, double *loss, rk_error *err)
+/* The raw eigenvalue parameters of every mesh (nmesh x r, row-major): the free ones repeated
+ * (g = 0), or one batched pass of the eigenvalue network over the meshes' codes (its activations
+ * stay in we for the backward pass). */
+static int mesh_eigs(const rk_koopman_neural *nk, const mesh_data *md, int nmesh, rk_mlp_work *we, double *raw,
+                     rk_error *err)
+{
+    int r = nk->r, g = nk->g;
+    if (g == 0) {
+        for (int m = 0; m < nmesh; m++) memcpy(raw + (size_t)r * m, nk->eig, sizeof(double) * r);
+        return 0;
+    }
+    double *in = rk_calloc((size_t)nmesh * g, sizeof(double), err);
+    if (!in) return -1;
+    for (int m = 0; m < nmesh; m++) shape_input(nk, md[m].gamma, in + (size_t)g * m);
+    int rc = rk_mlp_forward(&nk->eignet, we, nmesh, in, raw, err);
+    free(in);
+    return rc;
+}
+
+/* L over all meshes and (grad not NULL) its gradient: grad_net (the modes network's params
+ * layout, zeroed here) and grad_eig (rk_koopman_neural_eig_params: r free parameters with g = 0,
+ * accumulated through one dL/dB; else each mesh's dL/d(raw) run back through the eigenvalue
+ * network). we: the eigenvalue network's workspace (g > 0, batch nmesh). */
+static int total_loss(rk_koopman_neural *nk, mesh_data *md, int nmesh, rk_mlp_work *w, rk_mlp_work *we,
+                      double *grad_net, double *grad_eig, double *loss, rk_error *err)
 {
     int r = nk->r, rc = -1, maxnv = 0;
     for (int m = 0; m < nmesh; m++)
@@ -340,12 +424,14 @@ static int total_loss(rk_koopman_neural *nk, mesh_data *md, int nmesh, rk_mlp_wo
     double *B = rk_calloc((size_t)r * r, sizeof(double), err), *dB = rk_calloc((size_t)r * r, sizeof(double), err);
     double *Yo = rk_calloc(D * r, sizeof(double), err), *Phi = rk_calloc(D * r, sizeof(double), err);
     double *dPhi = rk_calloc(D * r, sizeof(double), err);
-    if (!B || !dB || !Yo || !Phi || !dPhi) goto done;
-    block_matrix(nk, B);
+    double *raw = rk_calloc((size_t)r * nmesh, sizeof(double), err), *draw = rk_calloc((size_t)r * nmesh, sizeof(double), err);
+    if (!B || !dB || !Yo || !Phi || !dPhi || !raw || !draw || mesh_eigs(nk, md, nmesh, we, raw, err)) goto done;
     if (grad_net) memset(grad_net, 0, sizeof(double) * rk_mlp_params(&nk->net));
     *loss = 0;
     for (int m = 0; m < nmesh; m++) {
         double l;
+        block_matrix(nk, raw + (size_t)r * m, B);
+        if (nk->g) memset(dB, 0, sizeof(double) * r * r);
         if (rk_mlp_forward(&nk->net, w, md[m].nv, md[m].in, Yo, err)) goto done;
         outputs_to_phi(Yo, md[m].nv, r, Phi);
         if (mesh_loss(&md[m], r, nk->window, Phi, B, grad_net ? dPhi : NULL, dB, &l, err)) goto done;
@@ -354,8 +440,13 @@ static int total_loss(rk_koopman_neural *nk, mesh_data *md, int nmesh, rk_mlp_wo
             phi_to_outputs(dPhi, md[m].nv, r, Yo);
             if (rk_mlp_backward(&nk->net, w, Yo, grad_net, NULL, err)) goto done;
         }
+        if (grad_eig && nk->g) block_grad(nk, raw + (size_t)r * m, dB, draw + (size_t)r * m);
     }
-    if (grad_eig) block_grad(nk, dB, grad_eig);
+    if (grad_eig && !nk->g) block_grad(nk, raw, dB, grad_eig);
+    if (grad_eig && nk->g) {
+        memset(grad_eig, 0, sizeof(double) * rk_mlp_params(&nk->eignet));
+        if (rk_mlp_backward(&nk->eignet, we, draw, grad_eig, NULL, err)) goto done;
+    }
     rc = 0;
 done:
     free(B);
@@ -363,12 +454,50 @@ done:
     free(Yo);
     free(Phi);
     free(dPhi);
+    free(raw);
+    free(draw);
     return rc;
+}
+
+double *rk_koopman_neural_eig_params(rk_koopman_neural *nk, long *count)
+{
+    *count = nk->g ? rk_mlp_params(&nk->eignet) : nk->r;
+    return nk->g ? nk->eignet.params : nk->eig;
+}
+
+/* With g > 0: the eigenvalue network starts as the constant raw (r values): its output layer's
+ * weights zero and its bias raw, so Lambda(gamma) is the classical start's spectrum at every
+ * gamma and training learns the dependence (the output layer's gradient is not zero there). */
+static void eignet_constant(rk_koopman_neural *nk, const double *raw)
+{
+    rk_mlp *e = &nk->eignet;
+    int L = e->nlayers, out = e->sizes[L], in = e->sizes[L - 1];
+    double *W = e->params + e->offset[L - 1];
+    memset(W, 0, sizeof(double) * (size_t)out * in);
+    memcpy(W + (size_t)out * in, raw, sizeof(double) * out);
+}
+
+/* With g > 0, after the regression at m0's code gamma0 (normalised, g values): the modes network
+ * made independent of gamma without changing its output at gamma0, the first layer's gamma
+ * weights folded into its bias (b += W_gamma gamma0) and zeroed. Every shape of the family then
+ * starts from the same modes field, so that the codes between the training ones start from a
+ * consistent basis (a mode's sign or a pair's phase is not fixed by the loss and could otherwise
+ * drift apart from one training shape to the next). */
+static void modes_shape_free(rk_koopman_neural *nk, const double *gamma0)
+{
+    int in = nk->net.sizes[0], out = nk->net.sizes[1];
+    double *W = nk->net.params, *b = W + (size_t)in * out;
+    for (int o = 0; o < out; o++)
+        for (int c = 0; c < nk->g; c++) {
+            b[o] += W[(size_t)in * o + 3 + c] * gamma0[c];
+            W[(size_t)in * o + 3 + c] = 0;
+        }
 }
 
 /* The start (koopman.h): a classical DMD of mesh m0 at rank r; its real modes U_r W (the scaled
  * lifted space), each real column and each pair scaled to unit RMS per vertex, are what the
- * network is first regressed onto; its eigenvalues (clamped inside the unit circle) start B. */
+ * network is first regressed onto (at m0's shape code); its eigenvalues (clamped inside the unit
+ * circle) start B, or the eigenvalue network's constant output with g > 0. */
 static int classical_start(rk_koopman_neural *nk, const rk_koopman_neural_mesh *m, const rk_koopman_neural_options *o,
                            rk_error *err)
 {
@@ -406,10 +535,11 @@ static int classical_start(rk_koopman_neural *nk, const rk_koopman_neural_mesh *
             nk->eig[j + 1] = logit(th);
         }
     }
+    if (nk->g) eignet_constant(nk, nk->eig);
     phi_to_outputs(Phi, m->nv, r, Y);
-    double *in = rk_calloc((size_t)m->nv * 3, sizeof(double), err);
+    double *in = rk_calloc((size_t)m->nv * (3 + nk->g), sizeof(double), err);
     if (!in) goto done;
-    inputs(nk, m->X, m->nv, in);
+    inputs(nk, m->X, m->nv, m->gamma, in);
     rk_mlp_train_options to;
     rk_mlp_train_default_options(&to);
     to.epochs = o->pretrain_epochs;
@@ -417,6 +547,7 @@ static int classical_start(rk_koopman_neural *nk, const rk_koopman_neural_mesh *
     to.base_lr = 1e-3;
     to.seed = o->seed;
     rc = o->pretrain_epochs > 0 ? rk_mlp_train(&nk->net, in, Y, m->nv, &to, NULL, err) : 0;
+    if (!rc && nk->g) modes_shape_free(nk, in + 3);
     free(in);
 done:
     free(Phi);
@@ -431,19 +562,40 @@ int rk_koopman_neural_loss(rk_koopman_neural *nk, const rk_koopman_neural_mesh *
     int maxnv = 0, rc = -1;
     mesh_data *md = rk_calloc((size_t)(nmesh > 0 ? nmesh : 1), sizeof *md, err);
     if (!md) return -1;
-    rk_mlp_work w;
+    rk_mlp_work w, we;
     memset(&w, 0, sizeof w);
+    memset(&we, 0, sizeof we);
     for (int m = 0; m < nmesh; m++) {
         if (mesh_data_init(&md[m], nk, &mesh[m], err)) goto done;
         if (mesh[m].nv > maxnv) maxnv = mesh[m].nv;
     }
     if (rk_mlp_work_init(&w, &nk->net, maxnv, 0, err)) goto done;
-    rc = total_loss(nk, md, nmesh, &w, grad_net, grad_eig, loss, err);
+    if (!nk->g || !rk_mlp_work_init(&we, &nk->eignet, nmesh, 0, err))
+        rc = total_loss(nk, md, nmesh, &w, &we, grad_net, grad_eig, loss, err);
     rk_mlp_work_free(&w);
+    if (nk->g) rk_mlp_work_free(&we);
 done:
     for (int m = 0; m < nmesh; m++) mesh_data_free(&md[m]);
     free(md);
     return rc;
+}
+
+/* The training codes' range per component (what the network inputs are normalised by, and what a
+ * shape optimisation may move in). */
+static int shape_range(rk_koopman_neural *nk, const rk_koopman_neural_mesh *mesh, int nmesh, rk_error *err)
+{
+    if (!nk->g) return 0;
+    nk->gamma_lo = rk_calloc((size_t)nk->g, sizeof(double), err);
+    nk->gamma_hi = rk_calloc((size_t)nk->g, sizeof(double), err);
+    if (!nk->gamma_lo || !nk->gamma_hi) return -1;
+    for (int c = 0; c < nk->g; c++) {
+        nk->gamma_lo[c] = nk->gamma_hi[c] = mesh[0].gamma[c];
+        for (int m = 1; m < nmesh; m++) {
+            nk->gamma_lo[c] = fmin(nk->gamma_lo[c], mesh[m].gamma[c]);
+            nk->gamma_hi[c] = fmax(nk->gamma_hi[c], mesh[m].gamma[c]);
+        }
+    }
+    return 0;
 }
 
 int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const rk_koopman_neural_options *o,
@@ -459,6 +611,15 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         !(o->base_lr > 0) || o->init_mesh >= nmesh || o->window < 1)
         return rk_fail(err, "neural DMD: bad options (%d meshes, rank %d, hidden %d x %d, epochs %d, h %g)", nmesh,
                        o->rank, o->hidden, o->depth, o->epochs, o->h);
+    if (o->shape_dim < 0 || o->shape_dim > RK_KOOPMAN_SHAPE_MAX ||
+        (o->shape_dim > 0 && (o->eig_hidden < 1 || o->eig_depth < 1 || o->eig_depth > 14)))
+        return rk_fail(err, "neural DMD: bad shape options (code of %d values, 0 to %d; eigenvalue network %d x %d)",
+                       o->shape_dim, RK_KOOPMAN_SHAPE_MAX, o->eig_hidden, o->eig_depth);
+    for (int m = 0; m < nmesh; m++)
+        for (int c = 0; c < o->shape_dim; c++)
+            if (!mesh[m].gamma || !isfinite(mesh[m].gamma[c]))
+                return rk_fail(err, "neural DMD: mesh %d: shape code component %d is %s", m, c,
+                               mesh[m].gamma ? "not finite" : "missing (gamma NULL)");
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     int r = o->rank, rc = -1, m0 = o->init_mesh < 0 ? nmesh - 1 : o->init_mesh, maxnv = 0;
@@ -468,9 +629,10 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
     nk->r = r;
     nk->h = o->h;
     nk->window = o->window;
+    nk->g = o->shape_dim;
     nk->block = rk_calloc((size_t)r, sizeof(int), err);
     nk->eig = rk_calloc((size_t)r, sizeof(double), err);
-    if (!nk->block || !nk->eig) goto fail;
+    if (!nk->block || !nk->eig || shape_range(nk, mesh, nmesh, err)) goto fail;
     /* the input frame: the start mesh's bounding box, centred, its half-diagonal 1 */
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int p = 0; p < mesh[m0].nv; p++)
@@ -484,10 +646,16 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         diag += (hi[c] - lo[c]) * (hi[c] - lo[c]);
     }
     nk->scale = diag > 0 ? 0.5 * sqrt(diag) : 1;
-    sizes[0] = 3;
+    sizes[0] = 3 + nk->g; /* [x; gamma]: phi(gamma, x) (Sec. 5) */
     for (int l = 1; l <= o->depth; l++) sizes[l] = o->hidden;
     sizes[o->depth + 1] = 6 * r;
     if (rk_mlp_init(&nk->net, o->depth + 2, sizes, o->seed, err)) goto fail;
+    if (nk->g) { /* Lambda(gamma): g -> r raw parameters, bounded by Eq. 24's maps */
+        sizes[0] = nk->g;
+        for (int l = 1; l <= o->eig_depth; l++) sizes[l] = o->eig_hidden;
+        sizes[o->eig_depth + 1] = r;
+        if (rk_mlp_init(&nk->eignet, o->eig_depth + 2, sizes, o->seed + 1, err)) goto fail;
+    }
     if (classical_start(nk, &mesh[m0], o, err)) goto fail;
     for (int m = 0; m < nmesh; m++) {
         if (mesh_data_init(&md[m], nk, &mesh[m], err)) {
@@ -496,29 +664,33 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         }
         if (mesh[m].nv > maxnv) maxnv = mesh[m].nv;
     }
-    long np = rk_mlp_params(&nk->net);
-    rk_mlp_work w;
+    long np = rk_mlp_params(&nk->net), ne;
+    double *eig = rk_koopman_neural_eig_params(nk, &ne);
+    rk_mlp_work w, we;
     rk_adam an, ae;
-    double *gn = rk_calloc((size_t)np, sizeof(double), err), *ge = rk_calloc((size_t)r, sizeof(double), err);
+    memset(&we, 0, sizeof we);
+    double *gn = rk_calloc((size_t)np, sizeof(double), err), *ge = rk_calloc((size_t)ne, sizeof(double), err);
     if (!gn || !ge || rk_mlp_work_init(&w, &nk->net, maxnv, 0, err)) {
         free(gn);
         free(ge);
         goto fail;
     }
     double loss = 0;
-    int ok = !rk_adam_init(&an, np, err) && !rk_adam_init(&ae, r, err);
-    if (ok) ok = !total_loss(nk, md, nmesh, &w, NULL, NULL, &loss, err);
+    int ok = !rk_adam_init(&an, np, err) && !rk_adam_init(&ae, ne, err);
+    if (ok && nk->g) ok = !rk_mlp_work_init(&we, &nk->eignet, nmesh, 0, err);
+    if (ok) ok = !total_loss(nk, md, nmesh, &w, &we, NULL, NULL, &loss, err);
     if (report) report->pretrained_loss = loss;
     for (int e = 0; ok && e < o->epochs; e++) {
         double lr = rk_lr_phased(o->base_lr, e, o->epochs);
-        ok = !total_loss(nk, md, nmesh, &w, gn, ge, &loss, err) && !rk_adam_step(&an, nk->net.params, gn, lr, err) &&
-             !rk_adam_step(&ae, nk->eig, ge, lr, err);
+        ok = !total_loss(nk, md, nmesh, &w, &we, gn, ge, &loss, err) &&
+             !rk_adam_step(&an, nk->net.params, gn, lr, err) && !rk_adam_step(&ae, eig, ge, lr, err);
         if (ok && !isfinite(loss)) ok = !rk_fail(err, "the loss turned non-finite at step %d", e);
     }
-    if (ok) ok = !total_loss(nk, md, nmesh, &w, NULL, NULL, &loss, err);
+    if (ok) ok = !total_loss(nk, md, nmesh, &w, &we, NULL, NULL, &loss, err);
     rk_adam_free(&an);
     rk_adam_free(&ae);
     rk_mlp_work_free(&w);
+    rk_mlp_work_free(&we);
     free(gn);
     free(ge);
     if (!ok) goto fail;
@@ -538,9 +710,11 @@ fail:
     return 0;
 }
 
-int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int nv, rk_koopman *k, rk_error *err)
+int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int nv, const double *gamma, rk_koopman *k,
+                               rk_error *err)
 {
     memset(k, 0, sizeof *k);
+    if (check_gamma(nk, gamma, err)) return -1;
     int r = nk->r, d = 3 * nv, n2 = 2 * d;
     if (n2 < r) return rk_fail(err, "neural DMD: %d vertices carry fewer values than rank %d", nv, r);
     k->n = k->d = d;
@@ -557,11 +731,12 @@ int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int
     k->block = rk_calloc((size_t)r, sizeof(int), err);
     k->singular = rk_calloc((size_t)r, sizeof(double), err);
     double *tau = rk_calloc((size_t)r, sizeof(double), err), *B = rk_calloc((size_t)r * r, sizeof(double), err);
+    double *raw = rk_calloc((size_t)r, sizeof(double), err);
     int rc = -1, info;
     if (!k->U || !k->K || !k->lambda_re || !k->lambda_im || !k->residual || !k->W || !k->Winv || !k->block ||
-        !k->singular || !tau || !B)
+        !k->singular || !tau || !B || !raw)
         goto done;
-    if (rk_koopman_neural_modes(nk, X, nv, k->U, err)) goto done;
+    if (rk_koopman_neural_modes(nk, X, nv, gamma, k->U, err) || raw_eigs(nk, gamma, raw, err)) goto done;
     /* Phi = Q R: U_r = Q, W = R, so z = Q^T X and y = R^-1 z = Phi^* X, the least-squares
      * coordinates of Eq. 22-23; K' = R B R^-1 steps z as B steps y. */
     info = LAPACKE_dgeqrf(LAPACK_COL_MAJOR, n2, r, k->U, n2, tau);
@@ -579,8 +754,8 @@ int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int
     for (int j = 0; j < r; j++) k->singular[j] = fabs(k->W[(size_t)r * j + j]);
     k->nsingular = r;
     memcpy(k->block, nk->block, sizeof(int) * r);
-    rk_koopman_neural_eigenvalues(nk, k->lambda_re, k->lambda_im);
-    block_matrix(nk, B);
+    eigenvalues(nk, raw, k->lambda_re, k->lambda_im); /* Lambda(gamma) */
+    block_matrix(nk, raw, B);
     double *T = k->K; /* K' = R B R^-1 */
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, r, r, r, 1.0, B, r, k->Winv, r, 0.0, T, r);
     cblas_dtrmm(CblasColMajor, CblasLeft, CblasUpper, CblasNoTrans, CblasNonUnit, r, r, 1.0, k->W, r, T, r);
@@ -588,6 +763,7 @@ int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int
 done:
     free(tau);
     free(B);
+    free(raw);
     if (rc) rk_koopman_free(k);
     return rc;
 }

@@ -10,92 +10,7 @@
  * Rollouts use the classical machinery on rk_koopman_neural_operator's form (Eq. 19's impulse,
  * then one step: rk_koopman_forced). */
 #include "testlib.h"
-#include "asset/asset.h"
-#include "formats/rombin_write.h"
-#include "koopman/koopman.h"
-#include "runtime/romrt.h"
-#include "pipeline/pipeline.h"
-#include "util/util.h"
-
-/* A cantilever 1 x 0.2 x 0.2 m clamped at x = 0, sagging from rest under gravity along -y. */
-typedef struct {
-    rk_scene scene;
-    rk_scene_sim sim;
-    rk_koopman_run run;
-    int ready;
-} beam;
-
-static int beam_open(beam *b, int cx, int cy, int cz, double duration, rk_error *err)
-{
-    char json[1024];
-    snprintf(json, sizeof json,
-             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 0.2, 0.2], \"cells\": [%d, %d, %d]}},"
-             " \"material\": {\"model\": \"neohookean\", \"young\": 5e6, \"poisson\": 0.35, \"density\": 1000},"
-             " \"fixed\": [{\"box\": [[-1, -1, -1], [0.001, 1, 1]]}]}],"
-             " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 0.5, \"stiffness\": 0.002},"
-             " \"time\": {\"step\": 0.01, \"duration\": %.17g}}",
-             cx, cy, cz, duration);
-    memset(b, 0, sizeof *b);
-    if (rk_scene_parse(json, "beam.json", &b->scene, err)) return -1;
-    if (rk_scene_build(&b->scene, &b->sim, err)) {
-        rk_scene_free(&b->scene);
-        return -1;
-    }
-    if (rk_koopman_scene_run(&b->sim, NULL, &b->run, err)) {
-        rk_scene_sim_free(&b->sim);
-        rk_scene_free(&b->scene);
-        return -1;
-    }
-    b->ready = 1;
-    return 0;
-}
-
-static void beam_close(beam *b)
-{
-    if (!b->ready) return;
-    rk_koopman_run_free(&b->run);
-    rk_scene_sim_free(&b->sim);
-    rk_scene_free(&b->scene);
-    b->ready = 0;
-}
-
-static rk_koopman_neural_mesh as_mesh(const beam *b)
-{
-    rk_koopman_neural_mesh m = {b->sim.mesh.X, b->sim.mesh.nv, &b->run.t, 1};
-    return m;
-}
-
-/* The rollout of k from the run's start (u_{-1}, u_0) under the run's gravity, one forced step
- * (Eq. 19) at a time, against the run: 100 sum_t |u_t - u_fom,t|^2 / sum_t |u_fom,t|^2 over every
- * frame after the start (the Koopman paper's % MSE) in *pct, and the largest per-frame
- * |u - u_fom| / max_t |u_fom,t| in *peak. */
-static int rollout_error(const rk_koopman *k, const rk_koopman_run *run, double *pct, double *peak, rk_error *err)
-{
-    int n = k->n, T = run->t.frames;
-    double *z = calloc((size_t)k->r, sizeof(double)), *u = calloc((size_t)n, sizeof(double));
-    double se = 0, sr = 0, worst = 0, scale = 0;
-    int rc = -1;
-    if (!z || !u) goto done;
-    rk_koopman_lift(k, run->u + n, run->u, z);
-    for (int t = 2; t < T; t++) {
-        if (rk_koopman_forced(k, 1, run->accel, z, err)) goto done;
-        rk_koopman_positions(k, z, u);
-        const double *ref = run->u + (size_t)n * t;
-        double e = 0, r = 0;
-        for (int i = 0; i < n; i++) e += (u[i] - ref[i]) * (u[i] - ref[i]), r += ref[i] * ref[i];
-        se += e, sr += r;
-        worst = fmax(worst, sqrt(e));
-        scale = fmax(scale, sqrt(r));
-    }
-    *pct = 100 * se / sr;
-    *peak = worst / scale;
-    rc = isfinite(se) ? 0 : -1;
-    if (rc) rk_fail(err, "the rollout is not finite");
-done:
-    free(z);
-    free(u);
-    return rc;
-}
+#include "koopman_beam.h"
 
 /* ---------------------------------------------------------------- 1. gradient */
 
@@ -104,7 +19,7 @@ TEST(loss_gradient_matches_finite_differences)
     rk_error err;
     beam b;
     CHECK_OK(beam_open(&b, 4, 1, 1, 0.3, &err));
-    rk_koopman_neural_mesh m = as_mesh(&b);
+    rk_koopman_neural_mesh m = beam_mesh(&b, NULL);
     rk_koopman_neural_options o;
     rk_koopman_neural_default_options(&o);
     o.hidden = 8;
@@ -162,7 +77,10 @@ static int evaluate(beam *b, const int cells[3][3], const rk_koopman_neural_mesh
            rep.seconds);
     double re[RANK], im[RANK];
     *lmax = 0;
-    rk_koopman_neural_eigenvalues(&nk, re, im);
+    if (rk_koopman_neural_eigenvalues(&nk, NULL, re, im, err)) {
+        rk_koopman_neural_free(&nk);
+        return -1;
+    }
     for (int j = 0; j < RANK; j++) *lmax = fmax(*lmax, hypot(re[j], im[j]));
     printf("# max |lambda| %.6f\n", *lmax);
     printf("# %-16s %6s %14s %14s %14s %14s\n", "cells", "nv", "neural MSE%", "neural peak", "classical MSE%",
@@ -172,7 +90,7 @@ static int evaluate(beam *b, const int cells[3][3], const rk_koopman_neural_mesh
         rk_koopman kn, kc;
         double pk_n = 0, pk_c = 0;
         int n = 3 * b[i].sim.mesh.nv;
-        if ((rc = rk_koopman_neural_operator(&nk, b[i].sim.mesh.X, b[i].sim.mesh.nv, &kn, err))) break;
+        if ((rc = rk_koopman_neural_operator(&nk, b[i].sim.mesh.X, b[i].sim.mesh.nv, NULL, &kn, err))) break;
         rc = rollout_error(&kn, &b[i].run, &npct[i], &pk_n, err);
         rk_koopman_free(&kn);
         rk_koopman_options ko;
@@ -203,7 +121,7 @@ TEST(generalizes_to_an_unseen_resolution)
             for (int j = 0; j < i; j++) beam_close(&b[j]);
         CHECK(rc == 0, "beam %d: %s", i, err.msg);
     }
-    rk_koopman_neural_mesh m[2] = {as_mesh(&b[0]), as_mesh(&b[1])};
+    rk_koopman_neural_mesh m[2] = {beam_mesh(&b[0], NULL), beam_mesh(&b[1], NULL)};
     double fomdiff[3];
     {
         /* the full-order runs against each other at the tip corner (1, 0, 0), a vertex of all three */
@@ -279,7 +197,7 @@ TEST(bakes_into_an_asset_the_runtime_steps)
     if (beam_open(&b[1], 16, 4, 4, 0.6, &err)) beam_close(&b[0]);
     CHECK(b[1].ready, "%s", err.msg);
     int rc = beam_open(&u, 12, 3, 3, 0.6, &err);
-    rk_koopman_neural_mesh m[2] = {as_mesh(&b[0]), as_mesh(&b[1])};
+    rk_koopman_neural_mesh m[2] = {beam_mesh(&b[0], NULL), beam_mesh(&b[1], NULL)};
     rk_koopman_neural_options o;
     rk_koopman_neural_default_options(&o);
     o.rank = RANK;
@@ -288,51 +206,17 @@ TEST(bakes_into_an_asset_the_runtime_steps)
     memset(&k, 0, sizeof k);
     memset(&nk, 0, sizeof nk);
     if (!rc) rc = rk_koopman_neural_train(m, 2, &o, &nk, NULL, &err);
-    if (!rc) rc = rk_koopman_neural_operator(&nk, u.sim.mesh.X, u.sim.mesh.nv, &k, &err);
+    if (!rc) rc = rk_koopman_neural_operator(&nk, u.sim.mesh.X, u.sim.mesh.nv, NULL, &k, &err);
     rk_koopman_neural_free(&nk);
     beam_close(&b[0]);
     beam_close(&b[1]);
     if (rc) beam_close(&u);
     CHECK(rc == 0, "%s", err.msg);
-    int nv = u.sim.mesh.nv, n = 3 * nv, T = u.run.t.frames;
-    rk_koopman_geometry g = {.nv = nv, .X = u.sim.mesh.X, .vertex_mass = u.sim.fem.vertex_mass,
-                             .accel = u.run.accel, .u0 = u.run.u + n, .u_prev = u.run.u, .trajectories = 2};
-    rk_asset_options ao;
-    rk_asset_default_options(&ao);
-    rombin_writer w;
-    unsigned char *asset = NULL;
-    size_t bytes = 0, need = 0;
-    rombin_writer_init(&w, ao.real_type, 0);
-    rc = rk_asset_bake_koopman(&k, &g, &ao, NULL, &w, NULL, &err) || rombin_serialize(&w, &asset, &bytes, &err);
-    rombin_writer_free(&w);
-    romrt_error re = {0};
-    romrt_model *rm = NULL;
-    void *arena = NULL;
-    romrt_status st = ROMRT_E_ARGUMENT;
-    if (!rc && romrt_arena_size(asset, bytes, &need, &re) == ROMRT_OK) arena = aligned_alloc(16, (need + 15) / 16 * 16);
-    if (arena) st = romrt_open(asset, bytes, arena, need, &rm, &re);
-    double *z = calloc((size_t)k.r, sizeof(double)), *ud = calloc((size_t)n, sizeof(double)), worst = 0, peak = 0;
-    romrt_real *x = calloc((size_t)n, sizeof(romrt_real));
-    rk_koopman_lift(&k, u.run.u + n, u.run.u, z);
-    for (int t = 2; st == ROMRT_OK && t < T; t++) {
-        st = romrt_step(rm, &re);
-        if (st == ROMRT_OK) st = romrt_positions(rm, x, nv, 3);
-        rk_koopman_forced(&k, 1, u.run.accel, z, &err);
-        rk_koopman_positions(&k, z, ud);
-        for (int i = 0; st == ROMRT_OK && i < n; i++) {
-            worst = fmax(worst, fabs((double)x[i] - u.sim.mesh.X[i] - ud[i]));
-            peak = fmax(peak, fabs(ud[i]));
-        }
-    }
-    free(z);
-    free(ud);
-    free(x);
-    free(arena);
-    free(asset);
+    double worst = 0, peak = 0;
+    rc = runtime_against_rollout(&k, &u, &worst, &peak, &err);
     rk_koopman_free(&k);
     beam_close(&u);
-    CHECK(rc == 0, "bake: %s", err.msg);
-    CHECK(st == ROMRT_OK, "runtime: status %d (%s)", (int)st, re.message);
+    CHECK(rc == 0, "%s", err.msg);
     printf("# runtime (float) against the precompute's rollout of the baked neural operator: max |du| %.3g m, "
            "peak |u| %.3g m\n", worst, peak);
     CHECK(worst <= 1e-3 * peak, "runtime frames differ by %.3g m (peak %.3g m)", worst, peak);
