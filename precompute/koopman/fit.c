@@ -272,6 +272,15 @@ static void compose(rk_koopman *k, double *work)
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, r, r, r, 1.0, k->W, r, A, r, 0.0, k->K, r);
 }
 
+/* q = 1/2 (theta - theta_0)^T G (theta - theta_0), half the misfit a refit adds (stabilize); diff and
+ * Gd (n each) get theta - theta_0 and G (theta - theta_0). */
+static double excess(int n, const double *G, const double *theta, const double *theta0, double *diff, double *Gd)
+{
+    for (int i = 0; i < n; i++) diff[i] = theta[i] - theta0[i];
+    cblas_dsymv(CblasColMajor, CblasUpper, n, 1.0, G, n, diff, 1, 0.0, Gd, 1);
+    return 0.5 * cblas_ddot(n, diff, 1, Gd, 1);
+}
+
 /* The stability-constrained refit of the eigenvalues. Truncation (U_r of the SVD) can give K' an
  * eigenvalue outside the unit circle though the data never grows: K' = U_r^T X' V_r S_r^-1 is the
  * least-squares operator of the reduced pairs (Z' ~ K Z, Z = U_r^T X, Z' = U_r^T X'), and what
@@ -346,26 +355,17 @@ static int stabilize(rk_koopman *k, const double *Z, int M, double *work, rk_err
     for (int j = 0; j < r; j++) {
         if (!k->block[j]) continue;
         nb++;
-        double m = k->block[j] == 2 ? hypot(theta0[j], theta0[j + 1]) : fabs(theta0[j]), f = m < 1 - 1e-3 ? 1 : (1 - 1e-3) / m;
+        double m = k->block[j] == 2 ? hypot(theta0[j], theta0[j + 1]) : fabs(theta0[j]);
+        double f = m < 1 - 1e-3 ? 1 : (1 - 1e-3) / m;
         theta[j] = theta0[j] * f;
         if (k->block[j] == 2) theta[j + 1] = theta0[j + 1] * f;
     }
-    /* q(theta) = 1/2 (theta - theta_0)^T G (theta - theta_0): half the misfit the refit adds */
-#define QVAL(th, out)                                                                                          \
-    do {                                                                                                       \
-        for (int i_ = 0; i_ < np; i_++) trial[i_] = (th)[i_] - theta0[i_];                                     \
-        cblas_dsymv(CblasColMajor, CblasUpper, np, 1.0, G, np, trial, 1, 0.0, dq, 1);                          \
-        (out) = 0.5 * cblas_ddot(np, trial, 1, dq, 1);                                                         \
-    } while (0)
-    double q0;
-    QVAL(theta, q0);
+    double q0 = excess(np, G, theta, theta0, trial, dq);
     double t = q0 > 0 ? nb / q0 : 1, gap_goal = 1e-12 * q0;
     for (int outer = 0; outer < 60 && nb / t > gap_goal; outer++, t *= 10) {
         for (int it = 0; it < 100; it++) {
             /* phi = t q - sum_b log(1 - |theta_b|^2): gradient g, Hessian H */
-            double q;
-            QVAL(theta, q);
-            (void)q;
+            excess(np, G, theta, theta0, trial, dq); /* dq = G (theta - theta_0) */
             for (int p = 0; p < np; p++) g[p] = t * dq[p];
             for (int p = 0; p < np; p++)
                 for (int i = 0; i < np; i++) H[i + (size_t)np * p] = t * G[i + (size_t)np * p];
@@ -376,7 +376,8 @@ static int stabilize(rk_koopman *k, const double *Z, int M, double *work, rk_err
                 for (int a = 0; a < w; a++) {
                     g[j + a] += 2 * theta[j + a] / den;
                     for (int b = 0; b < w; b++)
-                        H[j + a + (size_t)np * (j + b)] += (a == b ? 2 / den : 0) + 4 * theta[j + a] * theta[j + b] / (den * den);
+                        H[j + a + (size_t)np * (j + b)] +=
+                            (a == b ? 2 / den : 0) + 4 * theta[j + a] * theta[j + b] / (den * den);
                 }
             }
             /* Newton step: H step = -g, H scaled to unit diagonal first (G's scales span the data's) */
@@ -390,9 +391,7 @@ static int stabilize(rk_koopman *k, const double *Z, int M, double *work, rk_err
             double decrement = -cblas_ddot(np, g, 1, step, 1);
             if (!(decrement > 0)) break;
             /* the largest step that stays inside every disc, then backtracking on phi */
-            double alpha = 1, phi0 = 0, phi1;
-            QVAL(theta, phi0);
-            phi0 *= t;
+            double alpha = 1, phi0 = t * excess(np, G, theta, theta0, trial, dq);
             for (int j = 0; j < r; j++)
                 if (k->block[j]) {
                     double s = theta[j] * theta[j] + (k->block[j] == 2 ? theta[j + 1] * theta[j + 1] : 0);
@@ -409,9 +408,7 @@ static int stabilize(rk_koopman *k, const double *Z, int M, double *work, rk_err
                         bar -= inside ? log(1 - s) : 0;
                     }
                 if (!inside) continue;
-                QVAL(cand, phi1);
-                phi1 = t * phi1 + bar;
-                if (phi1 <= phi0 - 0.25 * alpha * decrement) {
+                if (t * excess(np, G, cand, theta0, trial, dq) + bar <= phi0 - 0.25 * alpha * decrement) {
                     memcpy(theta, cand, sizeof(double) * np);
                     break;
                 }
@@ -419,7 +416,6 @@ static int stabilize(rk_koopman *k, const double *Z, int M, double *work, rk_err
             if (decrement < 1e-10) break;
         }
     }
-#undef QVAL
     /* the refitted eigenvalues, K = W B W^-1 */
     double shift = 0, top = 0;
     for (int j = 0; j < r; j++) {
