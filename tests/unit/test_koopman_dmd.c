@@ -544,7 +544,7 @@ TEST(default_fits_of_a_grid_of_72_stable_chains_are_stable)
                     rk_koopman_free(&clamp);
                 }
     printf("# grid of %d chains, default fits: %d left the unit circle unconstrained (max |lambda| up to %.6f; %d "
-           "eigenvalues), all %d refitted, max |lambda| now %.12f; %d of the data grow; largest eigenvalue shift "
+           "eigenvalues), all %d refitted, max |lambda| now %.17g; %d of the data grow; largest eigenvalue shift "
            "%.2e; one-step training residual (relative) up to %.3g x the unconstrained (by at most %.2e; those up "
            "to %.2e), at most %.6f x the clamp's; rollouts from trajectory 0's start, relative error over its %d "
            "steps up to %.3g refitted, %.3g clamped (refit no worse in %d of %d), %.3g unconstrained; over %d steps "
