@@ -19,7 +19,7 @@ static void dmd_usage(FILE *f)
 {
     fprintf(f,
             "usage: romkit dmd --snapshots S.npy [--snapshots S2.npy ...] --dt H -o OUT.rombin\n"
-            "                  [--rank R | --energy E] [--clamp] [--pod P] [--gravity GX,GY,GZ]\n"
+            "                  [--rank R | --energy E] [--clamp | --no-refit] [--pod P] [--gravity GX,GY,GZ]\n"
             "                  [--accel AX,AY,AZ ...] [--from-rest] [--rest R.npy] [--mesh M] [--vertex-mass KG]\n"
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
@@ -27,6 +27,9 @@ static void dmd_usage(FILE *f)
             "  S.npy: T x n x 3 positions (u = x - rest), or T x d observables used as they are.\n"
             "  --rank, --energy  the DMD rank, or the singular-value energy kept (default 0.999999)\n"
             "  --clamp           scale every |lambda| > 1 down to 1 (stable long rollouts)\n"
+            "  --no-refit        keep the fit's eigenvalues as fitted: by default, a fit of data whose energy\n"
+            "                    does not grow that leaves the unit circle is refitted under |lambda| <= 1\n"
+            "                    (the modes held; the summary says how many moved and what it cost)\n"
             "  --pod P           fit on the P leading POD coordinates of the data first\n"
             "  --gravity         the constant acceleration acting during every recording and when the\n"
             "                    asset is stepped (m/s^2; default none)\n"
@@ -52,7 +55,7 @@ typedef struct {
     const char *snapshots[MAX_FILES], *accel[MAX_FILES];
     int nsnap, naccel;
     const char *dt, *rank, *energy, *pod, *gravity, *rest, *mesh, *mass, *out, *report, *precision;
-    int clamp, compress, quiet, from_rest;
+    int clamp, no_refit, compress, quiet, from_rest;
 } dmd_args;
 
 static int parse_args(int argc, char **argv, dmd_args *a)
@@ -66,7 +69,8 @@ static int parse_args(int argc, char **argv, dmd_args *a)
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
-        int *flag = !strcmp(arg, "--clamp") ? &a->clamp : !strcmp(arg, "--compress") ? &a->compress
+        int *flag = !strcmp(arg, "--clamp") ? &a->clamp : !strcmp(arg, "--no-refit") ? &a->no_refit
+                  : !strcmp(arg, "--compress") ? &a->compress
                   : !strcmp(arg, "--quiet") ? &a->quiet : !strcmp(arg, "--from-rest") ? &a->from_rest : NULL;
         if (flag) {
             *flag = 1;
@@ -293,6 +297,7 @@ int cmd_dmd(int argc, char **argv)
         (a.pod && whole("--pod", a.pod, 1, 100000, &pod, &err)))
         goto done;
     o.clamp = a.clamp;
+    o.stabilize = a.no_refit ? -1 : 0;
     if (load_recordings(&a, &rec, &err) || prepare(&a, &rec, gravity, &has_gravity, &err)) goto done_rec;
     double fit_t = rk_now();
     if (pod ? pod_fit(&rec, pod, &o, &k, &err) : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))

@@ -34,6 +34,9 @@ typedef struct {
                           * fraction of each block's energy, displacements and (scaled)
                           * velocities alike (default 0.999999) */
     int clamp;           /* scale every |lambda| > 1 down to 1 (stable rollouts) */
+    int stabilize;       /* when the fit has an |lambda| > 1: 0 (default) refit the eigenvalues
+                          * under |lambda| <= 1 if the training data does not grow (fit.c,
+                          * stabilize), -1 never, 1 whether or not it grows */
     int unbalanced;      /* 0 (default): the velocity block scaled to the displacements' energy
                           * before the SVD (fit.c's balance_blocks); 1: as recorded, which can fit
                           * a smooth single run better at a fixed rank but truncates the velocity
@@ -59,7 +62,7 @@ typedef struct {
                           * energy (fit.c, balance_blocks); U, K, W and the residuals are in those
                           * coordinates, the functions below take and give unscaled values */
     double *U;           /* 2d x r, column-major: the (scaled) lifted state's basis U_r */
-    double *K;           /* r x r, column-major: K' (Eq. 13) */
+    double *K;           /* r x r, column-major: K' (Eq. 13), or W B W^-1 after a refit (stabilized) */
     double *lambda_re, *lambda_im; /* r discrete-time eigenvalues (clamped if asked) */
     double *residual;    /* r: |X' xi - lambda X xi| / |X xi| over the (scaled) data for each mode's xi
                           * = V_r S_r^-1 phi: how far the data is from following the mode */
@@ -68,6 +71,16 @@ typedef struct {
     int nsingular;
     double *singular;    /* the (scaled) data's singular values, descending */
     int clamped;         /* eigenvalues scaled down to |lambda| = 1 */
+    int data_grows;      /* the training data's last states hold more (scaled) energy than its
+                          * first (fit.c, data_grows): a growth the default keeps */
+    int stabilized;      /* eigenvalues outside the unit circle before the stability-constrained
+                          * refit (fit.c, stabilize; 0: not refitted). The refit moves every
+                          * eigenvalue a little (the modes are coupled), and K, lambda and the
+                          * residuals are then the refitted ones */
+    double stabilize_shift;  /* the refit's largest |lambda_new - lambda_old| */
+    double stabilize_top;    /* the largest |lambda| before the refit */
+    double step_residual[2]; /* one-step training residual |X' - U_r K' U_r^T X|_F / |X'|_F over the
+                              * (scaled) pairs: [0] of the Galerkin fit (Eq. 13), [1] as returned */
     int displacement_only; /* fitted with rk_koopman_options.displacement_only */
 } rk_koopman;
 

@@ -200,10 +200,16 @@ int rk_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_
     out->report = cJSON_CreateObject();
     cJSON_AddItemToObject(out->report, "koopman", rk_koopman_report(k));
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, &sum);
-    snprintf(out->summary, sizeof out->summary, "Koopman operator, rank %d over %d observables, max |lambda| %.9f%s, "
+    /* a refit (fit.c, stabilize) says how many eigenvalues it moved inside and what that cost the fit */
+    char refit[200] = "";
+    if (k->stabilized)
+        snprintf(refit, sizeof refit, " (stable refit: %d outside up to %.6f, eigenvalues moved by at most %.2e, "
+                 "one-step residual %.3e -> %.3e)", k->stabilized, k->stabilize_top, k->stabilize_shift,
+                 k->step_residual[0], k->step_residual[1]);
+    snprintf(out->summary, sizeof out->summary, "Koopman operator, rank %d over %d observables, max |lambda| %.9f%s%s, "
              "%d of %d vertices stored (%d shown), %zu bytes", k->r, k->d,
-             rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, k->r), k->clamped ? " (clamped)" : "", sum.vertices,
-             g->nv, sum.shown, out->bytes);
+             rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, k->r), k->clamped ? " (clamped)" : "", refit,
+             sum.vertices, g->nv, sum.shown, out->bytes);
     return 0;
 }
 

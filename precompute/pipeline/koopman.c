@@ -256,6 +256,12 @@ cJSON *rk_koopman_report(const rk_koopman *k)
     cJSON_AddItemToObject(j, "eigenvalues", eig);
     cJSON_AddItemToObject(j, "residuals", rk_json_array(k->residual, k->r));
     cJSON_AddNumberToObject(j, "clamped", k->clamped);
+    cJSON_AddBoolToObject(j, "data_grows", k->data_grows);
+    cJSON_AddNumberToObject(j, "stabilized", k->stabilized);
+    cJSON_AddNumberToObject(j, "stabilize_shift", k->stabilize_shift);
+    cJSON_AddNumberToObject(j, "max_abs_eigenvalue_before_refit",
+                            k->stabilized ? k->stabilize_top : rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, k->r));
+    cJSON_AddItemToObject(j, "step_residual", rk_json_array(k->step_residual, 2));
     cJSON_AddItemToObject(j, "singular_values", rk_json_array(k->singular, k->nsingular < 200 ? k->nsingular : 200));
     cJSON_AddNumberToObject(j, "observables", k->d);
     cJSON_AddNumberToObject(j, "h", k->h);

@@ -439,7 +439,8 @@ int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const
                            const double *frames, int T, rk_scene_koopman *out, rk_error *err);
 void rk_scene_koopman_free(rk_scene_koopman *p);
 /* The report's "koopman" object: rank, max_abs_eigenvalue, eigenvalues [[re, im], ...],
- * residuals, clamped, singular values, observables, h. */
+ * residuals, clamped, data_grows, stabilized, stabilize_shift, max_abs_eigenvalue_before_refit,
+ * step_residual [Galerkin, returned], singular values, observables, h. */
 cJSON *rk_koopman_report(const rk_koopman *k);
 
 /* ---- following a target trajectory with forces on named groups (control.c) ---- */
