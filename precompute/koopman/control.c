@@ -127,6 +127,8 @@ static int check_problem(const rk_koopman *k, const rk_koopman_control_problem *
     if (p->ntargets < 1 || !p->targets)
         return rk_fail(err, "no targets: name at least one (value index, goal) for the final frame");
     if (p->iterations < 1) return rk_fail(err, "%d iterations: at least 1 (the paper uses 5)", p->iterations);
+    if (!(p->regularize >= 0) || !isfinite(p->regularize))
+        return rk_fail(err, "regularization %g: must be finite and >= 0", p->regularize);
     if (!(p->velocity_weight >= 0) || !isfinite(p->velocity_weight))
         return rk_fail(err, "velocity weight %g: must be finite and >= 0", p->velocity_weight);
     for (int t = 0; t < p->ntargets; t++) {
@@ -235,11 +237,12 @@ static int input_column(const rk_koopman *k, const rk_koopman_control_problem *p
     return 0;
 }
 
-/* C from the system; residual = |A C - b|. */
+/* C from the system, regularised as asked; residual = |A C - b| (the misfit alone, without the
+ * Tikhonov term). */
 static int solve(const rk_koopman_control_problem *p, control_ws *s, double *C, double *residual, rk_error *err)
 {
     int m = s->m, kk = p->inputs;
-    if (p->nonnegative ? rk_nnls(m, kk, s->A, s->b, C, err) : rk_lstsq(m, kk, s->A, s->b, C, err)) return -1;
+    if (rk_lstsq_tikhonov(m, kk, s->A, s->b, p->regularize, p->nonnegative, C, NULL, err)) return -1;
     double sum = 0;
     for (int i = 0; i < m; i++) {
         double e = -s->b[i];

@@ -184,6 +184,8 @@ typedef struct {
                                       * step, weighed against the goals in metres); 0: none */
     int velocity_all;                /* those rows for every value (1) or for the targets' (0) */
     int nonnegative;                 /* C >= 0 by non-negative least squares (Sec. 7.3) */
+    double regularize;               /* rho >= 0: adds lambda^2 |C|^2 to the misfit, lambda = rho times
+                                      * the system's largest singular value (rk_lstsq_tikhonov); 0: none */
     int iterations;                  /* >= 1: solves, each with A re-evaluated (paper: 5) */
 } rk_koopman_control_problem;
 
@@ -196,7 +198,8 @@ void rk_koopman_control_default(rk_koopman_control_problem *p);
  *         w v_N(C)[i]   = 0                (velocity rows, when velocity_weight > 0)
  * by least squares (LAPACK dgelsd: singular values below 1e-12 of the largest count as zero, so
  * more inputs than rows, or dependent inputs, give the minimum-norm C) or, with nonnegative, by
- * Lawson-Hanson NNLS (one of the non-negative minimisers when it is not unique), predicts the
+ * Lawson-Hanson NNLS (one of the non-negative minimisers when it is not unique), either with
+ * regularize's Tikhonov term on C (rk_lstsq_tikhonov), predicts the
  * final frame under that C and hands it to the next evaluation of A.
  * C: k values out. residual (iterations values, or NULL): |rows C - rhs|_2 of each iteration's
  * system (the weighted misfit of the goals and velocity rows the model predicts). z_final (r, or
@@ -222,6 +225,7 @@ typedef struct {
     rk_koopman_input_fn input_field; /* as rk_koopman_control's; evaluated at the predicted goal frame */
     void *ctx;
     int nonnegative;
+    double regularize;               /* rho, as rk_koopman_control's, each frame's solve */
     int iterations;                  /* >= 1 per frame */
 } rk_koopman_track_problem;
 
@@ -412,5 +416,16 @@ int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, 
 int rk_lstsq(int m, int n, const double *A, const double *b, double *x, rk_error *err);
 /* x = argmin |A x - b|_2 subject to x >= 0 (the cubature stage's Lawson-Hanson, on A^T A). */
 int rk_nnls(int m, int n, const double *A, const double *b, double *x, rk_error *err);
+/* Tikhonov-regularised: x = argmin |A x - b|^2 + lambda^2 |x|^2 (x >= 0 too when nonnegative), with
+ * lambda = rho sigma_max(A), so that rho is relative (free of the units of x and b): a direction
+ * of x that A moves by a singular value s is shrunk by s^2 / (s^2 + lambda^2), so rho << 1 leaves
+ * the well-determined directions alone and keeps the nearly unobservable ones near zero. Solved
+ * as [A; lambda I] x ~ [b; 0] by rk_lstsq or rk_nnls; rho = 0 is exactly those. lambda: out, or
+ * NULL. Why |x| and not |x - x_prev| for the tracking loop: an input the model barely sees is then
+ * pulled to zero at every frame instead of left wherever earlier frames' model error pushed it
+ * (measured with |C - C_prev| on cli_control.sh's beams: the axial input still drifts, and the
+ * 10x softer beam diverges at rho 0.1-3 where |C| keeps it bounded). */
+int rk_lstsq_tikhonov(int m, int n, const double *A, const double *b, double rho, int nonnegative, double *x,
+                      double *lambda, rk_error *err);
 
 #endif

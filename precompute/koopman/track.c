@@ -56,6 +56,7 @@ int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, dou
         cp.targets = tg;
         cp.ntargets = p->m;
         cp.nonnegative = p->nonnegative;
+        cp.regularize = p->regularize;
         cp.iterations = p->iterations;
         double *Ct = C + (size_t)p->inputs * t;
         if (rk_koopman_control(k, &cp, Ct, NULL, zf, err)) {

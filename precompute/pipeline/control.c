@@ -157,6 +157,7 @@ static int solve(const groups *g, const rk_koopman *k, const double *target, int
     rk_koopman_track_problem p = {.frames = T, .horizon = g->o->horizon, .m = out->follow_values, .index = index,
                                   .goal = goal, .z0 = z0, .accel = accel, .inputs = g->o->ninputs,
                                   .input_field = input_field, .ctx = (void *)g, .nonnegative = g->o->nonnegative,
+                                  .regularize = g->o->regularize,
                                   .iterations = 1}; /* A does not depend on the state: one solve is exact */
     rc = rk_koopman_track(k, &p, out->C, out->u_model, err);
     out->seconds_solve = rk_now() - t0;

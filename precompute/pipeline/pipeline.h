@@ -463,6 +463,7 @@ typedef struct {
     double train_force;              /* N held during each input's training run; 0: the group's weight */
     int horizon;                     /* rk_koopman_track's H (>= 1) */
     int nonnegative;
+    double regularize;               /* rho of rk_lstsq_tikhonov (>= 0; 0: plain least squares) */
 } rk_control_options;
 
 typedef struct {
