@@ -1,5 +1,7 @@
 /* romkit dmd --snapshots S.npy [--snapshots S2.npy ...] --dt H -o OUT.rombin: a Koopman operator
- * from trajectories recorded anywhere (another simulator, tracked markers), baked into an asset. */
+ * from trajectories recorded anywhere (another simulator, tracked markers), baked into an asset.
+ * With --markers, the recording is k tracked vertices of a scene's mesh, lifted to every vertex
+ * through the scene's linear modes (Sec. 7.5; dmd_markers.c) and fitted on the modal coordinates. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +10,7 @@
 #include "args.h"
 #include "basis/basis.h"
 #include "commands.h"
+#include "dmd_markers.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
 #include "mesh/mesh.h"
@@ -22,6 +25,8 @@ static void dmd_usage(FILE *f)
             "                  [--rank R | --energy E] [--clamp | --no-refit] [--pod P] [--gravity GX,GY,GZ]\n"
             "                  [--accel AX,AY,AZ ...] [--from-rest] [--rest R.npy] [--mesh M] [--vertex-mass KG]\n"
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
+            "       romkit dmd --markers M.npy --marker-vertices V.txt --scene SCENE.json --modes B --dt H\n"
+            "                  -o OUT.rombin [the fit, --gravity, --from-rest and output options above]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
             "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
             "  S.npy: T x n x 3 positions (u = x - rest), or T x d observables used as they are.\n"
@@ -44,19 +49,54 @@ static void dmd_usage(FILE *f)
             "  --compress        deflate the asset's chunks\n"
             "  --report R.json   rank, eigenvalues, the asset's bytes, timings\n"
             "  --quiet           no progress on stderr\n"
-            "  The asset starts at the first recording's first frame, at rest.\n\n"
+            "  The asset starts at the first recording's first frame, at rest.\n"
+            "  Learning from markers (Sec. 7.5), instead of --snapshots:\n"
+            "  --markers M.npy   T x k x 3 positions of k tracked vertices of the scene's mesh, one frame\n"
+            "                    per H seconds (displacements are taken from those vertices' rest positions);\n"
+            "                    or T x n x 3, every vertex of the scene (romkit fom --snapshots): the listed\n"
+            "                    vertices are taken from it, the others never read\n"
+            "  --marker-vertices V.txt  the k vertex indices (0-based), one per line, in M.npy's order\n"
+            "  --scene           the scene whose mesh, material and fixed vertices give the linear modes\n"
+            "  --modes B         each frame's markers are fitted by the first B modes (least squares, 3k >= B);\n"
+            "                    DMD then runs on the B modal coordinates and the modes lift it to every vertex\n"
+            "                    (the scene's masses and surface go into the asset)\n\n"
             "example (snapshots of a full-order run, then the operator, then 1000 steps at once):\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"
             "  romkit dmd --snapshots S.npy --dt 0.01 --from-rest --gravity 0,-9.81,0 --clamp -o koopman.rombin\n"
-            "  romkit run koopman.rombin --steps 50 --jump 1000\n");
+            "  romkit run koopman.rombin --steps 50 --jump 1000\n"
+            "example (6 vertices of the same run as tracked markers, 12 modes, against the run):\n"
+            "  printf '48\\n54\\n62\\n146\\n178\\n188\\n' >V.txt\n"
+            "  romkit dmd --markers S.npy --marker-vertices V.txt --scene examples/scenes/cantilever_small.json\n"
+            "             --modes 12 --dt 0.01 --from-rest --gravity 0,-9.81,0 -o markers.rombin\n"
+            "  romkit run markers.rombin --steps 50 --reference S.npy\n");
 }
 
 typedef struct {
     const char *snapshots[MAX_FILES], *accel[MAX_FILES];
     int nsnap, naccel;
     const char *dt, *rank, *energy, *pod, *gravity, *rest, *mesh, *mass, *out, *report, *precision;
+    const char *markers, *marker_vertices, *scene, *modes;
     int clamp, no_refit, compress, quiet, from_rest;
 } dmd_args;
+
+/* --markers takes the recording, rest, masses and surface from the scene: all four of its options,
+ * none of those that would give them otherwise. */
+static int markers_args(const dmd_args *a)
+{
+    if (!a->markers || !a->marker_vertices || !a->scene || !a->modes || !a->dt || !a->out) {
+        fprintf(stderr, "romkit dmd: learning from markers needs --markers, --marker-vertices, --scene, --modes, --dt "
+                "and -o\n");
+        return -1;
+    }
+    const char *clash = a->nsnap ? "--snapshots" : a->pod ? "--pod" : a->rest ? "--rest" : a->mesh ? "--mesh"
+                      : a->mass ? "--vertex-mass" : a->naccel ? "--accel" : NULL;
+    if (clash) {
+        fprintf(stderr, "romkit dmd: %s does not go with --markers (the scene gives the recording's rest, masses and "
+                "surface; --gravity sets the acceleration)\n", clash);
+        return -1;
+    }
+    return 0;
+}
 
 static int parse_args(int argc, char **argv, dmd_args *a)
 {
@@ -65,7 +105,9 @@ static int parse_args(int argc, char **argv, dmd_args *a)
         const char **value;
     } values[] = {{"--dt", &a->dt},       {"--rank", &a->rank}, {"--energy", &a->energy},       {"--pod", &a->pod},
                   {"--gravity", &a->gravity}, {"--rest", &a->rest}, {"--mesh", &a->mesh}, {"--vertex-mass", &a->mass},
-                  {"-o", &a->out},        {"--report", &a->report}, {"--precision", &a->precision}};
+                  {"-o", &a->out},        {"--report", &a->report}, {"--precision", &a->precision},
+                  {"--markers", &a->markers}, {"--marker-vertices", &a->marker_vertices}, {"--scene", &a->scene},
+                  {"--modes", &a->modes}};
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -97,6 +139,7 @@ static int parse_args(int argc, char **argv, dmd_args *a)
         }
         *values[k].value = argv[++i];
     }
+    if (a->markers || a->marker_vertices || a->scene || a->modes) return markers_args(a);
     if (!a->nsnap || !a->dt || !a->out) {
         fprintf(stderr, "romkit dmd: --snapshots, --dt and -o are required\n");
         return -1;
@@ -194,8 +237,8 @@ static int load_recordings(const dmd_args *a, recordings *r, rk_error *err)
     return 0;
 }
 
-/* Rest positions, u = x - rest, the accelerations, vertex masses. */
-static int prepare(const dmd_args *a, recordings *r, double gravity[3], int *has_gravity, rk_error *err)
+/* Rest positions, u = x - rest, vertex masses. */
+static int prepare(const dmd_args *a, recordings *r, rk_error *err)
 {
     int n = 3 * r->nv;
     r->X = rk_calloc((size_t)n, sizeof(double), err);
@@ -221,6 +264,13 @@ static int prepare(const dmd_args *a, recordings *r, double gravity[3], int *has
     double m = 1;
     if (a->mass && number("--vertex-mass", a->mass, 1e-30, 1e30, &m, err)) return -1;
     for (int v = 0; v < r->nv; v++) r->vertex_mass[v] = m;
+    return 0;
+}
+
+/* --gravity and --accel into each recording's constant acceleration. */
+static int prepare_accel(const dmd_args *a, recordings *r, double gravity[3], int *has_gravity, rk_error *err)
+{
+    int n = 3 * r->nv;
     *has_gravity = a->gravity != NULL;
     if (a->gravity && vector3("--gravity", a->gravity, gravity, err)) return -1;
     for (int f = 0; f < r->ntraj; f++) {
@@ -234,6 +284,26 @@ static int prepare(const dmd_args *a, recordings *r, double gravity[3], int *has
         for (int i = 0; i < n; i++) r->accel[f][i] = g[i % 3];
         r->traj[f].accel = r->accel[f];
     }
+    return 0;
+}
+
+/* --markers: the lifted frames as the one recording (frame 0 repeated first with --from-rest). */
+static int markers_recording(const dmd_args *a, dmd_markers *mk, recordings *r, rk_error *err)
+{
+    int b = 0;
+    if (whole("--modes", a->modes, 1, 4096, &b, err) ||
+        dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, mk, err))
+        return -1;
+    int n = 3 * mk->nv;
+    r->ntraj = 1;
+    r->nv = mk->nv;
+    r->d = n;
+    r->positions = 1;
+    r->X = mk->X; /* taken over */
+    r->vertex_mass = mk->vertex_mass;
+    mk->X = mk->vertex_mass = NULL;
+    if (frames_of(mk->u, mk->T, n, n, a->from_rest, &r->data[0], err)) return -1;
+    r->traj[0] = (rk_koopman_trajectory){r->data[0], mk->T + (a->from_rest ? 1 : 0), NULL};
     return 0;
 }
 
@@ -279,12 +349,15 @@ int cmd_dmd(int argc, char **argv)
     double t0 = rk_now(), gravity[3] = {0, 0, 0};
     rk_error err = {{0}};
     recordings rec;
+    dmd_markers mk;
     rk_koopman k;
     rk_mesh mesh;
     rk_asset_options ao;
     rk_koopman_options o;
     int has_gravity = 0, have_mesh = 0, rc = 1, pod = 0;
     memset(&k, 0, sizeof k);
+    memset(&mk, 0, sizeof mk);
+    memset(&rec, 0, sizeof rec);
     rk_asset_default_options(&ao);
     rk_koopman_default_options(&o);
     int has_real_type, real_type;
@@ -298,14 +371,19 @@ int cmd_dmd(int argc, char **argv)
         goto done;
     o.clamp = a.clamp;
     o.stabilize = a.no_refit ? -1 : 0;
-    if (load_recordings(&a, &rec, &err) || prepare(&a, &rec, gravity, &has_gravity, &err)) goto done_rec;
+    if (a.markers ? markers_recording(&a, &mk, &rec, &err)
+                  : load_recordings(&a, &rec, &err) || prepare(&a, &rec, &err))
+        goto done_rec;
+    if (prepare_accel(&a, &rec, gravity, &has_gravity, &err)) goto done_rec;
     double fit_t = rk_now();
-    if (pod ? pod_fit(&rec, pod, &o, &k, &err) : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))
+    if (a.markers ? rk_koopman_fit_projected(rec.traj, 1, 3 * rec.nv, mk.Pin, mk.Phi, mk.b, &o, &k, &err)
+        : pod ? pod_fit(&rec, pod, &o, &k, &err) : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))
         goto done_rec;
     fit_t = rk_now() - fit_t;
     double *accel = NULL;
     int *tris = NULL;
-    rk_koopman_geometry g = {.nv = rec.nv, .X = rec.X, .vertex_mass = rec.vertex_mass, .trajectories = rec.ntraj};
+    rk_koopman_geometry g = {.nv = rec.nv, .X = rec.X, .vertex_mass = rec.vertex_mass, .trajectories = rec.ntraj,
+                             .tris = mk.tris, .ntris = mk.ntris, .source_tets = mk.ntets};
     if (a.mesh) {
         rk_mesh_report mr;
         if (rk_mesh_load(a.mesh, RK_MESH_KEEP_FLAT, &mesh, &mr, &err)) goto done_rec; /* its vertices as recorded */
@@ -329,7 +407,7 @@ int cmd_dmd(int argc, char **argv)
     g.u_prev = g.u0 = rec.traj[0].u;
     cJSON *info = cJSON_CreateObject();
     cJSON_AddStringToObject(info, "method", "koopman");
-    cJSON_AddStringToObject(info, "source", "romkit dmd");
+    cJSON_AddStringToObject(info, "source", a.markers ? "romkit dmd --markers" : "romkit dmd");
     cJSON_AddNumberToObject(info, "rank", k.r);
     cJSON_AddNumberToObject(info, "trajectories", rec.ntraj);
     char *info_text = cJSON_PrintUnformatted(info);
@@ -338,12 +416,24 @@ int cmd_dmd(int argc, char **argv)
     if (!rk_bake_koopman(&k, &g, &ao, info_text, &baked, &err)) {
         cJSON_AddNumberToObject(baked.report, "vertices", rec.nv);
         cJSON_AddNumberToObject(baked.report, "trajectories", rec.ntraj);
+        if (a.markers) {
+            cJSON *m = cJSON_AddObjectToObject(baked.report, "markers");
+            cJSON_AddNumberToObject(m, "count", mk.k);
+            cJSON_AddNumberToObject(m, "modes", mk.b);
+            cJSON_AddNumberToObject(m, "frames", mk.T);
+            cJSON_AddNumberToObject(m, "misfit", mk.marker_misfit);
+        }
         cJSON *s = cJSON_AddObjectToObject(baked.report, "seconds");
         cJSON_AddNumberToObject(s, "fit", fit_t);
         cJSON_AddNumberToObject(s, "total", rk_now() - t0);
         if (!rombin_save(a.out, baked.data, baked.bytes, &err) &&
             (!a.report || !rk_json_write_file(a.report, baked.report, &err))) {
-            printf("%s: %s\n", a.out, baked.summary);
+            if (a.markers)
+                printf("%s: %d markers on %d modes (they miss the markers by at most %.3g of the largest marker "
+                       "displacement), ", a.out, mk.k, mk.b, mk.marker_misfit);
+            else
+                printf("%s: ", a.out);
+            printf("%s\n", baked.summary);
             rc = 0;
         }
         rk_baked_free(&baked);
@@ -353,6 +443,7 @@ int cmd_dmd(int argc, char **argv)
     free(accel);
 done_rec:
     recordings_free(&rec);
+    dmd_markers_free(&mk);
 done:
     if (have_mesh) rk_mesh_free(&mesh);
     rk_koopman_free(&k);
