@@ -26,7 +26,7 @@ static void dmd_usage(FILE *f)
             "                  [--accel AX,AY,AZ ...] [--from-rest] [--rest R.npy] [--mesh M] [--vertex-mass KG]\n"
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
             "       romkit dmd --markers M.npy --marker-vertices V.txt --scene SCENE.json --modes B --dt H\n"
-            "                  -o OUT.rombin [the fit, --gravity, --from-rest and output options above]\n"
+            "                  -o OUT.rombin [--marker-ridge RHO] [the fit, --gravity, --from-rest and output options]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
             "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
             "  S.npy: T x n x 3 positions (u = x - rest), or T x d observables used as they are.\n"
@@ -59,7 +59,12 @@ static void dmd_usage(FILE *f)
             "  --scene           the scene whose mesh, material and fixed vertices give the linear modes\n"
             "  --modes B         each frame's markers are fitted by the first B modes (least squares, 3k >= B);\n"
             "                    DMD then runs on the B modal coordinates and the modes lift it to every vertex\n"
-            "                    (the scene's masses and surface go into the asset)\n\n"
+            "                    (the scene's masses and surface go into the asset)\n"
+            "  --marker-ridge RHO  each frame's fit minimises |markers - modes q|^2 + lambda^2 sum_j (w_j q_j)^2,\n"
+            "                    w_j = omega_j / omega_1 (the penalty is the elastic energy), lambda = RHO times\n"
+            "                    the largest singular value of the weighted modes at the markers: less\n"
+            "                    amplified tracking noise, at a bias towards rest (default 0: none; 0.03 cut\n"
+            "                    the lift's error under 0.5 mm noise from 36%% to 3.1%% with 4 markers on 12 modes)\n\n"
             "example (snapshots of a full-order run, then the operator, then 1000 steps at once):\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"
             "  romkit dmd --snapshots S.npy --dt 0.01 --from-rest --gravity 0,-9.81,0 --clamp -o koopman.rombin\n"
@@ -75,7 +80,7 @@ typedef struct {
     const char *snapshots[MAX_FILES], *accel[MAX_FILES];
     int nsnap, naccel;
     const char *dt, *rank, *energy, *pod, *gravity, *rest, *mesh, *mass, *out, *report, *precision;
-    const char *markers, *marker_vertices, *scene, *modes;
+    const char *markers, *marker_vertices, *scene, *modes, *marker_ridge;
     int clamp, no_refit, compress, quiet, from_rest;
 } dmd_args;
 
@@ -107,7 +112,7 @@ static int parse_args(int argc, char **argv, dmd_args *a)
                   {"--gravity", &a->gravity}, {"--rest", &a->rest}, {"--mesh", &a->mesh}, {"--vertex-mass", &a->mass},
                   {"-o", &a->out},        {"--report", &a->report}, {"--precision", &a->precision},
                   {"--markers", &a->markers}, {"--marker-vertices", &a->marker_vertices}, {"--scene", &a->scene},
-                  {"--modes", &a->modes}};
+                  {"--modes", &a->modes}, {"--marker-ridge", &a->marker_ridge}};
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -139,7 +144,7 @@ static int parse_args(int argc, char **argv, dmd_args *a)
         }
         *values[k].value = argv[++i];
     }
-    if (a->markers || a->marker_vertices || a->scene || a->modes) return markers_args(a);
+    if (a->markers || a->marker_vertices || a->scene || a->modes || a->marker_ridge) return markers_args(a);
     if (!a->nsnap || !a->dt || !a->out) {
         fprintf(stderr, "romkit dmd: --snapshots, --dt and -o are required\n");
         return -1;
@@ -291,8 +296,10 @@ static int prepare_accel(const dmd_args *a, recordings *r, double gravity[3], in
 static int markers_recording(const dmd_args *a, dmd_markers *mk, recordings *r, rk_error *err)
 {
     int b = 0;
+    double ridge = 0;
     if (whole("--modes", a->modes, 1, 4096, &b, err) ||
-        dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, mk, err))
+        (a->marker_ridge && number("--marker-ridge", a->marker_ridge, 0, 1e6, &ridge, err)) ||
+        dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, ridge, mk, err))
         return -1;
     int n = 3 * mk->nv;
     r->ntraj = 1;
@@ -422,6 +429,7 @@ int cmd_dmd(int argc, char **argv)
             cJSON_AddNumberToObject(m, "modes", mk.b);
             cJSON_AddNumberToObject(m, "frames", mk.T);
             cJSON_AddNumberToObject(m, "misfit", mk.marker_misfit);
+            cJSON_AddNumberToObject(m, "ridge", mk.ridge);
         }
         cJSON *s = cJSON_AddObjectToObject(baked.report, "seconds");
         cJSON_AddNumberToObject(s, "fit", fit_t);

@@ -24,6 +24,7 @@ void dmd_markers_free(dmd_markers *m)
     free(m->u);
     free(m->Phi);
     free(m->Pin);
+    free(m->weight);
     free(m->tris);
     memset(m, 0, sizeof *m);
 }
@@ -131,7 +132,20 @@ static int left_inverse(dmd_markers *m, rk_error *err)
     return info ? rk_fail(err, "the %d modes' mass matrix is singular (LAPACK dposv info %d)", b, info) : 0;
 }
 
-/* The scene's first b linear modes, rest positions, masses and surface. */
+/* omega_j / omega_1 = sqrt(lambda_j / lambda_1) for K v = lambda M v, lambda_1 the first nonzero
+ * eigenvalue (a free body's rigid modes weigh as the first elastic one). */
+static double *mode_weights(const rk_basis *B, rk_error *err)
+{
+    if (B->nvalues < B->r || B->nzero >= B->r || !(B->values[B->nzero] > 0)) {
+        rk_fail(err, "the modes carry no positive eigenvalue to weigh the marker ridge by");
+        return NULL;
+    }
+    double *w = rk_calloc((size_t)B->r, sizeof(double), err), l1 = B->values[B->nzero];
+    for (int j = 0; w && j < B->r; j++) w[j] = sqrt(fmax(B->values[j], l1) / l1);
+    return w;
+}
+
+/* The scene's first b linear modes, their weights, rest positions, masses and surface. */
 static int scene_modes(const char *path, int b, dmd_markers *m, rk_error *err)
 {
     rk_scene scene;
@@ -149,6 +163,10 @@ static int scene_modes(const char *path, int b, dmd_markers *m, rk_error *err)
     rk_scene_basis_info_free(&info);
     m->nv = sim.mesh.nv;
     m->b = B.r;
+    if (!(m->weight = mode_weights(&B, err))) {
+        rk_basis_free(&B);
+        goto done_sim;
+    }
     m->Phi = B.U; /* taken over */
     B.U = NULL;
     rk_basis_free(&B);
@@ -186,7 +204,7 @@ static double misfit(const dmd_markers *m, const int *vertex, const double *disp
 }
 
 int dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
-                     dmd_markers *out, rk_error *err)
+                     double ridge, dmd_markers *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
     int *vertex = NULL, rc = -1;
@@ -197,8 +215,10 @@ int dmd_markers_load(const char *scene_path, const char *markers_path, const cha
     int n3 = 3 * out->nv;
     q = rk_calloc((size_t)b * out->T, sizeof(double), err);
     out->u = rk_calloc((size_t)n3 * out->T, sizeof(double), err);
-    if (!q || !out->u || rk_koopman_marker_coords(out->Phi, n3, b, vertex, out->k, disp, out->T, q, err)) goto done;
+    if (!q || !out->u || rk_koopman_marker_coords(out->Phi, n3, b, vertex, out->k, disp, out->T, ridge, out->weight, q, err))
+        goto done;
     cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n3, out->T, b, 1.0, out->Phi, n3, q, b, 0.0, out->u, n3);
+    out->ridge = ridge;
     out->marker_misfit = misfit(out, vertex, disp, q);
     rc = 0;
 done:

@@ -13,15 +13,18 @@ typedef struct {
     double *Phi;           /* 3 nv x b, column-major: the modes */
     double *Pin;           /* b x 3 nv, column-major: (Phi^T M Phi)^-1 Phi^T M, so Pin Phi = I */
     int *tris, ntris, ntets;
+    double ridge;          /* rk_koopman_marker_coords' */
+    double *weight;        /* b: omega_j / omega_1 (the ridge's weights: its penalty the elastic energy) */
     double marker_misfit;  /* max over frames of |S Phi q_t - m_t| / max_t |m_t|: what b modes miss */
 } dmd_markers;
 
 /* The scene's first b linear modes (rk_scene_basis, type modes), the markers (T x k x 3 positions
  * of the k vertices listed in vertices_path, one index per line) as displacements from those
- * vertices' rest positions, their modal coordinates by least squares (rk_koopman_marker_coords),
+ * vertices' rest positions, their modal coordinates by least squares (rk_koopman_marker_coords,
+ * with its ridge),
  * and the dense frames. Every input is checked first; errors name the file and the row. */
 int dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
-                     dmd_markers *out, rk_error *err);
+                     double ridge, dmd_markers *out, rk_error *err);
 void dmd_markers_free(dmd_markers *m);
 
 #endif

@@ -235,13 +235,20 @@ int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, dou
 
 /* Sparse to dense (markers.c; Sec. 7.5, learning from video): marker trajectories, the
  * displacements of k tracked vertices (3 values each, as optical flow on dots would give them),
- * become coordinates of a basis of the whole mesh: q_t = argmin |S Phi q - m_t|_2, S the rows of
- * the k vertices, by least squares (rk_lstsq); DMD is then fitted on q (rk_koopman_fit with d = b)
+ * become coordinates of a basis of the whole mesh:
+ *   q_t = argmin |S Phi q - m_t|^2 + lambda^2 |W q|^2,
+ * S the rows of the k vertices, W = diag(weight) (NULL: I), lambda = ridge sigma_max(S Phi W^-1)
+ * (rk_lstsq_tikhonov in p = W q; ridge 0: plain least squares, rk_lstsq, weight unused). The
+ * ridge trades a bias towards q = 0 for less amplified tracking noise where few markers barely
+ * tell some basis directions apart; for linear modes, weight_j = omega_j / omega_1 makes the
+ * penalty the elastic energy (the least strained deformation that explains the markers), which
+ * keeps the low modes the motion lives in. DMD is then fitted on q (rk_koopman_fit with d = b)
  * and Phi q is the dense deformation. Phi: n3 x b, column-major; vertex: k indices; markers:
  * 3k x T, column-major (frame t's markers at 3k t, vertex by vertex); q: b x T out. Fails when
- * 3k < b (fewer equations than coordinates) or a vertex is out of range. */
+ * 3k < b (fewer equations than coordinates), a vertex is out of range, ridge is negative or a
+ * weight is not positive. */
 int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex, int k, const double *markers, int T,
-                             double *q, rk_error *err);
+                             double ridge, const double *weight, double *q, rk_error *err);
 
 /* ---- Neural, discretization-agnostic DMD (neural.c; koopman-dmd-log-linear paper, Sec. 5, Fig. 6)
  *

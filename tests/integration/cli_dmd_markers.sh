@@ -3,7 +3,9 @@
 # through the scene's first 12 linear modes, DMD on the modal coordinates, baked, and stepped by
 # the runtime against the full-order run at every vertex. Measured: relative error 1.2% (6 markers,
 # 12 modes); the same 12 modes fitted to every vertex give 0.74%, DMD on every vertex's
-# snapshots 0.69%; 3 markers on 6 modes 42%.
+# snapshots 0.69%; 3 markers on 6 modes 42%. Four markers on 12 modes (12 equations for 12
+# coordinates) fit the markers exactly and miss elsewhere, 9.8%; --marker-ridge 0.03 (Tikhonov on
+# the modes' elastic energy) gives 1.2%.
 . tests/lib.sh
 g3() { if [ -n "$1" ]; then printf '%.3g' "$1"; else printf '?'; fi; }
 # npy_vertices FILE "V..." OUT: the listed vertices' columns of a T x n x 3 file as a T x k x 3 file
@@ -65,6 +67,19 @@ else
     fail markers_report_keys "$(cat "$TMP/err")"
 fi
 
+# Four markers on 12 modes: without the ridge, with it.
+echo "25 32 98 93" | tr ' ' '\n' >"$TMP/V4.txt"
+for ridge in 0 0.03; do
+    "$ROMKIT" dmd --markers "$TMP/S.npy" --marker-vertices "$TMP/V4.txt" --modes 12 --marker-ridge $ridge "$@" \
+        -o "$TMP/r$ridge.rombin" --report "$TMP/r$ridge.json" >/dev/null 2>"$TMP/err" || fail markers_ridge_$ridge "$(cat "$TMP/err")"
+    "$ROMKIT" run "$TMP/r$ridge.rombin" --steps 150 --reference "$TMP/S.npy" --report "$TMP/rr$ridge.json" --quiet >/dev/null 2>&1
+done
+e0=$(json_num "$TMP/rr0.json" reference.relative_error); e3=$(json_num "$TMP/rr0.03.json" reference.relative_error)
+echo "# 4 markers on 12 modes, relative error: no ridge $(g3 "$e0"), --marker-ridge 0.03 $(g3 "$e3")"
+json_checks markers_report_the_ridge "$TMP/r0.03.json" markers.ridge=0.03 markers.count=4
+below 0.05 "$e0" && ok markers_four_on_twelve_overfit_without_a_ridge || fail markers_four_on_twelve_overfit_without_a_ridge "relative error $e0"
+below "$e3" 0.02 && ok markers_ridge_recovers_four_on_twelve || fail markers_ridge_recovers_four_on_twelve "relative error $e3 (limit 0.02)"
+
 # Bad input: named (file, line, frame, marker), and nothing written.
 printf '25\n28\nx9\n' >"$TMP/bad1.txt"
 expect_fail markers_names_a_bad_line "bad1.txt line 3: 'x9' is not a vertex index" "$ROMKIT" dmd --markers "$TMP/M.npy" \
@@ -87,6 +102,8 @@ printf '\000\000\000\000\000\000\370\177' | dd of="$TMP/nan.npy" bs=1 seek=$(($(
     conv=notrunc 2>/dev/null
 expect_fail markers_names_a_non_finite_value "frame 2, marker 1 (vertex 28) is not finite" "$ROMKIT" dmd \
     --markers "$TMP/nan.npy" --marker-vertices "$TMP/V.txt" --modes 6 "$@" -o "$TMP/x.rombin"
+expect_fail markers_refuse_a_negative_ridge "--marker-ridge must be a number in" "$ROMKIT" dmd --markers "$TMP/M.npy" \
+    --marker-vertices "$TMP/V.txt" --modes 6 --marker-ridge -1 "$@" -o "$TMP/x.rombin"
 expect_fail markers_need_every_option "needs --markers, --marker-vertices, --scene, --modes" "$ROMKIT" dmd \
     --markers "$TMP/M.npy" --modes 6 --dt 0.01 -o "$TMP/x.rombin"
 expect_fail markers_refuse_snapshots_too "--snapshots does not go with --markers" "$ROMKIT" dmd --snapshots "$TMP/S.npy" \
