@@ -7,6 +7,8 @@
  * on the slab, its lowest point above the slab's highest by no more than the proxies' reach. The
  * baked radii are checked against the boxes' triangles; damaged COBJ and CRAD are refused naming
  * the chunk, and a reader that does not know them refuses the asset (they are critical). */
+#include <stdio.h>
+
 #include "testlib.h"
 #include "pipeline/pipeline.h"
 #include "rom/rom.h"
@@ -53,10 +55,10 @@ static void fixture_free(objects_fixture *f)
 }
 
 /* The scene's reduced model (no full-order run: the skinning basis and every element need none), baked. */
-static int fixture_bake(objects_fixture *f, rk_error *err)
+static int fixture_bake(objects_fixture *f, const char *json, rk_error *err)
 {
     memset(f, 0, sizeof *f);
-    if (rk_scene_parse(SCENE, "objects.json", &f->scene, err)) return -1;
+    if (rk_scene_parse(json, "objects.json", &f->scene, err)) return -1;
     f->stage = 1;
     if (rk_scene_build(&f->scene, &f->sim, err)) return -1;
     f->stage = 2;
@@ -128,56 +130,76 @@ static void patch_chunk(unsigned char *asset, const char *id, size_t offset, con
     memcpy(asset + ROMBIN_H_TABLE_CRC, &crc, 4);
 }
 
-TEST(a_block_falls_onto_a_slab_and_rests_on_it)
+/* What a drop measured. */
+typedef struct {
+    double rho[2], least, block_low, slab_top, moved;
+    int inside, finite, failed, steps;
+    long iterations;
+    size_t ncv;
+} drop_result;
+
+/* Bakes json, steps it `steps` times with the runtime and checks every step (the header's list). */
+static int run_drop(const char *json, int steps, drop_result *out, rk_error *err)
 {
-    rk_error err = {{0}};
     romrt_error rerr;
     objects_fixture f;
-    CHECK_OK(fixture_bake(&f, &err));
+    memset(out, 0, sizeof *out);
+    out->steps = steps, out->finite = 1, out->least = INFINITY;
+    if (fixture_bake(&f, json, err)) {
+        fixture_free(&f);
+        return -1;
+    }
     size_t ncv = 0, nobj = 0, nmap = 0;
     const uint32_t *cv = chunk_data(f.asset, f.bytes, ROMBIN_CVTX, &ncv, 4);
     const uint32_t *cobj = chunk_data(f.asset, f.bytes, ROMBIN_COBJ, &ncv, 4);
     const void *crad = chunk_data(f.asset, f.bytes, ROMBIN_CRAD, &nobj, ASSET_REAL == ROMBIN_REAL_F32 ? 4 : 8);
     const uint32_t *vmap = chunk_data(f.asset, f.bytes, ROMBIN_VMAP, &nmap, 4);
-    CHECK(cv && cobj && crad && vmap && nobj == 2, "CVTX, COBJ, CRAD (%zu objects), VMAP expected", nobj);
-    double rho[2] = {real_at(crad, 0), real_at(crad, 1)};
-    /* a box face of 0.05 m cells cut into right triangles: the farthest point from every corner is
-     * a hypotenuse's midpoint, 0.05 / sqrt 2 from its ends */
-    printf("# proxy radii %.6f %.6f m (0.05 / sqrt 2 = %.6f); %zu collision vertices\n", rho[0], rho[1], 0.05 / sqrt(2.0), ncv);
-    CHECK(fabs(rho[0] - 0.05 / sqrt(2.0)) < 1e-6 && fabs(rho[1] - 0.05 / sqrt(2.0)) < 1e-6, "radii %g %g", rho[0], rho[1]);
+    if (!cv || !cobj || !crad || !vmap || nobj != 2) {
+        fixture_free(&f);
+        return rk_fail(err, "CVTX, COBJ, CRAD (%zu objects), VMAP expected", nobj);
+    }
+    out->ncv = ncv;
+    out->rho[0] = real_at(crad, 0), out->rho[1] = real_at(crad, 1);
     size_t need;
-    CHECK(romrt_arena_size(f.asset, f.bytes, &need, &rerr) == ROMRT_OK, "arena: %s", rerr.message);
-    void *arena = aligned_alloc(16, (need + 15) / 16 * 16);
+    void *arena = NULL;
     romrt_model *m;
-    CHECK(romrt_open(f.asset, f.bytes, arena, need, &m, &rerr) == ROMRT_OK, "open: %s", rerr.message);
-    int *tris = NULL, nf = 0, r = f.R.model.r, ndof = 3 * f.sim.mesh.nv, steps = 80;
-    CHECK_OK(rk_mesh_boundary(&f.sim.mesh, &tris, &nf, &err));
-    double *x = calloc((size_t)ndof, sizeof(double)), qd[256], least = INFINITY, low_hist[10] = {0};
+    if (romrt_arena_size(f.asset, f.bytes, &need, &rerr) != ROMRT_OK || !(arena = aligned_alloc(16, (need + 15) / 16 * 16)) ||
+        romrt_open(f.asset, f.bytes, arena, need, &m, &rerr) != ROMRT_OK) {
+        free(arena);
+        fixture_free(&f);
+        return rk_fail(err, "open: %s", rerr.message);
+    }
+    int *tris = NULL, nf = 0, r = f.R.model.r, ndof = 3 * f.sim.mesh.nv, nv = f.sim.mesh.nv;
+    if (rk_mesh_boundary(&f.sim.mesh, &tris, &nf, err)) return -1;
+    double *x = calloc((size_t)ndof, sizeof(double)), qd[256], low_hist[10] = {0};
     romrt_real q[256];
-    int inside = 0, finite = 1, failed = 0;
-    long iterations = 0;
-    double block_low = 0, slab_top = 0;
-    for (int k = 0; k < steps && !failed; k++) {
+    /* the heights are a cloud's points' (its proxy's vertices follow), or every vertex of a mesh */
+    int first1 = f.sim.object_first_vertex[1];
+    int end0 = f.sim.object_points ? f.sim.object_points[0] : first1;
+    int end1 = f.sim.object_points ? first1 + f.sim.object_points[1] : nv;
+    for (int k = 0; k < steps; k++) {
         if (romrt_step(m, &rerr) != ROMRT_OK) {
-            failed = 1;
+            out->failed = 1;
+            rk_fail(err, "step %d: %s", k, rerr.message);
             break;
         }
         romrt_step_info info;
         romrt_last_step(m, &info);
-        iterations += info.newton_iterations;
+        out->iterations += info.newton_iterations;
         romrt_reduced_coordinates(m, q, 256);
-        for (int j = 0; j < r; j++) qd[j] = q[j], finite &= isfinite(qd[j]);
+        for (int j = 0; j < r; j++) qd[j] = q[j], out->finite &= isfinite(qd[j]);
         rk_rom_positions(f.R.basis.U, ndof, r, f.sim.mesh.X, qd, x);
-        /* every collision vertex against the other object's boundary: odd crossings along a ray */
-        for (size_t i = 0; i < ncv; i++) {
-            int v = (int)vmap[cv[i]], obj = object_of(&f.sim, v);
+        /* every vertex (collision vertices and a cloud's points) against the other object's
+         * boundary (its mesh's, or its voxel proxy's): odd crossings along a ray */
+        for (int v = 0; v < nv; v++) {
+            int obj = object_of(&f.sim, v);
             double e[3] = {10, 0.0123, 0.0071}; /* off-axis, so it never runs along a grid line */
             int count = 0;
             for (int t = 0; t < nf; t++) {
                 const int *T = tris + 3 * t;
                 if (object_of(&f.sim, T[0]) != obj && crosses(x + 3 * v, e, x + 3 * T[0], x + 3 * T[1], x + 3 * T[2])) count++;
             }
-            inside += count % 2;
+            out->inside += count % 2;
         }
         /* every pair's proxy distance, by brute force */
         for (size_t i = 0; i < ncv; i++)
@@ -185,34 +207,95 @@ TEST(a_block_falls_onto_a_slab_and_rests_on_it)
                 if (cobj[i] == cobj[j]) continue;
                 const double *a = x + 3 * vmap[cv[i]], *b = x + 3 * vmap[cv[j]];
                 double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])) -
-                           rho[cobj[i]] - rho[cobj[j]];
-                least = fmin(least, d);
+                           out->rho[cobj[i]] - out->rho[cobj[j]];
+                out->least = fmin(out->least, d);
             }
-        block_low = INFINITY, slab_top = -INFINITY;
-        for (int v = 0; v < f.sim.mesh.nv; v++) {
-            if (object_of(&f.sim, v)) block_low = fmin(block_low, x[3 * v + 1]);
-            else slab_top = fmax(slab_top, x[3 * v + 1]);
-        }
-        low_hist[k % 10] = block_low;
+        out->block_low = INFINITY, out->slab_top = -INFINITY;
+        for (int v = 0; v < end0; v++) out->slab_top = fmax(out->slab_top, x[3 * v + 1]);
+        for (int v = first1; v < end1; v++) out->block_low = fmin(out->block_low, x[3 * v + 1]);
+        low_hist[k % 10] = out->block_low;
     }
-    double moved = 0; /* the block's lowest point over the last 10 steps: how far it still moves */
-    for (int k = 1; k < 10; k++) moved = fmax(moved, fabs(low_hist[k] - low_hist[0]));
-    printf("# %s runtime, %d steps (%ld Newton iterations): %d vertex-inside-other events, smallest proxy distance "
-           "%.3g m; the block's lowest point %.4f m over the slab's highest %.4f m (gap %.4f, rho_a + rho_b = %.4f), "
-           "moving %.2g m over the last 10 steps\n",
-           PRECISION, steps, iterations, inside, least, block_low, slab_top, block_low - slab_top, rho[0] + rho[1], moved);
-    CHECK(!failed, "step failed: %s", rerr.message);
-    CHECK(finite, "a reduced coordinate is not finite");
-    CHECK(inside == 0, "%d times a collision vertex was inside the other object", inside);
-    CHECK(least > 0, "smallest proxy distance %g", least);
-    /* resting on it: the gap is the proxies' (vertices stacked: rho_a + rho_b), not the fall's 0.146 m */
-    CHECK(block_low > slab_top && block_low - slab_top < rho[0] + rho[1] + 0.005, "the block rests %g over the slab",
-          block_low - slab_top);
-    CHECK(moved < 1e-3, "the block still moves %g m over 10 steps", moved);
+    for (int k = 1; k < 10; k++) out->moved = fmax(out->moved, fabs(low_hist[k] - low_hist[0]));
     free(x);
     free(tris);
     free(arena);
     fixture_free(&f);
+    return out->failed ? -1 : 0;
+}
+
+static void report(const char *label, const drop_result *d)
+{
+    printf("# %s, %s runtime, %d steps (%ld Newton iterations), %zu collision vertices, proxy radii %.4f %.4f m: %d "
+           "vertex-inside-other events, smallest proxy distance %.3g m; the block's lowest point %.4f m over the slab's "
+           "highest %.4f m (gap %.4f, rho_a + rho_b = %.4f), moving %.2g m over the last 10 steps\n",
+           label, PRECISION, d->steps, d->iterations, d->ncv, d->rho[0], d->rho[1], d->inside, d->least, d->block_low,
+           d->slab_top, d->block_low - d->slab_top, d->rho[0] + d->rho[1], d->moved);
+}
+
+TEST(a_block_falls_onto_a_slab_and_rests_on_it)
+{
+    rk_error err = {{0}};
+    drop_result d;
+    int rc = run_drop(SCENE, 80, &d, &err);
+    report("meshes", &d);
+    CHECK(rc == 0, "%s", err.msg);
+    /* a box face of 0.05 m cells cut into right triangles: the farthest point from every corner is
+     * a hypotenuse's midpoint, 0.05 / sqrt 2 from its ends */
+    CHECK(fabs(d.rho[0] - 0.05 / sqrt(2.0)) < 1e-6 && fabs(d.rho[1] - 0.05 / sqrt(2.0)) < 1e-6, "radii %g %g", d.rho[0],
+          d.rho[1]);
+    CHECK(d.finite, "a reduced coordinate is not finite");
+    CHECK(d.inside == 0, "%d times a vertex was inside the other object", d.inside);
+    CHECK(d.least > 0, "smallest proxy distance %g", d.least);
+    /* resting on it: the gap is the proxies' (vertices stacked: rho_a + rho_b), not the fall's 0.146 m */
+    CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top < d.rho[0] + d.rho[1] + 0.005,
+          "the block rests %g over the slab", d.block_low - d.slab_top);
+    CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
+}
+
+static int write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) return -1;
+    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+            nx * ny * nz);
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++)
+            for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
+    return fclose(fp);
+}
+
+/* test_pipeline_clouds_collide's two point clouds (4 cm spacing, voxel proxies of twice that), the
+ * block started higher: its proxy's spheres must start clear of the slab's. */
+TEST(a_block_of_points_falls_onto_a_slab_of_points)
+{
+    const char *slab = "/tmp/romkit_test_rt_slab_" PRECISION ".ply", *block = "/tmp/romkit_test_rt_block_" PRECISION ".ply";
+    const double o1[3] = {0, 0, 0}, o2[3] = {0.1, 0.35, 0.1};
+    CHECK(write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && write_lattice(block, 5, 5, 5, 0.04, o2) == 0, "lattices");
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
+             " \"poisson\": 0.4, \"density\": 1000}},"
+             " {\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 5e4, \"poisson\": 0.4,"
+             " \"density\": 1000}}],"
+             " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 2}, \"obstacles\": [{\"plane\": {\"point\": [0, -0.05, 0], \"normal\": [0, 1, 0]}}],"
+             " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.5},"
+             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40}}",
+             slab, block);
+    rk_error err = {{0}};
+    drop_result d;
+    int rc = run_drop(json, 80, &d, &err);
+    remove(slab);
+    remove(block);
+    report("point clouds", &d);
+    CHECK(rc == 0, "%s", err.msg);
+    CHECK(d.finite, "a reduced coordinate is not finite");
+    CHECK(d.inside == 0, "%d times a vertex was inside the other object's proxy", d.inside);
+    CHECK(d.least > 0, "smallest proxy distance %g", d.least);
+    /* the points sit up to a voxel inside their proxies, which stop rho_a + rho_b apart: resting,
+     * not still falling (it started 0.27 m over the slab's points) */
+    CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top < 0.2, "the block rests %g over the slab",
+          d.block_low - d.slab_top);
+    CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
 }
 
 /* romrt_open on a copy of the asset with `id` patched at value `index` to `value` (n bytes). */
@@ -239,7 +322,7 @@ TEST(damaged_object_chunks_are_refused)
     rk_error err = {{0}};
     romrt_error rerr;
     objects_fixture f;
-    CHECK_OK(fixture_bake(&f, &err));
+    CHECK_OK(fixture_bake(&f, SCENE, &err));
     uint32_t three = 3;
 #ifdef ROMRT_DOUBLE
     double zero = 0, huge = 1, nan_value = NAN;
@@ -278,6 +361,7 @@ TEST(damaged_object_chunks_are_refused)
 int main(void)
 {
     RUN(a_block_falls_onto_a_slab_and_rests_on_it);
+    RUN(a_block_of_points_falls_onto_a_slab_of_points);
     RUN(damaged_object_chunks_are_refused);
     return test_finish();
 }
