@@ -10,6 +10,7 @@ int cmd_basis(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_build(int argc, char **argv);
 int cmd_run(int argc, char **argv);
+int cmd_rom(int argc, char **argv);
 int cmd_dmd(int argc, char **argv);
 int cmd_control(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);

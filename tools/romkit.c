@@ -18,6 +18,7 @@ static const command commands[] = { /* in pipeline order */
     {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
     {"build", cmd_build, "bake the scene's reduced model into a .rombin asset for the runtime"},
     {"run", cmd_run, "step a .rombin asset with the runtime, as an application would"},
+    {"rom", cmd_rom, "step a scene's reduced model in the reduced simulator, every object (splats per frame)"},
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
     {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
     {"control", cmd_control, "forces on named groups that make a scene's Koopman model follow a target trajectory"},

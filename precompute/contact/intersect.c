@@ -80,10 +80,13 @@ static int count_crossings(const rk_contact *c, const double *x, const int *edge
                            const int *tris, int nf, int tris_obstacle, long *count, rk_error *err)
 {
     double *eb = boxes_of(c, x, edges, ne, 2, edges_obstacle, err), *fb = boxes_of(c, x, tris, nf, 3, tris_obstacle, err);
-    int *pairs = NULL, np = 0, rc = eb && fb ? rk_broad_phase(eb, ne, fb, nf, &pairs, &np, err) : -1;
+    int mesh = !edges_obstacle && !tris_obstacle, *pairs = NULL, np = 0;
+    int rc = !eb || !fb ? -1
+             : mesh  ? rk_contact_object_broad_phase(c, eb, edges, 2, ne, fb, tris, 3, nf, &pairs, &np, err)
+                     : rk_broad_phase(eb, ne, fb, nf, &pairs, &np, err);
     for (int p = 0; !rc && p < np; p++) {
         const int *e = &edges[2 * pairs[2 * p]], *t = &tris[3 * pairs[2 * p + 1]];
-        if (!edges_obstacle && !tris_obstacle) {
+        if (mesh) {
             if (e[0] == t[0] || e[0] == t[1] || e[0] == t[2] || e[1] == t[0] || e[1] == t[1] || e[1] == t[2]) continue;
             if (c->object[e[0]] == c->object[t[0]] && !c->opt.self) continue;
         }

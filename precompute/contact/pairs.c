@@ -130,6 +130,84 @@ static double edge_rest2(const rk_contact *c, const int *ids)
     return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
 }
 
+static int cmp_index_pair(const void *a, const void *b)
+{
+    const int *x = a, *y = b;
+    if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+    return (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* The n primitives (size mesh vertex ids each, boxes 6 n) grouped by object (counting sort,
+ * stable): order (n) their indices, first (nobj + 1) each object's start, sorted (6 n) their boxes
+ * in that order. */
+static int group_by_object(const rk_contact *c, const double *boxes, const int *ids, int size, int n, int nobj,
+                           int **order, int **first, double **sorted, rk_error *err)
+{
+    *order = rk_calloc((size_t)n + 1, sizeof(int), err);
+    *first = rk_calloc((size_t)nobj + 1, sizeof(int), err);
+    *sorted = rk_calloc(6 * (size_t)n + 1, sizeof(double), err);
+    int *at = rk_calloc((size_t)nobj + 1, sizeof(int), err);
+    if (!*order || !*first || !*sorted || !at) {
+        free(at);
+        return -1;
+    }
+    for (int i = 0; i < n; i++) (*first)[c->object[ids[(size_t)size * i]] + 1]++;
+    for (int o = 0; o < nobj; o++) (*first)[o + 1] += (*first)[o];
+    memcpy(at, *first, sizeof(int) * (size_t)nobj);
+    for (int i = 0; i < n; i++) {
+        int k = at[c->object[ids[(size_t)size * i]]]++;
+        (*order)[k] = i;
+        memcpy(*sorted + 6 * (size_t)k, boxes + 6 * (size_t)i, 6 * sizeof(double));
+    }
+    free(at);
+    return 0;
+}
+
+int rk_contact_object_broad_phase(const rk_contact *c, const double *boxes_a, const int *ids_a, int size_a, int na,
+                                  const double *boxes_b, const int *ids_b, int size_b, int nb, int **pairs, int *np,
+                                  rk_error *err)
+{
+    if (c->opt.self) return rk_broad_phase(boxes_a, na, boxes_b, nb, pairs, np, err);
+    *pairs = NULL;
+    *np = 0;
+    int nobj = 0;
+    for (int v = 0; v < c->nmesh; v++) nobj = c->object[v] >= nobj ? c->object[v] + 1 : nobj;
+    int *oa = NULL, *fa = NULL, *ob = NULL, *fb = NULL, *out = NULL, rc = -1;
+    double *ba = NULL, *bb = NULL;
+    size_t n = 0, cap = 0;
+    if (group_by_object(c, boxes_a, ids_a, size_a, na, nobj, &oa, &fa, &ba, err) ||
+        group_by_object(c, boxes_b, ids_b, size_b, nb, nobj, &ob, &fb, &bb, err))
+        goto done;
+    for (int i = 0; i < nobj; i++)
+        for (int j = 0; j < nobj; j++) {
+            if (i == j || fa[i + 1] == fa[i] || fb[j + 1] == fb[j]) continue;
+            int *p = NULL, k = 0;
+            if (rk_broad_phase(ba + 6 * (size_t)fa[i], fa[i + 1] - fa[i], bb + 6 * (size_t)fb[j], fb[j + 1] - fb[j], &p,
+                               &k, err))
+                goto done;
+            if (n + (size_t)k > cap) {
+                size_t grown = 2 * (n + (size_t)k);
+                int *bigger = realloc(out, 2 * grown * sizeof(int));
+                if (!bigger) {
+                    free(p);
+                    rk_fail(err, "broad phase: out of memory");
+                    goto done;
+                }
+                out = bigger, cap = grown;
+            }
+            for (int q = 0; q < k; q++, n++)
+                out[2 * n] = oa[fa[i] + p[2 * q]], out[2 * n + 1] = ob[fb[j] + p[2 * q + 1]];
+            free(p);
+        }
+    if (n > 1) qsort(out, n, 2 * sizeof(int), cmp_index_pair);
+    *pairs = out, *np = (int)n;
+    out = NULL;
+    rc = 0;
+done:
+    free(oa), free(fa), free(ba), free(ob), free(fb), free(bb), free(out);
+    return rc;
+}
+
 int rk_contact_candidates(rk_contact *c, const rk_motion_frame *f, double grow, rk_contact_set *s, rk_error *err)
 {
     primitives P[6];
@@ -145,7 +223,9 @@ int rk_contact_candidates(rk_contact *c, const rk_motion_frame *f, double grow, 
     for (int k = c->mesh_pairs ? 0 : 2; k < 5 && !rc; k++) {
         const primitives *A = &P[classes[k][0]], *B = &P[classes[k][1]];
         int *pairs = NULL, np = 0;
-        if (rk_broad_phase(A->boxes, A->n, B->boxes, B->n, &pairs, &np, err)) {
+        if (k < 2 ? rk_contact_object_broad_phase(c, A->boxes, A->ids, A->size, A->n, B->boxes, B->ids, B->size, B->n,
+                                                  &pairs, &np, err)
+                  : rk_broad_phase(A->boxes, A->n, B->boxes, B->n, &pairs, &np, err)) {
             rc = -1;
             break;
         }

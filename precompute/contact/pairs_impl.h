@@ -20,6 +20,16 @@ const double *rk_contact_point(const rk_contact *c, const double *x, const doubl
  * of each other: point-triangle and edge-edge pairs, into s (emptied first). Points against
  * planes are not among them. */
 int rk_contact_candidates(rk_contact *c, const rk_motion_frame *f, double grow, rk_contact_set *s, rk_error *err);
+/* rk_broad_phase of two sets of mesh primitives (boxes, and size mesh vertex ids each). Without
+ * self-contact only primitives of different objects may touch, so it runs per pair of objects:
+ * a voxel proxy's every face and edge lies within 2 dhat of its neighbours', and hashing one
+ * object's primitives against their own only to drop the pairs afterwards made the broad phase
+ * most of a step's time (a 5,703-splat donut on a block of points, test_pipeline_donut_collide).
+ * The pairs come sorted as rk_broad_phase sorts them: with self-contact off, the pairs of
+ * different objects rk_broad_phase would have given, in the same order. */
+int rk_contact_object_broad_phase(const rk_contact *c, const double *boxes_a, const int *ids_a, int size_a, int na,
+                                  const double *boxes_b, const int *ids_b, int size_b, int nb, int **pairs, int *np,
+                                  rk_error *err);
 
 /* The stencil's four points at x (mesh) and ox (obstacles). */
 void rk_contact_stencil(const rk_contact *c, const rk_contact_pair *p, const double *x, const double *ox,

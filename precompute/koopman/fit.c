@@ -300,8 +300,10 @@ int rk_koopman_fit(const rk_koopman_trajectory *traj, int ntraj, int d, const rk
     k->step_residual[0] = k->step_residual[1] = step_residual(k, Y, Z, M, Z + (size_t)r * M, X);
     /* The default: a fit that leaves the unit circle on data that does not grow is refitted under
      * |lambda| <= 1 (stabilize); growing data keeps its growth unless the clamp is asked. A fit
-     * already inside is never touched (the full-rank recovery of exactly linear data included). */
-    if (rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, r) > 1 &&
+     * already inside is never touched (the full-rank recovery of exactly linear data included),
+     * nor one outside by round-off only (a body standing still: lambda = 1 + 2e-16; a refit would
+     * put it inside by the barrier's gap, 2e-9, which stops a model that should stay put). */
+    if (rk_max_abs_eigenvalue(k->lambda_re, k->lambda_im, r) > 1 + 64 * DBL_EPSILON &&
         (o->stabilize > 0 || (o->stabilize == 0 && !k->data_grows))) {
         if (rk_koopman_stabilize(k, Z, M, Z + (size_t)r * M, err) || residuals(k, Ys, n2, err)) goto done;
         k->step_residual[1] = step_residual(k, Y, Z, M, Z + (size_t)r * M, X);

@@ -9,7 +9,9 @@
 #include <string.h>
 
 /* The mechanical energy (times 2 h^2, unit masses) at frame t of a trajectory (1 <= t - 1, t < frames):
- * |delta_t|^2 + u_t^T K u_t, delta_t = u_t - u_{t-1}, with u^T K u measured from the data's own
+ * |delta_t|^2 + u_t^T K u_t - 2 h^2 a . u_t, delta_t = u_t - u_{t-1}, the last term the constant
+ * load's potential (a body released under gravity loses energy as it sags: without that term it
+ * would count as gaining it), with u^T K u measured from the data's own
  * acceleration: for M u'' + C u' + K u = M a (backward Euler, as the full order steps), unit
  * masses, h^2 K u_t = -(delta_t - delta_{t-1} - a h^2) - h C v_t, the damping term dropped
  * (a dissipation, small beside the stiffness at these steps). u about its unloaded rest. */
@@ -19,7 +21,7 @@ static double frame_energy(const rk_koopman_trajectory *tr, int d, int t, double
     double e = 0;
     for (int i = 0; i < d; i++) {
         double v1 = u1[i] - u0[i], v2 = u2[i] - u1[i], a = tr->accel ? tr->accel[i] * h * h : 0;
-        e += v2 * v2 - u2[i] * (v2 - v1 - a);
+        e += v2 * v2 - u2[i] * (v2 - v1 - a) - 2 * a * u2[i]; /* kinetic, elastic, the load's potential */
     }
     return e;
 }
@@ -31,7 +33,7 @@ static double frame_energy(const rk_koopman_trajectory *tr, int d, int t, double
  * the default refits it (stabilize); data that gains energy keeps its growth. Not the norm of the
  * state [u; beta delta] the fit sees: that norm is not conserved by an undamped oscillation (on
  * slow chains it rose by 45% over a damped run), the energy is. A body released from rest under a
- * load starts with none and counts as growing: it is left as the Galerkin fit gives it. */
+ * load loses the load's potential as it sags: passive, so refitted where its fit leaves the circle. */
 int rk_koopman_data_grows(const rk_koopman_trajectory *traj, int ntraj, int d, double h)
 {
     double first = 0, last = 0;

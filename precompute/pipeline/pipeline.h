@@ -310,6 +310,10 @@ int rk_scene_mesh_free(const rk_scene *scene, const rk_rom_entry *o);
  * must be rkpm_skinning) at it. */
 int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_free_options *o,
                               const rk_basis *b, rk_skin_points *P, rk_error *err);
+/* Basis b's (rkpm_skinning) weights and gradients at n points X of object k, in P (n, H = b->m, X,
+ * W, dW; nothing else): the object's own handles' columns, the other objects' 0. */
+int rk_scene_object_weights(const rk_basis *b, int k, const double *X, int n, rk_skin_points *P, rk_error *err);
+
 
 /* ---- an entry's reduced model (rom.c) ---- */
 
@@ -336,6 +340,31 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
 void rk_scene_rom_free(rk_scene_rom *r);
 /* The source of an asset bake (asset.h) for a built scene and its reduced model. */
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
+
+/* ---- a point cloud's Gaussian splats moved by the reduced simulator (splats.c) ---- */
+
+/* Object k (a point cloud) of a built scene, its splats as the reduced simulator moves them: the
+ * source file's splats (rk_splats_read: every attribute), each at its point (the object's first
+ * vertices, in file order) with F = I + G q from the basis's weights and gradients there
+ * (rk_skin_points_G, as the mesh-free integration forms F), written by rk_splats_write. What
+ * romkit run --splats writes from an asset, for scenes the runtime cannot step (several objects).
+ * The object's scale s multiplies F: the file's covariances are in its own units. */
+typedef struct {
+    int object, v0;            /* the object and its first vertex in the scene */
+    double scale;
+    rk_splats splats;
+    rk_skin_points points;     /* the splat centres' weights and gradients (rk_scene_object_weights) */
+    double *x, *F, *G;         /* 3 n, 9 n, 9 r scratch */
+} rk_scene_splats;
+/* Fails, saying why, when object k is not a point cloud, its file holds no splat attributes, or the
+ * basis is not rkpm_skinning. */
+int rk_scene_splats_open(const rk_scene *scene, const rk_scene_sim *sim, const rk_scene_rom *R, int k,
+                         rk_scene_splats *o, rk_error *err);
+/* The splats at reduced coordinates q (R->model.r) with x (3 nv) the scene's positions there
+ * (rk_rom_positions), as a 3DGS PLY at path. */
+int rk_scene_splats_write(rk_scene_splats *o, const rk_scene_rom *R, const double *q, const double *x,
+                          const char *path, rk_error *err);
+void rk_scene_splats_free(rk_scene_splats *o);
 
 /* ---- an adaptive subspace entry (adaptive.c) ---- */
 

@@ -148,17 +148,14 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     }
     if (mesh_free && sim->cloud_points && scene->nobjects == 1) {
         /* the weights' gradients at the cloud's points, for F at each splat (GRAD) */
-        int n = sim->cloud_points, H = R->basis.m;
-        double *W = rk_calloc((size_t)n * H, sizeof(double), err);
-        R->cloud_grad = rk_calloc(3 * (size_t)n * H, sizeof(double), err);
-        int damped = 0;
-        int bad = !W || !R->cloud_grad ||
-                  rk_rkpm_interpolate(R->basis.rkpm, sim->mesh.X, n, R->basis.C, H, W, R->cloud_grad, &damped, err);
-        free(W);
-        if (bad) {
+        rk_skin_points at;
+        if (rk_scene_object_weights(&R->basis, 0, sim->mesh.X, sim->cloud_points, &at, err)) {
             rk_scene_rom_free(R);
             return rk_error_prefix(err, "%s: weight gradients at the cloud's points", o->name);
         }
+        R->cloud_grad = at.dW; /* (3 n x H, as GRAD stores them) */
+        at.dW = NULL;
+        rk_skin_points_free(&at);
         R->splat_file = scene->objects[0].file;
     }
     if (mesh_free)

@@ -2,12 +2,13 @@
  * scene is not one body: there is no single constant weight), and they collide through the contact
  * stage on their voxel proxies. A slab of points lies on a plane and a smaller block of points falls
  * onto it. On every frame: no exact crossing between the proxies (rk_rom_contact_measure) and no
- * point of either cloud inside the other's proxy (ray parity against its deformed triangles); and
- * the block does come to rest on the slab, not short of it. */
+ * point of either cloud inside the other's proxy (ray parity against its deformed triangles,
+ * cloud_inside.h); and the block does come to rest on the slab, not short of it. */
 #include <math.h>
 #include <stdio.h>
 
 #include "testlib.h"
+#include "cloud_inside.h"
 #include "pipeline/pipeline.h"
 
 static int write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
@@ -20,21 +21,6 @@ static int write_lattice(const char *path, int nx, int ny, int nz, double h, con
         for (int j = 0; j < ny; j++)
             for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
     return fclose(fp);
-}
-
-/* Whether the segment p + t e (t in [0, 1]) crosses triangle (a, b, c) (Moller-Trumbore). */
-static int crosses(const double *p, const double *e, const double *a, const double *b, const double *c)
-{
-    double e1[3], e2[3], s[3], h[3], q[3];
-    for (int i = 0; i < 3; i++) e1[i] = b[i] - a[i], e2[i] = c[i] - a[i], s[i] = p[i] - a[i];
-    h[0] = e[1] * e2[2] - e[2] * e2[1], h[1] = e[2] * e2[0] - e[0] * e2[2], h[2] = e[0] * e2[1] - e[1] * e2[0];
-    double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-    if (fabs(det) < 1e-300) return 0;
-    double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
-    q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
-    double v = (e[0] * q[0] + e[1] * q[1] + e[2] * q[2]) / det;
-    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-    return u >= 0 && v >= 0 && u + v <= 1 && t >= 0 && t <= 1;
 }
 
 TEST(a_block_of_points_lands_on_a_slab_of_points)
@@ -73,6 +59,9 @@ TEST(a_block_of_points_lands_on_a_slab_of_points)
     CHECK(leak == 0, "a weight of one object is %g on the other", leak);
     int *tris = NULL, nf = 0;
     CHECK_OK(rk_mesh_boundary(&sim.mesh, &tris, &nf, &err));
+    cloud_surface surf[2];
+    CHECK(cloud_surface_init(&surf[0], tris, nf, 0, sim.object_first_vertex[1]) == 0 &&
+          cloud_surface_init(&surf[1], tris, nf, sim.object_first_vertex[1], sim.mesh.nv) == 0, "surfaces");
     CHECK_OK(rk_rom_init(&s, &R.model, NULL, NULL, &err));
     int ndof = 3 * sim.mesh.nv, worst_inter = 0, inside = 0, frames = 50;
     double *x = calloc((size_t)ndof, sizeof(double)), min_d = INFINITY, block_low = INFINITY, slab_top = -INFINITY;
@@ -84,19 +73,11 @@ TEST(a_block_of_points_lands_on_a_slab_of_points)
         worst_inter = inter > worst_inter ? inter : worst_inter;
         min_d = fmin(min_d, d);
         rk_rom_positions(R.basis.U, ndof, R.model.r, sim.mesh.X, s.q, x);
-        /* every cloud point against the other object's proxy: an odd number of crossings along +x */
+        /* every cloud point against the other object's proxy */
+        for (int k = 0; k < 2; k++) cloud_surface_box(&surf[k], x);
         for (int k = 0; k < 2; k++) {
             int v0 = sim.object_first_vertex[k], n = sim.object_points[k];
-            for (int v = v0; v < v0 + n; v++) {
-                double e[3] = {10, 0.0123, 0.0071}; /* off-axis, so it never runs along a lattice row */
-                int count = 0;
-                for (int t = 0; t < nf; t++) {
-                    const int *T = tris + 3 * t;
-                    int other = (T[0] >= sim.object_first_vertex[1]) != k;
-                    if (other && crosses(x + 3 * v, e, x + 3 * T[0], x + 3 * T[1], x + 3 * T[2])) count++;
-                }
-                inside += count % 2;
-            }
+            for (int v = v0; v < v0 + n; v++) inside += cloud_surface_inside(&surf[1 - k], x, x + 3 * v);
         }
         if (f == frames) {
             for (int v = sim.object_first_vertex[1]; v < sim.object_first_vertex[1] + sim.object_points[1]; v++)
@@ -113,6 +94,8 @@ TEST(a_block_of_points_lands_on_a_slab_of_points)
     CHECK(block_low > slab_top && block_low < slab_top + 0.1, "the block rests at %g over the slab's %g", block_low, slab_top);
     free(x);
     free(tris);
+    cloud_surface_free(&surf[0]);
+    cloud_surface_free(&surf[1]);
     rk_rom_free(&s);
     rk_scene_rom_free(&R);
     rk_scene_sim_free(&sim);

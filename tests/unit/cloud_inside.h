@@ -1,0 +1,69 @@
+/* Shared by the tests of several point-cloud objects colliding in the reduced simulator: whether a
+ * point lies inside another object's closed surface (its voxel proxy, deformed), by the parity of
+ * the crossings of a long segment from the point with that surface's triangles, each crossing
+ * decided exactly (rk_segment_triangle_intersect). */
+#ifndef RK_TEST_CLOUD_INSIDE_H
+#define RK_TEST_CLOUD_INSIDE_H
+
+#include <math.h>
+
+#include "contact/contact.h"
+
+/* The boundary triangles (tris, over positions x) of one object: their indices and bounding box. */
+typedef struct {
+    const int *tris;
+    int *sel, n;
+    double lo[3], hi[3];
+} cloud_surface;
+
+/* The triangles of tris (nf) whose first vertex lies in [v0, v1), and their box at positions x. */
+static inline int cloud_surface_init(cloud_surface *s, const int *tris, int nf, int v0, int v1)
+{
+    s->tris = tris;
+    s->n = 0;
+    s->sel = malloc(sizeof(int) * (size_t)(nf > 0 ? nf : 1));
+    if (!s->sel) return -1;
+    for (int t = 0; t < nf; t++)
+        if (tris[3 * t] >= v0 && tris[3 * t] < v1) s->sel[s->n++] = t;
+    return 0;
+}
+
+static inline void cloud_surface_box(cloud_surface *s, const double *x)
+{
+    for (int a = 0; a < 3; a++) s->lo[a] = INFINITY, s->hi[a] = -INFINITY;
+    for (int k = 0; k < s->n; k++)
+        for (int c = 0; c < 3; c++)
+            for (int a = 0; a < 3; a++) {
+                double v = x[3 * s->tris[3 * s->sel[k] + c] + a];
+                s->lo[a] = fmin(s->lo[a], v), s->hi[a] = fmax(s->hi[a], v);
+            }
+}
+
+/* Whether p is inside s at positions x (cloud_surface_box called at x first). The segment runs off
+ * every axis, past the box, so it never runs along a lattice row or a voxel face. */
+static inline int cloud_surface_inside(const cloud_surface *s, const double *x, const double *p)
+{
+    for (int a = 0; a < 3; a++)
+        if (p[a] < s->lo[a] || p[a] > s->hi[a]) return 0;
+    double L = 2 * (s->hi[0] - s->lo[0]) + 1, q[3] = {p[0] + L, p[1] + 0.00123 * L, p[2] + 0.00071 * L};
+    double slo[3], shi[3];
+    for (int a = 0; a < 3; a++) slo[a] = fmin(p[a], q[a]), shi[a] = fmax(p[a], q[a]);
+    int count = 0;
+    for (int k = 0; k < s->n; k++) {
+        const int *T = s->tris + 3 * s->sel[k];
+        const double *A = x + 3 * T[0], *B = x + 3 * T[1], *C = x + 3 * T[2];
+        int apart = 0; /* the triangle's box and the segment's do not meet: no crossing */
+        for (int a = 0; a < 3 && !apart; a++)
+            apart = fmax(A[a], fmax(B[a], C[a])) < slo[a] || fmin(A[a], fmin(B[a], C[a])) > shi[a];
+        if (!apart) count += rk_segment_triangle_intersect(p, q, A, B, C);
+    }
+    return count % 2;
+}
+
+static inline void cloud_surface_free(cloud_surface *s)
+{
+    free(s->sel);
+    s->sel = NULL;
+}
+
+#endif
