@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 4   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 5   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -91,6 +91,10 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_SURF "SURF"   /* u32, triangles x 3 over the shown vertices (optional) */
 #define ROMBIN_VMAP "VMAP"   /* u32, vertices: the source mesh's vertex number (optional) */
 #define ROMBIN_INFO "INFO"   /* bytes: JSON text about the build (optional) */
+/* Several objects colliding with each other (ROMBIN.md "Object chunks", 1.5): both critical, so a
+ * 1.4 reader refuses the asset rather than let the objects pass through each other. */
+#define ROMBIN_COBJ "COBJ"   /* u32, CVTX's count: the object of each collision vertex */
+#define ROMBIN_CRAD "CRAD"   /* real, objects: each object's proxy radius rho (m), a sphere at each of its collision vertices */
 
 /* An adaptive linear ROM (ROMBIN.md "Adaptive linear ROM chunks", 1.4): beside a reduced model's
  * chunks, whose ROWS are then the quadratic decoder's linear part at the stored vertices. */

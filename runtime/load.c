@@ -76,6 +76,16 @@ void rt_scratch(rt_loader *L, size_t count, romrt_real **out)
     L->used += rt_align16(count * sizeof(romrt_real));
 }
 
+void rt_scratch_u32(rt_loader *L, size_t count, uint32_t **out)
+{
+    *out = 0;
+    if (L->arena) {
+        *out = (uint32_t *)(void *)(L->arena + L->used);
+        memset(*out, 0, count * sizeof(uint32_t));
+    }
+    L->used += rt_align16(count * sizeof(uint32_t));
+}
+
 void rt_scratch_wide(rt_loader *L, size_t count, double **out)
 {
     *out = 0;

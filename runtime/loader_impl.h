@@ -27,6 +27,8 @@ romrt_status rt_reals(rt_loader *L, const char *id, uint64_t count, int required
 void rt_scratch(rt_loader *L, size_t count, romrt_real **out);
 /* The same for doubles, in either build. */
 void rt_scratch_wide(rt_loader *L, size_t count, double **out);
+/* `count` zeroed u32s (or int32s) of scratch in the arena (*out NULL in the sizing pass). */
+void rt_scratch_u32(rt_loader *L, size_t count, uint32_t **out);
 romrt_status rt_u32s(rt_loader *L, const char *id, uint64_t count, int required, const uint32_t **out);
 /* Entries [lo, hi) of each of n records of `stride` u32s are below limit. */
 romrt_status rt_indices_below(rt_loader *L, const char *id, const uint32_t *a, uint64_t n, uint64_t stride,
@@ -49,6 +51,10 @@ romrt_status rt_skin_check(rt_loader *L, const romrt_model *m);
  * after the reduced model's, then their contents. */
 romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m);
 romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m);
+/* Several objects' chunks (objects.c; COBJ and CRAD, when there): their arrays and the broad
+ * phase's scratch, then their contents and the start's pairs apart. */
+romrt_status rt_objects_arrays(rt_loader *L, romrt_model *m);
+romrt_status rt_objects_contents(rt_loader *L, romrt_model *m);
 /* A Koopman asset's chunks (koopman.c), as sizes / arrays / contents in open.c. */
 romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m);
 romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m);

@@ -11,7 +11,7 @@ static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, ROMBIN_ALRH, ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS,
-                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, ROMBIN_CRMS, ROMBIN_CRMX, ROMBIN_CRMW, 0};
+                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, ROMBIN_COBJ, ROMBIN_CRAD, ROMBIN_CRMS, ROMBIN_CRMX, ROMBIN_CRMW, 0};
 
 /* The three passes over one kind of model's chunks. */
 typedef struct {
@@ -207,7 +207,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
             rt_scratch(L, sp, &m->skin_gQ);
         }
     }
-    if ((st = rt_alrom_arrays(L, m))) return st;
+    if ((st = rt_alrom_arrays(L, m)) || (st = rt_objects_arrays(L, m))) return st;
     /* A fixed basis of stored rows maps q to each element's F linearly: that map, G_e, formed once
      * here (rt_form_element_G) saves re-forming it from four vertices' rows at every potential
      * (12 r dot products and 63 r flops an element, the step's largest cost after the Hessian). */
@@ -232,6 +232,7 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
     if (m->skin < 0 || (m->skin > 0 && m->r != 12 * m->skin))
         return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_SKIN, "names a handle count that does not give r = 12 per handle: r = ",
                          (uint64_t)m->r, "");
+    if ((st = rt_objects_contents(L, m))) return st; /* COBJ's indices in both passes, the rest in the arena's */
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
     if (m->skin && !m->rows_from_weights && (st = rt_skin_check(L, m))) return st;
     for (e = 0; e < m->ne; e++) {

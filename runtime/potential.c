@@ -242,12 +242,6 @@ romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const 
     return alpha;
 }
 
-void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3])
-{
-    int a;
-    for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)v + (size_t)a] + rt_row_dot(m, v, a, q);
-}
-
 void rt_vertex_pull(const romrt_model *m, uint32_t v, const romrt_real gx[3], const romrt_real *B, romrt_real *g,
                     romrt_real *H, int ld)
 {
@@ -367,6 +361,7 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
     stored = elastic(m, q, g, H, ld);
     if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, T->friction, g, H, ld);
     if (m->ncolliders && isfinite(stored)) stored += rt_colliders_energy(m, q, T->friction, g, H, ld);
+    if (m->nobjects && isfinite(stored)) stored += rt_objects_energy(m, q, g, H, ld);
     if (!isfinite(stored)) return (romrt_real)INFINITY;
     /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . q. */
     work = 0;

@@ -185,6 +185,17 @@ struct romrt_model {
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
     int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
+    /* several objects (COBJ, CRAD; objects.c): each collision vertex's object and each object's
+     * proxy radius; the broad phase's buffers in the arena, sized by CVTX's count */
+    int nobjects;             /* 0: one object, no pairs */
+    const uint32_t *cv_obj;   /* ncv */
+    const romrt_real *obj_rho; /* nobjects */
+    romrt_real rho_max;
+    romrt_real *cv_x, *cv_dx; /* ncv x 3: the collision vertices' positions, and their move along a direction */
+    romrt_real *pair_a;       /* r: a pair's distance gradient in q */
+    int32_t *grid_cell;       /* ncv x 3: each collision vertex's grid cell */
+    uint32_t *grid_head, *grid_next; /* grid_size buckets, ncv links: the cells hashed, chained */
+    uint32_t grid_size;       /* a power of two >= 2 ncv */
     int alrom;                /* an adaptive linear ROM (ALRH): its data and state in al */
     rt_alrom al;
 };
@@ -245,6 +256,13 @@ void rt_pin_target(romrt_model *m, double t);
 double rt_clock(const romrt_model *m, unsigned long ahead);
 void rt_clock_advance(romrt_model *m, unsigned long n);
 void rt_clock_rebase(romrt_model *m);
+/* Several objects (objects.c): the barrier of every pair of collision vertices of different
+ * objects on d = |x_i - x_j| - (rho_a + rho_b), at q (+INFINITY where some d <= 0); the largest
+ * step of q along dq that keeps every pair at 10% of its distance; the smallest d at q (+INFINITY
+ * when no pair is within 2 rho_max + dhat). */
+romrt_real rt_objects_energy(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
+romrt_real rt_objects_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq);
+romrt_real rt_objects_min_distance(romrt_model *m, const romrt_real *q);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
 romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);
 

@@ -51,3 +51,9 @@ void rt_row(const romrt_model *m, uint32_t v, int a, romrt_real *out)
     for (j = 0; j < m->r; j++) out[j] = 0;
     rt_row_axpy(m, v, a, 1, out);
 }
+
+void rt_vertex_position(const romrt_model *m, uint32_t v, const romrt_real *q, romrt_real x[3])
+{
+    int a;
+    for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)v + (size_t)a] + rt_row_dot(m, v, a, q);
+}

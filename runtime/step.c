@@ -72,10 +72,17 @@ static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real 
     return E;
 }
 
+/* Whether a step along a direction must be filtered: planes, colliders or other objects to keep. */
+static int filtered(const romrt_model *m)
+{
+    return m->ncontacts || m->ncolliders || m->nobjects;
+}
+
 static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
 {
     romrt_real alpha = m->ncontacts ? rt_contact_max_step(m, y, d) : 1, c;
     if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
+    if (m->nobjects && alpha > 0 && (c = rt_objects_max_step(m, y, d)) < alpha) alpha = c;
     return alpha;
 }
 
@@ -155,7 +162,7 @@ static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error 
     for (it = 0; it < m->fixed_iterations; it++) {
         if ((st = newton_system(m, T, y, &E, &magnitude, it, 0, &kept, err))) return st;
         if ((st = direction(m, n, it, err))) return st;
-        alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
+        alpha = filtered(m) ? max_step(m, y, d) : 1;
         for (i = 0; i < n; i++) y[i] += alpha * d[i];
     }
     m->last.converged = 0; /* not tested */
@@ -192,7 +199,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
              * the best correction there is, and dropping it every time step let the demo's RKPM beam
              * drift a fifth from the double runtime over 100 steps (steps of 0.1-0.5 mm left out) */
             if (step > m->tol) { /* kept only where it leaves everything finite (no inverted point) */
-                alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
+                alpha = filtered(m) ? max_step(m, y, d) : 1;
                 for (i = 0; i < n; i++) m->trial[i] = y[i] + alpha * d[i];
                 if (isfinite(potential(m, T, m->trial, 0, 0, 0))) memcpy(y, m->trial, sizeof(romrt_real) * (size_t)n);
                 else if (m->nmoving) rt_colliders_place(m, y);
@@ -202,7 +209,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
         }
         last = step;
         gd = rt_dot(n, g, d);
-        alpha = m->ncontacts || m->ncolliders ? max_step(m, y, d) : 1;
+        alpha = filtered(m) ? max_step(m, y, d) : 1;
         for (k = 0; k <= MAX_HALVINGS && !accepted; k++) {
             romrt_real Et;
             if (k > 0) {
@@ -311,7 +318,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     /* Start from the inertial prediction when no contact is crossed on the way there. */
     for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
     m->nmoving = 0;
-    if ((!m->ncontacts && !m->ncolliders) || max_step(m, m->qt, m->d) >= 1)
+    if (!filtered(m) || max_step(m, m->qt, m->d) >= 1)
         memcpy(m->q, m->qtilde, sizeof(romrt_real) * (size_t)r);
     /* the colliders the app moved, with the body in one solve; then the step's solve; then
      * friction lagged again at the solution until a solve has nothing left to do */

@@ -209,8 +209,9 @@ static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_wr
         memcpy(planes + 6 * np + 3, c->obstacles[k].normal, 3 * sizeof(double));
         np++;
     }
-    if (c->opt.self || (c->nmesh && c->object[c->nmesh - 1] != 0))
-        return rk_fail(err, "the runtime steps one object without self-contact");
+    /* several objects collide through their collision vertices' proxies (bake_objects.c); an
+     * object touching itself has no such proxy */
+    if (c->opt.self) return rk_fail(err, "the runtime has no self-contact (contact.self)");
     if (np == 0) return 0;
     int *pairs = rk_calloc((size_t)2 * c->nv * np + 1, sizeof(int), err);
     if (!pairs) return -1;
@@ -299,7 +300,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
              add_geometry(R, &s, w, err) || add_operators(m, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
              add_contacts(m, &s, w, err) || add_cloud(R, &s, w, err) ||
-             add_collisions(m, o, &s, w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
+             add_collisions(m, o, &s, w, err) || rk_bake_objects(m, collision_vertices(m, o), w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));
     }

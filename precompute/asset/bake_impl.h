@@ -31,6 +31,12 @@ void rk_bake_motion_params(const rk_prescribed *p, double *out);
  * VMSS and VLOD with each unstored vertex's mass and load moved to its nearest stored vertex along
  * the mesh's edges, AMOV and AMOT. */
 int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err);
+/* Several objects (bake_objects.c): COBJ, the object of each of the ncv collision vertices, and
+ * CRAD, each object's proxy radius (rk_triangle_cover_radius over its boundary triangles at rest);
+ * nothing for one object. */
+int rk_bake_objects(const rk_rom_model *m, int ncv, rombin_writer *w, rk_error *err);
+/* max over a triangle's points of the distance to its nearest corner (exact). */
+double rk_triangle_cover_radius(const double *const v[3]);
 /* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */
 int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, rombin_writer *w, rk_error *err);
 

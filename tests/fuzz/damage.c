@@ -645,6 +645,17 @@ static void model(void)
         MODEL("index", with_u32(ROMBIN_CVTX, 0, vertices, "CVTX vertex"), "index_CVTX_vertex_eq_vertices");
     }
     MODEL("index", with_u32(ROMBIN_CVTX, 0, 0xFFFFFFFFu, "CVTX vertex"), "index_CVTX_vertex_ffffffff");
+    /* Several objects (COBJ, CRAD): an object index at CRAD's count and 2^32 - 1; radii 0, negative,
+     * and 20 m (the objects then start inside each other's proxies). */
+    {
+        rombin_chunk c;
+        uint32_t nobj = find(ROMBIN_CRAD, &c, NULL) ? (uint32_t)(c.stored / (uint64_t)real_bytes) : 0;
+        MODEL("index", with_u32(ROMBIN_COBJ, 0, nobj, "COBJ object"), "index_COBJ_object_eq_objects");
+        MODEL("index", with_u32(ROMBIN_COBJ, 0, 0xFFFFFFFFu, "COBJ object"), "index_COBJ_object_ffffffff");
+        MODEL("parm", with_real(ROMBIN_CRAD, 0, SET_ZERO, "radius"), "crad_radius_zero");
+        MODEL("parm", with_real(ROMBIN_CRAD, 0, SET_NEG, "radius"), "crad_radius_negative");
+        MODEL("parm", with_real(ROMBIN_CRAD, 0, SET_BIG, "radius"), "crad_radius_overlapping");
+    }
     /* Friction that makes no sense. */
     MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_MU, SET_NEG, "mu"), "fric_mu_negative");
     MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_EPS_V, SET_ZERO, "eps_v"), "fric_eps_v_zero");

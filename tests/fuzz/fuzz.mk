@@ -48,6 +48,7 @@ fuzz: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romkit
 	$(BUILD)/romkit build tests/fuzz/seed_points.json -o $(FUZZ_DIR)/seedp.rombin --quiet
 	$(BUILD)/romkit build tests/fuzz/seed_adaptive.json -o $(FUZZ_DIR)/seeda.rombin --quiet
 	$(BUILD)/romkit build tests/fuzz/seed_crom.json -o $(FUZZ_DIR)/seedc.rombin --quiet
+	$(BUILD)/romkit build tests/fuzz/seed_objects.json -o $(FUZZ_DIR)/seedo.rombin --quiet
 	rm -rf $(FUZZ_DIR)/damaged $(FUZZ_DIR)/damaged64 $(FUZZ_DIR)/damagedk $(FUZZ_DIR)/damagedb $(FUZZ_DIR)/damageds \
 	    $(FUZZ_DIR)/damagedp $(FUZZ_DIR)/damageda $(FUZZ_DIR)/damagedc
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seed.rombin $(FUZZ_DIR)/damaged >/dev/null

@@ -26,8 +26,9 @@ replay() {
 # one asset (seed_both.json), a skinning basis stored as its weights (seed_skinning.json: SKIN, WGHT),
 # a point cloud on mesh-free integration points (seed_points.json: IPNT, IPMD, GRAD, SPLY), and an
 # adaptive linear ROM (seed_adaptive.json: ALRH, ALRP, QDRV, VMSS, VLOD, AMOV, AMOT), and one with a
-# CROM decoder (seed_crom.json: CRMS, CRMX, CRMW).
-for kind in scene koopman both skinning points adaptive crom; do
+# CROM decoder (seed_crom.json: CRMS, CRMX, CRMW), and two objects that collide (seed_objects.json:
+# COBJ, CRAD).
+for kind in scene koopman both skinning points adaptive crom objects; do
 for prec in float32 float64; do
     name=$kind-$prec
     seed=$TMP/seed-$name.rombin

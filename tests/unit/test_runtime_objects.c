@@ -1,0 +1,367 @@
+/* Several objects colliding in the runtime (COBJ, CRAD; runtime/objects.c): a block of tets falls
+ * onto a slab resting on a plane, both baked into one asset with their own RKPM skinning bases,
+ * stepped by this test's runtime (float, or double in test_runtime_objects_double). On every step,
+ * with the positions X + U q of the runtime's q in double: no collision vertex of either object is
+ * inside the other's boundary (ray parity against its deformed triangles), every pair's proxy
+ * distance |x_i - x_j| - (rho_a + rho_b) stays > 0, every value finite; at the end the block rests
+ * on the slab, its lowest point above the slab's highest by no more than the proxies' reach. The
+ * baked radii are checked against the boxes' triangles; damaged COBJ and CRAD are refused naming
+ * the chunk, and a reader that does not know them refuses the asset (they are critical). */
+#include <stdio.h>
+
+#include "testlib.h"
+#include "pipeline/pipeline.h"
+#include "rom/rom.h"
+#include "formats/rombin_read.h"
+#include "formats/rombin_write.h"
+#include "runtime/romrt.h"
+
+#ifdef ROMRT_DOUBLE
+#define ASSET_REAL ROMBIN_REAL_F64
+#define PRECISION "double"
+#else
+#define ASSET_REAL ROMBIN_REAL_F32
+#define PRECISION "float"
+#endif
+
+/* A slab of 0.05 m cells just above the plane y = 0, and a block of the same cells 0.148 m above it. */
+static const char *SCENE =
+    "{\"objects\": ["
+    "  {\"mesh\": {\"box\": {\"size\": [0.4, 0.1, 0.4], \"cells\": [8, 2, 8]}, \"translate\": [0, 0.002, 0]},"
+    "   \"material\": {\"model\": \"neohookean\", \"young\": 2e5, \"poisson\": 0.4, \"density\": 1000}},"
+    "  {\"mesh\": {\"box\": {\"size\": [0.2, 0.2, 0.2], \"cells\": [4, 4, 4]}, \"translate\": [0.1, 0.25, 0.1]},"
+    "   \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}}],"
+    " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 2},"
+    " \"obstacles\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 1, 0]}}],"
+    " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.8},"
+    " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2}}";
+
+typedef struct {
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_scene_rom R;
+    unsigned char *asset;
+    size_t bytes;
+    int stage;
+} objects_fixture;
+
+static void fixture_free(objects_fixture *f)
+{
+    if (f->stage >= 3) rk_scene_rom_free(&f->R);
+    if (f->stage >= 2) rk_scene_sim_free(&f->sim);
+    if (f->stage >= 1) rk_scene_free(&f->scene);
+    free(f->asset);
+    memset(f, 0, sizeof *f);
+}
+
+/* The scene's reduced model (no full-order run: the skinning basis and every element need none), baked. */
+static int fixture_bake(objects_fixture *f, const char *json, rk_error *err)
+{
+    memset(f, 0, sizeof *f);
+    if (rk_scene_parse(json, "objects.json", &f->scene, err)) return -1;
+    f->stage = 1;
+    if (rk_scene_build(&f->scene, &f->sim, err)) return -1;
+    f->stage = 2;
+    if (rk_scene_rom_build(&f->scene, &f->sim, &f->scene.entries[0], NULL, 0, &f->R, err)) return -1;
+    f->stage = 3;
+    rombin_writer w;
+    rombin_writer_init(&w, ASSET_REAL, 0);
+    rk_asset_rom source = rk_scene_asset_rom(&f->sim, &f->R);
+    int rc = rk_asset_bake(&source, NULL, NULL, &f->scene.entries[0].asset, NULL, &w, NULL, err) ||
+             rombin_serialize(&w, &f->asset, &f->bytes, err);
+    rombin_writer_free(&w);
+    return rc ? -1 : 0;
+}
+
+static const void *chunk_data(const unsigned char *asset, size_t bytes, const char *id, size_t *count, size_t elem)
+{
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    if (rombin_open(&file, asset, bytes, NULL, &e) || !rombin_find(&file, id, &c)) return NULL;
+    *count = (size_t)c.raw / elem;
+    return c.data;
+}
+
+static double real_at(const void *data, size_t i)
+{
+    if (ASSET_REAL == ROMBIN_REAL_F32) return ((const float *)data)[i];
+    return ((const double *)data)[i];
+}
+
+/* Whether the segment p + t e (t in [0, 1]) crosses triangle (a, b, c) (Moller-Trumbore). */
+static int crosses(const double *p, const double *e, const double *a, const double *b, const double *c)
+{
+    double e1[3], e2[3], s[3], h[3], q[3];
+    for (int i = 0; i < 3; i++) e1[i] = b[i] - a[i], e2[i] = c[i] - a[i], s[i] = p[i] - a[i];
+    h[0] = e[1] * e2[2] - e[2] * e2[1], h[1] = e[2] * e2[0] - e[0] * e2[2], h[2] = e[0] * e2[1] - e[1] * e2[0];
+    double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
+    if (fabs(det) < 1e-300) return 0;
+    double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
+    q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
+    double v = (e[0] * q[0] + e[1] * q[1] + e[2] * q[2]) / det;
+    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
+    return u >= 0 && v >= 0 && u + v <= 1 && t >= 0 && t <= 1;
+}
+
+static int object_of(const rk_scene_sim *sim, int v)
+{
+    return v >= sim->object_first_vertex[1];
+}
+
+/* Overwrites n bytes of chunk `id`'s payload at `offset` and recomputes its CRC and the table's,
+ * so the damage reaches the model checks. */
+static void patch_chunk(unsigned char *asset, const char *id, size_t offset, const void *bytes, size_t n)
+{
+    uint32_t count, crc;
+    memcpy(&count, asset + ROMBIN_H_CHUNKS, 4);
+    for (uint32_t i = 0; i < count; i++) {
+        unsigned char *e = asset + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES;
+        uint64_t off, stored;
+        if (memcmp(e + ROMBIN_E_ID, id, 4) != 0) continue;
+        memcpy(&off, e + ROMBIN_E_OFFSET, 8);
+        memcpy(&stored, e + ROMBIN_E_STORED, 8);
+        memcpy(asset + off + offset, bytes, n);
+        crc = rombin_crc32(0, asset + off, (size_t)stored);
+        memcpy(e + ROMBIN_E_CRC, &crc, 4);
+    }
+    crc = rombin_crc32(0, asset, ROMBIN_H_TABLE_CRC);
+    crc = rombin_crc32(crc, asset + ROMBIN_HEADER_BYTES, (size_t)count * ROMBIN_ENTRY_BYTES);
+    memcpy(asset + ROMBIN_H_TABLE_CRC, &crc, 4);
+}
+
+/* What a drop measured. */
+typedef struct {
+    double rho[2], least, block_low, slab_top, moved;
+    int inside, finite, failed, steps;
+    long iterations;
+    size_t ncv;
+} drop_result;
+
+/* Bakes json, steps it `steps` times with the runtime and checks every step (the header's list). */
+static int run_drop(const char *json, int steps, drop_result *out, rk_error *err)
+{
+    romrt_error rerr;
+    objects_fixture f;
+    memset(out, 0, sizeof *out);
+    out->steps = steps, out->finite = 1, out->least = INFINITY;
+    if (fixture_bake(&f, json, err)) {
+        fixture_free(&f);
+        return -1;
+    }
+    size_t ncv = 0, nobj = 0, nmap = 0;
+    const uint32_t *cv = chunk_data(f.asset, f.bytes, ROMBIN_CVTX, &ncv, 4);
+    const uint32_t *cobj = chunk_data(f.asset, f.bytes, ROMBIN_COBJ, &ncv, 4);
+    const void *crad = chunk_data(f.asset, f.bytes, ROMBIN_CRAD, &nobj, ASSET_REAL == ROMBIN_REAL_F32 ? 4 : 8);
+    const uint32_t *vmap = chunk_data(f.asset, f.bytes, ROMBIN_VMAP, &nmap, 4);
+    if (!cv || !cobj || !crad || !vmap || nobj != 2) {
+        fixture_free(&f);
+        return rk_fail(err, "CVTX, COBJ, CRAD (%zu objects), VMAP expected", nobj);
+    }
+    out->ncv = ncv;
+    out->rho[0] = real_at(crad, 0), out->rho[1] = real_at(crad, 1);
+    size_t need;
+    void *arena = NULL;
+    romrt_model *m;
+    if (romrt_arena_size(f.asset, f.bytes, &need, &rerr) != ROMRT_OK || !(arena = aligned_alloc(16, (need + 15) / 16 * 16)) ||
+        romrt_open(f.asset, f.bytes, arena, need, &m, &rerr) != ROMRT_OK) {
+        free(arena);
+        fixture_free(&f);
+        return rk_fail(err, "open: %s", rerr.message);
+    }
+    int *tris = NULL, nf = 0, r = f.R.model.r, ndof = 3 * f.sim.mesh.nv, nv = f.sim.mesh.nv;
+    if (rk_mesh_boundary(&f.sim.mesh, &tris, &nf, err)) return -1;
+    double *x = calloc((size_t)ndof, sizeof(double)), qd[256], low_hist[10] = {0};
+    romrt_real q[256];
+    /* the heights are a cloud's points' (its proxy's vertices follow), or every vertex of a mesh */
+    int first1 = f.sim.object_first_vertex[1];
+    int end0 = f.sim.object_points ? f.sim.object_points[0] : first1;
+    int end1 = f.sim.object_points ? first1 + f.sim.object_points[1] : nv;
+    for (int k = 0; k < steps; k++) {
+        if (romrt_step(m, &rerr) != ROMRT_OK) {
+            out->failed = 1;
+            rk_fail(err, "step %d: %s", k, rerr.message);
+            break;
+        }
+        romrt_step_info info;
+        romrt_last_step(m, &info);
+        out->iterations += info.newton_iterations;
+        romrt_reduced_coordinates(m, q, 256);
+        for (int j = 0; j < r; j++) qd[j] = q[j], out->finite &= isfinite(qd[j]);
+        rk_rom_positions(f.R.basis.U, ndof, r, f.sim.mesh.X, qd, x);
+        /* every vertex (collision vertices and a cloud's points) against the other object's
+         * boundary (its mesh's, or its voxel proxy's): odd crossings along a ray */
+        for (int v = 0; v < nv; v++) {
+            int obj = object_of(&f.sim, v);
+            double e[3] = {10, 0.0123, 0.0071}; /* off-axis, so it never runs along a grid line */
+            int count = 0;
+            for (int t = 0; t < nf; t++) {
+                const int *T = tris + 3 * t;
+                if (object_of(&f.sim, T[0]) != obj && crosses(x + 3 * v, e, x + 3 * T[0], x + 3 * T[1], x + 3 * T[2])) count++;
+            }
+            out->inside += count % 2;
+        }
+        /* every pair's proxy distance, by brute force */
+        for (size_t i = 0; i < ncv; i++)
+            for (size_t j = i + 1; j < ncv; j++) {
+                if (cobj[i] == cobj[j]) continue;
+                const double *a = x + 3 * vmap[cv[i]], *b = x + 3 * vmap[cv[j]];
+                double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])) -
+                           out->rho[cobj[i]] - out->rho[cobj[j]];
+                out->least = fmin(out->least, d);
+            }
+        out->block_low = INFINITY, out->slab_top = -INFINITY;
+        for (int v = 0; v < end0; v++) out->slab_top = fmax(out->slab_top, x[3 * v + 1]);
+        for (int v = first1; v < end1; v++) out->block_low = fmin(out->block_low, x[3 * v + 1]);
+        low_hist[k % 10] = out->block_low;
+    }
+    for (int k = 1; k < 10; k++) out->moved = fmax(out->moved, fabs(low_hist[k] - low_hist[0]));
+    free(x);
+    free(tris);
+    free(arena);
+    fixture_free(&f);
+    return out->failed ? -1 : 0;
+}
+
+static void report(const char *label, const drop_result *d)
+{
+    printf("# %s, %s runtime, %d steps (%ld Newton iterations), %zu collision vertices, proxy radii %.4f %.4f m: %d "
+           "vertex-inside-other events, smallest proxy distance %.3g m; the block's lowest point %.4f m over the slab's "
+           "highest %.4f m (gap %.4f, rho_a + rho_b = %.4f), moving %.2g m over the last 10 steps\n",
+           label, PRECISION, d->steps, d->iterations, d->ncv, d->rho[0], d->rho[1], d->inside, d->least, d->block_low,
+           d->slab_top, d->block_low - d->slab_top, d->rho[0] + d->rho[1], d->moved);
+}
+
+TEST(a_block_falls_onto_a_slab_and_rests_on_it)
+{
+    rk_error err = {{0}};
+    drop_result d;
+    int rc = run_drop(SCENE, 80, &d, &err);
+    report("meshes", &d);
+    CHECK(rc == 0, "%s", err.msg);
+    /* a box face of 0.05 m cells cut into right triangles: the farthest point from every corner is
+     * a hypotenuse's midpoint, 0.05 / sqrt 2 from its ends */
+    CHECK(fabs(d.rho[0] - 0.05 / sqrt(2.0)) < 1e-6 && fabs(d.rho[1] - 0.05 / sqrt(2.0)) < 1e-6, "radii %g %g", d.rho[0],
+          d.rho[1]);
+    CHECK(d.finite, "a reduced coordinate is not finite");
+    CHECK(d.inside == 0, "%d times a vertex was inside the other object", d.inside);
+    CHECK(d.least > 0, "smallest proxy distance %g", d.least);
+    /* resting on it: the gap is the proxies' (vertices stacked: rho_a + rho_b), not the fall's 0.146 m */
+    CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top < d.rho[0] + d.rho[1] + 0.005,
+          "the block rests %g over the slab", d.block_low - d.slab_top);
+    CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
+}
+
+static int write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) return -1;
+    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+            nx * ny * nz);
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++)
+            for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
+    return fclose(fp);
+}
+
+/* test_pipeline_clouds_collide's two point clouds (4 cm spacing, voxel proxies of twice that), the
+ * block started higher: its proxy's spheres must start clear of the slab's. */
+TEST(a_block_of_points_falls_onto_a_slab_of_points)
+{
+    const char *slab = "/tmp/romkit_test_rt_slab_" PRECISION ".ply", *block = "/tmp/romkit_test_rt_block_" PRECISION ".ply";
+    const double o1[3] = {0, 0, 0}, o2[3] = {0.1, 0.35, 0.1};
+    CHECK(write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && write_lattice(block, 5, 5, 5, 0.04, o2) == 0, "lattices");
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
+             " \"poisson\": 0.4, \"density\": 1000}},"
+             " {\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 5e4, \"poisson\": 0.4,"
+             " \"density\": 1000}}],"
+             " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 2}, \"obstacles\": [{\"plane\": {\"point\": [0, -0.05, 0], \"normal\": [0, 1, 0]}}],"
+             " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.5},"
+             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40}}",
+             slab, block);
+    rk_error err = {{0}};
+    drop_result d;
+    int rc = run_drop(json, 80, &d, &err);
+    remove(slab);
+    remove(block);
+    report("point clouds", &d);
+    CHECK(rc == 0, "%s", err.msg);
+    CHECK(d.finite, "a reduced coordinate is not finite");
+    CHECK(d.inside == 0, "%d times a vertex was inside the other object's proxy", d.inside);
+    CHECK(d.least > 0, "smallest proxy distance %g", d.least);
+    /* the points sit up to a voxel inside their proxies, which stop rho_a + rho_b apart: resting,
+     * not still falling (it started 0.27 m over the slab's points) */
+    CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top < 0.2, "the block rests %g over the slab",
+          d.block_low - d.slab_top);
+    CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
+}
+
+/* romrt_open on a copy of the asset with `id` patched at value `index` to `value` (n bytes). */
+static romrt_status open_patched(const objects_fixture *f, const char *id, size_t offset, const void *value, size_t n,
+                                 romrt_error *rerr)
+{
+    unsigned char *bad = aligned_alloc(16, (f->bytes + 15) / 16 * 16);
+    memcpy(bad, f->asset, f->bytes);
+    patch_chunk(bad, id, offset, value, n);
+    size_t need;
+    romrt_status st = romrt_arena_size(bad, f->bytes, &need, rerr);
+    if (st == ROMRT_OK) {
+        void *arena = aligned_alloc(16, (need + 15) / 16 * 16);
+        romrt_model *m;
+        st = romrt_open(bad, f->bytes, arena, need, &m, rerr);
+        free(arena);
+    }
+    free(bad);
+    return st;
+}
+
+TEST(damaged_object_chunks_are_refused)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    objects_fixture f;
+    CHECK_OK(fixture_bake(&f, SCENE, &err));
+    uint32_t three = 3;
+#ifdef ROMRT_DOUBLE
+    double zero = 0, huge = 1, nan_value = NAN;
+#else
+    float zero = 0, huge = 1, nan_value = NAN;
+#endif
+    struct {
+        const char *what, *id;
+        size_t offset;
+        const void *value;
+        size_t n;
+        const char *chunk;
+    } cases[] = {
+        {"an object index past CRAD's count", ROMBIN_COBJ, 4, &three, 4, ROMBIN_COBJ},
+        {"a zero radius", ROMBIN_CRAD, 0, &zero, sizeof zero, ROMBIN_CRAD},
+        {"a NaN radius", ROMBIN_CRAD, sizeof zero, &nan_value, sizeof zero, ROMBIN_CRAD},
+        {"radii that overlap the objects at the start", ROMBIN_CRAD, 0, &huge, sizeof zero, ROMBIN_COBJ},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        romrt_status st = open_patched(&f, cases[k].id, cases[k].offset, cases[k].value, cases[k].n, &rerr);
+        printf("# %s: status %d, %s: %s\n", cases[k].what, (int)st, rerr.chunk, rerr.message);
+        CHECK(st == ROMRT_E_MODEL && strcmp(rerr.chunk, cases[k].chunk) == 0, "%s: status %d, chunk %s", cases[k].what,
+              (int)st, rerr.chunk);
+    }
+    /* a reader of format 1.4, which knows neither chunk, must refuse the asset: they are critical */
+    static const char *const old_known[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_WGHT, ROMBIN_MASS, ROMBIN_LOAD,
+                                            ROMBIN_DAMP, ROMBIN_ELEM, ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX,
+                                            ROMBIN_SKIN, ROMBIN_ROWS, 0};
+    rombin_file file;
+    rombin_error e;
+    int rc = rombin_open(&file, f.asset, f.bytes, old_known, &e);
+    CHECK(rc == ROMBIN_E_UNSUPPORTED, "a reader without COBJ and CRAD: %d, %s", rc, e.message);
+    fixture_free(&f);
+}
+
+int main(void)
+{
+    RUN(a_block_falls_onto_a_slab_and_rests_on_it);
+    RUN(a_block_of_points_falls_onto_a_slab_of_points);
+    RUN(damaged_object_chunks_are_refused);
+    return test_finish();
+}
