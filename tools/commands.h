@@ -12,6 +12,7 @@ int cmd_build(int argc, char **argv);
 int cmd_run(int argc, char **argv);
 int cmd_rom(int argc, char **argv);
 int cmd_dmd(int argc, char **argv);
+int cmd_neural_dmd(int argc, char **argv);
 int cmd_control(int argc, char **argv);
 int cmd_inspect(int argc, char **argv);
 int cmd_export(int argc, char **argv);

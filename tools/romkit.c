@@ -21,6 +21,7 @@ static const command commands[] = { /* in pipeline order */
     {"rom", cmd_rom, "step a scene's reduced model in the reduced simulator, every object (splats per frame)"},
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
     {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
+    {"neural-dmd", cmd_neural_dmd, "the neural DMD trained on a family of meshes and shape codes, baked at one"},
     {"control", cmd_control, "forces on named groups that make a scene's Koopman model follow a target trajectory"},
     {"inspect", cmd_inspect, "list and verify the chunks of a .rombin asset"},
     {"export", cmd_export, "a .rombin asset as glTF 2.0 (.glb): its surface, basis as morph targets, a run as animation"},
@@ -33,7 +34,7 @@ static void usage(FILE *out)
     fprintf(out, "romkit: reduced-order models of deformable solids, baked offline, stepped in real time.\n\n"
                  "usage: romkit COMMAND [ARGS]   (romkit COMMAND --help for details)\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        fprintf(out, "  %-9s %s\n", commands[i].name, commands[i].summary);
+        fprintf(out, "  %-11s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\nLong stages show progress on stderr when it is a terminal (--quiet: none).\n"
                  "\ntypical pipeline, from the repository root:\n"
                  "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"

@@ -141,3 +141,31 @@ void rk_koopman_real_step(const rk_koopman *k, double *y)
         }
     }
 }
+
+int rk_koopman_rollout_error(const rk_koopman *k, const rk_koopman_trajectory *t, double *pct, double *peak,
+                             rk_error *err)
+{
+    int n = k->n, T = t->frames;
+    double *z = rk_calloc((size_t)k->r, sizeof(double), err), *u = rk_calloc((size_t)n, sizeof(double), err);
+    double se = 0, sr = 0, worst = 0, scale = 0;
+    int rc = -1;
+    if (!z || !u) goto done;
+    rk_koopman_lift(k, t->u + n, t->u, z);
+    for (int s = 2; s < T; s++) {
+        if (rk_koopman_forced(k, 1, t->accel, z, err)) goto done;
+        rk_koopman_positions(k, z, u);
+        const double *ref = t->u + (size_t)n * s;
+        double e = 0, r = 0;
+        for (int i = 0; i < n; i++) e += (u[i] - ref[i]) * (u[i] - ref[i]), r += ref[i] * ref[i];
+        se += e, sr += r;
+        worst = fmax(worst, sqrt(e));
+        scale = fmax(scale, sqrt(r));
+    }
+    *pct = 100 * se / sr;
+    *peak = worst / scale;
+    rc = isfinite(*pct) && isfinite(*peak) ? 0 : rk_fail(err, "the rollout is not finite");
+done:
+    free(z);
+    free(u);
+    return rc;
+}

@@ -158,6 +158,13 @@ int rk_koopman_summed_apply(const rk_koopman *k, long long N, double *z, rk_erro
  * the acceleration a (n values, or NULL for none), then step" (Eq. 19), in O(r^2). */
 int rk_koopman_forced(const rk_koopman *k, long long N, const double *a, double *z, rk_error *err);
 
+/* The rollout of k from trajectory t's start (u_{-1}, u_0) under its acceleration, one forced step
+ * (Eq. 19) at a time, against t (n values per frame): 100 sum_s |u_s - u_t,s|^2 / sum_s |u_t,s|^2
+ * over every frame after the start (the Koopman paper's % MSE) in *pct, and the largest per-frame
+ * |u - u_t| / max_s |u_t,s| in *peak. Fails when either is not finite. */
+int rk_koopman_rollout_error(const rk_koopman *k, const rk_koopman_trajectory *t, double *pct, double *peak,
+                             rk_error *err);
+
 /* A goal on one value of the final frame: value `index` (0..n-1, as the fit's trajectories hold
  * values: displacements) should end at `goal`. */
 typedef struct {

@@ -1,9 +1,11 @@
 /* Strict JSON getters for the scene parser (parse_impl.h). */
 #include "pipeline/parse_impl.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 int rk_json_fail(const rk_json_ctx *c, const char *path, const char *fmt, ...)
@@ -103,4 +105,47 @@ int rk_json_string(const rk_json_ctx *c, const cJSON *obj, const char *path, con
     if (!cJSON_IsString(v) || !v->valuestring) return rk_json_fail(c, p, "must be a string");
     *out = v->valuestring;
     return 0;
+}
+
+char *rk_json_file_text(const char *path, const char *what, rk_error *err)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) {
+        rk_fail(err, "%s: cannot open %s: %s", path, what, strerror(errno));
+        return NULL;
+    }
+    fseek(fp, 0, SEEK_END);
+    long size = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    if (size < 0 || size > (64L << 20)) {
+        fclose(fp);
+        rk_fail(err, "%s: %s file too large (over 64 MiB)", path, what);
+        return NULL;
+    }
+    char *text = malloc((size_t)size + 1);
+    if (!text) {
+        fclose(fp);
+        rk_fail(err, "%s: out of memory", path);
+        return NULL;
+    }
+    size_t got = fread(text, 1, (size_t)size, fp);
+    fclose(fp);
+    text[got] = '\0';
+    return text;
+}
+
+cJSON *rk_json_parse_text(const char *text, const char *path, rk_error *err)
+{
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
+    if (!root) {
+        /* cJSON gives where it stopped: turn that into a line and column. */
+        long line = 1, col = 1;
+        for (const char *q = text; end && q < end; q++) {
+            if (*q == '\n') { line++; col = 1; }
+            else col++;
+        }
+        rk_fail(err, "%s:%ld:%ld: invalid JSON", path, line, col);
+    }
+    return root;
 }

@@ -191,7 +191,7 @@ void rk_scene_koopman_free(rk_scene_koopman *p)
 }
 
 /* What the asset shows and steps along: the boundary, the scene's forcing, the training start. */
-static int geometry(const rk_scene_sim *sim, rk_scene_koopman *p, rk_error *err)
+int rk_scene_koopman_geometry(const rk_scene_sim *sim, rk_scene_koopman *p, rk_error *err)
 {
     int nv = sim->mesh.nv;
     p->accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
@@ -233,7 +233,7 @@ int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const
         out->info.basis_columns = b.r;
         out->info.seconds_basis = seconds_basis;
     }
-    if (!rc) rc = geometry(sim, out, err);
+    if (!rc) rc = rk_scene_koopman_geometry(sim, out, err);
 done:
     free(own);
     if (have_basis) {

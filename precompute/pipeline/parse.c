@@ -409,17 +409,8 @@ int rk_scene_parse(const char *text, const char *path, rk_scene *s, rk_error *er
     if (slash) *slash = '\0';
     else dir[0] = '\0';
     rk_json_ctx c = {path, err};
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
-    if (!root) {
-        /* cJSON gives where it stopped: turn that into a line and column. */
-        long line = 1, col = 1;
-        for (const char *q = text; end && q < end; q++) {
-            if (*q == '\n') { line++; col = 1; }
-            else col++;
-        }
-        return rk_fail(err, "%s:%ld:%ld: invalid JSON", path, line, col);
-    }
+    cJSON *root = rk_json_parse_text(text, path, err);
+    if (!root) return -1;
     int rc = parse_root(&c, root, dir, s);
     cJSON_Delete(root);
     if (rc) rk_scene_free(s);
@@ -429,23 +420,8 @@ int rk_scene_parse(const char *text, const char *path, rk_scene *s, rk_error *er
 int rk_scene_load(const char *path, rk_scene *s, rk_error *err)
 {
     memset(s, 0, sizeof *s);
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return rk_fail(err, "%s: cannot open scene: %s", path, strerror(errno));
-    fseek(fp, 0, SEEK_END);
-    long size = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    if (size < 0 || size > (64L << 20)) {
-        fclose(fp);
-        return rk_fail(err, "%s: scene file too large (over 64 MiB)", path);
-    }
-    char *text = malloc((size_t)size + 1);
-    if (!text) {
-        fclose(fp);
-        return rk_fail(err, "%s: out of memory", path);
-    }
-    size_t got = fread(text, 1, (size_t)size, fp);
-    fclose(fp);
-    text[got] = '\0';
+    char *text = rk_json_file_text(path, "scene", err);
+    if (!text) return -1;
     int rc = rk_scene_parse(text, path, s, err);
     free(text);
     return rc;

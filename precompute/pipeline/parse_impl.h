@@ -14,6 +14,12 @@ typedef struct {
     rk_error *err;
 } rk_json_ctx;
 
+/* The whole of a JSON file (at most 64 MiB; what names it in messages: "scene"), malloc'd, or NULL
+ * with err set. */
+char *rk_json_file_text(const char *path, const char *what, rk_error *err);
+/* The parsed text, or NULL with "<path>:<line>:<column>: invalid JSON" in err. */
+cJSON *rk_json_parse_text(const char *text, const char *path, rk_error *err);
+
 /* Fails with "<file>: <path>: <message>". Returns -1. */
 int rk_json_fail(const rk_json_ctx *c, const char *path, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));

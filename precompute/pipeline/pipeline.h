@@ -467,10 +467,45 @@ typedef struct {
 int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_scene_koopman *out, rk_error *err);
 void rk_scene_koopman_free(rk_scene_koopman *p);
+/* What an asset of the built scene shows and steps along: the boundary, the scene's forcing, the
+ * start (p's accel, u0, u_prev, tris and geometry; its operator k left alone, freed with p). */
+int rk_scene_koopman_geometry(const rk_scene_sim *sim, rk_scene_koopman *p, rk_error *err);
 /* The report's "koopman" object: rank, max_abs_eigenvalue, eigenvalues [[re, im], ...],
  * residuals, clamped, data_grows, stabilized, stabilize_shift, max_abs_eigenvalue_before_refit,
  * step_residual [Galerkin, returned], singular values, observables, h. */
 cJSON *rk_koopman_report(const rk_koopman *k);
+
+/* ---- a family of meshes for the neural, shape-conditioned DMD (family.c; romkit neural-dmd) ----
+ *
+ * A family file (JSON): {"members": [{"scene": "a.json", "snapshots": "a.npy", "gamma": [0.14]}, ...],
+ * "rank": R, "network": {"hidden", "depth", "eig_hidden", "eig_depth"}, "training": {"pretrain_epochs",
+ * "epochs", "learning_rate", "window", "init_member"}, "seed": S}. Each member is a scene (its mesh,
+ * material, fixed vertices, forcing and time step, built as every command builds one), that
+ * scene's full-order run as romkit fom --snapshots writes it (T x nv x 3 positions, the rest
+ * state first) and its shape code gamma (g numbers, the same g for every member; absent or null:
+ * g = 0). Paths are relative to the family file's folder. Every key but "members" and "rank" is
+ * optional (rk_koopman_neural_default_options). */
+typedef struct {
+    char scene[4096], snapshots[4096];
+    double gamma[RK_KOOPMAN_SHAPE_MAX];
+    rk_scene sc;
+    rk_scene_sim sim;
+    rk_koopman_run run;
+    int built, ran;
+} rk_family_member;
+
+typedef struct {
+    int nmembers, g;
+    rk_family_member *member;
+    rk_koopman_neural_mesh *mesh;        /* nmembers training meshes over the members' runs */
+    rk_koopman_neural_options options;   /* the file's; h the scenes' (all the same) */
+} rk_family;
+
+/* Parses the family file, builds each member's scene and reads its snapshots, checking them
+ * (shape T x nv x 3 with T >= 2, the scene's nv, finite, the first frame the scene's rest
+ * positions, one time step for all). Messages name the file and the JSON path. */
+int rk_family_load(const char *path, rk_family *f, rk_error *err);
+void rk_family_free(rk_family *f);
 
 /* ---- following a target trajectory with forces on named groups (control.c) ---- */
 

@@ -2,7 +2,7 @@
 # what CMD does, lists the options its parser accepts and ends with an example; unknown commands
 # are refused; long stages show progress on a terminal only (DESIGN.md, Rules: Progress).
 . tests/lib.sh
-COMMANDS="mesh fom adaptive basis build run rom compare dmd control inspect export"
+COMMANDS="mesh fom adaptive basis build run rom compare dmd neural-dmd control inspect export"
 case "$ROMKIT" in */*) case "$ROMKIT" in /*) ;; *) ROMKIT=$PWD/$ROMKIT ;; esac ;; esac
 
 # romkit --help: every command, one line each, and a pipeline example.
@@ -45,7 +45,7 @@ for c in $COMMANDS; do
     done
     [ -z "$unknown" ] && ok "${c}_help_options_are_accepted" || fail "${c}_help_options_are_accepted" "refused:$unknown"
     # ... and every option the parser looks for is in the help.
-    src=tools/cmd_$c.c
+    src=tools/cmd_$(echo "$c" | tr - _).c
     if [ -f "$src" ]; then
         absent=""
         for o in $(grep -o '"--*[a-z][-a-z]*"' "$src" | tr -d '"' | sort -u); do

@@ -86,37 +86,11 @@ static inline rk_koopman_neural_mesh beam_mesh(const beam *b, const double *gamm
     return m;
 }
 
-/* The rollout of k from the run's start (u_{-1}, u_0) under the run's gravity, one forced step
- * (Eq. 19) at a time, against the run: 100 sum_t |u_t - u_fom,t|^2 / sum_t |u_fom,t|^2 over every
- * frame after the start (the Koopman paper's % MSE) in *pct, and the largest per-frame
- * |u - u_fom| / max_t |u_fom,t| in *peak. */
+/* The rollout of k from the run's start against the run (rk_koopman_rollout_error). */
 static inline int rollout_error(const rk_koopman *k, const rk_koopman_run *run, double *pct, double *peak,
                                 rk_error *err)
 {
-    int n = k->n, T = run->t.frames;
-    double *z = calloc((size_t)k->r, sizeof(double)), *u = calloc((size_t)n, sizeof(double));
-    double se = 0, sr = 0, worst = 0, scale = 0;
-    int rc = -1;
-    if (!z || !u) goto done;
-    rk_koopman_lift(k, run->u + n, run->u, z);
-    for (int t = 2; t < T; t++) {
-        if (rk_koopman_forced(k, 1, run->accel, z, err)) goto done;
-        rk_koopman_positions(k, z, u);
-        const double *ref = run->u + (size_t)n * t;
-        double e = 0, r = 0;
-        for (int i = 0; i < n; i++) e += (u[i] - ref[i]) * (u[i] - ref[i]), r += ref[i] * ref[i];
-        se += e, sr += r;
-        worst = fmax(worst, sqrt(e));
-        scale = fmax(scale, sqrt(r));
-    }
-    *pct = 100 * se / sr;
-    *peak = worst / scale;
-    rc = isfinite(se) ? 0 : -1;
-    if (rc) rk_fail(err, "the rollout is not finite");
-done:
-    free(z);
-    free(u);
-    return rc;
+    return rk_koopman_rollout_error(k, &run->t, pct, peak, err);
 }
 
 /* The operator k on beam u's mesh baked by the existing Koopman bake (rk_asset_bake_koopman) and

@@ -1,0 +1,187 @@
+/* A family of meshes for the neural, shape-conditioned DMD (pipeline.h, rk_family): the family
+ * file parsed strictly, each member's scene built and its full-order snapshots read and checked. */
+#include "pipeline/parse_impl.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* path relative to the family file's folder (dir), unless absolute. */
+static void resolve(const char *dir, const char *name, char *out, size_t size)
+{
+    if (name[0] == '/' || !dir[0]) snprintf(out, size, "%s", name);
+    else snprintf(out, size, "%s/%s", dir, name);
+}
+
+/* "gamma": g numbers, or absent / null (g = 0). *g: -1 on entry for the first member. */
+static int parse_gamma(const rk_json_ctx *c, const cJSON *it, const char *path, int *g, double *gamma)
+{
+    char p[512];
+    const cJSON *v = rk_json_child(it, path, "gamma", p, sizeof p);
+    int n = !v || cJSON_IsNull(v) ? 0 : cJSON_IsArray(v) ? cJSON_GetArraySize(v) : -1;
+    if (n < 0) return rk_json_fail(c, p, "must be an array of numbers (the shape code) or null");
+    if (n > RK_KOOPMAN_SHAPE_MAX) return rk_json_fail(c, p, "%d values, at most %d", n, RK_KOOPMAN_SHAPE_MAX);
+    if (*g >= 0 && n != *g)
+        return rk_json_fail(c, p, "%d values, the first member's gamma has %d: every member needs the same length", n,
+                            *g);
+    *g = n;
+    return n ? rk_json_vector(c, it, path, "gamma", 1, n, gamma) : 0;
+}
+
+static int parse_member(const rk_json_ctx *c, const cJSON *it, const char *path, const char *dir, int *g,
+                        rk_family_member *m)
+{
+    static const char *const keys[] = {"scene", "snapshots", "gamma", NULL};
+    const char *scene, *snap;
+    if (rk_json_check_keys(c, it, path, keys) || rk_json_string(c, it, path, "scene", 1, &scene) ||
+        rk_json_string(c, it, path, "snapshots", 1, &snap) || parse_gamma(c, it, path, g, m->gamma))
+        return -1;
+    resolve(dir, scene, m->scene, sizeof m->scene);
+    resolve(dir, snap, m->snapshots, sizeof m->snapshots);
+    return 0;
+}
+
+/* "network" and "training" over rk_koopman_neural_default_options. */
+static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neural_options *o)
+{
+    static const char *const net_keys[] = {"hidden", "depth", "eig_hidden", "eig_depth", NULL};
+    static const char *const train_keys[] = {"pretrain_epochs", "epochs", "learning_rate", "window", "init_member", NULL};
+    char p[512];
+    int seed = 0;
+    if (!cJSON_GetObjectItemCaseSensitive(root, "rank")) return rk_json_fail(c, "", "rank is required (r >= 1)");
+    if (rk_json_whole(c, root, "", "rank", 1, 4096, &o->rank) || rk_json_whole(c, root, "", "seed", 0, 2147483647, &seed))
+        return -1;
+    o->seed = (unsigned long long)seed;
+    const cJSON *net = rk_json_child(root, "", "network", p, sizeof p);
+    if (net && (rk_json_check_keys(c, net, p, net_keys) || rk_json_whole(c, net, p, "hidden", 1, 4096, &o->hidden) ||
+                rk_json_whole(c, net, p, "depth", 1, 64, &o->depth) ||
+                rk_json_whole(c, net, p, "eig_hidden", 1, 4096, &o->eig_hidden) ||
+                rk_json_whole(c, net, p, "eig_depth", 1, 64, &o->eig_depth)))
+        return -1;
+    const cJSON *tr = rk_json_child(root, "", "training", p, sizeof p);
+    if (tr && (rk_json_check_keys(c, tr, p, train_keys) ||
+               rk_json_whole(c, tr, p, "pretrain_epochs", 0, 1e7, &o->pretrain_epochs) ||
+               rk_json_whole(c, tr, p, "epochs", 0, 1e7, &o->epochs) ||
+               rk_json_whole(c, tr, p, "window", 1, 1000, &o->window) ||
+               rk_json_whole(c, tr, p, "init_member", -1, 1e6, &o->init_mesh) ||
+               rk_json_number(c, tr, p, "learning_rate", 0, &o->base_lr)))
+        return -1;
+    if (!(o->base_lr > 0)) return rk_json_fail(c, p, "learning_rate must be positive, got %g", o->base_lr);
+    return 0;
+}
+
+static int parse_family(const rk_json_ctx *c, const cJSON *root, const char *dir, rk_family *f)
+{
+    static const char *const keys[] = {"members", "rank", "network", "training", "seed", NULL};
+    char p[512];
+    if (rk_json_check_keys(c, root, "", keys) || parse_options(c, root, &f->options)) return -1;
+    const cJSON *arr = rk_json_child(root, "", "members", p, sizeof p);
+    if (!arr || !cJSON_IsArray(arr) || cJSON_GetArraySize(arr) < 1)
+        return rk_json_fail(c, "members", "must be a non-empty array of {scene, snapshots, gamma}");
+    f->nmembers = cJSON_GetArraySize(arr);
+    f->member = rk_calloc((size_t)f->nmembers, sizeof *f->member, c->err);
+    f->mesh = rk_calloc((size_t)f->nmembers, sizeof *f->mesh, c->err);
+    if (!f->member || !f->mesh) return -1;
+    f->g = -1;
+    for (int i = 0; i < f->nmembers; i++) {
+        snprintf(p, sizeof p, "members[%d]", i);
+        if (parse_member(c, cJSON_GetArrayItem(arr, i), p, dir, &f->g, &f->member[i])) return -1;
+    }
+    f->options.shape_dim = f->g;
+    if (f->options.init_mesh >= f->nmembers)
+        return rk_json_fail(c, "training.init_member", "%d, but there are %d members", f->options.init_mesh, f->nmembers);
+    return 0;
+}
+
+/* The snapshots (T x nv x 3 positions, rest first) as the member's run: displacements per step. */
+static int member_run(const char *file, int i, rk_family_member *m, rk_error *err)
+{
+    double *S;
+    int ndim, nv = m->sim.mesh.nv;
+    long shape[4];
+    if (rk_npy_read(m->snapshots, &S, &ndim, shape, err))
+        return rk_error_prefix(err, "%s: members[%d].snapshots", file, i);
+    int rc = -1;
+    long T = shape[0];
+    if (ndim != 3 || shape[2] != 3 || shape[1] != nv || T < 3) {
+        rk_fail(err, "%s: members[%d].snapshots: %s must be T x %d x 3 positions with T >= 3 (the scene %s has %d "
+                "vertices), got %d dimensions (%ld x %ld x %ld)", file, i, m->snapshots, nv, m->scene, nv, ndim,
+                shape[0], ndim > 1 ? shape[1] : 0, ndim > 2 ? shape[2] : 0);
+        goto done;
+    }
+    double rest = 0, size = 1;
+    for (long j = 0; j < T * 3 * nv; j++)
+        if (!isfinite(S[j])) {
+            rk_fail(err, "%s: members[%d].snapshots: %s: value %ld (frame %ld) is not finite", file, i, m->snapshots, j,
+                    j / (3 * nv));
+            goto done;
+        }
+    for (int j = 0; j < 3 * nv; j++) rest = fmax(rest, fabs(S[j] - m->sim.mesh.X[j])), size = fmax(size, fabs(S[j]));
+    if (rest > 1e-9 * size) {
+        rk_fail(err, "%s: members[%d].snapshots: %s: the first frame is %.3g m from the rest positions of %s (romkit "
+                "fom --snapshots of that scene starts at rest)", file, i, m->snapshots, rest, m->scene);
+        goto done;
+    }
+    for (long j = 3 * nv; j < T * 3 * nv; j++) S[j] -= m->sim.mesh.X[j % (3 * nv)];
+    rc = rk_koopman_scene_run_frames(&m->sim, S + 3 * nv, (int)T - 1, &m->run, err);
+    m->ran = !rc;
+done:
+    free(S);
+    return rc;
+}
+
+static int build_members(const char *file, rk_family *f, rk_error *err)
+{
+    for (int i = 0; i < f->nmembers; i++) {
+        rk_family_member *m = &f->member[i];
+        if (rk_scene_load(m->scene, &m->sc, err)) return rk_error_prefix(err, "%s: members[%d].scene", file, i);
+        if (rk_scene_build(&m->sc, &m->sim, err)) {
+            rk_scene_free(&m->sc);
+            return rk_error_prefix(err, "%s: members[%d].scene", file, i);
+        }
+        m->built = 1;
+        double h = m->sim.options.h;
+        if (i > 0 && h != f->options.h)
+            return rk_fail(err, "%s: members[%d].scene: %s steps %g s, members[0]'s %g s: one time step for all", file,
+                           i, m->scene, h, f->options.h);
+        f->options.h = h;
+        if (member_run(file, i, m, err)) return -1;
+        f->mesh[i] = (rk_koopman_neural_mesh){m->sim.mesh.X, m->sim.mesh.nv, &m->run.t, 1, f->g ? m->gamma : NULL};
+    }
+    return 0;
+}
+
+int rk_family_load(const char *path, rk_family *f, rk_error *err)
+{
+    memset(f, 0, sizeof *f);
+    rk_koopman_neural_default_options(&f->options);
+    char *text = rk_json_file_text(path, "family", err), dir[4096];
+    if (!text) return -1;
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (slash) *slash = '\0';
+    else dir[0] = '\0';
+    cJSON *root = rk_json_parse_text(text, path, err);
+    free(text);
+    rk_json_ctx c = {path, err};
+    int rc = !root || parse_family(&c, root, dir, f) || build_members(path, f, err) ? -1 : 0;
+    cJSON_Delete(root);
+    if (rc) rk_family_free(f);
+    return rc;
+}
+
+void rk_family_free(rk_family *f)
+{
+    for (int i = 0; f->member && i < f->nmembers; i++) {
+        rk_family_member *m = &f->member[i];
+        if (m->ran) rk_koopman_run_free(&m->run);
+        if (m->built) {
+            rk_scene_sim_free(&m->sim);
+            rk_scene_free(&m->sc);
+        }
+    }
+    free(f->member);
+    free(f->mesh);
+    memset(f, 0, sizeof *f);
+}
