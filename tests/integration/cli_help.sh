@@ -20,11 +20,12 @@ grep -q "^  romkit fom " "$TMP/out" && grep -q "^  romkit build " "$TMP/out" && 
 [ $rc -eq 2 ] && grep -q "unknown command 'frobnicate'" "$TMP/err" && ok unknown_command_exits_2 \
     || fail unknown_command_exits_2 "status $rc: $(head -c 200 "$TMP/err")"
 
-# The options a command's help names: those of its synopsis and the first words of its
+# The options a command's help names: those of its synopsis (not the hyphen inside a name such as
+# neural-dmd) and the first words of its
 # option lines ("  --rank, --energy  ...").
 help_options() {
     awk '/^usage:/ { syn = 1 } syn && !/^usage:/ && !/^ +\[/ { syn = 0 }
-         syn { print; next }
+         syn { gsub(/romkit [-a-z]+/, ""); print; next }
          /^ {2,4}-/ { sub(/^ +/, ""); n = split($0, w, /  +/); print w[1] }' "$1" |
         grep -o -- '-[-a-z][-a-z]*' | grep -v '^-[A-Z]$' | sort -u
 }
