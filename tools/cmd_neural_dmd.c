@@ -12,6 +12,7 @@
 #include "args.h"
 #include "commands.h"
 #include "formats/rombin_write.h"
+#include "neural_shape.h"
 #include "pipeline/pipeline.h"
 #include "util/util.h"
 
@@ -20,6 +21,8 @@ static void neural_dmd_usage(FILE *f)
     fprintf(f,
             "usage: romkit neural-dmd FAMILY.json --scene S.json [--gamma G1,G2,...] -o OUT.rombin\n"
             "                         [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
+            "       romkit neural-dmd FAMILY.json --objective VERTEX,AXIS --target T --steps N -o OUT.rombin\n"
+            "                         [--gamma-start G1,G2,...] [the output options]\n"
             "  trains the neural DMD (modes as a network of rest position and shape code gamma, eigenvalues\n"
             "  as a network of gamma) on every member of the family, then bakes its operator on the mesh of\n"
             "  S.json at shape code gamma into OUT.rombin for the runtime.\n"
@@ -36,39 +39,52 @@ static void neural_dmd_usage(FILE *f)
             "  --compress   deflate the asset's chunks\n"
             "  --report R.json  the training loss, each member's rollout error (%% MSE against its snapshots),\n"
             "               the asset's rank, eigenvalues and max |lambda|\n"
-            "  --quiet      no progress on stderr\n\n"
+            "  --quiet      no progress on stderr\n"
+            "  Shape optimisation (Sec. 7.4), instead of --scene and --gamma: the code whose mesh (the family's\n"
+            "  \"shape\": {\"scene\": \"s.json\", \"size\": [x, y, z], \"size_per_gamma\": [[x, y, z], ...]}, its first\n"
+            "  object a box of size size + sum_j gamma_j size_per_gamma[j]) puts a vertex where asked, found by\n"
+            "  Newton on gamma through the model's closed-form N-step jump; the asset is baked there\n"
+            "  --objective  VERTEX,AXIS: the vertex (index in the shape's mesh) and x, y or z\n"
+            "  --target     the position (m) that coordinate should reach after --steps N steps from rest\n"
+            "  --steps      N >= 1\n"
+            "  --gamma-start  where Newton starts (default: the middle of the members' range)\n\n"
             "example (a family of beams of three thicknesses, baked at an unseen one, against its own run):\n"
             "  romkit fom b14.json --snapshots b14.npy   (and b18, b22; family.json lists the three)\n"
             "  romkit neural-dmd family.json --scene b20.json --gamma 0.20 -o b20.rombin --report r.json\n"
             "  romkit fom b20.json --snapshots b20.npy\n"
-            "  romkit run b20.rombin --steps 100 --reference b20.npy\n");
+            "  romkit run b20.rombin --steps 100 --reference b20.npy\n"
+            "example (the thickness whose tip corner, vertex 6, is 0.1 m below rest after 1 s):\n"
+            "  romkit neural-dmd family.json --objective 6,y --target -0.1 --steps 100 -o tip.rombin\n");
 }
 
 typedef struct {
     const char *family, *scene, *gamma, *out, *report, *precision;
     int compress, quiet;
+    neural_shape_args sh;
 } nd_args;
 
-/* --gamma: exactly g finite numbers, each inside the members' range. */
-static int parse_gamma(const char *text, const rk_family *f, double *gamma, rk_error *err)
+/* --gamma: needed exactly when the family has a shape code. */
+static int bake_gamma(const char *text, const rk_family *f, double *gamma, rk_error *err)
 {
     if (!f->g) return text ? rk_fail(err, "--gamma: the family has no shape code (no member has a gamma)") : 0;
     if (!text) return rk_fail(err, "--gamma is required: the family's shape code has %d values", f->g);
-    const char *p = text;
-    for (int j = 0; j < f->g; j++) {
-        char *end;
-        gamma[j] = strtod(p, &end);
-        if (end == p || !isfinite(gamma[j]) || (j + 1 < f->g ? *end != ',' : *end != '\0'))
-            return rk_fail(err, "--gamma '%s': need %d comma-separated finite numbers (the family's shape code)", text,
-                           f->g);
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < f->nmembers; i++) lo = fmin(lo, f->member[i].gamma[j]), hi = fmax(hi, f->member[i].gamma[j]);
-        if (gamma[j] < lo || gamma[j] > hi)
-            return rk_fail(err, "--gamma '%s': value %d (%g) is outside the members' range [%g, %g]", text, j,
-                           gamma[j], lo, hi);
-        p = end + 1;
+    return neural_gamma("--gamma", text, f, gamma, err);
+}
+
+/* The scene to bake on: the file given, or the family's shape at gamma; the family's time step. */
+static int open_scene(const char *path, const rk_family *f, const double *gamma, rk_scene *sc, rk_scene_sim *sim,
+                      rk_error *err)
+{
+    if (path ? rk_scene_load(path, sc, err) : rk_family_shape_scene(f, gamma, sc, err)) return -1;
+    if (rk_scene_build(sc, sim, err)) {
+        rk_scene_free(sc);
+        return -1;
     }
-    return 0;
+    if (sim->options.h == f->options.h) return 0;
+    rk_fail(err, "%s steps %g s, the family's members %g s", path ? path : f->shape_scene, sim->options.h, f->options.h);
+    rk_scene_sim_free(sim);
+    rk_scene_free(sc);
+    return -1;
 }
 
 /* Each member's rollout against its own snapshots, into the report and onto stdout. */
@@ -130,49 +146,63 @@ static int bake(const rk_koopman_neural *nk, const rk_koopman_neural_report *tr,
     return -1;
 }
 
-/* Train, measure, bake, save: the asset and the report written only when everything succeeded. */
+/* Trains; with --objective finds the code. */
+static int train(const nd_args *a, const rk_family *f, rk_koopman_neural *nk, rk_koopman_neural_report *tr,
+                 double *gamma, cJSON *opt, rk_error *err)
+{
+    int blas = rk_threads_blas(1); /* the same sums, so the same weights, on any thread count */
+    int rc = rk_koopman_neural_train(f->mesh, f->nmembers, &f->options, nk, tr, err);
+    rk_threads_blas(blas);
+    if (rc) return -1;
+    if (!a->quiet) printf("neural DMD on %d members, rank %d: loss %.4g after the regression, %.4g after %d steps (%.1f s)\n",
+                          f->nmembers, nk->r, tr->pretrained_loss, tr->final_loss, f->options.epochs, tr->seconds);
+    if (a->sh.objective && neural_shape_optimize(&a->sh, nk, f, gamma, opt, err)) {
+        rk_koopman_neural_free(nk);
+        return -1;
+    }
+    return 0;
+}
+
+/* Measure, bake, save: the asset and the report written only when everything succeeded. */
+static int bake_and_save(const nd_args *a, const rk_koopman_neural *nk, const rk_koopman_neural_report *tr,
+                         const rk_family *f, const double *gamma, cJSON *opt, const rk_asset_options *ao, rk_error *err)
+{
+    rk_scene sc;
+    rk_scene_sim sim;
+    rk_baked baked;
+    if (open_scene(a->sh.objective ? NULL : a->scene, f, gamma, &sc, &sim, err)) return -1;
+    int rc = bake(nk, tr, f, &sim, gamma, ao, &baked, err);
+    rk_scene_sim_free(&sim);
+    rk_scene_free(&sc);
+    if (rc) return -1;
+    if (a->sh.objective) cJSON_AddItemReferenceToObject(baked.report, "shape_optimization", opt);
+    rc = member_errors(nk, f, cJSON_GetObjectItem(cJSON_GetObjectItem(baked.report, "neural"), "member_errors"),
+                       a->quiet, err) ||
+         rombin_save(a->out, baked.data, baked.bytes, err) || (a->report && rk_json_write_file(a->report, baked.report, err));
+    if (!rc) printf("%s: %s\n", a->out, baked.summary);
+    rk_baked_free(&baked);
+    return rc ? -1 : 0;
+}
+
 static int neural_dmd(const nd_args *a, const rk_asset_options *ao, rk_error *err)
 {
     rk_family f;
-    rk_scene sc;
-    rk_scene_sim sim;
-    double gamma[RK_KOOPMAN_SHAPE_MAX] = {0};
-    if (rk_family_load(a->family, &f, err)) return -1;
-    int rc = -1, built = 0;
-    if (parse_gamma(a->gamma, &f, gamma, err)) goto done;
-    if (rk_scene_load(a->scene, &sc, err)) goto done;
-    if (rk_scene_build(&sc, &sim, err)) {
-        rk_scene_free(&sc);
-        goto done;
-    }
-    built = 1;
-    if (sim.options.h != f.options.h) {
-        rk_fail(err, "--scene %s steps %g s, the family's members %g s", a->scene, sim.options.h, f.options.h);
-        goto done;
-    }
     rk_koopman_neural nk;
     rk_koopman_neural_report tr;
-    int blas = rk_threads_blas(1); /* the same sums, so the same weights, on any thread count */
-    rc = rk_koopman_neural_train(f.mesh, f.nmembers, &f.options, &nk, &tr, err);
-    rk_threads_blas(blas);
-    if (rc) goto done;
-    if (!a->quiet) printf("neural DMD on %d members, rank %d: loss %.4g after the regression, %.4g after %d steps (%.1f s)\n",
-                          f.nmembers, nk.r, tr.pretrained_loss, tr.final_loss, f.options.epochs, tr.seconds);
-    rk_baked baked;
-    rc = bake(&nk, &tr, &f, &sim, gamma, ao, &baked, err);
-    if (!rc) {
-        rc = member_errors(&nk, &f, cJSON_GetObjectItem(cJSON_GetObjectItem(baked.report, "neural"), "member_errors"),
-                           a->quiet, err) ||
-             rombin_save(a->out, baked.data, baked.bytes, err) || (a->report && rk_json_write_file(a->report, baked.report, err));
-        if (!rc) printf("%s: %s\n", a->out, baked.summary);
-        rk_baked_free(&baked);
+    double gamma[RK_KOOPMAN_SHAPE_MAX] = {0};
+    if (rk_family_load(a->family, &f, err)) return -1;
+    rk_scene sc;
+    rk_scene_sim sim;
+    /* every input checked before the training: the code, the scene (or the shape at the start) */
+    int rc = a->sh.objective ? neural_shape_check(&a->sh, &f, err)
+                             : bake_gamma(a->gamma, &f, gamma, err) || open_scene(a->scene, &f, gamma, &sc, &sim, err);
+    if (!rc && !a->sh.objective) rk_scene_sim_free(&sim), rk_scene_free(&sc);
+    cJSON *opt = cJSON_CreateObject();
+    if (!rc && !(rc = train(a, &f, &nk, &tr, gamma, opt, err))) {
+        rc = bake_and_save(a, &nk, &tr, &f, gamma, opt, ao, err);
+        rk_koopman_neural_free(&nk);
     }
-    rk_koopman_neural_free(&nk);
-done:
-    if (built) {
-        rk_scene_sim_free(&sim);
-        rk_scene_free(&sc);
-    }
+    cJSON_Delete(opt);
     rk_family_free(&f);
     return rc ? -1 : 0;
 }
@@ -189,13 +219,24 @@ int cmd_neural_dmd(int argc, char **argv)
     const cli_option opts[] = {{"--scene", &a.scene, NULL},         {"--gamma", &a.gamma, NULL},
                                {"-o", &a.out, NULL},                {"--report", &a.report, NULL},
                                {"--precision", &a.precision, NULL}, {"--compress", NULL, &a.compress},
-                               {"--quiet", NULL, &a.quiet},         {NULL, NULL, NULL}};
+                               {"--quiet", NULL, &a.quiet},         {"--objective", &a.sh.objective, NULL},
+                               {"--target", &a.sh.target, NULL},    {"--steps", &a.sh.steps, NULL},
+                               {"--gamma-start", &a.sh.start, NULL}, {NULL, NULL, NULL}};
     if (cli_parse("neural-dmd", argc, argv, opts, &a.family, "family file")) {
         neural_dmd_usage(stderr);
         return 2;
     }
-    if (!a.scene || !a.out) {
-        fprintf(stderr, "romkit neural-dmd: --scene and -o are required\n");
+    const char *clash = !a.sh.objective ? (a.sh.target ? "--target" : a.sh.steps ? "--steps" : a.sh.start ? "--gamma-start" : NULL)
+                      : a.scene ? "--scene" : a.gamma ? "--gamma" : NULL;
+    if (clash) {
+        fprintf(stderr, "romkit neural-dmd: %s %s\n", clash,
+                a.sh.objective ? "does not go with --objective (the optimum's code and the family's shape are baked)"
+                               : "needs --objective");
+        neural_dmd_usage(stderr);
+        return 2;
+    }
+    if ((!a.scene && !a.sh.objective) || !a.out) {
+        fprintf(stderr, "romkit neural-dmd: -o and --scene (or --objective) are required\n");
         neural_dmd_usage(stderr);
         return 2;
     }

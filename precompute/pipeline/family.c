@@ -71,9 +71,38 @@ static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neu
     return 0;
 }
 
+/* "shape": {"scene", "size", "size_per_gamma": g rows of 3}; the scene is read when used. */
+static int parse_shape(const rk_json_ctx *c, const cJSON *root, const char *dir, rk_family *f)
+{
+    static const char *const keys[] = {"scene", "size", "size_per_gamma", NULL};
+    char p[512], q[600];
+    const cJSON *sh = rk_json_child(root, "", "shape", p, sizeof p);
+    if (!sh) return 0;
+    const char *scene;
+    if (rk_json_check_keys(c, sh, p, keys) || rk_json_string(c, sh, p, "scene", 1, &scene) ||
+        rk_json_vector(c, sh, p, "size", 1, 3, f->size))
+        return -1;
+    resolve(dir, scene, f->shape_scene, sizeof f->shape_scene);
+    const cJSON *rows = rk_json_child(sh, p, "size_per_gamma", q, sizeof q);
+    if (!rows || !cJSON_IsArray(rows) || cJSON_GetArraySize(rows) != f->g || f->g == 0)
+        return rk_json_fail(c, q, "must be an array of %d rows [x, y, z], one per shape code value", f->g);
+    for (int j = 0; j < f->g; j++) {
+        const cJSON *row = cJSON_GetArrayItem(rows, j);
+        int good = cJSON_IsArray(row) && cJSON_GetArraySize(row) == 3;
+        for (int a = 0; good && a < 3; a++) {
+            const cJSON *v = cJSON_GetArrayItem(row, a);
+            good = cJSON_IsNumber(v) && isfinite(v->valuedouble);
+            if (good) f->size_per_gamma[j][a] = v->valuedouble;
+        }
+        if (!good) return rk_json_fail(c, q, "row %d must be 3 finite numbers [x, y, z]", j);
+    }
+    f->has_shape = 1;
+    return 0;
+}
+
 static int parse_family(const rk_json_ctx *c, const cJSON *root, const char *dir, rk_family *f)
 {
-    static const char *const keys[] = {"members", "rank", "network", "training", "seed", NULL};
+    static const char *const keys[] = {"members", "rank", "network", "training", "seed", "shape", NULL};
     char p[512];
     if (rk_json_check_keys(c, root, "", keys) || parse_options(c, root, &f->options)) return -1;
     const cJSON *arr = rk_json_child(root, "", "members", p, sizeof p);
@@ -89,6 +118,7 @@ static int parse_family(const rk_json_ctx *c, const cJSON *root, const char *dir
         if (parse_member(c, cJSON_GetArrayItem(arr, i), p, dir, &f->g, &f->member[i])) return -1;
     }
     f->options.shape_dim = f->g;
+    if (parse_shape(c, root, dir, f)) return -1;
     if (f->options.init_mesh >= f->nmembers)
         return rk_json_fail(c, "training.init_member", "%d, but there are %d members", f->options.init_mesh, f->nmembers);
     return 0;
@@ -184,4 +214,25 @@ void rk_family_free(rk_family *f)
     free(f->member);
     free(f->mesh);
     memset(f, 0, sizeof *f);
+}
+
+int rk_family_shape_scene(const rk_family *f, const double *gamma, rk_scene *out, rk_error *err)
+{
+    if (!f->has_shape) return rk_fail(err, "the family has no \"shape\": no mesh for a shape code");
+    if (rk_scene_load(f->shape_scene, out, err)) return rk_error_prefix(err, "shape.scene");
+    rk_scene_object *o = &out->objects[0];
+    if (out->nobjects < 1 || o->shape != RK_SHAPE_BOX) {
+        rk_scene_free(out);
+        return rk_fail(err, "shape.scene: %s: the first object's mesh must be a box", f->shape_scene);
+    }
+    for (int a = 0; a < 3; a++) {
+        o->box_size[a] = f->size[a];
+        for (int j = 0; j < f->g; j++) o->box_size[a] += gamma[j] * f->size_per_gamma[j][a];
+        if (!(o->box_size[a] > 0)) {
+            rk_scene_free(out);
+            return rk_fail(err, "shape: at gamma[0] = %g the box's size %d is %g m (must be positive)", gamma[0], a,
+                           o->box_size[a]);
+        }
+    }
+    return 0;
 }

@@ -484,7 +484,9 @@ cJSON *rk_koopman_report(const rk_koopman *k);
  * scene's full-order run as romkit fom --snapshots writes it (T x nv x 3 positions, the rest
  * state first) and its shape code gamma (g numbers, the same g for every member; absent or null:
  * g = 0). Paths are relative to the family file's folder. Every key but "members" and "rank" is
- * optional (rk_koopman_neural_default_options). */
+ * optional (rk_koopman_neural_default_options). "shape": {"scene": "s.json", "size": [x, y, z],
+ * "size_per_gamma": [[x, y, z], ...]} (g rows) says how a code maps to a mesh, for the shape
+ * optimisation: the scene's first object is a box of size size + sum_j gamma_j size_per_gamma[j]. */
 typedef struct {
     char scene[4096], snapshots[4096];
     double gamma[RK_KOOPMAN_SHAPE_MAX];
@@ -499,6 +501,9 @@ typedef struct {
     rk_family_member *member;
     rk_koopman_neural_mesh *mesh;        /* nmembers training meshes over the members' runs */
     rk_koopman_neural_options options;   /* the file's; h the scenes' (all the same) */
+    int has_shape;                       /* "shape": {"scene", "size", "size_per_gamma"}: the mesh of any code */
+    char shape_scene[4096];
+    double size[3], size_per_gamma[RK_KOOPMAN_SHAPE_MAX][3];
 } rk_family;
 
 /* Parses the family file, builds each member's scene and reads its snapshots, checking them
@@ -506,6 +511,10 @@ typedef struct {
  * positions, one time step for all). Messages name the file and the JSON path. */
 int rk_family_load(const char *path, rk_family *f, rk_error *err);
 void rk_family_free(rk_family *f);
+/* The family's "shape" for code gamma (g values): its scene with the first object's box of size
+ * size + sum_j gamma_j size_per_gamma[j] (g rows of 3). Fails without "shape", when the first
+ * object is not a box, or on a size that is not positive (naming gamma). */
+int rk_family_shape_scene(const rk_family *f, const double *gamma, rk_scene *out, rk_error *err);
 
 /* ---- following a target trajectory with forces on named groups (control.c) ---- */
 

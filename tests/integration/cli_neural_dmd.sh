@@ -5,7 +5,8 @@
 # Beside it: the same model baked at the nearest member's code (0.14) on the same mesh, which
 # shows that the code is what carries the shape, and a classical DMD (romkit dmd) fitted on the
 # unseen beam's own run, the best a DMD of that rank can do with the answer in hand. Then: the
-# same seed gives the same asset, the report's keys, and bad input refused with nothing written.
+# same seed gives the same asset, the report's keys, the shape optimisation (Sec. 7.4) checked
+# against a full-order run at the thickness it finds, and bad input refused with nothing written.
 . tests/lib.sh
 g3() { if [ -n "$1" ]; then printf '%.3g' "$1"; else printf '?'; fi; }
 
@@ -22,19 +23,19 @@ EOF
 }
 beam b14 0.14; beam b20 0.20; beam b26 0.26; beam b17 0.17
 
-# family MEMBER2_SNAPSHOTS MEMBER2_GAMMA: the family file (relative paths: next to it).
+# family MEMBER2_SNAPSHOTS MEMBER2_GAMMA [MORE_KEYS]: the family file (relative paths: next to it).
 family() {
     cat <<EOF
 {"members": [{"scene": "b14.json", "snapshots": "b14.npy", "gamma": [0.14]},
              {"scene": "b20.json", "snapshots": "$1", "gamma": $2},
              {"scene": "b26.json", "snapshots": "b26.npy", "gamma": [0.26]}],
- "rank": 8, "network": {"hidden": 32, "depth": 2}, "training": {"epochs": 600, "window": 10}, "seed": 1}
+ "rank": 8, "training": {"epochs": 600, "window": 10}, "seed": 1$3}
 EOF
 }
 family b20.npy '[0.20]' >"$TMP/family.json"
 
 # Trained, baked at 0.17, stepped against the 0.17 beam's own full-order run. Measured (seeds 1 to
-# 5): relative error 0.081 to 0.099; the bound leaves half that again.
+# 5): relative error 0.080 to 0.131 (seed 1: 0.080); the bound 0.2 leaves half the worst again.
 if "$ROMKIT" neural-dmd "$TMP/family.json" --scene "$TMP/b17.json" --gamma 0.17 -o "$TMP/n17.rombin" \
         --report "$TMP/n17.json" >"$TMP/out" 2>"$TMP/err"; then
     sed 's/^/# /' "$TMP/out"
@@ -44,13 +45,13 @@ if "$ROMKIT" neural-dmd "$TMP/family.json" --scene "$TMP/b17.json" --gamma 0.17 
     below "$top" 1 && ok neural_dmd_inside_unit_circle || fail neural_dmd_inside_unit_circle "max |lambda| '$top'"
     "$ROMKIT" run "$TMP/n17.rombin" --steps 100 --reference "$TMP/b17.npy" --report "$TMP/r17.json" --quiet >/dev/null 2>"$TMP/err"
     e17=$(json_num "$TMP/r17.json" reference.relative_error)
-    below "$e17" 0.15 && ok neural_dmd_unseen_thickness || fail neural_dmd_unseen_thickness "relative error '$e17' (limit 0.15)"
+    below "$e17" 0.2 && ok neural_dmd_unseen_thickness || fail neural_dmd_unseen_thickness "relative error '$e17' (limit 0.2)"
 else
     fail neural_dmd_report_keys "$(cat "$TMP/err")"
 fi
 
 # The same model at the nearest member's code on the same mesh: off by the thickness it ignores
-# (measured 0.27 to 0.30, seeds 1 to 5); the code must buy at least a factor 2.
+# (measured 0.31 to 0.36, seeds 1 to 5); the code must buy at least a factor 2.
 "$ROMKIT" neural-dmd "$TMP/family.json" --scene "$TMP/b17.json" --gamma 0.14 -o "$TMP/n14.rombin" --quiet \
     >/dev/null 2>"$TMP/err" && "$ROMKIT" run "$TMP/n14.rombin" --steps 100 --reference "$TMP/b17.npy" \
     --report "$TMP/r14.json" --quiet >/dev/null 2>>"$TMP/err"
@@ -62,13 +63,40 @@ awk -v a="$e17" -v b="$e14" 'BEGIN { exit !(a != "" && b != "" && 2 * a < b) }' 
     >/dev/null 2>&1 && "$ROMKIT" run "$TMP/c17.rombin" --steps 100 --reference "$TMP/b17.npy" \
     --report "$TMP/c17.json" --quiet >/dev/null 2>&1
 ec=$(json_num "$TMP/c17.json" reference.relative_error)
-echo "# unseen thickness 0.17 m, 100 steps against its own full-order run, relative error: neural DMD at gamma 0.17 $(g3 "$e17") (limit 0.15), at the nearest member's gamma 0.14 $(g3 "$e14"), a classical rank-8 DMD fitted on that run itself $(g3 "$ec")"
+echo "# unseen thickness 0.17 m, 100 steps against its own full-order run, relative error: neural DMD at gamma 0.17 $(g3 "$e17") (limit 0.2), at the nearest member's gamma 0.14 $(g3 "$e14"), a classical rank-8 DMD fitted on that run itself $(g3 "$ec")"
 
 # One seed, one asset, whatever the thread count.
 ROMKIT_THREADS=1 "$ROMKIT" neural-dmd "$TMP/family.json" --scene "$TMP/b17.json" --gamma 0.17 -o "$TMP/again.rombin" \
     --quiet >/dev/null 2>"$TMP/err"
 cmp -s "$TMP/n17.rombin" "$TMP/again.rombin" && ok neural_dmd_seed_is_deterministic \
     || fail neural_dmd_seed_is_deterministic "the same seed on 1 thread gave another asset: $(head -c 200 "$TMP/err")"
+
+# Shape optimisation (Sec. 7.4): the thickness whose tip corner (1, 0, 0) is, 100 steps after the
+# release, at the height the 0.17 m beam's full-order run puts it. The family's "shape" says how a
+# code makes a mesh (the box's y size is gamma); Newton on gamma runs through the model's jump.
+# Measured (seeds 1 to 5): gamma 0.175 to 0.181, the full-order tip there 2.4% to 4.7% off the
+# target (seed 1: 2.4%); the bound 8% leaves the worst 1.7 times over.
+family b20.npy '[0.20]' ', "shape": {"scene": "b20.json", "size": [1, 0, 0.2], "size_per_gamma": [[0, 1, 0]]}' \
+    >"$TMP/shape.json"
+npy_values "$TMP/b17.npy" >"$TMP/v17"
+tip=$(awk 'NR <= 126 { c[(NR - 1) % 3] = $1; if ((NR - 1) % 3 == 2 && c[0] == 1 && c[1] == 0 && c[2] == 0) print int((NR - 1) / 3) }' "$TMP/v17")
+y17=$(sed -n "$((100 * 126 + 3 * ${tip:-0} + 2))p" "$TMP/v17")
+if "$ROMKIT" neural-dmd "$TMP/shape.json" --objective "$tip,y" --target "$y17" --steps 100 --gamma-start 0.24 \
+        -o "$TMP/opt.rombin" --report "$TMP/opt.json" --quiet >"$TMP/out" 2>"$TMP/err"; then
+    sed 's/^/# /' "$TMP/out"
+    json_checks neural_dmd_shape_report "$TMP/opt.json" 'shape_optimization.gamma[0]' shape_optimization.value \
+        shape_optimization.iterations "shape_optimization.vertex=$tip" shape_optimization.steps=100 koopman.rank=8
+    gopt=$(json_num "$TMP/opt.json" 'shape_optimization.gamma[0]')
+    # the full-order run at the thickness found, against the target
+    beam bopt "${gopt:-0}"
+    yopt=$(npy_values "$TMP/bopt.npy" | sed -n "$((100 * 126 + 3 * ${tip:-0} + 2))p")
+    miss=$(awk -v a="$yopt" -v t="$y17" 'BEGIN { d = (a - t) / t; print (d < 0 ? -d : d) }')
+    below "$miss" 0.08 && ok neural_dmd_shape_optimization \
+        || fail neural_dmd_shape_optimization "gamma '$gopt': the full-order tip there $yopt m, target $y17 m (limit 0.08)"
+    echo "# shape optimisation from gamma 0.24 to the 0.17 m beam's full-order tip height after 100 steps, $(g3 "$y17") m: gamma $(g3 "$gopt"); the full-order run there ends at $(g3 "$yopt") m, $(g3 "$miss") of the target off (limit 0.08)"
+else
+    fail neural_dmd_shape_optimization "$(cat "$TMP/err")"
+fi
 
 # Bad input: a message naming the file and the JSON path, nothing written.
 nd() { "$ROMKIT" neural-dmd "$TMP/bad.json" --scene "$TMP/b17.json" --gamma "${G:-0.17}" -o "$TMP/bad.rombin" --quiet; }
@@ -88,4 +116,7 @@ expect_fail neural_dmd_nan_snapshots "bad.json: members\[1\].snapshots: .*nan.np
 family b20.npy '[0.20]' >"$TMP/bad.json"
 G=0.3; expect_fail neural_dmd_gamma_out_of_range "value 0 (0.3) is outside the members' range \[0.14, 0.26\]" nd
 G=0.17,0.2; expect_fail neural_dmd_gamma_wrong_length "need 1 comma-separated finite numbers" nd
+unset G
+expect_fail neural_dmd_objective_needs_a_shape 'the family file has no "shape"' \
+    "$ROMKIT" neural-dmd "$TMP/family.json" --objective 6,y --target -0.03 --steps 100 -o "$TMP/bad.rombin"
 [ ! -e "$TMP/bad.rombin" ] && ok neural_dmd_nothing_written_on_error || fail neural_dmd_nothing_written_on_error "bad.rombin exists"
