@@ -29,7 +29,7 @@ static void neural_dmd_usage(FILE *f)
             "  FAMILY.json  {\"members\": [{\"scene\": \"a.json\", \"snapshots\": \"a.npy\", \"gamma\": [0.14]}, ...],\n"
             "               \"rank\": R, \"network\": {\"hidden\": 64, \"depth\": 3, \"eig_hidden\": 32, \"eig_depth\": 2},\n"
             "               \"training\": {\"pretrain_epochs\": 300, \"epochs\": 400, \"learning_rate\": 2e-4,\n"
-            "               \"window\": 1, \"init_member\": -1}, \"seed\": 0}: each member a scene (mesh, material,\n"
+            "               \"window\": 1, \"init_member\": -1}, \"seed\": 1}: each member a scene (mesh, material,\n"
             "               fixed vertices, forcing, time step), its run by romkit fom --snapshots and its\n"
             "               shape code (g numbers, the same g for all; none: g = 0); paths relative to\n"
             "               FAMILY.json; every key but members and rank optional (the defaults shown)\n"
@@ -53,8 +53,8 @@ static void neural_dmd_usage(FILE *f)
             "  romkit neural-dmd family.json --scene b20.json --gamma 0.20 -o b20.rombin --report r.json\n"
             "  romkit fom b20.json --snapshots b20.npy\n"
             "  romkit run b20.rombin --steps 100 --reference b20.npy\n"
-            "example (the thickness whose tip corner, vertex 6, is 0.1 m below rest after 1 s):\n"
-            "  romkit neural-dmd family.json --objective 6,y --target -0.1 --steps 100 -o tip.rombin\n");
+            "example (a \"shape\" in family.json: the thickness whose tip corner, vertex 6, is 3.5 cm down at 1 s):\n"
+            "  romkit neural-dmd family.json --objective 6,y --target -0.035 --steps 100 -o tip.rombin\n");
 }
 
 typedef struct {
