@@ -109,6 +109,9 @@ int neural_shape_check(const neural_shape_args *a, const rk_family *f, rk_error 
     rk_koopman_shape s;
     double gamma[RK_KOOPMAN_SHAPE_MAX];
     int rc = problem(a, f, &c, &p, gamma, err) || family_shape(&c, gamma, &s, err);
+    if (!rc && c.sim.options.h != f->options.h)
+        rc = rk_fail(err, "shape.scene: %s steps %g s, the family's members %g s", f->shape_scene, c.sim.options.h,
+                     f->options.h);
     shape_close(&c);
     return rc ? -1 : 0;
 }
