@@ -106,28 +106,26 @@ static int kept_matrix(const romrt_model *m, const rt_terms *T)
 static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *E,
                                   romrt_real *magnitude, int it, int fresh, int *kept, romrt_error *err)
 {
-    int n = m->r + m->nmoving, indefinite;
+    int n = m->r + m->nmoving, indefinite = 0;
     *kept = !fresh && kept_matrix(m, T);
     if (*kept) {
         *E = potential(m, T, y, m->g, 0, magnitude);
-        if (!isfinite(*E) || !all_finite(m->g, n))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
-                             (uint64_t)it, "");
-        return ROMRT_OK;
-    }
-    m->exact_hessian = m->nmoving == 0;
-    *E = potential(m, T, y, m->g, m->H, magnitude);
-    indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
-    if (indefinite && m->exact_hessian) {
-        m->exact_hessian = 0;
+    } else {
+        m->exact_hessian = m->nmoving == 0;
         *E = potential(m, T, y, m->g, m->H, magnitude);
+        indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
+        if (indefinite && m->exact_hessian) {
+            m->exact_hessian = 0;
+            *E = potential(m, T, y, m->g, m->H, magnitude);
+        }
+        m->exact_hessian = 0;
+        m->hessian_age = -1; /* H is being rewritten */
+        if (indefinite) m->last.projected_hessians++;
     }
-    m->exact_hessian = 0;
-    m->hessian_age = -1; /* H is being rewritten */
-    if (indefinite) m->last.projected_hessians++;
     if (!isfinite(*E) || !all_finite(m->g, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
                          (uint64_t)it, "");
+    if (*kept) return ROMRT_OK;
     if (indefinite && rt_cholesky(n, m->H))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
