@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "testlib.h"
+#include "asset_patch.h"
 #include "asset/asset.h"
 #include "formats/rombin_read.h"
 #include "koopman/koopman.h"
@@ -265,40 +266,20 @@ TEST(two_hours_of_steps_keep_the_clock_and_the_rows)
     fixture_close(&f);
 }
 
-static void put_u32(unsigned char *p, uint32_t v)
-{
-    for (int b = 0; b < 4; b++) p[b] = (unsigned char)(v >> (8 * b));
-}
-
-/* A copy of the asset (aligned, malloc'd) with KEIG values `at`.. replaced by `values` (n of them;
- * the entry's and the table's CRCs recomputed, formats/ROMBIN.md). */
+/* A copy of the asset (aligned, malloc'd) with KEIG values `at`.. replaced by `values` (n of them,
+ * in the asset's real type; asset_patch.h recomputes the CRCs). */
 static unsigned char *patched_keig(const fixture *f, int at, const double *values, int n)
 {
-    rombin_file file;
-    rombin_error e;
-    rombin_chunk c;
     unsigned char *copy = aligned_alloc(16, (f->bytes + 15) / 16 * 16);
     memcpy(copy, f->asset, f->bytes);
-    rombin_open(&file, copy, f->bytes, NULL, &e);
-    rombin_find(&file, ROMBIN_KEIG, &c);
-    unsigned char *p = (unsigned char *)c.data;
     for (int i = 0; i < n; i++) {
         if (REAL_TYPE == ROMBIN_REAL_F32) {
             float x = (float)values[i];
-            memcpy(p + 4 * (at + i), &x, 4);
+            asset_patch_chunk(copy, ROMBIN_KEIG, 4 * (size_t)(at + i), &x, 4);
         } else {
-            memcpy(p + 8 * (at + i), &values[i], 8);
+            asset_patch_chunk(copy, ROMBIN_KEIG, 8 * (size_t)(at + i), &values[i], 8);
         }
     }
-    for (unsigned k = 0; k < file.count; k++) {
-        rombin_chunk ck;
-        rombin_chunk_get(&file, k, &ck);
-        if (strcmp(ck.id, ROMBIN_KEIG) == 0) put_u32(copy + ROMBIN_HEADER_BYTES + ROMBIN_ENTRY_BYTES * k + ROMBIN_E_CRC,
-                                                    rombin_crc32(0, c.data, (size_t)c.stored));
-    }
-    uint32_t table = rombin_crc32(0, copy, ROMBIN_H_TABLE_CRC);
-    table = rombin_crc32(table, copy + ROMBIN_HEADER_BYTES, ROMBIN_ENTRY_BYTES * (size_t)file.count);
-    put_u32(copy + ROMBIN_H_TABLE_CRC, table);
     return copy;
 }
 

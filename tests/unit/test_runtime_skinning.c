@@ -6,6 +6,7 @@
  * whose SKIN contradicts its rows, whose weights come without SKIN, or whose handle count is wrong
  * is refused. */
 #include "runtime_fixture.h"
+#include "asset_patch.h"
 
 #ifdef ROMRT_DOUBLE
 #define ASSET_REAL ROMBIN_REAL_F64
@@ -129,27 +130,6 @@ TEST(skin_is_written_for_skinning_bases_only)
     rt_fixture_close(&f);
 }
 
-/* Overwrites n bytes of chunk `id`'s payload at `offset` and recomputes its CRC and the table's,
- * so the damage reaches the model checks (little-endian machine, as the format). */
-static void patch_chunk(unsigned char *asset, const char *id, size_t offset, const void *bytes, size_t n)
-{
-    uint32_t count, crc;
-    memcpy(&count, asset + ROMBIN_H_CHUNKS, 4);
-    for (uint32_t i = 0; i < count; i++) {
-        unsigned char *e = asset + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES;
-        uint64_t off, stored;
-        if (memcmp(e + ROMBIN_E_ID, id, 4) != 0) continue;
-        memcpy(&off, e + ROMBIN_E_OFFSET, 8);
-        memcpy(&stored, e + ROMBIN_E_STORED, 8);
-        memcpy(asset + off + offset, bytes, n);
-        crc = rombin_crc32(0, asset + off, (size_t)stored);
-        memcpy(e + ROMBIN_E_CRC, &crc, 4);
-    }
-    crc = rombin_crc32(0, asset, ROMBIN_H_TABLE_CRC);
-    crc = rombin_crc32(crc, asset + ROMBIN_HEADER_BYTES, (size_t)count * ROMBIN_ENTRY_BYTES);
-    memcpy(asset + ROMBIN_H_TABLE_CRC, &crc, 4);
-}
-
 TEST(contradicting_skin_is_refused)
 {
     rk_error err = {{0}};
@@ -165,7 +145,7 @@ TEST(contradicting_skin_is_refused)
     unsigned char *bad = malloc(f.bytes);
     memcpy(bad, f.asset, f.bytes);
     uint32_t two = (uint32_t)H - 1;
-    patch_chunk(bad, ROMBIN_SKIN, 0, &two, sizeof two);
+    asset_patch_chunk(bad, ROMBIN_SKIN, 0, &two, sizeof two);
     CHECK(romrt_arena_size(bad, f.bytes, &need, &rerr) == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_WGHT) == 0,
           "SKIN naming %d handles for r = %d: status %d, %s", H - 1, romrt_reduced_size(f.m), rerr.status, rerr.message);
     /* weights without SKIN: the SKIN id renamed to an optional chunk the runtime does not know */
@@ -174,7 +154,7 @@ TEST(contradicting_skin_is_refused)
         unsigned char *e = bad + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES;
         if (memcmp(e + ROMBIN_E_ID, ROMBIN_SKIN, 4) == 0) memcpy(e + ROMBIN_E_ID, "XKIN", 4);
     }
-    patch_chunk(bad, ROMBIN_WGHT, 0, "", 0); /* recomputes the table's CRC */
+    asset_patch_chunk(bad, ROMBIN_WGHT, 0, "", 0); /* recomputes the table's CRC */
     CHECK(romrt_arena_size(bad, f.bytes, &need, &rerr) == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_WGHT) == 0,
           "WGHT without SKIN: status %d, %s", rerr.status, rerr.message);
     free(bad);
@@ -189,7 +169,7 @@ TEST(contradicting_skin_is_refused)
 #else
     float one = 1;
 #endif
-    patch_chunk(asset, ROMBIN_ROWS, (size_t)romrt_reduced_size(f.m) * sizeof one, &one, sizeof one);
+    asset_patch_chunk(asset, ROMBIN_ROWS, (size_t)romrt_reduced_size(f.m) * sizeof one, &one, sizeof one);
     CHECK(romrt_arena_size(asset, bytes, &need, &rerr) == ROMRT_OK, "the sizing pass does not read values: %s", rerr.message);
     CHECK(romrt_open(asset, bytes, arena, need, &m, &rerr) == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_SKIN) == 0 &&
               strstr(rerr.message, "stored vertex 0") != NULL,
