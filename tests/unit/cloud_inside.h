@@ -1,11 +1,13 @@
-/* Shared by the tests of several point-cloud objects colliding in the reduced simulator: whether a
- * point lies inside another object's closed surface (its voxel proxy, deformed), by the parity of
- * the crossings of a long segment from the point with that surface's triangles, each crossing
- * decided exactly (rk_segment_triangle_intersect). */
+/* Shared by the tests of several objects colliding (in the reduced simulator and the runtime):
+ * whether a point lies inside another object's closed surface (its boundary, or a cloud's voxel
+ * proxy, deformed), by the parity of the crossings of a long segment from the point with that
+ * surface's triangles, each crossing decided exactly (rk_segment_triangle_intersect); and the
+ * lattices of points the cloud tests drop on each other. */
 #ifndef RK_TEST_CLOUD_INSIDE_H
 #define RK_TEST_CLOUD_INSIDE_H
 
 #include <math.h>
+#include <stdio.h>
 
 #include "contact/contact.h"
 
@@ -58,6 +60,19 @@ static inline int cloud_surface_inside(const cloud_surface *s, const double *x, 
         if (!apart) count += rk_segment_triangle_intersect(p, q, A, B, C);
     }
     return count % 2;
+}
+
+/* An nx x ny x nz lattice of points h apart from corner o, as an ASCII PLY at path. */
+static inline int cloud_write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
+{
+    FILE *fp = fopen(path, "w");
+    if (!fp) return -1;
+    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
+            nx * ny * nz);
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++)
+            for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
+    return fclose(fp);
 }
 
 static inline void cloud_surface_free(cloud_surface *s)

@@ -11,23 +11,12 @@
 #include "cloud_inside.h"
 #include "pipeline/pipeline.h"
 
-static int write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
-{
-    FILE *fp = fopen(path, "w");
-    if (!fp) return -1;
-    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
-            nx * ny * nz);
-    for (int i = 0; i < nx; i++)
-        for (int j = 0; j < ny; j++)
-            for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
-    return fclose(fp);
-}
-
 TEST(a_block_of_points_lands_on_a_slab_of_points)
 {
     const char *slab = "/tmp/romkit_test_slab.ply", *block = "/tmp/romkit_test_block.ply";
     const double o1[3] = {0, 0, 0}, o2[3] = {0.1, 0.2, 0.1};
-    CHECK(write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && write_lattice(block, 5, 5, 5, 0.04, o2) == 0, "lattices");
+    CHECK(cloud_write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && cloud_write_lattice(block, 5, 5, 5, 0.04, o2) == 0,
+          "lattices");
     char json[2048];
     snprintf(json, sizeof json,
              "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"

@@ -2,14 +2,17 @@
  * onto a slab resting on a plane, both baked into one asset with their own RKPM skinning bases,
  * stepped by this test's runtime (float, or double in test_runtime_objects_double). On every step,
  * with the positions X + U q of the runtime's q in double: no collision vertex of either object is
- * inside the other's boundary (ray parity against its deformed triangles), every pair's proxy
- * distance |x_i - x_j| - (rho_a + rho_b) stays > 0, every value finite; at the end the block rests
+ * inside the other's boundary (cloud_inside.h: the exact parity of a segment's crossings with its
+ * deformed triangles), every pair's proxy distance |x_i - x_j| - (rho_a + rho_b) stays > 0, every
+ * value finite; at the end the block rests
  * on the slab, its lowest point above the slab's highest by no more than the proxies' reach. The
  * baked radii are checked against the boxes' triangles; damaged COBJ and CRAD are refused naming
  * the chunk, and a reader that does not know them refuses the asset (they are critical). */
 #include <stdio.h>
 
 #include "testlib.h"
+#include "asset_patch.h"
+#include "cloud_inside.h"
 #include "pipeline/pipeline.h"
 #include "rom/rom.h"
 #include "formats/rombin_read.h"
@@ -89,45 +92,9 @@ static double real_at(const void *data, size_t i)
     return ((const double *)data)[i];
 }
 
-/* Whether the segment p + t e (t in [0, 1]) crosses triangle (a, b, c) (Moller-Trumbore). */
-static int crosses(const double *p, const double *e, const double *a, const double *b, const double *c)
-{
-    double e1[3], e2[3], s[3], h[3], q[3];
-    for (int i = 0; i < 3; i++) e1[i] = b[i] - a[i], e2[i] = c[i] - a[i], s[i] = p[i] - a[i];
-    h[0] = e[1] * e2[2] - e[2] * e2[1], h[1] = e[2] * e2[0] - e[0] * e2[2], h[2] = e[0] * e2[1] - e[1] * e2[0];
-    double det = e1[0] * h[0] + e1[1] * h[1] + e1[2] * h[2];
-    if (fabs(det) < 1e-300) return 0;
-    double u = (s[0] * h[0] + s[1] * h[1] + s[2] * h[2]) / det;
-    q[0] = s[1] * e1[2] - s[2] * e1[1], q[1] = s[2] * e1[0] - s[0] * e1[2], q[2] = s[0] * e1[1] - s[1] * e1[0];
-    double v = (e[0] * q[0] + e[1] * q[1] + e[2] * q[2]) / det;
-    double t = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det;
-    return u >= 0 && v >= 0 && u + v <= 1 && t >= 0 && t <= 1;
-}
-
 static int object_of(const rk_scene_sim *sim, int v)
 {
     return v >= sim->object_first_vertex[1];
-}
-
-/* Overwrites n bytes of chunk `id`'s payload at `offset` and recomputes its CRC and the table's,
- * so the damage reaches the model checks. */
-static void patch_chunk(unsigned char *asset, const char *id, size_t offset, const void *bytes, size_t n)
-{
-    uint32_t count, crc;
-    memcpy(&count, asset + ROMBIN_H_CHUNKS, 4);
-    for (uint32_t i = 0; i < count; i++) {
-        unsigned char *e = asset + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES;
-        uint64_t off, stored;
-        if (memcmp(e + ROMBIN_E_ID, id, 4) != 0) continue;
-        memcpy(&off, e + ROMBIN_E_OFFSET, 8);
-        memcpy(&stored, e + ROMBIN_E_STORED, 8);
-        memcpy(asset + off + offset, bytes, n);
-        crc = rombin_crc32(0, asset + off, (size_t)stored);
-        memcpy(e + ROMBIN_E_CRC, &crc, 4);
-    }
-    crc = rombin_crc32(0, asset, ROMBIN_H_TABLE_CRC);
-    crc = rombin_crc32(crc, asset + ROMBIN_HEADER_BYTES, (size_t)count * ROMBIN_ENTRY_BYTES);
-    memcpy(asset + ROMBIN_H_TABLE_CRC, &crc, 4);
 }
 
 /* What a drop measured. */
@@ -170,11 +137,19 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
         return rk_fail(err, "open: %s", rerr.message);
     }
     int *tris = NULL, nf = 0, r = f.R.model.r, ndof = 3 * f.sim.mesh.nv, nv = f.sim.mesh.nv;
-    if (rk_mesh_boundary(&f.sim.mesh, &tris, &nf, err)) return -1;
+    int first1 = f.sim.object_first_vertex[1];
+    cloud_surface surf[2] = {{0}};
+    if (rk_mesh_boundary(&f.sim.mesh, &tris, &nf, err) || cloud_surface_init(&surf[0], tris, nf, 0, first1) ||
+        cloud_surface_init(&surf[1], tris, nf, first1, nv)) {
+        free(tris);
+        cloud_surface_free(&surf[0]);
+        free(arena);
+        fixture_free(&f);
+        return rk_fail(err, "the objects' boundaries");
+    }
     double *x = calloc((size_t)ndof, sizeof(double)), qd[256], low_hist[10] = {0};
     romrt_real q[256];
     /* the heights are a cloud's points' (its proxy's vertices follow), or every vertex of a mesh */
-    int first1 = f.sim.object_first_vertex[1];
     int end0 = f.sim.object_points ? f.sim.object_points[0] : first1;
     int end1 = f.sim.object_points ? first1 + f.sim.object_points[1] : nv;
     for (int k = 0; k < steps; k++) {
@@ -190,17 +165,9 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
         for (int j = 0; j < r; j++) qd[j] = q[j], out->finite &= isfinite(qd[j]);
         rk_rom_positions(f.R.basis.U, ndof, r, f.sim.mesh.X, qd, x);
         /* every vertex (collision vertices and a cloud's points) against the other object's
-         * boundary (its mesh's, or its voxel proxy's): odd crossings along a ray */
-        for (int v = 0; v < nv; v++) {
-            int obj = object_of(&f.sim, v);
-            double e[3] = {10, 0.0123, 0.0071}; /* off-axis, so it never runs along a grid line */
-            int count = 0;
-            for (int t = 0; t < nf; t++) {
-                const int *T = tris + 3 * t;
-                if (object_of(&f.sim, T[0]) != obj && crosses(x + 3 * v, e, x + 3 * T[0], x + 3 * T[1], x + 3 * T[2])) count++;
-            }
-            out->inside += count % 2;
-        }
+         * boundary (its mesh's, or its voxel proxy's): odd exact crossings along a segment */
+        for (int o = 0; o < 2; o++) cloud_surface_box(&surf[o], x);
+        for (int v = 0; v < nv; v++) out->inside += cloud_surface_inside(&surf[1 - object_of(&f.sim, v)], x, x + 3 * v);
         /* every pair's proxy distance, by brute force */
         for (size_t i = 0; i < ncv; i++)
             for (size_t j = i + 1; j < ncv; j++) {
@@ -218,6 +185,7 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
     for (int k = 1; k < 10; k++) out->moved = fmax(out->moved, fabs(low_hist[k] - low_hist[0]));
     free(x);
     free(tris);
+    for (int k = 0; k < 2; k++) cloud_surface_free(&surf[k]);
     free(arena);
     fixture_free(&f);
     return out->failed ? -1 : 0;
@@ -252,25 +220,14 @@ TEST(a_block_falls_onto_a_slab_and_rests_on_it)
     CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
 }
 
-static int write_lattice(const char *path, int nx, int ny, int nz, double h, const double o[3])
-{
-    FILE *fp = fopen(path, "w");
-    if (!fp) return -1;
-    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n",
-            nx * ny * nz);
-    for (int i = 0; i < nx; i++)
-        for (int j = 0; j < ny; j++)
-            for (int k = 0; k < nz; k++) fprintf(fp, "%g %g %g\n", o[0] + h * i, o[1] + h * j, o[2] + h * k);
-    return fclose(fp);
-}
-
 /* test_pipeline_clouds_collide's two point clouds (4 cm spacing, voxel proxies of twice that), the
  * block started higher: its proxy's spheres must start clear of the slab's. */
 TEST(a_block_of_points_falls_onto_a_slab_of_points)
 {
     const char *slab = "/tmp/romkit_test_rt_slab_" PRECISION ".ply", *block = "/tmp/romkit_test_rt_block_" PRECISION ".ply";
     const double o1[3] = {0, 0, 0}, o2[3] = {0.1, 0.35, 0.1};
-    CHECK(write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && write_lattice(block, 5, 5, 5, 0.04, o2) == 0, "lattices");
+    CHECK(cloud_write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && cloud_write_lattice(block, 5, 5, 5, 0.04, o2) == 0,
+          "lattices");
     char json[2048];
     snprintf(json, sizeof json,
              "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
@@ -304,7 +261,7 @@ static romrt_status open_patched(const objects_fixture *f, const char *id, size_
 {
     unsigned char *bad = aligned_alloc(16, (f->bytes + 15) / 16 * 16);
     memcpy(bad, f->asset, f->bytes);
-    patch_chunk(bad, id, offset, value, n);
+    asset_patch_chunk(bad, id, offset, value, n);
     size_t need;
     romrt_status st = romrt_arena_size(bad, f->bytes, &need, rerr);
     if (st == ROMRT_OK) {
