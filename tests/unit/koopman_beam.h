@@ -105,12 +105,11 @@ static inline int runtime_against_rollout(const rk_koopman *k, const beam *u, do
                              .accel = u->run.accel, .u0 = u->run.u + n, .u_prev = u->run.u, .trajectories = 2};
     rk_asset_options ao;
     rk_asset_default_options(&ao);
-    rombin_writer w;
-    unsigned char *asset = NULL;
-    size_t bytes = 0, need = 0;
-    rombin_writer_init(&w, ao.real_type, 0);
-    rc = rk_asset_bake_koopman(k, &g, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, &asset, &bytes, err);
-    rombin_writer_free(&w);
+    rk_baked baked;
+    size_t need = 0;
+    rc = rk_bake_koopman(k, &g, &ao, NULL, &baked, err);
+    const unsigned char *asset = baked.data;
+    size_t bytes = baked.bytes;
     romrt_error re = {0};
     romrt_model *rm = NULL;
     void *arena = NULL;
@@ -135,7 +134,7 @@ static inline int runtime_against_rollout(const rk_koopman *k, const beam *u, do
     free(ud);
     free(x);
     free(arena);
-    free(asset);
+    rk_baked_free(&baked);
     if (rc) return rk_error_prefix(err, "bake");
     if (st != ROMRT_OK) return rk_fail(err, "runtime: status %d (%s)", (int)st, re.message);
     return 0;

@@ -180,6 +180,17 @@ static int beam_shape(void *ctx, const double *gamma, rk_koopman_shape *s, rk_er
     return tip < 0 ? rk_fail(err, "no vertex at the tip corner") : 0;
 }
 
+/* The family's shape problem over the beams beam_shape builds into c, N = STEPS, the library's
+ * defaults for the rest. */
+static void shape_problem(rk_koopman_shape_problem *p, shape_ctx *c)
+{
+    rk_koopman_shape_default(p);
+    p->nk = &family;
+    p->shape = beam_shape;
+    p->ctx = c;
+    p->steps = STEPS;
+}
+
 /* The tip corner's height 1 s after release: the model's, by the jump (rk_koopman_shape_objective),
  * and the full-order run's. */
 static int tip_heights(const beam *b, double gamma, double *model, double *full, rk_error *err)
@@ -187,11 +198,7 @@ static int tip_heights(const beam *b, double gamma, double *model, double *full,
     shape_ctx c;
     memset(&c, 0, sizeof c);
     rk_koopman_shape_problem p;
-    rk_koopman_shape_default(&p);
-    p.nk = &family;
-    p.shape = beam_shape;
-    p.ctx = &c;
-    p.steps = STEPS;
+    shape_problem(&p, &c);
     int rc = rk_koopman_shape_objective(&p, &gamma, model, err);
     beam_close(&c.b);
     free(c.accel);
@@ -278,11 +285,7 @@ static int optimize_case(double start, double target, double *gamma, double *f0,
     shape_ctx c;
     memset(&c, 0, sizeof c);
     rk_koopman_shape_problem p;
-    rk_koopman_shape_default(&p); /* epsilon 1e-4, the paper's (Sec. 7.4) */
-    p.nk = &family;
-    p.shape = beam_shape;
-    p.ctx = &c;
-    p.steps = STEPS;
+    shape_problem(&p, &c); /* epsilon 1e-4, the paper's (Sec. 7.4) */
     p.target = target;
     p.tolerance = 1e-5;
     *gamma = start;
@@ -329,11 +332,7 @@ TEST(shape_optimization_rejects_bad_input)
     shape_ctx c;
     memset(&c, 0, sizeof c);
     rk_koopman_shape_problem p;
-    rk_koopman_shape_default(&p);
-    p.nk = &family;
-    p.shape = beam_shape;
-    p.ctx = &c;
-    p.steps = STEPS;
+    shape_problem(&p, &c);
     p.target = -0.03;
     double g = NAN;
     CHECK(rk_koopman_shape_optimize(&p, &g, NULL, &err) != 0 && strstr(err.msg, "gamma[0] is nan"), "NaN: %s", err.msg);
