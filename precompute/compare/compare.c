@@ -208,6 +208,7 @@ void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
 {
     snprintf(m->failure, sizeof m->failure, "%s", err->msg);
     m->normalized_mse = m->normalized_max_error = m->max_error_m = m->relative_error = m->relative_online_error = NAN;
+    m->fit_normalized_mse = NAN;
     m->seconds_per_step = m->speedup = NAN;
 }
 
@@ -239,6 +240,7 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     rk_scene_rom R;
     memset(m, 0, sizeof *m);
     m->cubature_error = NAN;
+    m->fit_normalized_mse = NAN;
     memcpy(m->name, e->name, sizeof m->name);
     m->type = e->basis.type;
     m->reference_nmse = e->reference_nmse;
@@ -287,7 +289,9 @@ static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom
     m->seconds_training_run = R.basis_info.fom_frames ? res->fom_seconds_total : 0;
     memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
     memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
-    if (run_free(sim, &R, ref, M, m, &err) || run_realigned(sim, &R, ref, M, m, &err)) rk_compare_record_failure(m, &err);
+    if (run_free(sim, &R, ref, M, m, &err) || run_realigned(sim, &R, ref, M, m, &err) ||
+        rk_compare_basis_fit(R.basis.U, ref->ndof, R.basis.r, sim->mesh.X, ref, m, &err))
+        rk_compare_record_failure(m, &err);
     else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
     rk_scene_rom_free(&R);
 }

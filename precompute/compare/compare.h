@@ -25,6 +25,9 @@ typedef struct {
     int cubature_points;           /* 0: exact */
     double cubature_error;
     double normalized_mse, normalized_max_error, max_error_m, relative_error, relative_online_error; /* util/util.h */
+    double fit_normalized_mse;     /* the basis fitting residual (FreeForm Eq. 36, Table 6): every reference frame
+                                    * fitted by the subspace in least squares, normalized MSE; NAN where the
+                                    * method has no fixed linear basis (Koopman, adaptive) */
     double seconds_per_step, speedup;
     double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
     double seconds_fit;            /* Koopman: the DMD fit */

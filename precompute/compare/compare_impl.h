@@ -20,6 +20,11 @@ void rk_compare_record_errors(rk_compare_method *m, const rk_run_error *e);
 /* The method did not run: why, and its numbers NAN. */
 void rk_compare_record_failure(rk_compare_method *m, const rk_error *err);
 
+/* m->fit_normalized_mse (basis_fit.c): each frame of ref after the start fitted by X + U q in
+ * least squares over the vertices (FreeForm Eq. 36), measured as a free run is. */
+int rk_compare_basis_fit(const double *U, int ndof, int r, const double *X, const fom_run *ref, rk_compare_method *m,
+                         rk_error *err);
+
 /* Entry `index` with a koopman section (koopman_method.c): fitted on the full-order run F (D: its
  * displacement frames) and any other trajectories it lists, then run free and realigned as the
  * reduced models are, against the reference `ref` (F itself, or the refined run at sim's vertices). */
