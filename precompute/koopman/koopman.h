@@ -313,6 +313,9 @@ typedef struct {
     int pretrain_epochs;  /* the regression onto those classical modes (default 300) */
     int epochs;           /* full-batch Adam steps on L (default 400) */
     double base_lr;       /* rk_lr_phased's base for those steps (default 2e-4) */
+    int polish;           /* then L-BFGS iterations on the same full-batch L (rk_lbfgs_minimize, memory
+                           * 10; default 0): where Adam's rate-limited steps stall, a quasi-Newton
+                           * method on the exact gradient goes on down (beyond the paper) */
     double h;             /* the data's time step (s) */
     unsigned long long seed;
     int window;           /* K >= 1: the step term rolls out K forced steps from each projected state,
@@ -342,6 +345,8 @@ typedef struct {
 
 typedef struct {
     double pretrained_loss, final_loss; /* L after the regression onto the classical modes, after training */
+    double adam_loss;     /* L after the Adam steps (before the L-BFGS polish; final_loss without one) */
+    int polish_iterations; /* L-BFGS steps taken */
     double seconds;
 } rk_koopman_neural_report;
 

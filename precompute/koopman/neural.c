@@ -598,6 +598,48 @@ static int shape_range(rk_koopman_neural *nk, const rk_koopman_neural_mesh *mesh
     return 0;
 }
 
+/* L as an objective of all trainable values, [the modes' network; the eigenvalues' parameters],
+ * for the L-BFGS polish. */
+typedef struct {
+    rk_koopman_neural *nk;
+    mesh_data *md;
+    int nmesh;
+    rk_mlp_work *w, *we;
+    long np, ne;
+    double *eig;
+} polish_ctx;
+
+static int polish_objective(void *ctx, const double *x, double *f, double *g, rk_error *err)
+{
+    polish_ctx *c = ctx;
+    memcpy(c->nk->net.params, x, sizeof(double) * c->np);
+    memcpy(c->eig, x + c->np, sizeof(double) * c->ne);
+    return total_loss(c->nk, c->md, c->nmesh, c->w, c->we, g, g + c->np, f, err);
+}
+
+static int polish(rk_koopman_neural *nk, mesh_data *md, int nmesh, rk_mlp_work *w, rk_mlp_work *we, int iterations,
+                  double *loss, int *taken, rk_error *err)
+{
+    long np = rk_mlp_params(&nk->net), ne;
+    double *eig = rk_koopman_neural_eig_params(nk, &ne);
+    double *x = rk_calloc((size_t)(np + ne), sizeof(double), err);
+    if (!x) return -1;
+    memcpy(x, nk->net.params, sizeof(double) * np);
+    memcpy(x + np, eig, sizeof(double) * ne);
+    polish_ctx c = {nk, md, nmesh, w, we, np, ne, eig};
+    rk_lbfgs_options lo = {.iterations = iterations, .memory = 10, .tolerance = 0};
+    rk_lbfgs_report rep;
+    int rc = rk_lbfgs_minimize(np + ne, x, polish_objective, &c, &lo, &rep, err);
+    if (!rc) { /* the best point, whatever the line search evaluated last */
+        memcpy(nk->net.params, x, sizeof(double) * np);
+        memcpy(eig, x + np, sizeof(double) * ne);
+        *loss = rep.final;
+        *taken = rep.iterations;
+    }
+    free(x);
+    return rc ? rk_error_prefix(err, "L-BFGS polish") : 0;
+}
+
 int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const rk_koopman_neural_options *o,
                             rk_koopman_neural *nk, rk_koopman_neural_report *report, rk_error *err)
 {
@@ -607,7 +649,7 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         rk_koopman_neural_default_options(&def);
         o = &def;
     }
-    if (nmesh < 1 || o->rank < 1 || o->hidden < 1 || o->depth < 1 || o->epochs < 0 || !(o->h > 0) ||
+    if (nmesh < 1 || o->rank < 1 || o->hidden < 1 || o->depth < 1 || o->epochs < 0 || o->polish < 0 || !(o->h > 0) ||
         !(o->base_lr > 0) || o->init_mesh >= nmesh || o->window < 1)
         return rk_fail(err, "neural DMD: bad options (%d meshes, rank %d, hidden %d x %d, epochs %d, h %g)", nmesh,
                        o->rank, o->hidden, o->depth, o->epochs, o->h);
@@ -687,6 +729,10 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         if (ok && !isfinite(loss)) ok = !rk_fail(err, "the loss turned non-finite at step %d", e);
     }
     if (ok) ok = !total_loss(nk, md, nmesh, &w, &we, NULL, NULL, &loss, err);
+    if (report) report->adam_loss = loss;
+    int taken = 0;
+    if (ok && o->polish > 0) ok = !polish(nk, md, nmesh, &w, &we, o->polish, &loss, &taken, err);
+    if (report) report->polish_iterations = taken;
     rk_adam_free(&an);
     rk_adam_free(&ae);
     rk_mlp_work_free(&w);

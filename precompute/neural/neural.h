@@ -112,6 +112,30 @@ double rk_lr_phased(double base, int epoch, int epochs_total);
 
 #define RK_LR_BASE_DEFAULT 1e-4
 
+/* An objective for rk_lbfgs_minimize: *f and its gradient g (n values) at x; nonzero fails. */
+typedef int (*rk_objective)(void *ctx, const double *x, double *f, double *g, rk_error *err);
+
+typedef struct {
+    int iterations;        /* >= 0: accepted steps at most */
+    int memory;            /* >= 1: stored (s, y) pairs */
+    double tolerance;      /* >= 0: stop at |g| <= tolerance */
+} rk_lbfgs_options;
+
+typedef struct {
+    double initial, final; /* the objective at the start and at the end */
+    int iterations;        /* accepted steps */
+    long evaluations;      /* objective calls in the line searches */
+} rk_lbfgs_report;
+
+/* Minimizes f from x (n values, overwritten by the best point found) by L-BFGS (Nocedal & Wright,
+ * Alg. 7.4-7.5) with backtracking Armijo steps (c = 1e-4, halving): a deterministic full-batch
+ * optimizer for where a loss and its exact gradient are cheap (the neural DMD's polish after
+ * Adam). Stops after o->iterations steps, at |g| <= o->tolerance, or when no step along the
+ * direction decreases f (round-off). o NULL: 100 iterations, memory 10, tolerance 0. Fails on
+ * bad options, an objective that fails, or a non-finite objective at the start. */
+int rk_lbfgs_minimize(long n, double *x, rk_objective f, void *ctx, const rk_lbfgs_options *o, rk_lbfgs_report *rep,
+                      rk_error *err);
+
 typedef struct {
     int epochs;            /* >= 1 (paper: 400) */
     int batch;             /* >= 1 (paper: 64); a batch above N trains on all N at once */
