@@ -46,7 +46,8 @@ static int parse_member(const rk_json_ctx *c, const cJSON *it, const char *path,
 static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neural_options *o)
 {
     static const char *const net_keys[] = {"hidden", "depth", "eig_hidden", "eig_depth", NULL};
-    static const char *const train_keys[] = {"pretrain_epochs", "epochs", "learning_rate", "window", "init_member", NULL};
+    static const char *const train_keys[] = {"pretrain_epochs", "epochs", "learning_rate", "window", "init_member",
+                                             "polish", NULL};
     char p[512];
     int seed = 0;
     if (!cJSON_GetObjectItemCaseSensitive(root, "rank")) return rk_json_fail(c, "", "rank is required (r >= 1)");
@@ -63,6 +64,7 @@ static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neu
     if (tr && (rk_json_check_keys(c, tr, p, train_keys) ||
                rk_json_whole(c, tr, p, "pretrain_epochs", 0, 1e7, &o->pretrain_epochs) ||
                rk_json_whole(c, tr, p, "epochs", 0, 1e7, &o->epochs) ||
+               rk_json_whole(c, tr, p, "polish", 0, 1e7, &o->polish) ||
                rk_json_whole(c, tr, p, "window", 1, 1000, &o->window) ||
                rk_json_whole(c, tr, p, "init_member", -1, 1e6, &o->init_mesh) ||
                rk_json_number(c, tr, p, "learning_rate", 0, &o->base_lr)))

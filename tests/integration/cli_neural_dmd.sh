@@ -113,6 +113,8 @@ cp "$TMP/b20.npy" "$TMP/nan.npy"; family nan.npy '[0.20]' >"$TMP/bad.json"
 printf '\000\000\000\000\000\000\370\177' | dd of="$TMP/nan.npy" bs=1 seek=$(( $(npy_header_bytes "$TMP/nan.npy") + 5 * 42 * 24 )) \
     conv=notrunc 2>/dev/null
 expect_fail neural_dmd_nan_snapshots "bad.json: members\[1\].snapshots: .*nan.npy: value 630 (frame 5) is not finite" nd
+family b20.npy '[0.20]' | sed 's/"window": 10}/"window": 10, "polish": -1}/' >"$TMP/bad.json"
+expect_fail neural_dmd_bad_polish "training: polish must be a whole number from 0 to 1e+07, got -1" nd
 family b20.npy '[0.20]' >"$TMP/bad.json"
 G=0.3; expect_fail neural_dmd_gamma_out_of_range "value 0 (0.3) is outside the members' range \[0.14, 0.26\]" nd
 G=0.17,0.2; expect_fail neural_dmd_gamma_wrong_length "need 1 comma-separated finite numbers" nd
