@@ -196,7 +196,7 @@ TEST(generalizes_to_an_unseen_resolution)
     /* Not asserted: the issue's bar, within 2x of a classical DMD fitted on the unseen mesh
      * itself. That fit reproduces its own run, discretization error and all, to about 0.001% MSE
      * at rank 10, while the full-order runs of the resolutions disagree with each other by
-     * 3-50% MSE at their common vertices (fomcommon; coarser tets are stiffer), and a model with
+     * 3-52% MSE at their common vertices (fomcommon; coarser tets are stiffer), and a model with
      * no resolution input (Sec. 5, g = 0) tells the resolutions apart only through the vertices its
      * modes are sampled at; the finer family 16x4x4, 32x8x8 -> 24x6x6 (runs 0.5-7% apart) does
      * not reach it either (README). */
