@@ -156,9 +156,29 @@ TEST(generalizes_to_an_unseen_resolution)
                    cells[i][2], cells[j][0], cells[j][1], cells[j][2], 100 * se / sr);
         }
     }
-    /* Eq. 23 as the paper has it (one step, K = 1), then a rollout window of K = 20 forced steps */
+    double fomcommon = 0;
+    {
+        /* the unseen mesh's full-order run against the 16x4x4 run at every vertex they share */
+        double se = 0, sr = 0;
+        int n2 = 3 * b[2].sim.mesh.nv, n1 = 3 * b[1].sim.mesh.nv;
+        for (int p = 0; p < b[2].sim.mesh.nv; p++) {
+            const double *x = b[2].sim.mesh.X + 3 * p;
+            int q = beam_vertex(&b[1], x[0], x[1], x[2]);
+            for (int t = 2; q >= 0 && t < b[2].run.t.frames; t++)
+                for (int c = 0; c < 3; c++) {
+                    double a = b[2].run.u[(size_t)n2 * t + 3 * p + c], r = b[1].run.u[(size_t)n1 * t + 3 * q + c];
+                    se += (a - r) * (a - r), sr += a * a;
+                }
+        }
+        fomcommon = 100 * se / sr;
+        printf("# full order 12x3x3 against 16x4x4 at their common vertices: %.4g%% MSE\n", fomcommon);
+    }
+    /* Eq. 23 as the paper has it (one step, K = 1), then a rollout window of K = 20 forced steps
+     * after a longer regression onto the classical start's modes: 3000 epochs instead of 300 take
+     * the training loss after the Adam steps from 0.056 to 0.019 (and 10000 to 0.046: not
+     * monotone, so 3000), for about 7 s more */
     double npct[2][3], cpct[3], lmax[2];
-    static const int window[2] = {1, 20}, epochs[2] = {400, 1000};
+    static const int window[2] = {1, 20}, epochs[2] = {400, 1000}, pretrain[2] = {300, 3000};
     int ok = 1;
     for (int v = 0; v < 2 && ok; v++) {
         rk_koopman_neural_options o;
@@ -166,6 +186,7 @@ TEST(generalizes_to_an_unseen_resolution)
         o.rank = RANK;
         o.window = window[v];
         o.epochs = epochs[v];
+        o.pretrain_epochs = pretrain[v];
         ok = !evaluate(b, cells, m, &o, npct[v], cpct, &lmax[v], &err);
     }
     for (int j = 0; j < 3; j++) beam_close(&b[j]);
@@ -173,10 +194,12 @@ TEST(generalizes_to_an_unseen_resolution)
     CHECK(lmax[0] < 1 && lmax[1] < 1, "max |lambda| %.9g, %.9g (Eq. 24)", lmax[0], lmax[1]);
     double *npw = npct[1];
     /* Not asserted: the issue's bar, within 2x of a classical DMD fitted on the unseen mesh
-     * itself. That fit reproduces its own run to about 0.001% MSE at rank 10, while the three
-     * full-order runs disagree with each other by 5-20% at the tip (coarser tets are stiffer), so
-     * one set of eigenvalues shared by every resolution (Sec. 5) cannot come near it here; the
-     * numbers are in NOTES-ndmd.md. */
+     * itself. That fit reproduces its own run, discretization error and all, to about 0.001% MSE
+     * at rank 10, while the full-order runs of the resolutions disagree with each other by
+     * 3-52% MSE at their common vertices (fomcommon; coarser tets are stiffer), and a model with
+     * no resolution input (Sec. 5, g = 0) tells the resolutions apart only through the vertices its
+     * modes are sampled at; the finer family 16x4x4, 32x8x8 -> 24x6x6 (runs 0.5-7% apart) does
+     * not reach it either (README). */
     printf("# issue 20's bar (neural within 2x of classical-on-itself on the unseen mesh): %s (%.3g%% against %.3g%%)\n",
            npw[2] <= 2 * cpct[2] ? "met" : "NOT met", npw[2], cpct[2]);
     /* Asserted: the modes carry over to a discretization never seen: on the unseen mesh the
@@ -188,6 +211,10 @@ TEST(generalizes_to_an_unseen_resolution)
         CHECK(npct[v][2] < fomdiff[1], "K = %d: unseen mesh %.4g%% MSE, the 16x4x4 run against it %.4g%%", window[v],
               npct[v][2], fomdiff[1]);
     }
+    /* and, with the rollout window, closer to the unseen run than the nearest training resolution's
+     * own run is at every vertex the two share */
+    CHECK(npw[2] < fomcommon, "K = 20: unseen mesh %.4g%% MSE, the 16x4x4 run at the common vertices %.4g%%", npw[2],
+          fomcommon);
     /* the rollout window does what it is for: a better rollout on every mesh, the unseen one included */
     for (int i = 0; i < 3; i++)
         CHECK(npct[1][i] < npct[0][i], "mesh %d: K = 20 %.4g%% MSE, K = 1 %.4g%%", i, npct[1][i], npct[0][i]);
