@@ -220,6 +220,7 @@ paper-table: deps $(BUILD)/romkit
 	@mkdir -p bench/results
 	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt
 	$(BUILD)/romkit compare examples/scenes/beam_twist_table.json --quiet --report bench/results/paper_table_twist.json | tee bench/results/paper_table_twist.txt
+	$(BUILD)/romkit compare examples/scenes/beam_twist360_table.json --quiet --report bench/results/paper_table_twist360.json | tee bench/results/paper_table_twist360.txt
 	for s in armadillo_fix_side armadillo_hang armadillo_pull; do \
 	    $(BUILD)/romkit compare examples/scenes/$$s.json --quiet --report bench/results/$$s.json | tee bench/results/$$s.txt; done
 
