@@ -21,6 +21,7 @@ static void neural_dmd_usage(FILE *f)
     fprintf(f,
             "usage: romkit neural-dmd FAMILY.json --scene S.json [--gamma G1,G2,...] -o OUT.rombin\n"
             "                         [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
+            "                         [--model M | --save-model M]\n"
             "       romkit neural-dmd FAMILY.json --objective VERTEX,AXIS --target T --steps N -o OUT.rombin\n"
             "                         [--gamma-start G1,G2,...] [the output options]\n"
             "  trains the neural DMD (modes as a network of rest position and shape code gamma, eigenvalues\n"
@@ -41,6 +42,9 @@ static void neural_dmd_usage(FILE *f)
             "  --report R.json  the training loss, each member's rollout error (%% MSE against its snapshots),\n"
             "               the asset's rank, eigenvalues and max |lambda|\n"
             "  --quiet      no progress on stderr\n"
+            "  --save-model M  also save the trained model to M (written last, when all else succeeded)\n"
+            "  --model M    a model saved by --save-model instead of training (it must match the family's\n"
+            "               rank, shape code and time step; the family still gives the members' errors)\n"
             "  Shape optimisation (Sec. 7.4), instead of --scene and --gamma: the code whose mesh (the family's\n"
             "  \"shape\": {\"scene\": \"s.json\", \"size\": [x, y, z], \"size_per_gamma\": [[x, y, z], ...]}, its first\n"
             "  object a box of size size + sum_j gamma_j size_per_gamma[j]) puts a vertex where asked, found by\n"
@@ -60,6 +64,7 @@ static void neural_dmd_usage(FILE *f)
 
 typedef struct {
     const char *family, *scene, *gamma, *out, *report, *precision;
+    const char *model, *save_model; /* --model: a saved model instead of training; --save-model: save it */
     int compress, quiet;
     neural_shape_args sh;
 } nd_args;
@@ -147,16 +152,38 @@ static int bake(const rk_koopman_neural *nk, const rk_koopman_neural_report *tr,
     return -1;
 }
 
-/* Trains; with --objective finds the code. */
+/* A saved model in place of the training: it must be one this family could have trained (the same
+ * rank, shape code length and time step). */
+static int load_model(const char *path, const rk_family *f, rk_koopman_neural *nk, rk_koopman_neural_report *tr,
+                      rk_error *err)
+{
+    if (rk_koopman_neural_read(path, nk, tr, err)) return rk_error_prefix(err, "--model");
+    if (nk->r != f->options.rank || nk->g != f->g || fabs(nk->h - f->options.h) > 1e-12 * f->options.h) {
+        rk_fail(err, "--model %s: rank %d, shape code of %d values, time step %g; the family has rank %d, %d values, "
+                "time step %g", path, nk->r, nk->g, nk->h, f->options.rank, f->g, f->options.h);
+        rk_koopman_neural_free(nk);
+        return -1;
+    }
+    return 0;
+}
+
+/* Trains (or loads --model); with --objective finds the code. */
 static int train(const nd_args *a, const rk_family *f, rk_koopman_neural *nk, rk_koopman_neural_report *tr,
                  double *gamma, cJSON *opt, rk_error *err)
 {
-    int blas = rk_threads_blas(1); /* the same sums, so the same weights, on any thread count */
-    int rc = rk_koopman_neural_train(f->mesh, f->nmembers, &f->options, nk, tr, err);
-    rk_threads_blas(blas);
-    if (rc) return -1;
-    if (!a->quiet) printf("neural DMD on %d members, rank %d: loss %.4g after the regression, %.4g after %d steps (%.1f s)\n",
-                          f->nmembers, nk->r, tr->pretrained_loss, tr->final_loss, f->options.epochs, tr->seconds);
+    if (a->model) {
+        if (load_model(a->model, f, nk, tr, err)) return -1;
+        if (!a->quiet) printf("neural DMD from %s, rank %d: loss %.4g when it was trained\n", a->model, nk->r,
+                              tr->final_loss);
+    } else {
+        int blas = rk_threads_blas(1); /* the same sums, so the same weights, on any thread count */
+        int rc = rk_koopman_neural_train(f->mesh, f->nmembers, &f->options, nk, tr, err);
+        rk_threads_blas(blas);
+        if (rc) return -1;
+        if (!a->quiet)
+            printf("neural DMD on %d members, rank %d: loss %.4g after the regression, %.4g after %d steps (%.1f s)\n",
+                   f->nmembers, nk->r, tr->pretrained_loss, tr->final_loss, f->options.epochs, tr->seconds);
+    }
     if (a->sh.objective && neural_shape_optimize(&a->sh, nk, f, gamma, opt, err)) {
         rk_koopman_neural_free(nk);
         return -1;
@@ -179,7 +206,8 @@ static int bake_and_save(const nd_args *a, const rk_koopman_neural *nk, const rk
     if (a->sh.objective) cJSON_AddItemReferenceToObject(baked.report, "shape_optimization", opt);
     rc = member_errors(nk, f, cJSON_GetObjectItem(cJSON_GetObjectItem(baked.report, "neural"), "member_errors"),
                        a->quiet, err) ||
-         rombin_save(a->out, baked.data, baked.bytes, err) || (a->report && rk_json_write_file(a->report, baked.report, err));
+         rombin_save(a->out, baked.data, baked.bytes, err) || (a->report && rk_json_write_file(a->report, baked.report, err)) ||
+         (a->save_model && rk_koopman_neural_write(nk, tr, a->save_model, err));
     if (!rc) printf("%s: %s\n", a->out, baked.summary);
     rk_baked_free(&baked);
     return rc ? -1 : 0;
@@ -222,7 +250,8 @@ int cmd_neural_dmd(int argc, char **argv)
                                {"--precision", &a.precision, NULL}, {"--compress", NULL, &a.compress},
                                {"--quiet", NULL, &a.quiet},         {"--objective", &a.sh.objective, NULL},
                                {"--target", &a.sh.target, NULL},    {"--steps", &a.sh.steps, NULL},
-                               {"--gamma-start", &a.sh.start, NULL}, {NULL, NULL, NULL}};
+                               {"--gamma-start", &a.sh.start, NULL}, {"--model", &a.model, NULL},
+                               {"--save-model", &a.save_model, NULL}, {NULL, NULL, NULL}};
     if (cli_parse("neural-dmd", argc, argv, opts, &a.family, "family file")) {
         neural_dmd_usage(stderr);
         return 2;
@@ -233,6 +262,11 @@ int cmd_neural_dmd(int argc, char **argv)
         fprintf(stderr, "romkit neural-dmd: %s %s\n", clash,
                 a.sh.objective ? "does not go with --objective (the optimum's code and the family's shape are baked)"
                                : "needs --objective");
+        neural_dmd_usage(stderr);
+        return 2;
+    }
+    if (a.model && a.save_model) {
+        fprintf(stderr, "romkit neural-dmd: --save-model does not go with --model (that model is saved already)\n");
         neural_dmd_usage(stderr);
         return 2;
     }

@@ -350,6 +350,13 @@ typedef struct {
     double seconds;
 } rk_koopman_neural_report;
 
+/* The trained model as a file (neural_io.c: versioned binary with a CRC-32), written atomically
+ * with its training report (rep may be NULL), and read back with every count and value checked;
+ * the model read is the one written, bit for bit, and its report the one saved. */
+int rk_koopman_neural_write(const rk_koopman_neural *nk, const rk_koopman_neural_report *rep, const char *path,
+                            rk_error *err);
+int rk_koopman_neural_read(const char *path, rk_koopman_neural *nk, rk_koopman_neural_report *rep, rk_error *err);
+
 /* Trains on nmesh meshes (each >= 1 trajectory). Deterministic for the options' seed. */
 int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const rk_koopman_neural_options *o,
                             rk_koopman_neural *out, rk_koopman_neural_report *report, rk_error *err);

@@ -37,7 +37,7 @@ family b20.npy '[0.20]' >"$TMP/family.json"
 # Trained, baked at 0.17, stepped against the 0.17 beam's own full-order run. Measured (seeds 1 to
 # 5): relative error 0.080 to 0.131 (seed 1: 0.080); the bound 0.2 leaves half the worst again.
 if "$ROMKIT" neural-dmd "$TMP/family.json" --scene "$TMP/b17.json" --gamma 0.17 -o "$TMP/n17.rombin" \
-        --report "$TMP/n17.json" >"$TMP/out" 2>"$TMP/err"; then
+        --report "$TMP/n17.json" --save-model "$TMP/model.ndmd" >"$TMP/out" 2>"$TMP/err"; then
     sed 's/^/# /' "$TMP/out"
     json_checks neural_dmd_report_keys "$TMP/n17.json" koopman.rank=8 koopman.max_abs_eigenvalue neural.members=3 \
         'neural.gamma[0]' neural.final_loss neural.pretrained_loss 'neural.member_errors[2].mse_percent' asset.bytes
@@ -50,9 +50,15 @@ else
     fail neural_dmd_report_keys "$(cat "$TMP/err")"
 fi
 
+# The saved model bakes the same asset, byte for byte, without training again.
+"$ROMKIT" neural-dmd "$TMP/family.json" --model "$TMP/model.ndmd" --scene "$TMP/b17.json" --gamma 0.17 \
+    -o "$TMP/m17.rombin" --quiet >/dev/null 2>"$TMP/err" && cmp -s "$TMP/n17.rombin" "$TMP/m17.rombin" \
+    && ok neural_dmd_saved_model_bakes_the_same_asset \
+    || fail neural_dmd_saved_model_bakes_the_same_asset "$(head -c 300 "$TMP/err")"
+
 # The same model at the nearest member's code on the same mesh: off by the thickness it ignores
 # (measured 0.31 to 0.36, seeds 1 to 5); the code must buy at least a factor 2.
-"$ROMKIT" neural-dmd "$TMP/family.json" --scene "$TMP/b17.json" --gamma 0.14 -o "$TMP/n14.rombin" --quiet \
+"$ROMKIT" neural-dmd "$TMP/family.json" --model "$TMP/model.ndmd" --scene "$TMP/b17.json" --gamma 0.14 -o "$TMP/n14.rombin" --quiet \
     >/dev/null 2>"$TMP/err" && "$ROMKIT" run "$TMP/n14.rombin" --steps 100 --reference "$TMP/b17.npy" \
     --report "$TMP/r14.json" --quiet >/dev/null 2>>"$TMP/err"
 e14=$(json_num "$TMP/r14.json" reference.relative_error)
@@ -115,6 +121,17 @@ printf '\000\000\000\000\000\000\370\177' | dd of="$TMP/nan.npy" bs=1 seek=$(( $
 expect_fail neural_dmd_nan_snapshots "bad.json: members\[1\].snapshots: .*nan.npy: value 630 (frame 5) is not finite" nd
 family b20.npy '[0.20]' | sed 's/"window": 10}/"window": 10, "polish": -1}/' >"$TMP/bad.json"
 expect_fail neural_dmd_bad_polish "training: polish must be a whole number from 0 to 1e+07, got -1" nd
+# a saved model that is damaged, or that this family could not have trained, or saved again
+cp "$TMP/model.ndmd" "$TMP/bad.ndmd"
+printf 'Z' | dd of="$TMP/bad.ndmd" bs=1 seek=200 conv=notrunc 2>/dev/null
+expect_fail neural_dmd_damaged_model "bad.ndmd: checksum mismatch" \
+    "$ROMKIT" neural-dmd "$TMP/family.json" --model "$TMP/bad.ndmd" --scene "$TMP/b17.json" --gamma 0.17 -o "$TMP/bad.rombin"
+family b20.npy '[0.20]' | sed 's/"rank": 8/"rank": 6/' >"$TMP/bad.json"
+expect_fail neural_dmd_model_of_another_rank "model.ndmd: rank 8, .* the family has rank 6" \
+    "$ROMKIT" neural-dmd "$TMP/bad.json" --model "$TMP/model.ndmd" --scene "$TMP/b17.json" --gamma 0.17 -o "$TMP/bad.rombin"
+expect_fail neural_dmd_model_saved_again "does not go with --model" \
+    "$ROMKIT" neural-dmd "$TMP/family.json" --model "$TMP/model.ndmd" --save-model "$TMP/again.ndmd" \
+    --scene "$TMP/b17.json" --gamma 0.17 -o "$TMP/bad.rombin"
 family b20.npy '[0.20]' >"$TMP/bad.json"
 G=0.3; expect_fail neural_dmd_gamma_out_of_range "value 0 (0.3) is outside the members' range \[0.14, 0.26\]" nd
 G=0.17,0.2; expect_fail neural_dmd_gamma_wrong_length "need 1 comma-separated finite numbers" nd
