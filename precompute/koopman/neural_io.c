@@ -129,10 +129,21 @@ static int take_reals(reader *r, double *v, size_t n, const char *what, rk_error
     return 0;
 }
 
+/* A network of those sizes, made only when the file still holds its parameters (a damaged count
+ * must not ask for gigabytes). */
+static int network(reader *rd, const int *sizes, int L, rk_mlp *m, const char *what, rk_error *err)
+{
+    double count = 0;
+    for (int l = 0; l < L; l++) count += (double)sizes[l + 1] * (sizes[l] + 1);
+    if (count * sizeof(double) > (double)(rd->size - rd->at))
+        return rk_fail(err, "%s: the %s's sizes need %.0f parameters; the file holds fewer", rd->path, what, count);
+    return rk_mlp_init(m, L + 1, sizes, 1, err);
+}
+
 static int read_body(reader *rd, rk_koopman_neural *nk, rk_koopman_neural_report *rep, rk_error *err)
 {
     int head[5], sizes[66];
-    if (take_ints(rd, head, 5, 0, 1 << 24, "header (rank, window, shape code, layers)", err)) return -1;
+    if (take_ints(rd, head, 5, 0, 1 << 20, "header (rank, window, shape code, layers)", err)) return -1;
     int r = head[0], L = head[3], Le = head[4];
     nk->r = r;
     nk->window = head[1];
@@ -144,13 +155,13 @@ static int read_body(reader *rd, rk_koopman_neural *nk, rk_koopman_neural_report
     if (sizes[0] != 3 + nk->g || sizes[L] != 6 * r)
         return rk_fail(err, "%s: the modes' network maps %d to %d values; a rank-%d model with a %d-value shape code "
                        "maps %d to %d", rd->path, sizes[0], sizes[L], r, nk->g, 3 + nk->g, 6 * r);
-    if (rk_mlp_init(&nk->net, L + 1, sizes, 1, err)) return -1;
+    if (network(rd, sizes, L, &nk->net, "modes' network", err)) return -1;
     if (Le) {
         if (take_ints(rd, sizes, Le + 1, 1, 1 << 24, "eigenvalue network sizes", err)) return -1;
         if (sizes[0] != nk->g || sizes[Le] != r)
             return rk_fail(err, "%s: the eigenvalue network maps %d to %d values; need %d to %d", rd->path, sizes[0],
                            sizes[Le], nk->g, r);
-        if (rk_mlp_init(&nk->eignet, Le + 1, sizes, 1, err)) return -1;
+        if (network(rd, sizes, Le, &nk->eignet, "eigenvalue network", err)) return -1;
     }
     nk->block = rk_calloc((size_t)r, sizeof(int), err);
     nk->eig = rk_calloc((size_t)r, sizeof(double), err);
