@@ -209,13 +209,10 @@ static int bake(const mesh_case *mc, const rk_koopman *k, unsigned char **asset,
                              .ntris = ntris, .accel = mc->run.accel, .u0 = u + mc->d, .u_prev = u, .source_tets = mc->nt,
                              .trajectories = 1};
     for (int i = 0; i < FIT_REPEATS && !rc; i++) {
-        rombin_writer w;
         free(*asset);
         *asset = NULL;
         double t0 = rk_now();
-        rombin_writer_init(&w, ROMBIN_REAL_F32, 0);
-        rc = rk_asset_bake_koopman(k, &g, &ao, NULL, &w, NULL, err) || rombin_serialize(&w, asset, bytes, err);
-        rombin_writer_free(&w);
+        rc = rk_asset_koopman_serialized(k, &g, &ao, NULL, NULL, asset, bytes, err);
         s[i] = rk_now() - t0;
     }
     free(tris);

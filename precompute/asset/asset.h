@@ -98,5 +98,10 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
  * values are g's 3 nv displacements. */
 int rk_asset_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
                           const char *info, rombin_writer *w, rk_asset_summary *summary, rk_error *err);
+/* The same chunks as a whole asset: a writer of o's real type and compression, serialized into
+ * *data (malloc'd, *bytes long; the caller frees it). */
+int rk_asset_koopman_serialized(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                                const char *info, rk_asset_summary *summary, unsigned char **data, size_t *bytes,
+                                rk_error *err);
 
 #endif

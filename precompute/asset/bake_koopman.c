@@ -113,3 +113,14 @@ int rk_asset_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, con
     rk_bake_state_free(&s);
     return rc ? (rk_error_prefix(err, "Koopman asset"), -1) : 0;
 }
+
+int rk_asset_koopman_serialized(const rk_koopman *k, const rk_koopman_geometry *g, const rk_asset_options *o,
+                                const char *info, rk_asset_summary *summary, unsigned char **data, size_t *bytes,
+                                rk_error *err)
+{
+    rombin_writer w;
+    rombin_writer_init(&w, o->real_type, o->compress);
+    int rc = rk_asset_bake_koopman(k, g, o, info, &w, summary, err) || rombin_serialize(&w, data, bytes, err);
+    rombin_writer_free(&w);
+    return rc ? -1 : 0;
+}

@@ -192,11 +192,7 @@ int rk_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_
 {
     memset(out, 0, sizeof *out);
     rk_asset_summary sum = {0};
-    rombin_writer w;
-    rombin_writer_init(&w, ao->real_type, ao->compress);
-    int rc = rk_asset_bake_koopman(k, g, ao, info, &w, &sum, err) || rombin_serialize(&w, &out->data, &out->bytes, err);
-    rombin_writer_free(&w);
-    if (rc) return -1;
+    if (rk_asset_koopman_serialized(k, g, ao, info, &sum, &out->data, &out->bytes, err)) return -1;
     out->report = cJSON_CreateObject();
     cJSON_AddItemToObject(out->report, "koopman", rk_koopman_report(k));
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, &sum);

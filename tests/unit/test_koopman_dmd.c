@@ -395,12 +395,9 @@ TEST(a_default_fit_of_the_chain_is_stable_over_a_million_steps)
                              .u_prev = traj[0].u, .trajectories = NTRAJ};
     rk_asset_options ao;
     rk_asset_default_options(&ao);
-    rombin_writer w;
     unsigned char *asset = NULL;
     size_t bytes = 0, need = 0;
-    rombin_writer_init(&w, ao.real_type, 0);
-    int rc = rk_asset_bake_koopman(&k, &g, &ao, NULL, &w, NULL, &err) || rombin_serialize(&w, &asset, &bytes, &err);
-    rombin_writer_free(&w);
+    int rc = rk_asset_koopman_serialized(&k, &g, &ao, NULL, NULL, &asset, &bytes, &err);
     rk_koopman_free(&k);
     CHECK(rc == 0, "bake: %s", err.msg);
     romrt_error re = {0};

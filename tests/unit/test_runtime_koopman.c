@@ -86,11 +86,10 @@ static int fixture_open(fixture *f, rk_error *err)
     for (int i = 0; i < 3 * nv; i++) f->accel[i] = f->sim.options.gravity[i % 3];
     rk_koopman_geometry g = {.nv = nv, .X = f->sim.mesh.X, .vertex_mass = f->sim.fem.vertex_mass, .accel = f->accel,
                              .trajectories = 2};
-    rombin_writer w;
-    rombin_writer_init(&w, REAL_TYPE, 0);
-    int rc = rk_asset_bake_koopman(&f->k, &g, ao, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
-    rombin_writer_free(&w);
-    return rc ? -1 : open_asset(f, err);
+    rk_asset_options o = *ao;
+    o.real_type = REAL_TYPE;
+    o.compress = 0;
+    return rk_asset_koopman_serialized(&f->k, &g, &o, NULL, NULL, &f->asset, &f->bytes, err) ? -1 : open_asset(f, err);
 }
 
 /* max |runtime - library| / max |library displacement| over the shown vertices. */
