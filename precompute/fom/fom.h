@@ -63,6 +63,8 @@ typedef struct {
     int nprescribed;
     rk_prescribed *prescribed;
     double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m); <= 0: default */
+    double pin_stiffness;     /* reduced models only: the penalty holding prescribed vertices, in
+                               * units of (lambda + 2 mu) / (rho L^2) (rom.h); <= 0: RK_ROM_PIN_STIFFNESS */
     int newton_max_iter;
 } rk_fom_options;
 

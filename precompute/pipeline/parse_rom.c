@@ -333,7 +333,7 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
                                        "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
                                        "eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
                                        "downdate", "modal", "nodal", "hessian", "pcg_tol", "history", "lambda",
-                                       "decoder", "crom", "training", NULL};
+                                       "decoder", "crom", "training", "pin_stiffness", NULL};
     static const char *const adaptive_keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains",
                                                 "initial_size", "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
     snprintf(o->path, sizeof o->path, "%s", path);
@@ -349,6 +349,10 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
                 return rk_json_fail(c, path, "%s is a key of method adaptive_linear", alrom_keys[k]);
     if (o->method == RK_METHOD_ADAPTIVE_LINEAR && cJSON_HasObjectItem(e, "basis"))
         return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis");
+    if (rk_json_number(c, e, path, "pin_stiffness", 0, &o->pin_stiffness)) return -1;
+    if (cJSON_HasObjectItem(e, "pin_stiffness") && !(o->pin_stiffness > 0 && o->pin_stiffness <= 1e12))
+        return rk_json_fail(c, path, "pin_stiffness must be a number in (0, 1e12] (units of (lambda + 2 mu) / "
+                            "(rho L^2); default %g), got %g", RK_ROM_PIN_STIFFNESS, o->pin_stiffness);
     return parse_basis(c, e, path, o->method, &o->basis) || parse_adaptive(c, e, path, o) || parse_alrom(c, e, path, o) ||
                    parse_training(c, e, path, scene_path, o) ||
                    parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) || parse_koopman(c, e, path, h, o) ||

@@ -172,6 +172,8 @@ typedef struct {
         char file[1024];             /* resolved against the scene folder */
     } training[RK_MAX_TRAINING];
     rk_asset_options asset;          /* rom.asset.{precision, compress, show, groups} */
+    double pin_stiffness;            /* rom.pin_stiffness: the reduced penalty on prescribed vertices in
+                                      * units of (lambda + 2 mu) / (rho L^2); 0: RK_ROM_PIN_STIFFNESS */
     double reference_nmse;           /* rom.reference.normalized_mse: a published value to print beside ours; NAN if none */
     char reference_source[96];       /* rom.reference.source */
 } rk_rom_entry;

@@ -135,13 +135,15 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
                        o->name, R->basis.n, sim->mesh.nv);
     }
     rk_quadrature exact;
+    rk_fom_options opt = sim->options; /* the entry's own penalty on prescribed vertices */
+    opt.pin_stiffness = o->pin_stiffness;
     int mesh_free = rk_scene_mesh_free(scene, o);
     rk_mesh_free_options mfo = o->mesh_free;
     if (mesh_free && scene->objects[0].shape == RK_SHAPE_POINTS && !mfo.sampling_given) mfo.sampling = RK_SAMPLING_CLOUD;
     if ((mesh_free && (rk_scene_mesh_free_points(scene, sim, &mfo, &R->basis, &R->points, err) ||
                        rk_quadrature_points(&R->points, R->points.n, NULL, NULL, &exact, err))) ||
         (!mesh_free && rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, sim->mesh.nt, NULL, NULL, &exact, err)) ||
-        rk_rom_model_init(&R->model, &sim->fem, &sim->options, R->basis.U, R->basis.r, &exact,
+        rk_rom_model_init(&R->model, &sim->fem, &opt, R->basis.U, R->basis.r, &exact,
                           mesh_free ? &R->points : NULL, err)) {
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);

@@ -156,7 +156,7 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     for (int p = 0; points && p < points->n; p++)
         if (points->density[p] > 0) stiff = fmax(stiff, (points->lambda[p] + 2 * points->mu[p]) / points->density[p]);
     double L = rk_points_diagonal(fem->X, fem->nv);
-    m->pin_k = RK_ROM_PIN_STIFFNESS * stiff / (L * L);
+    m->pin_k = (opt->pin_stiffness > 0 ? opt->pin_stiffness : RK_ROM_PIN_STIFFNESS) * stiff / (L * L);
     m->A = rk_calloc((size_t)r * r, sizeof(double), err);
     m->pins = rk_calloc((size_t)(opt->nprescribed > 0 ? opt->nprescribed : 1), sizeof *m->pins, err);
     if (!m->A || !m->pins) return -1;

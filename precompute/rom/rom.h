@@ -30,7 +30,7 @@
 /* The penalty stiffness relative to the stiffest material's wave speed over the object's size:
  * large against every elastic and inertial stiffness the subspace can see, small enough to keep
  * the r x r Newton matrix well conditioned in double precision. */
-#define RK_ROM_PIN_STIFFNESS 1e4
+#define RK_ROM_PIN_STIFFNESS 1e4 /* the default; a scene's rom.pin_stiffness (rk_fom_options) replaces it */
 
 /* A prescribed group in the subspace: k sum_i m_i B_i^T (target_i(t) - X_i) = T (r x 12) times
  * the 12 numbers vec(R(t) - I), shift(t) of rk_prescribed_transform. */

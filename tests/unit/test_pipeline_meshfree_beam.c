@@ -10,6 +10,7 @@
  * Table 1 above the paper's errors against a converged reference (README). */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "pipeline/pipeline.h"
 #include "testlib.h"
@@ -27,17 +28,19 @@ static double timoshenko_tip(double nu)
 }
 
 /* The static equilibrium of the scene's mesh-free m-weight model: mean downward displacement of
- * the free end's vertices. */
-static double model_tip(double nu, int m, rk_error *err, int *ok)
+ * the free end's vertices; *held (may be NULL) the largest displacement of a fixed vertex, which
+ * the penalty of rom.pin_stiffness (pin > 0; 0: the default) holds back. */
+static double model_tip_held(double nu, int m, double pin, double *held, rk_error *err, int *ok)
 {
-    char json[1024];
+    char json[1024], pin_key[64] = "";
+    if (pin > 0) snprintf(pin_key, sizeof pin_key, ", \"pin_stiffness\": %g", pin);
     snprintf(json, sizeof json,
              "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [5, 1, 1], \"cells\": [20, 4, 4]}},"
              " \"material\": {\"model\": \"linear\", \"young\": %g, \"poisson\": %g, \"density\": %g},"
              " \"fixed\": [{\"box\": [[-1, -1, -1], [0.5, 2, 2]]}]}],"
              " \"gravity\": [0, %g, 0], \"time\": {\"static\": true},"
-             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": %d, \"mesh_free\": {\"points\": 5000}}}",
-             E, nu, RHO, -G_ACC, m);
+             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": %d, \"mesh_free\": {\"points\": 5000}%s}}",
+             E, nu, RHO, -G_ACC, m, pin_key);
     rk_scene scene;
     rk_scene_sim sim;
     rk_scene_rom R;
@@ -50,11 +53,14 @@ static double model_tip(double nu, int m, rk_error *err, int *ok)
     if (rk_rom_init(&rom, &R.model, NULL, NULL, err) || rk_rom_step(&rom, err)) goto out;
     int nv = sim.mesh.nv, count = 0;
     double sum = 0;
+    if (held) *held = 0;
     for (int v = 0; v < nv; v++) {
+        double d[3] = {0, 0, 0}; /* rows 3 v .. 3 v + 2 of x - X = U q */
+        for (int j = 0; j < R.basis.r; j++)
+            for (int c = 0; c < 3; c++) d[c] += R.basis.U[(size_t)3 * nv * j + 3 * v + c] * rom.q[j];
+        if (held && sim.mesh.X[3 * v] <= 0.5 + 1e-9) *held = fmax(*held, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
         if (sim.mesh.X[3 * v] < 5 - 1e-9) continue;
-        double dy = 0; /* row 3 v + 1 of x = X + U q */
-        for (int j = 0; j < R.basis.r; j++) dy += R.basis.U[(size_t)3 * nv * j + 3 * v + 1] * rom.q[j];
-        sum -= dy;
+        sum -= d[1];
         count++;
     }
     tip = sum / count;
@@ -67,6 +73,11 @@ no_rom:
 no_sim:
     rk_scene_free(&scene);
     return tip;
+}
+
+static double model_tip(double nu, int m, rk_error *err, int *ok)
+{
+    return model_tip_held(nu, m, 0, NULL, err, ok);
 }
 
 TEST(the_mesh_free_model_converges_to_beam_theory_from_below)
@@ -93,8 +104,40 @@ TEST(the_mesh_free_model_converges_to_beam_theory_from_below)
            timoshenko_tip(0.45));
 }
 
+/* rom.pin_stiffness: the penalty that holds the fixed vertices in a reduced model. A subspace
+ * cannot hold a region exactly still while bending just beside it, so a stiffer penalty holds the
+ * clamp closer (its vertices move less) at the price of a stiffer beam (less sag): the default
+ * (1e4) keeps the clamp within a fraction of a percent of the sag; a softer one lets the clamp
+ * give, which adds sag and can carry the model past beam theory (error cancelling error, not a
+ * better model). A bad value is refused by name. */
+TEST(the_clamp_penalty_trades_hold_for_sag)
+{
+    rk_error err;
+    const double pins[3] = {1e3, 1e4, 1e5};
+    double tip[3], held[3];
+    for (int k = 0; k < 3; k++) {
+        int ok;
+        tip[k] = model_tip_held(0, 16, pins[k], &held[k], &err, &ok);
+        CHECK(ok, "pin_stiffness %g: %s", pins[k], err.msg);
+        if (!ok) return;
+        printf("# nu = 0, m = 16, pin_stiffness %g: tip %.5f m (%.2f%% of beam theory), clamp moves %.2e m\n", pins[k],
+               tip[k], 100 * tip[k] / timoshenko_tip(0), held[k]);
+    }
+    CHECK(tip[0] > tip[1] && tip[1] > tip[2], "tip %g, %g, %g does not fall as the penalty stiffens", tip[0], tip[1], tip[2]);
+    CHECK(held[0] > held[1] && held[1] > held[2], "the clamp moves %g, %g, %g", held[0], held[1], held[2]);
+    CHECK(held[1] < 0.01 * tip[1], "default penalty: the clamp moves %g for a sag of %g", held[1], tip[1]);
+    rk_scene scene;
+    CHECK(rk_scene_parse("{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 1, 1], \"cells\": [1, 1, 1]}},"
+                         " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}],"
+                         " \"rom\": {\"basis\": \"modes\", \"size\": 4, \"pin_stiffness\": -1}}",
+                         "bad.json", &scene, &err) != 0 &&
+              strstr(err.msg, "rom: pin_stiffness must be a number in (0, 1e12]"),
+          "accepted or wrong message: %s", err.msg);
+}
+
 int main(void)
 {
     RUN(the_mesh_free_model_converges_to_beam_theory_from_below);
+    RUN(the_clamp_penalty_trades_hold_for_sag);
     return test_finish();
 }
