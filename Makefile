@@ -216,7 +216,8 @@ bench-plots:
 	    done; \
 	else echo "bench-plots: gnuplot not found; no charts drawn (the CSVs are in bench/results)"; fi
 
-# The freeform paper's Table 1 beam tests, every method beside the paper's numbers (several minutes).
+# The freeform paper's Table 1 beam tests, every method beside the paper's numbers, against 122,880-tet
+# full-order references (about an hour on 2 cores, most of it the 720-degree twist's reference).
 paper-table: deps $(BUILD)/romkit
 	@mkdir -p bench/results
 	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt
