@@ -193,8 +193,10 @@ static void print_table(const char *path, const rk_compare_result *res)
         char cub[16] = "exact";
         if (m->koopman) snprintf(cub, sizeof cub, "dmd");
         else if (m->cubature_points) snprintf(cub, sizeof cub, "%d", m->cubature_points);
-        printf("%-28s %5d %6s %10.3g %10s %10.3g %10.3g %10.3g %10.3g %9.1f %9.3g\n", m->name, m->r, cub,
-               m->normalized_mse, paper, m->normalized_max_error, m->relative_online_error, m->fit_normalized_mse,
+        char fit[32] = "-"; /* no fixed linear basis (Koopman, adaptive): no fit */
+        if (isfinite(m->fit_normalized_mse)) snprintf(fit, sizeof fit, "%.3g", m->fit_normalized_mse);
+        printf("%-28s %5d %6s %10.3g %10s %10.3g %10.3g %10s %10.3g %9.1f %9.3g\n", m->name, m->r, cub,
+               m->normalized_mse, paper, m->normalized_max_error, m->relative_online_error, fit,
                m->seconds_per_step, m->speedup,
                m->seconds_basis + m->seconds_cubature + m->seconds_training_run + m->seconds_fit);
     }
