@@ -32,8 +32,9 @@ static inline void rt_fixture_close(rt_fixture *f)
     memset(f, 0, sizeof *f);
 }
 
-/* Builds the scene's first rom entry (training on its full-order run), bakes it with real type
- * `real_type` and opens it with the runtime. 0 on success; err or rerr says why not. */
+/* Builds the scene's first rom entry (training on its full-order run where its basis or cubature
+ * needs one, as the bake does), bakes it with real type `real_type` and opens it with the runtime.
+ * 0 on success; err or rerr says why not. */
 static inline int rt_fixture_open(rt_fixture *f, const char *json, int real_type, rk_error *err, romrt_error *rerr)
 {
     memset(f, 0, sizeof *f);
@@ -44,7 +45,9 @@ static inline int rt_fixture_open(rt_fixture *f, const char *json, int real_type
     const rk_rom_entry *entry = &f->scene.entries[0];
     if (rk_scene_build(&f->scene, &f->sim, err)) return -1;
     f->stage = 2;
-    if (!f->sim.cloud_points && rk_scene_training_frames(&f->sim, &D, &T, err)) return -1; /* a cloud has no full order */
+    if (!f->sim.cloud_points && (entry->cubature || rk_basis_needs_frames(&entry->basis)) && /* a cloud has no full order */
+        rk_scene_training_frames(&f->sim, &D, &T, err))
+        return -1;
     int rc = rk_scene_rom_build(&f->scene, &f->sim, entry, D, T, &f->R, err);
     free(D);
     if (rc) return -1;

@@ -13,10 +13,10 @@
 #include "testlib.h"
 #include "asset_patch.h"
 #include "cloud_inside.h"
+#include "runtime_fixture.h"
 #include "pipeline/pipeline.h"
 #include "rom/rom.h"
 #include "formats/rombin_read.h"
-#include "formats/rombin_write.h"
 #include "runtime/romrt.h"
 
 #ifdef ROMRT_DOUBLE
@@ -38,43 +38,6 @@ static const char *SCENE =
     " \"obstacles\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 1, 0]}}],"
     " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.8},"
     " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2}}";
-
-typedef struct {
-    rk_scene scene;
-    rk_scene_sim sim;
-    rk_scene_rom R;
-    unsigned char *asset;
-    size_t bytes;
-    int stage;
-} objects_fixture;
-
-static void fixture_free(objects_fixture *f)
-{
-    if (f->stage >= 3) rk_scene_rom_free(&f->R);
-    if (f->stage >= 2) rk_scene_sim_free(&f->sim);
-    if (f->stage >= 1) rk_scene_free(&f->scene);
-    free(f->asset);
-    memset(f, 0, sizeof *f);
-}
-
-/* The scene's reduced model (no full-order run: the skinning basis and every element need none), baked. */
-static int fixture_bake(objects_fixture *f, const char *json, rk_error *err)
-{
-    memset(f, 0, sizeof *f);
-    if (rk_scene_parse(json, "objects.json", &f->scene, err)) return -1;
-    f->stage = 1;
-    if (rk_scene_build(&f->scene, &f->sim, err)) return -1;
-    f->stage = 2;
-    if (rk_scene_rom_build(&f->scene, &f->sim, &f->scene.entries[0], NULL, 0, &f->R, err)) return -1;
-    f->stage = 3;
-    rombin_writer w;
-    rombin_writer_init(&w, ASSET_REAL, 0);
-    rk_asset_rom source = rk_scene_asset_rom(&f->sim, &f->R);
-    int rc = rk_asset_bake(&source, NULL, NULL, &f->scene.entries[0].asset, NULL, &w, NULL, err) ||
-             rombin_serialize(&w, &f->asset, &f->bytes, err);
-    rombin_writer_free(&w);
-    return rc ? -1 : 0;
-}
 
 static const void *chunk_data(const unsigned char *asset, size_t bytes, const char *id, size_t *count, size_t elem)
 {
@@ -109,33 +72,25 @@ typedef struct {
 static int run_drop(const char *json, int steps, drop_result *out, rk_error *err)
 {
     romrt_error rerr;
-    objects_fixture f;
+    rt_fixture f;
     memset(out, 0, sizeof *out);
     out->steps = steps, out->finite = 1, out->least = INFINITY;
-    if (fixture_bake(&f, json, err)) {
-        fixture_free(&f);
+    if (rt_fixture_open(&f, json, ASSET_REAL, err, &rerr)) {
+        rt_fixture_close(&f);
         return -1;
     }
-    size_t ncv = 0, nobj = 0, nmap = 0;
+    size_t ncv = 0, nobj = 0;
     const uint32_t *cv = chunk_data(f.asset, f.bytes, ROMBIN_CVTX, &ncv, 4);
     const uint32_t *cobj = chunk_data(f.asset, f.bytes, ROMBIN_COBJ, &ncv, 4);
     const void *crad = chunk_data(f.asset, f.bytes, ROMBIN_CRAD, &nobj, ASSET_REAL == ROMBIN_REAL_F32 ? 4 : 8);
-    const uint32_t *vmap = chunk_data(f.asset, f.bytes, ROMBIN_VMAP, &nmap, 4);
-    if (!cv || !cobj || !crad || !vmap || nobj != 2) {
-        fixture_free(&f);
-        return rk_fail(err, "CVTX, COBJ, CRAD (%zu objects), VMAP expected", nobj);
+    const uint32_t *vmap = f.vmap;
+    romrt_model *m = f.m;
+    if (!cv || !cobj || !crad || nobj != 2) {
+        rt_fixture_close(&f);
+        return rk_fail(err, "CVTX, COBJ, CRAD (%zu objects) expected", nobj);
     }
     out->ncv = ncv;
     out->rho[0] = real_at(crad, 0), out->rho[1] = real_at(crad, 1);
-    size_t need;
-    void *arena = NULL;
-    romrt_model *m;
-    if (romrt_arena_size(f.asset, f.bytes, &need, &rerr) != ROMRT_OK || !(arena = aligned_alloc(16, (need + 15) / 16 * 16)) ||
-        romrt_open(f.asset, f.bytes, arena, need, &m, &rerr) != ROMRT_OK) {
-        free(arena);
-        fixture_free(&f);
-        return rk_fail(err, "open: %s", rerr.message);
-    }
     int *tris = NULL, nf = 0, r = f.R.model.r, ndof = 3 * f.sim.mesh.nv, nv = f.sim.mesh.nv;
     int first1 = f.sim.object_first_vertex[1];
     cloud_surface surf[2] = {{0}};
@@ -143,8 +98,7 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
         cloud_surface_init(&surf[1], tris, nf, first1, nv)) {
         free(tris);
         cloud_surface_free(&surf[0]);
-        free(arena);
-        fixture_free(&f);
+        rt_fixture_close(&f);
         return rk_fail(err, "the objects' boundaries");
     }
     double *x = calloc((size_t)ndof, sizeof(double)), qd[256], low_hist[10] = {0};
@@ -186,8 +140,7 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
     free(x);
     free(tris);
     for (int k = 0; k < 2; k++) cloud_surface_free(&surf[k]);
-    free(arena);
-    fixture_free(&f);
+    rt_fixture_close(&f);
     return out->failed ? -1 : 0;
 }
 
@@ -256,7 +209,7 @@ TEST(a_block_of_points_falls_onto_a_slab_of_points)
 }
 
 /* romrt_open on a copy of the asset with `id` patched at value `index` to `value` (n bytes). */
-static romrt_status open_patched(const objects_fixture *f, const char *id, size_t offset, const void *value, size_t n,
+static romrt_status open_patched(const rt_fixture *f, const char *id, size_t offset, const void *value, size_t n,
                                  romrt_error *rerr)
 {
     unsigned char *bad = aligned_alloc(16, (f->bytes + 15) / 16 * 16);
@@ -278,8 +231,8 @@ TEST(damaged_object_chunks_are_refused)
 {
     rk_error err = {{0}};
     romrt_error rerr;
-    objects_fixture f;
-    CHECK_OK(fixture_bake(&f, SCENE, &err));
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, SCENE, ASSET_REAL, &err, &rerr));
     uint32_t three = 3;
 #ifdef ROMRT_DOUBLE
     double zero = 0, huge = 1, nan_value = NAN;
@@ -312,7 +265,7 @@ TEST(damaged_object_chunks_are_refused)
     rombin_error e;
     int rc = rombin_open(&file, f.asset, f.bytes, old_known, &e);
     CHECK(rc == ROMBIN_E_UNSUPPORTED, "a reader without COBJ and CRAD: %d, %s", rc, e.message);
-    fixture_free(&f);
+    rt_fixture_close(&f);
 }
 
 int main(void)
