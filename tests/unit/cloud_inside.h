@@ -75,6 +75,27 @@ static inline int cloud_write_lattice(const char *path, int nx, int ny, int nz, 
     return fclose(fp);
 }
 
+/* The two-cloud scene of test_pipeline_clouds_collide and test_runtime_objects: a slab of 11 x 3 x 11
+ * points 4 cm apart lying over the plane y = -0.05, and a block of 5 x 5 x 5 such points whose corner
+ * is at (0.1, block_y, 0.1), written to the PLY files slab and block; `damping` is JSON members
+ * put before the obstacles ("" or "\"damping\": {...},"). The scene's JSON into json (n bytes). */
+static inline int cloud_slab_block_scene(char *json, size_t n, const char *slab, const char *block, double block_y,
+                                         const char *damping)
+{
+    const double o1[3] = {0, 0, 0}, o2[3] = {0.1, block_y, 0.1};
+    if (cloud_write_lattice(slab, 11, 3, 11, 0.04, o1) || cloud_write_lattice(block, 5, 5, 5, 0.04, o2)) return -1;
+    int w = snprintf(json, n,
+                     "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
+                     " \"poisson\": 0.4, \"density\": 1000}},"
+                     " {\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 5e4, \"poisson\": 0.4,"
+                     " \"density\": 1000}}],"
+                     " \"gravity\": [0, -9.81, 0], %s\"obstacles\": [{\"plane\": {\"point\": [0, -0.05, 0], \"normal\": [0, 1, 0]}}],"
+                     " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.5},"
+                     " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40}}",
+                     slab, block, damping);
+    return w > 0 && (size_t)w < n ? 0 : -1;
+}
+
 static inline void cloud_surface_free(cloud_surface *s)
 {
     free(s->sel);

@@ -178,19 +178,9 @@ TEST(a_block_falls_onto_a_slab_and_rests_on_it)
 TEST(a_block_of_points_falls_onto_a_slab_of_points)
 {
     const char *slab = "/tmp/romkit_test_rt_slab_" PRECISION ".ply", *block = "/tmp/romkit_test_rt_block_" PRECISION ".ply";
-    const double o1[3] = {0, 0, 0}, o2[3] = {0.1, 0.35, 0.1};
-    CHECK(cloud_write_lattice(slab, 11, 3, 11, 0.04, o1) == 0 && cloud_write_lattice(block, 5, 5, 5, 0.04, o2) == 0,
-          "lattices");
     char json[2048];
-    snprintf(json, sizeof json,
-             "{\"objects\": [{\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
-             " \"poisson\": 0.4, \"density\": 1000}},"
-             " {\"mesh\": {\"points\": \"%s\"}, \"material\": {\"model\": \"neohookean\", \"young\": 5e4, \"poisson\": 0.4,"
-             " \"density\": 1000}}],"
-             " \"gravity\": [0, -9.81, 0], \"damping\": {\"mass\": 2}, \"obstacles\": [{\"plane\": {\"point\": [0, -0.05, 0], \"normal\": [0, 1, 0]}}],"
-             " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.5},"
-             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40}}",
-             slab, block);
+    CHECK(cloud_slab_block_scene(json, sizeof json, slab, block, 0.35, "\"damping\": {\"mass\": 2}, ") == 0,
+          "the clouds' scene");
     rk_error err = {{0}};
     drop_result d;
     int rc = run_drop(json, 80, &d, &err);
