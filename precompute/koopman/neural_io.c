@@ -6,16 +6,17 @@
  *   double h, vscale, center (3), scale, eig (r), gamma_lo (g), gamma_hi (g),
  *          the training report (pretrained, Adam and final loss, seconds, polish steps),
  *          net params, eigenvalue-network params
- *   uint32 CRC-32 (zlib) of everything before it
+ *   uint32 CRC-32 (rombin_crc32, the zlib one) of everything before it
  * Written atomically; read back with every count and value checked, naming what is wrong. */
 #include "koopman/koopman.h"
 
+#include "formats/rombin_read.h"
+#include "formats/rombin_write.h"
+
 #include <math.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <zlib.h>
 
 static const unsigned char MAGIC[8] = {'R', 'K', 'N', 'D', 'M', 'D', 0, 1};
 
@@ -75,19 +76,10 @@ int rk_koopman_neural_write(const rk_koopman_neural *nk, const rk_koopman_neural
     put(&b, report, sizeof report);
     put(&b, nk->net.params, sizeof(double) * (size_t)rk_mlp_params(&nk->net));
     if (Le) put(&b, nk->eignet.params, sizeof(double) * (size_t)rk_mlp_params(&nk->eignet));
-    uint32_t crc = b.failed ? 0 : (uint32_t)crc32(0L, b.data, (uInt)b.size);
+    uint32_t crc = b.failed ? 0 : rombin_crc32(0, b.data, b.size);
     put(&b, &crc, sizeof crc);
-    int rc = -1;
-    rk_atomic_file f;
-    if (b.failed) rk_fail(err, "%s: out of memory serializing the neural DMD", path);
-    else if (!rk_atomic_open(&f, path, err)) {
-        if (fwrite(b.data, 1, b.size, f.fp) != b.size) {
-            rk_atomic_abort(&f);
-            rk_fail(err, "%s: write failed", path);
-        } else {
-            rc = rk_atomic_commit(&f, err);
-        }
-    }
+    int rc = b.failed ? rk_fail(err, "%s: out of memory serializing the neural DMD", path)
+                      : rombin_save(path, b.data, b.size, err);
     free(b.data);
     return rc;
 }
@@ -206,37 +198,18 @@ static int read_body(reader *rd, rk_koopman_neural *nk, rk_koopman_neural_report
 int rk_koopman_neural_read(const char *path, rk_koopman_neural *nk, rk_koopman_neural_report *rep, rk_error *err)
 {
     memset(nk, 0, sizeof *nk);
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return rk_fail(err, "%s: cannot open", path);
-    unsigned char *data = NULL;
-    size_t size = 0, cap = 0, got;
-    unsigned char chunk[65536];
-    while ((got = fread(chunk, 1, sizeof chunk, fp)) > 0) {
-        if (size + got > cap) {
-            cap = 2 * (size + got);
-            unsigned char *d = realloc(data, cap);
-            if (!d) {
-                free(data);
-                fclose(fp);
-                return rk_fail(err, "%s: out of memory", path);
-            }
-            data = d;
-        }
-        memcpy(data + size, chunk, got);
-        size += got;
-    }
-    int bad = ferror(fp);
-    fclose(fp);
+    unsigned char *data;
+    size_t size;
+    if (rombin_read_file(path, &data, &size, err)) return -1;
     int rc = -1;
-    if (bad) rk_fail(err, "%s: read error", path);
-    else if (size < sizeof MAGIC + sizeof(uint32_t) || memcmp(data, MAGIC, 6))
+    if (size < sizeof MAGIC + sizeof(uint32_t) || memcmp(data, MAGIC, 6))
         rk_fail(err, "%s: not a neural DMD model (no RKNDMD header)", path);
     else if (data[6] != 0 || data[7] != 1)
         rk_fail(err, "%s: neural DMD model format version %d; this romkit reads version 1", path, data[6] << 8 | data[7]);
     else {
         uint32_t stored;
         memcpy(&stored, data + size - sizeof stored, sizeof stored);
-        uint32_t crc = (uint32_t)crc32(0L, data, (uInt)(size - sizeof stored));
+        uint32_t crc = rombin_crc32(0, data, size - sizeof stored);
         if (crc != stored) rk_fail(err, "%s: checksum mismatch (stored %08x, computed %08x): the file is damaged", path, stored, crc);
         else {
             reader rd = {data, size, sizeof MAGIC, path};
