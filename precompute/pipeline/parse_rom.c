@@ -349,6 +349,9 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
                 return rk_json_fail(c, path, "%s is a key of method adaptive_linear", alrom_keys[k]);
     if (o->method == RK_METHOD_ADAPTIVE_LINEAR && cJSON_HasObjectItem(e, "basis"))
         return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis");
+    if (o->method != RK_METHOD_FIXED && cJSON_HasObjectItem(e, "pin_stiffness"))
+        return rk_json_fail(c, path, "pin_stiffness is a key of method fixed (the fixed-basis reduced simulator's "
+                            "penalty on prescribed vertices)");
     if (rk_json_number(c, e, path, "pin_stiffness", 0, &o->pin_stiffness)) return -1;
     if (cJSON_HasObjectItem(e, "pin_stiffness") && !(o->pin_stiffness > 0 && o->pin_stiffness <= 1e12))
         return rk_json_fail(c, path, "pin_stiffness must be a number in (0, 1e12] (units of (lambda + 2 mu) / "

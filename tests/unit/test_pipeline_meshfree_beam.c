@@ -133,6 +133,13 @@ TEST(the_clamp_penalty_trades_hold_for_sag)
                          "bad.json", &scene, &err) != 0 &&
               strstr(err.msg, "rom: pin_stiffness must be a number in (0, 1e12]"),
           "accepted or wrong message: %s", err.msg);
+    CHECK(rk_scene_parse("{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1, 1, 1], \"cells\": [1, 1, 1]}},"
+                         " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}],"
+                         " \"rom\": {\"method\": \"adaptive_subspace\", \"basis\": \"modes\", \"size\": 4,"
+                         " \"pin_stiffness\": 1e3}}",
+                         "bad.json", &scene, &err) != 0 &&
+              strstr(err.msg, "rom: pin_stiffness is a key of method fixed"),
+          "an adaptive method took pin_stiffness: %s", err.msg);
 }
 
 int main(void)
