@@ -125,6 +125,64 @@ void rk_tangent_basis(const double n[3], double T[6]);
  * eps = eps_v h: f0(|u|), f1(|u|) / |u| and M = d(f1 u / |u|) / du (2 x 2, PSD). */
 double rk_friction_smoothed(const double u[2], double eps, double *f1_over_y, double M[4]);
 
+/* Contact between surfaces (contact_impl.h), per stencil: IPC's (Li et al. 2020) distances,
+ * barrier and CCD, shared by the precompute's contact (precompute/contact) and the runtime. A
+ * stencil is four points x[0..3]: point x[0] against triangle x[1..3], or edge x[0] x[1] against
+ * edge x[2] x[3]. */
+typedef enum {
+    RK_DIST_POINT_POINT = 0, /* v[0], v[1] */
+    RK_DIST_POINT_EDGE = 1,  /* point v[0], edge v[1] v[2] */
+    RK_DIST_POINT_PLANE = 2, /* point v[0], the plane of triangle v[1] v[2] v[3] */
+    RK_DIST_LINE_LINE = 3    /* line v[0] v[1], line v[2] v[3] */
+} rk_distance_kind;
+/* Which feature pair of a stencil is closest: v[] index the stencil's four points (-1: unused). */
+typedef struct {
+    rk_distance_kind kind;
+    int v[4];
+} rk_distance_case;
+/* The closest feature pair of point x[0] against triangle x[1..3]; of edge x[0] x[1] against
+ * edge x[2] x[3]. */
+rk_distance_case rk_point_triangle_case(const double *const x[4]);
+rk_distance_case rk_edge_edge_case(const double *const x[4]);
+/* The squared distance of case c over the stencil's four points, with its gradient (12, in the
+ * order of x) and Hessian (144, row-major) when g, H are not NULL (exact, by automatic
+ * differentiation). */
+double rk_contact_distance2(rk_distance_case c, const double *const x[4], double *g, double *H);
+/* The closest points' weights: sum_i w[i] x[i] is the vector from the second feature's closest
+ * point to the first's (point minus triangle, edge a minus edge b), the contact normal's direction
+ * and what friction's relative motion is measured on. */
+void rk_contact_closest_weights(rk_distance_case c, const double *const x[4], double w[4]);
+/* The edge-edge mollifier of x[0] x[1] against x[2] x[3] with threshold eps (1e-3 |ea|^2 |eb|^2 at
+ * rest), with gradient and Hessian (may be NULL). */
+double rk_edge_edge_mollifier(const double *const x[4], double eps, double *g, double *H);
+/* One pair's barrier b(d^2 - xi^2, dhat^2 + 2 xi dhat) (rk_barrier), times the edge-edge
+ * mollifier when edge_edge and eps > 0, unscaled by kappa: d the stencil's distance, xi its
+ * thickness (0 between meshes, a sphere's or capsule's radius). Gradient (12) and Hessian (144,
+ * row-major, unprojected) when g, H are not NULL; *dist (may be NULL) = d - xi. +INFINITY when
+ * d <= xi (g, H untouched); 0 beyond reach (d - xi >= dhat), g and H zeroed. */
+double rk_pair_barrier(int edge_edge, const double *const x[4], double xi, double dhat, double eps, double *g,
+                       double *H, double *dist);
+/* Projects a pair's Hessian H (12 x 12) to PSD on the points that take part (a non-zero row) and
+ * are unknowns (dof[k] != 0); the other rows and columns are zeroed. */
+void rk_pair_project(const int dof[4], double *H);
+/* Friction's lagged frame of one pair (IPC Sec. 5): returns its normal force kappa m |db/dd|
+ * (d the distance, m the mollifier as rk_pair_barrier takes them), with the closest points'
+ * weights w (rk_contact_closest_weights) and the tangent basis T (2 orthonormal rows) of the
+ * normal sum_i w_i x_i; 0 when the pair exerts no force (out of reach, touching, or no normal). */
+double rk_pair_friction_lag(int edge_edge, const double *const x[4], double xi, double dhat, double eps,
+                            double kappa, double w[4], double T[6]);
+/* Smoothed Coulomb friction of one lagged pair whose closest points moved by rel (3) since the
+ * step began: scale f0(|u|), u = T rel (rk_friction_smoothed, threshold eps = eps_v h; scale = mu
+ * lambda), with its gradient in rel g = scale f1/|u| T^T u (3) and Hessian B = scale T^T M T
+ * (3 x 3, PSD) when g, B are not NULL. */
+double rk_friction_slip(const double T[6], const double rel[3], double eps, double scale, double g[3], double B[9]);
+/* Additive CCD of one stencil (point-triangle, or edge_edge) from positions x moving by dx over
+ * t in [0, tmax], the stencil kept xi apart: 1 with *toi a conservative time of impact (the
+ * stencil at toi is still at least 10% of its starting gap apart), 0 when it stays apart. A
+ * stencil that starts within xi reports toi 0. */
+int rk_ccd_stencil(int edge_edge, const double *const x[4], const double *const dx[4], double xi, double tmax,
+                   double *toi);
+
 /* Symmetric eigen-decomposition (cyclic Jacobi) of an n x n matrix, n <= 12: A = V diag(w) V^T,
  * V's columns are eigenvectors (row-major storage). A is not modified. */
 void rk_sym_eig(int n, const double *A, double *w, double *V);

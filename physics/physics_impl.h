@@ -100,6 +100,24 @@ PHYS_API void PHYS_FN(tangent_basis)(const PHYS_REAL n[3], PHYS_REAL T[6]);
 PHYS_API PHYS_REAL PHYS_FN(friction_smoothed)(const PHYS_REAL u[2], PHYS_REAL eps, PHYS_REAL *f1_over_y,
                                               PHYS_REAL M[4]);
 
+PHYS_API rk_distance_case PHYS_FN(point_triangle_case)(const PHYS_REAL *const x[4]);
+PHYS_API rk_distance_case PHYS_FN(edge_edge_case)(const PHYS_REAL *const x[4]);
+PHYS_API PHYS_REAL PHYS_FN(contact_distance2)(rk_distance_case c, const PHYS_REAL *const x[4], PHYS_REAL *g,
+                                              PHYS_REAL *H);
+PHYS_API void PHYS_FN(contact_closest_weights)(rk_distance_case c, const PHYS_REAL *const x[4], PHYS_REAL w[4]);
+PHYS_API PHYS_REAL PHYS_FN(edge_edge_mollifier)(const PHYS_REAL *const x[4], PHYS_REAL eps, PHYS_REAL *g,
+                                                PHYS_REAL *H);
+PHYS_API PHYS_REAL PHYS_FN(pair_barrier)(int edge_edge, const PHYS_REAL *const x[4], PHYS_REAL xi, PHYS_REAL dhat,
+                                         PHYS_REAL eps, PHYS_REAL *g, PHYS_REAL *H, PHYS_REAL *dist);
+PHYS_API void PHYS_FN(pair_project)(const int dof[4], PHYS_REAL *H);
+PHYS_API PHYS_REAL PHYS_FN(pair_friction_lag)(int edge_edge, const PHYS_REAL *const x[4], PHYS_REAL xi,
+                                              PHYS_REAL dhat, PHYS_REAL eps, PHYS_REAL kappa, PHYS_REAL w[4],
+                                              PHYS_REAL T[6]);
+PHYS_API PHYS_REAL PHYS_FN(friction_slip)(const PHYS_REAL T[6], const PHYS_REAL rel[3], PHYS_REAL eps,
+                                          PHYS_REAL scale, PHYS_REAL g[3], PHYS_REAL B[9]);
+PHYS_API int PHYS_FN(ccd_stencil)(int edge_edge, const PHYS_REAL *const x[4], const PHYS_REAL *const dx[4],
+                                  PHYS_REAL xi, PHYS_REAL tmax, PHYS_REAL *toi);
+
 /* ------------------------------------------------------------------------------------------
  * Small 3x3 helpers (row-major).
  * ------------------------------------------------------------------------------------------ */
@@ -1018,6 +1036,7 @@ PHYS_API void PHYS_FN(motion)(rk_motion_kind kind, const PHYS_REAL axis[3], cons
 }
 
 #include "physics/collider_impl.h"
+#include "physics/contact_impl.h" /* after collider_impl.h: shares its dot3_ */
 
 #undef PHYS_JACOBI_MAX_N_
 #undef PHYS_K_

@@ -64,6 +64,21 @@ romrt_real romrt_phys_collider_joint_step(int kind, const romrt_real *from, cons
 romrt_real romrt_phys_collider_motion_step(int kind, const romrt_real *from, const romrt_real *to, const romrt_real x[3]);
 void romrt_phys_tangent_basis(const romrt_real n[3], romrt_real T[6]);
 romrt_real romrt_phys_friction_smoothed(const romrt_real u[2], romrt_real eps, romrt_real *f1_over_y, romrt_real M[4]);
+/* Contact per stencil (physics/contact_impl.h; physics.h documents the rk_ double versions). */
+rk_distance_case romrt_phys_point_triangle_case(const romrt_real *const x[4]);
+rk_distance_case romrt_phys_edge_edge_case(const romrt_real *const x[4]);
+romrt_real romrt_phys_contact_distance2(rk_distance_case c, const romrt_real *const x[4], romrt_real *g, romrt_real *H);
+void romrt_phys_contact_closest_weights(rk_distance_case c, const romrt_real *const x[4], romrt_real w[4]);
+romrt_real romrt_phys_edge_edge_mollifier(const romrt_real *const x[4], romrt_real eps, romrt_real *g, romrt_real *H);
+romrt_real romrt_phys_pair_barrier(int edge_edge, const romrt_real *const x[4], romrt_real xi, romrt_real dhat,
+                                   romrt_real eps, romrt_real *g, romrt_real *H, romrt_real *dist);
+void romrt_phys_pair_project(const int dof[4], romrt_real *H);
+romrt_real romrt_phys_pair_friction_lag(int edge_edge, const romrt_real *const x[4], romrt_real xi, romrt_real dhat,
+                                        romrt_real eps, romrt_real kappa, romrt_real w[4], romrt_real T[6]);
+romrt_real romrt_phys_friction_slip(const romrt_real T[6], const romrt_real rel[3], romrt_real eps, romrt_real scale,
+                                    romrt_real g[3], romrt_real B[9]);
+int romrt_phys_ccd_stencil(int edge_edge, const romrt_real *const x[4], const romrt_real *const dx[4], romrt_real xi,
+                           romrt_real tmax, romrt_real *toi);
 
 /* An application's collider slot (as precompute/rom's rk_rom_collider): where it is, where the app
  * wants it, where it was when the step began and when friction was lagged. */

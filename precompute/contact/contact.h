@@ -3,14 +3,16 @@
  *
  *   distances       point-triangle and edge-edge, reduced to the closest feature pair (point-point,
  *                   point-edge, point-plane, line-line), squared, with gradients and Hessians;
- *                   the edge-edge mollifier for nearly parallel edges (Sec. 4.3)
+ *                   the edge-edge mollifier for nearly parallel edges (Sec. 4.3): per stencil in
+ *                   physics/contact_impl.h, written once with the runtime
  *   barrier         b(d^2 - xi^2, dhat^2 + 2 xi dhat) of physics/physics.h (the one barrier, shared with
  *                   the runtime); xi is a thickness: 0 between meshes, the radius of a sphere or
  *                   capsule obstacle (a point or a segment with a thickness)
  *   broad phase     a spatial hash over the boundary primitives' boxes, grown by dhat, or swept
  *                   along a step
  *   CCD             additive CCD (Li et al. 2021): the largest step along a direction that keeps
- *                   every pair apart, so no line search trial ever intersects
+ *                   every pair apart, so no line search trial ever intersects (one stencil's in
+ *                   physics/contact_impl.h)
  *   stiffness       kappa set and adapted as IPC does (supplement, Sec. 3.3)
  *   friction        smoothed Coulomb (Sec. 5) with lagged normal forces and tangent bases
  *   intersections   an exact test (orientation predicates in exact arithmetic) of whether any
@@ -25,45 +27,11 @@
 
 #include "fem/fem.h"
 #include "mesh/mesh.h"
+#include "physics/physics.h"
 #include "util/util.h"
 
-/* ---- distances (distance.c) ---- */
-
-typedef enum {
-    RK_DIST_POINT_POINT = 0, /* v[0], v[1] */
-    RK_DIST_POINT_EDGE = 1,  /* point v[0], edge v[1] v[2] */
-    RK_DIST_POINT_PLANE = 2, /* point v[0], the plane of triangle v[1] v[2] v[3] */
-    RK_DIST_LINE_LINE = 3    /* line v[0] v[1], line v[2] v[3] */
-} rk_distance_kind;
-
-/* Which feature pair of a stencil is closest: v[] index the stencil's four points. */
-typedef struct {
-    rk_distance_kind kind;
-    int v[4];
-} rk_distance_case;
-
-/* Point x[0] against triangle x[1..3]; edge x[0] x[1] against edge x[2] x[3]. */
-rk_distance_case rk_point_triangle_case(const double *const x[4]);
-rk_distance_case rk_edge_edge_case(const double *const x[4]);
-/* The squared distance of case c over the stencil's four points, with its gradient (12, in the
- * order of x) and Hessian (144, row-major) when g, H are not NULL. */
-double rk_contact_distance2(rk_distance_case c, const double *const x[4], double *g, double *H);
-/* The closest points' weights: sum_i w[i] x[i] is the vector from the second feature's closest
- * point to the first's (point minus triangle, edge a minus edge b), the contact normal's direction
- * and what friction's relative motion is measured on. */
-void rk_contact_closest_weights(rk_distance_case c, const double *const x[4], double w[4]);
-/* The edge-edge mollifier of x[0] x[1] against x[2] x[3] with threshold eps (1e-3 |ea|^2 |eb|^2 at
- * rest), with gradient and Hessian. */
-double rk_edge_edge_mollifier(const double *const x[4], double eps, double *g, double *H);
-
-/* ---- continuous collision detection (ccd.c) ---- */
-
-/* Additive CCD of one stencil (point-triangle, or edge_edge) from positions x moving by dx over
- * t in [0, tmax], the stencil kept xi apart: 1 with *toi a conservative time of impact (the
- * stencil at toi is still at least 10% of its starting gap apart), 0 when it stays apart. A
- * stencil that starts within xi reports toi 0. */
-int rk_ccd_stencil(int edge_edge, const double *const x[4], const double *const dx[4], double xi, double tmax,
-                   double *toi);
+/* The per-stencil math (distances, the mollifier, one pair's barrier, CCD of one stencil) is
+ * physics/physics.h's rk_point_triangle_case ... rk_ccd_stencil, shared with the runtime. */
 
 /* ---- broad phase (broad.c) ---- */
 

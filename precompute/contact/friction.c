@@ -13,8 +13,6 @@
 #include "physics/physics.h"
 #include "util/util.h"
 
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 int rk_contact_friction_start(rk_contact *c, const double *x, rk_error *err)
 {
     if (!c->fx0) {
@@ -41,29 +39,14 @@ static int lag_pair(const rk_contact *c, const rk_contact_pair *p, const double 
         f->lambda = c->kappa * fabs(b1);
         f->np = 1, f->id[0] = p->id[0], f->w[0] = 1;
         memcpy(n, pn, sizeof n);
-    } else {
-        const double *pts[4];
-        rk_contact_stencil(c, p, x, c->ox, pts);
-        int ee = p->kind == RK_PAIR_EDGE_EDGE;
-        rk_distance_case k = ee ? rk_edge_edge_case(pts) : rk_point_triangle_case(pts);
-        double d2 = rk_contact_distance2(k, pts, NULL, NULL), s = d2 - p->xi * p->xi;
-        double shat = dhat * dhat + 2 * p->xi * dhat;
-        if (!(s > 0 && s < shat)) return 0;
-        rk_barrier(s, shat, &b1, &b2);
-        double m = ee && p->eps > 0 ? rk_edge_edge_mollifier(pts, p->eps, NULL, NULL) : 1;
-        f->lambda = c->kappa * m * fabs(b1) * 2 * sqrt(d2); /* |dE/dd| with s = d^2 - xi^2 */
-        f->np = 4;
-        memcpy(f->id, p->id, sizeof f->id);
-        rk_contact_closest_weights(k, pts, f->w);
-        for (int a = 0; a < 3; a++) {
-            n[a] = 0;
-            for (int i = 0; i < 4; i++) n[a] += f->w[i] * pts[i][a];
-        }
-        double l = sqrt(dot3(n, n));
-        if (!(l > 0)) return 0;
-        for (int a = 0; a < 3; a++) n[a] /= l;
+        rk_tangent_basis(n, f->T);
+        return f->lambda > 0;
     }
-    rk_tangent_basis(n, f->T);
+    const double *pts[4];
+    rk_contact_stencil(c, p, x, c->ox, pts);
+    f->lambda = rk_pair_friction_lag(p->kind == RK_PAIR_EDGE_EDGE, pts, p->xi, dhat, p->eps, c->kappa, f->w, f->T);
+    f->np = 4;
+    memcpy(f->id, p->id, sizeof f->id);
     return f->lambda > 0;
 }
 
@@ -95,22 +78,14 @@ double rk_contact_friction_energy(const rk_contact *c, const double *x, double h
             const double *then = id >= 0 ? &c->fx0[3 * id] : &c->fox0[3 * (-1 - id)];
             for (int a = 0; a < 3; a++) rel[a] += f->w[i] * (now[a] - then[a]);
         }
-        double u[2] = {dot3(f->T, rel), dot3(f->T + 3, rel)}, f1y, M[4];
-        double scale = mu * f->lambda;
-        E += scale * rk_friction_smoothed(u, eps, &f1y, M);
-        double gt[3]; /* d D_k / d rel = scale f1/y T^T u */
-        for (int a = 0; a < 3; a++) gt[a] = scale * f1y * (f->T[a] * u[0] + f->T[3 + a] * u[1]);
+        double gt[3], B[9], H[144]; /* d D_k / d rel; then w_i w_j B per block */
+        E += rk_friction_slip(f->T, rel, eps, mu * f->lambda, gt, sink ? B : NULL);
         for (int i = 0; i < f->np; i++) {
             int id = f->id[i];
             double *to = id >= 0 ? (g ? &g[3 * id] : NULL) : (og ? &og[3 * (-1 - id)] : NULL);
             for (int a = 0; a < 3 && to; a++) to[a] += f->w[i] * gt[a];
         }
         if (!sink) continue;
-        double B[9], H[144]; /* scale T^T M T, then w_i w_j B per block */
-        for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++)
-                B[3 * a + b] = scale * (f->T[a] * (M[0] * f->T[b] + M[1] * f->T[3 + b]) +
-                                        f->T[3 + a] * (M[2] * f->T[b] + M[3] * f->T[3 + b]));
         int dim = 3 * f->np;
         for (int i = 0; i < f->np; i++)
             for (int j = 0; j < f->np; j++)

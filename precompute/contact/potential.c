@@ -8,59 +8,21 @@
 
 #include "util/util.h"
 
-/* Projects the Hessian H (12 x 12) to PSD on the points that take part (a non-zero row) and are
- * degrees of freedom (mesh vertices, and obstacle vertices when moving obstacles are: dofs_obs):
- * points outside the closest feature drop out, so a point-point pair projects a 6 x 6 block. The
- * other rows and columns are zeroed. */
-static void project_on_dofs(const rk_contact_pair *p, int dofs_obs, double *H)
-{
-    int keep[12], n = 0;
-    for (int k = 0; k < 4; k++) {
-        int used = 0;
-        for (int a = 0; a < 3 && (p->id[k] >= 0 || dofs_obs); a++)
-            for (int j = 0; j < 12; j++) used |= H[12 * (3 * k + a) + j] != 0;
-        for (int a = 0; a < 3 && used; a++) keep[n++] = 3 * k + a;
-    }
-    double B[144];
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) B[n * i + j] = H[12 * keep[i] + keep[j]];
-    rk_project_psd(n, B);
-    memset(H, 0, 144 * sizeof(double));
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) H[12 * keep[i] + keep[j]] = B[n * i + j];
-}
-
-/* One pair's energy, gradient (12) and Hessian (144), unscaled by kappa. +INFINITY on contact. */
+/* One pair's energy, gradient (12) and Hessian (144), unscaled by kappa: rk_pair_barrier, the
+ * Hessian PSD-projected on the points that are degrees of freedom (mesh vertices, and obstacle
+ * vertices when moving obstacles are). +INFINITY on contact. */
 static double pair_potential(const rk_contact *c, const rk_contact_pair *p, const double *x, double *g, double *H,
                              double *dist)
 {
     const double *pts[4];
     rk_contact_stencil(c, p, x, c->ox, pts);
-    double gd[12], Hd[144];
-    int ee = p->kind == RK_PAIR_EDGE_EDGE;
-    rk_distance_case k = ee ? rk_edge_edge_case(pts) : rk_point_triangle_case(pts);
-    double d2 = rk_contact_distance2(k, pts, g ? gd : NULL, H ? Hd : NULL);
-    double dhat = c->opt.dhat, s = d2 - p->xi * p->xi, shat = dhat * dhat + 2 * p->xi * dhat;
-    *dist = sqrt(d2) - p->xi;
-    if (!(s > 0)) return INFINITY;
-    if (s >= shat) {
-        if (g) memset(g, 0, 12 * sizeof(double));
-        if (H) memset(H, 0, 144 * sizeof(double));
-        return 0;
+    double e = rk_pair_barrier(p->kind == RK_PAIR_EDGE_EDGE, pts, p->xi, c->opt.dhat, p->eps, g, H, dist);
+    if (H && e > 0 && isfinite(e) && !c->exact_hessian) {
+        int dof[4];
+        for (int k = 0; k < 4; k++) dof[k] = p->id[k] >= 0 || c->obstacle_dofs;
+        rk_pair_project(dof, H);
     }
-    double b1, b2, b = rk_barrier(s, shat, &b1, &b2);
-    double m = 1, gm[12] = {0}, Hm[144] = {0};
-    if (ee && p->eps > 0) m = rk_edge_edge_mollifier(pts, p->eps, g ? gm : NULL, H ? Hm : NULL);
-    if (g)
-        for (int i = 0; i < 12; i++) g[i] = m * b1 * gd[i] + b * gm[i];
-    if (H) {
-        for (int i = 0; i < 12; i++)
-            for (int j = 0; j < 12; j++)
-                H[12 * i + j] = m * (b2 * gd[i] * gd[j] + b1 * Hd[12 * i + j]) + b1 * (gd[i] * gm[j] + gm[i] * gd[j]) +
-                                b * Hm[12 * i + j];
-        if (!c->exact_hessian) project_on_dofs(p, c->obstacle_dofs, H);
-    }
-    return m * b;
+    return e;
 }
 
 /* A point against a plane: the point barrier of physics.h on the signed distance, +INFINITY behind it. */

@@ -18,7 +18,7 @@ if ${CC:-cc} -std=c99 -pedantic -Wall -Wextra -Werror -I. -c "$TMP/both.c" -o "$
 else
     fail physics_compiles_as_c99_in_both_precisions "$(head -c 600 "$TMP/err")"
 fi
-if grep -h '#include' physics/physics_impl.h physics/collider_impl.h | grep -v -e '<math.h>' -e '<string.h>' -e '"physics/physics.h"' -e '"physics/collider_impl.h"' >"$TMP/inc"; then
+if grep -h '#include' physics/physics_impl.h physics/collider_impl.h physics/contact_impl.h physics/contact_ad_impl.h | grep -v -e '<math.h>' -e '<string.h>' -e '"physics/physics.h"' -e '"physics/collider_impl.h"' -e '"physics/contact_impl.h"' -e '"physics/contact_ad_impl.h"' >"$TMP/inc"; then
     fail physics_includes_only_libc_math "$(cat "$TMP/inc")"
 else
     ok physics_includes_only_libc_math
