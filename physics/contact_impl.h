@@ -316,7 +316,7 @@ PHYS_API PHYS_REAL PHYS_FN(pair_barrier)(int edge_edge, const PHYS_REAL *const x
     PHYS_REAL gd[12], Hd[144], gm[12], Hm[144], d2, s, shat, b, b1, b2, m = 1;
     rk_distance_case k = edge_edge ? PHYS_FN(edge_edge_case)(x) : PHYS_FN(point_triangle_case)(x);
     int i, j;
-    d2 = PHYS_FN(contact_distance2)(k, x, g ? gd : NULL, H ? Hd : NULL);
+    d2 = PHYS_FN(contact_distance2)(k, x, g || H ? gd : NULL, H ? Hd : NULL); /* H needs gd too */
     s = d2 - xi * xi, shat = dhat * dhat + 2 * xi * dhat;
     if (dist) *dist = PHYS_SQRT_(d2) - xi;
     if (!(s > 0)) return (PHYS_REAL)INFINITY;
@@ -328,7 +328,7 @@ PHYS_API PHYS_REAL PHYS_FN(pair_barrier)(int edge_edge, const PHYS_REAL *const x
     b = PHYS_FN(barrier)(s, shat, &b1, &b2);
     for (i = 0; i < 12; i++) gm[i] = 0;
     for (i = 0; i < 144; i++) Hm[i] = 0;
-    if (edge_edge && eps > 0) m = PHYS_FN(edge_edge_mollifier)(x, eps, g ? gm : NULL, H ? Hm : NULL);
+    if (edge_edge && eps > 0) m = PHYS_FN(edge_edge_mollifier)(x, eps, g || H ? gm : NULL, H ? Hm : NULL);
     if (g)
         for (i = 0; i < 12; i++) g[i] = m * b1 * gd[i] + b * gm[i];
     if (H)
