@@ -59,7 +59,7 @@ TEST_DOUBLE := test_runtime_engine test_runtime_objects test_runtime_parity test
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench bench-reference paper-table demo clean deps
-all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq \
+all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq \
      $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
 $(BUILD)/obj/%.o: %.c
@@ -141,6 +141,9 @@ $(BUILD)/embed: examples/embed/embed.c runtime/romrt.h $(RT_LIB)
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 $(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
 	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
+# The README's embedding example, the same text as its code block (tests/integration/readme_example.sh).
+$(BUILD)/readme_example: examples/embed/readme_example.c runtime/romrt.h $(RT_LIB)
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 
 # rt_push: the float runtime stepped with pushes, positions as raw float32 (the Python binding's
 # test compares against it; tests/tools/rt_push.c).
