@@ -72,8 +72,8 @@ ABOUT = {
                            "complement) beside full-space block-Jacobi CG on the same iterate."),
     "adaptive_speed": ("Adaptive subspaces: speed (Tables 1, 3)", "make bench: build/bench_adaptive",
                        "The clamped slab, 4 steps; the probe_* columns solve the contact step's first "
-                       "Newton iteration three ways (CHOLMOD, block-Jacobi CG, ours). The CSV's header "
-                       "names fewer columns than its rows hold; the unnamed ones are shown as col_N."),
+                       "Newton iteration three ways (CHOLMOD, block-Jacobi CG, ours); no_downdate_* "
+                       "the same run without downdating."),
     "adaptive_downdate": ("Adaptive subspaces: downdating where the contact stays put",
                           "make bench: build/bench_adaptive", "The slab, 48k tets, 10 steps."),
     "adaptive_downdate_moving": ("Adaptive subspaces: downdating where the contact moves (Fig. 11)",
