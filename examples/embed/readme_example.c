@@ -10,13 +10,14 @@ int main(int argc, char **argv)
     size_t bytes = f ? fread(asset, 1, sizeof asset, f) : 0, need = 0;
     const romrt_real push[3] = {0, 0, 0.05};      /* newtons, held until cleared */
     romrt_real *xyz;
+    void *arena = NULL;
     romrt_model *m;
     romrt_error err;
     romrt_status s;
     int k, n;
     if (!f || fclose(f)) return fprintf(stderr, "usage: readme_example ASSET.rombin\n"), 2;
     if ((s = romrt_arena_size(asset, bytes, &need, &err)) ||
-        (s = romrt_open(asset, bytes, malloc(need), need, &m, &err)))   /* a NULL arena is refused */
+        (s = romrt_open(asset, bytes, arena = malloc(need), need, &m, &err)))  /* NULL is refused */
         return fprintf(stderr, "open: %s\n", err.message), 1;          /* names the chunk and index */
     n = romrt_shown_count(m);                                           /* the vertices to draw */
     if (!(xyz = malloc(sizeof *xyz * 3 * (size_t)n))) return fprintf(stderr, "out of memory\n"), 1;
@@ -29,5 +30,7 @@ int main(int argc, char **argv)
     }
     printf("t = %g s, vertex %d at %g %g %g\n", romrt_time(m), n - 1,
            (double)xyz[3 * n - 3], (double)xyz[3 * n - 2], (double)xyz[3 * n - 1]);
+    free(xyz);
+    free(arena);                                  /* the model lives in it: nothing to close */
     return 0;
 }
