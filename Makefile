@@ -59,7 +59,7 @@ TEST_DOUBLE := test_runtime_engine test_runtime_objects test_runtime_parity test
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-sanitize bench bench-reference paper-table demo clean deps
-all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/jsonq \
+all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq \
      $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
 $(BUILD)/obj/%.o: %.c
@@ -141,6 +141,9 @@ $(BUILD)/embed: examples/embed/embed.c runtime/romrt.h $(RT_LIB)
 	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 $(BUILD)/embed_cpp: examples/embed/embed_cpp.cpp runtime/romrt.h $(RT_LIB)
 	$(CXX) -std=c++11 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
+# The README's embedding example, the same text as its code block (tests/integration/readme_example.sh).
+$(BUILD)/readme_example: examples/embed/readme_example.c runtime/romrt.h $(RT_LIB)
+	$(CC) -std=c99 -pedantic -Wall -Wextra -Werror $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
 
 # rt_push: the float runtime stepped with pushes, positions as raw float32 (the Python binding's
 # test compares against it; tests/tools/rt_push.c).
@@ -205,6 +208,13 @@ bench: deps all $(BUILD)/bench_assets $(BUILD)/bench_physics $(BUILD)/bench_fom 
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
 	@$(MAKE) --no-print-directory bench-plots
+	@$(MAKE) --no-print-directory results-tables
+
+# docs/results/*.md: markdown tables written from bench/results by bench/tables.py (python3, standard
+# library only). make bench, paper-table and bench-reference end with it; runs no benchmark.
+.PHONY: results-tables
+results-tables:
+	python3 bench/tables.py bench/results docs/results
 
 # The charts of bench/results/*.csv (bench/plots/*.gp, gnuplot): pareto.png (error against s/step),
 # step_time_vs_tets.png, koopman_jump.png, adaptive.png, alrom.png. Draws from the CSVs already there; runs no benchmark.
@@ -227,12 +237,14 @@ paper-table: deps $(BUILD)/romkit
 	    --report bench/results/paper_table_$${s}_pin1e3.json | tee bench/results/paper_table_$${s}_pin1e3.txt; done
 	for s in armadillo_fix_side armadillo_hang armadillo_pull; do \
 	    $(BUILD)/romkit compare examples/scenes/$$s.json --quiet --report bench/results/$$s.json | tee bench/results/$$s.txt; done
+	@$(MAKE) --no-print-directory results-tables
 
 # How fine the beam's full-order reference must be for Table 1 (bench/beam_reference.sh): full-order
 # runs of the table scenes on 1,920 to 983,040 tets, the normalized MSE between levels. Not part of
 # make bench or make test: about an hour on 2 cores, more with the 983k-tet levels.
 bench-reference: deps all $(BUILD)/bench_reference
 	BUILD=$(BUILD) sh bench/beam_reference.sh
+	@$(MAKE) --no-print-directory results-tables
 
 demo: deps all
 	@sh tools/demo.sh $(BUILD)
