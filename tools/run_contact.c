@@ -87,11 +87,18 @@ int run_contact_open(run_contact *o, const char *scene_path, const unsigned char
     int rc = rk_contact_init(&o->contact, &view, fo->object_first_vertex, fo->nobjects, fo->obstacles, fo->nobstacles,
                              &co, 1.0, err);
     o->have_contact = rc == 0;
-    for (int i = 0; !rc && i < o->contact.nv; i++)
-        if (shown_of[o->contact.vertex[i]] < 0)
+    for (int i = 0; !rc && i < o->contact.nv; i++) {
+        int v = o->contact.vertex[i], obj = o->contact.object[v];
+        if (shown_of[v] >= 0) continue;
+        if (o->sim.object_points && o->sim.object_points[obj] > 0)
+            rc = rk_fail(err, "--scene %s: object %d is a point cloud, whose contact proxy (scene vertex %d on) the "
+                              "asset stores but does not show: the runtime gives the shown vertices only, so its "
+                              "contact is not measured", scene_path, obj, v);
+        else
             rc = rk_fail(err, "--scene %s: scene vertex %d is on the collision surface but the asset does not show it "
                               "(contact is measured on the shown vertices: bake with asset.show \"surface\")",
-                         scene_path, o->contact.vertex[i]);
+                         scene_path, v);
+    }
     free(shown_of);
     return rc;
 }

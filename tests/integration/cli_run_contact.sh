@@ -46,3 +46,7 @@ sed 's/"size": 12}}/"size": 12, "asset": {"show": "none", "groups": [{"name": "a
 expect_fail run_scene_needs_the_surface_shown "the asset does not show it" \
     "$ROMKIT" run "$TMP/hidden.rombin" --steps 1 --scene "$TMP/hidden.json"
 expect_fail run_scene_missing_file "cannot open" "$ROMKIT" run "$TMP/drop.rombin" --steps 1 --scene "$TMP/none.json"
+# a point cloud collides through its contact proxy, which its asset stores but does not show
+"$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/points.rombin" --quiet >/dev/null 2>&1
+expect_fail run_scene_says_a_cloud_is_not_measured "is a point cloud" \
+    "$ROMKIT" run "$TMP/points.rombin" --steps 1 --scene tests/fuzz/seed_points.json
