@@ -14,8 +14,10 @@
  *    against 481 mN of friction; "newton": {"tolerance": 1e-6} gives +0.32%, 1e-7 +0.17%;
  *  - the full order slides 2.0% slow (mu 0.5: 1.5%) and drifts 0.58 mm where it should stick,
  *    whatever Newton's tolerance; a fixed "kappa" (100, 1e4) gives -0.14%, -0.57% and 7e-6 m,
- *    2.9e-5 m of drift: adaptive kappa (doubled inside the solves, after friction was lagged)
- *    is the suspect. */
+ *    2.9e-5 m of drift. With adaptive kappa the drift is all in the first 7 steps (the barrier
+ *    starts soft and friction is lagged on it while the block settles from dhat / 2 to 9e-6 m),
+ *    then it sticks (1e-8 m a step); sliding, every step gains the law's 0.962 m/s^2 but four
+ *    (steps 53, 69, 76, 94: 0.61 to 0.94), each as the block's rim crosses the slab's edges. */
 #include "scene_run.h"
 #include "rom/rom.h"
 
