@@ -17,7 +17,7 @@
  *    2.9e-5 m of drift. With adaptive kappa the drift is all in the first 7 steps (the barrier
  *    starts soft and friction is lagged on it while the block settles from dhat / 2 to 9e-6 m),
  *    then it sticks (1e-8 m a step); sliding, every step gains the law's 0.962 m/s^2 but four
- *    (steps 53, 69, 76, 94: 0.61 to 0.94), each as the block's rim crosses the slab's edges. */
+ *    (steps 53, 69, 76, 94: 0.61 to 0.94), each with a row of the block's vertices over a slab edge. */
 #include "scene_run.h"
 #include "rom/rom.h"
 
