@@ -9,6 +9,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "contact_report.h"
 #include "pipeline/pipeline.h"
 #include "util/util.h"
 
@@ -55,7 +56,7 @@ static int pick_entry(const rk_scene *s, const char *given, const rk_rom_entry *
 }
 
 static cJSON *make_report(const rk_scene_sim *sim, const rk_adaptive *ad, const double *secs, int steps,
-                          double min_distance, long crossings, int contact)
+                          const rk_contact_tally *tally, int contact)
 {
     const rk_adaptive_stats *s = &ad->stats;
     cJSON *r = cJSON_CreateObject();
@@ -90,9 +91,7 @@ static cJSON *make_report(const rk_scene_sim *sim, const rk_adaptive *ad, const 
     cJSON_AddNumberToObject(sec, "pcg", s->seconds_pcg - s->seconds_system);
     cJSON_AddNumberToObject(sec, "line_search", s->seconds_line_search);
     if (contact) {
-        cJSON *c = cJSON_AddObjectToObject(r, "contact");
-        cJSON_AddNumberToObject(c, "min_distance", min_distance);
-        cJSON_AddNumberToObject(c, "intersections", (double)crossings);
+        contact_tally_report(cJSON_AddObjectToObject(r, "contact"), tally);
     }
     return r;
 }
@@ -144,8 +143,8 @@ int cmd_adaptive(int argc, char **argv)
         have_snap = 1;
         rk_npy_stream_append(&snap, ad.fom.x, 3 * (size_t)nv);
     }
-    double min_distance = INFINITY;
-    long crossings = 0;
+    rk_contact_tally tally;
+    rk_contact_tally_init(&tally);
     char frame[4096];
     for (int s = 0; s <= steps; s++) {
         if (s > 0) {
@@ -163,8 +162,7 @@ int cmd_adaptive(int argc, char **argv)
             int c;
             double d;
             if (rk_fom_contact_measure(&ad.fom, &c, &d, &err)) goto done;
-            crossings += c;
-            min_distance = fmin(min_distance, d);
+            rk_contact_tally_add(&tally, c, d);
         }
     }
     rk_progress_done(e->name);
@@ -176,7 +174,7 @@ int cmd_adaptive(int argc, char **argv)
         long shape[2] = {nv, 3};
         if (rk_npy_write(a.positions, ad.fom.x, 2, shape, &err)) goto done;
     }
-    cJSON *report = make_report(&sim, &ad, secs, steps, min_distance, crossings, contact);
+    cJSON *report = make_report(&sim, &ad, secs, steps, &tally, contact);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);
         goto done;
@@ -188,7 +186,7 @@ int cmd_adaptive(int argc, char **argv)
            a.scene, e->name, nv, sim.mesh.nt, steps, rk_median(secs, steps), (double)st->newton_iterations / steps,
            st->sum_modes / steps, st->max_modes, st->sum_nodes / steps, st->max_nodes, ad.opt.subdomains,
            st->solves ? (double)st->pcg_iterations / st->solves : 0.0);
-    if (contact) printf("contact: closest %.3g m, %ld crossings over %d frames\n", min_distance, crossings, steps + 1);
+    if (contact) printf("contact: closest %.3g m, %ld crossings over %ld frames\n", tally.min_distance, tally.intersections, tally.frames);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "romkit adaptive: %s\n", err.msg);

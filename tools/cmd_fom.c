@@ -8,6 +8,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "contact_report.h"
 #include "fom/fom.h"
 #include "pipeline/pipeline.h"
 #include "util/util.h"
@@ -90,9 +91,8 @@ typedef struct {
     double *x;             /* the last frame's positions */
     cJSON *final;          /* the final state's report keys */
     int contact, max_inverted;  /* contact measured; the most inverted elements of a frame */
-    long intersections;    /* exact crossings summed over the frames (0 for a valid run) */
+    rk_contact_tally tally; /* exact crossings and the closest the surfaces came, over the frames */
     rk_contact_stats stats; /* the contact stage's counters at the end */
-    double min_distance;   /* the closest the surfaces came over the frames (m) */
     iter_stat iter, factor; /* per Newton iteration: its seconds and its factorization's */
 } fom_output;
 
@@ -109,8 +109,7 @@ static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *
     if (inverted > o->max_inverted) o->max_inverted = inverted;
     if (o->contact) {
         if (rk_fom_contact_measure(fom, &crossings, &closest, err)) return -1;
-        o->intersections += crossings;
-        if (closest < o->min_distance) o->min_distance = closest;
+        rk_contact_tally_add(&o->tally, crossings, closest);
     }
     if (step < o->steps) return 0;
     const double *it, *fa;
@@ -137,8 +136,7 @@ static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *
 static void add_contact(cJSON *r, const fom_output *o, const rk_contact_stats *cs)
 {
     cJSON *c = cJSON_AddObjectToObject(r, "contact");
-    cJSON_AddNumberToObject(c, "min_distance", o->min_distance);
-    cJSON_AddNumberToObject(c, "intersections", (double)o->intersections);
+    contact_tally_report(c, &o->tally);
     cJSON_AddNumberToObject(c, "mean_pairs", cs->gathers ? (double)cs->pairs / cs->gathers : 0);
     cJSON_AddNumberToObject(c, "max_pairs", (double)cs->max_pairs);
     cJSON_AddNumberToObject(c, "ccd_calls", (double)cs->ccd_calls);
@@ -240,7 +238,8 @@ int cmd_fom(int argc, char **argv)
     rk_error err = {{0}};
     rk_scene scene;
     rk_scene_sim sim;
-    fom_output out = {.a = &a, .min_distance = INFINITY};
+    fom_output out = {.a = &a};
+    rk_contact_tally_init(&out.tally);
     int have_scene = 0, have_sim = 0, rc = 1;
     if (rk_scene_load(a.scene, &scene, &err)) goto done;
     have_scene = 1;
@@ -292,8 +291,8 @@ int cmd_fom(int argc, char **argv)
            cJSON_GetObjectItem(fin, "max_displacement")->valuedouble,
            cJSON_GetObjectItem(fin, "kinetic_energy")->valuedouble);
     if (out.contact)
-        printf("contact: closest %.3g m, %ld crossings over %d frames, %.1f pairs per evaluation (at most %ld); "
-               "broad phase %.3g s, CCD %.3g s\n", out.min_distance, out.intersections, out.steps + 1,
+        printf("contact: closest %.3g m, %ld crossings over %ld frames, %.1f pairs per evaluation (at most %ld); "
+               "broad phase %.3g s, CCD %.3g s\n", out.tally.min_distance, out.tally.intersections, out.tally.frames,
                out.stats.gathers ? (double)out.stats.pairs / out.stats.gathers : 0.0, out.stats.max_pairs,
                out.stats.seconds_broad, out.stats.seconds_ccd);
     cJSON_Delete(report);

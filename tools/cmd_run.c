@@ -10,6 +10,8 @@
 #include "args.h"
 #include "asset_open.h"
 #include "commands.h"
+#include "contact_report.h"
+#include "run_contact.h"
 #include "run_splats.h"
 #include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
@@ -22,7 +24,7 @@ static void run_usage(FILE *f)
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
                "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
                "                  [--reference S.npy] [--frames DIR] [--splats DIR] [--koopman] [--newton K]\n"
-               "                  [--hessian-reuse K] [--quiet]\n"
+               "                  [--hessian-reuse K] [--scene SCENE.json] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
@@ -47,6 +49,10 @@ static void run_usage(FILE *f)
                "  --hessian-reuse K  a reduced model's Newton matrix kept for up to K steps (modified Newton:\n"
                "                only the gradient per iteration; romrt_set_hessian_reuse; 0 or 1, the\n"
                "                default: a fresh matrix every iteration)\n"
+               "  --scene       the scene the asset was built from: the report's contact.{min_distance,\n"
+               "                intersections, intersecting_frames, frames}, measured on the start and every\n"
+               "                step as romkit fom measures its frames (the exact segment-triangle test; the\n"
+               "                scene's collision surface, obstacles and objects; the asset must show the surface)\n"
                "  --quiet       no progress line on stderr\n"
                "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n\n"
                "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
@@ -193,7 +199,7 @@ int cmd_run(int argc, char **argv)
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
     const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL, *frames_dir = NULL, *newton_text = NULL;
-    const char *splats_dir = NULL, *reuse_text = NULL;
+    const char *splats_dir = NULL, *reuse_text = NULL, *scene_path = NULL;
     int quiet = 0, koopman = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
@@ -202,7 +208,7 @@ int cmd_run(int argc, char **argv)
                                {"--frames", &frames_dir, NULL},   {"--koopman", NULL, &koopman},
                                {"--newton", &newton_text, NULL}, {"--quiet", NULL, &quiet},
                                {"--splats", &splats_dir, NULL}, {"--hessian-reuse", &reuse_text, NULL},
-                               {NULL, NULL, NULL}};
+                               {"--scene", &scene_path, NULL},  {NULL, NULL, NULL}};
     long steps, jump = 0, fixed_newton = 0, reuse = 0;
     romrt_real dt = 0, damping = 0;
     if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
@@ -225,6 +231,8 @@ int cmd_run(int argc, char **argv)
     int snapping = 0, rc = 1;
     run_splats splats;
     memset(&splats, 0, sizeof splats);
+    run_contact contact;
+    memset(&contact, 0, sizeof contact);
     double t0 = rk_now();
     long newton = 0, unconverged = 0;
     /* an asset may hold a reduced model and a Koopman operator: the Koopman options pick the latter */
@@ -269,6 +277,11 @@ int cmd_run(int argc, char **argv)
         romrt_positions(m, xyz, n, 3);
         if (run_splats_frame(&splats, m, 0, xyz, &err)) goto fail;
     }
+    if (scene_path) {
+        if (run_contact_open(&contact, scene_path, data, size, m, &err)) goto fail;
+        romrt_positions(m, xyz, n, 3);
+        if (run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
+    }
     if (snap_out) {
         long shape[3] = {steps, n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
@@ -282,13 +295,14 @@ int cmd_run(int argc, char **argv)
         romrt_last_step(m, &info);
         newton += info.newton_iterations;
         unconverged += !info.converged;
-        if (snapping || ref.frames || frames_dir || splats_dir) {
+        if (snapping || ref.frames || frames_dir || splats_dir || scene_path) {
             romrt_positions(m, xyz, n, 3);
             for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
             if (snapping) rk_npy_stream_append(&snap, frame, (size_t)3 * n);
             reference_add(&ref, k + 1, frame);
             if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
             if (splats_dir && run_splats_frame(&splats, m, k + 1, xyz, &err)) goto fail;
+            if (scene_path && run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
         }
         if (!quiet) rk_progress("run", k + 1, steps);
     }
@@ -329,6 +343,7 @@ int cmd_run(int argc, char **argv)
             cJSON_AddNumberToObject(rj, "normalized_mse", rk_normalized_mse(&ref.error));
             cJSON_AddNumberToObject(rj, "relative_error", rk_relative_error(&ref.error));
         }
+        if (scene_path) contact_tally_report(cJSON_AddObjectToObject(r, "contact"), &contact.tally);
         cJSON *a = cJSON_AddObjectToObject(r, "asset");
         cJSON_AddNumberToObject(a, "bytes", (double)asset.file_bytes);
         cJSON *s = cJSON_AddObjectToObject(r, "seconds");
@@ -343,6 +358,10 @@ int cmd_run(int argc, char **argv)
     if (ref.error.frames)
         printf("  against %s over %ld frames: relative error %.3g, normalized MSE %.3g\n", ref_path, ref.error.frames,
                rk_relative_error(&ref.error), rk_normalized_mse(&ref.error));
+    if (scene_path)
+        printf("  contact with %s: closest %.3g m, %ld crossings in %ld of %ld frames\n", scene_path,
+               contact.tally.min_distance, contact.tally.intersections, contact.tally.intersecting_frames,
+               contact.tally.frames);
     if (jump_text) printf("  then a jump of %ld steps in %.3g us, to t = %g s\n", jump, seconds_jump * 1e6, (double)romrt_time(m));
     rc = 0;
     goto done;
@@ -354,6 +373,7 @@ done:
     if (snapping) rk_npy_stream_abort(&snap);
     tool_asset_close(&asset);
     run_splats_close(&splats);
+    run_contact_close(&contact);
     free(xyz);
     free(frame);
     free(seconds);

@@ -241,6 +241,22 @@ int rk_contact_intersections(rk_contact *c, const double *x, rk_error *err);
 /* The smallest distance between the surfaces at x (m; INFINITY when nothing can touch). */
 double rk_contact_min_distance(rk_contact *c, const double *x, rk_error *err);
 
+/* ---- a run's contact measures (measure.c) ---- */
+
+/* What the reports' contact.* keys say of a run: frames measured, exact crossings summed over them
+ * (rk_contact_intersections), frames with at least one, and the smallest distance of any frame. */
+typedef struct {
+    long frames, intersections, intersecting_frames;
+    double min_distance;           /* INFINITY before a frame, or when nothing can touch */
+} rk_contact_tally;
+
+void rk_contact_tally_init(rk_contact_tally *t);
+/* One frame's measures (crossings, smallest distance) into the tally. */
+void rk_contact_tally_add(rk_contact_tally *t, int intersections, double min_distance);
+/* One frame at x, obstacles where rk_contact_set_time put them: *intersections (exact crossings)
+ * and *min_distance, the functions above; -1 on failure (out of memory). */
+int rk_contact_measure(rk_contact *c, const double *x, int *intersections, double *min_distance, rk_error *err);
+
 /* ---- exact predicates (exact.c, intersect.c) ---- */
 
 /* The sign (-1, 0, 1) of det[a - d; b - d; c - d], exactly (positive when d lies below the plane

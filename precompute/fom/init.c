@@ -271,10 +271,7 @@ int rk_fom_contact_measure(rk_fom *s, int *intersections, double *min_distance, 
     *intersections = 0;
     *min_distance = INFINITY;
     if (!s->impl->has_contact) return 0;
-    *intersections = rk_contact_intersections(&s->impl->contact, s->x, err);
-    if (*intersections < 0) return -1;
-    *min_distance = rk_contact_min_distance(&s->impl->contact, s->x, err);
-    return isnan(*min_distance) ? -1 : 0;
+    return rk_contact_measure(&s->impl->contact, s->x, intersections, min_distance, err);
 }
 
 const rk_contact_stats *rk_fom_contact_stats(const rk_fom *s)

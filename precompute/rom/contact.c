@@ -165,10 +165,8 @@ int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, 
     *intersections = 0;
     *min_distance = INFINITY;
     if (!s->model->has_contact) return 0;
-    *intersections = rk_rom_contact_intersections(s, s->q, err);
-    if (*intersections < 0) return -1;
-    *min_distance = rk_contact_min_distance(&s->model->contact, s->x, err); /* s->x: set just above */
-    return isnan(*min_distance) ? -1 : 0;
+    rk_rom_contact_positions(s, s->q);
+    return rk_contact_measure(&s->model->contact, s->x, intersections, min_distance, err);
 }
 
 int rk_rom_friction_start(rk_rom *s, const double *q, rk_error *err)
