@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int tl_failed_here;
 static int tl_failures;
@@ -66,6 +67,15 @@ static inline double test_norm(const double *x, int n)
     double s = 0;
     for (int i = 0; i < n; i++) s += x[i] * x[i];
     return sqrt(s);
+}
+
+/* A scratch file's path of this process's own: $TMPDIR (or /tmp)/romkit_<pid>_<name>. Two tests,
+ * the float and double build of one, or two checkouts testing at once never share a file. */
+static inline const char *tl_scratch(char *out, size_t cap, const char *name)
+{
+    const char *dir = getenv("TMPDIR");
+    snprintf(out, cap, "%s/romkit_%ld_%s", dir && *dir ? dir : "/tmp", (long)getpid(), name);
+    return out;
 }
 
 static inline int test_finish(void) { return tl_failures ? 1 : 0; }

@@ -13,7 +13,9 @@
 
 TEST(a_block_of_points_lands_on_a_slab_of_points)
 {
-    const char *slab = "/tmp/romkit_test_slab.ply", *block = "/tmp/romkit_test_block.ply";
+    char slab_path[512], block_path[512];
+    const char *slab = tl_scratch(slab_path, sizeof slab_path, "slab.ply"),
+               *block = tl_scratch(block_path, sizeof block_path, "block.ply");
     char json[2048];
     CHECK(cloud_slab_block_scene(json, sizeof json, slab, block, 0.2, "") == 0, "the clouds' scene");
     rk_error err = {{0}};

@@ -81,7 +81,9 @@ TEST(donut_splats_land_on_a_block_of_points)
     const char *every_env = getenv("ROMKIT_DONUT_EVERY"), *keep = getenv("ROMKIT_DONUT_SPLATS");
     int every = every_env ? atoi(every_env) : 8;
     CHECK(every >= 1, "ROMKIT_DONUT_EVERY=%s", every_env);
-    const char *small = "/tmp/romkit_test_donut_small.ply", *frame_tmp = "/tmp/romkit_test_donut_frame.ply";
+    char small_path[512], frame_path[512];
+    const char *small = tl_scratch(small_path, sizeof small_path, "donut_small.ply"),
+               *frame_tmp = tl_scratch(frame_path, sizeof frame_path, "donut_frame.ply");
     rk_splats src;
     CHECK_OK(rk_splats_read("tests/data/meshes/donut_3dgs.ply", &src, &err));
     int full = src.n;

@@ -177,7 +177,9 @@ TEST(a_block_falls_onto_a_slab_and_rests_on_it)
  * block started higher: its proxy's spheres must start clear of the slab's. */
 TEST(a_block_of_points_falls_onto_a_slab_of_points)
 {
-    const char *slab = "/tmp/romkit_test_rt_slab_" PRECISION ".ply", *block = "/tmp/romkit_test_rt_block_" PRECISION ".ply";
+    char slab_path[512], block_path[512];
+    const char *slab = tl_scratch(slab_path, sizeof slab_path, "rt_slab.ply"),
+               *block = tl_scratch(block_path, sizeof block_path, "rt_block.ply");
     char json[2048];
     CHECK(cloud_slab_block_scene(json, sizeof json, slab, block, 0.35, "\"damping\": {\"mass\": 2}, ") == 0,
           "the clouds' scene");

@@ -183,8 +183,8 @@ TEST(mesh_free_rkpm_beam_matches)
 
 /* A point cloud (a 9 x 3 x 3 lattice of points, no mesh) hanging from its left end and falling
  * onto a plane under its right end: the cloud's proxy surface meets the plane. */
-static const char *hanging_cloud =
-    "{\"objects\": [{\"mesh\": {\"points\": \"/tmp/romkit_test_parity_cloud.ply\"},"
+static const char *hanging_cloud = /* %s: the cloud's file */
+    "{\"objects\": [{\"mesh\": {\"points\": \"%s\"},"
     " \"material\": {\"model\": \"neohookean\", \"young\": 2e4, \"poisson\": 0.4, \"density\": 1000},"
     " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
     " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, -0.16, 0], \"normal\": [0, 1, 0]}}],"
@@ -205,11 +205,14 @@ static int write_cloud(const char *path)
 
 TEST(point_cloud_on_a_plane_matches)
 {
-    CHECK(write_cloud("/tmp/romkit_test_parity_cloud.ply") == 0, "cannot write the cloud");
-    CHECK_PARITY("point cloud on a plane", hanging_cloud, 40, NULL, PINNED_TOL,
+    char cloud[512], json[2048];
+    tl_scratch(cloud, sizeof cloud, "parity_cloud.ply");
+    snprintf(json, sizeof json, hanging_cloud, cloud);
+    CHECK(write_cloud(cloud) == 0, "cannot write %s", cloud);
+    CHECK_PARITY("point cloud on a plane", json, 40, NULL, PINNED_TOL,
                  f.R.points.n > 0 && head_field(&f, ROMBIN_HEAD_POINTS) > 0 && romrt_shown_count(f.m) == 21 * 5 * 5 &&
                      f.R.model.has_contact);
-    remove("/tmp/romkit_test_parity_cloud.ply");
+    remove(cloud);
 }
 
 TEST(state_restores_and_reset_returns_to_rest)

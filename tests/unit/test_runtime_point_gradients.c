@@ -16,14 +16,14 @@
 #define ASSET_REAL ROMBIN_REAL_F32
 #endif
 
-#define CLOUD_PATH "/tmp/romkit_test_point_gradients.ply"
 #define NX 13
 #define NY 4
 #define NZ 4
 
 /* A 13 x 4 x 4 lattice of spacing 0.05 (listed in a scrambled order), hanging from its left end. */
+/* %s: the cloud's file */
 static const char *sagging_cloud =
-    "{\"objects\": [{\"mesh\": {\"points\": \"" CLOUD_PATH "\"},"
+    "{\"objects\": [{\"mesh\": {\"points\": \"%s\"},"
     " \"material\": {\"model\": \"neohookean\", \"young\": 2e4, \"poisson\": 0.4, \"density\": 1000},"
     " \"fixed\": [{\"box\": [[-1, -1, -1], [0.01, 2, 2]]}]}],"
     " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 0.1, \"integrator\": \"backward_euler\"},"
@@ -64,9 +64,12 @@ TEST(cloud_F_matches_the_weights_gradients)
     rk_error err = {{0}};
     romrt_error rerr;
     rt_fixture f;
-    CHECK(write_cloud(CLOUD_PATH) == 0, "cannot write " CLOUD_PATH);
-    int rc = rt_fixture_open(&f, sagging_cloud, ASSET_REAL, &err, &rerr);
-    remove(CLOUD_PATH);
+    char cloud[512], json[2048];
+    tl_scratch(cloud, sizeof cloud, "point_gradients.ply");
+    snprintf(json, sizeof json, sagging_cloud, cloud);
+    CHECK(write_cloud(cloud) == 0, "cannot write %s", cloud);
+    int rc = rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr);
+    remove(cloud);
     CHECK(rc == 0, "%s", err.msg);
     int n = romrt_shown_count(f.m), r = romrt_reduced_size(f.m), H = f.R.basis.m;
     CHECK(n == NX * NY * NZ && f.sim.cloud_points == n && f.R.cloud_grad != NULL && r == 12 * H,

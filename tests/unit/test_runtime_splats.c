@@ -33,7 +33,8 @@ TEST(donut_splats_drop_onto_a_plane_and_read_back)
     double *x = calloc(3 * (size_t)n, sizeof *x), *F = calloc(9 * (size_t)n, sizeof *F), lowest = INFINITY;
     double worst_q = 0, proxy_lowest = INFINITY;
     int bad_values = 0, moved_other = 0;
-    const char *path = "/tmp/romkit_test_splats_frame.ply";
+    char path_buf[512];
+    const char *path = tl_scratch(path_buf, sizeof path_buf, "splats_frame.ply");
     for (int k = 0; k <= steps; k++) {
         if (k) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "step %d: %s", k, rerr.message);
         CHECK(romrt_positions(f.m, xyz, n, 3) == ROMRT_OK && romrt_deformation_gradients(f.m, Fr, n) == ROMRT_OK, "F");
