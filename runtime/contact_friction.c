@@ -23,6 +23,9 @@ void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start)
         const romrt_real *pts[4];
         romrt_real *f = m->fric + 11 * (size_t)m->nfric, lambda;
         rt_obstacles_stencil(m, id, pts);
+        if (!(RT_PHYS(contact_distance2)(c[0] ? RT_PHYS(edge_edge_case)(pts) : RT_PHYS(point_triangle_case)(pts), pts, 0, 0) <
+              (m->dhat + rt_obstacles_xi(m, id)) * (m->dhat + rt_obstacles_xi(m, id))))
+            continue; /* out of reach (pair_friction_lag would say 0) */
         lambda = RT_PHYS(pair_friction_lag)(c[0], pts, rt_obstacles_xi(m, id), m->dhat, rt_obstacles_eps(m, c[0], id),
                                             m->kappa, f, f + 4);
         if (!(lambda > 0)) continue;
