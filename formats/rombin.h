@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 5   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 6   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -95,6 +95,45 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
  * 1.4 reader refuses the asset rather than let the objects pass through each other. */
 #define ROMBIN_COBJ "COBJ"   /* u32, CVTX's count: the object of each collision vertex */
 #define ROMBIN_CRAD "CRAD"   /* real, objects: each object's proxy radius rho (m), a sphere at each of its collision vertices */
+
+/* The scene's obstacles other than planes (ROMBIN.md "Obstacle chunks", 1.6): spheres, capsules,
+ * boxes and triangle meshes, static or moving, as the reduced simulator's contact stage holds them
+ * (precompute/contact/collision.c), with a bounding volume hierarchy per obstacle, and the
+ * collision surface of the object. All critical: a 1.5 reader refuses the asset rather than let
+ * the object fall through them. */
+#define ROMBIN_OBHD "OBHD"   /* u32, ROMBIN_OBHD_COUNT + obstacles x ROMBIN_OBST_COUNT: counts, then each obstacle's ranges */
+#define ROMBIN_OBJS "OBJS"   /* real, obstacles x 4: thickness xi (a sphere's, a capsule's radius; else 0), 0, 0, 0 */
+#define ROMBIN_OBMO "OBMO"   /* real, obstacles x ROMBIN_PIN_PARAMS: each obstacle's motion (kind, axis, center, rate, velocity, 0) */
+#define ROMBIN_OBVX "OBVX"   /* real, vertices x 3: the obstacles' vertices at rest (t = 0) */
+#define ROMBIN_OBED "OBED"   /* u32, edges x 2: obstacle edges (triangle edges, capsule segments) */
+#define ROMBIN_OBTR "OBTR"   /* u32, triangles x 3: obstacle triangles (boxes and meshes) */
+#define ROMBIN_OBVN "OBVN"   /* u32, nodes x 3: BVH nodes, (0, left, right) or (1, first item, items) */
+#define ROMBIN_OBVB "OBVB"   /* real, nodes x 6: each node's box at rest (min xyz, max xyz), thickness included */
+#define ROMBIN_OBIT "OBIT"   /* u32, items: a leaf's primitives, index << 2 | ROMBIN_ITEM_* */
+#define ROMBIN_CEDG "CEDG"   /* u32, edges x 2: the collision surface's edges over CVTX's positions */
+#define ROMBIN_CTRI "CTRI"   /* u32, triangles x 3: its triangles over CVTX's positions */
+enum { ROMBIN_ITEM_VERTEX = 0, ROMBIN_ITEM_EDGE = 1, ROMBIN_ITEM_TRIANGLE = 2 };
+enum {
+    ROMBIN_OBHD_OBSTACLES = 0,   /* obstacles (not planes: those are PLAN) */
+    ROMBIN_OBHD_VERTICES,        /* OBVX */
+    ROMBIN_OBHD_EDGES,           /* OBED */
+    ROMBIN_OBHD_TRIANGLES,       /* OBTR */
+    ROMBIN_OBHD_NODES,           /* OBVN, OBVB */
+    ROMBIN_OBHD_ITEMS,           /* OBIT */
+    ROMBIN_OBHD_PAIRS,           /* the runtime's pair capacity (candidates and friction pairs each) */
+    ROMBIN_OBHD_COUNT = 8        /* the rest reserved, 0 */
+};
+enum {
+    ROMBIN_OBST_KIND = 0,        /* 1 sphere, 2 capsule, 3 box, 4 mesh (precompute/contact's kinds) */
+    ROMBIN_OBST_FIRST_VERTEX, ROMBIN_OBST_VERTICES,
+    ROMBIN_OBST_FIRST_EDGE, ROMBIN_OBST_EDGES,
+    ROMBIN_OBST_FIRST_TRIANGLE, ROMBIN_OBST_TRIANGLES,
+    ROMBIN_OBST_ROOT,            /* its BVH's first node (the root); its nodes follow */
+    ROMBIN_OBST_NODES,
+    ROMBIN_OBST_COUNT = 10       /* the rest reserved, 0 */
+};
+#define ROMBIN_MAX_OBSTACLES 64u  /* OBHD obstacles a reader takes (ROMBIN.md "Limits") */
+#define ROMBIN_BVH_DEPTH 48u      /* deeper BVHs are refused: the runtime's traversal stack */
 
 /* An adaptive linear ROM (ROMBIN.md "Adaptive linear ROM chunks", 1.4): beside a reduced model's
  * chunks, whose ROWS are then the quadratic decoder's linear part at the stored vertices. */

@@ -55,6 +55,10 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m);
  * phase's scratch, then their contents and the start's pairs apart. */
 romrt_status rt_objects_arrays(rt_loader *L, romrt_model *m);
 romrt_status rt_objects_contents(rt_loader *L, romrt_model *m);
+/* The obstacles' chunks (contact_load.c; OBHD and the rest, when there): their arrays and
+ * scratch, then their indices, the BVH's shape and boxes, and the start apart from them. */
+romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m);
+romrt_status rt_obstacles_contents(rt_loader *L, romrt_model *m);
 /* A Koopman asset's chunks (koopman.c), as sizes / arrays / contents in open.c. */
 romrt_status rt_koopman_sizes(rt_loader *L, romrt_model *m);
 romrt_status rt_koopman_arrays(rt_loader *L, romrt_model *m);

@@ -11,7 +11,9 @@ static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, ROMBIN_ALRH, ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS,
-                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, ROMBIN_COBJ, ROMBIN_CRAD, ROMBIN_CRMS, ROMBIN_CRMX, ROMBIN_CRMW, 0};
+                                           ROMBIN_VLOD, ROMBIN_AMOV, ROMBIN_AMOT, ROMBIN_COBJ, ROMBIN_CRAD, ROMBIN_CRMS, ROMBIN_CRMX, ROMBIN_CRMW,
+                                           ROMBIN_OBHD, ROMBIN_OBJS, ROMBIN_OBMO, ROMBIN_OBVX, ROMBIN_OBED, ROMBIN_OBTR,
+                                           ROMBIN_OBVN, ROMBIN_OBVB, ROMBIN_OBIT, ROMBIN_CEDG, ROMBIN_CTRI, 0};
 
 /* The three passes over one kind of model's chunks. */
 typedef struct {
@@ -207,7 +209,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
             rt_scratch(L, sp, &m->skin_gQ);
         }
     }
-    if ((st = rt_alrom_arrays(L, m)) || (st = rt_objects_arrays(L, m))) return st;
+    if ((st = rt_alrom_arrays(L, m)) || (st = rt_objects_arrays(L, m)) || (st = rt_obstacles_arrays(L, m))) return st;
     /* A fixed basis of stored rows maps q to each element's F linearly: that map, G_e, formed once
      * here (rt_form_element_G) saves re-forming it from four vertices' rows at every potential
      * (12 r dot products and 63 r flops an element, the step's largest cost after the Hessian). */
@@ -271,7 +273,7 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         if (!(rt_contact_distance(m, k, m->q) > 0))
             return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_CONT, "contact ", (uint64_t)k, " starts on or behind its plane");
     rt_form_element_G(m);
-    return ROMRT_OK;
+    return rt_obstacles_contents(L, m); /* last: its start check steps the potential's pieces */
 }
 
 /* kind: ROMRT_KIND_REDUCED or ROMRT_KIND_KOOPMAN, or -1: the reduced model if there is one. */

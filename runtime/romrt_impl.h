@@ -211,6 +211,29 @@ struct romrt_model {
     int32_t *grid_cell;       /* ncv x 3: each collision vertex's grid cell */
     uint32_t *grid_head, *grid_next; /* grid_size buckets, ncv links: the cells hashed, chained */
     uint32_t grid_size;       /* a power of two >= 2 ncv */
+    /* the scene's obstacles other than planes (OBHD and the rest; contact_load.c): the reduced
+     * simulator's point-triangle and edge-edge pairs against them (contact_broad.c, contact.c,
+     * contact_friction.c). Stencil ids as precompute/contact's: >= 0 a collision vertex (CVTX
+     * index), < 0 obstacle vertex -1 - id. */
+    int nobs, onv, one, onf, onode, oitem, ncedge, nctri, obs_moving;
+    const uint32_t *obs;      /* nobs x ROMBIN_OBST_COUNT: kind and ranges (OBHD after its counts) */
+    const romrt_real *obs_xi; /* nobs x 4 (OBJS) */
+    const romrt_real *obs_motion; /* nobs x ROMBIN_PIN_PARAMS (OBMO) */
+    const romrt_real *oX;     /* onv x 3 (OBVX) */
+    const uint32_t *oedges, *otris, *onodes, *oitems, *cedges, *ctris;
+    const romrt_real *obounds_rest; /* onode x 6 (OBVB) */
+    uint32_t *overt_obs;      /* onv: each obstacle vertex's obstacle */
+    romrt_real *ox, *ox_to, *odx; /* onv x 3: where the obstacle vertices are, are going, the way there */
+    romrt_real *obounds;      /* onode x 6: the BVH boxes where the obstacles are (swept when asked) */
+    romrt_real *ocx, *ocdx;   /* ncv x 3: the collision vertices at q, and their move along a step */
+    romrt_real *cache_x, *cache_ox; /* ncv x 3, onv x 3: where the candidate pairs were gathered */
+    romrt_real *fx0, *fox0;   /* ncv x 3, onv x 3: friction's step start */
+    romrt_real *pair_J, *pair_JB; /* 12 rows of RT_PAD(r): a stencil's rows, and its block times them */
+    int32_t *cand;            /* pair_cap x 5: kind (0 point-triangle, 1 edge-edge), 4 ids */
+    int32_t *fric_id;         /* pair_cap x 4: a lagged friction pair's ids */
+    romrt_real *fric;         /* pair_cap x 11: its weights (4), tangent basis (6), normal force */
+    int pair_cap, ncand, nfric, cache_valid, obs_overflow;
+    double obs_time;          /* the time the obstacles were last put at (NAN: moved part way) */
     int alrom;                /* an adaptive linear ROM (ALRH): its data and state in al */
     rt_alrom al;
 };
@@ -278,6 +301,39 @@ void rt_clock_rebase(romrt_model *m);
 romrt_real rt_objects_energy(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_objects_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq);
 romrt_real rt_objects_min_distance(romrt_model *m, const romrt_real *q);
+/* The scene's obstacles other than planes (contact.c, contact_broad.c, contact_friction.c):
+ *   rt_obstacles_at        the obstacles where their motions put them at time t (and the BVH's boxes)
+ *   rt_obstacles_energy    kappa sum_k m_k b(d_k^2 - xi^2, ...) over the pairs within dhat at q, with
+ *                          friction when asked; +INFINITY where a pair touches or the pairs overflow
+ *                          the capacity (m->obs_overflow set)
+ *   rt_obstacles_max_step  the largest step of q along dq that CCD allows (obstacles still)
+ *   rt_obstacles_fraction  the fraction of the obstacles' way to where they are at t that CCD
+ *                          allows with the body at q; rt_obstacles_move makes that much of it
+ *   rt_obstacles_lag       friction's step start (start) and lagged pairs at q */
+void rt_obstacles_at(romrt_model *m, double t);
+romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
+romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq);
+romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t);
+void rt_obstacles_move(romrt_model *m, double t, romrt_real fraction);
+void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start);
+/* contact_broad.c: the collision vertices at q (and their move along dq) into ocx (ocdx); the
+ * BVH boxes refitted over ox (and ox + odx when swept); the candidate pairs within 2 dhat into
+ * m->cand, unless the cache still holds (0, or -1 on overflow); every stencil whose swept boxes
+ * touch, handed to visit. */
+void rt_obstacles_positions(romrt_model *m, const romrt_real *q, const romrt_real *dq);
+void rt_obstacles_refit(romrt_model *m, int swept);
+int rt_obstacles_gather(romrt_model *m);
+typedef void (*rt_stencil_visit)(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx);
+void rt_obstacles_swept(romrt_model *m, rt_stencil_visit visit, void *ctx);
+/* A stencil's points at ocx / ox and its thickness and mollifier threshold. */
+void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt_real *pts[4]);
+romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4]);
+romrt_real rt_obstacles_eps(const romrt_model *m, int edge_edge, const int32_t id[4]);
+/* H (ld) += J^T B J and g += J^T gx over a stencil's collision vertices (B 12 x 12, gx 12; either
+ * may be NULL). */
+void rt_obstacles_pull(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B, romrt_real *g,
+                       romrt_real *H, int ld);
+romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
 romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);
 

@@ -75,7 +75,7 @@ static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real 
 /* Whether a step along a direction must be filtered: planes, colliders or other objects to keep. */
 static int filtered(const romrt_model *m)
 {
-    return m->ncontacts || m->ncolliders || m->nobjects;
+    return m->ncontacts || m->ncolliders || m->nobjects || m->nobs;
 }
 
 static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
@@ -83,7 +83,33 @@ static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real
     romrt_real alpha = m->ncontacts ? rt_contact_max_step(m, y, d) : 1, c;
     if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
     if (m->nobjects && alpha > 0 && (c = rt_objects_max_step(m, y, d)) < alpha) alpha = c;
+    if (m->nobs && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
     return alpha;
+}
+
+/* The projected Newton matrix is a sum of PSD blocks, but in float the rounding of a stiff
+ * barrier's blocks (kappa b'' ~ 1e8 against inertia ~ 1e4) can leave it a hair indefinite: it is
+ * assembled again with a diagonal shift, 1e-6 of its largest diagonal entry, then 100 and 10^4
+ * times that, until it factors (0), or not (-1). A shift only shortens the step along the stiff
+ * directions; the line search and the step filter still judge it. In double it never serves. */
+static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y, int n)
+{
+#ifdef ROMRT_DOUBLE
+    (void)m, (void)T, (void)y, (void)n;
+    return -1;
+#else
+    romrt_real big = 0, shift;
+    int tries, i;
+    for (tries = 0; tries < 3; tries++) {
+        if (!isfinite(potential(m, T, y, 0, m->H, 0))) return -1;
+        for (i = 0; i < n && tries == 0; i++)
+            if (RT_FABS(m->H[i + (size_t)n * i]) > big) big = RT_FABS(m->H[i + (size_t)n * i]);
+        shift = big * RT_K(1e-6) * (tries == 0 ? 1 : tries == 1 ? 100 : 10000);
+        for (i = 0; i < n; i++) m->H[i + (size_t)n * i] += shift;
+        if (rt_cholesky(n, m->H) == 0) return 0;
+    }
+    return -1;
+#endif
 }
 
 /* Whether the Newton matrix factored in m->H may serve this iteration (romrt_set_hessian_reuse):
@@ -126,7 +152,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
                          (uint64_t)it, "");
     if (*kept) return ROMRT_OK;
-    if (indefinite && rt_cholesky(n, m->H))
+    if (indefinite && rt_cholesky(n, m->H) && shifted_factor(m, T, y, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
     if (m->nmoving == 0 && !m->alrom) {
@@ -239,6 +265,33 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
     return ROMRT_OK;
 }
 
+/* Moving obstacles go to where they are at the step's end in safe moves, each followed by a
+ * solve that pushes the body clear (precompute/contact/advance.c, rk_contact_advance, with its
+ * constants): as far as CCD lets them go with the body still, all the way once it allows. */
+#define STALL_FRACTION 1e-6
+#define STALL_LIMIT 8
+#define MAX_MOVES 1000
+static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders, romrt_error *err);
+
+static romrt_status advance(romrt_model *m, const rt_terms *T, romrt_error *err)
+{
+    double t = rt_clock(m, 1);
+    int stalls = 0, k;
+    for (k = 0; k < MAX_MOVES; k++) {
+        romrt_real alpha = rt_obstacles_fraction(m, m->q, t);
+        int last = alpha >= 1;
+        romrt_status st;
+        rt_obstacles_move(m, t, last ? 1 : alpha);
+        if ((st = solve(m, T, 0, err))) return st;
+        if (last) return ROMRT_OK;
+        stalls = alpha < RT_K(STALL_FRACTION) ? stalls + 1 : 0;
+        if (stalls >= STALL_LIMIT)
+            return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_OBMO,
+                           "a moving obstacle cannot go on: the body cannot get out of its way (pinned between obstacles?)");
+    }
+    return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_OBMO, "a moving obstacle needed more than 1000 safe moves in one step");
+}
+
 /* Newton from m->q (with the moved colliders, when there are, from where they are), into m->q. */
 static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders, romrt_error *err)
 {
@@ -308,10 +361,15 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         T.w_inertia = 1 / (h * h);
     }
     T.w_damping = 1 / h;
-    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders);
+    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders || m->nobs);
     memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
+    if (m->nobs) { /* the obstacles where the clock puts them (a reset or a failed step may have moved it) */
+        m->obs_overflow = 0;
+        if (m->obs_moving) rt_obstacles_at(m, rt_clock(m, 0));
+    }
     /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
     rt_colliders_lag(m, m->qt, 1);
+    if (m->nobs && T.friction) rt_obstacles_lag(m, m->qt, 1);
     rt_pin_target(m, rt_clock(m, 1));
     /* Start from the inertial prediction when no contact is crossed on the way there. */
     for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
@@ -321,10 +379,11 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     /* the colliders the app moved, with the body in one solve; then the step's solve; then
      * friction lagged again at the solution until a solve has nothing left to do */
     st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;
-    if (!st) st = solve(m, &T, 0, err);
+    if (!st) st = m->obs_moving ? advance(m, &T, err) : solve(m, &T, 0, err);
     for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
         int before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
+        if (m->nobs) rt_obstacles_lag(m, m->q, 0);
         st = solve(m, &T, 0, err);
         if (m->last.newton_iterations - before <= 1) break;
     }
@@ -338,6 +397,9 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         st = rt_fail(err, ROMRT_E_DIVERGED, 0, "the state grew past what the shown positions can hold");
     /* an adaptive model's stored vertices move on; its q is back at 0 in the next step's basis */
     if (!st && m->alrom) st = rt_alrom_commit(m, err);
+    if (st && m->nobs && m->obs_overflow) /* the cause, rather than the non-finite potential it left */
+        st = rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD, "more obstacle pairs than the asset's capacity of ",
+                       (uint64_t)m->pair_cap, " (bake with a larger rom.asset.contact_pairs)");
     if (st) { /* leave the state as it was, the colliders too */
         int k;
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);

@@ -31,6 +31,7 @@ typedef struct {
     rk_show show;
     int show_first;           /* RK_SHOW_FIRST: how many */
     int colliders;            /* store the collision vertices (CVTX) an app's colliders act on (default 1) */
+    int contact_pairs;        /* the runtime's obstacle pair capacity (OBHD; 0: sized at bake) */
     int ngroups;
     rk_asset_group groups[RK_ASSET_MAX_GROUPS];
 } rk_asset_options;

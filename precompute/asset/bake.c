@@ -191,7 +191,7 @@ static int add_cloud(const rk_asset_rom *R, const rk_bake_state *s, rombin_write
 }
 
 /* The scene's planes (PLAN) and every (boundary vertex, plane) pair (CONT): what the runtime's
- * barrier acts on. Other obstacles have no place in the asset yet. */
+ * barrier acts on. The other obstacles: bake_obstacles.c. */
 static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_writer *w, rk_error *err)
 {
     if (!m->has_contact) return 0;
@@ -199,9 +199,7 @@ static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_wr
     double planes[6 * 16];
     int np = 0;
     for (int k = 0; k < c->nobstacles; k++) {
-        if (c->obstacles[k].kind != RK_OBSTACLE_PLANE)
-            return rk_fail(err, "obstacle %d is not a plane: the runtime collides with the scene's planes only "
-                           "(spheres, capsules and boxes are the app's colliders)", k);
+        if (c->obstacles[k].kind != RK_OBSTACLE_PLANE) continue; /* bake_obstacles.c */
         if (c->obstacles[k].motion != RK_MOTION_FIXED)
             return rk_fail(err, "plane %d moves: the runtime's scene planes are static (an app moves its colliders)", k);
         if (np == 16) return rk_fail(err, "at most 16 planes, the scene has more");
@@ -299,7 +297,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(R, &s, w, err) || add_operators(m, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
-             add_contacts(m, &s, w, err) || add_cloud(R, &s, w, err) ||
+             add_contacts(m, &s, w, err) || rk_bake_obstacles(m, o, w, err) || add_cloud(R, &s, w, err) ||
              add_collisions(m, o, &s, w, err) || rk_bake_objects(m, collision_vertices(m, o), w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));

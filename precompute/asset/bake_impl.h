@@ -35,6 +35,9 @@ int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_w
  * CRAD, each object's proxy radius (rk_triangle_cover_radius over its boundary triangles at rest);
  * nothing for one object. */
 int rk_bake_objects(const rk_rom_model *m, int ncv, rombin_writer *w, rk_error *err);
+/* The scene's obstacles other than planes (bake_obstacles.c): OBHD, OBJS, OBMO, OBVX, OBED, OBTR,
+ * OBVN, OBVB, OBIT, and the collision surface CEDG, CTRI; nothing without such obstacles. */
+int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_writer *w, rk_error *err);
 /* max over a triangle's points of the distance to its nearest corner (exact). */
 double rk_triangle_cover_radius(const double *const v[3]);
 /* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */

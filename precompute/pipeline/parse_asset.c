@@ -1,6 +1,7 @@
 /* A rom entry's "asset" keys into rk_asset_options (asset.h):
  *   {"precision": "float32" | "float64", "compress": bool, "show": "surface" | "all" | "none", "colliders": bool,
- *    "groups": [{"name": "tip", "box": [[..], [..]]}, ...]} */
+ *    "groups": [{"name": "tip", "box": [[..], [..]]}, ...], "contact_pairs": n (the runtime's obstacle
+ *    pair capacity; 0, the default: sized at bake)} */
 #include "pipeline/parse_impl.h"
 
 #include <stdio.h>
@@ -41,11 +42,12 @@ int rk_parse_asset(const rk_json_ctx *c, const cJSON *e, const char *path, rk_as
     const cJSON *a = rk_json_child(e, path, "asset", apath, sizeof apath);
     if (!a) return 0;
     if (!cJSON_IsObject(a)) return rk_json_fail(c, apath, "must be an object");
-    static const char *const keys[] = {"precision", "compress", "show", "colliders", "groups", NULL};
+    static const char *const keys[] = {"precision", "compress", "show", "colliders", "groups", "contact_pairs", NULL};
     const char *precision = NULL, *show = NULL;
     if (rk_json_check_keys(c, a, apath, keys) || rk_json_string(c, a, apath, "precision", 0, &precision) ||
         rk_json_string(c, a, apath, "show", 0, &show) || rk_json_bool(c, a, apath, "compress", &o->compress) ||
         rk_json_bool(c, a, apath, "colliders", &o->colliders) ||
+        rk_json_whole(c, a, apath, "contact_pairs", 0, 1 << 28, &o->contact_pairs) ||
         parse_groups(c, a, apath, o))
         return -1;
     if (precision) {

@@ -729,6 +729,61 @@ static void koopman(void)
 #undef KOOP
 }
 
+/* The obstacles' chunks (ROMBIN.md "Obstacle chunks"): counts, ranges, BVH links and items,
+ * edge and triangle vertices, thickness, pair capacity; skipped without OBHD. */
+static void obstacles(void)
+{
+    unsigned char *b;
+    rombin_chunk c;
+    uint32_t nodes, onv, nobs;
+    if (!find(ROMBIN_OBHD, &c, NULL) || c.stored < 4 * (ROMBIN_OBHD_COUNT + ROMBIN_OBST_COUNT)) {
+        skip("obstacle fields", ROMBIN_OBHD);
+        return;
+    }
+    nobs = rombin_get_u32(c.data + 4 * ROMBIN_OBHD_OBSTACLES);
+    onv = rombin_get_u32(c.data + 4 * ROMBIN_OBHD_VERTICES);
+    nodes = rombin_get_u32(c.data + 4 * ROMBIN_OBHD_NODES);
+#define OBS(kind, expr, ...) do { if ((b = (expr)) != NULL) BAD(kind, b, orig_size, __VA_ARGS__); } while (0)
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_OBSTACLES, 0, "OBHD"), "obhd_obstacles_0");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_OBSTACLES, nobs + 1, "OBHD"), "obhd_obstacles_plus_1");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_VERTICES, onv + 1, "OBHD"), "obhd_vertices_plus_1");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_NODES, nodes - 1, "OBHD"), "obhd_nodes_minus_1");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0, "OBHD"), "obhd_pairs_0");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0xFFFFFFFFu, "OBHD"), "obhd_pairs_ffffffff");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT - 1, 1, "OBHD"), "obhd_reserved_set");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_KIND, 0, "OBHD"), "obhd_kind_plane");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_VERTICES, onv + 1, "OBHD"), "obhd_range_past_count");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_NODES, 0, "OBHD"), "obhd_no_nodes");
+    OBS("index", with_u32(ROMBIN_OBED, 0, onv, "OBED vertex"), "index_OBED_vertex_eq_vertices");
+    OBS("index", with_u32(ROMBIN_OBTR, 0, 0xFFFFFFFFu, "OBTR vertex"), "index_OBTR_vertex_ffffffff");
+    OBS("index", with_u32(ROMBIN_CEDG, 0, 0xFFFFFFFFu, "CEDG vertex"), "index_CEDG_vertex_ffffffff");
+    OBS("index", with_u32(ROMBIN_CTRI, 2, 0xFFFFFFFFu, "CTRI vertex"), "index_CTRI_vertex_ffffffff");
+    /* the BVH: node 0 (the first obstacle's root, an inner node or a leaf), and the first inner
+     * node linked to itself, to its parent's sibling's range end, to its own sibling twice */
+    OBS("bvh", with_u32(ROMBIN_OBVN, 0, 2, "OBVN kind"), "bvh_node_kind_2");
+    OBS("bvh", with_u32(ROMBIN_OBVN, 1, nodes, "OBVN link"), "bvh_link_eq_nodes");
+    OBS("bvh", with_u32(ROMBIN_OBVN, 2, 0xFFFFFFFFu, "OBVN link"), "bvh_link_ffffffff");
+    if (find(ROMBIN_OBVN, &c, NULL)) {
+        uint32_t i, inner = 0xFFFFFFFFu;
+        for (i = 0; i < nodes && inner == 0xFFFFFFFFu; i++)
+            if (rombin_get_u32(c.data + 12 * (uint64_t)i) == 0) inner = i;
+        if (inner != 0xFFFFFFFFu) {
+            uint32_t left = rombin_get_u32(c.data + 12 * (uint64_t)inner + 4);
+            OBS("bvh", with_u32(ROMBIN_OBVN, 3 * (uint64_t)inner + 1, inner, "OBVN link"), "bvh_link_to_itself");
+            OBS("bvh", with_u32(ROMBIN_OBVN, 3 * (uint64_t)inner + 2, left, "OBVN link"), "bvh_both_links_one_node");
+        } else {
+            skip("inner BVH node", ROMBIN_OBVN);
+        }
+    }
+    OBS("bvh", with_u32(ROMBIN_OBIT, 0, 0xFFFFFFFFu, "OBIT item"), "bvh_item_ffffffff");
+    OBS("bvh", with_u32(ROMBIN_OBIT, 0, 3, "OBIT item"), "bvh_item_kind_3");
+    OBS("obst", with_real(ROMBIN_OBJS, 0, SET_NEG, "thickness"), "objs_thickness_negative");
+    OBS("obst", with_real(ROMBIN_OBJS, 1, SET_NEG, "reserved"), "objs_reserved_set");
+    OBS("obst", with_real(ROMBIN_OBVB, 0, SET_BIG, "box"), "obvb_box_min_above");
+    OBS("obst", with_real(ROMBIN_OBMO, 0, SET_BIG, "motion"), "obmo_kind_unknown");
+#undef OBS
+}
+
 /* ---- variants the runtime must accept ---- */
 
 static void good(void)
@@ -819,6 +874,7 @@ int main(int argc, char **argv)
     ids();
     model();
     koopman();
+    obstacles();
     good();
 
     for (k = 0; k < kinds; k++) printf("%-22s %d\n", kind_name[k], kind_count[k]);

@@ -1,0 +1,225 @@
+/* Contact with the scene's obstacles other than planes, as the reduced simulator has it
+ * (precompute/rom/contact.c over precompute/contact): the IPC barrier (Li et al. 2020, Eq. 6-8)
+ * kappa sum_k m_k b(d_k^2 - xi^2, dhat^2 + 2 xi dhat) over the point-triangle and edge-edge pairs
+ * within dhat (per stencil: physics/contact_impl.h, the precompute's own code in this precision),
+ * each pair's Hessian projected to PSD on its collision vertices and pulled into the r x r system
+ * through their basis rows, H += J^T B J; the step filter by additive CCD of every stencil the
+ * swept boxes give (Li et al. 2021); the obstacles' scripted motion (OBMO) and the safe fractions
+ * of it that precompute/contact/advance.c moves them by. */
+#include <math.h>
+#include <string.h>
+
+#include "runtime/romrt_impl.h"
+
+void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt_real *pts[4])
+{
+    int k;
+    for (k = 0; k < 4; k++) pts[k] = id[k] >= 0 ? m->ocx + 3 * (size_t)id[k] : m->ox + 3 * (size_t)(-1 - id[k]);
+}
+
+romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4])
+{
+    int k;
+    for (k = 0; k < 4; k++)
+        if (id[k] < 0) return m->obs_xi[4 * (size_t)m->overt_obs[-1 - id[k]]];
+    return 0;
+}
+
+/* |e|^2 of an edge at rest: a collision edge's over VERT, an obstacle edge's over OBVX. */
+static romrt_real rest2(const romrt_model *m, int32_t a, int32_t b)
+{
+    const romrt_real *p = a >= 0 ? m->X + 3 * (size_t)m->cv[a] : m->oX + 3 * (size_t)(-1 - a);
+    const romrt_real *q = b >= 0 ? m->X + 3 * (size_t)m->cv[b] : m->oX + 3 * (size_t)(-1 - b);
+    return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+}
+
+romrt_real rt_obstacles_eps(const romrt_model *m, int edge_edge, const int32_t id[4])
+{
+    return edge_edge ? RT_K(1e-3) * rest2(m, id[0], id[1]) * rest2(m, id[2], id[3]) : 0;
+}
+
+void rt_obstacles_pull(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B, romrt_real *g,
+                       romrt_real *H, int ld)
+{
+    int r = m->r, rp = RT_PAD(r), rows[12], n = 0, k, a, i, j, l;
+    romrt_real *J = m->pair_J, *JB = m->pair_JB;
+    for (k = 0; k < 4; k++)
+        for (a = 0; a < 3 && id[k] >= 0; a++) {
+            rt_row(m, m->cv[id[k]], a, J + (size_t)rp * (3 * k + a));
+            rows[n++] = 3 * k + a;
+        }
+    if (g && gx)
+        for (l = 0; l < n; l++) {
+            const romrt_real *Jl = J + (size_t)rp * rows[l];
+            romrt_real s = gx[rows[l]];
+            if (s != 0)
+                for (j = 0; j < r; j++) g[j] += s * Jl[j];
+        }
+    if (!H || !B) return;
+    /* JB row l = sum_l' B[l][l'] J[l'], then H += J^T JB over the upper triangle */
+    for (l = 0; l < n; l++) {
+        romrt_real *out = JB + (size_t)rp * l;
+        for (j = 0; j < r; j++) out[j] = 0;
+        for (k = 0; k < n; k++) {
+            romrt_real b = B[12 * rows[l] + rows[k]];
+            const romrt_real *Jk = J + (size_t)rp * rows[k];
+            if (b != 0)
+                for (j = 0; j < r; j++) out[j] += b * Jk[j];
+        }
+    }
+    for (l = 0; l < n; l++) {
+        const romrt_real *Jl = J + (size_t)rp * rows[l], *Bl = JB + (size_t)rp * l;
+        for (j = 0; j < r; j++) {
+            romrt_real s = Bl[j];
+            if (s != 0)
+                for (i = 0; i <= j; i++) H[i + (size_t)ld * j] += Jl[i] * s;
+        }
+    }
+}
+
+romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
+{
+    romrt_real E = 0, gl[12], Hl[144];
+    int i, k;
+    rt_obstacles_positions(m, q, 0);
+    if (rt_obstacles_gather(m)) return (romrt_real)INFINITY;
+    for (i = 0; i < m->ncand; i++) {
+        const int32_t *c = m->cand + 5 * (size_t)i, *id = c + 1;
+        const romrt_real *pts[4];
+        romrt_real e;
+        int dof[4];
+        romrt_real xi = rt_obstacles_xi(m, id), reach = m->dhat + xi, d2;
+        rt_obstacles_stencil(m, id, pts);
+        /* the candidates out of reach first, by the distance's value alone (the precompute's gather
+         * keeps only those within reach, by the same test): the derivatives cost 50 times more */
+        d2 = RT_PHYS(contact_distance2)(c[0] ? RT_PHYS(edge_edge_case)(pts) : RT_PHYS(point_triangle_case)(pts), pts, 0, 0);
+        if (!(d2 < reach * reach)) continue;
+        e = RT_PHYS(pair_barrier)(c[0], pts, xi, m->dhat, rt_obstacles_eps(m, c[0], id), g || H ? gl : 0, H ? Hl : 0, 0);
+        if (!isfinite(e)) return (romrt_real)INFINITY;
+        if (e == 0) continue;
+        E += m->kappa * e;
+        if (!g && !H) continue;
+        for (k = 0; k < 12; k++) gl[k] *= m->kappa;
+        if (H) {
+            for (k = 0; k < 4; k++) dof[k] = id[k] >= 0;
+            RT_PHYS(pair_project)(dof, Hl);
+            for (k = 0; k < 144; k++) Hl[k] *= m->kappa;
+        }
+        rt_obstacles_pull(m, id, gl, H ? Hl : 0, g, H, ld);
+    }
+    if (friction) E += rt_obstacles_friction(m, g, H, ld);
+    return E;
+}
+
+typedef struct {
+    romrt_real alpha;
+    int obstacles_move;   /* the obstacles go by odx (the body holds still), else the body by ocdx */
+} ccd_ctx;
+
+/* In float the filter also keeps CONTACT_FLOOR dhat of every approaching stencil's gap, as the
+ * plane filter does (potential.c): positions carry rounding of about 1e-7 of their size, and
+ * steps that each keep 10% of a gap shrink it geometrically into that noise, where the distance
+ * (and CCD with it) loses every digit and a surface can slip through (moving spikes pushing a
+ * slab did, in 12 places, within one step). A stencil already inside the floor may only move
+ * apart. The double runtime, like the reduced simulator, goes as close as the barrier lets it. */
+#ifdef ROMRT_DOUBLE
+#define CONTACT_FLOOR 0
+#else
+#define CONTACT_FLOOR 1e-3f
+#endif
+
+static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
+{
+    static const romrt_real still[3] = {0, 0, 0};
+    ccd_ctx *c = (ccd_ctx *)ctx;
+    const romrt_real *pts[4], *d[4];
+    romrt_real toi, xi = rt_obstacles_xi(m, id);
+    int k, a;
+    rt_obstacles_stencil(m, id, pts);
+    for (k = 0; k < 4; k++)
+        d[k] = id[k] >= 0 ? (c->obstacles_move ? still : m->ocdx + 3 * (size_t)id[k])
+                          : (c->obstacles_move ? m->odx + 3 * (size_t)(-1 - id[k]) : still);
+    if (CONTACT_FLOOR > 0) {
+        /* d(d^2)/dt = 2 n . sum_i w_i dx_i, n = sum_i w_i x_i (the closest points held: their
+         * own motion along the features does not change the distance to first order) */
+        rk_distance_case dc = edge_edge ? RT_PHYS(edge_edge_case)(pts) : RT_PHYS(point_triangle_case)(pts);
+        romrt_real w[4], n[3] = {0, 0, 0}, v[3] = {0, 0, 0}, rate;
+        romrt_real dist = RT_SQRT(RT_PHYS(contact_distance2)(dc, pts, 0, 0)) - xi, floor = RT_K(CONTACT_FLOOR) * m->dhat;
+        RT_PHYS(contact_closest_weights)(dc, pts, w);
+        for (k = 0; k < 4; k++)
+            for (a = 0; a < 3; a++) n[a] += w[k] * pts[k][a], v[a] += w[k] * d[k][a];
+        rate = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+        if (rate < 0) { /* approaching: kept a floor apart (no closer when already inside it) */
+            if (dist <= floor) {
+                c->alpha = 0;
+                return;
+            }
+            xi += floor;
+        }
+    }
+    if (RT_PHYS(ccd_stencil)(edge_edge, pts, d, xi, c->alpha, &toi) && toi < c->alpha) c->alpha = toi;
+}
+
+romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq)
+{
+    ccd_ctx c;
+    c.alpha = 1, c.obstacles_move = 0;
+    rt_obstacles_positions(m, q, dq);
+    rt_obstacles_swept(m, ccd_visit, &c);
+    return c.alpha;
+}
+
+void rt_obstacles_at(romrt_model *m, double t)
+{
+    int k, v, i;
+    for (k = 0; k < m->nobs; k++) {
+        const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * (size_t)k;
+        const romrt_real *p = m->obs_motion + ROMBIN_PIN_PARAMS * (size_t)k;
+        romrt_real R[9], s[3];
+        RT_PHYS(motion)((rk_motion_kind)(int)p[0], p + 1, p + 4, p[7], p + 8, t, R, s);
+        for (v = (int)o[ROMBIN_OBST_FIRST_VERTEX]; v < (int)(o[ROMBIN_OBST_FIRST_VERTEX] + o[ROMBIN_OBST_VERTICES]); v++) {
+            const romrt_real *X = m->oX + 3 * (size_t)v;
+            for (i = 0; i < 3; i++)
+                m->ox[3 * (size_t)v + i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + s[i];
+        }
+    }
+    for (i = 0; i < 3 * m->onv; i++) m->odx[i] = 0;
+    rt_obstacles_refit(m, 0);
+    m->obs_time = t;
+}
+
+romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t)
+{
+    ccd_ctx c;
+    int i;
+    romrt_real *keep = m->ox;
+    /* where the obstacles are at t, computed into ox_to by way of ox */
+    m->ox = m->ox_to;
+    rt_obstacles_at(m, t);
+    m->ox = keep;
+    for (i = 0; i < 3 * m->onv; i++) m->odx[i] = m->ox_to[i] - m->ox[i];
+    rt_obstacles_positions(m, q, 0);
+    for (i = 0; i < 3 * m->ncv; i++) m->ocdx[i] = 0;
+    rt_obstacles_refit(m, 1);
+    c.alpha = 1, c.obstacles_move = 1;
+    rt_obstacles_swept(m, ccd_visit, &c);
+    for (i = 0; i < 3 * m->onv; i++) m->odx[i] = 0;
+    rt_obstacles_refit(m, 0);
+    return c.alpha;
+}
+
+void rt_obstacles_move(romrt_model *m, double t, romrt_real fraction)
+{
+    int i;
+    romrt_real *keep = m->ox;
+    if (fraction >= 1) {
+        rt_obstacles_at(m, t);
+        return;
+    }
+    m->ox = m->ox_to;
+    rt_obstacles_at(m, t);
+    m->ox = keep;
+    for (i = 0; i < 3 * m->onv; i++) m->ox[i] += fraction * (m->ox_to[i] - m->ox[i]);
+    rt_obstacles_refit(m, 0);
+    m->obs_time = (double)NAN;
+}

@@ -1,0 +1,63 @@
+/* Friction against the obstacles, lagged as the reduced simulator does (precompute/contact/
+ * friction.c; IPC, Li et al. 2020, Sec. 5, Eq. 9-15): at the step's start the collision vertices
+ * and obstacle vertices are recorded (x^t); each lag keeps every pair within dhat with its normal
+ * force lambda, closest-point weights w and tangent basis T (pair_friction_lag); the potential
+ * is then mu sum_k lambda_k f0(|T_k sum_i w_ki (x_i - x_i^t)|) (friction_slip), its gradient
+ * and PSD Hessian pulled through the rows like the barrier's. */
+#include <string.h>
+
+#include "runtime/romrt_impl.h"
+
+void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start)
+{
+    int i;
+    rt_obstacles_positions(m, q, 0);
+    if (start) {
+        memcpy(m->fx0, m->ocx, sizeof(romrt_real) * 3 * (size_t)m->ncv);
+        memcpy(m->fox0, m->ox, sizeof(romrt_real) * 3 * (size_t)m->onv);
+    }
+    m->nfric = 0;
+    if (!(m->mu > 0) || rt_obstacles_gather(m)) return; /* an overflow: the energy reports it */
+    for (i = 0; i < m->ncand; i++) {
+        const int32_t *c = m->cand + 5 * (size_t)i, *id = c + 1;
+        const romrt_real *pts[4];
+        romrt_real *f = m->fric + 11 * (size_t)m->nfric, lambda;
+        rt_obstacles_stencil(m, id, pts);
+        if (!(RT_PHYS(contact_distance2)(c[0] ? RT_PHYS(edge_edge_case)(pts) : RT_PHYS(point_triangle_case)(pts), pts, 0, 0) <
+              (m->dhat + rt_obstacles_xi(m, id)) * (m->dhat + rt_obstacles_xi(m, id))))
+            continue; /* out of reach (pair_friction_lag would say 0) */
+        lambda = RT_PHYS(pair_friction_lag)(c[0], pts, rt_obstacles_xi(m, id), m->dhat, rt_obstacles_eps(m, c[0], id),
+                                            m->kappa, f, f + 4);
+        if (!(lambda > 0)) continue;
+        f[10] = lambda;
+        memcpy(m->fric_id + 4 * (size_t)m->nfric, id, 4 * sizeof(int32_t));
+        m->nfric++;
+    }
+}
+
+romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, int ld)
+{
+    romrt_real E = 0, eps = m->eps_v * m->h;
+    int k, i, j, a, b;
+    for (k = 0; k < m->nfric; k++) {
+        const int32_t *id = m->fric_id + 4 * (size_t)k;
+        const romrt_real *f = m->fric + 11 * (size_t)k, *w = f, *T = f + 4;
+        romrt_real rel[3] = {0, 0, 0}, gt[3], B[9], gx[12], Hx[144];
+        for (i = 0; i < 4; i++) {
+            const romrt_real *now = id[i] >= 0 ? m->ocx + 3 * (size_t)id[i] : m->ox + 3 * (size_t)(-1 - id[i]);
+            const romrt_real *then = id[i] >= 0 ? m->fx0 + 3 * (size_t)id[i] : m->fox0 + 3 * (size_t)(-1 - id[i]);
+            for (a = 0; a < 3; a++) rel[a] += w[i] * (now[a] - then[a]);
+        }
+        E += RT_PHYS(friction_slip)(T, rel, eps, m->mu * f[10], gt, H ? B : 0);
+        if (!g && !H) continue;
+        for (i = 0; i < 4; i++)
+            for (a = 0; a < 3; a++) gx[3 * i + a] = w[i] * gt[a];
+        if (H)
+            for (i = 0; i < 4; i++)
+                for (j = 0; j < 4; j++)
+                    for (a = 0; a < 3; a++)
+                        for (b = 0; b < 3; b++) Hx[12 * (3 * i + a) + 3 * j + b] = w[i] * w[j] * B[3 * a + b];
+        rt_obstacles_pull(m, id, gx, H ? Hx : 0, g, H, ld);
+    }
+    return E;
+}

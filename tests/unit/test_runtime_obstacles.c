@@ -1,0 +1,312 @@
+/* The runtime against the scene's obstacles other than planes (runtime/contact*.c): spheres,
+ * capsules, boxes and triangle meshes, static and moving, baked into the asset (ROMBIN.md
+ * "Obstacle chunks"). Compiled twice: in double (test_runtime_obstacles_double, a float64 asset)
+ * the runtime lands where the reduced simulator (precompute/rom) lands to 1e-8 of the largest
+ * displacement; in float (a float32 asset) to 1e-3. Also: an object dropped at 2 m/s onto a
+ * spiky terrain mesh never crosses it (the exact segment-triangle test of precompute/contact,
+ * every frame); damaged obstacle chunks are refused naming the chunk; more pairs than the
+ * asset's capacity is a status (ROMRT_E_LIMIT), the state left as it was. */
+#include "runtime_fixture.h"
+
+#include "contact/contact.h"
+
+#ifdef ROMRT_DOUBLE
+#define PARITY_TOL 1e-8
+#define ASSET_REAL ROMBIN_REAL_F64
+#define NEWTON_TOL "1e-11"
+#else
+#define PARITY_TOL 1e-3
+#define ASSET_REAL ROMBIN_REAL_F32
+#define NEWTON_TOL "1e-7"
+#endif
+
+/* A soft slab (0.2 x 0.05 x 0.2 m, 4 x 1 x 4 cells) whose bottom starts at y = bottom, falling at
+ * speed, onto `obstacles`; `contact` the scene's contact keys. */
+static const char *slab_scene(double bottom, double speed, const char *obstacles, const char *contact)
+{
+    static char json[4096];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.2, 0.05, 0.2], \"cells\": [4, 1, 4]}, \"translate\": [-0.087, %g, -0.079]},"
+             "  \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000},"
+             "  \"velocity\": [0, %g, 0]}],"
+             " \"gravity\": [0, -9.81, 0], \"obstacles\": [%s], \"contact\": {\"dhat\": 0.002%s},"
+             " \"time\": {\"step\": 0.01, \"duration\": 0.3}, \"newton\": {\"tolerance\": " NEWTON_TOL "},"
+             " \"rom\": {\"basis\": \"modes\", \"size\": 10}}",
+             bottom + 0.025, -speed, obstacles, contact);
+    return json;
+}
+
+static int has_chunk(const rt_fixture *f, const char *id)
+{
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    return rombin_open(&file, f->asset, f->bytes, NULL, &e) == 0 && rombin_find(&file, id, &c);
+}
+
+static int crossings(const rt_fixture *f, const romrt_real *xyz, const int *tris);
+
+/* Steps both; the largest difference of the shown positions over the largest displacement, and
+ * the runtime surface's crossings with the obstacles' triangles and edges, every step. */
+static double run_both(rt_fixture *f, int steps, rk_error *err, int *failed, int *crossed)
+{
+    rk_rom s;
+    int n = romrt_shown_count(f->m), nt = romrt_triangle_count(f->m), *tris = calloc((size_t)3 * nt + 3, sizeof(int));
+    double worst = 0, scale = 0, *ref = calloc((size_t)3 * n, sizeof(double));
+    romrt_real *xyz = calloc((size_t)3 * n, sizeof(romrt_real));
+    romrt_error rerr;
+    *failed = 0, *crossed = 0;
+    romrt_triangles(f->m, tris, nt);
+    if (rk_rom_init(&s, &f->R.model, NULL, NULL, err)) {
+        *failed = 1;
+        free(ref), free(xyz), free(tris);
+        return INFINITY;
+    }
+    for (int k = 0; k < steps; k++) {
+        if (rk_rom_step(&s, err) || romrt_step(f->m, &rerr) != ROMRT_OK) {
+            if (!err->msg[0]) snprintf(err->msg, sizeof err->msg, "runtime step %d: %s", k, rerr.message);
+            *failed = 1;
+            break;
+        }
+        rt_fixture_reference(f, s.q, ref);
+        romrt_positions(f->m, xyz, n, 3);
+        *crossed += crossings(f, xyz, tris); /* the model's contact stage has its obstacles at s.t */
+        for (int i = 0; i < 3 * n; i++) {
+            worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
+            scale = fmax(scale, fabs(ref[i] - f->sim.mesh.X[3 * (int)f->vmap[i / 3] + i % 3]));
+        }
+    }
+    rk_rom_free(&s);
+    free(ref), free(xyz), free(tris);
+    return worst / scale;
+}
+
+static void parity(const char *label, const char *json, int steps)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    int failed, crossed;
+    CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));
+    CHECK(has_chunk(&f, ROMBIN_OBHD), "%s: the asset has no obstacle chunks", label);
+    double rel = run_both(&f, steps, &err, &failed, &crossed);
+    long pairs = f.R.model.contact.stats.max_pairs;
+    printf("# %s: relative difference %.3g (tol %g), %d crossings, r = %d, %d collision vertices, at most %ld pairs\n",
+           label, rel, PARITY_TOL, crossed, f.R.model.r, f.R.model.ncv, pairs);
+    rt_fixture_close(&f);
+    CHECK(!failed, "%s: %s", label, err.msg);
+    CHECK(crossed == 0, "%s: the runtime's surface crossed an obstacle %d times", label, crossed);
+    CHECK(pairs > 0, "%s: nothing touched (the scene should land on its obstacle)", label);
+    CHECK(rel <= PARITY_TOL, "%s: relative difference %.3g above %g", label, rel, PARITY_TOL);
+}
+
+TEST(sphere_matches_reduced_simulator)
+{
+    parity("sphere", slab_scene(0.02, 1, "{\"sphere\": {\"center\": [0.01, -0.05, 0.02], \"radius\": 0.05}}", ""), 20);
+}
+
+TEST(capsule_matches_reduced_simulator)
+{
+    parity("capsule", slab_scene(0.02, 1, "{\"capsule\": {\"a\": [-0.2, -0.02, 0.01], \"b\": [0.2, -0.01, 0.03], \"radius\": 0.02}}", ""),
+           20);
+}
+
+TEST(box_with_friction_matches_reduced_simulator)
+{
+    parity("box, friction 0.5",
+           slab_scene(0.02, 1, "{\"box\": {\"min\": [-0.05, -0.1, -0.3], \"max\": [0.3, 0.0, 0.3]}}", ", \"friction\": 0.5"), 20);
+}
+
+TEST(static_mesh_matches_reduced_simulator)
+{
+    parity("spikes (static mesh)", slab_scene(0.075, 1, "{\"mesh\": {\"file\": \"tests/data/contact/spikes.obj\"}}", ""), 20);
+}
+
+TEST(moving_mesh_matches_reduced_simulator)
+{
+    parity("spikes rising at 0.3 m/s (moving mesh)",
+           slab_scene(0.07, 0, "{\"mesh\": {\"file\": \"tests/data/contact/spikes.obj\"}, \"translate\": {\"velocity\": [0, 0.3, 0]}}",
+                      ""),
+           20);
+}
+
+TEST(twisting_box_matches_reduced_simulator)
+{
+    parity("a box twisting under the slab's corner",
+           slab_scene(0.005, 0,
+                      "{\"box\": {\"min\": [0.06, -0.05, -0.02], \"max\": [0.2, 0.0, 0.02]},"
+                      " \"twist\": {\"axis\": [0, 1, 0], \"degrees_per_second\": 180, \"center\": [0.1, 0, 0]}}",
+                      ", \"friction\": 0.5"),
+           20);
+}
+
+/* Crossings of the runtime's surface (SURF over its shown positions) with the obstacles of the
+ * model's contact stage where it has them, by the exact test: object edges against obstacle
+ * triangles and obstacle edges against object triangles. */
+static int crossings(const rt_fixture *f, const romrt_real *xyz, const int *tris)
+{
+    const rk_contact *c = &f->R.model.contact;
+    int nt = romrt_triangle_count(f->m), count = 0;
+    double p[3][3];
+    for (int t = 0; t < nt; t++) {
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++) p[k][a] = xyz[3 * tris[3 * t + k] + a];
+        for (int k = 0; k < 3; k++) /* the triangle's edges against the obstacle's triangles */
+            for (int o = 0; o < c->onf; o++)
+                count += rk_segment_triangle_intersect(p[k], p[(k + 1) % 3], &c->ox[3 * c->ofaces[3 * o]],
+                                                       &c->ox[3 * c->ofaces[3 * o + 1]], &c->ox[3 * c->ofaces[3 * o + 2]]);
+        for (int e = 0; e < c->one; e++)
+            count += rk_segment_triangle_intersect(&c->ox[3 * c->oedges[2 * e]], &c->ox[3 * c->oedges[2 * e + 1]], p[0], p[1], p[2]);
+    }
+    return count;
+}
+
+TEST(terrain_drop_at_2_m_per_s_never_crosses)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    /* the spikes are 6 cm tall on y = 0: the slab starts 2 cm above their tips */
+    const char *json = slab_scene(0.08, 2, "{\"mesh\": {\"file\": \"tests/data/contact/spikes.obj\"}}", ", \"friction\": 0.3");
+    CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));
+    int n = romrt_shown_count(f.m), total = 0, steps = 40;
+    romrt_real *xyz = calloc((size_t)3 * n, sizeof(romrt_real));
+    int nt = romrt_triangle_count(f.m), *tris = calloc((size_t)3 * nt + 3, sizeof(int));
+    double lowest = INFINITY;
+    CHECK(nt > 0 && romrt_triangles(f.m, tris, nt) == ROMRT_OK, "the asset should store its surface");
+    romrt_status st = ROMRT_OK;
+    for (int k = 0; k < steps && st == ROMRT_OK; k++) {
+        st = romrt_step(f.m, &rerr);
+        romrt_positions(f.m, xyz, n, 3);
+        total += crossings(&f, xyz, tris);
+        for (int i = 0; i < n; i++) lowest = fmin(lowest, xyz[3 * i + 1]);
+    }
+    printf("# terrain: %d steps at 2 m/s onto 6 cm spikes, %d crossings, lowest surface point y = %.4f\n", steps, total,
+           lowest);
+    free(xyz), free(tris);
+    rt_fixture_close(&f);
+    CHECK(st == ROMRT_OK, "step: %s", rerr.message);
+    CHECK(total == 0, "%d crossings of the terrain", total);
+    CHECK(lowest < 0.06, "the slab should have come down between the spikes' tips (lowest %.4f)", lowest);
+}
+
+/* A copy of the asset with u32 `at` of chunk id set to v, its CRCs made good again. */
+static unsigned char *with_u32(const rt_fixture *f, const char *id, uint64_t at, uint32_t v)
+{
+    rombin_file file;
+    rombin_error e;
+    unsigned char *b = aligned_alloc(16, (f->bytes + 15) / 16 * 16);
+    if (!b || rombin_open(&file, f->asset, f->bytes, NULL, &e)) return NULL;
+    memcpy(b, f->asset, f->bytes);
+    for (unsigned k = 0; k < file.count; k++) {
+        rombin_chunk c;
+        rombin_chunk_get(&file, k, &c);
+        if (memcmp(c.id, id, 4) != 0) continue;
+        unsigned char *entry = b + ROMBIN_HEADER_BYTES + (size_t)k * ROMBIN_ENTRY_BYTES, *p = b + c.offset + 4 * at;
+        for (int i = 0; i < 4; i++) p[i] = (unsigned char)(v >> (8 * i));
+        uint32_t crc = rombin_crc32(0, b + c.offset, (size_t)c.stored);
+        for (int i = 0; i < 4; i++) entry[ROMBIN_E_CRC + i] = (unsigned char)(crc >> (8 * i));
+        crc = rombin_crc32(rombin_crc32(0, b, ROMBIN_H_TABLE_CRC), b + ROMBIN_HEADER_BYTES, (size_t)file.count * ROMBIN_ENTRY_BYTES);
+        for (int i = 0; i < 4; i++) b[ROMBIN_H_TABLE_CRC + i] = (unsigned char)(crc >> (8 * i));
+        return b;
+    }
+    free(b);
+    return NULL;
+}
+
+static uint32_t get_u32(const rt_fixture *f, const char *id, uint64_t at)
+{
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    if (rombin_open(&file, f->asset, f->bytes, NULL, &e) || !rombin_find(&file, id, &c)) return 0;
+    return rombin_get_u32(c.data + 4 * at);
+}
+
+/* The damaged copy is refused with `status`, naming chunk `want`. */
+static void refused(const rt_fixture *f, const char *label, const char *id, uint64_t at, uint32_t v, romrt_status status,
+                   const char *want)
+{
+    unsigned char *b = with_u32(f, id, at, v);
+    size_t need = 0;
+    romrt_error rerr;
+    CHECK(b != NULL, "%s: no %s chunk to damage", label, id);
+    romrt_status st = romrt_arena_size(b, f->bytes, &need, &rerr);
+    void *arena = NULL;
+    romrt_model *m;
+    if (st == ROMRT_OK) { /* some checks need the arena: open it */
+        arena = aligned_alloc(16, (need + 15) / 16 * 16);
+        st = romrt_open(b, f->bytes, arena, need, &m, &rerr);
+    }
+    printf("# %s: status %d, %s: %s\n", label, (int)st, rerr.chunk, rerr.message);
+    free(arena), free(b);
+    CHECK(st == status, "%s: status %d, want %d (%s)", label, (int)st, (int)status, rerr.message);
+    CHECK(strcmp(rerr.chunk, want) == 0, "%s: names chunk '%s', want '%s'", label, rerr.chunk, want);
+}
+
+TEST(damaged_obstacle_chunks_are_refused_by_name)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, slab_scene(0.075, 1, "{\"mesh\": {\"file\": \"tests/data/contact/spikes.obj\"}},"
+                                                    "{\"sphere\": {\"center\": [0.3, 0, 0], \"radius\": 0.05}}", ""),
+                             ASSET_REAL, &err, &rerr));
+    uint32_t nodes = get_u32(&f, ROMBIN_OBHD, ROMBIN_OBHD_NODES), onv = get_u32(&f, ROMBIN_OBHD, ROMBIN_OBHD_VERTICES);
+    uint32_t rec0 = ROMBIN_OBHD_COUNT, root_kind = get_u32(&f, ROMBIN_OBVN, 0);
+    CHECK(nodes > 1 && root_kind == 0, "the mesh's BVH should have an inner root (%u nodes)", nodes);
+    refused(&f, "BVH child out of range", ROMBIN_OBVN, 1, nodes, ROMRT_E_MODEL, ROMBIN_OBVN);
+    refused(&f, "BVH child before its parent (a cycle)", ROMBIN_OBVN, 2, 0, ROMRT_E_MODEL, ROMBIN_OBVN);
+    refused(&f, "BVH node of an unknown kind", ROMBIN_OBVN, 0, 7, ROMRT_E_MODEL, ROMBIN_OBVN);
+    refused(&f, "triangle vertex out of range", ROMBIN_OBTR, 0, onv, ROMRT_E_MODEL, ROMBIN_OBTR);
+    refused(&f, "edge vertex out of range", ROMBIN_OBED, 1, 0xFFFFFFFFu, ROMRT_E_MODEL, ROMBIN_OBED);
+    refused(&f, "item of another obstacle", ROMBIN_OBIT, 0, (onv - 1) << 2, ROMRT_E_MODEL, ROMBIN_OBIT);
+    refused(&f, "bad obstacle count", ROMBIN_OBHD, ROMBIN_OBHD_OBSTACLES, 3, ROMRT_E_MODEL, ROMBIN_OBHD);
+    refused(&f, "vertex count off by one", ROMBIN_OBHD, ROMBIN_OBHD_VERTICES, onv + 1, ROMRT_E_MODEL, ROMBIN_OBVX);
+    refused(&f, "an unknown obstacle kind", ROMBIN_OBHD, rec0 + ROMBIN_OBST_KIND, 9, ROMRT_E_MODEL, ROMBIN_OBHD);
+    refused(&f, "pair capacity 0", ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0, ROMRT_E_LIMIT, ROMBIN_OBHD);
+    refused(&f, "collision triangle out of range", ROMBIN_CTRI, 0, 0xFFFFFFFFu, ROMRT_E_MODEL, ROMBIN_CTRI);
+    rt_fixture_close(&f);
+}
+
+TEST(more_pairs_than_the_capacity_is_a_status)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    char json[4096];
+    /* the slab lands flat on a box: its whole underside comes within dhat, far above 8 pairs */
+    snprintf(json, sizeof json, "%s", slab_scene(0.01, 1, "{\"box\": {\"min\": [-0.3, -0.1, -0.3], \"max\": [0.3, 0.0, 0.3]}}", ""));
+    char *at = strstr(json, "\"size\": 10}");
+    CHECK(at != NULL, "scene text");
+    snprintf(at, sizeof json - (size_t)(at - json), "\"size\": 10, \"asset\": {\"contact_pairs\": 8}}}");
+    CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));
+    romrt_status st = ROMRT_OK;
+    int k, r = romrt_reduced_size(f.m);
+    romrt_real before[ROMRT_MAX_R], after[ROMRT_MAX_R];
+    for (k = 0; k < 30 && st == ROMRT_OK; k++) {
+        romrt_reduced_coordinates(f.m, before, ROMRT_MAX_R);
+        st = romrt_step(f.m, &rerr);
+    }
+    romrt_reduced_coordinates(f.m, after, ROMRT_MAX_R);
+    printf("# capacity 8: step %d: status %d, %s: %s\n", k, (int)st, rerr.chunk, rerr.message);
+    int same = memcmp(before, after, sizeof(romrt_real) * (size_t)r) == 0;
+    rt_fixture_close(&f);
+    CHECK(st == ROMRT_E_LIMIT, "status %d, want ROMRT_E_LIMIT", (int)st);
+    CHECK(strcmp(rerr.chunk, ROMBIN_OBHD) == 0, "names '%s', want OBHD", rerr.chunk);
+    CHECK(same, "the failed step must leave the state as it was");
+}
+
+int main(void)
+{
+    RUN(sphere_matches_reduced_simulator);
+    RUN(capsule_matches_reduced_simulator);
+    RUN(box_with_friction_matches_reduced_simulator);
+    RUN(static_mesh_matches_reduced_simulator);
+    RUN(moving_mesh_matches_reduced_simulator);
+    RUN(twisting_box_matches_reduced_simulator);
+    RUN(terrain_drop_at_2_m_per_s_never_crosses);
+    RUN(damaged_obstacle_chunks_are_refused_by_name);
+    RUN(more_pairs_than_the_capacity_is_a_status);
+    return test_finish();
+}
