@@ -8,6 +8,8 @@
  * asset's capacity is a status (ROMRT_E_LIMIT), the state left as it was. */
 #include "runtime_fixture.h"
 
+#include <unistd.h>
+
 #include "contact/contact.h"
 
 #ifdef ROMRT_DOUBLE
@@ -190,6 +192,38 @@ TEST(terrain_drop_at_2_m_per_s_never_crosses)
     CHECK(lowest < 0.06, "the slab should have come down between the spikes' tips (lowest %.4f)", lowest);
 }
 
+/* A spiky heightfield of n x n cells over [-0.15, 0.15]^2 (2 n^2 triangles) written as an OBJ:
+ * heights pseudo-random in [0, 3 cm), every fourth vertex a 6 cm spike. */
+static int write_terrain(const char *path, int n)
+{
+    FILE *fp = fopen(path, "w");
+    unsigned seed = 12345u;
+    if (!fp) return -1;
+    for (int j = 0; j <= n; j++)
+        for (int i = 0; i <= n; i++) {
+            seed = seed * 1103515245u + 12345u;
+            double h = 0.03 * (double)((seed >> 8) & 0xFFFF) / 65536.0;
+            if (i % 4 == 2 && j % 4 == 2) h = 0.06;
+            fprintf(fp, "v %.6f %.6f %.6f\n", -0.15 + 0.3 * i / n, h, -0.15 + 0.3 * j / n);
+        }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            int a = 1 + j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            fprintf(fp, "f %d %d %d\nf %d %d %d\n", a, c, b, b, c, d);
+        }
+    return fclose(fp);
+}
+
+TEST(bumpy_terrain_of_3200_triangles_matches_and_never_crosses)
+{
+    char path[64], obstacle[160];
+    snprintf(path, sizeof path, "/tmp/romkit_terrain_%d.obj", (int)getpid());
+    CHECK(write_terrain(path, 40) == 0, "cannot write %s", path);
+    snprintf(obstacle, sizeof obstacle, "{\"mesh\": {\"file\": \"%s\"}}", path);
+    parity("bumpy terrain, 3200 triangles, dropped at 2 m/s", slab_scene(0.075, 2, obstacle, ", \"friction\": 0.3"), 25);
+    remove(path);
+}
+
 /* A copy of the asset with u32 `at` of chunk id set to v, its CRCs made good again. */
 static unsigned char *with_u32(const rt_fixture *f, const char *id, uint64_t at, uint32_t v)
 {
@@ -306,6 +340,7 @@ int main(void)
     RUN(moving_mesh_matches_reduced_simulator);
     RUN(twisting_box_matches_reduced_simulator);
     RUN(terrain_drop_at_2_m_per_s_never_crosses);
+    RUN(bumpy_terrain_of_3200_triangles_matches_and_never_crosses);
     RUN(damaged_obstacle_chunks_are_refused_by_name);
     RUN(more_pairs_than_the_capacity_is_a_status);
     return test_finish();
