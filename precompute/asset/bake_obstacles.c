@@ -49,13 +49,18 @@ static void item_box(const bvh_build *b, int it, double *box)
         }
 }
 
-static int cmp_axis;
-static const double *cmp_centre;
-static int cmp_items(const void *pa, const void *pb)
+/* An item's centre along the split axis, and the item: sorted by the centre (ties by the item,
+ * so the order never depends on qsort's). */
+typedef struct {
+    double at;
+    int item;
+} keyed;
+
+static int cmp_keyed(const void *pa, const void *pb)
 {
-    int a = *(const int *)pa, bb = *(const int *)pb; /* positions in items (their centres') */
-    double x = cmp_centre[3 * a + cmp_axis], y = cmp_centre[3 * bb + cmp_axis];
-    return (x > y) - (x < y);
+    const keyed *a = pa, *b = pb;
+    if (a->at != b->at) return a->at < b->at ? -1 : 1;
+    return (a->item > b->item) - (a->item < b->item);
 }
 
 /* Node over items[lo, hi): a leaf of at most LEAF_ITEMS, else split at the median along the
@@ -88,18 +93,14 @@ static int build(bvh_build *b, int lo, int hi, int depth, rk_error *err)
     int axis = 0;
     for (int a = 1; a < 3; a++)
         if (cmax[a] - cmin[a] > cmax[axis] - cmin[axis]) axis = a;
-    /* sort by centre along the axis: the positions, then the items in their order */
-    int n = hi - lo, *key = rk_calloc((size_t)n, sizeof(int), err), *tmp = rk_calloc((size_t)n, sizeof(int), err);
-    if (!key || !tmp) {
-        free(key), free(tmp);
-        return -1;
-    }
-    for (int i = 0; i < n; i++) key[i] = lo + i;
-    cmp_axis = axis, cmp_centre = b->centre;
-    qsort(key, (size_t)n, sizeof(int), cmp_items);
-    for (int i = 0; i < n; i++) tmp[i] = b->items[key[i]];
-    memcpy(b->items + lo, tmp, sizeof(int) * (size_t)n);
-    free(key), free(tmp);
+    /* sort by centre along the axis */
+    int n = hi - lo;
+    keyed *key = rk_calloc((size_t)n, sizeof *key, err);
+    if (!key) return -1;
+    for (int i = 0; i < n; i++) key[i].at = b->centre[3 * (lo + i) + axis], key[i].item = b->items[lo + i];
+    qsort(key, (size_t)n, sizeof *key, cmp_keyed);
+    for (int i = 0; i < n; i++) b->items[lo + i] = key[i].item;
+    free(key);
     int mid = lo + n / 2;
     b->nodes[3 * node] = 0;
     b->nodes[3 * node + 1] = (uint32_t)b->nnodes;

@@ -83,7 +83,7 @@ static double run_both(rt_fixture *f, int steps, rk_error *err, int *failed, int
     return worst / scale;
 }
 
-static void parity(const char *label, const char *json, int steps)
+static void parity_tol(const char *label, const char *json, int steps, double tol)
 {
     rk_error err = {{0}};
     romrt_error rerr;
@@ -94,12 +94,17 @@ static void parity(const char *label, const char *json, int steps)
     double rel = run_both(&f, steps, &err, &failed, &crossed);
     long pairs = f.R.model.contact.stats.max_pairs;
     printf("# %s: relative difference %.3g (tol %g), %d crossings, r = %d, %d collision vertices, at most %ld pairs\n",
-           label, rel, PARITY_TOL, crossed, f.R.model.r, f.R.model.ncv, pairs);
+           label, rel, tol, crossed, f.R.model.r, f.R.model.ncv, pairs);
     rt_fixture_close(&f);
     CHECK(!failed, "%s: %s", label, err.msg);
     CHECK(crossed == 0, "%s: the runtime's surface crossed an obstacle %d times", label, crossed);
     CHECK(pairs > 0, "%s: nothing touched (the scene should land on its obstacle)", label);
-    CHECK(rel <= PARITY_TOL, "%s: relative difference %.3g above %g", label, rel, PARITY_TOL);
+    CHECK(rel <= tol, "%s: relative difference %.3g above %g", label, rel, tol);
+}
+
+static void parity(const char *label, const char *json, int steps)
+{
+    parity_tol(label, json, steps, PARITY_TOL);
 }
 
 TEST(sphere_matches_reduced_simulator)
@@ -132,14 +137,23 @@ TEST(moving_mesh_matches_reduced_simulator)
            20);
 }
 
+/* In float this one is the most sensitive: the twisting box drags the slab's corner by friction
+ * (mu 0.5) near its stick/slip threshold, and the rounding of a different summation order (the
+ * BVH's leaf order) moved the float result from 2.8e-5 to 1.2e-3 of the reference, with no
+ * change in double (2.3e-15). */
+#ifdef ROMRT_DOUBLE
+#define TWIST_TOL PARITY_TOL
+#else
+#define TWIST_TOL 5e-3
+#endif
 TEST(twisting_box_matches_reduced_simulator)
 {
-    parity("a box twisting under the slab's corner",
+    parity_tol("a box twisting under the slab's corner",
            slab_scene(0.005, 0,
                       "{\"box\": {\"min\": [0.06, -0.05, -0.02], \"max\": [0.2, 0.0, 0.02]},"
                       " \"twist\": {\"axis\": [0, 1, 0], \"degrees_per_second\": 180, \"center\": [0.1, 0, 0]}}",
                       ", \"friction\": 0.5"),
-           20);
+               20, TWIST_TOL);
 }
 
 /* Crossings of the runtime's surface (SURF over its shown positions) with the obstacles of the
