@@ -32,7 +32,7 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     rombin_chunk c;
     int found, k;
     const uint32_t *head;
-    uint64_t r = (uint64_t)m->r, rp = RT_PAD((size_t)m->r), n, cap;
+    uint64_t rp = RT_PAD((size_t)m->r), n, cap;
     romrt_status st = rt_chunk(L, ROMBIN_OBHD, ROMBIN_TYPE_U32, 0, 0, &c, &found);
     m->nobs = 0;
     if (st) return st;
@@ -94,7 +94,6 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_u32(L, 5 * (size_t)cap, (uint32_t **)(void *)&m->cand);
     rt_scratch_u32(L, 4 * (size_t)cap, (uint32_t **)(void *)&m->fric_id);
     rt_scratch(L, 11 * (size_t)cap, &m->fric);
-    (void)r;
     return ROMRT_OK;
 }
 

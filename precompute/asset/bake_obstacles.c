@@ -49,13 +49,18 @@ static void item_box(const bvh_build *b, int it, double *box)
         }
 }
 
-static int cmp_axis;
-static const double *cmp_centre;
-static int cmp_items(const void *pa, const void *pb)
+/* An item's centre along the split axis, and the item: sorted by the centre (ties by the item,
+ * so the order never depends on qsort's). */
+typedef struct {
+    double at;
+    int item;
+} keyed;
+
+static int cmp_keyed(const void *pa, const void *pb)
 {
-    int a = *(const int *)pa, bb = *(const int *)pb; /* positions in items (their centres') */
-    double x = cmp_centre[3 * a + cmp_axis], y = cmp_centre[3 * bb + cmp_axis];
-    return (x > y) - (x < y);
+    const keyed *a = pa, *b = pb;
+    if (a->at != b->at) return a->at < b->at ? -1 : 1;
+    return (a->item > b->item) - (a->item < b->item);
 }
 
 /* Node over items[lo, hi): a leaf of at most LEAF_ITEMS, else split at the median along the
@@ -88,18 +93,14 @@ static int build(bvh_build *b, int lo, int hi, int depth, rk_error *err)
     int axis = 0;
     for (int a = 1; a < 3; a++)
         if (cmax[a] - cmin[a] > cmax[axis] - cmin[axis]) axis = a;
-    /* sort by centre along the axis: the positions, then the items in their order */
-    int n = hi - lo, *key = rk_calloc((size_t)n, sizeof(int), err), *tmp = rk_calloc((size_t)n, sizeof(int), err);
-    if (!key || !tmp) {
-        free(key), free(tmp);
-        return -1;
-    }
-    for (int i = 0; i < n; i++) key[i] = lo + i;
-    cmp_axis = axis, cmp_centre = b->centre;
-    qsort(key, (size_t)n, sizeof(int), cmp_items);
-    for (int i = 0; i < n; i++) tmp[i] = b->items[key[i]];
-    memcpy(b->items + lo, tmp, sizeof(int) * (size_t)n);
-    free(key), free(tmp);
+    /* sort by centre along the axis */
+    int n = hi - lo;
+    keyed *key = rk_calloc((size_t)n, sizeof *key, err);
+    if (!key) return -1;
+    for (int i = 0; i < n; i++) key[i].at = b->centre[3 * (lo + i) + axis], key[i].item = b->items[lo + i];
+    qsort(key, (size_t)n, sizeof *key, cmp_keyed);
+    for (int i = 0; i < n; i++) b->items[lo + i] = key[i].item;
+    free(key);
     int mid = lo + n / 2;
     b->nodes[3 * node] = 0;
     b->nodes[3 * node + 1] = (uint32_t)b->nnodes;
@@ -108,16 +109,34 @@ static int build(bvh_build *b, int lo, int hi, int depth, rk_error *err)
     return build(b, mid, hi, depth + 1, err);
 }
 
+static double triangle_area(const double *a, const double *b, const double *c)
+{
+    double u[3], v[3], n[3];
+    for (int k = 0; k < 3; k++) u[k] = b[k] - a[k], v[k] = c[k] - a[k];
+    n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+    return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
 /* The runtime's pair capacity (ROMBIN.md OBHD): the asset option, or four times the busiest
- * gather the model has seen, at least twice the collision surface's primitives, at least 256. */
-static int pair_capacity(const rk_rom_model *m, const rk_asset_options *o)
+ * gather the model has seen, at least twice the collision surface's primitives, at least 256;
+ * plus, for each obstacle with triangles, its primitives under as much of it as the object's
+ * surface can cover (its primitives times the object's area over its own, at most all of
+ * them): a coarse object lying flat on a fine ground mesh has a candidate per ground primitive
+ * beneath it, far more than its own primitives (4,000 against 2,308 for a slab on a 40 x 40 grid). */
+static int pair_capacity(const rk_rom_model *m, const rk_asset_options *o, const int *prims, const double *area,
+                         int nobs)
 {
     const rk_contact *c = &m->contact;
-    long cap = 2 * ((long)c->nv + c->ne + c->nf);
-    if (4 * c->stats.max_pairs > cap) cap = 4 * c->stats.max_pairs;
+    double own = 0;
+    for (int t = 0; t < c->nf; t++)
+        own += triangle_area(&c->X[3 * c->faces[3 * t]], &c->X[3 * c->faces[3 * t + 1]], &c->X[3 * c->faces[3 * t + 2]]);
+    double cap = 2.0 * ((double)c->nv + c->ne + c->nf);
+    if (4.0 * (double)c->stats.max_pairs > cap) cap = 4.0 * (double)c->stats.max_pairs;
     if (cap < 256) cap = 256;
+    for (int k = 0; k < nobs; k++)
+        if (area[k] > 0) cap += prims[k] * fmin(1.0, own / area[k]);
     if (o->contact_pairs > 0) cap = o->contact_pairs;
-    return cap > (1L << 28) ? 1 << 28 : (int)cap;
+    return cap > (double)(1 << 24) ? 1 << 24 : (int)ceil(cap);
 }
 
 int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_writer *w, rk_error *err)
@@ -139,8 +158,10 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
     int *edges = calloc(2 * (size_t)c->one + 2, sizeof(int)), *work = calloc((size_t)nitems_all + 1, sizeof(int));
     double *centre = calloc(3 * (size_t)nitems_all + 3, sizeof(double));
     int *cedges = calloc(2 * (size_t)c->ne + 2, sizeof(int)), *ctris = calloc(3 * (size_t)c->nf + 3, sizeof(int));
-    int rc = -1;
-    if (!head || !nodes || !items || !thick || !motion || !bounds || !edges || !work || !centre || !cedges || !ctris) {
+    int *prims = calloc((size_t)nobs, sizeof(int)), rc = -1;
+    double *area = calloc((size_t)nobs, sizeof(double));
+    if (!head || !nodes || !items || !thick || !motion || !bounds || !edges || !work || !centre || !cedges || !ctris ||
+        !prims || !area) {
         rk_fail(err, "out of memory for the obstacle chunks");
         goto done;
     }
@@ -173,8 +194,12 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
         int before = b.nnodes;
         if (build(&b, 0, n, 0, err)) goto done;
         rec[ROMBIN_OBST_NODES] = (uint32_t)(b.nnodes - before);
+        prims[j] = n;
+        for (int t = tfirst; t < tfirst + nt; t++)
+            area[j] += triangle_area(&c->oX[3 * c->ofaces[3 * t]], &c->oX[3 * c->ofaces[3 * t + 1]], &c->oX[3 * c->ofaces[3 * t + 2]]);
         vfirst += nv, tfirst += nt, j++;
     }
+    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(m, o, prims, area, nobs);
     if (vfirst != c->onv || tfirst != c->onf || ne != c->one) {
         rk_fail(err, "the obstacles' vertices or triangles are not grouped by obstacle");
         goto done;
@@ -189,7 +214,6 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
     head[ROMBIN_OBHD_TRIANGLES] = (uint32_t)c->onf;
     head[ROMBIN_OBHD_NODES] = (uint32_t)b.nnodes;
     head[ROMBIN_OBHD_ITEMS] = (uint32_t)b.nout;
-    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(m, o);
     rc = rombin_add_u32(w, ROMBIN_OBHD, 1, head, headn, err) ||
          rombin_add_reals(w, ROMBIN_OBJS, 1, thick, 4 * (size_t)nobs, err) ||
          rombin_add_reals(w, ROMBIN_OBMO, 1, motion, (size_t)ROMBIN_PIN_PARAMS * nobs, err) ||
@@ -204,6 +228,6 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
              ? -1 : 0;
 done:
     free(head), free(nodes), free(items), free(thick), free(motion), free(bounds), free(edges), free(work), free(centre);
-    free(cedges), free(ctris);
+    free(cedges), free(ctris), free(prims), free(area);
     return rc;
 }
