@@ -10,6 +10,7 @@
 #include "args.h"
 #include "commands.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_subspace.h"
 #include "util/util.h"
 
 static void adaptive_usage(FILE *out)
@@ -42,12 +43,12 @@ static int pick_entry(const rk_scene *s, const char *given, const rk_rom_entry *
         long k = strtol(given, &end, 10);
         if (*end || k < 0 || k > 1000000) return rk_fail(err, "--entry must be a rom entry's index, got \"%s\"", given);
         if (rk_scene_entry(s, (int)k, e, err)) return -1;
-        if ((*e)->method != RK_METHOD_ADAPTIVE_SUBSPACE)
+        if (!rk_adaptive_subspace_of(*e))
             return rk_fail(err, "%s: %s is not method adaptive_subspace", s->path, (*e)->path);
         return 0;
     }
     for (int k = 0; k < s->nentries; k++)
-        if (s->entries[k].method == RK_METHOD_ADAPTIVE_SUBSPACE) {
+        if (rk_adaptive_subspace_of(&s->entries[k])) {
             *e = &s->entries[k];
             return 0;
         }

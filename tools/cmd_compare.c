@@ -42,45 +42,18 @@ static cJSON *method_json(const rk_compare_method *m)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "name", m->name);
-    cJSON_AddStringToObject(j, "kind", m->koopman    ? "koopman"
-                                       : m->adaptive ? "adaptive_subspace"
-                                       : m->alrom    ? "adaptive_linear"
-                                                     : "reduced");
-    if (m->alrom) cJSON_AddNumberToObject(j, "history_share", m->history_share);
+    cJSON_AddStringToObject(j, "kind", m->method->kind);
     cJSON_AddNumberToObject(j, "training_frames", m->training_frames);
     if (m->failure[0]) {
         cJSON_AddStringToObject(j, "failure", m->failure);
         return j;
     }
     cJSON *b = cJSON_AddObjectToObject(j, "basis");
-    /* an adaptive linear ROM's basis is its decoder's Jacobian: the decoder names it */
-    cJSON_AddStringToObject(b, "type", m->alrom ? "decoder" : rk_basis_type_name(m->type));
+    cJSON_AddStringToObject(b, "type", m->basis_name);
     cJSON_AddNumberToObject(b, "size", m->size);
     cJSON_AddNumberToObject(b, "columns", m->r);
     cJSON_AddStringToObject(b, "bound_by", m->basis_reason);
-    if (m->adaptive) {
-        cJSON *a = cJSON_AddObjectToObject(j, "adaptive");
-        cJSON_AddNumberToObject(a, "mean_modes", m->mean_modes);
-        cJSON_AddNumberToObject(a, "max_modes", m->max_modes);
-        cJSON_AddNumberToObject(a, "mean_enriched_vertices", m->mean_nodes);
-        cJSON_AddNumberToObject(a, "max_enriched_vertices", m->max_nodes);
-        cJSON_AddNumberToObject(a, "enriched_share", m->enriched_share);
-        cJSON_AddNumberToObject(a, "subdomains", m->subdomains);
-        cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", m->pcg_per_solve);
-        cJSON_AddNumberToObject(a, "newton_iterations_per_step", m->newton_per_step);
-        cJSON *sh = cJSON_AddObjectToObject(a, "shares");
-        cJSON_AddNumberToObject(sh, "potential", m->share_potential);
-        cJSON_AddNumberToObject(sh, "oracle", m->share_oracle);
-        cJSON_AddNumberToObject(sh, "subspace_hessian", m->share_hessian);
-        cJSON_AddNumberToObject(sh, "enriched_rows", m->share_system);
-        cJSON_AddNumberToObject(sh, "pcg", m->share_pcg);
-        cJSON_AddNumberToObject(sh, "line_search", m->share_line_search);
-    }
-    if (m->koopman) {
-        cJSON *k = cJSON_AddObjectToObject(j, "koopman");
-        cJSON_AddNumberToObject(k, "rank", m->r);
-        cJSON_AddNumberToObject(k, "max_abs_eigenvalue", m->max_abs_eigenvalue);
-    }
+    if (m->method->report) m->method->report(m, j); /* the method's own keys */
     cJSON *c = cJSON_AddObjectToObject(j, "cubature");
     cJSON_AddNumberToObject(c, "elements", m->cubature_points);
     add_number(c, "relative_error", m->cubature_error);
@@ -153,7 +126,7 @@ static cJSON *make_report(const rk_compare_result *res, double seconds)
     for (int k = 0; k < res->nmethods; k++) {
         const rk_compare_method *m = &res->methods[k];
         cJSON *j = method_json(m);
-        if (res->has_contact && !m->koopman && !m->failure[0]) { /* Koopman models no contact */
+        if (res->has_contact && m->method->measures_contact && !m->failure[0]) {
             cJSON *c = cJSON_AddObjectToObject(j, "contact");
             add_number(c, "min_distance", m->contact_min_distance);
             cJSON_AddNumberToObject(c, "intersections", m->contact_intersections);
@@ -191,7 +164,7 @@ static void print_table(const char *path, const rk_compare_result *res)
         char paper[32] = "-";
         if (isfinite(m->reference_nmse)) snprintf(paper, sizeof paper, "%.3g", m->reference_nmse);
         char cub[16] = "exact";
-        if (m->koopman) snprintf(cub, sizeof cub, "dmd");
+        if (m->method->table_cubature) snprintf(cub, sizeof cub, "%s", m->method->table_cubature);
         else if (m->cubature_points) snprintf(cub, sizeof cub, "%d", m->cubature_points);
         char fit[32] = "-"; /* no fixed linear basis (Koopman, adaptive): no fit */
         if (isfinite(m->fit_normalized_mse)) snprintf(fit, sizeof fit, "%.3g", m->fit_normalized_mse);
@@ -203,13 +176,7 @@ static void print_table(const char *path, const rk_compare_result *res)
     for (int k = 0; k < res->nmethods; k++) {
         const rk_compare_method *m = &res->methods[k];
         if (m->failure[0]) continue;
-        if (m->adaptive)
-            printf("  %s: %.1f modes (max %d), %.1f enriched vertices (%.1f%%, max %d) of %d subdomains; %.1f Newton "
-                   "iterations a step, %.1f PCG iterations a solve; time: potential %.0f%%, oracle %.0f%%, subspace "
-                   "Hessian %.0f%%, enriched rows %.0f%%, PCG %.0f%%, line search %.0f%%\n",
-                   m->name, m->mean_modes, m->max_modes, m->mean_nodes, 100 * m->enriched_share, m->max_nodes,
-                   m->subdomains, m->newton_per_step, m->pcg_per_solve, 100 * m->share_potential, 100 * m->share_oracle,
-                   100 * m->share_hessian, 100 * m->share_system, 100 * m->share_pcg, 100 * m->share_line_search);
+        if (m->method->print) m->method->print(m, stdout);
         else printf("  %s: basis %s; cubature %s\n", m->name, m->basis_reason, m->cubature_reason);
     }
 }

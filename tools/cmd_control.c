@@ -13,7 +13,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/control.h"
 #include "util/util.h"
 
 /* --regularize's default: lambda = 0.2 sigma_max(A) (rk_lstsq_tikhonov). Measured on
@@ -224,7 +224,7 @@ static int run_control(const control_args *a, rk_error *err)
     long h = 1;
     if (rk_scene_load(a->scene, &scene, err)) return -1;
     for (int i = 0; i < scene.nentries && !e; i++)
-        if (scene.entries[i].koopman) e = &scene.entries[i];
+        if (rk_koopman_of(&scene.entries[i])) e = &scene.entries[i];
     if (!e) {
         rk_fail(err, "%s: no rom entry has a koopman section", a->scene);
         rk_scene_free(&scene);

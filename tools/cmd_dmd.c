@@ -13,6 +13,7 @@
 #include "dmd_markers.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 #include "mesh/mesh.h"
 #include "util/util.h"
 

@@ -16,6 +16,7 @@
 #include "koopman/koopman.h"
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 void dmd_markers_free(dmd_markers *m)
 {

@@ -1,6 +1,7 @@
-/* An adaptive subspace entry on the built scene (pipeline.h, rk_scene_adaptive_init): its candidate
+/* An adaptive subspace entry on the built scene (method_adaptive_subspace.h, rk_scene_adaptive_init): its candidate
  * basis, how the oracle groups its columns, and the simulator under the scene's own options. */
-#include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_subspace.h"
+#include "pipeline/method_fixed.h"
 
 #include <string.h>
 
@@ -18,10 +19,12 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
     }
     rk_scene_basis_info_free(&info);
     if (seconds_basis) *seconds_basis = rk_now() - t0;
-    rk_adaptive_options o = e->adaptive;
+    const rk_adaptive_subspace_entry *own = rk_adaptive_subspace_of(e);
+    if (!own) return rk_fail(err, "%s is not method adaptive_subspace", e->path);
+    rk_adaptive_options o = own->opt;
     int skinning = basis.W != NULL;
     o.block = skinning ? 12 : 1; /* a skinning weight's 12 affine columns are one candidate (Sec. 3.5) */
-    int initial = e->adaptive_initial_size;
+    int initial = own->initial_size;
     if (!initial) initial = skinning ? 12 : basis.nzero > 0 ? basis.nzero : 1;
     int rc = 0;
     if (initial % o.block || initial > basis.r)

@@ -1,6 +1,6 @@
-/* An adaptive subspace entry beside full order (compare_impl.h, rk_compare_adaptive): the free run
+/* An adaptive subspace entry beside full order (method_adaptive_subspace.c's compare): the free run
  * from the scene's start, and the realigned run that starts each step from the reference's state. */
-#include "compare/compare_impl.h"
+#include "pipeline/method_adaptive_subspace.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -9,7 +9,6 @@
 static void record_model(rk_compare_method *m, const rk_adaptive *ad, int nv)
 {
     const rk_adaptive_stats *s = &ad->stats;
-    m->adaptive = 1;
     m->r = ad->impl ? ad->modes : 0;
     m->mean_modes = s->steps ? s->sum_modes / s->steps : 0;
     m->mean_nodes = s->steps ? s->sum_nodes / s->steps : 0;
@@ -30,9 +29,19 @@ static void record_model(rk_compare_method *m, const rk_adaptive *ad, int nv)
     m->share_line_search = s->seconds_line_search / total;
 }
 
-int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
-                        const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
+int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+
+/* Its candidate basis trains on the entry's training set (or the scene's run); it runs as many
+ * steps as the scene's own run. */
+int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
 {
+    const rk_scene *scene = c->scene;
+    const rk_scene_sim *sim = c->sim;
+    const rk_fom_frames *ref = c->ref;
+    const double *D;
+    int T;
+    if (rk_compare_training(c, e, &D, &T, m, err)) return -1;
+    T = c->fom->T;
     int ndof = ref->ndof, rc = -1;
     rk_adaptive ad = {0};
     double *secs = rk_calloc((size_t)T + 1, sizeof(double), err);
