@@ -129,19 +129,14 @@ static int load_target(const char *path, const rk_scene_sim *sim, double **u, in
     return 0;
 }
 
-/* Per-frame |a_t - b_t| over every vertex, in % of scale. */
+/* Per-frame |a_t - b_t| over every vertex (rk_frame_error), in % of scale. */
 static cJSON *frame_errors(const double *a, const double *b, int n3, int T, double scale, double *max_out)
 {
     cJSON *o = cJSON_CreateObject(), *per = cJSON_CreateArray();
     double mx = 0;
     int under2 = 0, under6 = 0;
     for (int t = 0; t < T; t++) {
-        double s = 0;
-        for (int i = 0; i < n3; i++) {
-            double d = a[(size_t)n3 * t + i] - b[(size_t)n3 * t + i];
-            s += d * d;
-        }
-        double e = 100 * sqrt(s) / scale;
+        double e = 100 * rk_frame_error(a + (size_t)n3 * t, b + (size_t)n3 * t, n3 / 3) / scale;
         mx = fmax(mx, e);
         under2 += e < 2, under6 += e < 6;
         cJSON_AddItemToArray(per, cJSON_CreateNumber(e));
@@ -251,11 +246,7 @@ static int run_control(const control_args *a, rk_error *err)
     if (load_target(a->target, &sim, &target, &T, err)) goto done_sim;
     int n3 = 3 * sim.mesh.nv;
     double scale = 0, mx[3];
-    for (int t = 0; t < T; t++) {
-        double s = 0;
-        for (int i = 0; i < n3; i++) s += target[(size_t)n3 * t + i] * target[(size_t)n3 * t + i];
-        scale = fmax(scale, sqrt(s));
-    }
+    for (int t = 0; t < T; t++) scale = fmax(scale, rk_frame_error(target + (size_t)n3 * t, NULL, n3 / 3));
     if (!(scale > 0)) {
         rk_fail(err, "--target %s never leaves the rest positions: nothing to follow", a->target);
         goto done_sim;
