@@ -123,4 +123,45 @@ static inline void rk_cholmod_dense_view(const double *x, int n, cholmod_dense *
     B->dtype = CHOLMOD_DOUBLE;
 }
 
+/* ==== the one sparse Cholesky (cholesky.c) ====
+ *
+ * CHOLMOD with one policy for every caller (the full-order Newton solver, the shift-invert
+ * eigensolver and the modal derivatives): supernodal LL^T, ordered by AMD and by nested dissection
+ * with the sparser factor kept, analysed once per pattern; numeric refactorizations into the same
+ * factor; solves that reuse their workspaces; OpenBLAS threads only from RK_CHOL_THREADED_FLOPS on
+ * (cholesky.c says why, with the measurements). A matrix found not positive definite is reported
+ * (RK_CHOL_NOT_POSDEF, with a message) and the caller chooses: project and retry, fail, or factor
+ * it as LDL^T (rk_chol_indefinite). The matrix is the caller's, wrapped without a copy. */
+
+/* CHOLMOD's flop count from which the factorization and the solves get rk_threads() threads. */
+#define RK_CHOL_THREADED_FLOPS 1e10
+/* rk_chol_factor's result for a matrix that is not positive definite. */
+#define RK_CHOL_NOT_POSDEF 1
+
+typedef struct {
+    cholmod_common cc;
+    int started;
+    const rk_sparse *S;     /* the caller's matrix (values read at each factorization) */
+    cholmod_sparse A;       /* its view */
+    cholmod_factor *L;
+    cholmod_dense *sol, *Y, *E; /* cholmod_solve2's workspaces */
+    int n, blas_threads, indefinite;
+} rk_chol;
+
+/* The symbolic analysis of S's pattern: the first call, on a zeroed c, starts CHOLMOD; a later
+ * one (the pattern changed) analyses again. S must outlive c. */
+int rk_chol_analyze(rk_chol *c, const rk_sparse *S, rk_error *err);
+/* The numeric factorization of S's current values: 0, -1 on failure, RK_CHOL_NOT_POSDEF (with a
+ * message naming the column) when S is not positive definite and c is not indefinite. */
+int rk_chol_factor(rk_chol *c, rk_error *err);
+/* From now on LDL^T (simplicial): analyses and factors S again. For a matrix known indefinite. */
+int rk_chol_indefinite(rk_chol *c, rk_error *err);
+/* x = S^{-1} b (x and b may alias). */
+int rk_chol_solve(rk_chol *c, const double *b, double *x, rk_error *err);
+/* The factor's pivot-ratio condition estimate (cholmod_rcond); 0 without a factor. */
+double rk_chol_rcond(rk_chol *c);
+/* Where the last factorization stopped (n when it completed). */
+int rk_chol_minor(const rk_chol *c);
+void rk_chol_free(rk_chol *c);
+
 #endif
