@@ -164,4 +164,44 @@ double rk_chol_rcond(rk_chol *c);
 int rk_chol_minor(const rk_chol *c);
 void rk_chol_free(rk_chol *c);
 
+/* ==== one tet's 12 local dofs (a0 a1 a2 b0 ... d2) and the global vectors and matrices ==== */
+
+/* Number of upper-triangle entries of a 12x12 element block (the slot map's stride). */
+#define RK_TET_SLOTS 78
+
+/* xe = the 12 coordinates of tet t's vertices taken from x (3*nv). */
+static inline void rk_fem_gather(const rk_fem *f, int t, const double *x, double xe[12])
+{
+    const int *v = &f->tets[4 * t];
+    for (int a = 0; a < 4; a++) {
+        const double *p = &x[3 * v[a]];
+        xe[3 * a] = p[0];
+        xe[3 * a + 1] = p[1];
+        xe[3 * a + 2] = p[2];
+    }
+}
+
+/* g[dof] += scale * ge[local dof] for tet t. */
+static inline void rk_fem_scatter_vector(const rk_fem *f, int t, const double ge[12], double scale,
+                                         double *g)
+{
+    const int *v = &f->tets[4 * t];
+    for (int a = 0; a < 4; a++) {
+        double *p = &g[3 * v[a]];
+        p[0] += scale * ge[3 * a];
+        p[1] += scale * ge[3 * a + 1];
+        p[2] += scale * ge[3 * a + 2];
+    }
+}
+
+/* val[slot] += scale * He for the 78 upper entries (p <= q, row-major) of tet t's symmetric
+ * 12x12 block He (row-major). */
+static inline void rk_fem_scatter_block(const rk_fem *f, int t, const double He[144], double scale,
+                                        double *val)
+{
+    const int *s = &f->slot[RK_TET_SLOTS * t];
+    for (int p = 0; p < 12; p++)
+        for (int q = p; q < 12; q++) val[*s++] += scale * He[12 * p + q];
+}
+
 #endif
