@@ -9,24 +9,25 @@
 static void record_model(rk_compare_method *m, const rk_adaptive *ad, int nv)
 {
     const rk_adaptive_stats *s = &ad->stats;
+    rk_adaptive_subspace_measures *am = rk_method_measures(m, &rk_method_adaptive_subspace);
     m->r = ad->impl ? ad->modes : 0;
-    m->mean_modes = s->steps ? s->sum_modes / s->steps : 0;
-    m->mean_nodes = s->steps ? s->sum_nodes / s->steps : 0;
-    m->enriched_share = m->mean_nodes / nv;
-    m->max_modes = s->max_modes;
-    m->max_nodes = s->max_nodes;
-    m->subdomains = ad->opt.subdomains;
-    m->pcg_per_solve = s->solves ? (double)s->pcg_iterations / s->solves : 0;
-    m->newton_per_step = s->steps ? (double)s->newton_iterations / s->steps : 0;
+    am->mean_modes = s->steps ? s->sum_modes / s->steps : 0;
+    am->mean_nodes = s->steps ? s->sum_nodes / s->steps : 0;
+    am->enriched_share = am->mean_nodes / nv;
+    am->max_modes = s->max_modes;
+    am->max_nodes = s->max_nodes;
+    am->subdomains = ad->opt.subdomains;
+    am->pcg_per_solve = s->solves ? (double)s->pcg_iterations / s->solves : 0;
+    am->newton_per_step = s->steps ? (double)s->newton_iterations / s->steps : 0;
     m->newton_iterations = s->newton_iterations;
     m->unconverged_steps = ad->fom.stats.unconverged_steps;
     double total = s->seconds_total > 0 ? s->seconds_total : 1;
-    m->share_potential = s->seconds_potential / total;
-    m->share_oracle = s->seconds_oracle / total;
-    m->share_hessian = s->seconds_hessian / total;
-    m->share_system = s->seconds_system / total;
-    m->share_pcg = (s->seconds_pcg - s->seconds_system) / total; /* the PCG's own, the rows built counted apart */
-    m->share_line_search = s->seconds_line_search / total;
+    am->share_potential = s->seconds_potential / total;
+    am->share_oracle = s->seconds_oracle / total;
+    am->share_hessian = s->seconds_hessian / total;
+    am->share_system = s->seconds_system / total;
+    am->share_pcg = (s->seconds_pcg - s->seconds_system) / total; /* the PCG's own, the rows built counted apart */
+    am->share_line_search = s->seconds_line_search / total;
 }
 
 int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);

@@ -108,7 +108,8 @@ int rk_adaptive_linear_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_comp
     m->seconds_per_step = rk_median(secs, steps);
     m->newton_iterations = s.stats.newton_iterations;
     m->unconverged_steps = s.fom.stats.unconverged_steps;
-    m->history_share = s.stats.steps ? (double)s.stats.history_used / s.stats.steps : 0;
+    rk_adaptive_linear_measures *lm = rk_method_measures(m, &rk_method_adaptive_linear);
+    lm->history_share = s.stats.steps ? (double)s.stats.history_used / s.stats.steps : 0;
     /* realigned: a fresh simulator (the same decoder) from each reference state (its history then
      * holds them) */
     rk_alrom_free(&s);

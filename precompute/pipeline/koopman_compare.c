@@ -126,7 +126,8 @@ int rk_koopman_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_meth
                         : "against the refined reference is reconstruction plus the scene mesh's own error");
     m->r = K.k.r;
     m->size = K.k.d;
-    m->max_abs_eigenvalue = rk_max_abs_eigenvalue(K.k.lambda_re, K.k.lambda_im, K.k.r);
+    rk_koopman_measures *km = rk_method_measures(m, &rk_method_koopman);
+    km->max_abs_eigenvalue = rk_max_abs_eigenvalue(K.k.lambda_re, K.k.lambda_im, K.k.r);
     int rc = run_free_and_realigned(&K.k, sim, ref, m, err);
     rk_scene_koopman_free(&K);
     return rc;

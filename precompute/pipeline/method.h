@@ -32,10 +32,12 @@ typedef struct {
     int intersections;
 } rk_fom_frames;
 
+/* The bytes of a compare result a method keeps for its own measurements. */
+#define RK_COMPARE_OWN_BYTES 512
+
 typedef struct {
     char name[96];
     const struct rk_method *method;
-    double max_abs_eigenvalue;     /* Koopman: after the clamp, if any */
     rk_basis_type type;
     char basis_name[32];           /* the report's basis.type: the basis type's name unless the method says */
     int size;                      /* rom.size as built: columns, or weights m for skinning */
@@ -54,20 +56,13 @@ typedef struct {
     int contact_intersections;     /* the most exact crossings in a frame (0) */
     int realign_clipped;           /* online error: steps whose projected start lay beyond contact
                                     * (the realignment stopped short where CCD did) */
-    /* method adaptive_subspace: the free run's model sizes at each step's end (active columns,
-     * enriched vertices and their share of the mesh), Schur PCG iterations per solve, Newton
-     * iterations per step, and the shares of its time (adaptive.h's stats) */
-    double mean_modes, mean_nodes, enriched_share, pcg_per_solve, newton_per_step;
-    int max_modes, max_nodes, subdomains;
-    double share_potential, share_oracle, share_hessian, share_system, share_pcg, share_line_search;
-    /* method adaptive_linear: the share of the free run's steps whose basis blended the history
-     * (the rest used the decoder's alone: the history did not span r directions yet) */
-    double history_share;
     int training_frames;           /* the full-order frames its data-driven parts trained on */
     double reference_nmse;
     char reference_source[96];
     char basis_reason[256], cubature_reason[256];
     char failure[1024];            /* empty when it ran; else why it did not (the error message) */
+    /* what only this method measures (its header's type, read through rk_method_measures) */
+    _Alignas(max_align_t) unsigned char own[RK_COMPARE_OWN_BYTES];
 } rk_compare_method;
 
 /* What a method's compare operation runs on: the built scene, its own full-order run (what
@@ -144,6 +139,8 @@ const rk_method *rk_method_find(const char *name);
 int rk_method_register(const rk_method *m);
 /* The method's own options block of e, or NULL when e is another method's. */
 const void *rk_method_options(const rk_rom_entry *e, const rk_method *m);
+/* The method's own measurements in m (RK_COMPARE_OWN_BYTES), or NULL when m is another method's. */
+void *rk_method_measures(rk_compare_method *m, const rk_method *method);
 
 /* For a method's parse outside this folder (its parse gets an opaque context): a finite number
  * under key (absent: *out unchanged), and a failure "<file>: <path>: <message>" (returns -1). */

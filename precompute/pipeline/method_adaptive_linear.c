@@ -8,6 +8,7 @@
 #include "pipeline/parse_impl.h"
 
 _Static_assert(sizeof(rk_adaptive_linear_entry) <= RK_METHOD_OWN_BYTES, "options fit the entry's block");
+_Static_assert(sizeof(rk_adaptive_linear_measures) <= RK_COMPARE_OWN_BYTES, "measures fit the result's block");
 
 int rk_adaptive_linear_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 void rk_adaptive_linear_compare_free(void *cache);
@@ -82,7 +83,8 @@ static int bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_requ
 
 static void report(const rk_compare_method *m, cJSON *j)
 {
-    cJSON_AddNumberToObject(j, "history_share", m->history_share);
+    const rk_adaptive_linear_measures *lm = (const void *)m->own;
+    cJSON_AddNumberToObject(j, "history_share", lm->history_share);
 }
 
 static const char *const keys[] = {"history", "lambda", "decoder", "crom", NULL};

@@ -18,6 +18,12 @@ typedef struct {
     rk_crom_options crom_opt;
 } rk_adaptive_linear_entry;
 
+/* What romkit compare measures of it: the share of the free run's steps whose basis blended the
+ * history (the rest used the decoder's alone: the history did not span r directions yet). */
+typedef struct {
+    double history_share;
+} rk_adaptive_linear_measures;
+
 extern const rk_method rk_method_adaptive_linear;
 /* Entry e's options, or NULL when it is another method. */
 const rk_adaptive_linear_entry *rk_adaptive_linear_of(const rk_rom_entry *e);

@@ -8,6 +8,7 @@
 #include "pipeline/parse_impl.h"
 
 _Static_assert(sizeof(rk_adaptive_subspace_entry) <= RK_METHOD_OWN_BYTES, "options fit the entry's block");
+_Static_assert(sizeof(rk_adaptive_subspace_measures) <= RK_COMPARE_OWN_BYTES, "measures fit the result's block");
 
 int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
@@ -61,32 +62,34 @@ static int bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_requ
 
 static void report(const rk_compare_method *m, cJSON *j)
 {
+    const rk_adaptive_subspace_measures *am = (const void *)m->own;
     cJSON *a = cJSON_AddObjectToObject(j, "adaptive");
-    cJSON_AddNumberToObject(a, "mean_modes", m->mean_modes);
-    cJSON_AddNumberToObject(a, "max_modes", m->max_modes);
-    cJSON_AddNumberToObject(a, "mean_enriched_vertices", m->mean_nodes);
-    cJSON_AddNumberToObject(a, "max_enriched_vertices", m->max_nodes);
-    cJSON_AddNumberToObject(a, "enriched_share", m->enriched_share);
-    cJSON_AddNumberToObject(a, "subdomains", m->subdomains);
-    cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", m->pcg_per_solve);
-    cJSON_AddNumberToObject(a, "newton_iterations_per_step", m->newton_per_step);
+    cJSON_AddNumberToObject(a, "mean_modes", am->mean_modes);
+    cJSON_AddNumberToObject(a, "max_modes", am->max_modes);
+    cJSON_AddNumberToObject(a, "mean_enriched_vertices", am->mean_nodes);
+    cJSON_AddNumberToObject(a, "max_enriched_vertices", am->max_nodes);
+    cJSON_AddNumberToObject(a, "enriched_share", am->enriched_share);
+    cJSON_AddNumberToObject(a, "subdomains", am->subdomains);
+    cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", am->pcg_per_solve);
+    cJSON_AddNumberToObject(a, "newton_iterations_per_step", am->newton_per_step);
     cJSON *sh = cJSON_AddObjectToObject(a, "shares");
-    cJSON_AddNumberToObject(sh, "potential", m->share_potential);
-    cJSON_AddNumberToObject(sh, "oracle", m->share_oracle);
-    cJSON_AddNumberToObject(sh, "subspace_hessian", m->share_hessian);
-    cJSON_AddNumberToObject(sh, "enriched_rows", m->share_system);
-    cJSON_AddNumberToObject(sh, "pcg", m->share_pcg);
-    cJSON_AddNumberToObject(sh, "line_search", m->share_line_search);
+    cJSON_AddNumberToObject(sh, "potential", am->share_potential);
+    cJSON_AddNumberToObject(sh, "oracle", am->share_oracle);
+    cJSON_AddNumberToObject(sh, "subspace_hessian", am->share_hessian);
+    cJSON_AddNumberToObject(sh, "enriched_rows", am->share_system);
+    cJSON_AddNumberToObject(sh, "pcg", am->share_pcg);
+    cJSON_AddNumberToObject(sh, "line_search", am->share_line_search);
 }
 
 static void print(const rk_compare_method *m, FILE *f)
 {
+    const rk_adaptive_subspace_measures *am = (const void *)m->own;
     fprintf(f, "  %s: %.1f modes (max %d), %.1f enriched vertices (%.1f%%, max %d) of %d subdomains; %.1f Newton "
             "iterations a step, %.1f PCG iterations a solve; time: potential %.0f%%, oracle %.0f%%, subspace "
             "Hessian %.0f%%, enriched rows %.0f%%, PCG %.0f%%, line search %.0f%%\n",
-            m->name, m->mean_modes, m->max_modes, m->mean_nodes, 100 * m->enriched_share, m->max_nodes, m->subdomains,
-            m->newton_per_step, m->pcg_per_solve, 100 * m->share_potential, 100 * m->share_oracle,
-            100 * m->share_hessian, 100 * m->share_system, 100 * m->share_pcg, 100 * m->share_line_search);
+            m->name, am->mean_modes, am->max_modes, am->mean_nodes, 100 * am->enriched_share, am->max_nodes, am->subdomains,
+            am->newton_per_step, am->pcg_per_solve, 100 * am->share_potential, 100 * am->share_oracle,
+            100 * am->share_hessian, 100 * am->share_system, 100 * am->share_pcg, 100 * am->share_line_search);
 }
 
 static const char *const keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",

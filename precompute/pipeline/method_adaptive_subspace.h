@@ -15,6 +15,15 @@ typedef struct {
     int initial_size;                /* 0: the default above */
 } rk_adaptive_subspace_entry;
 
+/* What romkit compare measures of it: the free run's model sizes at each step's end (active
+ * columns, enriched vertices and their share of the mesh), Schur PCG iterations per solve, Newton
+ * iterations per step, and the shares of its time (adaptive.h's stats). */
+typedef struct {
+    double mean_modes, mean_nodes, enriched_share, pcg_per_solve, newton_per_step;
+    int max_modes, max_nodes, subdomains;
+    double share_potential, share_oracle, share_hessian, share_system, share_pcg, share_line_search;
+} rk_adaptive_subspace_measures;
+
 extern const rk_method rk_method_adaptive_subspace;
 /* Entry e's options, or NULL when it is another method. */
 const rk_adaptive_subspace_entry *rk_adaptive_subspace_of(const rk_rom_entry *e);

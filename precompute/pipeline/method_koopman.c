@@ -11,6 +11,7 @@
 #include "pipeline/parse_impl.h"
 
 _Static_assert(sizeof(rk_koopman_entry) <= RK_METHOD_OWN_BYTES, "options fit the entry's block");
+_Static_assert(sizeof(rk_koopman_measures) <= RK_COMPARE_OWN_BYTES, "measures fit the result's block");
 
 int rk_koopman_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
 
@@ -70,7 +71,7 @@ static void report(const rk_compare_method *m, cJSON *j)
 {
     cJSON *k = cJSON_AddObjectToObject(j, "koopman");
     cJSON_AddNumberToObject(k, "rank", m->r);
-    cJSON_AddNumberToObject(k, "max_abs_eigenvalue", m->max_abs_eigenvalue);
+    cJSON_AddNumberToObject(k, "max_abs_eigenvalue", ((const rk_koopman_measures *)(const void *)m->own)->max_abs_eigenvalue);
 }
 
 const rk_method rk_method_koopman = {

@@ -27,6 +27,11 @@ typedef struct {
     rk_koopman_variation traj[RK_KOOPMAN_MAX_TRAJECTORIES];
 } rk_koopman_entry;
 
+/* What romkit compare measures of it beside the shared numbers. */
+typedef struct {
+    double max_abs_eigenvalue;     /* after the clamp, if any */
+} rk_koopman_measures;
+
 extern const rk_method rk_method_koopman;
 /* Entry e's Koopman options, or NULL when it has no koopman section. */
 const rk_koopman_entry *rk_koopman_of(const rk_rom_entry *e);

@@ -55,6 +55,11 @@ const void *rk_method_options(const rk_rom_entry *e, const rk_method *m)
     return e->method == m ? (const void *)e->own : NULL;
 }
 
+void *rk_method_measures(rk_compare_method *m, const rk_method *method)
+{
+    return m->method == method ? (void *)m->own : NULL;
+}
+
 int rk_method_number(const rk_json_ctx *c, const cJSON *e, const char *path, const char *key, double *out)
 {
     return rk_json_number(c, e, path, key, 0, out);
