@@ -44,5 +44,9 @@ typedef struct {
  * (a basis it cannot build, NaN) is recorded in its failure field and the others still run. */
 int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err);
 void rk_compare_result_free(rk_compare_result *r);
+/* The report romkit compare writes (report.c): sizes, the full-order and reference runs, methods[]
+ * (the fom row first, then each method: name, kind, basis.*, cubature.*, the errors, seconds.*,
+ * its own keys, contact.* where measured, or its failure) and seconds.total (the caller's). */
+cJSON *rk_compare_report(const rk_compare_result *res, double seconds);
 
 #endif
