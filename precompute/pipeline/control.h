@@ -45,4 +45,15 @@ int rk_scene_control(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_co
                      const double *target, int T, rk_control_result *out, rk_error *err);
 void rk_control_result_free(rk_control_result *r);
 
+/* The size errors are measured against: the largest |u_t| over the target's T frames (3 nv = n3
+ * values each, displacements from rest); 0 for a target that never moves. */
+double rk_control_target_scale(const double *target, int n3, int T);
+/* romkit control's report: vertices, frames, horizon, regularize, inputs[] (group, axis),
+ * followed_values, koopman.*, error.* (per frame |u_a - u_b| in % of rk_control_target_scale:
+ * fom_vs_target, model_vs_target, model_vs_fom, each with max_percent, frames_under_2_percent,
+ * frames_under_6_percent, per_frame_percent) and seconds.*. max_percent (may be NULL) gets the three
+ * maxima. */
+cJSON *rk_control_report(const rk_rom_entry *e, const rk_control_options *o, const rk_control_result *r,
+                         const double *target, int n3, double max_percent[3]);
+
 #endif
