@@ -37,4 +37,11 @@ const rk_adaptive_subspace_entry *rk_adaptive_subspace_of(const rk_rom_entry *e)
 int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_adaptive *ad, double *seconds_basis, rk_error *err);
 
+/* romkit adaptive's report of a run of ad on sim: vertices, tets, steps, seconds_per_step (the
+ * median of secs, steps values), newton_iterations, unconverged_steps, adaptive.* (model sizes,
+ * oracle and BFGS counts), seconds.* (the parts) and, when min_distance is not NAN, contact.*
+ * (min_distance, intersections: crossings summed over the frames). */
+cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const double *secs, int steps,
+                          double min_distance, long crossings);
+
 #endif
