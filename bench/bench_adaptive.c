@@ -46,6 +46,7 @@
 #include "bench_cases.h"
 #include "adaptive/adaptive.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_subspace.h"
 #include "util/util.h"
 
 #define GAP 1e-3

@@ -56,6 +56,7 @@
 #include "bench_cases.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 #include "mesh/mesh.h"
 #include "runtime/romrt.h"
 #include "util/util.h"

@@ -25,7 +25,7 @@
 #include "cubature/cubature.h"
 #include "fom/fom.h"
 #include "rom/rom.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 #include "util/util.h"
 
 #define BENCH_NR 4

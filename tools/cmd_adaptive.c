@@ -9,8 +9,8 @@
 
 #include "args.h"
 #include "commands.h"
-#include "contact_report.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_subspace.h"
 #include "util/util.h"
 
 static void adaptive_usage(FILE *out)
@@ -43,57 +43,16 @@ static int pick_entry(const rk_scene *s, const char *given, const rk_rom_entry *
         long k = strtol(given, &end, 10);
         if (*end || k < 0 || k > 1000000) return rk_fail(err, "--entry must be a rom entry's index, got \"%s\"", given);
         if (rk_scene_entry(s, (int)k, e, err)) return -1;
-        if ((*e)->method != RK_METHOD_ADAPTIVE_SUBSPACE)
+        if (!rk_adaptive_subspace_of(*e))
             return rk_fail(err, "%s: %s is not method adaptive_subspace", s->path, (*e)->path);
         return 0;
     }
     for (int k = 0; k < s->nentries; k++)
-        if (s->entries[k].method == RK_METHOD_ADAPTIVE_SUBSPACE) {
+        if (rk_adaptive_subspace_of(&s->entries[k])) {
             *e = &s->entries[k];
             return 0;
         }
     return rk_fail(err, "%s: no rom entry with \"method\": \"adaptive_subspace\"", s->path);
-}
-
-static cJSON *make_report(const rk_scene_sim *sim, const rk_adaptive *ad, const double *secs, int steps,
-                          const rk_contact_tally *tally, int contact)
-{
-    const rk_adaptive_stats *s = &ad->stats;
-    cJSON *r = cJSON_CreateObject();
-    cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
-    cJSON_AddNumberToObject(r, "tets", sim->mesh.nt);
-    cJSON_AddNumberToObject(r, "steps", steps);
-    double *t = malloc(sizeof(double) * (size_t)(steps > 0 ? steps : 1));
-    if (t) memcpy(t, secs, sizeof(double) * (size_t)steps);
-    cJSON_AddNumberToObject(r, "seconds_per_step", t && steps > 0 ? rk_median(t, steps) : 0);
-    free(t);
-    cJSON_AddNumberToObject(r, "newton_iterations", (double)s->newton_iterations);
-    cJSON_AddNumberToObject(r, "unconverged_steps", (double)ad->fom.stats.unconverged_steps);
-    cJSON *a = cJSON_AddObjectToObject(r, "adaptive");
-    cJSON_AddNumberToObject(a, "mean_modes", s->steps ? s->sum_modes / s->steps : 0);
-    cJSON_AddNumberToObject(a, "max_modes", s->max_modes);
-    cJSON_AddNumberToObject(a, "mean_enriched_vertices", s->steps ? s->sum_nodes / s->steps : 0);
-    cJSON_AddNumberToObject(a, "max_enriched_vertices", s->max_nodes);
-    cJSON_AddNumberToObject(a, "subdomains", ad->opt.subdomains);
-    cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", s->solves ? (double)s->pcg_iterations / s->solves : 0);
-    cJSON_AddNumberToObject(a, "modes_added", (double)s->oracle_modes_added);
-    cJSON_AddNumberToObject(a, "vertices_added", (double)s->oracle_nodes_added);
-    cJSON_AddNumberToObject(a, "modes_downdated", (double)s->modes_downdated);
-    cJSON_AddNumberToObject(a, "vertices_downdated", (double)s->nodes_downdated);
-    cJSON_AddNumberToObject(a, "bfgs_updates", (double)s->bfgs_updates);
-    cJSON_AddNumberToObject(a, "bfgs_skipped", (double)s->bfgs_skipped);
-    cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
-    cJSON_AddNumberToObject(sec, "simulate", s->seconds_total);
-    cJSON_AddNumberToObject(sec, "potential", s->seconds_potential);
-    cJSON_AddNumberToObject(sec, "oracle", s->seconds_oracle);
-    cJSON_AddNumberToObject(sec, "subspace_hessian", s->seconds_hessian);
-    cJSON_AddNumberToObject(sec, "enriched_rows", s->seconds_system);
-    cJSON_AddNumberToObject(sec, "pcg", s->seconds_pcg - s->seconds_system);
-    cJSON_AddNumberToObject(sec, "line_search", s->seconds_line_search);
-    if (contact) {
-        contact_tally_report(cJSON_AddObjectToObject(r, "contact"), tally);
-    }
-    return r;
 }
 
 int cmd_adaptive(int argc, char **argv)
@@ -174,7 +133,7 @@ int cmd_adaptive(int argc, char **argv)
         long shape[2] = {nv, 3};
         if (rk_npy_write(a.positions, ad.fom.x, 2, shape, &err)) goto done;
     }
-    cJSON *report = make_report(&sim, &ad, secs, steps, &tally, contact);
+    cJSON *report = rk_adaptive_report(&sim, &ad, secs, steps, contact ? &tally : NULL);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);
         goto done;

@@ -7,6 +7,7 @@
 
 #include "args.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 #include "commands.h"
 #include "util/util.h"
 

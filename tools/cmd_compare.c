@@ -1,5 +1,6 @@
 /* romkit compare SCENE.json [--report R.json] [--quiet]: the full-order model and every reduced
- * method the scene's rom section lists, side by side (precompute/rom/compare.h). */
+ * method the scene's rom section lists, side by side (precompute/compare/compare.h: the run and its
+ * report; this file parses the options, writes the report and prints the table). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,144 +33,6 @@ static void compare_usage(FILE *f)
                "  romkit compare examples/scenes/cantilever_small.json --report compare.json\n");
 }
 
-static void add_number(cJSON *o, const char *key, double v)
-{
-    if (isfinite(v)) cJSON_AddNumberToObject(o, key, v);
-    else cJSON_AddNullToObject(o, key);
-}
-
-static cJSON *method_json(const rk_compare_method *m)
-{
-    cJSON *j = cJSON_CreateObject();
-    cJSON_AddStringToObject(j, "name", m->name);
-    cJSON_AddStringToObject(j, "kind", m->koopman    ? "koopman"
-                                       : m->adaptive ? "adaptive_subspace"
-                                       : m->alrom    ? "adaptive_linear"
-                                                     : "reduced");
-    if (m->alrom) cJSON_AddNumberToObject(j, "history_share", m->history_share);
-    cJSON_AddNumberToObject(j, "training_frames", m->training_frames);
-    if (m->failure[0]) {
-        cJSON_AddStringToObject(j, "failure", m->failure);
-        return j;
-    }
-    cJSON *b = cJSON_AddObjectToObject(j, "basis");
-    /* an adaptive linear ROM's basis is its decoder's Jacobian: the decoder names it */
-    cJSON_AddStringToObject(b, "type", m->alrom ? "decoder" : rk_basis_type_name(m->type));
-    cJSON_AddNumberToObject(b, "size", m->size);
-    cJSON_AddNumberToObject(b, "columns", m->r);
-    cJSON_AddStringToObject(b, "bound_by", m->basis_reason);
-    if (m->adaptive) {
-        cJSON *a = cJSON_AddObjectToObject(j, "adaptive");
-        cJSON_AddNumberToObject(a, "mean_modes", m->mean_modes);
-        cJSON_AddNumberToObject(a, "max_modes", m->max_modes);
-        cJSON_AddNumberToObject(a, "mean_enriched_vertices", m->mean_nodes);
-        cJSON_AddNumberToObject(a, "max_enriched_vertices", m->max_nodes);
-        cJSON_AddNumberToObject(a, "enriched_share", m->enriched_share);
-        cJSON_AddNumberToObject(a, "subdomains", m->subdomains);
-        cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", m->pcg_per_solve);
-        cJSON_AddNumberToObject(a, "newton_iterations_per_step", m->newton_per_step);
-        cJSON *sh = cJSON_AddObjectToObject(a, "shares");
-        cJSON_AddNumberToObject(sh, "potential", m->share_potential);
-        cJSON_AddNumberToObject(sh, "oracle", m->share_oracle);
-        cJSON_AddNumberToObject(sh, "subspace_hessian", m->share_hessian);
-        cJSON_AddNumberToObject(sh, "enriched_rows", m->share_system);
-        cJSON_AddNumberToObject(sh, "pcg", m->share_pcg);
-        cJSON_AddNumberToObject(sh, "line_search", m->share_line_search);
-    }
-    if (m->koopman) {
-        cJSON *k = cJSON_AddObjectToObject(j, "koopman");
-        cJSON_AddNumberToObject(k, "rank", m->r);
-        cJSON_AddNumberToObject(k, "max_abs_eigenvalue", m->max_abs_eigenvalue);
-    }
-    cJSON *c = cJSON_AddObjectToObject(j, "cubature");
-    cJSON_AddNumberToObject(c, "elements", m->cubature_points);
-    add_number(c, "relative_error", m->cubature_error);
-    cJSON_AddStringToObject(c, "bound_by", m->cubature_reason);
-    add_number(j, "normalized_mse", m->normalized_mse);
-    add_number(j, "normalized_max_error", m->normalized_max_error);
-    add_number(j, "max_error", m->max_error_m);
-    add_number(j, "relative_error", m->relative_error);
-    add_number(j, "relative_online_error", m->relative_online_error);
-    add_number(j, "fit_normalized_mse", m->fit_normalized_mse);
-    add_number(j, "seconds_per_step", m->seconds_per_step);
-    add_number(j, "speedup", m->speedup);
-    cJSON *s = cJSON_AddObjectToObject(j, "seconds");
-    cJSON_AddNumberToObject(s, "basis", m->seconds_basis);
-    cJSON_AddNumberToObject(s, "cubature", m->seconds_cubature);
-    cJSON_AddNumberToObject(s, "training_run", m->seconds_training_run);
-    cJSON_AddNumberToObject(s, "fit", m->seconds_fit);
-    cJSON_AddNumberToObject(s, "precompute",
-                            m->seconds_basis + m->seconds_cubature + m->seconds_training_run + m->seconds_fit);
-    cJSON_AddNumberToObject(j, "newton_iterations", (double)m->newton_iterations);
-    cJSON_AddNumberToObject(j, "unconverged_steps", (double)m->unconverged_steps);
-    cJSON_AddNumberToObject(j, "realign_clipped", m->realign_clipped);
-    if (isfinite(m->reference_nmse)) {
-        cJSON *ref = cJSON_AddObjectToObject(j, "reference");
-        cJSON_AddNumberToObject(ref, "normalized_mse", m->reference_nmse);
-        cJSON_AddStringToObject(ref, "source", m->reference_source);
-    }
-    return j;
-}
-
-static cJSON *make_report(const rk_compare_result *res, double seconds)
-{
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddNumberToObject(root, "vertices", res->vertices);
-    cJSON_AddNumberToObject(root, "tets", res->tets);
-    cJSON_AddNumberToObject(root, "steps", res->steps);
-    cJSON_AddNumberToObject(root, "bbox_diagonal", res->bbox_diagonal);
-    cJSON *fom = cJSON_AddObjectToObject(root, "fom");
-    cJSON_AddNumberToObject(fom, "seconds_per_step", res->fom_seconds_per_step);
-    cJSON_AddNumberToObject(fom, "seconds_total", res->fom_seconds_total);
-    cJSON_AddNumberToObject(fom, "newton_iterations", (double)res->fom_newton_iterations);
-    /* What every error is measured against: refine 0 is the full-order run above. */
-    cJSON *ref = cJSON_AddObjectToObject(root, "reference");
-    cJSON_AddNumberToObject(ref, "refine", res->reference_refine);
-    cJSON_AddNumberToObject(ref, "vertices", res->reference_vertices);
-    cJSON_AddNumberToObject(ref, "tets", res->reference_tets);
-    cJSON_AddNumberToObject(ref, "measured_vertices", res->vertices);
-    cJSON_AddNumberToObject(ref, "seconds_per_step", res->reference_seconds_per_step);
-    cJSON_AddNumberToObject(ref, "seconds_total", res->reference_seconds_total);
-    cJSON_AddNumberToObject(ref, "newton_iterations", (double)res->reference_newton_iterations);
-    if (res->has_contact) {
-        cJSON *c = cJSON_AddObjectToObject(ref, "contact");
-        add_number(c, "min_distance", res->reference_min_distance);
-        cJSON_AddNumberToObject(c, "intersections", res->reference_intersections);
-    }
-    cJSON *methods = cJSON_AddArrayToObject(root, "methods");
-    cJSON *f = cJSON_CreateObject();
-    cJSON_AddStringToObject(f, "name", "fom");
-    cJSON_AddNumberToObject(f, "seconds_per_step", res->fom_seconds_per_step);
-    cJSON_AddNumberToObject(f, "normalized_mse", res->fom_normalized_mse);
-    if (res->reference_refine > 0) { /* the scene mesh's run against the refined one */
-        cJSON_AddNumberToObject(f, "normalized_max_error", res->fom_normalized_max_error);
-        cJSON_AddNumberToObject(f, "max_error", res->fom_max_error_m);
-        cJSON_AddNullToObject(f, "relative_online_error"); /* not measured: it would restart the run each step */
-    } else {
-        cJSON_AddNumberToObject(f, "relative_online_error", 0);
-    }
-    cJSON_AddNumberToObject(f, "relative_error", res->fom_relative_error);
-    cJSON_AddItemToArray(methods, f);
-    for (int k = 0; k < res->nmethods; k++) {
-        const rk_compare_method *m = &res->methods[k];
-        cJSON *j = method_json(m);
-        if (res->has_contact && !m->koopman && !m->failure[0]) { /* Koopman models no contact */
-            cJSON *c = cJSON_AddObjectToObject(j, "contact");
-            add_number(c, "min_distance", m->contact_min_distance);
-            cJSON_AddNumberToObject(c, "intersections", m->contact_intersections);
-        }
-        cJSON_AddItemToArray(methods, j);
-    }
-    if (res->has_contact) { /* the full-order run's */
-        cJSON *c = cJSON_AddObjectToObject(root, "contact");
-        add_number(c, "min_distance", res->fom_min_distance);
-        cJSON_AddNumberToObject(c, "intersections", res->fom_intersections);
-    }
-    cJSON *s = cJSON_AddObjectToObject(root, "seconds");
-    cJSON_AddNumberToObject(s, "total", seconds);
-    return root;
-}
-
 static void print_table(const char *path, const rk_compare_result *res)
 {
     printf("%s: %d vertices, %d tets, %d steps; full order %.4g s/step\n", path, res->vertices, res->tets, res->steps,
@@ -191,7 +54,7 @@ static void print_table(const char *path, const rk_compare_result *res)
         char paper[32] = "-";
         if (isfinite(m->reference_nmse)) snprintf(paper, sizeof paper, "%.3g", m->reference_nmse);
         char cub[16] = "exact";
-        if (m->koopman) snprintf(cub, sizeof cub, "dmd");
+        if (m->method->table_cubature) snprintf(cub, sizeof cub, "%s", m->method->table_cubature);
         else if (m->cubature_points) snprintf(cub, sizeof cub, "%d", m->cubature_points);
         char fit[32] = "-"; /* no fixed linear basis (Koopman, adaptive): no fit */
         if (isfinite(m->fit_normalized_mse)) snprintf(fit, sizeof fit, "%.3g", m->fit_normalized_mse);
@@ -203,13 +66,7 @@ static void print_table(const char *path, const rk_compare_result *res)
     for (int k = 0; k < res->nmethods; k++) {
         const rk_compare_method *m = &res->methods[k];
         if (m->failure[0]) continue;
-        if (m->adaptive)
-            printf("  %s: %.1f modes (max %d), %.1f enriched vertices (%.1f%%, max %d) of %d subdomains; %.1f Newton "
-                   "iterations a step, %.1f PCG iterations a solve; time: potential %.0f%%, oracle %.0f%%, subspace "
-                   "Hessian %.0f%%, enriched rows %.0f%%, PCG %.0f%%, line search %.0f%%\n",
-                   m->name, m->mean_modes, m->max_modes, m->mean_nodes, 100 * m->enriched_share, m->max_nodes,
-                   m->subdomains, m->newton_per_step, m->pcg_per_solve, 100 * m->share_potential, 100 * m->share_oracle,
-                   100 * m->share_hessian, 100 * m->share_system, 100 * m->share_pcg, 100 * m->share_line_search);
+        if (m->method->print) m->method->print(m, stdout);
         else printf("  %s: basis %s; cubature %s\n", m->name, m->basis_reason, m->cubature_reason);
     }
 }
@@ -240,7 +97,7 @@ int cmd_compare(int argc, char **argv)
         goto done;
     }
     rk_scene_free(&scene);
-    cJSON *report = make_report(&res, rk_now() - t0);
+    cJSON *report = rk_compare_report(&res, rk_now() - t0);
     int wrote = !report_out || rk_json_write_file(report_out, report, &err) == 0;
     cJSON_Delete(report);
     if (!wrote) goto done;

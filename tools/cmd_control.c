@@ -13,7 +13,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/control.h"
 #include "util/util.h"
 
 /* --regularize's default: lambda = 0.2 sigma_max(A) (rk_lstsq_tikhonov). Measured on
@@ -129,66 +129,6 @@ static int load_target(const char *path, const rk_scene_sim *sim, double **u, in
     return 0;
 }
 
-/* Per-frame |a_t - b_t| over every vertex, in % of scale. */
-static cJSON *frame_errors(const double *a, const double *b, int n3, int T, double scale, double *max_out)
-{
-    cJSON *o = cJSON_CreateObject(), *per = cJSON_CreateArray();
-    double mx = 0;
-    int under2 = 0, under6 = 0;
-    for (int t = 0; t < T; t++) {
-        double s = 0;
-        for (int i = 0; i < n3; i++) {
-            double d = a[(size_t)n3 * t + i] - b[(size_t)n3 * t + i];
-            s += d * d;
-        }
-        double e = 100 * sqrt(s) / scale;
-        mx = fmax(mx, e);
-        under2 += e < 2, under6 += e < 6;
-        cJSON_AddItemToArray(per, cJSON_CreateNumber(e));
-    }
-    cJSON_AddNumberToObject(o, "max_percent", mx);
-    cJSON_AddNumberToObject(o, "frames_under_2_percent", under2);
-    cJSON_AddNumberToObject(o, "frames_under_6_percent", under6);
-    cJSON_AddItemToObject(o, "per_frame_percent", per);
-    *max_out = mx;
-    return o;
-}
-
-static cJSON *build_report(const rk_rom_entry *e, const rk_control_options *o, const rk_control_result *r,
-                           const double *target, int n3, double scale, double mx[3])
-{
-    cJSON *rep = cJSON_CreateObject(), *in = cJSON_AddArrayToObject(rep, "inputs");
-    cJSON_AddNumberToObject(rep, "vertices", n3 / 3);
-    cJSON_AddNumberToObject(rep, "frames", r->T);
-    cJSON_AddNumberToObject(rep, "horizon", o->horizon);
-    cJSON_AddNumberToObject(rep, "regularize", o->regularize);
-    for (int j = 0; j < o->ninputs; j++) {
-        cJSON *x = cJSON_CreateObject();
-        cJSON_AddStringToObject(x, "group", e->asset.groups[o->input[j].group].name);
-        cJSON_AddStringToObject(x, "axis", (const char *[]){"x", "y", "z"}[o->input[j].axis]);
-        cJSON_AddItemToArray(in, x);
-    }
-    cJSON_AddNumberToObject(rep, "followed_values", r->follow_values);
-    cJSON *k = cJSON_AddObjectToObject(rep, "koopman");
-    cJSON_AddNumberToObject(k, "rank", r->rank);
-    cJSON_AddNumberToObject(k, "max_abs_eigenvalue", r->max_abs_eigenvalue);
-    cJSON_AddNumberToObject(k, "trajectories", r->trajectories);
-    cJSON *er = cJSON_AddObjectToObject(rep, "error");
-    cJSON_AddStringToObject(er, "definition", "per frame |u_a - u_b| over every vertex, in % of the target's largest "
-                            "such norm over the frames (displacements from rest)");
-    cJSON_AddNumberToObject(er, "target_max_displacement", scale);
-    cJSON_AddItemToObject(er, "fom_vs_target", frame_errors(r->u_fom, target, n3, r->T, scale, &mx[0]));
-    cJSON_AddItemToObject(er, "model_vs_target", frame_errors(r->u_model, target, n3, r->T, scale, &mx[1]));
-    cJSON_AddItemToObject(er, "model_vs_fom", frame_errors(r->u_model, r->u_fom, n3, r->T, scale, &mx[2]));
-    cJSON *s = cJSON_AddObjectToObject(rep, "seconds");
-    cJSON_AddNumberToObject(s, "training", r->seconds_training);
-    cJSON_AddNumberToObject(s, "fit", r->seconds_fit);
-    cJSON_AddNumberToObject(s, "solve", r->seconds_solve);
-    cJSON_AddNumberToObject(s, "solve_per_frame", r->seconds_solve / (r->T - 1));
-    cJSON_AddNumberToObject(s, "fom", r->seconds_fom);
-    return rep;
-}
-
 /* Every output, only once all of them are ready. */
 static int write_outputs(const control_args *a, const rk_control_result *r, const rk_scene_sim *sim, cJSON *rep,
                          rk_error *err)
@@ -224,7 +164,7 @@ static int run_control(const control_args *a, rk_error *err)
     long h = 1;
     if (rk_scene_load(a->scene, &scene, err)) return -1;
     for (int i = 0; i < scene.nentries && !e; i++)
-        if (scene.entries[i].koopman) e = &scene.entries[i];
+        if (rk_koopman_of(&scene.entries[i])) e = &scene.entries[i];
     if (!e) {
         rk_fail(err, "%s: no rom entry has a koopman section", a->scene);
         rk_scene_free(&scene);
@@ -250,18 +190,13 @@ static int run_control(const control_args *a, rk_error *err)
     if (rk_scene_build(&scene, &sim, err)) goto done_scene;
     if (load_target(a->target, &sim, &target, &T, err)) goto done_sim;
     int n3 = 3 * sim.mesh.nv;
-    double scale = 0, mx[3];
-    for (int t = 0; t < T; t++) {
-        double s = 0;
-        for (int i = 0; i < n3; i++) s += target[(size_t)n3 * t + i] * target[(size_t)n3 * t + i];
-        scale = fmax(scale, sqrt(s));
-    }
-    if (!(scale > 0)) {
+    double mx[3];
+    if (!(rk_control_target_scale(target, n3, T) > 0)) {
         rk_fail(err, "--target %s never leaves the rest positions: nothing to follow", a->target);
         goto done_sim;
     }
     if (rk_scene_control(&sim, e, &o, target, T, &r, err)) goto done_sim;
-    cJSON *rep = build_report(e, &o, &r, target, n3, scale, mx);
+    cJSON *rep = rk_control_report(e, &o, &r, target, n3, mx);
     if (!write_outputs(a, &r, &sim, rep, err)) {
         const cJSON *fe = cJSON_GetObjectItem(cJSON_GetObjectItem(rep, "error"), "fom_vs_target");
         int under2 = cJSON_GetObjectItem(fe, "frames_under_2_percent")->valueint;

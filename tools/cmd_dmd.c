@@ -1,22 +1,21 @@
 /* romkit dmd --snapshots S.npy [--snapshots S2.npy ...] --dt H -o OUT.rombin: a Koopman operator
  * from trajectories recorded anywhere (another simulator, tracked markers), baked into an asset.
  * With --markers, the recording is k tracked vertices of a scene's mesh, lifted to every vertex
- * through the scene's linear modes (Sec. 7.5; dmd_markers.c) and fitted on the modal coordinates. */
+ * through the scene's linear modes (Sec. 7.5) and fitted on the modal coordinates. The work is
+ * precompute/pipeline/dmd.h's; this file parses the options, calls it and writes the files. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "args.h"
-#include "basis/basis.h"
 #include "commands.h"
-#include "dmd_markers.h"
 #include "formats/rombin_write.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/dmd.h"
 #include "mesh/mesh.h"
 #include "util/util.h"
 
-#define MAX_FILES 64
+#define MAX_FILES RK_DMD_MAX_RECORDINGS
 
 static void dmd_usage(FILE *f)
 {
@@ -179,165 +178,35 @@ static int vector3(const char *what, const char *text, double v[3], rk_error *er
     return 0;
 }
 
-/* The recordings as displacement trajectories of n = 3 nv values (T x d data padded to a
- * multiple of 3), with the rest positions. */
-typedef struct {
-    int ntraj, nv, d, positions; /* d values per recorded frame; positions: T x n x 3 files */
-    double *X, *vertex_mass;
-    double *data[MAX_FILES], *accel[MAX_FILES];
-    rk_koopman_trajectory traj[MAX_FILES];
-} recordings;
-
-static void recordings_free(recordings *r)
-{
-    free(r->X);
-    free(r->vertex_mass);
-    for (int i = 0; i < r->ntraj; i++) {
-        free(r->data[i]);
-        free(r->accel[i]);
-    }
-}
-
-/* The recording's frames, with frame 0 repeated first when it starts at rest. */
-static int frames_of(const double *raw, int T, int d, int n, int from_rest, double **out, rk_error *err)
-{
-    int lead = from_rest ? 1 : 0;
-    double *p = rk_calloc((size_t)n * (T + lead), sizeof(double), err);
-    if (!p) return -1;
-    for (int t = 0; t < T + lead; t++) memcpy(p + (size_t)n * t, raw + (size_t)d * (t < lead ? 0 : t - lead), sizeof(double) * d);
-    *out = p;
-    return 0;
-}
-
-static int load_recordings(const dmd_args *a, recordings *r, rk_error *err)
-{
-    memset(r, 0, sizeof *r);
-    int first_d = 0;
-    for (int f = 0; f < a->nsnap; f++) {
-        double *raw;
-        int ndim;
-        long shape[4];
-        if (rk_npy_read(a->snapshots[f], &raw, &ndim, shape, err)) return -1;
-        r->ntraj++;
-        r->data[f] = raw;
-        int positions = ndim == 3 && shape[2] == 3, d = positions ? (int)(3 * shape[1]) : ndim == 2 ? (int)shape[1] : 0;
-        if (!(ndim == 3 && shape[2] == 3) && ndim != 2)
-            return rk_fail(err, "%s: shape must be T x n x 3 or T x d, got %d dimensions", a->snapshots[f], ndim);
-        if (f == 0) {
-            first_d = d;
-            r->positions = positions;
-            r->d = d;
-            r->nv = (d + 2) / 3;
-        } else if (d != first_d || positions != r->positions) {
-            return rk_fail(err, "%s: %d values per frame, %s has %d: every recording must have the same layout",
-                           a->snapshots[f], d, a->snapshots[0], first_d);
-        }
-        int T = (int)shape[0], n = 3 * r->nv;
-        if (T < 3) return rk_fail(err, "%s: %d frames; a trajectory needs at least 3", a->snapshots[f], T);
-        /* T x d observables are padded to whole points */
-        if (frames_of(raw, T, d, n, a->from_rest, &r->data[f], err)) return -1;
-        free(raw);
-        r->traj[f] = (rk_koopman_trajectory){r->data[f], T + (a->from_rest ? 1 : 0), NULL};
-    }
-    return 0;
-}
-
-/* Rest positions, u = x - rest, vertex masses. */
-static int prepare(const dmd_args *a, recordings *r, rk_error *err)
-{
-    int n = 3 * r->nv;
-    r->X = rk_calloc((size_t)n, sizeof(double), err);
-    r->vertex_mass = rk_calloc((size_t)r->nv, sizeof(double), err);
-    if (!r->X || !r->vertex_mass) return -1;
-    if (a->rest) {
-        double *rest;
-        int ndim;
-        long shape[4];
-        if (rk_npy_read(a->rest, &rest, &ndim, shape, err)) return -1;
-        long count = ndim == 2 ? shape[0] * shape[1] : ndim == 1 ? shape[0] : -1;
-        if (count != r->d) {
-            free(rest);
-            return rk_fail(err, "%s: %ld values, the recordings have %d per frame", a->rest, count, r->d);
-        }
-        memcpy(r->X, rest, sizeof(double) * (size_t)count);
-        free(rest);
-    } else if (r->positions) {
-        memcpy(r->X, r->data[0], sizeof(double) * n);
-    }
-    for (int f = 0; f < r->ntraj; f++)
-        for (size_t i = 0; i < (size_t)n * r->traj[f].frames; i++) r->data[f][i] -= r->X[i % n];
-    double m = 1;
-    if (a->mass && number("--vertex-mass", a->mass, 1e-30, 1e30, &m, err)) return -1;
-    for (int v = 0; v < r->nv; v++) r->vertex_mass[v] = m;
-    return 0;
-}
-
-/* --gravity and --accel into each recording's constant acceleration. */
-static int prepare_accel(const dmd_args *a, recordings *r, double gravity[3], int *has_gravity, rk_error *err)
-{
-    int n = 3 * r->nv;
-    *has_gravity = a->gravity != NULL;
-    if (a->gravity && vector3("--gravity", a->gravity, gravity, err)) return -1;
-    for (int f = 0; f < r->ntraj; f++) {
-        double g[3] = {gravity[0], gravity[1], gravity[2]};
-        const char *text = a->naccel == 1 ? a->accel[0] : a->naccel > 1 ? a->accel[f] : NULL;
-        if (text && vector3("--accel", text, g, err)) return -1;
-        if (!text && !a->gravity) continue;
-        if (!r->positions) return rk_fail(err, "--gravity and --accel act on T x n x 3 positions, not on T x d observables");
-        r->accel[f] = rk_calloc((size_t)n, sizeof(double), err);
-        if (!r->accel[f]) return -1;
-        for (int i = 0; i < n; i++) r->accel[f][i] = g[i % 3];
-        r->traj[f].accel = r->accel[f];
-    }
-    return 0;
-}
-
-/* --markers: the lifted frames as the one recording (frame 0 repeated first with --from-rest). */
-static int markers_recording(const dmd_args *a, dmd_markers *mk, recordings *r, rk_error *err)
+/* --markers: the scene's modes, the markers lifted (dmd.h), as the one recording. */
+static int markers_recording(const dmd_args *a, rk_dmd_markers *mk, rk_dmd_recordings *r, rk_error *err)
 {
     int b = 0;
     double ridge = 0;
     if (whole("--modes", a->modes, 1, 4096, &b, err) ||
         (a->marker_ridge && number("--marker-ridge", a->marker_ridge, 0, 1e6, &ridge, err)) ||
-        dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, ridge, mk, err))
+        rk_dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, ridge, mk, err))
         return -1;
-    int n = 3 * mk->nv;
-    r->ntraj = 1;
-    r->nv = mk->nv;
-    r->d = n;
-    r->positions = 1;
-    r->X = mk->X; /* taken over */
-    r->vertex_mass = mk->vertex_mass;
-    mk->X = mk->vertex_mass = NULL;
-    if (frames_of(mk->u, mk->T, n, n, a->from_rest, &r->data[0], err)) return -1;
-    r->traj[0] = (rk_koopman_trajectory){r->data[0], mk->T + (a->from_rest ? 1 : 0), NULL};
-    return 0;
+    return rk_dmd_recordings_markers(mk, a->from_rest, r, err);
 }
 
-/* --pod P: the P leading (unweighted) POD directions of all displacement frames. */
-static int pod_fit(const recordings *r, int P, const rk_koopman_options *o, rk_koopman *k, rk_error *err)
+/* --snapshots (with --rest, --vertex-mass) as the recordings. */
+static int snapshot_recordings(const dmd_args *a, rk_dmd_recordings *r, rk_error *err)
 {
-    int n = 3 * r->nv, T = 0, rc = -1;
-    for (int f = 0; f < r->ntraj; f++) T += r->traj[f].frames;
-    double *all = rk_calloc((size_t)n * T, sizeof(double), err), *s = rk_calloc((size_t)(n < T ? n : T), sizeof(double), err);
-    double *Q = rk_calloc((size_t)n * P, sizeof(double), err), *Qt = rk_calloc((size_t)n * P, sizeof(double), err);
-    int got = 0;
-    if (all && s && Q && Qt) {
-        for (int f = 0, c = 0; f < r->ntraj; c += r->traj[f].frames, f++)
-            memcpy(all + (size_t)n * c, r->traj[f].u, sizeof(double) * n * r->traj[f].frames);
-        if (P > (n < T ? n : T))
-            rk_fail(err, "--pod %d: at most %d directions from %d frames of %d values", P, n < T ? n : T, T, n);
-        else if (!rk_mass_pca(all, n, T, NULL, P, 0, Q, &got, s, err)) {
-            for (int j = 0; j < got; j++)
-                for (int i = 0; i < n; i++) Qt[(size_t)got * i + j] = Q[(size_t)n * j + i];
-            rc = rk_koopman_fit_projected(r->traj, r->ntraj, n, Qt, Q, got, o, k, err);
-        }
-    }
-    free(all);
-    free(s);
-    free(Q);
-    free(Qt);
-    return rc;
+    double m = 1;
+    memset(r, 0, sizeof *r);
+    if (a->mass && number("--vertex-mass", a->mass, 1e-30, 1e30, &m, err)) return -1;
+    return rk_dmd_recordings_load(a->snapshots, a->nsnap, a->from_rest, a->rest, m, r, err);
+}
+
+/* --gravity and --accel into each recording's constant acceleration. */
+static int recordings_accel(const dmd_args *a, rk_dmd_recordings *r, double gravity[3], rk_error *err)
+{
+    double accel[MAX_FILES][3];
+    if (a->gravity && vector3("--gravity", a->gravity, gravity, err)) return -1;
+    for (int f = 0; f < a->naccel; f++)
+        if (vector3("--accel", a->accel[f], accel[f], err)) return -1;
+    return rk_dmd_recordings_accel(r, a->gravity ? gravity : NULL, (const double(*)[3])accel, a->naccel, err);
 }
 
 int cmd_dmd(int argc, char **argv)
@@ -355,13 +224,13 @@ int cmd_dmd(int argc, char **argv)
     rk_progress_set_quiet(a.quiet);
     double t0 = rk_now(), gravity[3] = {0, 0, 0};
     rk_error err = {{0}};
-    recordings rec;
-    dmd_markers mk;
+    rk_dmd_recordings rec;
+    rk_dmd_markers mk;
     rk_koopman k;
     rk_mesh mesh;
     rk_asset_options ao;
     rk_koopman_options o;
-    int has_gravity = 0, have_mesh = 0, rc = 1, pod = 0;
+    int have_mesh = 0, rc = 1, pod = 0;
     memset(&k, 0, sizeof k);
     memset(&mk, 0, sizeof mk);
     memset(&rec, 0, sizeof rec);
@@ -378,19 +247,15 @@ int cmd_dmd(int argc, char **argv)
         goto done;
     o.clamp = a.clamp;
     o.stabilize = a.no_refit ? -1 : 0;
-    if (a.markers ? markers_recording(&a, &mk, &rec, &err)
-                  : load_recordings(&a, &rec, &err) || prepare(&a, &rec, &err))
-        goto done_rec;
-    if (prepare_accel(&a, &rec, gravity, &has_gravity, &err)) goto done_rec;
+    if (a.markers ? markers_recording(&a, &mk, &rec, &err) : snapshot_recordings(&a, &rec, &err)) goto done_rec;
+    if (recordings_accel(&a, &rec, gravity, &err)) goto done_rec;
     double fit_t = rk_now();
     if (a.markers ? rk_koopman_fit_projected(rec.traj, 1, 3 * rec.nv, mk.Pin, mk.Phi, mk.b, &o, &k, &err)
-        : pod ? pod_fit(&rec, pod, &o, &k, &err) : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))
+        : pod ? rk_koopman_fit_pod(rec.traj, rec.ntraj, 3 * rec.nv, pod, &o, &k, &err)
+              : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))
         goto done_rec;
     fit_t = rk_now() - fit_t;
-    double *accel = NULL;
-    int *tris = NULL;
-    rk_koopman_geometry g = {.nv = rec.nv, .X = rec.X, .vertex_mass = rec.vertex_mass, .trajectories = rec.ntraj,
-                             .tris = mk.tris, .ntris = mk.ntris, .source_tets = mk.ntets};
+    int *tris = NULL, ntris = 0;
     if (a.mesh) {
         rk_mesh_report mr;
         if (rk_mesh_load(a.mesh, RK_MESH_KEEP_FLAT, &mesh, &mr, &err)) goto done_rec; /* its vertices as recorded */
@@ -399,41 +264,12 @@ int cmd_dmd(int argc, char **argv)
             rk_fail(&err, "%s has %d vertices, the recordings %d", a.mesh, mesh.nv, rec.nv);
             goto done_rec;
         }
-        if (rk_mesh_boundary(&mesh, &tris, &g.ntris, &err)) goto done_rec;
-        g.tris = tris;
-        g.source_tets = mesh.nt;
+        if (rk_mesh_boundary(&mesh, &tris, &ntris, &err)) goto done_rec;
     }
-    if (has_gravity) {
-        accel = rk_calloc((size_t)3 * rec.nv, sizeof(double), &err);
-        if (!accel) goto done_rec;
-        for (int i = 0; i < 3 * rec.nv; i++) accel[i] = gravity[i % 3];
-        g.accel = accel;
-    }
-    /* the asset starts at the first recording's first frame, at rest (as a recording of a body
-     * released or pushed from rest begins; step k of the runtime is then frame k) */
-    g.u_prev = g.u0 = rec.traj[0].u;
-    cJSON *info = cJSON_CreateObject();
-    cJSON_AddStringToObject(info, "method", "koopman");
-    cJSON_AddStringToObject(info, "source", a.markers ? "romkit dmd --markers" : "romkit dmd");
-    cJSON_AddNumberToObject(info, "rank", k.r);
-    cJSON_AddNumberToObject(info, "trajectories", rec.ntraj);
-    char *info_text = cJSON_PrintUnformatted(info);
-    cJSON_Delete(info);
     rk_baked baked;
-    if (!rk_bake_koopman(&k, &g, &ao, info_text, &baked, &err)) {
-        cJSON_AddNumberToObject(baked.report, "vertices", rec.nv);
-        cJSON_AddNumberToObject(baked.report, "trajectories", rec.ntraj);
-        if (a.markers) {
-            cJSON *m = cJSON_AddObjectToObject(baked.report, "markers");
-            cJSON_AddNumberToObject(m, "count", mk.k);
-            cJSON_AddNumberToObject(m, "modes", mk.b);
-            cJSON_AddNumberToObject(m, "frames", mk.T);
-            cJSON_AddNumberToObject(m, "misfit", mk.marker_misfit);
-            cJSON_AddNumberToObject(m, "ridge", mk.ridge);
-        }
-        cJSON *s = cJSON_AddObjectToObject(baked.report, "seconds");
-        cJSON_AddNumberToObject(s, "fit", fit_t);
-        cJSON_AddNumberToObject(s, "total", rk_now() - t0);
+    if (!rk_dmd_bake(&k, &rec, a.markers ? &mk : NULL, tris, ntris, have_mesh ? mesh.nt : 0, a.gravity ? gravity : NULL,
+                     &ao, a.markers ? "romkit dmd --markers" : "romkit dmd", fit_t, &baked, &err)) {
+        cJSON_AddNumberToObject(cJSON_GetObjectItem(baked.report, "seconds"), "total", rk_now() - t0);
         if (!rombin_save(a.out, baked.data, baked.bytes, &err) &&
             (!a.report || !rk_json_write_file(a.report, baked.report, &err))) {
             if (a.markers)
@@ -446,12 +282,10 @@ int cmd_dmd(int argc, char **argv)
         }
         rk_baked_free(&baked);
     }
-    free(info_text);
     free(tris);
-    free(accel);
 done_rec:
-    recordings_free(&rec);
-    dmd_markers_free(&mk);
+    rk_dmd_recordings_free(&rec);
+    rk_dmd_markers_free(&mk);
 done:
     if (have_mesh) rk_mesh_free(&mesh);
     rk_koopman_free(&k);

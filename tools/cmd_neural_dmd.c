@@ -14,6 +14,8 @@
 #include "formats/rombin_write.h"
 #include "neural_shape.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
+#include "pipeline/family.h"
 #include "util/util.h"
 
 static void neural_dmd_usage(FILE *f)

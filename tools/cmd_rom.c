@@ -10,6 +10,7 @@
 
 #include "args.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 #include "commands.h"
 #include "util/util.h"
 
@@ -83,7 +84,7 @@ int cmd_rom(int argc, char **argv)
     if (rk_scene_load(scene_path, &scene, &err)) goto done;
     have_scene = 1;
     if (rk_scene_entry(&scene, (int)index, &e, &err)) goto done;
-    if (e->method != RK_METHOD_FIXED) {
+    if (!e->method->reduced_model) {
         rk_fail(&err, "%s: %s is not a fixed-basis reduced model (romkit adaptive, compare and build run the others)",
                 scene_path, e->path);
         goto done;

@@ -10,7 +10,6 @@
 #include "args.h"
 #include "asset_open.h"
 #include "commands.h"
-#include "contact_report.h"
 #include "run_contact.h"
 #include "run_splats.h"
 #include "formats/rombin_read.h"
@@ -343,7 +342,7 @@ int cmd_run(int argc, char **argv)
             cJSON_AddNumberToObject(rj, "normalized_mse", rk_normalized_mse(&ref.error));
             cJSON_AddNumberToObject(rj, "relative_error", rk_relative_error(&ref.error));
         }
-        if (scene_path) contact_tally_report(cJSON_AddObjectToObject(r, "contact"), &contact.tally);
+        if (scene_path) rk_contact_tally_report(cJSON_AddObjectToObject(r, "contact"), &contact.tally);
         cJSON *a = cJSON_AddObjectToObject(r, "asset");
         cJSON_AddNumberToObject(a, "bytes", (double)asset.file_bytes);
         cJSON *s = cJSON_AddObjectToObject(r, "seconds");

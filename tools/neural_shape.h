@@ -5,7 +5,7 @@
 #ifndef ROMKIT_NEURAL_SHAPE_H
 #define ROMKIT_NEURAL_SHAPE_H
 
-#include "pipeline/pipeline.h"
+#include "pipeline/family.h"
 
 typedef struct {
     const char *objective, *target, *steps, *start; /* "VERTEX,AXIS", m, N, "G1,G2,..." (NULL: mid-range) */

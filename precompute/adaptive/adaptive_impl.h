@@ -4,7 +4,7 @@
 
 #include "adaptive/adaptive.h"
 #include "contact/contact.h"
-#include "fem/element_impl.h"
+#include "fem/fem.h"
 
 /* A subdomain: the elements of one METIS part (an element belongs to its first vertex's part),
  * over the local vertices they touch. */

@@ -1,4 +1,5 @@
-/* CHOLMOD factorization of A - sigma B, shared by the eigensolver and the modal derivatives. */
+/* The factorization of A - sigma B (the one sparse Cholesky, fem.h), shared by the eigensolver
+ * and the modal derivatives. */
 #include "basis/shifted_impl.h"
 
 #include "fem/fem.h"
@@ -17,15 +18,6 @@ static int same_pattern(const rk_sparse *A, const rk_sparse *B)
            !memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int));
 }
 
-static int factor(rk_shifted *s, rk_error *err)
-{
-    if (s->L) cholmod_free_factor(&s->L, &s->cc);
-    s->L = cholmod_analyze(&s->view, &s->cc);
-    if (!s->L) return rk_fail(err, "CHOLMOD analysis failed (status %d) on %d unknowns", s->cc.status, s->n);
-    cholmod_factorize(&s->view, s->L, &s->cc);
-    return 0;
-}
-
 int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, double sigma, rk_error *err)
 {
     memset(s, 0, sizeof *s);
@@ -42,22 +34,14 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
     memcpy(s->S.rowind, A->rowind, (size_t)A->nnz * sizeof(int));
     for (int k = 0; k < A->nnz; k++) s->S.val[k] = A->val[k] - sigma * B->val[k];
 
-    rk_threads(); /* the thread counts set before CHOLMOD starts any (util.h) */
-    cholmod_start(&s->cc);
-    s->cc_started = 1;
-    s->cc.print = 0;
-    s->cc.error_handler = NULL;
-    rk_cholmod_sparse_view(&s->S, &s->view);
-    if (factor(s, err)) { rk_shifted_free(s); return -1; }
-    if (s->cc.status == CHOLMOD_NOT_POSDEF) {
+    int rc = rk_chol_analyze(&s->chol, &s->S, err) ? -1 : rk_chol_factor(&s->chol, err);
+    if (rc == RK_CHOL_NOT_POSDEF) {
         /* The shift lies above some eigenvalue: LDL^T handles the indefinite matrix. */
         s->indefinite = 1;
-        s->cc.supernodal = CHOLMOD_SIMPLICIAL;
-        s->cc.final_ll = 0;
-        if (factor(s, err)) { rk_shifted_free(s); return -1; }
+        rc = rk_chol_indefinite(&s->chol, err);
     }
-    if (s->cc.status != CHOLMOD_OK || !(s->L->minor == s->L->n)) {
-        int col = s->L ? (int)s->L->minor : -1;
+    if (rc || s->chol.cc.status != CHOLMOD_OK || rk_chol_minor(&s->chol) != s->n) {
+        int col = rk_chol_minor(&s->chol);
         rk_shifted_free(s);
         return rk_fail(err, "the shifted matrix A - %g B is singular (factorization stopped at "
                        "unknown %d of %d): sigma is an eigenvalue, or the problem has a "
@@ -65,7 +49,7 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
     }
     /* A factorization can finish on a singular matrix with roundoff-sized pivots; CHOLMOD's
      * rcond is the squared (LL^T) or plain (LDL^T) ratio of the extreme pivots. */
-    double rcond = cholmod_rcond(s->L, &s->cc);
+    double rcond = rk_chol_rcond(&s->chol);
     if (!(rcond > RK_SHIFTED_MIN_RCOND)) {
         rk_shifted_free(s);
         return rk_fail(err, "the shifted matrix A - %g B is numerically singular (pivot-ratio "
@@ -77,12 +61,7 @@ int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, doubl
 
 int rk_shifted_solve(rk_shifted *s, const double *b, double *x, rk_error *err)
 {
-    cholmod_dense B;
-    rk_cholmod_dense_view(b, s->n, &B);
-    cholmod_dense *X = cholmod_solve(CHOLMOD_A, s->L, &B, &s->cc);
-    if (!X) return rk_fail(err, "CHOLMOD solve failed (status %d)", s->cc.status);
-    memcpy(x, X->x, (size_t)s->n * sizeof(double));
-    cholmod_free_dense(&X, &s->cc);
+    if (rk_chol_solve(&s->chol, b, x, err)) return -1;
     for (int i = 0; i < s->n; i++)
         if (!isfinite(x[i])) return rk_fail(err, "shifted solve produced a non-finite value at unknown %d", i);
     return 0;
@@ -90,10 +69,7 @@ int rk_shifted_solve(rk_shifted *s, const double *b, double *x, rk_error *err)
 
 void rk_shifted_free(rk_shifted *s)
 {
-    if (s->cc_started) {
-        if (s->L) cholmod_free_factor(&s->L, &s->cc);
-        cholmod_finish(&s->cc);
-    }
+    rk_chol_free(&s->chol);
     free(s->S.colptr);
     free(s->S.rowind);
     free(s->S.val);

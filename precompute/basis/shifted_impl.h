@@ -4,8 +4,6 @@
 #ifndef RK_BASIS_SHIFTED_H
 #define RK_BASIS_SHIFTED_H
 
-#include <suitesparse/cholmod.h>
-
 #include "fem/fem.h"
 #include "util/util.h"
 
@@ -13,14 +11,10 @@ typedef struct {
     int n;
     int indefinite;        /* 1 when LL^T failed and LDL^T was used */
     rk_sparse S;           /* A - sigma B (own copy of the values) */
-    cholmod_common cc;
-    int cc_started;
-    cholmod_sparse view;   /* wraps S, no copy */
-    cholmod_factor *L;
+    rk_chol chol;          /* its factor (fem.h: the one sparse Cholesky) */
 } rk_shifted;
 
-/* Factorizes A - sigma B: supernodal LL^T, or simplicial LDL^T when the shifted matrix is
- * not positive definite. Fails if A and B differ in pattern, or on a zero pivot (sigma is an
+/* Factorizes A - sigma B: LL^T, or LDL^T when the shifted matrix is not positive definite. Fails if A and B differ in pattern, or on a zero pivot (sigma is an
  * eigenvalue: a singular problem). */
 int rk_shifted_init(rk_shifted *s, const rk_sparse *A, const rk_sparse *B, double sigma, rk_error *err);
 /* x = (A - sigma B)^{-1} b; x and b may alias. */

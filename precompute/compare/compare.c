@@ -1,8 +1,8 @@
 /* rk_compare_scene (compare.h): one full-order run (and, with a refined reference, a second on the
- * refined mesh, kept at the scene mesh's vertices), then each reduced method twice: free (error
- * over the whole run, time per step) and realigned every step (online error), both against the
- * reference. */
-#include "compare/compare_impl.h"
+ * refined mesh, kept at the scene mesh's vertices), then each entry through its method's compare
+ * operation (method.h): free (error over the whole run, time per step) and realigned every step
+ * (online error), both against the reference. */
+#include "compare/compare.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -14,7 +14,7 @@
 
 static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
-    fom_run *F = ctx;
+    rk_fom_frames *F = ctx;
     int crossings;
     double d;
     if (rk_fom_contact_measure(fom, &crossings, &d, err)) return -1;
@@ -36,7 +36,7 @@ static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error
 
 /* The built scene's full-order run into F, keeping nv vertices: all of them (map NULL) or those map
  * lists. */
-static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const char *label, fom_run *F,
+static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const char *label, rk_fom_frames *F,
                       rk_fom_stats *stats, rk_error *err)
 {
     F->ndof = 3 * nv;
@@ -52,7 +52,7 @@ static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const cha
     return rc;
 }
 
-static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, rk_error *err)
+static int run_fom(const rk_scene_sim *sim, rk_fom_frames *F, rk_compare_result *out, rk_error *err)
 {
     rk_fom_stats stats;
     if (run_frames(sim, NULL, sim->mesh.nv, "full-order run", F, &stats, err)) return -1;
@@ -65,7 +65,7 @@ static int run_fom(const rk_scene_sim *sim, fom_run *F, rk_compare_result *out, 
     return 0;
 }
 
-static void fom_run_free(fom_run *F)
+static void rk_fom_frames_free(rk_fom_frames *F)
 {
     free(F->x);
     free(F->v);
@@ -89,7 +89,7 @@ static void reference_is_fom(rk_compare_result *out)
 /* The scene refined scene->reference_refine more times, run at full order into R (kept at sim's
  * vertices), and the scene's own run F measured against it. The refined model is freed before
  * returning: only R's frames stay. */
-static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, fom_run *R,
+static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const rk_fom_frames *F, rk_fom_frames *R,
                          rk_compare_result *out, rk_error *err)
 {
     rk_scene_sim fine;
@@ -121,179 +121,22 @@ static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const f
     return 0;
 }
 
-/* The free run: errors against every full-order frame and the median step time. */
-static int run_free(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, const rk_sparse *M,
-                    rk_compare_method *out, rk_error *err)
-{
-    int r = R->basis.r, ndof = F->ndof;
-    double *q0 = rk_calloc((size_t)r, sizeof(double), err), *v0 = rk_calloc((size_t)r, sizeof(double), err);
-    double *x = rk_calloc((size_t)ndof, sizeof(double), err), *secs = rk_calloc((size_t)F->T + 1, sizeof(double), err);
-    int rc = -1;
-    rk_rom rom = {0};
-    if (!q0 || !v0 || !x || !secs) goto out;
-    if (rk_rom_project(&R->model, M, R->basis.U, ndof, sim->mesh.X, F->x, q0, err) ||
-        rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v, v0, err) ||
-        rk_rom_init(&rom, &R->model, q0, v0, err))
-        goto out;
-    rk_run_error e;
-    rk_run_error_init(&e, sim->mesh.X, ndof / 3);
-    out->contact_min_distance = INFINITY;
-    for (int s = 0; s < F->T; s++) {
-        double t0 = rk_now();
-        if (rk_rom_step(&rom, err)) goto out;
-        secs[s] = rk_now() - t0;
-        int crossings;
-        double d;
-        if (rk_rom_contact_measure(&rom, &crossings, &d, err)) goto out;
-        out->contact_min_distance = fmin(out->contact_min_distance, d);
-        if (crossings > out->contact_intersections) out->contact_intersections = crossings;
-        rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
-        rk_run_error_add(&e, x, F->x + (size_t)ndof * (s + 1));
-    }
-    rk_compare_record_errors(out, &e);
-    out->seconds_per_step = rk_median(secs, F->T);
-    out->newton_iterations = rom.stats.newton_iterations;
-    out->unconverged_steps = rom.stats.unconverged_steps;
-    rc = 0;
-out:
-    rk_rom_free(&rom);
-    free(q0);
-    free(v0);
-    free(x);
-    free(secs);
-    return rc;
-}
-
-/* Each step from the full-order state before it, projected (Grassmann paper Sec. 5.1). */
-static int run_realigned(const rk_scene_sim *sim, rk_scene_rom *R, const fom_run *F, const rk_sparse *M,
-                         rk_compare_method *out, rk_error *err)
-{
-    int r = R->basis.r, ndof = F->ndof;
-    double *q = rk_calloc((size_t)r, sizeof(double), err), *v = rk_calloc((size_t)r, sizeof(double), err);
-    double *x = rk_calloc((size_t)ndof, sizeof(double), err);
-    int rc = -1;
-    rk_rom rom = {0};
-    if (!q || !v || !x || rk_rom_init(&rom, &R->model, NULL, NULL, err)) goto out;
-    rk_run_error e;
-    rk_run_error_init(&e, sim->mesh.X, ndof / 3);
-    for (int s = 0; s < F->T; s++) {
-        if (rk_rom_project(&R->model, M, R->basis.U, ndof, sim->mesh.X, F->x + (size_t)ndof * s, q, err) ||
-            rk_rom_project(&R->model, M, R->basis.U, ndof, NULL, F->v + (size_t)ndof * s, v, err))
-            goto out;
-        double reached;
-        if (rk_rom_realign(&rom, q, v, s * sim->options.h, &reached, err) || rk_rom_step(&rom, err)) goto out;
-        out->realign_clipped += reached < 1;
-        rk_rom_positions(R->basis.U, ndof, r, sim->mesh.X, rom.q, x);
-        rk_run_error_add(&e, x, F->x + (size_t)ndof * (s + 1));
-    }
-    out->relative_online_error = rk_relative_online_error(&e);
-    rc = 0;
-out:
-    rk_rom_free(&rom);
-    free(q);
-    free(v);
-    free(x);
-    return rc;
-}
-
-void rk_compare_record_errors(rk_compare_method *m, const rk_run_error *e)
-{
-    m->normalized_mse = rk_normalized_mse(e);
-    m->normalized_max_error = rk_normalized_max_error(e);
-    m->max_error_m = e->max_dist;
-    m->relative_error = rk_relative_error(e);
-}
-
-void rk_compare_record_failure(rk_compare_method *m, const rk_error *err)
-{
-    snprintf(m->failure, sizeof m->failure, "%s", err->msg);
-    m->normalized_mse = m->normalized_max_error = m->max_error_m = m->relative_error = m->relative_online_error = NAN;
-    m->fit_normalized_mse = NAN;
-    m->seconds_per_step = m->speedup = NAN;
-}
-
-/* The training set last built, kept for the next entry that lists the same runs (a scene usually
- * gives every data-driven method the same list). */
-typedef struct {
-    const rk_rom_entry *from;   /* the entry whose list it is; NULL: none */
-    double *D;
-    int T;
-    rk_compare_decoder_cache decoder;
-} training_cache;
-
-int rk_compare_same_training(const rk_rom_entry *a, const rk_rom_entry *b)
-{
-    if (a->ntraining != b->ntraining) return 0;
-    for (int k = 0; k < a->ntraining; k++)
-        if (a->training[k].snapshots != b->training[k].snapshots || strcmp(a->training[k].file, b->training[k].file))
-            return 0;
-    return 1;
-}
-
-/* Entry e built on the scene's mesh (trained on F, displacements D, or its own training set) and
- * measured against ref. */
-static void run_method(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const fom_run *ref,
-                       const double *D, const rk_sparse *M, const rk_rom_entry *e, rk_compare_method *m,
-                       const rk_compare_result *res, training_cache *cache)
+/* Entry e through its method's compare operation: built on the scene's mesh (trained on the
+ * scene's run or the entry's training set) and measured against the reference. */
+static void run_method(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, const rk_compare_result *res)
 {
     rk_error err;
-    rk_scene_rom R;
     memset(m, 0, sizeof *m);
+    m->method = e->method;
     m->cubature_error = NAN;
     m->fit_normalized_mse = NAN;
     memcpy(m->name, e->name, sizeof m->name);
     m->type = e->basis.type;
+    snprintf(m->basis_name, sizeof m->basis_name, "%s", rk_basis_type_name(e->basis.type));
     m->reference_nmse = e->reference_nmse;
     memcpy(m->reference_source, e->reference_source, sizeof m->reference_source);
-    if (e->koopman) {
-        if (rk_compare_koopman(scene, sim, F, ref, D, e, m, &err)) rk_compare_record_failure(m, &err);
-        else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
-        return;
-    }
-    /* what trains on full-order runs: the entry's training set when it lists one, else this run */
-    int Tt = F->T;
-    if (e->ntraining) {
-        if (!cache->from || !rk_compare_same_training(cache->from, e)) {
-            free(cache->D);
-            cache->from = NULL;
-            if (rk_scene_training_set(scene, sim, e, &cache->D, &cache->T, &err)) {
-                rk_compare_record_failure(m, &err);
-                return;
-            }
-            cache->from = e;
-        }
-        D = cache->D;
-        Tt = cache->T;
-    }
-    m->training_frames = Tt;
-    if (e->method == RK_METHOD_ADAPTIVE_LINEAR) {
-        if (rk_compare_alrom(scene, sim, ref, D, Tt, e, m, &cache->decoder, &err)) rk_compare_record_failure(m, &err);
-        else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
-        return;
-    }
-    if (e->method == RK_METHOD_ADAPTIVE_SUBSPACE) {
-        if (rk_compare_adaptive(scene, sim, ref, D, F->T, e, m, &err)) rk_compare_record_failure(m, &err);
-        else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
-        return;
-    }
-    if (rk_scene_rom_build(scene, sim, e, D, Tt, &R, &err)) {
-        rk_compare_record_failure(m, &err);
-        return;
-    }
-    m->r = R.basis.r;
-    m->size = R.basis.W ? R.basis.m - 1 : R.basis.r;
-    m->cubature_points = R.cubature_points;
-    m->cubature_error = R.cubature_error;
-    m->seconds_basis = R.seconds_basis;
-    m->seconds_cubature = R.seconds_cubature;
-    m->seconds_training_run = R.basis_info.fom_frames ? res->fom_seconds_total : 0;
-    memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
-    memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
-    if (run_free(sim, &R, ref, M, m, &err) || run_realigned(sim, &R, ref, M, m, &err) ||
-        rk_compare_basis_fit(R.basis.U, ref->ndof, R.basis.r, sim->mesh.X, ref, m, &err))
-        rk_compare_record_failure(m, &err);
+    if (e->method->compare(c, e, m, &err)) rk_compare_record_failure(m, &err);
     else m->speedup = res->fom_seconds_per_step / m->seconds_per_step;
-    rk_scene_rom_free(&R);
 }
 
 int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err)
@@ -303,8 +146,8 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     if (n == 0) return rk_fail(err, "%s: no \"rom\" section: nothing to compare with the full-order model", scene->path);
     rk_scene_sim sim;
     if (rk_scene_build(scene, &sim, err)) return -1;
-    fom_run F = {0}, R = {0};
-    const fom_run *ref = &F;
+    rk_fom_frames F = {0}, R = {0};
+    const rk_fom_frames *ref = &F;
     rk_sparse M = {0};
     double *D = NULL;
     int rc = -1;
@@ -327,18 +170,30 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     out->methods = rk_calloc((size_t)n, sizeof *out->methods, err);
     if (!out->methods) goto done;
     out->nmethods = n;
-    training_cache cache = {0};
-    for (int k = 0; k < n; k++) {
-        run_method(scene, &sim, &F, ref, D, &M, &scene->entries[k], &out->methods[k], out, &cache);
+    /* each method's own cache, kept from entry to entry (a sweep of one method trains once) */
+    void *caches[64] = {0};
+    if (rk_method_count() > 64) {
+        rk_fail(err, "%d methods registered, at most 64", rk_method_count());
+        goto done;
     }
-    free(cache.D);
-    rk_compare_decoder_cache_free(&cache.decoder);
+    rk_compare_ctx ctx = {.scene = scene, .sim = &sim, .fom = &F, .ref = ref, .D = D, .M = &M,
+                          .fom_seconds_total = out->fom_seconds_total};
+    for (int k = 0; k < n; k++) {
+        const rk_rom_entry *e = &scene->entries[k];
+        int i = 0;
+        while (rk_method_at(i) != e->method) i++;
+        ctx.cache = &caches[i];
+        run_method(&ctx, e, &out->methods[k], out);
+    }
+    free(ctx.training_D);
+    for (int i = 0; i < rk_method_count(); i++)
+        if (caches[i] && rk_method_at(i)->compare_free) rk_method_at(i)->compare_free(caches[i]);
     rc = 0;
 done:
     free(D);
     rk_sparse_free(&M);
-    fom_run_free(&F);
-    fom_run_free(&R);
+    rk_fom_frames_free(&F);
+    rk_fom_frames_free(&R);
     rk_scene_sim_free(&sim);
     return rc;
 }

@@ -13,46 +13,7 @@
 #ifndef RK_COMPARE_H
 #define RK_COMPARE_H
 
-#include "pipeline/pipeline.h"
-
-typedef struct {
-    char name[96];
-    int koopman;                   /* a Koopman operator: r is its rank, size its observables */
-    double max_abs_eigenvalue;     /* Koopman: after the clamp, if any */
-    rk_basis_type type;
-    int size;                      /* rom.size as built: columns, or weights m for skinning */
-    int r;                         /* reduced coordinates */
-    int cubature_points;           /* 0: exact */
-    double cubature_error;
-    double normalized_mse, normalized_max_error, max_error_m, relative_error, relative_online_error; /* util/util.h */
-    double fit_normalized_mse;     /* the basis fitting residual (FreeForm Eq. 36, Table 6): every reference frame
-                                    * fitted by the subspace in least squares, normalized MSE; NAN where the
-                                    * method has no fixed linear basis (Koopman, adaptive) */
-    double seconds_per_step, speedup;
-    double seconds_basis, seconds_cubature, seconds_training_run; /* the last: 0 unless the basis needed frames */
-    double seconds_fit;            /* Koopman: the DMD fit */
-    long newton_iterations, unconverged_steps;
-    double contact_min_distance;   /* over the free run's frames (INFINITY without contact) */
-    int contact_intersections;     /* the most exact crossings in a frame (0) */
-    int realign_clipped;           /* online error: steps whose projected start lay beyond contact
-                                    * (the realignment stopped short where CCD did) */
-    /* method adaptive_subspace (adaptive = 1): the free run's model sizes at each step's end
-     * (active columns, enriched vertices and their share of the mesh), Schur PCG iterations per
-     * solve, Newton iterations per step, and the shares of its time (adaptive.h's stats) */
-    int adaptive;
-    double mean_modes, mean_nodes, enriched_share, pcg_per_solve, newton_per_step;
-    int max_modes, max_nodes, subdomains;
-    double share_potential, share_oracle, share_hessian, share_system, share_pcg, share_line_search;
-    /* method adaptive_linear (alrom = 1): the share of the free run's steps whose basis blended
-     * the history (the rest used the decoder's alone: the history did not span r directions yet) */
-    int alrom;
-    double history_share;
-    int training_frames;           /* the full-order frames its data-driven parts trained on */
-    double reference_nmse;
-    char reference_source[96];
-    char basis_reason[256], cubature_reason[256];
-    char failure[1024];            /* empty when it ran; else why it did not (the error message) */
-} rk_compare_method;
+#include "pipeline/method.h"
 
 typedef struct {
     int vertices, tets, steps;
@@ -83,5 +44,9 @@ typedef struct {
  * (a basis it cannot build, NaN) is recorded in its failure field and the others still run. */
 int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *err);
 void rk_compare_result_free(rk_compare_result *r);
+/* The report romkit compare writes (report.c): sizes, the full-order and reference runs, methods[]
+ * (the fom row first, then each method: name, kind, basis.*, cubature.*, the errors, seconds.*,
+ * its own keys, contact.* where measured, or its failure) and seconds.total (the caller's). */
+cJSON *rk_compare_report(const rk_compare_result *res, double seconds);
 
 #endif

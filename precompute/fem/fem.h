@@ -123,4 +123,85 @@ static inline void rk_cholmod_dense_view(const double *x, int n, cholmod_dense *
     B->dtype = CHOLMOD_DOUBLE;
 }
 
+/* ==== the one sparse Cholesky (cholesky.c) ====
+ *
+ * CHOLMOD with one policy for every caller (the full-order Newton solver, the shift-invert
+ * eigensolver and the modal derivatives): supernodal LL^T, ordered by AMD and by nested dissection
+ * with the sparser factor kept, analysed once per pattern; numeric refactorizations into the same
+ * factor; solves that reuse their workspaces; OpenBLAS threads only from RK_CHOL_THREADED_FLOPS on
+ * (cholesky.c says why, with the measurements). A matrix found not positive definite is reported
+ * (RK_CHOL_NOT_POSDEF, with a message) and the caller chooses: project and retry, fail, or factor
+ * it as LDL^T (rk_chol_indefinite). The matrix is the caller's, wrapped without a copy. */
+
+/* CHOLMOD's flop count from which the factorization and the solves get rk_threads() threads. */
+#define RK_CHOL_THREADED_FLOPS 1e10
+/* rk_chol_factor's result for a matrix that is not positive definite. */
+#define RK_CHOL_NOT_POSDEF 1
+
+typedef struct {
+    cholmod_common cc;
+    int started;
+    const rk_sparse *S;     /* the caller's matrix (values read at each factorization) */
+    cholmod_sparse A;       /* its view */
+    cholmod_factor *L;
+    cholmod_dense *sol, *Y, *E; /* cholmod_solve2's workspaces */
+    int n, blas_threads, indefinite;
+} rk_chol;
+
+/* The symbolic analysis of S's pattern: the first call, on a zeroed c, starts CHOLMOD; a later
+ * one (the pattern changed) analyses again. S must outlive c. */
+int rk_chol_analyze(rk_chol *c, const rk_sparse *S, rk_error *err);
+/* The numeric factorization of S's current values: 0, -1 on failure, RK_CHOL_NOT_POSDEF (with a
+ * message naming the column) when S is not positive definite and c is not indefinite. */
+int rk_chol_factor(rk_chol *c, rk_error *err);
+/* From now on LDL^T (simplicial): analyses and factors S again. For a matrix known indefinite. */
+int rk_chol_indefinite(rk_chol *c, rk_error *err);
+/* x = S^{-1} b (x and b may alias). */
+int rk_chol_solve(rk_chol *c, const double *b, double *x, rk_error *err);
+/* The factor's pivot-ratio condition estimate (cholmod_rcond); 0 without a factor. */
+double rk_chol_rcond(rk_chol *c);
+/* Where the last factorization stopped (n when it completed). */
+int rk_chol_minor(const rk_chol *c);
+void rk_chol_free(rk_chol *c);
+
+/* ==== one tet's 12 local dofs (a0 a1 a2 b0 ... d2) and the global vectors and matrices ==== */
+
+/* Number of upper-triangle entries of a 12x12 element block (the slot map's stride). */
+#define RK_TET_SLOTS 78
+
+/* xe = the 12 coordinates of tet t's vertices taken from x (3*nv). */
+static inline void rk_fem_gather(const rk_fem *f, int t, const double *x, double xe[12])
+{
+    const int *v = &f->tets[4 * t];
+    for (int a = 0; a < 4; a++) {
+        const double *p = &x[3 * v[a]];
+        xe[3 * a] = p[0];
+        xe[3 * a + 1] = p[1];
+        xe[3 * a + 2] = p[2];
+    }
+}
+
+/* g[dof] += scale * ge[local dof] for tet t. */
+static inline void rk_fem_scatter_vector(const rk_fem *f, int t, const double ge[12], double scale,
+                                         double *g)
+{
+    const int *v = &f->tets[4 * t];
+    for (int a = 0; a < 4; a++) {
+        double *p = &g[3 * v[a]];
+        p[0] += scale * ge[3 * a];
+        p[1] += scale * ge[3 * a + 1];
+        p[2] += scale * ge[3 * a + 2];
+    }
+}
+
+/* val[slot] += scale * He for the 78 upper entries (p <= q, row-major) of tet t's symmetric
+ * 12x12 block He (row-major). */
+static inline void rk_fem_scatter_block(const rk_fem *f, int t, const double He[144], double scale,
+                                        double *val)
+{
+    const int *s = &f->slot[RK_TET_SLOTS * t];
+    for (int p = 0; p < 12; p++)
+        for (int q = p; q < 12; q++) val[*s++] += scale * He[12 * p + q];
+}
+
 #endif

@@ -36,11 +36,6 @@ void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
  * and the average vertex mass: a thousand times the inertia's pull. */
 #define RK_FOM_AL_KAPPA 1e3
 
-/* CHOLMOD's flop count from which the factorization and the solves get rk_threads() OpenBLAS
- * threads; below it one, so that results do not depend on the thread count and a loaded machine
- * does not stall them (cholesky.c, measured there). */
-#define RK_FOM_THREADED_FLOPS 1e10
-
 struct rk_fom_impl {
     int n;                  /* 3 nv */
     rk_sparse M;            /* inertia mass: consistent or lumped (opt.lumped_mass) */
@@ -69,14 +64,9 @@ struct rk_fom_impl {
     double *newton_work;    /* RK_NEWTON_WORK(ndof) */
     double *work, *work2;   /* scratch, n each */
     double tol_static;      /* |d|_inf (m) */
-    /* CHOLMOD: N.A wrapped without copying, symbolic analysis when its pattern changes (once
-     * without contact), numeric per iteration. */
-    cholmod_common cc;
-    int cc_started;
-    cholmod_sparse A;
-    cholmod_factor *L;
-    cholmod_dense *sol, *Y, *E;
-    int blas_threads;       /* OpenBLAS's threads in the factorization and solves (cholesky.c) */
+    /* N.A factored (fem.h, rk_chol): symbolic analysis when its pattern changes (once without
+     * contact), numeric per iteration. */
+    rk_chol chol;
     long analyses;          /* symbolic analyses so far (init's included) and their seconds */
     double seconds_analyze, seconds_analyze_init;
     /* Each Newton iteration's seconds (from its Hessian evaluation to the next one's, or to the end

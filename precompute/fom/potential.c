@@ -2,7 +2,7 @@
  * Newton matrix shared by time steps and static solves. */
 #include "fom/fom_impl.h"
 
-#include "fem/element_impl.h"
+#include "fem/fem.h"
 #include "util/util.h"
 
 #include <math.h>

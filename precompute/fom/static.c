@@ -3,7 +3,7 @@
  * stepping when the full load does not converge within newton_max_iter. */
 #include "fom/fom_impl.h"
 
-#include "fem/element_impl.h"
+#include "fem/fem.h"
 #include "util/util.h"
 
 #include <math.h>

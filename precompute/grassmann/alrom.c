@@ -3,7 +3,7 @@
  * U_interp q by the solver's Newton with the reduced gradient U^T g and Hessian U^T H U (Eq. 11-12). */
 #include "grassmann/grassmann_impl.h"
 
-#include "fem/element_impl.h"
+#include "fem/fem.h"
 
 #include <cblas.h>
 #include <lapacke.h>

@@ -1,7 +1,10 @@
-/* An adaptive subspace entry on the built scene (pipeline.h, rk_scene_adaptive_init): its candidate
+/* An adaptive subspace entry on the built scene (method_adaptive_subspace.h, rk_scene_adaptive_init): its candidate
  * basis, how the oracle groups its columns, and the simulator under the scene's own options. */
-#include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_subspace.h"
+#include "pipeline/method_fixed.h"
 
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
@@ -18,10 +21,12 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
     }
     rk_scene_basis_info_free(&info);
     if (seconds_basis) *seconds_basis = rk_now() - t0;
-    rk_adaptive_options o = e->adaptive;
+    const rk_adaptive_subspace_entry *own = rk_adaptive_subspace_of(e);
+    if (!own) return rk_fail(err, "%s is not method adaptive_subspace", e->path);
+    rk_adaptive_options o = own->opt;
     int skinning = basis.W != NULL;
     o.block = skinning ? 12 : 1; /* a skinning weight's 12 affine columns are one candidate (Sec. 3.5) */
-    int initial = e->adaptive_initial_size;
+    int initial = own->initial_size;
     if (!initial) initial = skinning ? 12 : basis.nzero > 0 ? basis.nzero : 1;
     int rc = 0;
     if (initial % o.block || initial > basis.r)
@@ -32,4 +37,44 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
         rc = rk_error_prefix(err, "%s", e->path);
     rk_basis_free(&basis);
     return rc;
+}
+
+/* romkit adaptive's report (method_adaptive_subspace.h). */
+cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const double *secs, int steps,
+                          const rk_contact_tally *contact)
+{
+    const rk_adaptive_stats *s = &ad->stats;
+    cJSON *r = cJSON_CreateObject();
+    cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
+    cJSON_AddNumberToObject(r, "tets", sim->mesh.nt);
+    cJSON_AddNumberToObject(r, "steps", steps);
+    double *t = malloc(sizeof(double) * (size_t)(steps > 0 ? steps : 1));
+    if (t) memcpy(t, secs, sizeof(double) * (size_t)steps);
+    cJSON_AddNumberToObject(r, "seconds_per_step", t && steps > 0 ? rk_median(t, steps) : 0);
+    free(t);
+    cJSON_AddNumberToObject(r, "newton_iterations", (double)s->newton_iterations);
+    cJSON_AddNumberToObject(r, "unconverged_steps", (double)ad->fom.stats.unconverged_steps);
+    cJSON *a = cJSON_AddObjectToObject(r, "adaptive");
+    cJSON_AddNumberToObject(a, "mean_modes", s->steps ? s->sum_modes / s->steps : 0);
+    cJSON_AddNumberToObject(a, "max_modes", s->max_modes);
+    cJSON_AddNumberToObject(a, "mean_enriched_vertices", s->steps ? s->sum_nodes / s->steps : 0);
+    cJSON_AddNumberToObject(a, "max_enriched_vertices", s->max_nodes);
+    cJSON_AddNumberToObject(a, "subdomains", ad->opt.subdomains);
+    cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", s->solves ? (double)s->pcg_iterations / s->solves : 0);
+    cJSON_AddNumberToObject(a, "modes_added", (double)s->oracle_modes_added);
+    cJSON_AddNumberToObject(a, "vertices_added", (double)s->oracle_nodes_added);
+    cJSON_AddNumberToObject(a, "modes_downdated", (double)s->modes_downdated);
+    cJSON_AddNumberToObject(a, "vertices_downdated", (double)s->nodes_downdated);
+    cJSON_AddNumberToObject(a, "bfgs_updates", (double)s->bfgs_updates);
+    cJSON_AddNumberToObject(a, "bfgs_skipped", (double)s->bfgs_skipped);
+    cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
+    cJSON_AddNumberToObject(sec, "simulate", s->seconds_total);
+    cJSON_AddNumberToObject(sec, "potential", s->seconds_potential);
+    cJSON_AddNumberToObject(sec, "oracle", s->seconds_oracle);
+    cJSON_AddNumberToObject(sec, "subspace_hessian", s->seconds_hessian);
+    cJSON_AddNumberToObject(sec, "enriched_rows", s->seconds_system);
+    cJSON_AddNumberToObject(sec, "pcg", s->seconds_pcg - s->seconds_system);
+    cJSON_AddNumberToObject(sec, "line_search", s->seconds_line_search);
+    if (contact) rk_contact_tally_report(cJSON_AddObjectToObject(r, "contact"), contact);
+    return r;
 }

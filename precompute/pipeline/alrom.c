@@ -2,15 +2,20 @@
  * and the simulator under the scene's own options. The quadratic-manifold decoder: the entry's r
  * linear modes (computed with the fixed vertices held) and their modal derivatives, the pairs of
  * rigid modes left zero. */
-#include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_linear.h"
+#include "pipeline/method_fixed.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+/* the entry's own options (the caller checked its method) */
+#define AL(e) rk_adaptive_linear_of(e)
 
 /* Decoder "quadratic_pod": the frames' POD and the quadratic term fitted to them. */
 static int quadratic_pod_parts(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T,
                                double **Phi, double **Psi, rk_error *err)
 {
+    if (!AL(e)) return rk_fail(err, "%s is not method adaptive_linear", e->path);
     int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
     rk_basis pod = {0};
     rk_sparse M = {0};
@@ -41,7 +46,7 @@ static int quadratic_pod_parts(const rk_scene_sim *sim, const rk_rom_entry *e, c
 int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames, int T,
                              double **Phi, double **Psi, rk_error *err)
 {
-    if (e->quadratic_pod) return quadratic_pod_parts(sim, e, frames, T, Phi, Psi, err);
+    if (AL(e)->quadratic_pod) return quadratic_pod_parts(sim, e, frames, T, Phi, Psi, err);
     int r = e->basis.size, nv = sim->mesh.nv, n = 3 * nv, rc = -1;
     unsigned char *fixed = rk_scene_fixed_vertices(sim, err);
     double *raw = NULL;
@@ -81,7 +86,7 @@ static int quadratic(const rk_scene_sim *sim, const rk_rom_entry *e, const doubl
 {
     double *Phi, *Psi, *own = NULL;
     rk_sparse M = {0};
-    if (e->quadratic_pod && !frames) {
+    if (AL(e)->quadratic_pod && !frames) {
         if (rk_scene_training_frames(sim, &own, &T, err)) return -1;
         frames = own;
     }
@@ -109,7 +114,7 @@ static int crom(const rk_scene_sim *sim, const rk_rom_entry *e, const double *fr
         frames = own;
     }
     rk_crom_report rep;
-    int rc = rk_crom_train(frames, T, sim->mesh.X, sim->mesh.nv, e->basis.size, &e->crom_opt, dec, &rep, err);
+    int rc = rk_crom_train(frames, T, sim->mesh.X, sim->mesh.nv, e->basis.size, &AL(e)->crom_opt, dec, &rep, err);
     free(own);
     return rc;
 }
@@ -117,9 +122,10 @@ static int crom(const rk_scene_sim *sim, const rk_rom_entry *e, const double *fr
 int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                            int T, rk_decoder *dec, rk_error *err)
 {
+    if (!AL(e)) return rk_fail(err, "%s is not method adaptive_linear", e->path);
     if (sim->cloud_points) return rk_fail(err, "%s: method adaptive_linear needs tetrahedral meshes, not point clouds", e->path);
-    if (e->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, frames, T, dec, err))
-        return rk_error_prefix(err, "%s: the %s decoder", e->path, e->crom ? "CROM" : "quadratic-manifold");
+    if (AL(e)->crom ? crom(sim, e, frames, T, dec, err) : quadratic(sim, e, frames, T, dec, err))
+        return rk_error_prefix(err, "%s: the %s decoder", e->path, AL(e)->crom ? "CROM" : "quadratic-manifold");
     (void)scene;
     return 0;
 }
@@ -130,7 +136,7 @@ int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk
     double t0 = rk_now();
     if (rk_scene_alrom_decoder(scene, sim, e, frames, T, dec, err)) return -1;
     if (seconds_decoder) *seconds_decoder = rk_now() - t0;
-    if (rk_alrom_init(s, &sim->fem, &sim->options, dec, &e->alrom, err)) {
+    if (rk_alrom_init(s, &sim->fem, &sim->options, dec, &AL(e)->opt, err)) {
         rk_decoder_free(dec);
         return rk_error_prefix(err, "%s", e->path);
     }
@@ -147,7 +153,7 @@ int rk_scene_alrom_cubature(const rk_scene *scene, const rk_scene_sim *sim, cons
     /* the PCA basis of the same frames at the same r, and the cubature trained for it: An et al.'s
      * weights depend on the basis they were trained in; here they integrate a basis that moves */
     rk_rom_entry pe = *e;
-    pe.method = RK_METHOD_FIXED;
+    pe.method = &rk_method_fixed;
     pe.basis.type = RK_BASIS_POD;
     pe.ntraining = 0;
     rk_scene_rom R;

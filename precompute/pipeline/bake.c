@@ -1,6 +1,9 @@
-/* A rom entry end to end into an asset (pipeline.h, rk_scene_bake): the full-order run when
+/* A rom entry end to end into an asset (pipeline.h, rk_scene_bake: its method's bake), and the bake
+ * that methods fixed and koopman share (method.h, rk_method_bake_models): the full-order run when
  * something trains on it, the reduced model, the Koopman operator, the bake and the report. */
-#include "pipeline/pipeline.h"
+#include "pipeline/method.h"
+#include "pipeline/method_fixed.h"
+#include "pipeline/method_koopman.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -143,7 +146,7 @@ static int build_models(const rk_scene *scene, const rk_rom_entry *e, const rk_b
     int T = 0;
     if (req->snapshots && given_frames(req, s, &T, err)) return -1;
     const double *frames = s->own_frames;
-    int reduced = !e->koopman || e->cubature;
+    int koopman = rk_koopman_of(e) != NULL, reduced = !koopman || e->cubature;
     /* a point cloud has no full order: its cubature trains on random poses alone */
     if (reduced && !frames && !s->sim.cloud_points && (e->cubature || rk_basis_needs_frames(&e->basis))) {
         if (rk_scene_training_frames(&s->sim, &s->own_frames, &T, err)) return -1;
@@ -153,7 +156,7 @@ static int build_models(const rk_scene *scene, const rk_rom_entry *e, const rk_b
         if (rk_scene_rom_build(scene, &s->sim, e, frames, T, &s->R, err)) return -1;
         s->have_rom = 1;
     }
-    if (e->koopman) {
+    if (koopman) {
         if (rk_scene_koopman_build(scene, &s->sim, e, frames, T, &s->K, err)) return -1;
         s->have_koopman = 1;
     }
@@ -212,19 +215,18 @@ int rk_bake_koopman(const rk_koopman *k, const rk_koopman_geometry *g, const rk_
 int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_request *req, rk_baked *out,
                   rk_error *err)
 {
-    double t0 = rk_now();
     memset(out, 0, sizeof *out);
-    if (e->method == RK_METHOD_ADAPTIVE_SUBSPACE)
-        return rk_fail(err, "%s: method adaptive_subspace simulates in the precompute (full-order quality, every "
-                       "element); it has no runtime asset to bake: romkit compare runs it", e->path);
     rk_asset_options ao = e->asset;
     if (req->has_real_type) ao.real_type = req->real_type;
     if (req->compress) ao.compress = 1;
-    if (e->method == RK_METHOD_ADAPTIVE_LINEAR) {
-        if (req->snapshots)
-            return rk_fail(err, "%s: method adaptive_linear trains on its entry's training list, not on --snapshots", e->path);
-        return rk_scene_bake_alrom(scene, e, &ao, out, err);
-    }
+    return e->method->bake(scene, e, req, &ao, out, err);
+}
+
+int rk_method_bake_models(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_request *req,
+                          const rk_asset_options *aop, rk_baked *out, rk_error *err)
+{
+    double t0 = rk_now();
+    rk_asset_options ao = *aop;
     bake_state s;
     memset(&s, 0, sizeof s);
     int rc = build_models(scene, e, req, &s, err);

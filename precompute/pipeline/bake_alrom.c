@@ -4,39 +4,43 @@
  * element), a reduced model on the decoder's linear part (a CROM's Jacobian at p = 0) for the
  * chunks a reduced model has (its pin penalty left out: the runtime moves the prescribed vertices
  * itself), and the adaptive chunks beside them. */
-#include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_linear.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+/* the entry's own options (the caller checked its method) */
+#define AL(e) rk_adaptive_linear_of(e)
+
 static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e, const rk_rom_model *model,
                    const rk_asset_summary *sum, double seconds)
 {
     cJSON *b = cJSON_AddObjectToObject(out->report, "basis");
-    cJSON_AddStringToObject(b, "type", e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
+    cJSON_AddStringToObject(b, "type", AL(e)->crom ? "crom" : AL(e)->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
     cJSON_AddNumberToObject(b, "size", model->r);
     cJSON_AddNumberToObject(b, "columns", model->r);
     cJSON *c = cJSON_AddObjectToObject(out->report, "cubature");
     cJSON_AddNumberToObject(c, "elements", model->quad.count);
     cJSON *a = cJSON_AddObjectToObject(out->report, "adaptive_linear");
-    cJSON_AddNumberToObject(a, "history", e->alrom.history);
-    cJSON_AddNumberToObject(a, "lambda", e->alrom.lambda);
-    cJSON_AddStringToObject(a, "decoder", e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic");
+    cJSON_AddNumberToObject(a, "history", AL(e)->opt.history);
+    cJSON_AddNumberToObject(a, "lambda", AL(e)->opt.lambda);
+    cJSON_AddStringToObject(a, "decoder", AL(e)->crom ? "crom" : AL(e)->quadratic_pod ? "quadratic_pod" : "quadratic");
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, sum);
     cJSON_AddNumberToObject(out->report, "vertices", sim->mesh.nv);
     cJSON_AddNumberToObject(out->report, "tets", sim->mesh.nt);
     cJSON_AddNumberToObject(cJSON_AddObjectToObject(out->report, "seconds"), "total", seconds);
     snprintf(out->summary, sizeof out->summary, "%s (adaptive linear ROM, %s decoder), r = %d, history %d, "
              "lambda %g, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes", e->name,
-             e->crom ? "CROM" : e->quadratic_pod ? "fitted quadratic" : "quadratic", model->r,
-             e->alrom.history, e->alrom.lambda, model->quad.count, sum->vertices, sim->mesh.nv, sum->shown, out->bytes);
+             AL(e)->crom ? "CROM" : AL(e)->quadratic_pod ? "fitted quadratic" : "quadratic", model->r,
+             AL(e)->opt.history, AL(e)->opt.lambda, model->quad.count, sum->vertices, sim->mesh.nv, sum->shown, out->bytes);
 }
 
 int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
                         rk_error *err)
 {
+    if (!AL(e)) return rk_fail(err, "%s is not method adaptive_linear", e->path);
     double t0 = rk_now();
     rk_scene_sim sim;
     if (rk_scene_build(scene, &sim, err)) return -1;
@@ -50,11 +54,11 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         rk_fail(err, "%s: an adaptive linear ROM steps dynamics; the scene asks for a static solve", e->path);
         goto out;
     }
-    if ((e->cubature || e->quadratic_pod || e->crom) && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
+    if ((e->cubature || AL(e)->quadratic_pod || AL(e)->crom) && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
                                                            : rk_scene_training_frames(&sim, &D, &T, err)))
         goto out;
     if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err)) goto out;
-    if (e->crom) { /* the trained CROM; its Jacobian at p = 0 stands as the model's rows */
+    if (AL(e)->crom) { /* the trained CROM; its Jacobian at p = 0 stands as the model's rows */
         size_t nr = (size_t)3 * sim.mesh.nv * r;
         double *p0 = NULL;
         int bad = rk_scene_alrom_decoder(scene, &sim, e, D, T, &dec, err) || rk_crom_parts_of(&dec, &crom) ||
@@ -73,7 +77,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         goto out;
     }
     have_model = 1;
-    rk_asset_alrom A = {e->alrom.history, e->alrom.lambda, e->alrom.reg, Psi, e->crom ? &crom : NULL, &sim.options};
+    rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, Psi, AL(e)->crom ? &crom : NULL, &sim.options};
     rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A};
     rk_asset_summary sum = {0};
     rombin_writer w;
@@ -82,7 +86,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     cJSON *ij = cJSON_CreateObject();
     cJSON_AddStringToObject(ij, "scene", slash ? slash + 1 : scene->path);
     cJSON_AddStringToObject(ij, "method", e->name);
-    cJSON_AddStringToObject(ij, "basis", e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
+    cJSON_AddStringToObject(ij, "basis", AL(e)->crom ? "crom" : AL(e)->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
     cJSON_AddNumberToObject(ij, "columns", r);
     cJSON_AddNumberToObject(ij, "cubature_elements", model.quad.count);
     char *info = cJSON_PrintUnformatted(ij);

@@ -2,6 +2,7 @@
  * per-point materials, and full-order training frames from its own simulation when POD or a
  * tolerance asks for them. */
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,6 +4,7 @@
  * whatever its fit happens to say: test_pipeline_koopman_control.c); the target is followed by
  * rk_koopman_track; the full-order model is then run under the same inputs, as Fig. 15 does. */
 #include "pipeline/pipeline.h"
+#include "pipeline/control.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -74,7 +75,8 @@ static int train(const groups *g, const rk_rom_entry *e, rk_koopman *k, rk_contr
 {
     const rk_scene_sim *sim = g->sim;
     const rk_control_options *o = g->o;
-    int nvar = e->koop.ntraj ? e->koop.ntraj : 1, ntraj = nvar + o->ninputs, n3 = 3 * sim->mesh.nv, rc = -1;
+    const rk_koopman_entry *ko = rk_koopman_of(e);
+    int nvar = ko->ntraj ? ko->ntraj : 1, ntraj = nvar + o->ninputs, n3 = 3 * sim->mesh.nv, rc = -1;
     rk_koopman_run *runs = rk_calloc((size_t)ntraj, sizeof *runs, err);
     rk_koopman_trajectory *t = rk_calloc((size_t)ntraj, sizeof *t, err);
     double *f = rk_calloc((size_t)n3, sizeof(double), err), *C = rk_calloc((size_t)o->ninputs, sizeof(double), err);
@@ -92,7 +94,7 @@ static int train(const groups *g, const rk_rom_entry *e, rk_koopman *k, rk_contr
             forces(g, C, f);
             s.options.force = f;
         }
-        if (rk_koopman_scene_run(&s, i < nvar && e->koop.ntraj ? &e->koop.traj[i] : NULL, &runs[i], err)) {
+        if (rk_koopman_scene_run(&s, i < nvar && ko->ntraj ? &ko->traj[i] : NULL, &runs[i], err)) {
             rk_error_prefix(err, i < nvar ? "trajectory %d" : "training run of input %d", i < nvar ? i : i - nvar);
             goto done;
         }
@@ -101,7 +103,7 @@ static int train(const groups *g, const rk_rom_entry *e, rk_koopman *k, rk_contr
     out->trajectories = ntraj;
     out->seconds_training = rk_now() - t0;
     t0 = rk_now();
-    if (rk_koopman_fit(t, ntraj, n3, &e->koop.fit, k, err)) goto done;
+    if (rk_koopman_fit(t, ntraj, n3, &ko->fit, k, err)) goto done;
     out->seconds_fit = rk_now() - t0;
     out->rank = k->r;
     for (int j = 0; j < k->r; j++) out->max_abs_eigenvalue = fmax(out->max_abs_eigenvalue, hypot(k->lambda_re[j], k->lambda_im[j]));
@@ -212,8 +214,8 @@ int rk_scene_control(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_co
                      const double *target, int T, rk_control_result *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (!e->koopman) return rk_fail(err, "%s has no koopman section: control needs a Koopman operator", e->path);
-    if (e->koop.project)
+    if (!rk_koopman_of(e)) return rk_fail(err, "%s has no koopman section: control needs a Koopman operator", e->path);
+    if (rk_koopman_of(e)->project)
         return rk_fail(err, "%s.koopman.project: control works on full displacements; remove \"project\"", e->path);
     if (o->ninputs < 1 || o->ninputs > RK_CONTROL_MAX_INPUTS)
         return rk_fail(err, "%d inputs: between 1 and %d", o->ninputs, RK_CONTROL_MAX_INPUTS);

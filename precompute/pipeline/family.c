@@ -2,6 +2,8 @@
  * file parsed strictly, each member's scene built and its full-order snapshots read and checked. */
 #include "pipeline/parse_impl.h"
 
+#include "pipeline/family.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

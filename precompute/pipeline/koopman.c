@@ -1,6 +1,8 @@
 /* rom.koopman: training runs of the scene, the fit on them, and what an asset of the operator
  * needs (pipeline.h). */
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
+#include "pipeline/method_koopman.h"
 
 #include <cblas.h>
 #include <lapacke.h>
@@ -216,8 +218,9 @@ int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const
     double *own = NULL, seconds_basis = 0;
     int have_basis = 0, rc = -1;
     memset(out, 0, sizeof *out);
-    if (!e->koopman) return rk_fail(err, "%s: %s has no koopman section", scene->path, e->path);
-    if (e->koop.project) {
+    const rk_koopman_entry *ko = rk_koopman_of(e);
+    if (!ko) return rk_fail(err, "%s: %s has no koopman section", scene->path, e->path);
+    if (ko->project) {
         double t0 = rk_now();
         if (!frames && rk_basis_needs_frames(&e->basis)) {
             if (rk_scene_training_frames(sim, &own, &T, err)) goto done;
@@ -227,7 +230,7 @@ int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const
         have_basis = 1;
         seconds_basis = rk_now() - t0;
     }
-    rc = rk_koopman_scene_fit(sim, &e->koop, have_basis ? &b : NULL, frames, T, &out->k, &out->info, err);
+    rc = rk_koopman_scene_fit(sim, ko, have_basis ? &b : NULL, frames, T, &out->k, &out->info, err);
     if (!rc && have_basis) {
         out->info.basis_type = b.type;
         out->info.basis_columns = b.r;

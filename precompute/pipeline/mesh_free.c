@@ -3,6 +3,7 @@
  * material and the skinning weights with their gradients (Eq. 21) from the basis's RKPM kernels,
  * object by object (an object's points carry only its own handles' weights). */
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -9,7 +9,7 @@
 #include "pipeline/pipeline.h"
 #include "util/util.h"
 
-typedef struct {
+typedef struct rk_json_ctx {
     const char *file;  /* scene file, for messages */
     rk_error *err;
 } rk_json_ctx;

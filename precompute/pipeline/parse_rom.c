@@ -1,17 +1,20 @@
-/* The scene's "rom" section (an object, or a list of them) into rk_rom_entry: the basis keys, the
- * cubature, the Koopman section, the asset keys (parse_asset.c), the name, the method and a
- * published reference number. Each key lands in the option struct of the stage that uses it. */
+/* The scene's "rom" section (an object, or a list of them) into rk_rom_entry: the method (its own
+ * keys go to its module's parse, method.h), the basis keys, the cubature, the asset keys
+ * (parse_asset.c), the name and a published reference number. Each key lands in the option struct
+ * of the stage that uses it. */
 #include "pipeline/parse_impl.h"
+
+#include "pipeline/method.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, int method, rk_basis_options *o)
+static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, const rk_method *m, rk_basis_options *o)
 {
     const char *name = NULL;
     /* an adaptive subspace's candidates are skinning eigenmodes unless the entry says otherwise (Sec. 4) */
-    if (rk_json_string(c, e, path, "basis", method == RK_METHOD_FIXED, &name)) return -1;
+    if (rk_json_string(c, e, path, "basis", m->basis_required, &name)) return -1;
     if (!name) name = "skinning";
     rk_basis_default_options(o);
     if (rk_basis_type_parse(name, &o->type))
@@ -103,111 +106,6 @@ static int parse_reference(const rk_json_ctx *c, const cJSON *e, const char *pat
     return 0;
 }
 
-static int parse_trajectories(const rk_json_ctx *c, const cJSON *k, const char *path, rk_koopman_entry *o)
-{
-    char tpath[96];
-    const cJSON *list = rk_json_child(k, path, "trajectories", tpath, sizeof tpath);
-    if (!list) return 0;
-    if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) < 1 || cJSON_GetArraySize(list) > RK_KOOPMAN_MAX_TRAJECTORIES)
-        return rk_json_fail(c, tpath, "must be a list of 1 to %d trajectories", RK_KOOPMAN_MAX_TRAJECTORIES);
-    static const char *const tkeys[] = {"gravity", "velocity", "load_scale", NULL};
-    o->ntraj = cJSON_GetArraySize(list);
-    for (int i = 0; i < o->ntraj; i++) {
-        const cJSON *t = cJSON_GetArrayItem(list, i);
-        rk_koopman_variation *v = &o->traj[i];
-        char p[128];
-        snprintf(p, sizeof p, "%s[%d]", tpath, i);
-        if (!cJSON_IsObject(t)) return rk_json_fail(c, p, "must be an object");
-        v->load_scale = 1;
-        v->has_gravity = cJSON_HasObjectItem(t, "gravity");
-        v->has_velocity = cJSON_HasObjectItem(t, "velocity");
-        if (rk_json_check_keys(c, t, p, tkeys) || rk_json_vector(c, t, p, "gravity", 0, 3, v->gravity) ||
-            rk_json_vector(c, t, p, "velocity", 0, 3, v->velocity) ||
-            rk_json_number(c, t, p, "load_scale", 0, &v->load_scale))
-            return -1;
-    }
-    return 0;
-}
-
-/* rom[i].koopman (pipeline.h, rk_koopman_entry); h is the scene's time step. */
-static int parse_koopman(const rk_json_ctx *c, const cJSON *e, const char *path, double h, rk_rom_entry *o)
-{
-    char kpath[64];
-    rk_koopman_entry *ko = &o->koop;
-    memset(ko, 0, sizeof *ko);
-    rk_koopman_default_options(&ko->fit);
-    ko->fit.h = h;
-    const cJSON *k = rk_json_child(e, path, "koopman", kpath, sizeof kpath);
-    o->koopman = k != NULL;
-    if (!k) return 0;
-    if (!cJSON_IsObject(k)) return rk_json_fail(c, kpath, "must be an object");
-    static const char *const keys[] = {"rank", "energy", "clamp", "balance", "project", "trajectories", NULL};
-    int balance = 1;
-    if (rk_json_check_keys(c, k, kpath, keys) ||
-        rk_json_whole(c, k, kpath, "rank", 0, 4096, &ko->fit.rank) /* 0: by energy */ ||
-        rk_json_number(c, k, kpath, "energy", 0, &ko->fit.energy) || rk_json_bool(c, k, kpath, "clamp", &ko->fit.clamp) ||
-        rk_json_bool(c, k, kpath, "balance", &balance) ||
-        rk_json_bool(c, k, kpath, "project", &ko->project))
-        return -1;
-    if (!(ko->fit.energy > 0 && ko->fit.energy <= 1))
-        return rk_json_fail(c, kpath, "energy must be in (0, 1], got %g", ko->fit.energy);
-    ko->fit.unbalanced = !balance;
-    return parse_trajectories(c, k, kpath, ko);
-}
-
-static int parse_method(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
-{
-    const char *method = NULL;
-    if (rk_json_string(c, e, path, "method", 0, &method)) return -1;
-    o->method = RK_METHOD_FIXED;
-    if (!method || strcmp(method, "fixed") == 0) return 0;
-    if (strcmp(method, "adaptive_subspace") == 0) {
-        o->method = RK_METHOD_ADAPTIVE_SUBSPACE;
-        return 0;
-    }
-    if (strcmp(method, "adaptive_linear") == 0) {
-        o->method = RK_METHOD_ADAPTIVE_LINEAR;
-        return 0;
-    }
-    return rk_json_fail(c, path, "method must be \"fixed\", \"adaptive_subspace\" or \"adaptive_linear\", got \"%s\"",
-                        method);
-}
-
-/* The adaptive subspace method's keys (adaptive.h; the paper's Table 2 names them). */
-static int parse_adaptive(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
-{
-    rk_adaptive_options *a = &o->adaptive;
-    rk_adaptive_default_options(a);
-    o->adaptive_initial_size = 0;
-    if (o->method != RK_METHOD_ADAPTIVE_SUBSPACE) return 0;
-    if (cJSON_HasObjectItem(e, "cubature") || cJSON_HasObjectItem(e, "koopman") ||
-        cJSON_HasObjectItem(e, "mesh_free") || cJSON_HasObjectItem(e, "tolerance"))
-        return rk_json_fail(c, path, "method adaptive_subspace takes a candidate basis by size, with no cubature, "
-                            "koopman, mesh_free or tolerance (it integrates every element)");
-    const char *hessian = NULL;
-    if (rk_json_number(c, e, path, "eps_g_modal", 0, &a->eps_g_modal) ||
-        rk_json_number(c, e, path, "eps_g_nodal", 0, &a->eps_g_nodal) ||
-        rk_json_number(c, e, path, "eps_e", 0, &a->eps_e) || rk_json_number(c, e, path, "eps_d", 0, &a->eps_d) ||
-        rk_json_whole(c, e, path, "subdomains", 0, 1e7, &a->subdomains) ||
-        rk_json_whole(c, e, path, "initial_size", 0, 1e6, &o->adaptive_initial_size) ||
-        rk_json_bool(c, e, path, "downdate", &a->downdate) || rk_json_bool(c, e, path, "modal", &a->modal) ||
-        rk_json_bool(c, e, path, "nodal", &a->nodal) || rk_json_number(c, e, path, "pcg_tol", 0, &a->pcg_tol) ||
-        rk_json_string(c, e, path, "hessian", 0, &hessian))
-        return -1;
-    static const char *const positive[4] = {"eps_g_modal", "eps_g_nodal", "eps_d", "pcg_tol"};
-    double values[4] = {a->eps_g_modal, a->eps_g_nodal, a->eps_d, a->pcg_tol};
-    for (int k = 0; k < 4; k++)
-        if (!(values[k] > 0) || !isfinite(values[k]))
-            return rk_json_fail(c, path, "%s must be a positive number, got %g", positive[k], values[k]);
-    if (a->pcg_tol >= 1) return rk_json_fail(c, path, "pcg_tol must be below 1, got %g", a->pcg_tol);
-    if (!isfinite(a->eps_e)) return rk_json_fail(c, path, "eps_e must be finite, got %g", a->eps_e);
-    if (hessian && strcmp(hessian, "bfgs") && strcmp(hessian, "exact"))
-        return rk_json_fail(c, path, "hessian must be \"bfgs\" or \"exact\", got \"%s\"", hessian);
-    a->exact_hessian = hessian && !strcmp(hessian, "exact");
-    if (o->basis.size == 0) return rk_json_fail(c, path, "method adaptive_subspace needs size (the candidate basis)");
-    return 0;
-}
-
 /* rom.training: scene files or {"scene": F} / {"snapshots": F}, resolved against the scene's folder. */
 static int parse_training(const rk_json_ctx *c, const cJSON *e, const char *path, const char *scene_path,
                           rk_rom_entry *o)
@@ -249,54 +147,38 @@ static int parse_training(const rk_json_ctx *c, const cJSON *e, const char *path
         else snprintf(o->training[i].file, sizeof o->training[i].file, "%s/%s", dir, file);
         o->ntraining++;
     }
-    if (o->method == RK_METHOD_FIXED && o->basis.type != RK_BASIS_POD)
+    if (o->method->training_needs_pod && o->basis.type != RK_BASIS_POD)
         return rk_json_fail(c, tpath, "is for what trains on full-order runs: basis pod or method adaptive_linear");
     return 0;
 }
 
-/* The adaptive linear ROM's keys (grassmann.h; the paper's r, m, lambda). */
-static int parse_alrom(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
+/* rom[i].method: a method by name (methods.c), "fixed" when absent; an entry of method fixed with a
+ * key that implies a method (a koopman section) is that method. */
+static int parse_method(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
 {
-    rk_alrom_default_options(&o->alrom);
-    if (o->method != RK_METHOD_ADAPTIVE_LINEAR) return 0;
-    if (cJSON_HasObjectItem(e, "koopman") || cJSON_HasObjectItem(e, "mesh_free") ||
-        cJSON_HasObjectItem(e, "tolerance") || cJSON_HasObjectItem(e, "basis"))
-        return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda, decoder and cubature; no "
-                            "basis, tolerance, koopman or mesh_free");
-    const char *decoder = NULL;
-    if (rk_json_whole(c, e, path, "history", 1, 10000, &o->alrom.history) ||
-        rk_json_number(c, e, path, "lambda", 0, &o->alrom.lambda) || rk_json_string(c, e, path, "decoder", 0, &decoder))
-        return -1;
-    if (!(o->alrom.lambda >= 0 && o->alrom.lambda <= 1))
-        return rk_json_fail(c, path, "lambda must be in [0, 1], got %g", o->alrom.lambda);
-    if (decoder && strcmp(decoder, "quadratic") && strcmp(decoder, "quadratic_pod") && strcmp(decoder, "crom"))
-        return rk_json_fail(c, path, "decoder must be \"quadratic\", \"quadratic_pod\" or \"crom\", got \"%s\"", decoder);
-    o->crom = decoder && !strcmp(decoder, "crom");
-    o->quadratic_pod = decoder && !strcmp(decoder, "quadratic_pod");
-    rk_crom_default_options(&o->crom_opt);
-    char cpath[128];
-    const cJSON *cr = rk_json_child(e, path, "crom", cpath, sizeof cpath);
-    if (cr && !o->crom) return rk_json_fail(c, cpath, "is for decoder \"crom\"");
-    if (cr) {
-        static const char *const keys[] = {"encoder_width", "encoder_layers", "decoder_width", "decoder_layers",
-                                           "epochs", "snapshots_per_batch", "points", "base_lr", "seed", NULL};
-        rk_crom_options *co = &o->crom_opt;
-        double seed = (double)co->seed;
-        if (!cJSON_IsObject(cr) || rk_json_check_keys(c, cr, cpath, keys) ||
-            rk_json_whole(c, cr, cpath, "encoder_width", 1, 4096, &co->encoder_width) ||
-            rk_json_whole(c, cr, cpath, "encoder_layers", 1, 64, &co->encoder_layers) ||
-            rk_json_whole(c, cr, cpath, "decoder_width", 1, 4096, &co->decoder_width) ||
-            rk_json_whole(c, cr, cpath, "decoder_layers", 1, 64, &co->decoder_layers) ||
-            rk_json_whole(c, cr, cpath, "epochs", 1, 1e6, &co->epochs) ||
-            rk_json_whole(c, cr, cpath, "snapshots_per_batch", 1, 1e6, &co->snapshots_per_batch) ||
-            rk_json_whole(c, cr, cpath, "points", 1, 1e8, &co->points) ||
-            rk_json_number(c, cr, cpath, "base_lr", 0, &co->base_lr) || rk_json_number(c, cr, cpath, "seed", 0, &seed))
-            return cJSON_IsObject(cr) ? -1 : rk_json_fail(c, cpath, "must be an object");
-        if (!(co->base_lr > 0 && co->base_lr < 1)) return rk_json_fail(c, cpath, "base_lr must be in (0, 1), got %g", co->base_lr);
-        if (!(seed >= 0 && seed == floor(seed))) return rk_json_fail(c, cpath, "seed must be a whole number, got %g", seed);
-        co->seed = (unsigned long long)seed;
+    const char *name = NULL;
+    if (rk_json_string(c, e, path, "method", 0, &name)) return -1;
+    const rk_method *m = rk_method_find(name ? name : "fixed");
+    if (!m) {
+        char list[512] = "";
+        size_t len = 0;
+        int n = 0, named = 0;
+        for (int i = 0; i < rk_method_count(); i++) named += rk_method_at(i)->implied_by == NULL;
+        for (int i = 0; i < rk_method_count(); i++) {
+            const rk_method *k = rk_method_at(i);
+            if (k->implied_by) continue;
+            n++;
+            len += (size_t)snprintf(list + len, sizeof list - len, "%s\"%s\"", n == 1 ? "" : n == named ? " or " : ", ",
+                                    k->name);
+            if (len >= sizeof list) break;
+        }
+        return rk_json_fail(c, path, "method must be %s, got \"%s\"", list, name);
     }
-    if (o->basis.size == 0) return rk_json_fail(c, path, "method adaptive_linear needs size (r, the latent coordinates)");
+    if (m == rk_method_find("fixed"))
+        for (int i = 0; i < rk_method_count(); i++)
+            if (rk_method_at(i)->implied_by && cJSON_HasObjectItem(e, rk_method_at(i)->implied_by)) m = rk_method_at(i);
+    o->method = m;
+    memset(o->own, 0, sizeof o->own);
     return 0;
 }
 
@@ -310,18 +192,8 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
         snprintf(o->name, sizeof o->name, "%s", name);
         return 0;
     }
-    if (o->method == RK_METHOD_ADAPTIVE_SUBSPACE || o->method == RK_METHOD_ADAPTIVE_LINEAR) {
-        snprintf(o->name, sizeof o->name, "%s-%d", o->method == RK_METHOD_ADAPTIVE_LINEAR ? "adaptive_linear" : "adaptive_subspace",
-                 o->basis.size);
-        return 0;
-    }
-    const char *type = rk_basis_type_name(o->basis.type), *cub = o->cubature ? "-cubature" : "";
-    const char *mf = !o->mesh_free.enabled                             ? ""
-                     : o->mesh_free.sampling == RK_SAMPLING_RANDOM ? "-meshfree-random"
-                     : o->mesh_free.sampling == RK_SAMPLING_CLOUD  ? "-cloud"
-                                                                   : "-meshfree";
-    if (o->basis.size) snprintf(o->name, sizeof o->name, "%s-%d%s%s", type, o->basis.size, mf, cub);
-    else snprintf(o->name, sizeof o->name, "%s-tol%g%s%s", type, o->basis.tolerance, mf, cub);
+    if (o->method->default_name) o->method->default_name(o, o->name, sizeof o->name);
+    else snprintf(o->name, sizeof o->name, "%s-%d", o->method->name, o->basis.size);
     return 0;
 }
 
@@ -329,36 +201,35 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
                        rk_rom_entry *o)
 {
     if (!cJSON_IsObject(e)) return rk_json_fail(c, path, "must be an object");
-    static const char *const keys[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
-                                       "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
-                                       "eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
-                                       "downdate", "modal", "nodal", "hessian", "pcg_tol", "history", "lambda",
-                                       "decoder", "crom", "training", "pin_stiffness", NULL};
-    static const char *const adaptive_keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains",
-                                                "initial_size", "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
+    /* the keys every entry may have, then each method's own */
+    static const char *const common[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
+                                         "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
+                                         "training", "pin_stiffness", NULL};
+    const char *keys[160];
+    int n = 0;
+    for (int k = 0; common[k]; k++) keys[n++] = common[k];
+    for (int i = 0; i < rk_method_count(); i++)
+        for (const char *const *k = rk_method_at(i)->keys; k && *k && n < 159; k++) keys[n++] = *k;
+    keys[n] = NULL;
     snprintf(o->path, sizeof o->path, "%s", path);
     if (rk_json_check_keys(c, e, path, keys) || parse_method(c, e, path, o)) return -1;
-    if (o->method != RK_METHOD_ADAPTIVE_SUBSPACE)
-        for (int k = 0; adaptive_keys[k]; k++)
-            if (cJSON_HasObjectItem(e, adaptive_keys[k]))
-                return rk_json_fail(c, path, "%s is a key of method adaptive_subspace", adaptive_keys[k]);
-    static const char *const alrom_keys[] = {"history", "lambda", "decoder", "crom", NULL};
-    if (o->method != RK_METHOD_ADAPTIVE_LINEAR)
-        for (int k = 0; alrom_keys[k]; k++)
-            if (cJSON_HasObjectItem(e, alrom_keys[k]))
-                return rk_json_fail(c, path, "%s is a key of method adaptive_linear", alrom_keys[k]);
-    if (o->method == RK_METHOD_ADAPTIVE_LINEAR && cJSON_HasObjectItem(e, "basis"))
-        return rk_json_fail(c, path, "method adaptive_linear takes size (r), history, lambda and decoder; no basis");
-    if (o->method != RK_METHOD_FIXED && cJSON_HasObjectItem(e, "pin_stiffness"))
+    for (int i = 0; i < rk_method_count(); i++) {
+        const rk_method *m = rk_method_at(i);
+        for (const char *const *k = m->keys; m != o->method && k && *k; k++)
+            if (cJSON_HasObjectItem(e, *k)) return rk_json_fail(c, path, "%s is a key of method %s", *k, m->name);
+    }
+    if (o->method->check && o->method->check(c, e, path)) return -1;
+    if (!o->method->reduced_model && cJSON_HasObjectItem(e, "pin_stiffness"))
         return rk_json_fail(c, path, "pin_stiffness is a key of method fixed (the fixed-basis reduced simulator's "
                             "penalty on prescribed vertices)");
     if (rk_json_number(c, e, path, "pin_stiffness", 0, &o->pin_stiffness)) return -1;
     if (cJSON_HasObjectItem(e, "pin_stiffness") && !(o->pin_stiffness > 0 && o->pin_stiffness <= 1e12))
         return rk_json_fail(c, path, "pin_stiffness must be a number in (0, 1e12] (units of (lambda + 2 mu) / "
                             "(rho L^2); default %g), got %g", RK_ROM_PIN_STIFFNESS, o->pin_stiffness);
-    return parse_basis(c, e, path, o->method, &o->basis) || parse_adaptive(c, e, path, o) || parse_alrom(c, e, path, o) ||
+    return parse_basis(c, e, path, o->method, &o->basis) ||
+                   (o->method->parse && o->method->parse(c, e, path, h, o)) ||
                    parse_training(c, e, path, scene_path, o) ||
-                   parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) || parse_koopman(c, e, path, h, o) ||
+                   parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) ||
                    parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
                ? -1
                : 0;

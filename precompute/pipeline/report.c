@@ -6,6 +6,14 @@
 
 #include "util/util.h"
 
+void rk_contact_tally_report(cJSON *obj, const rk_contact_tally *t)
+{
+    cJSON_AddNumberToObject(obj, "min_distance", t->min_distance);
+    cJSON_AddNumberToObject(obj, "intersections", (double)t->intersections);
+    cJSON_AddNumberToObject(obj, "intersecting_frames", (double)t->intersecting_frames);
+    cJSON_AddNumberToObject(obj, "frames", (double)t->frames);
+}
+
 int rk_json_write_file(const char *path, const cJSON *root, rk_error *err)
 {
     char *text = cJSON_Print(root);

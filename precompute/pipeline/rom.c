@@ -1,6 +1,7 @@
 /* A scene's reduced model (pipeline.h): basis (precompute/basis), exact quadrature, and when asked
  * a trained cubature in its place; with the reasons each size is what it is. */
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -2,6 +2,7 @@
  * each splat from the skinning weights as the mesh-free integration forms it, the splats deformed and
  * written by the one 3DGS writer (rk_splats_write). */
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -29,6 +29,20 @@ void rk_run_error_add(rk_run_error *e, const double *x, const double *ref)
     e->frames++;
 }
 
+double rk_frame_error(const double *a, const double *b, int n)
+{
+    double sq = 0;
+    for (int v = 0; v < n; v++) {
+        double d2 = 0;
+        for (int i = 0; i < 3; i++) {
+            double d = a[3 * v + i] - (b ? b[3 * v + i] : 0);
+            d2 += d * d;
+        }
+        sq += d2;
+    }
+    return sqrt(sq);
+}
+
 double rk_normalized_mse(const rk_run_error *e)
 {
     return e->frames && e->n && e->L > 0 ? e->sum_sq / ((double)e->frames * e->n) / (e->L * e->L) : NAN;

@@ -176,6 +176,11 @@ double rk_normalized_max_error(const rk_run_error *e);
 double rk_relative_error(const rk_run_error *e);
 double rk_relative_online_error(const rk_run_error *e);
 
+/* One frame's error |a - b| over its n points: sqrt(sum over points of |a_v - b_v|^2), b NULL: the
+ * norm of a (a displacement frame's size). The relative online error sums these (rk_run_error_add
+ * adds the same terms, in the same order); reports of a tracked trajectory give it per frame. */
+double rk_frame_error(const double *a, const double *b, int n);
+
 /* The bounding-box diagonal of n points (3 n coordinates). */
 double rk_points_diagonal(const double *X, int n);
 /* max_i |lambda_i| of n complex numbers re_i + i im_i (0 for n = 0). */

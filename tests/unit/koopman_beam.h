@@ -8,7 +8,7 @@
 #include "asset/asset.h"
 #include "formats/rombin_write.h"
 #include "koopman/koopman.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 #include "runtime/romrt.h"
 #include "util/util.h"
 

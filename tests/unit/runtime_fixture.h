@@ -6,7 +6,7 @@
 #include <stdint.h>
 
 #include "testlib.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 #include "formats/rombin_read.h"
 #include "runtime/romrt.h"
 

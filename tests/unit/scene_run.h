@@ -4,7 +4,7 @@
 
 #include "testlib.h"
 #include "fom/fom.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
 

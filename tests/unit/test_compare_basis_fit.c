@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "compare/compare_impl.h"
+#include "pipeline/method.h"
 #include "testlib.h"
 
 enum { NV = 40, NDOF = 3 * NV, R = 7, T = 5 };
@@ -48,7 +48,7 @@ TEST(frames_in_the_subspace_fit_exactly_and_an_orthogonal_part_is_the_residual)
     for (int i = 0; i < NDOF; i++) n[i] /= sqrt(nn);
     free(Q);
 
-    fom_run F = {.ndof = NDOF, .T = T, .x = x, .v = v};
+    rk_fom_frames F = {.ndof = NDOF, .T = T, .x = x, .v = v};
     double amp[T + 1];
     for (int pass = 0; pass < 2; pass++) {
         double sum_sq = 0;
@@ -75,7 +75,7 @@ TEST(dependent_columns_are_refused)
 {
     static double X[NDOF], U[NDOF * 2], x[NDOF * 2], v[NDOF * 2];
     for (int i = 0; i < NDOF; i++) U[i] = U[NDOF + i] = i % 3 ? 1 : 0;
-    fom_run F = {.ndof = NDOF, .T = 1, .x = x, .v = v};
+    rk_fom_frames F = {.ndof = NDOF, .T = 1, .x = x, .v = v};
     rk_error err;
     rk_compare_method m = {0};
     CHECK(rk_compare_basis_fit(U, NDOF, 2, X, &F, &m, &err) != 0 && strstr(err.msg, "dependent"), "accepted: %s",

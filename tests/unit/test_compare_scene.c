@@ -4,6 +4,7 @@
  * 720-degree twist and an inverted start stay finite. The full-resolution Table 1 comparison is
  * `make paper-table` (too slow for a unit test). */
 #include "compare/compare.h"
+#include "pipeline/method_fixed.h"
 #include "testlib.h"
 
 #define BEAM_MESH "\"mesh\": {\"box\": {\"size\": [5, 1, 1], \"cells\": [10, 2, 2]}}"

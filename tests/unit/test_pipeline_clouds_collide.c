@@ -10,6 +10,7 @@
 #include "testlib.h"
 #include "cloud_inside.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
 TEST(a_block_of_points_lands_on_a_slab_of_points)
 {

@@ -18,6 +18,7 @@
 #include "testlib.h"
 #include "cloud_inside.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 #include "util/util.h"
 
 #define SCENE "examples/scenes/donut_on_object.json"

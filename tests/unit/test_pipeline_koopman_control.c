@@ -13,6 +13,7 @@
 #include "scene_run.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/control.h"
 #include "util/util.h"
 
 /* ---- the summed propagator ---- */

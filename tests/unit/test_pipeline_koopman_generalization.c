@@ -18,6 +18,7 @@
 #include "util/util.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
 

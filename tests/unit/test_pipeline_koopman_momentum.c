@@ -15,6 +15,7 @@
 #include "scene_run.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 #include "util/util.h"
 
 #define STEPS 200 /* 2 s at 0.01 s */

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 #include "testlib.h"
 
 #define LEN 4.5

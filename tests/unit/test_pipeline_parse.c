@@ -1,7 +1,7 @@
 /* Scene files: good ones parse into what they say; each bad one gives one clear message that
  * names the file and the JSON path of the problem. */
 #include "testlib.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 
 #define BEAM_OBJECT                                                                         \
     "\"mesh\": {\"box\": {\"size\": [5, 1, 1], \"cells\": [10, 2, 2]}},"                  \
@@ -36,7 +36,7 @@ TEST(parses_the_design_example)
           "plane normal must be normalized");
     CHECK(s.integrator == RK_BDF2 && s.h == 0.01, "time");
     CHECK(s.nentries == 1 && s.entries[0].basis.type == RK_BASIS_RKPM_SKINNING && s.entries[0].basis.size == 16 &&
-              strcmp(s.entries[0].name, "rkpm_skinning-16") == 0 && !s.entries[0].cubature && !s.entries[0].koopman,
+              strcmp(s.entries[0].name, "rkpm_skinning-16") == 0 && !s.entries[0].cubature && !rk_koopman_of(&s.entries[0]),
           "rom entry parsed: %d entries", s.nentries);
     rk_scene_free(&s);
 }

@@ -6,6 +6,7 @@
  * against the precompute's is measured and bounded. Also: pushing, reset, a corrupted chunk. */
 #include "testlib.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_linear.h"
 #include "formats/rombin_read.h"
 #include "runtime/romrt.h"
 
@@ -102,7 +103,7 @@ static int fixture_open(fixture *f, const char *json, rk_error *err)
     free(D);
     if (rc) return -1;
     f->stage = 3;
-    rk_alrom_options o = e->alrom;
+    rk_alrom_options o = rk_adaptive_linear_of(e)->opt;
     if (ncub) {
         o.ncub = ncub;
         o.cub_element = f->cub_element;

@@ -13,6 +13,7 @@
 #include "formats/rombin_read.h"
 #include "koopman/koopman.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_koopman.h"
 #include "runtime/romrt.h"
 #include "runtime_gpu.h"
 
@@ -77,7 +78,7 @@ static int fixture_open(fixture *f, rk_error *err)
     memset(f, 0, sizeof *f);
     rk_koopman_scene_info ki;
     if (rk_scene_parse(scene_json, "test.json", &f->scene, err) || rk_scene_build(&f->scene, &f->sim, err) ||
-        rk_koopman_scene_fit(&f->sim, &f->scene.entries[0].koop, NULL, NULL, 0, &f->k, &ki, err))
+        rk_koopman_scene_fit(&f->sim, rk_koopman_of(&f->scene.entries[0]), NULL, NULL, 0, &f->k, &ki, err))
         return -1;
     const rk_asset_options *ao = &f->scene.entries[0].asset;
     int nv = f->sim.mesh.nv;

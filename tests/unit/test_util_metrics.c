@@ -24,6 +24,21 @@ TEST(metrics_match_a_hand_worked_case)
     CHECK_CLOSE(rk_points_diagonal(X, 2), 5.0, 1e-15);
 }
 
+TEST(frame_error_is_the_norm_the_online_error_sums)
+{
+    const double X[6] = {0, 0, 0, 3, 4, 0};
+    const double a[6] = {1, 2, 2, 3, 4, 0}, b[6] = {1, 0, 0, 3, 4, 3}; /* differences (0, 2, 2), (0, 0, -3) */
+    CHECK_CLOSE(rk_frame_error(a, b, 2), sqrt(17.0), 1e-15);
+    CHECK_CLOSE(rk_frame_error(a, NULL, 2), sqrt(9.0 + 25), 1e-15);
+    CHECK(rk_frame_error(a, a, 2) == 0, "a frame against itself");
+    /* the online error's numerator is the sum of these, bit for bit */
+    rk_run_error e;
+    rk_run_error_init(&e, X, 2);
+    rk_run_error_add(&e, a, b);
+    rk_run_error_add(&e, b, a);
+    CHECK(e.online_num == rk_frame_error(a, b, 2) + rk_frame_error(b, a, 2), "online %.17g", e.online_num);
+}
+
 TEST(max_abs_eigenvalue_takes_the_modulus)
 {
     const double re[3] = {0.6, -1.1, 0.2}, im[3] = {0.8, 0, -0.3};
@@ -34,6 +49,7 @@ TEST(max_abs_eigenvalue_takes_the_modulus)
 int main(void)
 {
     RUN(metrics_match_a_hand_worked_case);
+    RUN(frame_error_is_the_norm_the_online_error_sums);
     RUN(max_abs_eigenvalue_takes_the_modulus);
     return test_finish();
 }

@@ -1,7 +1,7 @@
-/* An adaptive linear ROM entry beside full order (compare_impl.h, rk_compare_alrom): the free run
+/* An adaptive linear ROM entry beside full order (method_adaptive_linear.c's compare): the free run
  * from the scene's start and the realigned run that starts each step from the reference's state
  * (the paper's Sec. 5.1: total relative online error with per-step realignment). */
-#include "compare/compare_impl.h"
+#include "pipeline/method_adaptive_linear.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -9,15 +9,25 @@
 #include <string.h>
 
 /* Whether entries a and b build the same decoder from the same data. */
-static int same_decoder(const rk_rom_entry *a, const rk_rom_entry *b)
+/* The decoder last built, kept for the next entry that would build the same one. */
+typedef struct {
+    const rk_rom_entry *from;   /* NULL: none */
+    rk_decoder dec;
+    double seconds;             /* its build (training) time */
+    int ncub, *cub_element;     /* the entry's cubature (rom.cubature), or none */
+    double *cub_weight;
+} decoder_cache;
+
+static int same_decoder(const rk_rom_entry *ea, const rk_rom_entry *eb)
 {
-    if (a->crom != b->crom || a->quadratic_pod != b->quadratic_pod || a->basis.size != b->basis.size) return 0;
-    if (a->cubature != b->cubature || (a->cubature && memcmp(&a->cub, &b->cub, sizeof a->cub))) return 0;
+    const rk_adaptive_linear_entry *a = rk_adaptive_linear_of(ea), *b = rk_adaptive_linear_of(eb);
+    if (a->crom != b->crom || a->quadratic_pod != b->quadratic_pod || ea->basis.size != eb->basis.size) return 0;
+    if (ea->cubature != eb->cubature || (ea->cubature && memcmp(&ea->cub, &eb->cub, sizeof ea->cub))) return 0;
     if (a->crom && memcmp(&a->crom_opt, &b->crom_opt, sizeof a->crom_opt)) return 0;
-    return rk_compare_same_training(a, b);
+    return rk_compare_same_training(ea, eb);
 }
 
-void rk_compare_decoder_cache_free(rk_compare_decoder_cache *c)
+static void cache_clear(decoder_cache *c)
 {
     rk_decoder_free(&c->dec);
     free(c->cub_element);
@@ -28,15 +38,35 @@ void rk_compare_decoder_cache_free(rk_compare_decoder_cache *c)
     c->from = NULL;
 }
 
-int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
-                     const rk_rom_entry *e, rk_compare_method *m, rk_compare_decoder_cache *cache, rk_error *err)
+int rk_adaptive_linear_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+void rk_adaptive_linear_compare_free(void *cache);
+
+void rk_adaptive_linear_compare_free(void *cache)
 {
+    if (!cache) return;
+    cache_clear(cache);
+    free(cache);
+}
+
+/* Its decoder (and cubature) trains on the entry's training set or the scene's run; the decoder
+ * is kept in the method's cache for the next entry that would build the same one. */
+int rk_adaptive_linear_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
+{
+    const rk_scene *scene = c->scene;
+    const rk_scene_sim *sim = c->sim;
+    const rk_fom_frames *ref = c->ref;
+    const rk_adaptive_linear_entry *own = rk_adaptive_linear_of(e);
+    const double *D;
+    int T;
+    if (rk_compare_training(c, e, &D, &T, m, err)) return -1;
+    if (!*c->cache && !(*c->cache = rk_calloc(1, sizeof(decoder_cache), err))) return -1;
+    decoder_cache *cache = *c->cache;
     int ndof = ref->ndof, rc = -1, steps = ref->T; /* T: the training frames in D; steps: the run's */
     rk_alrom s = {0};
     double *secs = rk_calloc((size_t)steps + 1, sizeof(double), err);
     if (!secs) goto out;
     if (!cache->from || !same_decoder(cache->from, e)) { /* a sweep of m or lambda trains one decoder */
-        rk_compare_decoder_cache_free(cache);
+        cache_clear(cache);
         double t0 = rk_now();
         if (rk_scene_alrom_decoder(scene, sim, e, D, T, &cache->dec, err) ||
             rk_scene_alrom_cubature(scene, sim, e, D, T, &cache->cub_element, &cache->cub_weight, &cache->ncub, err))
@@ -46,7 +76,7 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
     }
     m->seconds_basis = cache->seconds;
     const rk_decoder *dec = &cache->dec;
-    rk_alrom_options o = e->alrom;
+    rk_alrom_options o = own->opt;
     o.ncub = cache->ncub;
     o.cub_element = cache->cub_element;
     o.cub_weight = cache->cub_weight;
@@ -55,11 +85,11 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
         rk_error_prefix(err, "%s", e->path);
         goto out;
     }
-    m->alrom = 1;
+    snprintf(m->basis_name, sizeof m->basis_name, "decoder"); /* its basis is the decoder's Jacobian */
     m->size = m->r = e->basis.size;
     snprintf(m->basis_reason, sizeof m->basis_reason, "decoder %s, r %d, m %d, lambda %g%s",
-             e->crom ? "crom" : e->quadratic_pod ? "quadratic_pod" : "quadratic", e->basis.size, e->alrom.history,
-             e->alrom.lambda, e->crom || e->quadratic_pod ? ", trained on the entry's frames" : "");
+             own->crom ? "crom" : own->quadratic_pod ? "quadratic_pod" : "quadratic", e->basis.size, own->opt.history,
+             own->opt.lambda, own->crom || own->quadratic_pod ? ", trained on the entry's frames" : "");
     rk_run_error er;
     rk_run_error_init(&er, sim->mesh.X, ndof / 3);
     m->contact_min_distance = INFINITY;
@@ -78,7 +108,8 @@ int rk_compare_alrom(const rk_scene *scene, const rk_scene_sim *sim, const fom_r
     m->seconds_per_step = rk_median(secs, steps);
     m->newton_iterations = s.stats.newton_iterations;
     m->unconverged_steps = s.fom.stats.unconverged_steps;
-    m->history_share = s.stats.steps ? (double)s.stats.history_used / s.stats.steps : 0;
+    rk_adaptive_linear_measures *lm = rk_method_measures(m, &rk_method_adaptive_linear);
+    lm->history_share = s.stats.steps ? (double)s.stats.history_used / s.stats.steps : 0;
     /* realigned: a fresh simulator (the same decoder) from each reference state (its history then
      * holds them) */
     rk_alrom_free(&s);

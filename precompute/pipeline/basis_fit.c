@@ -3,14 +3,14 @@
  * x_t|^2, and the fitted frames measured as a free run is. It bounds what any simulation in that
  * subspace can reach, so a method's error splits into its basis's share (this) and its dynamics'
  * (the rest). */
-#include "compare/compare_impl.h"
+#include "pipeline/method.h"
 
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-int rk_compare_basis_fit(const double *U, int ndof, int r, const double *X, const fom_run *ref, rk_compare_method *m,
+int rk_compare_basis_fit(const double *U, int ndof, int r, const double *X, const rk_fom_frames *ref, rk_compare_method *m,
                          rk_error *err)
 {
     int T = ref->T;

@@ -1,6 +1,6 @@
-/* An adaptive subspace entry beside full order (compare_impl.h, rk_compare_adaptive): the free run
+/* An adaptive subspace entry beside full order (method_adaptive_subspace.c's compare): the free run
  * from the scene's start, and the realigned run that starts each step from the reference's state. */
-#include "compare/compare_impl.h"
+#include "pipeline/method_adaptive_subspace.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -9,30 +9,40 @@
 static void record_model(rk_compare_method *m, const rk_adaptive *ad, int nv)
 {
     const rk_adaptive_stats *s = &ad->stats;
-    m->adaptive = 1;
+    rk_adaptive_subspace_measures *am = rk_method_measures(m, &rk_method_adaptive_subspace);
     m->r = ad->impl ? ad->modes : 0;
-    m->mean_modes = s->steps ? s->sum_modes / s->steps : 0;
-    m->mean_nodes = s->steps ? s->sum_nodes / s->steps : 0;
-    m->enriched_share = m->mean_nodes / nv;
-    m->max_modes = s->max_modes;
-    m->max_nodes = s->max_nodes;
-    m->subdomains = ad->opt.subdomains;
-    m->pcg_per_solve = s->solves ? (double)s->pcg_iterations / s->solves : 0;
-    m->newton_per_step = s->steps ? (double)s->newton_iterations / s->steps : 0;
+    am->mean_modes = s->steps ? s->sum_modes / s->steps : 0;
+    am->mean_nodes = s->steps ? s->sum_nodes / s->steps : 0;
+    am->enriched_share = am->mean_nodes / nv;
+    am->max_modes = s->max_modes;
+    am->max_nodes = s->max_nodes;
+    am->subdomains = ad->opt.subdomains;
+    am->pcg_per_solve = s->solves ? (double)s->pcg_iterations / s->solves : 0;
+    am->newton_per_step = s->steps ? (double)s->newton_iterations / s->steps : 0;
     m->newton_iterations = s->newton_iterations;
     m->unconverged_steps = ad->fom.stats.unconverged_steps;
     double total = s->seconds_total > 0 ? s->seconds_total : 1;
-    m->share_potential = s->seconds_potential / total;
-    m->share_oracle = s->seconds_oracle / total;
-    m->share_hessian = s->seconds_hessian / total;
-    m->share_system = s->seconds_system / total;
-    m->share_pcg = (s->seconds_pcg - s->seconds_system) / total; /* the PCG's own, the rows built counted apart */
-    m->share_line_search = s->seconds_line_search / total;
+    am->share_potential = s->seconds_potential / total;
+    am->share_oracle = s->seconds_oracle / total;
+    am->share_hessian = s->seconds_hessian / total;
+    am->share_system = s->seconds_system / total;
+    am->share_pcg = (s->seconds_pcg - s->seconds_system) / total; /* the PCG's own, the rows built counted apart */
+    am->share_line_search = s->seconds_line_search / total;
 }
 
-int rk_compare_adaptive(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *ref, const double *D, int T,
-                        const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
+int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+
+/* Its candidate basis trains on the entry's training set (or the scene's run); it runs as many
+ * steps as the scene's own run. */
+int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
 {
+    const rk_scene *scene = c->scene;
+    const rk_scene_sim *sim = c->sim;
+    const rk_fom_frames *ref = c->ref;
+    const double *D;
+    int T;
+    if (rk_compare_training(c, e, &D, &T, m, err)) return -1;
+    T = c->fom->T;
     int ndof = ref->ndof, rc = -1;
     rk_adaptive ad = {0};
     double *secs = rk_calloc((size_t)T + 1, sizeof(double), err);

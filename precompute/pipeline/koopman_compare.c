@@ -1,7 +1,7 @@
-/* A Koopman entry as a method of the comparison (compare_impl.h): fitted on the scene's full-order
+/* A Koopman entry as a method of the comparison (method_koopman.c's compare): fitted on the scene's full-order
  * run, stepped in real eigen-coordinates y (one step y <- B (y + c), c the gravity and loads'
  * impulse of Eq. 19), errors against the reference as for the reduced models. */
-#include "compare/compare_impl.h"
+#include "pipeline/method_koopman.h"
 
 #include <cblas.h>
 #include <math.h>
@@ -20,7 +20,7 @@ static void run_free(koopman_run *K)
     free(K->out), free(K->in), free(K->y), free(K->c), free(K->z), free(K->x), free(K->u_prev), free(K->secs);
 }
 
-static int run_init(const rk_koopman *k, const rk_scene_sim *sim, const fom_run *F, koopman_run *K, rk_error *err)
+static int run_init(const rk_koopman *k, const rk_scene_sim *sim, const rk_fom_frames *F, koopman_run *K, rk_error *err)
 {
     int n = F->ndof, r = k->r;
     memset(K, 0, sizeof *K);
@@ -56,7 +56,7 @@ static void positions(const rk_scene_sim *sim, const koopman_run *K)
     cblas_dgemv(CblasColMajor, CblasNoTrans, K->n, K->r, 1.0, K->out, K->n, K->y, 1, 1.0, K->x, 1);
 }
 
-static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, const fom_run *F,
+static int run_free_and_realigned(const rk_koopman *k, const rk_scene_sim *sim, const rk_fom_frames *F,
                                   rk_compare_method *m, rk_error *err)
 {
     koopman_run K;
@@ -99,12 +99,15 @@ out:
     return rc;
 }
 
-int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom_run *F, const fom_run *ref,
-                       const double *D, const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
+int rk_koopman_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
+
+/* Fitted on the scene's own run (its trajectories; no training list) and measured against c->ref. */
+int rk_koopman_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err)
 {
     rk_scene_koopman K;
-    m->koopman = 1;
-    if (rk_scene_koopman_build(scene, sim, e, D, F->T, &K, err)) return -1;
+    const rk_scene_sim *sim = c->sim;
+    const rk_fom_frames *F = c->fom, *ref = c->ref;
+    if (rk_scene_koopman_build(c->scene, sim, e, c->D, F->T, &K, err)) return -1;
     const rk_koopman_scene_info *ki = &K.info;
     if (ki->projected)
         snprintf(m->basis_reason, sizeof m->basis_reason, "Koopman fitted on the %s basis's %d coordinates",
@@ -123,7 +126,8 @@ int rk_compare_koopman(const rk_scene *scene, const rk_scene_sim *sim, const fom
                         : "against the refined reference is reconstruction plus the scene mesh's own error");
     m->r = K.k.r;
     m->size = K.k.d;
-    m->max_abs_eigenvalue = rk_max_abs_eigenvalue(K.k.lambda_re, K.k.lambda_im, K.k.r);
+    rk_koopman_measures *km = rk_method_measures(m, &rk_method_koopman);
+    km->max_abs_eigenvalue = rk_max_abs_eigenvalue(K.k.lambda_re, K.k.lambda_im, K.k.r);
     int rc = run_free_and_realigned(&K.k, sim, ref, m, err);
     rk_scene_koopman_free(&K);
     return rc;

@@ -1,8 +1,8 @@
-/* dmd_markers_load (dmd_markers.h): the sparse-to-dense step of Sec. 7.5 from files. The paper's
+/* rk_dmd_markers_load (dmd.h): the sparse-to-dense step of Sec. 7.5 from files. The paper's
  * neural fields evaluate the modes anywhere; here the modes are the scene's linear modes and the
  * markers are tracked mesh vertices, so the least squares of rk_koopman_marker_coords gives each
  * frame's modal coordinates and the modes give every vertex. */
-#include "dmd_markers.h"
+#include "pipeline/dmd.h"
 
 #include <cblas.h>
 #include <errno.h>
@@ -15,9 +15,9 @@
 #include "basis/basis.h"
 #include "koopman/koopman.h"
 #include "mesh/mesh.h"
-#include "pipeline/pipeline.h"
+#include "pipeline/method_fixed.h"
 
-void dmd_markers_free(dmd_markers *m)
+void rk_dmd_markers_free(rk_dmd_markers *m)
 {
     free(m->X);
     free(m->vertex_mass);
@@ -115,7 +115,7 @@ static int read_markers(const char *path, int nv, const int *vertex, int k, cons
 
 /* Pin = (Phi^T M Phi)^-1 Phi^T M (M the lumped masses): a left inverse of Phi, and the modal force
  * of an acceleration for Eq. 19's impulses (Phi^T M a in M-orthonormal modes). */
-static int left_inverse(dmd_markers *m, rk_error *err)
+static int left_inverse(rk_dmd_markers *m, rk_error *err)
 {
     int n3 = 3 * m->nv, b = m->b;
     double *G = rk_calloc((size_t)b * b, sizeof(double), err);
@@ -146,7 +146,7 @@ static double *mode_weights(const rk_basis *B, rk_error *err)
 }
 
 /* The scene's first b linear modes, their weights, rest positions, masses and surface. */
-static int scene_modes(const char *path, int b, dmd_markers *m, rk_error *err)
+static int scene_modes(const char *path, int b, rk_dmd_markers *m, rk_error *err)
 {
     rk_scene scene;
     rk_scene_sim sim;
@@ -186,7 +186,7 @@ done_scene:
 }
 
 /* max_t |S Phi q_t - m_t| / max_t |m_t|: how far b modes are from the tracked motion. */
-static double misfit(const dmd_markers *m, const int *vertex, const double *disp, const double *q)
+static double misfit(const rk_dmd_markers *m, const int *vertex, const double *disp, const double *q)
 {
     int n3 = 3 * m->nv, k = m->k;
     double worst = 0, scale = 0;
@@ -203,8 +203,8 @@ static double misfit(const dmd_markers *m, const int *vertex, const double *disp
     return scale > 0 ? worst / scale : 0;
 }
 
-int dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
-                     double ridge, dmd_markers *out, rk_error *err)
+int rk_dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
+                     double ridge, rk_dmd_markers *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
     int *vertex = NULL, rc = -1;
@@ -225,6 +225,6 @@ done:
     free(vertex);
     free(disp);
     free(q);
-    if (rc) dmd_markers_free(out);
+    if (rc) rk_dmd_markers_free(out);
     return rc;
 }
