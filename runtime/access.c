@@ -233,10 +233,16 @@ static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
 {
     int a, j;
     for (a = 0; a < 3; a++) {
-        const romrt_real *row = m->force_rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
-        if (m->kind == ROMRT_KIND_REDUCED) rt_row_axpy(m, v, a, f[a], m->f_app); /* B_v^T f */
-        else
-            for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
+        const romrt_real *row;
+        if (m->kind == ROMRT_KIND_REDUCED) {
+            rt_row_axpy(m, v, a, f[a], m->f_app); /* B_v^T f */
+            continue;
+        }
+        /* Only a Koopman model has force_rows; a reduced one leaves it NULL, and forming
+         * NULL + offset is undefined behaviour even unread (UBSan, fuzz regression
+         * push_null_force_rows). */
+        row = m->force_rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
+        for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
     }
 }
 
