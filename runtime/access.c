@@ -320,9 +320,11 @@ void rt_split(double x, romrt_real *pair)
     lo = (romrt_real)rest;
     /* rounded toward zero, so hi + lo rounds back to hi and the pair reads back the same */
     if (fabs((double)lo) > fabs(rest)) lo = RT_TOWARD_ZERO(lo);
-    /* An exact x leaves rest = +0, and -0 + +0 = +0 would read a -0 back as +0 (fuzz regression
-     * state_round_trip_negative_zero): a zero lo takes hi's sign, so hi + lo == hi bitwise. */
-    if (rest == 0) lo = 0 * pair[0];
+    /* A zero lo takes hi's sign, so hi + lo == hi bit for bit and the pair reads back the same:
+     * an exact x leaves rest = +0, and -0 + +0 = +0 would read a -0 back as +0; a tiny negative
+     * rest under a positive hi rounds to lo = -0, read back as +0 (fuzz regressions
+     * state_round_trip_negative_zero, state_round_trip_underflowed_lo). */
+    if (lo == 0) lo = 0 * pair[0];
     pair[1] = lo;
 }
 
