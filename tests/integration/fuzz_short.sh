@@ -15,7 +15,7 @@ if ! "$FCC" -fsanitize=fuzzer "$TMP/probe.c" -o "$TMP/probe" >"$TMP/probe.err" 2
     exit 0
 fi
 # The fuzz build takes its own flags; the sanitizer build's SANFLAGS must not reach it.
-if env -u SANFLAGS make -s BUILD="$B" fuzz-targets >"$TMP/make" 2>&1; then
+if env -u SANFLAGS make -s -j2 BUILD="$B" fuzz-targets >"$TMP/make" 2>&1; then
     ok fuzz_targets_build
 else
     fail fuzz_targets_build "$(tail -c 800 "$TMP/make")"
