@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h> /* rmdir, unlink */
 
 #include "mesh/mesh.h"
 #if defined(FUZZ_READ_SCENE)
@@ -59,7 +60,19 @@ static void check_failure(int rc, const rk_error *err)
     if (rc != 0 && err->msg[0] == 0) BROKEN("a failure with an empty message");
 }
 
+#if !defined(FUZZ_READ_SCENE) /* the scene parser takes text */
 static char dir[64];
+
+/* At exit (libFuzzer's end of a run), the private folder goes; after a crash it stays. */
+static void remove_dir(void)
+{
+    char path[96];
+    snprintf(path, sizeof path, "%s/in%s", dir, FUZZ_EXT);
+    unlink(path);
+    snprintf(path, sizeof path, "%s/in.ele", dir);
+    unlink(path);
+    rmdir(dir);
+}
 
 /* The input written to dir/in<ext> (and dir/in.ele for TetGen); the path, or NULL. */
 static const char *write_input(const uint8_t *data, size_t size)
@@ -74,6 +87,7 @@ static const char *write_input(const uint8_t *data, size_t size)
             perror("fuzz_read: mkdtemp");
             abort();
         }
+        atexit(remove_dir);
     }
 #if defined(FUZZ_READ_TETGEN)
     {
@@ -98,6 +112,7 @@ static const char *write_input(const uint8_t *data, size_t size)
     fclose(fp);
     return path;
 }
+#endif
 
 #if defined(FUZZ_READ_GMSH) || defined(FUZZ_READ_MEDIT) || defined(FUZZ_READ_VTK) || defined(FUZZ_READ_TETGEN)
 static void run(const char *path)
