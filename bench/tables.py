@@ -59,6 +59,12 @@ ABOUT = {
                       "per step in each Newton mode, Newton iterations per step, the error of the "
                       "shown vertices over the first 100 steps against full order, the element "
                       "kernels' GFLOP/s, full order's seconds per step and its ratio to the runtime."),
+    "fuzz": ("Fuzz campaign: inputs per target", "bench/fuzz_campaign.sh SECONDS (not part of make bench)",
+             "Each libFuzzer target (clang, ASan and UBSan) run alone for about SECONDS on one core "
+             "beside other work, from its seeds and the corpus of earlier runs: the inputs it ran, "
+             "the seconds, inputs per second, findings (libFuzzer stops at the first; each is fixed "
+             "with its input in tests/fuzz/regressions/) and the corpus it left. A target with a "
+             "finding has a second row: the run after the fix."),
     "koopman": ("Koopman operator: fit and runtime cost", "make bench: build/bench_koopman",
                 "Cantilever boxes released under gravity, h = 10 ms, one full-order run of 800 "
                 "frames each; the fit against the frame count, and the float32 runtime per call "

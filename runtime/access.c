@@ -233,10 +233,16 @@ static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
 {
     int a, j;
     for (a = 0; a < 3; a++) {
-        const romrt_real *row = m->force_rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
-        if (m->kind == ROMRT_KIND_REDUCED) rt_row_axpy(m, v, a, f[a], m->f_app); /* B_v^T f */
-        else
-            for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
+        const romrt_real *row;
+        if (m->kind == ROMRT_KIND_REDUCED) {
+            rt_row_axpy(m, v, a, f[a], m->f_app); /* B_v^T f */
+            continue;
+        }
+        /* Only a Koopman model has force_rows; a reduced one leaves it NULL, and forming
+         * NULL + offset is undefined behaviour even unread (UBSan, fuzz regression
+         * push_null_force_rows). */
+        row = m->force_rows + ((size_t)3 * v + (size_t)a) * (size_t)m->r;
+        for (j = 0; j < m->r; j++) m->f_app[j] += row[j] * f[a];
     }
 }
 
@@ -314,6 +320,11 @@ void rt_split(double x, romrt_real *pair)
     lo = (romrt_real)rest;
     /* rounded toward zero, so hi + lo rounds back to hi and the pair reads back the same */
     if (fabs((double)lo) > fabs(rest)) lo = RT_TOWARD_ZERO(lo);
+    /* A zero lo takes hi's sign, so hi + lo == hi bit for bit and the pair reads back the same:
+     * an exact x leaves rest = +0, and -0 + +0 = +0 would read a -0 back as +0; a tiny negative
+     * rest under a positive hi rounds to lo = -0, read back as +0 (fuzz regressions
+     * state_round_trip_negative_zero, state_round_trip_underflowed_lo). */
+    if (lo == 0) lo = 0 * pair[0];
     pair[1] = lo;
 }
 

@@ -1,7 +1,9 @@
 #!/bin/sh
-# Runs every unit test executable and integration script, counts "ok"/"FAIL" lines and
-# prints the closing line "N passed, N failed". An executable that crashes or exits non-zero
-# without saying FAIL counts as one failure of its own.
+# Runs every unit test executable and integration script, counts "ok"/"FAIL"/"skip" lines and
+# prints the closing line "N passed, N failed, N skipped". An executable that crashes or exits
+# non-zero without saying FAIL counts as one failure of its own. A test that cannot run here (a
+# tool absent) prints "skip NAME: why"; with ROMKIT_NO_SKIP=1 (.ci/run) each skip is a FAIL, so
+# CI never passes by skipping.
 # Usage: BUILD=build [SUITES="unit integration"] sh tests/run.sh [filter]
 # SUITES: unit (the executables $BUILD/tests/test_*) and folders of tests/ whose *.sh run
 # (make test: unit integration; make test-web: web).
@@ -12,6 +14,7 @@ export ROMKIT=${ROMKIT:-$PWD/$BUILD/romkit}
 export ROMKIT_BUILD=$BUILD
 passed=0
 failed=0
+skipped=0
 log=$(mktemp)
 run_one() {
     name=$1; shift
@@ -21,17 +24,24 @@ run_one() {
     cat "$log"
     p=$(grep -c '^ok ' "$log")
     f=$(grep -c '^FAIL ' "$log")
+    s=$(grep -c '^skip ' "$log")
+    if [ "$s" -gt 0 ] && [ "${ROMKIT_NO_SKIP:-0}" = 1 ]; then
+        grep '^skip ' "$log" | sed 's/^skip /FAIL (skipped, ROMKIT_NO_SKIP=1) /'
+        f=$((f + s))
+        s=0
+    fi
     if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
         echo "FAIL $name: exited with status $rc"
         f=1
     fi
-    if [ "$p" -eq 0 ] && [ "$f" -eq 0 ]; then
+    if [ "$p" -eq 0 ] && [ "$f" -eq 0 ] && [ "$s" -eq 0 ]; then
         echo "FAIL $name: ran no test"
         f=1
     fi
     passed=$((passed + p))
     failed=$((failed + f))
-    echo "# $name: $p passed, $f failed, $(( $(date +%s) - start )) s"
+    skipped=$((skipped + s))
+    echo "# $name: $p passed, $f failed, $s skipped, $(( $(date +%s) - start )) s"
 }
 for suite in $SUITES; do
     if [ "$suite" = unit ]; then
@@ -50,5 +60,5 @@ for suite in $SUITES; do
     done
 done
 rm -f "$log"
-echo "$passed passed, $failed failed"
+echo "$passed passed, $failed failed, $skipped skipped"
 [ "$failed" -eq 0 ]

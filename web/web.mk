@@ -69,7 +69,7 @@ $(WEB)/assets.json: web/web.mk
 
 # deps first, on its own: it may install emscripten, chromium and the libraries romkit links.
 .PHONY: web web-files web-test-files test-web
-web: deps
+web: deps-web
 	@$(MAKE) --no-print-directory web-files
 	@echo "make web: the page is in $(WEB); serve it with"
 	@echo "    python3 -m http.server -d $(WEB) 8000"
@@ -80,7 +80,7 @@ web-files: $(WEB)/romrt.js $(WEB_PAGE:%=$(WEB)/%) $(WEB_THREE:%=$(WEB)/three/%) 
 
 # The page in headless chromium (tests/web/page.sh): ok/FAIL lines, the browser's and the native
 # ms per step, and "N passed, N failed".
-test-web: deps
+test-web: deps-web
 	@$(MAKE) --no-print-directory web-test-files
 	@BUILD=$(BUILD) SUITES=web sh tests/run.sh
 web-test-files: web-files $(BUILD)/romkit $(BUILD)/jsonq

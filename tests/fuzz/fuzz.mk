@@ -4,8 +4,17 @@
 #                                 (clang: its UBSan also checks pointer arithmetic overflow)
 #   $(BUILD)/fuzz/damage          damaged variants of a valid asset (a corpus and test inputs)
 #   $(BUILD)/fuzz/fuzz-open-step  the libFuzzer binary (clang)
-#   fuzz                          seeds + damage corpus, then FUZZ_SECONDS of fuzzing; crashes
-#                                 land in $(BUILD)/fuzz/crashes/ (replay them with replay-san)
+#   $(BUILD)/fuzz/fuzz-read-NAME  libFuzzer binaries of the precompute's readers of outside files
+#                                 (tests/fuzz/fuzz_read.c; NAME in FUZZ_READERS), over a clang +
+#                                 ASan/UBSan build of the stages they link ($(BUILD)/fuzz/lib)
+#   fuzz-targets                  every libFuzzer binary, nothing run
+#   fuzz-run-open-step            seeds + damage corpus, then FUZZ_SECONDS of fuzzing the runtime
+#   fuzz-run-NAME                 FUZZ_SECONDS of fuzzing reader NAME from tests/fuzz/seeds/NAME
+#   fuzz                          every fuzz-run-*, FUZZ_SECONDS each; crashes land in
+#                                 $(BUILD)/fuzz/crashes/ (the runtime's: replay them with
+#                                 replay-san; a reader's: run its binary on the file). A fixed
+#                                 finding's input goes to tests/fuzz/regressions/<target>/, which
+#                                 tests/integration/fuzz_short.sh and damaged_assets.sh replay.
 
 # Keep the including Makefile's default goal: this fragment's first target must not become it.
 fuzz_saved_goal := $(.DEFAULT_GOAL)
@@ -20,7 +29,7 @@ FUZZ_SAN     := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit
 # fuzz past a known finding (make does not notice a change: remove the binary first).
 FUZZ_FLAGS   ?=
 
-.PHONY: fuzz
+.PHONY: fuzz fuzz-targets fuzz-run-open-step
 
 $(FUZZ_DIR)/replay-san: tests/fuzz/replay.c $(FUZZ_SRC) $(RT_SRC) $(FUZZ_HDR)
 	@mkdir -p $(dir $@)
@@ -38,7 +47,7 @@ $(FUZZ_DIR)/fuzz-open-step: $(FUZZ_SRC) $(RT_SRC) $(FUZZ_HDR)
 
 # Seeds in both precisions, their damaged variants, then the fuzzer. -max_len: twice the larger
 # seed, so inputs may grow; -timeout: a step that loops is a finding too.
-fuzz: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romkit
+fuzz-run-open-step: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romkit
 	@mkdir -p $(FUZZ_DIR)/corpus $(FUZZ_DIR)/crashes
 	$(BUILD)/romkit build tests/fuzz/seed_scene.json -o $(FUZZ_DIR)/seed.rombin --quiet
 	$(BUILD)/romkit build tests/fuzz/seed_scene.json -o $(FUZZ_DIR)/seed64.rombin --quiet --precision float64
@@ -69,6 +78,40 @@ fuzz: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romkit
 	max=$$(wc -c <$(FUZZ_DIR)/seed64.rombin); a=$$(wc -c <$(FUZZ_DIR)/seed.rombin); \
 	[ "$$a" -gt "$$max" ] && max=$$a; \
 	$(FUZZ_DIR)/fuzz-open-step -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -max_len=$$((2 * max)) \
-	    -timeout=20 -print_final_stats=1 -artifact_prefix=$(FUZZ_DIR)/crashes/ $(FUZZ_DIR)/corpus
+	    -timeout=20 -print_final_stats=1 -artifact_prefix=$(FUZZ_DIR)/crashes/ $(FUZZ_DIR)/corpus \
+	    tests/fuzz/regressions/open-step
+
+# The readers of outside files. Each links only the stages its reader needs; the scene parser
+# is the pipeline's, so it links the pipeline and all below it.
+FUZZ_READERS := gmsh medit tetgen vtk obj off stl ply splats points scene
+FUZZ_PC_FLAGS := -std=c11 -D_DEFAULT_SOURCE -O1 -g -pthread -I. -Iprecompute -I/usr/include/suitesparse \
+                 -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+fuzz_read_deps = $(if $(filter scene,$(1)),$(DEPS_pipeline),mesh util)
+fuzz_lib_of = $(FUZZ_DIR)/lib/librk_$(1).a
+$(FUZZ_DIR)/obj/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(FUZZ_CC) $(FUZZ_PC_FLAGS) $(FUZZ_FLAGS) -MMD -MP -c $< -o $@
+define fuzz_stage_lib
+$(call fuzz_lib_of,$(1)): $(patsubst %.c,$(FUZZ_DIR)/obj/%.o,$(call src_of,$(1)))
+	@mkdir -p $$(dir $$@)
+	rm -f $$@ && ar rcs $$@ $$^
+endef
+$(foreach s,$(STAGES),$(eval $(call fuzz_stage_lib,$(s))))
+define fuzz_reader
+$(FUZZ_DIR)/fuzz-read-$(1): tests/fuzz/fuzz_read.c $(foreach s,$(call fuzz_read_deps,$(1)),$(call fuzz_lib_of,$(s)))
+	$(FUZZ_CC) $(FUZZ_PC_FLAGS) -fsanitize=fuzzer $(FUZZ_FLAGS) -DFUZZ_READ_$(shell echo $(1) | tr a-z A-Z) -o $$@ $$< \
+	    $(foreach s,$(call fuzz_read_deps,$(1)),$(call fuzz_lib_of,$(s))) $(LDLIBS)
+.PHONY: fuzz-run-$(1)
+fuzz-run-$(1): $(FUZZ_DIR)/fuzz-read-$(1)
+	@mkdir -p $(FUZZ_DIR)/corpus-$(1) $(FUZZ_DIR)/crashes
+	$(FUZZ_DIR)/fuzz-read-$(1) -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -max_len=65536 -timeout=20 \
+	    -print_final_stats=1 -artifact_prefix=$(FUZZ_DIR)/crashes/$(1)- $(FUZZ_DIR)/corpus-$(1) tests/fuzz/seeds/$(1) \
+	    $(wildcard tests/fuzz/regressions/$(1))
+endef
+$(foreach r,$(FUZZ_READERS),$(eval $(call fuzz_reader,$(r))))
+
+fuzz-targets: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/replay-san $(foreach r,$(FUZZ_READERS),$(FUZZ_DIR)/fuzz-read-$(r))
+fuzz: fuzz-run-open-step $(foreach r,$(FUZZ_READERS),fuzz-run-$(r))
+-include $(shell find $(FUZZ_DIR)/obj -name '*.d' 2>/dev/null)
 
 .DEFAULT_GOAL := $(fuzz_saved_goal)
