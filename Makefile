@@ -103,10 +103,19 @@ RT_ARCH    ?= $(if $(filter 1,$(NATIVE)),$(shell grep -qw avx2 /proc/cpuinfo 2>/
 RT_CFLAGS  := -std=c99 -pedantic -Wall -Wextra $(WERR) -Wshadow $(RT_OPT) $(RT_ARCH) -g $(SANFLAGS) -I. -DROMRT_MAX_R=$(RT_MAX_R)
 RT_LIB        := $(BUILD)/lib/libromrt.a
 RT_LIB_DOUBLE := $(BUILD)/lib/libromrt_double.a
-$(BUILD)/rt/float/%.o: %.c
+# The runtime's objects depend on the flags they were built with: this file changes (and they are
+# rebuilt) only when RT_CFLAGS does, so a tree built with NATIVE=1 and then without it ships no
+# stale AVX object.
+RT_FLAGS_STAMP := $(BUILD)/rt/cflags
+$(RT_FLAGS_STAMP): FORCE
+	@mkdir -p $(dir $@)
+	@echo '$(RT_CFLAGS)' | cmp -s - $@ || echo '$(RT_CFLAGS)' >$@
+.PHONY: FORCE
+FORCE:
+$(BUILD)/rt/float/%.o: %.c $(RT_FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -MMD -MP -c $< -o $@
-$(BUILD)/rt/double/%.o: %.c
+$(BUILD)/rt/double/%.o: %.c $(RT_FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -MMD -MP -c $< -o $@
 # The link names of the functions romrt.h declares, one a line, for a precision (romrt_f32_* for
@@ -292,7 +301,7 @@ PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 INSTALL      ?= install
 RT_SO  := $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION)
 RT_MAP := $(BUILD)/rt/pic/romrt.map
-$(BUILD)/rt/pic/%.o: %.c
+$(BUILD)/rt/pic/%.o: %.c $(RT_FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -fPIC -MMD -MP -c $< -o $@
 # The shared library exports what romrt.h declares and nothing else (no rt_*, rombin_*, romrt_phys_*).
@@ -306,7 +315,7 @@ $(RT_SO): $(patsubst %.c,$(BUILD)/rt/pic/%.o,$(RT_SRC)) $(RT_MAP)
 	$(CC) -shared $(LDFLAGS) -Wl,-soname,libromrt.so.$(ROMRT_SOMAJOR) -Wl,--version-script=$(RT_MAP) -o $@ $(filter %.o,$^) -lm
 # The double runtime as a shared library too, for bindings/python (romrt.Model(..., double=True));
 # not installed (make install's double runtime is the static library).
-$(BUILD)/rt/pic-double/%.o: %.c
+$(BUILD)/rt/pic-double/%.o: %.c $(RT_FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -fPIC -MMD -MP -c $< -o $@
 $(BUILD)/rt/pic-double/romrt.syms: $(BUILD)/rt/double/romrt.syms
