@@ -6,7 +6,8 @@
  * gives the same stencils.
  *
  * The surface deforms, so nothing about it can be baked: the broad phase is a sort and sweep
- * (Baraff 1992) along the axis where the primitives' centres spread most. Each axis keeps its
+ * (Baraff 1992) along the axis of the largest variance of the primitives' centres (not of their
+ * range: a slab under a block spans as far in height as across, but its primitives bunch there). Each axis keeps its
  * order of the primitives in the arena, and an insertion sort brings it up to date: between two
  * calls the surface moves little, so the order is nearly sorted and the sort costs about one pass.
  * The sweep then tests only primitives whose intervals overlap on that axis. It is chosen over a
@@ -71,10 +72,10 @@ static int stencil_of(const romrt_model *m, uint32_t a, uint32_t b, int32_t id[4
 int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_visit visit, void *ctx)
 {
     int n = m->ncv + m->ncedge + m->nctri, i, j, k, a, axis = 0, ee;
-    romrt_real *B = m->sboxes, lo[3], hi[3];
+    romrt_real *B = m->sboxes, sum[3], sum2[3], var[3];
     uint32_t *ord, ids[3];
     if (!m->self_contact && m->nobjects < 2) return 0;
-    for (a = 0; a < 3; a++) lo[a] = (romrt_real)INFINITY, hi[a] = -(romrt_real)INFINITY;
+    for (a = 0; a < 3; a++) sum[a] = 0, sum2[a] = 0;
     for (i = 0; i < n; i++) { /* boxes, and the spread of their centres */
         romrt_real *b = B + 6 * (size_t)i;
         int np = prim_ids(m, (uint32_t)i, ids);
@@ -90,12 +91,12 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
         for (a = 0; a < 3; a++) {
             romrt_real c = (b[a] + b[3 + a]) / 2;
             b[a] -= grow, b[3 + a] += grow;
-            if (c < lo[a]) lo[a] = c;
-            if (c > hi[a]) hi[a] = c;
+            sum[a] += c, sum2[a] += c * c;
         }
     }
+    for (a = 0; a < 3; a++) var[a] = sum2[a] - sum[a] * sum[a] / (romrt_real)(n > 0 ? n : 1); /* n times it */
     for (a = 1; a < 3; a++)
-        if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+        if (var[a] > var[axis]) axis = a;
     ord = m->sorder + (size_t)axis * (size_t)n;
     for (i = 1; i < n; i++) { /* insertion sort by the boxes' lower ends: nearly sorted already */
         uint32_t p = ord[i];
