@@ -10,7 +10,9 @@
  * range: a slab under a block spans as far in height as across, but its primitives bunch there). Each axis keeps its
  * order of the primitives in the arena, and an insertion sort brings it up to date: between two
  * calls the surface moves little, so the order is nearly sorted and the sort costs about one pass.
- * The sweep then tests only primitives whose intervals overlap on that axis. It is chosen over a
+ * The order groups the primitives by object, so that without self-contact only two different
+ * objects' runs are swept against each other (an object's own overlaps, most of them, are never
+ * visited); the sweep tests only primitives whose intervals overlap on that axis. It is chosen over a
  * BVH refitted per call (a tree to traverse against itself, and a build at open) and over a
  * hashed grid (a cell size to pick for primitives of any size, the obstacles' spread included)
  * as the shortest code with no tuning; its cost is measured in docs/runtime.md. */
@@ -69,9 +71,71 @@ static int stencil_of(const romrt_model *m, uint32_t a, uint32_t b, int32_t id[4
     return 1;
 }
 
+static uint32_t prim_object(const romrt_model *m, uint32_t p)
+{
+    uint32_t ids[3];
+    prim_ids(m, p, ids);
+    return object_of(m, ids[0]);
+}
+
+/* Whether primitive p (object po, lower end key) goes before primitive q. */
+static int before(const romrt_model *m, const romrt_real *B, int axis, uint32_t po, romrt_real key, uint32_t q)
+{
+    uint32_t qo = prim_object(m, q);
+    return po < qo || (po == qo && key < B[6 * (size_t)q + axis]);
+}
+
+/* Primitives p and q, whose intervals overlap on the axis: their stencil, if their boxes touch. */
+static int test_pair(romrt_model *m, const romrt_real *B, uint32_t p, uint32_t q, romrt_real grow, rt_stencil_visit visit,
+                     void *ctx)
+{
+    const romrt_real *ba = B + 6 * (size_t)p, *bb = B + 6 * (size_t)q;
+    int32_t id[4];
+    int ee;
+    if (ba[0] > bb[3] || ba[3] < bb[0] || ba[1] > bb[4] || ba[4] < bb[1] || ba[2] > bb[5] || ba[5] < bb[2]) return 0;
+    if (!stencil_of(m, p < q ? p : q, p < q ? q : p, id, &ee)) return 0;
+    if (visit) {
+        visit(m, ee, id, ctx);
+        return 0;
+    }
+    return rt_contact_keep(m, ee, id, grow);
+}
+
+/* The pairs within ord[a0..a1) (one object's run, sorted by lower end). */
+static int sweep_one(romrt_model *m, const romrt_real *B, int axis, const uint32_t *ord, int a0, int a1, romrt_real grow,
+                     rt_stencil_visit visit, void *ctx)
+{
+    int i, j;
+    for (i = a0; i < a1; i++)
+        for (j = i + 1; j < a1 && B[6 * (size_t)ord[j] + axis] <= B[6 * (size_t)ord[i] + 3 + axis]; j++)
+            if (test_pair(m, B, ord[i], ord[j], grow, visit, ctx)) return -1;
+    return 0;
+}
+
+/* The pairs between two runs, each sorted by lower end: whichever starts first is tested against
+ * the other run's primitives that start before it ends, then dropped; each overlap once. */
+static int sweep_two(romrt_model *m, const romrt_real *B, int axis, const uint32_t *ord, int a0, int a1, int b0, int b1,
+                     romrt_real grow, rt_stencil_visit visit, void *ctx)
+{
+    int i = a0, j = b0, k;
+    while (i < a1 && j < b1) {
+        romrt_real la = B[6 * (size_t)ord[i] + axis], lb = B[6 * (size_t)ord[j] + axis];
+        if (la <= lb) {
+            for (k = j; k < b1 && B[6 * (size_t)ord[k] + axis] <= B[6 * (size_t)ord[i] + 3 + axis]; k++)
+                if (test_pair(m, B, ord[i], ord[k], grow, visit, ctx)) return -1;
+            i++;
+        } else {
+            for (k = i; k < a1 && B[6 * (size_t)ord[k] + axis] <= B[6 * (size_t)ord[j] + 3 + axis]; k++)
+                if (test_pair(m, B, ord[k], ord[j], grow, visit, ctx)) return -1;
+            j++;
+        }
+    }
+    return 0;
+}
+
 int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_visit visit, void *ctx)
 {
-    int n = m->ncv + m->ncedge + m->nctri, i, j, k, a, axis = 0, ee;
+    int n = m->ncv + m->ncedge + m->nctri, nobj = m->nobjects > 0 ? m->nobjects : 1, i, j, k, a, axis = 0;
     romrt_real *B = m->sboxes, sum[3], sum2[3], var[3];
     uint32_t *ord, ids[3];
     if (!m->self_contact && m->nobjects < 2) return 0;
@@ -98,24 +162,22 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
     for (a = 1; a < 3; a++)
         if (var[a] > var[axis]) axis = a;
     ord = m->sorder + (size_t)axis * (size_t)n;
-    for (i = 1; i < n; i++) { /* insertion sort by the boxes' lower ends: nearly sorted already */
-        uint32_t p = ord[i];
+    for (i = 1; i < n; i++) { /* insertion sort by object, then lower end: nearly sorted already */
+        uint32_t p = ord[i], po = prim_object(m, p);
         romrt_real key = B[6 * (size_t)p + axis];
-        for (j = i; j > 0 && B[6 * (size_t)ord[j - 1] + axis] > key; j--) ord[j] = ord[j - 1];
+        for (j = i; j > 0 && before(m, B, axis, po, key, ord[j - 1]); j--) ord[j] = ord[j - 1];
         ord[j] = p;
     }
-    for (i = 0; i < n; i++) {
-        const romrt_real *ba = B + 6 * (size_t)ord[i];
-        for (j = i + 1; j < n; j++) {
-            const romrt_real *bb = B + 6 * (size_t)ord[j];
-            int32_t id[4];
-            uint32_t p = ord[i], q = ord[j];
-            if (bb[axis] > ba[3 + axis]) break; /* and every later one */
-            if (ba[0] > bb[3] || ba[3] < bb[0] || ba[1] > bb[4] || ba[4] < bb[1] || ba[2] > bb[5] || ba[5] < bb[2]) continue;
-            if (!stencil_of(m, p < q ? p : q, p < q ? q : p, id, &ee)) continue;
-            if (visit) visit(m, ee, id, ctx);
-            else if (rt_contact_keep(m, ee, id, grow)) return -1;
-        }
+    /* each object's run of the order: first[o] to first[o + 1] */
+    for (k = 0, i = 0; k <= nobj; k++) {
+        while (i < n && (int)prim_object(m, ord[i]) < k) i++;
+        m->sfirst[k] = (uint32_t)i;
+    }
+    for (k = 0; k < nobj; k++) {
+        int a0 = (int)m->sfirst[k], a1 = (int)m->sfirst[k + 1], o;
+        if (m->self_contact && sweep_one(m, B, axis, ord, a0, a1, grow, visit, ctx)) return -1;
+        for (o = k + 1; o < nobj; o++)
+            if (sweep_two(m, B, axis, ord, a0, a1, (int)m->sfirst[o], (int)m->sfirst[o + 1], grow, visit, ctx)) return -1;
     }
     return 0;
 }

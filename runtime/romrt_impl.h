@@ -211,7 +211,8 @@ struct romrt_model {
     int surface;              /* OBHD is there: the collision surface's contact is on (obstacles or not) */
     int self_contact;         /* OBHD's self flag: one object's surface touches itself */
     romrt_real *sboxes;       /* (ncv + ncedge + nctri) x 6: the surface sweep's boxes */
-    uint32_t *sorder;         /* 3 x that: the primitives sorted by their boxes on each axis */
+    uint32_t *sorder;         /* 3 x that: the primitives sorted by object, then box, on each axis */
+    uint32_t *sfirst;         /* nobjects + 1 (2 for one object): each object's run of the order */
     int nobs, onv, one, onf, onode, oitem, ncedge, nctri, obs_moving;
     const uint32_t *obs;      /* nobs x ROMBIN_OBST_COUNT: kind and ranges (OBHD after its counts) */
     const romrt_real *obs_xi; /* nobs x 4 (OBJS) */
