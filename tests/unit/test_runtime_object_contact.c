@@ -31,15 +31,17 @@
 
 #define G 9.81
 
-/* The runtime's q in double, and X + U q at every mesh vertex. */
+/* The runtime's q in double, and X + U q at every mesh vertex (r may pass the header's default
+ * ROMRT_MAX_R, which the library is built above). */
 static void runtime_positions(const rt_fixture *f, double *x)
 {
-    romrt_real q[ROMRT_MAX_R];
-    double qd[ROMRT_MAX_R];
     int r = f->R.basis.r;
-    romrt_reduced_coordinates(f->m, q, ROMRT_MAX_R);
+    romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
+    double *qd = calloc((size_t)r, sizeof(double));
+    romrt_reduced_coordinates(f->m, q, r);
     for (int j = 0; j < r; j++) qd[j] = (double)q[j];
     rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
+    free(q), free(qd);
 }
 
 typedef struct {
