@@ -9,7 +9,8 @@
  * (Baraff 1992) along the axis of the largest variance of the primitives' centres (not of their
  * range: a slab under a block spans as far in height as across, but its primitives bunch there). Each axis keeps its
  * order of the primitives in the arena, and an insertion sort brings it up to date: between two
- * calls the surface moves little, so the order is nearly sorted and the sort costs about one pass.
+ * calls the surface moves little, so the order is nearly sorted and the sort costs about one pass
+ * (an axis's first sort, from the primitives' own order, is a heap sort).
  * The order groups the primitives by object, so that without self-contact only two different
  * objects' runs are swept against each other (an object's own overlaps, most of them, are never
  * visited); the sweep tests only primitives whose intervals overlap on that axis. It is chosen over a
@@ -83,6 +84,32 @@ static int before(const romrt_model *m, const romrt_real *B, int axis, uint32_t 
 {
     uint32_t qo = prim_object(m, q);
     return po < qo || (po == qo && key < B[6 * (size_t)q + axis]);
+}
+
+/* Heap sort of ord[0..n) by (object, lower end): the first sort of an axis, when the order is the
+ * primitives' own and an insertion sort could take n^2 / 4 moves (a voxel proxy of 10^4 faces). */
+static void sift(const romrt_model *m, const romrt_real *B, int axis, uint32_t *ord, int root, int n)
+{
+    for (;;) {
+        int c = 2 * root + 1;
+        uint32_t t;
+        if (c >= n) return;
+        if (c + 1 < n && before(m, B, axis, prim_object(m, ord[c]), B[6 * (size_t)ord[c] + axis], ord[c + 1])) c++;
+        if (!before(m, B, axis, prim_object(m, ord[root]), B[6 * (size_t)ord[root] + axis], ord[c])) return;
+        t = ord[root], ord[root] = ord[c], ord[c] = t;
+        root = c;
+    }
+}
+
+static void heap_sort(const romrt_model *m, const romrt_real *B, int axis, uint32_t *ord, int n)
+{
+    int i;
+    uint32_t t;
+    for (i = n / 2 - 1; i >= 0; i--) sift(m, B, axis, ord, i, n);
+    for (i = n - 1; i > 0; i--) {
+        t = ord[0], ord[0] = ord[i], ord[i] = t;
+        sift(m, B, axis, ord, 0, i);
+    }
 }
 
 /* Primitives p and q, whose intervals overlap on the axis: their stencil, if their boxes touch. */
@@ -162,6 +189,10 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
     for (a = 1; a < 3; a++)
         if (var[a] > var[axis]) axis = a;
     ord = m->sorder + (size_t)axis * (size_t)n;
+    if (!(m->ssorted & (1 << axis))) { /* this axis's first use: from any order, in O(n log n) */
+        heap_sort(m, B, axis, ord, n);
+        m->ssorted |= 1 << axis;
+    }
     for (i = 1; i < n; i++) { /* insertion sort by object, then lower end: nearly sorted already */
         uint32_t p = ord[i], po = prim_object(m, p);
         romrt_real key = B[6 * (size_t)p + axis];
