@@ -6,8 +6,7 @@
  * gives the same stencils.
  *
  * The surface deforms, so nothing about it can be baked: the broad phase is a sort and sweep
- * (Baraff 1992) along the axis of the largest variance of the primitives' centres (not of their
- * range: a slab under a block spans as far in height as across, but its primitives bunch there). Each axis keeps its
+ * (Baraff 1992) along the axis where the fewest overlaps are expected (sweep_axis). Each axis keeps its
  * order of the primitives in the arena, and an insertion sort brings it up to date: between two
  * calls the surface moves little, so the order is nearly sorted and the sort costs about one pass
  * (an axis's first sort, from the primitives' own order, is a heap sort).
@@ -160,16 +159,49 @@ static int sweep_two(romrt_model *m, const romrt_real *B, int axis, const uint32
     return 0;
 }
 
+/* The sweep's axis: the one where the fewest pairs of primitives are expected to overlap, from
+ * each object's hull [lo, hi], primitive count n and mean width w on it. Two objects' primitives
+ * spread evenly over their hulls overlap about n_a n_b (w_a + w_b) c / (e_a e_b) times, c the
+ * hulls' common length and e their extents; one object's own, with self-contact, n^2 w / e. A
+ * flat object lying on another along the axis of their contact: no common length but the contact
+ * layer, where the variance of the centres or their range would sweep across both flat sides (a
+ * splat donut on a block of points: most of a step). */
+static int sweep_axis(const romrt_model *m, int nobj)
+{
+    const romrt_real *S = m->sstat;
+    romrt_real est[3], tiny = (romrt_real)1e-30;
+    int a, o, p, axis = 0;
+    for (a = 0; a < 3; a++) {
+        est[a] = 0;
+        for (o = 0; o < nobj; o++) {
+            const romrt_real *so = S + 10 * (size_t)o;
+            romrt_real eo = so[3 + a] - so[a], wo = so[9] > 0 ? so[6 + a] / so[9] : 0;
+            if (!(so[9] > 0)) continue;
+            if (m->self_contact) est[a] += so[9] * so[9] * wo / (eo + tiny);
+            for (p = o + 1; p < nobj; p++) {
+                const romrt_real *sp = S + 10 * (size_t)p;
+                romrt_real ep = sp[3 + a] - sp[a], wp = sp[9] > 0 ? sp[6 + a] / sp[9] : 0;
+                romrt_real c = (so[3 + a] < sp[3 + a] ? so[3 + a] : sp[3 + a]) - (so[a] > sp[a] ? so[a] : sp[a]);
+                if (sp[9] > 0 && c > 0) est[a] += so[9] * sp[9] * (wo + wp) * c / ((eo + tiny) * (ep + tiny));
+            }
+        }
+    }
+    for (a = 1; a < 3; a++)
+        if (est[a] < est[axis]) axis = a;
+    return axis;
+}
+
 int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_visit visit, void *ctx)
 {
-    int n = m->ncv + m->ncedge + m->nctri, nobj = m->nobjects > 0 ? m->nobjects : 1, i, j, k, a, axis = 0;
-    romrt_real *B = m->sboxes, sum[3], sum2[3], var[3];
+    int n = m->ncv + m->ncedge + m->nctri, nobj = m->nobjects > 0 ? m->nobjects : 1, i, j, k, a, axis;
+    romrt_real *B = m->sboxes, *S = m->sstat;
     uint32_t *ord, ids[3];
     if (!m->self_contact && m->nobjects < 2) return 0;
-    for (a = 0; a < 3; a++) sum[a] = 0, sum2[a] = 0;
-    for (i = 0; i < n; i++) { /* boxes, and the spread of their centres */
-        romrt_real *b = B + 6 * (size_t)i;
+    for (i = 0; i < 10 * nobj; i++) S[i] = i % 10 < 3 ? (romrt_real)INFINITY : i % 10 < 6 ? -(romrt_real)INFINITY : 0;
+    for (i = 0; i < n; i++) { /* boxes, and each object's hull, widths and count */
+        romrt_real *b = B + 6 * (size_t)i, *so;
         int np = prim_ids(m, (uint32_t)i, ids);
+        so = S + 10 * (size_t)object_of(m, ids[0]);
         for (a = 0; a < 3; a++) b[a] = (romrt_real)INFINITY, b[3 + a] = -(romrt_real)INFINITY;
         for (k = 0; k < np; k++)
             for (a = 0; a < 3; a++) {
@@ -180,14 +212,14 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
                 if (e > b[3 + a]) b[3 + a] = e;
             }
         for (a = 0; a < 3; a++) {
-            romrt_real c = (b[a] + b[3 + a]) / 2;
             b[a] -= grow, b[3 + a] += grow;
-            sum[a] += c, sum2[a] += c * c;
+            if (b[a] < so[a]) so[a] = b[a];
+            if (b[3 + a] > so[3 + a]) so[3 + a] = b[3 + a];
+            so[6 + a] += b[3 + a] - b[a];
         }
+        so[9] += 1;
     }
-    for (a = 0; a < 3; a++) var[a] = sum2[a] - sum[a] * sum[a] / (romrt_real)(n > 0 ? n : 1); /* n times it */
-    for (a = 1; a < 3; a++)
-        if (var[a] > var[axis]) axis = a;
+    axis = sweep_axis(m, nobj);
     ord = m->sorder + (size_t)axis * (size_t)n;
     if (!(m->ssorted & (1 << axis))) { /* this axis's first use: from any order, in O(n log n) */
         heap_sort(m, B, axis, ord, n);

@@ -214,6 +214,7 @@ struct romrt_model {
     uint32_t *sorder;         /* 3 x that: the primitives sorted by object, then box, on each axis */
     uint32_t *sfirst;         /* nobjects + 1 (2 for one object): each object's run of the order */
     int ssorted;              /* bit a: sorder's axis a has been sorted once */
+    romrt_real *sstat;        /* (nobjects or 1) x 10: each object's hull (lo 3, hi 3), widths (3), count */
     int nobs, onv, one, onf, onode, oitem, ncedge, nctri, obs_moving;
     const uint32_t *obs;      /* nobs x ROMBIN_OBST_COUNT: kind and ranges (OBHD after its counts) */
     const romrt_real *obs_xi; /* nobs x 4 (OBJS) */
