@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 6   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 7   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -91,10 +91,11 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_SURF "SURF"   /* u32, triangles x 3 over the shown vertices (optional) */
 #define ROMBIN_VMAP "VMAP"   /* u32, vertices: the source mesh's vertex number (optional) */
 #define ROMBIN_INFO "INFO"   /* bytes: JSON text about the build (optional) */
-/* Several objects colliding with each other (ROMBIN.md "Object chunks", 1.5): both critical, so a
- * 1.4 reader refuses the asset rather than let the objects pass through each other. */
+/* Several objects colliding with each other (ROMBIN.md "Object chunks"): COBJ (critical) names
+ * each collision vertex's object; since 1.7 the objects touch through their collision surfaces
+ * (CEDG, CTRI under OBHD). CRAD, 1.5's sphere proxies, is no longer written, and refused. */
 #define ROMBIN_COBJ "COBJ"   /* u32, CVTX's count: the object of each collision vertex */
-#define ROMBIN_CRAD "CRAD"   /* real, objects: each object's proxy radius rho (m), a sphere at each of its collision vertices */
+#define ROMBIN_CRAD "CRAD"   /* 1.5 only: real, objects: each object's proxy radius (refused since 1.7) */
 
 /* The scene's obstacles other than planes (ROMBIN.md "Obstacle chunks", 1.6): spheres, capsules,
  * boxes and triangle meshes, static or moving, as the reduced simulator's contact stage holds them
@@ -121,7 +122,11 @@ enum {
     ROMBIN_OBHD_NODES,           /* OBVN, OBVB */
     ROMBIN_OBHD_ITEMS,           /* OBIT */
     ROMBIN_OBHD_PAIRS,           /* the runtime's pair capacity (candidates and friction pairs each) */
-    ROMBIN_OBHD_COUNT = 8        /* the rest reserved, 0 */
+    ROMBIN_OBHD_FLAGS,           /* 1.7: ROMBIN_OBHD_SELF; other bits 0 */
+    ROMBIN_OBHD_COUNT = 8
+};
+enum {
+    ROMBIN_OBHD_SELF = 1u        /* each object's surface also touches itself (contact.self) */
 };
 enum {
     ROMBIN_OBST_KIND = 0,        /* 1 sphere, 2 capsule, 3 box, 4 mesh (precompute/contact's kinds) */

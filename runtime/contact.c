@@ -165,7 +165,7 @@ romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romr
     ccd_ctx c;
     c.alpha = 1, c.obstacles_move = 0;
     rt_obstacles_positions(m, q, dq);
-    rt_obstacles_swept(m, ccd_visit, &c);
+    rt_obstacles_swept(m, 1, ccd_visit, &c);
     return c.alpha;
 }
 
@@ -201,8 +201,8 @@ romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t)
     rt_obstacles_positions(m, q, 0);
     for (i = 0; i < 3 * m->ncv; i++) m->ocdx[i] = 0;
     rt_obstacles_refit(m, 1);
-    c.alpha = 1, c.obstacles_move = 1;
-    rt_obstacles_swept(m, ccd_visit, &c);
+    c.alpha = 1, c.obstacles_move = 1; /* the surface's own stencils hold still: none of them */
+    rt_obstacles_swept(m, 0, ccd_visit, &c);
     for (i = 0; i < 3 * m->onv; i++) m->odx[i] = 0;
     rt_obstacles_refit(m, 0);
     return c.alpha;

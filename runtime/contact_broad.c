@@ -8,7 +8,8 @@
  *           list, as precompute/contact's cache) while nothing has moved dhat / 2 since: they
  *           then hold every pair within dhat
  *   swept   every stencil whose boxes over a step (x to x + dx, obstacles ox to ox + odx) touch,
- *           handed to CCD as found (nothing stored) */
+ *           handed to CCD as found (nothing stored)
+ * Both take the collision surface's stencils against itself from contact_surface.c. */
 #include <math.h>
 
 #include "runtime/romrt_impl.h"
@@ -143,14 +144,23 @@ static void object_box(const romrt_model *m, const uint32_t *ids, int size, romr
 typedef struct {
     romrt_real grow;
     int swept;              /* boxes over the step (CCD) rather than within grow (the gather) */
+    int surface;            /* the collision surface against itself too (contact_surface.c) */
     rt_stencil_visit visit; /* swept: each stencil; else pushed into m->cand */
     void *ctx;
 } query;
 
-/* Pushes a candidate; -1 (and the overflow flagged) past the capacity. */
-static int push(romrt_model *m, int edge_edge, const int32_t id[4])
+int rt_contact_keep(romrt_model *m, int edge_edge, const int32_t id[4], romrt_real grow)
 {
+    /* the gather keeps a stencil only within grow of its thickness: nothing farther can come within
+     * dhat while nothing moves dhat / 2 (the boxes alone kept 20 times more of them over a fine
+     * terrain, past any capacity sized by the collision surface) */
+    const romrt_real *pts[4];
+    romrt_real reach = grow + rt_obstacles_xi(m, id);
     int32_t *c;
+    rt_obstacles_stencil(m, id, pts);
+    if (!(RT_PHYS(contact_distance2)(edge_edge ? RT_PHYS(edge_edge_case)(pts) : RT_PHYS(point_triangle_case)(pts), pts, 0,
+                                     0) < reach * reach))
+        return 0;
     if (m->ncand >= m->pair_cap) {
         m->obs_overflow = 1;
         return -1;
@@ -197,17 +207,7 @@ static int traverse(romrt_model *m, const query *Q, int k, int type, const uint3
                 Q->visit(m, type == ROMBIN_ITEM_EDGE, id, Q->ctx);
                 continue;
             }
-            { /* the gather keeps a stencil only within grow of its thickness: nothing farther can come
-               * within dhat while nothing moves dhat / 2 (the boxes alone kept 20 times more of them
-               * over a fine terrain, past any capacity sized by the collision surface) */
-                const romrt_real *pts[4];
-                romrt_real reach = Q->grow + m->obs_xi[4 * (size_t)k];
-                rk_distance_case dc;
-                rt_obstacles_stencil(m, id, pts);
-                dc = type == ROMBIN_ITEM_EDGE ? RT_PHYS(edge_edge_case)(pts) : RT_PHYS(point_triangle_case)(pts);
-                if (!(RT_PHYS(contact_distance2)(dc, pts, 0, 0) < reach * reach)) continue;
-            }
-            if (push(m, type == ROMBIN_ITEM_EDGE, id)) return -1;
+            if (rt_contact_keep(m, type == ROMBIN_ITEM_EDGE, id, Q->grow)) return -1;
         }
     }
     return 0;
@@ -228,7 +228,7 @@ static int stencils(romrt_model *m, const query *Q)
             for (i = 0; i < m->ncedge; i++)
                 if (traverse(m, Q, k, ROMBIN_ITEM_EDGE, m->cedges + 2 * (size_t)i, 2)) return -1;
     }
-    return 0;
+    return Q->surface ? rt_surface_stencils(m, Q->grow, Q->swept, Q->visit, Q->ctx) : 0;
 }
 
 /* The largest distance a collision vertex or obstacle vertex has moved since the gather. */
@@ -252,7 +252,7 @@ int rt_obstacles_gather(romrt_model *m)
     query Q;
     int i;
     if (m->cache_valid && 2 * moved_since_cache(m) <= m->dhat) return 0;
-    Q.grow = 2 * m->dhat, Q.swept = 0, Q.visit = 0, Q.ctx = 0;
+    Q.grow = 2 * m->dhat, Q.swept = 0, Q.surface = 1, Q.visit = 0, Q.ctx = 0;
     m->ncand = 0;
     m->cache_valid = 0;
     if (stencils(m, &Q)) return -1;
@@ -262,9 +262,9 @@ int rt_obstacles_gather(romrt_model *m)
     return 0;
 }
 
-void rt_obstacles_swept(romrt_model *m, rt_stencil_visit visit, void *ctx)
+void rt_obstacles_swept(romrt_model *m, int surface, rt_stencil_visit visit, void *ctx)
 {
     query Q;
-    Q.grow = 0, Q.swept = 1, Q.visit = visit, Q.ctx = ctx;
+    Q.grow = 0, Q.swept = 1, Q.surface = surface, Q.visit = visit, Q.ctx = ctx;
     (void)stencils(m, &Q);
 }

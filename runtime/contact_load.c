@@ -27,6 +27,20 @@ static romrt_status records(rt_loader *L, const char *id, uint64_t per, int *cou
     return ROMRT_OK;
 }
 
+/* The surface sweep's boxes and its three orders of the primitives, the identity to start
+ * (contact_surface.c), when the surface can touch itself or another object's. */
+static romrt_status rt_surface_arrays(rt_loader *L, romrt_model *m)
+{
+    size_t n = (size_t)m->ncv + (size_t)m->ncedge + (size_t)m->nctri, i;
+    if (!m->self_contact && m->nobjects < 2) return ROMRT_OK;
+    rt_scratch(L, 6 * n, &m->sboxes);
+    rt_scratch_u32(L, 3 * n, &m->sorder);
+    rt_scratch_u32(L, (size_t)m->nobjects + 2, &m->sfirst);
+    rt_scratch(L, 10 * ((size_t)m->nobjects + 1), &m->sstat);
+    for (i = 0; m->sorder && i < 3 * n; i++) m->sorder[i] = (uint32_t)(i % n);
+    return ROMRT_OK;
+}
+
 romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
 {
     rombin_chunk c;
@@ -44,12 +58,18 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     }
     head = (const uint32_t *)(const void *)c.data;
     n = c.raw / 4;
-    if (n < ROMBIN_OBHD_COUNT || head[ROMBIN_OBHD_OBSTACLES] == 0 || head[ROMBIN_OBHD_OBSTACLES] > ROMBIN_MAX_OBSTACLES)
-        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "counts 0 obstacles, or more than the runtime takes (64)");
+    /* no obstacle besides planes: the collision surface touching itself (self-contact) or other
+     * objects' (COBJ, read before), 1.7 */
+    if (n < ROMBIN_OBHD_COUNT || head[ROMBIN_OBHD_OBSTACLES] > ROMBIN_MAX_OBSTACLES ||
+        (head[ROMBIN_OBHD_OBSTACLES] == 0 && !(head[ROMBIN_OBHD_FLAGS] & ROMBIN_OBHD_SELF) && m->nobjects < 2))
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD,
+                       "counts more obstacles than the runtime takes (64), or none with neither objects (COBJ) nor self-contact");
     if (n != ROMBIN_OBHD_COUNT + (uint64_t)ROMBIN_OBST_COUNT * head[ROMBIN_OBHD_OBSTACLES])
         return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "holds ", n, " values, its obstacle count implies ",
                           ROMBIN_OBHD_COUNT + (uint64_t)ROMBIN_OBST_COUNT * head[ROMBIN_OBHD_OBSTACLES], "");
-    for (k = ROMBIN_OBHD_PAIRS + 1; k < ROMBIN_OBHD_COUNT; k++)
+    if (head[ROMBIN_OBHD_FLAGS] & ~(uint32_t)ROMBIN_OBHD_SELF)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "flags hold a bit this runtime does not know");
+    for (k = ROMBIN_OBHD_FLAGS + 1; k < ROMBIN_OBHD_COUNT; k++)
         if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "reserved field ", (uint64_t)k, " is not 0");
     for (k = ROMBIN_OBHD_VERTICES; k <= ROMBIN_OBHD_ITEMS; k++)
         if (head[k] > ROMRT_MAX_TRIANGLES)
@@ -60,6 +80,8 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     if (m->ncv == 0) return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "obstacles without collision vertices (CVTX)");
     if (!(m->dhat > 0) || !(m->kappa > 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_PARM, "dhat and kappa must be positive with obstacles");
+    m->surface = 1;
+    m->self_contact = (head[ROMBIN_OBHD_FLAGS] & ROMBIN_OBHD_SELF) != 0;
     m->nobs = (int)head[ROMBIN_OBHD_OBSTACLES];
     m->obs = head + ROMBIN_OBHD_COUNT;
     m->onv = (int)head[ROMBIN_OBHD_VERTICES];
@@ -68,7 +90,15 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     m->onode = (int)head[ROMBIN_OBHD_NODES];
     m->oitem = (int)head[ROMBIN_OBHD_ITEMS];
     m->pair_cap = (int)cap;
-    if ((st = rt_reals(L, ROMBIN_OBJS, 4 * (uint64_t)m->nobs, 1, &m->obs_xi)) ||
+    if (m->nobs == 0) { /* the collision surface alone */
+        if (m->onv || m->one || m->onf || m->onode || m->oitem)
+            return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "counts obstacle vertices or nodes without obstacles");
+        for (k = 0; obstacle_chunks[k + 2]; k++)
+            if (rombin_find(&L->file, obstacle_chunks[k], &c))
+                return rt_fail(L->err, ROMRT_E_MODEL, obstacle_chunks[k], "obstacle data with no obstacle in OBHD");
+        if ((st = records(L, ROMBIN_CEDG, 2, &m->ncedge, &m->cedges)) || (st = records(L, ROMBIN_CTRI, 3, &m->nctri, &m->ctris)))
+            return st;
+    } else if ((st = rt_reals(L, ROMBIN_OBJS, 4 * (uint64_t)m->nobs, 1, &m->obs_xi)) ||
         (st = rt_reals(L, ROMBIN_OBMO, ROMBIN_PIN_PARAMS * (uint64_t)m->nobs, 1, &m->obs_motion)) ||
         (st = rt_reals(L, ROMBIN_OBVX, 3 * (uint64_t)m->onv, 1, &m->oX)) ||
         (st = rt_u32s(L, ROMBIN_OBED, 2 * (uint64_t)m->one, 1, &m->oedges)) ||
@@ -78,6 +108,7 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
         (st = rt_u32s(L, ROMBIN_OBIT, (uint64_t)m->oitem, 1, &m->oitems)) ||
         (st = records(L, ROMBIN_CEDG, 2, &m->ncedge, &m->cedges)) || (st = records(L, ROMBIN_CTRI, 3, &m->nctri, &m->ctris)))
         return st;
+    if ((st = rt_surface_arrays(L, m))) return st;
     rt_scratch_u32(L, (size_t)m->onv + (size_t)m->one + (size_t)m->onf + (size_t)m->onode, &m->overt_obs);
     rt_scratch(L, 3 * (size_t)m->onv, &m->ox);
     rt_scratch(L, 3 * (size_t)m->onv, &m->ox_to);
@@ -243,7 +274,7 @@ romrt_status rt_obstacles_contents(rt_loader *L, romrt_model *m)
     romrt_status st;
     uint64_t k, items = 0;
     int i;
-    if (!m->nobs) return ROMRT_OK;
+    if (!m->surface) return ROMRT_OK;
     if ((st = obstacle_ranges(L, m))) return st;
     for (k = 0; k < (uint64_t)m->nobs; k++)
         if ((st = bvh_indices(L, m, k, &items))) return st;
@@ -266,6 +297,7 @@ romrt_status rt_obstacles_contents(rt_loader *L, romrt_model *m)
     if (!isfinite(rt_obstacles_energy(m, m->q, 0, 0, 0, 0)))
         return m->obs_overflow
                    ? rt_fail(L->err, ROMRT_E_LIMIT, ROMBIN_OBHD, "the start has more obstacle pairs than the pair capacity")
-                   : rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBVX, "the start touches or crosses an obstacle");
+                   : rt_fail(L->err, ROMRT_E_MODEL, m->nobs ? ROMBIN_OBVX : ROMBIN_CTRI,
+                             "the start touches or crosses an obstacle, or two parts of the collision surface touch");
     return ROMRT_OK;
 }

@@ -51,8 +51,8 @@ romrt_status rt_skin_check(rt_loader *L, const romrt_model *m);
  * after the reduced model's, then their contents. */
 romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m);
 romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m);
-/* Several objects' chunks (objects.c; COBJ and CRAD, when there): their arrays and the broad
- * phase's scratch, then their contents and the start's pairs apart. */
+/* Several objects' chunk (objects_load.c; COBJ, when there; 1.5's CRAD refused): the array, then
+ * its indices and the collision surface it needs (OBHD). */
 romrt_status rt_objects_arrays(rt_loader *L, romrt_model *m);
 romrt_status rt_objects_contents(rt_loader *L, romrt_model *m);
 /* The obstacles' chunks (contact_load.c; OBHD and the rest, when there): their arrays and

@@ -361,8 +361,7 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
     stored = elastic(m, q, g, H, ld);
     if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, T->friction, g, H, ld);
     if (m->ncolliders && isfinite(stored)) stored += rt_colliders_energy(m, q, T->friction, g, H, ld);
-    if (m->nobjects && isfinite(stored)) stored += rt_objects_energy(m, q, g, H, ld);
-    if (m->nobs && isfinite(stored)) stored += rt_obstacles_energy(m, q, T->friction, g, H, ld);
+    if (m->surface && isfinite(stored)) stored += rt_obstacles_energy(m, q, T->friction, g, H, ld);
     if (!isfinite(stored)) return (romrt_real)INFINITY;
     /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . q. */
     work = 0;

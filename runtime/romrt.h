@@ -153,9 +153,9 @@ romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size
 
 /* Advances one time step. A reduced model: q minimises the reduced incremental potential (the
  * same energy, integrator, pins and contacts as the precompute's reduced simulator), by
- * projected Newton on the r x r system with cubature; an asset of several objects (ROMBIN 1.5,
- * COBJ and CRAD) keeps them apart by spheres of the baked radius at their collision vertices, not
- * by the reduced simulator's exact contact (they rest up to the two radii apart). A Koopman asset: y <- B y + S h_data^2 c,
+ * projected Newton on the r x r system with cubature; several objects (COBJ) and self-contact
+ * touch through their collision surfaces as in the reduced simulator (ROMBIN 1.7; 1.5's sphere
+ * proxies, CRAD, are refused at open). A Koopman asset: y <- B y + S h_data^2 c,
  * c the forcing of gravity and the applied forces taken as an impulse before each training step
  * (Eq. 19), S its sum over one step of the current size; O(r). On failure the state is unchanged. */
 romrt_status romrt_step(romrt_model *m, romrt_error *err);

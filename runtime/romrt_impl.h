@@ -200,21 +200,21 @@ struct romrt_model {
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
     int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
-    /* several objects (COBJ, CRAD; objects.c): each collision vertex's object and each object's
-     * proxy radius; the broad phase's buffers in the arena, sized by CVTX's count */
-    int nobjects;             /* 0: one object, no pairs */
-    const uint32_t *cv_obj;   /* ncv */
-    const romrt_real *obj_rho; /* nobjects */
-    romrt_real rho_max;
-    romrt_real *cv_x, *cv_dx; /* ncv x 3: the collision vertices' positions, and their move along a direction */
-    romrt_real *pair_a;       /* r: a pair's distance gradient in q */
-    int32_t *grid_cell;       /* ncv x 3: each collision vertex's grid cell */
-    uint32_t *grid_head, *grid_next; /* grid_size buckets, ncv links: the cells hashed, chained */
-    uint32_t grid_size;       /* a power of two >= 2 ncv */
+    /* several objects (COBJ; objects_load.c): each collision vertex's object; they touch through
+     * the collision surface (contact_surface.c) */
+    int nobjects;             /* 0: one object */
+    const uint32_t *cv_obj;   /* ncv, or NULL */
     /* the scene's obstacles other than planes (OBHD and the rest; contact_load.c): the reduced
      * simulator's point-triangle and edge-edge pairs against them (contact_broad.c, contact.c,
      * contact_friction.c). Stencil ids as precompute/contact's: >= 0 a collision vertex (CVTX
      * index), < 0 obstacle vertex -1 - id. */
+    int surface;              /* OBHD is there: the collision surface's contact is on (obstacles or not) */
+    int self_contact;         /* OBHD's self flag: one object's surface touches itself */
+    romrt_real *sboxes;       /* (ncv + ncedge + nctri) x 6: the surface sweep's boxes */
+    uint32_t *sorder;         /* 3 x that: the primitives sorted by object, then box, on each axis */
+    uint32_t *sfirst;         /* nobjects + 1 (2 for one object): each object's run of the order */
+    int ssorted;              /* bit a: sorder's axis a has been sorted once */
+    romrt_real *sstat;        /* (nobjects or 1) x 10: each object's hull (lo 3, hi 3), widths (3), count */
     int nobs, onv, one, onf, onode, oitem, ncedge, nctri, obs_moving;
     const uint32_t *obs;      /* nobs x ROMBIN_OBST_COUNT: kind and ranges (OBHD after its counts) */
     const romrt_real *obs_xi; /* nobs x 4 (OBJS) */
@@ -294,13 +294,6 @@ void rt_pin_target(romrt_model *m, double t);
 double rt_clock(const romrt_model *m, unsigned long ahead);
 void rt_clock_advance(romrt_model *m, unsigned long n);
 void rt_clock_rebase(romrt_model *m);
-/* Several objects (objects.c): the barrier of every pair of collision vertices of different
- * objects on d = |x_i - x_j| - (rho_a + rho_b), at q (+INFINITY where some d <= 0); the largest
- * step of q along dq that keeps every pair at 10% of its distance; the smallest d at q (+INFINITY
- * when no pair is within 2 rho_max + dhat). */
-romrt_real rt_objects_energy(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);
-romrt_real rt_objects_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq);
-romrt_real rt_objects_min_distance(romrt_model *m, const romrt_real *q);
 /* The scene's obstacles other than planes (contact.c, contact_broad.c, contact_friction.c):
  *   rt_obstacles_at        the obstacles where their motions put them at time t (and the BVH's boxes)
  *   rt_obstacles_energy    kappa sum_k m_k b(d_k^2 - xi^2, ...) over the pairs within dhat at q, with
@@ -324,7 +317,14 @@ void rt_obstacles_positions(romrt_model *m, const romrt_real *q, const romrt_rea
 void rt_obstacles_refit(romrt_model *m, int swept);
 int rt_obstacles_gather(romrt_model *m);
 typedef void (*rt_stencil_visit)(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx);
-void rt_obstacles_swept(romrt_model *m, rt_stencil_visit visit, void *ctx);
+void rt_obstacles_swept(romrt_model *m, int surface, rt_stencil_visit visit, void *ctx);
+/* A gathered stencil kept in m->cand when within grow of its thickness: 0, or -1 (overflow
+ * flagged) past the capacity. */
+int rt_contact_keep(romrt_model *m, int edge_edge, const int32_t id[4], romrt_real grow);
+/* contact_surface.c: the collision surface's stencils against itself (other objects', and its own
+ * with self-contact) whose boxes grown by grow (swept over ocdx) touch: to visit, or (visit NULL)
+ * kept by rt_contact_keep; -1 on overflow. */
+int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_visit visit, void *ctx);
 /* A stencil's points at ocx / ox and its thickness and mollifier threshold. */
 void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt_real *pts[4]);
 romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4]);

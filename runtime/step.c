@@ -75,15 +75,14 @@ static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real 
 /* Whether a step along a direction must be filtered: planes, colliders or other objects to keep. */
 static int filtered(const romrt_model *m)
 {
-    return m->ncontacts || m->ncolliders || m->nobjects || m->nobs;
+    return m->ncontacts || m->ncolliders || m->surface;
 }
 
 static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
 {
     romrt_real alpha = m->ncontacts ? rt_contact_max_step(m, y, d) : 1, c;
     if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
-    if (m->nobjects && alpha > 0 && (c = rt_objects_max_step(m, y, d)) < alpha) alpha = c;
-    if (m->nobs && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
+    if (m->surface && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
     return alpha;
 }
 
@@ -361,15 +360,15 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         T.w_inertia = 1 / (h * h);
     }
     T.w_damping = 1 / h;
-    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders || m->nobs);
+    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders || m->surface);
     memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
-    if (m->nobs) { /* the obstacles where the clock puts them (a reset or a failed step may have moved it) */
+    if (m->surface) { /* the obstacles where the clock puts them (a reset or a failed step may have moved it) */
         m->obs_overflow = 0;
         if (m->obs_moving) rt_obstacles_at(m, rt_clock(m, 0));
     }
     /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
     rt_colliders_lag(m, m->qt, 1);
-    if (m->nobs && T.friction) rt_obstacles_lag(m, m->qt, 1);
+    if (m->surface && T.friction) rt_obstacles_lag(m, m->qt, 1);
     rt_pin_target(m, rt_clock(m, 1));
     /* Start from the inertial prediction when no contact is crossed on the way there. */
     for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
@@ -383,7 +382,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
         int before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
-        if (m->nobs) rt_obstacles_lag(m, m->q, 0);
+        if (m->surface) rt_obstacles_lag(m, m->q, 0);
         st = solve(m, &T, 0, err);
         if (m->last.newton_iterations - before <= 1) break;
     }
@@ -397,8 +396,8 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         st = rt_fail(err, ROMRT_E_DIVERGED, 0, "the state grew past what the shown positions can hold");
     /* an adaptive model's stored vertices move on; its q is back at 0 in the next step's basis */
     if (!st && m->alrom) st = rt_alrom_commit(m, err);
-    if (st && m->nobs && m->obs_overflow) /* the cause, rather than the non-finite potential it left */
-        st = rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD, "more obstacle pairs than the asset's capacity of ",
+    if (st && m->surface && m->obs_overflow) /* the cause, rather than the non-finite potential it left */
+        st = rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD, "more contact pairs than the asset's capacity of ",
                        (uint64_t)m->pair_cap, " (bake with a larger rom.asset.contact_pairs)");
     if (st) { /* leave the state as it was, the colliders too */
         int k;

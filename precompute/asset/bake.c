@@ -207,9 +207,8 @@ static int add_contacts(const rk_rom_model *m, const rk_bake_state *s, rombin_wr
         memcpy(planes + 6 * np + 3, c->obstacles[k].normal, 3 * sizeof(double));
         np++;
     }
-    /* several objects collide through their collision vertices' proxies (bake_objects.c); an
-     * object touching itself has no such proxy */
-    if (c->opt.self) return rk_fail(err, "the runtime has no self-contact (contact.self)");
+    /* several objects, and one touching itself, collide through the collision surface
+     * (bake_obstacles.c, bake_objects.c) */
     if (np == 0) return 0;
     int *pairs = rk_calloc((size_t)2 * c->nv * np + 1, sizeof(int), err);
     if (!pairs) return -1;

@@ -31,15 +31,13 @@ void rk_bake_motion_params(const rk_prescribed *p, double *out);
  * VMSS and VLOD with each unstored vertex's mass and load moved to its nearest stored vertex along
  * the mesh's edges, AMOV and AMOT. */
 int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err);
-/* Several objects (bake_objects.c): COBJ, the object of each of the ncv collision vertices, and
- * CRAD, each object's proxy radius (rk_triangle_cover_radius over its boundary triangles at rest);
+/* Several objects (bake_objects.c): COBJ, the object of each of the ncv collision vertices;
  * nothing for one object. */
 int rk_bake_objects(const rk_rom_model *m, int ncv, rombin_writer *w, rk_error *err);
 /* The scene's obstacles other than planes (bake_obstacles.c): OBHD, OBJS, OBMO, OBVX, OBED, OBTR,
- * OBVN, OBVB, OBIT, and the collision surface CEDG, CTRI; nothing without such obstacles. */
+ * OBVN, OBVB, OBIT, and the collision surface CEDG, CTRI; OBHD, CEDG and CTRI alone for several
+ * objects or self-contact without such obstacles; nothing without any of them. */
 int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_writer *w, rk_error *err);
-/* max over a triangle's points of the distance to its nearest corner (exact). */
-double rk_triangle_cover_radius(const double *const v[3]);
 /* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */
 int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, rombin_writer *w, rk_error *err);
 

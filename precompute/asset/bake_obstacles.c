@@ -4,7 +4,9 @@
  * edges from the triangles), regrouped by obstacle, each with a BVH over its primitives at rest;
  * and the object's collision surface over the collision vertices. The runtime then gathers the
  * same stencils the reduced simulator does (object points against obstacle triangles, obstacle
- * points against object triangles, edges against edges). */
+ * points against object triangles, edges against edges, and, between objects or with
+ * self-contact, the surface's own). With no obstacle but several objects or self-contact, OBHD
+ * (counts 0, the pair capacity, the self flag) and the surface alone (1.7). */
 #include "asset/bake_impl.h"
 
 #include <math.h>
@@ -143,9 +145,14 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
 {
     if (!m->has_contact) return 0;
     const rk_contact *c = &m->contact;
-    int nobs = 0;
+    int nobs = 0, nobjects = 0;
     for (int k = 0; k < c->nobstacles; k++) nobs += c->obstacles[k].kind != RK_OBSTACLE_PLANE;
-    if (nobs == 0) return 0;
+    for (int i = 0; i < c->nv; i++)
+        if (c->object[c->vertex[i]] + 1 > nobjects) nobjects = c->object[c->vertex[i]] + 1;
+    /* the surface touches other objects' (COBJ, bake_objects.c) or itself: OBHD, CEDG and CTRI
+     * without obstacles (1.7) */
+    int surface_pairs = nobjects > 1 || c->opt.self;
+    if (nobs == 0 && !surface_pairs) return 0;
     if (nobs > (int)ROMBIN_MAX_OBSTACLES) return rk_fail(err, "at most %u obstacles besides planes, the scene has %d",
                                                          ROMBIN_MAX_OBSTACLES, nobs);
     int nitems_all = c->onv + c->one + c->onf;
@@ -153,13 +160,13 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
     size_t headn = ROMBIN_OBHD_COUNT + (size_t)ROMBIN_OBST_COUNT * nobs;
     uint32_t *head = calloc(headn, sizeof(uint32_t)), *nodes = calloc(6 * (size_t)nitems_all + 6, sizeof(uint32_t));
     uint32_t *items = calloc((size_t)nitems_all + 1, sizeof(uint32_t));
-    double *thick = calloc(4 * (size_t)nobs, sizeof(double)), *motion = calloc((size_t)ROMBIN_PIN_PARAMS * nobs, sizeof(double));
+    double *thick = calloc(4 * (size_t)nobs + 4, sizeof(double)), *motion = calloc((size_t)ROMBIN_PIN_PARAMS * nobs + 1, sizeof(double));
     double *bounds = calloc(12 * (size_t)nitems_all + 12, sizeof(double));
     int *edges = calloc(2 * (size_t)c->one + 2, sizeof(int)), *work = calloc((size_t)nitems_all + 1, sizeof(int));
     double *centre = calloc(3 * (size_t)nitems_all + 3, sizeof(double));
     int *cedges = calloc(2 * (size_t)c->ne + 2, sizeof(int)), *ctris = calloc(3 * (size_t)c->nf + 3, sizeof(int));
-    int *prims = calloc((size_t)nobs, sizeof(int)), rc = -1;
-    double *area = calloc((size_t)nobs, sizeof(double));
+    int *prims = calloc((size_t)nobs + 1, sizeof(int)), rc = -1;
+    double *area = calloc((size_t)nobs + 1, sizeof(double));
     if (!head || !nodes || !items || !thick || !motion || !bounds || !edges || !work || !centre || !cedges || !ctris ||
         !prims || !area) {
         rk_fail(err, "out of memory for the obstacle chunks");
@@ -214,18 +221,22 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
     head[ROMBIN_OBHD_TRIANGLES] = (uint32_t)c->onf;
     head[ROMBIN_OBHD_NODES] = (uint32_t)b.nnodes;
     head[ROMBIN_OBHD_ITEMS] = (uint32_t)b.nout;
-    rc = rombin_add_u32(w, ROMBIN_OBHD, 1, head, headn, err) ||
-         rombin_add_reals(w, ROMBIN_OBJS, 1, thick, 4 * (size_t)nobs, err) ||
+    head[ROMBIN_OBHD_FLAGS] = c->opt.self ? ROMBIN_OBHD_SELF : 0;
+    rc = rombin_add_u32(w, ROMBIN_OBHD, 1, head, headn, err) ? -1 : 0;
+    if (!rc && nobs > 0)
+        rc = rombin_add_reals(w, ROMBIN_OBJS, 1, thick, 4 * (size_t)nobs, err) ||
          rombin_add_reals(w, ROMBIN_OBMO, 1, motion, (size_t)ROMBIN_PIN_PARAMS * nobs, err) ||
          rombin_add_reals(w, ROMBIN_OBVX, 1, c->oX, 3 * (size_t)c->onv, err) ||
          rk_bake_add_u32s(w, ROMBIN_OBED, 1, edges, 2 * (size_t)c->one, err) ||
          rk_bake_add_u32s(w, ROMBIN_OBTR, 1, c->ofaces, 3 * (size_t)c->onf, err) ||
          rombin_add_u32(w, ROMBIN_OBVN, 1, nodes, 3 * (size_t)b.nnodes, err) ||
          rombin_add_reals(w, ROMBIN_OBVB, 1, bounds, 6 * (size_t)b.nnodes, err) ||
-         rombin_add_u32(w, ROMBIN_OBIT, 1, items, (size_t)b.nout, err) ||
-         rk_bake_add_u32s(w, ROMBIN_CEDG, 1, cedges, 2 * (size_t)c->ne, err) ||
-         rk_bake_add_u32s(w, ROMBIN_CTRI, 1, ctris, 3 * (size_t)c->nf, err)
+         rombin_add_u32(w, ROMBIN_OBIT, 1, items, (size_t)b.nout, err)
              ? -1 : 0;
+    if (!rc)
+        rc = rk_bake_add_u32s(w, ROMBIN_CEDG, 1, cedges, 2 * (size_t)c->ne, err) ||
+                     rk_bake_add_u32s(w, ROMBIN_CTRI, 1, ctris, 3 * (size_t)c->nf, err)
+                 ? -1 : 0;
 done:
     free(head), free(nodes), free(items), free(thick), free(motion), free(bounds), free(edges), free(work), free(centre);
     free(cedges), free(ctris), free(prims), free(area);

@@ -645,16 +645,13 @@ static void model(void)
         MODEL("index", with_u32(ROMBIN_CVTX, 0, vertices, "CVTX vertex"), "index_CVTX_vertex_eq_vertices");
     }
     MODEL("index", with_u32(ROMBIN_CVTX, 0, 0xFFFFFFFFu, "CVTX vertex"), "index_CVTX_vertex_ffffffff");
-    /* Several objects (COBJ, CRAD): an object index at CRAD's count and 2^32 - 1; radii 0, negative,
-     * and 20 m (the objects then start inside each other's proxies). */
+    /* Several objects (COBJ): an object index at CVTX's count (more objects than collision
+     * vertices) and 2^32 - 1. */
     {
         rombin_chunk c;
-        uint32_t nobj = find(ROMBIN_CRAD, &c, NULL) ? (uint32_t)(c.stored / (uint64_t)real_bytes) : 0;
-        MODEL("index", with_u32(ROMBIN_COBJ, 0, nobj, "COBJ object"), "index_COBJ_object_eq_objects");
+        uint32_t ncv = find(ROMBIN_CVTX, &c, NULL) ? (uint32_t)(c.stored / 4) : 0;
+        MODEL("index", with_u32(ROMBIN_COBJ, 0, ncv, "COBJ object"), "index_COBJ_object_eq_collision_vertices");
         MODEL("index", with_u32(ROMBIN_COBJ, 0, 0xFFFFFFFFu, "COBJ object"), "index_COBJ_object_ffffffff");
-        MODEL("parm", with_real(ROMBIN_CRAD, 0, SET_ZERO, "radius"), "crad_radius_zero");
-        MODEL("parm", with_real(ROMBIN_CRAD, 0, SET_NEG, "radius"), "crad_radius_negative");
-        MODEL("parm", with_real(ROMBIN_CRAD, 0, SET_BIG, "radius"), "crad_radius_overlapping");
     }
     /* Friction that makes no sense. */
     MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_MU, SET_NEG, "mu"), "fric_mu_negative");
@@ -750,7 +747,7 @@ static void obstacles(void)
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_NODES, nodes - 1, "OBHD"), "obhd_nodes_minus_1");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0, "OBHD"), "obhd_pairs_0");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0xFFFFFFFFu, "OBHD"), "obhd_pairs_ffffffff");
-    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT - 1, 1, "OBHD"), "obhd_reserved_set");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_FLAGS, 2, "OBHD"), "obhd_unknown_flag");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_KIND, 0, "OBHD"), "obhd_kind_plane");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_VERTICES, onv + 1, "OBHD"), "obhd_range_past_count");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_NODES, 0, "OBHD"), "obhd_no_nodes");

@@ -27,7 +27,7 @@ replay() {
 # a point cloud on mesh-free integration points (seed_points.json: IPNT, IPMD, GRAD, SPLY), and an
 # adaptive linear ROM (seed_adaptive.json: ALRH, ALRP, QDRV, VMSS, VLOD, AMOV, AMOT), and one with a
 # CROM decoder (seed_crom.json: CRMS, CRMX, CRMW), two objects that collide (seed_objects.json:
-# COBJ, CRAD), and a sphere, capsule, box and moving mesh obstacle (seed_obstacles.json: OBHD, OBJS,
+# COBJ, OBHD, CEDG, CTRI), and a sphere, capsule, box and moving mesh obstacle (seed_obstacles.json: OBHD, OBJS,
 # OBMO, OBVX, OBED, OBTR, OBVN, OBVB, OBIT, CEDG, CTRI).
 for kind in scene koopman both skinning points adaptive crom objects obstacles; do
 for prec in float32 float64; do

@@ -1,13 +1,13 @@
-/* Several objects colliding in the runtime (COBJ, CRAD; runtime/objects.c): a block of tets falls
- * onto a slab resting on a plane, both baked into one asset with their own RKPM skinning bases,
- * stepped by this test's runtime (float, or double in test_runtime_objects_double). On every step,
- * with the positions X + U q of the runtime's q in double: no collision vertex of either object is
- * inside the other's boundary (cloud_inside.h: the exact parity of a segment's crossings with its
- * deformed triangles), every pair's proxy distance |x_i - x_j| - (rho_a + rho_b) stays > 0, every
- * value finite; at the end the block rests
- * on the slab, its lowest point above the slab's highest by no more than the proxies' reach. The
- * baked radii are checked against the boxes' triangles; damaged COBJ and CRAD are refused naming
- * the chunk, and a reader that does not know them refuses the asset (they are critical). */
+/* Several objects colliding in the runtime (COBJ and the collision surface; runtime/contact*.c): a
+ * block of tets falls onto a slab resting on a plane, both baked into one asset with their own
+ * RKPM skinning bases, stepped by this test's runtime (float, or double in
+ * test_runtime_objects_double). On every step, with the positions X + U q of the runtime's q in
+ * double: no vertex of either object is inside the other's boundary (cloud_inside.h: the exact
+ * parity of a segment's crossings with its deformed triangles), no edge crosses a triangle (the
+ * contact stage's exact test, precompute/contact/measure.c), every value finite; at the end the
+ * block rests on the slab at most 2 dhat above it (the barrier's reach, where 1.5's sphere proxies
+ * kept it rho_a + rho_b = 7 cm up). Damaged COBJ is refused naming the chunk, 1.5's CRAD is refused
+ * naming the version, and a reader that does not know COBJ refuses the asset (it is critical). */
 #include <stdio.h>
 
 #include "testlib.h"
@@ -49,12 +49,6 @@ static const void *chunk_data(const unsigned char *asset, size_t bytes, const ch
     return c.data;
 }
 
-static double real_at(const void *data, size_t i)
-{
-    if (ASSET_REAL == ROMBIN_REAL_F32) return ((const float *)data)[i];
-    return ((const double *)data)[i];
-}
-
 static int object_of(const rk_scene_sim *sim, int v)
 {
     return v >= sim->object_first_vertex[1];
@@ -62,8 +56,8 @@ static int object_of(const rk_scene_sim *sim, int v)
 
 /* What a drop measured. */
 typedef struct {
-    double rho[2], least, block_low, slab_top, moved;
-    int inside, finite, failed, steps;
+    double least, block_low, slab_top, moved;
+    int inside, crossings, finite, failed, steps;
     long iterations;
     size_t ncv;
 } drop_result;
@@ -79,18 +73,15 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
         rt_fixture_close(&f);
         return -1;
     }
-    size_t ncv = 0, nobj = 0;
+    size_t ncv = 0, nrad = 0;
     const uint32_t *cv = chunk_data(f.asset, f.bytes, ROMBIN_CVTX, &ncv, 4);
     const uint32_t *cobj = chunk_data(f.asset, f.bytes, ROMBIN_COBJ, &ncv, 4);
-    const void *crad = chunk_data(f.asset, f.bytes, ROMBIN_CRAD, &nobj, ASSET_REAL == ROMBIN_REAL_F32 ? 4 : 8);
-    const uint32_t *vmap = f.vmap;
     romrt_model *m = f.m;
-    if (!cv || !cobj || !crad || nobj != 2) {
+    if (!cv || !cobj || chunk_data(f.asset, f.bytes, ROMBIN_CRAD, &nrad, 4)) {
         rt_fixture_close(&f);
-        return rk_fail(err, "CVTX, COBJ, CRAD (%zu objects) expected", nobj);
+        return rk_fail(err, "CVTX and COBJ expected, and no CRAD");
     }
     out->ncv = ncv;
-    out->rho[0] = real_at(crad, 0), out->rho[1] = real_at(crad, 1);
     int *tris = NULL, nf = 0, r = f.R.model.r, ndof = 3 * f.sim.mesh.nv, nv = f.sim.mesh.nv;
     int first1 = f.sim.object_first_vertex[1];
     cloud_surface surf[2] = {{0}};
@@ -122,15 +113,15 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
          * boundary (its mesh's, or its voxel proxy's): odd exact crossings along a segment */
         for (int o = 0; o < 2; o++) cloud_surface_box(&surf[o], x);
         for (int v = 0; v < nv; v++) out->inside += cloud_surface_inside(&surf[1 - object_of(&f.sim, v)], x, x + 3 * v);
-        /* every pair's proxy distance, by brute force */
-        for (size_t i = 0; i < ncv; i++)
-            for (size_t j = i + 1; j < ncv; j++) {
-                if (cobj[i] == cobj[j]) continue;
-                const double *a = x + 3 * vmap[cv[i]], *b = x + 3 * vmap[cv[j]];
-                double d = sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])) -
-                           out->rho[cobj[i]] - out->rho[cobj[j]];
-                out->least = fmin(out->least, d);
-            }
+        /* the surfaces' crossings by the exact segment-triangle test, and their least distance */
+        int crossed = 0;
+        double least = INFINITY;
+        if (rk_contact_measure(&f.R.model.contact, x, &crossed, &least, err)) {
+            out->failed = 1;
+            break;
+        }
+        out->crossings += crossed;
+        out->least = fmin(out->least, least);
         out->block_low = INFINITY, out->slab_top = -INFINITY;
         for (int v = 0; v < end0; v++) out->slab_top = fmax(out->slab_top, x[3 * v + 1]);
         for (int v = first1; v < end1; v++) out->block_low = fmin(out->block_low, x[3 * v + 1]);
@@ -146,11 +137,11 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
 
 static void report(const char *label, const drop_result *d)
 {
-    printf("# %s, %s runtime, %d steps (%ld Newton iterations), %zu collision vertices, proxy radii %.4f %.4f m: %d "
-           "vertex-inside-other events, smallest proxy distance %.3g m; the block's lowest point %.4f m over the slab's "
-           "highest %.4f m (gap %.4f, rho_a + rho_b = %.4f), moving %.2g m over the last 10 steps\n",
-           label, PRECISION, d->steps, d->iterations, d->ncv, d->rho[0], d->rho[1], d->inside, d->least, d->block_low,
-           d->slab_top, d->block_low - d->slab_top, d->rho[0] + d->rho[1], d->moved);
+    printf("# %s, %s runtime, %d steps (%ld Newton iterations), %zu collision vertices: %d vertex-inside-other events, "
+           "%d crossings, smallest surface distance %.3g m; the block's lowest point %.5f m over the slab's highest %.5f m "
+           "(gap %.5f, 2 dhat = 0.004), moving %.2g m over the last 10 steps\n",
+           label, PRECISION, d->steps, d->iterations, d->ncv, d->inside, d->crossings, d->least, d->block_low, d->slab_top,
+           d->block_low - d->slab_top, d->moved);
 }
 
 TEST(a_block_falls_onto_a_slab_and_rests_on_it)
@@ -160,16 +151,14 @@ TEST(a_block_falls_onto_a_slab_and_rests_on_it)
     int rc = run_drop(SCENE, 80, &d, &err);
     report("meshes", &d);
     CHECK(rc == 0, "%s", err.msg);
-    /* a box face of 0.05 m cells cut into right triangles: the farthest point from every corner is
-     * a hypotenuse's midpoint, 0.05 / sqrt 2 from its ends */
-    CHECK(fabs(d.rho[0] - 0.05 / sqrt(2.0)) < 1e-6 && fabs(d.rho[1] - 0.05 / sqrt(2.0)) < 1e-6, "radii %g %g", d.rho[0],
-          d.rho[1]);
     CHECK(d.finite, "a reduced coordinate is not finite");
     CHECK(d.inside == 0, "%d times a vertex was inside the other object", d.inside);
-    CHECK(d.least > 0, "smallest proxy distance %g", d.least);
-    /* resting on it: the gap is the proxies' (vertices stacked: rho_a + rho_b), not the fall's 0.146 m */
-    CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top < d.rho[0] + d.rho[1] + 0.005,
-          "the block rests %g over the slab", d.block_low - d.slab_top);
+    CHECK(d.crossings == 0, "%d edge-triangle crossings", d.crossings);
+    CHECK(d.least > 0, "smallest surface distance %g", d.least);
+    /* resting on it within the barrier's reach (the block's flat bottom on the slab's flat top), not
+     * the 2 rho = 7 cm of 1.5's proxies nor the fall's 0.146 m */
+    CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top <= 2 * 0.002, "the block rests %g over the slab",
+          d.block_low - d.slab_top);
     CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
 }
 
@@ -192,9 +181,10 @@ TEST(a_block_of_points_falls_onto_a_slab_of_points)
     CHECK(rc == 0, "%s", err.msg);
     CHECK(d.finite, "a reduced coordinate is not finite");
     CHECK(d.inside == 0, "%d times a vertex was inside the other object's proxy", d.inside);
-    CHECK(d.least > 0, "smallest proxy distance %g", d.least);
-    /* the points sit up to a voxel inside their proxies, which stop rho_a + rho_b apart: resting,
-     * not still falling (it started 0.27 m over the slab's points) */
+    CHECK(d.crossings == 0, "%d edge-triangle crossings of the proxies", d.crossings);
+    CHECK(d.least > 0, "smallest surface distance %g", d.least);
+    /* the points sit up to a voxel inside their proxies, which stop within 2 dhat: resting, not
+     * still falling (it started 0.27 m over the slab's points) */
     CHECK(d.block_low > d.slab_top && d.block_low - d.slab_top < 0.2, "the block rests %g over the slab",
           d.block_low - d.slab_top);
     CHECK(d.moved < 1e-3, "the block still moves %g m over 10 steps", d.moved);
@@ -225,12 +215,9 @@ TEST(damaged_object_chunks_are_refused)
     romrt_error rerr;
     rt_fixture f;
     CHECK_OK(rt_fixture_open(&f, SCENE, ASSET_REAL, &err, &rerr));
-    uint32_t three = 3;
-#ifdef ROMRT_DOUBLE
-    double zero = 0, huge = 1, nan_value = NAN;
-#else
-    float zero = 0, huge = 1, nan_value = NAN;
-#endif
+    size_t ncv = 0;
+    CHECK(chunk_data(f.asset, f.bytes, ROMBIN_COBJ, &ncv, 4) != NULL && ncv > 1, "no COBJ");
+    uint32_t past = 0xFFFFFFFFu, *zeros = calloc(ncv, 4);
     struct {
         const char *what, *id;
         size_t offset;
@@ -238,16 +225,33 @@ TEST(damaged_object_chunks_are_refused)
         size_t n;
         const char *chunk;
     } cases[] = {
-        {"an object index past CRAD's count", ROMBIN_COBJ, 4, &three, 4, ROMBIN_COBJ},
-        {"a zero radius", ROMBIN_CRAD, 0, &zero, sizeof zero, ROMBIN_CRAD},
-        {"a NaN radius", ROMBIN_CRAD, sizeof zero, &nan_value, sizeof zero, ROMBIN_CRAD},
-        {"radii that overlap the objects at the start", ROMBIN_CRAD, 0, &huge, sizeof zero, ROMBIN_COBJ},
+        {"every vertex in object 0", ROMBIN_COBJ, 0, zeros, 4 * ncv, ROMBIN_COBJ},
+        {"an object index past the collision vertices", ROMBIN_COBJ, 4, &past, 4, ROMBIN_COBJ},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         romrt_status st = open_patched(&f, cases[k].id, cases[k].offset, cases[k].value, cases[k].n, &rerr);
         printf("# %s: status %d, %s: %s\n", cases[k].what, (int)st, rerr.chunk, rerr.message);
         CHECK(st == ROMRT_E_MODEL && strcmp(rerr.chunk, cases[k].chunk) == 0, "%s: status %d, chunk %s", cases[k].what,
               (int)st, rerr.chunk);
+    }
+    free(zeros);
+    { /* a 1.5 asset's CRAD (here the optional VMAP renamed): refused naming the version, not run with exact contact */
+        unsigned char *old = aligned_alloc(16, (f.bytes + 15) / 16 * 16);
+        uint32_t count, crc;
+        size_t need = 0;
+        memcpy(old, f.asset, f.bytes);
+        memcpy(&count, old + ROMBIN_H_CHUNKS, 4);
+        for (uint32_t i = 0; i < count; i++)
+            if (memcmp(old + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES + ROMBIN_E_ID, ROMBIN_VMAP, 4) == 0)
+                memcpy(old + ROMBIN_HEADER_BYTES + (size_t)i * ROMBIN_ENTRY_BYTES + ROMBIN_E_ID, ROMBIN_CRAD, 4);
+        crc = rombin_crc32(0, old, ROMBIN_H_TABLE_CRC);
+        crc = rombin_crc32(crc, old + ROMBIN_HEADER_BYTES, (size_t)count * ROMBIN_ENTRY_BYTES);
+        memcpy(old + ROMBIN_H_TABLE_CRC, &crc, 4);
+        romrt_status st = romrt_arena_size(old, f.bytes, &need, &rerr);
+        printf("# a 1.5 asset with CRAD: status %d, %s: %s\n", (int)st, rerr.chunk, rerr.message);
+        CHECK(st == ROMRT_E_UNSUPPORTED && strcmp(rerr.chunk, ROMBIN_CRAD) == 0 && strstr(rerr.message, "1.5") != NULL,
+              "CRAD: status %d, chunk %s, %s", (int)st, rerr.chunk, rerr.message);
+        free(old);
     }
     /* a reader of format 1.4, which knows neither chunk, must refuse the asset: they are critical */
     static const char *const old_known[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_WGHT, ROMBIN_MASS, ROMBIN_LOAD,
@@ -256,7 +260,7 @@ TEST(damaged_object_chunks_are_refused)
     rombin_file file;
     rombin_error e;
     int rc = rombin_open(&file, f.asset, f.bytes, old_known, &e);
-    CHECK(rc == ROMBIN_E_UNSUPPORTED, "a reader without COBJ and CRAD: %d, %s", rc, e.message);
+    CHECK(rc == ROMBIN_E_UNSUPPORTED, "a reader without COBJ: %d, %s", rc, e.message);
     rt_fixture_close(&f);
 }
 
