@@ -43,7 +43,7 @@ extern "C" {
  * from these lines); romrt_version() is the library's ROMRT_VERSION_NUMBER, to check at run time
  * that a shared library is the one the app was compiled against (same major version). */
 #define ROMRT_VERSION_MAJOR 2
-#define ROMRT_VERSION_MINOR 0
+#define ROMRT_VERSION_MINOR 1
 #define ROMRT_VERSION_PATCH 0
 #define ROMRT_VERSION_NUMBER (ROMRT_VERSION_MAJOR * 10000 + ROMRT_VERSION_MINOR * 100 + ROMRT_VERSION_PATCH)
 
@@ -101,11 +101,12 @@ typedef float romrt_real;
 #define romrt_triangles             ROMRT_LINK_NAME(triangles)
 #define romrt_version               ROMRT_LINK_NAME(version)
 
-/* The largest reduced size this build steps; every r x r buffer is ROMRT_MAX_R^2 reals. The
- * runtime's sources take it from their own build (the Makefile's desktop libraries use 256, the
- * Cortex-M build 32); romrt_max_reduced_size says what a compiled library was built with. */
+/* The largest reduced size a build of the runtime's sources steps; every r x r buffer is
+ * ROMRT_MAX_R^2 reals. 256 is what the Makefile's desktop libraries and make install ship (the
+ * Makefile reads it from here); a build may set its own (the Cortex-M build: 32). An app linking a
+ * compiled library reads the library's own value from romrt_max_reduced_size(), never this macro. */
 #ifndef ROMRT_MAX_R
-#define ROMRT_MAX_R 64
+#define ROMRT_MAX_R 256
 #endif
 
 typedef enum {
