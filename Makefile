@@ -104,12 +104,13 @@ RT_CFLAGS  := -std=c99 -pedantic -Wall -Wextra $(WERR) -Wshadow $(RT_OPT) $(RT_A
 RT_LIB        := $(BUILD)/lib/libromrt.a
 RT_LIB_DOUBLE := $(BUILD)/lib/libromrt_double.a
 # The runtime's objects depend on the flags they were built with: this file changes (and they are
-# rebuilt) only when RT_CFLAGS does, so a tree built with NATIVE=1 and then without it ships no
-# stale AVX object.
+# rebuilt) only when RT_CFLAGS does, but for -Werror, which changes no object. So a tree built with
+# NATIVE=1 and then without it ships no stale AVX object.
 RT_FLAGS_STAMP := $(BUILD)/rt/cflags
+RT_STAMPED     := $(filter-out -Werror,$(RT_CFLAGS))
 $(RT_FLAGS_STAMP): FORCE
 	@mkdir -p $(dir $@)
-	@echo '$(RT_CFLAGS)' | cmp -s - $@ || echo '$(RT_CFLAGS)' >$@
+	@echo '$(RT_STAMPED)' | cmp -s - $@ || echo '$(RT_STAMPED)' >$@
 .PHONY: FORCE
 FORCE:
 $(BUILD)/rt/float/%.o: %.c $(RT_FLAGS_STAMP)

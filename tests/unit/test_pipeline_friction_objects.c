@@ -20,6 +20,7 @@
  *    (steps 53, 69, 76, 94: 0.61 to 0.94), each with a row of the block's vertices over a slab edge. */
 #include "scene_run.h"
 #include "rom/rom.h"
+#include "trajectory_fit.h"
 
 #define G 9.81
 
@@ -38,22 +39,6 @@ static double block_x(const rk_scene_sim *sim, const double *x)
         s += sim->fem.vertex_mass[v] * x[3 * v];
     }
     return s / m;
-}
-
-/* a = 2 c2 of the least-squares fit c0 + c1 t + c2 t^2 to x[k] at t = k h, k = first .. last. */
-static double fit_acceleration(const double *x, int first, int last, double h)
-{
-    double A[9] = {0}, b[3] = {0};
-    for (int k = first; k <= last; k++) {
-        double t = (k - first) * h, p[3] = {1, t, t * t};
-        for (int i = 0; i < 3; i++) {
-            b[i] += p[i] * x[k];
-            for (int j = 0; j < 3; j++) A[3 * i + j] += p[i] * p[j];
-        }
-    }
-    double det = A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) + A[2] * (A[3] * A[7] - A[4] * A[6]);
-    double det2 = A[0] * (A[4] * b[2] - b[1] * A[7]) - A[1] * (A[3] * b[2] - b[1] * A[6]) + b[0] * (A[3] * A[7] - A[4] * A[6]);
-    return 2 * det2 / det;
 }
 
 /* The same scene at full order: the block's centre of mass every step. */
