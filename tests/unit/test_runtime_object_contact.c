@@ -102,8 +102,7 @@ static int run_both(const char *json, int steps, parity_result *out, rk_error *e
     return rc;
 }
 
-/* crossings_checked: 0 to print a known failure's crossings rather than assert them */
-static void parity(const char *label, const char *json, int steps, double tol, int crossings_checked)
+static void parity(const char *label, const char *json, int steps, double tol)
 {
     rk_error err = {{0}};
     parity_result p;
@@ -111,9 +110,7 @@ static void parity(const char *label, const char *json, int steps, double tol, i
     printf("# %s (%s): relative difference %.3g (tol %g), %d crossings, closest %.3g m, at most %ld pairs\n", label,
            PRECISION, p.rel, tol, p.crossings, p.closest, p.pairs);
     CHECK(rc == 0, "%s: %s", label, err.msg);
-    if (!crossings_checked && p.crossings > 0)
-        printf("# KNOWN FAILURE %s (%s): %d crossings (README, What works today)\n", label, PRECISION, p.crossings);
-    CHECK(!crossings_checked || p.crossings == 0, "%s: %d crossings", label, p.crossings);
+    CHECK(p.crossings == 0, "%s: %d crossings", label, p.crossings);
     CHECK(p.pairs > 0, "%s: nothing touched", label);
     CHECK(p.rel <= tol, "%s: relative difference %.3g above %g", label, p.rel, tol);
 }
@@ -130,7 +127,7 @@ TEST(a_block_landing_on_a_slab_matches_the_reduced_simulator)
            " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 1, 0]}}],"
            " \"contact\": {\"dhat\": 0.002, \"friction\": 0.3}, \"time\": {\"step\": 0.01, \"duration\": 0.3},"
            " \"newton\": {\"tolerance\": " NEWTON_TOL "}, \"rom\": {\"basis\": \"modes\", \"size\": 16}}",
-           30, PARITY_TOL, 1);
+           30, PARITY_TOL);
 }
 
 /* In float the fold is the most sensitive case: 1.2e-3 of the bar's displacement (1.7e-3 and 3.5e-3
@@ -142,8 +139,7 @@ TEST(a_block_landing_on_a_slab_matches_the_reduced_simulator)
  * 46-47) while the float CCD added its advances up onto absolute positions (physics/contact_impl.h,
  * ccd_stencil): over the ~600 advances a 1.6e-6 m gap took, their rounding moved the stencil off
  * its path by more than the gap, and it reported a time of impact of 0.877 where the edges met at
- * 0.45. Asserted in float too since. */
-#define FOLD_CROSSINGS_CHECKED 1
+ * 0.45. */
 #ifdef ROMRT_DOUBLE
 #define FOLD_TOL PARITY_TOL
 #else
@@ -164,7 +160,7 @@ TEST(a_bar_folded_onto_itself_matches_the_reduced_simulator)
            " \"gravity\": [0, -9.81, 0], \"contact\": {\"self\": true, \"dhat\": 0.002},"
            " \"time\": {\"step\": 0.01, \"duration\": 0.5}, \"newton\": {\"tolerance\": " NEWTON_TOL "},"
            " \"rom\": {\"basis\": \"modes\", \"size\": 16}}",
-           50, FOLD_TOL, FOLD_CROSSINGS_CHECKED);
+           50, FOLD_TOL);
 }
 
 /* The block's mass-weighted mean x (object 1) at the runtime's q. */
