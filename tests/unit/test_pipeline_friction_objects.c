@@ -20,6 +20,7 @@
  *    (steps 53, 69, 76, 94: 0.61 to 0.94), each with a row of the block's vertices over a slab edge. */
 #include "scene_run.h"
 #include "rom/rom.h"
+#include "incline_slab.h"
 #include "trajectory_fit.h"
 
 #define G 9.81
@@ -65,19 +66,8 @@ static int run_full_order(const char *json, incline_result *out, rk_error *err)
 
 static int run_incline(double mu, double tan_theta, double eps_v, int reduced, incline_result *out, rk_error *err)
 {
-    double theta = atan(tan_theta);
     char json[2048];
-    /* a 2 m slab of one cell, held; on it a 10 x 5 x 10 cm block of stiff rubber at dhat / 2 above its top */
-    snprintf(json, sizeof json,
-             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [2.0, 0.05, 0.3], \"cells\": [1, 1, 1]}},"
-             "   \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000},"
-             "   \"fixed\": [{\"box\": [[-1, -1, -1], [3, 1, 1]]}]},"
-             "  {\"mesh\": {\"box\": {\"size\": [0.1, 0.05, 0.1], \"cells\": [2, 1, 2]}, \"translate\": [0.1, 0.0505, 0.1]},"
-             "   \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}],"
-             " \"gravity\": [%.17g, %.17g, 0],"
-             " \"contact\": {\"dhat\": 1e-3, \"friction\": %.17g, \"eps_v\": %.17g},"
-             " \"time\": {\"step\": 0.01, \"duration\": 1.0}, \"rom\": {\"basis\": \"modes\", \"size\": 12}}",
-             G * sin(theta), -G * cos(theta), mu, eps_v);
+    incline_slab_scene(json, sizeof json, G, mu, tan_theta, eps_v);
     if (!reduced) return run_full_order(json, out, err);
     rk_scene scene;
     rk_scene_sim sim;

@@ -16,6 +16,7 @@
 
 #include "contact/contact.h"
 #include "rom/rom.h"
+#include "incline_slab.h"
 #include "trajectory_fit.h"
 
 #ifdef ROMRT_DOUBLE
@@ -179,20 +180,10 @@ static double block_x(const rt_fixture *f, const double *x)
  * over the second half second. */
 static int runtime_incline(double mu, double tan_theta, double eps_v, double *drift, double *accel, rk_error *err)
 {
-    double theta = atan(tan_theta);
     char json[2048];
     romrt_error rerr;
     rt_fixture f;
-    snprintf(json, sizeof json,
-             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [2.0, 0.05, 0.3], \"cells\": [1, 1, 1]}},"
-             "   \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000},"
-             "   \"fixed\": [{\"box\": [[-1, -1, -1], [3, 1, 1]]}]},"
-             "  {\"mesh\": {\"box\": {\"size\": [0.1, 0.05, 0.1], \"cells\": [2, 1, 2]}, \"translate\": [0.1, 0.0505, 0.1]},"
-             "   \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}],"
-             " \"gravity\": [%.17g, %.17g, 0],"
-             " \"contact\": {\"dhat\": 1e-3, \"friction\": %.17g, \"eps_v\": %.17g},"
-             " \"time\": {\"step\": 0.01, \"duration\": 1.0}, \"rom\": {\"basis\": \"modes\", \"size\": 12}}",
-             G * sin(theta), -G * cos(theta), mu, eps_v);
+    incline_slab_scene(json, sizeof json, G, mu, tan_theta, eps_v);
     if (rt_fixture_open(&f, json, ASSET_REAL, err, &rerr)) {
         rt_fixture_close(&f);
         return -1;
