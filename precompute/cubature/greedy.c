@@ -27,6 +27,11 @@
 #define RK_GREEDY_SCORE_FLOOR 1e-13
 /* An iteration must lower the relative error by at least this fraction to count as progress. */
 #define RK_GREEDY_MIN_GAIN 1e-12
+/* A column this small against the target is zero to rounding: it would need a weight of 1e12 to
+ * move the fit, and its cosine with the residual is noise. Elements whose vertices are all held
+ * have such columns (the basis vanishes there up to rounding, 1e-27 against 0.08 on the
+ * armadillo's bend), and scoring one by its cosine picked it and ended the greedy at 3 points. */
+#define RK_GREEDY_NORM_FLOOR 1e-12
 
 typedef struct {
     const rk_cubature_problem *p;
@@ -167,7 +172,7 @@ static int fetch_column(greedy *g, int c, double *col, rk_error *err)
 }
 
 /* Scores a fresh subset; *best is the candidate with the largest positive score (its column in
- * best_col), or -1 when none has one. Zero columns leave the pool for good. */
+ * best_col), or -1 when none has one. Zero columns (RK_GREEDY_NORM_FLOOR) leave the pool for good. */
 static int pick(greedy *g, int *best, rk_error *err)
 {
     int s = draw_subset(g);
@@ -177,7 +182,7 @@ static int pick(greedy *g, int *best, rk_error *err)
         int c = g->draw[i];
         if (fetch_column(g, c, g->col, err)) return -1;
         double norm = cblas_dnrm2(g->rows, g->col, 1);
-        if (norm == 0) { pool_remove(g, c); continue; }
+        if (!(norm > RK_GREEDY_NORM_FLOOR * g->bnorm)) { pool_remove(g, c); continue; }
         double score = cblas_ddot(g->rows, g->col, 1, g->r, 1) / norm;
         if (score > best_score) {
             best_score = score;

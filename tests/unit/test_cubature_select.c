@@ -490,6 +490,40 @@ TEST(greedy_skips_zero_columns_and_stops_without_a_positive_score)
     CHECK(count == 0 && !reached && rel == 1, "outside the cone: %d points, error %.3g", count, rel);
 }
 
+/* Candidate 0 is zero to rounding (1e-27, an element whose vertices are all held) and points
+ * exactly along b, so its cosine is the best; 1 and 2 fit b exactly. Scored by its cosine it was
+ * picked first and the greedy ended there (the armadillo's bend: 3 points, force error 0.63,
+ * against 300 points and 0.01 once such columns leave the pool). */
+static int rounding_column(void *ctx, int c, double *col, rk_error *err)
+{
+    (void)ctx;
+    (void)err;
+    col[0] = c == 0 ? 1e-27 : c == 1 ? 1 : 0;
+    col[1] = c == 0 ? 1e-27 : c == 2 ? 1 : 0;
+    col[2] = 0;
+    return 0;
+}
+
+TEST(greedy_leaves_out_columns_that_are_zero_to_rounding)
+{
+    rk_error err;
+    double b[3] = {1, 1, 0};
+    rk_cubature_problem p = {.rows = 3, .candidates = 3, .column = rounding_column, .b = b,
+                             .tolerance = 1e-12, .max_points = 3};
+    rk_cubature_set s;
+    CHECK_OK(rk_cubature_greedy(&p, &s, &err));
+    int count = s.count, reached = s.reached, has_tiny = 0;
+    double wmax = 0;
+    for (int j = 0; j < s.count; j++) {
+        has_tiny |= s.index[j] == 0;
+        wmax = fmax(wmax, s.weight[j]);
+    }
+    rk_cubature_set_free(&s);
+    CHECK(reached && count == 2 && !has_tiny && fabs(wmax - 1) < 1e-12,
+          "%d points (the rounding column among them: %d), largest weight %g, reached %d", count, has_tiny, wmax,
+          reached);
+}
+
 TEST(bad_input_is_an_error_not_a_crash)
 {
     rk_error err;
@@ -531,6 +565,7 @@ int main(void)
     RUN(greedy_scores_by_direction_and_drops_points_the_refit_zeroes);
     RUN(greedy_with_sampling_is_reproducible);
     RUN(greedy_skips_zero_columns_and_stops_without_a_positive_score);
+    RUN(greedy_leaves_out_columns_that_are_zero_to_rounding);
     RUN(bad_input_is_an_error_not_a_crash);
     return test_finish();
 }
