@@ -184,6 +184,11 @@ static int bake_reduced(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     snprintf(out->summary, sizeof out->summary, "%s, r = %d, %d cubature elements, %d of %d vertices stored "
              "(%d shown), %zu bytes", e->name, s->R.model.r, s->R.model.quad.count, sum.vertices, s->sim.mesh.nv,
              sum.shown, out->bytes);
+    /* a cubature that stopped above its tolerance makes every force of the free run that far off:
+     * said where the user looks, not only in the report */
+    if (s->R.model.quad.count > 0 && !s->R.cubature_reached && s->R.cubature_reason[0])
+        snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
+                 "\n  warning: the cubature missed its tolerance (%s)", s->R.cubature_reason);
     if (s->have_koopman)
         snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
                  "\n  and a Koopman operator of rank %d beside it (romkit run --koopman, romrt_open_kind)", s->K.k.r);

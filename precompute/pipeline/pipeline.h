@@ -270,7 +270,7 @@ typedef struct {
     unsigned char *data;             /* the asset (malloc'd) */
     size_t bytes;
     cJSON *report;                   /* DESIGN.md's keys: vertices, tets, basis.*, cubature.*, koopman.*, asset.* */
-    char summary[512];               /* one line for a terminal */
+    char summary[1024];              /* a line (or a few) for a terminal */
 } rk_baked;
 
 /* Entry e of the scene end to end: the full-order run when something trains on it, the basis, the

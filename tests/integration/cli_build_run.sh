@@ -22,6 +22,17 @@ cmp -s "$TMP/a.rombin" "$TMP/b.rombin" && ok build_is_deterministic || fail buil
 "$ROMKIT" inspect "$TMP/a.rombin" >"$TMP/out" 2>"$TMP/err" && grep -q "ROWS  critical" "$TMP/out" && grep -q "opens with the runtime" "$TMP/out" \
     && ok inspect_lists_and_verifies || fail inspect_lists_and_verifies "$(head -c 400 "$TMP/out" "$TMP/err")"
 
+# A cubature that stops above its tolerance is said on the terminal, not only in the report.
+python3 -c "
+import json, sys
+s = json.load(open(sys.argv[1])); s['rom']['cubature'] = {'tolerance': 1e-6, 'max_points': 2}
+json.dump(s, open(sys.argv[2], 'w'))" "$SCENE" "$TMP/cub2.json"
+"$ROMKIT" build "$TMP/cub2.json" -o "$TMP/cub2.rombin" --quiet >"$TMP/out" 2>&1 \
+    && grep -q "warning: the cubature missed its tolerance (rom.cubature.max_points: stopped at 2 of" "$TMP/out" \
+    && ok build_warns_of_a_cubature_above_tolerance || fail build_warns_of_a_cubature_above_tolerance "$(cat "$TMP/out")"
+"$ROMKIT" build "$SCENE" -o "$TMP/cub.rombin" >"$TMP/out" 2>&1 && ! grep -q "warning" "$TMP/out" \
+    && ok build_quiet_about_a_cubature_in_tolerance || fail build_quiet_about_a_cubature_in_tolerance "$(cat "$TMP/out")"
+
 # Damage: a truncated copy and one flipped payload byte are refused by inspect and run, by name.
 size=$(wc -c <"$TMP/a.rombin")
 head -c $((size - 100)) "$TMP/a.rombin" >"$TMP/cut.rombin"
