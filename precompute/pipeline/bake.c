@@ -39,9 +39,11 @@ void rk_asset_report(cJSON *a, const unsigned char *data, size_t bytes, const rk
 }
 
 /* The report's reduced-model keys: basis.* and cubature.*. */
-static void add_rom_report(cJSON *root, const rk_scene_rom *R)
+static void add_rom_report(cJSON *root, const rk_scene_rom *R, int training_frames, const char *trained_on)
 {
     cJSON *b = cJSON_AddObjectToObject(root, "basis");
+    cJSON_AddNumberToObject(b, "training_frames", training_frames);
+    cJSON_AddStringToObject(b, "trained_on", trained_on);
     cJSON_AddStringToObject(b, "type", rk_basis_type_name(R->basis.type));
     cJSON_AddNumberToObject(b, "size", R->basis.W ? R->basis.m : R->basis.r);
     cJSON_AddNumberToObject(b, "columns", R->basis.r);
@@ -104,6 +106,8 @@ typedef struct {
     rk_scene_sim sim;
     int have_sim, have_rom, have_koopman;
     double *own_frames;
+    int training_frames;        /* frames the basis and the cubature trained on (0: none) */
+    const char *trained_on;     /* where they came from, for the report */
     rk_scene_rom R;
     rk_scene_koopman K;
 } bake_state;
@@ -144,14 +148,24 @@ static int build_models(const rk_scene *scene, const rk_rom_entry *e, const rk_b
     if (rk_scene_build(scene, &s->sim, err)) return -1;
     s->have_sim = 1;
     int T = 0;
+    s->trained_on = "nothing (no data-driven part)";
     if (req->snapshots && given_frames(req, s, &T, err)) return -1;
     const double *frames = s->own_frames;
     int koopman = rk_koopman_of(e) != NULL, reduced = !koopman || e->cubature;
-    /* a point cloud has no full order: its cubature trains on random poses alone */
+    /* a point cloud has no full order: its cubature trains on random poses alone. An entry that
+     * lists its training runs trains on them, as romkit compare trains it (a POD of the scene's
+     * own run would be fitted to the very motion it is tested on) */
     if (reduced && !frames && !s->sim.cloud_points && (e->cubature || rk_basis_needs_frames(&e->basis))) {
-        if (rk_scene_training_frames(&s->sim, &s->own_frames, &T, err)) return -1;
+        if (e->ntraining ? rk_scene_training_set(scene, &s->sim, e, &s->own_frames, &T, err)
+                         : rk_scene_training_frames(&s->sim, &s->own_frames, &T, err))
+            return -1;
         frames = s->own_frames;
-    }
+        s->trained_on = e->ntraining ? "the entry's training list" : "the scene's own full-order run";
+    } else if (frames) {
+        s->trained_on = "the snapshots given (--snapshots)";
+    } else if (reduced && s->sim.cloud_points && e->cubature)
+        s->trained_on = "random poses (a point cloud has no full order)";
+    s->training_frames = frames ? T : 0;
     if (reduced) {
         if (rk_scene_rom_build(scene, &s->sim, e, frames, T, &s->R, err)) return -1;
         s->have_rom = 1;
@@ -178,7 +192,7 @@ static int bake_reduced(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     rombin_writer_free(&w);
     if (rc) return -1;
     out->report = cJSON_CreateObject();
-    add_rom_report(out->report, &s->R);
+    add_rom_report(out->report, &s->R, s->training_frames, s->trained_on);
     if (s->have_koopman) add_koopman_report(out->report, &s->K);
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, &sum);
     snprintf(out->summary, sizeof out->summary, "%s, r = %d, %d cubature elements, %d of %d vertices stored "
@@ -186,7 +200,7 @@ static int bake_reduced(const rk_scene *scene, const rk_rom_entry *e, const rk_a
              sum.shown, out->bytes);
     /* a cubature that stopped above its tolerance makes every force of the free run that far off:
      * said where the user looks, not only in the report */
-    if (s->R.model.quad.count > 0 && !s->R.cubature_reached && s->R.cubature_reason[0])
+    if (s->R.model.quad.count > 0 && !s->R.cubature_reached && isfinite(s->R.cubature_error))
         snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
                  "\n  warning: the cubature missed its tolerance (%s)", s->R.cubature_reason);
     if (s->have_koopman)

@@ -33,6 +33,27 @@ json.dump(s, open(sys.argv[2], 'w'))" "$SCENE" "$TMP/cub2.json"
 "$ROMKIT" build "$SCENE" -o "$TMP/cub.rombin" >"$TMP/out" 2>&1 && ! grep -q "warning" "$TMP/out" \
     && ok build_quiet_about_a_cubature_in_tolerance || fail build_quiet_about_a_cubature_in_tolerance "$(cat "$TMP/out")"
 
+# A POD entry that lists its training runs trains on them, not on the scene's own run (which
+# would fit the basis to the very motion it is then tested on).
+python3 -c "
+import json, sys
+s = json.load(open(sys.argv[1])); s['time']['duration'] = 0.2
+train = dict(s, gravity=[0, 0, -9.81]); json.dump(train, open(sys.argv[2] + '/train.json', 'w'))
+s['rom'] = {'basis': 'pod', 'size': 4, 'training': ['train.json', 'train.json']}
+json.dump(s, open(sys.argv[2] + '/podtrain.json', 'w'))
+del s['rom']['training']; json.dump(s, open(sys.argv[2] + '/podown.json', 'w'))" "$SCENE" "$TMP"
+if "$ROMKIT" build "$TMP/podtrain.json" -o "$TMP/pt.rombin" --report "$TMP/pt.json" --quiet >/dev/null 2>"$TMP/err" &&
+    "$ROMKIT" build "$TMP/podown.json" -o "$TMP/po.rombin" --report "$TMP/po.json" --quiet >/dev/null 2>>"$TMP/err"; then
+    # two runs of 20 steps listed, against the scene's own 20
+    json_checks build_pod_trains_on_its_training_list "$TMP/pt.json" basis.training_frames=40
+    json_checks build_pod_without_a_list_trains_on_the_scene "$TMP/po.json" basis.training_frames=20
+    "$JSONQ" get "$TMP/pt.json" basis.trained_on | grep -q "training list" &&
+        "$JSONQ" get "$TMP/po.json" basis.trained_on | grep -q "own full-order run" &&
+        ok build_reports_what_it_trained_on || fail build_reports_what_it_trained_on "$("$JSONQ" get "$TMP/pt.json" basis)"
+else
+    fail build_pod_trains_on_its_training_list "$(cat "$TMP/err")"
+fi
+
 # Damage: a truncated copy and one flipped payload byte are refused by inspect and run, by name.
 size=$(wc -c <"$TMP/a.rombin")
 head -c $((size - 100)) "$TMP/a.rombin" >"$TMP/cut.rombin"
