@@ -207,6 +207,13 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
+# The converged Newton mode with a fresh or a kept Newton matrix, and the default (issue 31), in
+# float and in double (for float64 assets).
+$(BUILD)/bench_newton_modes: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
+$(BUILD)/bench_newton_modes_double: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE)
+	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE) $(LDLIBS)
+
 # Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).
 $(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
