@@ -62,7 +62,7 @@ TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_DOUBLE := test_runtime_engine test_runtime_obstacles test_runtime_objects test_runtime_object_contact test_runtime_parity test_runtime_alrom test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients test_runtime_incline
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
-.PHONY: all test test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
+.PHONY: all test test-unit test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
 all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq \
      $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
@@ -281,9 +281,15 @@ deps:
 deps-build deps-test deps-web deps-bench:
 	@sh tools/install-deps.sh $(patsubst deps-%,%,$@)
 
+# make test: the unit and validation tiers of tests/unit (tests/tiers) and tests/integration;
+# make test-unit: the quick tier alone, tests/unit's unit tests (seconds each, deterministic).
 test: deps-test
 	$(MAKE) WERROR=1 all
-	@BUILD=$(BUILD) WERROR=1 sh tests/run.sh
+	@BUILD=$(BUILD) WERROR=1 TIERS="unit validation" sh tests/run.sh
+
+test-unit: deps-test
+	$(MAKE) WERROR=1 all
+	@BUILD=$(BUILD) WERROR=1 TIERS=unit SUITES=unit sh tests/run.sh
 
 # The test scripts' own make calls (make mcu, the fuzz tools) see the same flags through the
 # environment, so they never relink sanitized objects without the sanitizer.
