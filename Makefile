@@ -207,6 +207,10 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
+# Experiments whose product is a table (issue 31's tiers): bench/ablation_*.c, run by make bench.
+$(BUILD)/ablation_%: bench/ablation_%.c $(call libs_of,$(TOOL_STAGE))
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
+
 # The converged Newton mode with a fresh or a kept Newton matrix, and the default (issue 31), in
 # float and in double (for float64 assets).
 $(BUILD)/bench_newton_modes: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
@@ -218,7 +222,7 @@ $(BUILD)/bench_newton_modes_double: bench/bench_newton_modes.c $(call libs_of,$(
 $(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
+bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)/bench_newton_modes_double $(BUILD)/ablation_koopman_momentum $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -228,6 +232,8 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_physics $(BUILD)/benc
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/newton_modes.sh tests/data/meshes bench/results
+	$(BUILD)/ablation_koopman_momentum bench/results
 	$(BUILD)/bench_scale tests/data/meshes bench/results
 	$(BUILD)/bench_adaptive tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results

@@ -5,25 +5,39 @@
  *
  *   bench_newton_modes STEPS ROUNDS A.rombin [B.rombin ...]
  *
- * Per asset and mode: us/step (median over ROUNDS interleaved rounds of STEPS steps from rest, each
- * round's mean; the modes of one asset take turns, so a noisy machine moves them alike), its ratio
+ * Per asset and mode: us/step of CPU time (median over ROUNDS interleaved rounds of STEPS steps from
+ * rest, each round's mean; the modes of one asset take turns, so a noisy machine moves them alike;
+ * CPU time, since the runtime is one thread and a shared machine's wall clock counts others), its ratio
  * to the fresh mode, Newton iterations per step, and the kept mode's distance from the fresh one:
  * max over steps and shown vertices of |x_k - x_fresh| in metres and over the largest displacement
- * of the fresh run. Both runs are converged to the asset's tolerance on the RMS Newton step, so
- * that distance is what the tolerance lets two converged solves differ by; the fresh run's own
- * float rounding is of the same order (bench/results/runtime_speed.csv's error columns). Built in
+ * of the fresh run, and the largest over steps of the RMS over shown vertices of x_k - x_fresh
+ * against the asset's Newton tolerance (PARM: on the RMS Newton step, in metres), the most two
+ * solves converged to it may differ by in one step; over a run such differences add up, so
+ * rms_over_tol is to be read against the step count. Built in
  * float (bench_newton_modes) and double (bench_newton_modes_double, for float64 assets). One CSV
  * line per asset and mode on stdout. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
+#include "formats/rombin.h"
+#include "formats/rombin_read.h"
 #include "runtime/romrt.h"
 #include "util/util.h"
 
 #define NMODES 6
 static const int reuse_of[NMODES] = {1, 2, 3, 5, 10, -1}; /* -1: the default romrt_open leaves */
+
+/* Seconds of this process's CPU time: the runtime is one thread, and on a shared machine the wall
+ * clock also counts the time others ran. */
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 static int cmp(const void *a, const void *b)
 {
@@ -60,7 +74,7 @@ static int run(romrt_model *m, const char *path, int mode, int steps, romrt_real
         return -1;
     }
     romrt_reset(m);
-    double t0 = rk_now();
+    double t0 = cpu_now();
     for (int s = 0; s < steps; s++) {
         if (romrt_step(m, &re)) {
             fprintf(stderr, "bench_newton_modes: %s: step %d: %s\n", path, s, re.message);
@@ -70,7 +84,7 @@ static int run(romrt_model *m, const char *path, int mode, int steps, romrt_real
         iterations += info.newton_iterations;
         if (traj) romrt_positions(m, traj + (size_t)3 * n * s, n, 3);
     }
-    *us = (rk_now() - t0) / steps * 1e6;
+    *us = (cpu_now() - t0) / steps * 1e6;
     *its = (double)iterations / steps;
     return 0;
 }
@@ -86,7 +100,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_newton_modes: STEPS and ROUNDS must be positive\n");
         return 2;
     }
-    printf("asset,mode,us_per_step,us_min,us_max,ratio_to_fresh,newton_per_step,max_diff_m,max_diff_relative\n");
+    printf("asset,mode,us_per_step,us_per_step_min,us_per_step_max,ratio_to_fresh,newton_per_step,max_diff_m,max_diff_relative,tol_m,rms_over_tol\n");
     for (int a = 3; a < argc; a++) {
         const char *path = argv[a], *name = strrchr(path, '/');
         size_t bytes, need;
@@ -100,6 +114,21 @@ int main(int argc, char **argv)
             return 1;
         }
         name = name ? name + 1 : path;
+        double tol = 0;
+        {
+            rombin_file file;
+            rombin_chunk c;
+            rombin_error e;
+            if (!rombin_open(&file, data, bytes, NULL, &e) && rombin_find(&file, ROMBIN_PARM, &c)) {
+                const unsigned char *v = c.data + ROMBIN_PARM_NEWTON_TOL * (file.real_type == ROMBIN_REAL_F64 ? 8 : 4);
+                if (file.real_type == ROMBIN_REAL_F64) memcpy(&tol, v, 8);
+                else {
+                    float f;
+                    memcpy(&f, v, 4);
+                    tol = f;
+                }
+            }
+        }
         int n = romrt_shown_count(m);
         size_t len = (size_t)3 * n * steps;
         romrt_real *rest = malloc(sizeof(romrt_real) * 3 * (size_t)n), *traj[NMODES];
@@ -124,13 +153,20 @@ int main(int argc, char **argv)
             qsort(u, (size_t)rounds, sizeof(double), cmp);
             double med = rounds % 2 ? u[rounds / 2] : 0.5 * (u[rounds / 2 - 1] + u[rounds / 2]);
             if (k == 0) fresh_med = med;
+            double rms = 0;
             for (size_t i = 0; i < len; i++) diff = fmax(diff, fabs((double)traj[k][i] - (double)traj[0][i]));
+            for (int s = 0; s < steps; s++) {
+                double sum = 0;
+                for (size_t i = (size_t)3 * n * s; i < (size_t)3 * n * (s + 1); i++)
+                    sum += ((double)traj[k][i] - (double)traj[0][i]) * ((double)traj[k][i] - (double)traj[0][i]);
+                rms = fmax(rms, sqrt(sum / n));
+            }
             char mode[16];
             if (reuse_of[k] < 0) snprintf(mode, sizeof mode, "default");
             else if (reuse_of[k] == 1) snprintf(mode, sizeof mode, "fresh");
             else snprintf(mode, sizeof mode, "kept-%d", reuse_of[k]);
-            printf("%s,%s,%.4g,%.4g,%.4g,%.3f,%.2f,%.3g,%.3g\n", name, mode, med, u[0], u[rounds - 1], med / fresh_med,
-                   its[k], diff, scale > 0 ? diff / scale : 0);
+            printf("%s,%s,%.4g,%.4g,%.4g,%.3f,%.2f,%.3g,%.3g,%.3g,%.3g\n", name, mode, med, u[0], u[rounds - 1],
+                   med / fresh_med, its[k], diff, scale > 0 ? diff / scale : 0, tol, tol > 0 ? rms / tol : 0);
             fflush(stdout);
         }
         for (int k = 0; k < NMODES; k++) free(traj[k]);
