@@ -273,7 +273,9 @@ void romrt_clear_forces(romrt_model *m);
  * takes two reals (a float pair holds the double clock to about 48 bits). A state with a
  * non-finite value or from a model of another size is refused. An adaptive linear ROM's state is
  * its stored vertices' displacements, velocities and the last m steps' history (each double as a
- * pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m) reals. */
+ * pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m) reals.
+ * Restoring drops a kept Newton matrix (romrt_set_hessian_reuse), so where the default keeps one a
+ * replay matches the uninterrupted run to the solve's tolerance; bit for bit needs k = 1. */
 int romrt_state_size(const romrt_model *m);
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count);
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count);
