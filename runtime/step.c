@@ -116,7 +116,7 @@ static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y
  * replaced (newton) and the answer meets the same tolerance at a fraction of the cost; but fresh
  * for an asset with a collision surface (obstacles other than planes, several objects,
  * self-contact), whose barrier terms change the matrix from one iteration to the next: there a
- * kept one took 40-45% more iterations and 6-10% more time (a slab on spikes). Fresh in the
+ * kept one took 40-46% more iterations and 7-9% more time (a slab on spikes). Fresh in the
  * fixed-cost mode, whose steps nothing checks, so a kept matrix would only move its answer. */
 #define DEFAULT_REUSE 10
 
