@@ -1,7 +1,7 @@
 # Test tiers (tests/tiers, issue 31): every line names a test of tests/unit once, with a tier that
 # exists (a test not listed is a unit test), and tests/run.sh runs exactly the tiers TIERS asks for,
 # checked on stand-in executables in a scratch build folder: a listed validation test (and its
-# _double build) and an unlisted one.
+# _double build), an unlisted one, and one whose source is gone (a stale build: never run).
 . tests/lib.sh
 bad=
 for line in $(awk '$1 !~ /^#/ && NF {print $1 ":" $2 ":" NF}' tests/tiers); do
@@ -16,18 +16,18 @@ if [ -z "$bad" ]; then ok tiers_list_names_tests_once; else fail tiers_list_name
 
 B="$TMP/build"
 mkdir -p "$B/tests"
-for t in test_pipeline_cantilever test_pipeline_cantilever_double test_zz_unlisted; do
+for t in test_pipeline_cantilever test_pipeline_cantilever_double test_util_npy test_zz_gone; do
     printf '#!/bin/sh\necho "ok ran_%s"\n' "$t" >"$B/tests/$t"
     chmod +x "$B/tests/$t"
 done
 # ran TIERS: the stand-ins run.sh ran with that TIERS, sorted, on one line
 ran() { BUILD="$B" SUITES=unit TIERS="$1" sh tests/run.sh 2>&1 | sed -n 's/^ok ran_//p' | sort | tr '\n' ' '; }
 got=$(ran unit)
-if [ "$got" = "test_zz_unlisted " ]; then ok tiers_unit_runs_only_unlisted_tests
+if [ "$got" = "test_util_npy " ]; then ok tiers_unit_runs_only_unlisted_tests
 else fail tiers_unit_runs_only_unlisted_tests "TIERS=unit ran: '$got'"; fi
 got=$(ran validation)
 if [ "$got" = "test_pipeline_cantilever test_pipeline_cantilever_double " ]; then ok tiers_validation_runs_listed_tests
 else fail tiers_validation_runs_listed_tests "TIERS=validation ran: '$got'"; fi
 got=$(ran "unit validation")
-if [ "$got" = "test_pipeline_cantilever test_pipeline_cantilever_double test_zz_unlisted " ]; then ok tiers_make_test_runs_both
+if [ "$got" = "test_pipeline_cantilever test_pipeline_cantilever_double test_util_npy " ]; then ok tiers_make_test_runs_both
 else fail tiers_make_test_runs_both "TIERS='unit validation' ran: '$got'"; fi
