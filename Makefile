@@ -62,7 +62,7 @@ TEST_SRC := $(wildcard tests/unit/test_*.c)
 TEST_DOUBLE := test_runtime_engine test_runtime_obstacles test_runtime_objects test_runtime_object_contact test_runtime_parity test_runtime_alrom test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients test_runtime_incline
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
-.PHONY: all test test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
+.PHONY: all test test-unit test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
 all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq \
      $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
@@ -207,11 +207,22 @@ $(BUILD)/bench_runtime: bench/bench_runtime.c bench/bench_cases.h bench/bench_ro
 $(BUILD)/bench_koopman: bench/bench_koopman.c bench/bench_cases.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
+# Experiments whose product is a table (issue 31's tiers): bench/ablation_*.c, run by make bench.
+$(BUILD)/ablation_%: bench/ablation_%.c $(call libs_of,$(TOOL_STAGE))
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(LDLIBS)
+
+# The converged Newton mode with a fresh or a kept Newton matrix, and the default (issue 31), in
+# float and in double (for float64 assets).
+$(BUILD)/bench_newton_modes: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
+$(BUILD)/bench_newton_modes_double: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE)
+	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE) $(LDLIBS)
+
 # Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).
 $(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
+bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)/bench_newton_modes_double $(BUILD)/ablation_koopman_momentum $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -221,6 +232,8 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_physics $(BUILD)/benc
 	$(BUILD)/bench_runtime tests/data/meshes bench/results
 	$(BUILD)/bench_koopman tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_speed.sh tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/newton_modes.sh tests/data/meshes bench/results
+	$(BUILD)/ablation_koopman_momentum bench/results
 	$(BUILD)/bench_scale tests/data/meshes bench/results
 	$(BUILD)/bench_adaptive tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
@@ -274,9 +287,15 @@ deps:
 deps-build deps-test deps-web deps-bench:
 	@sh tools/install-deps.sh $(patsubst deps-%,%,$@)
 
+# make test: the unit and validation tiers of tests/unit (tests/tiers) and tests/integration;
+# make test-unit: the quick tier alone, tests/unit's unit tests (seconds each, deterministic).
 test: deps-test
 	$(MAKE) WERROR=1 all
-	@BUILD=$(BUILD) WERROR=1 sh tests/run.sh
+	@BUILD=$(BUILD) WERROR=1 TIERS="unit validation" sh tests/run.sh
+
+test-unit: deps-test
+	$(MAKE) WERROR=1 all
+	@BUILD=$(BUILD) WERROR=1 TIERS=unit SUITES=unit sh tests/run.sh
 
 # The test scripts' own make calls (make mcu, the fuzz tools) see the same flags through the
 # environment, so they never relink sanitized objects without the sanitizer.

@@ -12,9 +12,11 @@
 #          ill-conditioned model's trajectory (the error column shows by how much).
 #
 # Per model and Newton mode (converged: to the asset's tolerance with a line search; fixed: one full
-# Newton step per time step, romkit run --newton 1; converged-kept and fixed-kept: the same with
-# Newton's matrix kept for up to KEEP = 10 steps, romkit run --hessian-reuse, whose GFLOP/s is not
-# given since the Hessians it builds are not counted):
+# Newton step per time step, romkit run --newton 1; both with a fresh Newton matrix every
+# iteration, --hessian-reuse 1, the runtime's default being to keep it where that pays (issue 31,
+# bench/newton_modes.sh); converged-kept and fixed-kept: the same with Newton's matrix kept for up
+# to KEEP = 10 steps, romkit run --hessian-reuse, whose GFLOP/s is not given since the Hessians it
+# builds are not counted):
 #   us/step     the median, fastest and slowest of SAMPLES runs of STEPS steps from rest (each run's
 #               own figure is the median of its steps' times, romkit run's seconds_per_step)
 #   newton      Newton iterations per step
@@ -90,8 +92,8 @@ one_model() {
     ne=$("$J" get "$TMP/$build.build.json" cubature.elements)
     for mode in converged fixed converged-kept fixed-kept; do
         case $mode in
-        converged) flag="" ;;
-        fixed) flag="--newton 1" ;;
+        converged) flag="--hessian-reuse 1" ;;
+        fixed) flag="--newton 1 --hessian-reuse 1" ;;
         converged-kept) flag="--hessian-reuse $KEEP" ;;
         fixed-kept) flag="--newton 1 --hessian-reuse $KEEP" ;;
         esac

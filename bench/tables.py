@@ -59,6 +59,22 @@ ABOUT = {
                       "per step in each Newton mode, Newton iterations per step, the error of the "
                       "shown vertices over the first 100 steps against full order, the element "
                       "kernels' GFLOP/s, full order's seconds per step and its ratio to the runtime."),
+    "newton_modes": ("The runtime's Newton matrix: fresh, kept, and the default",
+                     "make bench: bench/newton_modes.sh (build/bench_newton_modes)",
+                     "The converged mode on each asset (float32 through the float runtime, float64 "
+                     "through the double one) with a fresh Newton matrix every iteration, with one "
+                     "kept for up to k steps, and the default romrt_open leaves: CPU microseconds per "
+                     "step (median of interleaved rounds), the ratio to fresh, Newton iterations per "
+                     "step, the largest distance of a shown vertex from the fresh trajectory (m and "
+                     "over the largest displacement), the asset's Newton tolerance (m) and the "
+                     "largest RMS distance from the fresh trajectory over it."),
+    "koopman_momentum": ("Koopman momentum ablation (Fig. 4)",
+                         "make bench: build/ablation_koopman_momentum",
+                         "DMD on the displacement alone (u only) against the paper's [u; u - u_prev], "
+                         "same rank, unclamped, fitted on the first 1 s or the whole 2 s of a full-order "
+                         "cantilever run and rolled out from frame 1 over 2 s: the largest |lambda| and "
+                         "the rollout error (max over frames of |u - u_fom| over the largest |u_fom|); "
+                         "the stiff beam's ranks 4 to 24 are asserted (momentum better: 1)."),
     "fuzz": ("Fuzz campaign: inputs per target", "bench/fuzz_campaign.sh SECONDS (not part of make bench)",
              "Each libFuzzer target (clang, ASan and UBSan) run alone for about SECONDS on one core "
              "beside other work, from its seeds and the corpus of earlier runs: the inputs it ran, "

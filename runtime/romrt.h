@@ -163,15 +163,16 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err);
 
 /* Reduced models: how a step solves. 0 (the default): Newton with a line search until the step is
  * below the asset's tolerance (or its iteration limit), the same iterates as the precompute's
- * reduced simulator. k >= 1: a fixed cost, exactly k full Newton steps per step with no line
+ * reduced simulator with a fresh Newton matrix (romrt_set_hessian_reuse(m, 1); its default may
+ * keep one, to the same tolerance). k >= 1: a fixed cost, exactly k full Newton steps per step with no line
  * search and no convergence test (k = 1 is a linearly implicit step, as Vega's reduced StVK runs
  * by default): faster and predictable, further from the converged answer (the README's bench
  * gives both errors); contacts still shorten the steps so nothing is crossed. Kept across
  * romrt_reset. ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman model. */
 romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_error *err);
 
-/* Reduced models: how often Newton's r x r matrix is built and factored. 0 or 1 (the default): at
- * every Newton iteration. k >= 2: a factor is kept for up to k time steps and each iteration
+/* Reduced models: how often Newton's r x r matrix is built and factored. 0 or 1: at every Newton
+ * iteration (fresh). k >= 2: a factor is kept for up to k time steps and each iteration
  * solves with it (a modified Newton step: only the potential and its gradient are evaluated, the
  * cubature's r x r Hessian and its Cholesky factorization are not). In the converged mode a fresh
  * matrix replaces it wherever its steps stop halving or its line search has to shorten one, so the
@@ -180,6 +181,12 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_e
  * dropped by romrt_reset, romrt_set_state, placing or removing a collider, a collider's move and
  * a change of the integrator's inertia weight (BDF2's first step), so a restored state's steps may
  * differ from the uninterrupted run's by up to the solve's tolerance. Kept across romrt_reset.
+ * The default, until this is called, is the fastest mode that meets the asset's tolerance, chosen
+ * per asset at open (docs/results/newton_modes.md): in the converged mode the matrix kept for up
+ * to 10 steps (on bunny_19k at r = 20, a third of the fresh mode's time a step, every step to the
+ * same tolerance); fresh for an asset with a collision surface (obstacles other than planes,
+ * several objects, self-contact), where a kept matrix took more iterations and was no faster; and
+ * fresh in the fixed-cost mode. k = 1 gives the reduced simulator's own iterates everywhere.
  * ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman or adaptive model. */
 romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err);
 
@@ -266,7 +273,9 @@ void romrt_clear_forces(romrt_model *m);
  * takes two reals (a float pair holds the double clock to about 48 bits). A state with a
  * non-finite value or from a model of another size is refused. An adaptive linear ROM's state is
  * its stored vertices' displacements, velocities and the last m steps' history (each double as a
- * pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m) reals. */
+ * pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m) reals.
+ * Restoring drops a kept Newton matrix (romrt_set_hessian_reuse), so where the default keeps one a
+ * replay matches the uninterrupted run to the solve's tolerance; bit for bit needs k = 1. */
 int romrt_state_size(const romrt_model *m);
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count);
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count);

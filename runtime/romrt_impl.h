@@ -138,6 +138,7 @@ struct romrt_model {
     int exact_hessian;        /* the elements' dP/dF unprojected (the fixed-cost mode's first try) */
     int hessian_reuse;        /* romrt_set_hessian_reuse: 0 or 1, a fresh Newton matrix every iteration;
                                * k >= 2, the factor in H kept for up to k steps (step.c) */
+    int hessian_reuse_set;    /* 0 until the app calls romrt_set_hessian_reuse: the default (reuse_steps) */
     int hessian_age;          /* steps since H's factor was built for the body alone (-1: none kept) */
     romrt_real hessian_w;     /* the inertia weight that factor was built with */
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */

@@ -111,13 +111,29 @@ static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y
 #endif
 }
 
+/* The default (romrt.h, romrt_set_hessian_reuse; bench/results/newton_modes.csv): in the converged
+ * mode a matrix kept for up to DEFAULT_REUSE steps, since there a kept matrix that stops paying is
+ * replaced (newton) and the answer meets the same tolerance at a fraction of the cost; but fresh
+ * for an asset with a collision surface (obstacles other than planes, several objects,
+ * self-contact), whose barrier terms change the matrix from one iteration to the next: there a
+ * kept one took 40-46% more iterations and 7-9% more time (a slab on spikes). Fresh in the
+ * fixed-cost mode, whose steps nothing checks, so a kept matrix would only move its answer. */
+#define DEFAULT_REUSE 10
+
+/* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
+static int reuse_steps(const romrt_model *m)
+{
+    if (m->hessian_reuse_set) return m->hessian_reuse;
+    return m->fixed_iterations || m->surface ? 0 : DEFAULT_REUSE;
+}
+
 /* Whether the Newton matrix factored in m->H may serve this iteration (romrt_set_hessian_reuse):
  * built for the body alone (a solve that moves colliders builds its own, of another size), for
- * this step's inertia weight (BDF2's first step changes it), fewer than m->hessian_reuse steps ago. */
+ * this step's inertia weight (BDF2's first step changes it), fewer than reuse_steps steps ago. */
 static int kept_matrix(const romrt_model *m, const rt_terms *T)
 {
-    return m->hessian_reuse > 1 && m->nmoving == 0 && m->hessian_age >= 0 && m->hessian_age < m->hessian_reuse &&
-           m->hessian_w == T->w_inertia;
+    int reuse = reuse_steps(m);
+    return reuse > 1 && m->nmoving == 0 && m->hessian_age >= 0 && m->hessian_age < reuse && m->hessian_w == T->w_inertia;
 }
 
 /* The potential at y, its gradient in m->g, and the Newton matrix factored in m->H: the exact
@@ -192,6 +208,19 @@ static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error 
     return ROMRT_OK;
 }
 
+/* The step size that ends the solve: the asset's tolerance; in float also its floor, 1e-6 of the
+ * state's RMS, and a step below 1e-3 of it that did not halve (stagnation: see TOL_FLOOR). */
+static romrt_real stop_tol(romrt_model *m, const romrt_real *y, romrt_real step, romrt_real last)
+{
+    romrt_real tol = m->tol;
+    if (TOL_FLOOR > 0) {
+        romrt_real size = rms(m, y);
+        if (TOL_FLOOR * size > tol) tol = TOL_FLOOR * size;
+        if (step < STAGNATION * size && step > RT_K(0.5) * last) tol = step;
+    }
+    return tol;
+}
+
 /* Projected Newton on y = (q, moved colliders' progress) from m->y, the precompute solver's loop. */
 static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
@@ -210,11 +239,16 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
                 return st;
             step = step_size(m, d);
         }
-        tol = m->tol;
-        if (TOL_FLOOR > 0) {
-            romrt_real size = rms(m, y);
-            if (TOL_FLOOR * size > tol) tol = TOL_FLOOR * size;
-            if (step < STAGNATION * size && step > RT_K(0.5) * last) tol = step;
+        tol = stop_tol(m, y, step, last);
+        /* Float's floor, not the asset's tolerance, is about to end the solve, with this step taken
+         * as the last correction: on a kept matrix that is a modified Newton step, which left an
+         * ill-conditioned RKPM beam 7x further from the reduced simulator than the fresh mode's
+         * full one (test_runtime_parity). A fresh matrix at y gives the full step. */
+        if (kept && step <= tol && step > m->tol) {
+            if ((st = newton_system(m, T, y, &E, &magnitude, it, 1, &kept, err)) || (st = direction(m, n, it, err)))
+                return st;
+            step = step_size(m, d);
+            tol = stop_tol(m, y, step, last);
         }
         if (step <= tol) {
             /* Float's floor or stagnation ends the solve above the asset's tolerance: the line
@@ -256,6 +290,10 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
          * a large model's energy (gravity's work on a sagging beam) can hide in its float rounding
          * the decrease of a Newton step that still moves it, and Newton then goes on. */
         if (STAGNATION > 0 && !armijo && alpha * step <= STAGNATION * rms(m, y)) {
+            if (kept) { /* a kept matrix's step: a fresh one decides (as above) */
+                fresh = 1;
+                continue;
+            }
             m->last.converged = 1;
             return ROMRT_OK;
         }
@@ -330,6 +368,7 @@ romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err
     if (steps < 0 || steps > (int)ROMRT_MAX_NEWTON)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: steps must be 0 to 1000");
     m->hessian_reuse = steps;
+    m->hessian_reuse_set = 1;
     m->hessian_age = -1;
     return ROMRT_OK;
 }

@@ -4,12 +4,20 @@
 # non-zero without saying FAIL counts as one failure of its own. A test that cannot run here (a
 # tool absent) prints "skip NAME: why"; with ROMKIT_NO_SKIP=1 (.ci/run) each skip is a FAIL, so
 # CI never passes by skipping.
-# Usage: BUILD=build [SUITES="unit integration"] sh tests/run.sh [filter]
+# Usage: BUILD=build [SUITES="unit integration"] [TIERS="unit validation"] sh tests/run.sh [filter]
 # SUITES: unit (the executables $BUILD/tests/test_*) and folders of tests/ whose *.sh run
 # (make test: unit integration; make test-web: web).
+# TIERS: which tiers of the unit suite's executables run (make test: unit validation; make
+# test-unit: unit); a test's tier is its line in tests/tiers, and a test not listed is a unit test.
 BUILD=${BUILD:-build}
 FILTER=${1:-}
 SUITES=${SUITES:-unit integration}
+TIERS=${TIERS:-unit validation}
+# tier_of NAME: the tier tests/tiers gives NAME (test_x_double: test_x's), else unit.
+tier_of() {
+    tier=$(awk -v n="${1%_double}" '$1 !~ /^#/ && $2 == n {print $1; exit}' tests/tiers)
+    echo "${tier:-unit}"
+}
 export ROMKIT=${ROMKIT:-$PWD/$BUILD/romkit}
 export ROMKIT_BUILD=$BUILD
 passed=0
@@ -49,6 +57,10 @@ for suite in $SUITES; do
             case "$t" in *.d) continue ;; esac
             [ -x "$t" ] || continue
             case "$t" in *"$FILTER"*) ;; *) continue ;; esac
+            case " $TIERS " in *" $(tier_of "$(basename "$t")") "*) ;; *) continue ;; esac
+            # a build left from a test whose source is gone (moved to bench/, renamed) is not run
+            name=$(basename "$t")
+            [ -f "tests/unit/${name%_double}.c" ] || continue
             run_one "$(basename "$t")" "$t"
         done
         continue

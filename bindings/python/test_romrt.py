@@ -124,6 +124,7 @@ attempt("double_runtime_equals_romkit_double_run_bit_for_bit", double_runtime)
 # 5. State, clock, reduced coordinates and the GPU accessors.
 def state_and_accessors():
     m = romrt.Model(beam)
+    m.set_hessian_reuse(1)  # bit-for-bit replay needs a fresh Newton matrix (romrt.h, romrt_set_state)
     m.add_force("tip", [0, 0.02, 0.05])
     m.step(10)
     s = m.get_state()

@@ -164,6 +164,7 @@ TEST(newton_projects_only_where_the_exact_hessian_is_indefinite)
         CHECK(c == 0 ? projected == 0 : projected > 0 && projected < 40, "projected steps: %d", projected);
         romrt_reset(f.m);
         romrt_set_newton_iterations(f.m, 0, &rerr);
+        romrt_set_hessian_reuse(f.m, 1, &rerr); /* every iteration builds its matrix (the default may keep one) */
         projected = 0;
         for (int s = 0; s < 40; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "converged step %d: %s", s, rerr.message);
@@ -227,6 +228,109 @@ TEST(a_kept_newton_matrix_meets_the_same_answers)
     rt_fixture_close(&f);
 }
 
+/* The asset's Newton tolerance (PARM: on the RMS Newton step, m). */
+static double asset_tolerance(const rt_fixture *f)
+{
+    rombin_file file;
+    rombin_chunk c;
+    rombin_error e;
+    double tol = 0;
+    if (rombin_open(&file, f->asset, f->bytes, NULL, &e) || !rombin_find(&file, ROMBIN_PARM, &c)) return 0;
+    if (file.real_type == ROMBIN_REAL_F64) {
+        memcpy(&tol, c.data + 8 * ROMBIN_PARM_NEWTON_TOL, 8);
+    } else {
+        float t;
+        memcpy(&t, c.data + 4 * ROMBIN_PARM_NEWTON_TOL, 4);
+        tol = t;
+    }
+    return tol;
+}
+
+/* `steps` steps from rest with whatever mode the model is in (no setter called), as run_reusing. */
+static long run_as_is(rt_fixture *f, int steps, romrt_real *traj)
+{
+    romrt_error rerr;
+    romrt_step_info info;
+    long iterations = 0;
+    int n = romrt_shown_count(f->m);
+    romrt_reset(f->m);
+    for (int s = 0; s < steps; s++) {
+        if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
+        romrt_last_step(f->m, &info);
+        iterations += info.newton_iterations;
+        romrt_positions(f->m, traj + (size_t)3 * n * s, n, 3);
+    }
+    return iterations;
+}
+
+/* The default Newton mode (romrt.h, romrt_set_hessian_reuse; issue 31) is the fastest that meets
+ * the asset's tolerance: on a neo-Hookean cantilever it keeps Newton's matrix (other iterations
+ * than the fresh mode's) and lands where the fresh mode does to the tolerance. Each step's solve
+ * ends within about one tolerance of the converged answer (a kept matrix's steps shrink at least
+ * by half, so what is left is at most the last step), and backward Euler carries a step's position
+ * error into the next one's velocity, so after s steps the RMS distance of the shown vertices from
+ * the fresh run may reach a small multiple of s tolerances: 2 is allowed (measured 1.2 in float,
+ * 1.3 in double; float's floor, 1e-6 of the state, counts where it is above the tolerance). An
+ * asset with a collision surface (a sphere obstacle) and the fixed-cost mode get the fresh
+ * matrix: the same bits as romrt_set_hessian_reuse(m, 1). */
+TEST(the_default_keeps_the_matrix_only_where_it_meets_the_tolerance)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    const int steps = 40;
+    CHECK_OK(rt_fixture_open(&f, cantilever("neohookean"), ASSET_REAL, &err, &rerr));
+    int n = romrt_shown_count(f.m);
+    size_t bytes = sizeof(romrt_real) * 3 * (size_t)n * steps;
+    romrt_real *def = malloc(bytes), *fresh = malloc(bytes);
+    double tol = asset_tolerance(&f), worst = 0, scale = 0;
+    long it_default = run_as_is(&f, steps, def), it_fresh = run_reusing(&f, 0, 1, steps, fresh);
+    CHECK(tol > 0 && it_default > 0 && it_fresh > 0, "runs failed (tolerance %g)", tol);
+    for (int s = 0; s < steps; s++) {
+        double sum = 0, disp = 0;
+        for (int i = 0; i < 3 * n; i++) {
+            size_t at = (size_t)3 * n * s + i;
+            double x0 = f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3];
+            sum += ((double)def[at] - (double)fresh[at]) * ((double)def[at] - (double)fresh[at]);
+            disp += ((double)fresh[at] - x0) * ((double)fresh[at] - x0);
+        }
+        double floor = sizeof(romrt_real) < 8 ? 1e-6 * sqrt(disp / n) : 0, per_step = fmax(tol, floor);
+        worst = fmax(worst, sqrt(sum / n) / ((s + 1) * per_step));
+        scale = fmax(scale, sqrt(disp / n));
+    }
+    printf("# default against fresh: %ld against %ld Newton iterations, RMS distance after s steps at most %.3g "
+           "s tolerances (%g m each, RMS displacement up to %.3g m)\n", it_default, it_fresh, worst, tol, scale);
+    CHECK(it_default != it_fresh || memcmp(def, fresh, bytes) != 0, "the default took the fresh mode's steps");
+    CHECK(worst <= 2, "the default is %.3g times s tolerances from the fresh mode", worst);
+    /* the fixed-cost mode: fresh by default */
+    rt_fixture_close(&f);
+    CHECK_OK(rt_fixture_open(&f, cantilever("neohookean"), ASSET_REAL, &err, &rerr));
+    CHECK(romrt_set_newton_iterations(f.m, 1, &rerr) == ROMRT_OK, "%s", rerr.message);
+    CHECK(run_as_is(&f, steps, def) == steps && run_reusing(&f, 1, 1, steps, fresh) == steps, "fixed runs failed");
+    CHECK(memcmp(def, fresh, bytes) == 0, "the fixed-cost mode's default is not the fresh matrix");
+    rt_fixture_close(&f);
+    free(def);
+    free(fresh);
+    /* an asset with a collision surface: fresh by default */
+    char json[2048];
+    snprintf(json, sizeof json, "%s", cantilever("neohookean"));
+    char *rom = strstr(json, ", \"rom\"");
+    CHECK(rom != NULL, "the scene has no rom key");
+    if (!rom) return;
+    snprintf(rom, sizeof json - (size_t)(rom - json),
+             ", \"obstacles\": [{\"sphere\": {\"center\": [0.5, -1, 0], \"radius\": 0.1}}], \"contact\": {\"dhat\": 0.002},"
+             " \"rom\": {\"basis\": \"modes\", \"size\": 10, \"cubature\": {\"tolerance\": 0.02}}}");
+    CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));
+    n = romrt_shown_count(f.m);
+    bytes = sizeof(romrt_real) * 3 * (size_t)n * steps;
+    def = malloc(bytes), fresh = malloc(bytes);
+    CHECK(run_as_is(&f, steps, def) > 0 && run_reusing(&f, 0, 1, steps, fresh) > 0, "obstacle runs failed");
+    CHECK(memcmp(def, fresh, bytes) == 0, "with a collision surface the default is not the fresh matrix");
+    free(def);
+    free(fresh);
+    rt_fixture_close(&f);
+}
+
 int main(void)
 {
     RUN(one_full_newton_step_is_exact_on_linear_elasticity);
@@ -234,5 +338,6 @@ int main(void)
     RUN(bad_iteration_counts_are_refused_and_change_nothing);
     RUN(newton_projects_only_where_the_exact_hessian_is_indefinite);
     RUN(a_kept_newton_matrix_meets_the_same_answers);
+    RUN(the_default_keeps_the_matrix_only_where_it_meets_the_tolerance);
     return test_finish();
 }

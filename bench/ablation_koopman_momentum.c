@@ -11,9 +11,20 @@
  * (both overfit: eigenvalues past 1 and rollouts that blow up when extrapolating, Sec. 8's remark
  * on larger reduced spaces) and the 10x softer beam (0.2-0.3 m, geometric nonlinearity), where
  * extrapolating from one second is poor either way and the displacement-only fit wins at some
- * ranks. Numbers in NOTES-kctl.md. */
-#include "scene_run.h"
+ * ranks.
+ *
+ * An experiment, not a test (issue 31's tiers: its product is the table), so it lives in bench/:
+ * make bench runs it as `ablation_koopman_momentum OUT_DIR`, it writes OUT_DIR/koopman_momentum.csv
+ * (one row per E, beam, training window and rank; asserted_momentum_better is 1 or 0 on the
+ * asserted rows, empty on the others) and exits 1 when an asserted row goes the other way. It was
+ * tests/unit/test_pipeline_koopman_momentum.c. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include "koopman/koopman.h"
+#include "pipeline/method_fixed.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/method_koopman.h"
 #include "util/util.h"
@@ -71,17 +82,23 @@ static double max_abs_lambda(const rk_koopman *k)
 
 /* One scene: both fits at every rank on each training window; rows printed; *worse counts the
  * asserted rows where momentum did not win (named on stdout). */
-static int ablate(int stiff, int sc, int *worse, rk_error *err)
+static int ablate(int stiff, int sc, int *worse, FILE *csv, rk_error *err)
 {
     char json[2048];
     snprintf(json, sizeof json, scene_fmt[sc], young[stiff]);
-    scene_run sr;
+    rk_scene scene;
+    rk_scene_sim sim;
     rk_koopman_run run;
-    if (scene_run_open(&sr, json, err)) return -1;
-    int n3 = 3 * sr.sim.mesh.nv, rc = 0;
-    sr.sim.steps = STEPS;
-    if (rk_koopman_scene_run(&sr.sim, NULL, &run, err)) {
-        scene_run_close(&sr);
+    if (rk_scene_parse(json, "momentum.json", &scene, err)) return -1;
+    if (rk_scene_build(&scene, &sim, err)) {
+        rk_scene_free(&scene);
+        return -1;
+    }
+    int n3 = 3 * sim.mesh.nv, rc = 0;
+    sim.steps = STEPS;
+    if (rk_koopman_scene_run(&sim, NULL, &run, err)) {
+        rk_scene_sim_free(&sim);
+        rk_scene_free(&scene);
         return -1;
     }
     for (int w = 0; !rc && w < 2; w++) {
@@ -92,7 +109,7 @@ static int ablate(int stiff, int sc, int *worse, rk_error *err)
             for (int mom = 0; !rc && mom < 2; mom++) {
                 rk_koopman_options o;
                 rk_koopman_default_options(&o);
-                o.h = sr.sim.options.h;
+                o.h = sim.options.h;
                 o.rank = ranks[q];
                 o.displacement_only = !mom;
                 rk_koopman k;
@@ -103,32 +120,51 @@ static int ablate(int stiff, int sc, int *worse, rk_error *err)
             }
             if (rc) break;
             int asserted = !stiff && ranks[q] <= MAX_ASSERTED_RANK;
-            printf("# | %s | %s | %d s | %2d | %.4f | %.3g%% | %.4f | %.3g%% |%s\n", young[stiff], scene_name[sc], w + 1,
+            printf("| %s | %s | %d s | %2d | %.4f | %.3g%% | %.4f | %.3g%% |%s\n", young[stiff], scene_name[sc], w + 1,
                    ranks[q], lam[0], 100 * e[0], lam[1], 100 * e[1], asserted ? (e[1] < e[0] ? " yes" : " NO") : "");
+            fprintf(csv, "%s,%s,%d,%d,%.6g,%.6g,%.6g,%.6g,%s\n", young[stiff], scene_name[sc], w + 1, ranks[q], lam[0],
+                    e[0], lam[1], e[1], asserted ? (e[1] < e[0] ? "1" : "0") : "");
             *worse += asserted && !(e[1] < e[0]);
         }
     }
     rk_koopman_run_free(&run);
-    scene_run_close(&sr);
+    rk_scene_sim_free(&sim);
+    rk_scene_free(&scene);
     return rc;
 }
 
-TEST(momentum_beats_displacement_only)
+int main(int argc, char **argv)
 {
+    if (argc != 2) {
+        fprintf(stderr, "usage: ablation_koopman_momentum OUT_DIR (writes OUT_DIR/koopman_momentum.csv)\n");
+        return 2;
+    }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/koopman_momentum.csv", argv[1]);
+    FILE *csv = fopen(path, "w");
+    if (!csv) {
+        fprintf(stderr, "ablation_koopman_momentum: %s: cannot write\n", path);
+        return 1;
+    }
+    fprintf(csv, "young_pa,beam,fitted_on_s,rank,u_only_max_abs_lambda,u_only_error,momentum_max_abs_lambda,"
+                 "momentum_error,asserted_momentum_better\n");
     rk_error err;
-    int worse = 0;
-    printf("# momentum ablation (Fig. 4): rollout from frame 1 over 2 s against the full-order run\n");
-    printf("# | E (Pa) | beam | fitted on | rank | u only: max abs lambda | error | [u; du]: max abs lambda | "
+    int worse = 0, rc = 0;
+    printf("momentum ablation (Fig. 4): rollout from frame 1 over 2 s against the full-order run\n");
+    printf("| E (Pa) | beam | fitted on | rank | u only: max abs lambda | error | [u; du]: max abs lambda | "
            "error | asserted: momentum better |\n");
-    for (int stiff = 0; stiff < 2; stiff++)
-        for (int sc = 0; sc < 2; sc++)
-            CHECK(ablate(stiff, sc, &worse, &err) == 0, "E %s, %s: %s", young[stiff], scene_name[sc], err.msg);
-    CHECK(worse == 0, "%d asserted rows (marked NO above) where the displacement-only state did as well or better",
-          worse);
-}
-
-int main(void)
-{
-    RUN(momentum_beats_displacement_only);
-    return test_finish();
+    for (int stiff = 0; stiff < 2 && !rc; stiff++)
+        for (int sc = 0; sc < 2 && !rc; sc++)
+            if (ablate(stiff, sc, &worse, csv, &err)) {
+                fprintf(stderr, "ablation_koopman_momentum: E %s, %s: %s\n", young[stiff], scene_name[sc], err.msg);
+                rc = 1;
+            }
+    if (fclose(csv) || rc) return 1;
+    if (worse) {
+        fprintf(stderr, "ablation_koopman_momentum: %d asserted rows (NO above) where the displacement-only state did "
+                        "as well or better\n", worse);
+        return 1;
+    }
+    printf("%s\n", path);
+    return 0;
 }
