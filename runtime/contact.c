@@ -103,7 +103,7 @@ void rt_obstacles_pull(romrt_model *m, const int32_t id[4], const romrt_real *gx
     }
 }
 
-romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
+static romrt_real pairs_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
 {
     romrt_real E = 0, gl[12], Hl[144];
     int i, k;
@@ -137,6 +137,15 @@ romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction
     return E;
 }
 
+romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
+{
+    romrt_real E;
+    RT_PROF_BEGIN(RT_PROF_NARROW);
+    E = pairs_energy(m, q, friction, g, H, ld);
+    RT_PROF_END(RT_PROF_NARROW);
+    return E;
+}
+
 typedef struct {
     romrt_real alpha;
     int obstacles_move;   /* the obstacles go by odx (the body holds still), else the body by ocdx */
@@ -160,7 +169,7 @@ typedef struct {
 #define CONTACT_FLOOR 1e-3f
 #endif
 
-static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
+static void ccd_stencil(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
 {
     static const romrt_real still[3] = {0, 0, 0};
     ccd_ctx *c = (ccd_ctx *)ctx;
@@ -193,11 +202,20 @@ static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *
     if (RT_PHYS(ccd_stencil)(edge_edge, pts, d, xi, c->alpha, &toi) && toi < c->alpha) c->alpha = toi;
 }
 
+static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
+{
+    RT_PROF_BEGIN(RT_PROF_NARROW);
+    ccd_stencil(m, edge_edge, id, ctx);
+    RT_PROF_END(RT_PROF_NARROW);
+}
+
 romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq)
 {
     ccd_ctx c;
     c.alpha = 1, c.obstacles_move = 0;
+    RT_PROF_BEGIN(RT_PROF_NARROW);
     rt_obstacles_positions(m, q, dq);
+    RT_PROF_END(RT_PROF_NARROW);
     rt_obstacles_swept(m, 1, ccd_visit, &c);
     return c.alpha;
 }

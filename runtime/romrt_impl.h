@@ -386,4 +386,25 @@ romrt_status rt_fail_n(romrt_error *err, romrt_status status, const char *chunk,
 romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
                         const char *text2, uint64_t n2, const char *text3);
 
+/* Per-phase timing (bench/bench_pour.c, issue 30): the runtime has no clock, so a bench that
+ * compiles the runtime's sources with -DROMRT_PROFILE supplies rt_prof_enter/rt_prof_leave; the
+ * library compiles the hooks to nothing. Phases nest (a CCD visit inside a broad-phase query):
+ * the bench charges each interval to the innermost open phase, and the rest of a step to Newton.
+ *   RT_PROF_BROAD   the candidates: BVH refit and traversal against the obstacles, the surface's
+ *                   sort and sweep, the Verlet list's box and distance filter (contact_broad.c,
+ *                   contact_surface.c)
+ *   RT_PROF_NARROW  per stencil: distance, barrier and its PSD projection, the pull into the
+ *                   r x r system, friction, CCD, and the collision vertices' positions (contact.c,
+ *                   contact_friction.c) */
+enum { RT_PROF_BROAD, RT_PROF_NARROW, RT_PROF_PHASES };
+#ifdef ROMRT_PROFILE
+void rt_prof_enter(int phase);
+void rt_prof_leave(int phase);
+#define RT_PROF_BEGIN(phase) rt_prof_enter(phase)
+#define RT_PROF_END(phase) rt_prof_leave(phase)
+#else
+#define RT_PROF_BEGIN(phase) ((void)0)
+#define RT_PROF_END(phase) ((void)0)
+#endif
+
 #endif
