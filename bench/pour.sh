@@ -31,7 +31,7 @@ cpu_per_step() { # romkit asset [args]
     python3 - "$STEPS" "$@" <<'PY'
 import resource, subprocess, sys
 steps = int(sys.argv[1])
-subprocess.run(sys.argv[2:4] + ["--steps", str(steps), "--quiet"] + sys.argv[4:], check=True,
+subprocess.run([sys.argv[2], "run", sys.argv[3], "--steps", str(steps), "--quiet"] + sys.argv[4:], check=True,
                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 u = resource.getrusage(resource.RUSAGE_CHILDREN)
 print("%.1f" % (1e6 * (u.ru_utime + u.ru_stime) / steps))

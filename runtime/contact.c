@@ -41,65 +41,83 @@ romrt_real rt_obstacles_eps(const romrt_model *m, int edge_edge, const int32_t i
 /* Only the columns some stencil row touches take part: a collision vertex's basis row is zero
  * outside its own object's columns (the objects' bases sit side by side, block-diagonal) and, for
  * a skinning basis, outside the handles whose weight reaches it. The stencil's rows are packed to
- * those c columns (cols, ascending) in place; J^T B J is formed on them in a dense c x c block
- * (pair_H, contiguous: it vectorizes) and added into H once. The skipped terms are exact zeros:
- * c^2 n / 2 multiply-adds instead of r^2 n / 2 (a pair between two of 8 objects: c = r / 4), n
- * the rows B does not zero (a point outside the closest feature has none). */
+ * those c columns (cols), a skinning basis's ordered by axis first (column 12 j + 4 a + c to
+ * (a, j, c)): there row (v, a) is non-zero only in axis a's third, a contiguous span. J^T B J is
+ * formed on the packed columns in a dense c x c upper triangle (pair_H: contiguous, it vectorizes),
+ * each row over its span alone, and added into H once. The skipped terms are exact zeros: for a
+ * pair between two of 8 objects' skinning bases c = r / 4, and each row costs c^2 / 6 multiply-adds
+ * on average against r^2 / 2 over all columns. */
 void rt_obstacles_pull(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B, romrt_real *g,
                        romrt_real *H, int ld)
 {
-    int r = m->r, rp = RT_PAD(r), rows[12], kept[12], cols[ROMRT_MAX_R], n = 0, nb = 0, c = 0, cp, k, a, i, j, l;
-    romrt_real *J = m->pair_J, *JB = m->pair_JB, *Hc = m->pair_H;
+    int r = m->r, rp = RT_PAD(r), rows[12], kept[12], lo[12], hi[12], cols[ROMRT_MAX_R], n = 0, nb = 0, c = 0, cp,
+        axes = m->skin > 0 && r == 12 * m->skin ? 3 : 1, k, a, i, j, l;
+    romrt_real *J = m->pair_J, *JB = m->pair_JB, *P = m->pair_H, *Hc;
     for (k = 0; k < 4; k++)
         for (a = 0; a < 3 && id[k] >= 0; a++) {
             rt_row(m, m->cv[id[k]], a, J + (size_t)rp * (3 * k + a));
             rows[n++] = 3 * k + a;
         }
-    for (j = 0; j < r; j++) {
-        for (l = 0; l < n && J[(size_t)rp * rows[l] + j] == 0; l++) continue;
-        if (l < n) cols[c++] = j;
-    }
+    for (a = 0; a < axes; a++)
+        for (j = 0; j < r; j++) {
+            if (axes == 3 && j % 12 / 4 != a) continue;
+            for (l = 0; l < n && J[(size_t)rp * rows[l] + j] == 0; l++) continue;
+            if (l < n) cols[c++] = j;
+        }
     cp = RT_PAD(c);
-    for (l = 0; l < n; l++) { /* pack row l to the columns (cols[i] >= i: in place, left to right) */
-        romrt_real *Jl = J + (size_t)rp * rows[l];
-        for (i = 0; i < c; i++) Jl[i] = Jl[cols[i]];
+    Hc = P + 12 * (size_t)cp;
+    for (l = 0; l < n; l++) { /* row l packed into P's row l, and the span of its non-zeros */
+        const romrt_real *Jl = J + (size_t)rp * rows[l];
+        romrt_real *Pl = P + (size_t)cp * l;
+        lo[l] = c, hi[l] = 0;
+        for (i = 0; i < c; i++) {
+            Pl[i] = Jl[cols[i]];
+            if (Pl[i] != 0) {
+                if (i < lo[l]) lo[l] = i;
+                hi[l] = i + 1;
+            }
+        }
     }
     if (g && gx)
         for (l = 0; l < n; l++) {
-            const romrt_real *Jl = J + (size_t)rp * rows[l];
+            const romrt_real *Pl = P + (size_t)cp * l;
             romrt_real s = gx[rows[l]];
             if (s != 0)
-                for (i = 0; i < c; i++) g[cols[i]] += s * Jl[i];
+                for (i = lo[l]; i < hi[l]; i++) g[cols[i]] += s * Pl[i];
         }
     if (!H || !B) return;
-    /* JB row l = sum_l' B[l][l'] J[l'] for the rows B keeps (their J row in kept[nb]) */
+    /* JB row nb = sum_k B[l][k] J[k] for the rows l that B keeps (kept[nb] = l) */
     for (l = 0; l < n; l++) {
         romrt_real *out = JB + (size_t)rp * nb;
         int any = 0;
         for (i = 0; i < c; i++) out[i] = 0;
         for (k = 0; k < n; k++) {
             romrt_real b = B[12 * rows[l] + rows[k]];
-            const romrt_real *Jk = J + (size_t)rp * rows[k];
+            const romrt_real *Pk = P + (size_t)cp * k;
             if (b != 0)
-                for (i = 0, any = 1; i < c; i++) out[i] += b * Jk[i];
+                for (i = lo[k], any = 1; i < hi[k]; i++) out[i] += b * Pk[i];
         }
-        if (any) kept[nb++] = rows[l];
+        if (any) kept[nb++] = l;
     }
-    /* Hc = J^T JB over its upper triangle, then H += Hc on (cols, cols) */
+    /* Hc = J^T JB over its upper triangle in the packed order, then H += Hc on (cols, cols) */
     for (j = 0; j < c; j++)
         for (i = 0; i <= j; i++) Hc[i + (size_t)cp * j] = 0;
     for (l = 0; l < nb; l++) {
-        const romrt_real *RT_RESTRICT Jl = J + (size_t)rp * kept[l], *Bl = JB + (size_t)rp * l;
-        for (j = 0; j < c; j++) {
+        const romrt_real *RT_RESTRICT Pl = P + (size_t)cp * kept[l], *Bl = JB + (size_t)rp * l;
+        int i0 = lo[kept[l]], i1 = hi[kept[l]];
+        for (j = i0; j < c; j++) {
             romrt_real s = Bl[j], *RT_RESTRICT Hj = Hc + (size_t)cp * j;
+            int end = j + 1 < i1 ? j + 1 : i1;
             if (s != 0)
-                for (i = 0; i <= j; i++) Hj[i] += Jl[i] * s;
+                for (i = i0; i < end; i++) Hj[i] += Pl[i] * s;
         }
     }
     for (j = 0; j < c; j++) {
-        romrt_real *Hj = H + (size_t)ld * cols[j];
         const romrt_real *Hcj = Hc + (size_t)cp * j;
-        for (i = 0; i <= j; i++) Hj[cols[i]] += Hcj[i];
+        for (i = 0; i <= j; i++) {
+            int p = cols[i] < cols[j] ? cols[i] : cols[j], q = cols[i] < cols[j] ? cols[j] : cols[i];
+            H[p + (size_t)ld * q] += Hcj[i];
+        }
     }
 }
 

@@ -229,7 +229,7 @@ struct romrt_model {
     romrt_real *cache_x, *cache_ox; /* ncv x 3, onv x 3: where the candidate pairs were gathered */
     romrt_real *fx0, *fox0;   /* ncv x 3, onv x 3: friction's step start */
     romrt_real *pair_J, *pair_JB; /* 12 rows of RT_PAD(r): a stencil's rows, and its block times them */
-    romrt_real *pair_H;           /* r columns of RT_PAD(r): J^T B J on the stencil's columns alone */
+    romrt_real *pair_H;           /* 12 + r rows of RT_PAD(r): the stencil's rows and J^T B J on its columns */
     int32_t *cand;            /* pair_cap x 5: kind (0 point-triangle, 1 edge-edge), 4 ids */
     int32_t *fric_id;         /* pair_cap x 4: a lagged friction pair's ids */
     romrt_real *fric;         /* pair_cap x 11: its weights (4), tangent basis (6), normal force */
