@@ -13,13 +13,14 @@
 #   old       OLD=dir: that build's romkit (main at c1a2867, built in another directory) on its
 #             own bake of the same scene, CPU seconds per step of romkit run against this
 #             build's romkit run, both measured the same way
-# Writes docs/results/contact_pour.md. Usage: [BUILD=build] [OLD=dir] [REPEATS=5] sh bench/pour.sh [N] [STEPS]
+# Writes bench/results/contact_pour.md (make results-tables puts it in docs/results).
+# Usage: [BUILD=build] [OLD=dir [OLD_NAME=text]] [REPEATS=5] sh bench/pour.sh [N] [STEPS]
 set -e
 BUILD=${BUILD:-build}
 REPEATS=${REPEATS:-5}
 N=${1:-8}
 STEPS=${2:-150}
-OUT=docs/results/contact_pour.md
+OUT=bench/results/contact_pour.md
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 python3 bench/pour_scene.py "$T" "$N"
@@ -101,7 +102,7 @@ PY
     echo
     if [ -n "$OLD" ]; then
         "$OLD/romkit" build "$T/pour.json" -o "$T/old.rombin" --quiet >/dev/null
-        echo "CPU us per step of \`romkit run --steps $STEPS\` (asset load included), old build $OLD against this one."
+        echo "CPU us per step of \`romkit run --steps $STEPS\` (asset load included), old build $OLD${OLD_NAME:+ ($OLD_NAME)} against this one."
         echo
         echo "| Newton | old | new | old / new |"
         echo "|---|---|---|---|"

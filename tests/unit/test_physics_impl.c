@@ -1,8 +1,8 @@
 /* physics_impl.h itself: included here twice more, as float (prefix rkf_) and as a second
  * double copy (prefix rkd_), which also exposes its static helpers (rkd_svd3, rkd_polar3).
- * Checks the eigen-decomposition (Jacobi, and for n > 3 tridiagonal QL against LAPACK), the PSD projection, the signed 3x3 SVD / polar
- * decomposition, that float results match double, and that the second double copy agrees
- * with the library's rk_* functions. */
+ * Checks the eigen-decomposition (Jacobi; for n > 3 tridiagonal QL, against LAPACK), the PSD
+ * projection, the signed 3x3 SVD / polar decomposition, that float results match double, and
+ * that the second double copy agrees with the library's rk_* functions. */
 #include <lapacke.h>
 
 #include "testlib.h"
