@@ -218,11 +218,25 @@ $(BUILD)/bench_newton_modes: bench/bench_newton_modes.c $(call libs_of,$(TOOL_ST
 $(BUILD)/bench_newton_modes_double: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE)
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE) $(LDLIBS)
 
+# The pour's step split into broad phase, narrow phase and Newton (bench/pour.sh): the runtime's
+# sources again with -DROMRT_PROFILE, whose hooks the bench times; the shipped libraries have none.
+$(BUILD)/rt/prof-float/%.o: %.c $(RT_FLAGS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(RT_CFLAGS) -DROMRT_PROFILE -MMD -MP -c $< -o $@
+$(BUILD)/rt/prof-double/%.o: %.c $(RT_FLAGS_STAMP)
+	@mkdir -p $(dir $@)
+	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -DROMRT_PROFILE -MMD -MP -c $< -o $@
+$(BUILD)/bench_pour: bench/bench_pour.c $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
+	$(CC) $(CFLAGS_PC) -o $@ $< $(filter %.o,$^) -lm
+$(BUILD)/bench_pour_double: bench/bench_pour.c $(patsubst %.c,$(BUILD)/rt/prof-double/%.o,$(RT_SRC))
+	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(filter %.o,$^) -lm
+
 # Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).
 $(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
-bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)/bench_newton_modes_double $(BUILD)/ablation_koopman_momentum $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive
+bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)/bench_newton_modes_double $(BUILD)/ablation_koopman_momentum $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive \
+       $(BUILD)/bench_pour $(BUILD)/bench_pour_double
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results
@@ -238,6 +252,7 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)
 	$(BUILD)/bench_adaptive tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/pour.sh
 	@$(MAKE) --no-print-directory bench-plots
 	@$(MAKE) --no-print-directory results-tables
 

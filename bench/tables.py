@@ -109,6 +109,9 @@ ABOUT = {
     "alrom_runtime": ("Adaptive linear ROM in the runtime", "make bench: bench/bench_alrom_runtime.sh",
                       "float32, the armadillo's scenes, r = 16; microseconds per step, median of 7 "
                       "interleaved rounds of 40 steps; the free run's error against full order."),
+    "contact_pour": ("The pour in the runtime: 8 objects into a mesh box (issue 30)", "make bench: bench/pour.sh",
+                     "Contact every frame, CPU us per step split into broad phase, narrow phase and Newton, "
+                     "and the ratio against the old code."),
     "beam_reference": ("How converged the beam's full-order reference is", "make bench-reference: bench/beam_reference.sh",
                        "Full-order runs of the table scenes on box meshes and their 1:8 refinements; "
                        "normalized MSE between consecutive levels."),

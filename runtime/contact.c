@@ -38,46 +38,90 @@ romrt_real rt_obstacles_eps(const romrt_model *m, int edge_edge, const int32_t i
     return edge_edge ? RT_K(1e-3) * rest2(m, id[0], id[1]) * rest2(m, id[2], id[3]) : 0;
 }
 
+/* Only the columns some stencil row touches take part: a collision vertex's basis row is zero
+ * outside its own object's columns (the objects' bases sit side by side, block-diagonal) and, for
+ * a skinning basis, outside the handles whose weight reaches it. The stencil's rows are packed to
+ * those c columns (cols), a skinning basis's ordered by axis first (column 12 j + 4 a + c to
+ * (a, j, c)): there row (v, a) is non-zero only in axis a's third, a contiguous span. J^T B J is
+ * formed on the packed columns in a dense c x c upper triangle (pair_H: contiguous, it vectorizes),
+ * each row over its span alone, and added into H once. The skipped terms are exact zeros: for a
+ * pair between two of 8 objects' skinning bases c = r / 4, and each row costs c^2 / 6 multiply-adds
+ * on average against r^2 / 2 over all columns. */
 void rt_obstacles_pull(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B, romrt_real *g,
                        romrt_real *H, int ld)
 {
-    int r = m->r, rp = RT_PAD(r), rows[12], n = 0, k, a, i, j, l;
-    romrt_real *J = m->pair_J, *JB = m->pair_JB;
+    int r = m->r, rp = RT_PAD(r), rows[12], kept[12], lo[12], hi[12], cols[ROMRT_MAX_R], n = 0, nb = 0, c = 0, cp,
+        axes = m->skin > 0 && r == 12 * m->skin ? 3 : 1, k, a, i, j, l;
+    romrt_real *J = m->pair_J, *JB = m->pair_JB, *P = m->pair_H, *Hc;
     for (k = 0; k < 4; k++)
         for (a = 0; a < 3 && id[k] >= 0; a++) {
             rt_row(m, m->cv[id[k]], a, J + (size_t)rp * (3 * k + a));
             rows[n++] = 3 * k + a;
         }
-    if (g && gx)
-        for (l = 0; l < n; l++) {
-            const romrt_real *Jl = J + (size_t)rp * rows[l];
-            romrt_real s = gx[rows[l]];
-            if (s != 0)
-                for (j = 0; j < r; j++) g[j] += s * Jl[j];
+    for (a = 0; a < axes; a++)
+        for (j = 0; j < r; j++) {
+            if (axes == 3 && j % 12 / 4 != a) continue;
+            for (l = 0; l < n && J[(size_t)rp * rows[l] + j] == 0; l++) continue;
+            if (l < n) cols[c++] = j;
         }
-    if (!H || !B) return;
-    /* JB row l = sum_l' B[l][l'] J[l'], then H += J^T JB over the upper triangle */
-    for (l = 0; l < n; l++) {
-        romrt_real *out = JB + (size_t)rp * l;
-        for (j = 0; j < r; j++) out[j] = 0;
-        for (k = 0; k < n; k++) {
-            romrt_real b = B[12 * rows[l] + rows[k]];
-            const romrt_real *Jk = J + (size_t)rp * rows[k];
-            if (b != 0)
-                for (j = 0; j < r; j++) out[j] += b * Jk[j];
+    cp = RT_PAD(c);
+    Hc = P + 12 * (size_t)cp;
+    for (l = 0; l < n; l++) { /* row l packed into P's row l, and the span of its non-zeros */
+        const romrt_real *Jl = J + (size_t)rp * rows[l];
+        romrt_real *Pl = P + (size_t)cp * l;
+        lo[l] = c, hi[l] = 0;
+        for (i = 0; i < c; i++) {
+            Pl[i] = Jl[cols[i]];
+            if (Pl[i] != 0) {
+                if (i < lo[l]) lo[l] = i;
+                hi[l] = i + 1;
+            }
         }
     }
-    for (l = 0; l < n; l++) {
-        const romrt_real *Jl = J + (size_t)rp * rows[l], *Bl = JB + (size_t)rp * l;
-        for (j = 0; j < r; j++) {
-            romrt_real s = Bl[j];
+    if (g && gx)
+        for (l = 0; l < n; l++) {
+            const romrt_real *Pl = P + (size_t)cp * l;
+            romrt_real s = gx[rows[l]];
             if (s != 0)
-                for (i = 0; i <= j; i++) H[i + (size_t)ld * j] += Jl[i] * s;
+                for (i = lo[l]; i < hi[l]; i++) g[cols[i]] += s * Pl[i];
+        }
+    if (!H || !B) return;
+    /* JB row nb = sum_k B[l][k] J[k] for the rows l that B keeps (kept[nb] = l) */
+    for (l = 0; l < n; l++) {
+        romrt_real *out = JB + (size_t)rp * nb;
+        int any = 0;
+        for (i = 0; i < c; i++) out[i] = 0;
+        for (k = 0; k < n; k++) {
+            romrt_real b = B[12 * rows[l] + rows[k]];
+            const romrt_real *Pk = P + (size_t)cp * k;
+            if (b != 0)
+                for (i = lo[k], any = 1; i < hi[k]; i++) out[i] += b * Pk[i];
+        }
+        if (any) kept[nb++] = l;
+    }
+    /* Hc = J^T JB over its upper triangle in the packed order, then H += Hc on (cols, cols) */
+    for (j = 0; j < c; j++)
+        for (i = 0; i <= j; i++) Hc[i + (size_t)cp * j] = 0;
+    for (l = 0; l < nb; l++) {
+        const romrt_real *RT_RESTRICT Pl = P + (size_t)cp * kept[l], *Bl = JB + (size_t)rp * l;
+        int i0 = lo[kept[l]], i1 = hi[kept[l]];
+        for (j = i0; j < c; j++) {
+            romrt_real s = Bl[j], *RT_RESTRICT Hj = Hc + (size_t)cp * j;
+            int end = j + 1 < i1 ? j + 1 : i1;
+            if (s != 0)
+                for (i = i0; i < end; i++) Hj[i] += Pl[i] * s;
+        }
+    }
+    for (j = 0; j < c; j++) {
+        const romrt_real *Hcj = Hc + (size_t)cp * j;
+        for (i = 0; i <= j; i++) {
+            int p = cols[i] < cols[j] ? cols[i] : cols[j], q = cols[i] < cols[j] ? cols[j] : cols[i];
+            H[p + (size_t)ld * q] += Hcj[i];
         }
     }
 }
 
-romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
+static romrt_real pairs_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
 {
     romrt_real E = 0, gl[12], Hl[144];
     int i, k;
@@ -111,6 +155,15 @@ romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction
     return E;
 }
 
+romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld)
+{
+    romrt_real E;
+    RT_PROF_BEGIN(RT_PROF_NARROW);
+    E = pairs_energy(m, q, friction, g, H, ld);
+    RT_PROF_END(RT_PROF_NARROW);
+    return E;
+}
+
 typedef struct {
     romrt_real alpha;
     int obstacles_move;   /* the obstacles go by odx (the body holds still), else the body by ocdx */
@@ -134,7 +187,7 @@ typedef struct {
 #define CONTACT_FLOOR 1e-3f
 #endif
 
-static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
+static void ccd_stencil(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
 {
     static const romrt_real still[3] = {0, 0, 0};
     ccd_ctx *c = (ccd_ctx *)ctx;
@@ -167,11 +220,20 @@ static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *
     if (RT_PHYS(ccd_stencil)(edge_edge, pts, d, xi, c->alpha, &toi) && toi < c->alpha) c->alpha = toi;
 }
 
+static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx)
+{
+    RT_PROF_BEGIN(RT_PROF_NARROW);
+    ccd_stencil(m, edge_edge, id, ctx);
+    RT_PROF_END(RT_PROF_NARROW);
+}
+
 romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq)
 {
     ccd_ctx c;
     c.alpha = 1, c.obstacles_move = 0;
+    RT_PROF_BEGIN(RT_PROF_NARROW);
     rt_obstacles_positions(m, q, dq);
+    RT_PROF_END(RT_PROF_NARROW);
     rt_obstacles_swept(m, 1, ccd_visit, &c);
     return c.alpha;
 }

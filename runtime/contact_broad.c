@@ -90,6 +90,7 @@ void rt_obstacles_refit(romrt_model *m, int swept)
 {
     int k, i;
     uint32_t j;
+    RT_PROF_BEGIN(RT_PROF_BROAD);
     for (k = 0; k < m->nobs; k++) {
         const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * (size_t)k;
         int root = (int)o[ROMBIN_OBST_ROOT];
@@ -121,6 +122,7 @@ void rt_obstacles_refit(romrt_model *m, int swept)
             }
         }
     }
+    RT_PROF_END(RT_PROF_BROAD);
 }
 
 /* The object's primitive of `size` collision vertices ids (over ocx, and ocx + ocdx when swept):
@@ -255,7 +257,10 @@ int rt_obstacles_gather(romrt_model *m)
     Q.grow = 2 * m->dhat, Q.swept = 0, Q.surface = 1, Q.visit = 0, Q.ctx = 0;
     m->ncand = 0;
     m->cache_valid = 0;
-    if (stencils(m, &Q)) return -1;
+    RT_PROF_BEGIN(RT_PROF_BROAD);
+    i = stencils(m, &Q);
+    RT_PROF_END(RT_PROF_BROAD);
+    if (i) return -1;
     for (i = 0; i < 3 * m->ncv; i++) m->cache_x[i] = m->ocx[i];
     for (i = 0; i < 3 * m->onv; i++) m->cache_ox[i] = m->ox[i];
     m->cache_valid = 1;
@@ -266,5 +271,7 @@ void rt_obstacles_swept(romrt_model *m, int surface, rt_stencil_visit visit, voi
 {
     query Q;
     Q.grow = 0, Q.swept = 1, Q.surface = surface, Q.visit = visit, Q.ctx = ctx;
+    RT_PROF_BEGIN(RT_PROF_BROAD);
     (void)stencils(m, &Q);
+    RT_PROF_END(RT_PROF_BROAD);
 }

@@ -8,7 +8,7 @@
 
 #include "runtime/romrt_impl.h"
 
-void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start)
+static void lag(romrt_model *m, const romrt_real *q, int start)
 {
     int i;
     rt_obstacles_positions(m, q, 0);
@@ -33,6 +33,13 @@ void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start)
         memcpy(m->fric_id + 4 * (size_t)m->nfric, id, 4 * sizeof(int32_t));
         m->nfric++;
     }
+}
+
+void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start)
+{
+    RT_PROF_BEGIN(RT_PROF_NARROW);
+    lag(m, q, start);
+    RT_PROF_END(RT_PROF_NARROW);
 }
 
 romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, int ld)

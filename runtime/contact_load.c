@@ -122,6 +122,7 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, 3 * (size_t)m->ncv, &m->fx0);
     rt_scratch(L, 12 * (size_t)rp, &m->pair_J);
     rt_scratch(L, 12 * (size_t)rp, &m->pair_JB);
+    rt_scratch(L, (size_t)(m->r + 12) * (size_t)rp, &m->pair_H);
     rt_scratch_u32(L, 5 * (size_t)cap, (uint32_t **)(void *)&m->cand);
     rt_scratch_u32(L, 4 * (size_t)cap, (uint32_t **)(void *)&m->fric_id);
     rt_scratch(L, 11 * (size_t)cap, &m->fric);

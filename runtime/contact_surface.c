@@ -138,21 +138,32 @@ static int sweep_one(romrt_model *m, const romrt_real *B, int axis, const uint32
     return 0;
 }
 
-/* The pairs between two runs, each sorted by lower end: whichever starts first is tested against
- * the other run's primitives that start before it ends, then dropped; each overlap once. */
+/* Whether box b (lo 3, hi 3) meets hull h (an object's sstat: lo 3, hi 3). */
+static int meets(const romrt_real *b, const romrt_real *h)
+{
+    return !(b[0] > h[3] || b[3] < h[0] || b[1] > h[4] || b[4] < h[1] || b[2] > h[5] || b[5] < h[2]);
+}
+
+/* The pairs between two runs (objects with hulls ha and hb), each sorted by lower end: whichever
+ * starts first is tested against the other run's primitives that start before it ends, then
+ * dropped; each overlap once. A primitive whose box misses the other object's hull can touch none
+ * of its primitives and is dropped untested (in a pile most of each object is away from each
+ * neighbour, while their runs overlap along any one axis). */
 static int sweep_two(romrt_model *m, const romrt_real *B, int axis, const uint32_t *ord, int a0, int a1, int b0, int b1,
-                     romrt_real grow, rt_stencil_visit visit, void *ctx)
+                     const romrt_real *ha, const romrt_real *hb, romrt_real grow, rt_stencil_visit visit, void *ctx)
 {
     int i = a0, j = b0, k;
     while (i < a1 && j < b1) {
         romrt_real la = B[6 * (size_t)ord[i] + axis], lb = B[6 * (size_t)ord[j] + axis];
         if (la <= lb) {
-            for (k = j; k < b1 && B[6 * (size_t)ord[k] + axis] <= B[6 * (size_t)ord[i] + 3 + axis]; k++)
-                if (test_pair(m, B, ord[i], ord[k], grow, visit, ctx)) return -1;
+            if (meets(B + 6 * (size_t)ord[i], hb))
+                for (k = j; k < b1 && B[6 * (size_t)ord[k] + axis] <= B[6 * (size_t)ord[i] + 3 + axis]; k++)
+                    if (test_pair(m, B, ord[i], ord[k], grow, visit, ctx)) return -1;
             i++;
         } else {
-            for (k = i; k < a1 && B[6 * (size_t)ord[k] + axis] <= B[6 * (size_t)ord[j] + 3 + axis]; k++)
-                if (test_pair(m, B, ord[k], ord[j], grow, visit, ctx)) return -1;
+            if (meets(B + 6 * (size_t)ord[j], ha))
+                for (k = i; k < a1 && B[6 * (size_t)ord[k] + axis] <= B[6 * (size_t)ord[j] + 3 + axis]; k++)
+                    if (test_pair(m, B, ord[k], ord[j], grow, visit, ctx)) return -1;
             j++;
         }
     }
@@ -239,8 +250,11 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
     for (k = 0; k < nobj; k++) {
         int a0 = (int)m->sfirst[k], a1 = (int)m->sfirst[k + 1], o;
         if (m->self_contact && sweep_one(m, B, axis, ord, a0, a1, grow, visit, ctx)) return -1;
-        for (o = k + 1; o < nobj; o++)
-            if (sweep_two(m, B, axis, ord, a0, a1, (int)m->sfirst[o], (int)m->sfirst[o + 1], grow, visit, ctx)) return -1;
+        for (o = k + 1; o < nobj; o++) /* objects whose hulls are apart have no pair */
+            if (meets(S + 10 * (size_t)k, S + 10 * (size_t)o) &&
+                sweep_two(m, B, axis, ord, a0, a1, (int)m->sfirst[o], (int)m->sfirst[o + 1], S + 10 * (size_t)k,
+                          S + 10 * (size_t)o, grow, visit, ctx))
+                return -1;
     }
     return 0;
 }

@@ -230,6 +230,7 @@ struct romrt_model {
     romrt_real *cache_x, *cache_ox; /* ncv x 3, onv x 3: where the candidate pairs were gathered */
     romrt_real *fx0, *fox0;   /* ncv x 3, onv x 3: friction's step start */
     romrt_real *pair_J, *pair_JB; /* 12 rows of RT_PAD(r): a stencil's rows, and its block times them */
+    romrt_real *pair_H;           /* 12 + r rows of RT_PAD(r): the stencil's rows and J^T B J on its columns */
     int32_t *cand;            /* pair_cap x 5: kind (0 point-triangle, 1 edge-edge), 4 ids */
     int32_t *fric_id;         /* pair_cap x 4: a lagged friction pair's ids */
     romrt_real *fric;         /* pair_cap x 11: its weights (4), tangent basis (6), normal force */
@@ -385,5 +386,26 @@ romrt_status rt_fail_n(romrt_error *err, romrt_status status, const char *chunk,
                        const char *text2);
 romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk, const char *text1, uint64_t n,
                         const char *text2, uint64_t n2, const char *text3);
+
+/* Per-phase timing (bench/bench_pour.c, issue 30): the runtime has no clock, so a bench that
+ * compiles the runtime's sources with -DROMRT_PROFILE supplies rt_prof_enter/rt_prof_leave; the
+ * library compiles the hooks to nothing. Phases nest (a CCD visit inside a broad-phase query):
+ * the bench charges each interval to the innermost open phase, and the rest of a step to Newton.
+ *   RT_PROF_BROAD   the candidates: BVH refit and traversal against the obstacles, the surface's
+ *                   sort and sweep, the Verlet list's box and distance filter (contact_broad.c,
+ *                   contact_surface.c)
+ *   RT_PROF_NARROW  per stencil: distance, barrier and its PSD projection, the pull into the
+ *                   r x r system, friction, CCD, and the collision vertices' positions (contact.c,
+ *                   contact_friction.c) */
+enum { RT_PROF_BROAD, RT_PROF_NARROW, RT_PROF_PHASES };
+#ifdef ROMRT_PROFILE
+void rt_prof_enter(int phase);
+void rt_prof_leave(int phase);
+#define RT_PROF_BEGIN(phase) rt_prof_enter(phase)
+#define RT_PROF_END(phase) rt_prof_leave(phase)
+#else
+#define RT_PROF_BEGIN(phase) ((void)0)
+#define RT_PROF_END(phase) ((void)0)
+#endif
 
 #endif

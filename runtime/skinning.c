@@ -32,22 +32,39 @@ static romrt_real wx(const romrt_model *m, uint32_t v, int j, int c)
                 : row0(m, v)[12 * j + c];
 }
 
-/* m->skin_N = N_e, 3 rows (b) of RT_PAD(4 H), zero past 4 H. */
-static void element_N(romrt_model *m, int e)
+/* The handles [*j0, *j1) whose weight reaches one of element e's 4 vertices: outside them every
+ * w_j(v) X̄_c(v) of its vertices is zero, and so are its u and N. With several objects an element
+ * lies in one, whose handles alone reach it (with RKPM's compact kernels, fewer still). */
+static void element_handles(const romrt_model *m, int e, int *j0, int *j1)
+{
+    const uint32_t *ev = m->elem + 5 * (size_t)e;
+    int k, j;
+    *j0 = m->skin, *j1 = 0;
+    for (k = 0; k < 4; k++)
+        for (j = 0; j < m->skin; j++)
+            if (rt_weight(m, ev[k], j) != 0) {
+                if (j < *j0) *j0 = j;
+                if (j + 1 > *j1) *j1 = j + 1;
+            }
+    if (*j1 <= *j0) *j0 = *j1 = 0;
+}
+
+/* m->skin_N = N_e, 3 rows (b) of RT_PAD(4 H), zero outside its handles [j0, j1). */
+static void element_N(romrt_model *m, int e, int j0, int j1)
 {
     const uint32_t *ev = m->elem + 5 * (size_t)e;
     const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
     int H = m->skin, np = RT_PAD(4 * H), j, c, b;
     romrt_real *N = m->skin_N;
-    for (j = 0; j < H; j++)
+    for (b = 0; b < 3; b++)
+        for (j = 0; j < np; j++) N[np * b + j] = 0;
+    for (j = j0; j < j1; j++)
         for (c = 0; c < 4; c++) {
             int x = 4 * j + c;
             romrt_real p0 = wx(m, ev[0], j, c), e1 = wx(m, ev[1], j, c) - p0, e2 = wx(m, ev[2], j, c) - p0,
                        e3 = wx(m, ev[3], j, c) - p0;
             for (b = 0; b < 3; b++) N[np * b + x] = e1 * Dm[b] + e2 * Dm[3 + b] + e3 * Dm[6 + b];
         }
-    for (b = 0; b < 3; b++)
-        for (j = 4 * H; j < np; j++) N[np * b + j] = 0;
 }
 
 /* m->skin_N for integration point p: from its weights and gradients (IPNT). */
@@ -81,18 +98,19 @@ static void point_H(const romrt_model *m, romrt_real Hd[9])
         }
 }
 
-/* F - I of element e: u_{k, a} = B_{v_k, a} q through the weights, then Dm^-1 (as element_H). */
-static void element_H(const romrt_model *m, int e, romrt_real Hd[9])
+/* F - I of element e: u_{k, a} = B_{v_k, a} q through the weights (over its handles [j0, j1):
+ * the rest add exact zeros), then Dm^-1 (as element_H). */
+static void element_H(const romrt_model *m, int e, int j0, int j1, romrt_real Hd[9])
 {
     const uint32_t *ev = m->elem + 5 * (size_t)e;
     const romrt_real *Dm = m->elem_real + 12 * (size_t)e;
-    int H = m->skin, np = RT_PAD(4 * H), k, a, b, c, j;
+    int np = RT_PAD(4 * m->skin), k, a, b, c, j;
     romrt_real u[12];
     for (k = 0; k < 4; k++)
         for (a = 0; a < 3; a++) {
             const romrt_real *Q = m->skin_Q + (size_t)np * a;
             romrt_real s = 0;
-            for (j = 0; j < H; j++)
+            for (j = j0; j < j1; j++)
                 for (c = 0; c < 4; c++) s += wx(m, ev[k], j, c) * Q[4 * j + c];
             u[3 * k + a] = s;
         }
@@ -114,30 +132,48 @@ static void rank3_column(int len, const romrt_real *RT_RESTRICT C0, const romrt_
 }
 
 /* C[b'] = sum_b A[(a, b), (a', b')] N[b] over np entries. */
-static void block_C(int np, const romrt_real *RT_RESTRICT N, const romrt_real *A, int a, int a2, romrt_real w,
-                    romrt_real *RT_RESTRICT C)
+static void block_C(int np, int x0, int x1, const romrt_real *RT_RESTRICT N, const romrt_real *A, int a, int a2,
+                    romrt_real w, romrt_real *RT_RESTRICT C)
 {
     int b2, x;
     for (b2 = 0; b2 < 3; b2++) {
         romrt_real k0 = w * A[9 * (3 * a) + 3 * a2 + b2], k1 = w * A[9 * (3 * a + 1) + 3 * a2 + b2],
                    k2 = w * A[9 * (3 * a + 2) + 3 * a2 + b2];
         romrt_real *RT_RESTRICT Cb = C + (size_t)np * b2;
-        for (x = 0; x < np; x++) Cb[x] = k0 * N[x] + k1 * N[np + x] + k2 * N[2 * np + x];
+        for (x = x0; x < x1; x++) Cb[x] = k0 * N[x] + k1 * N[np + x] + k2 * N[2 * np + x];
     }
 }
 
-/* m->He (3 RT_PAD(4H) square, coordinates ordered (a, j, c)) += G^T (w A) G over its upper blocks. */
-static void element_hessian(romrt_model *m, const romrt_real A[81], romrt_real w)
+/* m->He (3 RT_PAD(4H) square, coordinates ordered (a, j, c)) += G^T (w A) G over its upper blocks,
+ * on the coordinates [x0, x1) where N is non-zero alone (the rest of G is zero). */
+static void element_hessian(romrt_model *m, const romrt_real A[81], romrt_real w, int x0, int x1)
 {
     int np = RT_PAD(4 * m->skin), L = 3 * np, a, a2, y;
     const romrt_real *N = m->skin_N, *C = m->skin_C;
     for (a = 0; a < 3; a++)
         for (a2 = a; a2 < 3; a2++) {
-            block_C(np, N, A, a, a2, w, m->skin_C);
-            for (y = 0; y < 4 * m->skin; y++)
-                rank3_column(a == a2 ? RT_PAD(y + 1) : np, C, C + np, C + 2 * np, N[y], N[np + y], N[2 * np + y],
-                             m->He + (size_t)L * (a2 * np + y) + a * np);
+            block_C(np, x0, x1, N, A, a, a2, w, m->skin_C);
+            for (y = x0; y < x1; y++)
+                rank3_column((a == a2 ? y + 1 : x1) - x0, C + x0, C + np + x0, C + 2 * np + x0, N[y], N[np + y],
+                             N[2 * np + y], m->He + (size_t)L * (a2 * np + y) + a * np + x0);
         }
+}
+
+/* The handles [x0 / 4, x1 / 4) outside which N's 3 rows are zero: with several objects an element
+ * lies in one of them and its weights reach that object's handles only (with RKPM's compact
+ * kernels, fewer still), so its gradient and Hessian need not visit the rest. */
+static void element_span(const romrt_model *m, int *x0, int *x1)
+{
+    int np = RT_PAD(4 * m->skin), lo = 4 * m->skin, hi = 0, x, b;
+    const romrt_real *N = m->skin_N;
+    for (x = 0; x < 4 * m->skin; x++)
+        for (b = 0; b < 3; b++)
+            if (N[np * b + x] != 0) {
+                if (x < lo) lo = x;
+                hi = x + 1;
+            }
+    if (hi <= lo) lo = hi = 0;
+    *x0 = lo / 4 * 4, *x1 = (hi + 3) / 4 * 4;
 }
 
 /* Where coordinate i = 12 j + 4 a + c sits in the (a, j, c) order of m->He. */
@@ -153,18 +189,22 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
         for (i = 0; i < L * L; i++) m->He[i] = 0;
     for (e = 0; e < m->ne + m->np; e++) {
         int point = e >= m->ne;
+        int x0, x1, j0 = 0, j1 = 0;
         romrt_real Hd[9], P[9], A[81], psi,
             w = point ? m->pt[(6 + 4 * (size_t)m->skin) * (size_t)(e - m->ne) + 3] : m->elem_real[12 * (size_t)e + 9];
         if (point) {
             point_N(m, e - m->ne);
             point_H(m, Hd);
-        } else
-            element_H(m, e, Hd);
+        } else {
+            element_handles(m, e, &j0, &j1);
+            element_H(m, e, j0, j1, Hd);
+        }
         psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
         E += w * psi;
         if (!g && !H) continue;
-        if (!point) element_N(m, e);
+        if (!point) element_N(m, e, j0, j1);
+        element_span(m, &x0, &x1);
         rt_element_stress(m, e, Hd, g ? P : 0, H ? A : 0);
         if (g) { /* dE/dA_j[a][c] = w sum_b P_ab N[(j, c), b] */
             for (a = 0; a < 3; a++) {
@@ -172,11 +212,11 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
                 for (b = 0; b < 3; b++) {
                     const romrt_real *Nb = m->skin_N + (size_t)np * b;
                     romrt_real wp = w * P[3 * a + b];
-                    for (x = 0; x < np; x++) gQ[x] += wp * Nb[x];
+                    for (x = x0; x < x1; x++) gQ[x] += wp * Nb[x];
                 }
             }
         }
-        if (H) element_hessian(m, A, w);
+        if (H) element_hessian(m, A, w, x0, x1);
     }
     if (g)
         for (i = 0; i < r; i++) g[i] += m->skin_gQ[block_index(i, np)];

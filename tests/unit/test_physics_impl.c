@@ -1,8 +1,10 @@
 /* physics_impl.h itself: included here twice more, as float (prefix rkf_) and as a second
  * double copy (prefix rkd_), which also exposes its static helpers (rkd_svd3, rkd_polar3).
- * Checks the Jacobi eigen-decomposition, the PSD projection, the signed 3x3 SVD / polar
- * decomposition, that float results match double, and that the second double copy agrees
- * with the library's rk_* functions. */
+ * Checks the eigen-decomposition (Jacobi; for n > 3 tridiagonal QL, against LAPACK), the PSD
+ * projection, the signed 3x3 SVD / polar decomposition, that float results match double, and
+ * that the second double copy agrees with the library's rk_* functions. */
+#include <lapacke.h>
+
 #include "testlib.h"
 #include "physics/physics.h"
 #include "util/util.h"
@@ -401,6 +403,95 @@ TEST(float_jacobi)
         }
 }
 
+/* sym_eig for 3 < n <= 12 (Householder tridiagonalization and implicit QL) against LAPACK's dsyev:
+ * random symmetric matrices, repeated eigenvalues, rank-deficient B B^T, scales of 1e-300 and
+ * 1e300 (no square may under- or overflow), and a NaN in, NaN everywhere out. */
+static const char *against_lapack(int n, const double *A, double tol)
+{
+    double Al[144], wl[12], w[12], V[144];
+    memcpy(Al, A, sizeof(double) * (size_t)(n * n));
+    if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'N', 'U', n, Al, n, wl)) return "dsyev failed";
+    rk_sym_eig(n, A, w, V);
+    double scale = fmax(max_abs(n, wl), 1e-300 * 1e-8);
+    for (int i = 0; i < n; i++)
+        if (!(fabs(w[i] - wl[i]) <= tol * scale)) return "eigenvalues differ from LAPACK's";
+    return check_eig(n, A, w, V, tol);
+}
+
+TEST(sym_eig_tridiagonal_ql_matches_lapack)
+{
+    static const int sizes[] = {4, 6, 9, 12};
+    for (int s = 0; s < 4; s++)
+        for (int trial = 0; trial < 50; trial++) {
+            int n = sizes[s];
+            double A[144];
+            for (int i = 0; i < n; i++)
+                for (int j = 0; j <= i; j++) A[n * i + j] = A[n * j + i] = urand() * 10;
+            if (trial % 5 == 4) /* an already tridiagonal one and one with zero columns */
+                for (int i = 0; i < n; i++)
+                    for (int j = 0; j < n; j++)
+                        if (abs(i - j) > 1 || (trial % 10 == 9 && (i == 1 || j == 1))) A[n * i + j] = 0;
+            const char *msg = against_lapack(n, A, 1e-12);
+            CHECK(!msg, "random n = %d trial %d: %s", n, trial, msg);
+        }
+    /* repeated eigenvalues */
+    static const double spec[][12] = {{-1, -1, -1, 0, 0, 0, 2, 2, 2, 6, 6, 6}, {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1},
+                                      {-3, -3, -3, -3, -3, -3, 5, 5, 5, 5, 5, 5}};
+    for (int c = 0; c < 3; c++) {
+        double Q[144], A[144];
+        rand_orth(12, Q);
+        compose(12, Q, spec[c], A);
+        const char *msg = against_lapack(12, A, 1e-12);
+        CHECK(!msg, "repeated spectrum %d: %s", c, msg);
+    }
+    /* rank-deficient PSD, and the same scaled by 1e-300 and 1e300 */
+    for (int rank = 1; rank <= 9; rank += 4) {
+        double B[144], A[144], As[144], w[12], ws[12], V[144];
+        for (int i = 0; i < 144; i++) B[i] = urand();
+        for (int i = 0; i < 12; i++)
+            for (int j = 0; j < 12; j++) {
+                double t = 0;
+                for (int k = 0; k < rank; k++) t += B[12 * i + k] * B[12 * j + k];
+                A[12 * i + j] = t;
+            }
+        const char *msg = against_lapack(12, A, 1e-12);
+        CHECK(!msg, "rank %d: %s", rank, msg);
+        rk_sym_eig(12, A, w, V);
+        for (int i = 0; i < 12 - rank; i++) CHECK(fabs(w[i]) < 1e-13 * w[11], "rank %d: w[%d] = %g", rank, i, w[i]);
+        for (int e = -300; e <= 300; e += 600) {
+            double f = pow(10, e);
+            for (int i = 0; i < 144; i++) As[i] = A[i] * f;
+            rk_sym_eig(12, As, ws, V);
+            for (int i = 0; i < 12; i++)
+                CHECK(fabs(ws[i] / f - w[i]) <= 1e-12 * w[11], "rank %d scaled 1e%d: w[%d] = %g, want %g", rank, e, i,
+                      ws[i] / f, w[i]);
+            msg = check_eig(12, As, ws, V, 1e-12);
+            CHECK(!msg, "rank %d scaled 1e%d: %s", rank, e, msg);
+        }
+    }
+    /* NaN in, NaN out (w and V) */
+    {
+        double A[81], w[9], V[81];
+        for (int i = 0; i < 81; i++) A[i] = 1;
+        A[40] = NAN;
+        rk_sym_eig(9, A, w, V);
+        for (int i = 0; i < 9; i++) CHECK(isnan(w[i]), "NaN in: w[%d] = %g", i, w[i]);
+        for (int i = 0; i < 81; i++) CHECK(isnan(V[i]), "NaN in: V[%d] = %g", i, V[i]);
+    }
+    /* float: 12 x 12 indefinite, against double */
+    {
+        double Q[144], A[144], w[12], V[144];
+        float Af[144], wf[12], Vf[144];
+        static const double sp[12] = {-7, -2, -2, -1e-3, 0, 0, 0.5, 1, 3, 3, 9, 20};
+        rand_orth(12, Q);
+        compose(12, Q, sp, A);
+        for (int i = 0; i < 144; i++) Af[i] = (float)A[i], A[i] = Af[i];
+        rk_sym_eig(12, A, w, V);
+        rkf_sym_eig(12, Af, wf, Vf);
+        for (int i = 0; i < 12; i++) CHECK(fabs(wf[i] - w[i]) < 2e-5 * 20, "float w[%d] = %g, want %g", i, wf[i], w[i]);
+    }
+}
+
 TEST(second_double_copy_agrees_with_library)
 {
     double Fs[NFP][9];
@@ -434,6 +525,7 @@ int main(void)
     RUN(float_matches_double);
     RUN(float_keeps_small_strains);
     RUN(float_jacobi);
+    RUN(sym_eig_tridiagonal_ql_matches_lapack);
     RUN(second_double_copy_agrees_with_library);
     return test_finish();
 }

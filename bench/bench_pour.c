@@ -1,0 +1,153 @@
+/* A baked asset's runtime step split into broad phase, narrow phase and Newton (issue 30's pour,
+ * bench/pour.sh). Linked against the runtime's sources compiled with -DROMRT_PROFILE (the
+ * Makefile's rt/prof-float and rt/prof-double objects), whose RT_PROF_BEGIN/END hooks call
+ * rt_prof_enter/rt_prof_leave below; the shipped library has no hooks. What each phase covers is
+ * runtime/romrt_impl.h's comment at RT_PROF_PHASES:
+ *   broad   candidates: BVH refit and traversal, the surface's sort and sweep, the Verlet list
+ *   narrow  per stencil: distance, barrier, PSD projection, pull into the r x r system, friction, CCD
+ *   newton  the rest of the step: elastic energy (cubature), inertia, the r x r Cholesky and solve,
+ *           the line search's bookkeeping
+ * Each interval is charged to the innermost open phase (a CCD visit inside a broad query is
+ * narrow), so the three add up to the step. The hooks cost two clock reads per call (a few
+ * percent here): the unprofiled us/step is romkit run's.
+ *
+ * A step is timed by the process's CPU clock (the machine is shared: its wall clock counts other
+ * jobs' time slices), the phases by the monotonic clock, as fractions of the steps' wall time.
+ *
+ * Usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]   (NEWTON > 0: romrt_set_newton_iterations)
+ * Prints one line: cpu_median_us cpu_lo_us cpu_hi_us wall_median_us broad narrow newton iters
+ * (the median over repeats of each repeat's median step, lo/hi the smallest and largest repeat
+ * median; broad, narrow and newton the fractions of the step over all repeats; Newton iterations
+ * per step). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "runtime/romrt.h"
+
+void rt_prof_enter(int phase);
+void rt_prof_leave(int phase);
+
+#define PHASES 2
+#define DEPTH 16
+
+static double phase_s[PHASES], last;
+static int stack[DEPTH], depth;
+
+static double clock_s(clockid_t id)
+{
+    struct timespec t;
+    clock_gettime(id, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static double now(void) { return clock_s(CLOCK_MONOTONIC); }
+
+/* the interval since the last event goes to the innermost open phase (none: Newton's) */
+static void charge(void)
+{
+    double t = now();
+    if (depth > 0) phase_s[stack[depth - 1]] += t - last;
+    last = t;
+}
+
+void rt_prof_enter(int phase)
+{
+    charge();
+    if (depth < DEPTH) stack[depth] = phase;
+    depth++;
+}
+
+void rt_prof_leave(int phase)
+{
+    (void)phase;
+    charge();
+    depth--;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int main(int argc, char **argv)
+{
+    FILE *f;
+    long size;
+    void *asset, *arena;
+    size_t arena_bytes;
+    romrt_error err;
+    int steps, repeats, newton = 0, k, s;
+    double *step_s, *cpu_s, *med, *wmed, total = 0, sum[PHASES] = {0, 0};
+    long iters = 0;
+    if ((argc != 4 && argc != 5) || (steps = atoi(argv[2])) < 1 || (repeats = atoi(argv[3])) < 1 ||
+        (argc == 5 && (newton = atoi(argv[4])) < 0)) {
+        fprintf(stderr, "usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]\n");
+        return 2;
+    }
+    if (!(f = fopen(argv[1], "rb")) || fseek(f, 0, SEEK_END) || (size = ftell(f)) <= 0 || fseek(f, 0, SEEK_SET)) {
+        fprintf(stderr, "bench_pour: cannot read %s\n", argv[1]);
+        return 1;
+    }
+    asset = malloc((size_t)size);
+    if (!asset || fread(asset, 1, (size_t)size, f) != (size_t)size) {
+        fprintf(stderr, "bench_pour: cannot read %s\n", argv[1]);
+        return 1;
+    }
+    fclose(f);
+    if (romrt_arena_size(asset, (size_t)size, &arena_bytes, &err) != ROMRT_OK) {
+        fprintf(stderr, "bench_pour: %s: %s\n", argv[1], err.message);
+        return 1;
+    }
+    arena = malloc(arena_bytes);
+    step_s = malloc(sizeof(double) * (size_t)steps);
+    cpu_s = malloc(sizeof(double) * (size_t)steps);
+    med = malloc(sizeof(double) * (size_t)repeats);
+    wmed = malloc(sizeof(double) * (size_t)repeats);
+    if (!arena || !step_s || !cpu_s || !med || !wmed) return 1;
+    for (k = 0; k < repeats; k++) {
+        romrt_model *m;
+        if (romrt_open(asset, (size_t)size, arena, arena_bytes, &m, &err) != ROMRT_OK) {
+            fprintf(stderr, "bench_pour: %s: %s\n", argv[1], err.message);
+            return 1;
+        }
+        if (newton && romrt_set_newton_iterations(m, newton, &err) != ROMRT_OK) {
+            fprintf(stderr, "bench_pour: %s\n", err.message);
+            return 1;
+        }
+        memset(phase_s, 0, sizeof phase_s);
+        for (s = 0; s < steps; s++) {
+            romrt_step_info info;
+            double c0 = clock_s(CLOCK_PROCESS_CPUTIME_ID), t0 = now();
+            depth = 0, last = t0;
+            if (romrt_step(m, &err) != ROMRT_OK) {
+                fprintf(stderr, "bench_pour: step %d: %s\n", s, err.message);
+                return 1;
+            }
+            step_s[s] = now() - t0;
+            cpu_s[s] = clock_s(CLOCK_PROCESS_CPUTIME_ID) - c0;
+            total += step_s[s];
+            romrt_last_step(m, &info);
+            iters += info.newton_iterations;
+        }
+        for (s = 0; s < PHASES; s++) sum[s] += phase_s[s];
+        med[k] = median(cpu_s, steps);
+        wmed[k] = median(step_s, steps);
+    }
+    {
+        double lo = med[0], hi = med[0], n = (double)steps * repeats;
+        for (k = 1; k < repeats; k++) lo = med[k] < lo ? med[k] : lo, hi = med[k] > hi ? med[k] : hi;
+        printf("%.1f %.1f %.1f %.1f %.3f %.3f %.3f %.2f\n", 1e6 * median(med, repeats), 1e6 * lo, 1e6 * hi,
+               1e6 * median(wmed, repeats), sum[0] / total, sum[1] / total, (total - sum[0] - sum[1]) / total,
+               (double)iters / n);
+    }
+    return 0;
+}

@@ -1,0 +1,121 @@
+#!/bin/sh
+# Issue 30's pour in the runtime: N objects (8 by default: 7 boxes and an octopus, each with its own
+# skinning basis; bench/pour_scene.py) dropped in a loose stack into an open triangle-mesh box,
+# dt = 1/60 s, 150 steps (2.5 s: they pile up). Baked with romkit build in float32 and float64;
+#   contact   romkit run --scene --report every frame: contact.intersections (the exact
+#             segment-triangle test; must be 0) and contact.min_distance (> 0), float and double
+#   cost      bench_pour (the runtime built with -DROMRT_PROFILE): the median CPU us/step over
+#             REPEATS runs of all the steps, its spread (smallest and largest run median), and
+#             the split into broad phase, narrow phase and Newton (bench/bench_pour.c says what
+#             each covers); Newton to the asset's tolerance, and 2 fixed Newton steps per step
+#             (romrt_set_newton_iterations: what an engine's frame budget runs; every step is
+#             still CCD-filtered)
+#   old       OLD=dir: that build's romkit (main at c1a2867, built in another directory) on its
+#             own bake of the same scene, CPU seconds per step of romkit run against this
+#             build's romkit run, both measured the same way
+# Writes bench/results/contact_pour.md (make results-tables puts it in docs/results).
+# Usage: [BUILD=build] [OLD=dir [OLD_NAME=text]] [REPEATS=5] sh bench/pour.sh [N] [STEPS]
+set -e
+BUILD=${BUILD:-build}
+REPEATS=${REPEATS:-5}
+N=${1:-8}
+STEPS=${2:-150}
+OUT=bench/results/contact_pour.md
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+python3 bench/pour_scene.py "$T" "$N"
+"$BUILD/romkit" build "$T/pour.json" -o "$T/f32.rombin" --quiet >/dev/null
+"$BUILD/romkit" build "$T/pour.json" -o "$T/f64.rombin" --quiet --precision float64 >/dev/null
+
+# the CPU seconds per step of `romkit run` (children's user + system time, asset load included)
+cpu_per_step() { # romkit asset [args]
+    python3 - "$STEPS" "$@" <<'PY'
+import resource, subprocess, sys
+steps = int(sys.argv[1])
+subprocess.run([sys.argv[2], "run", sys.argv[3], "--steps", str(steps), "--quiet"] + sys.argv[4:], check=True,
+               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+u = resource.getrusage(resource.RUSAGE_CHILDREN)
+print("%.1f" % (1e6 * (u.ru_utime + u.ru_stime) / steps))
+PY
+}
+
+contact() { # romkit asset tag [args]
+    rk=$1 asset=$2 tag=$3
+    shift 3
+    "$rk" run "$asset" --steps "$STEPS" --scene "$T/pour.json" --report "$T/$tag.json" --quiet "$@" >/dev/null
+    python3 - "$T/$tag.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+c = r["contact"]
+print("%d %d %.3g %.1f %.2f" % (c["intersections"], c["frames"], c["min_distance"], 1e6 * r["seconds_per_step"],
+                                r["newton_iterations"] / r["steps"]))
+PY
+}
+
+{
+    echo "# The pour in the runtime (issue 30)"
+    echo
+    echo "Written by \`sh bench/pour.sh\` ($(date -u +%Y-%m-%d), $(nproc) cores shared, $(uname -m))."
+    echo "$N objects (bench/pour_scene.py: boxes of 2 x 2 x 2 cells in 7 sizes and stiffnesses, and from 8 on"
+    echo "octopus-low scaled to 12 cm; each its own rkpm_skinning basis of size 1, r = $((24 * N)), no cubature)"
+    echo "dropped in two layers into an open box given as a 10-triangle OBJ obstacle; dhat 2 mm,"
+    echo "friction 0.3, dt = 1/60 s, $STEPS steps. One core: the runtime is single-threaded."
+    echo
+    echo "## Contact (romkit run --scene, every frame, the exact segment-triangle test)"
+    echo
+    echo "| build | Newton | intersections | frames | min distance (m) | wall us/step (median) | Newton its/step |"
+    echo "|---|---|---|---|---|---|---|"
+    for p in f32 f64; do
+        rk="$BUILD/romkit"
+        [ $p = f64 ] && rk="$BUILD/romkit-double"
+        set -- $(contact "$rk" "$T/$p.rombin" "$p-conv")
+        echo "| $p | converged | $1 | $2 | $3 | $4 | $5 |"
+        set -- $(contact "$rk" "$T/$p.rombin" "$p-fix2" --newton 2)
+        echo "| $p | 2 fixed | $1 | $2 | $3 | $4 | $5 |"
+    done
+    echo
+    echo "Wall times are the shared machine's (other jobs' time slices count); the table below is CPU time."
+    echo
+    echo "## Step cost and its split (bench_pour, $REPEATS runs of $STEPS steps, CPU time)"
+    echo
+    echo "| build | Newton | us/step (median) | spread (run medians) | steps/s | broad | narrow | Newton | Newton its/step |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    for p in f32 f64; do
+        b="$BUILD/bench_pour"
+        [ $p = f64 ] && b="$BUILD/bench_pour_double"
+        for k in 0 2; do
+            set -- $("$b" "$T/$p.rombin" "$STEPS" "$REPEATS" $k)
+            name=converged
+            [ $k = 2 ] && name="2 fixed"
+            echo "| $p | $name | $1 | $2 - $3 | $(python3 -c "print('%.0f' % (1e6 / $1))") |" \
+                "$(python3 -c "print('%.0f%%' % (100 * $5))") | $(python3 -c "print('%.0f%%' % (100 * $6))") |" \
+                "$(python3 -c "print('%.0f%%' % (100 * $7))") | $8 |"
+        done
+    done
+    echo
+    echo "broad: BVH refit and traversal against the container, the objects' sort and sweep, the"
+    echo "Verlet list's filter. narrow: per stencil distance, barrier, PSD projection, the pull into"
+    echo "the r x r system, friction, CCD. Newton: the rest (elastic energy, inertia, the dense r x r"
+    echo "Cholesky and solve, line search). The median step includes the first steps' free fall."
+    echo
+    echo "## Against the old code"
+    echo
+    if [ -n "$OLD" ]; then
+        "$OLD/romkit" build "$T/pour.json" -o "$T/old.rombin" --quiet >/dev/null
+        echo "CPU us per step of \`romkit run --steps $STEPS\` (asset load included), old build $OLD${OLD_NAME:+ ($OLD_NAME)} against this one."
+        echo
+        echo "| Newton | old | new | old / new |"
+        echo "|---|---|---|---|"
+        for k in 0 2; do
+            a="" name=converged
+            [ $k = 2 ] && a="--newton 2" name="2 fixed"
+            o=$(cpu_per_step "$OLD/romkit" "$T/old.rombin" $a)
+            n=$(cpu_per_step "$BUILD/romkit" "$T/f32.rombin" $a)
+            echo "| $name | $o | $n | $(python3 -c "print('%.2f' % ($o / $n))") |"
+        done
+    else
+        echo "Not measured in this run (OLD=dir names a build of the old code)."
+    fi
+} >"$OUT.tmp"
+mv "$OUT.tmp" "$OUT"
+cat "$OUT"
