@@ -203,6 +203,13 @@ static void model_positions(const rt_fixture *f, double *x)
     free(q), free(qd);
 }
 
+static double seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
 static const romrt_real identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
 
 TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
@@ -228,13 +235,16 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
     double *xa = calloc((size_t)3 * A.sim.mesh.nv, sizeof(double)), *xb = calloc((size_t)3 * B.sim.mesh.nv, sizeof(double));
     double worst = 0, scale = 0, least_a = INFINITY, least_b = INFINITY, lowest = INFINITY, between = INFINITY;
     int cross_a = 0, cross_b = 0, steps = 40, rc = 0;
+    double time_a = 0, time_b = 0;
     for (int k = 0; k < steps && !rc; k++) {
         int c = 0;
         double d = INFINITY;
-        if (romrt_step(A.m, &rerr) != ROMRT_OK || romrt_step(B.m, &rerr) != ROMRT_OK) {
+        double t0 = seconds(), t1;
+        if (romrt_step(A.m, &rerr) != ROMRT_OK || ((t1 = seconds()), romrt_step(B.m, &rerr)) != ROMRT_OK) {
             rc = rk_fail(&err, "step %d: %s", k, rerr.message);
             break;
         }
+        time_a += t1 - t0, time_b += seconds() - t1;
         body_read(&a, A.m), body_read(&b, B.m);
         for (int i = 0; i < 3 * a.n; i++) {
             worst = fmax(worst, fabs(a.x[i] - b.x[i]));
@@ -253,8 +263,9 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
         cross_b += mesh_crossings(&b, &bowl, bowl.X, &least_b);
     }
     printf("# bowl (%s): baked against app mesh %.3g of the largest displacement %.3g m (tol %g); crossings %d / %d;"
-           " least distance %.3g / %.3g m (objects %.3g m); lowest point y = %.4f\n",
-           PRECISION, worst / scale, scale, PARITY_TOL, cross_a, cross_b, least_a, least_b, between, lowest);
+           " least distance %.3g / %.3g m (objects %.3g m); lowest point y = %.4f; %.2f / %.2f ms a step\n",
+           PRECISION, worst / scale, scale, PARITY_TOL, cross_a, cross_b, least_a, least_b, between, lowest,
+           1e3 * time_a / steps, 1e3 * time_b / steps);
     CHECK(rc == 0, "%s", err.msg);
     CHECK(cross_a == 0 && cross_b == 0, "crossings: %d with the baked bowl, %d with the app's", cross_a, cross_b);
     CHECK(least_a > 0 && least_b > 0, "least distance %.3g / %.3g", least_a, least_b);
@@ -274,12 +285,6 @@ static void turn_z(double angle, double *R)
     memcpy(R, M, sizeof M);
 }
 
-static double seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 TEST(a_terrain_swept_up_into_two_objects_never_crosses)
 {
