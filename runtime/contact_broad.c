@@ -156,6 +156,36 @@ void rt_mesh_refit(rt_mesh *M, int swept)
     refit(&V, swept);
 }
 
+int rt_mesh_query(const rt_mesh *M, const romrt_real box[6], int type, int (*visit)(const uint32_t *ids, void *ctx),
+                  void *ctx)
+{
+    bvh_view V;
+    uint32_t stack[STACK];
+    int top = 0;
+    romrt_real ib[6];
+    V.nodes = M->node, V.items = M->item, V.edges = M->edges, V.tris = (const uint32_t *)(const void *)M->tri;
+    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = 0, V.root = 0, V.count = M->nodes, V.base = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        uint32_t i = stack[--top], j;
+        const uint32_t *nd = M->node + 3 * (size_t)i;
+        if (!overlap(box, M->bounds + 6 * (size_t)i)) continue;
+        if (nd[0] == 0) {
+            stack[top++] = nd[1], stack[top++] = nd[2];
+            continue;
+        }
+        for (j = nd[1]; j < nd[1] + nd[2]; j++) {
+            uint32_t it = M->item[j], p[3];
+            if ((int)(it & 3) != type) continue;
+            item_box(&V, it, 0, 0, ib);
+            if (!overlap(box, ib)) continue;
+            item_points(&V, it, p);
+            if (visit(p, ctx)) return 1;
+        }
+    }
+    return 0;
+}
+
 /* The object's primitive of `size` collision vertices ids (over ocx, and ocx + ocdx when swept):
  * its box grown by grow. */
 static void object_box(const romrt_model *m, const uint32_t *ids, int size, romrt_real grow, int swept, romrt_real *b)

@@ -332,10 +332,11 @@ romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err);
  * or contact.self; ROMRT_E_UNSUPPORTED otherwise) and the pairs count against its pair capacity.
  *
  * romrt_set_mesh_collider on a slot holding another collider (or none) places the mesh at the
- * pose (rotation row-major, local to world, orthonormal; position) at once: no surface point of
- * the body may be within touching distance (ROMRT_E_ARGUMENT otherwise; placing a mesh through
- * the body without any vertex-triangle or edge-edge pair touching is not detected: place it
- * clear, then move it). On a slot holding the same mesh it is a move: the next step takes the
+ * pose (rotation row-major, local to world, orthonormal; position) at once: it must not touch
+ * the body's collision surface nor cross it (an edge of either through a triangle of the other,
+ * tested in this precision), ROMRT_E_ARGUMENT otherwise; a body wholly inside a closed mesh, or a
+ * mesh wholly inside the body, is not detected: place it clear, then move it. On a slot holding
+ * the same mesh it is a move: the next step takes the
  * mesh's vertices on straight lines to the new pose in the safe fractions CCD allows with the
  * body still, each followed by a solve that pushes the body ahead (as the scene's scripted
  * obstacles move); where the body cannot give way the mesh stops short (colliders_behind) and

@@ -364,6 +364,10 @@ void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x);
  * built for mesh (mesh_index.c). */
 void rt_mesh_leave(romrt_model *m, int slot);
 int rt_mesh_index_of(const romrt_mesh *mesh);
+/* The mesh's items of `type` (ROMBIN_ITEM_*) whose boxes touch box (over its x): visit(their
+ * local vertex ids); 1 as soon as a visit returns nonzero (contact_broad.c). */
+int rt_mesh_query(const rt_mesh *M, const romrt_real box[6], int type, int (*visit)(const uint32_t *ids, void *ctx),
+                  void *ctx);
 /* A stencil's points at ocx / ox and its thickness and mollifier threshold. */
 void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt_real *pts[4]);
 romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4]);

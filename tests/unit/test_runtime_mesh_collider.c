@@ -399,7 +399,10 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     for (int k = 0; k < 3; k++) touching[k] = shown[k];
     free(shown);
     CHECK(a.X[3 * 12] == 0 && a.X[3 * 12 + 1] == 0 && a.X[3 * 12 + 2] == 0, "vertex 12 is the bowl's centre");
-    REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, touching, identity, &rerr), "touch the body");
+    REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, touching, identity, &rerr), "touch or cross the body");
+    /* the bowl's bottom through the middle of the lower box, no vertex on it: crossing, refused */
+    const romrt_real through[3] = {0, 0.05, 0};
+    REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, through, identity, &rerr), "touch or cross the body");
     romrt_step_info info;
     CHECK(romrt_step(F.m, &rerr) == ROMRT_OK, "a step after the refusal: %s", rerr.message);
     romrt_last_step(F.m, &info);
