@@ -9,6 +9,8 @@
  *    distance stays above 0;
  *  - a 3200-triangle spiky terrain the app sweeps up into the two objects, turning: no crossing
  *    by the exact test in any frame, the objects pushed ahead;
+ *  - a terrain baked rising at 1 m/s (OBMO) and the same terrain as an app mesh moved 1 cm before
+ *    each step: one path (the move rule is the scripted obstacles'), 1e-10 in double;
  *  - bad meshes, indices and poses refused with ROMRT_E_ARGUMENT by name, nothing placed;
  *  - the cost of a 3200- and a 20,000-triangle terrain (index build, a resting step). */
 #include "runtime_fixture.h"
@@ -347,6 +349,62 @@ TEST(a_terrain_swept_up_into_two_objects_never_crosses)
     rt_fixture_close(&F);
 }
 
+/* The move rule is the scripted obstacles': a terrain baked rising at 1 m/s (OBMO's translate) and
+ * the same terrain as an app mesh the app puts 1 cm higher before each step take one path. */
+TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture A, B;
+    app_mesh ter = {0};
+    char path[64], obstacle[200];
+    heightfield(&ter, 20, 0.15, spiky_height);
+    for (int v = 0; v < ter.nv; v++) ter.X[3 * v + 1] -= 0.04, ter.Xr[3 * v + 1] = (romrt_real)ter.X[3 * v + 1];
+    snprintf(path, sizeof path, "/tmp/romkit_rising_%d.obj", (int)getpid());
+    CHECK(write_obj(path, &ter) == 0, "cannot write %s", path);
+    snprintf(obstacle, sizeof obstacle, "{\"mesh\": {\"file\": \"%s\"}, \"translate\": {\"velocity\": [0, 1, 0]}}", path);
+    CHECK_OK(rt_fixture_open(&A, two_boxes(0, obstacle, -9.81), ASSET_REAL, &err, &rerr));
+    CHECK_OK(rt_fixture_open(&B, two_boxes(A.R.model.contact.kappa, "", -9.81), ASSET_REAL, &err, &rerr));
+    remove(path);
+    CHECK(romrt_mesh_index_build(&ter.mesh, &rerr) == ROMRT_OK, "index: %s", rerr.message);
+    romrt_real p[3] = {0, 0, 0};
+    CHECK(romrt_set_mesh_collider(B.m, 1, &ter.mesh, p, identity, &rerr) == ROMRT_OK, "place: %s", rerr.message);
+    body a, b;
+    body_init(&a, A.m), body_init(&b, B.m);
+    double worst = 0, scale = 0, *y = calloc((size_t)3 * ter.nv, sizeof(double)), R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    int steps = 30, rc = 0, crossed = 0, behind = 0;
+    for (int k = 1; k <= steps && !rc; k++) {
+        romrt_step_info info;
+        p[1] = (romrt_real)(0.01 * k);
+        if (romrt_set_mesh_collider(B.m, 1, &ter.mesh, p, identity, &rerr) != ROMRT_OK || romrt_step(A.m, &rerr) != ROMRT_OK ||
+            romrt_step(B.m, &rerr) != ROMRT_OK) {
+            rc = rk_fail(&err, "step %d: %s", k, rerr.message);
+            break;
+        }
+        romrt_last_step(B.m, &info);
+        behind += info.colliders_behind;
+        body_read(&a, A.m), body_read(&b, B.m);
+        for (int i = 0; i < 3 * a.n; i++) {
+            worst = fmax(worst, fabs(a.x[i] - b.x[i]));
+            scale = fmax(scale, fabs(a.x[i] - A.sim.mesh.X[3 * (int)A.vmap[i / 3] + i % 3]));
+        }
+        double shift[3] = {0, (double)p[1], 0};
+        placed(&ter, R, shift, y);
+        crossed += mesh_crossings(&b, &ter, y, NULL);
+    }
+    printf("# terrain rising at 1 m/s (%s): baked (OBMO) against app mesh %.3g of the largest displacement %.3g m"
+           " (tol %g), %d crossings, %d steps behind\n",
+           PRECISION, worst / scale, scale, PARITY_TOL, crossed, behind);
+    CHECK(rc == 0, "%s", err.msg);
+    CHECK(crossed == 0 && behind == 0, "%d crossings, %d steps behind", crossed, behind);
+    CHECK(scale > 0.05, "the terrain should carry the boxes up (largest displacement %.3g m)", scale);
+    CHECK(worst / scale <= PARITY_TOL, "baked and app terrain differ by %.3g of the displacement", worst / scale);
+    body_free(&a), body_free(&b);
+    free(y);
+    app_mesh_free(&ter);
+    rt_fixture_close(&A), rt_fixture_close(&B);
+}
+
 TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
 {
     rk_error err = {{0}};
@@ -484,6 +542,7 @@ int main(void)
 {
     RUN(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing);
     RUN(a_terrain_swept_up_into_two_objects_never_crosses);
+    RUN(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path);
     RUN(bad_meshes_and_poses_are_refused_by_name_and_place_nothing);
     RUN(cost_of_a_3200_and_a_20000_triangle_terrain);
     return test_finish();
