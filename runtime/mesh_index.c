@@ -87,8 +87,7 @@ static void unique_edges(rt_mesh *M, uint64_t *keys)
     M->ne = ne;
 }
 
-/* Item it's centre coordinate a (times its point count: only compared within one kind mix, so
- * the mean's division is kept: sum / n). */
+/* Coordinate a of item it's centre (the mean of its 1 to 3 points, in the mesh's frame). */
 static romrt_real centre(const rt_mesh *M, uint32_t it, int a)
 {
     uint32_t index = it >> 2;
