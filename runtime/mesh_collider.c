@@ -122,6 +122,10 @@ romrt_status romrt_set_mesh_collider(romrt_model *m, int slot, const romrt_mesh 
                        "romrt_set_mesh_collider: the index was not built for this mesh (romrt_mesh_index_build with these "
                        "positions, triangles and counts)");
     M = (rt_mesh *)mesh->index;
+    if (!(k = &m->colliders[slot])->active || k->mesh != M) { /* a placement: the app's arrays checked again */
+        romrt_status st = rt_mesh_check(mesh, 1, err);
+        if (st) return st;
+    }
     for (i = 0; i < ROMRT_MAX_COLLIDERS; i++)
         if (i != slot && m->colliders[i].active && m->colliders[i].mesh == M)
             return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_mesh_collider: the index is placed in slot ", (uint64_t)i,

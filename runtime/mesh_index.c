@@ -164,12 +164,32 @@ static void build_bvh(rt_mesh *M)
     }
 }
 
+romrt_status rt_mesh_check(const romrt_mesh *mesh, int placing, romrt_error *err)
+{
+    const char *vertex = placing ? "romrt_set_mesh_collider: the position of vertex " : "romrt_mesh_index_build: the position of vertex ";
+    const char *triangle = placing ? "romrt_set_mesh_collider: triangle " : "romrt_mesh_index_build: triangle ";
+    int i, k, j;
+    for (i = 0; i < 3 * mesh->vertex_count; i++)
+        if (!isfinite(mesh->positions[i])) return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, vertex, (uint64_t)(i / 3), " is not finite");
+    for (i = 0; i < mesh->triangle_count; i++)
+        for (k = 0; k < 3; k++) {
+            int32_t v = mesh->triangles[3 * (size_t)i + k];
+            if (v < 0 || v >= mesh->vertex_count)
+                return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, triangle, (uint64_t)i, " names a vertex out of range, at corner ",
+                                  (uint64_t)k, "");
+            for (j = 0; j < k; j++)
+                if (mesh->triangles[3 * (size_t)i + j] == v)
+                    return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, triangle, (uint64_t)i, " names one vertex twice");
+        }
+    return ROMRT_OK;
+}
+
 romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err)
 {
     layout L;
     rt_mesh *M;
     unsigned char *base;
-    int i, k, j;
+    romrt_status st;
     if (!mesh || !mesh->positions || !mesh->triangles || !mesh->index)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: no mesh, positions, triangles or index (NULL)");
     if (plan(mesh->vertex_count, mesh->triangle_count, &L))
@@ -182,21 +202,7 @@ romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err)
     if (mesh->index_bytes < L.total)
         return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: the index has ", (uint64_t)mesh->index_bytes,
                           " bytes, romrt_mesh_index_size asks ", (uint64_t)L.total, "");
-    for (i = 0; i < 3 * mesh->vertex_count; i++)
-        if (!isfinite(mesh->positions[i]))
-            return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: the position of vertex ", (uint64_t)(i / 3),
-                             " is not finite");
-    for (i = 0; i < mesh->triangle_count; i++)
-        for (k = 0; k < 3; k++) {
-            int32_t v = mesh->triangles[3 * (size_t)i + k];
-            if (v < 0 || v >= mesh->vertex_count)
-                return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: triangle ", (uint64_t)i,
-                                  " names a vertex out of range, at corner ", (uint64_t)k, "");
-            for (j = 0; j < k; j++)
-                if (mesh->triangles[3 * (size_t)i + j] == v)
-                    return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: triangle ", (uint64_t)i,
-                                     " names one vertex twice");
-        }
+    if ((st = rt_mesh_check(mesh, 0, err))) return st;
     base = (unsigned char *)mesh->index;
     M = (rt_mesh *)mesh->index;
     memset(M, 0, sizeof *M);

@@ -364,6 +364,10 @@ void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x);
  * built for mesh (mesh_index.c). */
 void rt_mesh_leave(romrt_model *m, int slot);
 int rt_mesh_index_of(const romrt_mesh *mesh);
+/* The mesh's positions finite and its triangles' indices in range and distinct: ROMRT_OK, or
+ * ROMRT_E_ARGUMENT naming the vertex or the triangle and corner (and the function: placing or
+ * building). */
+romrt_status rt_mesh_check(const romrt_mesh *mesh, int placing, romrt_error *err);
 /* The mesh's items of `type` (ROMBIN_ITEM_*) whose boxes touch box (over its x): visit(their
  * local vertex ids); 1 as soon as a visit returns nonzero (contact_broad.c). */
 int rt_mesh_query(const rt_mesh *M, const romrt_real box[6], int type, int (*visit)(const uint32_t *ids, void *ctx),

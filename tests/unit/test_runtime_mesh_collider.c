@@ -450,6 +450,14 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     a.mesh.vertex_count--;
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr), "not built");
     a.mesh.vertex_count++;
+    /* the app's arrays changed after the build: checked again when placed */
+    a.Xr[3 * 9 + 2] = (romrt_real)INFINITY;
+    REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr), "romrt_set_mesh_collider: the position of vertex 9");
+    a.Xr[3 * 9 + 2] = (romrt_real)a.X[3 * 9 + 2];
+    int32_t kept = a.T[3 * 2 + 2];
+    a.T[3 * 2 + 2] = -1;
+    REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr), "triangle 2 names a vertex out of range, at corner 2");
+    a.T[3 * 2 + 2] = kept;
     /* the bowl's centre vertex (0, 0, 0) on a vertex of the body: refused, and the slot stays
      * empty (a step is free) */
     romrt_real *shown = calloc((size_t)3 * romrt_shown_count(F.m), sizeof(romrt_real));
