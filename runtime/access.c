@@ -75,6 +75,11 @@ void romrt_reset(romrt_model *m)
     m->hessian_age = -1; /* a kept Newton matrix belongs to the motion it was built in */
     memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
     m->ncolliders = 0;
+    if (m->nmeshes) { /* their pairs go with them */
+        m->nmeshes = 0;
+        m->cache_valid = 0;
+        m->nfric = 0;
+    }
     if (m->kind == ROMRT_KIND_KOOPMAN) rt_koopman_reset(m);
     if (m->alrom) rt_alrom_reset(m);
 }

@@ -31,6 +31,8 @@ romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *
     if (!romrt_takes_colliders(m))
         return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_CVTX,
                        "the asset has no collision vertices (baked with \"colliders\": false or before rombin 1.1)");
+    if (c->kind == ROMRT_COLLIDER_MESH)
+        return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: a mesh is placed by romrt_set_mesh_collider");
     to_shape(c, shape);
     switch (RT_PHYS(collider_check)((int)c->kind, shape)) {
     case 0: break;
@@ -52,6 +54,7 @@ romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *
             return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: it would overlap the body at stored vertex ",
                              m->cv[i], ": place it clear, then move it");
     }
+    if (k->mesh) rt_mesh_leave(m, slot); /* a mesh's slot taken over */
     m->ncolliders += !k->active;
     m->hessian_age = -1; /* a kept Newton matrix lacks the new collider's terms */
     k->active = 1;
@@ -68,6 +71,7 @@ romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err)
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_remove_collider: no model (NULL)");
     if (slot < 0 || slot >= ROMRT_MAX_COLLIDERS)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_remove_collider: slot out of range");
+    if (m->colliders[slot].mesh) rt_mesh_leave(m, slot);
     m->ncolliders -= m->colliders[slot].active;
     m->colliders[slot].active = 0;
     m->hessian_age = -1;
@@ -141,7 +145,7 @@ romrt_real rt_colliders_energy(romrt_model *m, const romrt_real *q, int friction
     int k, i, a;
     for (k = 0; k < ROMRT_MAX_COLLIDERS && isfinite(E); k++) {
         const rt_collider *c = &m->colliders[k];
-        if (!c->active) continue;
+        if (!c->active || c->mesh) continue; /* a mesh's contact is the obstacles' (contact.c) */
         for (i = 0; i < m->ncv && isfinite(E); i++) {
             vertex_terms(m, c, friction, m->cv[i], q, &t);
             E += t.E;
@@ -200,7 +204,7 @@ romrt_real rt_colliders_max_step(romrt_model *m, const romrt_real *y, const romr
             const rt_collider *c = &m->colliders[k];
             romrt_real s;
             int moving = -1;
-            if (!c->active) continue;
+            if (!c->active || c->mesh) continue;
             for (j = 0; j < m->nmoving; j++)
                 if (m->moving[j] == k) moving = j;
             s = moving < 0 ? RT_PHYS(collider_step)(c->kind, c->now, x, dx)
@@ -226,7 +230,8 @@ int rt_colliders_pending(const romrt_model *m)
 {
     int k;
     for (k = 0; k < ROMRT_MAX_COLLIDERS; k++)
-        if (m->colliders[k].active && memcmp(m->colliders[k].now, m->colliders[k].target, sizeof m->colliders[k].now))
+        if (m->colliders[k].active && !m->colliders[k].mesh &&
+            memcmp(m->colliders[k].now, m->colliders[k].target, sizeof m->colliders[k].now))
             return 1;
     return 0;
 }
@@ -239,7 +244,7 @@ void rt_colliders_begin_move(romrt_model *m, const romrt_real *q)
         rt_collider *c = &m->colliders[k];
         romrt_real L = 0;
         int j = m->nmoving;
-        if (!c->active || !memcmp(c->now, c->target, sizeof c->now)) continue;
+        if (!c->active || c->mesh || !memcmp(c->now, c->target, sizeof c->now)) continue;
         m->moving[j] = k;
         memcpy(m->move_from[j], c->now, sizeof c->now);
         /* the path's length at the body: the farthest a collision vertex's spot travels */

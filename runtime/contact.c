@@ -11,25 +11,48 @@
 
 #include "runtime/romrt_impl.h"
 
+romrt_real *rt_obstacle_point(const romrt_model *m, uint32_t o, int which)
+{
+    const rt_mesh *M;
+    if (o < (uint32_t)m->onv) {
+        romrt_real *a = which == RT_AT_NOW ? m->ox : which == RT_AT_MOVE ? m->odx : which == RT_AT_START ? m->fox0 : m->cache_ox;
+        return a + 3 * (size_t)o;
+    }
+    o -= (uint32_t)m->onv;
+    M = m->colliders[o >> RT_MESH_SHIFT].mesh;
+    o &= (1u << RT_MESH_SHIFT) - 1;
+    return (which == RT_AT_NOW ? M->x : which == RT_AT_MOVE ? M->dx : which == RT_AT_START ? M->x0 : M->cache) + 3 * (size_t)o;
+}
+
+const romrt_real *rt_obstacle_rest(const romrt_model *m, uint32_t o)
+{
+    if (o < (uint32_t)m->onv) return m->oX + 3 * (size_t)o;
+    o -= (uint32_t)m->onv;
+    return m->colliders[o >> RT_MESH_SHIFT].mesh->X + 3 * (size_t)(o & ((1u << RT_MESH_SHIFT) - 1));
+}
+
 void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt_real *pts[4])
 {
     int k;
-    for (k = 0; k < 4; k++) pts[k] = id[k] >= 0 ? m->ocx + 3 * (size_t)id[k] : m->ox + 3 * (size_t)(-1 - id[k]);
+    for (k = 0; k < 4; k++)
+        pts[k] = id[k] >= 0 ? m->ocx + 3 * (size_t)id[k] : rt_obstacle_point(m, (uint32_t)(-1 - id[k]), RT_AT_NOW);
 }
 
+/* An app mesh's thickness is 0. */
 romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4])
 {
     int k;
     for (k = 0; k < 4; k++)
-        if (id[k] < 0) return m->obs_xi[4 * (size_t)m->overt_obs[-1 - id[k]]];
+        if (id[k] < 0) return -1 - id[k] < m->onv ? m->obs_xi[4 * (size_t)m->overt_obs[-1 - id[k]]] : 0;
     return 0;
 }
 
-/* |e|^2 of an edge at rest: a collision edge's over VERT, an obstacle edge's over OBVX. */
+/* |e|^2 of an edge at rest: a collision edge's over VERT, an obstacle edge's over OBVX (an app
+ * mesh's in its own frame: the same length). */
 static romrt_real rest2(const romrt_model *m, int32_t a, int32_t b)
 {
-    const romrt_real *p = a >= 0 ? m->X + 3 * (size_t)m->cv[a] : m->oX + 3 * (size_t)(-1 - a);
-    const romrt_real *q = b >= 0 ? m->X + 3 * (size_t)m->cv[b] : m->oX + 3 * (size_t)(-1 - b);
+    const romrt_real *p = a >= 0 ? m->X + 3 * (size_t)m->cv[a] : rt_obstacle_rest(m, (uint32_t)(-1 - a));
+    const romrt_real *q = b >= 0 ? m->X + 3 * (size_t)m->cv[b] : rt_obstacle_rest(m, (uint32_t)(-1 - b));
     return (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
 }
 
@@ -197,7 +220,7 @@ static void ccd_stencil(romrt_model *m, int edge_edge, const int32_t id[4], void
     rt_obstacles_stencil(m, id, pts);
     for (k = 0; k < 4; k++)
         d[k] = id[k] >= 0 ? (c->obstacles_move ? still : m->ocdx + 3 * (size_t)id[k])
-                          : (c->obstacles_move ? m->odx + 3 * (size_t)(-1 - id[k]) : still);
+                          : (c->obstacles_move ? rt_obstacle_point(m, (uint32_t)(-1 - id[k]), RT_AT_MOVE) : still);
     if (CONTACT_FLOOR > 0) {
         /* d(d^2)/dt = 2 n . sum_i w_i dx_i, n = sum_i w_i x_i (the closest points held: their
          * own motion along the features does not change the distance to first order) */
@@ -267,6 +290,7 @@ romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t)
     rt_obstacles_at(m, t);
     m->ox = keep;
     for (i = 0; i < 3 * m->onv; i++) m->odx[i] = m->ox_to[i] - m->ox[i];
+    if (m->nmeshes) rt_meshes_way(m); /* the app meshes' way to their poses, in their dx */
     rt_obstacles_positions(m, q, 0);
     for (i = 0; i < 3 * m->ncv; i++) m->ocdx[i] = 0;
     rt_obstacles_refit(m, 1);
@@ -281,6 +305,7 @@ void rt_obstacles_move(romrt_model *m, double t, romrt_real fraction)
 {
     int i;
     romrt_real *keep = m->ox;
+    if (m->nmeshes) rt_meshes_move(m, fraction);
     if (fraction >= 1) {
         rt_obstacles_at(m, t);
         return;

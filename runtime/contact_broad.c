@@ -9,8 +9,11 @@
  *           then hold every pair within dhat
  *   swept   every stencil whose boxes over a step (x to x + dx, obstacles ox to ox + odx) touch,
  *           handed to CCD as found (nothing stored)
- * Both take the collision surface's stencils against itself from contact_surface.c. */
+ * Both take the collision surface's stencils against itself from contact_surface.c. An app's
+ * mesh collider (mesh_collider.c) is one more obstacle here: its BVH, built into the app's index
+ * in the same layout, traversed by the same code over its world positions. */
 #include <math.h>
+#include <string.h>
 
 #include "runtime/romrt_impl.h"
 
@@ -25,8 +28,37 @@ void rt_obstacles_positions(romrt_model *m, const romrt_real *q, const romrt_rea
     }
 }
 
-/* Item it's obstacle vertices (1 to 3). */
-static int item_points(const romrt_model *m, uint32_t it, uint32_t ids[3])
+/* One obstacle's BVH as the traversal sees it: a baked obstacle's (OBVN, OBIT, OBED, OBTR over ox,
+ * global obstacle vertex ids, base 0) or an app mesh's (its index, local ids, base onv + (slot <<
+ * RT_MESH_SHIFT)); stencil id of its vertex v: -1 - (base + v). */
+typedef struct {
+    const uint32_t *nodes, *items, *edges, *tris;
+    romrt_real *bounds;
+    const romrt_real *x, *dx;
+    romrt_real xi;
+    uint32_t root, count, base;
+    int has_edges, has_tris;
+} bvh_view;
+
+static void baked_view(const romrt_model *m, int k, bvh_view *V)
+{
+    const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * (size_t)k;
+    V->nodes = m->onodes, V->items = m->oitems, V->edges = m->oedges, V->tris = m->otris, V->bounds = m->obounds;
+    V->x = m->ox, V->dx = m->odx, V->xi = m->obs_xi[4 * (size_t)k];
+    V->root = o[ROMBIN_OBST_ROOT], V->count = o[ROMBIN_OBST_NODES], V->base = 0;
+    V->has_edges = o[ROMBIN_OBST_EDGES] != 0, V->has_tris = o[ROMBIN_OBST_TRIANGLES] != 0;
+}
+
+static void mesh_view(const romrt_model *m, int slot, rt_mesh *M, bvh_view *V)
+{
+    V->nodes = M->node, V->items = M->item, V->edges = M->edges, V->tris = (const uint32_t *)(const void *)M->tri;
+    V->bounds = M->bounds, V->x = M->x, V->dx = M->dx, V->xi = 0;
+    V->root = 0, V->count = M->nodes, V->base = (uint32_t)m->onv + ((uint32_t)slot << RT_MESH_SHIFT);
+    V->has_edges = V->has_tris = 1;
+}
+
+/* Item it's vertices (1 to 3), in the view's ids. */
+static int item_points(const bvh_view *V, uint32_t it, uint32_t ids[3])
 {
     uint32_t index = it >> 2;
     switch (it & 3) {
@@ -34,10 +66,10 @@ static int item_points(const romrt_model *m, uint32_t it, uint32_t ids[3])
         ids[0] = index;
         return 1;
     case ROMBIN_ITEM_EDGE:
-        ids[0] = m->oedges[2 * (size_t)index], ids[1] = m->oedges[2 * (size_t)index + 1];
+        ids[0] = V->edges[2 * (size_t)index], ids[1] = V->edges[2 * (size_t)index + 1];
         return 2;
     default:
-        ids[0] = m->otris[3 * (size_t)index], ids[1] = m->otris[3 * (size_t)index + 1], ids[2] = m->otris[3 * (size_t)index + 2];
+        ids[0] = V->tris[3 * (size_t)index], ids[1] = V->tris[3 * (size_t)index + 1], ids[2] = V->tris[3 * (size_t)index + 2];
         return 3;
     }
 }
@@ -68,61 +100,92 @@ static int overlap(const romrt_real *a, const romrt_real *b)
     return !(a[0] > b[3] || a[3] < b[0] || a[1] > b[4] || a[4] < b[1] || a[2] > b[5] || a[5] < b[2]);
 }
 
-/* An obstacle item's box over ox (and ox + odx when swept), grown by grow + its thickness. */
-static void item_box(const romrt_model *m, uint32_t it, romrt_real grow, int swept, romrt_real *b)
+/* An item's box over x (and x + dx when swept), grown by grow + the obstacle's thickness. */
+static void item_box(const bvh_view *V, uint32_t it, romrt_real grow, int swept, romrt_real *b)
 {
     uint32_t ids[3];
-    int n = item_points(m, it, ids), k, a;
+    int n = item_points(V, it, ids), k, a;
     box_empty(b);
     for (k = 0; k < n; k++) {
-        const romrt_real *p = m->ox + 3 * (size_t)ids[k];
+        const romrt_real *p = V->x + 3 * (size_t)ids[k];
         box_add(b, p);
         if (swept) {
             romrt_real e[3];
-            for (a = 0; a < 3; a++) e[a] = p[a] + m->odx[3 * (size_t)ids[k] + a];
+            for (a = 0; a < 3; a++) e[a] = p[a] + V->dx[3 * (size_t)ids[k] + a];
             box_add(b, e);
         }
     }
-    box_grow(b, grow + m->obs_xi[4 * (size_t)m->overt_obs[ids[0]]]);
+    box_grow(b, grow + V->xi);
+}
+
+/* The view's node boxes over x (swept: and x + dx), children before their parents. */
+static void refit(const bvh_view *V, int swept)
+{
+    uint32_t i, j;
+    for (i = V->root + V->count; i-- > V->root;) { /* children after parents */
+        const uint32_t *nd = V->nodes + 3 * (size_t)i;
+        romrt_real *b = V->bounds + 6 * (size_t)i, ib[6];
+        box_empty(b);
+        if (nd[0] == 0) {
+            box_add(b, V->bounds + 6 * (size_t)nd[1]), box_add(b, V->bounds + 6 * (size_t)nd[1] + 3);
+            box_add(b, V->bounds + 6 * (size_t)nd[2]), box_add(b, V->bounds + 6 * (size_t)nd[2] + 3);
+            continue;
+        }
+        for (j = nd[1]; j < nd[1] + nd[2]; j++) {
+            item_box(V, V->items[j], 0, swept, ib);
+            box_add(b, ib), box_add(b, ib + 3);
+        }
+    }
 }
 
 void rt_obstacles_refit(romrt_model *m, int swept)
 {
-    int k, i;
-    uint32_t j;
+    bvh_view V;
+    int k;
     RT_PROF_BEGIN(RT_PROF_BROAD);
     for (k = 0; k < m->nobs; k++) {
-        const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * (size_t)k;
-        int root = (int)o[ROMBIN_OBST_ROOT];
-        for (i = root + (int)o[ROMBIN_OBST_NODES] - 1; i >= root; i--) { /* children after parents */
-            const uint32_t *nd = m->onodes + 3 * (size_t)i;
-            romrt_real *b = m->obounds + 6 * (size_t)i, ib[6];
-            box_empty(b);
-            if (nd[0] == 0) {
-                box_add(b, m->obounds + 6 * (size_t)nd[1]), box_add(b, m->obounds + 6 * (size_t)nd[1] + 3);
-                box_add(b, m->obounds + 6 * (size_t)nd[2]), box_add(b, m->obounds + 6 * (size_t)nd[2] + 3);
-                continue;
-            }
-            for (j = nd[1]; j < nd[1] + nd[2]; j++) {
-                /* the vertices' obstacle is this one (checked at open), so overt_obs is not needed yet */
-                uint32_t ids[3];
-                int n = item_points(m, m->oitems[j], ids), p, a;
-                box_empty(ib);
-                for (p = 0; p < n; p++) {
-                    const romrt_real *x = m->ox + 3 * (size_t)ids[p];
-                    box_add(ib, x);
-                    if (swept) {
-                        romrt_real e[3];
-                        for (a = 0; a < 3; a++) e[a] = x[a] + m->odx[3 * (size_t)ids[p] + a];
-                        box_add(ib, e);
-                    }
-                }
-                box_grow(ib, m->obs_xi[4 * (size_t)k]);
-                box_add(b, ib), box_add(b, ib + 3);
-            }
-        }
+        baked_view(m, k, &V);
+        refit(&V, swept);
     }
     RT_PROF_END(RT_PROF_BROAD);
+}
+
+void rt_mesh_refit(rt_mesh *M, int swept)
+{
+    bvh_view V;
+    V.nodes = M->node, V.items = M->item, V.edges = M->edges, V.tris = (const uint32_t *)(const void *)M->tri;
+    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = 0, V.root = 0, V.count = M->nodes, V.base = 0;
+    refit(&V, swept);
+}
+
+int rt_mesh_query(const rt_mesh *M, const romrt_real box[6], int type, int (*visit)(const uint32_t *ids, void *ctx),
+                  void *ctx)
+{
+    bvh_view V;
+    uint32_t stack[STACK];
+    int top = 0;
+    romrt_real ib[6];
+    V.nodes = M->node, V.items = M->item, V.edges = M->edges, V.tris = (const uint32_t *)(const void *)M->tri;
+    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = 0, V.root = 0, V.count = M->nodes, V.base = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        uint32_t i = stack[--top], j;
+        const uint32_t *nd = M->node + 3 * (size_t)i;
+        if (!overlap(box, M->bounds + 6 * (size_t)i)) continue;
+        if (nd[0] == 0) {
+            stack[top++] = nd[1], stack[top++] = nd[2];
+            continue;
+        }
+        for (j = nd[1]; j < nd[1] + nd[2]; j++) {
+            uint32_t it = M->item[j], p[3];
+            if ((int)(it & 3) != type) continue;
+            item_box(&V, it, 0, 0, ib);
+            if (!overlap(box, ib)) continue;
+            item_points(&V, it, p);
+            if (visit(p, ctx)) return 1;
+        }
+    }
+    return 0;
 }
 
 /* The object's primitive of `size` collision vertices ids (over ocx, and ocx + ocdx when swept):
@@ -172,10 +235,9 @@ int rt_contact_keep(romrt_model *m, int edge_edge, const int32_t id[4], romrt_re
     return 0;
 }
 
-/* Obstacle k's items of `type` whose boxes touch the object primitive's (ids, size): stencils. */
-static int traverse(romrt_model *m, const query *Q, int k, int type, const uint32_t *ids, int size)
+/* The view's items of `type` whose boxes touch the object primitive's (ids, size): stencils. */
+static int traverse(romrt_model *m, const query *Q, const bvh_view *V, int type, const uint32_t *ids, int size)
 {
-    const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * (size_t)k;
     uint32_t stack[STACK];
     int top = 0, a;
     romrt_real ob[6], wide[6], ib[6];
@@ -183,22 +245,23 @@ static int traverse(romrt_model *m, const query *Q, int k, int type, const uint3
     for (a = 0; a < 6; a++) wide[a] = ob[a];
     /* node boxes hold the items' thickness but not grow: the query takes it (and a rounding margin) */
     box_grow(wide, Q->grow + RT_K(1e-6) * (Q->grow + RT_FABS(ob[0]) + RT_FABS(ob[3])));
-    stack[top++] = o[ROMBIN_OBST_ROOT];
+    stack[top++] = V->root;
     while (top > 0) {
         uint32_t i = stack[--top], j;
-        const uint32_t *nd = m->onodes + 3 * (size_t)i;
-        if (!overlap(wide, m->obounds + 6 * (size_t)i)) continue;
+        const uint32_t *nd = V->nodes + 3 * (size_t)i;
+        if (!overlap(wide, V->bounds + 6 * (size_t)i)) continue;
         if (nd[0] == 0) {
             stack[top++] = nd[1], stack[top++] = nd[2];
             continue;
         }
         for (j = nd[1]; j < nd[1] + nd[2]; j++) {
-            uint32_t it = m->oitems[j], p[3];
+            uint32_t it = V->items[j], p[3];
             int32_t id[4];
             if ((int)(it & 3) != type) continue;
-            item_box(m, it, Q->grow, Q->swept, ib);
+            item_box(V, it, Q->grow, Q->swept, ib);
             if (!overlap(ob, ib)) continue;
-            item_points(m, it, p);
+            item_points(V, it, p);
+            for (a = 0; a < 3; a++) p[a] += V->base;
             if (type == ROMBIN_ITEM_TRIANGLE) /* object point, obstacle triangle */
                 id[0] = (int32_t)ids[0], id[1] = -1 - (int32_t)p[0], id[2] = -1 - (int32_t)p[1], id[3] = -1 - (int32_t)p[2];
             else if (type == ROMBIN_ITEM_VERTEX) /* obstacle point, object triangle */
@@ -215,20 +278,34 @@ static int traverse(romrt_model *m, const query *Q, int k, int type, const uint3
     return 0;
 }
 
+/* The object's primitives against one obstacle's BVH. */
+static int against(romrt_model *m, const query *Q, const bvh_view *V)
+{
+    int i;
+    uint32_t v;
+    if (V->has_tris)
+        for (v = 0; v < (uint32_t)m->ncv; v++)
+            if (traverse(m, Q, V, ROMBIN_ITEM_TRIANGLE, &v, 1)) return -1;
+    for (i = 0; i < m->nctri; i++)
+        if (traverse(m, Q, V, ROMBIN_ITEM_VERTEX, m->ctris + 3 * (size_t)i, 3)) return -1;
+    if (V->has_edges)
+        for (i = 0; i < m->ncedge; i++)
+            if (traverse(m, Q, V, ROMBIN_ITEM_EDGE, m->cedges + 2 * (size_t)i, 2)) return -1;
+    return 0;
+}
+
 static int stencils(romrt_model *m, const query *Q)
 {
-    int k, i;
-    uint32_t v;
+    bvh_view V;
+    int k;
     for (k = 0; k < m->nobs; k++) {
-        const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * (size_t)k;
-        if (o[ROMBIN_OBST_TRIANGLES])
-            for (v = 0; v < (uint32_t)m->ncv; v++)
-                if (traverse(m, Q, k, ROMBIN_ITEM_TRIANGLE, &v, 1)) return -1;
-        for (i = 0; i < m->nctri; i++)
-            if (traverse(m, Q, k, ROMBIN_ITEM_VERTEX, m->ctris + 3 * (size_t)i, 3)) return -1;
-        if (o[ROMBIN_OBST_EDGES])
-            for (i = 0; i < m->ncedge; i++)
-                if (traverse(m, Q, k, ROMBIN_ITEM_EDGE, m->cedges + 2 * (size_t)i, 2)) return -1;
+        baked_view(m, k, &V);
+        if (against(m, Q, &V)) return -1;
+    }
+    for (k = 0; k < ROMRT_MAX_COLLIDERS && m->nmeshes; k++) {
+        if (!m->colliders[k].active || !m->colliders[k].mesh) continue;
+        mesh_view(m, k, m->colliders[k].mesh, &V);
+        if (against(m, Q, &V)) return -1;
     }
     return Q->surface ? rt_surface_stencils(m, Q->grow, Q->swept, Q->visit, Q->ctx) : 0;
 }
@@ -237,7 +314,7 @@ static int stencils(romrt_model *m, const query *Q)
 static romrt_real moved_since_cache(const romrt_model *m)
 {
     romrt_real m2 = 0, d2, e;
-    int i, a;
+    int i, a, k;
     for (i = 0; i < m->ncv; i++) {
         for (d2 = 0, a = 0; a < 3; a++) e = m->ocx[3 * (size_t)i + a] - m->cache_x[3 * (size_t)i + a], d2 += e * e;
         if (d2 > m2) m2 = d2;
@@ -246,13 +323,20 @@ static romrt_real moved_since_cache(const romrt_model *m)
         for (d2 = 0, a = 0; a < 3; a++) e = m->ox[3 * (size_t)i + a] - m->cache_ox[3 * (size_t)i + a], d2 += e * e;
         if (d2 > m2) m2 = d2;
     }
+    for (k = 0; k < ROMRT_MAX_COLLIDERS && m->nmeshes; k++) {
+        const rt_mesh *M = m->colliders[k].active ? m->colliders[k].mesh : 0;
+        for (i = 0; M && i < (int)M->nv; i++) {
+            for (d2 = 0, a = 0; a < 3; a++) e = M->x[3 * (size_t)i + a] - M->cache[3 * (size_t)i + a], d2 += e * e;
+            if (d2 > m2) m2 = d2;
+        }
+    }
     return RT_SQRT(m2);
 }
 
 int rt_obstacles_gather(romrt_model *m)
 {
     query Q;
-    int i;
+    int i, k;
     if (m->cache_valid && 2 * moved_since_cache(m) <= m->dhat) return 0;
     Q.grow = 2 * m->dhat, Q.swept = 0, Q.surface = 1, Q.visit = 0, Q.ctx = 0;
     m->ncand = 0;
@@ -263,6 +347,10 @@ int rt_obstacles_gather(romrt_model *m)
     if (i) return -1;
     for (i = 0; i < 3 * m->ncv; i++) m->cache_x[i] = m->ocx[i];
     for (i = 0; i < 3 * m->onv; i++) m->cache_ox[i] = m->ox[i];
+    for (k = 0; k < ROMRT_MAX_COLLIDERS && m->nmeshes; k++) {
+        rt_mesh *M = m->colliders[k].active ? m->colliders[k].mesh : 0;
+        if (M) memcpy(M->cache, M->x, sizeof(romrt_real) * 3 * (size_t)M->nv);
+    }
     m->cache_valid = 1;
     return 0;
 }

@@ -3,7 +3,8 @@
  * and obstacle vertices are recorded (x^t); each lag keeps every pair within dhat with its normal
  * force lambda, closest-point weights w and tangent basis T (pair_friction_lag); the potential
  * is then mu sum_k lambda_k f0(|T_k sum_i w_ki (x_i - x_i^t)|) (friction_slip), its gradient
- * and PSD Hessian pulled through the rows like the barrier's. */
+ * and PSD Hessian pulled through the rows like the barrier's. An app mesh's step start is its
+ * index's x0 (rt_meshes_begin). */
 #include <string.h>
 
 #include "runtime/romrt_impl.h"
@@ -51,8 +52,9 @@ romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, i
         const romrt_real *f = m->fric + 11 * (size_t)k, *w = f, *T = f + 4;
         romrt_real rel[3] = {0, 0, 0}, gt[3], B[9], gx[12], Hx[144];
         for (i = 0; i < 4; i++) {
-            const romrt_real *now = id[i] >= 0 ? m->ocx + 3 * (size_t)id[i] : m->ox + 3 * (size_t)(-1 - id[i]);
-            const romrt_real *then = id[i] >= 0 ? m->fx0 + 3 * (size_t)id[i] : m->fox0 + 3 * (size_t)(-1 - id[i]);
+            const romrt_real *now = id[i] >= 0 ? m->ocx + 3 * (size_t)id[i] : rt_obstacle_point(m, (uint32_t)(-1 - id[i]), RT_AT_NOW);
+            const romrt_real *then =
+                id[i] >= 0 ? m->fx0 + 3 * (size_t)id[i] : rt_obstacle_point(m, (uint32_t)(-1 - id[i]), RT_AT_START);
             for (a = 0; a < 3; a++) rel[a] += w[i] * (now[a] - then[a]);
         }
         E += RT_PHYS(friction_slip)(T, rel, eps, m->mu * f[10], gt, H ? B : 0);

@@ -34,6 +34,7 @@
 #define ROMRT_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -75,6 +76,8 @@ typedef float romrt_real;
 #define romrt_jump                  ROMRT_LINK_NAME(jump)
 #define romrt_last_step             ROMRT_LINK_NAME(last_step)
 #define romrt_max_reduced_size      ROMRT_LINK_NAME(max_reduced_size)
+#define romrt_mesh_index_build      ROMRT_LINK_NAME(mesh_index_build)
+#define romrt_mesh_index_size       ROMRT_LINK_NAME(mesh_index_size)
 #define romrt_model_kind            ROMRT_LINK_NAME(model_kind)
 #define romrt_open                  ROMRT_LINK_NAME(open)
 #define romrt_open_kind             ROMRT_LINK_NAME(open_kind)
@@ -86,6 +89,7 @@ typedef float romrt_real;
 #define romrt_rest_positions        ROMRT_LINK_NAME(rest_positions)
 #define romrt_set_collider          ROMRT_LINK_NAME(set_collider)
 #define romrt_set_damping           ROMRT_LINK_NAME(set_damping)
+#define romrt_set_mesh_collider     ROMRT_LINK_NAME(set_mesh_collider)
 #define romrt_set_newton_iterations ROMRT_LINK_NAME(set_newton_iterations)
 #define romrt_set_hessian_reuse ROMRT_LINK_NAME(set_hessian_reuse)
 #define romrt_set_state             ROMRT_LINK_NAME(set_state)
@@ -307,7 +311,8 @@ typedef enum {
     ROMRT_COLLIDER_PLANE = 0,
     ROMRT_COLLIDER_SPHERE = 1,
     ROMRT_COLLIDER_CAPSULE = 2,
-    ROMRT_COLLIDER_BOX = 3
+    ROMRT_COLLIDER_BOX = 3,
+    ROMRT_COLLIDER_MESH = 4     /* placed by romrt_set_mesh_collider only */
 } romrt_collider_kind;
 typedef struct {
     romrt_collider_kind kind;
@@ -319,6 +324,50 @@ typedef struct {
 } romrt_collider;
 romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *c, romrt_error *err);
 romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err);
+/* Triangle meshes the application owns (level geometry, a paddle) as colliders, in a slot of the
+ * same ROMRT_MAX_COLLIDERS. The runtime copies nothing and allocates nothing: positions (m, in the
+ * mesh's own frame, xyz per vertex), triangles (3 vertex indices each, any orientation, open or
+ * closed) and the index are the app's, and must stay alive and unchanged while the mesh is placed
+ * (until romrt_remove_collider, romrt_reset or another collider in its slot). The index is app
+ * memory of romrt_mesh_index_size bytes (8-byte aligned) that romrt_mesh_index_build fills with
+ * the mesh's edges and a BVH over its vertices, edges and triangles (built once, O(n log n); the
+ * mesh moves rigidly, so only the BVH's boxes are refitted when it moves, O(n)), and in which the
+ * runtime keeps the mesh's world positions while it is placed: one index per placed mesh, not
+ * shared between slots or models, not moved in memory (it points into itself).
+ *
+ * Contact with it is the contact of the scene's baked mesh obstacles (the IPC barrier, friction
+ * and CCD of the asset's collision surface: point-triangle and edge-edge stencils, thickness 0),
+ * so the asset must hold its collision surface (OBHD: baked with mesh obstacles, several objects,
+ * or contact.self; ROMRT_E_UNSUPPORTED otherwise) and the pairs count against its pair capacity.
+ *
+ * romrt_set_mesh_collider on a slot holding another collider (or none) places the mesh at the
+ * pose (rotation row-major, local to world, orthonormal; position) at once: it must not touch
+ * the body's collision surface nor cross it (an edge of either through a triangle of the other,
+ * tested in this precision), ROMRT_E_ARGUMENT otherwise; a body wholly inside a closed mesh, or a
+ * mesh wholly inside the body, is not detected: place it clear, then move it. On a slot holding
+ * the same mesh it is a move: the next step takes the
+ * mesh's vertices on straight lines to the new pose in the safe fractions CCD allows with the
+ * body still, each followed by a solve that pushes the body ahead (as the scene's scripted
+ * obstacles move); where the body cannot give way the mesh stops short (colliders_behind) and
+ * goes on at the next step. A bad pose, a NULL, a count <= 0 or above ROMRT_MESH_MAX_COUNT, a
+ * triangle index out of range or repeated within a triangle, a non-finite position, an index too
+ * small, misaligned or not built for this mesh is refused with ROMRT_E_ARGUMENT naming what and
+ * where, and nothing is placed. */
+#define ROMRT_MESH_MAX_COUNT (1 << 24)
+typedef struct {
+    const romrt_real *positions; /* vertex_count x 3 */
+    const int32_t *triangles;    /* triangle_count x 3 */
+    int vertex_count, triangle_count;
+    void *index;                 /* romrt_mesh_index_size bytes, filled by romrt_mesh_index_build */
+    size_t index_bytes;
+} romrt_mesh;
+/* The bytes of a mesh's index (0 for counts out of range): for a heightfield (half as many
+ * vertices as triangles) about 230 bytes a triangle in float and 365 in double. */
+size_t romrt_mesh_index_size(int vertex_count, int triangle_count);
+/* Validates the mesh and builds its index (mesh->index, mesh->index_bytes). */
+romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err);
+romrt_status romrt_set_mesh_collider(romrt_model *m, int slot, const romrt_mesh *mesh, const romrt_real position[3],
+                                     const romrt_real rotation[9], romrt_error *err);
 /* The ROMRT_MAX_COLLIDERS this library was compiled with; whether the asset takes colliders. */
 int romrt_collider_slots(void);
 int romrt_takes_colliders(const romrt_model *m);

@@ -80,11 +80,29 @@ romrt_real romrt_phys_friction_slip(const romrt_real T[6], const romrt_real rel[
 int romrt_phys_ccd_stencil(int edge_edge, const romrt_real *const x[4], const romrt_real *const dx[4], romrt_real xi,
                            romrt_real tmax, romrt_real *toi);
 
+/* An app's triangle mesh (romrt_mesh): its index, in the app's memory (mesh_index.c), holds the
+ * unique edges, a BVH over the vertices, edges and triangles as the asset's (OBVN's nodes, OBIT's
+ * items, local vertex indices) and the mesh's world positions while placed: x where it is, dx a
+ * move's way (CCD), x0 where it was at the step's start (friction's start, and where a failed step
+ * puts it back), cache where the pairs were gathered. part: x is on the way to the slot's target
+ * pose (a move stopped short), not at its `now` pose. */
+typedef struct {
+    uint32_t magic, nv, nt, ne, nodes, items;
+    const romrt_real *X;
+    const int32_t *tri;
+    uint32_t *edges, *node, *item;
+    romrt_real *bounds, *x, *dx, *x0, *cache;
+    int part, part_start, moving; /* moving: dx holds a move (boxes swept); part_start: part at the step's start */
+} rt_mesh;
+/* Stencil ids of a mesh collider's vertices: obstacle vertex onv + (slot << RT_MESH_SHIFT) + v. */
+#define RT_MESH_SHIFT 24
+
 /* An application's collider slot (as precompute/rom's rk_rom_collider): where it is, where the app
- * wants it, where it was when the step began and when friction was lagged. */
+ * wants it, where it was when the step began and when friction was lagged; a mesh's index. */
 typedef struct {
     int active, kind;
     romrt_real now[RT_COLLIDER_REALS], target[RT_COLLIDER_REALS], start[RT_COLLIDER_REALS], lag[RT_COLLIDER_REALS];
+    rt_mesh *mesh;
 } rt_collider;
 
 /* An adaptive linear ROM's data and state (alrom.c): the basis is rebuilt before every step from the
@@ -236,6 +254,7 @@ struct romrt_model {
     romrt_real *fric;         /* pair_cap x 11: its weights (4), tangent basis (6), normal force */
     int pair_cap, ncand, nfric, cache_valid, obs_overflow;
     double obs_time;          /* the time the obstacles were last put at (NAN: moved part way) */
+    int nmeshes;              /* app meshes placed (colliders of kind ROMRT_COLLIDER_MESH) */
     int alrom;                /* an adaptive linear ROM (ALRH): its data and state in al */
     rt_alrom al;
 };
@@ -327,6 +346,34 @@ int rt_contact_keep(romrt_model *m, int edge_edge, const int32_t id[4], romrt_re
  * with self-contact) whose boxes grown by grow (swept over ocdx) touch: to visit, or (visit NULL)
  * kept by rt_contact_keep; -1 on overflow. */
 int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_visit visit, void *ctx);
+/* Obstacle vertex o (a stencil id -1 - o): a baked one's (o < onv) in the arena, an app mesh's in
+ * its index: where it is (RT_AT_NOW), its move (RT_AT_MOVE), friction's step start (RT_AT_START),
+ * where the pairs were gathered (RT_AT_CACHE); its rest position (mesh frame for an app mesh). */
+enum { RT_AT_NOW, RT_AT_MOVE, RT_AT_START, RT_AT_CACHE };
+romrt_real *rt_obstacle_point(const romrt_model *m, uint32_t o, int which);
+const romrt_real *rt_obstacle_rest(const romrt_model *m, uint32_t o);
+/* App meshes (mesh_collider.c): the step's start recorded / put back; whether one is short of its
+ * pose; a move's way into their dx (CCD), made by `fraction` of it; the BVH boxes refitted. */
+void rt_meshes_begin(romrt_model *m);
+void rt_meshes_abort(romrt_model *m);
+int rt_meshes_pending(const romrt_model *m);
+void rt_meshes_way(romrt_model *m);
+void rt_meshes_move(romrt_model *m, romrt_real fraction);
+void rt_mesh_refit(rt_mesh *M, int swept);
+/* x = R X + p over the mesh's vertices (pose: position 3, rotation 9 row-major). */
+void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x);
+/* Slot's mesh leaves it (removed, reset or replaced): its pairs are dropped; whether an index was
+ * built for mesh (mesh_index.c). */
+void rt_mesh_leave(romrt_model *m, int slot);
+int rt_mesh_index_of(const romrt_mesh *mesh);
+/* The mesh's positions finite and its triangles' indices in range and distinct: ROMRT_OK, or
+ * ROMRT_E_ARGUMENT naming the vertex or the triangle and corner (and the function: placing or
+ * building). */
+romrt_status rt_mesh_check(const romrt_mesh *mesh, int placing, romrt_error *err);
+/* The mesh's items of `type` (ROMBIN_ITEM_*) whose boxes touch box (over its x): visit(their
+ * local vertex ids); 1 as soon as a visit returns nonzero (contact_broad.c). */
+int rt_mesh_query(const rt_mesh *M, const romrt_real box[6], int type, int (*visit)(const uint32_t *ids, void *ctx),
+                  void *ctx);
 /* A stencil's points at ocx / ox and its thickness and mollifier threshold. */
 void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt_real *pts[4]);
 romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4]);

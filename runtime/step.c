@@ -304,7 +304,9 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 
 /* Moving obstacles go to where they are at the step's end in safe moves, each followed by a
  * solve that pushes the body clear (precompute/contact/advance.c, rk_contact_advance, with its
- * constants): as far as CCD lets them go with the body still, all the way once it allows. */
+ * constants): as far as CCD lets them go with the body still, all the way once it allows. The
+ * app's moved meshes go with them (mesh_collider.c); when only they move and the body cannot get
+ * out of their way, they stop short (colliders_behind) rather than fail the step. */
 #define STALL_FRACTION 1e-6
 #define STALL_LIMIT 8
 #define MAX_MOVES 1000
@@ -322,10 +324,12 @@ static romrt_status advance(romrt_model *m, const rt_terms *T, romrt_error *err)
         if ((st = solve(m, T, 0, err))) return st;
         if (last) return ROMRT_OK;
         stalls = alpha < RT_K(STALL_FRACTION) ? stalls + 1 : 0;
+        if (stalls >= STALL_LIMIT && !m->obs_moving) return ROMRT_OK;
         if (stalls >= STALL_LIMIT)
             return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_OBMO,
                            "a moving obstacle cannot go on: the body cannot get out of its way (pinned between obstacles?)");
     }
+    if (!m->obs_moving) return ROMRT_OK;
     return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_OBMO, "a moving obstacle needed more than 1000 safe moves in one step");
 }
 
@@ -404,6 +408,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     if (m->surface) { /* the obstacles where the clock puts them (a reset or a failed step may have moved it) */
         m->obs_overflow = 0;
         if (m->obs_moving) rt_obstacles_at(m, rt_clock(m, 0));
+        if (m->nmeshes) rt_meshes_begin(m);
     }
     /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
     rt_colliders_lag(m, m->qt, 1);
@@ -417,7 +422,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     /* the colliders the app moved, with the body in one solve; then the step's solve; then
      * friction lagged again at the solution until a solve has nothing left to do */
     st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;
-    if (!st) st = m->obs_moving ? advance(m, &T, err) : solve(m, &T, 0, err);
+    if (!st) st = m->obs_moving || (m->nmeshes && rt_meshes_pending(m)) ? advance(m, &T, err) : solve(m, &T, 0, err);
     for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
         int before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
@@ -425,7 +430,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         st = solve(m, &T, 0, err);
         if (m->last.newton_iterations - before <= 1) break;
     }
-    m->last.colliders_behind = rt_colliders_pending(m);
+    m->last.colliders_behind = rt_colliders_pending(m) || (m->nmeshes && rt_meshes_pending(m));
     for (i = 0; i < r && !st; i++) {
         vnew[i] = bdf2 ? (3 * m->q[i] - 4 * m->qt[i] + m->q_prev[i]) / (2 * h) : (m->q[i] - m->qt[i]) / h;
         if (!isfinite(m->q[i]) || !isfinite(vnew[i]))
@@ -442,6 +447,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         int k;
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
         for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) memcpy(m->colliders[k].now, m->colliders[k].start, sizeof m->colliders[k].now);
+        if (m->nmeshes) rt_meshes_abort(m);
         if (m->alrom) rt_alrom_abort(m);
         return st;
     }

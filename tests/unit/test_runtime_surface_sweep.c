@@ -13,6 +13,7 @@
 #include "runtime/contact_broad.c"
 #include "runtime/contact_friction.c"
 #include "runtime/contact_surface.c"
+#include "runtime/mesh_move.c"
 
 #include <stdlib.h>
 
