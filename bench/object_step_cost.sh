@@ -2,7 +2,8 @@
 # The runtime's step cost with several objects (issue 30 part 2), by romkit run's median us/step:
 #   boxes   test_runtime_objects' block of 4 x 4 x 4 cells dropped onto a slab of 8 x 2 x 8 on a
 #           plane (rkpm_skinning, 2 objects), 80 steps
-#   clouds  its two point clouds (a 11 x 3 x 11 slab, a 5 x 5 x 5 block 4 cm apart; voxel proxies)
+#   clouds  its two point clouds (a 11 x 3 x 11 slab, a 5 x 5 x 5 block 4 cm apart; each colliding
+#           through its contact surface, rk_points_proxy)
 # Each build bakes its own asset (an older build writes 1.5's sphere proxies, CRAD, which a newer
 # one refuses), float32 (romkit) and float64 (romkit-double). BUILD names the build (build by
 # default): run it once with the old build's directory and once with this one's.

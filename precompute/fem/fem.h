@@ -51,10 +51,14 @@ typedef struct {
 /* mats: nt materials (one per element). Fails on non-positive volume (the mesh must be
  * checked), nonsense parameters (E <= 0, nu outside (-1, 0.5), density <= 0, non-finite). */
 int rk_fem_init(rk_fem *f, const rk_mesh *m, const rk_material *mats, rk_error *err);
-/* A model with vertices and no element (a point cloud, whose elastic energy and mass a mesh-free
- * quadrature integrates): the vertices' lumped masses as given (>= 0: they weigh loads and
- * pins), the ghost tets kept for the boundary (a contact proxy), every matrix diagonal. */
-int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const double *vertex_mass, rk_error *err);
+/* A model whose vertices need not belong to an element: point clouds (whose elastic energy and
+ * mass a mesh-free quadrature integrates), alone or beside tet meshes in one scene. The m->nt
+ * elements (mats: their materials, NULL when there is none) as rk_fem_init; each vertex's lumped
+ * mass is its elements' plus vertex_mass[v] (>= 0: a cloud's points weigh loads and pins; its
+ * contact surface's vertices weigh nothing); the ghost tets kept for the boundary (a contact
+ * surface). */
+int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const rk_material *mats, const double *vertex_mass,
+                       rk_error *err);
 void rk_fem_free(rk_fem *f);
 
 /* A zeroed matrix with the fem pattern (shares nothing: its own arrays). */

@@ -51,9 +51,6 @@ static int init_elements(rk_fem *f, const rk_material *mats, rk_error *err)
         double quarter = 0.25 * mats[t].density * vol;
         for (int a = 0; a < 4; a++) f->vertex_mass[v[a]] += quarter;
     }
-    for (int v = 0; v < f->nv; v++)
-        if (!(f->vertex_mass[v] > 0)) /* would make the mass matrix singular */
-            return rk_fail(err, "vertex %d belongs to no element", v);
     return 0;
 }
 
@@ -72,20 +69,27 @@ int rk_fem_init(rk_fem *f, const rk_mesh *m, const rk_material *mats, rk_error *
         rk_fem_free(f);
         return -1;
     }
+    for (int v = 0; v < f->nv; v++)
+        if (!(f->vertex_mass[v] > 0)) { /* would make the mass matrix singular */
+            rk_fem_free(f);
+            return rk_fail(err, "vertex %d belongs to no element", v);
+        }
     return 0;
 }
 
-int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const double *vertex_mass, rk_error *err)
+int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const rk_material *mats, const double *vertex_mass, rk_error *err)
 {
     memset(f, 0, sizeof *f);
-    if (m->nv <= 0 || m->nt != 0)
-        return rk_fail(err, "point model: %d vertices and %d elements; needs vertices and no element", m->nv, m->nt);
+    if (m->nv <= 0 || m->nt < 0 || (m->nt > 0 && !mats))
+        return rk_fail(err, "point model: %d vertices and %d elements%s", m->nv, m->nt,
+                       m->nt > 0 && !mats ? " given without their materials" : "");
     f->nv = m->nv;
+    f->nt = m->nt;
     f->X = m->X;
     f->tets = m->tets;
     f->nghost = m->nghost;
     f->ghost = m->ghost;
-    if (alloc_arrays(f, err) || rk_fem_build_pattern(f, err)) {
+    if (alloc_arrays(f, err) || init_elements(f, mats, err) || rk_fem_build_pattern(f, err)) {
         rk_fem_free(f);
         return -1;
     }
@@ -94,7 +98,7 @@ int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const double *vertex_mass, r
             rk_fem_free(f);
             return rk_fail(err, "point model: vertex %d has mass %g", v, vertex_mass[v]);
         }
-        f->vertex_mass[v] = vertex_mass[v];
+        f->vertex_mass[v] += vertex_mass[v];
     }
     return 0;
 }

@@ -62,29 +62,32 @@ int rk_mesh_boundary(const rk_mesh *m, int **tris, int *nf, rk_error *err)
     tet_face *f = sorted_faces(m, 1, &n, err);
     if (!f) return -1;
     int *out = rk_calloc(n * 3, sizeof *out, err);
-    if (!out) {
-        free(f);
+    char *in_tet = rk_calloc((size_t)m->nv + 1, 1, err); /* vertices of a (real) tet */
+    if (!out || !in_tet) {
+        free(f), free(out), free(in_tet);
         return -1;
     }
+    for (size_t k = 0; k < 4 * (size_t)m->nt; k++) in_tet[m->tets[k]] = 1;
     int count = 0;
     for (size_t i = 0; i < n;) {
         size_t j = i + 1;
         while (j < n && by_key(&f[i], &f[j]) == 0) j++;
         if (j - i > 2) {
             int a = f[i].key[0], b = f[i].key[1], c = f[i].key[2];
-            free(f);
-            free(out);
+            free(f), free(out), free(in_tet);
             return rk_fail(err, "face (%d, %d, %d) is shared by %zu tets (a mesh face joins at most 2)", a, b, c, j - i);
         }
-        /* a ghost's face is never the body's, except in a body of ghosts only: a point cloud's
-         * contact proxy (rk_points_proxy), whose surface they are */
-        if (j - i == 1 && (f[i].tet < m->nt || m->nt == 0)) {
+        /* a ghost's face is never the body's (a dropped sliver's, among tets), except in a body of
+         * ghosts only, no vertex of which a tet holds: a point cloud's contact surface
+         * (rk_points_proxy), alone or beside meshes in one scene */
+        const int *tri = f[i].tri;
+        if (j - i == 1 && (f[i].tet < m->nt || !(in_tet[tri[0]] || in_tet[tri[1]] || in_tet[tri[2]]))) {
             for (int k = 0; k < 3; k++) out[3 * (size_t)count + k] = f[i].tri[k];
             count++;
         }
         i = j;
     }
-    free(f);
+    free(f), free(in_tet);
     *tris = out;
     *nf = count;
     return 0;

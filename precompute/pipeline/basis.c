@@ -112,12 +112,12 @@ static int rkpm_scene(const rk_scene *scene, const rk_scene_sim *sim, const rk_b
     return rk_basis_join(parts, n, sim->object_first_vertex, sim->mesh.X, sim->mesh.nv, b, err);
 }
 
-/* A point cloud's RKPM skinning basis (every object a point cloud). */
+/* The RKPM skinning basis of a scene with point clouds (meshes beside them, each object its own). */
 static int rkpm_on_points(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, rk_basis *b,
                           rk_scene_basis_info *info, rk_error *err)
 {
     if (o->type != RK_BASIS_RKPM_SKINNING)
-        return rk_fail(err, "%s: objects[0] is a point cloud: only basis rkpm_skinning works without "
+        return rk_fail(err, "%s: the scene holds a point cloud: only basis rkpm_skinning works without "
                        "a mesh, not %s", scene->path, rk_basis_type_name(o->type));
     if (o->size == 0)
         return rk_fail(err, "%s: rom.tolerance needs full-order frames, and a point cloud has no mesh "
@@ -192,7 +192,7 @@ int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basi
     info->projection_error = info->projection_error_below = NAN;
     info->kernels = o->type == RK_BASIS_RKPM_SKINNING ? o->kernels : 0; /* (a cloud's: cloud_kernels) */
     double t0 = rk_now();
-    if (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS) {
+    if (rk_scene_clouds(scene) > 0) {
         int rc = rkpm_on_points(scene, sim, o, b, info, err);
         info->seconds_basis = rk_now() - t0;
         return rc;

@@ -25,12 +25,14 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
     case RK_SHAPE_BOX:
         return rk_mesh_box(o->box_size, o->box_cells, m, err);
     case RK_SHAPE_POINTS: {
-        /* the cloud's points first, in file order, then the corners of its contact proxy (ghost tets) */
+        /* the cloud's points first, in file order, then its contact surface's vertices (ghost tets) */
         double *X = NULL;
         int n = 0;
         if (rk_points_load(o->file, &X, &n, err)) return -1;
-        /* voxels no finer than twice the points' typical spacing (rk_rkpm_sample_cloud's occupancy
-         * voxel), so that neighbouring points' voxels touch and the union has no holes */
+        /* the spacing of the cloud's RKPM sampling (twice the points' median spacing: its
+         * occupancy voxel), so that neighbouring points' balls of radius g / 2 overlap and the
+         * surface around them has no holes; no finer than 1/RK_PROXY_VOXELS of the cloud's
+         * diagonal, which bounds the surface's triangles (a dense capture's spacing is tiny) */
         double g = o->proxy_voxel / o->scale;
         if (!(g > 0)) {
             rk_rkpm_points occupancy;
@@ -119,6 +121,13 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])
     for (int r = 0; r < o->nregions; r++)
         if (rk_box_contains(&o->regions[r].box, p, 0)) m = o->regions[r].material;
     return m;
+}
+
+int rk_scene_clouds(const rk_scene *s)
+{
+    int clouds = 0;
+    for (int k = 0; k < s->nobjects; k++) clouds += s->objects[k].shape == RK_SHAPE_POINTS;
+    return clouds;
 }
 
 static void assign_materials(const rk_scene *s, rk_scene_sim *out)
@@ -257,14 +266,16 @@ static int build_obstacles(const rk_scene *s, rk_scene_sim *out, double diag, rk
     return 0;
 }
 
-/* Point clouds' model: no elements (a mesh-free entry integrates their energy and mass), each
- * object's n points weighing rho V / n with V its occupancy volume (rk_rkpm_sample_cloud), which the
- * penalty of pins and the scene's loads go by; the proxies' corners weigh nothing. */
+/* The model of a scene with point clouds: the meshes' tets as elements (rk_fem_init's masses), each
+ * cloud's n points weighing rho V / n with V its occupancy volume (rk_rkpm_sample_cloud), which the
+ * penalty of pins and the scene's loads go by; a cloud's contact surface weighs nothing (a
+ * mesh-free entry integrates the clouds' energy and mass). */
 static int cloud_fem(const rk_scene *s, rk_scene_sim *out, rk_error *err)
 {
     double *mass = rk_calloc((size_t)out->mesh.nv, sizeof(double), err);
     if (!mass) return -1;
     for (int k = 0; k < s->nobjects; k++) {
+        if (s->objects[k].shape != RK_SHAPE_POINTS) continue;
         rk_rkpm_points pts;
         int v0 = out->object_first_vertex[k], n = out->object_points[k];
         if (rk_rkpm_sample_cloud(out->mesh.X + 3 * (size_t)v0, n, n, &pts, err)) {
@@ -275,7 +286,7 @@ static int cloud_fem(const rk_scene *s, rk_scene_sim *out, rk_error *err)
             mass[v] = rk_scene_material_at(&s->objects[k], out->mesh.X + 3 * (size_t)v).density * pts.volume / n;
         rk_rkpm_points_free(&pts);
     }
-    int rc = rk_fem_init_points(&out->fem, &out->mesh, mass, err);
+    int rc = rk_fem_init_points(&out->fem, &out->mesh, out->materials, mass, err);
     free(mass);
     return rc;
 }
@@ -286,13 +297,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->object_first_vertex = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     out->object_first_tet = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     if (!out->object_first_vertex || !out->object_first_tet) goto fail;
-    int clouds = 0;
-    for (int k = 0; k < s->nobjects; k++) clouds += s->objects[k].shape == RK_SHAPE_POINTS;
-    if (clouds && clouds < s->nobjects) {
-        rk_fail(err, "%s: point clouds and meshes in one scene are not supported yet: %d of its %d objects are clouds",
-                s->path, clouds, s->nobjects);
-        goto fail;
-    }
+    int clouds = rk_scene_clouds(s);
     if (clouds && !(out->object_points = rk_calloc((size_t)s->nobjects, sizeof(int), err))) goto fail;
     rk_mesh_report repaired = {0}; /* what the objects' own checks changed */
     for (int k = 0; k < s->nobjects; k++) {
@@ -319,7 +324,8 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     }
     /* Each object was checked (and its flat tets dropped) on its own, before its vertices were
      * numbered in the scene: this check of the whole measures it and drops nothing, which would
-     * renumber the vertices the objects own. A point cloud has no tets to check. */
+     * renumber the vertices the objects own. A point cloud has no tets to check, and its points
+     * belong to none: a scene with a cloud is not checked whole (each mesh was, on its own). */
     int cloud = clouds > 0;
     if (!cloud && rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) goto fail;
     out->mesh_report.reoriented += repaired.reoriented;

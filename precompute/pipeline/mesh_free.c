@@ -13,8 +13,8 @@
 static int sample(const rk_scene_object *obj, const rk_object_view *ov, const rk_mesh_free_options *o,
                   rk_rkpm_points *pts, rk_error *err)
 {
-    if (obj->shape == RK_SHAPE_POINTS) {
-        if (o->sampling != RK_SAMPLING_CLOUD)
+    if (obj->shape == RK_SHAPE_POINTS) { /* (its own points whatever a scene with meshes samples them by) */
+        if (o->sampling_given && o->sampling != RK_SAMPLING_CLOUD)
             return rk_fail(err, "a point cloud has no inside to sample a grid or random points in; mesh_free.sampling "
                            "must be cloud");
         return rk_rkpm_sample_cloud(ov->mesh.X, ov->points, o->points, pts, err);

@@ -75,9 +75,10 @@ typedef struct {
     double quality;        /* surface meshes: tetgen radius-edge bound */
     double max_volume;     /* surface meshes: tetgen volume bound (m^3), 0 = none */
     int refine;            /* uniform 1:8 refinements of the tets (rk_mesh_refine), 0 = none */
-    double proxy_voxel;    /* point cloud: voxel edge (m) of its contact proxy (rk_points_proxy);
-                            * 0: 1/RK_PROXY_VOXELS of the cloud's bounding-box diagonal, or twice
-                            * the points' median spacing where that is more */
+    double proxy_voxel;    /* point cloud: the spacing g (m) of its contact surface (rk_points_proxy:
+                            * g / 2 from the points); 0: 1/RK_PROXY_VOXELS of the cloud's
+                            * bounding-box diagonal, or the spacing its RKPM sampling uses (twice
+                            * the points' median spacing) where that is more */
     rk_material material;
     int nregions;
     rk_scene_region *regions;
@@ -180,11 +181,15 @@ int rk_scene_entry(const rk_scene *s, int k, const rk_rom_entry **out, rk_error 
  * holds p (for elements, p is the centroid; for point clouds, the point). */
 rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
 
+/* How many of the scene's objects are point clouds (mesh.points); the others are tet meshes, and
+ * one scene may hold both. */
+int rk_scene_clouds(const rk_scene *s);
+
 /* ---- the built scene (build.c) ---- */
 
 /* A scene built into something to simulate. Objects are concatenated into one mesh;
  * object_first_vertex[k] / object_first_tet[k] say where object k starts. */
-/* A point cloud's default contact-proxy voxel: this fraction of its bounding-box diagonal. */
+/* A point cloud's contact-surface spacing at least: this fraction of its bounding-box diagonal. */
 #define RK_PROXY_VOXELS 40
 
 typedef struct {
@@ -202,7 +207,7 @@ typedef struct {
     int *object_first_tet;    /* nobjects + 1 */
     int cloud_points;         /* point-cloud objects: how many points they have in all; each object's
                                * points are its first vertices, in file order, the rest its contact
-                               * proxy's corners (rk_points_proxy); 0 for meshes */
+                               * surface's (rk_points_proxy); 0 for meshes */
     int *object_points;       /* nobjects: each point-cloud object's points (NULL for meshes) */
 } rk_scene_sim;
 

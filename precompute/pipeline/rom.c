@@ -140,7 +140,6 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     opt.pin_stiffness = o->pin_stiffness;
     int mesh_free = rk_scene_mesh_free(scene, o);
     rk_mesh_free_options mfo = o->mesh_free;
-    if (mesh_free && scene->objects[0].shape == RK_SHAPE_POINTS && !mfo.sampling_given) mfo.sampling = RK_SAMPLING_CLOUD;
     if ((mesh_free && (rk_scene_mesh_free_points(scene, sim, &mfo, &R->basis, &R->points, err) ||
                        rk_quadrature_points(&R->points, R->points.n, NULL, NULL, &exact, err))) ||
         (!mesh_free && rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, sim->mesh.nt, NULL, NULL, &exact, err)) ||
@@ -176,7 +175,7 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
 
 int rk_scene_mesh_free(const rk_scene *scene, const rk_rom_entry *o)
 {
-    return o->mesh_free.enabled || (scene->nobjects >= 1 && scene->objects[0].shape == RK_SHAPE_POINTS);
+    return o->mesh_free.enabled || rk_scene_clouds(scene) > 0;
 }
 
 void rk_scene_rom_free(rk_scene_rom *R)

@@ -51,8 +51,17 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
     if (co.kappa == 0) {
         double g = sqrt(opt->gravity[0] * opt->gravity[0] + opt->gravity[1] * opt->gravity[1] +
                         opt->gravity[2] * opt->gravity[2]);
-        /* the average vertex's weight; a point cloud's mass sits on its contact proxy's surface */
-        int carriers = fem->nt == 0 && nc > 0 ? nc : fem->nv;
+        /* the average vertex's weight, over the vertices that carry the bodies: a mesh's (those of
+         * its tets), and a point cloud's contact surface, on which its mass sits (not its many
+         * points: beside a mesh they made the slab's weight look 20 times lighter than it is, and
+         * the float runtime stalled with it pressed to 3e-3 dhat of its plane) */
+        int carriers = 0;
+        char *in_tet = rk_calloc((size_t)fem->nv + 1, 1, err);
+        if (!in_tet) return -1;
+        for (size_t k = 0; k < 4 * (size_t)fem->nt; k++) in_tet[fem->tets[k]] = 1;
+        for (int v = 0; v < fem->nv; v++) carriers += in_tet[v] || m->cv_of[v] >= 0;
+        free(in_tet);
+        if (carriers == 0) carriers = fem->nv;
         co.kappa = rk_contact_holding_kappa(co.dhat, m->mass / carriers * fmax(g, 1.0));
     }
     m->contact_options = co;

@@ -110,3 +110,22 @@ if "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/p.rombin" --quiet >/dev/
 else fail point_cloud_builds_runs_and_writes_splats "$(tail -c 600 "$TMP/err")"; fi
 expect_fail run_splats_needs_a_cloud "holds no Gaussian splats" "$ROMKIT" run "$TMP/a.rombin" --steps 1 --splats "$TMP/nosplats"
 expect_fail point_cloud_has_no_full_order "a point cloud has no elements" "$ROMKIT" fom tests/fuzz/seed_points.json
+
+# A point cloud and a tet mesh in one scene (the fuzz seed's lattice resting over a meshed slab):
+# built into an asset and stepped by the runtime, and by the reduced simulator; the full-order
+# simulator refuses it, naming the cloud's missing elements.
+cat >"$TMP/mixed.json" <<JSON
+{"objects": [
+  {"mesh": {"box": {"size": [0.5, 0.04, 0.2], "cells": [5, 1, 2]}, "translate": [-0.05, -0.15, -0.1]},
+   "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}},
+  {"mesh": {"points": "$PWD/tests/fuzz/seed_points.ply"},
+   "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}}],
+ "gravity": [0, -9.81, 0], "obstacles": [{"plane": {"point": [0, -0.2, 0], "normal": [0, 1, 0]}}],
+ "contact": {"dhat": 0.002}, "time": {"step": 0.01, "duration": 0.05},
+ "rom": {"basis": "rkpm_skinning", "size": 2, "kernels": 20, "mesh_free": {"points": 200}}}
+JSON
+if "$ROMKIT" build "$TMP/mixed.json" -o "$TMP/mixed.rombin" --report "$TMP/mixed_build.json" --quiet >/dev/null 2>"$TMP/err" \
+    && "$ROMKIT" run "$TMP/mixed.rombin" --steps 5 --quiet >/dev/null 2>>"$TMP/err" \
+    && "$ROMKIT" rom "$TMP/mixed.json" --quiet >/dev/null 2>>"$TMP/err"; then ok cloud_and_mesh_build_run_and_rom
+else fail cloud_and_mesh_build_run_and_rom "$(tail -c 600 "$TMP/err")"; fi
+expect_fail cloud_and_mesh_have_no_full_order "a point cloud has no elements" "$ROMKIT" fom "$TMP/mixed.json"

@@ -240,7 +240,7 @@ TEST(pins_hold_a_cloud_without_elements)
     double *vm = calloc((size_t)n, sizeof *vm);
     for (int i = 0; i < P.n; i++) vm[i] = P.density[i] * P.volume[i];
     rk_fem fem;
-    CHECK_OK(rk_fem_init_points(&fem, &cloud, vm, &err));
+    CHECK_OK(rk_fem_init_points(&fem, &cloud, NULL, vm, &err));
     int nfixed = 0, *fixed = calloc((size_t)n, sizeof *fixed);
     for (int i = 0; i < P.n; i++)
         if (P.X[3 * i] < 0.15) fixed[nfixed++] = i;

@@ -1,0 +1,129 @@
+/* A point cloud and a tet mesh in one scene (issue 30), in the runtime against the reduced
+ * simulator: a Gaussian-splat capture (tests/data/meshes/donut_3dgs.ply) dropped at 1 m/s onto a
+ * meshed slab lying on a plane, each object with its own RKPM skinning basis, the cloud colliding
+ * through its contact surface (rk_points_proxy). Compiled twice: in double
+ * (test_runtime_cloud_mesh_double, a float64 asset) the runtime lands where the reduced simulator
+ * lands to 1e-8 of the largest displacement; in float (a float32 asset) to 1e-3. On every step:
+ *  - no edge of the runtime's surfaces crosses a triangle of them (the contact stage's exact
+ *    segment-triangle test on X + U q of the runtime's q), and they stay apart (distance > 0);
+ *  - at the end, resting on the slab, the cloud's lowest point is within its surface's spacing
+ *    g + 2 dhat of the slab's top (the surface sits g/2 below the points). */
+#include "runtime_fixture.h"
+
+#include "contact/contact.h"
+#include "rom/rom.h"
+
+#ifdef ROMRT_DOUBLE
+#define PARITY_TOL 1e-8
+#define ASSET_REAL ROMBIN_REAL_F64
+#define NEWTON_TOL "1e-11"
+#define PRECISION "double"
+#else
+#define PARITY_TOL 1e-3
+#define ASSET_REAL ROMBIN_REAL_F32
+#define NEWTON_TOL "1e-7"
+#define PRECISION "float"
+#endif
+
+#define DHAT 0.002
+
+/* The donut (about 0.1 m across, scaled 0.5; its contact surface at spacing 1 cm, 5 mm off its
+ * splats, where its own spacing would give 1.8 mm and ten times the triangles) 4 cm over a 0.3 x 0.04 x 0.3 m slab of 3 x 1 x 3
+ * cells lying on the plane y = 0 (the capture's z is up: gravity along -z, the plane z = 0). */
+static const char *SCENE =
+    "{\"objects\": ["
+    "  {\"mesh\": {\"box\": {\"size\": [0.3, 0.3, 0.04], \"cells\": [3, 3, 1]}, \"translate\": [-0.15, -0.15, 0.001]},"
+    "   \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}},"
+    "  {\"mesh\": {\"points\": \"tests/data/meshes/donut_3dgs.ply\", \"scale\": 0.5, \"proxy_voxel\": 0.01, \"translate\": [0, 0, 0.09]},"
+    "   \"material\": {\"model\": \"neohookean\", \"young\": 5e4, \"poisson\": 0.4, \"density\": 1000},"
+    "   \"velocity\": [0, 0, -1]}],"
+    " \"gravity\": [0, 0, -9.81], \"damping\": {\"mass\": 2},"
+    " \"obstacles\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 0, 1]}}],"
+    " \"contact\": {\"dhat\": 0.002}, \"time\": {\"step\": 0.01, \"duration\": 0.4},"
+    " \"newton\": {\"tolerance\": " NEWTON_TOL "},"
+    " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40, \"mesh_free\": {\"points\": 2000}}}";
+
+/* The runtime's q in double, and X + U q at every mesh vertex. */
+static void runtime_positions(const rt_fixture *f, double *x)
+{
+    int r = f->R.basis.r;
+    romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
+    double *qd = calloc((size_t)r, sizeof(double));
+    romrt_reduced_coordinates(f->m, q, r);
+    for (int j = 0; j < r; j++) qd[j] = (double)q[j];
+    rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
+    free(q), free(qd);
+}
+
+TEST(a_splat_capture_dropped_onto_a_meshed_slab)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    rk_rom s;
+    int rc = rt_fixture_open(&f, SCENE, ASSET_REAL, &err, &rerr);
+    CHECK(rc == 0, "open: %s", err.msg);
+    if (rc) {
+        rt_fixture_close(&f);
+        return;
+    }
+    CHECK(f.sim.object_points && f.sim.object_points[0] == 0 && f.sim.object_points[1] == 45624 && f.sim.mesh.nt > 0,
+          "the slab has %d tets, the cloud %d points", f.sim.mesh.nt, f.sim.object_points ? f.sim.object_points[1] : -1);
+    CHECK(f.R.basis.nparts == 2 && f.R.model.has_contact, "%d basis parts, contact %d", f.R.basis.nparts, f.R.model.has_contact);
+    CHECK_OK(rk_rom_init(&s, &f.R.model, NULL, NULL, &err));
+    int n = romrt_shown_count(f.m), steps = f.sim.steps, crossings = 0;
+    double worst = 0, scale = 0, closest = INFINITY;
+    double *ref = calloc((size_t)3 * n, sizeof(double)), *x = calloc((size_t)3 * f.sim.mesh.nv, sizeof(double));
+    romrt_real *xyz = calloc((size_t)3 * n, sizeof(romrt_real));
+    for (int k = 0; k < steps; k++) {
+        CHECK_OK(rk_rom_step(&s, &err));
+        romrt_status st = romrt_step(f.m, &rerr);
+        CHECK(st == ROMRT_OK, "runtime step %d: %s", k, rerr.message);
+        if (st != ROMRT_OK) break;
+        romrt_step_info info;
+        romrt_last_step(f.m, &info);
+        rt_fixture_reference(&f, s.q, ref);
+        romrt_positions(f.m, xyz, n, 3);
+        for (int i = 0; i < 3 * n; i++) {
+            worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
+            scale = fmax(scale, fabs(ref[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));
+        }
+        int crossed = 0;
+        double least = INFINITY;
+        runtime_positions(&f, x);
+        CHECK_OK(rk_contact_measure(&f.R.model.contact, x, &crossed, &least, &err));
+        crossings += crossed;
+        closest = fmin(closest, least);
+        if (getenv("RK_DEBUG")) { /* the cloud's descent, step by step */
+            double lo = INFINITY, lr = INFINITY, *xr = calloc((size_t)3 * f.sim.mesh.nv, sizeof(double));
+            rk_rom_positions(f.R.basis.U, 3 * f.sim.mesh.nv, f.R.basis.r, f.sim.mesh.X, s.q, xr);
+            for (int v = f.sim.object_first_vertex[1]; v < f.sim.mesh.nv; v++) lo = fmin(lo, x[3 * v + 2]), lr = fmin(lr, xr[3 * v + 2]);
+            printf("# step %d: cloud's lowest z runtime %.5f, reduced %.5f\n", k, lo, lr);
+            free(xr);
+        }
+    }
+    /* at rest: the cloud's lowest point over the slab's highest vertex */
+    double top = -INFINITY, low = INFINITY, g = 0;
+    for (int v = f.sim.object_first_vertex[0]; v < f.sim.object_first_vertex[1]; v++) top = fmax(top, x[3 * v + 2]);
+    int v1 = f.sim.object_first_vertex[1];
+    for (int v = v1; v < v1 + f.sim.object_points[1]; v++) low = fmin(low, x[3 * v + 2]);
+    g = f.scene.objects[1].proxy_voxel; /* the surface's spacing */
+    double rel = worst / scale, gap = low - top;
+    printf("# splats onto a slab (%s): %d steps, relative difference %.3g (tol %g), %d crossings, closest %.3g m, at "
+           "most %ld pairs; at rest the lowest point is %.4g m over the slab (spacing %.4g m + 2 dhat = %.4g)\n",
+           PRECISION, steps, rel, PARITY_TOL, crossings, closest, f.R.model.contact.stats.max_pairs, gap, g, g + 2 * DHAT);
+    CHECK(crossings == 0, "%d crossings", crossings);
+    CHECK(closest > 0, "the surfaces came to %g m", closest);
+    CHECK(f.R.model.contact.stats.max_pairs > 0, "nothing touched");
+    CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+    CHECK(gap > 0 && gap <= g + 2 * DHAT, "the cloud rests %.4g m over the slab (spacing %.4g m)", gap, g);
+    free(ref), free(x), free(xyz);
+    rk_rom_free(&s);
+    rt_fixture_close(&f);
+}
+
+int main(void)
+{
+    RUN(a_splat_capture_dropped_onto_a_meshed_slab);
+    return test_finish();
+}
