@@ -184,8 +184,6 @@ $(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) 
 TEST_ALSO_test_basis_derivatives := fom solver contact
 TEST_ALSO_test_basis_pod := fom solver contact
 TEST_ALSO_test_adaptive_subspace := basis
-# the contact surface of a point cloud is checked by the contact stage's exact test
-TEST_ALSO_test_mesh_points_proxy := contact fem physics
 TEST_ALSO_test_grassmann_alrom := basis
 # The chain's default fit is baked and jumped in the runtime.
 TEST_ALSO_test_koopman_dmd := asset formats

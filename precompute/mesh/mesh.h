@@ -192,14 +192,12 @@ int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_vo
  * past: rk_splats_read below keeps them). *X malloc'ed, 3*n. */
 int rk_points_load(const char *path, double **X, int *n, rk_error *err);
 
-/* A point cloud's contact surface (X, n points, spacing g): the level set at g/2 of the distance to
- * the nearest point, by marching tetrahedra on a lattice of edge g/2 (points_proxy.c says why).
- * Every point is inside; the surface is closed, 2-manifold and does not cross itself; its vertices
- * lie within about g/2 of the points (at most 0.87 g measured, test_mesh_points_proxy). out has the n
- * points first (no tets, nothing uses them), then the surface's vertices, and one ghost tet per
- * triangle (the cloud's point 0 its apex) whose faces rk_mesh_boundary turns back into the
- * triangles, wound outward. Fails on n < 1, g not positive and finite, a non-finite point (named),
- * or a cloud more than 2^20 lattice edges across. */
+/* A closed surface around a point cloud (X, n points) for contact: the union of the voxels of edge
+ * g that hold a point, as ghost tets (Kuhn's 6 per voxel, faces matching between neighbours) over
+ * the voxel corners. out has the n points first (no tets, nothing uses them), then the corners:
+ * rk_mesh_boundary gives the union's outward faces, and every point lies inside the union,
+ * anywhere in its own voxel (so between 0 and g inside the surface). Fails on n < 1, g not
+ * positive and finite, a non-finite point (named), or a cloud more than 2^20 voxels across. */
 int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err);
 
 /* ==== Gaussian splats (3DGS PLY: Kerbl et al. 2023, the FreeForm paper's splat input) ====

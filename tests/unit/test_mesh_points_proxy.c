@@ -1,19 +1,15 @@
-/* precompute/mesh rk_points_proxy: a point cloud's contact surface, the level set at g/2 of the
- * distance to its points. Checked from its output alone:
- *   - the points come first, unchanged; no tets; one ghost tet per triangle, apex point 0; every
- *     surface vertex used;
- *   - rk_mesh_boundary of the ghost tets gives a surface that rk_surface_check accepts: closed,
- *     edge-manifold, consistently oriented, outward (positive volume);
- *   - no edge of it crosses a triangle of it that shares no vertex with the edge (the contact
- *     stage's exact segment-triangle test);
- *   - every surface vertex is within one spacing g of a point (the issue's bound), and off every
- *     point;
- *   - every point is inside (a ray from it crosses the surface an odd number of times) and at
- *     least 0.1 g from it; a point far off is outside;
- *   - on a lattice, a random cloud with strays, and a real Gaussian-splat capture
- *     (tests/data/meshes/donut_3dgs.ply) and scan (pedestal_points.ply), whose measures it prints;
+/* precompute/mesh rk_points_proxy: a point cloud's contact proxy, the union of the voxels of edge g
+ * that hold a point, as ghost tets. Checked from its output alone, against geometry computed here:
+ *   - the points come first, unchanged; no tets; ghost tets of volume g^3 / 6, six to a voxel,
+ *     their corners on the voxel's corners; every corner used;
+ *   - the voxels are exactly those holding a point (each point's voxel is one of them, each of
+ *     them holds a point), and the corners are the voxels' distinct corners;
+ *   - rk_mesh_boundary of the ghost tets is closed and consistently oriented (each directed edge
+ *     matched by its reverse), its area is the voxels' exposed faces times g^2, and the volume it
+ *     encloses (divergence theorem) is the voxel count times g^3;
+ *   - a ray from every point crosses the boundary an odd number of times, and from points off
+ *     the union an even number;
  *   - bad input fails. */
-#include "contact/contact.h"
 #include "mesh/mesh.h"
 #include "testlib.h"
 #include "util/util.h"
@@ -22,6 +18,32 @@
 
 static uint64_t rng = 31337;
 static double uni(void) { return rk_uniform(&rng); }
+
+/* Integer voxel of x on the lattice of corner o and spacing g (floor). */
+static void voxel_of(const double *x, const double o[3], double g, long v[3])
+{
+    for (int d = 0; d < 3; d++) v[d] = (long)floor((x[d] - o[d]) / g);
+}
+
+static int64_t key_of(const long v[3]) { return (int64_t)(v[0] + 4096) + 8192 * ((int64_t)(v[1] + 4096) + 8192 * (int64_t)(v[2] + 4096)); }
+
+static int cmp64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+static int has(const int64_t *keys, int n, int64_t k) { return bsearch(&k, keys, (size_t)n, sizeof k, cmp64) != NULL; }
+
+/* Sorts and drops duplicates; returns the count. */
+static int unique64(int64_t *k, int n)
+{
+    qsort(k, (size_t)n, sizeof *k, cmp64);
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (m == 0 || k[i] != k[m - 1]) k[m++] = k[i];
+    return m;
+}
 
 /* Ray from p along d against triangle (a, b, c): 1 if it crosses at t > 0 (Moller-Trumbore). */
 static int ray_hits(const double *p, const double *d, const double *a, const double *b, const double *c)
@@ -39,245 +61,211 @@ static int ray_hits(const double *p, const double *d, const double *a, const dou
     return (e2[0] * qv[0] + e2[1] * qv[1] + e2[2] * qv[2]) / det > 0;
 }
 
-static int crossings(const double *p, const double *X, const int *tris, int nf)
+static int crossings(const double *p, const rk_mesh *m, const int *tris, int nf)
 {
     static const double d[3] = {0.5773, 0.4471, 0.6833}; /* generic: no lattice plane or edge along it */
     int c = 0;
-    for (int f = 0; f < nf; f++) c += ray_hits(p, d, &X[3 * tris[3 * f]], &X[3 * tris[3 * f + 1]], &X[3 * tris[3 * f + 2]]);
+    for (int f = 0; f < nf; f++)
+        c += ray_hits(p, d, &m->X[3 * tris[3 * f]], &m->X[3 * tris[3 * f + 1]], &m->X[3 * tris[3 * f + 2]]);
     return c;
 }
 
-/* Distance from p to triangle (a, b, c) (Ericson's closest point). */
-static double point_triangle(const double *p, const double *a, const double *b, const double *c)
-{
-    double ab[3], ac[3], ap[3], q[3];
-    for (int k = 0; k < 3; k++) ab[k] = b[k] - a[k], ac[k] = c[k] - a[k], ap[k] = p[k] - a[k];
-#define DOT(u, v) ((u)[0] * (v)[0] + (u)[1] * (v)[1] + (u)[2] * (v)[2])
-    double d1 = DOT(ab, ap), d2 = DOT(ac, ap), v = 0, w = 0;
-    double bp[3], cp[3];
-    for (int k = 0; k < 3; k++) bp[k] = p[k] - b[k], cp[k] = p[k] - c[k];
-    double d3 = DOT(ab, bp), d4 = DOT(ac, bp), d5 = DOT(ab, cp), d6 = DOT(ac, cp);
-    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
-    if (d1 <= 0 && d2 <= 0) v = 0, w = 0;
-    else if (d3 >= 0 && d4 <= d3) v = 1, w = 0;
-    else if (d6 >= 0 && d5 <= d6) v = 0, w = 1;
-    else if (vc <= 0 && d1 >= 0 && d3 <= 0) v = d1 / (d1 - d3), w = 0;
-    else if (vb <= 0 && d2 >= 0 && d6 <= 0) v = 0, w = d2 / (d2 - d6);
-    else if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) w = (d4 - d3) / ((d4 - d3) + (d5 - d6)), v = 1 - w;
-    else {
-        double den = 1 / (va + vb + vc);
-        v = vb * den, w = vc * den;
-    }
-#undef DOT
-    double d = 0;
-    for (int k = 0; k < 3; k++) q[k] = a[k] + v * ab[k] + w * ac[k], d += (p[k] - q[k]) * (p[k] - q[k]);
-    return sqrt(d);
-}
-
+/* What the checks measured. */
 typedef struct {
-    int vertices, triangles, crossings;
-    double vertex_to_point;  /* max over surface vertices of the distance to the nearest point, / g */
-    double vertex_closest;   /* min over surface vertices of that distance, / g */
-    double point_clearance;  /* min over points of the distance to the surface, / g */
-    double point_to_surface; /* max over points of the distance to the surface, / g */
-} surface_stats;
+    int voxels, corners, faces;
+    double volume_error, area_error, tet_volume_error;
+} proxy_stats;
 
-/* Everything above on the surface of (X, n) at spacing g; 0 or a message in why. Brute force:
- * n and the triangles must stay in the thousands. */
-static int check_surface(const double *X, int n, double g, surface_stats *st, char *why, size_t len)
+/* Every check above on the proxy of (X, n) with voxel g; expect_voxels >= 0 also checks the count.
+ * Returns 0 or leaves a message in why. */
+static int check_proxy(const double *X, int n, double g, int expect_voxels, proxy_stats *st, char *why, size_t len)
 {
     rk_error err;
     rk_mesh m;
     memset(st, 0, sizeof *st);
-#define FAIL_IF(cond, ...)                   \
-    do {                                     \
-        if (cond) {                          \
-            snprintf(why, len, __VA_ARGS__); \
-            rc = -1;                         \
-            goto done;                       \
-        }                                    \
+#define FAIL_IF(cond, ...)                          \
+    do {                                            \
+        if (cond) {                                 \
+            snprintf(why, len, __VA_ARGS__);        \
+            rc = -1;                                \
+            goto done;                              \
+        }                                           \
     } while (0)
     int rc = 0, *tris = NULL, nf = 0;
-    unsigned char *used = NULL;
+    int64_t *vox = NULL, *pvox = NULL, *corner = NULL, *edges = NULL;
     if (rk_points_proxy(X, n, g, &m, &err)) {
         snprintf(why, len, "rk_points_proxy: %s", err.msg);
         return -1;
     }
     FAIL_IF(m.nt != 0, "%d tets (expected none)", m.nt);
     FAIL_IF(m.nv <= n || memcmp(m.X, X, sizeof(double) * 3 * (size_t)n) != 0, "the first %d vertices are not the points", n);
-    used = calloc((size_t)m.nv, 1);
+    FAIL_IF(m.nghost < 6 || m.nghost % 6 != 0, "%d ghost tets", m.nghost);
+    const double *o = &m.X[3 * n]; /* a corner: the lattice's origin */
+    int nv = m.nghost / 6;
+    vox = calloc((size_t)m.nghost, sizeof *vox);
+    unsigned char *used = calloc((size_t)m.nv, 1);
+    /* each ghost tet: positive volume g^3 / 6, corners on the corners of the voxel holding its centroid */
     for (int t = 0; t < m.nghost; t++) {
         const int *T = &m.ghost[4 * t];
-        FAIL_IF(T[0] != 0, "ghost tet %d has apex %d, not point 0", t, T[0]);
-        for (int k = 1; k < 4; k++) {
-            FAIL_IF(T[k] < n || T[k] >= m.nv, "ghost tet %d uses vertex %d (the surface's are %d..%d)", t, T[k], n, m.nv - 1);
-            used[T[k]] = 1;
-        }
-    }
-    for (int i = n; i < m.nv; i++) FAIL_IF(!used[i], "surface vertex %d is in no triangle", i);
-    if (rk_mesh_boundary(&m, &tris, &nf, &err)) FAIL_IF(1, "rk_mesh_boundary: %s", err.msg);
-    FAIL_IF(nf != m.nghost, "%d boundary triangles from %d ghost tets", nf, m.nghost);
-    st->vertices = m.nv - n, st->triangles = nf;
-    /* the surface alone (its vertices renumbered from 0) through the surface check */
-    int *local = calloc(3 * (size_t)nf, sizeof *local);
-    for (int k = 0; k < 3 * nf; k++) local[k] = tris[k] - n;
-    rk_surface s = {m.nv - n, nf, m.X + 3 * (size_t)n, local};
-    int bad = rk_surface_check(&s, "contact surface", &err);
-    free(local);
-    FAIL_IF(bad, "%s", err.msg);
-    /* no edge crosses a triangle it does not touch (bounding boxes first) */
-    double *box = calloc(6 * (size_t)nf, sizeof *box);
-    for (int f = 0; f < nf; f++)
-        for (int d = 0; d < 3; d++) {
-            double lo = INFINITY, hi = -INFINITY;
-            for (int k = 0; k < 3; k++) lo = fmin(lo, m.X[3 * tris[3 * f + k] + d]), hi = fmax(hi, m.X[3 * tris[3 * f + k] + d]);
-            box[6 * f + d] = lo, box[6 * f + 3 + d] = hi;
-        }
-    for (int f = 0; f < nf; f++)
-        for (int e = 0; e < 3; e++) {
-            int p = tris[3 * f + e], q = tris[3 * f + (e + 1) % 3];
-            if (p > q) continue; /* each edge once (its other triangle has it reversed) */
-            for (int t = 0; t < nf; t++) {
-                const int *T = &tris[3 * t];
-                if (T[0] == p || T[1] == p || T[2] == p || T[0] == q || T[1] == q || T[2] == q) continue;
-                int apart = 0;
-                for (int d = 0; d < 3; d++)
-                    apart |= fmax(m.X[3 * p + d], m.X[3 * q + d]) < box[6 * t + d] ||
-                             fmin(m.X[3 * p + d], m.X[3 * q + d]) > box[6 * t + 3 + d];
-                if (!apart)
-                    st->crossings += rk_segment_triangle_intersect(&m.X[3 * p], &m.X[3 * q], &m.X[3 * T[0]], &m.X[3 * T[1]],
-                                                                   &m.X[3 * T[2]]) != 0;
+        double c[3] = {0, 0, 0};
+        for (int k = 0; k < 4; k++) {
+            if (T[k] < n || T[k] >= m.nv) {
+                free(used);
+                FAIL_IF(1, "ghost tet %d uses vertex %d (the corners are %d..%d)", t, T[k], n, m.nv - 1);
             }
+            used[T[k]] = 1;
+            for (int d = 0; d < 3; d++) c[d] += 0.25 * m.X[3 * T[k] + d];
         }
-    free(box);
-    FAIL_IF(st->crossings != 0, "%d edges cross the surface", st->crossings);
-    /* the vertices' distances to the points */
-    st->vertex_closest = INFINITY;
-    for (int v = n; v < m.nv; v++) {
-        double best = INFINITY;
-        for (int i = 0; i < n; i++) {
-            double d = 0;
-            for (int k = 0; k < 3; k++) d += (m.X[3 * v + k] - X[3 * i + k]) * (m.X[3 * v + k] - X[3 * i + k]);
-            best = fmin(best, d);
-        }
-        st->vertex_to_point = fmax(st->vertex_to_point, sqrt(best) / g);
-        st->vertex_closest = fmin(st->vertex_closest, sqrt(best) / g);
+        double vol = rk_tet_signed_volume(&m.X[3 * T[0]], &m.X[3 * T[1]], &m.X[3 * T[2]], &m.X[3 * T[3]]);
+        st->tet_volume_error = fmax(st->tet_volume_error, fabs(vol - g * g * g / 6) / (g * g * g / 6));
+        long v[3];
+        voxel_of(c, o, g, v);
+        vox[t] = key_of(v);
+        for (int k = 0; k < 4; k++)
+            for (int d = 0; d < 3; d++) {
+                double rel = (m.X[3 * T[k] + d] - o[d]) / g - v[d]; /* 0 or 1 */
+                if (fabs(rel) > 1e-9 && fabs(rel - 1) > 1e-9) {
+                    free(used);
+                    FAIL_IF(1, "ghost tet %d: vertex %d is not a corner of its voxel (offset %g)", t, T[k], rel);
+                }
+            }
     }
-    FAIL_IF(st->vertex_to_point > 1, "a surface vertex is %.3g g from the nearest point", st->vertex_to_point);
-    FAIL_IF(!(st->vertex_closest > 0), "a surface vertex is on a point");
-    /* the points: inside, off the surface */
-    st->point_clearance = INFINITY;
+    for (int i = n; i < m.nv; i++)
+        if (!used[i]) {
+            free(used);
+            FAIL_IF(1, "corner vertex %d is in no ghost tet", i);
+        }
+    free(used);
+    FAIL_IF(st->tet_volume_error > 1e-9, "a ghost tet's volume is off g^3/6 by %.3g (relative)", st->tet_volume_error);
+    /* six tets to a voxel */
+    qsort(vox, (size_t)m.nghost, sizeof *vox, cmp64);
+    for (int i = 0; i < m.nghost; i += 6) FAIL_IF(vox[i] != vox[i + 5] || (i + 6 < m.nghost && vox[i + 6] == vox[i]), "a voxel without exactly 6 tets");
+    st->voxels = unique64(vox, m.nghost);
+    FAIL_IF(st->voxels != nv, "%d voxels for %d ghost tets", st->voxels, m.nghost);
+    FAIL_IF(expect_voxels >= 0 && st->voxels != expect_voxels, "%d voxels, expected %d", st->voxels, expect_voxels);
+    /* the voxels are those holding a point */
+    pvox = calloc((size_t)n, sizeof *pvox);
     for (int i = 0; i < n; i++) {
-        int c = crossings(&X[3 * i], m.X, tris, nf);
-        FAIL_IF(c % 2 != 1, "point %d (%g, %g, %g): the ray crosses the surface %d times", i, X[3 * i], X[3 * i + 1], X[3 * i + 2], c);
-        double best = INFINITY;
-        for (int f = 0; f < nf; f++)
-            best = fmin(best, point_triangle(&X[3 * i], &m.X[3 * tris[3 * f]], &m.X[3 * tris[3 * f + 1]], &m.X[3 * tris[3 * f + 2]]));
-        st->point_clearance = fmin(st->point_clearance, best / g);
-        st->point_to_surface = fmax(st->point_to_surface, best / g);
+        long v[3];
+        voxel_of(&X[3 * i], o, g, v);
+        pvox[i] = key_of(v);
+        FAIL_IF(!has(vox, st->voxels, pvox[i]), "point %d (%g, %g, %g) is in no voxel of the proxy", i, X[3 * i], X[3 * i + 1], X[3 * i + 2]);
     }
-    FAIL_IF(st->point_clearance < 0.1, "a point is only %.3g g inside the surface", st->point_clearance);
-    double far[3] = {X[0], X[1], X[2]}; /* past the cloud's lower corner */
-    for (int i = 1; i < n; i++)
-        for (int k = 0; k < 3; k++) far[k] = fmin(far[k], X[3 * i + k]);
-    for (int k = 0; k < 3; k++) far[k] -= (5 + 0.1 * k) * g;
-    FAIL_IF(crossings(far, m.X, tris, nf) % 2 != 0, "a point far off the cloud is inside");
+    FAIL_IF(unique64(pvox, n) != st->voxels, "%d voxels hold points, the proxy has %d", unique64(pvox, n), st->voxels);
+    /* corners: the voxels' distinct corners */
+    corner = calloc(8 * (size_t)st->voxels, sizeof *corner);
+    for (int i = 0; i < st->voxels; i++)
+        for (int b = 0; b < 8; b++) corner[8 * i + b] = vox[i] + (b & 1) + 8192 * (((b >> 1) & 1) + 8192 * ((b >> 2) & 1));
+    st->corners = unique64(corner, 8 * st->voxels);
+    FAIL_IF(m.nv - n != st->corners, "%d corner vertices, the voxels have %d distinct corners", m.nv - n, st->corners);
+    /* the boundary */
+    if (rk_mesh_boundary(&m, &tris, &nf, &err)) FAIL_IF(1, "rk_mesh_boundary: %s", err.msg);
+    int exposed = 0;
+    for (int i = 0; i < st->voxels; i++) {
+        static const int64_t step[3] = {1, 8192, 8192 * 8192};
+        for (int d = 0; d < 3; d++) exposed += !has(vox, st->voxels, vox[i] + step[d]) + !has(vox, st->voxels, vox[i] - step[d]);
+    }
+    st->faces = nf;
+    FAIL_IF(nf != 2 * exposed, "%d boundary triangles, the voxels expose %d faces (2 triangles each)", nf, exposed);
+    double volume = 0, area = 0;
+    edges = calloc(3 * (size_t)nf, sizeof *edges);
+    for (int f = 0; f < nf; f++) {
+        const double *a = &m.X[3 * tris[3 * f]], *b = &m.X[3 * tris[3 * f + 1]], *c = &m.X[3 * tris[3 * f + 2]];
+        volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+        double u[3], w[3];
+        for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], w[d] = c[d] - a[d];
+        double nx = u[1] * w[2] - u[2] * w[1], ny = u[2] * w[0] - u[0] * w[2], nz = u[0] * w[1] - u[1] * w[0];
+        area += 0.5 * sqrt(nx * nx + ny * ny + nz * nz);
+        for (int k = 0; k < 3; k++) edges[3 * f + k] = (int64_t)tris[3 * f + k] * m.nv + tris[3 * f + (k + 1) % 3];
+    }
+    /* closed and consistently oriented: every directed edge (a, b) as often as (b, a) */
+    qsort(edges, 3 * (size_t)nf, sizeof *edges, cmp64);
+    for (int e = 0; e < 3 * nf;) {
+        int f = e;
+        while (f < 3 * nf && edges[f] == edges[e]) f++;
+        int64_t rev = (edges[e] % m.nv) * m.nv + edges[e] / m.nv;
+        int64_t *lo = bsearch(&rev, edges, 3 * (size_t)nf, sizeof rev, cmp64);
+        int count = 0;
+        if (lo) {
+            while (lo > edges && lo[-1] == rev) lo--;
+            while (lo < edges + 3 * nf && *lo == rev) lo++, count++;
+        }
+        FAIL_IF(count != f - e, "edge %lld -> %lld appears %d times, its reverse %d: the boundary is not closed",
+                (long long)(edges[e] / m.nv), (long long)(edges[e] % m.nv), f - e, count);
+        e = f;
+    }
+    st->volume_error = fabs(volume - st->voxels * g * g * g) / (st->voxels * g * g * g);
+    st->area_error = fabs(area - exposed * g * g) / (exposed * g * g);
+    FAIL_IF(st->volume_error > 1e-9, "enclosed volume %.12g, voxels %d x g^3 = %.12g", volume, st->voxels, st->voxels * g * g * g);
+    FAIL_IF(st->area_error > 1e-9, "area %.12g, exposed faces %d x g^2 = %.12g", area, exposed, exposed * g * g);
+    /* every point is inside: odd crossings */
+    for (int i = 0; i < n; i++) {
+        int c = crossings(&X[3 * i], &m, tris, nf);
+        FAIL_IF(c % 2 != 1, "point %d (%g, %g, %g): the ray crosses the boundary %d times", i, X[3 * i], X[3 * i + 1], X[3 * i + 2], c);
+    }
+    /* the centres of empty voxels next to occupied ones, and far points, are outside: even crossings */
+    int probes = 0;
+    for (int i = 0; i < st->voxels && probes < 200; i++)
+        for (int d = 0; d < 3; d++)
+            for (int s = -1; s <= 1; s += 2) {
+                int64_t step = d == 0 ? 1 : d == 1 ? 8192 : 8192 * 8192, k = vox[i] + s * step;
+                if (has(vox, st->voxels, k)) continue;
+                long v[3] = {(long)(k % 8192) - 4096, (long)(k / 8192 % 8192) - 4096, (long)(k / 8192 / 8192) - 4096};
+                double p[3];
+                for (int a = 0; a < 3; a++) p[a] = o[a] + g * (v[a] + 0.37 + 0.1 * a);
+                int c = crossings(p, &m, tris, nf);
+                FAIL_IF(c % 2 != 0, "(%g, %g, %g), in an empty voxel, is inside (%d crossings)", p[0], p[1], p[2], c);
+                probes++;
+            }
+    double far[3] = {o[0] - 5 * g, o[1] + 0.3 * g, o[2] + 0.2 * g};
+    FAIL_IF(crossings(far, &m, tris, nf) % 2 != 0, "a point far off the cloud is inside");
 done:
 #undef FAIL_IF
-    free(tris), free(used);
+    free(tris), free(vox), free(pvox), free(corner), free(edges);
     rk_mesh_free(&m);
     return rc;
 }
 
-static void report(const char *what, int n, double g, const surface_stats *st)
-{
-    printf("# %s: %d points, spacing %.4g m: %d vertices, %d triangles; surface -> nearest point at most %.3f g (%.3g m), "
-           "at least %.3f g; points inside by %.3f g (%.3g m) to %.3f g\n",
-           what, n, g, st->vertices, st->triangles, st->vertex_to_point, st->vertex_to_point * g, st->vertex_closest,
-           st->point_clearance, st->point_clearance * g, st->point_to_surface);
-}
-
-TEST(one_point_is_wrapped)
+TEST(one_point_is_one_voxel)
 {
     double X[3] = {0.3, -1.2, 7.0};
-    surface_stats st;
+    proxy_stats st;
     char why[256];
-    CHECK(check_surface(X, 1, 0.25, &st, why, sizeof why) == 0, "%s", why);
-    report("one point", 1, 0.25, &st);
-    /* a sphere of radius g/2 to within the lattice (its edge g/2): the point is about g/2 inside */
-    CHECK(st.point_clearance > 0.3 && st.point_clearance <= 0.5 + 1e-9, "the point is %.3g g inside", st.point_clearance);
-    CHECK(st.triangles < 200, "%d triangles around one point", st.triangles);
+    CHECK(check_proxy(X, 1, 0.25, 1, &st, why, sizeof why) == 0, "%s", why);
+    CHECK(st.corners == 8 && st.faces == 12, "%d corners, %d boundary triangles", st.corners, st.faces);
 }
 
-TEST(a_lattice_at_the_spacing_is_wrapped_half_a_spacing_off)
+TEST(a_lattice_at_the_voxel_size_is_one_voxel_per_point)
 {
-    /* points at spacing g: the surface is a rounded box g/2 off the outer points */
+    /* points at spacing g: the proxy's voxels must not merge or split them */
     int n = 4 * 3 * 2;
     double X[72], g = 0.05;
     for (int i = 0; i < n; i++) X[3 * i] = g * (i % 4) + 1, X[3 * i + 1] = g * (i / 4 % 3), X[3 * i + 2] = g * (i / 12) - 2;
-    surface_stats st;
+    proxy_stats st;
     char why[256];
-    CHECK(check_surface(X, n, g, &st, why, sizeof why) == 0, "%s", why);
-    report("lattice 4 x 3 x 2", n, g, &st);
-    CHECK(st.point_to_surface <= 0.5 + 1e-9, "an outer point is %.3g g inside", st.point_to_surface);
+    CHECK(check_proxy(X, n, g, n, &st, why, sizeof why) == 0, "%s", why);
+    CHECK(st.corners == 5 * 4 * 3 && st.faces == 2 * 2 * (4 * 3 + 3 * 2 + 4 * 2), "%d corners, %d triangles", st.corners, st.faces);
 }
 
 TEST(a_scattered_cloud_is_wrapped)
 {
-    /* a block, a thin rod, a diagonal chain of points, and strays: pockets, thin parts, and
-     * components of their own */
+    /* a block, a thin rod, a diagonal chain of voxels touching only at edges and corners, and
+     * strays: the union has holes, pockets and non-manifold edges between voxels */
     int n = 0;
-    double *X = calloc(3 * 400, sizeof *X), g = 0.1;
-    for (int i = 0; i < 250; i++, n++) X[3 * n] = 0.5 * uni(), X[3 * n + 1] = 0.3 * uni(), X[3 * n + 2] = 0.25 * uni();
-    for (int i = 0; i < 60; i++, n++) X[3 * n] = 0.6 + uni(), X[3 * n + 1] = 0.12 + 0.01 * uni(), X[3 * n + 2] = 0.1 + 0.01 * uni();
+    double *X = calloc(3 * 800, sizeof *X), g = 0.1;
+    for (int i = 0; i < 500; i++, n++) X[3 * n] = 0.5 * uni(), X[3 * n + 1] = 0.3 * uni(), X[3 * n + 2] = 0.25 * uni();
+    for (int i = 0; i < 150; i++, n++) X[3 * n] = 0.6 + uni(), X[3 * n + 1] = 0.12 + 0.01 * uni(), X[3 * n + 2] = 0.1 + 0.01 * uni();
     for (int i = 0; i < 8; i++, n++) X[3 * n] = -0.5 - 0.1 * i, X[3 * n + 1] = -0.5 - 0.1 * i, X[3 * n + 2] = 0.03 + 0.1 * (i % 2);
-    for (int i = 0; i < 20; i++, n++) X[3 * n] = 3 * uni() - 1, X[3 * n + 1] = 2 * uni() - 1, X[3 * n + 2] = 2 * uni() + 0.5;
-    surface_stats st;
+    for (int i = 0; i < 40; i++, n++) X[3 * n] = 3 * uni() - 1, X[3 * n + 1] = 2 * uni() - 1, X[3 * n + 2] = 2 * uni() + 0.5;
+    proxy_stats st;
     char why[256];
-    int rc = check_surface(X, n, g, &st, why, sizeof why);
-    report("scattered", n, g, &st);
+    int rc = check_proxy(X, n, g, -1, &st, why, sizeof why);
+    printf("# %d points, voxel %g: %d voxels, %d corners, %d boundary triangles; ghost tet volume %.3g, enclosed volume "
+           "%.3g, area %.3g (relative)\n", n, g, st.voxels, st.corners, st.faces, st.tet_volume_error, st.volume_error,
+           st.area_error);
     CHECK(rc == 0, "%s", why);
     free(X);
 }
-
-/* A real capture from tests/data/meshes, every stride-th point (the checks are brute force), at
- * the spacing the scene build gives it: the RKPM sampling's (twice the median nearest-neighbour
- * distance), at least 1/40 of the bounding-box diagonal (build.c). */
-static void real_cloud(const char *file, int stride)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "tests/data/meshes/%s", file);
-    rk_error err;
-    double *all = NULL;
-    int total = 0;
-    CHECK_OK(rk_points_load(path, &all, &total, &err));
-    if (!all) return;
-    int n = 0;
-    double *X = calloc(3 * (size_t)total, sizeof *X);
-    for (int i = 0; i < total; i += stride, n++) memcpy(X + 3 * n, all + 3 * i, 3 * sizeof(double));
-    double median = 0, *nn = calloc((size_t)n, sizeof *nn);
-    for (int i = 0; i < n; i++) {
-        double best = INFINITY;
-        for (int j = 0; j < n; j++) {
-            double d = 0;
-            for (int k = 0; k < 3 && j != i; k++) d += (X[3 * i + k] - X[3 * j + k]) * (X[3 * i + k] - X[3 * j + k]);
-            if (j != i && d > 0) best = fmin(best, d);
-        }
-        nn[i] = sqrt(best);
-    }
-    qsort(nn, (size_t)n, sizeof *nn, rk_cmp_double);
-    median = nn[n / 2];
-    double g = fmax(2 * median, rk_points_diagonal(X, n) / 40);
-    surface_stats st;
-    char why[256];
-    int rc = check_surface(X, n, g, &st, why, sizeof why);
-    report(file, n, g, &st);
-    CHECK(rc == 0, "%s: %s", file, why);
-    free(nn), free(X), free(all);
-}
-
-TEST(a_gaussian_splat_capture_is_wrapped) { real_cloud("donut_3dgs.ply", 200); }
-TEST(a_scanned_cloud_is_wrapped) { real_cloud("pedestal_points.ply", 7); }
 
 TEST(bad_input_fails)
 {
@@ -287,34 +275,32 @@ TEST(bad_input_fails)
     CHECK(rk_points_proxy(X, 0, 0.1, &m, &err) != 0, "no points accepted");
     CHECK(m.X == NULL && m.ghost == NULL, "a failed call left a mesh");
     const double bad_g[4] = {0, -0.1, NAN, INFINITY};
-    for (int k = 0; k < 4; k++) CHECK(rk_points_proxy(X, 2, bad_g[k], &m, &err) != 0, "spacing %g accepted", bad_g[k]);
-    CHECK(rk_points_proxy(X, 2, 1e-9, &m, &err) != 0 && strstr(err.msg, "too small"), "spacing 1e-9 for a unit cloud: %s", err.msg);
+    for (int k = 0; k < 4; k++) CHECK(rk_points_proxy(X, 2, bad_g[k], &m, &err) != 0, "voxel %g accepted", bad_g[k]);
+    CHECK(rk_points_proxy(X, 2, 1e-9, &m, &err) != 0 && strstr(err.msg, "too small"), "voxel 1e-9 for a unit cloud: %s", err.msg);
     CHECK(m.X == NULL && m.ghost == NULL, "a failed call left a mesh");
 }
 
-/* Points the lattice cannot hold: a non-finite coordinate, and one so far away that its lattice
+/* Points the lattice cannot hold: a non-finite coordinate, and one so far away that its voxel
  * index does not fit in an integer (the conversion is undefined there): refused, not wrapped. */
 TEST(points_off_the_lattice_fail)
 {
     rk_error err;
     rk_mesh m;
     double nan_point[6] = {0, 0, 0, 1, NAN, 1};
-    CHECK(rk_points_proxy(nan_point, 2, 0.1, &m, &err) != 0, "a NaN coordinate gave a surface of %d vertices", m.nv);
+    CHECK(rk_points_proxy(nan_point, 2, 0.1, &m, &err) != 0, "a NaN coordinate gave a proxy of %d vertices", m.nv);
     CHECK(strstr(err.msg, "point 1") != NULL, "the message does not name point 1: %s", err.msg);
     double inf_point[6] = {0, 0, 0, INFINITY, 1, 1};
-    CHECK(rk_points_proxy(inf_point, 2, 0.1, &m, &err) != 0, "an infinite coordinate gave a surface of %d vertices", m.nv);
+    CHECK(rk_points_proxy(inf_point, 2, 0.1, &m, &err) != 0, "an infinite coordinate gave a proxy of %d vertices", m.nv);
     double far_point[6] = {0, 0, 0, 1e300, 1, 1};
-    CHECK(rk_points_proxy(far_point, 2, 0.1, &m, &err) != 0, "a point 1e300 away gave a surface of %d vertices", m.nv);
+    CHECK(rk_points_proxy(far_point, 2, 0.1, &m, &err) != 0, "a point 1e300 away gave a proxy of %d vertices", m.nv);
     CHECK(m.X == NULL && m.ghost == NULL, "a failed call left a mesh");
 }
 
 int main(void)
 {
-    RUN(one_point_is_wrapped);
-    RUN(a_lattice_at_the_spacing_is_wrapped_half_a_spacing_off);
+    RUN(one_point_is_one_voxel);
+    RUN(a_lattice_at_the_voxel_size_is_one_voxel_per_point);
     RUN(a_scattered_cloud_is_wrapped);
-    RUN(a_gaussian_splat_capture_is_wrapped);
-    RUN(a_scanned_cloud_is_wrapped);
     RUN(bad_input_fails);
     RUN(points_off_the_lattice_fail);
     return test_finish();
