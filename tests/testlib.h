@@ -69,12 +69,18 @@ static inline double test_norm(const double *x, int n)
     return sqrt(s);
 }
 
+/* The folder for scratch files: $TMPDIR, or /tmp when it is unset or empty. */
+static inline const char *tl_tmpdir(void)
+{
+    const char *dir = getenv("TMPDIR");
+    return dir && *dir ? dir : "/tmp";
+}
+
 /* A scratch file's path of this process's own: $TMPDIR (or /tmp)/romkit_<pid>_<name>. Two tests,
  * the float and double build of one, or two checkouts testing at once never share a file. */
 static inline const char *tl_scratch(char *out, size_t cap, const char *name)
 {
-    const char *dir = getenv("TMPDIR");
-    snprintf(out, cap, "%s/romkit_%ld_%s", dir && *dir ? dir : "/tmp", (long)getpid(), name);
+    snprintf(out, cap, "%s/romkit_%ld_%s", tl_tmpdir(), (long)getpid(), name);
     return out;
 }
 

@@ -48,7 +48,7 @@ static int files_in(const char *dir, const char *prefix)
     return n;
 }
 
-static char dir[] = "/tmp/rk_test_export_XXXXXX";
+static char dir[512];
 
 /* Accessor a's float32 component k, read through its buffer view. */
 static float accessor_float(const cJSON *root, const unsigned char *bin, int a, int comps, int i, int c)
@@ -174,6 +174,7 @@ TEST(bad_input_is_refused_and_writes_nothing)
 
 int main(void)
 {
+    snprintf(dir, sizeof dir, "%s/rk_test_export_XXXXXX", tl_tmpdir());
     if (!mkdtemp(dir)) return 1;
     RUN(writes_an_aligned_glb_whose_accessors_match_their_bytes);
     RUN(a_point_cloud_is_points_without_indices_and_no_frames_no_animation);

@@ -69,7 +69,8 @@ TEST(models_come_back_bit_for_bit)
     double thick[2] = {0.18, 0.22};
     CHECK_OK(beam_open_thick(&b[0], thick[0], 4, 1, 1, 0.2, &err));
     CHECK_OK(beam_open_thick(&b[1], thick[1], 4, 1, 1, 0.2, &err));
-    char path[] = "/tmp/romkit_ndmd_XXXXXX";
+    char path[512];
+    snprintf(path, sizeof path, "%s/romkit_ndmd_XXXXXX", tl_tmpdir());
     int fd = mkstemp(path);
     CHECK(fd >= 0, "mkstemp");
     close(fd);

@@ -26,10 +26,10 @@ static inline rk_mesh make_mesh(int nv, const double *X, int nt, const int *tets
 
 /* ---- temporary files ---- */
 
-/* A fresh path /tmp/rk_mesh_XXXXXX<suffix> (created empty). */
+/* A fresh path $TMPDIR/rk_mesh_XXXXXX<suffix> (created empty; /tmp without TMPDIR). */
 static inline void tmp_path(char *out, size_t cap, const char *suffix)
 {
-    snprintf(out, cap, "/tmp/rk_mesh_XXXXXX%s", suffix);
+    snprintf(out, cap, "%s/rk_mesh_XXXXXX%s", tl_tmpdir(), suffix);
     int fd = mkstemps(out, (int)strlen(suffix));
     if (fd >= 0) close(fd);
 }

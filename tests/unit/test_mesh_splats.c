@@ -13,14 +13,14 @@
 
 /* ---- a scratch directory ---- */
 
-static char scratch[64];
+static char scratch[512];
 
 static const char *tmp_path(const char *name)
 {
     static char buf[4][256];
     static int slot;
     if (!scratch[0]) {
-        snprintf(scratch, sizeof scratch, "/tmp/rk_splats_XXXXXX");
+        snprintf(scratch, sizeof scratch, "%s/rk_splats_XXXXXX", tl_tmpdir());
         if (!mkdtemp(scratch)) return "/nonexistent/scratch";
     }
     char *out = buf[slot++ & 3];

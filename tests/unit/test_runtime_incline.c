@@ -72,7 +72,7 @@ static int run_incline(double mu, double tan_theta, double eps_v, int tilted, in
     /* a 10 x 5 x 10 cm block of stiff rubber resting at dhat / 2 over the plane */
     if (tilted) {
         static int count;
-        snprintf(path, sizeof path, "/tmp/romkit_incline_%ld_%d.mesh", (long)getpid(), count++);
+        snprintf(path, sizeof path, "%s/romkit_incline_%ld_%d.mesh", tl_tmpdir(), (long)getpid(), count++);
         if (write_turned_block(theta, path, err)) return -1;
         snprintf(mesh, sizeof mesh, "{\"file\": \"%s\"}", path);
     } else {

@@ -223,7 +223,7 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
     char path[64], obstacle[160];
     const romrt_real zero[3] = {0, 0, 0};
     heightfield(&bowl, 20, 0.2, bowl_height);
-    snprintf(path, sizeof path, "/tmp/romkit_bowl_%d.obj", (int)getpid());
+    snprintf(path, sizeof path, "%s/romkit_bowl_%d.obj", tl_tmpdir(), (int)getpid());
     CHECK(write_obj(path, &bowl) == 0, "cannot write %s", path);
     snprintf(obstacle, sizeof obstacle, "{\"mesh\": {\"file\": \"%s\"}}", path);
     CHECK_OK(rt_fixture_open(&A, two_boxes(0, obstacle, -9.81), ASSET_REAL, &err, &rerr));
@@ -360,7 +360,7 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
     char path[64], obstacle[200];
     heightfield(&ter, 20, 0.15, spiky_height);
     for (int v = 0; v < ter.nv; v++) ter.X[3 * v + 1] -= 0.04, ter.Xr[3 * v + 1] = (romrt_real)ter.X[3 * v + 1];
-    snprintf(path, sizeof path, "/tmp/romkit_rising_%d.obj", (int)getpid());
+    snprintf(path, sizeof path, "%s/romkit_rising_%d.obj", tl_tmpdir(), (int)getpid());
     CHECK(write_obj(path, &ter) == 0, "cannot write %s", path);
     snprintf(obstacle, sizeof obstacle, "{\"mesh\": {\"file\": \"%s\"}, \"translate\": {\"velocity\": [0, 1, 0]}}", path);
     CHECK_OK(rt_fixture_open(&A, two_boxes(0, obstacle, -9.81), ASSET_REAL, &err, &rerr));

@@ -231,7 +231,7 @@ static int write_terrain(const char *path, int n)
 TEST(bumpy_terrain_of_3200_triangles_matches_and_never_crosses)
 {
     char path[64], obstacle[160];
-    snprintf(path, sizeof path, "/tmp/romkit_terrain_%d.obj", (int)getpid());
+    snprintf(path, sizeof path, "%s/romkit_terrain_%d.obj", tl_tmpdir(), (int)getpid());
     CHECK(write_terrain(path, 40) == 0, "cannot write %s", path);
     snprintf(obstacle, sizeof obstacle, "{\"mesh\": {\"file\": \"%s\"}}", path);
     parity("bumpy terrain, 3200 triangles, dropped at 2 m/s", slab_scene(0.075, 2, obstacle, ", \"friction\": 0.3"), 25);

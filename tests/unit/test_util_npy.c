@@ -8,7 +8,8 @@ TEST(npy_round_trip)
     rk_error err;
     double a[6] = {1, 2, 3, 4.5, -5, 1e300};
     long shape[2] = {2, 3};
-    char path[] = "/tmp/rk_npy_XXXXXX";
+    char path[512];
+    snprintf(path, sizeof path, "%s/rk_npy_XXXXXX", tl_tmpdir());
     int fd = mkstemp(path);
     close(fd);
     CHECK_OK(rk_npy_write(path, a, 2, shape, &err));
@@ -27,7 +28,8 @@ TEST(npy_header_is_aligned_to_64_bytes)
     rk_error err;
     double a[1] = {0};
     long shape[1] = {1};
-    char path[] = "/tmp/rk_npy_XXXXXX";
+    char path[512];
+    snprintf(path, sizeof path, "%s/rk_npy_XXXXXX", tl_tmpdir());
     close(mkstemp(path));
     CHECK_OK(rk_npy_write(path, a, 1, shape, &err));
     FILE *fp = fopen(path, "rb");
@@ -41,7 +43,8 @@ TEST(npy_header_is_aligned_to_64_bytes)
 TEST(npy_rejects_garbage)
 {
     rk_error err;
-    char path[] = "/tmp/rk_npy_XXXXXX";
+    char path[512];
+    snprintf(path, sizeof path, "%s/rk_npy_XXXXXX", tl_tmpdir());
     int fd = mkstemp(path);
     CHECK(write(fd, "hello world, not numpy", 22) == 22, "write");
     close(fd);
