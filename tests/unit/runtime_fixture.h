@@ -9,6 +9,7 @@
 #include "pipeline/method_fixed.h"
 #include "formats/rombin_read.h"
 #include "runtime/romrt.h"
+#include "rom/rom.h"
 
 typedef struct {
     rk_scene scene;
@@ -83,6 +84,20 @@ static inline void rt_fixture_reference(const rt_fixture *f, const double *q, do
             for (int j = 0; j < r; j++) s += f->R.basis.U[(size_t)ndof * j + k] * q[j];
             xyz[3 * i + a] = s;
         }
+}
+
+/* X + U q at every mesh vertex for the runtime's q, read in double (r may pass the header's
+ * default ROMRT_MAX_R, which the library is built above): what the contact stage's exact test
+ * measures. */
+static inline void rt_fixture_positions(const rt_fixture *f, double *x)
+{
+    int r = f->R.basis.r;
+    romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
+    double *qd = calloc((size_t)r, sizeof(double));
+    romrt_reduced_coordinates(f->m, q, r);
+    for (int j = 0; j < r; j++) qd[j] = (double)q[j];
+    rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
+    free(q), free(qd);
 }
 
 #endif

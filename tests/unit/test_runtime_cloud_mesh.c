@@ -43,18 +43,6 @@ static const char *SCENE =
     " \"newton\": {\"tolerance\": " NEWTON_TOL "},"
     " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 2, \"kernels\": 40, \"mesh_free\": {\"points\": 2000}}}";
 
-/* The runtime's q in double, and X + U q at every mesh vertex. */
-static void runtime_positions(const rt_fixture *f, double *x)
-{
-    int r = f->R.basis.r;
-    romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
-    double *qd = calloc((size_t)r, sizeof(double));
-    romrt_reduced_coordinates(f->m, q, r);
-    for (int j = 0; j < r; j++) qd[j] = (double)q[j];
-    rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
-    free(q), free(qd);
-}
-
 TEST(a_splat_capture_dropped_onto_a_meshed_slab)
 {
     rk_error err = {{0}};
@@ -90,7 +78,7 @@ TEST(a_splat_capture_dropped_onto_a_meshed_slab)
         }
         int crossed = 0;
         double least = INFINITY;
-        runtime_positions(&f, x);
+        rt_fixture_positions(&f, x);
         CHECK_OK(rk_contact_measure(&f.R.model.contact, x, &crossed, &least, &err));
         crossings += crossed;
         closest = fmin(closest, least);

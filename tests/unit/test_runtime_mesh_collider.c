@@ -193,18 +193,6 @@ static int mesh_crossings(const body *b, const app_mesh *a, const double *y, dou
     return count;
 }
 
-/* X + U q of every mesh vertex at the runtime's q (for the contact stage's measure). */
-static void model_positions(const rt_fixture *f, double *x)
-{
-    int r = f->R.basis.r;
-    romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
-    double *qd = calloc((size_t)r, sizeof(double));
-    romrt_reduced_coordinates(f->m, q, r);
-    for (int j = 0; j < r; j++) qd[j] = (double)q[j];
-    rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
-    free(q), free(qd);
-}
-
 static double seconds(void)
 {
     struct timespec ts;
@@ -254,11 +242,11 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
         }
         for (int i = 0; i < b.n; i++) lowest = fmin(lowest, b.x[3 * i + 1]);
         /* A: everything by the contact stage's measure (the bowl is its obstacle) */
-        model_positions(&A, xa);
+        rt_fixture_positions(&A, xa);
         rc = rk_contact_measure(&A.R.model.contact, xa, &c, &d, &err);
         cross_a += c, least_a = fmin(least_a, d);
         /* B: the objects by the measure, the app's bowl by the brute force above */
-        model_positions(&B, xb);
+        rt_fixture_positions(&B, xb);
         c = 0, d = INFINITY;
         if (!rc) rc = rk_contact_measure(&B.R.model.contact, xb, &c, &d, &err);
         cross_b += c, least_b = fmin(least_b, d), between = fmin(between, d);

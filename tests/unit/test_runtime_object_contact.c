@@ -33,19 +33,6 @@
 
 #define G 9.81
 
-/* The runtime's q in double, and X + U q at every mesh vertex (r may pass the header's default
- * ROMRT_MAX_R, which the library is built above). */
-static void runtime_positions(const rt_fixture *f, double *x)
-{
-    int r = f->R.basis.r;
-    romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
-    double *qd = calloc((size_t)r, sizeof(double));
-    romrt_reduced_coordinates(f->m, q, r);
-    for (int j = 0; j < r; j++) qd[j] = (double)q[j];
-    rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
-    free(q), free(qd);
-}
-
 typedef struct {
     double rel;       /* largest difference of the shown positions over the largest displacement */
     int crossings;    /* the runtime's, all steps together */
@@ -90,7 +77,7 @@ static int run_both(const char *json, int steps, parity_result *out, rk_error *e
         }
         int crossed = 0;
         double least = INFINITY;
-        runtime_positions(&f, x);
+        rt_fixture_positions(&f, x);
         rc = rk_contact_measure(&f.R.model.contact, x, &crossed, &least, err);
         out->crossings += crossed;
         out->closest = fmin(out->closest, least);
@@ -190,11 +177,11 @@ static int runtime_incline(double mu, double tan_theta, double eps_v, double *dr
     }
     int T = f.sim.steps, rc = 0;
     double *x = calloc((size_t)3 * f.sim.mesh.nv, sizeof(double)), *xs = calloc((size_t)T + 1, sizeof(double));
-    runtime_positions(&f, x);
+    rt_fixture_positions(&f, x);
     xs[0] = block_x(&f, x);
     for (int k = 1; k <= T && !rc; k++) {
         if (romrt_step(f.m, &rerr) != ROMRT_OK) rc = rk_fail(err, "step %d: %s", k, rerr.message);
-        runtime_positions(&f, x);
+        rt_fixture_positions(&f, x);
         xs[k] = block_x(&f, x);
     }
     if (!rc) *drift = xs[T] - xs[0], *accel = fit_acceleration(xs, T / 2, T, f.sim.options.h);
