@@ -87,7 +87,7 @@ $(foreach s,$(STAGES),$(eval $(call stage_lib,$(s))))
 RT_SRC     := $(wildcard runtime/*.c) formats/rombin_read.c
 # The desktop runtime libraries step assets up to r = RT_MAX_R (an RKPM skinning basis of m = 16
 # weights has 204 coordinates); an app compiling the sources itself picks its own ROMRT_MAX_R.
-RT_MAX_R   ?= $(shell sed -n 's/^\#define ROMRT_MAX_R \([0-9][0-9]*\)$$/\1/p' runtime/romrt.h)
+RT_MAX_R   ?= $(shell sed -n 's/^\#define ROMRT_MAX_R \([0-9][0-9]*\)$$/\1/p' runtime/romrt_impl.h)
 # -O3: at -O2 gcc 12 leaves the r x r loops of the Newton Hessian scalar (2.6x slower at r = 204).
 # A sanitizer build (OPT=-O1) keeps its own level.
 RT_OPT     := $(if $(filter -O2,$(OPT)),-O3,$(OPT))

@@ -79,7 +79,7 @@ int main(int argc, char **argv)
         for (int k = 0; k < n; k++) {
             romrt_error re;
             romrt_step_info info;
-            romrt_reset(as[k].m);
+            romrt_reset(as[k].m, NULL);
             as[k].iterations = 0;
             double t0 = rk_now();
             for (int s = 0; s < steps; s++) {
@@ -87,7 +87,7 @@ int main(int argc, char **argv)
                     fprintf(stderr, "bench_assets: %s: step %d: %s\n", as[k].path, s, re.message);
                     return 1;
                 }
-                romrt_last_step(as[k].m, &info);
+                ((info).size = sizeof(info), romrt_last_step(as[k].m, &info, NULL));
                 as[k].iterations += info.newton_iterations;
             }
             as[k].us[round] = (rk_now() - t0) / steps * 1e6;

@@ -233,13 +233,13 @@ static int time_op(romrt_model *m, const float *state, int op, unsigned long n, 
     int ns = romrt_state_size(m), shown = romrt_shown_count(m);
     romrt_error re = {0};
     for (int s = -1; s < RT_REPEATS; s++) {
-        if (romrt_set_state(m, state, ns) != ROMRT_OK) return rk_fail(err, "romrt_set_state refused the state");
+        if (romrt_set_state(m, state, ns, NULL) != ROMRT_OK) return rk_fail(err, "romrt_set_state refused the state");
         romrt_status st = ROMRT_OK;
         double t0 = rk_now();
         for (int c = 0; c < calls && !st; c++)
             st = op == OP_STEP ? romrt_step(m, &re)
                  : op == OP_JUMP ? romrt_jump(m, n, &re)
-                                 : romrt_positions(m, xyz, shown, 3);
+                                 : romrt_positions(m, xyz, 3 * (size_t)shown, 3, NULL);
         if (s >= 0) t[s] = 1e6 * (rk_now() - t0) / calls;
         if (st) return rk_fail(err, "runtime call (op %d, N %lu): %s", op, n, re.message);
     }
@@ -258,7 +258,7 @@ static int time_jump_over_step(romrt_model *m, const float *state, unsigned long
         double us[2];
         for (int half = 0; half < 2; half++) {
             int calls = half ? JUMP_CALLS : STEP_CALLS;
-            romrt_status st = romrt_set_state(m, state, ns);
+            romrt_status st = romrt_set_state(m, state, ns, NULL);
             double t0 = rk_now();
             for (int c = 0; c < calls && !st; c++) st = half ? romrt_jump(m, n, &re) : romrt_step(m, &re);
             us[half] = (rk_now() - t0) / calls;
@@ -276,12 +276,12 @@ static int jump_difference(romrt_model *m, const float *state, double *diff, rk_
     float a[ROMRT_MAX_R], b[ROMRT_MAX_R];
     int ns = romrt_state_size(m), r = romrt_reduced_size(m);
     romrt_error re;
-    if (romrt_set_state(m, state, ns) || romrt_jump(m, 1000, &re) || romrt_reduced_coordinates(m, a, r) ||
-        romrt_set_state(m, state, ns))
+    if (romrt_set_state(m, state, ns, NULL) || romrt_jump(m, 1000, &re) || romrt_reduced_coordinates(m, a, r, NULL) ||
+        romrt_set_state(m, state, ns, NULL))
         return rk_fail(err, "jump(1000) from the start state failed");
     for (int k = 0; k < 1000; k++)
         if (romrt_step(m, &re)) return rk_fail(err, "step %d: %s", k, re.message);
-    if (romrt_reduced_coordinates(m, b, r)) return rk_fail(err, "romrt_reduced_coordinates");
+    if (romrt_reduced_coordinates(m, b, r, NULL)) return rk_fail(err, "romrt_reduced_coordinates");
     double num = 0, den = 0;
     for (int j = 0; j < r; j++) num += (double)(a[j] - b[j]) * (a[j] - b[j]), den += (double)b[j] * b[j];
     *diff = den > 0 ? sqrt(num / den) : sqrt(num);
@@ -307,7 +307,7 @@ static int time_runtime(const unsigned char *asset, size_t bytes, rt_row *row, r
         rk_fail(err, "out of memory");
         goto done;
     }
-    if (romrt_get_state(m, state, ns) != ROMRT_OK) {
+    if (romrt_get_state(m, state, ns, NULL) != ROMRT_OK) {
         rk_fail(err, "romrt_get_state");
         goto done;
     }

@@ -73,16 +73,16 @@ static int run(romrt_model *m, const char *path, int mode, int steps, romrt_real
         fprintf(stderr, "bench_newton_modes: %s: %s\n", path, re.message);
         return -1;
     }
-    romrt_reset(m);
+    romrt_reset(m, NULL);
     double t0 = cpu_now();
     for (int s = 0; s < steps; s++) {
         if (romrt_step(m, &re)) {
             fprintf(stderr, "bench_newton_modes: %s: step %d: %s\n", path, s, re.message);
             return -1;
         }
-        romrt_last_step(m, &info);
+        ((info).size = sizeof(info), romrt_last_step(m, &info, NULL));
         iterations += info.newton_iterations;
-        if (traj) romrt_positions(m, traj + (size_t)3 * n * s, n, 3);
+        if (traj) romrt_positions(m, traj + (size_t)3 * n * s, 3 * (size_t)n, 3, NULL);
     }
     *us = (cpu_now() - t0) / steps * 1e6;
     *its = (double)iterations / steps;
@@ -133,7 +133,7 @@ int main(int argc, char **argv)
         size_t len = (size_t)3 * n * steps;
         romrt_real *rest = malloc(sizeof(romrt_real) * 3 * (size_t)n), *traj[NMODES];
         double *us = calloc((size_t)NMODES * rounds, sizeof(double)), its[NMODES], t;
-        romrt_positions(m, rest, n, 3);
+        romrt_positions(m, rest, 3 * (size_t)n, 3, NULL);
         for (int k = 0; k < NMODES; k++) traj[k] = malloc(sizeof(romrt_real) * len);
         /* the default is what a fresh open leaves: measure it before any setter runs */
         if (run(m, path, NMODES - 1, steps, traj[NMODES - 1], n, &t, &its[NMODES - 1])) return 1;

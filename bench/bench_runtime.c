@@ -80,14 +80,14 @@ static int time_runtime(romrt_model *m, int steps, bench_stat *sec, double *newt
     double t[RT_REPEATS];
     long iters = 0;
     *unconverged = 0;
-    romrt_reset(m);
+    romrt_reset(m, NULL);
     if (romrt_step(m, &re) != ROMRT_OK) return rk_fail(err, "romrt_step (warm-up): %s", re.message);
     for (int s = 0; s < RT_REPEATS; s++) {
         double t0 = rk_now();
         for (int k = 0; k < steps; k++) {
             if (romrt_step(m, &re) != ROMRT_OK)
                 return rk_fail(err, "romrt_step %d: %s", 1 + s * steps + k, re.message);
-            romrt_last_step(m, &info);
+            ((info).size = sizeof(info), romrt_last_step(m, &info, NULL));
             iters += info.newton_iterations;
             *unconverged += !info.converged;
         }
@@ -95,7 +95,7 @@ static int time_runtime(romrt_model *m, int steps, bench_stat *sec, double *newt
     }
     *sec = bench_stat_of(t, RT_REPEATS);
     *newton = (double)iters / (RT_REPEATS * steps);
-    if (romrt_reduced_coordinates(m, q, romrt_reduced_size(m)) != ROMRT_OK)
+    if (romrt_reduced_coordinates(m, q, romrt_reduced_size(m), NULL) != ROMRT_OK)
         return rk_fail(err, "romrt_reduced_coordinates");
     return 0;
 }

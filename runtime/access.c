@@ -60,9 +60,21 @@ romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk
     return with_message(err, status, chunk, 2, text1, n, text2, n2, text3);
 }
 
-void romrt_reset(romrt_model *m)
+/* The argument checks every public call makes: a NULL model or buffer, a capacity too small. */
+static romrt_status no_model(romrt_error *err) { return rt_fail(err, ROMRT_E_ARGUMENT, 0, "the model is NULL"); }
+static romrt_status no_buffer(romrt_error *err, const char *what) /* what: "X is NULL" */
 {
-    if (!m) return;
+    return rt_fail(err, ROMRT_E_ARGUMENT, 0, what);
+}
+static romrt_status short_buffer(romrt_error *err, const char *what, size_t capacity, size_t need)
+{
+    return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, what, (uint64_t)capacity, " elements, below the ", (uint64_t)need,
+                      " needed");
+}
+
+romrt_status romrt_reset(romrt_model *m, romrt_error *err)
+{
+    if (!m) return no_model(err);
     memset(m->q, 0, sizeof m->q);
     memset(m->v, 0, sizeof m->v);
     memset(m->q_prev, 0, sizeof m->q_prev);
@@ -82,16 +94,42 @@ void romrt_reset(romrt_model *m)
     }
     if (m->kind == ROMRT_KIND_KOOPMAN) rt_koopman_reset(m);
     if (m->alrom) rt_alrom_reset(m);
+    return ROMRT_OK;
 }
 
 romrt_kind romrt_model_kind(const romrt_model *m) { return m ? m->kind : ROMRT_KIND_REDUCED; }
-int romrt_max_reduced_size(void) { return ROMRT_MAX_R; }
 int romrt_version(void) { return ROMRT_VERSION_NUMBER; }
 
-int romrt_reduced_size(const romrt_model *m) { return m ? m->r : 0; }
-int romrt_shown_count(const romrt_model *m) { return m ? m->shown : 0; }
-int romrt_triangle_count(const romrt_model *m) { return m ? m->ntris : 0; }
-int romrt_group_count(const romrt_model *m) { return m ? m->ngroups : 0; }
+/* An out-struct's size (romrt.h): the caller's, at least the 3.0 struct's (first), at most ours. */
+romrt_status rt_out_size(size_t given, size_t first, size_t ours, const char *what, size_t *write, romrt_error *err)
+{
+    if (given < first)
+        return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, what, (uint64_t)given, " bytes, below the ", (uint64_t)first,
+                          " of its first version (set size to sizeof the struct)");
+    *write = given < ours ? given : ours;
+    return ROMRT_OK;
+}
+
+romrt_status romrt_get_limits(romrt_limits *limits, romrt_error *err)
+{
+    romrt_limits ours;
+    size_t n;
+    if (!limits) return no_buffer(err, "limits is NULL");
+    if (rt_out_size(limits->size, sizeof ours, sizeof ours, "limits.size is ", &n, err)) return ROMRT_E_ARGUMENT;
+    memset(&ours, 0, sizeof ours);
+    ours.size = limits->size;
+    ours.max_reduced_size = ROMRT_MAX_R;
+    ours.collider_slots = ROMRT_MAX_COLLIDERS;
+    ours.mesh_max_count = ROMRT_MESH_MAX_COUNT;
+    memset(limits, 0, limits->size); /* fields of a newer header read 0 */
+    memcpy(limits, &ours, n);
+    return ROMRT_OK;
+}
+
+size_t romrt_reduced_size(const romrt_model *m) { return m ? (size_t)m->r : 0; }
+size_t romrt_shown_count(const romrt_model *m) { return m ? (size_t)m->shown : 0; }
+size_t romrt_triangle_count(const romrt_model *m) { return m ? (size_t)m->ntris : 0; }
+size_t romrt_group_count(const romrt_model *m) { return m ? (size_t)m->ngroups : 0; }
 double romrt_time(const romrt_model *m) { return m ? rt_clock(m, 0) : 0; }
 romrt_real romrt_time_step(const romrt_model *m) { return m ? m->h : 0; }
 
@@ -150,51 +188,63 @@ int rt_showable(const romrt_model *m, const romrt_real *q)
     return top * m->row_bound + m->x_bound < RT_POSITION_LIMIT;
 }
 
-/* Whether a vertex buffer of `capacity` vertices `stride` reals apart takes every shown vertex. */
-static int holds_shown(const romrt_model *m, const romrt_real *xyz, int capacity, int stride)
+/* Whether a vertex buffer of `capacity` reals, vertices `stride` reals apart, takes every shown vertex. */
+static romrt_status holds_shown(const romrt_model *m, const romrt_real *xyz, size_t capacity, size_t stride,
+                                romrt_error *err)
 {
-    return m && xyz && stride >= 3 && capacity >= m->shown;
+    if (!m) return no_model(err);
+    if (!xyz) return no_buffer(err, "the vertex buffer is NULL");
+    if (stride < 3 || stride > ((size_t)-1 - 3) / ROMRT_MAX_VERTICES)
+        return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "a stride of ", (uint64_t)stride, " reals (3 at least)");
+    if (m->shown > 0 && capacity < stride * (size_t)(m->shown - 1) + 3)
+        return short_buffer(err, "the vertex buffer holds ", capacity, stride * (size_t)(m->shown - 1) + 3);
+    return ROMRT_OK;
 }
 
-romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride)
+romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, size_t capacity, size_t stride, romrt_error *err)
 {
     int i, a;
-    if (!holds_shown(m, xyz, capacity, stride)) return ROMRT_E_ARGUMENT;
+    if (holds_shown(m, xyz, capacity, stride, err)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < m->shown; i++) {
-        romrt_real *x = xyz + (size_t)stride * (size_t)i;
+        romrt_real *x = xyz + stride * (size_t)i;
         for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)i + (size_t)a] + rt_row_dot(m, (uint32_t)i, a, m->q);
     }
     return ROMRT_OK;
 }
 
-romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride)
+romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, size_t capacity, size_t stride,
+                                  romrt_error *err)
 {
     int i, a;
-    if (!holds_shown(m, xyz, capacity, stride)) return ROMRT_E_ARGUMENT;
+    if (holds_shown(m, xyz, capacity, stride, err)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < m->shown; i++)
-        for (a = 0; a < 3; a++) xyz[(size_t)stride * (size_t)i + (size_t)a] = m->X[3 * (size_t)i + (size_t)a];
+        for (a = 0; a < 3; a++) xyz[stride * (size_t)i + (size_t)a] = m->X[3 * (size_t)i + (size_t)a];
     return ROMRT_OK;
 }
 
-romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t capacity)
+romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t capacity, romrt_error *err)
 {
     int i, a;
     size_t r;
-    if (!m || !rows) return ROMRT_E_ARGUMENT;
-    r = (size_t)m->r;
-    if (capacity / 3 / r < (size_t)m->shown) return ROMRT_E_ARGUMENT; /* 3 shown r would not fit (or overflow) */
+    if (!m) return no_model(err);
+    if (!rows) return no_buffer(err, "rows is NULL");
+    r = (size_t)m->r; /* 3 shown r <= 3 2^24 256: no overflow */
+    if (capacity < 3 * (size_t)m->shown * r) return short_buffer(err, "rows holds ", capacity, 3 * (size_t)m->shown * r);
     for (i = 0; i < m->shown; i++)
         for (a = 0; a < 3; a++) rt_row(m, (uint32_t)i, a, rows + (3 * (size_t)i + (size_t)a) * r);
     return ROMRT_OK;
 }
 
-romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, int count)
+romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, size_t capacity, romrt_error *err)
 {
     int i, j, a, b, H;
-    if (!m || !F || count < 0 || count > m->shown) return ROMRT_E_ARGUMENT;
-    if (!m->grad) return ROMRT_E_UNSUPPORTED;
+    if (!m) return no_model(err);
+    if (!F) return no_buffer(err, "F is NULL");
+    if (!m->grad)
+        return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_GRAD, "the asset stores no weight gradients (GRAD: point clouds)");
+    if (capacity < 9 * (size_t)m->shown) return short_buffer(err, "F holds ", capacity, 9 * (size_t)m->shown);
     H = m->skin;
-    for (i = 0; i < count; i++) {
+    for (i = 0; i < m->shown; i++) {
         const romrt_real *X = m->X + 3 * (size_t)i;
         romrt_real *Fi = F + 9 * (size_t)i;
         for (a = 0; a < 9; a++) Fi[a] = (romrt_real)(a % 4 == 0);
@@ -211,26 +261,43 @@ romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, in
     return ROMRT_OK;
 }
 
-romrt_status romrt_triangles(const romrt_model *m, int *tri, int count)
+romrt_status romrt_triangles(const romrt_model *m, int32_t *tri, size_t capacity, romrt_error *err)
 {
-    int i;
-    if (!m || !tri || count < 0 || count > m->ntris) return ROMRT_E_ARGUMENT;
-    for (i = 0; i < 3 * count; i++) tri[i] = (int)m->tris[i];
+    size_t i;
+    if (!m) return no_model(err);
+    if (!tri) return no_buffer(err, "tri is NULL");
+    if (capacity < 3 * (size_t)m->ntris) return short_buffer(err, "tri holds ", capacity, 3 * (size_t)m->ntris);
+    for (i = 0; i < 3 * (size_t)m->ntris; i++) tri[i] = (int32_t)m->tris[i];
     return ROMRT_OK;
 }
 
-int romrt_find_group(const romrt_model *m, const char *name)
+romrt_status romrt_find_group(const romrt_model *m, const char *name, size_t *group, romrt_error *err)
 {
     int g;
-    if (!m || !name) return -1;
+    if (!m) return no_model(err);
+    if (!name || !group) return no_buffer(err, name ? "group is NULL" : "name is NULL");
     for (g = 0; g < m->ngroups; g++)
-        if (strncmp(m->names + ROMBIN_GROUP_NAME_BYTES * g, name, ROMBIN_GROUP_NAME_BYTES) == 0) return g;
-    return -1;
+        if (strncmp(m->names + ROMBIN_GROUP_NAME_BYTES * g, name, ROMBIN_GROUP_NAME_BYTES) == 0) {
+            *group = (size_t)g;
+            return ROMRT_OK;
+        }
+    return rt_fail_n(err, ROMRT_E_ARGUMENT, ROMBIN_GRPS, "no group of that name among the asset's ",
+                     (uint64_t)m->ngroups, "");
 }
 
-const char *romrt_group_name(const romrt_model *m, int group)
+static romrt_status bad_group(const romrt_model *m, size_t group, romrt_error *err)
 {
-    return m && group >= 0 && group < m->ngroups ? m->names + ROMBIN_GROUP_NAME_BYTES * group : 0;
+    return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "group ", (uint64_t)group, " out of range (the asset has ",
+                      (uint64_t)m->ngroups, ")");
+}
+
+romrt_status romrt_group_name(const romrt_model *m, size_t group, const char **name, romrt_error *err)
+{
+    if (!m) return no_model(err);
+    if (!name) return no_buffer(err, "name is NULL");
+    if (group >= (size_t)m->ngroups) return bad_group(m, group, err);
+    *name = m->names + ROMBIN_GROUP_NAME_BYTES * group;
+    return ROMRT_OK;
 }
 
 /* f_app += B_v^T f for stored vertex v (a Koopman asset: its impulse rows, KIMP). */
@@ -253,52 +320,69 @@ static void push(romrt_model *m, uint32_t v, const romrt_real f[3])
 
 static int finite3(const romrt_real f[3]) { return isfinite(f[0]) && isfinite(f[1]) && isfinite(f[2]); }
 
+static romrt_status overflows(romrt_error *err)
+{
+    return rt_fail(err, ROMRT_E_ARGUMENT, 0, "the applied forces would overflow: the force is refused");
+}
+
 /* Keeps the applied forces finite: a push whose sum overflows is undone and refused. */
-static romrt_status checked(romrt_model *m, const romrt_real *before)
+static romrt_status checked(romrt_model *m, const romrt_real *before, romrt_error *err)
 {
     int j;
     for (j = 0; j < m->r; j++)
         if (!isfinite(m->f_app[j])) {
             memcpy(m->f_app, before, sizeof(romrt_real) * (size_t)m->r);
-            return ROMRT_E_ARGUMENT;
+            return overflows(err);
         }
     return ROMRT_OK;
 }
 
-romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3])
+static romrt_status bad_force(const romrt_real f[3], romrt_error *err)
+{
+    return f ? rt_fail(err, ROMRT_E_ARGUMENT, 0, "the force is not finite") : no_buffer(err, "the force is NULL");
+}
+
+romrt_status romrt_add_force(romrt_model *m, size_t group, const romrt_real f[3], romrt_error *err)
 {
     uint32_t k, first, count;
     romrt_real share[3], before[ROMRT_MAX_R];
-    if (!m || !f || group < 0 || group >= m->ngroups || !finite3(f)) return ROMRT_E_ARGUMENT;
+    if (!m) return no_model(err);
+    if (group >= (size_t)m->ngroups) return bad_group(m, group, err);
+    if (!f || !finite3(f)) return bad_force(f, err);
     memcpy(before, m->f_app, sizeof(romrt_real) * (size_t)m->r);
     first = m->groups[2 * group];
     count = m->groups[2 * group + 1];
     for (k = 0; k < 3; k++) share[k] = f[k] / (romrt_real)count;
     if (m->alrom) { /* all or nothing */
         for (k = 0; k < count; k++)
-            if (rt_alrom_push(m, m->gverts[first + k], share, 0)) return ROMRT_E_ARGUMENT;
+            if (rt_alrom_push(m, m->gverts[first + k], share, 0)) return overflows(err);
         for (k = 0; k < count; k++) rt_alrom_push(m, m->gverts[first + k], share, 1);
         return ROMRT_OK;
     }
     for (k = 0; k < count; k++) push(m, m->gverts[first + k], share);
-    return checked(m, before);
+    return checked(m, before, err);
 }
 
-romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romrt_real f[3])
+romrt_status romrt_add_vertex_force(romrt_model *m, size_t shown_vertex, const romrt_real f[3], romrt_error *err)
 {
     romrt_real before[ROMRT_MAX_R];
-    if (!m || !f || shown_vertex < 0 || shown_vertex >= m->shown || !finite3(f)) return ROMRT_E_ARGUMENT;
-    if (m->alrom) return rt_alrom_push(m, (uint32_t)shown_vertex, f, 1) ? ROMRT_E_ARGUMENT : ROMRT_OK;
+    if (!m) return no_model(err);
+    if (shown_vertex >= (size_t)m->shown)
+        return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "vertex ", (uint64_t)shown_vertex, " out of range (the asset shows ",
+                          (uint64_t)m->shown, ")");
+    if (!f || !finite3(f)) return bad_force(f, err);
+    if (m->alrom) return rt_alrom_push(m, (uint32_t)shown_vertex, f, 1) ? overflows(err) : ROMRT_OK;
     memcpy(before, m->f_app, sizeof(romrt_real) * (size_t)m->r);
     push(m, (uint32_t)shown_vertex, f);
-    return checked(m, before);
+    return checked(m, before, err);
 }
 
-void romrt_clear_forces(romrt_model *m)
+romrt_status romrt_clear_forces(romrt_model *m, romrt_error *err)
 {
-    if (!m) return;
+    if (!m) return no_model(err);
     memset(m->f_app, 0, sizeof m->f_app);
     if (m->alrom) memset(m->al.f_app, 0, sizeof(romrt_real) * 3 * (size_t)m->nv);
+    return ROMRT_OK;
 }
 
 /* State layout: the clock as a pair t_hi + t_lo (t_hi the clock rounded to romrt_real, t_lo what
@@ -310,10 +394,20 @@ void romrt_clear_forces(romrt_model *m)
 #else
 #define RT_TOWARD_ZERO(x) nextafterf((x), 0.0f)
 #endif
-int romrt_state_size(const romrt_model *m)
+size_t romrt_state_size(const romrt_model *m)
 {
     if (!m) return 0;
-    return m->alrom ? RT_STATE_HEAD + rt_alrom_state_size(m) : RT_STATE_HEAD + 5 * m->r;
+    return (size_t)(m->alrom ? RT_STATE_HEAD + rt_alrom_state_size(m) : RT_STATE_HEAD + 5 * m->r);
+}
+
+static romrt_status state_args(const romrt_model *m, const romrt_real *state, size_t count, int exact, romrt_error *err)
+{
+    if (!m) return no_model(err);
+    if (!state) return no_buffer(err, "the state is NULL");
+    if (exact ? count != romrt_state_size(m) : count < romrt_state_size(m))
+        return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "a state of ", (uint64_t)count, " reals where this model's has ",
+                          (uint64_t)romrt_state_size(m), "");
+    return ROMRT_OK;
 }
 
 void rt_split(double x, romrt_real *pair)
@@ -333,10 +427,10 @@ void rt_split(double x, romrt_real *pair)
     pair[1] = lo;
 }
 
-romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
+romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, size_t capacity, romrt_error *err)
 {
     int r;
-    if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
+    if (state_args(m, state, capacity, 0, err)) return ROMRT_E_ARGUMENT;
     r = m->r;
     rt_split(rt_clock(m, 0), state);
     state[2] = (romrt_real)m->have_prev;
@@ -352,17 +446,21 @@ romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count)
     return ROMRT_OK;
 }
 
-romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
+romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, size_t count, romrt_error *err)
 {
-    int i, r;
-    if (!m || !state || count != romrt_state_size(m)) return ROMRT_E_ARGUMENT;
+    size_t i;
+    int r;
+    if (state_args(m, state, count, 1, err)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < count; i++)
-        if (!isfinite(state[i])) return ROMRT_E_ARGUMENT;
-    if (!(state[2] == 0 || state[2] == 1)) return ROMRT_E_ARGUMENT;
+        if (!isfinite(state[i]))
+            return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "state real ", (uint64_t)i, " is not finite");
+    if (!(state[2] == 0 || state[2] == 1))
+        return rt_fail(err, ROMRT_E_ARGUMENT, 0, "state real 2 (whether there is a previous step) is not 0 or 1");
     if (m->alrom) {
-        if (rt_alrom_set_state(m, state + RT_STATE_HEAD)) return ROMRT_E_ARGUMENT;
-    } else if (!rt_showable(m, state + RT_STATE_HEAD)) {
-        return ROMRT_E_ARGUMENT; /* q would draw as Inf */
+        if (rt_alrom_set_state(m, state + RT_STATE_HEAD))
+            return rt_fail(err, ROMRT_E_ARGUMENT, 0, "the adaptive model's state is out of range");
+    } else if (!rt_showable(m, state + RT_STATE_HEAD)) { /* q would draw as Inf */
+        return rt_fail(err, ROMRT_E_ARGUMENT, 0, "the state's q would put the shown vertices past the reals' range");
     }
     r = m->r;
     m->hessian_age = -1;
@@ -378,14 +476,27 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count)
     return ROMRT_OK;
 }
 
-romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int capacity)
+romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, size_t capacity, romrt_error *err)
 {
-    if (!m || !q || capacity < m->r) return ROMRT_E_ARGUMENT;
+    if (!m) return no_model(err);
+    if (!q) return no_buffer(err, "q is NULL");
+    if (capacity < (size_t)m->r) return short_buffer(err, "q holds ", capacity, (size_t)m->r);
     memcpy(q, m->q, sizeof(romrt_real) * (size_t)m->r);
     return ROMRT_OK;
 }
 
-void romrt_last_step(const romrt_model *m, romrt_step_info *info)
+romrt_status romrt_last_step(const romrt_model *m, romrt_step_info *info, romrt_error *err)
 {
-    if (m && info) *info = m->last;
+    romrt_step_info ours;
+    size_t n;
+    if (!m) return no_model(err);
+    if (!info) return no_buffer(err, "info is NULL");
+    if (rt_out_size(info->size, sizeof ours, sizeof ours, "info.size is ", &n, err)) return ROMRT_E_ARGUMENT;
+    ours = m->last;
+    ours.size = info->size;
+    ours.hessian_reuse = (size_t)rt_reuse_steps(m);
+    ours.pair_capacity = (size_t)m->pair_cap;
+    memset(info, 0, info->size); /* fields of a newer header read 0 */
+    memcpy(info, &ours, n);
+    return ROMRT_OK;
 }

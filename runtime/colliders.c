@@ -6,7 +6,6 @@
 
 #include "runtime/romrt_impl.h"
 
-int romrt_collider_slots(void) { return ROMRT_MAX_COLLIDERS; }
 int romrt_takes_colliders(const romrt_model *m) { return m && m->kind == ROMRT_KIND_REDUCED && m->ncv > 0; }
 
 static void to_shape(const romrt_collider *c, romrt_real *shape)
@@ -19,15 +18,14 @@ static void to_shape(const romrt_collider *c, romrt_real *shape)
     for (i = 0; i < 3; i++) shape[14 + i] = c->half_extents[i];
 }
 
-romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *c, romrt_error *err)
+romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collider *c, romrt_error *err)
 {
     romrt_real shape[RT_COLLIDER_REALS], x[3];
     rt_collider *k;
     int i, same = 1;
     if (!m || !c) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: no model or collider (NULL)");
-    if (slot < 0 || slot >= ROMRT_MAX_COLLIDERS)
-        return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: slot ", (uint64_t)(slot < 0 ? 0 : slot),
-                         slot < 0 ? " (negative) is out of range" : " is out of range");
+    if (slot >= ROMRT_MAX_COLLIDERS)
+        return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: slot ", (uint64_t)slot, " is out of range");
     if (!romrt_takes_colliders(m))
         return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_CVTX,
                        "the asset has no collision vertices (baked with \"colliders\": false or before rombin 1.1)");
@@ -54,7 +52,7 @@ romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *
             return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: it would overlap the body at stored vertex ",
                              m->cv[i], ": place it clear, then move it");
     }
-    if (k->mesh) rt_mesh_leave(m, slot); /* a mesh's slot taken over */
+    if (k->mesh) rt_mesh_leave(m, (int)slot); /* a mesh's slot taken over */
     m->ncolliders += !k->active;
     m->hessian_age = -1; /* a kept Newton matrix lacks the new collider's terms */
     k->active = 1;
@@ -66,12 +64,12 @@ romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *
     return ROMRT_OK;
 }
 
-romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err)
+romrt_status romrt_remove_collider(romrt_model *m, size_t slot, romrt_error *err)
 {
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_remove_collider: no model (NULL)");
-    if (slot < 0 || slot >= ROMRT_MAX_COLLIDERS)
-        return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_remove_collider: slot out of range");
-    if (m->colliders[slot].mesh) rt_mesh_leave(m, slot);
+    if (slot >= ROMRT_MAX_COLLIDERS)
+        return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_remove_collider: slot ", (uint64_t)slot, " is out of range");
+    if (m->colliders[slot].mesh) rt_mesh_leave(m, (int)slot);
     m->ncolliders -= m->colliders[slot].active;
     m->colliders[slot].active = 0;
     m->hessian_age = -1;

@@ -89,7 +89,7 @@ void rt_mesh_leave(romrt_model *m, int slot)
     m->nfric = 0;
 }
 
-romrt_status romrt_set_mesh_collider(romrt_model *m, int slot, const romrt_mesh *mesh, const romrt_real position[3],
+romrt_status romrt_set_mesh_collider(romrt_model *m, size_t slot, const romrt_mesh *mesh, const romrt_real position[3],
                                      const romrt_real rotation[9], romrt_error *err)
 {
     romrt_real shape[RT_COLLIDER_REALS];
@@ -98,9 +98,8 @@ romrt_status romrt_set_mesh_collider(romrt_model *m, int slot, const romrt_mesh 
     int i, placed;
     if (!m || !mesh || !position || !rotation)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_mesh_collider: no model, mesh, position or rotation (NULL)");
-    if (slot < 0 || slot >= ROMRT_MAX_COLLIDERS)
-        return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_mesh_collider: slot ", (uint64_t)(slot < 0 ? 0 : slot),
-                         slot < 0 ? " (negative) is out of range" : " is out of range");
+    if (slot >= ROMRT_MAX_COLLIDERS)
+        return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_mesh_collider: slot ", (uint64_t)slot, " is out of range");
     if (!romrt_takes_colliders(m))
         return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_CVTX,
                        "the asset has no collision vertices (baked with \"colliders\": false or before rombin 1.1)");
@@ -127,7 +126,7 @@ romrt_status romrt_set_mesh_collider(romrt_model *m, int slot, const romrt_mesh 
         if (st) return st;
     }
     for (i = 0; i < ROMRT_MAX_COLLIDERS; i++)
-        if (i != slot && m->colliders[i].active && m->colliders[i].mesh == M)
+        if ((size_t)i != slot && m->colliders[i].active && m->colliders[i].mesh == M)
             return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_mesh_collider: the index is placed in slot ", (uint64_t)i,
                              " already: one index per placed mesh");
     k = &m->colliders[slot];

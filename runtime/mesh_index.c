@@ -27,10 +27,10 @@ typedef struct {
 
 static size_t up8(size_t n) { return (n + 7) / 8 * 8; }
 
-static int plan(int nv, int nt, layout *L)
+static int plan(size_t nv, size_t nt, layout *L)
 {
     size_t at = up8(sizeof(rt_mesh)), reals = sizeof(romrt_real);
-    if (nv <= 0 || nt <= 0 || nv > ROMRT_MESH_MAX_COUNT || nt > ROMRT_MESH_MAX_COUNT) return -1;
+    if (nv == 0 || nt == 0 || nv > ROMRT_MESH_MAX_COUNT || nt > ROMRT_MESH_MAX_COUNT) return -1;
     L->ne_max = 3u * (uint32_t)nt;
     L->items_max = (uint32_t)nv + L->ne_max + (uint32_t)nt;
     L->nodes_max = L->items_max + 1;
@@ -43,10 +43,15 @@ static int plan(int nv, int nt, layout *L)
     return 0;
 }
 
-size_t romrt_mesh_index_size(int vertex_count, int triangle_count)
+romrt_status romrt_mesh_index_size(size_t vertex_count, size_t triangle_count, size_t *index_bytes, romrt_error *err)
 {
     layout L;
-    return plan(vertex_count, triangle_count, &L) ? 0 : L.total;
+    if (!index_bytes) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_size: index_bytes is NULL");
+    if (plan(vertex_count, triangle_count, &L))
+        return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_size: ", (uint64_t)vertex_count,
+                          " vertices and ", (uint64_t)triangle_count, " triangles (each 1 to 2^24)");
+    *index_bytes = L.total;
+    return ROMRT_OK;
 }
 
 /* Sift key i down the heap of n keys (max-heap). */
@@ -168,13 +173,14 @@ romrt_status rt_mesh_check(const romrt_mesh *mesh, int placing, romrt_error *err
 {
     const char *vertex = placing ? "romrt_set_mesh_collider: the position of vertex " : "romrt_mesh_index_build: the position of vertex ";
     const char *triangle = placing ? "romrt_set_mesh_collider: triangle " : "romrt_mesh_index_build: triangle ";
-    int i, k, j;
+    size_t i;
+    int k, j;
     for (i = 0; i < 3 * mesh->vertex_count; i++)
         if (!isfinite(mesh->positions[i])) return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, vertex, (uint64_t)(i / 3), " is not finite");
     for (i = 0; i < mesh->triangle_count; i++)
         for (k = 0; k < 3; k++) {
             int32_t v = mesh->triangles[3 * (size_t)i + k];
-            if (v < 0 || v >= mesh->vertex_count)
+            if (v < 0 || (size_t)v >= mesh->vertex_count)
                 return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, triangle, (uint64_t)i, " names a vertex out of range, at corner ",
                                   (uint64_t)k, "");
             for (j = 0; j < k; j++)
@@ -194,9 +200,8 @@ romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: no mesh, positions, triangles or index (NULL)");
     if (plan(mesh->vertex_count, mesh->triangle_count, &L))
         return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: vertex count ",
-                          (uint64_t)(mesh->vertex_count < 0 ? 0 : mesh->vertex_count), " or triangle count ",
-                          (uint64_t)(mesh->triangle_count < 0 ? 0 : mesh->triangle_count),
-                          " is 0, negative or above ROMRT_MESH_MAX_COUNT (2^24)");
+                          (uint64_t)mesh->vertex_count, " or triangle count ", (uint64_t)mesh->triangle_count,
+                          " is 0 or above the limits' mesh_max_count (2^24)");
     if ((size_t)mesh->index % 8 != 0)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_mesh_index_build: the index is not 8-byte aligned");
     if (mesh->index_bytes < L.total)
@@ -223,11 +228,17 @@ romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err)
     return ROMRT_OK;
 }
 
+static int index_fits(const romrt_mesh *mesh)
+{
+    layout L;
+    return plan(mesh->vertex_count, mesh->triangle_count, &L) == 0 && mesh->index_bytes >= L.total;
+}
+
 /* Whether mesh's index was built for it (its arrays and counts), for mesh_collider.c. */
 int rt_mesh_index_of(const romrt_mesh *mesh)
 {
     const rt_mesh *M = (const rt_mesh *)mesh->index;
     return M && (size_t)mesh->index % 8 == 0 && mesh->index_bytes >= sizeof *M && M->magic == MESH_MAGIC &&
            M->X == mesh->positions && M->tri == mesh->triangles && M->nv == (uint32_t)mesh->vertex_count &&
-           M->nt == (uint32_t)mesh->triangle_count && mesh->index_bytes >= romrt_mesh_index_size(mesh->vertex_count, mesh->triangle_count);
+           M->nt == (uint32_t)mesh->triangle_count && index_fits(mesh);
 }

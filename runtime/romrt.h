@@ -3,22 +3,39 @@
  * Steps a reduced-order model baked by `romkit build` into a .rombin asset. Pure C99 (also
  * compiles as C++), no dependency beyond libm, no malloc, no global state:
  *
- *   size_t bytes;
- *   romrt_error err;
- *   romrt_arena_size(asset, asset_bytes, &bytes, &err);      // ask
+ *   romrt_error err;                                          // optional: NULL is fine
+ *   size_t bytes, n;
  *   romrt_model *m;
- *   romrt_open(asset, asset_bytes, arena, bytes, &m, &err);  // open in place, validated once
- *   int n = romrt_shown_count(m);                            // size the vertex buffer once
+ *   if (romrt_arena_size(asset, asset_bytes, &bytes, &err)) fail(&err);     // ask
+ *   if (romrt_open(asset, asset_bytes, arena, bytes, &m, &err)) fail(&err); // open in place
+ *   n = romrt_shown_count(m);                                 // size the vertex buffer once
  *   for (;;) {
- *       romrt_step(m, &err);                                 // implicit Newton, or Koopman
- *       romrt_positions(m, xyz, n, 3);                       // the shown vertices, xyz[3 * i + k]
+ *       if (romrt_step(m, &err)) fail(&err);                  // implicit Newton, or Koopman
+ *       if (romrt_positions(m, xyz, 3 * n, 3, &err)) fail(&err); // xyz[3 * i + k]
  *   }
+ *
+ * Conventions, the same for every function:
+ * - Every call that can fail returns a romrt_status (ROMRT_OK is 0) and takes a romrt_error * as
+ *   its last argument, which may be NULL; on failure it holds the same status, the asset chunk
+ *   involved and a message naming what and where (on success it is not written). Calls that
+ *   cannot fail on an open model (its sizes, its clock) return their value; given NULL they
+ *   return 0.
+ * - Counts, capacities and indices are size_t. A buffer's capacity counts its elements: reals
+ *   for a romrt_real buffer, int32_t for an index buffer, bytes only for the untyped memory of
+ *   the arena and a mesh index. A capacity too small is refused with ROMRT_E_ARGUMENT before
+ *   anything is written.
+ * - Structs the library writes (romrt_step_info, romrt_limits) begin with `size`, which the
+ *   caller sets to sizeof the struct it passes: the library writes only that many bytes, so an
+ *   app compiled against an older minor version's shorter struct keeps working; fields the
+ *   library does not know (a newer header) are set to 0. A size below the 3.0 struct is refused.
+ * - Limits (the largest r, collider slots, ...) are the library's, read with romrt_get_limits:
+ *   no macro of this header can disagree with the library an app links.
  *
  * The asset stays the caller's: it must outlive the model, stay unchanged, and start at an
  * address aligned to 8 bytes (16 recommended); it may sit in flash. The arena holds the model's
- * state and fixed-size r x r scratch (ROMRT_MAX_R), plus a converted copy of the asset's arrays
- * when their precision differs from the runtime's. Everything is checked once, in romrt_open;
- * a bad asset is refused there with a status and a message naming the chunk and index.
+ * state and fixed-size r x r scratch (the library's largest r), plus a converted copy of the
+ * asset's arrays when their precision differs from the runtime's. Everything is checked once, in
+ * romrt_open; a bad asset is refused there with a status and a message naming the chunk and index.
  *
  * Precision: float by default; define ROMRT_DOUBLE (the same way for the runtime's sources and
  * for the application) for double. The precision is part of every function's link name (the
@@ -43,8 +60,8 @@ extern "C" {
 /* The runtime's version (the Makefile's ROMRT_VERSION and the shared library's file name are read
  * from these lines); romrt_version() is the library's ROMRT_VERSION_NUMBER, to check at run time
  * that a shared library is the one the app was compiled against (same major version). */
-#define ROMRT_VERSION_MAJOR 2
-#define ROMRT_VERSION_MINOR 1
+#define ROMRT_VERSION_MAJOR 3
+#define ROMRT_VERSION_MINOR 0
 #define ROMRT_VERSION_PATCH 0
 #define ROMRT_VERSION_NUMBER (ROMRT_VERSION_MAJOR * 10000 + ROMRT_VERSION_MINOR * 100 + ROMRT_VERSION_PATCH)
 
@@ -67,15 +84,14 @@ typedef float romrt_real;
 #define romrt_arena_size_kind       ROMRT_LINK_NAME(arena_size_kind)
 #define romrt_basis_rows            ROMRT_LINK_NAME(basis_rows)
 #define romrt_clear_forces          ROMRT_LINK_NAME(clear_forces)
-#define romrt_collider_slots        ROMRT_LINK_NAME(collider_slots)
 #define romrt_deformation_gradients ROMRT_LINK_NAME(deformation_gradients)
 #define romrt_find_group            ROMRT_LINK_NAME(find_group)
+#define romrt_get_limits            ROMRT_LINK_NAME(get_limits)
 #define romrt_get_state             ROMRT_LINK_NAME(get_state)
 #define romrt_group_count           ROMRT_LINK_NAME(group_count)
 #define romrt_group_name            ROMRT_LINK_NAME(group_name)
 #define romrt_jump                  ROMRT_LINK_NAME(jump)
 #define romrt_last_step             ROMRT_LINK_NAME(last_step)
-#define romrt_max_reduced_size      ROMRT_LINK_NAME(max_reduced_size)
 #define romrt_mesh_index_build      ROMRT_LINK_NAME(mesh_index_build)
 #define romrt_mesh_index_size       ROMRT_LINK_NAME(mesh_index_size)
 #define romrt_model_kind            ROMRT_LINK_NAME(model_kind)
@@ -91,7 +107,7 @@ typedef float romrt_real;
 #define romrt_set_damping           ROMRT_LINK_NAME(set_damping)
 #define romrt_set_mesh_collider     ROMRT_LINK_NAME(set_mesh_collider)
 #define romrt_set_newton_iterations ROMRT_LINK_NAME(set_newton_iterations)
-#define romrt_set_hessian_reuse ROMRT_LINK_NAME(set_hessian_reuse)
+#define romrt_set_hessian_reuse     ROMRT_LINK_NAME(set_hessian_reuse)
 #define romrt_set_state             ROMRT_LINK_NAME(set_state)
 #define romrt_set_time_step         ROMRT_LINK_NAME(set_time_step)
 #define romrt_shown_count           ROMRT_LINK_NAME(shown_count)
@@ -105,14 +121,6 @@ typedef float romrt_real;
 #define romrt_triangles             ROMRT_LINK_NAME(triangles)
 #define romrt_version               ROMRT_LINK_NAME(version)
 
-/* The largest reduced size a build of the runtime's sources steps; every r x r buffer is
- * ROMRT_MAX_R^2 reals. 256 is what the Makefile's desktop libraries and make install ship (the
- * Makefile reads it from here); a build may set its own (the Cortex-M build: 32). An app linking a
- * compiled library reads the library's own value from romrt_max_reduced_size(), never this macro. */
-#ifndef ROMRT_MAX_R
-#define ROMRT_MAX_R 256
-#endif
-
 typedef enum {
     ROMRT_OK = 0,
     ROMRT_E_ARGUMENT,     /* a NULL pointer, an index out of range, a non-finite input */
@@ -121,7 +129,7 @@ typedef enum {
     ROMRT_E_PLATFORM,     /* byte order or float format of this machine */
     ROMRT_E_UNSUPPORTED,  /* an unknown critical chunk, a compressed chunk */
     ROMRT_E_MODEL,        /* chunks that are intact but inconsistent: sizes, indices, NaN */
-    ROMRT_E_LIMIT,        /* a count above this build's limits (r > ROMRT_MAX_R, ...) */
+    ROMRT_E_LIMIT,        /* a count above the library's limits (romrt_get_limits), a pair capacity */
     ROMRT_E_ARENA,        /* the arena is too small or misaligned, or the asset misaligned */
     ROMRT_E_DIVERGED,     /* a step produced a non-finite state or a Newton matrix that is not
                              positive definite; the state is left as it was before the step */
@@ -136,9 +144,23 @@ typedef struct {
     romrt_status status;
     char chunk[5];                      /* the asset chunk involved, or "" */
     char message[ROMRT_MESSAGE_BYTES];  /* what and where; "" with ROMRT_NO_STRINGS */
-} romrt_error;
+} romrt_error; /* written on a failure before anything else is checked, so it carries no size: its
+                * layout changes only with the major version */
 
 typedef struct romrt_model romrt_model;
+
+/* The library's ROMRT_VERSION_NUMBER: check at run time that a shared library has the major
+ * version the app was compiled against. */
+int romrt_version(void);
+
+/* The limits of this library (the build's own; the Cortex-M build's are smaller). */
+typedef struct {
+    size_t size;             /* set by the caller: sizeof(romrt_limits) */
+    size_t max_reduced_size; /* r: an asset with a larger one is refused at open (ROMRT_E_LIMIT) */
+    size_t collider_slots;   /* slots for the app's colliders, 0 .. collider_slots - 1 */
+    size_t mesh_max_count;   /* vertices, or triangles, of an app's collider mesh */
+} romrt_limits;
+romrt_status romrt_get_limits(romrt_limits *limits, romrt_error *err);
 
 /* What an asset steps: a reduced model (implicit Newton on the cubature), or a Koopman operator
  * learned from trajectories (a linear map in real eigen-coordinates: romrt_jump and the time-step
@@ -156,24 +178,35 @@ romrt_status romrt_arena_size(const void *asset, size_t asset_bytes, size_t *are
 romrt_status romrt_open(const void *asset, size_t asset_bytes, void *arena, size_t arena_bytes,
                         romrt_model **model, romrt_error *err);
 
+/* An asset may hold a reduced model and a Koopman operator of the same object (a rom entry with both
+ * cubature and koopman); romrt_arena_size / romrt_open take the reduced model when there is one.
+ * These take the model of the given kind (ROMRT_E_UNSUPPORTED, naming it, when the asset has none). */
+romrt_status romrt_arena_size_kind(const void *asset, size_t asset_bytes, romrt_kind kind, size_t *arena_bytes,
+                                   romrt_error *err);
+romrt_status romrt_open_kind(const void *asset, size_t asset_bytes, romrt_kind kind, void *arena, size_t arena_bytes,
+                             romrt_model **model, romrt_error *err);
+romrt_kind romrt_model_kind(const romrt_model *m);
+
 /* Advances one time step. A reduced model: q minimises the reduced incremental potential (the
  * same energy, integrator, pins and contacts as the precompute's reduced simulator), by
  * projected Newton on the r x r system with cubature; several objects (COBJ) and self-contact
  * touch through their collision surfaces as in the reduced simulator (ROMBIN 1.7; 1.5's sphere
  * proxies, CRAD, are refused at open). A Koopman asset: y <- B y + S h_data^2 c,
  * c the forcing of gravity and the applied forces taken as an impulse before each training step
- * (Eq. 19), S its sum over one step of the current size; O(r). On failure the state is unchanged. */
+ * (Eq. 19), S its sum over one step of the current size; O(r). On failure the state is unchanged
+ * (ROMRT_E_DIVERGED: a non-finite state or a matrix that would not factor; ROMRT_E_LIMIT: more
+ * contact pairs than the asset's capacity). */
 romrt_status romrt_step(romrt_model *m, romrt_error *err);
 
 /* Reduced models: how a step solves. 0 (the default): Newton with a line search until the step is
  * below the asset's tolerance (or its iteration limit), the same iterates as the precompute's
  * reduced simulator with a fresh Newton matrix (romrt_set_hessian_reuse(m, 1); its default may
- * keep one, to the same tolerance). k >= 1: a fixed cost, exactly k full Newton steps per step with no line
- * search and no convergence test (k = 1 is a linearly implicit step, as Vega's reduced StVK runs
- * by default): faster and predictable, further from the converged answer (the README's bench
- * gives both errors); contacts still shorten the steps so nothing is crossed. Kept across
- * romrt_reset. ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman model. */
-romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_error *err);
+ * keep one, to the same tolerance). k >= 1: a fixed cost, exactly k full Newton steps per step with
+ * no line search and no convergence test (k = 1 is a linearly implicit step, as Vega's reduced StVK
+ * runs by default): faster and predictable, further from the converged answer (docs/results gives
+ * both errors); contacts still shorten the steps so nothing is crossed. Kept across romrt_reset.
+ * ROMRT_E_ARGUMENT for k above 1000, ROMRT_E_UNSUPPORTED for a Koopman model. */
+romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romrt_error *err);
 
 /* Reduced models: how often Newton's r x r matrix is built and factored. 0 or 1: at every Newton
  * iteration (fresh). k >= 2: a factor is kept for up to k time steps and each iteration
@@ -181,7 +214,7 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_e
  * cubature's r x r Hessian and its Cholesky factorization are not). In the converged mode a fresh
  * matrix replaces it wherever its steps stop halving or its line search has to shorten one, so the
  * answer meets the same tolerance; in the fixed-cost mode it is replaced only by age, and the
- * error against the converged answer grows with k (the README's bench gives it). A kept factor is
+ * error against the converged answer grows with k (docs/results/newton_modes.md). A kept factor is
  * dropped by romrt_reset, romrt_set_state, placing or removing a collider, a collider's move and
  * a change of the integrator's inertia weight (BDF2's first step), so a restored state's steps may
  * differ from the uninterrupted run's by up to the solve's tolerance. Kept across romrt_reset.
@@ -190,25 +223,14 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_e
  * to 10 steps (on bunny_19k at r = 20, a third of the fresh mode's time a step, every step to the
  * same tolerance); fresh for an asset with a collision surface (obstacles other than planes,
  * several objects, self-contact), where a kept matrix took more iterations and was no faster; and
- * fresh in the fixed-cost mode. k = 1 gives the reduced simulator's own iterates everywhere.
- * ROMRT_E_ARGUMENT for k outside 0..1000, ROMRT_E_UNSUPPORTED for a Koopman or adaptive model. */
-romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err);
+ * fresh in the fixed-cost mode. romrt_step_info's hessian_reuse reads the mode in force. k = 1
+ * gives the reduced simulator's own iterates everywhere. ROMRT_E_ARGUMENT for k above 1000,
+ * ROMRT_E_UNSUPPORTED for a Koopman or adaptive model. */
+romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *err);
 
-/* Back to rest at t = 0, forces cleared (a Koopman asset keeps its time step and damping). */
-void romrt_reset(romrt_model *m);
-
-romrt_kind romrt_model_kind(const romrt_model *m);
-/* An asset may hold a reduced model and a Koopman operator of the same object (a rom entry with both
- * cubature and koopman); romrt_arena_size / romrt_open take the reduced model when there is one.
- * These take the model of the given kind (ROMRT_E_UNSUPPORTED, naming it, when the asset has none). */
-romrt_status romrt_arena_size_kind(const void *asset, size_t asset_bytes, romrt_kind kind, size_t *arena_bytes,
-                                   romrt_error *err);
-romrt_status romrt_open_kind(const void *asset, size_t asset_bytes, romrt_kind kind, void *arena, size_t arena_bytes,
-                             romrt_model **model, romrt_error *err);
-/* The ROMRT_MAX_R this library was compiled with: assets with a larger r are refused. */
-int romrt_max_reduced_size(void);
-/* The library's ROMRT_VERSION_NUMBER. */
-int romrt_version(void);
+/* Back to rest at t = 0, forces cleared, the app's colliders removed (a Koopman asset keeps its
+ * time step and damping). */
+romrt_status romrt_reset(romrt_model *m, romrt_error *err);
 
 /* Koopman assets only (ROMRT_E_UNSUPPORTED otherwise): advances `steps` steps at once, the
  * applied forces held, at a cost independent of `steps` (about one romrt_step plus up to three
@@ -227,10 +249,10 @@ romrt_status romrt_set_time_step(romrt_model *m, romrt_real h, romrt_error *err)
 romrt_status romrt_set_damping(romrt_model *m, romrt_real mu, romrt_error *err);
 
 /* Sizes. */
-int romrt_reduced_size(const romrt_model *m);     /* r */
-int romrt_shown_count(const romrt_model *m);      /* vertices an app draws */
-int romrt_triangle_count(const romrt_model *m);   /* surface triangles over them (0 if none stored) */
-int romrt_group_count(const romrt_model *m);      /* named vertex groups an app may push */
+size_t romrt_reduced_size(const romrt_model *m);   /* r */
+size_t romrt_shown_count(const romrt_model *m);    /* vertices an app draws */
+size_t romrt_triangle_count(const romrt_model *m); /* surface triangles over them (0 if none stored) */
+size_t romrt_group_count(const romrt_model *m);    /* named vertex groups an app may push */
 /* The model's clock (s), in double whatever the precision: the runtime counts steps and returns
  * t = t_start + steps h, so it does not drift (a float running sum of 1/60 s reads 7183.14 s
  * after two hours, and a float near 7200 s is only good to 0.5 ms, 3% of a step) and time-driven
@@ -239,53 +261,52 @@ double romrt_time(const romrt_model *m);
 romrt_real romrt_time_step(const romrt_model *m); /* s */
 
 /* Positions (m) of all shown vertices, vertex i at xyz[stride * i + k], k = 0, 1, 2: stride 3 for a
- * packed array, more for an interleaved vertex buffer (the reals between are left alone). xyz has
- * room for `capacity` vertices of `stride` reals; a capacity below romrt_shown_count or a stride
- * below 3 is refused with ROMRT_E_ARGUMENT and nothing is written. */
-romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride);
+ * packed array, more for an interleaved vertex buffer (the reals between are left alone). xyz holds
+ * `capacity` reals: at least stride (shown - 1) + 3, and the stride at least 3. */
+romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, size_t capacity, size_t stride, romrt_error *err);
 /* Deforming on the GPU (x = X + U q in a vertex shader): the shown vertices' rest positions X (as
  * romrt_positions lays them out), and their basis rows U, 3 r reals a vertex: rows[(3 i + k) r + j]
  * is dx_ik/dq_j, so x_ik = X_ik + sum_j rows[(3 i + k) r + j] q_j with q from
  * romrt_reduced_coordinates, the same sum romrt_positions takes. A skinning basis stored as its
  * weights gives its rows formed from them (dense, as ROWS would hold them); a Koopman asset its
- * output rows (KOUT), q then being its eigen-coordinates y. capacity counts reals (at least
- * 3 shown r; ROMRT_E_ARGUMENT otherwise, nothing written). The rows and X do not change while the
- * model runs: upload them once, then q (r reals) per frame. */
-romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, int capacity, int stride);
-romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t capacity);
-/* The deformation gradient F (row-major 3 x 3, F[9 i + 3 a + b] = dx_a/dX_b) at each of the first
- * count shown vertices, for an asset that stores its skinning weights' gradients there (GRAD: a
- * point cloud's, so that a Gaussian splat's covariance Sigma becomes F Sigma F^T). F = I + sum_j
- * A_j (X̄ grad w_j^T + w_j [I; 0]) with A_j the handles' affine maps (freeform paper Eq. 21).
- * ROMRT_E_UNSUPPORTED without GRAD. */
-romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, int count);
-/* Surface triangles (indices into the shown vertices): tri has room for 3 * count ints. */
-romrt_status romrt_triangles(const romrt_model *m, int *tri, int count);
+ * output rows (KOUT), q then being its eigen-coordinates y. rows holds at least 3 shown r reals.
+ * The rows and X do not change while the model runs: upload them once, then q (r reals) per frame. */
+romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, size_t capacity, size_t stride,
+                                  romrt_error *err);
+romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t capacity, romrt_error *err);
+/* The deformation gradient F (row-major 3 x 3, F[9 i + 3 a + b] = dx_a/dX_b) at each shown vertex
+ * (F holds at least 9 shown reals), for an asset that stores its skinning weights' gradients there
+ * (GRAD: a point cloud's, so that a Gaussian splat's covariance Sigma becomes F Sigma F^T).
+ * F = I + sum_j A_j (X grad w_j^T + w_j [I; 0]) with A_j the handles' affine maps (freeform paper
+ * Eq. 21). ROMRT_E_UNSUPPORTED without GRAD. */
+romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, size_t capacity, romrt_error *err);
+/* Surface triangles (indices into the shown vertices, outward): tri holds at least 3 triangle_count. */
+romrt_status romrt_triangles(const romrt_model *m, int32_t *tri, size_t capacity, romrt_error *err);
+/* The reduced coordinates q (r of them; a Koopman model's eigen-coordinates y). */
+romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, size_t capacity, romrt_error *err);
 
-/* Pushing. A group is found by name (-1 if none); romrt_add_force spreads the total force f (N)
- * evenly over the group's vertices, romrt_add_vertex_force puts f on one shown vertex. Forces
- * add up and act on every following step until romrt_clear_forces. A force whose sum would
- * overflow is refused (ROMRT_E_ARGUMENT) and changes nothing. */
-int romrt_find_group(const romrt_model *m, const char *name);
-const char *romrt_group_name(const romrt_model *m, int group);
-romrt_status romrt_add_force(romrt_model *m, int group, const romrt_real f[3]);
-romrt_status romrt_add_vertex_force(romrt_model *m, int shown_vertex, const romrt_real f[3]);
-void romrt_clear_forces(romrt_model *m);
+/* Pushing. A group is found by name (ROMRT_E_ARGUMENT naming it when the asset has none);
+ * romrt_add_force spreads the total force f (N) evenly over the group's vertices,
+ * romrt_add_vertex_force puts f on one shown vertex. Forces add up and act on every following step
+ * until romrt_clear_forces. A force whose sum would overflow is refused (ROMRT_E_ARGUMENT) and
+ * changes nothing. */
+romrt_status romrt_find_group(const romrt_model *m, const char *name, size_t *group, romrt_error *err);
+romrt_status romrt_group_name(const romrt_model *m, size_t group, const char **name, romrt_error *err);
+romrt_status romrt_add_force(romrt_model *m, size_t group, const romrt_real f[3], romrt_error *err);
+romrt_status romrt_add_vertex_force(romrt_model *m, size_t shown_vertex, const romrt_real f[3], romrt_error *err);
+romrt_status romrt_clear_forces(romrt_model *m, romrt_error *err);
 
 /* The whole dynamic state (time, reduced positions, velocities, integrator history, applied
  * forces) as romrt_state_size reals, to save and restore (undo, networking, replays). The time
  * takes two reals (a float pair holds the double clock to about 48 bits). A state with a
- * non-finite value or from a model of another size is refused. An adaptive linear ROM's state is
- * its stored vertices' displacements, velocities and the last m steps' history (each double as a
- * pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m) reals.
- * Restoring drops a kept Newton matrix (romrt_set_hessian_reuse), so where the default keeps one a
- * replay matches the uninterrupted run to the solve's tolerance; bit for bit needs k = 1. */
-int romrt_state_size(const romrt_model *m);
-romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, int count);
-romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, int count);
-/* The reduced coordinates q (r of them; a Koopman model's eigen-coordinates y): q has room for
- * capacity >= r reals. */
-romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int capacity);
+ * non-finite value, or of another count than this model's, is refused. An adaptive linear ROM's
+ * state is its stored vertices' displacements, velocities and the last m steps' history (each
+ * double as a pair of reals, so a float state reads back to about 48 bits): O(stored vertices x m)
+ * reals. Restoring drops a kept Newton matrix (romrt_set_hessian_reuse), so where the default keeps
+ * one a replay matches the uninterrupted run to the solve's tolerance; bit for bit needs k = 1. */
+size_t romrt_state_size(const romrt_model *m);
+romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, size_t capacity, romrt_error *err);
+romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, size_t count, romrt_error *err);
 
 /* Colliders the application owns: planes, spheres, capsules and boxes acting on the asset's
  * collision vertices (its boundary, CVTX) with the barrier of the scene's planes, the same step
@@ -300,13 +321,10 @@ romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, int 
  * path, solving for the body and the collider together (the body is pushed ahead of it, never
  * crossed); where the body cannot give way the collider stops short (romrt_step_info's
  * colliders_behind) and goes on at the next step. A NaN, a non-positive size, a rotation that is
- * not orthonormal or a slot out of range is refused with ROMRT_E_ARGUMENT and changes nothing;
- * an asset without CVTX (baked with "colliders": false, or by a romkit before 1.1) refuses every
- * collider with ROMRT_E_UNSUPPORTED. Fixed memory: ROMRT_MAX_COLLIDERS slots. romrt_reset
- * removes them all. */
-#ifndef ROMRT_MAX_COLLIDERS
-#define ROMRT_MAX_COLLIDERS 8
-#endif
+ * not orthonormal or a slot out of range (romrt_limits' collider_slots) is refused with
+ * ROMRT_E_ARGUMENT and changes nothing; an asset without CVTX (baked with "colliders": false, or by
+ * a romkit before 1.1) refuses every collider with ROMRT_E_UNSUPPORTED. romrt_reset removes them
+ * all. The struct is read, never written; its layout changes only with the major version. */
 typedef enum {
     ROMRT_COLLIDER_PLANE = 0,
     ROMRT_COLLIDER_SPHERE = 1,
@@ -322,10 +340,13 @@ typedef struct {
     romrt_real half_length;     /* capsule */
     romrt_real half_extents[3]; /* box */
 } romrt_collider;
-romrt_status romrt_set_collider(romrt_model *m, int slot, const romrt_collider *c, romrt_error *err);
-romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err);
+romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collider *c, romrt_error *err);
+romrt_status romrt_remove_collider(romrt_model *m, size_t slot, romrt_error *err);
+/* Whether the asset takes colliders (it holds CVTX). */
+int romrt_takes_colliders(const romrt_model *m);
+
 /* Triangle meshes the application owns (level geometry, a paddle) as colliders, in a slot of the
- * same ROMRT_MAX_COLLIDERS. The runtime copies nothing and allocates nothing: positions (m, in the
+ * same collider_slots. The runtime copies nothing and allocates nothing: positions (m, in the
  * mesh's own frame, xyz per vertex), triangles (3 vertex indices each, any orientation, open or
  * closed) and the index are the app's, and must stay alive and unchanged while the mesh is placed
  * (until romrt_remove_collider, romrt_reset or another collider in its slot). The index is app
@@ -345,44 +366,46 @@ romrt_status romrt_remove_collider(romrt_model *m, int slot, romrt_error *err);
  * the body's collision surface nor cross it (an edge of either through a triangle of the other,
  * tested in this precision), ROMRT_E_ARGUMENT otherwise; a body wholly inside a closed mesh, or a
  * mesh wholly inside the body, is not detected: place it clear, then move it. On a slot holding
- * the same mesh it is a move: the next step takes the
- * mesh's vertices on straight lines to the new pose in the safe fractions CCD allows with the
- * body still, each followed by a solve that pushes the body ahead (as the scene's scripted
- * obstacles move); where the body cannot give way the mesh stops short (colliders_behind) and
- * goes on at the next step. A bad pose, a NULL, a count <= 0 or above ROMRT_MESH_MAX_COUNT, a
- * triangle index out of range or repeated within a triangle, a non-finite position, an index too
- * small, misaligned or not built for this mesh is refused with ROMRT_E_ARGUMENT naming what and
- * where, and nothing is placed. */
-#define ROMRT_MESH_MAX_COUNT (1 << 24)
+ * the same mesh it is a move: the next step takes the mesh's vertices on straight lines to the new
+ * pose in the safe fractions CCD allows with the body still, each followed by a solve that pushes
+ * the body ahead (as the scene's scripted obstacles move); where the body cannot give way the mesh
+ * stops short (colliders_behind) and goes on at the next step. A bad pose, a NULL, a count of 0 or
+ * above romrt_limits' mesh_max_count, a triangle index out of range or repeated within a triangle,
+ * a non-finite position, an index too small, misaligned or not built for this mesh is refused with
+ * ROMRT_E_ARGUMENT naming what and where, and nothing is placed. */
 typedef struct {
     const romrt_real *positions; /* vertex_count x 3 */
     const int32_t *triangles;    /* triangle_count x 3 */
-    int vertex_count, triangle_count;
-    void *index;                 /* romrt_mesh_index_size bytes, filled by romrt_mesh_index_build */
+    size_t vertex_count, triangle_count;
+    void *index;                 /* index_bytes bytes, filled by romrt_mesh_index_build */
     size_t index_bytes;
 } romrt_mesh;
-/* The bytes of a mesh's index (0 for counts out of range): for a heightfield (half as many
- * vertices as triangles) about 230 bytes a triangle in float and 365 in double. */
-size_t romrt_mesh_index_size(int vertex_count, int triangle_count);
+/* The bytes of a mesh's index: for a heightfield (half as many vertices as triangles) about 230
+ * bytes a triangle in float and 365 in double. ROMRT_E_ARGUMENT for counts out of range. */
+romrt_status romrt_mesh_index_size(size_t vertex_count, size_t triangle_count, size_t *index_bytes, romrt_error *err);
 /* Validates the mesh and builds its index (mesh->index, mesh->index_bytes). */
 romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err);
-romrt_status romrt_set_mesh_collider(romrt_model *m, int slot, const romrt_mesh *mesh, const romrt_real position[3],
+romrt_status romrt_set_mesh_collider(romrt_model *m, size_t slot, const romrt_mesh *mesh, const romrt_real position[3],
                                      const romrt_real rotation[9], romrt_error *err);
-/* The ROMRT_MAX_COLLIDERS this library was compiled with; whether the asset takes colliders. */
-int romrt_collider_slots(void);
-int romrt_takes_colliders(const romrt_model *m);
 
-/* Work of the last step, for profiling. */
+/* The work of the last step, for profiling and for an app's own checks. */
 typedef struct {
-    int newton_iterations;
-    int line_search_halvings;
-    int converged;
-    int colliders_behind;       /* a moved collider stopped short of its pose (the body was in the way) */
-    int projected_hessians;     /* Newton iterations whose exact Hessian was not positive definite, so
-                                 * the elements' dP/dF was projected to PSD (and every iteration of a
-                                 * solve that moves colliders, which always projects) */
+    size_t size;                  /* set by the caller: sizeof(romrt_step_info) */
+    size_t newton_iterations;
+    size_t line_search_halvings;
+    size_t factorizations;        /* Newton matrices built and factored (fewer than the iterations
+                                   * where a kept one served: romrt_set_hessian_reuse) */
+    size_t projected_hessians;    /* Newton iterations whose exact Hessian was not positive definite, so
+                                   * the elements' dP/dF was projected to PSD (and every iteration of a
+                                   * solve that moves colliders, which always projects) */
+    size_t hessian_reuse;         /* the steps a Newton matrix may be kept in the mode in force (0: fresh) */
+    size_t contact_pairs;         /* candidate contact pairs of the collision surface at the step's end */
+    size_t friction_pairs;        /* of them, the lagged friction pairs */
+    size_t pair_capacity;         /* the asset's capacity for them (a step above it fails, ROMRT_E_LIMIT) */
+    int converged;                /* the converged mode met the tolerance (1 for a Koopman step) */
+    int colliders_behind;         /* a moved collider stopped short of its pose (the body was in the way) */
 } romrt_step_info;
-void romrt_last_step(const romrt_model *m, romrt_step_info *info);
+romrt_status romrt_last_step(const romrt_model *m, romrt_step_info *info, romrt_error *err);
 
 #ifdef __cplusplus
 }

@@ -23,6 +23,18 @@
 #define RT_ENERGY_NOISE RK_ENERGY_NOISE_FLOAT
 #endif
 #define RT_K(x) ((romrt_real)(x))
+/* The build's limits (an app reads them with romrt_get_limits, never from here). The largest
+ * reduced size: every r x r buffer is ROMRT_MAX_R^2 reals; 256 is what the Makefile's desktop
+ * libraries and make install ship (the Makefile reads it from this line); a build may set its own
+ * (the Cortex-M build: 32). The app's collider slots. */
+#ifndef ROMRT_MAX_R
+#define ROMRT_MAX_R 256
+#endif
+#ifndef ROMRT_MAX_COLLIDERS
+#define ROMRT_MAX_COLLIDERS 8
+#endif
+/* Vertices or triangles of an app's collider mesh at most (32-bit indices with room for 3 n). */
+#define ROMRT_MESH_MAX_COUNT ((size_t)1 << 24)
 /* The Newton unknowns at most: q and the progress of each moved collider. */
 #define ROMRT_MAX_N (ROMRT_MAX_R + ROMRT_MAX_COLLIDERS)
 #define RT_COLLIDER_REALS RK_COLLIDER_REALS
@@ -313,6 +325,10 @@ void rt_pin_target(romrt_model *m, double t);
 /* The clock (access.c): t `ahead` steps from now; advancing it by n steps; restarting it from
  * t = rt_clock(m, 0) before the step h changes. */
 double rt_clock(const romrt_model *m, unsigned long ahead);
+/* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
+int rt_reuse_steps(const romrt_model *m);
+/* An out-struct's size (romrt.h's rule): n = the bytes to write of a struct whose 3.0 size is first. */
+romrt_status rt_out_size(size_t given, size_t first, size_t ours, const char *what, size_t *n, romrt_error *err);
 void rt_clock_advance(romrt_model *m, unsigned long n);
 void rt_clock_rebase(romrt_model *m);
 /* The scene's obstacles other than planes (contact.c, contact_broad.c, contact_friction.c):

@@ -121,8 +121,9 @@ static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y
 #define DEFAULT_REUSE 10
 
 /* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
-static int reuse_steps(const romrt_model *m)
+int rt_reuse_steps(const romrt_model *m)
 {
+    if (m->kind != ROMRT_KIND_REDUCED || m->alrom) return 0;
     if (m->hessian_reuse_set) return m->hessian_reuse;
     return m->fixed_iterations || m->surface ? 0 : DEFAULT_REUSE;
 }
@@ -132,7 +133,7 @@ static int reuse_steps(const romrt_model *m)
  * this step's inertia weight (BDF2's first step changes it), fewer than reuse_steps steps ago. */
 static int kept_matrix(const romrt_model *m, const rt_terms *T)
 {
-    int reuse = reuse_steps(m);
+    int reuse = rt_reuse_steps(m);
     return reuse > 1 && m->nmoving == 0 && m->hessian_age >= 0 && m->hessian_age < reuse && m->hessian_w == T->w_inertia;
 }
 
@@ -161,6 +162,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
         }
         m->exact_hessian = 0;
         m->hessian_age = -1; /* H is being rewritten */
+        m->last.factorizations++;
         if (indefinite) m->last.projected_hessians++;
     }
     if (!isfinite(*E) || !all_finite(m->g, n))
@@ -350,18 +352,18 @@ static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders,
     return st;
 }
 
-romrt_status romrt_set_newton_iterations(romrt_model *m, int iterations, romrt_error *err)
+romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romrt_error *err)
 {
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_newton_iterations: no model (NULL)");
     if (m->kind != ROMRT_KIND_REDUCED)
         return rt_fail(err, ROMRT_E_UNSUPPORTED, 0, "romrt_set_newton_iterations: a Koopman model has no Newton solve");
-    if (iterations < 0 || iterations > (int)ROMRT_MAX_NEWTON)
+    if (iterations > ROMRT_MAX_NEWTON)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_newton_iterations: iterations must be 0 (converged) to 1000");
-    m->fixed_iterations = iterations;
+    m->fixed_iterations = (int)iterations;
     return ROMRT_OK;
 }
 
-romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err)
+romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *err)
 {
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: no model (NULL)");
     if (m->kind != ROMRT_KIND_REDUCED)
@@ -369,9 +371,9 @@ romrt_status romrt_set_hessian_reuse(romrt_model *m, int steps, romrt_error *err
     if (m->alrom)
         return rt_fail(err, ROMRT_E_UNSUPPORTED, 0,
                        "romrt_set_hessian_reuse: an adaptive model's basis changes every step, and its Newton matrix with it");
-    if (steps < 0 || steps > (int)ROMRT_MAX_NEWTON)
+    if (steps > ROMRT_MAX_NEWTON)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: steps must be 0 to 1000");
-    m->hessian_reuse = steps;
+    m->hessian_reuse = (int)steps;
     m->hessian_reuse_set = 1;
     m->hessian_age = -1;
     return ROMRT_OK;
@@ -424,13 +426,15 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;
     if (!st) st = m->obs_moving || (m->nmeshes && rt_meshes_pending(m)) ? advance(m, &T, err) : solve(m, &T, 0, err);
     for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
-        int before = m->last.newton_iterations;
+        size_t before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
         if (m->surface) rt_obstacles_lag(m, m->q, 0);
         st = solve(m, &T, 0, err);
         if (m->last.newton_iterations - before <= 1) break;
     }
     m->last.colliders_behind = rt_colliders_pending(m) || (m->nmeshes && rt_meshes_pending(m));
+    m->last.contact_pairs = m->surface ? (size_t)m->ncand : 0;
+    m->last.friction_pairs = m->surface ? (size_t)m->nfric : 0;
     for (i = 0; i < r && !st; i++) {
         vnew[i] = bdf2 ? (3 * m->q[i] - 4 * m->qt[i] + m->q_prev[i]) / (2 * h) : (m->q[i] - m->qt[i]) / h;
         if (!isfinite(m->q[i]) || !isfinite(vnew[i]))

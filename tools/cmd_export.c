@@ -50,15 +50,16 @@ static void base_name(const char *path, char *out, size_t n)
 static int run_frames(romrt_model *m, long steps, int quiet, double *times, double *weights, romrt_real *q,
                       rk_error *err)
 {
-    int r = romrt_reduced_size(m);
+    size_t r = romrt_reduced_size(m);
     double h = (double)romrt_time_step(m);
     romrt_error rerr;
     for (long k = 0; k <= steps; k++) {
         if (k > 0 && romrt_step(m, &rerr) != ROMRT_OK)
             return rk_fail(err, "step %ld: %s: %s", k, romrt_status_string(rerr.status), rerr.message);
-        romrt_reduced_coordinates(m, q, r);
+        if (romrt_reduced_coordinates(m, q, r, &rerr) != ROMRT_OK)
+            return rk_fail(err, "step %ld: %s", k, rerr.message);
         times[k] = (double)k * h;
-        for (int j = 0; j < r; j++) weights[(size_t)k * r + j] = (double)q[j];
+        for (size_t j = 0; j < r; j++) weights[(size_t)k * r + j] = (double)q[j];
         if (!quiet && k > 0) rk_progress("export run", k, steps);
     }
     if (!quiet && steps > 0) rk_progress_done("export run");
@@ -96,10 +97,11 @@ int cmd_export(int argc, char **argv)
     double *X = NULL, *D = NULL, *times = NULL, *weights = NULL;
     romrt_real *q = NULL;
     uint32_t *tris = NULL;
-    int *itris = NULL, rc = 1;
+    int32_t *itris = NULL;
+    int rc = 1;
     if (tool_asset_open(&asset, path, koopman, &rerr, &err)) goto fail;
     romrt_model *m = asset.m;
-    int n = romrt_shown_count(m), r = romrt_reduced_size(m), nt = romrt_triangle_count(m);
+    int n = (int)romrt_shown_count(m), r = (int)romrt_reduced_size(m), nt = (int)romrt_triangle_count(m);
     int is_koopman = romrt_model_kind(m) == ROMRT_KIND_KOOPMAN;
     if (n < 1) {
         rk_fail(&err, "%s shows no vertices (baked with \"show\": \"none\"): there is nothing to draw", path);
@@ -110,13 +112,16 @@ int cmd_export(int argc, char **argv)
     times = calloc((size_t)steps + 1, sizeof(double));
     weights = calloc(((size_t)steps + 1) * r, sizeof(double));
     q = calloc((size_t)r, sizeof(romrt_real));
-    itris = calloc((size_t)3 * nt + 1, sizeof(int));
+    itris = calloc((size_t)3 * nt + 1, sizeof(int32_t));
     tris = calloc((size_t)3 * nt + 1, sizeof(uint32_t));
     if (!X || !D || !times || !weights || !q || !itris || !tris) {
         rk_fail(&err, "out of memory for %d shown vertices, r = %d and %ld steps", n, r, steps);
         goto fail;
     }
-    romrt_triangles(m, itris, nt);
+    if (romrt_triangles(m, itris, (size_t)3 * nt, &rerr)) {
+        rk_fail(&err, "%s: %s", path, rerr.message);
+        goto fail;
+    }
     for (int k = 0; k < 3 * nt; k++) tris[k] = (uint32_t)itris[k];
     if (rk_export_rows(asset.data, asset.bytes, is_koopman, n, r, X, D, &err) ||
         run_frames(m, steps, quiet, times, weights, q, &err)) {

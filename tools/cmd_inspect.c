@@ -81,8 +81,10 @@ int cmd_inspect(int argc, char **argv)
             rc = 1;
             break; /* a damaged container would say the same for the other model */
         } else {
-            printf("%s: opens with the runtime (float32, ROMRT_MAX_R = %d) in a %zu-byte arena%s\n", names[k],
-                   romrt_max_reduced_size(), arena, inflated ? " once inflated" : "");
+            romrt_limits limits = {sizeof limits, 0, 0, 0};
+            romrt_get_limits(&limits, NULL);
+            printf("%s: opens with the runtime (float32, r up to %zu) in a %zu-byte arena%s\n", names[k],
+                   limits.max_reduced_size, arena, inflated ? " once inflated" : "");
         }
     }
     if (!models) {

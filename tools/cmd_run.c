@@ -18,13 +18,19 @@
 #include "util/util.h"
 #include "pipeline/pipeline.h"
 
+static size_t max_reduced_size(void)
+{
+    romrt_limits limits = {sizeof limits, 0, 0, 0};
+    return romrt_get_limits(&limits, NULL) == ROMRT_OK ? limits.max_reduced_size : 0;
+}
+
 static void run_usage(FILE *f)
 {
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
                "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
                "                  [--reference S.npy] [--frames DIR] [--splats DIR] [--koopman] [--newton K]\n"
                "                  [--hessian-reuse K] [--scene SCENE.json] [--quiet]\n"
-               "  opens the asset with the runtime (float32 build, ROMRT_MAX_R = %d) and steps it N times\n"
+               "  opens the asset with the runtime (float32 build, r up to %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
                "  --report      seconds_per_step (median), seconds_positions (drawing every shown vertex),\n"
@@ -59,7 +65,7 @@ static void run_usage(FILE *f)
                "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
                "         and romkit fom examples/scenes/cantilever_small.json --snapshots S.npy):\n"
                "  romkit run cantilever.rombin --steps 50 --reference S.npy --report run.json\n",
-           romrt_max_reduced_size());
+           (int)max_reduced_size());
 }
 
 static int parse_count(const char *what, const char *text, long *out)
@@ -144,30 +150,30 @@ static void reference_free(reference *ref)
 }
 
 /* What drawing costs: the median of 21 romrt_positions calls for every shown vertex. */
-static double timed_positions(const romrt_model *m, romrt_real *xyz, int n)
+static double timed_positions(const romrt_model *m, romrt_real *xyz, size_t n)
 {
     enum { REPEATS = 21 };
     double t[REPEATS];
     for (int k = 0; k < REPEATS; k++) {
         double t0 = rk_now();
-        romrt_positions(m, xyz, n, 3);
+        if (romrt_positions(m, xyz, 3 * n, 3, NULL)) return NAN;
         t[k] = rk_now() - t0;
     }
     return rk_median(t, REPEATS);
 }
 
 /* --frames DIR: the shown vertices and the asset's surface triangles as DIR/frame_NNNNN.obj. */
-static int write_obj(const char *dir, long frame, const romrt_model *m, const romrt_real *xyz, const int *tris,
+static int write_obj(const char *dir, long frame, const romrt_model *m, const romrt_real *xyz, const int32_t *tris,
                      rk_error *err)
 {
     char path[4096];
     rk_atomic_file f;
     snprintf(path, sizeof path, "%s/frame_%05ld.obj", dir, frame);
     if (rk_atomic_open(&f, path, err)) return -1;
-    for (int i = 0; i < romrt_shown_count(m); i++)
+    for (size_t i = 0; i < romrt_shown_count(m); i++)
         fprintf(f.fp, "v %.9g %.9g %.9g\n", (double)xyz[3 * i], (double)xyz[3 * i + 1], (double)xyz[3 * i + 2]);
-    for (int t = 0; t < romrt_triangle_count(m); t++)
-        fprintf(f.fp, "f %d %d %d\n", tris[3 * t] + 1, tris[3 * t + 1] + 1, tris[3 * t + 2] + 1);
+    for (size_t t = 0; t < romrt_triangle_count(m); t++)
+        fprintf(f.fp, "f %ld %ld %ld\n", (long)tris[3 * t] + 1, (long)tris[3 * t + 1] + 1, (long)tris[3 * t + 2] + 1);
     return rk_atomic_commit(&f, err);
 }
 
@@ -177,11 +183,11 @@ static romrt_status timed_jump(romrt_model *m, unsigned long n, double *seconds,
 {
     enum { REPEATS = 21 };
     double t[REPEATS];
-    int count = romrt_state_size(m);
-    romrt_real *state = calloc((size_t)count, sizeof(romrt_real));
-    romrt_status st = state ? romrt_get_state(m, state, count) : ROMRT_E_ARGUMENT;
+    size_t count = romrt_state_size(m);
+    romrt_real *state = calloc(count, sizeof(romrt_real));
+    romrt_status st = state ? romrt_get_state(m, state, count, err) : ROMRT_E_ARGUMENT;
     for (int k = 0; k < REPEATS && st == ROMRT_OK; k++) {
-        if (k) romrt_set_state(m, state, count);
+        if (k && (st = romrt_set_state(m, state, count, err))) break;
         double t0 = rk_now();
         st = romrt_jump(m, n, err);
         t[k] = rk_now() - t0;
@@ -224,7 +230,7 @@ int cmd_run(int argc, char **argv)
     romrt_error rerr;
     tool_asset asset = {0};
     double *frame = NULL, *seconds = NULL;
-    int *tris = NULL;
+    int32_t *tris = NULL;
     reference ref;
     memset(&ref, 0, sizeof ref);
     romrt_real *xyz = NULL;
@@ -235,7 +241,7 @@ int cmd_run(int argc, char **argv)
     run_contact contact;
     memset(&contact, 0, sizeof contact);
     double t0 = rk_now();
-    long newton = 0, unconverged = 0;
+    long newton = 0, unconverged = 0, factorizations = 0, most_pairs = 0, hessian_reuse = 0;
     /* an asset may hold a reduced model and a Koopman operator: the Koopman options pick the latter */
     koopman |= jump_text || dt_text || damping_text;
     if (tool_asset_open(&asset, path, koopman, &rerr, &err)) {
@@ -250,41 +256,42 @@ int cmd_run(int argc, char **argv)
     if (dt_text && romrt_set_time_step(m, dt, &rerr) != ROMRT_OK) goto runtime_fail;
     if (damping_text && romrt_set_damping(m, damping, &rerr) != ROMRT_OK)
         goto runtime_fail;
-    if (newton_text && romrt_set_newton_iterations(m, (int)(fixed_newton > 100000 ? 100000 : fixed_newton), &rerr) != ROMRT_OK)
+    if (newton_text && romrt_set_newton_iterations(m, (size_t)fixed_newton, &rerr) != ROMRT_OK)
         goto runtime_fail;
-    if (reuse_text && romrt_set_hessian_reuse(m, (int)(reuse > 100000 ? 100000 : reuse), &rerr) != ROMRT_OK)
+    if (reuse_text && romrt_set_hessian_reuse(m, (size_t)reuse, &rerr) != ROMRT_OK)
         goto runtime_fail;
-    int n = romrt_shown_count(m);
-    xyz = calloc((size_t)3 * n + 1, sizeof(romrt_real));
-    frame = calloc((size_t)3 * n + 1, sizeof(double));
+    size_t n = romrt_shown_count(m);
+    xyz = calloc(3 * n + 1, sizeof(romrt_real));
+    frame = calloc(3 * n + 1, sizeof(double));
     seconds = calloc((size_t)steps + 1, sizeof(double));
     if (!xyz || !frame || !seconds) {
-        rk_fail(&err, "out of memory for %d shown vertices", n);
+        rk_fail(&err, "out of memory for %zu shown vertices", n);
         goto fail;
     }
-    if (ref_path && reference_open(&ref, ref_path, data, size, n, &err)) goto fail;
+    if (ref_path && reference_open(&ref, ref_path, data, size, (int)n, &err)) goto fail;
     if (frames_dir) {
-        tris = calloc((size_t)3 * romrt_triangle_count(m) + 1, sizeof(int));
+        tris = calloc(3 * romrt_triangle_count(m) + 1, sizeof(int32_t));
         if (!tris || (mkdir(frames_dir, 0777) != 0 && errno != EEXIST)) {
             rk_fail(&err, "%s: cannot create the frames folder: %s", frames_dir, tris ? strerror(errno) : "out of memory");
             goto fail;
         }
-        romrt_triangles(m, tris, romrt_triangle_count(m));
-        romrt_positions(m, xyz, n, 3);
+        if (romrt_triangles(m, tris, 3 * romrt_triangle_count(m), &rerr) ||
+            romrt_positions(m, xyz, 3 * n, 3, &rerr))
+            goto runtime_fail;
         if (write_obj(frames_dir, 0, m, xyz, tris, &err)) goto fail;
     }
     if (splats_dir) {
         if (run_splats_open(&splats, splats_dir, data, size, m, &err)) goto fail;
-        romrt_positions(m, xyz, n, 3);
+        if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
         if (run_splats_frame(&splats, m, 0, xyz, &err)) goto fail;
     }
     if (scene_path) {
         if (run_contact_open(&contact, scene_path, data, size, m, &err)) goto fail;
-        romrt_positions(m, xyz, n, 3);
+        if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
         if (run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
     }
     if (snap_out) {
-        long shape[3] = {steps, n, 3};
+        long shape[3] = {steps, (long)n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
         snapping = 1;
     }
@@ -292,14 +299,17 @@ int cmd_run(int argc, char **argv)
         double s0 = rk_now();
         if (romrt_step(m, &rerr) != ROMRT_OK) goto runtime_fail;
         seconds[k] = rk_now() - s0;
-        romrt_step_info info;
-        romrt_last_step(m, &info);
-        newton += info.newton_iterations;
+        romrt_step_info info = {sizeof info, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+        if (romrt_last_step(m, &info, &rerr)) goto runtime_fail;
+        newton += (long)info.newton_iterations;
+        factorizations += (long)info.factorizations;
+        if ((long)info.contact_pairs > most_pairs) most_pairs = (long)info.contact_pairs;
+        hessian_reuse = (long)info.hessian_reuse;
         unconverged += !info.converged;
         if (snapping || ref.frames || frames_dir || splats_dir || scene_path) {
-            romrt_positions(m, xyz, n, 3);
-            for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
-            if (snapping) rk_npy_stream_append(&snap, frame, (size_t)3 * n);
+            if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
+            for (size_t i = 0; i < 3 * n; i++) frame[i] = xyz[i];
+            if (snapping) rk_npy_stream_append(&snap, frame, 3 * n);
             reference_add(&ref, k + 1, frame);
             if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
             if (splats_dir && run_splats_frame(&splats, m, k + 1, xyz, &err)) goto fail;
@@ -310,19 +320,19 @@ int cmd_run(int argc, char **argv)
     if (!quiet) rk_progress_done("run");
     double seconds_jump = NAN, seconds_positions = report_out ? timed_positions(m, xyz, n) : NAN;
     if (jump_text && timed_jump(m, (unsigned long)jump, &seconds_jump, &rerr) != ROMRT_OK) goto runtime_fail;
-    romrt_positions(m, xyz, n, 3);
-    for (int i = 0; i < 3 * n; i++) frame[i] = xyz[i];
+    if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
+    for (size_t i = 0; i < 3 * n; i++) frame[i] = xyz[i];
     if (snapping) {
         snapping = 0;
         if (rk_npy_stream_commit(&snap, &err)) goto fail;
     }
-    long pshape[2] = {n, 3};
+    long pshape[2] = {(long)n, 3};
     if (pos_out && rk_npy_write(pos_out, frame, 2, pshape, &err)) goto fail;
     double median = steps ? rk_median(seconds, (int)steps) : 0;
     if (report_out) {
         cJSON *r = cJSON_CreateObject();
-        cJSON_AddNumberToObject(r, "vertices", n);
-        cJSON_AddNumberToObject(r, "r", romrt_reduced_size(m));
+        cJSON_AddNumberToObject(r, "vertices", (double)n);
+        cJSON_AddNumberToObject(r, "r", (double)romrt_reduced_size(m));
         cJSON_AddNumberToObject(r, "steps", (double)steps);
         cJSON_AddNumberToObject(r, "time", romrt_time(m));
         cJSON_AddNumberToObject(r, "seconds_per_step", median);
@@ -335,7 +345,10 @@ int cmd_run(int argc, char **argv)
         cJSON_AddNumberToObject(r, "newton_iterations", (double)newton);
         cJSON_AddNumberToObject(r, "unconverged_steps", (double)unconverged);
         cJSON_AddNumberToObject(r, "fixed_newton_iterations", (double)fixed_newton); /* 0: converged mode */
-        cJSON_AddNumberToObject(r, "hessian_reuse", (double)reuse);
+        /* the mode in force (romrt_step_info): the asset's default unless --hessian-reuse set one */
+        cJSON_AddNumberToObject(r, "hessian_reuse", (double)hessian_reuse);
+        cJSON_AddNumberToObject(r, "factorizations", (double)factorizations);
+        cJSON_AddNumberToObject(r, "contact_pairs_max", (double)most_pairs);
         cJSON_AddNumberToObject(r, "arena_bytes", (double)asset.arena_bytes);
         cJSON_AddStringToObject(r, "precision", sizeof(romrt_real) == 4 ? "float32" : "float64");
         if (ref.frames) {
@@ -353,7 +366,7 @@ int cmd_run(int argc, char **argv)
         cJSON_Delete(r);
         if (bad) goto fail;
     }
-    printf("%s: %ld steps of %g s, r = %d, %d shown vertices, %.3g us/step (median), %ld Newton iterations, "
+    printf("%s: %ld steps of %g s, r = %zu, %zu shown vertices, %.3g us/step (median), %ld Newton iterations, "
            "arena %zu bytes\n", path, steps, (double)romrt_time_step(m), romrt_reduced_size(m), n, median * 1e6, newton,
            asset.arena_bytes);
     if (ref.error.frames)

@@ -16,7 +16,11 @@ static int check_rest(const run_contact *o, const romrt_model *m, const char *pa
 {
     romrt_real *X = calloc((size_t)3 * o->shown + 1, sizeof(romrt_real));
     if (!X) return rk_fail(err, "out of memory");
-    romrt_rest_positions(m, X, o->shown, 3);
+    romrt_error rerr;
+    if (romrt_rest_positions(m, X, 3 * (size_t)o->shown, 3, &rerr)) {
+        free(X);
+        return rk_fail(err, "%s", rerr.message);
+    }
     const double *S = o->sim.mesh.X;
     double tol = 1e-5 * (rk_points_diagonal(S, o->sim.mesh.nv) + 1e-300);
     for (int i = 0; i < o->shown; i++) {
@@ -52,7 +56,7 @@ int run_contact_open(run_contact *o, const char *scene_path, const unsigned char
     rombin_file f;
     rombin_error e;
     rombin_chunk c;
-    o->shown = romrt_shown_count(m);
+    o->shown = (int)romrt_shown_count(m);
     if (rombin_open(&f, asset, bytes, NULL, &e) || !rombin_find(&f, ROMBIN_VMAP, &c) || c.raw < 4 * (uint64_t)o->shown)
         return rk_fail(err, "--scene: the asset has no VMAP chunk saying which scene vertex each shown one is");
     o->source = calloc((size_t)o->shown + 1, sizeof(uint32_t));

@@ -39,9 +39,9 @@ int run_splats_open(run_splats *o, const char *dir, const unsigned char *asset, 
                        "scene (mesh.points)");
     if (read_stored_splats(&c, &o->splats, err)) return -1;
     int n = o->splats.n;
-    if (n != romrt_shown_count(m)) {
+    if ((size_t)n != romrt_shown_count(m)) {
         run_splats_close(o);
-        return rk_fail(err, "--splats: the asset's splat file has %d splats, but it shows %d points", n,
+        return rk_fail(err, "--splats: the asset's splat file has %d splats, but it shows %zu points", n,
                        romrt_shown_count(m));
     }
     o->x = calloc(3 * (size_t)n + 1, sizeof(double));
@@ -51,9 +51,10 @@ int run_splats_open(run_splats *o, const char *dir, const unsigned char *asset, 
         run_splats_close(o);
         return rk_fail(err, "--splats: out of memory for %d splats", n);
     }
-    if (romrt_deformation_gradients(m, o->Fr, n) != ROMRT_OK) {
+    romrt_error rerr;
+    if (romrt_deformation_gradients(m, o->Fr, 9 * (size_t)n, &rerr) != ROMRT_OK) {
         run_splats_close(o);
-        return rk_fail(err, "--splats: the asset has no weight gradients at its points (GRAD)");
+        return rk_fail(err, "--splats: %s", rerr.message);
     }
     if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
         run_splats_close(o);
@@ -65,8 +66,9 @@ int run_splats_open(run_splats *o, const char *dir, const unsigned char *asset, 
 int run_splats_frame(run_splats *o, const romrt_model *m, long k, const romrt_real *xyz, rk_error *err)
 {
     int n = o->splats.n;
-    if (romrt_deformation_gradients(m, o->Fr, n) != ROMRT_OK)
-        return rk_fail(err, "--splats: no deformation gradients at frame %ld", k);
+    romrt_error rerr;
+    if (romrt_deformation_gradients(m, o->Fr, 9 * (size_t)n, &rerr) != ROMRT_OK)
+        return rk_fail(err, "--splats: frame %ld: %s", k, rerr.message);
     for (size_t i = 0; i < 3 * (size_t)n; i++) o->x[i] = (double)xyz[i];
     for (size_t i = 0; i < 9 * (size_t)n; i++) o->F[i] = (double)o->Fr[i];
     char path[4200];

@@ -35,7 +35,9 @@ int main(int argc, char **argv)
     romrt_model *m;
     romrt_error err;
     romrt_real xyz[3];
-    int steps = argc > 2 ? atoi(argv[2]) : 100, tip, k, i, n, r;
+    const romrt_real push[3] = {0, 0, 0.05}; /* newtons, sideways */
+    size_t tip, i, n, r, j;
+    int steps = argc > 2 ? atoi(argv[2]) : 100, k;
     if (argc < 2) {
         fprintf(stderr, "usage: embed ASSET.rombin [STEPS]\n");
         return 2;
@@ -51,15 +53,16 @@ int main(int argc, char **argv)
         fprintf(stderr, "embed: %s: %s\n", romrt_status_string(err.status), err.message);
         return 1;
     }
-    printf("opened: r = %d, %d shown vertices, %d triangles, %d groups, arena %lu bytes\n", romrt_reduced_size(m),
-           romrt_shown_count(m), romrt_triangle_count(m), romrt_group_count(m), (unsigned long)arena_bytes);
-    tip = romrt_find_group(m, "tip");
-    if (tip >= 0) {
-        const romrt_real push[3] = {0, 0, 0.05}; /* newtons, sideways */
-        romrt_add_force(m, tip, push);
+    printf("opened: r = %lu, %lu shown vertices, %lu triangles, %lu groups, arena %lu bytes\n",
+           (unsigned long)romrt_reduced_size(m), (unsigned long)romrt_shown_count(m),
+           (unsigned long)romrt_triangle_count(m), (unsigned long)romrt_group_count(m), (unsigned long)arena_bytes);
+    /* an asset without a "tip" group is pushed nowhere (the refusal names the group count) */
+    if (romrt_find_group(m, "tip", &tip, &err) == ROMRT_OK && romrt_add_force(m, tip, push, &err) != ROMRT_OK) {
+        fprintf(stderr, "embed: push: %s\n", err.message);
+        return 1;
     }
     for (k = 0; k < steps; k++) {
-        if (k == steps / 2) romrt_clear_forces(m); /* let go half-way */
+        if (k == steps / 2 && romrt_clear_forces(m, &err) != ROMRT_OK) return 1; /* let go half-way */
         if (romrt_step(m, &err) != ROMRT_OK) {
             fprintf(stderr, "embed: step %d: %s: %s\n", k, romrt_status_string(err.status), err.message);
             return 1;
@@ -69,9 +72,9 @@ int main(int argc, char **argv)
      * vertices and says so: romrt_positions refuses a smaller one rather than overrun it. */
     n = romrt_shown_count(m);
     {
-        romrt_real *all = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n);
-        int best = 0;
-        if (!all || romrt_positions(m, all, n, 3) != ROMRT_OK) return 1;
+        romrt_real *all = (romrt_real *)malloc(sizeof(romrt_real) * 3 * n);
+        size_t best = 0;
+        if (!all || romrt_positions(m, all, 3 * n, 3, &err) != ROMRT_OK) return 1;
         for (i = 1; i < n; i++)
             if (all[3 * i] > all[3 * best]) best = i;
         for (i = 0; i < 3; i++) xyz[i] = all[3 * best + i];
@@ -86,22 +89,22 @@ int main(int argc, char **argv)
      * x_ik = X_ik + sum_j U[(3 i + k) r + j] q_j. */
     r = romrt_reduced_size(m);
     {
-        romrt_real *vbo = (romrt_real *)calloc(6 * (size_t)n, sizeof(romrt_real));
-        romrt_real *rows = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n * (size_t)r);
-        romrt_real *q = (romrt_real *)malloc(sizeof(romrt_real) * (size_t)r);
-        romrt_real *x = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n);
+        romrt_real *vbo = (romrt_real *)calloc(6 * n, sizeof(romrt_real));
+        romrt_real *rows = (romrt_real *)malloc(sizeof(romrt_real) * 3 * n * r);
+        romrt_real *q = (romrt_real *)malloc(sizeof(romrt_real) * r);
+        romrt_real *x = (romrt_real *)malloc(sizeof(romrt_real) * 3 * n);
         double worst = 0;
-        if (!vbo || !rows || !q || !x || romrt_rest_positions(m, vbo, n, 6) != ROMRT_OK ||
-            romrt_basis_rows(m, rows, 3 * (size_t)n * (size_t)r) != ROMRT_OK ||
-            romrt_reduced_coordinates(m, q, r) != ROMRT_OK || romrt_positions(m, x, n, 3) != ROMRT_OK)
+        if (!vbo || !rows || !q || !x || romrt_rest_positions(m, vbo, 6 * n, 6, &err) != ROMRT_OK ||
+            romrt_basis_rows(m, rows, 3 * n * r, &err) != ROMRT_OK ||
+            romrt_reduced_coordinates(m, q, r, &err) != ROMRT_OK || romrt_positions(m, x, 3 * n, 3, &err) != ROMRT_OK)
             return 1;
         for (i = 0; i < 3 * n; i++) { /* the vertex shader's sum: vertex i / 3, axis i % 3 */
             double s = vbo[6 * (i / 3) + i % 3], d;
-            for (k = 0; k < r; k++) s += (double)rows[(size_t)i * (size_t)r + (size_t)k] * q[k];
+            for (j = 0; j < r; j++) s += (double)rows[i * r + j] * q[j];
             d = s > x[i] ? s - x[i] : x[i] - s;
             if (d > worst) worst = d;
         }
-        printf("on the GPU: X + U q (r = %d) against romrt_positions: %.1e m at most\n", r, worst);
+        printf("on the GPU: X + U q (r = %lu) against romrt_positions: %.1e m at most\n", (unsigned long)r, worst);
         free(vbo);
         free(rows);
         free(q);

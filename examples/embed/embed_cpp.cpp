@@ -34,27 +34,32 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "embed_cpp: %s\n", err.message);
         return 1;
     }
-    std::printf("embed_cpp: one step of r = %d done\n", romrt_reduced_size(m));
+    std::printf("embed_cpp: one step of r = %zu done\n", romrt_reduced_size(m));
 
     // Once: X (into an interleaved position + normal buffer, stride 6) and U for the GPU.
-    const int n = romrt_shown_count(m), r = romrt_reduced_size(m);
-    std::vector<romrt_real> vertices(6 * static_cast<size_t>(n)), rows(3 * static_cast<size_t>(n) * r), q(r);
-    if (romrt_rest_positions(m, vertices.data(), n, 6) != ROMRT_OK ||
-        romrt_basis_rows(m, rows.data(), rows.size()) != ROMRT_OK)
+    const size_t n = romrt_shown_count(m), r = romrt_reduced_size(m);
+    std::vector<romrt_real> vertices(6 * n), rows(3 * n * r), q(r);
+    if (romrt_rest_positions(m, vertices.data(), vertices.size(), 6, &err) != ROMRT_OK ||
+        romrt_basis_rows(m, rows.data(), rows.size(), &err) != ROMRT_OK) {
+        std::fprintf(stderr, "embed_cpp: %s\n", err.message);
         return 1;
+    }
     // Per frame: step, then q (r reals) is all that goes to the GPU.
-    if (romrt_step(m, &err) != ROMRT_OK || romrt_reduced_coordinates(m, q.data(), r) != ROMRT_OK) return 1;
+    if (romrt_step(m, &err) != ROMRT_OK || romrt_reduced_coordinates(m, q.data(), q.size(), &err) != ROMRT_OK) {
+        std::fprintf(stderr, "embed_cpp: %s\n", err.message);
+        return 1;
+    }
     // What the vertex shader computes for the last shown vertex, against the runtime's own positions.
-    std::vector<romrt_real> x(3 * static_cast<size_t>(n));
-    if (romrt_positions(m, x.data(), n, 3) != ROMRT_OK) return 1;
+    std::vector<romrt_real> x(3 * n);
+    if (romrt_positions(m, x.data(), x.size(), 3, &err) != ROMRT_OK) return 1;
     double worst = 0;
-    for (int k = 0; k < 3; k++) {
-        size_t row = 3 * static_cast<size_t>(n - 1) + k;
-        double s = vertices[6 * static_cast<size_t>(n - 1) + k];
-        for (int j = 0; j < r; j++) s += static_cast<double>(rows[row * r + j]) * q[j];
+    for (size_t k = 0; k < 3; k++) {
+        size_t row = 3 * (n - 1) + k;
+        double s = vertices[6 * (n - 1) + k];
+        for (size_t j = 0; j < r; j++) s += static_cast<double>(rows[row * r + j]) * q[j];
         worst = std::max(worst, s > x[row] ? s - x[row] : x[row] - s);
     }
-    std::printf("embed_cpp: %d vertices x %d rows uploaded once, %d reals a frame; shader sum off by %.1e m\n", n, r, r,
-                worst);
+    std::printf("embed_cpp: %zu vertices x %zu rows uploaded once, %zu reals a frame; shader sum off by %.1e m\n", n, r,
+                r, worst);
     return 0;
 }

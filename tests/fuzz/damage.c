@@ -16,7 +16,7 @@
 #include <sys/stat.h>
 
 #include "formats/rombin_read.h"
-#include "runtime/romrt.h"
+#include "runtime/romrt_impl.h" /* ROMRT_MAX_R: the build's limit, which the damaged r exceeds */
 
 static unsigned char *orig;     /* the valid asset */
 static size_t orig_size;

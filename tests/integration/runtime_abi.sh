@@ -22,7 +22,7 @@ int main(void)
 {
     romrt_real q[1];
     printf("version %d real %d\n", romrt_version(), (int)sizeof(romrt_real));
-    return romrt_reduced_coordinates(NULL, q, 1) == ROMRT_E_ARGUMENT && romrt_version() == ROMRT_VERSION_NUMBER ? 0 : 1;
+    return romrt_reduced_coordinates(NULL, q, 1, NULL) == ROMRT_E_ARGUMENT && romrt_version() == ROMRT_VERSION_NUMBER ? 0 : 1;
 }
 EOF
 # link NAME FLAGS LIB...: compiles and links the app; its output in $TMP/link.err

@@ -41,7 +41,7 @@ static int failed(romrt_status s, const romrt_error *err)
 static int positions(const char *tag, const romrt_model *m, int shown)
 {
     int i;
-    romrt_status s = romrt_positions(m, xyz, MAX_SHOWN, 3); /* the buffer's capacity: too small is refused */
+    romrt_status s = romrt_positions(m, xyz, 3 * (size_t)MAX_SHOWN, 3, NULL); /* the buffer's capacity: too small is refused */
     if (s != ROMRT_OK) {
         printf("error %s romrt_positions\n", romrt_status_string(s));
         return 0;

@@ -42,7 +42,7 @@ int main(int argc, char **argv)
         printf("FAIL open: %s\n", err.message);
         return 1;
     }
-    romrt_add_vertex_force(m, romrt_shown_count(m) - 1, push);
+    romrt_add_vertex_force(m, romrt_shown_count(m) - 1, push, NULL);
     for (k = 0; k < 5; k++) romrt_step(m, &err);
     n = romrt_shown_count(m);
     r = romrt_reduced_size(m);
@@ -50,30 +50,30 @@ int main(int argc, char **argv)
 
     /* one vertex short: refused (an overrun would write 3 reals past the buffer's end) */
     b = reals(3 * (size_t)(n - 1));
-    check(romrt_positions(m, b, n - 1, 3) == ROMRT_E_ARGUMENT, "asan_positions_one_vertex_short_refused");
-    check(romrt_rest_positions(m, b, n - 1, 3) == ROMRT_E_ARGUMENT, "asan_rest_positions_one_vertex_short_refused");
+    check(romrt_positions(m, b, 3 * (size_t)(n - 1), 3, NULL) == ROMRT_E_ARGUMENT, "asan_positions_one_vertex_short_refused");
+    check(romrt_rest_positions(m, b, 3 * (size_t)(n - 1), 3, NULL) == ROMRT_E_ARGUMENT, "asan_rest_positions_one_vertex_short_refused");
     free(b);
     /* exactly n vertices, packed and interleaved (the last vertex needs only its 3 reals) */
     b = reals(3 * (size_t)n);
-    check(romrt_positions(m, b, n, 3) == ROMRT_OK && romrt_rest_positions(m, b, n, 3) == ROMRT_OK,
+    check(romrt_positions(m, b, 3 * (size_t)n, 3, NULL) == ROMRT_OK && romrt_rest_positions(m, b, 3 * (size_t)n, 3, NULL) == ROMRT_OK,
           "asan_positions_exact_packed_buffer");
     free(b);
     b = reals(7 * (size_t)(n - 1) + 3);
-    check(romrt_positions(m, b, n, 7) == ROMRT_OK && romrt_rest_positions(m, b, n, 7) == ROMRT_OK,
+    check(romrt_positions(m, b, 7 * (size_t)n, 7, NULL) == ROMRT_OK && romrt_rest_positions(m, b, 7 * (size_t)n, 7, NULL) == ROMRT_OK,
           "asan_positions_exact_interleaved_buffer");
     free(b);
     /* basis rows: one real short refused, exact accepted */
     b = reals(nr - 1);
-    check(romrt_basis_rows(m, b, nr - 1) == ROMRT_E_ARGUMENT, "asan_basis_rows_one_short_refused");
+    check(romrt_basis_rows(m, b, nr - 1, NULL) == ROMRT_E_ARGUMENT, "asan_basis_rows_one_short_refused");
     free(b);
     b = reals(nr);
-    check(romrt_basis_rows(m, b, nr) == ROMRT_OK, "asan_basis_rows_exact_buffer");
+    check(romrt_basis_rows(m, b, nr, NULL) == ROMRT_OK, "asan_basis_rows_exact_buffer");
     free(b);
     b = reals((size_t)r - 1);
-    check(romrt_reduced_coordinates(m, b, r - 1) == ROMRT_E_ARGUMENT, "asan_reduced_coordinates_one_short_refused");
+    check(romrt_reduced_coordinates(m, b, r - 1, NULL) == ROMRT_E_ARGUMENT, "asan_reduced_coordinates_one_short_refused");
     free(b);
     b = reals((size_t)r);
-    check(romrt_reduced_coordinates(m, b, r) == ROMRT_OK, "asan_reduced_coordinates_exact_buffer");
+    check(romrt_reduced_coordinates(m, b, r, NULL) == ROMRT_OK, "asan_reduced_coordinates_exact_buffer");
     free(b);
     free(arena);
     free(asset);

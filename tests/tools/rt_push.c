@@ -48,23 +48,25 @@ int main(int argc, char **argv)
     }
     if (argc >= 8 && argv[4][0] != '-') {
         romrt_real f[3];
-        int g = romrt_find_group(m, argv[4]);
+        size_t g;
+        romrt_error err;
         f[0] = (romrt_real)atof(argv[5]), f[1] = (romrt_real)atof(argv[6]), f[2] = (romrt_real)atof(argv[7]);
-        if (romrt_add_force(m, g, f) != ROMRT_OK) return fprintf(stderr, "rt_push: group %s refused\n", argv[4]), 1;
+        if (romrt_find_group(m, argv[4], &g, &err) || romrt_add_force(m, g, f, &err) != ROMRT_OK)
+            return fprintf(stderr, "rt_push: group %s refused: %s\n", argv[4], err.message), 1;
     }
     if (argc >= 12 && (vertex = atoi(argv[8])) >= 0) {
         romrt_real f[3];
         f[0] = (romrt_real)atof(argv[9]), f[1] = (romrt_real)atof(argv[10]), f[2] = (romrt_real)atof(argv[11]);
-        if (romrt_add_vertex_force(m, vertex, f) != ROMRT_OK) return fprintf(stderr, "rt_push: vertex refused\n"), 1;
+        if (romrt_add_vertex_force(m, vertex, f, NULL) != ROMRT_OK) return fprintf(stderr, "rt_push: vertex refused\n"), 1;
     }
     if (argc == 13) clear_at = atoi(argv[12]);
     n = romrt_shown_count(m);
     xyz = (romrt_real *)malloc(sizeof(romrt_real) * 3 * (size_t)n + 1);
     if (!xyz || !(out = fopen(argv[3], "wb"))) return 1;
     for (k = 0; k < steps; k++) {
-        if (k == clear_at) romrt_clear_forces(m);
+        if (k == clear_at) romrt_clear_forces(m, NULL);
         if (romrt_step(m, &err) != ROMRT_OK) return fprintf(stderr, "rt_push: step %d: %s\n", k, err.message), 1;
-        if (romrt_positions(m, xyz, n, 3) != ROMRT_OK || fwrite(xyz, sizeof(romrt_real), 3 * (size_t)n, out) != 3 * (size_t)n)
+        if (romrt_positions(m, xyz, 3 * (size_t)n, 3, NULL) != ROMRT_OK || fwrite(xyz, sizeof(romrt_real), 3 * (size_t)n, out) != 3 * (size_t)n)
             return 1;
     }
     if (fclose(out) != 0) return 1;

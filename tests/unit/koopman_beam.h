@@ -122,7 +122,7 @@ static inline int runtime_against_rollout(const rk_koopman *k, const beam *u, do
     rk_koopman_lift(k, u->run.u + n, u->run.u, z);
     for (int t = 2; st == ROMRT_OK && t < T; t++) {
         st = romrt_step(rm, &re);
-        if (st == ROMRT_OK) st = romrt_positions(rm, x, nv, 3);
+        if (st == ROMRT_OK) st = romrt_positions(rm, x, 3 * (size_t)nv, 3, NULL);
         rk_koopman_forced(k, 1, u->run.accel, z, err);
         rk_koopman_positions(k, z, ud);
         for (int i = 0; st == ROMRT_OK && i < n; i++) {

@@ -94,7 +94,7 @@ static inline void rt_fixture_positions(const rt_fixture *f, double *x)
     int r = f->R.basis.r;
     romrt_real *q = calloc((size_t)r, sizeof(romrt_real));
     double *qd = calloc((size_t)r, sizeof(double));
-    romrt_reduced_coordinates(f->m, q, r);
+    romrt_reduced_coordinates(f->m, q, r, NULL);
     for (int j = 0; j < r; j++) qd[j] = (double)q[j];
     rk_rom_positions(f->R.basis.U, 3 * f->sim.mesh.nv, r, f->sim.mesh.X, qd, x);
     free(q), free(qd);

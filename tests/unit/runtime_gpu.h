@@ -18,8 +18,8 @@ static inline double rt_gpu_mismatch(const romrt_model *m)
     romrt_real *X = calloc((size_t)3 * n + 1, sizeof *X), *x = calloc((size_t)3 * n + 1, sizeof *x);
     romrt_real *U = calloc(nr + 1, sizeof *U), *q = calloc((size_t)r + 1, sizeof *q);
     double worst = 0, motion = 1e-300;
-    ok = X && x && U && q && romrt_rest_positions(m, X, n, 3) == ROMRT_OK && romrt_basis_rows(m, U, nr) == ROMRT_OK &&
-         romrt_reduced_coordinates(m, q, r) == ROMRT_OK && romrt_positions(m, x, n, 3) == ROMRT_OK;
+    ok = X && x && U && q && romrt_rest_positions(m, X, 3 * (size_t)n, 3, NULL) == ROMRT_OK && romrt_basis_rows(m, U, nr, NULL) == ROMRT_OK &&
+         romrt_reduced_coordinates(m, q, r, NULL) == ROMRT_OK && romrt_positions(m, x, 3 * (size_t)n, 3, NULL) == ROMRT_OK;
     for (int k = 0; ok && k < 3 * n; k++) {
         double s = X[k];
         for (int j = 0; j < r; j++) s += (double)U[(size_t)k * r + j] * q[j];

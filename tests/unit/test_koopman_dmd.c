@@ -407,7 +407,7 @@ TEST(a_default_fit_of_the_chain_is_stable_over_a_million_steps)
     romrt_status st = arena ? romrt_open(asset, bytes, arena, need, &m, &re) : ROMRT_E_ARGUMENT;
     romrt_real x[MAXD];
     if (st == ROMRT_OK) st = romrt_jump(m, 1000000, &re);
-    if (st == ROMRT_OK) st = romrt_positions(m, x, MAXD / 3, 3);
+    if (st == ROMRT_OK) st = romrt_positions(m, x, 3 * (size_t)(MAXD / 3), 3, NULL);
     double after = 0;
     for (int i = 0; st == ROMRT_OK && i < MAXD; i++)
         after = isfinite((double)x[i]) ? fmax(after, fabs((double)x[i])) : INFINITY;

@@ -141,7 +141,7 @@ static double run_both(fixture *f, int steps, rk_fom *fom, double *err_rt, doubl
             *failed = 1;
             break;
         }
-        romrt_positions(f->m, xyz, n, 3);
+        romrt_positions(f->m, xyz, 3 * (size_t)n, 3, NULL);
         for (int i = 0; i < 3 * n; i++) {
             int dof = 3 * (int)f->vmap[i / 3] + i % 3;
             worst = fmax(worst, fabs((double)xyz[i] - f->s.fom.x[dof]));
@@ -190,7 +190,7 @@ TEST(crom_decoder_takes_the_precompute_steps)
     CHECK_OK(fixture_open(&f, bar_with("surface", 0, "\"decoder\": \"crom\", \"crom\": {\"encoder_width\": 16, "
                                        "\"encoder_layers\": 1, \"decoder_width\": 16, \"decoder_layers\": 2, \"epochs\": 30}"),
                           &err));
-    CHECK(romrt_shown_count(f.m) < f.sim.mesh.nv, "the surface is shown, every vertex stored");
+    CHECK(romrt_shown_count(f.m) < (size_t)f.sim.mesh.nv, "the surface is shown, every vertex stored");
     double rel = run_both(&f, 10, NULL, NULL, NULL, &err, &failed);
     CHECK(!failed, "%s", err.msg);
     printf("# CROM decoder: relative difference %.3g over 10 steps (tol %g), history blended in %ld\n", rel, PARITY_TOL,
@@ -217,7 +217,7 @@ TEST(a_collider_holds_the_adaptive_bar)
     double nearest = 1;
     for (k = 0; k < 30 && ok; k++) {
         ok = romrt_step(f.m, &rerr) == ROMRT_OK;
-        romrt_positions(f.m, xyz, n, 3);
+        romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
         for (int i = 0; i < n; i++) {
             double d2 = 0;
             for (int a = 0; a < 3; a++) d2 += ((double)xyz[3 * i + a] - centre[a]) * ((double)xyz[3 * i + a] - centre[a]);
@@ -245,7 +245,7 @@ TEST(surface_and_cubature_vertices_as_accurate)
     CHECK(!failed, "%s", err.msg);
     printf("# surface and cubature vertices stored (%d of %d), 30 steps: largest error against full order %.3g "
            "(the precompute's, every vertex: %.3g); %.3g apart\n",
-           romrt_shown_count(f.m), f.sim.mesh.nv, err_rt, err_pc, rel);
+           (int)romrt_shown_count(f.m), f.sim.mesh.nv, err_rt, err_pc, rel);
     CHECK(err_rt < 2 * err_pc + 0.02, "the runtime's error %.3g against the precompute's %.3g", err_rt, err_pc);
     rk_fom_free(&fom);
     fixture_close(&f);
@@ -255,9 +255,11 @@ TEST(surface_and_cubature_vertices_as_accurate)
 static void stepped(romrt_model *m, int steps, const romrt_real *push, romrt_real *xyz)
 {
     romrt_error rerr;
-    if (push) romrt_add_force(m, romrt_find_group(m, "middle"), push);
+    size_t g;
+    if (push && (romrt_find_group(m, "middle", &g, &rerr) || romrt_add_force(m, g, push, &rerr)))
+        CHECK(0, "push: %s", rerr.message);
     for (int k = 0; k < steps; k++) romrt_step(m, &rerr);
-    romrt_positions(m, xyz, romrt_shown_count(m), 3);
+    romrt_positions(m, xyz, 3 * (size_t)(romrt_shown_count(m)), 3, NULL);
 }
 
 TEST(push_reset_and_refusals)
@@ -269,12 +271,12 @@ TEST(push_reset_and_refusals)
     romrt_real *a = malloc(sizeof(romrt_real) * 3 * n), *b = malloc(sizeof(romrt_real) * 3 * n);
     const romrt_real push[3] = {0, 0, 50};
     stepped(f.m, 10, NULL, a);
-    romrt_reset(f.m);
+    romrt_reset(f.m, NULL);
     stepped(f.m, 10, NULL, b);
     double same = 0, moved = 0, side = 0;
     for (int i = 0; i < 3 * n; i++) same = fmax(same, fabs((double)a[i] - b[i]));
     CHECK(same == 0, "after romrt_reset the same steps land %g m apart", same);
-    romrt_reset(f.m);
+    romrt_reset(f.m, NULL);
     stepped(f.m, 10, push, b);
     for (int i = 0; i < 3 * n; i++) moved = fmax(moved, fabs((double)a[i] - b[i]));
     for (int i = 2; i < 3 * n; i += 3) side = fmax(side, (double)b[i] - a[i]);
@@ -284,12 +286,12 @@ TEST(push_reset_and_refusals)
      * state keeps the double displacements to about 48 bits) */
     int ns = romrt_state_size(f.m);
     romrt_real *state = malloc(sizeof(romrt_real) * ns), *again = malloc(sizeof(romrt_real) * 3 * n);
-    romrt_reset(f.m);
+    romrt_reset(f.m, NULL);
     stepped(f.m, 10, NULL, a);
-    CHECK(romrt_get_state(f.m, state, ns) == ROMRT_OK, "get_state");
+    CHECK(romrt_get_state(f.m, state, ns, NULL) == ROMRT_OK, "get_state");
     stepped(f.m, 5, NULL, b);
     stepped(f.m, 7, NULL, again); /* elsewhere */
-    CHECK(romrt_set_state(f.m, state, ns) == ROMRT_OK, "set_state");
+    CHECK(romrt_set_state(f.m, state, ns, NULL) == ROMRT_OK, "set_state");
     stepped(f.m, 5, NULL, again);
     double back = 0, size = 0;
     for (int i = 0; i < 3 * n; i++) {
@@ -299,12 +301,12 @@ TEST(push_reset_and_refusals)
     printf("# state restored after 10 steps: 5 more steps land %.3g m from the first time\n", back);
     CHECK(back < (sizeof(romrt_real) == 8 ? 1e-12 : 1e-6) * size, "restored state drifts by %g m", back);
     state[3] = (romrt_real)1e6; /* the ring's count past m */
-    CHECK(romrt_set_state(f.m, state, ns) == ROMRT_E_ARGUMENT, "a ring count past m is refused");
+    CHECK(romrt_set_state(f.m, state, ns, NULL) == ROMRT_E_ARGUMENT, "a ring count past m is refused");
     free(state);
     free(again);
     const romrt_real huge[3] = {0, 0, (romrt_real)(sizeof(romrt_real) == 4 ? 3e38 : 1e308)};
-    romrt_add_vertex_force(f.m, 0, huge);
-    CHECK(romrt_add_vertex_force(f.m, 0, huge) == ROMRT_E_ARGUMENT, "a force whose sum overflows is refused");
+    romrt_add_vertex_force(f.m, 0, huge, NULL);
+    CHECK(romrt_add_vertex_force(f.m, 0, huge, NULL) == ROMRT_E_ARGUMENT, "a force whose sum overflows is refused");
     /* a corrupted history length: refused at open, naming the chunk */
     rombin_file file;
     rombin_chunk c;

@@ -76,11 +76,11 @@ static int run_script(rt_fixture *f, int steps, script_fn script, run_result *ou
             rc = rk_fail(err, "runtime, step %d: %s", k, rerr.message);
         if (rc) break;
         romrt_step_info info;
-        romrt_last_step(f->m, &info);
+        ((info).size = sizeof(info), romrt_last_step(f->m, &info, NULL));
         out->behind += info.colliders_behind;
         out->rt_iterations += info.newton_iterations;
         rt_fixture_reference(f, s.q, ref);
-        romrt_positions(f->m, xyz, n, 3);
+        romrt_positions(f->m, xyz, 3 * (size_t)n, 3, NULL);
         x1 = 0;
         for (int i = 0; i < 3 * n; i++) {
             out->rel = fmax(out->rel, fabs((double)xyz[i] - ref[i]));
@@ -188,8 +188,10 @@ TEST(bad_colliders_are_refused_with_a_status_and_change_nothing)
     c.rt.rotation[0] = 2;
     CHECK(romrt_set_collider(f.m, 0, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "a scaled rotation passed");
     c.rt.rotation[0] = 1;
-    CHECK(romrt_set_collider(f.m, ROMRT_MAX_COLLIDERS, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "a slot past the end passed");
-    CHECK(romrt_set_collider(f.m, -1, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "slot -1 passed");
+    romrt_limits lim = {sizeof lim, 0, 0, 0};
+    CHECK(romrt_get_limits(&lim, NULL) == ROMRT_OK && lim.collider_slots == 8, "collider slots %zu", lim.collider_slots);
+    CHECK(romrt_set_collider(f.m, lim.collider_slots, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "a slot past the end passed");
+    CHECK(romrt_set_collider(f.m, (size_t)-1, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "slot -1 passed");
     c.rt.position[0] = 0; /* through the block's side */
     CHECK(romrt_set_collider(f.m, 0, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "a sphere through the block passed");
     printf("# refused: %s\n", rerr.message);
@@ -199,8 +201,8 @@ TEST(bad_colliders_are_refused_with_a_status_and_change_nothing)
     int n = romrt_shown_count(f.m);
     romrt_real *a = calloc((size_t)3 * n, sizeof(romrt_real)), *b = calloc((size_t)3 * n, sizeof(romrt_real));
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr), romrt_step(g.m, &rerr);
-    romrt_positions(f.m, a, n, 3);
-    romrt_positions(g.m, b, n, 3);
+    romrt_positions(f.m, a, 3 * (size_t)n, 3, NULL);
+    romrt_positions(g.m, b, 3 * (size_t)n, 3, NULL);
     CHECK(memcmp(a, b, sizeof(romrt_real) * 3 * n) == 0, "refused colliders changed the steps");
     free(a);
     free(b);

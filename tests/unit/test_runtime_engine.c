@@ -65,48 +65,60 @@ TEST(short_buffers_are_refused_and_left_alone)
     rt_fixture f;
     CHECK_OK(rt_fixture_open(&f, cantilever, ASSET_REAL, &err, &rerr));
     const romrt_real push[3] = {0, 0, 2};
-    CHECK(romrt_add_force(f.m, romrt_find_group(f.m, "tip"), push) == ROMRT_OK, "push");
+    size_t tip;
+    CHECK(romrt_find_group(f.m, "tip", &tip, &rerr) == ROMRT_OK && romrt_add_force(f.m, tip, push, &rerr) == ROMRT_OK,
+          "push: %s", rerr.message);
     for (int k = 0; k < 10; k++) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
-    int n = romrt_shown_count(f.m), r = romrt_reduced_size(f.m), S = 5, pad = 8;
-    size_t room = (size_t)S * (n + 2) + pad, nr = (size_t)3 * n * r;
+    size_t n = romrt_shown_count(f.m), r = romrt_reduced_size(f.m), S = 5, pad = 8;
+    size_t room = S * (n + 2) + pad, nr = 3 * n * r, need = S * (n - 1) + 3;
     romrt_real *buf = malloc(sizeof *buf * room), *packed = malloc(sizeof *packed * 3 * n);
     romrt_real *rows = malloc(sizeof *rows * (nr + pad)), *q = malloc(sizeof *q * (r + pad));
     CHECK(buf && packed && rows && q && n > 1, "setup");
-    /* too small a capacity, too small a stride, NULL: refused, nothing written */
-    romrt_status (*const writers[2])(const romrt_model *, romrt_real *, int, int) = {romrt_positions, romrt_rest_positions};
+    /* too small a capacity (in reals), too small a stride, NULL: refused, nothing written, the
+     * error says why */
+    romrt_status (*const writers[2])(const romrt_model *, romrt_real *, size_t, size_t, romrt_error *) = {
+        romrt_positions, romrt_rest_positions};
     for (int w = 0; w < 2; w++) {
         fill(buf, room);
-        CHECK(writers[w](f.m, buf, n - 1, 3) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: capacity n - 1", w);
-        CHECK(writers[w](f.m, buf, 0, 3) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: capacity 0", w);
-        CHECK(writers[w](f.m, buf, -1, 3) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: capacity -1", w);
-        CHECK(writers[w](f.m, buf, n, 2) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: stride 2", w);
-        CHECK(writers[w](f.m, buf, n, 0) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: stride 0", w);
-        CHECK(writers[w](f.m, NULL, n, 3) == ROMRT_E_ARGUMENT && writers[w](NULL, buf, n, 3) == ROMRT_E_ARGUMENT,
-              "writer %d: NULL", w);
-        /* interleaved: stride 5, exactly n vertices: the xyz of each, nothing between or after */
-        CHECK(writers[w](f.m, packed, n, 3) == ROMRT_OK, "writer %d: packed", w);
-        CHECK(writers[w](f.m, buf, n, S) == ROMRT_OK, "writer %d: stride %d", w, S);
-        for (int i = 0; i < n; i++) {
-            CHECK(memcmp(buf + (size_t)S * i, packed + 3 * (size_t)i, 3 * sizeof *buf) == 0,
-                  "writer %d: vertex %d differs from the packed call", w, i);
-            CHECK(all_canary(buf + (size_t)S * i + 3, (size_t)(S - 3)), "writer %d: wrote between vertices at %d", w, i);
+        rerr.message[0] = 0;
+        CHECK(writers[w](f.m, buf, 3 * n - 1, 3, &rerr) == ROMRT_E_ARGUMENT && all_canary(buf, room) &&
+                  rerr.status == ROMRT_E_ARGUMENT && strstr(rerr.message, "needed"),
+              "writer %d: capacity 3 n - 1: %s", w, rerr.message);
+        CHECK(writers[w](f.m, buf, need - 1, S, NULL) == ROMRT_E_ARGUMENT && all_canary(buf, room),
+              "writer %d: stride %zu, one real short", w, S);
+        CHECK(writers[w](f.m, buf, 0, 3, NULL) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: capacity 0", w);
+        CHECK(writers[w](f.m, buf, (size_t)-1, 2, NULL) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: stride 2", w);
+        CHECK(writers[w](f.m, buf, (size_t)-1, 0, NULL) == ROMRT_E_ARGUMENT && all_canary(buf, room), "writer %d: stride 0", w);
+        CHECK(writers[w](f.m, buf, (size_t)-1, (size_t)-1 / 2, NULL) == ROMRT_E_ARGUMENT && all_canary(buf, room),
+              "writer %d: a stride whose span overflows", w);
+        CHECK(writers[w](f.m, NULL, 3 * n, 3, &rerr) == ROMRT_E_ARGUMENT && strstr(rerr.message, "NULL") &&
+                  writers[w](NULL, buf, 3 * n, 3, &rerr) == ROMRT_E_ARGUMENT && strstr(rerr.message, "model"),
+              "writer %d: NULL: %s", w, rerr.message);
+        /* interleaved: stride 5, exactly the reals the last vertex needs: the xyz of each, nothing
+         * between or after */
+        CHECK(writers[w](f.m, packed, 3 * n, 3, NULL) == ROMRT_OK, "writer %d: packed", w);
+        CHECK(writers[w](f.m, buf, need, S, NULL) == ROMRT_OK, "writer %d: stride %zu", w, S);
+        for (size_t i = 0; i < n; i++) {
+            CHECK(memcmp(buf + S * i, packed + 3 * i, 3 * sizeof *buf) == 0,
+                  "writer %d: vertex %zu differs from the packed call", w, i);
+            CHECK(all_canary(buf + S * i + 3, i + 1 < n ? S - 3 : 0), "writer %d: wrote between vertices at %zu", w, i);
         }
-        CHECK(all_canary(buf + (size_t)S * n, room - (size_t)S * n), "writer %d: wrote past vertex n - 1", w);
+        CHECK(all_canary(buf + need, room - need), "writer %d: wrote past vertex n - 1", w);
         /* a larger capacity still writes the shown vertices only */
         fill(buf, room);
-        CHECK(writers[w](f.m, buf, n + 2, 3) == ROMRT_OK && all_canary(buf + 3 * (size_t)n, room - 3 * (size_t)n),
+        CHECK(writers[w](f.m, buf, 3 * n + 6, 3, NULL) == ROMRT_OK && all_canary(buf + 3 * n, room - 3 * n),
               "writer %d: wrote past the shown vertices", w);
     }
     /* basis rows: 3 n r reals */
     fill(rows, nr + pad);
-    CHECK(romrt_basis_rows(f.m, rows, nr - 1) == ROMRT_E_ARGUMENT && all_canary(rows, nr + pad), "rows: one short");
-    CHECK(romrt_basis_rows(f.m, rows, 0) == ROMRT_E_ARGUMENT && all_canary(rows, nr + pad), "rows: capacity 0");
-    CHECK(romrt_basis_rows(f.m, rows, nr) == ROMRT_OK && all_canary(rows + nr, pad), "rows: wrote past 3 n r");
+    CHECK(romrt_basis_rows(f.m, rows, nr - 1, NULL) == ROMRT_E_ARGUMENT && all_canary(rows, nr + pad), "rows: one short");
+    CHECK(romrt_basis_rows(f.m, rows, 0, NULL) == ROMRT_E_ARGUMENT && all_canary(rows, nr + pad), "rows: capacity 0");
+    CHECK(romrt_basis_rows(f.m, rows, nr, NULL) == ROMRT_OK && all_canary(rows + nr, pad), "rows: wrote past 3 n r");
     CHECK(!all_canary(rows, 1), "rows: nothing written");
     /* q: r reals */
     fill(q, (size_t)r + pad);
-    CHECK(romrt_reduced_coordinates(f.m, q, r - 1) == ROMRT_E_ARGUMENT && all_canary(q, (size_t)r + pad), "q: one short");
-    CHECK(romrt_reduced_coordinates(f.m, q, r + 3) == ROMRT_OK && all_canary(q + r, pad), "q: wrote past r");
+    CHECK(romrt_reduced_coordinates(f.m, q, r - 1, NULL) == ROMRT_E_ARGUMENT && all_canary(q, r + pad), "q: one short");
+    CHECK(romrt_reduced_coordinates(f.m, q, r + 3, NULL) == ROMRT_OK && all_canary(q + r, pad), "q: wrote past r");
     free(buf), free(packed), free(rows), free(q);
     rt_fixture_close(&f);
 }
@@ -126,11 +138,11 @@ static void gpu_check(const char *name, const char *json, int weights, int steps
           "%s: expected an asset with %s", name, weights ? "weights (WGHT), no ROWS" : "ROWS");
     CHECK(rt_gpu_mismatch(f.m) == 0, "%s at rest: %g", name, rt_gpu_mismatch(f.m));
     const romrt_real push[3] = {0, 1, 1};
-    CHECK(romrt_add_vertex_force(f.m, romrt_shown_count(f.m) - 1, push) == ROMRT_OK, "push");
+    CHECK(romrt_add_vertex_force(f.m, romrt_shown_count(f.m) - 1, push, NULL) == ROMRT_OK, "push");
     for (int k = 0; k < steps; k++) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
     double d = rt_gpu_mismatch(f.m);
     printf("# %s (r = %d, %d shown): |X + U q - positions| %.2e of the motion (tol %.0e)\n", name,
-           romrt_reduced_size(f.m), romrt_shown_count(f.m), d, GPU_TOL);
+           (int)romrt_reduced_size(f.m), (int)romrt_shown_count(f.m), d, GPU_TOL);
     CHECK(d >= 0 && d < GPU_TOL, "%s: %g", name, d);
     rt_fixture_close(&f);
 }
@@ -148,19 +160,19 @@ TEST(the_state_keeps_the_double_clock)
     CHECK_OK(rt_fixture_open(&f, cantilever, ASSET_REAL, &err, &rerr));
     int ns = romrt_state_size(f.m);
     romrt_real *s = calloc((size_t)ns, sizeof *s), *back = calloc((size_t)ns, sizeof *back);
-    CHECK(s && back && romrt_get_state(f.m, s, ns) == ROMRT_OK, "get_state");
+    CHECK(s && back && romrt_get_state(f.m, s, ns, NULL) == ROMRT_OK, "get_state");
     double want = 7200.0 + 1.0 / 3.0;
     s[0] = (romrt_real)want;
     s[1] = (romrt_real)(want - (double)s[0]);
-    CHECK(romrt_set_state(f.m, s, ns) == ROMRT_OK, "set_state");
+    CHECK(romrt_set_state(f.m, s, ns, NULL) == ROMRT_OK, "set_state");
     CHECK(fabs(romrt_time(f.m) - want) < 1e-9, "clock %.12f after setting %.12f", romrt_time(f.m), want);
     CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
     double after = want + (double)romrt_time_step(f.m);
     CHECK(fabs(romrt_time(f.m) - after) < 1e-9, "clock %.12f a step later, want %.12f", romrt_time(f.m), after);
-    CHECK(romrt_get_state(f.m, s, ns) == ROMRT_OK && romrt_set_state(f.m, s, ns) == ROMRT_OK &&
-              romrt_get_state(f.m, back, ns) == ROMRT_OK && memcmp(s, back, sizeof *s * (size_t)ns) == 0,
+    CHECK(romrt_get_state(f.m, s, ns, NULL) == ROMRT_OK && romrt_set_state(f.m, s, ns, NULL) == ROMRT_OK &&
+              romrt_get_state(f.m, back, ns, NULL) == ROMRT_OK && memcmp(s, back, sizeof *s * (size_t)ns) == 0,
           "a saved state does not read back the same");
-    romrt_reset(f.m);
+    romrt_reset(f.m, NULL);
     CHECK(romrt_time(f.m) == 0, "reset: clock %g", romrt_time(f.m));
     free(s), free(back);
     rt_fixture_close(&f);
@@ -169,12 +181,12 @@ TEST(the_state_keeps_the_double_clock)
 /* One step from rest at clock t0, the shown positions into x. */
 static int step_from(romrt_model *m, double t0, romrt_real *state, int ns, romrt_real *x, int n)
 {
-    romrt_reset(m);
-    if (romrt_get_state(m, state, ns) != ROMRT_OK) return -1;
+    romrt_reset(m, NULL);
+    if (romrt_get_state(m, state, ns, NULL) != ROMRT_OK) return -1;
     state[0] = (romrt_real)t0;
     state[1] = (romrt_real)(t0 - (double)state[0]);
-    if (romrt_set_state(m, state, ns) != ROMRT_OK || romrt_step(m, NULL) != ROMRT_OK) return -1;
-    return romrt_positions(m, x, n, 3) == ROMRT_OK ? 0 : -1;
+    if (romrt_set_state(m, state, ns, NULL) != ROMRT_OK || romrt_step(m, NULL) != ROMRT_OK) return -1;
+    return romrt_positions(m, x, 3 * (size_t)n, 3, NULL) == ROMRT_OK ? 0 : -1;
 }
 
 /* The twist's pin 1800 whole periods in (two hours: 7200 s at 90 degrees a second, to the asset's
@@ -191,7 +203,7 @@ TEST(time_driven_pins_follow_the_clock_two_hours_in)
     int n = romrt_shown_count(f.m), ns = romrt_state_size(f.m);
     romrt_real *s = calloc((size_t)ns, sizeof *s), *a = calloc((size_t)3 * n, sizeof *a), *b = calloc((size_t)3 * n, sizeof *b);
     romrt_real *X = calloc((size_t)3 * n, sizeof *X);
-    CHECK(s && a && b && X && romrt_rest_positions(f.m, X, n, 3) == ROMRT_OK, "setup");
+    CHECK(s && a && b && X && romrt_rest_positions(f.m, X, 3 * (size_t)n, 3, NULL) == ROMRT_OK, "setup");
     double h = (double)romrt_time_step(f.m), off[2], motion = 0;
     const double T = 1800 * 2 * 3.14159265358979323846 / (double)(romrt_real)(3.14159265358979323846 / 2);
     const double late[2] = {T, T + (double)(float)(T + h) - (T + h)};

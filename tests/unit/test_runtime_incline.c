@@ -107,14 +107,14 @@ static int run_incline(double mu, double tan_theta, double eps_v, int tilted, in
                 rc = rk_fail(err, "runtime step %d: %s", k, rerr.message);
                 break;
             }
-            romrt_last_step(f.m, &info);
+            ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
             rt_newton += info.newton_iterations;
             if (rk_rom_step(&s, err)) {
                 rc = -1;
                 break;
             }
         }
-        romrt_positions(f.m, xyz, n, 3);
+        romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
         for (int i = 0; i < 3 * n; i++) xd[i] = (double)xyz[i];
         rt_fixture_reference(&f, s.q, ref);
         xs[k] = mean_along(xd, n, down);

@@ -72,7 +72,7 @@ static void heightfield(app_mesh *a, int n, double w, height_fn h)
         }
     for (int k = 0; k < 3 * a->nv; k++) a->Xr[k] = (romrt_real)a->X[k];
     a->mesh.positions = a->Xr, a->mesh.triangles = a->T, a->mesh.vertex_count = a->nv, a->mesh.triangle_count = a->nt;
-    a->mesh.index_bytes = romrt_mesh_index_size(a->nv, a->nt);
+    if (romrt_mesh_index_size((size_t)a->nv, (size_t)a->nt, &a->mesh.index_bytes, NULL)) a->mesh.index_bytes = 16;
     a->mesh.index = aligned_alloc(16, (a->mesh.index_bytes + 15) / 16 * 16);
 }
 
@@ -134,12 +134,12 @@ static void body_init(body *b, const romrt_model *m)
     b->tris = calloc((size_t)3 * b->nt + 3, sizeof(int));
     b->xyz = calloc((size_t)3 * b->n, sizeof(romrt_real));
     b->x = calloc((size_t)3 * b->n, sizeof(double));
-    romrt_triangles(m, b->tris, b->nt);
+    romrt_triangles(m, b->tris, 3 * (size_t)b->nt, NULL);
 }
 
 static void body_read(body *b, const romrt_model *m)
 {
-    romrt_positions(m, b->xyz, b->n, 3);
+    romrt_positions(m, b->xyz, 3 * (size_t)b->n, 3, NULL);
     for (int i = 0; i < 3 * b->n; i++) b->x[i] = (double)b->xyz[i];
 }
 
@@ -315,7 +315,7 @@ TEST(a_terrain_swept_up_into_two_objects_never_crosses)
         }
         stepping += seconds() - t0;
         romrt_step_info info;
-        romrt_last_step(F.m, &info);
+        ((info).size = sizeof(info), romrt_last_step(F.m, &info, NULL));
         behind += info.colliders_behind;
         body_read(&b, F.m);
         /* the mesh where the runtime has it: at the pose, or short of it on the straight lines */
@@ -369,7 +369,7 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
             rc = rk_fail(&err, "step %d: %s", k, rerr.message);
             break;
         }
-        romrt_last_step(B.m, &info);
+        ((info).size = sizeof(info), romrt_last_step(B.m, &info, NULL));
         behind += info.colliders_behind;
         body_read(&a, A.m), body_read(&b, B.m);
         for (int i = 0; i < 3 * a.n; i++) {
@@ -411,7 +411,13 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
         CHECK(st_ == ROMRT_E_ARGUMENT && strstr(rerr.message, what), "%s: status %d, \"%s\" (want \"%s\")", #call, st_, \
               rerr.message, what);                                                                                     \
     } while (0)
-    CHECK(romrt_mesh_index_size(0, 3) == 0 && romrt_mesh_index_size(3, ROMRT_MESH_MAX_COUNT + 1) == 0, "sizes out of range");
+    romrt_limits lim = {sizeof lim, 0, 0, 0};
+    size_t bytes = 1;
+    CHECK(romrt_get_limits(&lim, &rerr) == ROMRT_OK && lim.mesh_max_count == (size_t)1 << 24 && lim.collider_slots > 0,
+          "limits: %s", rerr.message);
+    REFUSED(romrt_mesh_index_size(0, 3, &bytes, &rerr), "0 vertices");
+    REFUSED(romrt_mesh_index_size(3, lim.mesh_max_count + 1, &bytes, &rerr), "triangles");
+    CHECK(bytes == 1, "a refused size wrote %zu", bytes);
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr), "not built");
     a.Xr[3 * 7 + 1] = (romrt_real)NAN;
     REFUSED(romrt_mesh_index_build(&a.mesh, &rerr), "vertex 7");
@@ -434,7 +440,7 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     romrt_real nan_pose[3] = {0, (romrt_real)NAN, 0};
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, nan_pose, identity, &rerr), "not finite");
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, bent, &rerr), "orthonormal");
-    REFUSED(romrt_set_mesh_collider(F.m, ROMRT_MAX_COLLIDERS, &a.mesh, far, identity, &rerr), "slot");
+    REFUSED(romrt_set_mesh_collider(F.m, lim.collider_slots, &a.mesh, far, identity, &rerr), "slot");
     a.mesh.vertex_count--;
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr), "not built");
     a.mesh.vertex_count++;
@@ -449,7 +455,7 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     /* the bowl's centre vertex (0, 0, 0) on a vertex of the body: refused, and the slot stays
      * empty (a step is free) */
     romrt_real *shown = calloc((size_t)3 * romrt_shown_count(F.m), sizeof(romrt_real));
-    romrt_positions(F.m, shown, romrt_shown_count(F.m), 3);
+    romrt_positions(F.m, shown, 3 * (size_t)(romrt_shown_count(F.m)), 3, NULL);
     for (int k = 0; k < 3; k++) touching[k] = shown[k];
     free(shown);
     CHECK(a.X[3 * 12] == 0 && a.X[3 * 12 + 1] == 0 && a.X[3 * 12 + 2] == 0, "vertex 12 is the bowl's centre");
@@ -459,7 +465,7 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, through, identity, &rerr), "touch or cross the body");
     romrt_step_info info;
     CHECK(romrt_step(F.m, &rerr) == ROMRT_OK, "a step after the refusal: %s", rerr.message);
-    romrt_last_step(F.m, &info);
+    ((info).size = sizeof(info), romrt_last_step(F.m, &info, NULL));
     CHECK(info.colliders_behind == 0, "nothing should be placed");
     CHECK(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr) == ROMRT_OK, "placed far: %s", rerr.message);
     REFUSED(romrt_set_mesh_collider(F.m, 1, &a.mesh, far, identity, &rerr), "slot 0 already");

@@ -40,14 +40,14 @@ static long run_reusing(rt_fixture *f, int k, int reuse, int steps, romrt_real *
     romrt_step_info info;
     long iterations = 0;
     int n = romrt_shown_count(f->m);
-    romrt_reset(f->m);
+    romrt_reset(f->m, NULL);
     if (romrt_set_newton_iterations(f->m, k, &rerr) != ROMRT_OK || romrt_set_hessian_reuse(f->m, reuse, &rerr) != ROMRT_OK)
         return -1;
     for (int s = 0; s < steps; s++) {
         if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
-        romrt_last_step(f->m, &info);
+        ((info).size = sizeof(info), romrt_last_step(f->m, &info, NULL));
         iterations += info.newton_iterations;
-        romrt_positions(f->m, traj + (size_t)3 * n * s, n, 3);
+        romrt_positions(f->m, traj + (size_t)3 * n * s, 3 * (size_t)n, 3, NULL);
     }
     return iterations;
 }
@@ -127,10 +127,10 @@ TEST(bad_iteration_counts_are_refused_and_change_nothing)
     CHECK(strstr(rerr.message, "romrt_set_newton_iterations") != NULL, "message: %s", rerr.message);
     CHECK(romrt_set_newton_iterations(f.m, 1001, &rerr) == ROMRT_E_ARGUMENT, "1001 accepted");
     CHECK(romrt_set_newton_iterations(NULL, 1, &rerr) == ROMRT_E_ARGUMENT, "NULL model accepted");
-    romrt_reset(f.m); /* keeps the mode */
+    romrt_reset(f.m, NULL); /* keeps the mode */
     CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
-    romrt_last_step(f.m, &info);
-    CHECK(info.newton_iterations == 3 && !info.converged, "after refusals and a reset: %d iterations, converged %d",
+    ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
+    CHECK(info.newton_iterations == 3 && !info.converged, "after refusals and a reset: %zu iterations, converged %d",
           info.newton_iterations, info.converged);
     rt_fixture_close(&f);
 }
@@ -154,21 +154,21 @@ TEST(newton_projects_only_where_the_exact_hessian_is_indefinite)
         CHECK(romrt_set_newton_iterations(f.m, 1, &rerr) == ROMRT_OK, "%s", rerr.message);
         for (int s = 0; s < 40; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "E = %g, h = %g, step %d: %s", cases[c][0], cases[c][1], s, rerr.message);
-            romrt_last_step(f.m, &info);
+            ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
             projected += info.projected_hessians;
-            romrt_positions(f.m, xyz, n, 3);
+            romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
             for (int i = 0; i < 3 * n; i++) finite &= isfinite(xyz[i]) != 0;
         }
         printf("# fixed mode, E = %g Pa, h = %g s: %d of 40 steps projected\n", cases[c][0], cases[c][1], projected);
         CHECK(finite, "positions not finite");
         CHECK(c == 0 ? projected == 0 : projected > 0 && projected < 40, "projected steps: %d", projected);
-        romrt_reset(f.m);
+        romrt_reset(f.m, NULL);
         romrt_set_newton_iterations(f.m, 0, &rerr);
         romrt_set_hessian_reuse(f.m, 1, &rerr); /* every iteration builds its matrix (the default may keep one) */
         projected = 0;
         for (int s = 0; s < 40; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "converged step %d: %s", s, rerr.message);
-            romrt_last_step(f.m, &info);
+            ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
             iterations += info.newton_iterations;
             projected += info.projected_hessians;
         }
@@ -253,12 +253,12 @@ static long run_as_is(rt_fixture *f, int steps, romrt_real *traj)
     romrt_step_info info;
     long iterations = 0;
     int n = romrt_shown_count(f->m);
-    romrt_reset(f->m);
+    romrt_reset(f->m, NULL);
     for (int s = 0; s < steps; s++) {
         if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
-        romrt_last_step(f->m, &info);
+        ((info).size = sizeof(info), romrt_last_step(f->m, &info, NULL));
         iterations += info.newton_iterations;
-        romrt_positions(f->m, traj + (size_t)3 * n * s, n, 3);
+        romrt_positions(f->m, traj + (size_t)3 * n * s, 3 * (size_t)n, 3, NULL);
     }
     return iterations;
 }

@@ -70,7 +70,7 @@ static int run_both(const char *json, int steps, parity_result *out, rk_error *e
             break;
         }
         rt_fixture_reference(&f, s.q, ref);
-        romrt_positions(f.m, xyz, n, 3);
+        romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
         for (int i = 0; i < 3 * n; i++) {
             worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
             scale = fmax(scale, fabs(ref[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));

@@ -61,8 +61,8 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
     *failed = 0;
     if (push) { /* the runtime spreads the total force evenly over the group */
         romrt_real fr[3] = {(romrt_real)push[0], (romrt_real)push[1], (romrt_real)push[2]};
-        int g = romrt_find_group(f->m, "tip");
-        if (g < 0 || romrt_add_force(f->m, g, fr) != ROMRT_OK) *failed = 1;
+        size_t g;
+        if (romrt_find_group(f->m, "tip", &g, NULL) || romrt_add_force(f->m, g, fr, NULL) != ROMRT_OK) *failed = 1;
         const rk_box tip = {{0.99, -1, -1}, {2, 1, 1}}, *b = &tip; /* the scene's group box */
         int count = 0;
         for (int v = 0; v < f->sim.mesh.nv; v++) count += rk_box_contains(b, &f->sim.mesh.X[3 * v], 1e-9);
@@ -86,7 +86,7 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
             break;
         }
         rt_fixture_reference(f, s.q, ref);
-        romrt_positions(f->m, xyz, n, 3);
+        romrt_positions(f->m, xyz, 3 * (size_t)n, 3, NULL);
         for (int i = 0; i < 3 * n; i++) {
             worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
             scale = fmax(scale, fabs(ref[i] - f->sim.mesh.X[3 * (int)f->vmap[i / 3] + i % 3]));
@@ -229,18 +229,18 @@ TEST(state_restores_and_reset_returns_to_rest)
     romrt_real *state = calloc((size_t)ns, sizeof(romrt_real)), *a = calloc((size_t)3 * n, sizeof(romrt_real)),
                *b = calloc((size_t)3 * n, sizeof(romrt_real));
     for (int k = 0; k < 5; k++) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
-    CHECK(romrt_get_state(f.m, state, ns) == ROMRT_OK, "get_state");
+    CHECK(romrt_get_state(f.m, state, ns, NULL) == ROMRT_OK, "get_state");
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr);
-    romrt_positions(f.m, a, n, 3);
-    CHECK(romrt_set_state(f.m, state, ns) == ROMRT_OK, "set_state");
+    romrt_positions(f.m, a, 3 * (size_t)n, 3, NULL);
+    CHECK(romrt_set_state(f.m, state, ns, NULL) == ROMRT_OK, "set_state");
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr);
-    romrt_positions(f.m, b, n, 3);
+    romrt_positions(f.m, b, 3 * (size_t)n, 3, NULL);
     CHECK(memcmp(a, b, sizeof(romrt_real) * 3 * n) == 0, "replaying from a saved state differs");
     state[2] = (romrt_real)NAN;
-    CHECK(romrt_set_state(f.m, state, ns) == ROMRT_E_ARGUMENT, "a NaN state must be refused");
-    CHECK(romrt_set_state(f.m, state, ns - 1) == ROMRT_E_ARGUMENT, "a state of the wrong size must be refused");
-    romrt_reset(f.m);
-    romrt_positions(f.m, a, n, 3);
+    CHECK(romrt_set_state(f.m, state, ns, NULL) == ROMRT_E_ARGUMENT, "a NaN state must be refused");
+    CHECK(romrt_set_state(f.m, state, ns - 1, NULL) == ROMRT_E_ARGUMENT, "a state of the wrong size must be refused");
+    romrt_reset(f.m, NULL);
+    romrt_positions(f.m, a, 3 * (size_t)n, 3, NULL);
     for (int i = 0; i < 3 * n; i++)
         CHECK(a[i] == (romrt_real)f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3], "reset: vertex %d not at rest", i / 3);
     CHECK(romrt_time(f.m) == 0, "reset: time %g", (double)romrt_time(f.m));

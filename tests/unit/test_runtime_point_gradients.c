@@ -78,10 +78,10 @@ TEST(cloud_F_matches_the_weights_gradients)
     double *q = calloc((size_t)r, sizeof(double)), worst = 0, motion = 0, worst_abs = 0;
     for (int step = 0; step < 10; step++) {
         CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "step %d: %s", step, rerr.message);
-        CHECK(romrt_reduced_coordinates(f.m, qr, r) == ROMRT_OK, "reduced coordinates");
+        CHECK(romrt_reduced_coordinates(f.m, qr, r, NULL) == ROMRT_OK, "reduced coordinates");
         for (int k = 0; k < r; k++) q[k] = (double)qr[k];
         for (int k = 0; k < 9; k++) F[9 * n + k] = (romrt_real)-7; /* sentinel past the end */
-        CHECK(romrt_deformation_gradients(f.m, F, n) == ROMRT_OK, "romrt_deformation_gradients");
+        CHECK(romrt_deformation_gradients(f.m, F, 9 * (size_t)n, NULL) == ROMRT_OK, "romrt_deformation_gradients");
         for (int k = 0; k < 9; k++) CHECK(F[9 * n + k] == (romrt_real)-7, "wrote past count");
         for (int i = 0; i < n; i++) {
             double Fr[9];
@@ -96,7 +96,7 @@ TEST(cloud_F_matches_the_weights_gradients)
     /* the cloud hangs from its fixed end: those points stay while the far end sags */
     romrt_real *xyz = calloc(3 * (size_t)n, sizeof(romrt_real));
     double held = 0, sag = 0;
-    CHECK(romrt_positions(f.m, xyz, n, 3) == ROMRT_OK, "positions");
+    CHECK(romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL) == ROMRT_OK, "positions");
     for (int i = 0; i < n; i++) {
         const double *X = &f.sim.mesh.X[3 * (int)f.vmap[i]];
         double d = fabs((double)xyz[3 * i + 1] - X[1]);
@@ -110,16 +110,25 @@ TEST(cloud_F_matches_the_weights_gradients)
            worst_abs, worst, motion, (double)F_TOL);
     CHECK(motion > 1e-3, "the cloud hardly deformed (max |F - I| = %g): nothing to compare", motion);
     CHECK(worst <= F_TOL, "F differs from I + G q by %.3g of max |F - I|", worst);
-    /* fewer than all: only count of them are written */
-    for (int k = 0; k < 9 * n; k++) F[k] = (romrt_real)-7;
-    CHECK(romrt_deformation_gradients(f.m, F, 5) == ROMRT_OK, "5 points");
-    CHECK(F[44] != (romrt_real)-7 && F[45] == (romrt_real)-7, "count 5 wrote %s", F[45] == (romrt_real)-7 ? "too little" : "more");
-    CHECK(romrt_deformation_gradients(f.m, F, 0) == ROMRT_OK, "count 0");
+    /* a capacity (reals) below 9 per shown point is refused and nothing written; a larger one
+     * gets the shown points' 9 n and nothing past them */
+    size_t cap = 9 * (size_t)n;
+    for (size_t k = 0; k < cap; k++) F[k] = (romrt_real)-7;
+    CHECK(romrt_deformation_gradients(f.m, F, cap - 1, &rerr) == ROMRT_E_ARGUMENT && strstr(rerr.message, "needed"),
+          "one real short: %s", rerr.message);
+    CHECK(romrt_deformation_gradients(f.m, F, 0, NULL) == ROMRT_E_ARGUMENT, "capacity 0");
+    int untouched = 1;
+    for (size_t k = 0; k < cap; k++) untouched &= F[k] == (romrt_real)-7;
+    CHECK(untouched, "a refused call wrote F");
+    romrt_real *G = calloc(cap + 9, sizeof *G);
+    for (size_t k = 0; k < cap + 9; k++) G[k] = (romrt_real)-7;
+    CHECK(G && romrt_deformation_gradients(f.m, G, cap + 9, NULL) == ROMRT_OK && G[cap - 1] != (romrt_real)-7 &&
+              G[cap] == (romrt_real)-7,
+          "a larger capacity: wrote %s", G && G[cap] == (romrt_real)-7 ? "too little" : "past 9 n");
+    free(G);
     /* bad arguments */
-    CHECK(romrt_deformation_gradients(NULL, F, 1) == ROMRT_E_ARGUMENT, "NULL model");
-    CHECK(romrt_deformation_gradients(f.m, NULL, 1) == ROMRT_E_ARGUMENT, "NULL F");
-    CHECK(romrt_deformation_gradients(f.m, F, -1) == ROMRT_E_ARGUMENT, "count -1");
-    CHECK(romrt_deformation_gradients(f.m, F, n + 1) == ROMRT_E_ARGUMENT, "count past the shown points");
+    CHECK(romrt_deformation_gradients(NULL, F, cap, NULL) == ROMRT_E_ARGUMENT, "NULL model");
+    CHECK(romrt_deformation_gradients(f.m, NULL, cap, NULL) == ROMRT_E_ARGUMENT, "NULL F");
     free(F), free(qr), free(q);
     rt_fixture_close(&f);
 }
@@ -140,9 +149,10 @@ TEST(a_mesh_has_no_gradients)
     CHECK_OK(rt_fixture_open(&f, skinned_bar, ASSET_REAL, &err, &rerr));
     int n = romrt_shown_count(f.m);
     romrt_real *F = calloc(9 * (size_t)n, sizeof(romrt_real));
-    CHECK(romrt_deformation_gradients(f.m, F, n) == ROMRT_E_UNSUPPORTED, "a mesh asset gave gradients");
-    CHECK(romrt_deformation_gradients(f.m, F, 1) == ROMRT_E_UNSUPPORTED, "a mesh asset gave gradients");
-    CHECK(romrt_deformation_gradients(f.m, NULL, 1) == ROMRT_E_ARGUMENT, "NULL F");
+    CHECK(romrt_deformation_gradients(f.m, F, 9 * (size_t)n, NULL) == ROMRT_E_UNSUPPORTED, "a mesh asset gave gradients");
+    CHECK(romrt_deformation_gradients(f.m, F, 9, &rerr) == ROMRT_E_UNSUPPORTED && strcmp(rerr.chunk, "GRAD") == 0,
+          "a mesh asset gave gradients, or the refusal does not name GRAD: %s", rerr.chunk);
+    CHECK(romrt_deformation_gradients(f.m, NULL, 9, NULL) == ROMRT_E_ARGUMENT, "NULL F");
     free(F);
     rt_fixture_close(&f);
 }

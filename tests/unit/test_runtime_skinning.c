@@ -94,8 +94,8 @@ TEST(weights_path_matches_the_dense_rows)
     romrt_real *a = calloc((size_t)3 * n, sizeof(romrt_real)), *b = calloc((size_t)3 * n, sizeof(romrt_real));
     double worst = 0, scale = 0;
     for (int mode = 0; mode < MODES; mode++) { /* converged, then one fixed Newton step a step */
-        romrt_reset(f.m);
-        romrt_reset(dense);
+        romrt_reset(f.m, NULL);
+        romrt_reset(dense, NULL);
         romrt_set_newton_iterations(f.m, mode, &rerr);
         romrt_set_newton_iterations(dense, mode, &rerr);
         romrt_set_hessian_reuse(f.m, 1, &rerr); /* the same iterates on both paths (a kept matrix drifts more) */
@@ -103,8 +103,8 @@ TEST(weights_path_matches_the_dense_rows)
         for (int s = 0; s < 30; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "weights, step %d: %s", s, rerr.message);
             CHECK(romrt_step(dense, &rerr) == ROMRT_OK, "rows, step %d: %s", s, rerr.message);
-            romrt_positions(f.m, a, n, 3);
-            romrt_positions(dense, b, n, 3);
+            romrt_positions(f.m, a, 3 * (size_t)n, 3, NULL);
+            romrt_positions(dense, b, 3 * (size_t)n, 3, NULL);
             for (int i = 0; i < 3 * n; i++) {
                 worst = fmax(worst, fabs((double)a[i] - (double)b[i]));
                 scale = fmax(scale, fabs((double)b[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));
@@ -112,7 +112,7 @@ TEST(weights_path_matches_the_dense_rows)
         }
     }
     printf("# skinning block thrown on a plane (r = %d, %d cubature elements): weights against rows %.3g of the largest "
-           "displacement %.3g m\n", romrt_reduced_size(f.m), f.R.model.quad.count, worst / scale, scale);
+           "displacement %.3g m\n", (int)romrt_reduced_size(f.m), f.R.model.quad.count, worst / scale, scale);
     CHECK(scale > 1e-3, "the block should move (%.3g m)", scale);
     CHECK(worst / scale <= TOL, "weights and rows differ by %.3g (tol %g)", worst / scale, TOL);
     free(a);
@@ -149,7 +149,7 @@ TEST(contradicting_skin_is_refused)
     uint32_t two = (uint32_t)H - 1;
     asset_patch_chunk(bad, ROMBIN_SKIN, 0, &two, sizeof two);
     CHECK(romrt_arena_size(bad, f.bytes, &need, &rerr) == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_WGHT) == 0,
-          "SKIN naming %d handles for r = %d: status %d, %s", H - 1, romrt_reduced_size(f.m), rerr.status, rerr.message);
+          "SKIN naming %d handles for r = %d: status %d, %s", H - 1, (int)romrt_reduced_size(f.m), rerr.status, rerr.message);
     /* weights without SKIN: the SKIN id renamed to an optional chunk the runtime does not know */
     memcpy(bad, f.asset, f.bytes);
     for (uint32_t i = 0, count = bad[ROMBIN_H_CHUNKS]; i < count; i++) {

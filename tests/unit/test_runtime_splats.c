@@ -37,7 +37,7 @@ TEST(donut_splats_drop_onto_a_plane_and_read_back)
     const char *path = tl_scratch(path_buf, sizeof path_buf, "splats_frame.ply");
     for (int k = 0; k <= steps; k++) {
         if (k) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "step %d: %s", k, rerr.message);
-        CHECK(romrt_positions(f.m, xyz, n, 3) == ROMRT_OK && romrt_deformation_gradients(f.m, Fr, n) == ROMRT_OK, "F");
+        CHECK(romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL) == ROMRT_OK && romrt_deformation_gradients(f.m, Fr, 9 * (size_t)n, NULL) == ROMRT_OK, "F");
         for (int i = 0; i < 3 * n; i++) x[i] = (double)xyz[i];
         for (int i = 0; i < 9 * n; i++) F[i] = (double)Fr[i];
         CHECK_OK(rk_splats_write(path, &src, x, F, &err));
@@ -58,7 +58,7 @@ TEST(donut_splats_drop_onto_a_plane_and_read_back)
         /* the contact proxy's boundary (the collision vertices) stays in front of the plane, in double */
         int ndof = 3 * f.sim.mesh.nv, r = f.R.basis.r;
         romrt_real q[256];
-        CHECK(r <= 256 && romrt_reduced_coordinates(f.m, q, r) == ROMRT_OK, "q");
+        CHECK(r <= 256 && romrt_reduced_coordinates(f.m, q, r, NULL) == ROMRT_OK, "q");
         for (int c = 0; c < f.R.model.ncv; c++) {
             int v = f.R.model.cv[c];
             double y = f.sim.mesh.X[3 * v + 1];
