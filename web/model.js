@@ -76,18 +76,19 @@ export class Model {
     return (p + 15) & ~15;
   }
 
-  // Throws for a failed status: the runtime's message for the calls that fill this.err, else the
-  // status's name and the call.
+  // Throws for a failed status, with the call, the status's name and the runtime's message (every
+  // fallible call fills this.err: romrt.h 3.0).
   check(status, call) {
     if (status === 0) return;
     const M = this.M;
     const name = M.UTF8ToString(this.c('status_string', status));
-    throw new Error(call ? `romrt_${call}: ${name}` : `${name}: ${M.UTF8ToString(this.err + ERROR_MESSAGE)}`);
+    const message = M.UTF8ToString(this.err + ERROR_MESSAGE);
+    throw new Error(call ? `romrt_${call}: ${name}: ${message}` : `${name}: ${message}`);
   }
 
   // The shown vertices now, xyz[3 i + k]: a view into the heap, valid until the next call.
   positions() {
-    this.check(this.c('positions', this.model, this.xyz, this.shown, 3), 'positions');
+    this.check(this.c('positions', this.model, this.xyz, 3 * this.shown, 3, this.err), 'positions');
     return this.M.HEAPF32.subarray(this.xyz >> 2, (this.xyz >> 2) + 3 * this.shown);
   }
 
@@ -95,12 +96,12 @@ export class Model {
   // heap, valid until the next call; null for an asset without the weights' gradients (GRAD).
   deformationGradients() {
     if (this.F === undefined) this.F = this.alloc(36 * this.shown);
-    if (this.c('deformation_gradients', this.model, this.F, this.shown) !== 0) return null;
+    if (this.c('deformation_gradients', this.model, this.F, 9 * this.shown, this.err) !== 0) return null;
     return this.M.HEAPF32.subarray(this.F >> 2, (this.F >> 2) + 9 * this.shown);
   }
 
   restPositions() {
-    this.check(this.c('rest_positions', this.model, this.xyz, this.shown, 3), 'rest_positions');
+    this.check(this.c('rest_positions', this.model, this.xyz, 3 * this.shown, 3, this.err), 'rest_positions');
     return this.M.HEAPF32.slice(this.xyz >> 2, (this.xyz >> 2) + 3 * this.shown);
   }
 
@@ -110,7 +111,7 @@ export class Model {
     if (n === 0) return new Uint32Array(0);
     const p = this.M._malloc(12 * n);
     try {
-      this.check(this.c('triangles', this.model, p, n), 'triangles');
+      this.check(this.c('triangles', this.model, p, 3 * n, this.err), 'triangles');
       return new Uint32Array(this.M.HEAP32.slice(p >> 2, (p >> 2) + 3 * n));
     } finally {
       this.M._free(p);
@@ -124,7 +125,7 @@ export class Model {
     if (n === 0) return null;
     const p = this.M._malloc(4 * n);
     try {
-      this.check(this.c('get_state', this.model, p, n), 'get_state');
+      this.check(this.c('get_state', this.model, p, n, this.err), 'get_state');
       return this.M.HEAPF32.slice(p >> 2, (p >> 2) + n);
     } finally {
       this.M._free(p);
@@ -134,7 +135,7 @@ export class Model {
     const p = this.M._malloc(4 * state.length);
     try {
       this.M.HEAPF32.set(state, p >> 2);
-      this.check(this.c('set_state', this.model, p, state.length), 'set_state');
+      this.check(this.c('set_state', this.model, p, state.length, this.err), 'set_state');
     } finally {
       this.M._free(p);
     }
@@ -143,16 +144,16 @@ export class Model {
   step() { this.check(this.c('step', this.model, this.err)); }
   // Koopman assets: `steps` steps at once (cost grows like log(steps)).
   jump(steps) { this.check(this.c('jump', this.model, steps, this.err)); }
-  reset() { this.c('reset', this.model); }
+  reset() { this.check(this.c('reset', this.model, this.err), 'reset'); }
   time() { return this.c('time', this.model); }
   timeStep() { return this.c('time_step', this.model); }
 
   // Adds f (N) on one shown vertex; it acts on every following step until clearForces().
   addVertexForce(vertex, f) {
     this.M.HEAPF32.set(f, this.force >> 2);
-    this.check(this.c('add_vertex_force', this.model, vertex, this.force), 'add_vertex_force');
+    this.check(this.c('add_vertex_force', this.model, vertex, this.force, this.err), 'add_vertex_force');
   }
-  clearForces() { this.c('clear_forces', this.model); }
+  clearForces() { this.check(this.c('clear_forces', this.model, this.err), 'clear_forces'); }
 
   free() {
     for (const p of this.blocks) this.M._free(p);

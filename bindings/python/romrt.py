@@ -59,10 +59,17 @@ class _Err(ctypes.Structure):  # romrt_error
                 ("message", ctypes.c_char * _MESSAGE_BYTES)]
 
 
-class _StepInfo(ctypes.Structure):  # romrt_step_info
-    _fields_ = [("newton_iterations", ctypes.c_int), ("line_search_halvings", ctypes.c_int),
-                ("converged", ctypes.c_int), ("colliders_behind", ctypes.c_int),
-                ("projected_hessians", ctypes.c_int)]
+class _StepInfo(ctypes.Structure):  # romrt_step_info: size (set to sizeof), then what the last step did
+    _fields_ = [("size", ctypes.c_size_t), ("newton_iterations", ctypes.c_size_t),
+                ("line_search_halvings", ctypes.c_size_t), ("factorizations", ctypes.c_size_t),
+                ("projected_hessians", ctypes.c_size_t), ("hessian_reuse", ctypes.c_size_t),
+                ("contact_pairs", ctypes.c_size_t), ("friction_pairs", ctypes.c_size_t),
+                ("pair_capacity", ctypes.c_size_t), ("converged", ctypes.c_int), ("colliders_behind", ctypes.c_int)]
+
+
+class _Limits(ctypes.Structure):  # romrt_limits
+    _fields_ = [("size", ctypes.c_size_t), ("max_reduced_size", ctypes.c_size_t),
+                ("collider_slots", ctypes.c_size_t), ("mesh_max_count", ctypes.c_size_t)]
 
 
 def _tree_library(double):
@@ -94,24 +101,26 @@ def load_library(double=False, library=None):
     P, E, I, Z, R = ctypes.c_void_p, ctypes.POINTER(_Err), ctypes.c_int, ctypes.c_size_t, ctypes.POINTER(real)
     S = ctypes.c_int  # romrt_status
     signatures = {
-        "version": (I, []), "status_string": (ctypes.c_char_p, [S]), "max_reduced_size": (I, []),
+        "version": (I, []), "status_string": (ctypes.c_char_p, [S]),
+        "get_limits": (S, [ctypes.POINTER(_Limits), E]),
         "arena_size": (S, [P, Z, ctypes.POINTER(Z), E]),
         "arena_size_kind": (S, [P, Z, I, ctypes.POINTER(Z), E]),
         "open": (S, [P, Z, P, Z, ctypes.POINTER(P), E]),
         "open_kind": (S, [P, Z, I, P, Z, ctypes.POINTER(P), E]),
         "step": (S, [P, E]), "jump": (S, [P, ctypes.c_ulong, E]),
         "set_time_step": (S, [P, real, E]), "set_damping": (S, [P, real, E]),
-        "set_newton_iterations": (S, [P, I, E]), "set_hessian_reuse": (S, [P, I, E]), "reset": (None, [P]),
-        "model_kind": (I, [P]), "reduced_size": (I, [P]), "shown_count": (I, [P]),
-        "triangle_count": (I, [P]), "group_count": (I, [P]),
+        "set_newton_iterations": (S, [P, Z, E]), "set_hessian_reuse": (S, [P, Z, E]), "reset": (S, [P, E]),
+        "model_kind": (I, [P]), "reduced_size": (Z, [P]), "shown_count": (Z, [P]),
+        "triangle_count": (Z, [P]), "group_count": (Z, [P]),
         "time": (ctypes.c_double, [P]), "time_step": (real, [P]),
-        "positions": (S, [P, R, I, I]), "rest_positions": (S, [P, R, I, I]),
-        "basis_rows": (S, [P, R, Z]), "deformation_gradients": (S, [P, R, I]),
-        "triangles": (S, [P, ctypes.POINTER(I), I]),
-        "find_group": (I, [P, ctypes.c_char_p]), "group_name": (ctypes.c_char_p, [P, I]),
-        "add_force": (S, [P, I, R]), "add_vertex_force": (S, [P, I, R]), "clear_forces": (None, [P]),
-        "state_size": (I, [P]), "get_state": (S, [P, R, I]), "set_state": (S, [P, R, I]),
-        "reduced_coordinates": (S, [P, R, I]), "last_step": (None, [P, ctypes.POINTER(_StepInfo)]),
+        "positions": (S, [P, R, Z, Z, E]), "rest_positions": (S, [P, R, Z, Z, E]),
+        "basis_rows": (S, [P, R, Z, E]), "deformation_gradients": (S, [P, R, Z, E]),
+        "triangles": (S, [P, ctypes.POINTER(ctypes.c_int32), Z, E]),
+        "find_group": (S, [P, ctypes.c_char_p, ctypes.POINTER(Z), E]),
+        "group_name": (S, [P, Z, ctypes.POINTER(ctypes.c_char_p), E]),
+        "add_force": (S, [P, Z, R, E]), "add_vertex_force": (S, [P, Z, R, E]), "clear_forces": (S, [P, E]),
+        "state_size": (Z, [P]), "get_state": (S, [P, R, Z, E]), "set_state": (S, [P, R, Z, E]),
+        "reduced_coordinates": (S, [P, R, Z, E]), "last_step": (S, [P, ctypes.POINTER(_StepInfo), E]),
     }
     fns = {}
     for name, (restype, argtypes) in signatures.items():
@@ -126,6 +135,15 @@ def load_library(double=False, library=None):
 def version(double=False, library=None):
     """The library's ROMRT_VERSION_NUMBER (major * 10000 + minor * 100 + patch)."""
     return load_library(double, library)[1]["version"]()
+
+
+def limits(double=False, library=None):
+    """The library's limits: max_reduced_size, collider_slots, mesh_max_count."""
+    lim, err = _Limits(), _Err()
+    lim.size = ctypes.sizeof(_Limits)
+    if load_library(double, library)[1]["get_limits"](ctypes.byref(lim), ctypes.byref(err)) != 0:
+        raise Error(err.status, err.message.decode("utf-8", "replace"))
+    return {name: getattr(lim, name) for name, _ in _Limits._fields_ if name != "size"}
 
 
 def _aligned(nbytes, align=64):
@@ -213,7 +231,11 @@ class Model:
     @property
     def groups(self):
         """The names of the groups an app may push, in index order."""
-        return [self._f["group_name"](self._m, g).decode() for g in range(self._f["group_count"](self._m))]
+        names, name, err = [], ctypes.c_char_p(), _Err()
+        for g in range(self._f["group_count"](self._m)):
+            self._check(self._f["group_name"](self._m, g, ctypes.byref(name), ctypes.byref(err)), err)
+            names.append(name.value.decode())
+        return names
 
     # -- stepping --
     def step(self, steps=1):
@@ -242,38 +264,45 @@ class Model:
         err = _Err()
         self._check(self._f["set_hessian_reuse"](self._m, int(k), ctypes.byref(err)), err)
 
+    def _call(self, name, *args):
+        """A fallible call with the romrt_error last; raises Error with its message."""
+        err = _Err()
+        self._check(self._f[name](self._m, *args, ctypes.byref(err)), err)
+
     def reset(self):
-        self._f["reset"](self._m)
+        self._call("reset")
 
     def last_step(self):
         info = _StepInfo()
-        self._f["last_step"](self._m, ctypes.byref(info))
-        return {name: getattr(info, name) for name, _ in _StepInfo._fields_}
+        info.size = ctypes.sizeof(_StepInfo)
+        self._call("last_step", ctypes.byref(info))
+        return {name: getattr(info, name) for name, _ in _StepInfo._fields_ if name != "size"}
 
     # -- pushing --
     def group(self, name):
         """A group's index by name (KeyError if the asset has none of that name)."""
-        g = self._f["find_group"](self._m, name.encode())
-        if g < 0:
+        g, err = ctypes.c_size_t(), _Err()
+        if self._f["find_group"](self._m, name.encode(), ctypes.byref(g), ctypes.byref(err)) != 0:
             raise KeyError("romrt: the asset has no group %r (it has %s)" % (name, self.groups))
-        return g
+        return g.value
 
     def add_force(self, group, force):
         """The total force (N) spread over a group's vertices (a name or an index), held until cleared."""
         g = self.group(group) if isinstance(group, str) else int(group)
         f = self._real_array(force, 3, "force")
-        self._check(self._f["add_force"](self._m, g, self._ptr(f)), None,
-                    "romrt_add_force: group %d of %d, or a force that is not finite" % (g, len(self.groups)))
+        if g < 0:
+            raise Error(1, "romrt_add_force: group %d of %d" % (g, len(self.groups)))
+        self._call("add_force", g, self._ptr(f))
 
     def add_vertex_force(self, vertex, force):
         """A force (N) on one shown vertex, held until cleared."""
         f = self._real_array(force, 3, "force")
-        self._check(self._f["add_vertex_force"](self._m, int(vertex), self._ptr(f)), None,
-                    "romrt_add_vertex_force: vertex %d of %d shown, or a force that is not finite"
-                    % (int(vertex), self.shown_count))
+        if int(vertex) < 0:
+            raise Error(1, "romrt_add_vertex_force: vertex %d of %d shown" % (int(vertex), self.shown_count))
+        self._call("add_vertex_force", int(vertex), self._ptr(f))
 
     def clear_forces(self):
-        self._f["clear_forces"](self._m)
+        self._call("clear_forces")
 
     # -- reading --
     def _vertices(self, fn, out, what):
@@ -283,9 +312,9 @@ class Model:
         if out.dtype != self.dtype or out.ndim != 2 or not out.flags.c_contiguous or out.shape[1] < 3:
             raise ValueError("%s: out must be a C-contiguous (vertices, stride >= 3) %s array"
                              % (what, np.dtype(self.dtype).name))
-        # capacity and stride as the runtime takes them: it refuses a buffer below the shown count
-        self._check(fn(self._m, self._ptr(out), out.shape[0], out.shape[1]), None,
-                    "%s: room for %d vertices, the model shows %d" % (what, out.shape[0], n))
+        # capacity (reals) and stride as the runtime takes them: it refuses a buffer too small
+        err = _Err()
+        self._check(fn(self._m, self._ptr(out), out.size, out.shape[1], ctypes.byref(err)), err)
         return out
 
     def positions(self, out=None):
@@ -300,34 +329,32 @@ class Model:
         """U of the shown vertices, (shown, 3, r): x = X + U q (a Koopman model: its output rows, q = y)."""
         n, r = self.shown_count, self.r
         out = np.empty((n, 3, r), dtype=self.dtype)
-        self._check(self._f["basis_rows"](self._m, self._ptr(out), out.size), None, "romrt_basis_rows")
+        self._call("basis_rows", self._ptr(out), out.size)
         return out
 
     def reduced_coordinates(self):
         """q (r reals; a Koopman model's eigen-coordinates y)."""
         out = np.empty(self.r, dtype=self.dtype)
-        self._check(self._f["reduced_coordinates"](self._m, self._ptr(out), out.size), None, "romrt_reduced_coordinates")
+        self._call("reduced_coordinates", self._ptr(out), out.size)
         return out
 
     def triangles(self):
         out = np.empty((self.triangle_count, 3), dtype=np.int32)
-        self._check(self._f["triangles"](self._m, out.ctypes.data_as(ctypes.POINTER(ctypes.c_int)), out.shape[0]))
+        self._call("triangles", out.ctypes.data_as(ctypes.POINTER(ctypes.c_int32)), out.size)
         return out
 
     def deformation_gradients(self):
         """F at each shown vertex, (shown, 3, 3), for assets with GRAD (point clouds, splats)."""
         out = np.empty((self.shown_count, 3, 3), dtype=self.dtype)
-        self._check(self._f["deformation_gradients"](self._m, self._ptr(out), out.shape[0]), None,
-                    "romrt_deformation_gradients: the asset stores no weight gradients (GRAD)")
+        self._call("deformation_gradients", self._ptr(out), out.size)
         return out
 
     def get_state(self):
         """The whole dynamic state (clock, q, velocities, history, forces) to save and restore."""
         out = np.empty(self._f["state_size"](self._m), dtype=self.dtype)
-        self._check(self._f["get_state"](self._m, self._ptr(out), out.size))
+        self._call("get_state", self._ptr(out), out.size)
         return out
 
     def set_state(self, state):
         s = self._real_array(state, self._f["state_size"](self._m), "state")
-        self._check(self._f["set_state"](self._m, self._ptr(s), s.size), None,
-                    "romrt_set_state: a non-finite value, or a state of another model")
+        self._call("set_state", self._ptr(s), s.size)

@@ -205,6 +205,17 @@ def newton_modes():
     m.set_newton_iterations(1)
     m.set_hessian_reuse(10)
     kept = frames(m, 20)
+    m2 = romrt.Model(beam)  # romrt_step_info through its size field: the mode in force, and its work
+    m2.set_newton_iterations(1)
+    m2.set_hessian_reuse(10)
+    work = []
+    for _ in range(20):
+        m2.step()
+        work.append(m2.last_step())
+    built = sum(w["factorizations"] for w in work)
+    # built at step 1 and again 10 steps on (and at BDF2's second step, whose inertia weight changes)
+    if work[-1]["hessian_reuse"] != 10 or not 2 <= built <= 3 or sum(w["newton_iterations"] for w in work) != 20:
+        return False, "20 steps of one iteration, a matrix kept 10 steps: %d factorizations, %s" % (built, work[-1])
     scale = np.abs(fresh - fresh[0]).max() + 1e-30
     drift = np.abs(kept - fresh).max() / scale
     try:
@@ -230,6 +241,9 @@ def library():
         return False, "the double library loaded as float"
     except OSError:
         pass
+    lim = romrt.limits()  # the library's, not a header macro
+    if lim["max_reduced_size"] != 256 or lim["collider_slots"] != 8:
+        return False, "limits %s" % lim
     return v == want[0] * 10000 + want[1] * 100 + want[2], "version %d, header %s" % (v, want)
 
 
