@@ -28,6 +28,8 @@
  *   caller sets to sizeof the struct it passes: the library writes only that many bytes, so an
  *   app compiled against an older minor version's shorter struct keeps working; fields the
  *   library does not know (a newer header) are set to 0. A size below the 3.0 struct is refused.
+ *   Set it by assignment (romrt_step_info info; info.size = sizeof info;), which stays valid C and
+ *   C++ without warnings when a minor version adds a field.
  * - Limits (the largest r, collider slots, ...) are the library's, read with romrt_get_limits:
  *   no macro of this header can disagree with the library an app links.
  *

@@ -81,7 +81,8 @@ int cmd_inspect(int argc, char **argv)
             rc = 1;
             break; /* a damaged container would say the same for the other model */
         } else {
-            romrt_limits limits = {sizeof limits, 0, 0, 0};
+            romrt_limits limits;
+            limits.size = sizeof limits;
             romrt_get_limits(&limits, NULL);
             printf("%s: opens with the runtime (float32, r up to %zu) in a %zu-byte arena%s\n", names[k],
                    limits.max_reduced_size, arena, inflated ? " once inflated" : "");

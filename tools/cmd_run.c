@@ -20,7 +20,8 @@
 
 static size_t max_reduced_size(void)
 {
-    romrt_limits limits = {sizeof limits, 0, 0, 0};
+    romrt_limits limits;
+    limits.size = sizeof limits;
     return romrt_get_limits(&limits, NULL) == ROMRT_OK ? limits.max_reduced_size : 0;
 }
 
@@ -34,7 +35,8 @@ static void run_usage(FILE *f)
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
                "  --report      seconds_per_step (median), seconds_positions (drawing every shown vertex),\n"
-               "                Newton work, arena and asset bytes\n"
+               "                Newton work (iterations, factorizations; hessian_reuse: the mode in force),\n"
+               "                the most contact pairs of a step, arena and asset bytes\n"
                "  --jump        after the steps, advance a Koopman asset N steps at once (seconds_jump:\n"
                "                the median of 21 timed jumps from the same state)\n"
                "  --koopman     step the asset's Koopman operator (an asset may hold one beside its reduced\n"
@@ -299,7 +301,8 @@ int cmd_run(int argc, char **argv)
         double s0 = rk_now();
         if (romrt_step(m, &rerr) != ROMRT_OK) goto runtime_fail;
         seconds[k] = rk_now() - s0;
-        romrt_step_info info = {sizeof info, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+        romrt_step_info info;
+        info.size = sizeof info; /* romrt.h: out-structs carry their size */
         if (romrt_last_step(m, &info, &rerr)) goto runtime_fail;
         newton += (long)info.newton_iterations;
         factorizations += (long)info.factorizations;

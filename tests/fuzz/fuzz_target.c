@@ -94,7 +94,8 @@ static void exercise(romrt_model *m)
         if (romrt_set_collider(m, 0, &c, &err) == ROMRT_OK) BROKEN("a NaN collider accepted");
         c.position[0] = 0;
         {
-            romrt_limits lim = {sizeof lim, 0, 0, 0};
+            romrt_limits lim;
+            lim.size = sizeof lim;
             if (romrt_get_limits(&lim, NULL) || romrt_set_collider(m, lim.collider_slots, &c, &err) == ROMRT_OK)
                 BROKEN("a slot past the end accepted");
         }

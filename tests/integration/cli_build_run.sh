@@ -64,8 +64,10 @@ expect_fail run_refuses_a_flipped_byte "CRC mismatch" "$ROMKIT" run "$TMP/flip.r
 
 if "$ROMKIT" run "$TMP/a.rombin" --steps 20 --positions "$TMP/p.npy" --snapshots "$TMP/s.npy" --report "$TMP/run.json" \
         --quiet >"$TMP/out" 2>"$TMP/err"; then
+    # hessian_reuse: the mode in force, the asset's default (a matrix kept up to 10 steps) when
+    # --hessian-reuse is not given (romrt_step_info), not 0
     json_checks run_report_keys "$TMP/run.json" vertices seconds_per_step newton_iterations arena_bytes asset.bytes \
-        seconds.total
+        seconds.total hessian_reuse=10 factorizations contact_pairs_max=0
     head -c 80 "$TMP/s.npy" | grep -q "'shape': (20, [0-9]*, 3)" && ok run_writes_snapshots || fail run_writes_snapshots "$(head -c 80 "$TMP/s.npy")"
 else
     fail run_report_keys "$(cat "$TMP/err")"

@@ -188,7 +188,8 @@ TEST(bad_colliders_are_refused_with_a_status_and_change_nothing)
     c.rt.rotation[0] = 2;
     CHECK(romrt_set_collider(f.m, 0, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "a scaled rotation passed");
     c.rt.rotation[0] = 1;
-    romrt_limits lim = {sizeof lim, 0, 0, 0};
+    romrt_limits lim;
+    lim.size = sizeof lim;
     CHECK(romrt_get_limits(&lim, NULL) == ROMRT_OK && lim.collider_slots == 8, "collider slots %zu", lim.collider_slots);
     CHECK(romrt_set_collider(f.m, lim.collider_slots, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "a slot past the end passed");
     CHECK(romrt_set_collider(f.m, (size_t)-1, &c.rt, &rerr) == ROMRT_E_ARGUMENT, "slot -1 passed");

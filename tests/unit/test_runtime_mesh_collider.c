@@ -411,7 +411,8 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
         CHECK(st_ == ROMRT_E_ARGUMENT && strstr(rerr.message, what), "%s: status %d, \"%s\" (want \"%s\")", #call, st_, \
               rerr.message, what);                                                                                     \
     } while (0)
-    romrt_limits lim = {sizeof lim, 0, 0, 0};
+    romrt_limits lim;
+    lim.size = sizeof lim;
     size_t bytes = 1;
     CHECK(romrt_get_limits(&lim, &rerr) == ROMRT_OK && lim.mesh_max_count == (size_t)1 << 24 && lim.collider_slots > 0,
           "limits: %s", rerr.message);
