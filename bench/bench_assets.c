@@ -87,7 +87,8 @@ int main(int argc, char **argv)
                     fprintf(stderr, "bench_assets: %s: step %d: %s\n", as[k].path, s, re.message);
                     return 1;
                 }
-                ((info).size = sizeof(info), romrt_last_step(as[k].m, &info, NULL));
+                info.size = sizeof info;
+                romrt_last_step(as[k].m, &info, NULL);
                 as[k].iterations += info.newton_iterations;
             }
             as[k].us[round] = (rk_now() - t0) / steps * 1e6;

@@ -80,7 +80,8 @@ static int run(romrt_model *m, const char *path, int mode, int steps, romrt_real
             fprintf(stderr, "bench_newton_modes: %s: step %d: %s\n", path, s, re.message);
             return -1;
         }
-        ((info).size = sizeof(info), romrt_last_step(m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(m, &info, NULL);
         iterations += info.newton_iterations;
         if (traj) romrt_positions(m, traj + (size_t)3 * n * s, 3 * (size_t)n, 3, NULL);
     }

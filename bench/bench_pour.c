@@ -135,7 +135,8 @@ int main(int argc, char **argv)
             step_s[s] = now() - t0;
             cpu_s[s] = clock_s(CLOCK_PROCESS_CPUTIME_ID) - c0;
             total += step_s[s];
-            ((info).size = sizeof(info), romrt_last_step(m, &info, NULL));
+            info.size = sizeof info;
+            romrt_last_step(m, &info, NULL);
             iters += info.newton_iterations;
         }
         for (s = 0; s < PHASES; s++) sum[s] += phase_s[s];

@@ -87,7 +87,8 @@ static int time_runtime(romrt_model *m, int steps, bench_stat *sec, double *newt
         for (int k = 0; k < steps; k++) {
             if (romrt_step(m, &re) != ROMRT_OK)
                 return rk_fail(err, "romrt_step %d: %s", 1 + s * steps + k, re.message);
-            ((info).size = sizeof(info), romrt_last_step(m, &info, NULL));
+            info.size = sizeof info;
+            romrt_last_step(m, &info, NULL);
             iters += info.newton_iterations;
             *unconverged += !info.converged;
         }

@@ -69,7 +69,8 @@ TEST(a_splat_capture_dropped_onto_a_meshed_slab)
         CHECK(st == ROMRT_OK, "runtime step %d: %s", k, rerr.message);
         if (st != ROMRT_OK) break;
         romrt_step_info info;
-        ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(f.m, &info, NULL);
         rt_fixture_reference(&f, s.q, ref);
         romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
         for (int i = 0; i < 3 * n; i++) {

@@ -76,7 +76,8 @@ static int run_script(rt_fixture *f, int steps, script_fn script, run_result *ou
             rc = rk_fail(err, "runtime, step %d: %s", k, rerr.message);
         if (rc) break;
         romrt_step_info info;
-        ((info).size = sizeof(info), romrt_last_step(f->m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(f->m, &info, NULL);
         out->behind += info.colliders_behind;
         out->rt_iterations += info.newton_iterations;
         rt_fixture_reference(f, s.q, ref);

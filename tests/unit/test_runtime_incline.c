@@ -107,7 +107,8 @@ static int run_incline(double mu, double tan_theta, double eps_v, int tilted, in
                 rc = rk_fail(err, "runtime step %d: %s", k, rerr.message);
                 break;
             }
-            ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
+            info.size = sizeof info;
+            romrt_last_step(f.m, &info, NULL);
             rt_newton += info.newton_iterations;
             if (rk_rom_step(&s, err)) {
                 rc = -1;

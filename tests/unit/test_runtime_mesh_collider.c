@@ -315,7 +315,8 @@ TEST(a_terrain_swept_up_into_two_objects_never_crosses)
         }
         stepping += seconds() - t0;
         romrt_step_info info;
-        ((info).size = sizeof(info), romrt_last_step(F.m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(F.m, &info, NULL);
         behind += info.colliders_behind;
         body_read(&b, F.m);
         /* the mesh where the runtime has it: at the pose, or short of it on the straight lines */
@@ -369,7 +370,8 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
             rc = rk_fail(&err, "step %d: %s", k, rerr.message);
             break;
         }
-        ((info).size = sizeof(info), romrt_last_step(B.m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(B.m, &info, NULL);
         behind += info.colliders_behind;
         body_read(&a, A.m), body_read(&b, B.m);
         for (int i = 0; i < 3 * a.n; i++) {
@@ -466,7 +468,8 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     REFUSED(romrt_set_mesh_collider(F.m, 0, &a.mesh, through, identity, &rerr), "touch or cross the body");
     romrt_step_info info;
     CHECK(romrt_step(F.m, &rerr) == ROMRT_OK, "a step after the refusal: %s", rerr.message);
-    ((info).size = sizeof(info), romrt_last_step(F.m, &info, NULL));
+    info.size = sizeof info;
+    romrt_last_step(F.m, &info, NULL);
     CHECK(info.colliders_behind == 0, "nothing should be placed");
     CHECK(romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr) == ROMRT_OK, "placed far: %s", rerr.message);
     REFUSED(romrt_set_mesh_collider(F.m, 1, &a.mesh, far, identity, &rerr), "slot 0 already");

@@ -45,7 +45,8 @@ static long run_reusing(rt_fixture *f, int k, int reuse, int steps, romrt_real *
         return -1;
     for (int s = 0; s < steps; s++) {
         if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
-        ((info).size = sizeof(info), romrt_last_step(f->m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(f->m, &info, NULL);
         iterations += info.newton_iterations;
         romrt_positions(f->m, traj + (size_t)3 * n * s, 3 * (size_t)n, 3, NULL);
     }
@@ -129,7 +130,8 @@ TEST(bad_iteration_counts_are_refused_and_change_nothing)
     CHECK(romrt_set_newton_iterations(NULL, 1, &rerr) == ROMRT_E_ARGUMENT, "NULL model accepted");
     romrt_reset(f.m, NULL); /* keeps the mode */
     CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
-    ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
+    info.size = sizeof info;
+    romrt_last_step(f.m, &info, NULL);
     CHECK(info.newton_iterations == 3 && !info.converged, "after refusals and a reset: %zu iterations, converged %d",
           info.newton_iterations, info.converged);
     rt_fixture_close(&f);
@@ -154,7 +156,8 @@ TEST(newton_projects_only_where_the_exact_hessian_is_indefinite)
         CHECK(romrt_set_newton_iterations(f.m, 1, &rerr) == ROMRT_OK, "%s", rerr.message);
         for (int s = 0; s < 40; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "E = %g, h = %g, step %d: %s", cases[c][0], cases[c][1], s, rerr.message);
-            ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
+            info.size = sizeof info;
+            romrt_last_step(f.m, &info, NULL);
             projected += info.projected_hessians;
             romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
             for (int i = 0; i < 3 * n; i++) finite &= isfinite(xyz[i]) != 0;
@@ -168,7 +171,8 @@ TEST(newton_projects_only_where_the_exact_hessian_is_indefinite)
         projected = 0;
         for (int s = 0; s < 40; s++) {
             CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "converged step %d: %s", s, rerr.message);
-            ((info).size = sizeof(info), romrt_last_step(f.m, &info, NULL));
+            info.size = sizeof info;
+            romrt_last_step(f.m, &info, NULL);
             iterations += info.newton_iterations;
             projected += info.projected_hessians;
         }
@@ -256,11 +260,35 @@ static long run_as_is(rt_fixture *f, int steps, romrt_real *traj)
     romrt_reset(f->m, NULL);
     for (int s = 0; s < steps; s++) {
         if (romrt_step(f->m, &rerr) != ROMRT_OK) return -1;
-        ((info).size = sizeof(info), romrt_last_step(f->m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(f->m, &info, NULL);
         iterations += info.newton_iterations;
         romrt_positions(f->m, traj + (size_t)3 * n * s, 3 * (size_t)n, 3, NULL);
     }
     return iterations;
+}
+
+/* Where the default is the fresh matrix (the fixed-cost mode, an asset with a collision surface):
+ * the same bits as romrt_set_hessian_reuse(m, 1), and romrt_step_info says the mode in force. */
+static void default_is_fresh(const char *json, int fixed, const char *what)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    romrt_step_info info;
+    rt_fixture f;
+    const int steps = 40;
+    CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));
+    size_t bytes = sizeof(romrt_real) * 3 * romrt_shown_count(f.m) * steps;
+    romrt_real *def = malloc(bytes), *fresh = malloc(bytes);
+    info.size = sizeof info;
+    CHECK(def && fresh && romrt_set_newton_iterations(f.m, (size_t)fixed, &rerr) == ROMRT_OK, "%s: setup", what);
+    CHECK(run_as_is(&f, steps, def) > 0 && romrt_last_step(f.m, &info, NULL) == ROMRT_OK && info.hessian_reuse == 0,
+          "%s: the mode in force keeps the matrix %zu steps", what, info.hessian_reuse);
+    CHECK(run_reusing(&f, fixed, 1, steps, fresh) > 0 && memcmp(def, fresh, bytes) == 0,
+          "%s: the default is not the fresh matrix", what);
+    free(def);
+    free(fresh);
+    rt_fixture_close(&f);
 }
 
 /* The default Newton mode (romrt.h, romrt_set_hessian_reuse; issue 31) is the fastest that meets
@@ -302,16 +330,11 @@ TEST(the_default_keeps_the_matrix_only_where_it_meets_the_tolerance)
            "s tolerances (%g m each, RMS displacement up to %.3g m)\n", it_default, it_fresh, worst, tol, scale);
     CHECK(it_default != it_fresh || memcmp(def, fresh, bytes) != 0, "the default took the fresh mode's steps");
     CHECK(worst <= 2, "the default is %.3g times s tolerances from the fresh mode", worst);
-    /* the fixed-cost mode: fresh by default */
-    rt_fixture_close(&f);
-    CHECK_OK(rt_fixture_open(&f, cantilever("neohookean"), ASSET_REAL, &err, &rerr));
-    CHECK(romrt_set_newton_iterations(f.m, 1, &rerr) == ROMRT_OK, "%s", rerr.message);
-    CHECK(run_as_is(&f, steps, def) == steps && run_reusing(&f, 1, 1, steps, fresh) == steps, "fixed runs failed");
-    CHECK(memcmp(def, fresh, bytes) == 0, "the fixed-cost mode's default is not the fresh matrix");
     rt_fixture_close(&f);
     free(def);
     free(fresh);
-    /* an asset with a collision surface: fresh by default */
+    /* the fixed-cost mode, and an asset with a collision surface: fresh by default */
+    default_is_fresh(cantilever("neohookean"), 1, "the fixed-cost mode");
     char json[2048];
     snprintf(json, sizeof json, "%s", cantilever("neohookean"));
     char *rom = strstr(json, ", \"rom\"");
@@ -320,15 +343,7 @@ TEST(the_default_keeps_the_matrix_only_where_it_meets_the_tolerance)
     snprintf(rom, sizeof json - (size_t)(rom - json),
              ", \"obstacles\": [{\"sphere\": {\"center\": [0.5, -1, 0], \"radius\": 0.1}}], \"contact\": {\"dhat\": 0.002},"
              " \"rom\": {\"basis\": \"modes\", \"size\": 10, \"cubature\": {\"tolerance\": 0.02}}}");
-    CHECK_OK(rt_fixture_open(&f, json, ASSET_REAL, &err, &rerr));
-    n = romrt_shown_count(f.m);
-    bytes = sizeof(romrt_real) * 3 * (size_t)n * steps;
-    def = malloc(bytes), fresh = malloc(bytes);
-    CHECK(run_as_is(&f, steps, def) > 0 && run_reusing(&f, 0, 1, steps, fresh) > 0, "obstacle runs failed");
-    CHECK(memcmp(def, fresh, bytes) == 0, "with a collision surface the default is not the fresh matrix");
-    free(def);
-    free(fresh);
-    rt_fixture_close(&f);
+    default_is_fresh(json, 0, "an asset with a collision surface");
 }
 
 int main(void)

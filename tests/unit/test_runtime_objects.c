@@ -104,7 +104,8 @@ static int run_drop(const char *json, int steps, drop_result *out, rk_error *err
             break;
         }
         romrt_step_info info;
-        ((info).size = sizeof(info), romrt_last_step(m, &info, NULL));
+        info.size = sizeof info;
+        romrt_last_step(m, &info, NULL);
         out->iterations += info.newton_iterations;
         romrt_reduced_coordinates(m, q, 256, NULL);
         for (int j = 0; j < r; j++) qd[j] = q[j], out->finite &= isfinite(qd[j]);
