@@ -35,7 +35,7 @@ int rk_cage_offset(const rk_surface *c, const rk_cage_heights *h, double margin,
  * margin and the most the original rises above its faces (rk_cage_offset, from m's rest), cut back
  * where a tet around it would keep less than a fifth of its volume; then every vertex of orig is
  * located (rk_cage_embed) and the faces under those still outside move out further, up to six
- * rounds. rep gets max_offset, outside, worst_distance and inflate_rounds. */
+ * rounds; the round that left the fewest outside is kept. rep gets max_offset, outside, worst_distance and inflate_rounds. */
 int rk_cage_inflate(rk_mesh *m, const rk_surface *orig, double margin, rk_cage_report *rep, rk_error *err);
 
 #endif

@@ -149,13 +149,15 @@ int rk_cage_inflate(rk_mesh *m, const rk_surface *orig, double margin, rk_cage_r
     if (state_init(m, &st, err)) return -1;
     double *extra = rk_calloc((size_t)st.b.nv, sizeof(double), err), *bump = rk_calloc((size_t)st.b.nv, sizeof(double), err);
     double *rest = rk_calloc(3 * (size_t)m->nv, sizeof(double), err), *disp = rk_calloc(3 * (size_t)m->nv, sizeof(double), err);
+    double *best = rk_calloc(3 * (size_t)m->nv, sizeof(double), err);
     char *on_boundary = rk_calloc((size_t)m->nv, 1, err);
-    int rc = !extra || !bump || !rest || !disp || !on_boundary || rk_cage_heights_measure(&st.b, orig, &h, err) ? -1 : 0;
+    int rc = !extra || !bump || !best || !rest || !disp || !on_boundary || rk_cage_heights_measure(&st.b, orig, &h, err) ? -1 : 0;
     if (rc == 0) memcpy(rest, m->X, sizeof(double) * 3 * (size_t)m->nv);
     for (int i = 0; rc == 0 && i < st.b.nv; i++) on_boundary[st.mesh_vertex[i]] = 1;
     for (int round = 0; rc == 0 && round < MAX_ROUNDS; round++) {
         rk_surface_free(&off);
-        if (rk_cage_offset(&st.b, &h, margin, extra, &off, &rep->max_offset, err)) {
+        double max_offset;
+        if (rk_cage_offset(&st.b, &h, margin, extra, &off, &max_offset, err)) {
             rc = -1;
             break;
         }
@@ -170,9 +172,15 @@ int rk_cage_inflate(rk_mesh *m, const rk_surface *orig, double margin, rk_cage_r
             rc = -1;
             break;
         }
-        rep->outside = e.outside;
-        rep->worst_distance = e.worst_distance;
         rep->inflate_rounds = round + 1;
+        /* a round is not always better than the last (a vertex moved further can crush a tet that
+         * then holds its neighbours back): the best round's cage is kept */
+        if (round == 0 || e.outside < rep->outside) {
+            rep->outside = e.outside;
+            rep->worst_distance = e.worst_distance;
+            rep->max_offset = max_offset;
+            memcpy(best, m->X, sizeof(double) * 3 * (size_t)m->nv);
+        }
         /* enlarge where needed: the vertices of the face each outside vertex was measured against
          * move out further, by twice the distance of the farthest of those beyond the cage */
         memset(bump, 0, sizeof(double) * (size_t)st.b.nv);
@@ -186,8 +194,10 @@ int rk_cage_inflate(rk_mesh *m, const rk_surface *orig, double margin, rk_cage_r
         rk_embedding_free(&e);
         if (rep->outside == 0) break;
     }
+    if (rc == 0) memcpy(m->X, best, sizeof(double) * 3 * (size_t)m->nv);
     free(extra);
     free(bump);
+    free(best);
     free(rest);
     free(disp);
     free(on_boundary);

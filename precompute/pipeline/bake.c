@@ -211,7 +211,7 @@ static int bake_reduced(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     if (s->have_koopman) add_koopman_report(out->report, &s->K);
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, &sum);
     snprintf(out->summary, sizeof out->summary, "%s, r = %d, %d cubature elements, %d of %d vertices stored "
-             "(%d shown), %zu bytes", e->name, s->R.model.r, s->R.model.quad.count, sum.vertices, s->sim.mesh.nv,
+             "(%d shown), %zu bytes", e->name, s->R.model.r, s->R.model.quad.count, sum.vertices, s->sim.mesh.nv + s->sim.embedded.nv,
              sum.shown, out->bytes);
     if (s->sim.embedded.nv) /* the shown vertices are the surface's, the rest the cage's */
         snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
