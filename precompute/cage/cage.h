@@ -28,7 +28,7 @@ typedef struct {
     double quality;        /* TetGen radius-edge bound; 0: 2 (build.c says why not 1.4) */
 } rk_cage_options;
 
-#define RK_CAGE_MARGIN 2e-3
+#define RK_CAGE_MARGIN 5e-4
 #define RK_CAGE_MIN_TETS 100
 
 typedef struct {
@@ -37,7 +37,8 @@ typedef struct {
     int tets;
     double simplify_error; /* meshopt_simplify's reported error, in the surface's units */
     double max_offset;     /* the largest outward move of a cage vertex */
-    int tetgen_runs;       /* TetGen runs until one gave at most max_tets tets */
+    double max_volume;     /* TetGen's volume bound when one was used to fill the budget, else 0 */
+    int tetgen_runs;       /* TetGen runs in all */
     int inflate_rounds;    /* rounds of moving the boundary out (rk_cage_inflate) */
     int outside;           /* original vertices still outside the cage (0 unless it gave up) */
     double worst_distance; /* the farthest of those from the cage's boundary */
