@@ -8,8 +8,10 @@
  * twice as many (51,064 from 1874), so a cage uses 2 (RK_CAGE_QUALITY). The simplification target
  * starts at T = max_tets / RK_CAGE_TETS_PER_TRIANGLE (at most the surface's own count); a cage over
  * max_tets sets T to 0.95 T (max_tets / tets)^1.5, a step a little past the mark, and tries again.
- * A cage under 80% of the budget is refined with TetGen's volume bound (fill_budget). A simplification TetGen cannot mesh (meshopt can
- * pinch a surface at a low target: an edge of four faces) is retried finer. */
+ * A cage under 80% of the budget is refined with TetGen's volume bound (fill_budget). A
+ * simplification TetGen cannot mesh (meshopt can pinch two sheets of a surface together at a low
+ * target: an edge of four faces) is retried an eighth finer, or an eighth coarser when that one
+ * would reach a target already over the budget. */
 #include "cage/cage_impl.h"
 
 #include <math.h>
@@ -68,6 +70,7 @@ int rk_cage_build(const rk_surface *s, const rk_cage_options *o, rk_mesh *cage, 
     int target = o->max_tets / RK_CAGE_TETS_PER_TRIANGLE;
     if (target > s->nf) target = s->nf;
     char last[512] = "nothing tried";
+    int over = s->nf + 1; /* the smallest target that gave too many tets */
     rk_cage_report r = {0};
     for (int run = 1; run <= MAX_RUNS && target >= 4; run++) {
         rk_surface c;
@@ -80,14 +83,17 @@ int rk_cage_build(const rk_surface *s, const rk_cage_options *o, rk_mesh *cage, 
         r.tetgen_runs = run;
         rk_surface_free(&c);
         if (rc) {
-            /* a simplification TetGen cannot mesh (meshopt may pinch the surface at a low target):
-             * a finer one next */
+            /* a simplification TetGen cannot mesh (meshopt may pinch two sheets of the surface
+             * together along an edge): a finer one next, but not as fine as one known to be over
+             * the budget (then a coarser one) */
             snprintf(last, sizeof last, "%d triangles: %s", r.triangles, terr.msg);
-            target = target * 5 / 4 > s->nf ? s->nf * 9 / 10 : target * 5 / 4;
+            int finer = target * 9 / 8 + 1 < s->nf ? target * 9 / 8 + 1 : s->nf;
+            target = finer < over ? finer : target * 7 / 8;
             continue;
         }
         if (cage->nt > o->max_tets) {
             snprintf(last, sizeof last, "%d triangles gave %d tets", r.triangles, cage->nt);
+            if (target < over) over = target;
             target = (int)(0.95 * target * pow((double)o->max_tets / cage->nt, 1.5));
             rk_mesh_free(cage);
             continue;
