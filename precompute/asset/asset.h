@@ -73,7 +73,8 @@ typedef struct {
 /* A detailed surface embedded in the model's tets (a cage's original surface, precompute/cage): what
  * the asset shows instead of the mesh's boundary. Vertex i lies in tet tet[i] at barycentric
  * coordinates bary[4i..4i+3]; its basis rows are those coordinates over the tet's four rows, and a
- * skinning basis's weights likewise (the weights are linear in each tet: evaluated at the point). */
+ * skinning basis's weights likewise (linear in each tet), unless rk_asset_rom.embedded_W gives
+ * them evaluated at the point (an RKPM basis). */
 typedef struct {
     int nv, nf;
     double *X;                   /* 3 nv rest positions */
@@ -102,6 +103,9 @@ typedef struct {
                                   * are the shown ones (VMAP numbers vertex i source vertices + i), its
                                   * triangles SURF; the mesh's vertices the cubature and contact need
                                   * are stored after them */
+    const double *embedded_W;    /* with embedded and skin_handles: the skinning weights evaluated at each
+                                  * embedded vertex (embedded->nv x skin_handles, column-major; an RKPM
+                                  * basis's exist anywhere), or NULL: interpolated in its tet */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

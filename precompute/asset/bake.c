@@ -49,15 +49,21 @@ static int select_vertices(const rk_asset_rom *R, const double *X, const rk_asse
 }
 
 /* The basis entry at row 3v + a, column col, for source vertex v: the mesh's own row, or for an
- * embedded vertex (v >= the mesh's count) its barycentric combination of its tet's four rows. A
- * skinning basis's weight column (12 j + 3, row 3v) so becomes w_j at the point: the weights are
- * linear in each tet. */
+ * embedded vertex (v >= the mesh's count) the skinning rows of the weights evaluated at it
+ * (R->embedded_W: RKPM weights exist anywhere), else its barycentric combination of its tet's four
+ * rows. A skinning basis's weight column (12 j + 3, row 3v) so becomes w_j at the point, exactly
+ * or as the tet interpolates it. */
 static double basis_at(const rk_asset_rom *R, int v, int a, int col)
 {
     size_t ndof = 3 * (size_t)R->fem->nv;
     if (v < R->fem->nv) return R->U[ndof * col + 3 * (size_t)v + a];
     const rk_embedded_surface *E = R->embedded;
     int i = v - R->fem->nv;
+    if (R->embedded_W) { /* skinning weights evaluated at the point: its rows w_j(X) X̄_c */
+        int j = col / 12, a_col = col % 12 / 4, c = col % 4;
+        double w = R->embedded_W[(size_t)E->nv * j + i];
+        return a_col != a ? 0 : c == 3 ? w : w * E->X[3 * (size_t)i + c];
+    }
     const int *t = R->fem->tets + 4 * (size_t)E->tet[i];
     double sum = 0;
     for (int k = 0; k < 4; k++) sum += E->bary[4 * (size_t)i + k] * R->U[ndof * col + 3 * (size_t)t[k] + a];

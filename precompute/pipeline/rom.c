@@ -160,6 +160,17 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         rk_skin_points_free(&at);
         R->splat_file = scene->objects[0].file;
     }
+    if (R->basis.type == RK_BASIS_RKPM_SKINNING && sim->embedded.nv && scene->nobjects == 1) {
+        /* RKPM weights exist anywhere: a caged surface's vertices get them at their own points */
+        rk_skin_points at;
+        if (rk_scene_object_weights(&R->basis, 0, sim->embedded.X, sim->embedded.nv, &at, err)) {
+            rk_scene_rom_free(R);
+            return rk_error_prefix(err, "%s: weights at the caged surface's vertices", o->name);
+        }
+        R->embedded_W = at.W;
+        at.W = NULL;
+        rk_skin_points_free(&at);
+    }
     if (mesh_free)
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d "
                  "mesh-free integration points", R->points.n);
@@ -184,6 +195,8 @@ void rk_scene_rom_free(rk_scene_rom *R)
     rk_skin_points_free(&R->points);
     free(R->cloud_grad);
     R->cloud_grad = NULL;
+    free(R->embedded_W);
+    R->embedded_W = NULL;
     rk_basis_free(&R->basis);
     rk_scene_basis_info_free(&R->basis_info);
 }
@@ -194,5 +207,6 @@ rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
     int cloud = R->points.n && sim->fem.nt == 0; /* a point cloud: its points are the mesh's first vertices */
     return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0,
                           R->points.n ? &R->points : NULL, cloud ? sim->cloud_points : 0, cloud ? R->cloud_grad : NULL,
-                          cloud ? R->splat_file : NULL, NULL, sim->embedded.nv ? &sim->embedded : NULL};
+                          cloud ? R->splat_file : NULL, NULL, sim->embedded.nv ? &sim->embedded : NULL,
+                          R->embedded_W};
 }

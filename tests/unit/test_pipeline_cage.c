@@ -3,6 +3,7 @@
  * refused naming where. */
 #include "formats/rombin_read.h"
 #include "icosphere.h"
+#include "pipeline/method_fixed.h"
 #include "pipeline/pipeline.h"
 #include "testlib.h"
 
@@ -84,6 +85,63 @@ TEST(asset_shows_the_original_surface)
     rk_surface_free(&s);
 }
 
+/* An RKPM basis's weights exist anywhere: the asset's embedded vertices carry them evaluated at
+ * their own points (rk_rkpm_interpolate on the basis's kernels here), not interpolated in the tet. */
+TEST(rkpm_weights_are_taken_at_the_points)
+{
+    rk_error err;
+    char json[2048], *at;
+    rk_surface s = {0};
+    CHECK_OK(sphere_scene(json, sizeof json, &s, &err));
+    at = strstr(json, "\"rom\"");
+    CHECK(at != NULL, "scene text");
+    snprintf(at, sizeof json - (size_t)(at - json), "\"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 4, \"kernels\": 200}}");
+    rk_scene scene;
+    CHECK_OK(rk_scene_parse(json, "cage.json", &scene, &err));
+    const rk_rom_entry *e;
+    rk_scene_sim sim;
+    rk_scene_rom R;
+    rk_bake_request req = {0};
+    rk_baked b;
+    int rc = rk_scene_entry(&scene, 0, &e, &err) || rk_scene_bake(&scene, e, &req, &b, &err);
+    if (rc == 0 && rk_scene_build(&scene, &sim, &err)) rc = -1, rk_baked_free(&b);
+    if (rc == 0 && rk_scene_rom_build(&scene, &sim, e, NULL, 0, &R, &err)) rc = -1, rk_baked_free(&b), rk_scene_sim_free(&sim);
+    rk_scene_free(&scene);
+    CHECK(rc == 0, "%s", err.msg);
+    int n = sim.embedded.nv, m = R.basis.m, reg = 0;
+    double *W = calloc((size_t)n * m, sizeof(double));
+    rc = !W || rk_rkpm_interpolate(R.basis.rkpm, sim.embedded.X, n, R.basis.C, m, W, NULL, &reg, &err);
+    rombin_file f;
+    rombin_error re;
+    rombin_chunk wght, head;
+    int opened = rc == 0 && rombin_open(&f, b.data, b.bytes, NULL, &re) == ROMBIN_OK && rombin_find(&f, ROMBIN_WGHT, &wght) &&
+                 rombin_find(&f, ROMBIN_HEAD, &head);
+    double worst = 0, worst_tet = 0;
+    if (opened) {
+        const float *A = (const float *)wght.data;
+        uint32_t H = (uint32_t)(wght.raw / 4 / ((const uint32_t *)head.data)[ROMBIN_HEAD_VERTICES]);
+        opened = H == (uint32_t)m;
+        for (int i = 0; opened && i < n; i++) {
+            const int *t = sim.mesh.tets + 4 * sim.embedded.tet[i];
+            for (int j = 0; j < m; j++) {
+                double lin = 0; /* what the tet would interpolate */
+                for (int k = 0; k < 4; k++) lin += sim.embedded.bary[4 * i + k] * R.basis.W[(size_t)sim.mesh.nv * j + t[k]];
+                worst = fmax(worst, fabs(A[(size_t)i * H + j] - W[(size_t)n * j + i]));
+                worst_tet = fmax(worst_tet, fabs(lin - W[(size_t)n * j + i]));
+            }
+        }
+    }
+    free(W);
+    rk_scene_rom_free(&R);
+    rk_scene_sim_free(&sim);
+    rk_baked_free(&b);
+    rk_surface_free(&s);
+    CHECK(rc == 0, "rk_rkpm_interpolate: %s", err.msg);
+    CHECK(opened, "the asset has WGHT with %d weights a vertex", m);
+    CHECK(worst < 1e-6, "the asset's weights are up to %g from the basis at the points", worst);
+    CHECK(worst_tet > 100 * worst, "interpolating in the tet would differ by only %g (so this checks nothing)", worst_tet);
+}
+
 /* A cage goes around a surface file only, with max_tets, and not beside max_volume. */
 TEST(refuses_bad_cage_keys)
 {
@@ -113,6 +171,7 @@ TEST(refuses_bad_cage_keys)
 int main(void)
 {
     RUN(asset_shows_the_original_surface);
+    RUN(rkpm_weights_are_taken_at_the_points);
     RUN(refuses_bad_cage_keys);
     return test_finish();
 }
