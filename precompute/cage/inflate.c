@@ -1,9 +1,11 @@
 /* rk_cage_inflate (cage_impl.h): the boundary vertices of a tetrahedralized simplification moved
- * outward until the original surface's vertices are inside. Moving the tet mesh's boundary, instead
- * of offsetting the surface and tetrahedralizing that, cannot fold the surface into itself unseen:
- * a move that would flatten or invert a tet is cut back (halved until it keeps every tet around the
- * vertex at RK_CAGE_KEEP of its volume and radius ratio at least), and an offset surface that folds is what
- * made TetGen abort on spot.obj at every simplification tried (narrow grooves between ear and head). */
+ * outward until the original surface's vertices are inside. Offsetting the surface and
+ * tetrahedralizing that was tried first: the offset surface folded into itself in spot.obj's
+ * narrow grooves (between ear and head) at every simplification, and TetGen aborted. Moving the
+ * tet mesh's boundary instead never inverts a tet: a move that would crush one is cut back (halved
+ * until every tet keeps RK_CAGE_KEEP of its volume and radius ratio). Two parts of the boundary
+ * across a gap narrower than their moves may still overlap (no tet spans the gap): elements that
+ * overlap at rest are no matter to the simulation, but would be to self-contact. */
 #include "cage/cage_impl.h"
 
 #include <math.h>
