@@ -8,9 +8,10 @@
 #include "testlib.h"
 
 /* The sphere's OBJ and a scene around it: skinning eigenmodes and cubature, hung from its top. */
+static char obj[512];
+
 static int sphere_scene(char *json, size_t cap, rk_surface *s, rk_error *err)
 {
-    static char obj[512];
     if (icosphere(4, 0.5, s, err)) return -1; /* 2562 vertices, 5120 triangles */
     tl_scratch(obj, sizeof obj, "cage_sphere.obj");
     if (rk_surface_write(obj, s, err)) return -1;
@@ -173,5 +174,6 @@ int main(void)
     RUN(asset_shows_the_original_surface);
     RUN(rkpm_weights_are_taken_at_the_points);
     RUN(refuses_bad_cage_keys);
+    remove(obj);
     return test_finish();
 }

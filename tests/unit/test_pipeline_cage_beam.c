@@ -52,7 +52,9 @@ static int pair_open(beam_pair *p, int dynamic, rk_error *err)
     if (scene_run_open(&p->fine, json, err)) return -1;
     snprintf(mesh, sizeof mesh, "{\"file\": \"%s\", \"cage\": {\"max_tets\": %d}}", obj, CAGE_TETS);
     scene_json(json, sizeof json, mesh, dynamic);
-    if (scene_run_open(&p->cage, json, err)) return -1;
+    rc = scene_run_open(&p->cage, json, err);
+    remove(obj);
+    if (rc) return -1;
     const rk_embedded_surface *E = &p->cage.sim.embedded;
     p->n = E->nv;
     p->fine_of = calloc((size_t)E->nv, sizeof(int));
