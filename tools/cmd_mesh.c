@@ -2,11 +2,12 @@
  *
  * A tet mesh in (.msh .mesh .node/.ele .vtk) is checked, repaired and converted to OUT's
  * format; a surface in (.obj .off .stl .ply) is checked (flipped if merely inside out) and
- * tetrahedralized with tetgen, or with --cage-tets N a simulation cage of at most N tets is made around it
- * (precompute/cage: simplified, offset outward, tetrahedralized, every vertex checked inside). --refine N then splits every tet into 8, N times (rk_mesh_refine),
- * and checks the result again. A summary goes to stdout unless --quiet. A conversion never drops
- * a tet: slivers and flat tets are written as they are and listed in the summary (a simulation
- * drops the flat ones, with a warning; mesh/mesh.h).
+ * tetrahedralized with tetgen, or with --cage-tets N a simulation cage of at most N tets is made
+ * around it (precompute/cage: simplified, tetrahedralized, its boundary moved out, every surface
+ * vertex located; those outside reported). --refine N then splits every tet into 8, N times
+ * (rk_mesh_refine), and checks the result again. A summary goes to stdout unless --quiet. A
+ * conversion never drops a tet: slivers and flat tets are written as they are and listed in the
+ * summary (a simulation drops the flat ones, with a warning; mesh/mesh.h).
  * argv[0] is the subcommand name, as romkit's main passes it. Returns the exit code:
  * 0 done, 1 failed ("romkit mesh: <message>" on stderr), 2 bad usage. */
 #include <ctype.h>
