@@ -140,8 +140,42 @@ static void transform_surface(rk_surface *s, double scale, const double translat
         for (int i = 0; i < 3; i++) s->X[3 * v + i] = scale * s->X[3 * v + i] + translate[i];
 }
 
-/* Each caged object's surface embedded in its own tets (rk_cage_embed), joined into out->embedded
- * (scene tet numbers); vertices outside the cage are counted and warned about. */
+/* An uncaged object's boundary as a surface over its own vertices (placed), so that a scene with a
+ * cage shows it too: embedded like a caged surface, each vertex lands in a tet of its own, at
+ * barycentric coordinates 1 and 0. */
+static int boundary_surface(const rk_scene_sim *sim, int k, rk_surface *sf, rk_error *err)
+{
+    rk_object_view ov;
+    int *tris = NULL, nf = 0;
+    if (rk_scene_object_view(sim, k, &ov, err)) return -1;
+    int rc = rk_mesh_boundary(&ov.mesh, &tris, &nf, err);
+    int *local = rc ? NULL : rk_calloc((size_t)ov.mesh.nv + 1, sizeof(int), err);
+    free(ov.mesh.tets);
+    if (!local) {
+        free(tris);
+        return -1;
+    }
+    for (int v = 0; v < ov.mesh.nv; v++) local[v] = -1;
+    for (int i = 0; i < 3 * nf; i++)
+        if (local[tris[i]] < 0) local[tris[i]] = sf->nv++;
+    sf->X = rk_calloc(3 * (size_t)sf->nv + 1, sizeof(double), err);
+    if (!sf->X) {
+        free(tris);
+        free(local);
+        return -1;
+    }
+    for (int v = 0; v < ov.mesh.nv; v++)
+        if (local[v] >= 0) memcpy(sf->X + 3 * (size_t)local[v], ov.mesh.X + 3 * (size_t)v, 3 * sizeof(double));
+    for (int i = 0; i < 3 * nf; i++) tris[i] = local[tris[i]];
+    sf->tris = tris;
+    sf->nf = nf;
+    free(local);
+    return 0;
+}
+
+/* Each caged object's surface embedded in its own tets (rk_cage_embed), and every other object's
+ * boundary likewise, joined into out->embedded (scene tet numbers); vertices outside the cage are
+ * counted and warned about. */
 static int embed_surfaces(const rk_scene *s, const rk_surface *surfaces, rk_scene_sim *out, rk_error *err)
 {
     rk_embedded_surface *E = &out->embedded;
@@ -151,8 +185,10 @@ static int embed_surfaces(const rk_scene *s, const rk_surface *surfaces, rk_scen
     E->tris = rk_calloc(3 * (size_t)nf, sizeof(int), err);
     E->tet = rk_calloc((size_t)nv, sizeof(int), err);
     E->bary = rk_calloc(4 * (size_t)nv, sizeof(double), err);
-    if (!E->X || !E->tris || !E->tet || !E->bary) return -1;
+    out->embedded_first = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
+    if (!E->X || !E->tris || !E->tet || !E->bary || !out->embedded_first) return -1;
     for (int k = 0; k < s->nobjects; k++) {
+        out->embedded_first[k] = E->nv;
         const rk_surface *sf = &surfaces[k];
         rk_object_view ov;
         rk_embedding e;
@@ -174,6 +210,7 @@ static int embed_surfaces(const rk_scene *s, const rk_surface *surfaces, rk_scen
         E->nf += sf->nf;
         rk_embedding_free(&e);
     }
+    out->embedded_first[s->nobjects] = E->nv;
     return 0;
 }
 
@@ -364,9 +401,8 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     rk_mesh_report repaired = {0}; /* what the objects' own checks changed */
     int caged = 0;
     for (int k = 0; k < s->nobjects; k++) caged += s->objects[k].cage_tets > 0;
-    if (caged && caged < s->nobjects) {
-        rk_fail(err, "%s: a scene with a caged object (mesh.cage) has every object caged, for now (%d of %d are)",
-                s->path, caged, s->nobjects);
+    if (caged && clouds) {
+        rk_fail(err, "%s: a scene with a caged object (mesh.cage) has no point cloud, for now", s->path);
         goto fail;
     }
     rk_surface *surfaces = caged ? rk_calloc((size_t)s->nobjects, sizeof *surfaces, err) : NULL;
@@ -408,7 +444,10 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         goto fail;
     }
     if (caged) {
-        int rc = embed_surfaces(s, surfaces, out, err);
+        int rc = 0;
+        for (int k = 0; k < s->nobjects && rc == 0; k++)
+            if (!s->objects[k].cage_tets) rc = boundary_surface(out, k, &surfaces[k], err);
+        if (rc == 0) rc = embed_surfaces(s, surfaces, out, err);
         free_surfaces(surfaces, s->nobjects);
         if (rc) goto fail;
     }
@@ -480,6 +519,7 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->embedded.tris);
     free(out->embedded.tet);
     free(out->embedded.bary);
+    free(out->embedded_first);
     memset(out, 0, sizeof *out);
 }
 

@@ -213,8 +213,11 @@ typedef struct {
                                * surface's (rk_points_proxy); 0 for meshes */
     int *object_points;       /* nobjects: each point-cloud object's points (NULL for meshes) */
     /* Caged objects (mesh.cage): their original surfaces, placed, embedded in the scene's tets (what
-     * an asset shows; nv = 0 without a cage); every object of such a scene is caged. */
+     * an asset shows; nv = 0 without a cage), and the other objects' boundaries beside them, in
+     * object order (a scene with a cage has no point cloud). */
     rk_embedded_surface embedded;
+    int *embedded_first;      /* nobjects + 1: where each object's vertices start in embedded (NULL
+                               * without a cage) */
     int embedded_outside;     /* surface vertices in no tet (exact test): embedded in the nearest tet,
                                * clamped, and warned about */
     double embedded_worst;    /* the farthest of those from the cage's boundary (m) */

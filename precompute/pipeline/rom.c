@@ -120,6 +120,25 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
     return 0;
 }
 
+/* RKPM weights exist anywhere: the shown surfaces' vertices of a scene with a cage get them at
+ * their own points, object by object (R->embedded_W, nv x m). */
+static int embedded_weights(const rk_scene_sim *sim, rk_scene_rom *R, rk_error *err)
+{
+    int nv = sim->embedded.nv, m = R->basis.m;
+    R->embedded_W = rk_calloc((size_t)nv * m, sizeof(double), err);
+    if (!R->embedded_W) return -1;
+    for (int k = 0; sim->embedded_first[k] < nv; k++) {
+        int first = sim->embedded_first[k], n = sim->embedded_first[k + 1] - first;
+        rk_skin_points at;
+        if (n == 0) continue;
+        if (rk_scene_object_weights(&R->basis, R->basis.nparts ? k : 0, sim->embedded.X + 3 * (size_t)first, n, &at, err))
+            return -1;
+        for (int j = 0; j < m; j++) memcpy(R->embedded_W + (size_t)nv * j + first, at.W + (size_t)n * j, sizeof(double) * n);
+        rk_skin_points_free(&at);
+    }
+    return 0;
+}
+
 int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames,
                        int T, rk_scene_rom *R, rk_error *err)
 {
@@ -160,16 +179,9 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         rk_skin_points_free(&at);
         R->splat_file = scene->objects[0].file;
     }
-    if (R->basis.type == RK_BASIS_RKPM_SKINNING && sim->embedded.nv && scene->nobjects == 1) {
-        /* RKPM weights exist anywhere: a caged surface's vertices get them at their own points */
-        rk_skin_points at;
-        if (rk_scene_object_weights(&R->basis, 0, sim->embedded.X, sim->embedded.nv, &at, err)) {
-            rk_scene_rom_free(R);
-            return rk_error_prefix(err, "%s: weights at the caged surface's vertices", o->name);
-        }
-        R->embedded_W = at.W;
-        at.W = NULL;
-        rk_skin_points_free(&at);
+    if (R->basis.type == RK_BASIS_RKPM_SKINNING && sim->embedded.nv && embedded_weights(sim, R, err)) {
+        rk_scene_rom_free(R);
+        return rk_error_prefix(err, "%s: weights at the shown surfaces' vertices", o->name);
     }
     if (mesh_free)
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d "

@@ -143,6 +143,48 @@ TEST(rkpm_weights_are_taken_at_the_points)
     CHECK(worst_tet > 100 * worst, "interpolating in the tet would differ by only %g (so this checks nothing)", worst_tet);
 }
 
+/* A caged object beside an uncaged one: the asset shows the sphere's surface and the box's boundary
+ * (its 56 boundary vertices and 108 triangles), each at its own rest positions. */
+TEST(uncaged_objects_show_their_boundary)
+{
+    rk_error err;
+    char json[4096];
+    rk_surface s = {0};
+    CHECK_OK(sphere_scene(json, sizeof json, &s, &err)); /* writes the sphere's OBJ */
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"file\": \"%s\", \"cage\": {\"max_tets\": 3000}},"
+             " \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.3, \"density\": 1000}},"
+             " {\"mesh\": {\"box\": {\"size\": [0.3, 0.3, 0.3], \"cells\": [3, 3, 3]}, \"translate\": [2, 0, 0]},"
+             " \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.3, \"density\": 1000}}],"
+             " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 0.05},"
+             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": 1, \"kernels\": 200}}", obj);
+    rk_scene scene;
+    CHECK_OK(rk_scene_parse(json, "two.json", &scene, &err));
+    const rk_rom_entry *e;
+    rk_bake_request req = {0};
+    rk_baked b;
+    int rc = rk_scene_entry(&scene, 0, &e, &err) || rk_scene_bake(&scene, e, &req, &b, &err);
+    rk_scene_free(&scene);
+    CHECK(rc == 0, "bake: %s (scene %s)", err.msg, json);
+    rombin_file f;
+    rombin_error re;
+    rombin_chunk head, surf, vert;
+    int ok = rombin_open(&f, b.data, b.bytes, NULL, &re) == ROMBIN_OK && rombin_find(&f, ROMBIN_HEAD, &head) &&
+             rombin_find(&f, ROMBIN_SURF, &surf) && rombin_find(&f, ROMBIN_VERT, &vert);
+    uint32_t shown = ok ? ((const uint32_t *)head.data)[ROMBIN_HEAD_SHOWN] : 0;
+    uint64_t tris = ok ? surf.raw / 12 : 0;
+    int box_ok = ok;
+    const float *X = ok ? (const float *)vert.data : NULL;
+    for (uint32_t i = (uint32_t)s.nv; ok && i < shown; i++) /* the box's vertices: on its placed boundary */
+        box_ok &= (fabs(X[3 * i] - 2) < 1e-6 || fabs(X[3 * i] - 2.3) < 1e-6 || fabs(X[3 * i + 1]) < 1e-6 ||
+                   fabs(X[3 * i + 1] - 0.3) < 1e-6 || fabs(X[3 * i + 2]) < 1e-6 || fabs(X[3 * i + 2] - 0.3) < 1e-6);
+    rk_baked_free(&b);
+    rk_surface_free(&s);
+    CHECK(ok, "asset chunks");
+    CHECK(shown == 2562 + 56 && tris == 5120 + 108, "%u shown vertices, %llu triangles", shown, (unsigned long long)tris);
+    CHECK(box_ok, "a shown box vertex is off the box's boundary");
+}
+
 /* A cage goes around a surface file only, with max_tets, and not beside max_volume. */
 TEST(refuses_bad_cage_keys)
 {
@@ -173,6 +215,7 @@ int main(void)
 {
     RUN(asset_shows_the_original_surface);
     RUN(rkpm_weights_are_taken_at_the_points);
+    RUN(uncaged_objects_show_their_boundary);
     RUN(refuses_bad_cage_keys);
     remove(obj);
     return test_finish();
