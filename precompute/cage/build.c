@@ -37,8 +37,9 @@ static double diagonal(const rk_surface *s)
 /* A cage under 80% of its budget (a surface simplified to few triangles fills with few, large tets:
  * a box beam's 1,344 triangles gave 1,300 tets whatever the budget) is made again under TetGen's
  * volume bound V_max = RK_CAGE_FILL V / max_tets (V the cage's volume: tets under a bound average a
- * third to a half of it), raised by the overshoot (x 1.3) while over max_tets; the finest one within
- * the budget is kept. Returns the runs so far. */
+ * third to a half of it), raised by the overshoot (x 1.3) while over max_tets; the first within the
+ * budget (the finest tried) replaces the cage, which stays as it was if none is. Returns the runs
+ * so far. */
 static int fill_budget(const rk_surface *c, double quality, int max_tets, int run, rk_mesh *cage, double *vmax_used)
 {
     double vmax = RK_CAGE_FILL * rk_surface_volume(c) / max_tets;
