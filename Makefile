@@ -13,7 +13,8 @@ CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) -pthread \
              -I. -Iprecompute -I/usr/include/suitesparse
 # -lgomp: precompute/util/threads.c, the one place that sets thread counts, keeps CHOLMOD's OpenMP
 # regions on one thread; romkit's own loops run on plain threads (-pthread).
-LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lm
+# -lmeshoptimizer: precompute/cage simplifies surfaces into simulation cages (meshopt_simplify).
+LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lmeshoptimizer -lm
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # The runtime's version, read from romrt.h (ROMRT_VERSION_MAJOR/MINOR/PATCH): the shared library's
@@ -23,12 +24,14 @@ ROMRT_SOMAJOR := $(call rt_version_part,MAJOR)
 ROMRT_VERSION := $(ROMRT_SOMAJOR).$(call rt_version_part,MINOR).$(call rt_version_part,PATCH)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
+STAGES := util mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
 DEPS_util    := util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
 DEPS_contact := contact fem physics mesh util
+# Simulation cages around detailed surfaces, and points embedded in them (exact predicates of contact).
+DEPS_cage    := cage contact fem physics mesh util
 DEPS_solver  := solver physics util
 DEPS_fom     := fom solver contact fem physics mesh util
 DEPS_adaptive := adaptive fom solver contact fem physics mesh util
@@ -42,7 +45,7 @@ DEPS_koopman := koopman formats neural cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset koopman formats rom grassmann neural cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver contact fem physics mesh neural util
+DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver cage contact fem physics mesh neural util
 DEPS_compare := compare $(DEPS_pipeline)
 # An asset's shown vertices as glTF (romkit export): the container's rows, the skinning rows of basis.
 DEPS_export  := export basis formats fem physics mesh util
@@ -253,6 +256,7 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/pour.sh
+	BUILD=$(BUILD) sh bench/cage.sh
 	@$(MAKE) --no-print-directory bench-plots
 	@$(MAKE) --no-print-directory results-tables
 

@@ -1,11 +1,13 @@
-/* romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--refine N] [--quiet]
+/* romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--cage-tets N] [--refine N] [--quiet]
  *
  * A tet mesh in (.msh .mesh .node/.ele .vtk) is checked, repaired and converted to OUT's
  * format; a surface in (.obj .off .stl .ply) is checked (flipped if merely inside out) and
- * tetrahedralized with tetgen. --refine N then splits every tet into 8, N times (rk_mesh_refine),
- * and checks the result again. A summary goes to stdout unless --quiet. A conversion never drops
- * a tet: slivers and flat tets are written as they are and listed in the summary (a simulation
- * drops the flat ones, with a warning; mesh/mesh.h).
+ * tetrahedralized with tetgen, or with --cage-tets N a simulation cage of at most N tets is made
+ * around it (precompute/cage: simplified, tetrahedralized, its boundary moved out, every surface
+ * vertex located; those outside reported). --refine N then splits every tet into 8, N times
+ * (rk_mesh_refine), and checks the result again. A summary goes to stdout unless --quiet. A
+ * conversion never drops a tet: slivers and flat tets are written as they are and listed in the
+ * summary (a simulation drops the flat ones, with a warning; mesh/mesh.h).
  * argv[0] is the subcommand name, as romkit's main passes it. Returns the exit code:
  * 0 done, 1 failed ("romkit mesh: <message>" on stderr), 2 bad usage. */
 #include <ctype.h>
@@ -15,6 +17,7 @@
 #include <string.h>
 
 #include "args.h"
+#include "cage/cage.h"
 #include "mesh/mesh.h"
 #include "util/util.h"
 
@@ -23,7 +26,7 @@ int cmd_mesh(int argc, char **argv);
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--refine N] [--quiet]\n"
+            "usage: romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--cage-tets N] [--refine N] [--quiet]\n"
             "\n"
             "Checks a tetrahedral mesh and converts it, or tetrahedralizes a closed surface.\n"
             "  IN    tet mesh: .msh (Gmsh 2.2/4.1), .mesh (MEDIT), .node/.ele (TetGen), .vtk\n"
@@ -31,6 +34,9 @@ static void usage(FILE *out)
             "  OUT   .msh .mesh .node .vtk (tets), or .obj .ply .off .stl (boundary surface)\n"
             "  --quality Q      surface input: radius-edge bound for tetgen -q (default 1.4, >= 1)\n"
             "  --max-volume V   surface input: largest tet volume, in the surface's units cubed\n"
+            "  --cage-tets N    surface input: instead of filling the surface, a coarse cage of at\n"
+            "                   most N tets around it (simplified with meshoptimizer, offset outward\n"
+            "                   until every surface vertex is inside, tetrahedralized; N >= 100)\n"
             "  --refine N       split every tet into 8 at its edge midpoints, N times (0 to 4;\n"
             "                   8^N times the tets, at most 16,777,216)\n"
             "  --quiet          print nothing on success\n"
@@ -44,6 +50,7 @@ static void usage(FILE *out)
             "example:\n"
             "  romkit mesh tests/data/meshes/decimated-knight.off -o knight.msh --quality 1.4\n"
             "  romkit mesh tests/data/meshes/bunny_19k.msh -o bunny.vtk\n"
+            "  romkit mesh tests/data/meshes/spot.obj -o spot_cage.msh --cage-tets 2000\n"
             "  romkit mesh tests/data/meshes/dinosaur_bin.msh -o dinosaur_400k.msh --refine 1\n");
 }
 
@@ -106,8 +113,27 @@ static void summary(const char *in, const char *out, const rk_mesh *m, const rk_
     slivers(rep);
 }
 
-/* Loads the surface, orients it and fills it with tets. */
-static int tetrahedralize_file(const char *in, double quality, double max_volume, int quiet, rk_mesh *m, rk_error *err)
+/* The cage around s: made, its fit said (every vertex inside, or how many are not). */
+static int cage_surface(const char *in, const rk_surface *s, double quality, int max_tets, int quiet, rk_mesh *m,
+                        rk_error *err)
+{
+    rk_cage_options o = {.max_tets = max_tets, .quality = quality};
+    rk_cage_report rep;
+    if (rk_cage_build(s, &o, m, &rep, err)) return -1;
+    if (rep.outside)
+        fprintf(stderr, "romkit mesh: warning: %d of %d surface vertices of %s are outside the cage (the farthest %.3g "
+                        "away); a simulation embeds them in the nearest tet\n", rep.outside, s->nv, in, rep.worst_distance);
+    if (!quiet)
+        printf("%s: cage of %d tets (at most %d) over a %d-triangle simplification (meshopt error %.3g), %d tetgen "
+               "run%s; boundary moved out by up to %.3g in %d round%s; %d of %d surface vertices inside\n", in, rep.tets,
+               max_tets, rep.triangles, rep.simplify_error, rep.tetgen_runs, rep.tetgen_runs == 1 ? "" : "s",
+               rep.max_offset, rep.inflate_rounds, rep.inflate_rounds == 1 ? "" : "s", s->nv - rep.outside, s->nv);
+    return 0;
+}
+
+/* Loads the surface, orients it and fills it with tets (or a cage of at most cage_tets). */
+static int tetrahedralize_file(const char *in, double quality, double max_volume, int cage_tets, int quiet, rk_mesh *m,
+                               rk_error *err)
 {
     rk_surface s;
     int flipped = 0;
@@ -119,7 +145,8 @@ static int tetrahedralize_file(const char *in, double quality, double max_volume
         printf("%s: surface with %d vertices, %d triangles, enclosed volume %.6g\n", in, s.nv, s.nf, rk_surface_volume(&s));
         if (flipped) printf("  the surface was inside out: every face was reversed\n");
     }
-    int rc = rk_tetrahedralize(&s, quality, max_volume, m, err);
+    int rc = cage_tets ? cage_surface(in, &s, quality, cage_tets, quiet, m, err)
+                       : rk_tetrahedralize(&s, quality, max_volume, m, err);
     rk_surface_free(&s);
     return rc;
 }
@@ -128,7 +155,7 @@ int cmd_mesh(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL;
     double quality = 0, max_volume = 0;
-    int quiet = 0, surface_options = 0, levels = 0;
+    int quiet = 0, surface_options = 0, levels = 0, cage_tets = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
@@ -144,6 +171,13 @@ int cmd_mesh(int argc, char **argv)
         } else if (strcmp(a, "--max-volume") == 0) {
             if (++i == argc || cli_real(argv[i], -INFINITY, INFINITY, &max_volume) || max_volume <= 0)
                 return usage_error("--max-volume needs a positive number, got", i < argc ? argv[i] : "nothing");
+            surface_options = 1;
+        } else if (strcmp(a, "--cage-tets") == 0) {
+            long n;
+            if (++i == argc || cli_whole(argv[i], RK_CAGE_MIN_TETS, 1L << 24, &n))
+                return usage_error("--cage-tets needs a whole number of tets from 100 to 16777216, got",
+                                   i < argc ? argv[i] : "nothing");
+            cage_tets = (int)n;
             surface_options = 1;
         } else if (strcmp(a, "--refine") == 0) {
             long n;
@@ -165,13 +199,15 @@ int cmd_mesh(int argc, char **argv)
     if (!is_surface(out) && !has_ext(out, ".msh .mesh .node .ele .vtk"))
         return usage_error("unknown output format (use .msh .mesh .node .vtk .obj .ply .off .stl):", out);
     if (surface_options && !is_surface(in))
-        return usage_error("--quality and --max-volume apply to surface input only, not", in);
+        return usage_error("--quality, --max-volume and --cage-tets apply to surface input only, not", in);
+    if (cage_tets && max_volume > 0)
+        return usage_error("--max-volume and --cage-tets do not go together (the cage picks its own volume bound)", NULL);
     rk_progress_set_quiet(quiet);
 
     rk_error err;
     rk_mesh m = {0};
     rk_mesh_report rep;
-    int rc = is_surface(in) ? tetrahedralize_file(in, quality, max_volume, quiet, &m, &err) ||
+    int rc = is_surface(in) ? tetrahedralize_file(in, quality, max_volume, cage_tets, quiet, &m, &err) ||
                                   rk_mesh_check(&m, "tetgen output", RK_MESH_KEEP_FLAT, &rep, &err)
                             : rk_mesh_load(in, RK_MESH_KEEP_FLAT, &m, &rep, &err);
     if (rc == 0 && levels > 0) {

@@ -126,10 +126,16 @@ static int reference_open(reference *ref, const char *path, const unsigned char 
     ref->at = calloc((size_t)3 * shown + 1, sizeof(double));
     if (!ref->source || !ref->rest || !ref->at) return rk_fail(err, "out of memory");
     memcpy(ref->source, c.data, 4 * (size_t)shown);
+    rombin_chunk head;
+    uint32_t source_nv = rombin_find(&f, ROMBIN_HEAD, &head) ? ((const uint32_t *)head.data)[ROMBIN_HEAD_SOURCE_VERTICES] : 0;
     for (int i = 0; i < shown; i++)
         if (ref->source[i] >= ref->nv)
-            return rk_fail(err, "%s has %ld vertices; the asset's vertex %d comes from source vertex %u", path, ref->nv,
-                           i, ref->source[i]);
+            return rk_fail(err, "%s has %ld vertices; the asset's vertex %d comes from source vertex %u%s", path, ref->nv,
+                           i, ref->source[i],
+                           source_nv && ref->source[i] >= source_nv
+                               ? " (a surface embedded in a simulation cage, mesh.cage: the full-order frames are the "
+                                 "cage's, which does not show it)"
+                               : "");
     reference_gather(ref, 0, ref->rest);
     rk_run_error_init(&ref->error, ref->rest, shown);
     return 0;

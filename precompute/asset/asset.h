@@ -70,6 +70,19 @@ typedef struct {
     const rk_fom_options *options; /* the prescribed motions, gravity, loads and damping it steps under */
 } rk_asset_alrom;
 
+/* A detailed surface embedded in the model's tets (a cage's original surface, precompute/cage): what
+ * the asset shows instead of the mesh's boundary. Vertex i lies in tet tet[i] at barycentric
+ * coordinates bary[4i..4i+3]; its basis rows are those coordinates over the tet's four rows, and a
+ * skinning basis's weights likewise (linear in each tet), unless rk_asset_rom.embedded_W gives
+ * them evaluated at the point (an RKPM basis). */
+typedef struct {
+    int nv, nf;
+    double *X;                   /* 3 nv rest positions */
+    int *tris;                   /* 3 nf, outward */
+    int *tet;                    /* nv */
+    double *bary;                /* 4 nv */
+} rk_embedded_surface;
+
 /* A reduced model of a mesh, as the bake reads it. */
 typedef struct {
     const rk_mesh *mesh;         /* the source mesh: its boundary is what is shown */
@@ -86,6 +99,13 @@ typedef struct {
                                   * column-major, as rk_rkpm_interpolate's dW): GRAD, or NULL */
     const char *splat_file;      /* a point cloud from a Gaussian-splat PLY: stored whole (SPLY), or NULL */
     const rk_asset_alrom *alrom; /* an adaptive linear ROM (bake_alrom.c), or NULL */
+    const rk_embedded_surface *embedded; /* shown instead of the mesh's boundary, or NULL: its vertices
+                                  * are the shown ones (VMAP numbers vertex i source vertices + i), its
+                                  * triangles SURF; the mesh's vertices the cubature and contact need
+                                  * are stored after them */
+    const double *embedded_W;    /* with embedded and skin_handles: the skinning weights evaluated at each
+                                  * embedded vertex (embedded->nv x skin_handles, column-major; an RKPM
+                                  * basis's exist anywhere), or NULL: interpolated in its tet */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

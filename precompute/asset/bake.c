@@ -12,15 +12,27 @@ static int collision_vertices(const rk_rom_model *m, const rk_asset_options *o)
     return o->colliders || m->has_contact ? m->ncv : 0;
 }
 
-/* The reduced model stores, beyond the shown vertices, those of its cubature elements and collisions. */
-static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_bake_state *s, rk_error *err)
+/* The reduced model stores, beyond the shown vertices, those of its cubature elements and collisions.
+ * X: the rest positions of the mesh's vertices, then of the embedded surface's (R->embedded). */
+static int select_vertices(const rk_asset_rom *R, const double *X, const rk_asset_options *o, rk_bake_state *s,
+                           rk_error *err)
 {
     const rk_rom_model *m = R->model;
+    const rk_embedded_surface *E = R->embedded;
     int every = R->alrom && R->alrom->crom ? R->fem->nv : 0; /* a CROM's encoder reads every vertex */
     int ncontact = collision_vertices(m, o), nelem = R->points ? 0 : m->quad.count, nextra = 4 * nelem + ncontact + every,
         k = 0;
     int *extra = rk_calloc((size_t)nextra + 1, sizeof(int), err);
-    if (!extra || (!R->points_shown && rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err))) {
+    if (!extra) return -1;
+    if (E) { /* the embedded surface is shown: its vertices numbered after the mesh's */
+        s->nf = E->nf;
+        s->tris = rk_calloc(3 * (size_t)E->nf + 1, sizeof(int), err);
+        if (!s->tris) {
+            free(extra);
+            return -1;
+        }
+        for (int i = 0; i < 3 * E->nf; i++) s->tris[i] = R->fem->nv + E->tris[i];
+    } else if (!R->points_shown && rk_mesh_boundary(R->mesh, &s->tris, &s->nf, err)) {
         free(extra);
         return -1;
     }
@@ -30,27 +42,53 @@ static int select_vertices(const rk_asset_rom *R, const rk_asset_options *o, rk_
     for (int v = 0; v < every; v++) extra[k++] = v;
     rk_asset_options shown = *o;
     if (R->points_shown) shown.show = RK_SHOW_FIRST, shown.show_first = R->points_shown;
-    int rc = rk_bake_select(R->fem->nv, R->fem->X, extra, nextra, &shown, s, err);
+    if (E && shown.show != RK_SHOW_NONE) shown.show = RK_SHOW_SURFACE; /* the surface, not the cage */
+    int rc = rk_bake_select(R->fem->nv + (E ? E->nv : 0), X, extra, nextra, &shown, s, err);
     free(extra);
     return rc;
 }
 
+/* The basis entry at row 3v + a, column col, for source vertex v: the mesh's own row, or for an
+ * embedded vertex (v >= the mesh's count) the skinning rows of the weights evaluated at it
+ * (R->embedded_W: RKPM weights exist anywhere), else its barycentric combination of its tet's four
+ * rows. A skinning basis's weight column (12 j + 3, row 3v) so becomes w_j at the point, exactly
+ * or as the tet interpolates it. */
+static double basis_at(const rk_asset_rom *R, int v, int a, int col)
+{
+    size_t ndof = 3 * (size_t)R->fem->nv;
+    if (v < R->fem->nv) return R->U[ndof * col + 3 * (size_t)v + a];
+    const rk_embedded_surface *E = R->embedded;
+    int i = v - R->fem->nv;
+    if (R->embedded_W) { /* skinning weights evaluated at the point: its rows w_j(X) X̄_c */
+        int j = col / 12, a_col = col % 12 / 4, c = col % 4;
+        double w = R->embedded_W[(size_t)E->nv * j + i];
+        return a_col != a ? 0 : c == 3 ? w : w * E->X[3 * (size_t)i + c];
+    }
+    const int *t = R->fem->tets + 4 * (size_t)E->tet[i];
+    double sum = 0;
+    for (int k = 0; k < 4; k++) sum += E->bary[4 * (size_t)i + k] * R->U[ndof * col + 3 * (size_t)t[k] + a];
+    return sum;
+}
+
 /* A basis the bake may store as skinning weights (ROMBIN.md, SKIN and WGHT): its handle count when
- * the basis says it is linear blend skinning and every stored row is, to the bit (column 12 j +
- * 4 a + c of row 3v + a is w_j(v) X̄_c, the weight being the entry at c = 3, every other entry 0);
- * 0 otherwise (the rows are stored as they are). */
+ * the basis says it is linear blend skinning and every stored row of the mesh is, to the bit
+ * (column 12 j + 4 a + c of row 3v + a is w_j(v) X̄_c, the weight being the entry at c = 3, every
+ * other entry 0); 0 otherwise (the rows are stored as they are). An embedded vertex stores the
+ * weights at its point, which the runtime turns into the skinning rows there. */
 static int skinning_handles(const rk_asset_rom *R, const rk_bake_state *s)
 {
-    int r = R->model->r, H = R->skin_handles, ndof = 3 * s->nv;
+    int r = R->model->r, H = R->skin_handles;
+    size_t ndof = 3 * (size_t)R->fem->nv;
     if (H <= 0 || r != 12 * H) return 0;
     for (int i = 0; i < s->count; i++) {
         int v = s->source[i];
+        if (v >= R->fem->nv) continue; /* embedded: weights at the point (basis_at) */
         const double *X = R->fem->X + 3 * (size_t)v;
         for (int a = 0; a < 3; a++)
             for (int col = 0; col < r; col++) {
                 int j = col / 12, a_col = col % 12 / 4, c = col % 4;
-                double u = R->U[(size_t)ndof * col + 3 * v + a];
-                double wj = R->U[(size_t)ndof * (12 * j + 4 * a + 3) + 3 * v + a];
+                double u = R->U[ndof * col + 3 * v + a];
+                double wj = R->U[ndof * (12 * j + 4 * a + 3) + 3 * v + a];
                 double want = a_col != a ? 0 : c == 3 ? wj : wj * X[c];
                 if (u != want) return 0;
             }
@@ -59,24 +97,22 @@ static int skinning_handles(const rk_asset_rom *R, const rk_bake_state *s)
 }
 
 /* VERT, then the basis: a skinning basis as its weights (SKIN, WGHT: H reals a vertex instead of
- * 36 H, the runtime rebuilds the rows), any other as its rows (ROWS). */
-static int add_geometry(const rk_asset_rom *R, const rk_bake_state *s, rombin_writer *w, rk_error *err)
+ * 36 H, the runtime rebuilds the rows), any other as its rows (ROWS). X as select_vertices'. */
+static int add_geometry(const rk_asset_rom *R, const double *X, const rk_bake_state *s, rombin_writer *w, rk_error *err)
 {
-    int r = R->model->r, ndof = 3 * s->nv, H = skinning_handles(R, s);
+    int r = R->model->r, H = skinning_handles(R, s);
     size_t count = H ? (size_t)s->count * H : (size_t)3 * s->count * r;
     double *vals = rk_calloc(count, sizeof(double), err);
     if (!vals) return -1;
     for (int i = 0; i < s->count; i++) {
         if (H) {
-            for (int j = 0; j < H; j++) vals[(size_t)i * H + j] = R->U[(size_t)ndof * (12 * j + 3) + 3 * s->source[i]];
+            for (int j = 0; j < H; j++) vals[(size_t)i * H + j] = basis_at(R, s->source[i], 0, 12 * j + 3);
             continue;
         }
-        for (int a = 0; a < 3; a++) {
-            int src = 3 * s->source[i] + a;
-            for (int j = 0; j < r; j++) vals[(size_t)(3 * i + a) * r + j] = R->U[(size_t)ndof * j + src];
-        }
+        for (int a = 0; a < 3; a++)
+            for (int j = 0; j < r; j++) vals[(size_t)(3 * i + a) * r + j] = basis_at(R, s->source[i], a, j);
     }
-    int rc = rk_bake_add_vertices(R->fem->X, s, w, err) ||
+    int rc = rk_bake_add_vertices(X, s, w, err) ||
              (H ? rk_bake_add_u32s(w, ROMBIN_SKIN, 0, &H, 1, err) || rombin_add_reals(w, ROMBIN_WGHT, 1, vals, count, err)
                 : rombin_add_reals(w, ROMBIN_ROWS, 1, vals, count, err));
     free(vals);
@@ -264,7 +300,19 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         return rk_fail(err, "asset: the runtime steps dynamic models, and this scene asks for a static solve (time.static)");
     rk_bake_state s;
     memset(&s, 0, sizeof s);
-    int rc = select_vertices(R, o, &s, err);
+    const rk_embedded_surface *E = R->embedded;
+    if (E && (k || R->alrom || R->points_shown))
+        return rk_fail(err, "asset: an embedded surface (mesh.cage) is baked with a reduced model only, not with %s",
+                       k ? "a Koopman operator" : R->alrom ? "an adaptive linear ROM" : "a point cloud");
+    /* the rest positions of the mesh's vertices, then the embedded surface's */
+    double *Xall = E ? rk_calloc(3 * ((size_t)R->fem->nv + E->nv), sizeof(double), err) : NULL;
+    if (E && !Xall) return -1;
+    if (E) {
+        memcpy(Xall, R->fem->X, sizeof(double) * 3 * (size_t)R->fem->nv);
+        memcpy(Xall + 3 * (size_t)R->fem->nv, E->X, sizeof(double) * 3 * (size_t)E->nv);
+    }
+    const double *X = E ? Xall : R->fem->X;
+    int rc = select_vertices(R, X, o, &s, err);
     if (!rc && R->points && (R->points->H != R->skin_handles || !skinning_handles(R, &s)))
         rc = rk_fail(err, "mesh-free integration points need a linear-blend-skinning basis over %d handles",
                      R->points->H);
@@ -294,7 +342,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_KAPPA] = collide ? m->contact_options.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
-             add_geometry(R, &s, w, err) || add_operators(m, pins, w, err) ||
+             add_geometry(R, X, &s, w, err) || add_operators(m, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
              add_contacts(m, &s, w, err) || rk_bake_obstacles(m, o, w, err) || add_cloud(R, &s, w, err) ||
              add_collisions(m, o, &s, w, err) || rk_bake_objects(m, collision_vertices(m, o), w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
@@ -310,5 +358,6 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         summary->triangles = o->show == RK_SHOW_NONE ? 0 : s.nf;
     }
     rk_bake_state_free(&s);
+    free(Xall);
     return rc ? (rk_error_prefix(err, "asset"), -1) : 0;
 }

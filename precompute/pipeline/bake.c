@@ -74,6 +74,21 @@ static void add_koopman_training(cJSON *root, const rk_koopman_scene_info *info)
     cJSON_AddBoolToObject(tj, "projected", info->projected);
 }
 
+/* The report's "cage" object: the cage made (mesh.cage) and the surface embedded in it. */
+static void add_cage_report(cJSON *root, const rk_scene_sim *sim)
+{
+    cJSON *c = cJSON_AddObjectToObject(root, "cage");
+    cJSON_AddNumberToObject(c, "tets", sim->mesh.nt);
+    cJSON_AddNumberToObject(c, "vertices", sim->mesh.nv);
+    cJSON_AddNumberToObject(c, "simplified_triangles", sim->cage.triangles);
+    cJSON_AddNumberToObject(c, "simplify_error", sim->cage.simplify_error);
+    cJSON_AddNumberToObject(c, "max_offset", sim->cage.max_offset);
+    cJSON_AddNumberToObject(c, "surface_vertices", sim->embedded.nv);
+    cJSON_AddNumberToObject(c, "surface_triangles", sim->embedded.nf);
+    cJSON_AddNumberToObject(c, "outside", sim->embedded_outside);
+    cJSON_AddNumberToObject(c, "worst_distance", sim->embedded_worst);
+}
+
 /* The report's Koopman keys: koopman.* and the training it had. */
 static void add_koopman_report(cJSON *root, const rk_scene_koopman *K)
 {
@@ -196,8 +211,13 @@ static int bake_reduced(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     if (s->have_koopman) add_koopman_report(out->report, &s->K);
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, &sum);
     snprintf(out->summary, sizeof out->summary, "%s, r = %d, %d cubature elements, %d of %d vertices stored "
-             "(%d shown), %zu bytes", e->name, s->R.model.r, s->R.model.quad.count, sum.vertices, s->sim.mesh.nv,
+             "(%d shown), %zu bytes", e->name, s->R.model.r, s->R.model.quad.count, sum.vertices, s->sim.mesh.nv + s->sim.embedded.nv,
              sum.shown, out->bytes);
+    if (s->sim.embedded.nv) /* the shown vertices are the surface's, the rest the cage's */
+        snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
+                 "\n  the surface (%d vertices, %d triangles) embedded in a cage of %d tets and %d vertices; %d surface "
+                 "vertices outside it", s->sim.embedded.nv, s->sim.embedded.nf, s->sim.mesh.nt, s->sim.mesh.nv,
+                 s->sim.embedded_outside);
     /* a cubature that stopped above its tolerance makes every force of the free run that far off:
      * said where the user looks, not only in the report */
     if (s->R.model.quad.count > 0 && !s->R.cubature_reached && isfinite(s->R.cubature_error))
@@ -265,6 +285,7 @@ int rk_method_bake_models(const rk_scene *scene, const rk_rom_entry *e, const rk
     if (!rc) {
         cJSON_AddNumberToObject(out->report, "vertices", s.sim.mesh.nv);
         cJSON_AddNumberToObject(out->report, "tets", s.sim.mesh.nt);
+        if (s.sim.embedded.nv) add_cage_report(out->report, &s.sim);
         cJSON *sj = cJSON_AddObjectToObject(out->report, "seconds");
         if (s.have_rom) {
             cJSON_AddNumberToObject(sj, "basis", s.R.seconds_basis);

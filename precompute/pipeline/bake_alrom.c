@@ -78,7 +78,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     }
     have_model = 1;
     rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, Psi, AL(e)->crom ? &crom : NULL, &sim.options};
-    rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A};
+    rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A, NULL, NULL};
     rk_asset_summary sum = {0};
     rombin_writer w;
     rombin_writer_init(&w, ao->real_type, ao->compress);

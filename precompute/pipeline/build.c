@@ -14,13 +14,26 @@ static int has_extension(const char *path, const char *ext)
     return n > m && strcmp(path + n - m, ext) == 0;
 }
 
+/* The cage around o's surface file (mesh.cage), the surface kept in *surface. */
+static int load_cage(const rk_scene_object *o, rk_mesh *m, rk_surface *surface, rk_cage_report *cr, rk_error *err)
+{
+    int flipped;
+    if (rk_surface_load(o->file, surface, err) || rk_surface_check_and_orient(surface, o->file, &flipped, err))
+        return -1;
+    rk_cage_options co = {.max_tets = o->cage_tets, .quality = o->quality};
+    if (rk_cage_build(surface, &co, m, cr, err)) return rk_error_prefix(err, "cage");
+    return 0;
+}
+
 /* The object's mesh, checked for simulation: flat tets dropped with a warning (mesh.h); rep gets
- * what the check repaired. */
+ * what the check repaired. A caged object's mesh is its cage, its surface in *surface. */
 static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
-                               rk_error *err)
+                               rk_surface *surface, rk_cage_report *cr, rk_error *err)
 {
     memset(m, 0, sizeof *m);
     memset(rep, 0, sizeof *rep);
+    if (o->cage_tets)
+        return load_cage(o, m, surface, cr, err) || rk_mesh_check(m, o->file, RK_MESH_DROP_FLAT, rep, err) ? -1 : 0;
     switch (o->shape) {
     case RK_SHAPE_BOX:
         return rk_mesh_box(o->box_size, o->box_cells, m, err);
@@ -69,9 +82,9 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
  * checked again (children of a sliver are slivers; a tet near the flat threshold may cross it),
  * whatever that check repairs added to rep. */
 static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
-                            rk_error *err)
+                            rk_surface *surface, rk_cage_report *cr, rk_error *err)
 {
-    if (load_unrefined_mesh(o, k, m, rep, cloud_points, err)) return -1;
+    if (load_unrefined_mesh(o, k, m, rep, cloud_points, surface, cr, err)) return -1;
     if (o->refine == 0) return 0;
     rk_mesh fine;
     if (rk_mesh_refine(m, o->refine, &fine, err)) { /* "refine: ..." after "objects[k].mesh: " */
@@ -112,6 +125,92 @@ static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
     a->nghost += b->nghost;
     free(a->tet_tag); /* tags are per file; a joined mesh has none */
     a->tet_tag = NULL;
+    return 0;
+}
+
+static void free_surfaces(rk_surface *surfaces, int n)
+{
+    for (int k = 0; surfaces && k < n; k++) rk_surface_free(&surfaces[k]);
+    free(surfaces);
+}
+
+static void transform_surface(rk_surface *s, double scale, const double translate[3])
+{
+    for (int v = 0; v < s->nv; v++)
+        for (int i = 0; i < 3; i++) s->X[3 * v + i] = scale * s->X[3 * v + i] + translate[i];
+}
+
+/* An uncaged object's boundary as a surface over its own vertices (placed), so that a scene with a
+ * cage shows it too: embedded like a caged surface, each vertex lands in a tet of its own, at
+ * barycentric coordinates 1 and 0. */
+static int boundary_surface(const rk_scene_sim *sim, int k, rk_surface *sf, rk_error *err)
+{
+    rk_object_view ov;
+    int *tris = NULL, nf = 0;
+    if (rk_scene_object_view(sim, k, &ov, err)) return -1;
+    int rc = rk_mesh_boundary(&ov.mesh, &tris, &nf, err);
+    int *local = rc ? NULL : rk_calloc((size_t)ov.mesh.nv + 1, sizeof(int), err);
+    free(ov.mesh.tets);
+    if (!local) {
+        free(tris);
+        return -1;
+    }
+    for (int v = 0; v < ov.mesh.nv; v++) local[v] = -1;
+    for (int i = 0; i < 3 * nf; i++)
+        if (local[tris[i]] < 0) local[tris[i]] = sf->nv++;
+    sf->X = rk_calloc(3 * (size_t)sf->nv + 1, sizeof(double), err);
+    if (!sf->X) {
+        free(tris);
+        free(local);
+        return -1;
+    }
+    for (int v = 0; v < ov.mesh.nv; v++)
+        if (local[v] >= 0) memcpy(sf->X + 3 * (size_t)local[v], ov.mesh.X + 3 * (size_t)v, 3 * sizeof(double));
+    for (int i = 0; i < 3 * nf; i++) tris[i] = local[tris[i]];
+    sf->tris = tris;
+    sf->nf = nf;
+    free(local);
+    return 0;
+}
+
+/* Each caged object's surface embedded in its own tets (rk_cage_embed), and every other object's
+ * boundary likewise, joined into out->embedded (scene tet numbers); vertices outside the cage are
+ * counted and warned about. */
+static int embed_surfaces(const rk_scene *s, const rk_surface *surfaces, rk_scene_sim *out, rk_error *err)
+{
+    rk_embedded_surface *E = &out->embedded;
+    int nv = 0, nf = 0;
+    for (int k = 0; k < s->nobjects; k++) nv += surfaces[k].nv, nf += surfaces[k].nf;
+    E->X = rk_calloc(3 * (size_t)nv, sizeof(double), err);
+    E->tris = rk_calloc(3 * (size_t)nf, sizeof(int), err);
+    E->tet = rk_calloc((size_t)nv, sizeof(int), err);
+    E->bary = rk_calloc(4 * (size_t)nv, sizeof(double), err);
+    out->embedded_first = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
+    if (!E->X || !E->tris || !E->tet || !E->bary || !out->embedded_first) return -1;
+    for (int k = 0; k < s->nobjects; k++) {
+        out->embedded_first[k] = E->nv;
+        const rk_surface *sf = &surfaces[k];
+        rk_object_view ov;
+        rk_embedding e;
+        if (rk_scene_object_view(out, k, &ov, err)) return -1;
+        int rc = rk_cage_embed(&ov.mesh, sf->X, sf->nv, &e, err);
+        free(ov.mesh.tets);
+        if (rc) return rk_error_prefix(err, "%s: objects[%d].mesh.cage", s->path, k);
+        memcpy(E->X + 3 * (size_t)E->nv, sf->X, sizeof(double) * 3 * (size_t)sf->nv);
+        memcpy(E->bary + 4 * (size_t)E->nv, e.bary, sizeof(double) * 4 * (size_t)sf->nv);
+        for (int i = 0; i < sf->nv; i++) E->tet[E->nv + i] = ov.t0 + e.tet[i];
+        for (int i = 0; i < 3 * sf->nf; i++) E->tris[3 * (size_t)E->nf + i] = E->nv + sf->tris[i];
+        if (e.outside)
+            rk_warn("%s: objects[%d].mesh.cage: %d of %d surface vertices are outside the cage (the farthest, vertex "
+                    "%d, %.3g m away): each is carried by its nearest tet", s->path, k, e.outside, sf->nv,
+                    e.worst_point, e.worst_distance);
+        out->embedded_outside += e.outside;
+        out->embedded_worst = fmax(out->embedded_worst, e.worst_distance);
+        E->nv += sf->nv;
+        E->nf += sf->nf;
+        rk_embedding_free(&e);
+    }
+    out->embedded_first[s->nobjects] = E->nv;
     return 0;
 }
 
@@ -300,14 +399,24 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     int clouds = rk_scene_clouds(s);
     if (clouds && !(out->object_points = rk_calloc((size_t)s->nobjects, sizeof(int), err))) goto fail;
     rk_mesh_report repaired = {0}; /* what the objects' own checks changed */
+    int caged = 0;
+    for (int k = 0; k < s->nobjects; k++) caged += s->objects[k].cage_tets > 0;
+    if (caged && clouds) {
+        rk_fail(err, "%s: a scene with a caged object (mesh.cage) has no point cloud, for now", s->path);
+        goto fail;
+    }
+    rk_surface *surfaces = caged ? rk_calloc((size_t)s->nobjects, sizeof *surfaces, err) : NULL;
+    if (caged && !surfaces) goto fail;
     for (int k = 0; k < s->nobjects; k++) {
         rk_mesh m;
         rk_mesh_report rep;
         int points = 0;
-        if (load_object_mesh(&s->objects[k], k, &m, &rep, &points, err)) {
+        if (load_object_mesh(&s->objects[k], k, &m, &rep, &points, caged ? &surfaces[k] : NULL, &out->cage, err)) {
             rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
+            free_surfaces(surfaces, s->nobjects);
             goto fail;
         }
+        if (caged) transform_surface(&surfaces[k], s->objects[k].scale, s->objects[k].translate);
         repaired.reoriented += rep.reoriented;
         repaired.unused_removed += rep.unused_removed;
         repaired.flat_dropped += rep.flat_dropped;
@@ -316,7 +425,10 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
         int rc = append_mesh(&out->mesh, &m, err);
         rk_mesh_free(&m);
-        if (rc) goto fail;
+        if (rc) {
+            free_surfaces(surfaces, s->nobjects);
+            goto fail;
+        }
         out->object_first_vertex[k + 1] = out->mesh.nv;
         if (out->object_points) out->object_points[k] = points;
         out->cloud_points += points;
@@ -327,7 +439,18 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
      * renumber the vertices the objects own. A point cloud has no tets to check, and its points
      * belong to none: a scene with a cloud is not checked whole (each mesh was, on its own). */
     int cloud = clouds > 0;
-    if (!cloud && rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) goto fail;
+    if (!cloud && rk_mesh_check(&out->mesh, s->path, RK_MESH_KEEP_FLAT, &out->mesh_report, err)) {
+        free_surfaces(surfaces, s->nobjects);
+        goto fail;
+    }
+    if (caged) {
+        int rc = 0;
+        for (int k = 0; k < s->nobjects && rc == 0; k++)
+            if (!s->objects[k].cage_tets) rc = boundary_surface(out, k, &surfaces[k], err);
+        if (rc == 0) rc = embed_surfaces(s, surfaces, out, err);
+        free_surfaces(surfaces, s->nobjects);
+        if (rc) goto fail;
+    }
     out->mesh_report.reoriented += repaired.reoriented;
     out->mesh_report.unused_removed += repaired.unused_removed;
     out->mesh_report.flat_dropped += repaired.flat_dropped;
@@ -392,6 +515,11 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->object_first_vertex);
     free(out->object_first_tet);
     free(out->object_points);
+    free(out->embedded.X);
+    free(out->embedded.tris);
+    free(out->embedded.tet);
+    free(out->embedded.bary);
+    free(out->embedded_first);
     memset(out, 0, sizeof *out);
 }
 

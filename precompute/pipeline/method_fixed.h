@@ -62,6 +62,9 @@ typedef struct {
     rk_skin_points points;         /* mesh-free: the integration points (n = 0 otherwise) */
     double *cloud_grad;            /* a point cloud: the weights' gradients at its points (3 n x H), or NULL */
     const char *splat_file;        /* a point cloud's source PLY (the scene's; for the asset's SPLY) */
+    double *embedded_W;            /* an rkpm_skinning basis in a scene with a cage: its weights evaluated
+                                    * at each shown surface vertex itself (nv x H, column-major), or NULL
+                                    * (then the asset interpolates them in the vertex's tet) */
     int cubature_points;           /* 0 for exact integration */
     double cubature_error;         /* relative force error on the training poses (NAN: exact) */
     int cubature_reached, cubature_poses;

@@ -98,11 +98,33 @@ static int each_item(const rk_json_ctx *c, const cJSON *obj, const char *path, c
     return 0;
 }
 
+/* "cage": {"max_tets": N}: the surface file is simulated on a cage of at most N tets around it
+ * (precompute/cage) and shown embedded in it. */
+static int parse_cage(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_scene_object *o)
+{
+    char p[PATH_LEN];
+    const cJSON *cage = rk_json_child(obj, path, "cage", p, sizeof p);
+    if (!cage) return 0;
+    static const char *const keys[] = {"max_tets", NULL};
+    if (!cJSON_IsObject(cage)) return rk_json_fail(c, p, "must be an object such as {\"max_tets\": 20000}");
+    if (rk_json_check_keys(c, cage, p, keys)) return -1;
+    if (!cJSON_GetObjectItemCaseSensitive(cage, "max_tets")) return rk_json_fail(c, p, "needs max_tets");
+    if (rk_json_whole(c, cage, p, "max_tets", RK_CAGE_MIN_TETS, 1 << 24, &o->cage_tets)) return -1;
+    const char *dot = strrchr(o->file, '.');
+    int surface = o->shape == RK_SHAPE_FILE && dot && (strcmp(dot, ".obj") == 0 || strcmp(dot, ".off") == 0 ||
+                                                       strcmp(dot, ".stl") == 0 || strcmp(dot, ".ply") == 0);
+    if (!surface)
+        return rk_json_fail(c, p, "a cage goes around a closed surface file (.obj .off .stl .ply), not %s",
+                            o->shape == RK_SHAPE_FILE ? o->file : o->shape == RK_SHAPE_BOX ? "a box" : "a point cloud");
+    if (o->max_volume > 0) return rk_json_fail(c, p, "max_volume does not go with a cage (it picks its own tets)");
+    return 0;
+}
+
 static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *scene_dir,
                       rk_scene_object *o)
 {
     static const char *const keys[] = {"file", "box", "points", "scale", "translate", "quality",
-                                       "max_volume", "refine", "proxy_voxel", NULL};
+                                       "max_volume", "refine", "proxy_voxel", "cage", NULL};
     if (rk_json_check_keys(c, obj, path, keys)) return -1;
     const char *file = NULL, *points = NULL;
     if (rk_json_string(c, obj, path, "file", 0, &file)) return -1;
@@ -144,6 +166,7 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     if (rk_json_whole(c, obj, path, "refine", 0, RK_MESH_REFINE_MAX_LEVELS, &o->refine)) return -1;
     if (o->refine && o->shape == RK_SHAPE_POINTS)
         return rk_json_fail(c, path, "refine applies to tet meshes (file or box), not to a point cloud");
+    if (parse_cage(c, obj, path, o)) return -1;
     if (rk_json_number(c, obj, path, "proxy_voxel", 0, &o->proxy_voxel)) return -1;
     if (o->proxy_voxel != 0 && (o->shape != RK_SHAPE_POINTS || !(o->proxy_voxel > 0)))
         return rk_json_fail(c, path, "proxy_voxel (m) is a point cloud's contact-proxy voxel edge: positive, and "

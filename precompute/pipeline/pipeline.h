@@ -26,6 +26,7 @@
 
 #include "asset/asset.h"
 #include "basis/basis.h"
+#include "cage/cage.h"
 #include "cubature/cubature.h"
 #include "fem/fem.h"
 #include "fom/fom.h"
@@ -75,6 +76,8 @@ typedef struct {
     double quality;        /* surface meshes: tetgen radius-edge bound */
     double max_volume;     /* surface meshes: tetgen volume bound (m^3), 0 = none */
     int refine;            /* uniform 1:8 refinements of the tets (rk_mesh_refine), 0 = none */
+    int cage_tets;         /* mesh.cage.max_tets: a surface file simulated on a cage of at most this
+                            * many tets (precompute/cage), the surface embedded in it; 0 = none */
     double proxy_voxel;    /* point cloud: the spacing g (m) of its contact surface (rk_points_proxy:
                             * g / 2 from the points); 0: 1/RK_PROXY_VOXELS of the cloud's
                             * bounding-box diagonal, or the spacing its RKPM sampling uses (twice
@@ -209,6 +212,16 @@ typedef struct {
                                * points are its first vertices, in file order, the rest its contact
                                * surface's (rk_points_proxy); 0 for meshes */
     int *object_points;       /* nobjects: each point-cloud object's points (NULL for meshes) */
+    /* Caged objects (mesh.cage): their original surfaces, placed, embedded in the scene's tets (what
+     * an asset shows; nv = 0 without a cage), and the other objects' boundaries beside them, in
+     * object order (a scene with a cage has no point cloud). */
+    rk_embedded_surface embedded;
+    int *embedded_first;      /* nobjects + 1: where each object's vertices start in embedded (NULL
+                               * without a cage) */
+    int embedded_outside;     /* surface vertices in no tet (exact test): embedded in the nearest tet,
+                               * clamped, and warned about */
+    double embedded_worst;    /* the farthest of those from the cage's boundary (m) */
+    rk_cage_report cage;      /* the (last) cage made */
 } rk_scene_sim;
 
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);

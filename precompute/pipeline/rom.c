@@ -120,6 +120,25 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
     return 0;
 }
 
+/* RKPM weights exist anywhere: the shown surfaces' vertices of a scene with a cage get them at
+ * their own points, object by object (R->embedded_W, nv x m). */
+static int embedded_weights(const rk_scene_sim *sim, rk_scene_rom *R, rk_error *err)
+{
+    int nv = sim->embedded.nv, m = R->basis.m;
+    R->embedded_W = rk_calloc((size_t)nv * m, sizeof(double), err);
+    if (!R->embedded_W) return -1;
+    for (int k = 0; sim->embedded_first[k] < nv; k++) {
+        int first = sim->embedded_first[k], n = sim->embedded_first[k + 1] - first;
+        rk_skin_points at;
+        if (n == 0) continue;
+        if (rk_scene_object_weights(&R->basis, R->basis.nparts ? k : 0, sim->embedded.X + 3 * (size_t)first, n, &at, err))
+            return -1;
+        for (int j = 0; j < m; j++) memcpy(R->embedded_W + (size_t)nv * j + first, at.W + (size_t)n * j, sizeof(double) * n);
+        rk_skin_points_free(&at);
+    }
+    return 0;
+}
+
 int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames,
                        int T, rk_scene_rom *R, rk_error *err)
 {
@@ -160,6 +179,10 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         rk_skin_points_free(&at);
         R->splat_file = scene->objects[0].file;
     }
+    if (R->basis.type == RK_BASIS_RKPM_SKINNING && sim->embedded.nv && embedded_weights(sim, R, err)) {
+        rk_scene_rom_free(R);
+        return rk_error_prefix(err, "%s: weights at the shown surfaces' vertices", o->name);
+    }
     if (mesh_free)
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d "
                  "mesh-free integration points", R->points.n);
@@ -184,6 +207,8 @@ void rk_scene_rom_free(rk_scene_rom *R)
     rk_skin_points_free(&R->points);
     free(R->cloud_grad);
     R->cloud_grad = NULL;
+    free(R->embedded_W);
+    R->embedded_W = NULL;
     rk_basis_free(&R->basis);
     rk_scene_basis_info_free(&R->basis_info);
 }
@@ -194,5 +219,6 @@ rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
     int cloud = R->points.n && sim->fem.nt == 0; /* a point cloud: its points are the mesh's first vertices */
     return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0,
                           R->points.n ? &R->points : NULL, cloud ? sim->cloud_points : 0, cloud ? R->cloud_grad : NULL,
-                          cloud ? R->splat_file : NULL, NULL};
+                          cloud ? R->splat_file : NULL, NULL, sim->embedded.nv ? &sim->embedded : NULL,
+                          R->embedded_W};
 }
