@@ -3,12 +3,11 @@
  * the tets of its cell. The grid has about one cell per tet, so a cell lists a few tets. */
 #include "cage/cage_impl.h"
 #include "contact/contact.h"
+#include "physics/physics.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 int rk_point_in_tet(const double *p, const double *a, const double *b, const double *c, const double *d)
 {
@@ -38,32 +37,12 @@ static void barycentric(const rk_mesh *m, int t, const double *p, int clamp, dou
         for (int k = 0; k < 4; k++) b[k] /= sum;
 }
 
+/* The squared distance of p to triangle abc: the contact stage's closest-feature case and
+ * distance (physics/physics.h), the one implementation of it. */
 double rk_cage_triangle_distance2(const double *p, const double *a, const double *b, const double *c)
 {
-    double ab[3], ac[3], ap[3], q[3];
-    for (int i = 0; i < 3; i++) ab[i] = b[i] - a[i], ac[i] = c[i] - a[i], ap[i] = p[i] - a[i];
-    double d1 = dot3(ab, ap), d2 = dot3(ac, ap), bp[3], cp[3];
-    for (int i = 0; i < 3; i++) bp[i] = p[i] - b[i], cp[i] = p[i] - c[i];
-    double d3 = dot3(ab, bp), d4 = dot3(ac, bp), d5 = dot3(ab, cp), d6 = dot3(ac, cp);
-    double va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2, s, t;
-    if (d1 <= 0 && d2 <= 0) s = 0, t = 0;                                    /* vertex a */
-    else if (d3 >= 0 && d4 <= d3) s = 1, t = 0;                              /* vertex b */
-    else if (d6 >= 0 && d5 <= d6) s = 0, t = 1;                              /* vertex c */
-    else if (vc <= 0 && d1 >= 0 && d3 <= 0) s = d1 / (d1 - d3), t = 0;       /* edge ab */
-    else if (vb <= 0 && d2 >= 0 && d6 <= 0) s = 0, t = d2 / (d2 - d6);       /* edge ac */
-    else if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {                      /* edge bc */
-        double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        s = 1 - w, t = w;
-    } else {                                                                 /* the face */
-        double den = 1 / (va + vb + vc);
-        s = vb * den, t = vc * den;
-    }
-    double d2sum = 0;
-    for (int i = 0; i < 3; i++) {
-        q[i] = a[i] + s * ab[i] + t * ac[i] - p[i];
-        d2sum += q[i] * q[i];
-    }
-    return d2sum;
+    const double *const x[4] = {p, a, b, c};
+    return rk_contact_distance2(rk_point_triangle_case(x), x, NULL, NULL);
 }
 
 typedef struct {
