@@ -82,8 +82,8 @@ PY
     echo
     echo "## Step cost and its split (bench_pour, $REPEATS runs of $STEPS steps, CPU time)"
     echo
-    echo "| build | Newton | us/step (median) | spread (run medians) | steps/s | broad | narrow | Newton | Newton its/step |"
-    echo "|---|---|---|---|---|---|---|---|---|"
+    echo "| build | Newton | us/step (median) | spread (run medians) | steps/s | broad | narrow | Newton | Newton its/step | halvings/step |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
     for p in f32 f64; do
         b="$BUILD/bench_pour"
         [ $p = f64 ] && b="$BUILD/bench_pour_double"
@@ -93,7 +93,7 @@ PY
             [ $k = 2 ] && name="2 fixed"
             echo "| $p | $name | $1 | $2 - $3 | $(python3 -c "print('%.0f' % (1e6 / $1))") |" \
                 "$(python3 -c "print('%.0f%%' % (100 * $5))") | $(python3 -c "print('%.0f%%' % (100 * $6))") |" \
-                "$(python3 -c "print('%.0f%%' % (100 * $7))") | $8 |"
+                "$(python3 -c "print('%.0f%%' % (100 * $7))") | $8 | $9 |"
         done
     done
     echo
