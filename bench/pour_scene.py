@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Writes issue 30's pour scene: N soft objects dropped in a loose stack into an open mesh box.
 
-Usage: python3 bench/pour_scene.py DIR N [DURATION]
+Usage: python3 bench/pour_scene.py [--meshes] DIR N [DURATION]
+(--meshes: boxes in the clouds' slots too, the mesh-only pour of before the clouds, exactly
+integrated with default kernels: tests/integration/runtime_pour.sh's float floor check)
 Writes DIR/container.obj (an open box, 0.4 x 0.3 x 0.4 m, 10 triangles: a triangle-mesh obstacle),
 DIR/donut.ply (the splat capture tests/data/meshes/donut_3dgs.ply, every STRIDE-th splat, turned
 so its axis is the scene's y) and DIR/pour.json. The objects sit in layers of 4 on a 2 x 2 grid,
@@ -86,7 +88,7 @@ def objects(n, cloud, box):
         cx, cz = (-0.09 if slot % 2 == 0 else 0.09), (-0.09 if slot < 2 else 0.09)
         y = 0.01 + 0.15 * layer
         material = {"model": "neohookean", "young": 1e5 * (1 + 0.5 * (k % 3)), "poisson": 0.4, "density": 1000}
-        if k in CLOUDS:  # the donut's splats, its lowest point at y, centred over the slot
+        if k in CLOUDS and cloud:  # the donut's splats, its lowest point at y, centred over the slot
             s, (lo, hi) = CLOUDS[k], box
             t = [cx + 0.01 * layer - s * (lo[0] + hi[0]) / 2, y - s * lo[1], cz - 0.01 * layer - s * (lo[2] + hi[2]) / 2]
             out.append({"mesh": {"points": cloud, "scale": s, "proxy_voxel": PROXY_VOXEL, "translate": t},
@@ -106,18 +108,22 @@ def objects(n, cloud, box):
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
-        sys.exit("usage: pour_scene.py DIR N [DURATION]")
-    d, n = sys.argv[1], int(sys.argv[2])
-    duration = float(sys.argv[3]) if len(sys.argv) == 4 else 2.5
+    args = sys.argv[1:]
+    meshes = "--meshes" in args
+    args = [a for a in args if a != "--meshes"]
+    if len(args) not in (2, 3):
+        sys.exit("usage: pour_scene.py [--meshes] DIR N [DURATION]")
+    d, n = args[0], int(args[1])
+    duration = float(args[2]) if len(args) == 3 else 2.5
     if not 1 <= n <= 10:
         sys.exit("pour_scene.py: N must be 1 to 10 (r = 24 N within the runtime's 256)")
     container(os.path.join(d, "container.obj"))
-    cloud = os.path.abspath(os.path.join(d, "donut.ply"))
-    rom = {"basis": "rkpm_skinning", "size": 1, "kernels": KERNELS}
-    if any(k < n for k in CLOUDS):
-        rom["mesh_free"] = {"points": MESH_FREE_POINTS}
-    scene = {"objects": objects(n, cloud, donut(cloud)), "gravity": [0, -9.81, 0], "damping": {"mass": 2},
+    cloud, box, rom = None, None, {"basis": "rkpm_skinning", "size": 1}
+    if not meshes and any(k < n for k in CLOUDS):
+        cloud = os.path.abspath(os.path.join(d, "donut.ply"))
+        box = donut(cloud)
+        rom.update({"kernels": KERNELS, "mesh_free": {"points": MESH_FREE_POINTS}})
+    scene = {"objects": objects(n, cloud, box), "gravity": [0, -9.81, 0], "damping": {"mass": 2},
              "obstacles": [{"mesh": {"file": os.path.abspath(os.path.join(d, "container.obj"))}}],
              "contact": {"dhat": 0.002, "friction": 0.3}, "time": {"step": 1 / 60, "duration": duration},
              "rom": rom}
