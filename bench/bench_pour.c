@@ -16,9 +16,9 @@
  *
  * Usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]   (NEWTON > 0: romrt_set_newton_iterations)
  * Prints one line: cpu_median_us cpu_lo_us cpu_hi_us wall_median_us broad narrow newton iters
- * (the median over repeats of each repeat's median step, lo/hi the smallest and largest repeat
- * median; broad, narrow and newton the fractions of the step over all repeats; Newton iterations
- * per step). */
+ * halvings projected (the median over repeats of each repeat's median step, lo/hi the smallest and
+ * largest repeat median; broad, narrow and newton the fractions of the step over all repeats;
+ * Newton iterations, line-search halvings and projected Hessians per step). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,7 +87,7 @@ int main(int argc, char **argv)
     romrt_error err;
     int steps, repeats, newton = 0, k, s;
     double *step_s, *cpu_s, *med, *wmed, total = 0, sum[PHASES] = {0, 0};
-    long iters = 0;
+    long iters = 0, halvings = 0, projected = 0;
     if ((argc != 4 && argc != 5) || (steps = atoi(argv[2])) < 1 || (repeats = atoi(argv[3])) < 1 ||
         (argc == 5 && (newton = atoi(argv[4])) < 0)) {
         fprintf(stderr, "usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]\n");
@@ -138,6 +138,8 @@ int main(int argc, char **argv)
             info.size = sizeof info;
             romrt_last_step(m, &info, NULL);
             iters += info.newton_iterations;
+            halvings += info.line_search_halvings;
+            projected += info.projected_hessians;
         }
         for (s = 0; s < PHASES; s++) sum[s] += phase_s[s];
         med[k] = median(cpu_s, steps);
@@ -146,9 +148,9 @@ int main(int argc, char **argv)
     {
         double lo = med[0], hi = med[0], n = (double)steps * repeats;
         for (k = 1; k < repeats; k++) lo = med[k] < lo ? med[k] : lo, hi = med[k] > hi ? med[k] : hi;
-        printf("%.1f %.1f %.1f %.1f %.3f %.3f %.3f %.2f\n", 1e6 * median(med, repeats), 1e6 * lo, 1e6 * hi,
+        printf("%.1f %.1f %.1f %.1f %.3f %.3f %.3f %.2f %.2f %.2f\n", 1e6 * median(med, repeats), 1e6 * lo, 1e6 * hi,
                1e6 * median(wmed, repeats), sum[0] / total, sum[1] / total, (total - sum[0] - sum[1]) / total,
-               (double)iters / n);
+               (double)iters / n, (double)halvings / n, (double)projected / n);
     }
     return 0;
 }

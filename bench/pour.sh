@@ -1,6 +1,7 @@
 #!/bin/sh
-# Issue 30's pour in the runtime: N objects (8 by default: 7 boxes and an octopus, each with its own
-# skinning basis; bench/pour_scene.py) dropped in a loose stack into an open triangle-mesh box,
+# Issue 30's pour in the runtime: N objects (8 by default: 5 boxes, 2 Gaussian-splat clouds and an
+# octopus, each with its own skinning basis; bench/pour_scene.py) dropped in a loose stack into an
+# open triangle-mesh box,
 # dt = 1/60 s, 150 steps (2.5 s: they pile up). Baked with romkit build in float32 and float64;
 #   contact   romkit run --scene --report every frame: contact.intersections (the exact
 #             segment-triangle test; must be 0) and contact.min_distance (> 0), float and double
@@ -52,14 +53,20 @@ print("%d %d %.3g %.1f %.2f" % (c["intersections"], c["frames"], c["min_distance
 PY
 }
 
+LOAD0=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
 {
     echo "# The pour in the runtime (issue 30)"
     echo
-    echo "Written by \`sh bench/pour.sh\` ($(date -u +%Y-%m-%d), $(nproc) cores shared, $(uname -m))."
-    echo "$N objects (bench/pour_scene.py: boxes of 2 x 2 x 2 cells in 7 sizes and stiffnesses, and from 8 on"
-    echo "octopus-low scaled to 12 cm; each its own rkpm_skinning basis of size 1, r = $((24 * N)), no cubature)"
-    echo "dropped in two layers into an open box given as a 10-triangle OBJ obstacle; dhat 2 mm,"
-    echo "friction 0.3, dt = 1/60 s, $STEPS steps. One core: the runtime is single-threaded."
+    echo "Written by \`sh bench/pour.sh\` ($(date -u +%Y-%m-%d), $(nproc) cores shared, $(uname -m), load average"
+    echo "$LOAD0 at the start: CPU times run long on a machine busy with other jobs, about 1.5x at a load of 3:"
+    echo "the mesh-only pour's 2-fixed step took 14.6 ms at a load under 2, 21.4 ms at 3)."
+    echo "$N objects (bench/pour_scene.py: boxes of 2 x 2 x 2 cells in several sizes and stiffnesses; from 3 on"
+    echo "the donut splat capture (every 16th of its 45,624 splats) as a point cloud 9.5 cm across in slot 2"
+    echo "and, from 6 on, 8.4 cm across in slot 5, each colliding through its 1 cm voxel contact surface"
+    echo "(972 and 898 triangles); from 8 on octopus-low scaled to 12 cm; each its own rkpm_skinning basis"
+    echo "of size 1, r = $((24 * N)), mesh-free: 200 integration points an object, no cubature) dropped in two"
+    echo "layers into an open box given as a 10-triangle OBJ obstacle; dhat 2 mm, friction 0.3,"
+    echo "dt = 1/60 s, $STEPS steps. One core: the runtime is single-threaded."
     echo
     echo "## Contact (romkit run --scene, every frame, the exact segment-triangle test)"
     echo
@@ -78,8 +85,8 @@ PY
     echo
     echo "## Step cost and its split (bench_pour, $REPEATS runs of $STEPS steps, CPU time)"
     echo
-    echo "| build | Newton | us/step (median) | spread (run medians) | steps/s | broad | narrow | Newton | Newton its/step |"
-    echo "|---|---|---|---|---|---|---|---|---|"
+    echo "| build | Newton | us/step (median) | spread (run medians) | steps/s | broad | narrow | Newton | Newton its/step | halvings/step |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
     for p in f32 f64; do
         b="$BUILD/bench_pour"
         [ $p = f64 ] && b="$BUILD/bench_pour_double"
@@ -89,7 +96,7 @@ PY
             [ $k = 2 ] && name="2 fixed"
             echo "| $p | $name | $1 | $2 - $3 | $(python3 -c "print('%.0f' % (1e6 / $1))") |" \
                 "$(python3 -c "print('%.0f%%' % (100 * $5))") | $(python3 -c "print('%.0f%%' % (100 * $6))") |" \
-                "$(python3 -c "print('%.0f%%' % (100 * $7))") | $8 |"
+                "$(python3 -c "print('%.0f%%' % (100 * $7))") | $8 | $9 |"
         done
     done
     echo

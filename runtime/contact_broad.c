@@ -355,10 +355,10 @@ int rt_obstacles_gather(romrt_model *m)
     return 0;
 }
 
-void rt_obstacles_swept(romrt_model *m, int surface, rt_stencil_visit visit, void *ctx)
+void rt_obstacles_swept(romrt_model *m, int surface, romrt_real grow, rt_stencil_visit visit, void *ctx)
 {
     query Q;
-    Q.grow = 0, Q.swept = 1, Q.surface = surface, Q.visit = visit, Q.ctx = ctx;
+    Q.grow = grow, Q.swept = 1, Q.surface = surface, Q.visit = visit, Q.ctx = ctx;
     RT_PROF_BEGIN(RT_PROF_BROAD);
     (void)stencils(m, &Q);
     RT_PROF_END(RT_PROF_BROAD);

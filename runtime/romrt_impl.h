@@ -348,13 +348,13 @@ void rt_obstacles_move(romrt_model *m, double t, romrt_real fraction);
 void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start);
 /* contact_broad.c: the collision vertices at q (and their move along dq) into ocx (ocdx); the
  * BVH boxes refitted over ox (and ox + odx when swept); the candidate pairs within 2 dhat into
- * m->cand, unless the cache still holds (0, or -1 on overflow); every stencil whose swept boxes
- * touch, handed to visit. */
+ * m->cand, unless the cache still holds (0, or -1 on overflow); every stencil whose swept boxes,
+ * each grown by grow, touch, handed to visit. */
 void rt_obstacles_positions(romrt_model *m, const romrt_real *q, const romrt_real *dq);
 void rt_obstacles_refit(romrt_model *m, int swept);
 int rt_obstacles_gather(romrt_model *m);
 typedef void (*rt_stencil_visit)(romrt_model *m, int edge_edge, const int32_t id[4], void *ctx);
-void rt_obstacles_swept(romrt_model *m, int surface, rt_stencil_visit visit, void *ctx);
+void rt_obstacles_swept(romrt_model *m, int surface, romrt_real grow, rt_stencil_visit visit, void *ctx);
 /* A gathered stencil kept in m->cand when within grow of its thickness: 0, or -1 (overflow
  * flagged) past the capacity. */
 int rt_contact_keep(romrt_model *m, int edge_edge, const int32_t id[4], romrt_real grow);
