@@ -58,8 +58,7 @@ LOAD0=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
     echo "# The pour in the runtime (issue 30)"
     echo
     echo "Written by \`sh bench/pour.sh\` ($(date -u +%Y-%m-%d), $(nproc) cores shared, $(uname -m), load average"
-    echo "$LOAD0 at the start: CPU times run long on a machine busy with other jobs, about 1.5x at a load of 3:"
-    echo "the mesh-only pour's 2-fixed step took 14.6 ms at a load under 2, 21.4 ms at 3)."
+    echo "$LOAD0 at the start: CPU times run long while other jobs share the cores)."
     echo "$N objects (bench/pour_scene.py: boxes of 2 x 2 x 2 cells in several sizes and stiffnesses; from 3 on"
     echo "the donut splat capture (every 16th of its 45,624 splats) as a point cloud 9.5 cm across in slot 2"
     echo "and, from 6 on, 8.4 cm across in slot 5, each colliding through its 1 cm voxel contact surface"
