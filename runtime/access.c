@@ -100,30 +100,31 @@ romrt_status romrt_reset(romrt_model *m, romrt_error *err)
 romrt_kind romrt_model_kind(const romrt_model *m) { return m ? m->kind : ROMRT_KIND_REDUCED; }
 int romrt_version(void) { return ROMRT_VERSION_NUMBER; }
 
-/* An out-struct's size (romrt.h): the caller's, at least the 3.0 struct's (first), at most ours. */
-romrt_status rt_out_size(size_t given, size_t first, size_t ours, const char *what, size_t *write, romrt_error *err)
+/* Writes an out-struct (romrt.h): out begins with the caller's size, which must be at least this
+ * library's struct (3.0's, `bytes`); ours is copied over it, its size field kept, and the bytes
+ * past ours up to the caller's size (fields of a newer header) are set to 0. */
+static romrt_status write_out(void *out, const void *ours, size_t bytes, const char *what, romrt_error *err)
 {
-    if (given < first)
-        return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, what, (uint64_t)given, " bytes, below the ", (uint64_t)first,
+    size_t given;
+    memcpy(&given, out, sizeof given);
+    if (given < bytes)
+        return rt_fail_nn(err, ROMRT_E_ARGUMENT, 0, what, (uint64_t)given, " bytes, below the ", (uint64_t)bytes,
                           " of its first version (set size to sizeof the struct)");
-    *write = given < ours ? given : ours;
+    memset(out, 0, given);
+    memcpy(out, ours, bytes);
+    memcpy(out, &given, sizeof given);
     return ROMRT_OK;
 }
 
 romrt_status romrt_get_limits(romrt_limits *limits, romrt_error *err)
 {
     romrt_limits ours;
-    size_t n;
     if (!limits) return no_buffer(err, "limits is NULL");
-    if (rt_out_size(limits->size, sizeof ours, sizeof ours, "limits.size is ", &n, err)) return ROMRT_E_ARGUMENT;
     memset(&ours, 0, sizeof ours);
-    ours.size = limits->size;
     ours.max_reduced_size = ROMRT_MAX_R;
     ours.collider_slots = ROMRT_MAX_COLLIDERS;
     ours.mesh_max_count = ROMRT_MESH_MAX_COUNT;
-    memset(limits, 0, limits->size); /* fields of a newer header read 0 */
-    memcpy(limits, &ours, n);
-    return ROMRT_OK;
+    return write_out(limits, &ours, sizeof ours, "limits.size is ", err);
 }
 
 size_t romrt_reduced_size(const romrt_model *m) { return m ? (size_t)m->r : 0; }
@@ -488,15 +489,10 @@ romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, size
 romrt_status romrt_last_step(const romrt_model *m, romrt_step_info *info, romrt_error *err)
 {
     romrt_step_info ours;
-    size_t n;
     if (!m) return no_model(err);
     if (!info) return no_buffer(err, "info is NULL");
-    if (rt_out_size(info->size, sizeof ours, sizeof ours, "info.size is ", &n, err)) return ROMRT_E_ARGUMENT;
     ours = m->last;
-    ours.size = info->size;
     ours.hessian_reuse = (size_t)rt_reuse_steps(m);
     ours.pair_capacity = (size_t)m->pair_cap;
-    memset(info, 0, info->size); /* fields of a newer header read 0 */
-    memcpy(info, &ours, n);
-    return ROMRT_OK;
+    return write_out(info, &ours, sizeof ours, "info.size is ", err);
 }

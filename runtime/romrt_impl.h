@@ -327,8 +327,6 @@ void rt_pin_target(romrt_model *m, double t);
 double rt_clock(const romrt_model *m, unsigned long ahead);
 /* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
 int rt_reuse_steps(const romrt_model *m);
-/* An out-struct's size (romrt.h's rule): n = the bytes to write of a struct whose 3.0 size is first. */
-romrt_status rt_out_size(size_t given, size_t first, size_t ours, const char *what, size_t *n, romrt_error *err);
 void rt_clock_advance(romrt_model *m, unsigned long n);
 void rt_clock_rebase(romrt_model *m);
 /* The scene's obstacles other than planes (contact.c, contact_broad.c, contact_friction.c):

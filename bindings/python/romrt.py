@@ -185,12 +185,17 @@ class Model:
         self.arena_bytes = need.value
 
     # -- errors --
-    def _check(self, status, err=None, what=""):
+    def _check(self, status, err):
         if status == 0:
             return
-        if err is not None and err.message:
+        if err.message:  # empty only in a build without message texts (ROMRT_NO_STRINGS)
             raise Error(status, err.message.decode("utf-8", "replace"), err.chunk.decode("ascii", "replace"))
-        raise Error(status, what or self._f["status_string"](status).decode())
+        raise Error(status, self._f["status_string"](status).decode())
+
+    def _call(self, name, *args):
+        """A fallible call with the romrt_error last; raises Error with its message."""
+        err = _Err()
+        self._check(self._f[name](self._m, *args, ctypes.byref(err)), err)
 
     def _real_array(self, values, n, name):
         a = np.ascontiguousarray(values, dtype=self.dtype).reshape(-1)
@@ -239,35 +244,24 @@ class Model:
 
     # -- stepping --
     def step(self, steps=1):
-        err = _Err()
         for _ in range(steps):
-            self._check(self._f["step"](self._m, ctypes.byref(err)), err)
+            self._call("step")
 
     def jump(self, steps):
         """A Koopman model: `steps` steps at once (O(log steps))."""
-        err = _Err()
-        self._check(self._f["jump"](self._m, int(steps), ctypes.byref(err)), err)
+        self._call("jump", int(steps))
 
     def set_time_step(self, h):
-        err = _Err()
-        self._check(self._f["set_time_step"](self._m, h, ctypes.byref(err)), err)
+        self._call("set_time_step", h)
 
     def set_damping(self, mu):
-        err = _Err()
-        self._check(self._f["set_damping"](self._m, mu, ctypes.byref(err)), err)
+        self._call("set_damping", mu)
 
     def set_newton_iterations(self, k):
-        err = _Err()
-        self._check(self._f["set_newton_iterations"](self._m, int(k), ctypes.byref(err)), err)
+        self._call("set_newton_iterations", int(k))
 
     def set_hessian_reuse(self, k):
-        err = _Err()
-        self._check(self._f["set_hessian_reuse"](self._m, int(k), ctypes.byref(err)), err)
-
-    def _call(self, name, *args):
-        """A fallible call with the romrt_error last; raises Error with its message."""
-        err = _Err()
-        self._check(self._f[name](self._m, *args, ctypes.byref(err)), err)
+        self._call("set_hessian_reuse", int(k))
 
     def reset(self):
         self._call("reset")
