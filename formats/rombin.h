@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 7   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 8   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -71,6 +71,7 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_MASS "MASS"   /* real, r x r: U^T M U */
 #define ROMBIN_DAMP "DAMP"   /* real, r x r: U^T (a M + b K0) U (present iff damped) */
 #define ROMBIN_LOAD "LOAD"   /* real, r: U^T f_ext */
+#define ROMBIN_VEL0 "VEL0"   /* real, r: the reduced velocity at t = 0 (1.8, critical; absent: at rest) */
 #define ROMBIN_PENA "PENA"   /* real, r x r: the pin penalty's quadratic term (present iff pins) */
 #define ROMBIN_PINS "PINS"   /* real, pins x (12 + 12 r): motion, then T (r x 12) */
 #define ROMBIN_ELEM "ELEM"   /* u32, elements x 5: 4 vertices, material model */

@@ -72,13 +72,20 @@ static romrt_status short_buffer(romrt_error *err, const char *what, size_t capa
                       " needed");
 }
 
-romrt_status romrt_reset(romrt_model *m, romrt_error *err)
+void rt_initial_state(romrt_model *m)
 {
-    if (!m) return no_model(err);
+    int i;
     memset(m->q, 0, sizeof m->q);
     memset(m->v, 0, sizeof m->v);
     memset(m->q_prev, 0, sizeof m->q_prev);
     memset(m->v_prev, 0, sizeof m->v_prev);
+    for (i = 0; m->v0 && i < m->r; i++) m->v[i] = m->v0[i];
+}
+
+romrt_status romrt_reset(romrt_model *m, romrt_error *err)
+{
+    if (!m) return no_model(err);
+    rt_initial_state(m);
     memset(m->f_app, 0, sizeof m->f_app);
     memset(&m->last, 0, sizeof m->last);
     m->t0 = 0;

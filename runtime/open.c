@@ -6,7 +6,7 @@
 #include "runtime/loader_impl.h"
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
-                                           ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
+                                           ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_VEL0, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
                                            ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_GRAD, ROMBIN_SPLY, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
@@ -183,7 +183,8 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
     romrt_status st;
     if ((st = rt_reals(L, ROMBIN_VERT, 3 * nv, 1, &m->X)) || (st = basis_rows(L, m)) ||
         (st = rt_reals(L, ROMBIN_MASS, rr, 1, &m->M)) || (st = rt_reals(L, ROMBIN_DAMP, rr, 0, &m->C)) ||
-        (st = rt_reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = rt_reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
+        (st = rt_reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = rt_reals(L, ROMBIN_VEL0, r, 0, &m->v0)) ||
+        (st = rt_reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
         (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
         (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, m->ne > 0, &m->elem)) ||
         (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, m->ne > 0, &m->elem_real)) ||
@@ -344,6 +345,7 @@ static romrt_status load(const void *asset, size_t asset_bytes, int kind, void *
     L.scanned = 1; /* the sizing pass checked every real; now place them */
     if ((st = reader->arrays(&L, m)) || (st = reader->contents(&L, m))) return st;
     rt_position_bounds(m);
+    if (m->kind != ROMRT_KIND_KOOPMAN) rt_initial_state(m); /* a Koopman model starts at KINI (its contents) */
     if (m->alrom) rt_alrom_reset(m);
     if (!rt_showable(m, m->q)) /* the start: rows and rest positions so large that it draws as Inf */
         return rt_fail(err, ROMRT_E_MODEL, m->kind == ROMRT_KIND_KOOPMAN ? ROMBIN_KINI : ROMBIN_VERT,

@@ -230,8 +230,9 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romr
  * ROMRT_E_UNSUPPORTED for a Koopman or adaptive model. */
 romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *err);
 
-/* Back to rest at t = 0, forces cleared, the app's colliders removed (a Koopman asset keeps its
- * time step and damping). */
+/* Back to the start at t = 0: the rest shape, moving with the asset's initial velocity (VEL0: an
+ * object the scene throws; else at rest), forces cleared, the app's colliders removed (a Koopman
+ * asset keeps its time step and damping). romrt_open starts there too. */
 romrt_status romrt_reset(romrt_model *m, romrt_error *err);
 
 /* Koopman assets only (ROMRT_E_UNSUPPORTED otherwise): advances `steps` steps at once, the

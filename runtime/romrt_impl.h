@@ -178,6 +178,7 @@ struct romrt_model {
     const romrt_real *rows;   /* nv x 3 x r: row 3v+a of the basis (ROWS), or NULL with w */
     const romrt_real *w;      /* nv x skin: a skinning basis's weights (WGHT), its rows formed from them (rows.c) */
     const romrt_real *M, *C, *f, *A; /* r x r (column-major, symmetric), f: r; C, A may be NULL */
+    const romrt_real *v0;     /* r: the velocity at t = 0 (VEL0), or NULL: at rest */
     const romrt_real *pins;   /* npins x (12 + 12 r) */
     const romrt_real *elem_real; /* ne x 12: Dm^-1, weight, mu, lambda */
     const romrt_real *planes; /* nplanes x 6 */
@@ -421,6 +422,10 @@ int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply);
 /* Koopman assets (koopman.c): their chunks, in the loader's passes; the step; back to t = 0. */
 romrt_status rt_koopman_step(romrt_model *m, romrt_error *err);
 void rt_koopman_reset(romrt_model *m);
+
+/* The state at t = 0 (access.c; open and romrt_reset): at rest shape, with VEL0's velocity when
+ * the asset has one. */
+void rt_initial_state(romrt_model *m);
 
 /* The shown positions' bounds (open.c, once): and whether positions X + rows q stay representable
  * for this q (steps refuse a state that would draw as Inf). */

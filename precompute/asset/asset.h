@@ -106,6 +106,7 @@ typedef struct {
     const double *embedded_W;    /* with embedded and skin_handles: the skinning weights evaluated at each
                                   * embedded vertex (embedded->nv x skin_handles, column-major; an RKPM
                                   * basis's exist anywhere), or NULL: interpolated in its tet */
+    const double *velocity0;     /* r: the reduced velocity at t = 0 (VEL0), or NULL: at rest */
 } rk_asset_rom;
 
 /* Adds every chunk of reduced model R to w (its real type and compression are the writer's), and

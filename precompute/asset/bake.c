@@ -129,11 +129,12 @@ void rk_bake_motion_params(const rk_prescribed *p, double *out)
     memcpy(out + 8, p->velocity, sizeof p->velocity);
 }
 
-static int add_operators(const rk_rom_model *m, int penalty, rombin_writer *w, rk_error *err)
+static int add_operators(const rk_rom_model *m, const double *velocity0, int penalty, rombin_writer *w, rk_error *err)
 {
     size_t rr = (size_t)m->r * m->r;
     if (rombin_add_reals(w, ROMBIN_MASS, 1, m->M, rr, err) || rombin_add_reals(w, ROMBIN_LOAD, 1, m->f, (size_t)m->r, err))
         return -1;
+    if (velocity0 && rombin_add_reals(w, ROMBIN_VEL0, 1, velocity0, (size_t)m->r, err)) return -1;
     if (m->C && rombin_add_reals(w, ROMBIN_DAMP, 1, m->C, rr, err)) return -1;
     if (!penalty) return 0; /* the basis holds every prescribed vertex (or the runtime moves them): no penalty */
     size_t per = ROMBIN_PIN_PARAMS + 12 * (size_t)m->r;
@@ -342,7 +343,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
         parm[ROMBIN_PARM_KAPPA] = collide ? m->contact_options.kappa : 0;
         rc = rombin_add_u32(w, ROMBIN_HEAD, 1, head, ROMBIN_HEAD_COUNT, err) ||
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
-             add_geometry(R, X, &s, w, err) || add_operators(m, pins, w, err) ||
+             add_geometry(R, X, &s, w, err) || add_operators(m, R->velocity0, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
              add_contacts(m, &s, w, err) || rk_bake_obstacles(m, o, w, err) || add_cloud(R, &s, w, err) ||
              add_collisions(m, o, &s, w, err) || rk_bake_objects(m, collision_vertices(m, o), w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||

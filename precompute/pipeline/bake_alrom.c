@@ -35,6 +35,15 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
              "lambda %g, %d cubature elements, %d of %d vertices stored (%d shown), %zu bytes", e->name,
              AL(e)->crom ? "CROM" : AL(e)->quadratic_pod ? "fitted quadratic" : "quadratic", model->r,
              AL(e)->opt.history, AL(e)->opt.lambda, model->quad.count, sum->vertices, sim->mesh.nv, sum->shown, out->bytes);
+    /* the adaptive model's runtime state (history, encoder) starts at rest: VEL0 is the fixed-basis
+     * models' only, so a thrown object is said, not silently dropped */
+    for (int i = 0; sim->options.velocity0 && i < 3 * sim->mesh.nv; i++)
+        if (sim->options.velocity0[i] != 0) {
+            snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
+                     "\n  warning: the initial velocities are not baked for the adaptive linear ROM: the runtime "
+                     "starts it at rest");
+            break;
+        }
 }
 
 int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
@@ -78,7 +87,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     }
     have_model = 1;
     rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, Psi, AL(e)->crom ? &crom : NULL, &sim.options};
-    rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A, NULL, NULL};
+    rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A, NULL, NULL, NULL};
     rk_asset_summary sum = {0};
     rombin_writer w;
     rombin_writer_init(&w, ao->real_type, ao->compress);

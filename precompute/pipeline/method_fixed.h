@@ -81,6 +81,11 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
 void rk_scene_rom_free(rk_scene_rom *r);
 /* The source of an asset bake (asset.h) for a built scene and its reduced model. */
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
+/* The reduced velocity at t = 0 (r values into *v0, malloc'd) of the scene's initial velocities:
+ * their M-orthogonal projection onto the basis, as romkit compare starts its free run (a point
+ * cloud, which has no mass matrix, by least squares over its points). *v0 = NULL when nothing
+ * moves. *residual: |U v0 - v|_M / |v|_M, the part of the motion the basis cannot hold. */
+int rk_scene_rom_velocity0(const rk_scene_sim *sim, const rk_scene_rom *R, double **v0, double *residual, rk_error *err);
 
 /* ---- a point cloud's Gaussian splats moved by the reduced simulator (splats.c) ---- */
 

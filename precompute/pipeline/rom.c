@@ -220,5 +220,5 @@ rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)
     return (rk_asset_rom){&sim->mesh, &sim->fem, R->basis.U, &R->model, skinning ? R->basis.r / 12 : 0,
                           R->points.n ? &R->points : NULL, cloud ? sim->cloud_points : 0, cloud ? R->cloud_grad : NULL,
                           cloud ? R->splat_file : NULL, NULL, sim->embedded.nv ? &sim->embedded : NULL,
-                          R->embedded_W};
+                          R->embedded_W, NULL};
 }

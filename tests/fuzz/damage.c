@@ -486,6 +486,8 @@ static void ids(void)
             if (other_model_present(c.id)) {
                 free(b);
                 skip("a model header hidden (the other model remains, a valid asset)", c.id);
+            } else if (memcmp(c.id, ROMBIN_VEL0, 4) == 0) { /* critical when present; absent, the model starts at rest */
+                GOOD("good_without_initial_velocity", b, orig_size, "missing_%s_starts_at_rest", c.id);
             } else {
                 BAD("missing_chunk", b, orig_size, "missing_%s", c.id);
             }

@@ -20,6 +20,7 @@ typedef struct {
     void *arena;
     romrt_model *m;
     const uint32_t *vmap;     /* stored vertex -> source vertex (the asset's VMAP) */
+    double *v0;               /* r: the baked initial velocity (VEL0), or NULL: at rest */
     int stage;
 } rt_fixture;
 
@@ -30,6 +31,7 @@ static inline void rt_fixture_close(rt_fixture *f)
     if (f->stage >= 1) rk_scene_free(&f->scene);
     free(f->asset);
     free(f->arena);
+    free(f->v0);
     memset(f, 0, sizeof *f);
 }
 
@@ -56,6 +58,9 @@ static inline int rt_fixture_open(rt_fixture *f, const char *json, int real_type
     rombin_writer w;
     rombin_writer_init(&w, real_type, 0);
     rk_asset_rom source = rk_scene_asset_rom(&f->sim, &f->R);
+    double moved_by; /* what the basis misses of the initial velocities: romkit build reports it */
+    if (rk_scene_rom_velocity0(&f->sim, &f->R, &f->v0, &moved_by, err)) return -1;
+    source.velocity0 = f->v0;
     rc = rk_asset_bake(&source, NULL, NULL, &entry->asset, NULL, &w, NULL, err) || rombin_serialize(&w, &f->asset, &f->bytes, err);
     rombin_writer_free(&w);
     if (rc) return -1;

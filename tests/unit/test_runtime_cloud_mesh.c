@@ -58,7 +58,7 @@ TEST(a_splat_capture_dropped_onto_a_meshed_slab)
     CHECK(f.sim.object_points && f.sim.object_points[0] == 0 && f.sim.object_points[1] == 45624 && f.sim.mesh.nt > 0,
           "the slab has %d tets, the cloud %d points", f.sim.mesh.nt, f.sim.object_points ? f.sim.object_points[1] : -1);
     CHECK(f.R.basis.nparts == 2 && f.R.model.has_contact, "%d basis parts, contact %d", f.R.basis.nparts, f.R.model.has_contact);
-    CHECK_OK(rk_rom_init(&s, &f.R.model, NULL, NULL, &err));
+    CHECK_OK(rk_rom_init(&s, &f.R.model, NULL, f.v0, &err));
     int n = romrt_shown_count(f.m), steps = f.sim.steps, crossings = 0;
     double worst = 0, scale = 0, closest = INFINITY;
     double *ref = calloc((size_t)3 * n, sizeof(double)), *x = calloc((size_t)3 * f.sim.mesh.nv, sizeof(double));

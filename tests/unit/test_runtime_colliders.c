@@ -66,7 +66,7 @@ static int run_script(rt_fixture *f, int steps, script_fn script, run_result *ou
     out->least = INFINITY;
     /* the reduced simulator's iterates are the fresh mode's (the default may keep Newton's matrix) */
     if (romrt_set_hessian_reuse(f->m, 1, &rerr) != ROMRT_OK) return rk_fail(err, "%s", rerr.message);
-    if (rk_rom_init(&s, &f->R.model, NULL, NULL, err)) return -1;
+    if (rk_rom_init(&s, &f->R.model, NULL, f->v0, err)) return -1;
     for (int i = 0; i < n; i++) x0 += f->sim.mesh.X[3 * (int)f->vmap[i]] / n;
     for (int k = 0; k < steps && !rc; k++) {
         int slot;

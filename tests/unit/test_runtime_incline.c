@@ -97,7 +97,7 @@ static int run_incline(double mu, double tan_theta, double eps_v, int tilted, in
     long rt_newton = 0;
     *gap = 0;
     if (!rc) {
-        rc = rk_rom_init(&s, &f.R.model, NULL, NULL, err);
+        rc = rk_rom_init(&s, &f.R.model, NULL, f.v0, err);
         have_rom = !rc;
     }
     for (int k = 0; !rc && k <= STEPS; k++) {

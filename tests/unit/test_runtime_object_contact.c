@@ -53,7 +53,7 @@ static int run_both(const char *json, int steps, parity_result *out, rk_error *e
         rt_fixture_close(&f);
         return -1;
     }
-    if (rk_rom_init(&s, &f.R.model, NULL, NULL, err)) {
+    if (rk_rom_init(&s, &f.R.model, NULL, f.v0, err)) {
         rt_fixture_close(&f);
         return -1;
     }

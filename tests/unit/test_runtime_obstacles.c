@@ -59,7 +59,7 @@ static double run_both(rt_fixture *f, int steps, rk_error *err, int *failed, int
     romrt_error rerr;
     *failed = 0, *crossed = 0;
     romrt_triangles(f->m, tris, 3 * (size_t)nt, NULL);
-    if (rk_rom_init(&s, &f->R.model, NULL, NULL, err)) {
+    if (rk_rom_init(&s, &f->R.model, NULL, f->v0, err)) {
         *failed = 1;
         free(ref), free(xyz), free(tris);
         return INFINITY;
@@ -112,10 +112,18 @@ TEST(sphere_matches_reduced_simulator)
     parity("sphere", slab_scene(0.02, 1, "{\"sphere\": {\"center\": [0.01, -0.05, 0.02], \"radius\": 0.05}}", ""), 20);
 }
 
+/* The slab lands at 1 m/s (its VEL0) across a capsule 2 cm thick and tips over it: where it tips
+ * is sensitive to float's rounding of the asset and of the arithmetic (5.2e-3 of the displacement
+ * measured in float, 2.8e-15 in double), so float is held to 1e-2 here. */
+#ifdef ROMRT_DOUBLE
+#define TIPPING_TOL PARITY_TOL
+#else
+#define TIPPING_TOL 1e-2
+#endif
 TEST(capsule_matches_reduced_simulator)
 {
-    parity("capsule", slab_scene(0.02, 1, "{\"capsule\": {\"a\": [-0.2, -0.02, 0.01], \"b\": [0.2, -0.01, 0.03], \"radius\": 0.02}}", ""),
-           20);
+    parity_tol("capsule", slab_scene(0.02, 1, "{\"capsule\": {\"a\": [-0.2, -0.02, 0.01], \"b\": [0.2, -0.01, 0.03], \"radius\": 0.02}}", ""),
+               20, TIPPING_TOL);
 }
 
 TEST(box_with_friction_matches_reduced_simulator)

@@ -4,6 +4,7 @@
  * the float build. Relative: the largest position difference over all steps and vertices, over
  * the largest displacement. Also: forces on a named group, state save/restore, reset. */
 #include "runtime_fixture.h"
+#include "asset_patch.h"
 
 #ifdef ROMRT_DOUBLE
 #define PARITY_TOL 1e-10
@@ -73,7 +74,7 @@ static double run_both(rt_fixture *f, int steps, const double push[3], rk_error 
     }
     /* the reduced simulator's iterates are the fresh mode's (the default may keep Newton's matrix) */
     if (romrt_set_hessian_reuse(f->m, 1, &rerr) != ROMRT_OK) *failed = 1;
-    if (*failed || rk_rom_init(&s, &f->R.model, NULL, NULL, err)) {
+    if (*failed || rk_rom_init(&s, &f->R.model, NULL, f->v0, err)) {
         *failed = 1;
         free(ref);
         free(xyz);
@@ -217,6 +218,70 @@ TEST(point_cloud_on_a_plane_matches)
     remove(cloud);
 }
 
+/* A bar thrown at 2 m/s onto a sphere and a plane, with friction: the asset's VEL0 starts the
+ * runtime moving as the reduced simulator starts (romkit compare's free run), and a reset returns
+ * to that velocity, not to rest. */
+static const char *thrown_bar =
+    "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.3, 0.1, 0.1], \"cells\": [6, 2, 2]}},"
+    " \"material\": {\"model\": \"neohookean\", \"young\": 2e5, \"poisson\": 0.4, \"density\": 1000},"
+    " \"velocity\": [0.5, -2, 0]}],"
+    " \"obstacles\": [{\"sphere\": {\"center\": [0.05, -0.2, 0], \"radius\": 0.08}},"
+    "  {\"plane\": {\"point\": [0, -0.3, 0], \"normal\": [0, 1, 0]}}],"
+    " \"contact\": {\"dhat\": 0.002, \"friction\": 0.3},"
+    " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 0.3, \"integrator\": \"backward_euler\"},"
+    " \"rom\": {\"basis\": \"skinning\", \"size\": 4}}";
+
+TEST(thrown_bar_starts_moving_and_matches)
+{
+    CHECK_PARITY("thrown bar (VEL0, sphere, plane, friction)", thrown_bar, 30, NULL, PINNED_TOL,
+                 f.v0 != NULL && f.R.model.has_contact);
+}
+
+TEST(reset_returns_to_the_baked_velocity)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, thrown_bar, ASSET_REAL, &err, &rerr));
+    CHECK(f.v0 != NULL, "the thrown bar baked no VEL0");
+    int r = f.R.model.r, ns = romrt_state_size(f.m);
+    romrt_real *state = calloc((size_t)ns, sizeof(romrt_real));
+    for (int pass = 0; pass < 2; pass++) { /* at open, then after steps and a reset */
+        CHECK(romrt_get_state(f.m, state, ns, NULL) == ROMRT_OK, "get_state");
+        for (int j = 0; j < r; j++) {
+            const romrt_real *q = state + (ns - 5 * r), *v = q + r;
+            CHECK(q[j] == 0, "pass %d: q[%d] = %g, not the rest shape", pass, j, (double)q[j]);
+            CHECK(v[j] == (romrt_real)f.v0[j], "pass %d: v[%d] = %g, VEL0 holds %g", pass, j, (double)v[j], f.v0[j]);
+        }
+        for (int k = 0; k < 5; k++) CHECK(romrt_step(f.m, &rerr) == ROMRT_OK, "%s", rerr.message);
+        CHECK(romrt_reset(f.m, NULL) == ROMRT_OK, "reset");
+    }
+    free(state);
+    rt_fixture_close(&f);
+}
+
+TEST(a_non_finite_initial_velocity_is_refused_by_name)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture f;
+    CHECK_OK(rt_fixture_open(&f, thrown_bar, ASSET_REAL, &err, &rerr));
+    unsigned char nan_bytes[8];
+    if (ASSET_REAL == ROMBIN_REAL_F32) {
+        float x = NAN;
+        memcpy(nan_bytes, &x, 4);
+    } else {
+        double x = NAN;
+        memcpy(nan_bytes, &x, 8);
+    }
+    asset_patch_chunk(f.asset, ROMBIN_VEL0, 0, nan_bytes, ASSET_REAL == ROMBIN_REAL_F32 ? 4 : 8);
+    size_t need;
+    romrt_status st = romrt_arena_size(f.asset, f.bytes, &need, &rerr);
+    CHECK(st == ROMRT_E_MODEL && strcmp(rerr.chunk, ROMBIN_VEL0) == 0 && strstr(rerr.message, "not finite"),
+          "a NaN in VEL0: status %d, chunk '%s', '%s'", (int)st, rerr.chunk, rerr.message);
+    rt_fixture_close(&f);
+}
+
 TEST(state_restores_and_reset_returns_to_rest)
 {
     rk_error err = {{0}};
@@ -259,6 +324,9 @@ int main(void)
     RUN(sagging_rkpm_beam_matches);
     RUN(mesh_free_rkpm_beam_matches);
     RUN(point_cloud_on_a_plane_matches);
+    RUN(thrown_bar_starts_moving_and_matches);
+    RUN(reset_returns_to_the_baked_velocity);
+    RUN(a_non_finite_initial_velocity_is_refused_by_name);
     RUN(state_restores_and_reset_returns_to_rest);
     return test_finish();
 }

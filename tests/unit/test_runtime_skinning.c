@@ -49,6 +49,7 @@ static int bake_open(rt_fixture *f, int skin_handles, uint32_t extra_skin, unsig
     rombin_writer_init(&w, ASSET_REAL, 0);
     rk_asset_rom source = rk_scene_asset_rom(&f->sim, &f->R);
     source.skin_handles = skin_handles;
+    source.velocity0 = f->v0; /* as the fixture bakes it */
     int rc = rk_asset_bake(&source, NULL, NULL, &f->scene.entries[0].asset, NULL, &w, NULL, err) ||
              (extra_skin && rombin_add_u32(&w, ROMBIN_SKIN, 0, &extra_skin, 1, err)) ||
              rombin_serialize(&w, asset, bytes, err);
