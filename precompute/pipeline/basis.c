@@ -48,15 +48,6 @@ unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err)
     return fixed;
 }
 
-/* The first tet that lists vertex v (a checked mesh has no unused vertex). */
-static int vertex_tet(const rk_scene_sim *sim, int v)
-{
-    for (int t = 0; t < sim->mesh.nt; t++)
-        for (int a = 0; a < 4; a++)
-            if (sim->mesh.tets[4 * t + a] == v) return t;
-    return 0;
-}
-
 /* The RKPM skinning eigenmodes of object k alone: integration points from its tets (a grid), its
  * vertices taken as a cloud (from_vertices), or a point cloud's own points; the weights at all its
  * vertices. */
@@ -78,10 +69,7 @@ static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     double *coef = rk_calloc((size_t)pts.n, sizeof(double), err);
     if (coef) {
         for (int i = 0; i < pts.n; i++) {
-            rk_material mat;
-            if (cloud) mat = rk_scene_material_at(obj, pts.X + 3 * i);
-            else if (pts.tet) mat = sim->materials[ov.t0 + pts.tet[i]];
-            else mat = sim->materials[vertex_tet(sim, ov.v0 + pts.source[i])]; /* a vertex: a tet around it */
+            rk_material mat = rk_scene_sample_material(scene, sim, k, &pts, i);
             coef[i] = lame_sum(&mat);
         }
         int kernels = cloud || o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;

@@ -128,6 +128,17 @@ static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
     return 0;
 }
 
+/* The object's tags after the scene's (0 for a file without): the regions that select by tag
+ * read them per object (assign_materials), so two files may use the same numbers. */
+static int append_tags(rk_scene_sim *out, const rk_mesh *m, rk_error *err)
+{
+    int *T = realloc(out->tet_tag, sizeof(int) * ((size_t)out->mesh.nt + m->nt + 1));
+    if (!T) return rk_fail(err, "out of memory keeping the meshes' tags");
+    out->tet_tag = T;
+    for (int t = 0; t < m->nt; t++) T[out->mesh.nt + t] = m->tet_tag ? m->tet_tag[t] : 0;
+    return 0;
+}
+
 static void free_surfaces(rk_surface *surfaces, int n)
 {
     for (int k = 0; surfaces && k < n; k++) rk_surface_free(&surfaces[k]);
@@ -218,8 +229,21 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])
 {
     rk_material m = o->material;
     for (int r = 0; r < o->nregions; r++)
-        if (rk_box_contains(&o->regions[r].box, p, 0)) m = o->regions[r].material;
+        if (!o->regions[r].by_tag && rk_box_contains(&o->regions[r].box, p, 0)) m = o->regions[r].material;
     return m;
+}
+
+rk_material rk_scene_sample_material(const rk_scene *s, const rk_scene_sim *sim, int k, const rk_rkpm_points *pts, int i)
+{
+    int t0 = sim->object_first_tet[k], t1 = sim->object_first_tet[k + 1];
+    if (pts->tet) return sim->materials[t0 + pts->tet[i]];
+    if (pts->source && t1 > t0) { /* a mesh's vertex: the material of a tet around it */
+        int v = sim->object_first_vertex[k] + pts->source[i];
+        for (int t = t0; t < t1; t++)
+            for (int a = 0; a < 4; a++)
+                if (sim->mesh.tets[4 * t + a] == v) return sim->materials[t];
+    }
+    return rk_scene_material_at(&s->objects[k], pts->X + 3 * (size_t)i);
 }
 
 int rk_scene_clouds(const rk_scene *s)
@@ -229,18 +253,60 @@ int rk_scene_clouds(const rk_scene *s)
     return clouds;
 }
 
-static void assign_materials(const rk_scene *s, rk_scene_sim *out)
+/* Object k's distinct tags, for a message: "1, 3, 7" (the first 8), or "none". */
+static void list_tags(const rk_scene_sim *out, int k, char *buf, size_t size)
+{
+    int seen[8], n = 0, more = 0;
+    for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++) {
+        int tag = out->tet_tag[t], j = 0;
+        while (j < n && seen[j] != tag) j++;
+        if (j < n) continue;
+        if (n < 8) seen[n++] = tag;
+        else more = 1;
+    }
+    if (n == 0 || (n == 1 && seen[0] == 0)) {
+        snprintf(buf, size, "none (the file has no region tags)");
+        return;
+    }
+    size_t used = 0;
+    buf[0] = 0;
+    for (int j = 0; j < n && used < size; j++)
+        used += (size_t)snprintf(buf + used, size - used, "%s%d", j ? ", " : "", seen[j]);
+    if (more && used < size) snprintf(buf + used, size - used, ", ...");
+}
+
+/* One material per tet: the object's, then each region in order where it selects the tet (its
+ * centroid in the box, or its tag; the last one wins). A tag no tet of the object carries is
+ * refused, naming the tags there are: a typo must not leave the object silently of one material. */
+static int assign_materials(const rk_scene *s, rk_scene_sim *out, rk_error *err)
 {
     const rk_mesh *m = &out->mesh;
     for (int k = 0; k < s->nobjects; k++) {
         const rk_scene_object *o = &s->objects[k];
+        for (int r = 0; r < o->nregions; r++) {
+            int count = 0;
+            for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++)
+                count += out->tet_tag[t] == o->regions[r].tag;
+            if (o->regions[r].by_tag && count == 0) {
+                char tags[160];
+                list_tags(out, k, tags, sizeof tags);
+                return rk_fail(err, "%s: objects[%d].regions[%d]: no tet of the mesh has tag %d (its tags: %s)", s->path,
+                               k, r, o->regions[r].tag, tags);
+            }
+        }
         for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++) {
             double c[3] = {0, 0, 0};
             for (int a = 0; a < 4; a++)
                 for (int i = 0; i < 3; i++) c[i] += 0.25 * m->X[3 * m->tets[4 * t + a] + i];
-            out->materials[t] = rk_scene_material_at(o, c);
+            rk_material mat = o->material;
+            for (int r = 0; r < o->nregions; r++) {
+                const rk_scene_region *g = &o->regions[r];
+                if (g->by_tag ? out->tet_tag[t] == g->tag : rk_box_contains(&g->box, c, 0)) mat = g->material;
+            }
+            out->materials[t] = mat;
         }
     }
+    return 0;
 }
 
 /* Prescribed groups: each "fixed"/"moving" box selects the object's vertices inside it. A vertex
@@ -423,7 +489,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         repaired.ghosts += rep.ghosts;
         repaired.orphans_removed += rep.orphans_removed;
         rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
-        int rc = append_mesh(&out->mesh, &m, err);
+        int rc = append_tags(out, &m, err) || append_mesh(&out->mesh, &m, err);
         rk_mesh_free(&m);
         if (rc) {
             free_surfaces(surfaces, s->nobjects);
@@ -458,7 +524,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->mesh_report.orphans_removed += repaired.orphans_removed;
     out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
     if (!out->materials) goto fail;
-    assign_materials(s, out);
+    if (assign_materials(s, out, err)) goto fail;
     if (cloud ? cloud_fem(s, out, err) : rk_fem_init(&out->fem, &out->mesh, out->materials, err)) goto fail;
 
     rk_fom_options *opt = &out->options;
@@ -505,6 +571,7 @@ void rk_scene_sim_free(rk_scene_sim *out)
     rk_fem_free(&out->fem);
     rk_mesh_free(&out->mesh);
     free(out->materials);
+    free(out->tet_tag);
     for (int i = 0; i < out->options.nprescribed; i++) free(out->options.prescribed[i].verts);
     free(out->options.prescribed);
     free(out->options.force);

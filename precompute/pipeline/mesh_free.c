@@ -51,8 +51,8 @@ static int object_weights(const rk_basis *b, int k, const double *X, int n, int 
 
 /* Object k's n sampled points into P from row `at` on: position, volume, material, and its own
  * handles' weights and gradients. */
-static int fill_object(const rk_scene *scene, const rk_mesh_free_options *o, const rk_basis *b, int k,
-                       const rk_rkpm_points *pts, int at, rk_skin_points *P, rk_error *err)
+static int fill_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_mesh_free_options *o, const rk_basis *b,
+                       int k, const rk_rkpm_points *pts, int at, rk_skin_points *P, rk_error *err)
 {
     int n = pts->n;
     if (object_weights(b, k, pts->X, n, at, P, err)) return -1;
@@ -63,7 +63,7 @@ static int fill_object(const rk_scene *scene, const rk_mesh_free_options *o, con
         memcpy(P->X + 3 * (size_t)p, pts->X + 3 * (size_t)i, 3 * sizeof(double));
         /* the given volume, shared as the sampling shared its estimate */
         P->volume[p] = o->volume > 0 ? pts->weight[i] * o->volume / sum : pts->weight[i];
-        rk_material mat = rk_scene_material_at(&scene->objects[k], pts->X + 3 * (size_t)i);
+        rk_material mat = rk_scene_sample_material(scene, sim, k, pts, i);
         P->model[p] = mat.model;
         P->density[p] = mat.density;
         rk_lame(mat.young, mat.poisson, &P->mu[p], &P->lambda[p]);
@@ -126,7 +126,7 @@ int rk_scene_mesh_free_points(const rk_scene *scene, const rk_scene_sim *sim, co
     P->lambda = rk_calloc(n, sizeof(double), err);
     if (!P->X || !P->W || !P->dW || !P->volume || !P->density || !P->model || !P->mu || !P->lambda) goto out;
     for (int k = 0, at = 0; k < nobj; at += pts[k].n, k++)
-        if (fill_object(scene, o, b, k, &pts[k], at, P, err)) {
+        if (fill_object(scene, sim, o, b, k, &pts[k], at, P, err)) {
             rk_error_prefix(err, "objects[%d]", k);
             goto out;
         }

@@ -177,10 +177,14 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
 static int parse_region(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
 {
     rk_scene_object *o = user;
-    static const char *const keys[] = {"box", "material", NULL};
+    static const char *const keys[] = {"box", "tag", "material", NULL};
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     rk_scene_region *r = &o->regions[i];
-    if (rk_json_box(c, it, path, &r->box)) return -1;
+    r->by_tag = cJSON_HasObjectItem(it, "tag");
+    if (r->by_tag && cJSON_HasObjectItem(it, "box"))
+        return rk_json_fail(c, path, "gives both a box and a tag: a region selects its tets by one of them");
+    if (r->by_tag ? rk_json_whole(c, it, path, "tag", -2147483647.0, 2147483647.0, &r->tag) : rk_json_box(c, it, path, &r->box))
+        return -1;
     char p[PATH_LEN];
     const cJSON *m = rk_json_child(it, path, "material", p, sizeof p);
     if (!m) return rk_json_fail(c, p, "missing");

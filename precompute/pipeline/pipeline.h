@@ -45,7 +45,9 @@ void rk_contact_tally_report(cJSON *obj, const rk_contact_tally *t);
 /* ---- the scene description (parse.c, parse_rom.c) ---- */
 
 typedef struct {
-    rk_box box;
+    rk_box box;            /* the tets whose centroid it holds, unless by_tag */
+    int by_tag, tag;       /* by_tag: the tets the mesh file tags `tag` (Gmsh physical group,
+                            * MEDIT ref, TetGen region, VTK "tag"), kept through refinement */
     rk_material material;  /* fields the region leaves out are inherited from the object */
 } rk_scene_region;
 
@@ -181,7 +183,7 @@ void rk_scene_free(rk_scene *s);
 int rk_scene_entry(const rk_scene *s, int k, const rk_rom_entry **out, rk_error *err);
 
 /* The material at rest point p of an object: its own, overridden by the last region whose box
- * holds p (for elements, p is the centroid; for point clouds, the point). */
+ * holds p (a point cloud's point; regions by tag select tets, not points). */
 rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]);
 
 /* How many of the scene's objects are point clouds (mesh.points); the others are tet meshes, and
@@ -201,6 +203,7 @@ typedef struct {
                                  * repaired: reoriented, unused_removed, flat_dropped, ghosts,
                                  * orphans_removed */
     rk_material *materials;   /* one per tet */
+    int *tet_tag;             /* one per tet: the mesh file's tag (0 for a file without), or NULL */
     rk_fem fem;
     rk_fom_options options;   /* points into arrays owned here */
     rk_obstacle *obstacles;   /* the scene's, meshes loaded (options.obstacles) */
@@ -234,6 +237,10 @@ typedef struct {
     int v0, t0, points;
 } rk_object_view;
 int rk_scene_object_view(const rk_scene_sim *sim, int k, rk_object_view *ov, rk_error *err);
+/* The material at sample i of object k (RKPM integration or kernel points): its tet's for points
+ * sampled in tets, a tet around it for a mesh's vertex, the regions' boxes for a cloud's point.
+ * One rule for the basis's kernels and the mesh-free integration points, tags included. */
+rk_material rk_scene_sample_material(const rk_scene *s, const rk_scene_sim *sim, int k, const rk_rkpm_points *pts, int i);
 void rk_scene_sim_free(rk_scene_sim *out);
 /* The scene built again with every object's mesh refined `levels` more times (1:8 each,
  * rk_mesh_refine, after its own mesh.refine), everything else as the scene says: materials,

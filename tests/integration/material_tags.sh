@@ -1,0 +1,83 @@
+# Materials from mesh tags (issue 32): a region {"tag": N} gives its material to the tets the mesh
+# file tags N (MEDIT references, Gmsh physical groups), kept through refinement. Checked against
+# beam theory: a bar of two halves (E1, E2 = 10 E1, Poisson 0, linear), clamped at one end and
+# pulled at the other, stretches by F L/2 (1/E1 + 1/E2) / A; the same mesh in both formats gives
+# the same answer; a tag the mesh lacks is refused naming the tags it has.
+. tests/lib.sh
+
+# A 1 x 0.1 x 0.1 bar in 10 x 1 x 1 cubes of 6 tets each (Kuhn's split: conforming), tag 1 for the
+# first five cubes, 2 for the rest; written as MEDIT and as Gmsh 2.2.
+python3 - "$TMP" <<'PY'
+import sys
+d = sys.argv[1]
+nx, h = 10, 0.1
+vid = lambda i, j, k: i * 4 + j * 2 + k
+X = [(i * h, j * h, k * h) for i in range(nx + 1) for j in range(2) for k in range(2)]
+kuhn = [(0, 1, 3, 7), (0, 1, 5, 7), (0, 2, 3, 7), (0, 2, 6, 7), (0, 4, 5, 7), (0, 4, 6, 7)]
+T = []
+for i in range(nx):
+    c = [vid(i + (b >> 2 & 1), b >> 1 & 1, b & 1) for b in range(8)]
+    for t in kuhn:
+        T.append(([c[a] for a in t], 1 if i < nx // 2 else 2))
+with open(d + "/bar.mesh", "w") as f:
+    f.write("MeshVersionFormatted 2\nDimension 3\nVertices\n%d\n" % len(X))
+    f.writelines("%g %g %g 0\n" % x for x in X)
+    f.write("Tetrahedra\n%d\n" % len(T))
+    f.writelines("%d %d %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1, g) for t, g in T)
+    f.write("End\n")
+with open(d + "/bar.msh", "w") as f:
+    f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n" % len(X))
+    f.writelines("%d %g %g %g\n" % (n + 1, x[0], x[1], x[2]) for n, x in enumerate(X))
+    f.write("$EndNodes\n$Elements\n%d\n" % len(T))
+    f.writelines("%d 4 2 %d %d %d %d %d %d\n" % (e + 1, g, g, t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1) for e, (t, g) in enumerate(T))
+    f.write("$EndElements\n")
+PY
+scene() { # name, mesh, regions, refine
+    cat >"$TMP/$1.json" <<JSON
+{"objects": [{"mesh": {"file": "$2", "refine": $4},
+  "material": {"model": "linear", "young": 1e6, "poisson": 0, "density": 1000},
+  "regions": [$3],
+  "fixed": [{"box": [[-1, -1, -1], [0.001, 1, 1]]}],
+  "loads": [{"box": [[0.999, -1, -1], [2, 1, 1]], "force": [10, 0, 0]}]}],
+ "gravity": [0, 0, 0], "time": {"step": 1, "duration": 1, "static": true}}
+JSON
+}
+stretch() { # scene -> the mean axial displacement of the pulled end's vertices after the static solve
+    "$ROMKIT" fom "$TMP/$1.json" --snapshots "$TMP/$1.npy" --quiet >/dev/null 2>"$TMP/$1.err" &&
+        python3 - "$TMP/$1.npy" <<'PY'
+import array, ast, struct, sys
+b = open(sys.argv[1], "rb").read()
+n = struct.unpack("<H", b[8:10])[0]
+head = ast.literal_eval(b[10:10 + n].decode())
+a = array.array("d")
+a.frombytes(b[10 + n:])
+m = len(a) // head["shape"][0]
+x0, x1 = a[:m], a[-m:]
+end = [i for i in range(0, m, 3) if x0[i] > 0.999]
+print(sum(x1[i] - x0[i] for i in end) / len(end))
+PY
+}
+scene uniform bar.mesh "" 0
+scene medit bar.mesh '{"tag": 2, "material": {"young": 1e7}}' 0
+scene gmsh bar.msh '{"tag": 2, "material": {"young": 1e7}}' 0
+scene refined bar.mesh '{"tag": 2, "material": {"young": 1e7}}' 1
+u0=$(stretch uniform); um=$(stretch medit); ug=$(stretch gmsh); ur=$(stretch refined)
+# beam theory: 10 N x 0.5 m / 0.01 m^2 x (1/1e6 + 1/1e7) = 5.5e-4 m (uniform: 1e-3 m). The load is
+# spread over the end's corners by their lumped masses, which Kuhn's split makes unequal, so the bar
+# also bends; the bend moves the corners axially in a pattern that averages to 0 over the face.
+awk -v u="$u0" 'BEGIN { exit !(u != "" && u > 0.99e-3 && u < 1.01e-3) }' && ok uniform_bar_meets_beam_theory "$u0" ||
+    fail uniform_bar_meets_beam_theory "mean end displacement '$u0' against 1e-3 m $(cat "$TMP/uniform.err")"
+awk -v u="$um" 'BEGIN { exit !(u != "" && u > 0.99 * 5.5e-4 && u < 1.01 * 5.5e-4) }' && ok medit_tags_set_the_materials "$um" ||
+    fail medit_tags_set_the_materials "mean end displacement '$um' against 5.5e-4 m $(cat "$TMP/medit.err")"
+[ -n "$ug" ] && [ "$ug" = "$um" ] && ok gmsh_physical_groups_set_the_same_materials ||
+    fail gmsh_physical_groups_set_the_same_materials "Gmsh '$ug' against MEDIT '$um' $(cat "$TMP/gmsh.err")"
+awk -v u="$ur" 'BEGIN { exit !(u != "" && u > 0.99 * 5.5e-4 && u < 1.01 * 5.5e-4) }' && ok tags_survive_refinement "$ur" ||
+    fail tags_survive_refinement "mean end displacement '$ur' against 5.5e-4 m $(cat "$TMP/refined.err")"
+
+scene typo bar.mesh '{"tag": 7, "material": {"young": 1e7}}' 0
+expect_fail a_missing_tag_is_named "objects\[0\].regions\[0\]: no tet of the mesh has tag 7 (its tags: 1, 2)" \
+    "$ROMKIT" fom "$TMP/typo.json" --quiet
+scene both bar.mesh '{"tag": 2, "box": [[0, 0, 0], [1, 1, 1]], "material": {"young": 1e7}}' 0
+expect_fail a_region_with_box_and_tag_is_refused "gives both a box and a tag" "$ROMKIT" fom "$TMP/both.json" --quiet
+sed 's|"file": "bar.mesh", "refine": 0|"box": {"size": [1, 0.1, 0.1], "cells": [10, 1, 1]}|' "$TMP/typo.json" >"$TMP/untagged.json"
+expect_fail a_box_mesh_has_no_tags "its tags: none" "$ROMKIT" fom "$TMP/untagged.json" --quiet
