@@ -61,7 +61,8 @@ scene uniform bar.mesh "" 0
 scene medit bar.mesh '{"tag": 2, "material": {"young": 1e7}}' 0
 scene gmsh bar.msh '{"tag": 2, "material": {"young": 1e7}}' 0
 scene refined bar.mesh '{"tag": 2, "material": {"young": 1e7}}' 1
-u0=$(stretch uniform); um=$(stretch medit); ug=$(stretch gmsh); ur=$(stretch refined)
+scene boxes bar.mesh '{"box": [[0.5, -1, -1], [2, 1, 1]], "material": {"young": 1e7}}' 0
+u0=$(stretch uniform); um=$(stretch medit); ug=$(stretch gmsh); ur=$(stretch refined); ub=$(stretch boxes)
 # beam theory: 10 N x 0.5 m / 0.01 m^2 x (1/1e6 + 1/1e7) = 5.5e-4 m (uniform: 1e-3 m). The load is
 # spread over the end's corners by their lumped masses, which Kuhn's split makes unequal, so the bar
 # also bends; the bend moves the corners axially in a pattern that averages to 0 over the face.
@@ -71,6 +72,9 @@ awk -v u="$um" 'BEGIN { exit !(u != "" && u > 0.99 * 5.5e-4 && u < 1.01 * 5.5e-4
     fail medit_tags_set_the_materials "mean end displacement '$um' against 5.5e-4 m $(cat "$TMP/medit.err")"
 [ -n "$ug" ] && [ "$ug" = "$um" ] && ok gmsh_physical_groups_set_the_same_materials ||
     fail gmsh_physical_groups_set_the_same_materials "Gmsh '$ug' against MEDIT '$um' $(cat "$TMP/gmsh.err")"
+# the same halves selected by a box over their centroids: the same elements, the same answer
+[ -n "$ub" ] && [ "$ub" = "$ug" ] && ok gmsh_groups_match_regions_by_box ||
+    fail gmsh_groups_match_regions_by_box "Gmsh tags '$ug' against boxes '$ub' $(cat "$TMP/boxes.err")"
 awk -v u="$ur" 'BEGIN { exit !(u != "" && u > 0.99 * 5.5e-4 && u < 1.01 * 5.5e-4) }' && ok tags_survive_refinement "$ur" ||
     fail tags_survive_refinement "mean end displacement '$ur' against 5.5e-4 m $(cat "$TMP/refined.err")"
 
