@@ -1,7 +1,7 @@
 /* romkit mesh IN -o OUT [--quality Q] [--max-volume V] [--cage-tets N] [--refine N] [--quiet]
  *
  * A tet mesh in (.msh .mesh .node/.ele .vtk) is checked, repaired and converted to OUT's
- * format; a surface in (.obj .off .stl .ply) is checked (flipped if merely inside out) and
+ * format; a surface in (.obj .off .stl .ply .gltf .glb) is checked (flipped if merely inside out) and
  * tetrahedralized with tetgen, or with --cage-tets N a simulation cage of at most N tets is made
  * around it (precompute/cage: simplified, tetrahedralized, its boundary moved out, every surface
  * vertex located; those outside reported). --refine N then splits every tet into 8, N times
@@ -30,7 +30,8 @@ static void usage(FILE *out)
             "\n"
             "Checks a tetrahedral mesh and converts it, or tetrahedralizes a closed surface.\n"
             "  IN    tet mesh: .msh (Gmsh 2.2/4.1), .mesh (MEDIT), .node/.ele (TetGen), .vtk\n"
-            "        surface:  .obj .off .stl .ply (closed, manifold; tetrahedralized with tetgen)\n"
+            "        surface:  .obj .off .stl .ply .gltf .glb (closed, manifold; tetrahedralized with tetgen;\n"
+            "                  glTF: every triangle primitive of the default scene, node transforms applied)\n"
             "  OUT   .msh .mesh .node .vtk (tets), or .obj .ply .off .stl (boundary surface)\n"
             "  --quality Q      surface input: radius-edge bound for tetgen -q (default 1.4, >= 1)\n"
             "  --max-volume V   surface input: largest tet volume, in the surface's units cubed\n"
@@ -76,6 +77,7 @@ static int has_ext(const char *path, const char *list)
     return 0;
 }
 
+/* what rk_mesh_write writes as a surface (glTF is read, not written, here) */
 static int is_surface(const char *path) { return has_ext(path, ".obj .off .stl .ply"); }
 
 /* Slivers and flat tets, kept by the conversion: how many, under which thresholds, the first few. */
@@ -198,7 +200,7 @@ int cmd_mesh(int argc, char **argv)
     if (!out) return usage_error("no output given (-o OUT)", NULL);
     if (!is_surface(out) && !has_ext(out, ".msh .mesh .node .ele .vtk"))
         return usage_error("unknown output format (use .msh .mesh .node .vtk .obj .ply .off .stl):", out);
-    if (surface_options && !is_surface(in))
+    if (surface_options && !rk_path_is_surface(in))
         return usage_error("--quality, --max-volume and --cage-tets apply to surface input only, not", in);
     if (cage_tets && max_volume > 0)
         return usage_error("--max-volume and --cage-tets do not go together (the cage picks its own volume bound)", NULL);
@@ -207,7 +209,7 @@ int cmd_mesh(int argc, char **argv)
     rk_error err;
     rk_mesh m = {0};
     rk_mesh_report rep;
-    int rc = is_surface(in) ? tetrahedralize_file(in, quality, max_volume, cage_tets, quiet, &m, &err) ||
+    int rc = rk_path_is_surface(in) ? tetrahedralize_file(in, quality, max_volume, cage_tets, quiet, &m, &err) ||
                                   rk_mesh_check(&m, "tetgen output", RK_MESH_KEEP_FLAT, &rep, &err)
                             : rk_mesh_load(in, RK_MESH_KEEP_FLAT, &m, &rep, &err);
     if (rc == 0 && levels > 0) {

@@ -3,10 +3,10 @@
 
 #include "mesh/mesh_impl.h"
 
-static int is_surface_path(const char *path)
+int rk_path_is_surface(const char *path)
 {
     return rk_path_has_ext(path, ".obj") || rk_path_has_ext(path, ".off") || rk_path_has_ext(path, ".stl") ||
-           rk_path_has_ext(path, ".ply");
+           rk_path_has_ext(path, ".ply") || rk_path_has_ext(path, ".gltf") || rk_path_has_ext(path, ".glb");
 }
 
 /* A file without region information gets tet_tag = NULL. */
@@ -27,7 +27,7 @@ int rk_mesh_load(const char *path, rk_mesh_flat_policy flat, rk_mesh *m, rk_mesh
     else if (rk_path_has_ext(path, ".mesh")) rc = rk_read_medit(path, m, err);
     else if (rk_path_has_ext(path, ".node") || rk_path_has_ext(path, ".ele")) rc = rk_read_tetgen(path, m, err);
     else if (rk_path_has_ext(path, ".vtk")) rc = rk_read_vtk(path, m, err);
-    else if (is_surface_path(path))
+    else if (rk_path_is_surface(path))
         return rk_fail(err, "%s: is a surface mesh, not a tet mesh (tetrahedralize it: romkit mesh IN -o OUT)", path);
     else return rk_fail(err, "%s: unknown tet mesh format (expected .msh, .mesh, .node/.ele or .vtk)", path);
     if (rc == 0) {
@@ -55,7 +55,8 @@ int rk_surface_load(const char *path, rk_surface *s, rk_error *err)
     else if (rk_path_has_ext(path, ".off")) rc = rk_read_off(path, s, err);
     else if (rk_path_has_ext(path, ".stl")) rc = rk_read_stl(path, s, err);
     else if (rk_path_has_ext(path, ".ply")) rc = rk_read_ply(path, s, 1, err);
-    else return rk_fail(err, "%s: unknown surface format (expected .obj, .off, .stl or .ply)", path);
+    else if (rk_path_has_ext(path, ".gltf") || rk_path_has_ext(path, ".glb")) rc = rk_read_gltf(path, s, err);
+    else return rk_fail(err, "%s: unknown surface format (expected .obj, .off, .stl, .ply, .gltf or .glb)", path);
     if (rc == 0 && s->nf == 0) rc = rk_fail(err, "%s: no faces", path);
     for (int i = 0; rc == 0 && i < 3 * s->nf; i++)
         if (s->tris[i] < 0 || s->tris[i] >= s->nv)

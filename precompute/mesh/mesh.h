@@ -7,7 +7,8 @@
  *   .node/.ele  TetGen, 0- or 1-based (either file name may be given)
  *   .vtk        legacy VTK unstructured grid, ASCII and binary (cell type 10; classic CELLS
  *               or the 5.x OFFSETS/CONNECTIVITY layout)
- * Surface readers (rk_surface_load): .obj .off .stl (ASCII/binary) .ply (ASCII/binary).
+ * Surface readers (rk_surface_load): .obj .off .stl (ASCII/binary) .ply (ASCII/binary) .gltf .glb
+ * (glTF 2.0: every triangle primitive of the default scene, node transforms applied).
  *
  * Every load runs rk_mesh_check: indices in range, finite coordinates, inverted tets
  * reoriented (counted in the report), slivers and flat tets reported by index (and flat tets
@@ -157,6 +158,8 @@ int rk_mesh_write_binary(const char *path, const rk_mesh *m, const double *x, rk
 /* Reads the faces (polygons fan-triangulated; STL vertices welded where exactly equal) and
  * checks that indices are in range; the topology is rk_surface_check's job. */
 int rk_surface_load(const char *path, rk_surface *s, rk_error *err);
+/* Whether rk_surface_load reads path (by its extension: a surface, not a tet mesh). */
+int rk_path_is_surface(const char *path);
 /* Closed, edge-manifold, consistently oriented, outward (positive volume), finite. The
  * message names the first bad edge (its two vertex indices) or face. A surface that is
  * inside out (everything right but the volume negative) is an error here; see below. */

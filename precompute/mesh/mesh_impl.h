@@ -21,6 +21,7 @@ int rk_read_vtk(const char *path, rk_mesh *m, rk_error *err);
 
 /* Surface readers (indices validated, topology not checked). */
 int rk_read_obj(const char *path, rk_surface *s, rk_error *err);
+int rk_read_gltf(const char *path, rk_surface *s, rk_error *err);
 int rk_read_off(const char *path, rk_surface *s, rk_error *err);
 int rk_read_stl(const char *path, rk_surface *s, rk_error *err);
 /* PLY vertices (x, y, z) and, when want_faces, the face list (fan-triangulated). */
@@ -68,6 +69,9 @@ typedef struct {
 int rk_sb_vertex(rk_surface_builder *b, const double p[3], rk_error *err);
 /* Adds the polygon idx[0..n) (n >= 3, indices already validated) as a triangle fan. */
 int rk_sb_polygon(rk_surface_builder *b, const int *idx, int n, rk_error *err);
+/* A surface from triangles given by their corners (9 doubles a triangle, finite): corners with
+ * exactly equal coordinates become one vertex (STL and glTF store them apart). */
+int rk_surface_weld(const double *corners, int nf, rk_surface *s, rk_error *err);
 
 /* Maps arbitrary (sparse, unordered) node tags to 0-based indices in file order. */
 typedef struct {

@@ -1,7 +1,7 @@
 /* STL surfaces, ASCII ("solid ... facet normal ... outer loop vertex x y z ... endsolid") and
  * binary (80-byte header, uint32 count, 50 bytes per triangle, little-endian). STL stores
- * every triangle's corners separately: corners with exactly equal coordinates are welded
- * into one vertex so the result has connectivity. */
+ * every triangle's corners separately: rk_surface_weld joins the corners with exactly equal
+ * coordinates into one vertex so the result has connectivity. */
 #include <inttypes.h>
 #include <math.h>
 #include <stdlib.h>
@@ -9,46 +9,6 @@
 
 #include "mesh/binary_reader_impl.h"
 #include "mesh/mesh_impl.h"
-
-typedef struct {
-    double p[3];
-    int corner;
-} corner_point;
-
-static int by_position(const void *a, const void *b)
-{
-    const double *p = ((const corner_point *)a)->p, *q = ((const corner_point *)b)->p;
-    for (int k = 0; k < 3; k++)
-        if (p[k] != q[k]) return p[k] < q[k] ? -1 : 1;
-    return 0;
-}
-
-/* corners: 9 doubles per triangle (finite). Builds the welded surface. */
-static int weld(const double *corners, int nf, rk_surface *s, rk_error *err)
-{
-    size_t nc = 3 * (size_t)nf;
-    corner_point *cp = rk_calloc(nc, sizeof *cp, err);
-    s->tris = rk_calloc(nc, sizeof *s->tris, err);
-    s->X = rk_calloc(nc * 3, sizeof *s->X, err);
-    if (!cp || !s->tris || !s->X) {
-        free(cp);
-        return -1;
-    }
-    for (size_t c = 0; c < nc; c++) {
-        memcpy(cp[c].p, corners + 3 * c, sizeof cp[c].p);
-        cp[c].corner = (int)c;
-    }
-    qsort(cp, nc, sizeof *cp, by_position);
-    int nv = 0;
-    for (size_t c = 0; c < nc; c++) {
-        if (c == 0 || by_position(&cp[c - 1], &cp[c]) != 0) memcpy(s->X + 3 * (size_t)nv++, cp[c].p, sizeof cp[c].p);
-        s->tris[cp[c].corner] = nv - 1;
-    }
-    s->nv = nv;
-    s->nf = nf;
-    free(cp);
-    return 0;
-}
 
 static int read_binary(rk_reader *r, double **corners, int *nf)
 {
@@ -150,7 +110,7 @@ int rk_read_stl(const char *path, rk_surface *s, rk_error *err)
     for (size_t i = 0; rc == 0 && i < 9 * (size_t)nf; i++)
         if (!isfinite(corners[i])) rc = rk_fail(err, "%s: triangle %zu has a non-finite coordinate", path, i / 9);
     if (rc == 0 && nf == 0) rc = rk_fail(err, "%s: no triangles", path);
-    if (rc == 0 && weld(corners, nf, s, err)) rc = rk_error_prefix(err, "%s", path);
+    if (rc == 0 && rk_surface_weld(corners, nf, s, err)) rc = rk_error_prefix(err, "%s", path);
     free(corners);
     rk_reader_close(&r);
     if (rc) rk_surface_free(s);

@@ -8,12 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int has_extension(const char *path, const char *ext)
-{
-    size_t n = strlen(path), m = strlen(ext);
-    return n > m && strcmp(path + n - m, ext) == 0;
-}
-
 /* The cage around o's surface file (mesh.cage), the surface kept in *surface. */
 static int load_cage(const rk_scene_object *o, rk_mesh *m, rk_surface *surface, rk_cage_report *cr, rk_error *err)
 {
@@ -65,8 +59,7 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
     case RK_SHAPE_FILE:
         break;
     }
-    if (has_extension(o->file, ".obj") || has_extension(o->file, ".off") || has_extension(o->file, ".stl") ||
-        has_extension(o->file, ".ply")) {
+    if (rk_path_is_surface(o->file)) {
         rk_surface s;
         if (rk_surface_load(o->file, &s, err)) return -1;
         int rc = rk_surface_check(&s, o->file, err);

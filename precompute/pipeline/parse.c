@@ -110,11 +110,9 @@ static int parse_cage(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     if (rk_json_check_keys(c, cage, p, keys)) return -1;
     if (!cJSON_GetObjectItemCaseSensitive(cage, "max_tets")) return rk_json_fail(c, p, "needs max_tets");
     if (rk_json_whole(c, cage, p, "max_tets", RK_CAGE_MIN_TETS, 1 << 24, &o->cage_tets)) return -1;
-    const char *dot = strrchr(o->file, '.');
-    int surface = o->shape == RK_SHAPE_FILE && dot && (strcmp(dot, ".obj") == 0 || strcmp(dot, ".off") == 0 ||
-                                                       strcmp(dot, ".stl") == 0 || strcmp(dot, ".ply") == 0);
+    int surface = o->shape == RK_SHAPE_FILE && rk_path_is_surface(o->file);
     if (!surface)
-        return rk_json_fail(c, p, "a cage goes around a closed surface file (.obj .off .stl .ply), not %s",
+        return rk_json_fail(c, p, "a cage goes around a closed surface file (.obj .off .stl .ply .gltf .glb), not %s",
                             o->shape == RK_SHAPE_FILE ? o->file : o->shape == RK_SHAPE_BOX ? "a box" : "a point cloud");
     if (o->max_volume > 0) return rk_json_fail(c, p, "max_volume does not go with a cage (it picks its own tets)");
     return 0;

@@ -83,7 +83,7 @@ fuzz-run-open-step: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romki
 
 # The readers of outside files. Each links only the stages its reader needs; the scene parser
 # is the pipeline's, so it links the pipeline and all below it.
-FUZZ_READERS := gmsh medit tetgen vtk obj off stl ply splats points scene
+FUZZ_READERS := gmsh medit tetgen vtk obj off stl ply gltf splats points scene
 FUZZ_PC_FLAGS := -std=c11 -D_DEFAULT_SOURCE -O1 -g -pthread -I. -Iprecompute -I/usr/include/suitesparse \
                  -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 fuzz_read_deps = $(if $(filter scene,$(1)),$(DEPS_pipeline),mesh util)

@@ -4,6 +4,7 @@
  *   TETGEN           rk_mesh_load on a .node + .ele pair: the input is the .node text, a line
  *                    "@@ele" and the .ele text (no such line: the .ele is empty)
  *   OBJ OFF STL PLY  rk_surface_load, then rk_surface_check on what loaded
+ *   GLTF             the same on a .gltf (JSON, data: URIs; a GLB's bytes are read by their magic)
  *   SPLATS           rk_splats_read (3DGS PLY)
  *   POINTS           rk_points_load (a PLY point cloud)
  *   SCENE            rk_scene_parse on the text (a scene's JSON; files it names are not read)
@@ -39,6 +40,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 #define FUZZ_EXT ".off"
 #elif defined(FUZZ_READ_STL)
 #define FUZZ_EXT ".stl"
+#elif defined(FUZZ_READ_GLTF)
+#define FUZZ_EXT ".gltf"
 #elif defined(FUZZ_READ_PLY) || defined(FUZZ_READ_SPLATS) || defined(FUZZ_READ_POINTS)
 #define FUZZ_EXT ".ply"
 #elif defined(FUZZ_READ_SCENE)
@@ -130,7 +133,8 @@ static void run(const char *path)
         if (m.tets[i] < 0 || m.tets[i] >= m.nv) BROKEN("a tet index out of range after the check");
     rk_mesh_free(&m);
 }
-#elif defined(FUZZ_READ_OBJ) || defined(FUZZ_READ_OFF) || defined(FUZZ_READ_STL) || defined(FUZZ_READ_PLY)
+#elif defined(FUZZ_READ_OBJ) || defined(FUZZ_READ_OFF) || defined(FUZZ_READ_STL) || defined(FUZZ_READ_PLY) || \
+    defined(FUZZ_READ_GLTF)
 static void run(const char *path)
 {
     rk_surface s;

@@ -83,6 +83,10 @@ if "$ROMKIT" build tests/data/scenes/spot_cage.json -o "$TMP/caged.rombin" --qui
     check caged "$TMP/caged.rombin"
     grep -q "11533 shown vertices, 23062 triangles" "$TMP/out" && ok caged_gltf_is_the_surface \
         || fail caged_gltf_is_the_surface "$(head -c 300 "$TMP/out")"
+    # and romkit's own glTF reader (issue 32) takes it back in as that closed surface
+    "$ROMKIT" mesh "$TMP/caged.glb" -o "$TMP/caged_back.mesh" >"$TMP/back" 2>&1 &&
+        grep -q "surface with 11533 vertices, 23062 triangles" "$TMP/back" && ok exported_gltf_reads_back_as_the_surface \
+        || fail exported_gltf_reads_back_as_the_surface "$(head -c 300 "$TMP/back")"
 else fail caged_asset_builds "$(head -c 600 "$TMP/err")"; fi
 if "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/points.rombin" --quiet >/dev/null 2>"$TMP/err"; then
     check points "$TMP/points.rombin"

@@ -58,7 +58,7 @@ fuzz open-step "$B/fuzz/fuzz-open-step" $((2 * max)) "$TMP/seeds-open-step"
 
 # The readers write each input to a file: in this test's own folder.
 export FUZZ_TMPDIR="$TMP"
-for t in gmsh medit tetgen vtk obj off stl ply splats points scene; do
+for t in gmsh medit tetgen vtk obj off stl ply gltf splats points scene; do
     regress "$t" "$B/fuzz/fuzz-read-$t"
     fuzz "$t" "$B/fuzz/fuzz-read-$t" 8192 tests/fuzz/seeds/$t
 done
