@@ -54,7 +54,7 @@ int rk_surface_load(const char *path, rk_surface *s, rk_error *err)
     if (rk_path_has_ext(path, ".obj")) rc = rk_read_obj(path, s, err);
     else if (rk_path_has_ext(path, ".off")) rc = rk_read_off(path, s, err);
     else if (rk_path_has_ext(path, ".stl")) rc = rk_read_stl(path, s, err);
-    else if (rk_path_has_ext(path, ".ply")) rc = rk_read_ply(path, s, 1, err);
+    else if (rk_path_has_ext(path, ".ply")) rc = rk_read_ply(path, s, 1, NULL, err);
     else if (rk_path_has_ext(path, ".gltf") || rk_path_has_ext(path, ".glb")) rc = rk_read_gltf(path, s, err);
     else return rk_fail(err, "%s: unknown surface format (expected .obj, .off, .stl, .ply, .gltf or .glb)", path);
     if (rc == 0 && s->nf == 0) rc = rk_fail(err, "%s: no faces", path);

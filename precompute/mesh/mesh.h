@@ -194,6 +194,9 @@ int rk_tetrahedralize(const rk_surface *s, double max_radius_edge, double max_vo
 /* Point clouds (PLY vertices with x, y, z; Gaussian-splat PLY included, its other attributes read
  * past: rk_splats_read below keeps them). *X malloc'ed, 3*n. */
 int rk_points_load(const char *path, double **X, int *n, rk_error *err);
+/* The same, and *tag (malloc'ed, n) each point's whole-number PLY property "tag" (a layer or material
+ * number, as a Gmsh physical group is a tet's), or NULL when the file has none. */
+int rk_points_load_tagged(const char *path, double **X, int *n, int **tag, rk_error *err);
 
 /* A closed surface around a point cloud (X, n points) for contact: the union of the voxels of edge
  * g that hold a point, as ghost tets (Kuhn's 6 per voxel, faces matching between neighbours) over

@@ -25,7 +25,8 @@ int rk_read_gltf(const char *path, rk_surface *s, rk_error *err);
 int rk_read_off(const char *path, rk_surface *s, rk_error *err);
 int rk_read_stl(const char *path, rk_surface *s, rk_error *err);
 /* PLY vertices (x, y, z) and, when want_faces, the face list (fan-triangulated). */
-int rk_read_ply(const char *path, rk_surface *s, int want_faces, rk_error *err);
+/* tag: NULL, or receives each vertex's "tag" property (NULL when the file has none). */
+int rk_read_ply(const char *path, rk_surface *s, int want_faces, int **tag, rk_error *err);
 
 /* Tet writers; X is 3*nv positions to write (rest or deformed). */
 int rk_write_medit(const char *path, const rk_mesh *m, const double *X, rk_error *err);

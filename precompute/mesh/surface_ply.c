@@ -5,6 +5,7 @@
  * list vertex_indices (or vertex_index), fan-triangulated. Other elements are read past. Rows
  * are parsed property by property, so ASCII and binary share the code. */
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,19 +15,23 @@
 
 #define MAX_POLYGON 4096
 
-static int read_vertices(rk_ply_file *p, const rk_ply_element *e, rk_surface *s)
+/* The vertices' x, y, z, and with tag != NULL their whole-number "tag" property when there is one
+ * (*tag stays NULL without). */
+static int read_vertices(rk_ply_file *p, const rk_ply_element *e, rk_surface *s, int **tag)
 {
-    int axis_prop[3] = {-1, -1, -1};
+    int axis_prop[3] = {-1, -1, -1}, tag_prop = -1;
     for (int i = 0; i < e->nprops; i++) {
         const rk_ply_property *q = &e->props[i];
         if (!q->is_list && q->name.len == 1 && q->name.s[0] >= 'x' && q->name.s[0] <= 'z')
             axis_prop[q->name.s[0] - 'x'] = i;
+        if (!q->is_list && tag && rk_token_is(q->name, "tag")) tag_prop = i;
     }
     if (axis_prop[0] < 0 || axis_prop[1] < 0 || axis_prop[2] < 0)
         return rk_reader_fail(&p->r, "the vertex element lacks an x, y or z property");
     if (rk_ply_check_rows(p, e)) return -1;
     s->X = rk_calloc((size_t)e->count * 3, sizeof *s->X, p->r.err);
     if (!s->X) return -1;
+    if (tag_prop >= 0 && !(*tag = rk_calloc((size_t)e->count + 1, sizeof **tag, p->r.err))) return -1;
     s->nv = (int)e->count;
     for (int64_t v = 0; v < e->count; v++) {
         for (int i = 0; i < e->nprops; i++) {
@@ -39,6 +44,11 @@ static int read_vertices(rk_ply_file *p, const rk_ply_element *e, rk_surface *s)
             if (rk_read_real(&p->r, q->type, &value, "vertex property")) return -1;
             for (int a = 0; a < 3; a++)
                 if (axis_prop[a] == i) s->X[3 * v + a] = value;
+            if (i == tag_prop) {
+                if (!(fabs(value) <= 2147483647.0 && value == floor(value)))
+                    return rk_reader_fail(&p->r, "vertex %" PRId64 ": tag %g is not a whole number", v, value);
+                (*tag)[v] = (int)value;
+            }
         }
     }
     return 0;
@@ -84,14 +94,14 @@ static int read_faces(rk_ply_file *p, const rk_ply_element *e, rk_surface_builde
     return 0;
 }
 
-static int read_body(rk_ply_file *p, rk_surface_builder *b, int want_faces)
+static int read_body(rk_ply_file *p, rk_surface_builder *b, int want_faces, int **tag)
 {
     int have_vertices = 0, have_faces = 0;
     for (int i = 0; i < p->nelements; i++) {
         const rk_ply_element *e = &p->elements[i];
         int is_faces = rk_token_is(e->name, "face");
         if (rk_token_is(e->name, "vertex") && !have_vertices) {
-            if (read_vertices(p, e, &b->s)) return -1;
+            if (read_vertices(p, e, &b->s, tag)) return -1;
             b->vcap = 3 * (size_t)b->s.nv;
             have_vertices = 1;
             if (!want_faces) return 0;
@@ -107,14 +117,19 @@ static int read_body(rk_ply_file *p, rk_surface_builder *b, int want_faces)
     return 0;
 }
 
-int rk_read_ply(const char *path, rk_surface *s, int want_faces, rk_error *err)
+int rk_read_ply(const char *path, rk_surface *s, int want_faces, int **tag, rk_error *err)
 {
     rk_ply_file p;
     rk_surface_builder b = {0};
     *s = (rk_surface){0};
+    if (tag) *tag = NULL;
     if (rk_ply_open(&p, path, err)) return -1;
-    int rc = read_body(&p, &b, want_faces);
+    int rc = read_body(&p, &b, want_faces, tag);
     rk_ply_close(&p);
+    if (rc && tag) {
+        free(*tag);
+        *tag = NULL;
+    }
     if (rc) rk_surface_free(&b.s);
     else *s = b.s;
     return rc;

@@ -22,7 +22,7 @@ static int load_cage(const rk_scene_object *o, rk_mesh *m, rk_surface *surface, 
 /* The object's mesh, checked for simulation: flat tets dropped with a warning (mesh.h); rep gets
  * what the check repaired. A caged object's mesh is its cage, its surface in *surface. */
 static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
-                               rk_surface *surface, rk_cage_report *cr, rk_error *err)
+                               int **point_tag, rk_surface *surface, rk_cage_report *cr, rk_error *err)
 {
     memset(m, 0, sizeof *m);
     memset(rep, 0, sizeof *rep);
@@ -35,7 +35,7 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
         /* the cloud's points first, in file order, then its contact surface's vertices (ghost tets) */
         double *X = NULL;
         int n = 0;
-        if (rk_points_load(o->file, &X, &n, err)) return -1;
+        if (rk_points_load_tagged(o->file, &X, &n, point_tag, err)) return -1;
         /* the spacing of the cloud's RKPM sampling (twice the points' median spacing: its
          * occupancy voxel), so that neighbouring points' balls of radius g / 2 overlap and the
          * surface around them has no holes; no finer than 1/RK_PROXY_VOXELS of the cloud's
@@ -75,9 +75,9 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
  * checked again (children of a sliver are slivers; a tet near the flat threshold may cross it),
  * whatever that check repairs added to rep. */
 static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
-                            rk_surface *surface, rk_cage_report *cr, rk_error *err)
+                            int **point_tag, rk_surface *surface, rk_cage_report *cr, rk_error *err)
 {
-    if (load_unrefined_mesh(o, k, m, rep, cloud_points, surface, cr, err)) return -1;
+    if (load_unrefined_mesh(o, k, m, rep, cloud_points, point_tag, surface, cr, err)) return -1;
     if (o->refine == 0) return 0;
     rk_mesh fine;
     if (rk_mesh_refine(m, o->refine, &fine, err)) { /* "refine: ..." after "objects[k].mesh: " */
@@ -121,14 +121,18 @@ static int append_mesh(rk_mesh *a, const rk_mesh *b, rk_error *err)
     return 0;
 }
 
-/* The object's tags after the scene's (0 for a file without): the regions that select by tag
- * read them per object (assign_materials), so two files may use the same numbers. */
-static int append_tags(rk_scene_sim *out, const rk_mesh *m, rk_error *err)
+/* The object's tags after the scene's (0 for a file without): its tets' (m->tet_tag), and a point
+ * cloud's first `points` vertices' (point_tag, or NULL). The regions that select by tag read them per
+ * object (assign_materials), so two files may use the same numbers. */
+static int append_tags(rk_scene_sim *out, const rk_mesh *m, const int *point_tag, int points, rk_error *err)
 {
     int *T = realloc(out->tet_tag, sizeof(int) * ((size_t)out->mesh.nt + m->nt + 1));
-    if (!T) return rk_fail(err, "out of memory keeping the meshes' tags");
-    out->tet_tag = T;
+    if (T) out->tet_tag = T;
+    int *P = realloc(out->point_tag, sizeof(int) * ((size_t)out->mesh.nv + m->nv + 1));
+    if (P) out->point_tag = P;
+    if (!T || !P) return rk_fail(err, "out of memory keeping the meshes' tags");
     for (int t = 0; t < m->nt; t++) T[out->mesh.nt + t] = m->tet_tag ? m->tet_tag[t] : 0;
+    for (int v = 0; v < m->nv; v++) P[out->mesh.nv + v] = point_tag && v < points ? point_tag[v] : 0;
     return 0;
 }
 
@@ -226,6 +230,18 @@ rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])
     return m;
 }
 
+rk_material rk_scene_point_material(const rk_scene *s, const rk_scene_sim *sim, int k, int v)
+{
+    const rk_scene_object *o = &s->objects[k];
+    rk_material m = o->material;
+    for (int r = 0; r < o->nregions; r++) {
+        const rk_scene_region *g = &o->regions[r];
+        if (g->by_tag ? sim->point_tag && sim->point_tag[v] == g->tag : rk_box_contains(&g->box, &sim->mesh.X[3 * (size_t)v], 0))
+            m = g->material;
+    }
+    return m;
+}
+
 rk_material rk_scene_sample_material(const rk_scene *s, const rk_scene_sim *sim, int k, const rk_rkpm_points *pts, int i)
 {
     int t0 = sim->object_first_tet[k], t1 = sim->object_first_tet[k + 1];
@@ -236,6 +252,8 @@ rk_material rk_scene_sample_material(const rk_scene *s, const rk_scene_sim *sim,
             for (int a = 0; a < 4; a++)
                 if (sim->mesh.tets[4 * t + a] == v) return sim->materials[t];
     }
+    if (pts->source && t1 == t0) /* a point cloud's point: its tag too */
+        return rk_scene_point_material(s, sim, k, sim->object_first_vertex[k] + pts->source[i]);
     return rk_scene_material_at(&s->objects[k], pts->X + 3 * (size_t)i);
 }
 
@@ -246,12 +264,12 @@ int rk_scene_clouds(const rk_scene *s)
     return clouds;
 }
 
-/* Object k's distinct tags, for a message: "1, 3, 7" (the first 8), or "none". */
-static void list_tags(const rk_scene_sim *out, int k, char *buf, size_t size)
+/* The distinct tags of tag[from, to), for a message: "1, 3, 7" (the first 8), or "none". */
+static void list_tags(const int *tag_of, int from, int to, char *buf, size_t size)
 {
     int seen[8], n = 0, more = 0;
-    for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++) {
-        int tag = out->tet_tag[t], j = 0;
+    for (int t = from; t < to; t++) {
+        int tag = tag_of[t], j = 0;
         while (j < n && seen[j] != tag) j++;
         if (j < n) continue;
         if (n < 8) seen[n++] = tag;
@@ -276,15 +294,22 @@ static int assign_materials(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     const rk_mesh *m = &out->mesh;
     for (int k = 0; k < s->nobjects; k++) {
         const rk_scene_object *o = &s->objects[k];
+        int cloud = out->object_first_tet[k + 1] == out->object_first_tet[k]; /* its points carry the tags */
         for (int r = 0; r < o->nregions; r++) {
             int count = 0;
             for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++)
                 count += out->tet_tag[t] == o->regions[r].tag;
+            for (int v = out->object_first_vertex[k]; cloud && v < out->object_first_vertex[k] + out->object_points[k]; v++)
+                count += out->point_tag[v] == o->regions[r].tag;
             if (o->regions[r].by_tag && count == 0) {
                 char tags[160];
-                list_tags(out, k, tags, sizeof tags);
-                return rk_fail(err, "%s: objects[%d].regions[%d]: no tet of the mesh has tag %d (its tags: %s)", s->path,
-                               k, r, o->regions[r].tag, tags);
+                if (cloud)
+                    list_tags(out->point_tag, out->object_first_vertex[k], out->object_first_vertex[k] + out->object_points[k],
+                              tags, sizeof tags);
+                else
+                    list_tags(out->tet_tag, out->object_first_tet[k], out->object_first_tet[k + 1], tags, sizeof tags);
+                return rk_fail(err, "%s: objects[%d].regions[%d]: no %s has tag %d (its tags: %s)", s->path, k, r,
+                               cloud ? "point of the cloud" : "tet of the mesh", o->regions[r].tag, tags);
             }
         }
         for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++) {
@@ -441,7 +466,7 @@ static int cloud_fem(const rk_scene *s, rk_scene_sim *out, rk_error *err)
             return rk_error_prefix(err, "%s: objects[%d].mesh.points", s->path, k);
         }
         for (int v = v0; v < v0 + n; v++)
-            mass[v] = rk_scene_material_at(&s->objects[k], out->mesh.X + 3 * (size_t)v).density * pts.volume / n;
+            mass[v] = rk_scene_point_material(s, out, k, v).density * pts.volume / n;
         rk_rkpm_points_free(&pts);
     }
     int rc = rk_fem_init_points(&out->fem, &out->mesh, out->materials, mass, err);
@@ -469,8 +494,9 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     for (int k = 0; k < s->nobjects; k++) {
         rk_mesh m;
         rk_mesh_report rep;
-        int points = 0;
-        if (load_object_mesh(&s->objects[k], k, &m, &rep, &points, caged ? &surfaces[k] : NULL, &out->cage, err)) {
+        int points = 0, *point_tag = NULL;
+        if (load_object_mesh(&s->objects[k], k, &m, &rep, &points, &point_tag, caged ? &surfaces[k] : NULL, &out->cage,
+                             err)) {
             rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
             free_surfaces(surfaces, s->nobjects);
             goto fail;
@@ -482,8 +508,9 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         repaired.ghosts += rep.ghosts;
         repaired.orphans_removed += rep.orphans_removed;
         rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
-        int rc = append_tags(out, &m, err) || append_mesh(&out->mesh, &m, err);
+        int rc = append_tags(out, &m, point_tag, points, err) || append_mesh(&out->mesh, &m, err);
         rk_mesh_free(&m);
+        free(point_tag);
         if (rc) {
             free_surfaces(surfaces, s->nobjects);
             goto fail;
@@ -565,6 +592,7 @@ void rk_scene_sim_free(rk_scene_sim *out)
     rk_mesh_free(&out->mesh);
     free(out->materials);
     free(out->tet_tag);
+    free(out->point_tag);
     for (int i = 0; i < out->options.nprescribed; i++) free(out->options.prescribed[i].verts);
     free(out->options.prescribed);
     free(out->options.force);

@@ -204,6 +204,7 @@ typedef struct {
                                  * orphans_removed */
     rk_material *materials;   /* one per tet */
     int *tet_tag;             /* one per tet: the mesh file's tag (0 for a file without), or NULL */
+    int *point_tag;           /* one per vertex: a point cloud's PLY "tag" at its points, else 0 */
     rk_fem fem;
     rk_fom_options options;   /* points into arrays owned here */
     rk_obstacle *obstacles;   /* the scene's, meshes loaded (options.obstacles) */
@@ -241,6 +242,8 @@ int rk_scene_object_view(const rk_scene_sim *sim, int k, rk_object_view *ov, rk_
  * sampled in tets, a tet around it for a mesh's vertex, the regions' boxes for a cloud's point.
  * One rule for the basis's kernels and the mesh-free integration points, tags included. */
 rk_material rk_scene_sample_material(const rk_scene *s, const rk_scene_sim *sim, int k, const rk_rkpm_points *pts, int i);
+/* The material at vertex v of object k (a point cloud's point): the regions' boxes at it and its tag. */
+rk_material rk_scene_point_material(const rk_scene *s, const rk_scene_sim *sim, int k, int v);
 void rk_scene_sim_free(rk_scene_sim *out);
 /* The scene built again with every object's mesh refined `levels` more times (1:8 each,
  * rk_mesh_refine, after its own mesh.refine), everything else as the scene says: materials,

@@ -85,3 +85,33 @@ scene both bar.mesh '{"tag": 2, "box": [[0, 0, 0], [1, 1, 1]], "material": {"you
 expect_fail a_region_with_box_and_tag_is_refused "gives both a box and a tag" "$ROMKIT" fom "$TMP/both.json" --quiet
 sed 's|"file": "bar.mesh", "refine": 0|"box": {"size": [1, 0.1, 0.1], "cells": [10, 1, 1]}|' "$TMP/typo.json" >"$TMP/untagged.json"
 expect_fail a_box_mesh_has_no_tags "its tags: none" "$ROMKIT" fom "$TMP/untagged.json" --quiet
+
+# A point cloud's per-point "tag" (a PLY vertex property; FreeForm's layered sphere, Fig. 7): half
+# the points of a 12 x 4 x 4 lattice tagged 2 at ten times the density weigh 5.5 times the uniform
+# cloud, the same as the box over that half, and a tag no point has is named.
+python3 - "$TMP" <<'PY'
+import json, sys
+d = sys.argv[1]
+pts = [(0.02 * i, 0.02 * j, 0.02 * k, 1 if i < 6 else 2) for i in range(12) for j in range(4) for k in range(4)]
+with open(d + "/cloud.ply", "w") as f:
+    f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+            "property int tag\nend_header\n" % len(pts))
+    f.writelines("%g %g %g %d\n" % p for p in pts)
+def scene(name, regions):
+    json.dump({"objects": [{"mesh": {"points": "cloud.ply"}, "regions": regions,
+                            "material": {"model": "neohookean", "young": 1e5, "poisson": 0.3, "density": 1000}}],
+               "gravity": [0, -9.81, 0], "time": {"step": 0.01, "duration": 0.1},
+               "rom": {"basis": "rkpm_skinning", "size": 2, "kernels": 20}}, open("%s/%s.json" % (d, name), "w"))
+scene("c_uniform", [])
+scene("c_tag", [{"tag": 2, "material": {"density": 10000}}])
+scene("c_box", [{"box": [[0.11, -1, -1], [1, 1, 1]], "material": {"density": 10000}}])
+scene("c_typo", [{"tag": 7, "material": {"density": 10000}}])
+PY
+mass() { "$ROMKIT" build "$TMP/$1.json" -o "$TMP/$1.rombin" --report "$TMP/$1.rep.json" --quiet >/dev/null 2>"$TMP/$1.err" &&
+    "$JSONQ" get "$TMP/$1.rep.json" mesh_free.mass; }
+mu=$(mass c_uniform); mt=$(mass c_tag); mb=$(mass c_box)
+awk -v u="$mu" -v t="$mt" 'BEGIN { exit !(u > 0 && t / u > 5.5 - 1e-9 && t / u < 5.5 + 1e-9) }' && [ "$mt" = "$mb" ] &&
+    ok cloud_point_tags_set_the_materials "mass $mt against uniform $mu" ||
+    fail cloud_point_tags_set_the_materials "masses: uniform '$mu', by tag '$mt', by box '$mb' $(cat "$TMP/c_tag.err")"
+expect_fail a_missing_point_tag_is_named "no point of the cloud has tag 7 (its tags: 1, 2)" \
+    "$ROMKIT" build "$TMP/c_typo.json" -o "$TMP/c_typo.rombin" --quiet
