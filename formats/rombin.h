@@ -168,6 +168,8 @@ enum {
     ROMBIN_ALRP_LAMBDA = 0,      /* the Grassmann interpolation parameter, 0..1 */
     ROMBIN_ALRP_REG,             /* P P^T's regularisation (1e-8) */
     ROMBIN_ALRP_DAMPING,         /* a of the mass-proportional damping a M */
+    ROMBIN_ALRP_RIDGE,           /* the history basis' ridge toward the decoder's basis (0: Eq. 13) */
+    ROMBIN_ALRP_BUDGET,          /* what the history may add to a step's growth factor (0: unbounded) */
     ROMBIN_ALRP_COUNT = 8        /* the rest reserved, 0 */
 };
 

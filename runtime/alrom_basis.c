@@ -143,28 +143,68 @@ static void geodesic(romrt_model *m, double *out)
     }
 }
 
-/* Phi_h = D P^T (P P^T + reg I)^-1 over the newest `count` ring entries (Eq. 13) into al->Q1; the
- * order of the entries does not matter to it. -1 when P P^T + reg I is not positive definite. */
-static int history_basis(romrt_model *m, int count)
+/* The history's ridge in units of tr(P P^T) over the newest `count` ring entries, the
+ * precompute's history_ridge (precompute/grassmann/alrom.c: why): at least the asset's ridge and
+ * h |v| |u| / (budget sum_k |u_k|^2) over the free stored dofs; -1 at rest (the decoder's basis
+ * alone). */
+static double history_ridge(const romrt_model *m, int count)
+{
+    const rt_alrom *al = &m->al;
+    double uu = 0, vv = 0, dd = 0, rate;
+    int i, e, slots = al->m + 1;
+    for (i = 0; i < 3 * m->nv; i++)
+        if (!rt_alrom_prescribed(al, i)) uu += al->u_t[i] * al->u_t[i], vv += al->v[i] * al->v[i];
+    for (e = 0; e < count; e++) {
+        const double *d = al->D + (size_t)((al->head - e + slots) % slots) * (size_t)(3 * m->nv);
+        for (i = 0; i < 3 * m->nv; i++)
+            if (!rt_alrom_prescribed(al, i)) dd += d[i] * d[i];
+    }
+    if (!(dd > 0)) return -1;
+    if (!(al->budget > 0)) return (double)al->ridge;
+    rate = (double)m->h * sqrt(vv * uu) / ((double)al->budget * dd);
+    return rate > (double)al->ridge ? rate : (double)al->ridge;
+}
+
+/* Phi_h = D P^T (P P^T + reg I)^-1 over the newest `count` ring entries (Eq. 13) into al->Q1, with
+ * the ridge toward the decoder's basis U (history.c): (D P^T + rho U)(P P^T + (rho + reg) I)^-1,
+ * rho = ridge tr(P P^T); the order of the entries does not matter to it. -1 when the matrix is not
+ * positive definite. */
+static int history_basis(romrt_model *m, int count, double ridge)
 {
     rt_alrom *al = &m->al;
     int r = m->r, n = 3 * m->nv, slots = al->m + 1, e, i, j, k;
-    double *A = al->work;
+    double *A = al->work, *G = A + (size_t)r * (size_t)r, trace = 0, rho;
     for (k = 0; k < r * r; k++) A[k] = 0;
     for (e = 0; e < count; e++) {
         const double *p = al->P + (size_t)((al->head - e + slots) % slots) * (size_t)r;
         for (j = 0; j < r; j++)
             for (k = 0; k <= j; k++) A[k + (size_t)r * j] += p[k] * p[j];
     }
-    for (k = 0; k < r; k++) A[k + (size_t)r * k] += al->reg;
+    for (k = 0; k < r; k++) trace += A[k + (size_t)r * k];
+    rho = ridge > 0 ? ridge * trace : 0;
+    for (k = 0; k < r; k++) A[k + (size_t)r * k] += rho + (double)al->reg;
     if (rt_cholesky_wide(r, A)) return -1;
+    /* G = rho A^-1 (symmetric), column by column */
+    for (j = 0; j < r && rho > 0; j++) {
+        double *g = G + (size_t)r * j;
+        for (k = 0; k < r; k++) g[k] = k == j ? rho : 0;
+        rt_cholesky_solve_wide(r, A, g);
+    }
     /* Phi_h = D C with C's row e = (A^-1 p_e)^T: count small solves, then one pass over the rows */
     for (e = 0; e < count; e++) {
         double *c = al->coef + (size_t)e * (size_t)r;
         memcpy(c, al->P + (size_t)((al->head - e + slots) % slots) * (size_t)r, sizeof(double) * (size_t)r);
         rt_cholesky_solve_wide(r, A, c);
     }
-    for (i = 0; i < n * r; i++) al->Q1[i] = 0;
+    for (i = 0; i < n; i++) { /* rho U A^-1, row by row */
+        double *Phi = al->Q1 + (size_t)i * (size_t)r;
+        const double *Ui = al->U + (size_t)i * (size_t)r;
+        for (j = 0; j < r; j++) {
+            double s = 0;
+            for (k = 0; k < r && rho > 0; k++) s += Ui[k] * G[k + (size_t)r * j];
+            Phi[j] = s;
+        }
+    }
     for (e = 0; e < count; e++) {
         const double *d = al->D + (size_t)((al->head - e + slots) % slots) * (size_t)n, *c = al->coef + (size_t)e * (size_t)r;
         for (i = 0; i < n; i++) {
@@ -179,7 +219,7 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, count, blended = 0;
-    double *basis = al->Q2;
+    double *basis = al->Q2, ridge;
     romrt_status st;
     memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
     if ((st = rt_alrom_encode(m, err))) return st;
@@ -189,7 +229,9 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     memcpy(al->D + (size_t)al->head * (size_t)n, al->u, sizeof(double) * (size_t)n);
     memcpy(al->P + (size_t)al->head * (size_t)r, al->p, sizeof(double) * (size_t)r);
     count = al->count < al->m ? al->count + 1 : al->m;
-    if (!history_basis(m, count)) { /* Phi_h in Q1, then the geodesic from it toward Q2 into U */
+    ridge = history_ridge(m, count);
+    /* a history of one state is no motion yet (and at rest there is none) */
+    if (count >= 2 && ridge >= 0 && !history_basis(m, count, ridge)) { /* Phi_h in Q1, then the geodesic from it toward Q2 into U */
         rt_alrom_zero_prescribed(m, al->Q1);
         if (!thin_q(n, r, al->Q1, al->Q1)) {
             geodesic(m, al->U);

@@ -68,8 +68,20 @@ static romrt_status mass_lsq(const romrt_model *m, const double *J, const double
     return ROMRT_OK;
 }
 
-/* p = e(u): the mass projection onto the linear part, then Gauss-Newton on |g(p) - u|_M^2 (the
- * precompute's quadratic encoder, precompute/grassmann/quadratic.c). Leaves J(p) in al->U. */
+/* |u - g(p)|_M^2 over the stored rows (their vertices' masses), with U = J(p) and res = u - g(p). */
+static double misfit(const romrt_model *m, const double *p, double *U, double *res)
+{
+    const rt_alrom *al = &m->al;
+    int i, n = 3 * m->nv;
+    double f = 0;
+    jacobian(m, p, U, al->u, res);
+    for (i = 0; i < n; i++) f += (double)al->mass[i / 3] * res[i] * res[i];
+    return f;
+}
+
+/* p = e(u): the mass projection onto the linear part, then Gauss-Newton on |g(p) - u|_M^2, each
+ * step halved until it lowers the misfit (the precompute's quadratic encoder, precompute/grassmann/
+ * quadratic.c: why). Leaves J(p) in al->U; al->Q1 and al->Q2 as scratch (the basis is built after). */
 /* ---- a CROM decoder: networks z = W a + b, ELU on all layers but the last (precompute/neural) ---- */
 
 static double elu(double z) { return z > 0 ? z : exp(z) - 1; }
@@ -154,8 +166,8 @@ static void crom_encode(romrt_model *m)
 romrt_status rt_alrom_encode(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
-    double rhs[ROMRT_MAX_R];
-    int r = m->r, it, k;
+    double rhs[ROMRT_MAX_R], ptry[ROMRT_MAX_R], f, ft, t, *Ut = al->Q1, *rt = al->Q2;
+    int r = m->r, n = 3 * m->nv, it, k, h;
     romrt_status st;
     if (al->decoder) {
         crom_encode(m);
@@ -164,15 +176,25 @@ romrt_status rt_alrom_encode(romrt_model *m, romrt_error *err)
     for (k = 0; k < r; k++) al->p[k] = 0;
     jacobian(m, al->p, al->U, 0, 0); /* the linear part, Phi */
     st = mass_lsq(m, al->U, al->u, al->p, al->work, err);
+    f = st ? 0 : misfit(m, al->p, al->U, al->res);
     for (it = 0; !st && it < ENCODE_ITERATIONS; it++) {
         double step = 0, size = 0;
-        jacobian(m, al->p, al->U, al->u, al->res);
         if ((st = mass_lsq(m, al->U, al->res, rhs, al->work, err))) break;
+        ft = INFINITY;
+        for (h = 0, t = 1; h < 10; h++, t *= 0.5) {
+            for (k = 0; k < r; k++) ptry[k] = al->p[k] + t * rhs[k];
+            if ((ft = misfit(m, ptry, Ut, rt)) < f) break;
+        }
+        if (!(ft < f)) break;
         for (k = 0; k < r; k++) {
-            al->p[k] += rhs[k];
-            step = fabs(rhs[k]) > step ? fabs(rhs[k]) : step;
+            double d = fabs(ptry[k] - al->p[k]);
+            step = d > step ? d : step;
+            al->p[k] = ptry[k];
             size = fabs(al->p[k]) > size ? fabs(al->p[k]) : size;
         }
+        memcpy(al->U, Ut, sizeof(double) * (size_t)n * (size_t)r);
+        memcpy(al->res, rt, sizeof(double) * (size_t)n);
+        f = ft;
         if (step <= 1e-12 * (size > 0 ? size : 1)) break;
     }
     if (!st) jacobian(m, al->p, al->U, 0, 0);

@@ -114,7 +114,9 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         al->lambda = parm[ROMBIN_ALRP_LAMBDA];
         al->reg = parm[ROMBIN_ALRP_REG];
         al->damping = parm[ROMBIN_ALRP_DAMPING];
-        for (k = ROMBIN_ALRP_DAMPING + 1; k < ROMBIN_ALRP_COUNT; k++)
+        al->ridge = parm[ROMBIN_ALRP_RIDGE];
+        al->budget = parm[ROMBIN_ALRP_BUDGET];
+        for (k = ROMBIN_ALRP_BUDGET + 1; k < ROMBIN_ALRP_COUNT; k++)
             if (parm[k] != 0) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRP, "reserved value ", (uint64_t)k, " is not 0");
     }
     al->X0 = m->X;
@@ -171,8 +173,10 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
                     al->psi_full[((size_t)i * (size_t)r + (size_t)k) * (size_t)r + (size_t)j] =
                         al->psi[(size_t)i * (size_t)al->pairs + (size_t)pair(r, k, j)];
     }
-    if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0))
-        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP, "lambda must be in [0, 1], the regularisation and damping >= 0");
+    if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0) || !(al->ridge >= 0) ||
+        !(al->budget >= 0))
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP,
+                       "lambda must be in [0, 1], the regularisation, damping, ridge and budget >= 0");
     for (v = 0; v < m->nv; v++) {
         if (!(al->mass[v] >= 0)) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_VMSS, "stored vertex ", (uint64_t)v, " has a negative mass");
         total += al->mass[v];

@@ -123,7 +123,7 @@ typedef struct {
  * x = x_ref + U q, with the model's X, rows, M, C and f pointing at the buffers below. */
 typedef struct {
     int m, pairs, nmotions;
-    romrt_real lambda, reg, damping;
+    romrt_real lambda, reg, damping, ridge, budget;
     const romrt_real *X0;      /* nv x 3: rest positions (VERT) */
     const romrt_real *phi;     /* nv x 3 x r: the decoder's linear part (ROWS) */
     const romrt_real *psi;     /* nv x 3 x pairs: its modal derivatives (QDRV) */

@@ -62,7 +62,7 @@ typedef struct {
  * runtime integrates every step's basis with. */
 typedef struct {
     int history;                 /* m */
-    double lambda, reg;
+    double lambda, reg, ridge, budget;
     const double *Psi;           /* 3 nv x r(r+1)/2, column-major: the quadratic decoder's second-order
                                   * term, or NULL with crom */
     const rk_crom_parts *crom;   /* a CROM decoder (every vertex is then stored: its encoder reads them

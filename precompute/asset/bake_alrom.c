@@ -188,6 +188,8 @@ int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_w
     parm[ROMBIN_ALRP_LAMBDA] = A->lambda;
     parm[ROMBIN_ALRP_REG] = A->reg;
     parm[ROMBIN_ALRP_DAMPING] = o->rayleigh_mass;
+    parm[ROMBIN_ALRP_RIDGE] = A->ridge;
+    parm[ROMBIN_ALRP_BUDGET] = A->budget;
     rc = rombin_add_u32(w, ROMBIN_ALRH, 1, head, ROMBIN_ALRH_COUNT, err) ||
          rombin_add_reals(w, ROMBIN_ALRP, 1, parm, ROMBIN_ALRP_COUNT, err) ||
          (A->crom ? crom_chunks(A->crom, s, nv, w, err) : rombin_add_reals(w, ROMBIN_QDRV, 1, psi, 3 * (size_t)count * pairs, err)) ||

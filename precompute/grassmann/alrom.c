@@ -29,7 +29,8 @@ struct rk_alrom_impl {
 
 void rk_alrom_default_options(rk_alrom_options *o)
 {
-    *o = (rk_alrom_options){.history = 20, .lambda = 0.2, .reg = 1e-8};
+    /* ridge and budget: issue 33 (history.c, history_ridge); 0 and 0 are the paper's step */
+    *o = (rk_alrom_options){.history = 20, .lambda = 0.2, .reg = 1e-8, .ridge = 0.01, .budget = 0.01};
 }
 
 void rk_alrom_free(rk_alrom *s)
@@ -52,6 +53,8 @@ int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, cons
     if (o->history < 1) return rk_fail(err, "history (m) must be at least 1, got %d", o->history);
     if (!(o->lambda >= 0 && o->lambda <= 1)) return rk_fail(err, "lambda must be in [0, 1], got %g", o->lambda);
     if (!(o->reg >= 0)) return rk_fail(err, "the history's regularisation must be >= 0, got %g", o->reg);
+    if (!(o->ridge >= 0)) return rk_fail(err, "the history's ridge must be >= 0, got %g", o->ridge);
+    if (!(o->budget >= 0)) return rk_fail(err, "the history's growth budget must be >= 0, got %g", o->budget);
     if (o->ncub < 0 || (o->ncub > 0 && (!o->cub_element || !o->cub_weight)))
         return rk_fail(err, "a cubature needs its elements and weights (%d given)", o->ncub);
     for (int k = 0; k < o->ncub; k++)
@@ -118,6 +121,29 @@ static void zero_prescribed_rows(const rk_alrom_impl *im, double *A)
             if (im->prescribed[i]) A[(size_t)j * im->n + i] = 0;
 }
 
+/* The history's ridge toward the decoder's basis (history.c), in units of tr(P P^T): at least
+ * opt.ridge, and at least h |v| |u| / (budget sum_k |u_k|^2) over the free dofs, u the newest of
+ * the history's displacements u_k. Why (issue 33): the history basis follows its displacements,
+ * so a perturbation e of the newest one that lies outside the basis (one the step itself never
+ * damps: it keeps it as it is) turns the basis toward it by about e |u| / sum_k |u_k|^2 (Eq. 13 of
+ * a history along one direction), and the step, of about h |v|, carries it on by that times h |v|
+ * times the history's share in the basis, at most 1 / (1 + ridge): so the history adds about
+ * `budget` to a step's growth factor at most, and is trusted more where the motion is slow against
+ * the history's size. At rest, -1: the decoder's basis alone. */
+static double history_ridge(const rk_alrom *s, const double *u)
+{
+    const rk_alrom_impl *im = s->impl;
+    double uu = 0, vv = 0, dd = 0;
+    for (int i = 0; i < im->n; i++)
+        if (!im->prescribed[i]) {
+            uu += u[i] * u[i], vv += s->fom.v[i] * s->fom.v[i];
+            for (int k = 0; k < im->count; k++) dd += im->Dc[(size_t)k * im->n + i] * im->Dc[(size_t)k * im->n + i];
+        }
+    if (!(dd > 0)) return -1;
+    if (!(s->opt.budget > 0)) return s->opt.ridge;
+    return fmax(s->opt.ridge, s->fom.opt.h * sqrt(vv * uu) / (s->opt.budget * dd));
+}
+
 static int step_basis(rk_alrom *s, rk_error *err)
 {
     rk_alrom_impl *im = s->impl;
@@ -140,7 +166,9 @@ static int step_basis(rk_alrom *s, rk_error *err)
     /* Phi, then the geodesic from span(Phi) to span(U); while the history spans fewer than r
      * directions (at rest it is all zero) the decoder's basis alone */
     rk_error quiet;
-    int blended = !rk_history_basis(n, r, im->count, im->Dc, im->Pc, s->opt.reg, im->Phi, &quiet);
+    double ridge = history_ridge(s, im->u);
+    /* a history of one state is no motion yet (and at rest there is none) */
+    int blended = im->count >= 2 && ridge >= 0 && !rk_history_basis(n, r, im->count, im->Dc, im->Pc, im->U, ridge, s->opt.reg, im->Phi, &quiet);
     if (blended) {
         zero_prescribed_rows(im, im->Phi);
         blended = !rk_grassmann_interpolate(n, r, im->Phi, im->U, s->opt.lambda, im->Ui, &quiet);
@@ -318,4 +346,16 @@ void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const dou
                         double t)
 {
     rk_fom_set_state(&s->fom, x, v, x_prev, v_prev, t);
+}
+
+void rk_alrom_copy_state(rk_alrom *dst, const rk_alrom *src)
+{
+    rk_alrom_impl *d = dst->impl;
+    const rk_alrom_impl *s = src->impl;
+    rk_fom_set_state(&dst->fom, src->fom.x, src->fom.v, NULL, NULL, src->fom.t);
+    memcpy(d->D, s->D, sizeof(double) * (size_t)s->n * s->m);
+    memcpy(d->P, s->P, sizeof(double) * (size_t)s->r * s->m);
+    d->count = s->count;
+    d->head = s->head;
+    dst->stats.steps = src->stats.steps;
 }

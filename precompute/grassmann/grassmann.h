@@ -33,8 +33,11 @@ int rk_grassmann_interpolate(int n, int r, const double *Phi, const double *U, d
 int rk_principal_angles(int n, int r, const double *A, const double *B, double *theta, rk_error *err);
 
 /* Eq. 13: Phi = D P^T (P P^T + reg I)^-1 for displacements D (n x m) and latent codes P (r x m),
- * both column-major; reg = 1e-8 in the paper. */
-int rk_history_basis(int n, int r, int m, const double *D, const double *P, double reg, double *Phi, rk_error *err);
+ * both column-major; reg = 1e-8 in the paper. With ridge > 0 (issue 33, history.c) the ridge
+ * regression toward the decoder's basis U (n x r): Phi = (D P^T + rho U)(P P^T + (rho + reg) I)^-1,
+ * rho = ridge tr(P P^T); U is not read when ridge is 0 (the paper's). */
+int rk_history_basis(int n, int r, int m, const double *D, const double *P, const double *U, double ridge, double reg,
+                     double *Phi, rk_error *err);
 
 /* ---- decoders ---- */
 
@@ -114,6 +117,10 @@ typedef struct {
     int history;       /* m: the steps the history basis spans (20) */
     double lambda;     /* the interpolation parameter (0.2): 1 is the decoder's basis alone */
     double reg;        /* P P^T's regularisation (1e-8) */
+    double ridge;      /* the history basis' ridge toward the decoder's basis, times tr(P P^T)
+                        * (history.c; 0: the paper's Eq. 13, which amplifies errors) */
+    double budget;     /* what the history may add to a step's growth factor: the ridge is at
+                        * least h |v| / (budget |u|) (alrom.c; 0: no such bound) */
     /* the elastic energy by a cubature (An et al. 2008) instead of every element: ncub elements
      * with weights (multiplying each element's energy); 0: every element. Borrowed. */
     int ncub;
@@ -145,6 +152,17 @@ int rk_alrom_step(rk_alrom *s, rk_error *err);
  * rk_fom_set_state); the basis history records it as the step's state. */
 void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
                         double t);
+/* dst takes src's state: positions, velocities, time and the basis history (both made on the same
+ * fem, options and decoder; backward Euler: BDF2's previous step is not carried). For measuring
+ * what one step does to a perturbation (the growth test, bench_alrom_step_growth). */
+void rk_alrom_copy_state(rk_alrom *dst, const rk_alrom *src);
 void rk_alrom_free(rk_alrom *s);
+/* One step of A, and what it does to a perturbation (growth.c): pre and probe are simulators on
+ * the same fem, options and decoder (scratch; their state is overwritten). The largest ratio of
+ * |(du', dv')| to |(du, dv)| after one step over ndir directions of a power iteration from a
+ * random one (seed), in the energy norm dv^T M dv + du^T K du (M mass, K rest stiffness, both
+ * upper-stored), the perturbation eps times the state's own norm. */
+int rk_alrom_step_growth(rk_alrom *A, rk_alrom *pre, rk_alrom *probe, const rk_sparse *M, const rk_sparse *K, int ndir,
+                         double eps, uint64_t *seed, double *growth, rk_error *err);
 
 #endif

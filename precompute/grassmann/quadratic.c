@@ -17,7 +17,7 @@ struct rk_quadratic {
     int n, r, npairs;
     double *Phi, *Psi;  /* n x r, n x npairs */
     rk_sparse M;        /* a copy */
-    double *J, *MJ, *A, *res, *Mres, *rhs; /* n x r, n x r, r x r, n, n, r */
+    double *J, *MJ, *A, *res, *Mres, *rhs, *ptry; /* n x r, n x r, r x r, n, n, r, r */
 };
 
 /* Pair (i, j), i <= j, in row-major order over r. */
@@ -80,23 +80,44 @@ static int mass_lsq(rk_quadratic *q, const double *b, double *x, rk_error *err)
     return rc ? rk_fail(err, "the decoder's Jacobian has rank below %d (mass least squares, LAPACK %d)", r, rc) : 0;
 }
 
+/* |u - g(p)|_M^2, the residual u - g(p) into res */
+static double misfit(rk_quadratic *q, const double *u, const double *p, double *res)
+{
+    decode(q, p, res, NULL);
+    for (int i = 0; i < q->n; i++) res[i] = u[i] - res[i];
+    return rk_sparse_dot(&q->M, res, res);
+}
+
+/* Gauss-Newton on |g(p) - u|_M^2 from the linear projection, each step halved until it lowers the
+ * misfit (up to 10 times; none that does: a minimum to round-off). Why the backtracking (issue
+ * 33): undamped, far from the manifold the iterates oscillated, and the code after the last one
+ * was a chaotic function of u: one step of the bar in test_runtime_alrom with the decoder's basis
+ * alone multiplied a perturbation by 1.8e5. A descent method ends at a local minimum's code. */
 static int encode(void *ctx, const double *u, double *p, rk_error *err)
 {
     rk_quadratic *q = ctx;
     int n = q->n, r = q->r;
     memcpy(q->J, q->Phi, sizeof(double) * (size_t)n * r);
     if (mass_lsq(q, u, p, err)) return -1; /* the linear projection */
-    for (int it = 0; it < ENCODE_ITERATIONS; it++) { /* Gauss-Newton on |g(p) - u|_M^2 */
-        decode(q, p, q->res, err);
-        for (int i = 0; i < n; i++) q->res[i] = u[i] - q->res[i];
+    double f = misfit(q, u, p, q->res);
+    for (int it = 0; it < ENCODE_ITERATIONS; it++) {
         jacobian(q, p, q->J, err);
         if (mass_lsq(q, q->res, q->rhs, err)) return -1;
-        double step = 0, size = 0;
+        double t = 1, ft = INFINITY;
+        for (int h = 0; h < 10; h++, t *= 0.5) {
+            for (int k = 0; k < r; k++) q->ptry[k] = p[k] + t * q->rhs[k];
+            if ((ft = misfit(q, u, q->ptry, q->Mres)) < f) break;
+        }
+        if (!(ft < f)) break;
+        double step = 0, size = 0, *swap = q->res;
         for (int k = 0; k < r; k++) {
-            p[k] += q->rhs[k];
-            step = fmax(step, fabs(q->rhs[k]));
+            step = fmax(step, fabs(q->ptry[k] - p[k]));
+            p[k] = q->ptry[k];
             size = fmax(size, fabs(p[k]));
         }
+        q->res = q->Mres; /* the accepted residual */
+        q->Mres = swap;
+        f = ft;
         if (step <= 1e-12 * (size > 0 ? size : 1)) break;
     }
     return 0;
@@ -121,13 +142,14 @@ int rk_quadratic_decoder(int n, int r, const double *Phi, const double *Psi, con
     q->res = malloc(sizeof(double) * (size_t)n);
     q->Mres = malloc(sizeof(double) * (size_t)n);
     q->rhs = malloc(sizeof(double) * (size_t)r);
+    q->ptry = malloc(sizeof(double) * (size_t)r);
     q->M = *M;
     q->M.colptr = malloc(sizeof(int) * ((size_t)n + 1));
     q->M.rowind = malloc(sizeof(int) * (size_t)M->nnz);
     q->M.val = malloc(sizeof(double) * (size_t)M->nnz);
     dec->ctx = q;
     dec->destroy = destroy;
-    if (!q->Phi || !q->Psi || !q->J || !q->MJ || !q->A || !q->res || !q->Mres || !q->rhs || !q->M.colptr ||
+    if (!q->Phi || !q->Psi || !q->J || !q->MJ || !q->A || !q->res || !q->Mres || !q->rhs || !q->ptry || !q->M.colptr ||
         !q->M.rowind || !q->M.val) {
         rk_decoder_free(dec);
         return rk_fail(err, "out of memory for the quadratic decoder (%d x %d)", n, r);
@@ -157,6 +179,7 @@ static void destroy(void *ctx)
         free(q->res);
         free(q->Mres);
         free(q->rhs);
+        free(q->ptry);
         free(q->M.colptr);
         free(q->M.rowind);
         free(q->M.val);

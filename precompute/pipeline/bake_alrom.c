@@ -86,7 +86,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         goto out;
     }
     have_model = 1;
-    rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, Psi, AL(e)->crom ? &crom : NULL, &sim.options};
+    rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, AL(e)->opt.ridge, AL(e)->opt.budget, Psi, AL(e)->crom ? &crom : NULL, &sim.options};
     rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A, NULL, NULL, NULL};
     rk_asset_summary sum = {0};
     rombin_writer w;

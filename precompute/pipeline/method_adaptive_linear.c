@@ -32,8 +32,11 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
                             "basis, tolerance, koopman or mesh_free");
     const char *decoder = NULL;
     if (rk_json_whole(c, e, path, "history", 1, 10000, &own->opt.history) ||
-        rk_json_number(c, e, path, "lambda", 0, &own->opt.lambda) || rk_json_string(c, e, path, "decoder", 0, &decoder))
+        rk_json_number(c, e, path, "lambda", 0, &own->opt.lambda) || rk_json_string(c, e, path, "decoder", 0, &decoder) ||
+        rk_json_number(c, e, path, "ridge", 0, &own->opt.ridge) || rk_json_number(c, e, path, "budget", 0, &own->opt.budget))
         return -1;
+    if (!(own->opt.ridge >= 0)) return rk_json_fail(c, path, "ridge must be >= 0, got %g", own->opt.ridge);
+    if (!(own->opt.budget >= 0)) return rk_json_fail(c, path, "budget must be >= 0, got %g", own->opt.budget);
     if (!(own->opt.lambda >= 0 && own->opt.lambda <= 1))
         return rk_json_fail(c, path, "lambda must be in [0, 1], got %g", own->opt.lambda);
     if (decoder && strcmp(decoder, "quadratic") && strcmp(decoder, "quadratic_pod") && strcmp(decoder, "crom"))
@@ -87,7 +90,7 @@ static void report(const rk_compare_method *m, cJSON *j)
     cJSON_AddNumberToObject(j, "history_share", lm->history_share);
 }
 
-static const char *const keys[] = {"history", "lambda", "decoder", "crom", NULL};
+static const char *const keys[] = {"history", "lambda", "ridge", "budget", "decoder", "crom", NULL};
 
 const rk_method rk_method_adaptive_linear = {
     .name = "adaptive_linear",

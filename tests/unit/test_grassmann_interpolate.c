@@ -69,9 +69,9 @@ TEST(history_basis_recovers_a_basis_that_explains_the_history)
             D[j * n + i] = s;
         }
     rk_error err;
-    CHECK_OK(rk_history_basis(n, r, m, D, P, 0, Phi, &err));
+    CHECK_OK(rk_history_basis(n, r, m, D, P, NULL, 0, 0, Phi, &err));
     for (int k = 0; k < n * r; k++) CHECK(fabs(Phi[k] - B[k]) < 1e-10, "entry %d: %g vs %g", k, Phi[k], B[k]);
-    CHECK_OK(rk_history_basis(n, r, m, D, P, 1e-8, Phi, &err));
+    CHECK_OK(rk_history_basis(n, r, m, D, P, NULL, 0, 1e-8, Phi, &err));
     for (int k = 0; k < n * r; k++) CHECK(fabs(Phi[k] - B[k]) < 1e-6, "regularised entry %d: %g vs %g", k, Phi[k], B[k]);
 }
 
