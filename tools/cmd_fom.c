@@ -16,13 +16,15 @@ static void fom_usage(FILE *out)
 {
     fprintf(out,
             "usage: romkit fom SCENE.json [--positions P.npy] [--snapshots S.npy] [--frames DIR]\n"
-            "                  [--frame-format obj|ply|vtk|mesh] [--report R.json] [--quiet]\n\n"
+            "                  [--frame-format obj|ply|vtk|mesh] [--stress T.npy] [--report R.json] [--quiet]\n\n"
             "Runs the full-order simulation the scene describes (or its static equilibrium when\n"
             "time.static is true) and writes what is asked:\n"
             "  --positions P.npy   final positions, n x 3 float64\n"
             "  --snapshots S.npy   every frame including the rest state, (steps+1) x n x 3 float64\n"
             "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
             "  --frame-format F    the format of those files: obj (default), ply, vtk or mesh\n"
+            "  --stress T.npy      every frame's largest principal Cauchy stress (Pa) at each vertex,\n"
+            "                      (steps+1) x n float64 (the tets' stresses averaged by volume)\n"
             "  --report R.json     counts, timings (seconds_per_step; seconds.* and shares.* of the\n"
             "                      parts: factorization, assembly, solve, line search, contact ...;\n"
             "                      newton.*: the median iteration against its factorization), final state\n"
@@ -33,7 +35,7 @@ static void fom_usage(FILE *out)
 }
 
 typedef struct {
-    const char *scene, *positions, *snapshots, *frames, *report;
+    const char *scene, *positions, *snapshots, *frames, *report, *stress;
     const char *frame_format;
     int quiet;
 } fom_args;
@@ -45,6 +47,7 @@ static int parse_args(int argc, char **argv, fom_args *a)
     const cli_option opts[] = {{"--positions", &a->positions, NULL}, {"--snapshots", &a->snapshots, NULL},
                                {"--frames", &a->frames, NULL},       {"--frame-format", &a->frame_format, NULL},
                                {"--report", &a->report, NULL},       {"--quiet", NULL, &a->quiet},
+                               {"--stress", &a->stress, NULL},
                                {NULL, NULL, NULL}};
     if (cli_parse("fom", argc, argv, opts, &a->scene, "scene file")) return -1;
     const char *formats[] = {"obj", "ply", "vtk", "mesh"};
@@ -65,14 +68,19 @@ static int write_frame(const fom_args *a, const rk_mesh *m, const double *x, int
 typedef struct {
     const fom_args *a;
     const rk_scene_sim *sim;
-    rk_npy_stream snap;
-    int have_snap;
+    rk_npy_stream snap, stress;
+    int have_snap, have_stress;
+    double *sigma;            /* nv: the frame's largest principal stresses */
 } fom_output;
 
 static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     fom_output *o = ctx;
     if (o->have_snap) rk_npy_stream_append(&o->snap, fom->x, 3 * (size_t)o->sim->mesh.nv);
+    if (o->have_stress) {
+        if (rk_fem_principal_stress(&o->sim->fem, fom->x, o->sigma, err)) return -1;
+        rk_npy_stream_append(&o->stress, o->sigma, (size_t)o->sim->mesh.nv);
+    }
     return o->a->frames ? write_frame(o->a, &o->sim->mesh, fom->x, step, err) : 0;
 }
 
@@ -111,11 +119,22 @@ int cmd_fom(int argc, char **argv)
         if (rk_npy_stream_open(&out.snap, a.snapshots, 3, shape, &err)) goto done;
         out.have_snap = 1;
     }
+    if (a.stress) {
+        long shape[2] = {steps + 1, nv};
+        if (!(out.sigma = rk_calloc((size_t)nv, sizeof(double), &err)) ||
+            rk_npy_stream_open(&out.stress, a.stress, 2, shape, &err))
+            goto done;
+        out.have_stress = 1;
+    }
     if (rk_scene_fom_measure(&sim, on_frame, &out, &m, &err)) goto done;
     have_m = 1;
     if (out.have_snap) {
         out.have_snap = 0;
         if (rk_npy_stream_commit(&out.snap, &err)) goto done;
+    }
+    if (out.have_stress) {
+        out.have_stress = 0;
+        if (rk_npy_stream_commit(&out.stress, &err)) goto done;
     }
     if (a.positions) {
         long shape[2] = {nv, 3};
@@ -147,6 +166,8 @@ int cmd_fom(int argc, char **argv)
 done:
     if (rc) fprintf(stderr, "romkit fom: %s\n", err.msg);
     if (out.have_snap) rk_npy_stream_abort(&out.snap);
+    if (out.have_stress) rk_npy_stream_abort(&out.stress);
+    free(out.sigma);
     if (have_m) rk_fom_measure_free(&m);
     if (have_sim) rk_scene_sim_free(&sim);
     if (have_scene) rk_scene_free(&scene);

@@ -90,6 +90,9 @@ void rk_fem_add_gradient(const rk_fem *f, const double *x, double scale, double 
 void rk_fem_add_hessian(const rk_fem *f, const double *x, double scale, int project, rk_sparse *H);
 /* Number of elements with det F <= 0 at x; *min_J (if not NULL) gets the smallest det F. */
 int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
+/* out[v]: the largest principal Cauchy stress (Pa) at vertex v for positions x (3 nv), the stress
+ * tensors of the tets around v averaged by rest volume (stress.c); 0 at a vertex in no tet. */
+int rk_fem_principal_stress(const rk_fem *f, const double *x, double *out, rk_error *err);
 
 /* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
  * every column of the vertex (rows are sorted and the column ends at its diagonal). */

@@ -115,3 +115,28 @@ awk -v u="$mu" -v t="$mt" 'BEGIN { exit !(u > 0 && t / u > 5.5 - 1e-9 && t / u <
     fail cloud_point_tags_set_the_materials "masses: uniform '$mu', by tag '$mt', by box '$mb' $(cat "$TMP/c_tag.err")"
 expect_fail a_missing_point_tag_is_named "no point of the cloud has tag 7 (its tags: 1, 2)" \
     "$ROMKIT" build "$TMP/c_typo.json" -o "$TMP/c_typo.rombin" --quiet
+
+# Principal stresses (romkit fom --stress; FreeForm Fig. 8): the two-material bar clamped and its
+# end moved 1 cm carries one stress through both halves, u / (L1/E1 + L2/E2) = 18,181.8 Pa, at
+# every vertex (springs in series; Poisson 0 leaves the sides free), and none at rest (round-off).
+sed 's|"loads": \[{"box": \[\[0.999, -1, -1\], \[2, 1, 1\]\], "force": \[10, 0, 0\]}\]|"moving": [{"box": [[0.999, -1, -1], [2, 1, 1]], "translate": {"velocity": [0.01, 0, 0]}}]|' \
+    "$TMP/medit.json" >"$TMP/pulled.json"
+if "$ROMKIT" fom "$TMP/pulled.json" --stress "$TMP/T.npy" --quiet >/dev/null 2>"$TMP/err"; then
+    python3 - "$TMP/T.npy" <<'PY' >"$TMP/stress" 2>&1 && ok fom_stress_meets_springs_in_series "$(cat "$TMP/stress")" ||
+import array, ast, struct, sys
+b = open(sys.argv[1], "rb").read()
+n = struct.unpack("<H", b[8:10])[0]
+head = ast.literal_eval(b[10:10 + n].decode())
+a = array.array("d")
+a.frombytes(b[10 + n:])
+frames, nv = head["shape"]
+rest, last = a[:nv], a[-nv:]
+want = 0.01 / (0.5 / 1e6 + 0.5 / 1e7)
+worst = max(abs(s - want) / want for s in last)
+print("%d vertices within %.2g of %.1f Pa" % (nv, worst, want))
+sys.exit(0 if frames == 2 and max(abs(s) for s in rest) < 1e-9 * want and worst < 1e-6 else 1)
+PY
+        fail fom_stress_meets_springs_in_series "$(cat "$TMP/stress")"
+else
+    fail fom_stress_meets_springs_in_series "$(cat "$TMP/err")"
+fi
