@@ -243,6 +243,7 @@ struct romrt_model {
     int self_contact;         /* OBHD's self flag: one object's surface touches itself */
     romrt_real *sboxes;       /* (ncv + ncedge + nctri) x 6: the surface sweep's boxes */
     uint32_t *sorder;         /* 3 x that: the primitives sorted by object, then box, on each axis */
+    uint32_t *sobj;           /* each primitive's object (contact_surface.c) */
     uint32_t *sfirst;         /* nobjects + 1 (2 for one object): each object's run of the order */
     int ssorted;              /* bit a: sorder's axis a has been sorted once */
     romrt_real *sstat;        /* (nobjects or 1) x 10: each object's hull (lo 3, hi 3), widths (3), count */
