@@ -22,6 +22,7 @@ typedef struct {
     int rows[12], lo[12], hi[12]; /* each row's index into gx and B, and the span of its non-zeros */
     int cols[ROMRT_MAX_R];       /* packed column i's column of q */
     int ord[ROMRT_MAX_R];        /* the packed columns in ascending cols */
+    int run;                     /* ord comes in runs of this many consecutive cols, packed alike */
 } packed;
 
 static int skin_rows(const romrt_model *m)
@@ -40,7 +41,7 @@ static void pack_skin(const romrt_model *m, const int32_t id[4], const romrt_rea
             if (id[k] >= 0 && w[k] != 0 && m->w[(size_t)m->cv[id[k]] * (size_t)skin + (size_t)j] != 0) break;
         if (k < 4) S[ns++] = j;
     }
-    K->c = 12 * ns, K->cp = RT_PAD(K->c), K->n = 0;
+    K->c = 12 * ns, K->cp = RT_PAD(K->c), K->n = 0, K->run = 4; /* (a, j, c) packed, (j, a, c) in H */
     for (a = 0; a < 3; a++)
         for (s = 0; s < ns; s++)
             for (i = 0; i < 4; i++) {
@@ -98,7 +99,7 @@ static void pack_rows(romrt_model *m, const int32_t id[4], const romrt_real w[4]
             for (l = 0; l < n && J[(size_t)rp * K->rows[l] + j] == 0; l++) continue;
             if (l < n) K->cols[c++] = j;
         }
-    K->n = n, K->c = c, K->cp = cp = RT_PAD(c);
+    K->n = n, K->c = c, K->cp = cp = RT_PAD(c), K->run = 1;
     for (j = 0; j < c; j++) { /* ord: insertion sort (axis first, cols runs in 3 ascending runs) */
         int o = j;
         for (; o > 0 && K->cols[K->ord[o - 1]] > K->cols[j]; o--) K->ord[o] = K->ord[o - 1];
@@ -162,13 +163,15 @@ static void pull_packed(romrt_model *m, const packed *K, const romrt_real *P, co
     /* H's columns in ascending order (ord), each taken down to its diagonal in ascending rows: the
      * writes run down one column of H at a time (the packed order's own, axis first, sent half
      * of them across H's rows, a cache line each, and the scatter took half the pull) */
+    for (j = 0; j < c; j++) /* Hc's lower triangle from its upper: Hc symmetric, read by columns */
+        for (i = j + 1; i < c; i++) Hc[i + (size_t)cp * j] = Hc[j + (size_t)cp * i];
     for (jj = 0; jj < c; jj++) {
         int jc = ord[jj];
         romrt_real *RT_RESTRICT Hq = H + (size_t)ld * cols[jc];
-        const romrt_real *Hcj = Hc + (size_t)cp * jc;
-        for (ii = 0; ii <= jj; ii++) {
-            int ic = ord[ii];
-            Hq[cols[ic]] += ic <= jc ? Hcj[ic] : Hc[jc + (size_t)cp * ic];
+        const romrt_real *RT_RESTRICT Hcj = Hc + (size_t)cp * jc;
+        for (ii = 0; ii <= jj; ii += K->run) { /* a run of consecutive columns, consecutive packed */
+            int ic = ord[ii], p = cols[ic], t, len = jj - ii + 1 < K->run ? jj - ii + 1 : K->run;
+            for (t = 0; t < len; t++) Hq[p + t] += Hcj[ic + t];
         }
     }
 }
