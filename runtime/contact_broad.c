@@ -235,16 +235,45 @@ int rt_contact_keep(romrt_model *m, int edge_edge, const int32_t id[4], romrt_re
     return 0;
 }
 
+/* The stencil of object primitive (ids) and obstacle item it of `type` (its view ids p): kept or
+ * visited. */
+static int found(romrt_model *m, const query *Q, const bvh_view *V, int type, const uint32_t *ids, uint32_t it)
+{
+    uint32_t p[3];
+    int32_t id[4];
+    int a;
+    item_points(V, it, p);
+    for (a = 0; a < 3; a++) p[a] += V->base;
+    if (type == ROMBIN_ITEM_TRIANGLE) /* object point, obstacle triangle */
+        id[0] = (int32_t)ids[0], id[1] = -1 - (int32_t)p[0], id[2] = -1 - (int32_t)p[1], id[3] = -1 - (int32_t)p[2];
+    else if (type == ROMBIN_ITEM_VERTEX) /* obstacle point, object triangle */
+        id[0] = -1 - (int32_t)p[0], id[1] = (int32_t)ids[0], id[2] = (int32_t)ids[1], id[3] = (int32_t)ids[2];
+    else /* object edge, obstacle edge */
+        id[0] = (int32_t)ids[0], id[1] = (int32_t)ids[1], id[2] = -1 - (int32_t)p[0], id[3] = -1 - (int32_t)p[1];
+    if (Q->visit) {
+        Q->visit(m, type == ROMBIN_ITEM_EDGE, id, Q->ctx);
+        return 0;
+    }
+    return rt_contact_keep(m, type == ROMBIN_ITEM_EDGE, id, Q->grow);
+}
+
+/* Box ob (an object primitive's, or an object's hull, grown by grow) widened to meet the node
+ * boxes, which hold the items' thickness but not grow (and a rounding margin). */
+static void widen(const query *Q, const romrt_real ob[6], romrt_real wide[6])
+{
+    int a;
+    for (a = 0; a < 6; a++) wide[a] = ob[a];
+    box_grow(wide, Q->grow + RT_K(1e-6) * (Q->grow + RT_FABS(ob[0]) + RT_FABS(ob[3])));
+}
+
 /* The view's items of `type` whose boxes touch the object primitive's (ids, size): stencils. */
 static int traverse(romrt_model *m, const query *Q, const bvh_view *V, int type, const uint32_t *ids, int size)
 {
     uint32_t stack[STACK];
-    int top = 0, a;
+    int top = 0;
     romrt_real ob[6], wide[6], ib[6];
     object_box(m, ids, size, Q->grow, Q->swept, ob);
-    for (a = 0; a < 6; a++) wide[a] = ob[a];
-    /* node boxes hold the items' thickness but not grow: the query takes it (and a rounding margin) */
-    box_grow(wide, Q->grow + RT_K(1e-6) * (Q->grow + RT_FABS(ob[0]) + RT_FABS(ob[3])));
+    widen(Q, ob, wide);
     stack[top++] = V->root;
     while (top > 0) {
         uint32_t i = stack[--top], j;
@@ -255,57 +284,123 @@ static int traverse(romrt_model *m, const query *Q, const bvh_view *V, int type,
             continue;
         }
         for (j = nd[1]; j < nd[1] + nd[2]; j++) {
-            uint32_t it = V->items[j], p[3];
-            int32_t id[4];
+            uint32_t it = V->items[j];
             if ((int)(it & 3) != type) continue;
             item_box(V, it, Q->grow, Q->swept, ib);
             if (!overlap(ob, ib)) continue;
-            item_points(V, it, p);
-            for (a = 0; a < 3; a++) p[a] += V->base;
-            if (type == ROMBIN_ITEM_TRIANGLE) /* object point, obstacle triangle */
-                id[0] = (int32_t)ids[0], id[1] = -1 - (int32_t)p[0], id[2] = -1 - (int32_t)p[1], id[3] = -1 - (int32_t)p[2];
-            else if (type == ROMBIN_ITEM_VERTEX) /* obstacle point, object triangle */
-                id[0] = -1 - (int32_t)p[0], id[1] = (int32_t)ids[0], id[2] = (int32_t)ids[1], id[3] = (int32_t)ids[2];
-            else /* object edge, obstacle edge */
-                id[0] = (int32_t)ids[0], id[1] = (int32_t)ids[1], id[2] = -1 - (int32_t)p[0], id[3] = -1 - (int32_t)p[1];
-            if (Q->visit) {
-                Q->visit(m, type == ROMBIN_ITEM_EDGE, id, Q->ctx);
-                continue;
-            }
-            if (rt_contact_keep(m, type == ROMBIN_ITEM_EDGE, id, Q->grow)) return -1;
+            if (found(m, Q, V, type, ids, it)) return -1;
         }
     }
     return 0;
 }
 
-/* The object's primitives against one obstacle's BVH. */
-static int against(romrt_model *m, const query *Q, const bvh_view *V)
+/* The items near one object: those of `type` whose boxes touch its hull (its primitives' boxes'
+ * union), in the order traverse visits them, with their boxes; -1 past NEAR_CAP of them. Every
+ * item a primitive's traversal finds is among them, and in the same order: the same stencils. */
+#define NEAR_CAP 32
+static int near_items(const query *Q, const bvh_view *V, int type, const romrt_real hull[6], uint32_t *list,
+                      romrt_real *boxes)
 {
-    int i;
-    uint32_t v;
-    if (V->has_tris)
-        for (v = 0; v < (uint32_t)m->ncv; v++)
-            if (traverse(m, Q, V, ROMBIN_ITEM_TRIANGLE, &v, 1)) return -1;
-    for (i = 0; i < m->nctri; i++)
-        if (traverse(m, Q, V, ROMBIN_ITEM_VERTEX, m->ctris + 3 * (size_t)i, 3)) return -1;
-    if (V->has_edges)
-        for (i = 0; i < m->ncedge; i++)
-            if (traverse(m, Q, V, ROMBIN_ITEM_EDGE, m->cedges + 2 * (size_t)i, 2)) return -1;
+    uint32_t stack[STACK];
+    int top = 0, n = 0, a;
+    romrt_real wide[6], ib[6];
+    widen(Q, hull, wide);
+    stack[top++] = V->root;
+    while (top > 0) {
+        uint32_t i = stack[--top], j;
+        const uint32_t *nd = V->nodes + 3 * (size_t)i;
+        if (!overlap(wide, V->bounds + 6 * (size_t)i)) continue;
+        if (nd[0] == 0) {
+            stack[top++] = nd[1], stack[top++] = nd[2];
+            continue;
+        }
+        for (j = nd[1]; j < nd[1] + nd[2]; j++) {
+            uint32_t it = V->items[j];
+            if ((int)(it & 3) != type) continue;
+            item_box(V, it, Q->grow, Q->swept, ib);
+            if (!overlap(hull, ib)) continue;
+            if (n == NEAR_CAP) return -1;
+            for (a = 0; a < 6; a++) boxes[6 * (size_t)n + a] = ib[a];
+            list[n++] = it;
+        }
+    }
+    return n;
+}
+
+/* The object primitives first .. first + count - 1 of `type` (size points each, from ids) against
+ * one obstacle's BVH, a run of one object's at a time (the surface lists each object's
+ * primitives together): the BVH is traversed once for the run's object (its hull), and each
+ * primitive is tested against the few items near it, or none (an object away from a container's
+ * walls), where a traversal per primitive from the root took a fifth of the pour's step; an
+ * object near more than NEAR_CAP items (a terrain) traverses per primitive. */
+static int run_against(romrt_model *m, const query *Q, const bvh_view *V, int type, const uint32_t *prims, int size, int count,
+                       const romrt_real *hulls)
+{
+    uint32_t list[NEAR_CAP], v;
+    romrt_real boxes[6 * NEAR_CAP], ob[6];
+    int i = 0, j, k, n;
+    while (i < count) {
+        const uint32_t *ids = prims ? prims + (size_t)size * i : 0;
+        uint32_t o = m->cv_obj ? m->cv_obj[ids ? ids[0] : (uint32_t)i] : 0;
+        for (j = i + 1; j < count && (m->cv_obj ? m->cv_obj[prims ? prims[(size_t)size * j] : (uint32_t)j] : 0) == o; j++)
+            continue;
+        n = near_items(Q, V, type, hulls + 10 * (size_t)o, list, boxes);
+        for (; i < j && n != 0; i++) {
+            const uint32_t *pid = prims ? prims + (size_t)size * i : (v = (uint32_t)i, &v);
+            if (n < 0) {
+                if (traverse(m, Q, V, type, pid, size)) return -1;
+                continue;
+            }
+            object_box(m, pid, size, Q->grow, Q->swept, ob);
+            for (k = 0; k < n; k++)
+                if (overlap(ob, boxes + 6 * (size_t)k) && found(m, Q, V, type, pid, list[k])) return -1;
+        }
+        i = j;
+    }
     return 0;
+}
+
+/* The object's primitives against one obstacle's BVH. */
+static int against(romrt_model *m, const query *Q, const bvh_view *V, const romrt_real *hulls)
+{
+    if (V->has_tris && run_against(m, Q, V, ROMBIN_ITEM_TRIANGLE, 0, 1, m->ncv, hulls)) return -1;
+    if (run_against(m, Q, V, ROMBIN_ITEM_VERTEX, m->ctris, 3, m->nctri, hulls)) return -1;
+    if (V->has_edges && run_against(m, Q, V, ROMBIN_ITEM_EDGE, m->cedges, 2, m->ncedge, hulls)) return -1;
+    return 0;
+}
+
+/* Each object's hull: its collision vertices' box (over ocx, and ocx + ocdx when swept) grown by
+ * grow, at 10 reals an object (the surface sweep's sstat layout). */
+static void object_hulls(const romrt_model *m, const query *Q, romrt_real *hulls)
+{
+    int nobj = m->nobjects > 0 ? m->nobjects : 1, i, a;
+    for (i = 0; i < nobj; i++) box_empty(hulls + 10 * (size_t)i);
+    for (i = 0; i < m->ncv; i++) {
+        romrt_real *h = hulls + 10 * (size_t)(m->cv_obj ? m->cv_obj[i] : 0), e[3];
+        const romrt_real *p = m->ocx + 3 * (size_t)i;
+        box_add(h, p);
+        if (Q->swept) {
+            for (a = 0; a < 3; a++) e[a] = p[a] + m->ocdx[3 * (size_t)i + a];
+            box_add(h, e);
+        }
+    }
+    for (i = 0; i < nobj; i++) box_grow(hulls + 10 * (size_t)i, Q->grow);
 }
 
 static int stencils(romrt_model *m, const query *Q)
 {
     bvh_view V;
+    romrt_real one[10], *hulls = m->sstat ? m->sstat : one; /* the sweep's, before it fills them */
     int k;
+    object_hulls(m, Q, hulls);
     for (k = 0; k < m->nobs; k++) {
         baked_view(m, k, &V);
-        if (against(m, Q, &V)) return -1;
+        if (against(m, Q, &V, hulls)) return -1;
     }
     for (k = 0; k < ROMRT_MAX_COLLIDERS && m->nmeshes; k++) {
         if (!m->colliders[k].active || !m->colliders[k].mesh) continue;
         mesh_view(m, k, m->colliders[k].mesh, &V);
-        if (against(m, Q, &V)) return -1;
+        if (against(m, Q, &V, hulls)) return -1;
     }
     return Q->surface ? rt_surface_stencils(m, Q->grow, Q->swept, Q->visit, Q->ctx) : 0;
 }

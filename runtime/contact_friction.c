@@ -3,8 +3,8 @@
  * and obstacle vertices are recorded (x^t); each lag keeps every pair within dhat with its normal
  * force lambda, closest-point weights w and tangent basis T (pair_friction_lag); the potential
  * is then mu sum_k lambda_k f0(|T_k sum_i w_ki (x_i - x_i^t)|) (friction_slip), its gradient
- * and PSD Hessian pulled through the rows like the barrier's. An app mesh's step start is its
- * index's x0 (rt_meshes_begin). */
+ * and PSD Hessian pulled through the 3 rows sum_i w_ki B_i (contact_pull.c). An app mesh's step
+ * start is its index's x0 (rt_meshes_begin). */
 #include <string.h>
 
 #include "runtime/romrt_impl.h"
@@ -46,11 +46,11 @@ void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start)
 romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, int ld)
 {
     romrt_real E = 0, eps = m->eps_v * m->h;
-    int k, i, j, a, b;
+    int k, i, a;
     for (k = 0; k < m->nfric; k++) {
         const int32_t *id = m->fric_id + 4 * (size_t)k;
         const romrt_real *f = m->fric + 11 * (size_t)k, *w = f, *T = f + 4;
-        romrt_real rel[3] = {0, 0, 0}, gt[3], B[9], gx[12], Hx[144];
+        romrt_real rel[3] = {0, 0, 0}, gt[3], B[9];
         for (i = 0; i < 4; i++) {
             const romrt_real *now = id[i] >= 0 ? m->ocx + 3 * (size_t)id[i] : rt_obstacle_point(m, (uint32_t)(-1 - id[i]), RT_AT_NOW);
             const romrt_real *then =
@@ -58,15 +58,7 @@ romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, i
             for (a = 0; a < 3; a++) rel[a] += w[i] * (now[a] - then[a]);
         }
         E += RT_PHYS(friction_slip)(T, rel, eps, m->mu * f[10], gt, H ? B : 0);
-        if (!g && !H) continue;
-        for (i = 0; i < 4; i++)
-            for (a = 0; a < 3; a++) gx[3 * i + a] = w[i] * gt[a];
-        if (H)
-            for (i = 0; i < 4; i++)
-                for (j = 0; j < 4; j++)
-                    for (a = 0; a < 3; a++)
-                        for (b = 0; b < 3; b++) Hx[12 * (3 * i + a) + 3 * j + b] = w[i] * w[j] * B[3 * a + b];
-        rt_obstacles_pull(m, id, gx, H ? Hx : 0, g, H, ld);
+        if (g || H) rt_obstacles_pull_slip(m, id, w, gt, H ? B : 0, g, H, ld);
     }
     return E;
 }

@@ -35,6 +35,7 @@ static romrt_status rt_surface_arrays(rt_loader *L, romrt_model *m)
     if (!m->self_contact && m->nobjects < 2) return ROMRT_OK;
     rt_scratch(L, 6 * n, &m->sboxes);
     rt_scratch_u32(L, 3 * n, &m->sorder);
+    rt_scratch_u32(L, n, &m->sobj);
     rt_scratch_u32(L, (size_t)m->nobjects + 2, &m->sfirst);
     rt_scratch(L, 10 * ((size_t)m->nobjects + 1), &m->sstat);
     for (i = 0; m->sorder && i < 3 * n; i++) m->sorder[i] = (uint32_t)(i % n);

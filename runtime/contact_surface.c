@@ -71,11 +71,10 @@ static int stencil_of(const romrt_model *m, uint32_t a, uint32_t b, int32_t id[4
     return 1;
 }
 
+/* Primitive p's object, as the boxes' pass recorded it (sobj: the sort compares it on every step). */
 static uint32_t prim_object(const romrt_model *m, uint32_t p)
 {
-    uint32_t ids[3];
-    prim_ids(m, p, ids);
-    return object_of(m, ids[0]);
+    return m->sobj[p];
 }
 
 /* Whether primitive p (object po, lower end key) goes before primitive q. */
@@ -212,18 +211,24 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
     for (i = 0; i < n; i++) { /* boxes, and each object's hull, widths and count */
         romrt_real *b = B + 6 * (size_t)i, *so;
         int np = prim_ids(m, (uint32_t)i, ids);
-        so = S + 10 * (size_t)object_of(m, ids[0]);
-        for (a = 0; a < 3; a++) b[a] = (romrt_real)INFINITY, b[3 + a] = -(romrt_real)INFINITY;
-        for (k = 0; k < np; k++)
+        m->sobj[i] = object_of(m, ids[0]);
+        so = S + 10 * (size_t)m->sobj[i];
+        if (np == 1) { /* a point (they come first) */
             for (a = 0; a < 3; a++) {
-                romrt_real x = m->ocx[3 * (size_t)ids[k] + a], e = swept ? x + m->ocdx[3 * (size_t)ids[k] + a] : x;
-                if (x < b[a]) b[a] = x;
-                if (x > b[3 + a]) b[3 + a] = x;
-                if (e < b[a]) b[a] = e;
-                if (e > b[3 + a]) b[3 + a] = e;
+                romrt_real x = m->ocx[3 * (size_t)ids[0] + a], e = swept ? x + m->ocdx[3 * (size_t)ids[0] + a] : x;
+                b[a] = (e < x ? e : x) - grow, b[3 + a] = (e > x ? e : x) + grow;
             }
+        } else { /* an edge or triangle: its points' boxes' union (rounding is monotone: the
+                  * same bits as growing the union) */
+            for (a = 0; a < 6; a++) b[a] = B[6 * (size_t)ids[0] + a];
+            for (k = 1; k < np; k++)
+                for (a = 0; a < 3; a++) {
+                    const romrt_real *c = B + 6 * (size_t)ids[k];
+                    if (c[a] < b[a]) b[a] = c[a];
+                    if (c[3 + a] > b[3 + a]) b[3 + a] = c[3 + a];
+                }
+        }
         for (a = 0; a < 3; a++) {
-            b[a] -= grow, b[3 + a] += grow;
             if (b[a] < so[a]) so[a] = b[a];
             if (b[3 + a] > so[3 + a]) so[3 + a] = b[3 + a];
             so[6 + a] += b[3 + a] - b[a];

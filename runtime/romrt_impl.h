@@ -244,6 +244,7 @@ struct romrt_model {
     int self_contact;         /* OBHD's self flag: one object's surface touches itself */
     romrt_real *sboxes;       /* (ncv + ncedge + nctri) x 6: the surface sweep's boxes */
     uint32_t *sorder;         /* 3 x that: the primitives sorted by object, then box, on each axis */
+    uint32_t *sobj;           /* each primitive's object (contact_surface.c) */
     uint32_t *sfirst;         /* nobjects + 1 (2 for one object): each object's run of the order */
     int ssorted;              /* bit a: sorder's axis a has been sorted once */
     romrt_real *sstat;        /* (nobjects or 1) x 10: each object's hull (lo 3, hi 3), widths (3), count */
@@ -394,9 +395,11 @@ void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt
 romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4]);
 romrt_real rt_obstacles_eps(const romrt_model *m, int edge_edge, const int32_t id[4]);
 /* H (ld) += J^T B J and g += J^T gx over a stencil's collision vertices (B 12 x 12, gx 12; either
- * may be NULL). */
+ * may be NULL); the slip's over its 3 rows sum_i w_i J_i (B3 3 x 3, gt 3) (contact_pull.c). */
 void rt_obstacles_pull(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B, romrt_real *g,
                        romrt_real *H, int ld);
+void rt_obstacles_pull_slip(romrt_model *m, const int32_t id[4], const romrt_real w[4], const romrt_real gt[3],
+                            const romrt_real *B3, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_contact_distance(const romrt_model *m, int c, const romrt_real *q);
 romrt_real rt_contact_max_step(const romrt_model *m, const romrt_real *q, const romrt_real *dq);

@@ -12,6 +12,7 @@
 #include "runtime/contact.c"
 #include "runtime/contact_broad.c"
 #include "runtime/contact_friction.c"
+#include "runtime/contact_pull.c"
 #include "runtime/contact_surface.c"
 #include "runtime/mesh_move.c"
 
@@ -30,7 +31,7 @@
 typedef struct {
     romrt_model m;
     double X[3 * NV], rows[3 * NV], x[3 * NV], dx[3 * NV], boxes[6 * NP], stat[10 * (SHEETS + 1)];
-    uint32_t cv[NV], obj[NV], edges[2 * NE], tris[3 * NT], order[3 * NP], first[SHEETS + 2];
+    uint32_t cv[NV], obj[NV], edges[2 * NE], tris[3 * NT], order[3 * NP], sobj[NP], first[SHEETS + 2];
     int32_t cand[5 * CAP];
 } hand;
 
@@ -72,7 +73,8 @@ static void make(hand *h, int sheets, int self, double noise, unsigned seed)
     m->r = 1, m->nv = nv, m->ncv = nv, m->ncedge = ne, m->nctri = nt;
     m->X = h->X, m->rows = h->rows, m->cv = h->cv, m->cedges = h->edges, m->ctris = h->tris;
     m->cv_obj = sheets > 1 ? h->obj : NULL, m->nobjects = sheets > 1 ? sheets : 0, m->self_contact = self;
-    m->ocx = h->x, m->ocdx = h->dx, m->sboxes = h->boxes, m->sorder = h->order, m->sfirst = h->first, m->sstat = h->stat;
+    m->ocx = h->x, m->ocdx = h->dx, m->sboxes = h->boxes, m->sorder = h->order, m->sobj = h->sobj, m->sfirst = h->first,
+    m->sstat = h->stat;
     m->cand = h->cand, m->pair_cap = CAP;
     int n = nv + ne + nt;
     for (int a = 0; a < 3; a++)
