@@ -110,13 +110,14 @@ LOAD0=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
     echo "The old code (before issue 30) cannot bake the pour (its mesh container), so there is no old pour"
     echo "to time. What the issue asks of the old code's assets is that an asset with planes only costs what"
     echo "it costs today: the planes scene of bench/obstacle_step_cost.sh (a slab of 8 x 2 x 8 cells, r = 12"
-    echo "with cubature, dropped at 2 m/s onto a plane, friction 0.3, dt 0.01 s), baked by each build's"
+    echo "with cubature, falling from rest onto a plane 5 cm below, friction 0.3, dt 0.01 s; from rest, since"
+    echo "the old code bakes no initial velocity), baked by each build's"
     echo "romkit and stepped $STEPS times by its own \`romkit run\` (float32)."
     echo
     if [ -n "$OLD" ]; then
         cat >"$T/planes.json" <<JSON
 {"objects": [{"mesh": {"box": {"size": [0.4, 0.1, 0.4], "cells": [8, 2, 8]}, "translate": [-0.2, 0.05, -0.2]},
-  "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}, "velocity": [0, -2, 0]}],
+  "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}},
  "gravity": [0, -9.81, 0], "obstacles": [{"plane": {"point": [0, 0, 0], "normal": [0, 1, 0]}}],
  "contact": {"dhat": 0.002, "friction": 0.3}, "time": {"step": 0.01, "duration": 0.5},
  "rom": {"basis": "modes", "size": 12, "cubature": {"tolerance": 0.02}}}
