@@ -35,7 +35,7 @@ static int skin_rows(const romrt_model *m)
 static void pack_skin(const romrt_model *m, const int32_t id[4], const romrt_real w[4], int per_point, packed *K,
                       romrt_real *P)
 {
-    int S[ROMRT_MAX_R / 12], ns = 0, skin = m->skin, j, k, a, s, i, b;
+    int S[ROMRT_MAX_R / 12 + 1], ns = 0, skin = m->skin, j, k, a, s, i, b; /* (+1: no zero-size array when ROMRT_MAX_R < 12) */
     for (j = 0; j < skin; j++) {
         for (k = 0; k < 4; k++)
             if (id[k] >= 0 && w[k] != 0 && m->w[(size_t)m->cv[id[k]] * (size_t)skin + (size_t)j] != 0) break;
