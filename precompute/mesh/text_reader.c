@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 int rk_reader_open(rk_reader *r, const char *path, char comment, rk_error *err)
 {
@@ -17,8 +18,10 @@ int rk_reader_open(rk_reader *r, const char *path, char comment, rk_error *err)
     r->err = err;
     FILE *fp = fopen(path, "rb");
     if (!fp) return rk_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
     long size = -1;
-    if (fseek(fp, 0, SEEK_END) == 0) size = ftell(fp);
+    /* a directory opens too, and seeks to a nonsense end (a glTF buffer's uri may name one) */
+    if (fstat(fileno(fp), &st) == 0 && S_ISREG(st.st_mode) && fseek(fp, 0, SEEK_END) == 0) size = ftell(fp);
     if (size < 0 || fseek(fp, 0, SEEK_SET) != 0) {
         fclose(fp);
         return rk_fail(err, "%s: cannot read (not a regular file?)", path);
