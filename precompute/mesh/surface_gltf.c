@@ -325,12 +325,9 @@ static int read_node(gltf *g, long k, const double P[16], int depth)
     mat_mul(P, L, W);
     if (cJSON_GetObjectItemCaseSensitive(node, "mesh") && (whole(g, node, "mesh", 1e9, -1, where, &m) || read_mesh(g, m, W)))
         return -1;
-    const cJSON *kids = cJSON_GetObjectItemCaseSensitive(node, "children");
-    for (int i = 0; i < cJSON_GetArraySize(kids); i++) {
-        const cJSON *c = cJSON_GetArrayItem(kids, i);
-        if (!cJSON_IsNumber(c) || c->valuedouble < 0) return rk_fail(g->err, "%s: %s: a child is not a node index", g->path, where);
+    const cJSON *c, *kids = cJSON_GetObjectItemCaseSensitive(node, "children");
+    cJSON_ArrayForEach(c, kids) /* node indices: check_trees read them first */
         if (read_node(g, (long)c->valuedouble, W, depth + 1)) return -1;
-    }
     return 0;
 }
 
