@@ -222,24 +222,24 @@ static int embed_surfaces(const rk_scene *s, const rk_surface *surfaces, rk_scen
     return 0;
 }
 
-rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3])
+/* The object's material, overridden by the last region that selects the place: its box holds p,
+ * or (tagged: the place carries a tag) its tag is `tag`. */
+static rk_material region_material(const rk_scene_object *o, const double p[3], int tagged, int tag)
 {
-    rk_material m = o->material;
-    for (int r = 0; r < o->nregions; r++)
-        if (!o->regions[r].by_tag && rk_box_contains(&o->regions[r].box, p, 0)) m = o->regions[r].material;
-    return m;
-}
-
-rk_material rk_scene_point_material(const rk_scene *s, const rk_scene_sim *sim, int k, int v)
-{
-    const rk_scene_object *o = &s->objects[k];
     rk_material m = o->material;
     for (int r = 0; r < o->nregions; r++) {
         const rk_scene_region *g = &o->regions[r];
-        if (g->by_tag ? sim->point_tag && sim->point_tag[v] == g->tag : rk_box_contains(&g->box, &sim->mesh.X[3 * (size_t)v], 0))
-            m = g->material;
+        if (g->by_tag ? tagged && tag == g->tag : rk_box_contains(&g->box, p, 0)) m = g->material;
     }
     return m;
+}
+
+rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]) { return region_material(o, p, 0, 0); }
+
+rk_material rk_scene_point_material(const rk_scene *s, const rk_scene_sim *sim, int k, int v)
+{
+    return region_material(&s->objects[k], &sim->mesh.X[3 * (size_t)v], sim->point_tag != NULL,
+                           sim->point_tag ? sim->point_tag[v] : 0);
 }
 
 rk_material rk_scene_sample_material(const rk_scene *s, const rk_scene_sim *sim, int k, const rk_rkpm_points *pts, int i)
@@ -295,33 +295,24 @@ static int assign_materials(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     for (int k = 0; k < s->nobjects; k++) {
         const rk_scene_object *o = &s->objects[k];
         int cloud = out->object_first_tet[k + 1] == out->object_first_tet[k]; /* its points carry the tags */
+        const int *tags = cloud ? out->point_tag : out->tet_tag;
+        int from = cloud ? out->object_first_vertex[k] : out->object_first_tet[k];
+        int to = cloud ? from + out->object_points[k] : out->object_first_tet[k + 1];
         for (int r = 0; r < o->nregions; r++) {
             int count = 0;
-            for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++)
-                count += out->tet_tag[t] == o->regions[r].tag;
-            for (int v = out->object_first_vertex[k]; cloud && v < out->object_first_vertex[k] + out->object_points[k]; v++)
-                count += out->point_tag[v] == o->regions[r].tag;
+            for (int i = from; o->regions[r].by_tag && i < to; i++) count += tags[i] == o->regions[r].tag;
             if (o->regions[r].by_tag && count == 0) {
-                char tags[160];
-                if (cloud)
-                    list_tags(out->point_tag, out->object_first_vertex[k], out->object_first_vertex[k] + out->object_points[k],
-                              tags, sizeof tags);
-                else
-                    list_tags(out->tet_tag, out->object_first_tet[k], out->object_first_tet[k + 1], tags, sizeof tags);
+                char listed[160];
+                list_tags(tags, from, to, listed, sizeof listed);
                 return rk_fail(err, "%s: objects[%d].regions[%d]: no %s has tag %d (its tags: %s)", s->path, k, r,
-                               cloud ? "point of the cloud" : "tet of the mesh", o->regions[r].tag, tags);
+                               cloud ? "point of the cloud" : "tet of the mesh", o->regions[r].tag, listed);
             }
         }
         for (int t = out->object_first_tet[k]; t < out->object_first_tet[k + 1]; t++) {
             double c[3] = {0, 0, 0};
             for (int a = 0; a < 4; a++)
                 for (int i = 0; i < 3; i++) c[i] += 0.25 * m->X[3 * m->tets[4 * t + a] + i];
-            rk_material mat = o->material;
-            for (int r = 0; r < o->nregions; r++) {
-                const rk_scene_region *g = &o->regions[r];
-                if (g->by_tag ? out->tet_tag[t] == g->tag : rk_box_contains(&g->box, c, 0)) mat = g->material;
-            }
-            out->materials[t] = mat;
+            out->materials[t] = region_material(o, c, 1, out->tet_tag[t]);
         }
     }
     return 0;
