@@ -241,9 +241,8 @@ static int found(romrt_model *m, const query *Q, const bvh_view *V, int type, co
 {
     uint32_t p[3];
     int32_t id[4];
-    int a;
-    item_points(V, it, p);
-    for (a = 0; a < 3; a++) p[a] += V->base;
+    int a, np = item_points(V, it, p);
+    for (a = 0; a < np; a++) p[a] += V->base; /* only the item's points: the rest of p is unset */
     if (type == ROMBIN_ITEM_TRIANGLE) /* object point, obstacle triangle */
         id[0] = (int32_t)ids[0], id[1] = -1 - (int32_t)p[0], id[2] = -1 - (int32_t)p[1], id[3] = -1 - (int32_t)p[2];
     else if (type == ROMBIN_ITEM_VERTEX) /* obstacle point, object triangle */
