@@ -91,6 +91,7 @@ romrt_status romrt_reset(romrt_model *m, romrt_error *err)
     m->t0 = 0;
     m->steps = 0;
     m->have_prev = 0;
+    m->obs_behind = 0; /* the obstacles where the clock puts them */
     m->hessian_age = -1; /* a kept Newton matrix belongs to the motion it was built in */
     memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
     m->ncolliders = 0;
@@ -472,6 +473,7 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, size_t cou
     }
     r = m->r;
     m->hessian_age = -1;
+    m->obs_behind = 0; /* the state holds no obstacle lag: they go where its clock puts them */
     m->t0 = (double)state[0] + (double)state[1];
     m->steps = 0;
     m->have_prev = state[2] == 1;

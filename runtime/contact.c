@@ -4,8 +4,8 @@
  * within dhat (per stencil: physics/contact_impl.h, the precompute's own code in this precision),
  * each pair's Hessian projected to PSD on its collision vertices and pulled into the r x r system
  * through their basis rows, H += J^T B J; the step filter by additive CCD of every stencil the
- * swept boxes give (Li et al. 2021); the obstacles' scripted motion (OBMO) and the safe fractions
- * of it that precompute/contact/advance.c moves them by. */
+ * swept boxes give (Li et al. 2021); the obstacles' scripted motion (OBMO), and the joint CCD of
+ * the body and the obstacles moving with it (contact_progress.c). */
 #include <math.h>
 #include <string.h>
 
@@ -85,11 +85,12 @@ static romrt_real pairs_energy(romrt_model *m, const romrt_real *q, int friction
         if (!g && !H) continue;
         for (k = 0; k < 12; k++) gl[k] *= m->kappa;
         if (H) {
-            for (k = 0; k < 4; k++) dof[k] = id[k] >= 0;
+            for (k = 0; k < 4; k++) dof[k] = id[k] >= 0 || m->obs_joint; /* the obstacles' too when they move with s */
             RT_PHYS(pair_project)(dof, Hl);
             for (k = 0; k < 144; k++) Hl[k] *= m->kappa;
         }
         rt_obstacles_pull(m, id, gl, H ? Hl : 0, g, H, ld);
+        if (m->obs_joint) rt_obstacles_pull_progress(m, id, gl, H ? Hl : 0, g, H, ld);
     }
     if (friction) E += rt_obstacles_friction(m, g, H, ld);
     return E;
@@ -106,7 +107,8 @@ romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction
 
 typedef struct {
     romrt_real alpha;
-    int obstacles_move;   /* the obstacles go by odx (the body holds still), else the body by ocdx */
+    int body_moves;       /* the body goes by ocdx */
+    int obstacles_move;   /* the obstacles go by odx */
 } ccd_ctx;
 
 /* In float the filter also keeps CONTACT_FLOOR dhat of every stencil's gap, as the plane filter
@@ -141,7 +143,7 @@ static void ccd_stencil(romrt_model *m, int edge_edge, const int32_t id[4], void
     int k, a;
     rt_obstacles_stencil(m, id, pts);
     for (k = 0; k < 4; k++)
-        d[k] = id[k] >= 0 ? (c->obstacles_move ? still : m->ocdx + 3 * (size_t)id[k])
+        d[k] = id[k] >= 0 ? (c->body_moves ? m->ocdx + 3 * (size_t)id[k] : still)
                           : (c->obstacles_move ? rt_obstacle_point(m, (uint32_t)(-1 - id[k]), RT_AT_MOVE) : still);
     if (CONTACT_FLOOR > 0) {
         /* d(d^2)/dt = 2 n . sum_i w_i dx_i, n = sum_i w_i x_i (the closest points held: their
@@ -172,14 +174,18 @@ static void ccd_visit(romrt_model *m, int edge_edge, const int32_t id[4], void *
     RT_PROF_END(RT_PROF_NARROW);
 }
 
-romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq)
+/* In a joint solve (contact_progress.c) the obstacles go by ds D_o along with the body. */
+romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
 {
     ccd_ctx c;
-    c.alpha = 1, c.obstacles_move = 0;
+    int p = m->r + m->nmoving;
+    c.alpha = 1, c.body_moves = 1, c.obstacles_move = m->obs_joint;
     RT_PROF_BEGIN(RT_PROF_NARROW);
-    rt_obstacles_positions(m, q, dq);
+    rt_obstacles_positions(m, y, d);
+    if (m->obs_joint) rt_obstacles_place(m, y[p], d[p]);
     RT_PROF_END(RT_PROF_NARROW);
     rt_obstacles_swept(m, 1, FLOOR_GROW(m), ccd_visit, &c);
+    if (m->obs_joint) rt_obstacles_place(m, y[p], 0);
     return c.alpha;
 }
 
@@ -216,26 +222,15 @@ romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t)
     rt_obstacles_positions(m, q, 0);
     for (i = 0; i < 3 * m->ncv; i++) m->ocdx[i] = 0;
     rt_obstacles_refit(m, 1);
-    c.alpha = 1, c.obstacles_move = 1; /* the surface's own stencils hold still: none of them */
+    c.alpha = 1, c.body_moves = 0, c.obstacles_move = 1; /* the surface's own stencils hold still: none of them */
     rt_obstacles_swept(m, 0, FLOOR_GROW(m), ccd_visit, &c);
     for (i = 0; i < 3 * m->onv; i++) m->odx[i] = 0;
     rt_obstacles_refit(m, 0);
     return c.alpha;
 }
 
-void rt_obstacles_move(romrt_model *m, double t, romrt_real fraction)
+void rt_obstacles_arrive(romrt_model *m, double t)
 {
-    int i;
-    romrt_real *keep = m->ox;
-    if (m->nmeshes) rt_meshes_move(m, fraction);
-    if (fraction >= 1) {
-        rt_obstacles_at(m, t);
-        return;
-    }
-    m->ox = m->ox_to;
-    rt_obstacles_at(m, t);
-    m->ox = keep;
-    for (i = 0; i < 3 * m->onv; i++) m->ox[i] += fraction * (m->ox_to[i] - m->ox[i]);
-    rt_obstacles_refit(m, 0);
-    m->obs_time = (double)NAN;
+    if (m->nmeshes) rt_meshes_end(m, 1);
+    if (m->obs_moving) rt_obstacles_at(m, t);
 }

@@ -59,6 +59,7 @@ romrt_real rt_obstacles_friction(romrt_model *m, romrt_real *g, romrt_real *H, i
         }
         E += RT_PHYS(friction_slip)(T, rel, eps, m->mu * f[10], gt, H ? B : 0);
         if (g || H) rt_obstacles_pull_slip(m, id, w, gt, H ? B : 0, g, H, ld);
+        if ((g || H) && m->obs_joint) rt_obstacles_slip_progress(m, id, w, gt, H ? B : 0, g, H, ld);
     }
     return E;
 }

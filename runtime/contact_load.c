@@ -113,6 +113,7 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_u32(L, (size_t)m->onv + (size_t)m->one + (size_t)m->onf + (size_t)m->onode, &m->overt_obs);
     rt_scratch(L, 3 * (size_t)m->onv, &m->ox);
     rt_scratch(L, 3 * (size_t)m->onv, &m->ox_to);
+    rt_scratch(L, 3 * (size_t)m->onv, &m->ox_from);
     rt_scratch(L, 3 * (size_t)m->onv, &m->odx);
     rt_scratch(L, 3 * (size_t)m->onv, &m->cache_ox);
     rt_scratch(L, 3 * (size_t)m->onv, &m->fox0);

@@ -2,14 +2,13 @@
  * at a rigid pose, its world positions kept in its index (mesh_index.c), its contact the baked
  * obstacles' (contact*.c: the same stencils, barrier, friction and CCD, thickness 0).
  *
- * A move to a new pose is the scene's scripted obstacles' rule (precompute/contact/advance.c, as
- * step.c's advance runs it for OBMO): each vertex goes on a straight line to where the pose puts
- * it, by the fraction of the way CCD allows with the body still, then a solve pushes the body
- * clear, until the whole way is made or the body cannot give way (the mesh then stops short, as
- * the other colliders do, and goes on at the next step). A straight line per vertex rather than
- * the pose's screw: CCD is exact on it, and the pose is reached exactly at its end (a rotation
- * moves the vertices through chords of their arcs on the way, a shape that is never touched):
- * mesh_move.c. */
+ * A move to a new pose is the scene's scripted obstacles' rule (contact_progress.c): each vertex
+ * goes on a straight line to where the pose puts it, at a progress that the step solves for with
+ * the body, so the barrier pushes the body ahead of the mesh and CCD filters the joint motion;
+ * where the body cannot give way the mesh stops short, as the other colliders do, and goes on at
+ * the next step. A straight line per vertex rather than the pose's screw: CCD is exact on it, and
+ * the pose is reached exactly at its end (a rotation moves the vertices through chords of their
+ * arcs on the way, a shape that is never touched): mesh_move.c. */
 #include <math.h>
 #include <string.h>
 

@@ -1,5 +1,6 @@
 /* An app mesh's moves within a step (mesh_collider.c has the rule): the step's start kept and put
- * back, the way to the target pose for CCD, the fraction of it made. */
+ * back, the way from there to the target pose that a step's joint solve moves it along
+ * (contact_progress.c), its CCD moves, and where the solve leaves it. */
 #include <string.h>
 
 #include "runtime/romrt_impl.h"
@@ -57,6 +58,63 @@ int rt_meshes_pending(const romrt_model *m)
     return 0;
 }
 
+/* Where the slot's target pose puts vertex v, less where it was at the step's start. */
+static void target_way(const rt_collider *c, uint32_t v, romrt_real D[3])
+{
+    const rt_mesh *M = c->mesh;
+    const romrt_real *p = c->target, *R = c->target + 3, *X = M->X + 3 * (size_t)v, *x0 = M->x0 + 3 * (size_t)v;
+    int i;
+    for (i = 0; i < 3; i++) D[i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + p[i] - x0[i];
+}
+
+int rt_mesh_way(const romrt_model *m, uint32_t o, romrt_real D[3])
+{
+    const rt_collider *c = &m->colliders[o >> RT_MESH_SHIFT];
+    if (!c->active || !c->mesh || !mesh_pending(c)) return 0;
+    target_way(c, o & ((1u << RT_MESH_SHIFT) - 1), D);
+    return 1;
+}
+
+romrt_real rt_meshes_longest_way2(const romrt_model *m)
+{
+    const rt_mesh *M;
+    romrt_real L2 = 0, D[3], d2;
+    uint32_t v;
+    int k;
+    EACH_MESH(m, k, M) {
+        if (!mesh_pending(&m->colliders[k])) continue;
+        for (v = 0; v < M->nv; v++) {
+            target_way(&m->colliders[k], v, D);
+            d2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
+            if (d2 > L2) L2 = d2;
+        }
+    }
+    return L2;
+}
+
+/* The moving meshes at progress s of their way (ds = 0), or still there with their CCD move ds of
+ * it in dx (ds != 0, boxes swept). */
+void rt_meshes_at(romrt_model *m, romrt_real s, romrt_real ds)
+{
+    rt_mesh *M;
+    romrt_real D[3];
+    uint32_t v;
+    int k, a;
+    EACH_MESH(m, k, M) {
+        if (!mesh_pending(&m->colliders[k])) continue;
+        for (v = 0; v < M->nv; v++) {
+            target_way(&m->colliders[k], v, D);
+            for (a = 0; a < 3; a++) {
+                M->x[3 * (size_t)v + a] = M->x0[3 * (size_t)v + a] + s * D[a];
+                M->dx[3 * (size_t)v + a] = ds * D[a];
+            }
+        }
+        M->moving = ds != 0;
+        rt_mesh_refit(M, M->moving);
+    }
+}
+
+/* The rest of the way to the target poses in dx (CCD with the body still). */
 void rt_meshes_way(romrt_model *m)
 {
     rt_mesh *M;
@@ -71,20 +129,20 @@ void rt_meshes_way(romrt_model *m)
     }
 }
 
-void rt_meshes_move(romrt_model *m, romrt_real fraction)
+/* The end of a step's solve: the moving meshes at their poses exactly (arrive), or where the
+ * solve left them, short of their poses (part), their dx cleared. */
+void rt_meshes_end(romrt_model *m, int arrive)
 {
     rt_mesh *M;
-    uint32_t i;
     int k;
     EACH_MESH(m, k, M) {
         rt_collider *c = &m->colliders[k];
-        if (!M->moving) continue;
-        if (fraction >= 1) { /* at the pose, exactly */
+        if (!mesh_pending(c)) continue;
+        if (arrive) {
             rt_mesh_world(M, c->target, M->x);
             memcpy(c->now, c->target, sizeof c->now);
             M->part = 0;
-        } else if (fraction > 0) {
-            for (i = 0; i < 3 * M->nv; i++) M->x[i] += fraction * M->dx[i];
+        } else if (memcmp(M->x, M->x0, sizeof(romrt_real) * 3 * (size_t)M->nv)) {
             M->part = 1;
         }
         memset(M->dx, 0, sizeof(romrt_real) * 3 * (size_t)M->nv);

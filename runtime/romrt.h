@@ -370,9 +370,9 @@ int romrt_takes_colliders(const romrt_model *m);
  * tested in this precision), ROMRT_E_ARGUMENT otherwise; a body wholly inside a closed mesh, or a
  * mesh wholly inside the body, is not detected: place it clear, then move it. On a slot holding
  * the same mesh it is a move: the next step takes the mesh's vertices on straight lines to the new
- * pose in the safe fractions CCD allows with the body still, each followed by a solve that pushes
- * the body ahead (as the scene's scripted obstacles move); where the body cannot give way the mesh
- * stops short (colliders_behind) and goes on at the next step. A bad pose, a NULL, a count of 0 or
+ * pose, solving for the body and the mesh's progress together so the body is pushed ahead (as the
+ * scene's scripted obstacles move); where the body cannot give way the mesh stops short
+ * (colliders_behind) and goes on at the next step. A bad pose, a NULL, a count of 0 or
  * above romrt_limits' mesh_max_count, a triangle index out of range or repeated within a triangle,
  * a non-finite position, an index too small, misaligned or not built for this mesh is refused with
  * ROMRT_E_ARGUMENT naming what and where, and nothing is placed. */
@@ -406,7 +406,8 @@ typedef struct {
     size_t friction_pairs;        /* of them, the lagged friction pairs */
     size_t pair_capacity;         /* the asset's capacity for them (a step above it fails, ROMRT_E_LIMIT) */
     int converged;                /* the converged mode met the tolerance (1 for a Koopman step) */
-    int colliders_behind;         /* a moved collider stopped short of its pose (the body was in the way) */
+    int colliders_behind;         /* a moved collider, or the scene's moving obstacles, stopped short of
+                                   * where they go (the body was in the way) */
 } romrt_step_info;
 romrt_status romrt_last_step(const romrt_model *m, romrt_step_info *info, romrt_error *err);
 

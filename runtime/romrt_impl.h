@@ -257,6 +257,11 @@ struct romrt_model {
     const romrt_real *obounds_rest; /* onode x 6 (OBVB) */
     uint32_t *overt_obs;      /* onv: each obstacle vertex's obstacle */
     romrt_real *ox, *ox_to, *odx; /* onv x 3: where the obstacle vertices are, are going, the way there */
+    romrt_real *ox_from;      /* onv x 3: where they were when the step began (contact_progress.c) */
+    int obs_joint;            /* a solve moves them too: y[r + nmoving] is their progress s */
+    int obs_behind;           /* the last step left them short of where the clock puts them */
+    romrt_real obs_w, obs_L;  /* the progress's pull and the longest way an obstacle vertex goes */
+    romrt_real obs_s, obs_lambda; /* where a solve starts s, and the pull's multiplier */
     romrt_real *obounds;      /* onode x 6: the BVH boxes where the obstacles are (swept when asked) */
     romrt_real *ocx, *ocdx;   /* ncv x 3: the collision vertices at q, and their move along a step */
     romrt_real *cache_x, *cache_ox; /* ncv x 3, onv x 3: where the candidate pairs were gathered */
@@ -336,16 +341,37 @@ void rt_clock_rebase(romrt_model *m);
  *   rt_obstacles_energy    kappa sum_k m_k b(d_k^2 - xi^2, ...) over the pairs within dhat at q, with
  *                          friction when asked; +INFINITY where a pair touches or the pairs overflow
  *                          the capacity (m->obs_overflow set)
- *   rt_obstacles_max_step  the largest step of q along dq that CCD allows (obstacles still)
- *   rt_obstacles_fraction  the fraction of the obstacles' way to where they are at t that CCD
- *                          allows with the body at q; rt_obstacles_move makes that much of it
+ *   rt_obstacles_max_step  the largest step of y along d that CCD allows (the obstacles still, or
+ *                          in a joint solve along with the body by d[r + nmoving] of their way)
+ *   rt_obstacles_fraction  the fraction of the obstacles' way to where they are at t (and the
+ *                          app meshes' to their poses) that CCD allows with the body at q;
+ *                          rt_obstacles_arrive puts them all there
  *   rt_obstacles_lag       friction's step start (start) and lagged pairs at q */
 void rt_obstacles_at(romrt_model *m, double t);
 romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
-romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *q, const romrt_real *dq);
+romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d);
 romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t);
-void rt_obstacles_move(romrt_model *m, double t, romrt_real fraction);
+void rt_obstacles_arrive(romrt_model *m, double t);
 void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start);
+/* contact_progress.c: the obstacles (the baked ones on their scripted motions, the app's meshes to
+ * their poses) moving with the body in one solve.
+ *   rt_obstacles_begin_joint  their way from where they are to where they are at t (ox_from,
+ *                             ox_to; the meshes' from x0), its pull and length; 0 when nothing
+ *                             moves (no joint solve)
+ *   rt_obstacles_place        the obstacles at progress s along it, with a CCD move of ds of it in
+ *                             odx (and the meshes' dx; boxes swept when ds != 0)
+ *   rt_obstacles_end_joint    the obstacles where the solve left them (s), at t when within tol
+ *                             of it and the last bit is safe; 1 when they stay behind
+ *   rt_obstacles_pull_progress, rt_obstacles_slip_progress
+ *                             a barrier stencil's and a friction pair's derivatives in s, added
+ *                             into g and H at index r + nmoving (as rt_obstacles_pull[_slip] take) */
+int rt_obstacles_begin_joint(romrt_model *m, double t);
+void rt_obstacles_place(romrt_model *m, romrt_real s, romrt_real ds);
+int rt_obstacles_end_joint(romrt_model *m, romrt_real s, double t, romrt_real tol);
+void rt_obstacles_pull_progress(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B,
+                                romrt_real *g, romrt_real *H, int ld);
+void rt_obstacles_slip_progress(romrt_model *m, const int32_t id[4], const romrt_real w[4], const romrt_real gt[3],
+                                const romrt_real *B3, romrt_real *g, romrt_real *H, int ld);
 /* contact_broad.c: the collision vertices at q (and their move along dq) into ocx (ocdx); the
  * BVH boxes refitted over ox (and ox + odx when swept); the candidate pairs within 2 dhat into
  * m->cand, unless the cache still holds (0, or -1 on overflow); every stencil whose swept boxes,
@@ -368,13 +394,19 @@ int rt_surface_stencils(romrt_model *m, romrt_real grow, int swept, rt_stencil_v
 enum { RT_AT_NOW, RT_AT_MOVE, RT_AT_START, RT_AT_CACHE };
 romrt_real *rt_obstacle_point(const romrt_model *m, uint32_t o, int which);
 const romrt_real *rt_obstacle_rest(const romrt_model *m, uint32_t o);
-/* App meshes (mesh_collider.c): the step's start recorded / put back; whether one is short of its
- * pose; a move's way into their dx (CCD), made by `fraction` of it; the BVH boxes refitted. */
+/* App meshes (mesh_move.c): the step's start recorded / put back; whether one is short of its
+ * pose; an app mesh vertex's (stencil id -1 - o) way from the step's start to its pose (0 when its
+ * mesh does not move); the longest such way, squared; the moving meshes at progress s of their way
+ * with a CCD move ds of it (rt_meshes_at); the rest of the way into their dx (rt_meshes_way); at
+ * the solve's end at their poses (arrive) or left short of them; the BVH boxes refitted. */
 void rt_meshes_begin(romrt_model *m);
 void rt_meshes_abort(romrt_model *m);
 int rt_meshes_pending(const romrt_model *m);
+int rt_mesh_way(const romrt_model *m, uint32_t o, romrt_real D[3]);
+romrt_real rt_meshes_longest_way2(const romrt_model *m);
+void rt_meshes_at(romrt_model *m, romrt_real s, romrt_real ds);
 void rt_meshes_way(romrt_model *m);
-void rt_meshes_move(romrt_model *m, romrt_real fraction);
+void rt_meshes_end(romrt_model *m, int arrive);
 void rt_mesh_refit(rt_mesh *M, int swept);
 /* x = R X + p over the mesh's vertices (pose: position 3, rotation 9 row-major). */
 void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x);

@@ -39,26 +39,48 @@ static romrt_real rms(romrt_model *m, const romrt_real *x)
     return s > 0 ? RT_SQRT(s) : 0;
 }
 
-/* The step's size: the body's RMS step, or a moved collider's along its path, whichever is larger. */
+/* The unknowns: q, the moved colliders' progress, the moving obstacles' (contact_progress.c). */
+static int unknowns(const romrt_model *m)
+{
+    return m->r + m->nmoving + m->obs_joint;
+}
+
+/* The step's size: the body's RMS step, or a moved collider's or obstacle's along its path,
+ * whichever is larger. */
 static romrt_real step_size(romrt_model *m, const romrt_real *d)
 {
     romrt_real size = rms(m, d);
-    int k;
+    int k, p = m->r + m->nmoving;
     for (k = 0; k < m->nmoving; k++)
         if (RT_FABS(d[m->r + k]) * m->move_L[k] > size) size = RT_FABS(d[m->r + k]) * m->move_L[k];
+    if (m->obs_joint && RT_FABS(d[p]) * m->obs_L > size) size = RT_FABS(d[p]) * m->obs_L;
     return size;
 }
 
 /* The potential over y = (q, the moved colliders' progress s_k): the colliders placed at s_k,
- * plus w_k/2 (1 - s_k)^2 and the terms' derivatives in s_k (precompute/rom/collider_solve.c). */
+ * plus w_k/2 (1 - s_k)^2 and the terms' derivatives in s_k (precompute/rom/collider_solve.c);
+ * likewise the moving obstacles' progress s in a joint solve (precompute/rom/obstacle_solve.c),
+ * whose derivatives the contact terms add as they go (contact_progress.c). */
 static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *g, romrt_real *H,
                             romrt_real *magnitude)
 {
-    int r = m->r, n = r + m->nmoving, k, i;
+    int r = m->r, n = unknowns(m), p = r + m->nmoving, k, i;
     romrt_real E;
     if (m->nmoving) rt_colliders_place(m, y);
+    if (m->obs_joint) {
+        rt_obstacles_place(m, y[p], 0);
+        if (g) g[p] = 0;
+        for (i = 0; H && i <= p; i++) H[i + (size_t)n * p] = 0;
+    }
     E = rt_potential(m, T, y, g, H, n, magnitude);
     if (!isfinite(E)) return E;
+    if (m->obs_joint) { /* w/2 (1 - s)^2 - lambda (1 - s), lambda the multiplier's (obstacles_solve) */
+        romrt_real c = 1 - y[p], e = RT_K(0.5) * m->obs_w * c * c - m->obs_lambda * c;
+        E += e;
+        if (magnitude) *magnitude += RT_FABS(e);
+        if (g) g[p] += m->obs_lambda - m->obs_w * c;
+        if (H) H[p + (size_t)n * p] += m->obs_w;
+    }
     for (k = 0; k < m->nmoving; k++) {
         romrt_real sk = y[r + k], gs = 0, hss = 0, pull = m->move_w[k] * (1 - sk), *hqs = H ? H + (size_t)n * (r + k) : 0;
         if (hqs)
@@ -81,6 +103,9 @@ static int filtered(const romrt_model *m)
 static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
 {
     romrt_real alpha = m->ncontacts ? rt_contact_max_step(m, y, d) : 1, c;
+    int p = m->r + m->nmoving;
+    if (m->obs_joint && d[p] > 0 && (1 - y[p]) / d[p] < alpha) alpha = (1 - y[p]) / d[p]; /* s stays in [0, 1] */
+    if (m->obs_joint && d[p] < 0 && y[p] / -d[p] < alpha) alpha = y[p] / -d[p];
     if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
     if (m->surface && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
     return alpha;
@@ -134,7 +159,7 @@ int rt_reuse_steps(const romrt_model *m)
 static int kept_matrix(const romrt_model *m, const rt_terms *T)
 {
     int reuse = rt_reuse_steps(m);
-    return reuse > 1 && m->nmoving == 0 && m->hessian_age >= 0 && m->hessian_age < reuse && m->hessian_w == T->w_inertia;
+    return reuse > 1 && m->nmoving == 0 && !m->obs_joint && m->hessian_age >= 0 && m->hessian_age < reuse && m->hessian_w == T->w_inertia;
 }
 
 /* The potential at y, its gradient in m->g, and the Newton matrix factored in m->H: the exact
@@ -148,12 +173,12 @@ static int kept_matrix(const romrt_model *m, const rt_terms *T)
 static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *E,
                                   romrt_real *magnitude, int it, int fresh, int *kept, romrt_error *err)
 {
-    int n = m->r + m->nmoving, indefinite = 0;
+    int n = unknowns(m), indefinite = 0;
     *kept = !fresh && kept_matrix(m, T);
     if (*kept) {
         *E = potential(m, T, y, m->g, 0, magnitude);
     } else {
-        m->exact_hessian = m->nmoving == 0;
+        m->exact_hessian = m->nmoving == 0 && !m->obs_joint;
         *E = potential(m, T, y, m->g, m->H, magnitude);
         indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
         if (indefinite && m->exact_hessian) {
@@ -172,7 +197,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
     if (indefinite && rt_cholesky(n, m->H) && shifted_factor(m, T, y, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
-    if (m->nmoving == 0 && !m->alrom) {
+    if (m->nmoving == 0 && !m->obs_joint && !m->alrom) {
         m->hessian_age = 0;
         m->hessian_w = T->w_inertia;
     }
@@ -197,7 +222,7 @@ static romrt_status direction(romrt_model *m, int n, int it, romrt_error *err)
  * advance; its distance from the converged answer is what the bench reports. */
 static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
-    int n = m->r + m->nmoving, it, i, kept;
+    int n = unknowns(m), it, i, kept;
     romrt_real *y = m->y, *d = m->d, alpha, E, magnitude;
     romrt_status st;
     for (it = 0; it < m->fixed_iterations; it++) {
@@ -226,7 +251,7 @@ static romrt_real stop_tol(romrt_model *m, const romrt_real *y, romrt_real step,
 /* Projected Newton on y = (q, moved colliders' progress) from m->y, the precompute solver's loop. */
 static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
-    int n = m->r + m->nmoving, it, k, i, fresh = 0;
+    int n = unknowns(m), it, k, i, fresh = 0;
     romrt_real *y = m->y, *g = m->g, *d = m->d, *trial = m->trial, last = (romrt_real)INFINITY;
     if (m->fixed_iterations) return newton_fixed(m, T, err);
     for (it = 0; it < m->max_iter; it++) {
@@ -262,6 +287,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
                 for (i = 0; i < n; i++) m->trial[i] = y[i] + alpha * d[i];
                 if (isfinite(potential(m, T, m->trial, 0, 0, 0))) memcpy(y, m->trial, sizeof(romrt_real) * (size_t)n);
                 else if (m->nmoving) rt_colliders_place(m, y);
+                else if (m->obs_joint) rt_obstacles_place(m, y[m->r], 0);
             }
             m->last.converged = 1;
             return ROMRT_OK;
@@ -304,36 +330,7 @@ static romrt_status newton(romrt_model *m, const rt_terms *T, romrt_error *err)
     return ROMRT_OK;
 }
 
-/* Moving obstacles go to where they are at the step's end in safe moves, each followed by a
- * solve that pushes the body clear (precompute/contact/advance.c, rk_contact_advance, with its
- * constants): as far as CCD lets them go with the body still, all the way once it allows. The
- * app's moved meshes go with them (mesh_collider.c); when only they move and the body cannot get
- * out of their way, they stop short (colliders_behind) rather than fail the step. */
-#define STALL_FRACTION 1e-6
-#define STALL_LIMIT 8
-#define MAX_MOVES 1000
 static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders, romrt_error *err);
-
-static romrt_status advance(romrt_model *m, const rt_terms *T, romrt_error *err)
-{
-    double t = rt_clock(m, 1);
-    int stalls = 0, k;
-    for (k = 0; k < MAX_MOVES; k++) {
-        romrt_real alpha = rt_obstacles_fraction(m, m->q, t);
-        int last = alpha >= 1;
-        romrt_status st;
-        rt_obstacles_move(m, t, last ? 1 : alpha);
-        if ((st = solve(m, T, 0, err))) return st;
-        if (last) return ROMRT_OK;
-        stalls = alpha < RT_K(STALL_FRACTION) ? stalls + 1 : 0;
-        if (stalls >= STALL_LIMIT && !m->obs_moving) return ROMRT_OK;
-        if (stalls >= STALL_LIMIT)
-            return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_OBMO,
-                           "a moving obstacle cannot go on: the body cannot get out of its way (pinned between obstacles?)");
-    }
-    if (!m->obs_moving) return ROMRT_OK;
-    return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_OBMO, "a moving obstacle needed more than 1000 safe moves in one step");
-}
 
 /* Newton from m->q (with the moved colliders, when there are, from where they are), into m->q. */
 static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders, romrt_error *err)
@@ -343,6 +340,7 @@ static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders,
     if (move_colliders) rt_colliders_begin_move(m, m->q);
     memcpy(m->y, m->q, sizeof(romrt_real) * (size_t)m->r);
     for (k = 0; k < m->nmoving; k++) m->y[m->r + k] = 0;
+    if (m->obs_joint) m->y[m->r + m->nmoving] = m->obs_s;
     st = newton(m, T, err);
     if (m->nmoving) {
         if (st) m->nmoving = 0; /* the caller puts the colliders back */
@@ -350,6 +348,47 @@ static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders,
     }
     if (!st) memcpy(m->q, m->y, sizeof(romrt_real) * (size_t)m->r);
     return st;
+}
+
+/* How near the end of their way the obstacles count as arrived: the solve's own tolerance (in
+ * float its floor, as stop_tol's: s rounds to 6e-8 of the way, and the multiplier's rounds stirred
+ * noise below that) */
+static romrt_real arrival_tol(romrt_model *m)
+{
+    romrt_real size = rms(m, m->q);
+    return TOL_FLOOR * size > m->tol ? TOL_FLOOR * size : m->tol;
+}
+
+/* The scene's moving obstacles to where they are at the step's end and the app's moved meshes to
+ * their poses, solved for with the body (contact_progress.c); where the body cannot give way they
+ * stop short (colliders_behind) and go on at the next step. */
+static romrt_status obstacles_solve(romrt_model *m, const rt_terms *T, romrt_error *err)
+{
+    double t = rt_clock(m, 1);
+    romrt_status st = ROMRT_OK;
+    int round;
+    if (!rt_obstacles_begin_joint(m, t)) {
+        m->obs_behind = 0;
+        return solve(m, T, 0, err);
+    }
+    if (rt_obstacles_fraction(m, m->q, t) >= 1) { /* the whole way is clear of the body as it is: */
+        m->obs_joint = 0, m->obs_behind = 0;        /* there at once, the body solved after them */
+        rt_obstacles_arrive(m, t);
+        return solve(m, T, 0, err);
+    }
+    m->obs_s = 0, m->obs_lambda = 0;
+    for (round = 0; round < RK_OBSTACLE_ROUNDS && !st; round++) {
+        st = solve(m, T, 0, err);
+        m->obs_s = m->y[m->r];
+        if (st || (1 - m->obs_s) * m->obs_L <= arrival_tol(m)) break;
+        m->obs_lambda -= m->obs_w * (1 - m->obs_s); /* the method of multipliers */
+    }
+    if (st) {
+        m->obs_joint = 0;
+        return st;
+    }
+    m->obs_behind = rt_obstacles_end_joint(m, m->obs_s, t, arrival_tol(m));
+    return ROMRT_OK;
 }
 
 romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romrt_error *err)
@@ -381,7 +420,7 @@ romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *
 
 romrt_status romrt_step(romrt_model *m, romrt_error *err)
 {
-    int r, i, bdf2;
+    int r, i, bdf2, behind = 0;
     romrt_real h, vnew[ROMRT_MAX_R];
     rt_terms T;
     romrt_status st;
@@ -407,9 +446,12 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     T.w_damping = 1 / h;
     T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders || m->surface);
     memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
-    if (m->surface) { /* the obstacles where the clock puts them (a reset or a failed step may have moved it) */
+    if (m->surface) { /* the obstacles where the clock puts them (a reset may have moved it), unless
+                       * the last step left them behind; kept to go back to if this one fails */
         m->obs_overflow = 0;
-        if (m->obs_moving) rt_obstacles_at(m, rt_clock(m, 0));
+        behind = m->obs_behind;
+        if (m->obs_moving && !behind) rt_obstacles_at(m, rt_clock(m, 0));
+        if (m->obs_moving) memcpy(m->ox_from, m->ox, sizeof(romrt_real) * 3 * (size_t)m->onv);
         if (m->nmeshes) rt_meshes_begin(m);
     }
     /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
@@ -424,7 +466,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     /* the colliders the app moved, with the body in one solve; then the step's solve; then
      * friction lagged again at the solution until a solve has nothing left to do */
     st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;
-    if (!st) st = m->obs_moving || (m->nmeshes && rt_meshes_pending(m)) ? advance(m, &T, err) : solve(m, &T, 0, err);
+    if (!st) st = m->obs_moving || (m->nmeshes && rt_meshes_pending(m)) ? obstacles_solve(m, &T, err) : solve(m, &T, 0, err);
     for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
         size_t before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
@@ -432,7 +474,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         st = solve(m, &T, 0, err);
         if (m->last.newton_iterations - before <= 1) break;
     }
-    m->last.colliders_behind = rt_colliders_pending(m) || (m->nmeshes && rt_meshes_pending(m));
+    m->last.colliders_behind = rt_colliders_pending(m) || (m->nmeshes && rt_meshes_pending(m)) || m->obs_behind;
     m->last.contact_pairs = m->surface ? (size_t)m->ncand : 0;
     m->last.friction_pairs = m->surface ? (size_t)m->nfric : 0;
     for (i = 0; i < r && !st; i++) {
@@ -452,6 +494,11 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         memcpy(m->q, m->qt, sizeof(romrt_real) * (size_t)r);
         for (k = 0; k < ROMRT_MAX_COLLIDERS; k++) memcpy(m->colliders[k].now, m->colliders[k].start, sizeof m->colliders[k].now);
         if (m->nmeshes) rt_meshes_abort(m);
+        if (m->obs_moving) { /* the obstacles back where the step began */
+            memcpy(m->ox, m->ox_from, sizeof(romrt_real) * 3 * (size_t)m->onv);
+            rt_obstacles_refit(m, 0);
+            m->obs_behind = behind;
+        }
         if (m->alrom) rt_alrom_abort(m);
         return st;
     }

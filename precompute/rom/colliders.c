@@ -132,7 +132,7 @@ double rk_rom_colliders_energy(rk_rom *s, const double *q, int friction, double 
     vertex_terms t;
     rk_rom_contact_positions(s, q);
     if (g) rk_rom_clear_vertex_gradient(s);
-    rk_rom_reduce_ctx ctx = {m, H, s->jb};
+    rk_rom_reduce_ctx ctx = {.m = m, .H = H, .JB = s->jb};
     for (int k = 0; k < RK_MAX_COLLIDERS && isfinite(E); k++) {
         const rk_rom_collider *c = &s->colliders[k];
         if (!c->active) continue;

@@ -112,6 +112,11 @@ typedef struct {
     double *xs, *xl;           /* 3 nv: collision vertices where the step began and where friction was lagged */
     double *x, *dx, *gx;       /* 3 nv contact scratch: positions, a step, a gradient */
     double *odx;               /* 3 obstacle vertices: their way over a step */
+    /* a joint solve moving the obstacles (obstacle_solve.c): their way (NULL outside one), the
+     * contact terms' gradient at the obstacle vertices (3 onv), and their derivatives in the
+     * obstacles' progress (d/ds, d2/ds2, d2/dq ds: r) */
+    const double *obs_way;
+    double *ogx, obs_gs, obs_hss, *obs_hqs;
     double *jb;                /* 12 x r contact scratch */
     rk_contact_set pairs;      /* this evaluation's contact pairs */
     double *q, *v;             /* reduced positions and velocities */

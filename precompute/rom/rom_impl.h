@@ -30,6 +30,10 @@ double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, doubl
                         double *magnitude, rk_error *err);
 void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
 
+/* The scene's moving obstacles to where they are at t, solved for with the body (obstacle_solve.c);
+ * *behind: they stopped short (the body was in the way). */
+int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *converged, int *behind, rk_error *err);
+
 /* Contact in the subspace (contact.c). */
 int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U, rk_error *err);
 void rk_rom_contact_positions(rk_rom *s, const double *q);
@@ -42,6 +46,10 @@ typedef struct {
     const rk_rom_model *m;
     double *H;      /* r x r, column-major (both triangles) */
     double *JB;     /* 12 x r scratch */
+    /* a joint solve moving the obstacles (obstacle_solve.c), or NULL: their way D (3 per obstacle
+     * vertex), and the block's d2/dq ds (r) and d2/ds2 added into hqs and *hss */
+    const double *way;
+    double *hqs, *hss;
 } rk_rom_reduce_ctx;
 void rk_rom_reduce_block(void *ctx, const int *id, int npoints, const double *B);
 /* s->gx zeroed at the collision vertices; g += the rows' pull of s->gx. */

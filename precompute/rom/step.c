@@ -24,7 +24,8 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->xl = rk_calloc(n3, sizeof(double), err);
     s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
     s->odx = rk_calloc(3 * (size_t)(m->has_contact ? m->contact.onv : 0) + 1, sizeof(double), err);
-    if (!s->q || !s->v || !s->work || !s->x || !s->dx || !s->gx || !s->xs || !s->xl || !s->jb || !s->odx ||
+    s->ogx = rk_calloc(3 * (size_t)(m->has_contact ? m->contact.onv : 0) + 1, sizeof(double), err);
+    if (!s->q || !s->v || !s->work || !s->x || !s->dx || !s->gx || !s->xs || !s->xl || !s->jb || !s->odx || !s->ogx ||
         rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
         rk_rom_free(s);
         return -1;
@@ -82,7 +83,7 @@ void rk_rom_free(rk_rom *s)
     free(s->v);
     rk_stepper_free(&s->stepper);
     free(s->work);
-    free(s->x), free(s->dx), free(s->gx), free(s->xs), free(s->xl), free(s->jb), free(s->odx);
+    free(s->x), free(s->dx), free(s->gx), free(s->xs), free(s->xl), free(s->jb), free(s->odx), free(s->ogx);
     rk_contact_set_free(&s->pairs);
     memset(s, 0, sizeof *s);
 }
@@ -100,6 +101,13 @@ typedef struct {
     const rk_rom_terms *T;
     int converged;
 } step_solve;
+
+static int moving_planes(const rk_contact *c)
+{
+    for (int k = 0; k < c->nobstacles; k++)
+        if (c->obstacles[k].kind == RK_OBSTACLE_PLANE && c->obstacles[k].motion != RK_MOTION_FIXED) return 1;
+    return 0;
+}
 
 /* The obstacles' motion to t allows this much of itself from here (the subspace holds still). */
 static double obstacle_fraction(void *ctx, double t, rk_error *err)
@@ -178,13 +186,19 @@ static int dynamic_step(rk_rom *s, rk_error *err)
     /* the app's colliders to where it put them, the body pushed ahead of them in the same solve */
     if (rk_rom_colliders_pending(s) && rk_rom_colliders_solve(s, &T, &c.converged, err)) return -1;
     s->colliders_behind = rk_rom_colliders_pending(s);
-    if (m->has_contact ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
-                       : move_and_solve(&c, s->t + m->h, 1, err))
+    /* the scene's obstacles to where they are at the step's end: with the body in one solve
+     * (obstacle_solve.c), or in safe moves when a plane moves (the runtime's planes are static) */
+    int behind = 0;
+    if (m->has_contact && !moving_planes(&m->contact) ? rk_rom_obstacles_solve(s, &T, s->t + m->h, &c.converged, &behind, err)
+        : m->has_contact ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
+                         : move_and_solve(&c, s->t + m->h, 1, err))
         return -1;
-    /* then lagged again at the solution and solved again, until a solve has nothing left to do */
+    s->colliders_behind |= behind;
+    /* then lagged again at the solution and solved again, the obstacles where they are, until a
+     * solve has nothing left to do */
     for (int k = 1; friction && k < m->contact_options.friction_iterations; k++) {
         long before = s->stats.newton_iterations;
-        if (rk_rom_friction_lag(s, s->q, err) || move_and_solve(&c, s->t + m->h, 1, err)) return -1;
+        if (rk_rom_friction_lag(s, s->q, err) || rk_rom_newton(s, &T, m->newton_tol, &c.converged, err)) return -1;
         if (s->stats.newton_iterations - before <= 1) break;
     }
     if (!c.converged) s->stats.unconverged_steps++;

@@ -12,6 +12,7 @@
 #include "runtime/contact.c"
 #include "runtime/contact_broad.c"
 #include "runtime/contact_friction.c"
+#include "runtime/contact_progress.c"
 #include "runtime/contact_pull.c"
 #include "runtime/contact_surface.c"
 #include "runtime/mesh_move.c"
