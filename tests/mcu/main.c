@@ -84,7 +84,7 @@ int main(void)
         return failed(s, &err);
 #endif
     shown = romrt_shown_count(m);
-    printf("r %d\nshown %d\nsteps %d\n", romrt_reduced_size(m), shown, STEPS);
+    printf("r %d\nshown %d\nsteps %d\n", (int)romrt_reduced_size(m), shown, STEPS);
     if (shown > MAX_SHOWN) {
         printf("error too many shown vertices: %d > MAX_SHOWN %d\n", shown, MAX_SHOWN);
         return 1;
