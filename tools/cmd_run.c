@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "run_contact.h"
 #include "run_splats.h"
+#include "run_stress.h"
 #include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
 #include "runtime/romrt.h"
@@ -30,7 +31,7 @@ static void run_usage(FILE *f)
     fprintf(f, "usage: romkit run ASSET.rombin --steps N [--positions P.npy] [--snapshots S.npy]\n"
                "                  [--report R.json] [--jump N] [--dt H] [--damping MU]\n"
                "                  [--reference S.npy] [--frames DIR] [--splats DIR] [--koopman] [--newton K]\n"
-               "                  [--hessian-reuse K] [--scene SCENE.json] [--quiet]\n"
+               "                  [--hessian-reuse K] [--scene SCENE.json] [--stress T.npy] [--quiet]\n"
                "  opens the asset with the runtime (float32 build, r up to %d) and steps it N times\n"
                "  --positions   final positions of the shown vertices (n x 3 float64)\n"
                "  --snapshots   every frame's shown positions (N x n x 3 float64)\n"
@@ -61,7 +62,11 @@ static void run_usage(FILE *f)
                "  --scene       the scene the asset was built from: the report's contact.{min_distance,\n"
                "                intersections, intersecting_frames, frames}, measured on the start and every\n"
                "                step as romkit fom measures its frames (the exact segment-triangle test; the\n"
-               "                scene's collision surface, obstacles and objects; the asset must show the surface)\n"
+               "                scene's collision surface, obstacles and objects; the asset must show the surface),\n"
+               "                when the scene has contact\n"
+               "  --stress T.npy  every frame's largest principal Cauchy stress (Pa) at each shown point,\n"
+               "                (N+1) x n float64 (frame 0: the start), from the runtime's deformation gradients\n"
+               "                and --scene's materials, as romkit fom --stress (a point-cloud asset: GRAD)\n"
                "  --quiet       no progress line on stderr\n"
                "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n\n"
                "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
@@ -214,7 +219,7 @@ int cmd_run(int argc, char **argv)
         }
     const char *path, *steps_text = NULL, *pos_out = NULL, *snap_out = NULL, *report_out = NULL, *jump_text = NULL;
     const char *dt_text = NULL, *damping_text = NULL, *ref_path = NULL, *frames_dir = NULL, *newton_text = NULL;
-    const char *splats_dir = NULL, *reuse_text = NULL, *scene_path = NULL;
+    const char *splats_dir = NULL, *reuse_text = NULL, *scene_path = NULL, *stress_out = NULL;
     int quiet = 0, koopman = 0;
     const cli_option opts[] = {{"--steps", &steps_text, NULL},   {"--positions", &pos_out, NULL},
                                {"--snapshots", &snap_out, NULL}, {"--report", &report_out, NULL},
@@ -223,7 +228,8 @@ int cmd_run(int argc, char **argv)
                                {"--frames", &frames_dir, NULL},   {"--koopman", NULL, &koopman},
                                {"--newton", &newton_text, NULL}, {"--quiet", NULL, &quiet},
                                {"--splats", &splats_dir, NULL}, {"--hessian-reuse", &reuse_text, NULL},
-                               {"--scene", &scene_path, NULL},  {NULL, NULL, NULL}};
+                               {"--scene", &scene_path, NULL},  {"--stress", &stress_out, NULL},
+                               {NULL, NULL, NULL}};
     long steps, jump = 0, fixed_newton = 0, reuse = 0;
     romrt_real dt = 0, damping = 0;
     if (cli_parse("run", argc, argv, opts, &path, "asset file") || parse_count("--steps", steps_text, &steps) ||
@@ -246,8 +252,13 @@ int cmd_run(int argc, char **argv)
     int snapping = 0, rc = 1;
     run_splats splats;
     memset(&splats, 0, sizeof splats);
+    run_scene scene;
+    memset(&scene, 0, sizeof scene);
     run_contact contact;
     memset(&contact, 0, sizeof contact);
+    run_stress stress;
+    memset(&stress, 0, sizeof stress);
+    int measure_contact = 0;
     double t0 = rk_now();
     long newton = 0, unconverged = 0, factorizations = 0, most_pairs = 0, hessian_reuse = 0;
     /* an asset may hold a reduced model and a Koopman operator: the Koopman options pick the latter */
@@ -293,11 +304,23 @@ int cmd_run(int argc, char **argv)
         if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
         if (run_splats_frame(&splats, m, 0, xyz, &err)) goto fail;
     }
+    if (stress_out && !scene_path) {
+        rk_fail(&err, "--stress needs --scene SCENE.json, the scene the asset was built from: its materials");
+        goto fail;
+    }
     if (scene_path) {
-        if (run_contact_open(&contact, scene_path, data, size, m, &err)) goto fail;
+        if (run_scene_open(&scene, scene_path, data, size, m, &err)) goto fail;
+        /* --scene measures contact; with --stress alone it may have none */
+        measure_contact = !stress_out || run_contact_wanted(&scene);
+    }
+    if (measure_contact) {
+        if (run_contact_open(&contact, &scene, &err)) goto fail;
         if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
         if (run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
     }
+    if (stress_out && (run_stress_open(&stress, stress_out, steps + 1, &scene, m, &err) ||
+                       run_stress_frame(&stress, m, 0, &err)))
+        goto fail;
     if (snap_out) {
         long shape[3] = {steps, (long)n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
@@ -315,14 +338,15 @@ int cmd_run(int argc, char **argv)
         if ((long)info.contact_pairs > most_pairs) most_pairs = (long)info.contact_pairs;
         hessian_reuse = (long)info.hessian_reuse;
         unconverged += !info.converged;
-        if (snapping || ref.frames || frames_dir || splats_dir || scene_path) {
+        if (stress_out && run_stress_frame(&stress, m, k + 1, &err)) goto fail;
+        if (snapping || ref.frames || frames_dir || splats_dir || measure_contact) {
             if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
             for (size_t i = 0; i < 3 * n; i++) frame[i] = xyz[i];
             if (snapping) rk_npy_stream_append(&snap, frame, 3 * n);
             reference_add(&ref, k + 1, frame);
             if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
             if (splats_dir && run_splats_frame(&splats, m, k + 1, xyz, &err)) goto fail;
-            if (scene_path && run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
+            if (measure_contact && run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
         }
         if (!quiet) rk_progress("run", k + 1, steps);
     }
@@ -335,6 +359,7 @@ int cmd_run(int argc, char **argv)
         snapping = 0;
         if (rk_npy_stream_commit(&snap, &err)) goto fail;
     }
+    if (run_stress_commit(&stress, &err)) goto fail;
     long pshape[2] = {(long)n, 3};
     if (pos_out && rk_npy_write(pos_out, frame, 2, pshape, &err)) goto fail;
     double median = steps ? rk_median(seconds, (int)steps) : 0;
@@ -366,7 +391,7 @@ int cmd_run(int argc, char **argv)
             cJSON_AddNumberToObject(rj, "normalized_mse", rk_normalized_mse(&ref.error));
             cJSON_AddNumberToObject(rj, "relative_error", rk_relative_error(&ref.error));
         }
-        if (scene_path) rk_contact_tally_report(cJSON_AddObjectToObject(r, "contact"), &contact.tally);
+        if (measure_contact) rk_contact_tally_report(cJSON_AddObjectToObject(r, "contact"), &contact.tally);
         cJSON *a = cJSON_AddObjectToObject(r, "asset");
         cJSON_AddNumberToObject(a, "bytes", (double)asset.file_bytes);
         cJSON *s = cJSON_AddObjectToObject(r, "seconds");
@@ -381,7 +406,7 @@ int cmd_run(int argc, char **argv)
     if (ref.error.frames)
         printf("  against %s over %ld frames: relative error %.3g, normalized MSE %.3g\n", ref_path, ref.error.frames,
                rk_relative_error(&ref.error), rk_normalized_mse(&ref.error));
-    if (scene_path)
+    if (measure_contact)
         printf("  contact with %s: closest %.3g m, %ld crossings in %ld of %ld frames\n", scene_path,
                contact.tally.min_distance, contact.tally.intersections, contact.tally.intersecting_frames,
                contact.tally.frames);
@@ -397,6 +422,8 @@ done:
     tool_asset_close(&asset);
     run_splats_close(&splats);
     run_contact_close(&contact);
+    run_stress_close(&stress);
+    run_scene_close(&scene);
     free(xyz);
     free(frame);
     free(seconds);

@@ -93,6 +93,10 @@ int rk_fem_inverted(const rk_fem *f, const double *x, double *min_J);
 /* out[v]: the largest principal Cauchy stress (Pa) at vertex v for positions x (3 nv), the stress
  * tensors of the tets around v averaged by rest volume (stress.c); 0 at a vertex in no tet. */
 int rk_fem_principal_stress(const rk_fem *f, const double *x, double *out, rk_error *err);
+/* The Cauchy stress sigma = P F^T / J (row-major, symmetrized) of a material at deformation
+ * gradient F (rk_pk1), and a symmetric 3 x 3 tensor's largest eigenvalue. */
+void rk_cauchy_stress(rk_material_model model, double mu, double lambda, const double F[9], double s[9]);
+double rk_largest_principal(const double s[9]);
 
 /* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
  * every column of the vertex (rows are sorted and the column ends at its diagonal). */

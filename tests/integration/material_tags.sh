@@ -126,3 +126,46 @@ if "$ROMKIT" fom "$TMP/pulled.json" --stress "$TMP/T.npy" --quiet >/dev/null 2>"
 else
     fail fom_stress_meets_springs_in_series "$(cat "$TMP/err")"
 fi
+
+# The runtime's stresses (romkit run --stress): a point-cloud bar (21 x 3 x 3 points, 5 cm apart,
+# linear, E = 1e5, Poisson 0), one end fixed and the other pulled at 0.1 m/s for 0.5 s: at the
+# middle cross-section the stress from the runtime's deformation gradients (GRAD) and the scene's
+# material is E times the strain measured from the same frame's positions (the neighbouring
+# sections' spacing), within 2%; none at rest. --stress needs --scene, and a cloud (GRAD).
+python3 - "$TMP" <<'PY'
+import json, sys
+d = sys.argv[1]
+with open(d + "/cbar.ply", "w") as f:
+    f.write("ply\nformat ascii 1.0\nelement vertex 189\nproperty float x\nproperty float y\nproperty float z\nend_header\n")
+    f.writelines("%g %g %g\n" % (i * 0.05, j * 0.05, k * 0.05) for i in range(21) for j in range(3) for k in range(3))
+json.dump({"objects": [{"mesh": {"points": "cbar.ply"},
+                        "material": {"model": "linear", "young": 1e5, "poisson": 0, "density": 1000},
+                        "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}],
+                        "moving": [{"box": [[0.99, -1, -1], [2, 1, 1]], "translate": {"velocity": [0.1, 0, 0]}}]}],
+           "gravity": [0, 0, 0], "time": {"step": 0.01, "duration": 0.5},
+           "rom": {"basis": "rkpm_skinning", "size": 4, "kernels": 40, "mesh_free": {"points": 189}}},
+          open(d + "/cbar.json", "w"))
+PY
+if "$ROMKIT" build "$TMP/cbar.json" -o "$TMP/cbar.rombin" --quiet >/dev/null 2>"$TMP/err" &&
+    "$ROMKIT" run "$TMP/cbar.rombin" --steps 50 --scene "$TMP/cbar.json" --stress "$TMP/cS.npy" \
+        --snapshots "$TMP/cP.npy" --quiet >/dev/null 2>>"$TMP/err"; then
+    # points in file order: point (i, j, k) is 9 i + 3 j + k; the last frame's x of sections 9 and 11
+    { npy_values "$TMP/cS.npy"; echo SPLIT; npy_values "$TMP/cP.npy"; } | awk '
+        $1 == "SPLIT" { p = 1; next }
+        !p { s[ns++] = $1; next }
+        { x[nx++] = $1 }
+        END { n = 189; for (m = 0; m < n; m++) { r = s[m] < 0 ? -s[m] : s[m]; if (r > rest) rest = r }
+              last = 49 * n * 3
+              for (m = 0; m < 9; m++) { a += x[last + 3 * (81 + m)]; b += x[last + 3 * (99 + m)]; st += s[50 * n + 90 + m] }
+              eps = (b - a) / 9 / 0.1 - 1; want = 1e5 * eps; st /= 9; d = (st - want) / want; if (d < 0) d = -d
+              printf "middle section %.1f Pa against E x strain %.1f Pa (%.2g), rest %.2g Pa\n", st, want, d, rest
+              exit !(ns == 51 * n && rest < 1e-9 && want > 4000 && d < 0.02) }' >"$TMP/cstress" &&
+        ok run_stress_meets_e_times_strain "$(cat "$TMP/cstress")" ||
+        fail run_stress_meets_e_times_strain "$(cat "$TMP/cstress") $(cat "$TMP/err")"
+else
+    fail run_stress_meets_e_times_strain "$(cat "$TMP/err")"
+fi
+expect_fail run_stress_needs_the_scene "needs --scene" "$ROMKIT" run "$TMP/cbar.rombin" --steps 1 --stress "$TMP/x.npy"
+"$ROMKIT" build tests/mcu/scene.json -o "$TMP/beam.rombin" --quiet >/dev/null 2>&1
+expect_fail run_stress_of_a_mesh_points_to_fom "romkit fom --stress" \
+    "$ROMKIT" run "$TMP/beam.rombin" --steps 1 --scene tests/mcu/scene.json --stress "$TMP/x.npy"

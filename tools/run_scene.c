@@ -1,0 +1,78 @@
+/* romkit run --scene (run_scene.h). */
+#include "run_scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "formats/rombin_read.h"
+
+/* The asset's shown vertices rest where the scene's vertices they come from rest, up to the
+ * asset's float rounding: otherwise SCENE is not the asset's. */
+static int check_rest(const run_scene *o, const romrt_model *m, rk_error *err)
+{
+    romrt_real *X = calloc((size_t)3 * o->shown + 1, sizeof(romrt_real));
+    if (!X) return rk_fail(err, "out of memory");
+    romrt_error rerr;
+    if (romrt_rest_positions(m, X, 3 * (size_t)o->shown, 3, &rerr)) {
+        free(X);
+        return rk_fail(err, "%s", rerr.message);
+    }
+    const double *S = o->sim.mesh.X;
+    double tol = 1e-5 * (rk_points_diagonal(S, o->sim.mesh.nv) + 1e-300);
+    for (int i = 0; i < o->shown; i++) {
+        const double *s = &S[3 * (size_t)o->source[i]];
+        double d = fabs((double)X[3 * i] - s[0]) + fabs((double)X[3 * i + 1] - s[1]) + fabs((double)X[3 * i + 2] - s[2]);
+        if (!(d <= tol)) {
+            int bad = rk_fail(err, "--scene %s: the asset's shown vertex %d rests at (%g, %g, %g), its scene vertex %u at "
+                                   "(%g, %g, %g): is this the scene the asset was built from?", o->path, i, (double)X[3 * i],
+                              (double)X[3 * i + 1], (double)X[3 * i + 2], o->source[i], s[0], s[1], s[2]);
+            free(X);
+            return bad;
+        }
+    }
+    free(X);
+    return 0;
+}
+
+int run_scene_open(run_scene *o, const char *scene_path, const unsigned char *asset, size_t bytes, const romrt_model *m,
+                   rk_error *err)
+{
+    memset(o, 0, sizeof *o);
+    o->path = scene_path;
+    if (rk_scene_load(scene_path, &o->scene, err)) return -1;
+    o->have_scene = 1;
+    if (rk_scene_build(&o->scene, &o->sim, err)) return -1;
+    o->have_sim = 1;
+    int nv = o->sim.mesh.nv;
+    if (o->sim.fem.nv != nv)
+        return rk_fail(err, "--scene %s: its simulation has %d vertices, its mesh %d", scene_path, o->sim.fem.nv, nv);
+    rombin_file f;
+    rombin_error e;
+    rombin_chunk c;
+    o->shown = (int)romrt_shown_count(m);
+    if (rombin_open(&f, asset, bytes, NULL, &e) || !rombin_find(&f, ROMBIN_VMAP, &c) || c.raw < 4 * (uint64_t)o->shown)
+        return rk_fail(err, "--scene: the asset has no VMAP chunk saying which scene vertex each shown one is");
+    if (!(o->source = calloc((size_t)o->shown + 1, sizeof(uint32_t)))) return rk_fail(err, "out of memory");
+    memcpy(o->source, c.data, 4 * (size_t)o->shown);
+    for (int i = 0; i < o->shown; i++)
+        if (o->source[i] >= (uint32_t)nv)
+            return rk_fail(err, "--scene %s has %d vertices; the asset's shown vertex %d comes from vertex %u: is this the "
+                           "scene the asset was built from?", scene_path, nv, i, o->source[i]);
+    return check_rest(o, m, err);
+}
+
+int run_scene_object_of(const run_scene *o, int v)
+{
+    int k = 0;
+    while (k + 1 < o->scene.nobjects && v >= o->sim.object_first_vertex[k + 1]) k++;
+    return k;
+}
+
+void run_scene_close(run_scene *o)
+{
+    if (o->have_sim) rk_scene_sim_free(&o->sim);
+    if (o->have_scene) rk_scene_free(&o->scene);
+    free(o->source);
+    memset(o, 0, sizeof *o);
+}

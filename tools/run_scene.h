@@ -1,0 +1,30 @@
+/* romkit run --scene SCENE.json: the scene the asset was built from, built again, and which scene
+ * vertex each of the asset's shown vertices is (VMAP), for the measures that need the scene
+ * (run_contact.h: contact; run_stress.h: stresses from its materials). */
+#ifndef ROMKIT_RUN_SCENE_H
+#define ROMKIT_RUN_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "pipeline/pipeline.h"
+#include "runtime/romrt.h"
+
+typedef struct {
+    const char *path;
+    rk_scene scene;
+    rk_scene_sim sim;
+    int have_scene, have_sim;
+    int shown;
+    uint32_t *source;      /* shown vertex -> scene mesh vertex (the asset's VMAP) */
+} run_scene;
+
+/* Builds the scene; fails, saying why, when the asset has no VMAP or its shown vertices are not the
+ * scene's (another scene, or moved). */
+int run_scene_open(run_scene *o, const char *scene_path, const unsigned char *asset, size_t bytes, const romrt_model *m,
+                   rk_error *err);
+/* The object scene vertex v belongs to. */
+int run_scene_object_of(const run_scene *o, int v);
+void run_scene_close(run_scene *o);
+
+#endif
