@@ -101,7 +101,8 @@ typedef enum { RK_COLLIDER_PLANE = 0, RK_COLLIDER_SPHERE = 1, RK_COLLIDER_CAPSUL
 /* The scene's moving obstacles solved for with the body (precompute/rom/obstacle_solve.c,
  * runtime/contact_progress.c): the same pull on their progress s, and at most this many rounds of
  * the method of multipliers on it, until they arrive within the solve's tolerance (the pull alone
- * leaves them a h^2 / 1000 short while they push the body at acceleration a). */
+ * leaves them a h^2 / 1000 short while they push the body at acceleration a), or a round fails to
+ * halve the shortfall (the body pinned: the multiplier would only press harder). */
 #define RK_OBSTACLE_ROUNDS 8
 /* rk_collider_check's answers (0: a valid collider). */
 enum { RK_COLLIDER_NOT_FINITE = 1, RK_COLLIDER_UNKNOWN_KIND, RK_COLLIDER_BAD_SIZE, RK_COLLIDER_NOT_ROTATION };

@@ -366,6 +366,7 @@ static romrt_status obstacles_solve(romrt_model *m, const rt_terms *T, romrt_err
 {
     double t = rt_clock(m, 1);
     romrt_status st = ROMRT_OK;
+    romrt_real short_by;
     int round;
     if (!rt_obstacles_begin_joint(m, t)) {
         m->obs_behind = 0;
@@ -377,11 +378,13 @@ static romrt_status obstacles_solve(romrt_model *m, const rt_terms *T, romrt_err
         return solve(m, T, 0, err);
     }
     m->obs_s = 0, m->obs_lambda = 0;
-    for (round = 0; round < RK_OBSTACLE_ROUNDS && !st; round++) {
+    for (round = 0, short_by = 1; round < RK_OBSTACLE_ROUNDS && !st; round++) {
         st = solve(m, T, 0, err);
         m->obs_s = m->y[m->r];
-        if (st || (1 - m->obs_s) * m->obs_L <= arrival_tol(m)) break;
-        m->obs_lambda -= m->obs_w * (1 - m->obs_s); /* the method of multipliers */
+        /* arrived; or pinned: a round that did not halve the shortfall (the body cannot give way) */
+        if (st || (1 - m->obs_s) * m->obs_L <= arrival_tol(m) || 1 - m->obs_s > RT_K(0.5) * short_by) break;
+        short_by = 1 - m->obs_s;
+        m->obs_lambda -= m->obs_w * short_by; /* the method of multipliers */
     }
     if (st) {
         m->obs_joint = 0;

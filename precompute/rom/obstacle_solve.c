@@ -157,7 +157,9 @@ int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *conv
     memcpy(y, s->q, sizeof(double) * r); /* s = 0: the obstacles where they are */
     rk_newton_problem prob = {.n = p.n, .ctx = &p, .what = "reduced incremental potential with moving obstacles",
                               .energy = energy, .solve = solve, .max_step = max_step, .step_norm = step_norm};
-    /* rounds of the method of multipliers on the pull until they arrive within the tolerance */
+    /* rounds of the method of multipliers on the pull until they arrive within the tolerance, or
+     * a round does not halve the shortfall (pinned: the body cannot give way) */
+    double short_by = 1;
     for (int round = 0; round < RK_OBSTACLE_ROUNDS; round++) {
         rk_newton_stats stats = {0};
         rc = rk_newton_solve(&prob, y, m->newton_tol, m->newton_max_iter, work, converged, &stats, err);
@@ -167,8 +169,9 @@ int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *conv
             *err = p.failure;
             rc = -1;
         }
-        if (rc || (1 - y[r]) * p.L <= m->newton_tol) break;
-        p.lambda -= p.w * (1 - y[r]);
+        if (rc || (1 - y[r]) * p.L <= m->newton_tol || 1 - y[r] > 0.5 * short_by) break;
+        short_by = 1 - y[r];
+        p.lambda -= p.w * short_by;
     }
     if (rc == 0) { /* the body and the obstacles where the solve left them; at t when within the
                     * solve's tolerance of it and CCD lets the last bit go */
