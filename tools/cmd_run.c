@@ -64,9 +64,10 @@ static void run_usage(FILE *f)
                "                step as romkit fom measures its frames (the exact segment-triangle test; the\n"
                "                scene's collision surface, obstacles and objects; the asset must show the surface),\n"
                "                when the scene has contact\n"
-               "  --stress T.npy  every frame's largest principal Cauchy stress (Pa) at each shown point,\n"
-               "                (N+1) x n float64 (frame 0: the start), from the runtime's deformation gradients\n"
-               "                and --scene's materials, as romkit fom --stress (a point-cloud asset: GRAD)\n"
+               "  --stress T.npy  every frame's largest principal Cauchy stress (Pa) at each shown vertex,\n"
+               "                (N+1) x n float64 (frame 0: the start), as romkit fom --stress with --scene's\n"
+               "                materials: a point cloud's from the runtime's deformation gradients (GRAD), a\n"
+               "                mesh's from its tets (bake it with rom.asset.show \"all\")\n"
                "  --quiet       no progress line on stderr\n"
                "  a deflate-compressed asset is inflated in memory first, as an app shipping one would.\n\n"
                "example (after romkit build examples/scenes/cantilever_small.json -o cantilever.rombin\n"
@@ -318,9 +319,11 @@ int cmd_run(int argc, char **argv)
         if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
         if (run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
     }
-    if (stress_out && (run_stress_open(&stress, stress_out, steps + 1, &scene, m, &err) ||
-                       run_stress_frame(&stress, m, 0, &err)))
-        goto fail;
+    if (stress_out) {
+        if (run_stress_open(&stress, stress_out, steps + 1, &scene, m, &err)) goto fail;
+        if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
+        if (run_stress_frame(&stress, m, 0, xyz, &err)) goto fail;
+    }
     if (snap_out) {
         long shape[3] = {steps, (long)n, 3};
         if (rk_npy_stream_open(&snap, snap_out, 3, shape, &err)) goto fail;
@@ -338,8 +341,7 @@ int cmd_run(int argc, char **argv)
         if ((long)info.contact_pairs > most_pairs) most_pairs = (long)info.contact_pairs;
         hessian_reuse = (long)info.hessian_reuse;
         unconverged += !info.converged;
-        if (stress_out && run_stress_frame(&stress, m, k + 1, &err)) goto fail;
-        if (snapping || ref.frames || frames_dir || splats_dir || measure_contact) {
+        if (snapping || ref.frames || frames_dir || splats_dir || measure_contact || stress_out) {
             if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
             for (size_t i = 0; i < 3 * n; i++) frame[i] = xyz[i];
             if (snapping) rk_npy_stream_append(&snap, frame, 3 * n);
@@ -347,6 +349,7 @@ int cmd_run(int argc, char **argv)
             if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
             if (splats_dir && run_splats_frame(&splats, m, k + 1, xyz, &err)) goto fail;
             if (measure_contact && run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
+            if (stress_out && run_stress_frame(&stress, m, k + 1, xyz, &err)) goto fail;
         }
         if (!quiet) rk_progress("run", k + 1, steps);
     }

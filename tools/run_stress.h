@@ -1,6 +1,8 @@
 /* romkit run --stress T.npy: every frame's largest principal Cauchy stress (Pa) at each shown
- * vertex, from the runtime's deformation gradients there (GRAD: a point cloud's) and the scene's
- * materials (--scene), through the same rk_cauchy_stress as romkit fom --stress (FreeForm Fig. 8). */
+ * vertex, through the same rk_cauchy_stress as romkit fom --stress (FreeForm Fig. 8): a point
+ * cloud's from the runtime's deformation gradients at its points (GRAD) and the scene's materials
+ * (--scene); a mesh's from its tets, as romkit fom --stress takes them (rk_fem_principal_stress over
+ * the scene's elements), which needs every vertex shown (asset.show "all"). */
 #ifndef ROMKIT_RUN_STRESS_H
 #define ROMKIT_RUN_STRESS_H
 
@@ -12,15 +14,17 @@ typedef struct {
     rk_material_model *model;  /* n: each shown vertex's material */
     double *mu, *lambda;
     double *sigma;             /* n: the frame's stresses */
-    romrt_real *F;             /* 9 n from the runtime */
+    romrt_real *F;             /* 9 n from the runtime (a cloud), or NULL (a mesh) */
+    const run_scene *S;        /* a mesh: its elements */
+    double *x, *sigma_all;     /* a mesh: 3 nv positions (all shown), nv stresses */
 } run_stress;
 
-/* Opens path for frames x n float64; fails, saying why, when the asset stores no deformation
- * gradients (a mesh's: romkit fom --stress gives those). */
+/* Opens path for frames x n float64; fails, saying why, for a mesh asset that does not show every
+ * vertex. */
 int run_stress_open(run_stress *o, const char *path, long frames, const run_scene *S, const romrt_model *m,
                     rk_error *err);
-/* Frame k's stresses appended. */
-int run_stress_frame(run_stress *o, const romrt_model *m, long k, rk_error *err);
+/* Frame k's stresses appended (xyz: its shown positions). */
+int run_stress_frame(run_stress *o, const romrt_model *m, long k, const romrt_real *xyz, rk_error *err);
 /* Writes the file (0), or drops it (close alone). */
 int run_stress_commit(run_stress *o, rk_error *err);
 void run_stress_close(run_stress *o);
