@@ -3,7 +3,7 @@
 # vertices, 92,248 triangles, the size of the issue's armadillo scan, which the project does not
 # hold) simulated on a cage of at most 20,000 tets (mesh.cage) with skinning eigenmodes (8 weights)
 # and cubature, by romkit build; then romkit run --frames, whose OBJ frames must carry every
-# original vertex and triangle. Times: wall seconds of romkit mesh --cage-tets and of romkit build
+# original vertex and triangle, and romkit export --gltf, which the Khronos validator must pass. Times: wall seconds of romkit mesh --cage-tets and of romkit build
 # (the cage, the full-order training run on it, the basis, the cubature and the bake), with the load
 # average before each (a timing above load 3 is not valid on this 2-core machine: the script says so).
 # Writes bench/results/cage.md. Usage: [BUILD=build] sh bench/cage.sh
@@ -34,6 +34,13 @@ t1=$(now); l2=$(load)
 t2=$(now)
 "$BUILD/romkit" run "$T/spot.rombin" --steps 20 --frames "$T/frames" --report "$T/R.json" >"$T/run.txt" 2>&1
 f="$T/frames/frame_00020.obj"
+# its glTF export through the Khronos validator (tools/gltf: npm ci there once), when node has it
+"$BUILD/romkit" export "$T/spot.rombin" --gltf "$T/spot.glb" --steps 20 --quiet >"$T/export.txt" 2>&1
+if [ -f tools/gltf/node_modules/gltf-validator/package.json ]; then
+    node tools/gltf/validate.mjs "$T/spot.glb" >"$T/valid.txt" 2>&1 || true
+else
+    echo "validator not installed (cd tools/gltf && npm ci)" >"$T/valid.txt"
+fi
 python3 - "$T" "$OUT" "$l1" "$l2" "$t0" "$t1" "$t2" "$(grep -c '^v ' "$f")" "$(grep -c '^f ' "$f")" <<'PY'
 import json, sys
 T, out, l1, l2 = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
@@ -63,7 +70,11 @@ with open(out, "w") as f:
             % (A["asset"]["bytes"], A["asset"]["stored_vertices"], A["asset"]["shown_vertices"], A["asset"]["triangles"]))
     f.write("| `romkit run --frames` (20 steps) | OBJ frames with %d vertices and %d triangles; %.0f us/step |\n"
             % (fv, ff, 1e6 * R["seconds_per_step"]))
-ok = fv == c["surface_vertices"] and ff == c["surface_triangles"] and A["asset"]["shown_vertices"] == fv
+    valid_line = open(T + "/valid.txt").readline().strip().split(": ", 1)[-1]
+    f.write("| `romkit export --gltf` (20 frames), Khronos validator | %s, %s |\n"
+            % (open(T + "/export.txt").readline().strip().split(": ", 1)[-1], valid_line))
+ok = fv == c["surface_vertices"] and ff == c["surface_triangles"] and A["asset"]["shown_vertices"] == fv and \
+    open(T + "/valid.txt").readline().split(": ", 1)[-1].startswith("0 errors")
 print(out + ("" if ok else ": FRAME COUNTS DIFFER FROM THE SURFACE'S"))
 sys.exit(0 if ok else 1)
 PY
