@@ -15,7 +15,6 @@
 #include "rom/rom_impl.h"
 
 #include <cblas.h>
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -66,13 +65,7 @@ static double energy(void *ctx, const double *y, double *g, int hessian, double 
 static int solve(void *ctx, const double *g, double *d, rk_error *err)
 {
     move_problem *p = ctx;
-    for (int i = 0; i < p->n; i++) d[i] = -g[i];
-    int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', p->n, p->H, p->n);
-    if (info != 0)
-        return rk_fail(err, "the Newton matrix of the reduced model and its moving colliders is not positive "
-                       "definite (pivot %d)", info);
-    LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'U', p->n, 1, p->H, p->n, d, p->n);
-    return 0;
+    return rk_rom_dense_solve(p->H, p->n, g, d, "the reduced model and its moving colliders", err);
 }
 
 /* The body and the colliders moving together: the scene's contact as usual, every collider's
@@ -116,10 +109,7 @@ static double max_step(void *ctx, const double *y, const double *d)
 static double step_norm(void *ctx, const double *d)
 {
     move_problem *p = ctx;
-    const rk_rom_model *m = p->s->model;
-    double *tmp = p->s->work + RK_ROM_WORK_TMP * (size_t)p->r, size;
-    cblas_dsymv(CblasColMajor, CblasUpper, p->r, 1.0, m->M, p->r, d, 1, 0.0, tmp, 1);
-    size = sqrt(fmax(cblas_ddot(p->r, d, 1, tmp, 1), 0.0) / m->mass);
+    double size = rk_rom_step_rms(p->s, d);
     for (int k = 0; k < p->np; k++) size = fmax(size, fabs(d[p->r + k]) * p->L[k]);
     return size;
 }

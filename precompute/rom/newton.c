@@ -57,13 +57,26 @@ static double max_step(void *ctx, const double *q, const double *d)
 }
 
 /* sqrt(d^T M_r d / total mass): the step as an RMS displacement. */
-static double step_norm(void *ctx, const double *d)
+double rk_rom_step_rms(rk_rom *s, const double *d)
 {
-    rk_rom *s = ((rk_rom_problem_ctx *)ctx)->s;
     const rk_rom_model *m = s->model;
     double *tmp = s->work + RK_ROM_WORK_TMP * (size_t)m->r;
     cblas_dsymv(CblasColMajor, CblasUpper, m->r, 1.0, m->M, m->r, d, 1, 0.0, tmp, 1);
     return sqrt(fmax(cblas_ddot(m->r, d, 1, tmp, 1), 0.0) / m->mass);
+}
+
+static double step_norm(void *ctx, const double *d)
+{
+    return rk_rom_step_rms(((rk_rom_problem_ctx *)ctx)->s, d);
+}
+
+int rk_rom_dense_solve(double *H, int n, const double *g, double *d, const char *what, rk_error *err)
+{
+    for (int i = 0; i < n; i++) d[i] = -g[i];
+    int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', n, H, n);
+    if (info != 0) return rk_fail(err, "the Newton matrix of %s is not positive definite (pivot %d)", what, info);
+    LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'U', n, 1, H, n, d, n);
+    return 0;
 }
 
 void rk_rom_problem(rk_rom_problem_ctx *ctx, rk_newton_problem *p)

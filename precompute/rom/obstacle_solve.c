@@ -18,7 +18,6 @@
 #include "rom/rom_impl.h"
 
 #include <cblas.h>
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,13 +73,7 @@ static double energy(void *ctx, const double *y, double *g, int hessian, double 
 static int solve(void *ctx, const double *g, double *d, rk_error *err)
 {
     obstacle_problem *p = ctx;
-    for (int i = 0; i < p->n; i++) d[i] = -g[i];
-    int info = LAPACKE_dpotrf(LAPACK_COL_MAJOR, 'U', p->n, p->H, p->n);
-    if (info != 0)
-        return rk_fail(err, "the Newton matrix of the reduced model and its moving obstacles is not positive "
-                       "definite (pivot %d)", info);
-    LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'U', p->n, 1, p->H, p->n, d, p->n);
-    return 0;
+    return rk_rom_dense_solve(p->H, p->n, g, d, "the reduced model and its moving obstacles", err);
 }
 
 /* The body and the obstacles moving together, and s within [0, 1]. */
@@ -109,10 +102,7 @@ static double max_step(void *ctx, const double *y, const double *d)
 static double step_norm(void *ctx, const double *d)
 {
     obstacle_problem *p = ctx;
-    const rk_rom_model *m = p->s->model;
-    double *tmp = p->s->work + RK_ROM_WORK_TMP * (size_t)p->r;
-    cblas_dsymv(CblasColMajor, CblasUpper, p->r, 1.0, m->M, p->r, d, 1, 0.0, tmp, 1);
-    return fmax(sqrt(fmax(cblas_ddot(p->r, d, 1, tmp, 1), 0.0) / m->mass), fabs(d[p->r]) * p->L);
+    return fmax(rk_rom_step_rms(p->s, d), fabs(d[p->r]) * p->L);
 }
 
 int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *converged, int *behind, rk_error *err)

@@ -30,6 +30,11 @@ double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, doubl
                         double *magnitude, rk_error *err);
 void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
 
+/* newton.c: the RMS displacement of a step d of q, sqrt(d^T M_r d / mass); d = -H^-1 g by Cholesky
+ * of the n x n H (upper triangle, overwritten), failing with what the matrix is of. */
+double rk_rom_step_rms(rk_rom *s, const double *d);
+int rk_rom_dense_solve(double *H, int n, const double *g, double *d, const char *what, rk_error *err);
+
 /* The scene's moving obstacles to where they are at t, solved for with the body (obstacle_solve.c);
  * *behind: they stopped short (the body was in the way). */
 int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *converged, int *behind, rk_error *err);
