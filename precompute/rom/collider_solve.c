@@ -81,10 +81,7 @@ static double max_step(void *ctx, const double *y, const double *d)
         if (dk > 0) alpha = fmin(alpha, (1 - sk) / dk);
         if (dk < 0) alpha = fmin(alpha, sk / -dk);
     }
-    rk_rom_contact_positions(s, y);
-    for (int i = 0; i < m->ncv; i++)
-        for (int a = 0; a < 3; a++)
-            s->dx[3 * m->cv[i] + a] = cblas_ddot(p->r, m->cv_rows + (size_t)(3 * i + a) * p->r, 1, d, 1);
+    rk_rom_contact_move(s, y, d);
     if (m->has_contact) {
         double c = rk_contact_max_step(&s->model->contact, s->x, s->dx, NULL, &p->failure);
         alpha = fmin(alpha, c >= 0 ? c : 0);

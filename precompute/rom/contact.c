@@ -161,16 +161,20 @@ void rk_rom_pull_vertex_gradient(rk_rom *s, double *g)
         }
 }
 
+void rk_rom_contact_move(rk_rom *s, const double *q, const double *dq)
+{
+    const rk_rom_model *m = s->model;
+    int r = m->r;
+    rk_rom_contact_positions(s, q);
+    for (int i = 0; i < m->ncv; i++)
+        for (int a = 0; a < 3; a++)
+            s->dx[3 * m->cv[i] + a] = dq ? cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, dq, 1) : 0;
+}
+
 double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, double t, rk_error *err)
 {
     rk_rom_model *m = s->model;
-    int r = m->r;
-    rk_rom_contact_positions(s, q);
-    for (int i = 0; i < m->ncv; i++) {
-        int v = m->cv[i];
-        for (int a = 0; a < 3; a++)
-            s->dx[3 * v + a] = dq ? cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, dq, 1) : 0;
-    }
+    rk_rom_contact_move(s, q, dq);
     double alpha = 1;
     if (m->has_contact) {
         if (!isnan(t)) { /* the obstacles' way to where they are at t */

@@ -87,10 +87,7 @@ static double max_step(void *ctx, const double *y, const double *d)
     if (ds > 0) alpha = fmin(alpha, (1 - sk) / ds);
     if (ds < 0) alpha = fmin(alpha, sk / -ds);
     place(p, sk);
-    rk_rom_contact_positions(s, y);
-    for (int i = 0; i < m->ncv; i++)
-        for (int a = 0; a < 3; a++)
-            s->dx[3 * m->cv[i] + a] = cblas_ddot(r, m->cv_rows + (size_t)(3 * i + a) * r, 1, d, 1);
+    rk_rom_contact_move(s, y, d);
     for (int i = 0; i < 3 * m->contact.onv; i++) s->odx[i] = ds * p->way[i];
     double c = rk_contact_max_step(&s->model->contact, s->x, s->dx, s->odx, &p->failure);
     alpha = fmin(alpha, c >= 0 ? c : 0);

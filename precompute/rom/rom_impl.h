@@ -42,6 +42,8 @@ int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *conv
 /* Contact in the subspace (contact.c). */
 int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U, rk_error *err);
 void rk_rom_contact_positions(rk_rom *s, const double *q);
+/* The collision vertices at q into s->x and their move U_v dq into s->dx (dq NULL: 0). */
+void rk_rom_contact_move(rk_rom *s, const double *q, const double *dq);
 /* The barrier at q (and, with friction, the lagged friction potential of a step of h): value,
  * g += its reduced gradient, H += its reduced Hessian (g, H may be NULL). */
 double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err);
