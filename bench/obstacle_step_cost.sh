@@ -12,20 +12,7 @@ BUILD=${BUILD:-build}
 STEPS=${1:-50}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
-python3 - "$T/terrain.obj" <<'PY'
-import sys
-n, seed, out = 40, 12345, []
-for j in range(n + 1):
-    for i in range(n + 1):
-        seed = (seed * 1103515245 + 12345) & 0xFFFFFFFF
-        h = 0.06 if i % 4 == 2 and j % 4 == 2 else 0.03 * ((seed >> 8) & 0xFFFF) / 65536.0
-        out.append("v %.6f %.6f %.6f" % (-0.15 + 0.3 * i / n, h, -0.15 + 0.3 * j / n))
-for j in range(n):
-    for i in range(n):
-        a = 1 + j * (n + 1) + i
-        out += ["f %d %d %d" % (a, a + n + 1, a + 1), "f %d %d %d" % (a + 1, a + n + 1, a + n + 2)]
-open(sys.argv[1], "w").write("\n".join(out) + "\n")
-PY
+python3 bench/terrain_obj.py "$T/terrain.obj"
 scene() { # name, size, translate, obstacles
     cat >"$T/$1.json" <<JSON
 {"objects": [{"mesh": {"box": {"size": $2, "cells": [8, 2, 8]}, "translate": $3},
