@@ -24,7 +24,8 @@ static void adaptive_usage(FILE *out)
             "  --snapshots S.npy   every frame including the start, (steps+1) x n x 3 float64\n"
             "  --frames DIR        one boundary-surface mesh per frame (frame_00000.obj, ...)\n"
             "  --report R.json     seconds_per_step, newton_iterations, the model's sizes (adaptive.*:\n"
-            "                      active columns, enriched vertices, PCG iterations, time shares), contact\n"
+            "                      active columns, enriched vertices, PCG iterations, time shares), the\n"
+            "                      full-space residual per step (adaptive.residual), contact\n"
             "  --quiet             no progress line on stderr\n"
             "Nothing is written when the run fails. romkit compare runs it beside full order.\n\n"
             "example:\n"
@@ -104,12 +105,15 @@ int cmd_adaptive(int argc, char **argv)
     }
     rk_contact_tally tally;
     rk_contact_tally_init(&tally);
+    rk_adaptive_subspace_measures res;
+    memset(&res, 0, sizeof res);
     char frame[4096];
     for (int s = 0; s <= steps; s++) {
         if (s > 0) {
             double t0 = rk_now();
             if (rk_adaptive_step(&ad, &err)) goto done;
             secs[s - 1] = rk_now() - t0;
+            if (ad.opt.residual) rk_adaptive_residual_add(&res, s - 1, steps, ad.stats.residual_last);
             if (have_snap) rk_npy_stream_append(&snap, ad.fom.x, 3 * (size_t)nv);
             rk_progress(e->name, s, steps);
         }
@@ -133,7 +137,9 @@ int cmd_adaptive(int argc, char **argv)
         long shape[2] = {nv, 3};
         if (rk_npy_write(a.positions, ad.fom.x, 2, shape, &err)) goto done;
     }
-    cJSON *report = rk_adaptive_report(&sim, &ad, secs, steps, contact ? &tally : NULL);
+    rk_adaptive_residual_record(&res, &ad);
+    rk_adaptive_residual_warn(stderr, e->name, &res, steps);
+    cJSON *report = rk_adaptive_report(&sim, &ad, secs, steps, contact ? &tally : NULL, &res);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);
         goto done;
@@ -145,6 +151,9 @@ int cmd_adaptive(int argc, char **argv)
            a.scene, e->name, nv, sim.mesh.nt, steps, rk_median(secs, steps), (double)st->newton_iterations / steps,
            st->sum_modes / steps, st->max_modes, st->sum_nodes / steps, st->max_nodes, ad.opt.subdomains,
            st->solves ? (double)st->pcg_iterations / st->solves : 0.0);
+    if (res.residual)
+        printf("full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (Newton tolerance %.3g), %d steps over it\n",
+               res.residual_mean, res.residual_max, res.residual_tolerance, res.residual_over);
     if (contact) printf("contact: closest %.3g m, %ld crossings over %ld frames\n", tally.min_distance, tally.intersections, tally.frames);
     rc = 0;
 done:
