@@ -47,7 +47,7 @@ static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
 {
     size_t n = (size_t)im->n, nv = (size_t)im->nv, r = (size_t)im->r;
     size_t work = n > 12 * r ? n : 12 * r;
-    if (ALLOC(im->psi_bar, nv) || ALLOC(im->area, nv) || ALLOC(im->volume, nv) || ALLOC(im->G, nv) || ALLOC(im->gscale, nv) || ALLOC(im->pscale, nv) || ALLOC(im->gpsi, nv) ||
+    if (ALLOC(im->psi_bar, nv) || ALLOC(im->area, nv) || ALLOC(im->volume, nv) || ALLOC(im->G, nv) || ALLOC(im->gscale, nv) || ALLOC(im->prog, nv) || ALLOC(im->solved_enriched, nv) || ALLOC(im->pscale, nv) || ALLOC(im->gpsi, nv) ||
         ALLOC(im->dE, nv) || ALLOC(im->e0, nv) || ALLOC(im->e1, nv) || ALLOC(im->block_on, im->nblocks) ||
         ALLOC(im->cols, r) || ALLOC(im->enriched, nv) || ALLOC(im->xdof, n) || ALLOC(im->xindex, n) ||
         ALLOC(im->q_total, r) || ALLOC(im->elem_exact, nt) || ALLOC(im->He, (size_t)nt * RK_TET_SLOTS) ||
@@ -150,7 +150,7 @@ void rk_adaptive_free(rk_adaptive *ad)
         rk_adaptive_partition_free(im);
         rk_full_pattern_free(&im->P);
         rk_contact_set_free(&im->pairs);
-        void *arrays[] = {im->U, im->gscale, im->pscale, im->gpsi, im->psi_bar, im->area, im->volume, im->G, im->dE, im->e0, im->e1, im->block_on,
+        void *arrays[] = {im->U, im->prog, im->solved_enriched, im->gscale, im->pscale, im->gpsi, im->psi_bar, im->area, im->volume, im->G, im->dE, im->e0, im->e1, im->block_on,
                           im->cols, im->Ua, im->Ba, im->enriched, im->xdof, im->xindex, im->q_total, im->Mf,
                           im->Cf, im->Hf, im->UMU, im->UCU, im->BMB, im->BCB, im->Ha, im->Hq, im->Lq,
                           im->elem_exact, im->He, im->hx_rowptr, im->hx_col, im->hx_val, im->coup_dof, im->Cq,
@@ -412,6 +412,7 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     ad->stats.sum_nodes += ad->nodes;
     if (ad->modes > ad->stats.max_modes) ad->stats.max_modes = ad->modes;
     if (ad->nodes > ad->stats.max_nodes) ad->stats.max_nodes = ad->nodes;
+    memcpy(im->solved_enriched, im->enriched, (size_t)im->nv);
     if (ad->opt.downdate) rk_adaptive_downdate(ad);
     ad->stats.seconds_total += rk_now() - t0;
     return 0;

@@ -129,6 +129,11 @@ typedef struct {
 int rk_adaptive_init(rk_adaptive *a, const rk_fem *fem, const rk_fom_options *fo, const double *U, int r,
                      const rk_adaptive_options *o, rk_error *err);
 int rk_adaptive_step(rk_adaptive *a, rk_error *err);
+/* What the oracle did in the last step, per vertex (out: 3 nv, vertex by vertex): enriched when its
+ * solve ended (0 or 1; before downdating), the nodal error G_i and progress E_i (in the thresholds'
+ * units) at the oracle's last evaluation, the step's last Newton iteration (all 0 before the first
+ * step; G and E 0 with opt.nodal off). */
+void rk_adaptive_fields(const rk_adaptive *a, double *out);
 void rk_adaptive_free(rk_adaptive *a);
 
 /* ---- the measures (measures.c), public for the tests ---- */

@@ -73,9 +73,9 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
         char *grow = im->part_mark;
         memset(grow, 0, (size_t)im->L);
         for (int v = 0; v < nv; v++) {
-            if (im->enriched[v] || im->fixed_vertex[v]) continue;
             double s = im->pscale[v] * im->gpsi[v];
-            double progress = s > 0 ? alpha_int * im->dE[v] / s : 0;
+            double progress = im->prog[v] = s > 0 ? alpha_int * im->dE[v] / s : 0;
+            if (im->enriched[v] || im->fixed_vertex[v]) continue;
             if (im->G[v] > o->eps_g_nodal && progress < o->eps_e) grow[im->part[v]] = 1;
         }
         for (int l = 0; l < im->L; l++)
@@ -144,4 +144,14 @@ void rk_adaptive_downdate(rk_adaptive *ad)
     }
     im->model_dirty = 1;
     (void)modes_changed;
+}
+
+void rk_adaptive_fields(const rk_adaptive *ad, double *out)
+{
+    const rk_adaptive_impl *im = ad->impl;
+    for (int v = 0; v < im->nv; v++) {
+        out[3 * v] = im->solved_enriched[v];
+        out[3 * v + 1] = im->G[v];
+        out[3 * v + 2] = im->prog[v];
+    }
 }

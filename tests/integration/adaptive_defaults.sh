@@ -5,8 +5,7 @@
 # with no step left above the tolerance; the paper's defaults (eps_G 0.5 on its dimensionless
 # measure, no residual check) miss it (measured: relative error 0.24, 4.7 times the bound, nMSE
 # 2.3e-4; 7 of 10 steps up to 0.5 m/s above a tolerance of 1.3e-5 m/s) and are said to on stderr.
-# Both reports carry the
-# residual per step.
+# Both reports carry the residual per step.
 . tests/lib.sh
 
 cat >"$TMP/drop.json" <<JSON
@@ -46,9 +45,15 @@ else
     fail adaptive_defaults_match_full_order "$(head -c 400 "$TMP/err")"
 fi
 
-if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$TMP/drop.json" --report "$TMP/a.json" --quiet >"$TMP/out" 2>"$TMP/err"; then
+# romkit adaptive: the same residual keys, and the enrichment fields (enriched, G, E per vertex and
+# frame): nothing enriched at the start, some vertex enriched once the octopus lands.
+if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$TMP/drop.json" --report "$TMP/a.json" --fields "$TMP/f.npy" --quiet \
+        >"$TMP/out" 2>"$TMP/err"; then
     json_checks adaptive_command_reports_residual "$TMP/a.json" 'adaptive.residual.per_step[9]' \
         'adaptive.residual.steps_over_tolerance=0' 'adaptive.residual.max'
+    npy_values "$TMP/f.npy" | awk -v n=452 '{ f = int((NR - 1) / (3 * n)); if ((NR - 1) % 3 == 0) e[f] += $1 }
+        END { exit !(NR == 11 * n * 3 && e[0] == 0 && e[10] > 0) }' && [ "$(npy_shape "$TMP/f.npy")" = "11, 452, 3" ] \
+        && ok adaptive_fields || fail adaptive_fields "shape $(npy_shape "$TMP/f.npy")"
 else
     fail adaptive_command_reports_residual "$(head -c 400 "$TMP/err")"
 fi
