@@ -9,7 +9,9 @@
  *                                           masked (zero) at enriched and prescribed dofs;
  *                                           S_x: the enriched vertices' selection (Sec. 3.6)
  *
- *   error     G_i = ||g_i|| / s_i, s_i = h^2 A_i psi_i (Eq. 5, 10); modes: Eq. 12, 14, 16
+ *   error     G_i = ||g_i|| / s_i, s_i = h^2 A_i psi_i (Eq. 5, 10); modes: Eq. 12, 14, 16; by default
+ *             s_i = m_i tol / (alpha h) instead (rk_adaptive_tolerance_scale: G_i <= 1 everywhere bounds
+ *             the full-space residual's mass-weighted RMS by the Newton tolerance tol)
  *   progress  E_i = dE_i / c_i, c_i = h^2 V_i psi_i (Eq. 7, 8, 11); modes: Eq. 13, 15, 17
  *             dE_i: the one-ring potential's decrease along the active subspace's line-searched
  *             Newton direction (Eq. 18)
@@ -20,6 +22,10 @@
  *   H_q       exact inertia, damping and contact; elasticity by one BFGS matrix per subdomain
  *             (Eq. 20), exact in subdomains that hold an enriched vertex (Sec. 3.9)
  *   downdate  after the step, modes and vertices whose displacement did not pay (Sec. 3.11)
+ *   residual  after each solve the full-space Newton step |d_full|_inf / h (CHOLMOD); above the
+ *             Newton tolerance, the parts of the vertices where it is are enriched and the step
+ *             solved again (opt.residual_rounds times at most): not in the paper, whose G does not
+ *             bound it (romkit's measurements, docs/methods.md)
  *
  * The paper's scaling: its potential is K + alpha h^2 (Psi + ...); romkit's solver minimises that
  * divided by alpha h^2, so the paper's gradient and energy changes are alpha h^2 times ours and
@@ -46,9 +52,12 @@
 typedef struct {
     int block;              /* columns per candidate (skinning: 12, one weight's affine handle; modes: 1) */
     int initial_blocks;     /* the first blocks of U, active from the start and never downdated (1) */
-    double eps_g_modal;     /* error thresholds (Table 2: 0.5, 0.5) */
+    double eps_g_modal;     /* error thresholds (1, 1): G in units of the Newton tolerance
+                             * (rk_adaptive_tolerance_scale), or with paper_units */
     double eps_g_nodal;
-    double eps_e;           /* progress threshold (1e-4, Sec. 4) */
+    int paper_units;        /* 1: G is the paper's dimensionless one (Eq. 5, 10; its Table 2: 0.5, 0.5) */
+    double eps_e;           /* progress threshold (1: E in squared Newton tolerances; with paper_units the
+                             * paper's E, whose threshold it gives as 1e-4, Sec. 4) */
     double eps_d;           /* downdating threshold (0.1) */
     int subdomains;         /* METIS parts (0: one per 250 tets, at least 2) */
     int downdate;           /* 1: downdate after each step (Sec. 3.11) */
@@ -56,8 +65,12 @@ typedef struct {
     int exact_hessian;      /* 1: every subdomain exact (no BFGS): the ablation and the tests' reference */
     double pcg_tol;         /* relative residual of the Schur PCG (1e-5) */
     int pcg_max_iter;       /* 10000 */
-    int residual;           /* 1: after each solve, the full-space Newton step at its answer, |d_full|_inf / h
-                             * (m/s; CHOLMOD, one factorization): the paper's accuracy measure (Fig. 12) */
+    int residual;           /* 1 (default): after each solve, the full-space Newton step at its answer,
+                             * |d_full|_inf / h (m/s; CHOLMOD, one factorization): the paper's accuracy
+                             * measure (Fig. 12), checked against the Newton tolerance */
+    int residual_rounds;    /* with residual: while |d_full|_inf / h exceeds the Newton tolerance, enrich the
+                             * METIS parts of the vertices where |d_full_i| / h does and solve again, at most
+                             * this many times a step (8; 0: report only) */
     int probe;              /* 1: at the next Newton iteration, also solve the full-space system at the same
                              * iterate by CHOLMOD and by block-Jacobi CG (rk_adaptive_probe; for make bench) */
 } rk_adaptive_options;
@@ -93,6 +106,9 @@ typedef struct {
     double seconds_line_search;
     rk_adaptive_probe probe;      /* with opt.probe */
     double residual_last, residual_max, residual_sum; /* with opt.residual: per step, |d_full|_inf / h */
+    long residual_over;           /* steps that ended with it above the Newton tolerance (after the rounds) */
+    long residual_rounds;         /* enrichment rounds the residual asked for, and their vertices */
+    long residual_nodes_added;
 } rk_adaptive_stats;
 
 typedef struct rk_adaptive_impl rk_adaptive_impl;
@@ -113,6 +129,11 @@ typedef struct {
 int rk_adaptive_init(rk_adaptive *a, const rk_fem *fem, const rk_fom_options *fo, const double *U, int r,
                      const rk_adaptive_options *o, rk_error *err);
 int rk_adaptive_step(rk_adaptive *a, rk_error *err);
+/* What the oracle did in the last step, per vertex (out: 3 nv, vertex by vertex): enriched when its
+ * solve ended (0 or 1; before downdating), the nodal error G_i and progress E_i (in the thresholds'
+ * units) at the oracle's last evaluation, the step's last Newton iteration (all 0 before the first
+ * step; G and E 0 with opt.nodal off). */
+void rk_adaptive_fields(const rk_adaptive *a, double *out);
 void rk_adaptive_free(rk_adaptive *a);
 
 /* ---- the measures (measures.c), public for the tests ---- */
@@ -122,6 +143,18 @@ void rk_adaptive_free(rk_adaptive *a);
  * area of the faces opposite the vertex in its elements: its one-ring's surface) and V (a
  * quarter of each element's volume). nv each. */
 void rk_adaptive_vertex_scales(const rk_fem *f, double *psi_bar, double *area, double *volume);
+/* The oracle's error scale in units of the Newton tolerance (opt.paper_units 0): s_i with
+ * G_i = alpha |g_i| / s_i = alpha h |g_i| / (m_i tol), the velocity the unbalanced force g_i would give the
+ * vertex's own lumped mass m_i over the step, over the tolerance tol (m/s). Why it bounds the
+ * residual: romkit's Newton matrix is H = M / (alpha h^2) + K + B (elastic and contact parts PSD
+ * after projection), so H >= M / (alpha h^2) and d = H^-1 g has |d|_M <= alpha h^2 |g|_{M^-1}: with
+ * G_i <= 1 at every vertex the mass-weighted RMS of |d_full_i| / h is at most tol. No mesh size or
+ * material in it (g_i and m_i both scale with the vertex's volume). s: nv.
+ * The progress the same way, p_i = m_i tol^2 / 2 with E_i = alpha dE_i / p_i: romkit's potential
+ * holds the kinetic term |x - x~|_M^2 / (2 alpha h^2), so a velocity error dv_i at vertex i is
+ * worth m_i dv_i^2 / (2 alpha) of it, and E_i = (dv_i / tol)^2 for the velocity error dv_i whose
+ * removal the subspace's own step bought there. p: nv. */
+void rk_adaptive_tolerance_scale(const rk_fem *f, double h, double tol, double *s, double *p);
 /* Nodal error (Eq. 10): G_i = alpha |g_i| / (A_i psi_i) for gradient g (3 nv). */
 void rk_adaptive_nodal_error(int nv, const double *g, const double *area, const double *psi_bar, double alpha,
                              double *G);

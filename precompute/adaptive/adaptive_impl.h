@@ -37,6 +37,12 @@ struct rk_adaptive_impl {
     /* the measures' scales (measures.c) and the oracle's per-vertex buffers */
     double *psi_bar, *area, *volume;
     double *G, *dE, *e0, *e1;   /* nv */
+    double *prog;               /* nv: the nodal progress E_i at the last oracle evaluation */
+    char *solved_enriched;      /* nv: the enrichment the last step's solve ended with (before downdating) */
+    double *gscale, *gpsi;      /* nv: the error's scale as area and psi_bar (paper units: those; else
+                                 * rk_adaptive_tolerance_scale and ones) */
+    double *pscale;             /* nv: the progress's scale as volume, with gpsi (paper: volume; else
+                                 * rk_adaptive_tolerance_scale's progress scale) */
     double length;              /* the rest bounding-box diagonal (downdating, Sec. 3.11) */
     /* the partition */
     int *part;                  /* nv: METIS part of each vertex */

@@ -113,3 +113,11 @@ double rk_adaptive_modal_progress(int nv, const double *Um, int k, const double 
     }
     return E;
 }
+
+void rk_adaptive_tolerance_scale(const rk_fem *f, double h, double tol, double *s, double *p)
+{
+    for (int i = 0; i < f->nv; i++) {
+        s[i] = f->vertex_mass[i] * tol / h;
+        p[i] = 0.5 * f->vertex_mass[i] * tol * tol;
+    }
+}

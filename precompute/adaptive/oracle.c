@@ -69,13 +69,13 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
     }
     for (int v = 0; v < nv; v++) im->dE[v] = step > 0 && rc == 0 ? im->e0[v] - im->e1[v] : 0;
     if (o->nodal) {
-        rk_adaptive_nodal_error(nv, g, im->area, im->psi_bar, alpha_int, im->G);
+        rk_adaptive_nodal_error(nv, g, im->gscale, im->gpsi, alpha_int, im->G);
         char *grow = im->part_mark;
         memset(grow, 0, (size_t)im->L);
         for (int v = 0; v < nv; v++) {
+            double s = im->pscale[v] * im->gpsi[v];
+            double progress = im->prog[v] = s > 0 ? alpha_int * im->dE[v] / s : 0;
             if (im->enriched[v] || im->fixed_vertex[v]) continue;
-            double s = im->volume[v] * im->psi_bar[v];
-            double progress = s > 0 ? alpha_int * im->dE[v] / s : 0;
             if (im->G[v] > o->eps_g_nodal && progress < o->eps_e) grow[im->part[v]] = 1;
         }
         for (int l = 0; l < im->L; l++)
@@ -90,8 +90,8 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
         for (int b = 0; b < im->nblocks; b++) {
             if (im->block_on[b]) continue;
             const double *Um = im->U + (size_t)b * k * n;
-            double Gm = rk_adaptive_modal_error(nv, Um, k, g, im->area, im->psi_bar, alpha_int, im->sc4);
-            double Em = rk_adaptive_modal_progress(nv, Um, k, im->dE, im->volume, im->psi_bar, alpha_int);
+            double Gm = rk_adaptive_modal_error(nv, Um, k, g, im->gscale, im->gpsi, alpha_int, im->sc4);
+            double Em = rk_adaptive_modal_progress(nv, Um, k, im->dE, im->pscale, im->gpsi, alpha_int);
             if (Gm > o->eps_g_modal && Em < o->eps_e) {
                 im->block_on[b] = 1;
                 ad->stats.oracle_modes_added += k;
@@ -144,4 +144,14 @@ void rk_adaptive_downdate(rk_adaptive *ad)
     }
     im->model_dirty = 1;
     (void)modes_changed;
+}
+
+void rk_adaptive_fields(const rk_adaptive *ad, double *out)
+{
+    const rk_adaptive_impl *im = ad->impl;
+    for (int v = 0; v < im->nv; v++) {
+        out[3 * v] = im->solved_enriched[v];
+        out[3 * v + 1] = im->G[v];
+        out[3 * v + 2] = im->prog[v];
+    }
 }

@@ -41,7 +41,7 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
 
 /* romkit adaptive's report (method_adaptive_subspace.h). */
 cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const double *secs, int steps,
-                          const rk_contact_tally *contact)
+                          const rk_contact_tally *contact, const rk_adaptive_subspace_measures *residual)
 {
     const rk_adaptive_stats *s = &ad->stats;
     cJSON *r = cJSON_CreateObject();
@@ -67,6 +67,7 @@ cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const 
     cJSON_AddNumberToObject(a, "vertices_downdated", (double)s->nodes_downdated);
     cJSON_AddNumberToObject(a, "bfgs_updates", (double)s->bfgs_updates);
     cJSON_AddNumberToObject(a, "bfgs_skipped", (double)s->bfgs_skipped);
+    if (residual) rk_adaptive_residual_report(a, residual);
     cJSON *sec = cJSON_AddObjectToObject(r, "seconds");
     cJSON_AddNumberToObject(sec, "simulate", s->seconds_total);
     cJSON_AddNumberToObject(sec, "potential", s->seconds_potential);

@@ -28,6 +28,7 @@ static void record_model(rk_compare_method *m, const rk_adaptive *ad, int nv)
     am->share_system = s->seconds_system / total;
     am->share_pcg = (s->seconds_pcg - s->seconds_system) / total; /* the PCG's own, the rows built counted apart */
     am->share_line_search = s->seconds_line_search / total;
+    rk_adaptive_residual_record(am, ad);
 }
 
 int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, rk_error *err);
@@ -61,10 +62,13 @@ int rk_adaptive_subspace_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_co
         m->contact_min_distance = fmin(m->contact_min_distance, d);
         if (crossings > m->contact_intersections) m->contact_intersections = crossings;
         rk_run_error_add(&er, ad.fom.x, ref->x + (size_t)ndof * (s + 1));
+        if (ad.opt.residual)
+            rk_adaptive_residual_add(rk_method_measures(m, &rk_method_adaptive_subspace), s, T, ad.stats.residual_last);
     }
     rk_compare_record_errors(m, &er);
     m->seconds_per_step = rk_median(secs, T);
     record_model(m, &ad, sim->mesh.nv);
+    rk_adaptive_residual_warn(stderr, m->name, rk_method_measures(m, &rk_method_adaptive_subspace), T);
     /* realigned: the same simulator (its model as the free run left it) from each reference state */
     rk_run_error_init(&er, sim->mesh.X, ndof / 3);
     for (int s = 0; s < T; s++) {

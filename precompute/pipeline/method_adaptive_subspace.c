@@ -23,7 +23,7 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
         cJSON_HasObjectItem(e, "mesh_free") || cJSON_HasObjectItem(e, "tolerance"))
         return rk_json_fail(c, path, "method adaptive_subspace takes a candidate basis by size, with no cubature, "
                             "koopman, mesh_free or tolerance (it integrates every element)");
-    const char *hessian = NULL;
+    const char *hessian = NULL, *units = NULL;
     if (rk_json_number(c, e, path, "eps_g_modal", 0, &a->eps_g_modal) ||
         rk_json_number(c, e, path, "eps_g_nodal", 0, &a->eps_g_nodal) ||
         rk_json_number(c, e, path, "eps_e", 0, &a->eps_e) || rk_json_number(c, e, path, "eps_d", 0, &a->eps_d) ||
@@ -31,8 +31,19 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
         rk_json_whole(c, e, path, "initial_size", 0, 1e6, &own->initial_size) ||
         rk_json_bool(c, e, path, "downdate", &a->downdate) || rk_json_bool(c, e, path, "modal", &a->modal) ||
         rk_json_bool(c, e, path, "nodal", &a->nodal) || rk_json_number(c, e, path, "pcg_tol", 0, &a->pcg_tol) ||
-        rk_json_string(c, e, path, "hessian", 0, &hessian))
+        rk_json_string(c, e, path, "hessian", 0, &hessian) || rk_json_bool(c, e, path, "residual", &a->residual) ||
+        rk_json_whole(c, e, path, "residual_rounds", 0, 1e6, &a->residual_rounds) ||
+        rk_json_string(c, e, path, "eps_g_units", 0, &units))
         return -1;
+    if (units && strcmp(units, "tolerance") && strcmp(units, "paper"))
+        return rk_json_fail(c, path, "eps_g_units must be \"tolerance\" (the Newton tolerance's) or \"paper\" (the "
+                            "paper's dimensionless G), got \"%s\"", units);
+    a->paper_units = units && !strcmp(units, "paper");
+    if (a->paper_units) { /* the paper's defaults for what the entry leaves out (its Sec. 4, Table 2) */
+        if (!cJSON_HasObjectItem(e, "eps_g_nodal")) a->eps_g_nodal = 0.5;
+        if (!cJSON_HasObjectItem(e, "eps_g_modal")) a->eps_g_modal = 0.5;
+        if (!cJSON_HasObjectItem(e, "eps_e")) a->eps_e = 1e-4;
+    }
     static const char *const positive[4] = {"eps_g_modal", "eps_g_nodal", "eps_d", "pcg_tol"};
     double values[4] = {a->eps_g_modal, a->eps_g_nodal, a->eps_d, a->pcg_tol};
     for (int k = 0; k < 4; k++)
@@ -79,6 +90,7 @@ static void report(const rk_compare_method *m, cJSON *j)
     cJSON_AddNumberToObject(sh, "enriched_rows", am->share_system);
     cJSON_AddNumberToObject(sh, "pcg", am->share_pcg);
     cJSON_AddNumberToObject(sh, "line_search", am->share_line_search);
+    rk_adaptive_residual_report(a, am);
 }
 
 static void print(const rk_compare_method *m, FILE *f)
@@ -90,10 +102,16 @@ static void print(const rk_compare_method *m, FILE *f)
             m->name, am->mean_modes, am->max_modes, am->mean_nodes, 100 * am->enriched_share, am->max_nodes, am->subdomains,
             am->newton_per_step, am->pcg_per_solve, 100 * am->share_potential, 100 * am->share_oracle,
             100 * am->share_hessian, 100 * am->share_system, 100 * am->share_pcg, 100 * am->share_line_search);
+    if (am->residual)
+        fprintf(f, "  %s: full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (Newton tolerance %.3g), %d steps "
+                "over it; %d enrichment rounds for it (%d vertices)\n",
+                m->name, am->residual_mean, am->residual_max, am->residual_tolerance, am->residual_over,
+                am->residual_rounds, am->residual_nodes_added);
 }
 
 static const char *const keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
-                                   "downdate", "modal", "nodal", "hessian", "pcg_tol", NULL};
+                                   "downdate", "modal", "nodal", "hessian", "pcg_tol", "eps_g_units", "residual",
+                                   "residual_rounds", NULL};
 
 const rk_method rk_method_adaptive_subspace = {
     .name = "adaptive_subspace",

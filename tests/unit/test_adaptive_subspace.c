@@ -88,6 +88,8 @@ static int init_adaptive(rk_adaptive *ad, scene *s, double eps_g, double eps_e, 
     rk_adaptive_options o;
     rk_adaptive_default_options(&o);
     o.eps_g_nodal = o.eps_g_modal = eps_g;
+    o.paper_units = 1;      /* the paper's oracle on its own: its G, no enrichment by the residual */
+    o.residual_rounds = 0;
     o.eps_e = eps_e;
     o.downdate = downdate;
     o.subdomains = 6;
@@ -233,6 +235,42 @@ TEST(downdating_drops_what_a_free_fall_does_not_need)
     free_scene(&s);
 }
 
+/* The oracle told to add nothing (eps_g huge): the full-space residual |d_full|_inf / h the
+ * subspace leaves exceeds the Newton tolerance, is counted and left so with residual_rounds 0,
+ * and with the default rounds the parts where it is are enriched until every step ends below it. */
+TEST(residual_above_the_tolerance_enriches_until_it_is_not)
+{
+    rk_error err;
+    scene s;
+    CHECK_OK(make_scene(&s, 1e5, 4, &err));
+    long over[2], rounds[2];
+    int nodes[2];
+    for (int k = 0; k < 2; k++) {
+        rk_adaptive_options o;
+        rk_adaptive_default_options(&o);
+        o.eps_g_nodal = o.eps_g_modal = 1e300;
+        o.downdate = 0;
+        o.subdomains = 6;
+        if (k == 0) o.residual_rounds = 0;
+        rk_adaptive ad;
+        CHECK_OK(rk_adaptive_init(&ad, &s.body.f, &s.opt, s.basis.U, s.basis.r, &o, &err));
+        for (int t = 0; t < 4; t++) {
+            CHECK_OK(rk_adaptive_step(&ad, &err));
+            printf("# rounds %d step %d: residual %.3g m/s (tolerance %g), %d vertices enriched\n", o.residual_rounds,
+                   t, ad.stats.residual_last, s.opt.newton_tol, ad.nodes);
+        }
+        over[k] = ad.stats.residual_over;
+        rounds[k] = ad.stats.residual_rounds;
+        nodes[k] = ad.stats.max_nodes;
+        rk_adaptive_free(&ad);
+    }
+    CHECK(over[0] > 0 && rounds[0] == 0 && nodes[0] == 0, "report only: %ld steps over, %ld rounds, %d vertices",
+          over[0], rounds[0], nodes[0]);
+    CHECK(over[1] == 0 && rounds[1] > 0 && nodes[1] > 0, /* all of this small beam bends: all enriched */
+          "enriching: %ld steps over, %ld rounds, %d of %d vertices", over[1], rounds[1], nodes[1], s.body.f.nv);
+    free_scene(&s);
+}
+
 TEST(bad_options_are_named)
 {
     rk_error err;
@@ -242,7 +280,7 @@ TEST(bad_options_are_named)
         const char *what, *expect;
     } cases[] = {{"nodal 0", "eps_g_nodal"}, {"modal -1", "eps_g_modal"}, {"eps_d 0", "eps_d"},
                  {"subdomains", "subdomains"}, {"block", "whole number of blocks"}, {"nan", "non-finite"},
-                 {"static", "dynamics only"}, {"initial", "initial_blocks"}};
+                 {"static", "dynamics only"}, {"initial", "initial_blocks"}, {"rounds", "residual_rounds"}};
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
         rk_adaptive_options o;
         rk_adaptive_default_options(&o);
@@ -257,6 +295,7 @@ TEST(bad_options_are_named)
         if (k == 5) s.basis.U[5] = NAN;
         if (k == 6) fo.is_static = 1;
         if (k == 7) o.initial_blocks = 100;
+        if (k == 8) o.residual_rounds = -1;
         rk_adaptive ad;
         err.msg[0] = 0;
         int rc = rk_adaptive_init(&ad, &s.body.f, &fo, s.basis.U, r, &o, &err);
@@ -275,6 +314,7 @@ int main(void)
     RUN(stiff_object_is_not_enriched_where_a_soft_one_is);
     RUN(bfgs_and_exact_subspace_hessians_find_the_same_steps);
     RUN(downdating_drops_what_a_free_fall_does_not_need);
+    RUN(residual_above_the_tolerance_enriches_until_it_is_not);
     RUN(bad_options_are_named);
     return test_finish();
 }

@@ -31,7 +31,7 @@ TEST(the_report_is_the_simulators_counts)
     CHECK_OK(rk_scene_adaptive_init(&s, &sim, &s.entries[0], NULL, 0, &ad, NULL, &err));
     double secs[5] = {0.5, 0.1, 0.4, 0.2, 0.3}; /* given, not measured: median 0.3 */
     for (int k = 0; k < 5; k++) CHECK_OK(rk_adaptive_step(&ad, &err));
-    cJSON *r = rk_adaptive_report(&sim, &ad, secs, 5, NULL);
+    cJSON *r = rk_adaptive_report(&sim, &ad, secs, 5, NULL, NULL);
     printf("# 5 steps: %ld Newton iterations, at most %d columns and %d enriched vertices\n",
            (long)ad.stats.newton_iterations, ad.stats.max_modes, ad.stats.max_nodes);
     CHECK(num(r, "steps", NULL) == 5 && num(r, "vertices", NULL) == sim.mesh.nv && num(r, "tets", NULL) == sim.mesh.nt,
@@ -48,7 +48,7 @@ TEST(the_report_is_the_simulators_counts)
     rk_contact_tally_init(&tally);
     rk_contact_tally_add(&tally, 3, 0.25);
     rk_contact_tally_add(&tally, 0, 0.5);
-    r = rk_adaptive_report(&sim, &ad, secs, 5, &tally);
+    r = rk_adaptive_report(&sim, &ad, secs, 5, &tally, NULL);
     CHECK(num(r, "contact", "min_distance") == 0.25 && num(r, "contact", "intersections") == 3 &&
               num(r, "contact", "intersecting_frames") == 1 && num(r, "contact", "frames") == 2,
           "contact.*");

@@ -117,6 +117,12 @@ static const struct {
      " \"subdomains\": 8}}", "rom", "subdomains is a key of method adaptive_subspace"},
     {"adaptive fractional subdomains", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
      " \"subdomains\": 2.5}}", "rom", "subdomains"},
+    {"adaptive threshold units", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"eps_g_units\": \"strain\"}}", "rom", "eps_g_units must be \"tolerance\""},
+    {"adaptive negative residual rounds", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"residual_rounds\": -1}}", "rom", "residual_rounds"},
+    {"adaptive residual not a bool", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"residual\": 2}}", "rom", "residual"},
     {"adaptive linear lambda", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
      " \"lambda\": 2}}", "rom", "lambda must be in [0, 1]"},
     {"adaptive linear decoder", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
