@@ -9,6 +9,18 @@
  * above 1e-12, so the data decides only from well above it). */
 #define RT_ALROM_RANK_TOL 1e-6
 
+/* Pair (i, j) of QDRV's r (r + 1) / 2, row-major over i <= j (the precompute's rk_quadratic_pairs). */
+static inline int rt_alrom_pair(int r, int i, int j)
+{
+    if (i > j) {
+        int t = i;
+        i = j;
+        j = t;
+    }
+    return i * r - i * (i - 1) / 2 + (j - i);
+}
+/* The quadratic decoder's pieces' mass Gram B^T W B into al->gram (alrom_decoder.c; at open). */
+void rt_alrom_gram(romrt_model *m);
 /* Whether row (a dof) of the stored vertices is prescribed (its basis row is zero). */
 static inline int rt_alrom_prescribed(const rt_alrom *al, int row) { return al->motion_of[row / 3] != ROMBIN_NO_MOTION; }
 /* The prescribed rows of A (n x r, a row's r doubles contiguous) zeroed. */

@@ -8,17 +8,6 @@
 
 #define MAX_HISTORY 1000u
 
-/* Pair (i, j), i <= j, row-major over r (the precompute's rk_quadratic_pairs layout). */
-static int pair(int r, int i, int j)
-{
-    if (i > j) {
-        int t = i;
-        i = j;
-        j = t;
-    }
-    return i * r - i * (i - 1) / 2 + (j - i);
-}
-
 /* ---- the loader ---- */
 
 /* A CROM's chunks: CRMS's sizes (the encoder 3 nv -> .. -> r, the decoder r + 3 -> .. -> 3, 1 to
@@ -141,7 +130,13 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, n * r, &al->Q2);
     rt_scratch_wide(L, n, &al->u);
     rt_scratch_wide(L, n, &al->res);
-    if (!al->decoder) rt_scratch(L, n * r * r, &al->psi_full);
+    if (!al->decoder) {
+        uint64_t R = r + (uint64_t)al->pairs;
+        rt_scratch(L, n * r * r, &al->psi_full);
+        rt_scratch_wide(L, R * R, &al->gram);
+        rt_scratch_wide(L, R * r, &al->gram_c);
+        rt_scratch_wide(L, 4 * R, &al->ext);
+    }
     rt_scratch_wide(L, 4 * r * r, &al->work);
     rt_scratch_wide(L, n, &al->u_new);
     rt_scratch_wide(L, n, &al->v_new);
@@ -171,7 +166,8 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
             for (k = 0; k < r; k++)
                 for (j = 0; j < r; j++)
                     al->psi_full[((size_t)i * (size_t)r + (size_t)k) * (size_t)r + (size_t)j] =
-                        al->psi[(size_t)i * (size_t)al->pairs + (size_t)pair(r, k, j)];
+                        al->psi[(size_t)i * (size_t)al->pairs + (size_t)rt_alrom_pair(r, k, j)];
+        rt_alrom_gram(m);
     }
     if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0) || !(al->ridge >= 0) ||
         !(al->budget >= 0))
