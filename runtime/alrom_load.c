@@ -126,8 +126,9 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, r, &al->f);
     rt_scratch(L, 9 * (uint64_t)m->ne, &al->Hd0);
     rt_scratch_wide(L, n * r, &al->U);
-    rt_scratch_wide(L, n * r, &al->Q1);
-    rt_scratch_wide(L, n * r, &al->Q2);
+    rt_scratch_wide(L, (uint64_t)(al->m + 1) * (uint64_t)(al->m + 1), &al->dd);
+    rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->du);
+    rt_scratch_wide(L, 15 * r * r, &al->small);
     rt_scratch_wide(L, n, &al->u);
     rt_scratch_wide(L, n, &al->res);
     if (!al->decoder) {

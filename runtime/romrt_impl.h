@@ -143,7 +143,11 @@ typedef struct {
     romrt_real *Hd0;           /* ne x 9: each element's F - I at x_ref */
     /* scratch: the basis is built in double in either build (the history's small systems are
      * conditioned far beyond float: P P^T + 1e-8 I, Q's rank decided at 1e-6) */
-    double *U, *Q1, *Q2;       /* nv x 3 x r */
+    double *U;                 /* nv x 3 x r: the decoder's basis */
+    double *dd;                /* (m + 1)^2: the ring's inner products over the free rows (alrom_basis.c) */
+    int dd_valid;              /* whether dd holds every held entry's (0 after a reset or a restore) */
+    double *du;                /* (m + 1) x r: the held entries' D^T U */
+    double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
     double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
     romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
