@@ -176,16 +176,20 @@ static double entry_dot(const romrt_model *m, int a, int b)
 
 /* al->dd (slots x slots): the newest entry's inner products with the `count` held, or all of them
  * after a reset or a restored state (dd_valid 0); each value is one fixed sum, so a restored run
- * steps as the original did. */
+ * steps as the original did. With the quadratic decoder also the entries' al->db. */
 static void history_gram(romrt_model *m, int count)
 {
     rt_alrom *al = &m->al;
-    int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1;
-    for (e = 0; e <= first; e++)
+    int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1, R = m->r + al->pairs;
+    for (e = 0; e <= first; e++) {
+        if (!al->decoder) /* and its coordinates B^T d (D^T U = (D^T B) C(p)) */
+            rt_alrom_free_coordinates(m, al->D + (size_t)slot_of(al, e) * (size_t)(3 * m->nv),
+                                      al->db + (size_t)slot_of(al, e) * (size_t)R);
         for (f = e; f < count; f++) {
             int a = slot_of(al, e), b = slot_of(al, f);
             al->dd[a + (size_t)slots * b] = al->dd[b + (size_t)slots * a] = entry_dot(m, a, b);
         }
+    }
     al->dd_valid = 1;
 }
 
@@ -322,19 +326,22 @@ static int geodesic(romrt_model *m)
 }
 
 /* The step's rows: D E_d + U E_u over the free stored rows (E_d's row e into al->coef's), zero on
- * the prescribed; count 0: U E_u alone. */
+ * the prescribed; count 0: U E_u alone. The quadratic decoder's U rows are formed here, the only
+ * place they are used. */
 static void form_rows(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
     int r = m->r, n = 3 * m->nv, i, j, k, e;
-    double acc[ROMRT_MAX_R];
+    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R];
     for (i = 0; i < n; i++) {
         romrt_real *row = al->rows + (size_t)i * (size_t)r;
-        const double *Ui = al->U + (size_t)i * (size_t)r;
+        const double *Ui = Urow;
         if (rt_alrom_prescribed(al, i)) {
             for (j = 0; j < r; j++) row[j] = 0;
             continue;
         }
+        if (al->decoder) Ui = al->U + (size_t)i * (size_t)r;
+        else rt_alrom_jacobian_row(m, i, Urow);
         for (j = 0; j < r; j++) acc[j] = 0;
         for (e = 0; e < count; e++) {
             double de = al->D[(size_t)slot_of(al, e) * (size_t)n + (size_t)i];
@@ -358,15 +365,18 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     romrt_status st;
     memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
     if ((st = rt_alrom_encode(m, err))) return st;
-    rt_alrom_zero_prescribed(m, al->U);
-    for (k = 0; k < r * r; k++) Suu[k] = 0;
-    for (i = 0; i < n; i++) { /* U^T U (upper) */
-        const double *Ui = al->U + (size_t)i * (size_t)r;
+    if (!al->decoder) rt_alrom_c_gram(m, al->gram_free, al->p, Suu); /* U^T U = C^T (B^T B) C */
+    else {
+        rt_alrom_zero_prescribed(m, al->U);
+        for (k = 0; k < r * r; k++) Suu[k] = 0;
+        for (i = 0; i < n; i++) { /* U^T U (upper) */
+            const double *Ui = al->U + (size_t)i * (size_t)r;
+            for (j = 0; j < r; j++)
+                for (k = 0; k <= j; k++) Suu[k + (size_t)r * j] += Ui[k] * Ui[j];
+        }
         for (j = 0; j < r; j++)
-            for (k = 0; k <= j; k++) Suu[k + (size_t)r * j] += Ui[k] * Ui[j];
+            for (k = 0; k < j; k++) Suu[j + (size_t)r * k] = Suu[k + (size_t)r * j];
     }
-    for (j = 0; j < r; j++)
-        for (k = 0; k < j; k++) Suu[j + (size_t)r * k] = Suu[k + (size_t)r * j];
     if (gram_factor(r, Suu, Ru))
         return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_QDRV, "the decoder's basis lost rank at this state");
     memcpy(al->D + (size_t)al->head * (size_t)n, al->u, sizeof(double) * (size_t)n);
@@ -376,8 +386,10 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     ridge = history_ridge(m, count);
     /* a history of one state is no motion yet (and at rest there is none) */
     if (count >= 2 && ridge >= 0) {
-        for (k = 0; k < count * r; k++) al->du[k] = 0;
-        for (i = 0; i < n; i++) { /* D^T U over the free rows (U's prescribed rows are zero) */
+        for (e = 0; e < count && !al->decoder; e++) /* D^T U = (D^T B) C(p) */
+            rt_alrom_c_apply(m, al->p, al->db + (size_t)slot_of(al, e) * (size_t)(r + al->pairs), al->du + (size_t)e * (size_t)r);
+        for (k = 0; k < count * r && al->decoder; k++) al->du[k] = 0;
+        for (i = 0; i < n && al->decoder; i++) { /* D^T U over the free rows (U's prescribed rows are zero) */
             const double *Ui = al->U + (size_t)i * (size_t)r;
             for (e = 0; e < count; e++) {
                 double de = al->D[(size_t)slot_of(al, e) * (size_t)n + (size_t)i], *du = al->du + (size_t)e * (size_t)r;

@@ -17,21 +17,18 @@ void rt_alrom_zero_prescribed(const romrt_model *m, double *A)
         if (rt_alrom_prescribed(&m->al, i)) memset(A + (size_t)i * (size_t)m->r, 0, sizeof(double) * (size_t)m->r);
 }
 
-/* U = dg/dp, row i column k = Phi_ik + sum_j Psi_i,kj p_j (Psi_i the row's symmetric r x r
- * second-order term, expanded from QDRV's pairs at open). */
-static void jacobian(const romrt_model *m, const double *p, double *U)
+/* Row i of U = dg/dp at al->p: column k = Phi_ik + sum_j Psi_i,kj p_j (Psi_i the row's symmetric
+ * r x r second-order term, expanded from QDRV's pairs at open). */
+void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui)
 {
     const rt_alrom *al = &m->al;
-    int r = m->r, n = 3 * m->nv, i, k, j;
-    for (i = 0; i < n; i++) {
-        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi_full + (size_t)i * (size_t)r * (size_t)r;
-        double *Ui = U + (size_t)i * (size_t)r;
-        for (k = 0; k < r; k++) {
-            const romrt_real *row = psi + (size_t)k * (size_t)r;
-            double s = 0;
-            for (j = 0; j < r; j++) s += row[j] * p[j];
-            Ui[k] = phi[k] + s;
-        }
+    int r = m->r, k, j;
+    const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi_full + (size_t)i * (size_t)r * (size_t)r;
+    for (k = 0; k < r; k++) {
+        const romrt_real *row = psi + (size_t)k * (size_t)r;
+        double s = 0;
+        for (j = 0; j < r; j++) s += row[j] * al->p[j];
+        Ui[k] = phi[k] + s;
     }
 }
 
@@ -51,21 +48,67 @@ void rt_alrom_gram(romrt_model *m)
 {
     rt_alrom *al = &m->al;
     int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a, b;
-    double *G = al->gram, *row = al->ext;
-    for (i = 0; i < R * R; i++) G[i] = 0;
+    double *G = al->gram, *F = al->gram_free, *row = al->ext;
+    for (i = 0; i < R * R; i++) G[i] = F[i] = 0;
     for (i = 0; i < n; i++) {
         double w = al->mass[i / 3];
-        if (w == 0) continue;
+        int is_free = !rt_alrom_prescribed(al, i);
         for (a = 0; a < r; a++) row[a] = al->phi[(size_t)i * (size_t)r + (size_t)a];
         for (a = 0; a < P; a++) row[r + a] = al->psi[(size_t)i * (size_t)P + (size_t)a];
         for (b = 0; b < R; b++) {
-            double wb = w * row[b], *Gb = G + (size_t)R * (size_t)b;
-            if (wb == 0) continue; /* the rigid modes' pairs are zero */
+            double wb = w * row[b], xb = row[b], *Gb = G + (size_t)R * (size_t)b, *Fb = F + (size_t)R * (size_t)b;
+            if (xb == 0) continue; /* the rigid modes' pairs are zero */
             for (a = 0; a <= b; a++) Gb[a] += wb * row[a];
+            for (a = 0; a <= b && is_free; a++) Fb[a] += xb * row[a];
         }
     }
     for (b = 0; b < R; b++)
-        for (a = 0; a < b; a++) G[b + (size_t)R * a] = G[a + (size_t)R * b];
+        for (a = 0; a < b; a++) {
+            G[b + (size_t)R * a] = G[a + (size_t)R * b];
+            F[b + (size_t)R * a] = F[a + (size_t)R * b];
+        }
+}
+
+void rt_alrom_free_coordinates(const romrt_model *m, const double *d, double *out)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a;
+    for (a = 0; a < R; a++) out[a] = 0;
+    for (i = 0; i < n; i++) {
+        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
+        double x = d[i];
+        if (x == 0 || rt_alrom_prescribed(al, i)) continue;
+        for (a = 0; a < r; a++) out[a] += x * phi[a];
+        for (a = 0; a < P; a++) out[r + a] += x * psi[a];
+    }
+}
+
+void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, double *out)
+{
+    int r = m->r, k, j;
+    for (k = 0; k < r; k++) {
+        out[k] = v[k];
+        for (j = 0; j < r; j++) out[k] += p[j] * v[r + rt_alrom_pair(r, k, j)];
+    }
+}
+
+void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, R = r + al->pairs, k, l, j, a;
+    double *SC = al->gram_c;
+    for (k = 0; k < r; k++) { /* SC column k = S e_k + sum_j p_j S e_(r + pair(k, j)) */
+        double *c = SC + (size_t)R * (size_t)k;
+        const double *Sk = S + (size_t)R * (size_t)k;
+        for (a = 0; a < R; a++) c[a] = Sk[a];
+        for (j = 0; j < r; j++) {
+            const double *Sj = S + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
+            if (p[j] != 0)
+                for (a = 0; a < R; a++) c[a] += p[j] * Sj[a];
+        }
+    }
+    for (l = 0; l < r; l++) /* C^T (S C): column l */
+        rt_alrom_c_apply(m, p, SC + (size_t)R * (size_t)l, out + (size_t)r * (size_t)l);
 }
 
 /* dc = c(p + d) - c(p), the pairs as d_k p_j + p_k d_j + d_k d_j (no cancellation for a small d). */
@@ -97,30 +140,10 @@ static void gram_times(int R, const double *G, const double *v, double *out)
  * residual, whose B^T W is gres); A: r x r scratch. */
 static romrt_status code_step(romrt_model *m, const double *p, const double *gres, double *x, double *A, romrt_error *err)
 {
-    rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, k, l, j;
-    double *GC = al->gram_c, scale = 0;
-    for (k = 0; k < r; k++) { /* GC column k = G e_k + sum_j p_j G e_(r + pair(k, j)) */
-        double *c = GC + (size_t)R * (size_t)k;
-        const double *Gk = al->gram + (size_t)R * (size_t)k;
-        int a;
-        for (a = 0; a < R; a++) c[a] = Gk[a];
-        for (j = 0; j < r; j++) {
-            const double *Gj = al->gram + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
-            if (p[j] != 0)
-                for (a = 0; a < R; a++) c[a] += p[j] * Gj[a];
-        }
-    }
-    for (k = 0; k < r; k++) {
-        x[k] = gres[k];
-        for (j = 0; j < r; j++) x[k] += p[j] * gres[r + rt_alrom_pair(r, k, j)];
-        for (l = k; l < r; l++) { /* upper: C column k . GC column l */
-            const double *c = GC + (size_t)R * (size_t)l;
-            double s = c[k];
-            for (j = 0; j < r; j++) s += p[j] * c[r + rt_alrom_pair(r, k, j)];
-            A[k + (size_t)r * l] = s;
-        }
-    }
+    int r = m->r, k;
+    double scale = 0;
+    rt_alrom_c_gram(m, m->al.gram, p, A);
+    rt_alrom_c_apply(m, p, gres, x);
     for (k = 0; k < r; k++) scale = A[k + (size_t)r * k] > scale ? A[k + (size_t)r * k] : scale;
     for (k = 0; k < r; k++) A[k + (size_t)r * k] += 1e-12 * scale; /* rigid or repeated columns */
     if (rt_cholesky_wide(r, A))
@@ -176,8 +199,7 @@ static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
         for (a = 0; a < R; a++) gres[a] -= Gdc[a];
         if (step <= 1e-12 * (size > 0 ? size : 1)) break;
     }
-    jacobian(m, al->p, al->U);
-    return ROMRT_OK;
+    return ROMRT_OK; /* U's rows where used (rt_alrom_jacobian_row) */
 }
 
 /* ---- a CROM decoder: networks z = W a + b, ELU on all layers but the last (precompute/neural) ---- */

@@ -125,7 +125,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, r * r, &al->C);
     rt_scratch(L, r, &al->f);
     rt_scratch(L, 9 * (uint64_t)m->ne, &al->Hd0);
-    rt_scratch_wide(L, n * r, &al->U);
+    if (al->decoder) rt_scratch_wide(L, n * r, &al->U); /* the quadratic's rows are formed where used */
     rt_scratch_wide(L, (uint64_t)(al->m + 1) * (uint64_t)(al->m + 1), &al->dd);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->du);
     rt_scratch_wide(L, 15 * r * r, &al->small);
@@ -135,6 +135,8 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         uint64_t R = r + (uint64_t)al->pairs;
         rt_scratch(L, n * r * r, &al->psi_full);
         rt_scratch_wide(L, R * R, &al->gram);
+        rt_scratch_wide(L, R * R, &al->gram_free);
+        rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->db);
         rt_scratch_wide(L, R * r, &al->gram_c);
         rt_scratch_wide(L, 4 * R, &al->ext);
     }

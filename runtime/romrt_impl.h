@@ -151,9 +151,10 @@ typedef struct {
     double *u, *res;           /* nv x 3 */
     double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
     romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
-    /* the quadratic encoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
-     * Gram B^T W B (R x R, formed at open), G C(p) (R x r), and 4 R-vectors */
-    double *gram, *gram_c, *ext;
+    /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
+     * Gram B^T W B and its Euclidean Gram over the free rows (R x R each, formed at open), S C(p)
+     * (R x r), 4 R-vectors, and each ring entry's B^T d over the free rows ((m + 1) x R) */
+    double *gram, *gram_free, *gram_c, *ext, *db;
     /* a CROM decoder (ALRH's decoder 1): layer counts, sizes (CRMS: encoder's then decoder's),
      * normalised rest positions (CRMX), parameters (CRMW), the widest layer's buffers */
     int decoder, enc_layers, dec_layers, widest;
