@@ -17,18 +17,25 @@ void rt_alrom_zero_prescribed(const romrt_model *m, double *A)
         if (rt_alrom_prescribed(&m->al, i)) memset(A + (size_t)i * (size_t)m->r, 0, sizeof(double) * (size_t)m->r);
 }
 
-/* Row i of U = dg/dp at al->p: column k = Phi_ik + sum_j Psi_i,kj p_j (Psi_i the row's symmetric
- * r x r second-order term, expanded from QDRV's pairs at open). */
+/* Row i of U = dg/dp at al->p: column k = Phi_ik + sum_j Psi_i,kj p_j, from QDRV's packed pairs
+ * (k <= j) in order: each pair adds to column k and, off the diagonal, to column j (half the
+ * reads of the expanded r x r matrix; this pass is the step's largest). */
 void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui)
 {
     const rt_alrom *al = &m->al;
     int r = m->r, k, j;
-    const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi_full + (size_t)i * (size_t)r * (size_t)r;
+    const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)al->pairs;
+    const double *p = al->p;
+    for (k = 0; k < r; k++) Ui[k] = phi[k];
     for (k = 0; k < r; k++) {
-        const romrt_real *row = psi + (size_t)k * (size_t)r;
-        double s = 0;
-        for (j = 0; j < r; j++) s += row[j] * al->p[j];
-        Ui[k] = phi[k] + s;
+        double pk = p[k], s = (double)psi[0] * p[k];
+        for (j = k + 1; j < r; j++) {
+            double x = psi[j - k];
+            s += x * p[j];
+            Ui[j] += x * pk;
+        }
+        Ui[k] += s;
+        psi += r - k;
     }
 }
 

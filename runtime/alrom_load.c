@@ -133,7 +133,6 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, n, &al->res);
     if (!al->decoder) {
         uint64_t R = r + (uint64_t)al->pairs;
-        rt_scratch(L, n * r * r, &al->psi_full);
         rt_scratch_wide(L, R * R, &al->gram);
         rt_scratch_wide(L, R * R, &al->gram_free);
         rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->db);
@@ -163,15 +162,7 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
     if (al->decoder && !(al->u_scale > 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMW, "the displacement scale must be positive");
-    if (!al->decoder) {
-        int r = m->r, i, k, j;
-        for (i = 0; i < 3 * m->nv; i++)
-            for (k = 0; k < r; k++)
-                for (j = 0; j < r; j++)
-                    al->psi_full[((size_t)i * (size_t)r + (size_t)k) * (size_t)r + (size_t)j] =
-                        al->psi[(size_t)i * (size_t)al->pairs + (size_t)rt_alrom_pair(r, k, j)];
-        rt_alrom_gram(m);
-    }
+    if (!al->decoder) rt_alrom_gram(m);
     if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0) || !(al->ridge >= 0) ||
         !(al->budget >= 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP,

@@ -150,7 +150,6 @@ typedef struct {
     double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
     double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
-    romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
     /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
      * Gram B^T W B and its Euclidean Gram over the free rows (R x R each, formed at open), S C(p)
      * (R x r), 4 R-vectors, and each ring entry's B^T d over the free rows ((m + 1) x R) */
