@@ -174,7 +174,7 @@ void rt_alrom_reset(romrt_model *m)
     memset(al->v_prev, 0, sizeof(double) * n);
     memset(al->f_app, 0, sizeof(romrt_real) * n);
     memset(al->Hd0, 0, sizeof(romrt_real) * 9 * (size_t)m->ne);
-    al->count = al->head = 0;
+    al->count = al->head = al->dd_valid = 0;
     reference_positions(m); /* the rest */
     /* until the first step, the decoder's linear part (orthonormalised by that step) */
     memcpy(al->rows, al->phi, sizeof(romrt_real) * n * (size_t)m->r);
@@ -261,6 +261,7 @@ int rt_alrom_set_state(romrt_model *m, const romrt_real *s)
     s = take(s, al->D, slots * n);
     s = take(s, al->P, slots * (size_t)m->r);
     memcpy(al->f_app, s, sizeof(romrt_real) * n);
+    al->dd_valid = 0; /* the ring's inner products, from the restored entries */
     rt_alrom_abort(m); /* x_ref, its bound and q from u_t */
     return 0;
 }

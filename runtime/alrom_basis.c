@@ -1,41 +1,95 @@
 /* The adaptive linear ROM's step basis (alrom_impl.h, the paper's Algorithm 3, lines 3-6): the
  * history basis (Eq. 13), thin QRs, the SVD of Q_Phi^T Q_U and the Grassmann geodesic point at
- * lambda (Algorithm 4), in double in either build. */
+ * lambda (Algorithm 4), in double in either build.
+ *
+ * All of it in r-space but for three passes over the stored rows (issue 33: thin QRs by Gram-
+ * Schmidt, the history basis and the geodesic were 60% of the step once the encoder was in
+ * r-space, nine passes of n r^2 and more): the history basis is Phi_h = D C + U G (history.c's
+ * ridge: C's row e = (P P^T + (rho + reg) I)^-1 p_e, G = rho (..)^-1), so every inner product the
+ * algorithm takes is one of the small Grams U^T U, D^T U (a pass each) and D^T D (one new row a
+ * step, kept between steps); each thin QR is the Cholesky factor R of its Gram (Q = A R^-1: the
+ * same Q and R as Gram-Schmidt in exact arithmetic, and R's diagonal its rank test), the geodesic
+ * point is Q_Phi A + Q_U B, and the step basis D E_d + U E_u is formed in one last pass. The
+ * Grams of well-conditioned bases (U: the decoder's Jacobian; Phi_h: held to U by the ridge) lose
+ * nothing a step's float rows keep. Inner products are Euclidean over the free stored rows (the
+ * prescribed rows are zero in every basis). */
 #include <math.h>
 #include <string.h>
 
 #include "runtime/alrom_impl.h"
 
-/* Q: orthonormal columns spanning A's (n x r; Q may be A), classical Gram-Schmidt run twice per
- * column (as stable as Householder for this purpose, and row by row over memory). -1 when a
- * column's remainder, R's diagonal, is below RT_ALROM_RANK_TOL of the largest: rank below r. */
-static int thin_q(int n, int r, const double *A, double *Q)
+/* ---- small column-major r x r helpers (R upper triangular, rt_cholesky_wide's layout) ---- */
+
+/* R = the Cholesky factor of the Gram S (r x r, copied), -1 when R's smallest diagonal is below
+ * RT_ALROM_RANK_TOL of its largest (the columns' rank is below r: Gram-Schmidt's test). */
+static int gram_factor(int r, const double *S, double *R)
 {
-    double d[ROMRT_MAX_R], big = 0, small = INFINITY;
-    int i, j, k, pass;
-    if (Q != A) memcpy(Q, A, sizeof(double) * (size_t)n * (size_t)r);
-    for (j = 0; j < r; j++) {
-        double norm2 = 0, norm;
-        for (pass = 0; pass < 2 && j > 0; pass++) {
-            for (k = 0; k < j; k++) d[k] = 0;
-            for (i = 0; i < n; i++) {
-                const double *Qi = Q + (size_t)i * (size_t)r;
-                for (k = 0; k < j; k++) d[k] += Qi[k] * Qi[j];
-            }
-            for (i = 0; i < n; i++) {
-                double *Qi = Q + (size_t)i * (size_t)r, s = Qi[j];
-                for (k = 0; k < j; k++) s -= d[k] * Qi[k];
-                Qi[j] = s;
-            }
-        }
-        for (i = 0; i < n; i++) norm2 += Q[(size_t)i * (size_t)r + (size_t)j] * Q[(size_t)i * (size_t)r + (size_t)j];
-        norm = sqrt(norm2);
-        if (!(norm > 0) || !isfinite(norm)) return -1;
-        big = norm > big ? norm : big;
-        small = norm < small ? norm : small;
-        for (i = 0; i < n; i++) Q[(size_t)i * (size_t)r + (size_t)j] /= norm;
+    double big = 0, small = INFINITY;
+    int k;
+    memcpy(R, S, sizeof(double) * (size_t)r * (size_t)r);
+    if (rt_cholesky_wide(r, R)) return -1;
+    for (k = 0; k < r; k++) {
+        double d = R[k + (size_t)r * k];
+        big = d > big ? d : big;
+        small = d < small ? d : small;
     }
     return small > RT_ALROM_RANK_TOL * big ? 0 : -1;
+}
+
+/* X := X R^-1 (X: rows x r, column-major with leading dimension rows). */
+static void solve_right(int r, int rows, const double *R, double *X)
+{
+    int i, j, k;
+    for (j = 0; j < r; j++) {
+        double *xj = X + (size_t)rows * j, d = R[j + (size_t)r * j];
+        for (k = 0; k < j; k++) {
+            const double *xk = X + (size_t)rows * k;
+            double rkj = R[k + (size_t)r * j];
+            for (i = 0; i < rows; i++) xj[i] -= xk[i] * rkj;
+        }
+        for (i = 0; i < rows; i++) xj[i] /= d;
+    }
+}
+
+/* X := R^-1 X (X: r x r), back substitution column by column. */
+static void solve_left(int r, const double *R, double *X)
+{
+    int i, j, k;
+    for (j = 0; j < r; j++) {
+        double *x = X + (size_t)r * j;
+        for (i = r - 1; i >= 0; i--) {
+            double s = x[i];
+            for (k = i + 1; k < r; k++) s -= R[i + (size_t)r * k] * x[k];
+            x[i] = s / R[i + (size_t)r * i];
+        }
+    }
+}
+
+/* X := R^-T X (X: r x r), forward substitution column by column. */
+static void solve_left_t(int r, const double *R, double *X)
+{
+    int i, j, k;
+    for (j = 0; j < r; j++) {
+        double *x = X + (size_t)r * j;
+        for (i = 0; i < r; i++) {
+            double s = x[i];
+            for (k = 0; k < i; k++) s -= R[k + (size_t)r * i] * x[k];
+            x[i] = s / R[i + (size_t)r * i];
+        }
+    }
+}
+
+/* C = op(A) B (+ C when add), r x r, op(A) = A or A^T. */
+static void mul(int r, const double *A, int transpose, const double *B, double *C, int add)
+{
+    int i, j, k;
+    for (j = 0; j < r; j++)
+        for (i = 0; i < r; i++) {
+            double s = add ? C[i + (size_t)r * j] : 0;
+            for (k = 0; k < r; k++)
+                s += (transpose ? A[k + (size_t)r * i] : A[i + (size_t)r * k]) * B[k + (size_t)r * j];
+            C[i + (size_t)r * j] = s;
+        }
 }
 
 /* The SVD of the r x r matrix M (column-major) by one-sided Jacobi: M W = V diag(s), W and V
@@ -103,80 +157,79 @@ static void jacobi_svd(int r, double *M, double *W, double *V, double *s)
     }
 }
 
-/* Algorithm 4 from Q1 = Q_Phi and Q2 = Q_U (orthonormal): with Q1^T Q2 = V cos(Theta) W^T, the
- * geodesic point G = Q1 V cos(lambda Theta) + S sin(lambda Theta), S = (Q2 W - Q1 V cos Theta)
- * / sin Theta, written as G = Q1 V diag(a) + Q2 W diag(b), b = sin(lambda theta) / sin theta
- * (-> lambda as theta -> 0, where the spans share a direction), a = cos(lambda theta) - b cos theta.
- * Into out (n x r, not orthonormalised). */
-static void geodesic(romrt_model *m, double *out)
+/* ---- the history's Grams ---- */
+
+/* The ring's entry e (0 the newest) and its slot. */
+static int slot_of(const rt_alrom *al, int e) { return (al->head - e + al->m + 1) % (al->m + 1); }
+
+/* d_a . d_b over the free stored rows. */
+static double entry_dot(const romrt_model *m, int a, int b)
+{
+    const rt_alrom *al = &m->al;
+    size_t n = 3 * (size_t)m->nv, i;
+    const double *x = al->D + (size_t)a * n, *y = al->D + (size_t)b * n;
+    double s = 0;
+    for (i = 0; i < n; i++)
+        if (!rt_alrom_prescribed(al, (int)i)) s += x[i] * y[i];
+    return s;
+}
+
+/* al->dd (slots x slots): the newest entry's inner products with the `count` held, or all of them
+ * after a reset or a restored state (dd_valid 0); each value is one fixed sum, so a restored run
+ * steps as the original did. With the quadratic decoder also the entries' al->db. */
+static void history_gram(romrt_model *m, int count)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, n = 3 * m->nv, i, j, k;
-    double *Mq = al->work, *W = Mq + (size_t)r * r, *V = W + (size_t)r * r, *A = V + (size_t)r * r, s[ROMRT_MAX_R];
-    double a[ROMRT_MAX_R], b[ROMRT_MAX_R], lambda = al->lambda;
-    for (k = 0; k < r * r; k++) Mq[k] = 0;
-    for (i = 0; i < n; i++) { /* Mq = Q1^T Q2, column-major */
-        const double *q1 = al->Q1 + (size_t)i * (size_t)r, *q2 = al->Q2 + (size_t)i * (size_t)r;
-        for (j = 0; j < r; j++)
-            for (k = 0; k < r; k++) Mq[k + (size_t)r * j] += q1[k] * q2[j];
-    }
-    jacobi_svd(r, Mq, W, V, s);
-    for (j = 0; j < r; j++) {
-        double c = s[j] < 1 ? s[j] : 1, sn = sqrt(1 - c * c), theta = atan2(sn, c);
-        b[j] = theta > 1e-4 ? sin(lambda * theta) / sn : lambda * (1 + (1 - lambda * lambda) * theta * theta / 6);
-        a[j] = cos(lambda * theta) - b[j] * c;
-    }
-    /* A = V diag(a) (r x r), Mq reused for W diag(b); out = Q1 A + Q2 (W diag b) */
-    for (j = 0; j < r; j++)
-        for (k = 0; k < r; k++) {
-            A[k + (size_t)r * j] = V[k + (size_t)r * j] * a[j];
-            Mq[k + (size_t)r * j] = W[k + (size_t)r * j] * b[j];
-        }
-    for (i = 0; i < n; i++) {
-        const double *q1 = al->Q1 + (size_t)i * (size_t)r, *q2 = al->Q2 + (size_t)i * (size_t)r;
-        double *o = out + (size_t)i * (size_t)r;
-        for (j = 0; j < r; j++) {
-            double acc = 0;
-            for (k = 0; k < r; k++) acc += q1[k] * A[k + (size_t)r * j] + q2[k] * Mq[k + (size_t)r * j];
-            o[j] = acc;
+    int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1, R = m->r + al->pairs;
+    for (e = 0; e <= first; e++) {
+        if (!al->decoder) /* and its coordinates B^T d (D^T U = (D^T B) C(p)) */
+            rt_alrom_free_coordinates(m, al->D + (size_t)slot_of(al, e) * (size_t)(3 * m->nv),
+                                      al->db + (size_t)slot_of(al, e) * (size_t)R);
+        for (f = e; f < count; f++) {
+            int a = slot_of(al, e), b = slot_of(al, f);
+            al->dd[a + (size_t)slots * b] = al->dd[b + (size_t)slots * a] = entry_dot(m, a, b);
         }
     }
+    al->dd_valid = 1;
 }
 
 /* The history's ridge in units of tr(P P^T) over the newest `count` ring entries, the
  * precompute's history_ridge (precompute/grassmann/alrom.c: why): at least the asset's ridge and
- * h |v| |u| / (budget sum_k |u_k|^2) over the free stored dofs; -1 at rest (the decoder's basis
- * alone). */
+ * h |v| |u| / (budget sum_k |u_k|^2) over the free stored dofs (u the newest entry); -1 at rest
+ * (the decoder's basis alone). */
 static double history_ridge(const romrt_model *m, int count)
 {
     const rt_alrom *al = &m->al;
-    double uu = 0, vv = 0, dd = 0, rate;
+    double uu, vv = 0, dd = 0, rate;
     int i, e, slots = al->m + 1;
     for (i = 0; i < 3 * m->nv; i++)
-        if (!rt_alrom_prescribed(al, i)) uu += al->u_t[i] * al->u_t[i], vv += al->v[i] * al->v[i];
-    for (e = 0; e < count; e++) {
-        const double *d = al->D + (size_t)((al->head - e + slots) % slots) * (size_t)(3 * m->nv);
-        for (i = 0; i < 3 * m->nv; i++)
-            if (!rt_alrom_prescribed(al, i)) dd += d[i] * d[i];
-    }
+        if (!rt_alrom_prescribed(al, i)) vv += al->v[i] * al->v[i];
+    for (e = 0; e < count; e++) dd += al->dd[(size_t)(slots + 1) * (size_t)slot_of(al, e)];
+    uu = al->dd[(size_t)(slots + 1) * (size_t)al->head];
     if (!(dd > 0)) return -1;
     if (!(al->budget > 0)) return (double)al->ridge;
     rate = (double)m->h * sqrt(vv * uu) / ((double)al->budget * dd);
     return rate > (double)al->ridge ? rate : (double)al->ridge;
 }
 
-/* Phi_h = D P^T (P P^T + reg I)^-1 over the newest `count` ring entries (Eq. 13) into al->Q1, with
- * the ridge toward the decoder's basis U (history.c): (D P^T + rho U)(P P^T + (rho + reg) I)^-1,
- * rho = ridge tr(P P^T); the order of the entries does not matter to it. -1 when the matrix is not
- * positive definite. */
+/* The small matrices of a step (al->small, r x r each, column-major). */
+enum { S_UU, S_HH, S_HU, K_DU, G_RHO, R_U, R_H, M_Q, W_SVD, V_SVD, A_H, A_U, G_3, T_1, E_U, SMALL_COUNT };
+
+static double *small(const rt_alrom *al, int r, int which) { return al->small + (size_t)which * (size_t)r * (size_t)r; }
+
+/* The history basis Phi_h = D C + U G (Eq. 13 with history.c's ridge toward U) in Grams: C's rows
+ * into al->coef, G = rho (P P^T + (rho + reg) I)^-1, and with K = (D C)^T U (al->du: D^T U):
+ * Phi_h^T U = K + G U^T U, Phi_h^T Phi_h = C^T (D^T D) C + K G + G K^T + G U^T U G. -1 when
+ * P P^T + (rho + reg) I is not positive definite. */
 static int history_basis(romrt_model *m, int count, double ridge)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, n = 3 * m->nv, slots = al->m + 1, e, i, j, k;
-    double *A = al->work, *G = A + (size_t)r * (size_t)r, trace = 0, rho;
+    int r = m->r, slots = al->m + 1, e, f, i, j, k;
+    double *A = al->work, *G = small(al, r, G_RHO), *K = small(al, r, K_DU), *Suu = small(al, r, S_UU),
+           *Shh = small(al, r, S_HH), *Shu = small(al, r, S_HU), *T = small(al, r, T_1), trace = 0, rho;
     for (k = 0; k < r * r; k++) A[k] = 0;
     for (e = 0; e < count; e++) {
-        const double *p = al->P + (size_t)((al->head - e + slots) % slots) * (size_t)r;
+        const double *p = al->P + (size_t)slot_of(al, e) * (size_t)r;
         for (j = 0; j < r; j++)
             for (k = 0; k <= j; k++) A[k + (size_t)r * j] += p[k] * p[j];
     }
@@ -184,61 +237,187 @@ static int history_basis(romrt_model *m, int count, double ridge)
     rho = ridge > 0 ? ridge * trace : 0;
     for (k = 0; k < r; k++) A[k + (size_t)r * k] += rho + (double)al->reg;
     if (rt_cholesky_wide(r, A)) return -1;
-    /* G = rho A^-1 (symmetric), column by column */
-    for (j = 0; j < r && rho > 0; j++) {
+    for (j = 0; j < r; j++) { /* G = rho A^-1 (symmetric), column by column */
         double *g = G + (size_t)r * j;
-        for (k = 0; k < r; k++) g[k] = k == j ? rho : 0;
-        rt_cholesky_solve_wide(r, A, g);
+        for (k = 0; k < r; k++) g[k] = k == j && rho > 0 ? rho : 0;
+        if (rho > 0) rt_cholesky_solve_wide(r, A, g);
     }
-    /* Phi_h = D C with C's row e = (A^-1 p_e)^T: count small solves, then one pass over the rows */
     for (e = 0; e < count; e++) {
         double *c = al->coef + (size_t)e * (size_t)r;
-        memcpy(c, al->P + (size_t)((al->head - e + slots) % slots) * (size_t)r, sizeof(double) * (size_t)r);
+        memcpy(c, al->P + (size_t)slot_of(al, e) * (size_t)r, sizeof(double) * (size_t)r);
         rt_cholesky_solve_wide(r, A, c);
     }
-    for (i = 0; i < n; i++) { /* rho U A^-1, row by row */
-        double *Phi = al->Q1 + (size_t)i * (size_t)r;
-        const double *Ui = al->U + (size_t)i * (size_t)r;
-        for (j = 0; j < r; j++) {
-            double s = 0;
-            for (k = 0; k < r && rho > 0; k++) s += Ui[k] * G[k + (size_t)r * j];
-            Phi[j] = s;
-        }
-    }
+    /* K = sum_e c_e (d_e^T U) */
+    for (k = 0; k < r * r; k++) K[k] = 0;
     for (e = 0; e < count; e++) {
-        const double *d = al->D + (size_t)((al->head - e + slots) % slots) * (size_t)n, *c = al->coef + (size_t)e * (size_t)r;
-        for (i = 0; i < n; i++) {
-            double *Phi = al->Q1 + (size_t)i * (size_t)r, di = d[i];
-            for (j = 0; j < r; j++) Phi[j] += di * c[j];
+        const double *c = al->coef + (size_t)e * (size_t)r, *du = al->du + (size_t)e * (size_t)r;
+        for (j = 0; j < r; j++)
+            for (k = 0; k < r; k++) K[k + (size_t)r * j] += c[k] * du[j];
+    }
+    /* Phi_h^T U = K + G U^T U */
+    memcpy(Shu, K, sizeof(double) * (size_t)r * (size_t)r);
+    mul(r, G, 0, Suu, Shu, 1);
+    /* Phi_h^T Phi_h = C^T (D^T D) C + K G + (K G)^T + G (U^T U) G */
+    for (k = 0; k < r * r; k++) Shh[k] = 0;
+    for (e = 0; e < count; e++)
+        for (f = 0; f < count; f++) {
+            const double *ce = al->coef + (size_t)e * (size_t)r, *cf = al->coef + (size_t)f * (size_t)r;
+            double w = al->dd[slot_of(al, e) + (size_t)slots * (size_t)slot_of(al, f)];
+            for (j = 0; j < r; j++)
+                for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += ce[i] * w * cf[j];
+        }
+    mul(r, K, 0, G, T, 0); /* T = K G */
+    for (j = 0; j < r; j++)
+        for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += T[i + (size_t)r * j] + T[j + (size_t)r * i];
+    mul(r, G, 0, Suu, T, 0);
+    mul(r, T, 0, G, Shh, 1);
+    return 0;
+}
+
+/* Algorithm 4 from Q1 = Phi_h R_h^-1 and Q2 = U R_u^-1 (orthonormal): with Q1^T Q2 = V cos(Theta)
+ * W^T, the geodesic point G = Q1 V cos(lambda Theta) + S sin(lambda Theta), S = (Q2 W - Q1 V cos
+ * Theta) / sin Theta, written as G = Q1 V diag(a) + Q2 W diag(b), b = sin(lambda theta) / sin theta
+ * (-> lambda as theta -> 0, where the spans share a direction), a = cos(lambda theta) - b cos theta:
+ * G = Phi_h A_h + U A_u, then orthonormalised by the Cholesky factor of its Gram G^T G (the
+ * identity up to rounding). -1 when that Gram lost rank. */
+static int geodesic(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, i, j;
+    double *Mq = small(al, r, M_Q), *W = small(al, r, W_SVD), *V = small(al, r, V_SVD), *Ah = small(al, r, A_H),
+           *Au = small(al, r, A_U), *G3 = small(al, r, G_3), *T = small(al, r, T_1), *Rh = small(al, r, R_H),
+           *Ru = small(al, r, R_U), s[ROMRT_MAX_R], a[ROMRT_MAX_R], b[ROMRT_MAX_R], lambda = al->lambda;
+    /* Mq = Q1^T Q2 = R_h^-T (Phi_h^T U) R_u^-1, column-major */
+    memcpy(Mq, small(al, r, S_HU), sizeof(double) * (size_t)r * (size_t)r);
+    solve_right(r, r, Ru, Mq);
+    solve_left_t(r, Rh, Mq);
+    jacobi_svd(r, Mq, W, V, s);
+    for (j = 0; j < r; j++) {
+        double c = s[j] < 1 ? s[j] : 1, sn = sqrt(1 - c * c), theta = atan2(sn, c);
+        b[j] = theta > 1e-4 ? sin(lambda * theta) / sn : lambda * (1 + (1 - lambda * lambda) * theta * theta / 6);
+        a[j] = cos(lambda * theta) - b[j] * c;
+    }
+    /* A_h = R_h^-1 V diag(a), A_u = R_u^-1 W diag(b) */
+    memcpy(Ah, V, sizeof(double) * (size_t)r * (size_t)r);
+    memcpy(Au, W, sizeof(double) * (size_t)r * (size_t)r);
+    solve_left(r, Rh, Ah);
+    solve_left(r, Ru, Au);
+    for (j = 0; j < r; j++)
+        for (i = 0; i < r; i++) {
+            Ah[i + (size_t)r * j] *= a[j];
+            Au[i + (size_t)r * j] *= b[j];
+        }
+    /* G^T G = A_h^T Shh A_h + A_h^T Shu A_u + (..)^T + A_u^T Suu A_u */
+    mul(r, small(al, r, S_HU), 0, Au, T, 0);
+    mul(r, Ah, 1, T, G3, 0);
+    for (j = 0; j < r; j++)
+        for (i = 0; i <= j; i++) {
+            double x = G3[i + (size_t)r * j] + G3[j + (size_t)r * i];
+            G3[i + (size_t)r * j] = G3[j + (size_t)r * i] = x;
+        }
+    mul(r, small(al, r, S_HH), 0, Ah, T, 0);
+    mul(r, Ah, 1, T, G3, 1);
+    mul(r, small(al, r, S_UU), 0, Au, T, 0);
+    mul(r, Au, 1, T, G3, 1);
+    if (gram_factor(r, G3, T)) return -1;
+    solve_right(r, r, T, Ah);
+    solve_right(r, r, T, Au);
+    return 0;
+}
+
+/* The step's rows: D E_d + U E_u over the free stored rows (E_d's row e into al->coef's), zero on
+ * the prescribed; count 0: U E_u alone. The quadratic decoder's U rows are formed here, the only
+ * place they are used. */
+static void form_rows(romrt_model *m, int count, const double *Eu)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, n = 3 * m->nv, i, j, k, e;
+    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R];
+    for (i = 0; i < n; i++) {
+        romrt_real *row = al->rows + (size_t)i * (size_t)r;
+        const double *Ui = Urow;
+        if (rt_alrom_prescribed(al, i)) {
+            for (j = 0; j < r; j++) row[j] = 0;
+            continue;
+        }
+        if (al->decoder) Ui = al->U + (size_t)i * (size_t)r;
+        else rt_alrom_jacobian_row(m, i, Urow);
+        for (j = 0; j < r; j++) acc[j] = 0;
+        for (e = 0; e < count; e++) {
+            double de = al->D[(size_t)slot_of(al, e) * (size_t)n + (size_t)i];
+            const double *c = al->coef + (size_t)e * (size_t)r;
+            for (j = 0; j < r; j++) acc[j] += de * c[j];
+        }
+        for (j = 0; j < r; j++) {
+            const double *ej = Eu + (size_t)r * j;
+            double s = acc[j];
+            for (k = 0; k < r; k++) s += Ui[k] * ej[k];
+            row[j] = (romrt_real)s;
         }
     }
-    return 0;
 }
 
 romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
-    int n = 3 * m->nv, r = m->r, i, count, blended = 0;
-    double *basis = al->Q2, ridge;
+    int n = 3 * m->nv, r = m->r, i, j, k, e, count, blended = 0;
+    double *Suu = small(al, r, S_UU), *Ru = small(al, r, R_U), *Eu = small(al, r, E_U), ridge;
     romrt_status st;
     memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
     if ((st = rt_alrom_encode(m, err))) return st;
-    rt_alrom_zero_prescribed(m, al->U);
-    if (thin_q(n, r, al->U, al->Q2))
+    if (!al->decoder) rt_alrom_c_gram(m, al->gram_free, al->p, Suu); /* U^T U = C^T (B^T B) C */
+    else {
+        rt_alrom_zero_prescribed(m, al->U);
+        for (k = 0; k < r * r; k++) Suu[k] = 0;
+        for (i = 0; i < n; i++) { /* U^T U (upper) */
+            const double *Ui = al->U + (size_t)i * (size_t)r;
+            for (j = 0; j < r; j++)
+                for (k = 0; k <= j; k++) Suu[k + (size_t)r * j] += Ui[k] * Ui[j];
+        }
+        for (j = 0; j < r; j++)
+            for (k = 0; k < j; k++) Suu[j + (size_t)r * k] = Suu[k + (size_t)r * j];
+    }
+    if (gram_factor(r, Suu, Ru))
         return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_QDRV, "the decoder's basis lost rank at this state");
     memcpy(al->D + (size_t)al->head * (size_t)n, al->u, sizeof(double) * (size_t)n);
     memcpy(al->P + (size_t)al->head * (size_t)r, al->p, sizeof(double) * (size_t)r);
     count = al->count < al->m ? al->count + 1 : al->m;
+    history_gram(m, count);
     ridge = history_ridge(m, count);
     /* a history of one state is no motion yet (and at rest there is none) */
-    if (count >= 2 && ridge >= 0 && !history_basis(m, count, ridge)) { /* Phi_h in Q1, then the geodesic from it toward Q2 into U */
-        rt_alrom_zero_prescribed(m, al->Q1);
-        if (!thin_q(n, r, al->Q1, al->Q1)) {
-            geodesic(m, al->U);
-            blended = !thin_q(n, r, al->U, al->U);
+    if (count >= 2 && ridge >= 0) {
+        for (e = 0; e < count && !al->decoder; e++) /* D^T U = (D^T B) C(p) */
+            rt_alrom_c_apply(m, al->p, al->db + (size_t)slot_of(al, e) * (size_t)(r + al->pairs), al->du + (size_t)e * (size_t)r);
+        for (k = 0; k < count * r && al->decoder; k++) al->du[k] = 0;
+        for (i = 0; i < n && al->decoder; i++) { /* D^T U over the free rows (U's prescribed rows are zero) */
+            const double *Ui = al->U + (size_t)i * (size_t)r;
+            for (e = 0; e < count; e++) {
+                double de = al->D[(size_t)slot_of(al, e) * (size_t)n + (size_t)i], *du = al->du + (size_t)e * (size_t)r;
+                if (de != 0)
+                    for (j = 0; j < r; j++) du[j] += de * Ui[j];
+            }
         }
+        blended = !history_basis(m, count, ridge) && !gram_factor(r, small(al, r, S_HH), small(al, r, R_H)) &&
+                  !geodesic(m);
     }
-    if (blended) basis = al->U;
-    for (i = 0; i < n * r; i++) al->rows[i] = (romrt_real)basis[i];
+    if (blended) { /* rows = Phi_h A_h + U A_u = D (C A_h) + U (G A_h + A_u) */
+        double *Ah = small(al, r, A_H), *Ed = al->work;
+        for (e = 0; e < count; e++) { /* E_d's row e = c_e^T A_h, over coef's row e */
+            double *c = al->coef + (size_t)e * (size_t)r;
+            for (j = 0; j < r; j++) {
+                double s = 0;
+                for (k = 0; k < r; k++) s += c[k] * Ah[k + (size_t)r * j];
+                Ed[j] = s;
+            }
+            memcpy(c, Ed, sizeof(double) * (size_t)r);
+        }
+        memcpy(Eu, small(al, r, A_U), sizeof(double) * (size_t)r * (size_t)r);
+        mul(r, small(al, r, G_RHO), 0, Ah, Eu, 1);
+    } else { /* Q_U = U R_u^-1 */
+        for (k = 0; k < r * r; k++) Eu[k] = (double)(k % (r + 1) == 0);
+        solve_left(r, Ru, Eu);
+        count = 0;
+    }
+    form_rows(m, count, Eu);
     return ROMRT_OK;
 }

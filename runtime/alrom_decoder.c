@@ -17,48 +17,140 @@ void rt_alrom_zero_prescribed(const romrt_model *m, double *A)
         if (rt_alrom_prescribed(&m->al, i)) memset(A + (size_t)i * (size_t)m->r, 0, sizeof(double) * (size_t)m->r);
 }
 
-/* U = dg/dp, row i column k = Phi_ik + sum_j Psi_i,kj p_j (Psi_i the row's symmetric r x r
- * second-order term, expanded from QDRV's pairs at open); with res, also res_i = u_i - g_i(p),
- * g_i = Phi_i p + 1/2 sum_kj Psi_i,kj p_k p_j = Phi_i p + 1/2 p . (U_i - Phi_i): one pass for both. */
-static void jacobian(const romrt_model *m, const double *p, double *U, const double *u, double *res)
+/* Row i of U = dg/dp at al->p: column k = Phi_ik + sum_j Psi_i,kj p_j, from QDRV's packed pairs
+ * (k <= j) in order: each pair adds to column k and, off the diagonal, to column j (half the
+ * reads of the expanded r x r matrix; this pass is the step's largest). */
+void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui)
 {
     const rt_alrom *al = &m->al;
-    int r = m->r, n = 3 * m->nv, i, k, j;
-    for (i = 0; i < n; i++) {
-        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi_full + (size_t)i * (size_t)r * (size_t)r;
-        double *Ui = U + (size_t)i * (size_t)r, lin = 0, quad = 0;
-        for (k = 0; k < r; k++) {
-            const romrt_real *row = psi + (size_t)k * (size_t)r;
-            double s = 0;
-            for (j = 0; j < r; j++) s += row[j] * p[j];
-            Ui[k] = phi[k] + s;
-            lin += phi[k] * p[k];
-            quad += p[k] * s;
+    int r = m->r, k, j;
+    const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)al->pairs;
+    const double *p = al->p;
+    for (k = 0; k < r; k++) Ui[k] = phi[k];
+    for (k = 0; k < r; k++) {
+        double pk = p[k], s = (double)psi[0] * p[k];
+        for (j = k + 1; j < r; j++) {
+            double x = psi[j - k];
+            s += x * p[j];
+            Ui[j] += x * pk;
         }
-        if (res) res[i] = u[i] - (lin + 0.5 * quad);
+        Ui[k] += s;
+        psi += r - k;
     }
 }
 
-/* x = (J^T W J + shift I)^-1 J^T W b over the stored rows, W their vertices' masses (the mass-norm
- * least squares of the encoder); A: r x r scratch. */
-static romrt_status mass_lsq(const romrt_model *m, const double *J, const double *b, double *x, double *A,
-                             romrt_error *err)
+/* ---- the quadratic decoder's encoder, in r-space ----
+ *
+ * g(p) = B c(p) with B = [Phi | Psi's pairs] (n x R, R = r + pairs, QDRV's order) and c(p) = (p, the
+ * pairs' p_k p_j, halved on the diagonal); its Jacobian J(p) = B C(p), C's column k = e_k + sum_j
+ * p_j e_(r + pair(k, j)). So the encoder's mass least squares over the stored rows needs only the
+ * Gram B^T W B (formed once at open) and B^T W u (one pass over the rows a step): J^T W J =
+ * C^T (B^T W B) C, J^T W (u - g) = C^T (B^T W u - B^T W B c), and a trial code's change of the
+ * misfit |u - g|_W^2 is -2 dc . B^T W (u - g) + dc^T B^T W B dc, dc = c(p + d) - c(p) (issue 33:
+ * the encoder was 65% of the step, 10 to 20 passes of n r^2 over the rows for its Jacobians and
+ * misfits; now one of n R and r-space work independent of the mesh). Same iterates as the
+ * precompute's encoder (precompute/grassmann/quadratic.c), whose misfits it computes exactly. */
+
+void rt_alrom_gram(romrt_model *m)
 {
-    const rt_alrom *al = &m->al;
-    int r = m->r, n = 3 * m->nv, i, j, k;
-    double scale = 0;
-    for (k = 0; k < r * r; k++) A[k] = 0;
-    for (k = 0; k < r; k++) x[k] = 0;
+    rt_alrom *al = &m->al;
+    int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a, b;
+    double *G = al->gram, *F = al->gram_free, *row = al->ext;
+    for (i = 0; i < R * R; i++) G[i] = F[i] = 0;
     for (i = 0; i < n; i++) {
-        const double *Ji = J + (size_t)i * (size_t)r;
-        double w = al->mass[i / 3], wb = w * b[i];
-        if (w == 0) continue;
-        for (k = 0; k < r; k++) {
-            double wk = w * Ji[k];
-            x[k] += wb * Ji[k];
-            for (j = k; j < r; j++) A[k + (size_t)r * j] += wk * Ji[j]; /* upper */
+        double w = al->mass[i / 3];
+        int is_free = !rt_alrom_prescribed(al, i);
+        for (a = 0; a < r; a++) row[a] = al->phi[(size_t)i * (size_t)r + (size_t)a];
+        for (a = 0; a < P; a++) row[r + a] = al->psi[(size_t)i * (size_t)P + (size_t)a];
+        for (b = 0; b < R; b++) {
+            double wb = w * row[b], xb = row[b], *Gb = G + (size_t)R * (size_t)b, *Fb = F + (size_t)R * (size_t)b;
+            if (xb == 0) continue; /* the rigid modes' pairs are zero */
+            for (a = 0; a <= b; a++) Gb[a] += wb * row[a];
+            for (a = 0; a <= b && is_free; a++) Fb[a] += xb * row[a];
         }
     }
+    for (b = 0; b < R; b++)
+        for (a = 0; a < b; a++) {
+            G[b + (size_t)R * a] = G[a + (size_t)R * b];
+            F[b + (size_t)R * a] = F[a + (size_t)R * b];
+        }
+}
+
+void rt_alrom_free_coordinates(const romrt_model *m, const double *d, double *out)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a;
+    for (a = 0; a < R; a++) out[a] = 0;
+    for (i = 0; i < n; i++) {
+        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
+        double x = d[i];
+        if (x == 0 || rt_alrom_prescribed(al, i)) continue;
+        for (a = 0; a < r; a++) out[a] += x * phi[a];
+        for (a = 0; a < P; a++) out[r + a] += x * psi[a];
+    }
+}
+
+void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, double *out)
+{
+    int r = m->r, k, j;
+    for (k = 0; k < r; k++) {
+        out[k] = v[k];
+        for (j = 0; j < r; j++) out[k] += p[j] * v[r + rt_alrom_pair(r, k, j)];
+    }
+}
+
+void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, R = r + al->pairs, k, l, j, a;
+    double *SC = al->gram_c;
+    for (k = 0; k < r; k++) { /* SC column k = S e_k + sum_j p_j S e_(r + pair(k, j)) */
+        double *c = SC + (size_t)R * (size_t)k;
+        const double *Sk = S + (size_t)R * (size_t)k;
+        for (a = 0; a < R; a++) c[a] = Sk[a];
+        for (j = 0; j < r; j++) {
+            const double *Sj = S + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
+            if (p[j] != 0)
+                for (a = 0; a < R; a++) c[a] += p[j] * Sj[a];
+        }
+    }
+    for (l = 0; l < r; l++) /* C^T (S C): column l */
+        rt_alrom_c_apply(m, p, SC + (size_t)R * (size_t)l, out + (size_t)r * (size_t)l);
+}
+
+/* dc = c(p + d) - c(p), the pairs as d_k p_j + p_k d_j + d_k d_j (no cancellation for a small d). */
+static void code_change(int r, const double *p, const double *d, double *dc)
+{
+    int k, j, q = r;
+    for (k = 0; k < r; k++) dc[k] = d[k];
+    for (k = 0; k < r; k++)
+        for (j = k; j < r; j++, q++) {
+            double x = d[k] * p[j] + p[k] * d[j] + d[k] * d[j];
+            dc[q] = k == j ? 0.5 * x : x;
+        }
+}
+
+/* out = G v (R x R by R). */
+static void gram_times(int R, const double *G, const double *v, double *out)
+{
+    int a, b;
+    for (a = 0; a < R; a++) out[a] = 0;
+    for (b = 0; b < R; b++) {
+        const double *Gb = G + (size_t)R * (size_t)b;
+        double vb = v[b];
+        if (vb == 0) continue;
+        for (a = 0; a < R; a++) out[a] += Gb[a] * vb;
+    }
+}
+
+/* x = (C^T G C + 1e-12 max diag I)^-1 C^T gres at p (the mass least squares of the misfit's
+ * residual, whose B^T W is gres); A: r x r scratch. */
+static romrt_status code_step(romrt_model *m, const double *p, const double *gres, double *x, double *A, romrt_error *err)
+{
+    int r = m->r, k;
+    double scale = 0;
+    rt_alrom_c_gram(m, m->al.gram, p, A);
+    rt_alrom_c_apply(m, p, gres, x);
     for (k = 0; k < r; k++) scale = A[k + (size_t)r * k] > scale ? A[k + (size_t)r * k] : scale;
     for (k = 0; k < r; k++) A[k + (size_t)r * k] += 1e-12 * scale; /* rigid or repeated columns */
     if (rt_cholesky_wide(r, A))
@@ -68,20 +160,55 @@ static romrt_status mass_lsq(const romrt_model *m, const double *J, const double
     return ROMRT_OK;
 }
 
-/* |u - g(p)|_M^2 over the stored rows (their vertices' masses), with U = J(p) and res = u - g(p). */
-static double misfit(const romrt_model *m, const double *p, double *U, double *res)
+/* p = e(u): the mass projection onto the linear part (a step from 0, where c = 0 and the residual
+ * is u), then Gauss-Newton on |g(p) - u|_W^2, each step halved until it lowers the misfit (the
+ * precompute's quadratic encoder: why). */
+static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
 {
-    const rt_alrom *al = &m->al;
-    int i, n = 3 * m->nv;
-    double f = 0;
-    jacobian(m, p, U, al->u, res);
-    for (i = 0; i < n; i++) f += (double)al->mass[i / 3] * res[i] * res[i];
-    return f;
+    rt_alrom *al = &m->al;
+    int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a, it, k, h;
+    double *gres = al->ext, *dc = gres + R, *Gdc = dc + R, *zero = Gdc + R, d[ROMRT_MAX_R], step_p[ROMRT_MAX_R],
+           ptry[ROMRT_MAX_R];
+    romrt_status st;
+    for (a = 0; a < R; a++) gres[a] = zero[a] = 0;
+    for (i = 0; i < n; i++) { /* gres = B^T W u: the only pass over the rows */
+        double wu = al->mass[i / 3] * al->u[i];
+        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
+        if (wu == 0) continue;
+        for (a = 0; a < r; a++) gres[a] += wu * phi[a];
+        for (a = 0; a < P; a++) gres[r + a] += wu * psi[a];
+    }
+    if ((st = code_step(m, zero, gres, al->p, al->work, err))) return st;
+    for (k = 0; k < r; k++) d[k] = al->p[k];
+    code_change(r, zero, d, dc); /* gres -= G c(p) */
+    gram_times(R, al->gram, dc, Gdc);
+    for (a = 0; a < R; a++) gres[a] -= Gdc[a];
+    for (it = 0; it < ENCODE_ITERATIONS; it++) {
+        double step = 0, size = 0, t, change = INFINITY;
+        if ((st = code_step(m, al->p, gres, step_p, al->work, err))) return st;
+        for (h = 0, t = 1; h < 10; h++, t *= 0.5) {
+            for (k = 0; k < r; k++) {
+                ptry[k] = al->p[k] + t * step_p[k];
+                d[k] = ptry[k] - al->p[k];
+            }
+            code_change(r, al->p, d, dc);
+            gram_times(R, al->gram, dc, Gdc);
+            change = 0;
+            for (a = 0; a < R; a++) change += dc[a] * (Gdc[a] - 2 * gres[a]);
+            if (change < 0) break;
+        }
+        if (!(change < 0)) break;
+        for (k = 0; k < r; k++) {
+            step = fabs(d[k]) > step ? fabs(d[k]) : step;
+            al->p[k] = ptry[k];
+            size = fabs(ptry[k]) > size ? fabs(ptry[k]) : size;
+        }
+        for (a = 0; a < R; a++) gres[a] -= Gdc[a];
+        if (step <= 1e-12 * (size > 0 ? size : 1)) break;
+    }
+    return ROMRT_OK; /* U's rows where used (rt_alrom_jacobian_row) */
 }
 
-/* p = e(u): the mass projection onto the linear part, then Gauss-Newton on |g(p) - u|_M^2, each
- * step halved until it lowers the misfit (the precompute's quadratic encoder, precompute/grassmann/
- * quadratic.c: why). Leaves J(p) in al->U; al->Q1 and al->Q2 as scratch (the basis is built after). */
 /* ---- a CROM decoder: networks z = W a + b, ELU on all layers but the last (precompute/neural) ---- */
 
 static double elu(double z) { return z > 0 ? z : exp(z) - 1; }
@@ -165,39 +292,9 @@ static void crom_encode(romrt_model *m)
 
 romrt_status rt_alrom_encode(romrt_model *m, romrt_error *err)
 {
-    rt_alrom *al = &m->al;
-    double rhs[ROMRT_MAX_R], ptry[ROMRT_MAX_R], f, ft, t, *Ut = al->Q1, *rt = al->Q2;
-    int r = m->r, n = 3 * m->nv, it, k, h;
-    romrt_status st;
-    if (al->decoder) {
+    if (m->al.decoder) {
         crom_encode(m);
         return ROMRT_OK;
     }
-    for (k = 0; k < r; k++) al->p[k] = 0;
-    jacobian(m, al->p, al->U, 0, 0); /* the linear part, Phi */
-    st = mass_lsq(m, al->U, al->u, al->p, al->work, err);
-    f = st ? 0 : misfit(m, al->p, al->U, al->res);
-    for (it = 0; !st && it < ENCODE_ITERATIONS; it++) {
-        double step = 0, size = 0;
-        if ((st = mass_lsq(m, al->U, al->res, rhs, al->work, err))) break;
-        ft = INFINITY;
-        for (h = 0, t = 1; h < 10; h++, t *= 0.5) {
-            for (k = 0; k < r; k++) ptry[k] = al->p[k] + t * rhs[k];
-            if ((ft = misfit(m, ptry, Ut, rt)) < f) break;
-        }
-        if (!(ft < f)) break;
-        for (k = 0; k < r; k++) {
-            double d = fabs(ptry[k] - al->p[k]);
-            step = d > step ? d : step;
-            al->p[k] = ptry[k];
-            size = fabs(al->p[k]) > size ? fabs(al->p[k]) : size;
-        }
-        memcpy(al->U, Ut, sizeof(double) * (size_t)n * (size_t)r);
-        memcpy(al->res, rt, sizeof(double) * (size_t)n);
-        f = ft;
-        if (step <= 1e-12 * (size > 0 ? size : 1)) break;
-    }
-    if (!st) jacobian(m, al->p, al->U, 0, 0);
-    return st;
+    return quadratic_encode(m, err);
 }
-

@@ -9,11 +9,33 @@
  * above 1e-12, so the data decides only from well above it). */
 #define RT_ALROM_RANK_TOL 1e-6
 
+/* Pair (i, j) of QDRV's r (r + 1) / 2, row-major over i <= j (the precompute's rk_quadratic_pairs). */
+static inline int rt_alrom_pair(int r, int i, int j)
+{
+    if (i > j) {
+        int t = i;
+        i = j;
+        j = t;
+    }
+    return i * r - i * (i - 1) / 2 + (j - i);
+}
+/* The quadratic decoder (alrom_decoder.c), B = [ROWS | QDRV] (n x R, R = r + pairs) and U = B C(p):
+ * at open, B^T W B into al->gram and B^T B over the free rows into al->gram_free; */
+void rt_alrom_gram(romrt_model *m);
+/* B^T d over the free rows (R); */
+void rt_alrom_free_coordinates(const romrt_model *m, const double *d, double *out);
+/* C(p)^T v (r) for v an R-vector, and C(p)^T S C(p) (r x r, column-major) for S R x R (al->gram_c
+ * as scratch); */
+void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, double *out);
+void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out);
+/* row i of U at al->p. */
+void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui);
 /* Whether row (a dof) of the stored vertices is prescribed (its basis row is zero). */
 static inline int rt_alrom_prescribed(const rt_alrom *al, int row) { return al->motion_of[row / 3] != ROMBIN_NO_MOTION; }
 /* The prescribed rows of A (n x r, a row's r doubles contiguous) zeroed. */
 void rt_alrom_zero_prescribed(const romrt_model *m, double *A);
-/* p = e(u) of al->u into al->p, and U = dg/dp at p into al->U (alrom_decoder.c). */
+/* p = e(u) of al->u into al->p (alrom_decoder.c); with a CROM decoder also U = dg/dp at p into
+ * al->U (the quadratic's rows are formed where used). */
 romrt_status rt_alrom_encode(romrt_model *m, romrt_error *err);
 /* The step's basis into al->rows (alrom_basis.c, Algorithm 3 lines 3-6): the code of the state,
  * the decoder's basis there, the history written and, when it has rank r, the Grassmann point. */

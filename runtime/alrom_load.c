@@ -8,17 +8,6 @@
 
 #define MAX_HISTORY 1000u
 
-/* Pair (i, j), i <= j, row-major over r (the precompute's rk_quadratic_pairs layout). */
-static int pair(int r, int i, int j)
-{
-    if (i > j) {
-        int t = i;
-        i = j;
-        j = t;
-    }
-    return i * r - i * (i - 1) / 2 + (j - i);
-}
-
 /* ---- the loader ---- */
 
 /* A CROM's chunks: CRMS's sizes (the encoder 3 nv -> .. -> r, the decoder r + 3 -> .. -> 3, 1 to
@@ -136,12 +125,20 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, r * r, &al->C);
     rt_scratch(L, r, &al->f);
     rt_scratch(L, 9 * (uint64_t)m->ne, &al->Hd0);
-    rt_scratch_wide(L, n * r, &al->U);
-    rt_scratch_wide(L, n * r, &al->Q1);
-    rt_scratch_wide(L, n * r, &al->Q2);
+    if (al->decoder) rt_scratch_wide(L, n * r, &al->U); /* the quadratic's rows are formed where used */
+    rt_scratch_wide(L, (uint64_t)(al->m + 1) * (uint64_t)(al->m + 1), &al->dd);
+    rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->du);
+    rt_scratch_wide(L, 15 * r * r, &al->small);
     rt_scratch_wide(L, n, &al->u);
     rt_scratch_wide(L, n, &al->res);
-    if (!al->decoder) rt_scratch(L, n * r * r, &al->psi_full);
+    if (!al->decoder) {
+        uint64_t R = r + (uint64_t)al->pairs;
+        rt_scratch_wide(L, R * R, &al->gram);
+        rt_scratch_wide(L, R * R, &al->gram_free);
+        rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->db);
+        rt_scratch_wide(L, R * r, &al->gram_c);
+        rt_scratch_wide(L, 4 * R, &al->ext);
+    }
     rt_scratch_wide(L, 4 * r * r, &al->work);
     rt_scratch_wide(L, n, &al->u_new);
     rt_scratch_wide(L, n, &al->v_new);
@@ -165,14 +162,7 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
     if (al->decoder && !(al->u_scale > 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMW, "the displacement scale must be positive");
-    if (!al->decoder) {
-        int r = m->r, i, k, j;
-        for (i = 0; i < 3 * m->nv; i++)
-            for (k = 0; k < r; k++)
-                for (j = 0; j < r; j++)
-                    al->psi_full[((size_t)i * (size_t)r + (size_t)k) * (size_t)r + (size_t)j] =
-                        al->psi[(size_t)i * (size_t)al->pairs + (size_t)pair(r, k, j)];
-    }
+    if (!al->decoder) rt_alrom_gram(m);
     if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0) || !(al->ridge >= 0) ||
         !(al->budget >= 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP,

@@ -143,10 +143,17 @@ typedef struct {
     romrt_real *Hd0;           /* ne x 9: each element's F - I at x_ref */
     /* scratch: the basis is built in double in either build (the history's small systems are
      * conditioned far beyond float: P P^T + 1e-8 I, Q's rank decided at 1e-6) */
-    double *U, *Q1, *Q2;       /* nv x 3 x r */
+    double *U;                 /* nv x 3 x r: the decoder's basis */
+    double *dd;                /* (m + 1)^2: the ring's inner products over the free rows (alrom_basis.c) */
+    int dd_valid;              /* whether dd holds every held entry's (0 after a reset or a restore) */
+    double *du;                /* (m + 1) x r: the held entries' D^T U */
+    double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
     double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
-    romrt_real *psi_full;      /* nv x 3 x r x r: QDRV's pairs as each row's symmetric r x r matrix */
+    /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
+     * Gram B^T W B and its Euclidean Gram over the free rows (R x R each, formed at open), S C(p)
+     * (R x r), 4 R-vectors, and each ring entry's B^T d over the free rows ((m + 1) x R) */
+    double *gram, *gram_free, *gram_c, *ext, *db;
     /* a CROM decoder (ALRH's decoder 1): layer counts, sizes (CRMS: encoder's then decoder's),
      * normalised rest positions (CRMX), parameters (CRMW), the widest layer's buffers */
     int decoder, enc_layers, dec_layers, widest;
