@@ -189,7 +189,8 @@ romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romr
     return c.alpha;
 }
 
-void rt_obstacles_at(romrt_model *m, double t)
+/* Where the obstacles' motions put their vertices at time t, into out (3 onv). */
+static void positions_at(const romrt_model *m, double t, romrt_real *out)
 {
     int k, v, i;
     for (k = 0; k < m->nobs; k++) {
@@ -200,9 +201,20 @@ void rt_obstacles_at(romrt_model *m, double t)
         for (v = (int)o[ROMBIN_OBST_FIRST_VERTEX]; v < (int)(o[ROMBIN_OBST_FIRST_VERTEX] + o[ROMBIN_OBST_VERTICES]); v++) {
             const romrt_real *X = m->oX + 3 * (size_t)v;
             for (i = 0; i < 3; i++)
-                m->ox[3 * (size_t)v + i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + s[i];
+                out[3 * (size_t)v + i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + s[i];
         }
     }
+}
+
+void rt_obstacles_target(romrt_model *m, double t)
+{
+    positions_at(m, t, m->ox_to);
+}
+
+void rt_obstacles_at(romrt_model *m, double t)
+{
+    int i;
+    positions_at(m, t, m->ox);
     for (i = 0; i < 3 * m->onv; i++) m->odx[i] = 0;
     rt_obstacles_refit(m, 0);
     m->obs_time = t;
@@ -212,11 +224,7 @@ romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t)
 {
     ccd_ctx c;
     int i;
-    romrt_real *keep = m->ox;
-    /* where the obstacles are at t, computed into ox_to by way of ox */
-    m->ox = m->ox_to;
-    rt_obstacles_at(m, t);
-    m->ox = keep;
+    rt_obstacles_target(m, t);
     for (i = 0; i < 3 * m->onv; i++) m->odx[i] = m->ox_to[i] - m->ox[i];
     if (m->nmeshes) rt_meshes_way(m); /* the app meshes' way to their poses, in their dx */
     rt_obstacles_positions(m, q, 0);

@@ -31,13 +31,10 @@ static int way(const romrt_model *m, int32_t id, romrt_real D[3])
 
 int rt_obstacles_begin_joint(romrt_model *m, double t)
 {
-    romrt_real *keep = m->ox, L2 = m->nmeshes ? rt_meshes_longest_way2(m) : 0;
+    romrt_real L2 = m->nmeshes ? rt_meshes_longest_way2(m) : 0;
     int i;
     if (m->obs_moving) {
-        m->ox = m->ox_to; /* where the obstacles are at t, into ox_to */
-        rt_obstacles_at(m, t);
-        m->ox = keep;
-        rt_obstacles_refit(m, 0);
+        rt_obstacles_target(m, t);
         memcpy(m->ox_from, m->ox, sizeof(romrt_real) * 3 * (size_t)m->onv);
     }
     for (i = 0; i < m->onv && m->obs_moving; i++) {
@@ -61,6 +58,7 @@ void rt_obstacles_place(romrt_model *m, romrt_real s, romrt_real ds)
         m->odx[i] = ds * (m->ox_to[i] - m->ox_from[i]);
     }
     if (m->obs_moving) rt_obstacles_refit(m, ds != 0);
+    if (m->obs_moving) m->obs_time = (double)NAN; /* part way */
     if (m->nmeshes) rt_meshes_at(m, s, ds);
 }
 

@@ -344,7 +344,8 @@ int rt_reuse_steps(const romrt_model *m);
 void rt_clock_advance(romrt_model *m, unsigned long n);
 void rt_clock_rebase(romrt_model *m);
 /* The scene's obstacles other than planes (contact.c, contact_broad.c, contact_friction.c):
- *   rt_obstacles_at        the obstacles where their motions put them at time t (and the BVH's boxes)
+ *   rt_obstacles_at        the obstacles where their motions put them at time t (and the BVH's boxes);
+ *                          rt_obstacles_target the same positions into ox_to alone
  *   rt_obstacles_energy    kappa sum_k m_k b(d_k^2 - xi^2, ...) over the pairs within dhat at q, with
  *                          friction when asked; +INFINITY where a pair touches or the pairs overflow
  *                          the capacity (m->obs_overflow set)
@@ -355,6 +356,7 @@ void rt_clock_rebase(romrt_model *m);
  *                          rt_obstacles_arrive puts them all there
  *   rt_obstacles_lag       friction's step start (start) and lagged pairs at q */
 void rt_obstacles_at(romrt_model *m, double t);
+void rt_obstacles_target(romrt_model *m, double t);
 romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d);
 romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t);

@@ -378,7 +378,7 @@ static romrt_status obstacles_solve(romrt_model *m, const rt_terms *T, romrt_err
         return solve(m, T, 0, err);
     }
     m->obs_s = 0, m->obs_lambda = 0;
-    for (round = 0, short_by = 1; round < RK_OBSTACLE_ROUNDS && !st; round++) {
+    for (round = 0, short_by = (romrt_real)INFINITY; round < RK_OBSTACLE_ROUNDS && !st; round++) {
         st = solve(m, T, 0, err);
         m->obs_s = m->y[m->r];
         /* arrived; or pinned: a round that did not halve the shortfall (the body cannot give way) */
@@ -453,7 +453,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
                        * the last step left them behind; kept to go back to if this one fails */
         m->obs_overflow = 0;
         behind = m->obs_behind;
-        if (m->obs_moving && !behind) rt_obstacles_at(m, rt_clock(m, 0));
+        if (m->obs_moving && !behind && m->obs_time != rt_clock(m, 0)) rt_obstacles_at(m, rt_clock(m, 0));
         if (m->obs_moving) memcpy(m->ox_from, m->ox, sizeof(romrt_real) * 3 * (size_t)m->onv);
         if (m->nmeshes) rt_meshes_begin(m);
     }
@@ -501,6 +501,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
             memcpy(m->ox, m->ox_from, sizeof(romrt_real) * 3 * (size_t)m->onv);
             rt_obstacles_refit(m, 0);
             m->obs_behind = behind;
+            m->obs_time = behind ? (double)NAN : rt_clock(m, 0);
         }
         if (m->alrom) rt_alrom_abort(m);
         return st;

@@ -146,7 +146,7 @@ int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *conv
                               .energy = energy, .solve = solve, .max_step = max_step, .step_norm = step_norm};
     /* rounds of the method of multipliers on the pull until they arrive within the tolerance, or
      * a round does not halve the shortfall (pinned: the body cannot give way) */
-    double short_by = 1;
+    double short_by = INFINITY; /* the first round is no test: it may fall short by any amount */
     for (int round = 0; round < RK_OBSTACLE_ROUNDS; round++) {
         rk_newton_stats stats = {0};
         rc = rk_newton_solve(&prob, y, m->newton_tol, m->newton_max_iter, work, converged, &stats, err);
