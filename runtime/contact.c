@@ -220,20 +220,19 @@ void rt_obstacles_at(romrt_model *m, double t)
     m->obs_time = t;
 }
 
-romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t)
+romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q)
 {
     ccd_ctx c;
     int i;
-    rt_obstacles_target(m, t);
-    for (i = 0; i < 3 * m->onv; i++) m->odx[i] = m->ox_to[i] - m->ox[i];
+    for (i = 0; i < 3 * m->onv && m->obs_moving; i++) m->odx[i] = m->ox_to[i] - m->ox[i];
     if (m->nmeshes) rt_meshes_way(m); /* the app meshes' way to their poses, in their dx */
     rt_obstacles_positions(m, q, 0);
     for (i = 0; i < 3 * m->ncv; i++) m->ocdx[i] = 0;
-    rt_obstacles_refit(m, 1);
+    if (m->obs_moving) rt_obstacles_refit(m, 1); /* (static ones' boxes are where they are) */
     c.alpha = 1, c.body_moves = 0, c.obstacles_move = 1; /* the surface's own stencils hold still: none of them */
     rt_obstacles_swept(m, 0, FLOOR_GROW(m), ccd_visit, &c);
-    for (i = 0; i < 3 * m->onv; i++) m->odx[i] = 0;
-    rt_obstacles_refit(m, 0);
+    for (i = 0; i < 3 * m->onv && m->obs_moving; i++) m->odx[i] = 0;
+    if (m->obs_moving) rt_obstacles_refit(m, 0);
     return c.alpha;
 }
 

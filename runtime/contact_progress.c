@@ -36,12 +36,12 @@ int rt_obstacles_begin_joint(romrt_model *m, double t)
     if (m->obs_moving) {
         rt_obstacles_target(m, t);
         memcpy(m->ox_from, m->ox, sizeof(romrt_real) * 3 * (size_t)m->onv);
-    }
-    for (i = 0; i < m->onv && m->obs_moving; i++) {
-        romrt_real D[3] = {0, 0, 0}, d2;
-        way(m, -1 - i, D);
-        d2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
-        if (d2 > L2) L2 = d2;
+        for (i = 0; i < m->onv; i++) {
+            romrt_real D[3] = {0, 0, 0}, d2;
+            way(m, -1 - i, D);
+            d2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
+            if (d2 > L2) L2 = d2;
+        }
     }
     if (!(L2 > 0)) return 0; /* nothing moves this step */
     m->obs_L = RT_SQRT(L2);
@@ -53,12 +53,14 @@ int rt_obstacles_begin_joint(romrt_model *m, double t)
 void rt_obstacles_place(romrt_model *m, romrt_real s, romrt_real ds)
 {
     int i;
-    for (i = 0; i < 3 * m->onv && m->obs_moving; i++) {
-        m->ox[i] = m->ox_from[i] + s * (m->ox_to[i] - m->ox_from[i]);
-        m->odx[i] = ds * (m->ox_to[i] - m->ox_from[i]);
+    if (m->obs_moving) {
+        for (i = 0; i < 3 * m->onv; i++) {
+            m->ox[i] = m->ox_from[i] + s * (m->ox_to[i] - m->ox_from[i]);
+            m->odx[i] = ds * (m->ox_to[i] - m->ox_from[i]);
+        }
+        rt_obstacles_refit(m, ds != 0);
+        m->obs_time = (double)NAN; /* part way */
     }
-    if (m->obs_moving) rt_obstacles_refit(m, ds != 0);
-    if (m->obs_moving) m->obs_time = (double)NAN; /* part way */
     if (m->nmeshes) rt_meshes_at(m, s, ds);
 }
 
@@ -67,7 +69,7 @@ int rt_obstacles_end_joint(romrt_model *m, romrt_real s, double t, romrt_real to
     m->obs_joint = 0;
     rt_obstacles_place(m, s, 0);
     /* within the solve's tolerance of the end: there, when CCD lets the last bit go */
-    if ((1 - s) * m->obs_L <= tol && rt_obstacles_fraction(m, m->q, t) >= 1) {
+    if ((1 - s) * m->obs_L <= tol && rt_obstacles_fraction(m, m->q) >= 1) {
         rt_obstacles_arrive(m, t);
         return 0;
     }

@@ -5,16 +5,19 @@
 
 #include "runtime/romrt_impl.h"
 
-/* x = R X + p over the mesh (pose: position 3, rotation 9 row-major). */
-void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x)
+/* x = R X + p for one point (pose: position 3, rotation 9 row-major). */
+static void pose_point(const romrt_real *pose, const romrt_real *X, romrt_real *x)
 {
     const romrt_real *p = pose, *R = pose + 3;
-    uint32_t v;
     int i;
-    for (v = 0; v < M->nv; v++) {
-        const romrt_real *X = M->X + 3 * (size_t)v;
-        for (i = 0; i < 3; i++) x[3 * (size_t)v + i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + p[i];
-    }
+    for (i = 0; i < 3; i++) x[i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + p[i];
+}
+
+/* x = R X + p over the mesh. */
+void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x)
+{
+    uint32_t v;
+    for (v = 0; v < M->nv; v++) pose_point(pose, M->X + 3 * (size_t)v, x + 3 * (size_t)v);
 }
 
 #define EACH_MESH(m, k, M)                                                                                             \
@@ -61,10 +64,10 @@ int rt_meshes_pending(const romrt_model *m)
 /* Where the slot's target pose puts vertex v, less where it was at the step's start. */
 static void target_way(const rt_collider *c, uint32_t v, romrt_real D[3])
 {
-    const rt_mesh *M = c->mesh;
-    const romrt_real *p = c->target, *R = c->target + 3, *X = M->X + 3 * (size_t)v, *x0 = M->x0 + 3 * (size_t)v;
+    const romrt_real *x0 = c->mesh->x0 + 3 * (size_t)v;
     int i;
-    for (i = 0; i < 3; i++) D[i] = R[3 * i] * X[0] + R[3 * i + 1] * X[1] + R[3 * i + 2] * X[2] + p[i] - x0[i];
+    pose_point(c->target, c->mesh->X + 3 * (size_t)v, D);
+    for (i = 0; i < 3; i++) D[i] -= x0[i];
 }
 
 int rt_mesh_way(const romrt_model *m, uint32_t o, romrt_real D[3])

@@ -351,15 +351,15 @@ void rt_clock_rebase(romrt_model *m);
  *                          the capacity (m->obs_overflow set)
  *   rt_obstacles_max_step  the largest step of y along d that CCD allows (the obstacles still, or
  *                          in a joint solve along with the body by d[r + nmoving] of their way)
- *   rt_obstacles_fraction  the fraction of the obstacles' way to where they are at t (and the
- *                          app meshes' to their poses) that CCD allows with the body at q;
- *                          rt_obstacles_arrive puts them all there
+ *   rt_obstacles_fraction  the fraction of the moving obstacles' way to ox_to (rt_obstacles_begin_joint's
+ *                          target) and the app meshes' to their poses that CCD allows with the body
+ *                          at q; rt_obstacles_arrive puts them all where they are at t
  *   rt_obstacles_lag       friction's step start (start) and lagged pairs at q */
 void rt_obstacles_at(romrt_model *m, double t);
 void rt_obstacles_target(romrt_model *m, double t);
 romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d);
-romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, double t);
+romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q);
 void rt_obstacles_arrive(romrt_model *m, double t);
 void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start);
 /* contact_progress.c: the obstacles (the baked ones on their scripted motions, the app's meshes to

@@ -237,14 +237,17 @@ static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error 
 
 /* The step size that ends the solve: the asset's tolerance; in float also its floor, 1e-6 of the
  * state's RMS, and a step below 1e-3 of it that did not halve (stagnation: see TOL_FLOOR). */
+/* The asset's tolerance, in float no finer than TOL_FLOOR of the state's RMS (*size; 0 in double). */
+static romrt_real floor_tol(romrt_model *m, const romrt_real *y, romrt_real *size)
+{
+    *size = TOL_FLOOR > 0 ? rms(m, y) : 0;
+    return TOL_FLOOR * *size > m->tol ? TOL_FLOOR * *size : m->tol;
+}
+
 static romrt_real stop_tol(romrt_model *m, const romrt_real *y, romrt_real step, romrt_real last)
 {
-    romrt_real tol = m->tol;
-    if (TOL_FLOOR > 0) {
-        romrt_real size = rms(m, y);
-        if (TOL_FLOOR * size > tol) tol = TOL_FLOOR * size;
-        if (step < STAGNATION * size && step > RT_K(0.5) * last) tol = step;
-    }
+    romrt_real size, tol = floor_tol(m, y, &size);
+    if (TOL_FLOOR > 0 && step < STAGNATION * size && step > RT_K(0.5) * last) tol = step;
     return tol;
 }
 
@@ -355,8 +358,8 @@ static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders,
  * noise below that) */
 static romrt_real arrival_tol(romrt_model *m)
 {
-    romrt_real size = rms(m, m->q);
-    return TOL_FLOOR * size > m->tol ? TOL_FLOOR * size : m->tol;
+    romrt_real size;
+    return floor_tol(m, m->q, &size);
 }
 
 /* The scene's moving obstacles to where they are at the step's end and the app's moved meshes to
@@ -372,7 +375,7 @@ static romrt_status obstacles_solve(romrt_model *m, const rt_terms *T, romrt_err
         m->obs_behind = 0;
         return solve(m, T, 0, err);
     }
-    if (rt_obstacles_fraction(m, m->q, t) >= 1) { /* the whole way is clear of the body as it is: */
+    if (rt_obstacles_fraction(m, m->q) >= 1) { /* the whole way is clear of the body as it is: */
         m->obs_joint = 0, m->obs_behind = 0;        /* there at once, the body solved after them */
         rt_obstacles_arrive(m, t);
         return solve(m, T, 0, err);
