@@ -24,11 +24,13 @@
 #endif
 #define RT_K(x) ((romrt_real)(x))
 /* The build's limits (an app reads them with romrt_get_limits, never from here). The largest
- * reduced size: every r x r buffer is ROMRT_MAX_R^2 reals; 256 is what the Makefile's desktop
- * libraries and make install ship (the Makefile reads it from this line); a build may set its own
- * (the Cortex-M build: 32). The app's collider slots. */
+ * reduced size: it sizes the r-long vectors of the model and the stack (the r x r buffers come from
+ * the arena at the asset's own r); 512 is what the Makefile's desktop libraries and make install
+ * ship (the Makefile reads it from this line), room for the freeform paper's largest model (m = 32
+ * eigen-weights: r = 396); a build may set its own (the Cortex-M build: 32). The app's collider
+ * slots. */
 #ifndef ROMRT_MAX_R
-#define ROMRT_MAX_R 256
+#define ROMRT_MAX_R 512
 #endif
 #ifndef ROMRT_MAX_COLLIDERS
 #define ROMRT_MAX_COLLIDERS 8

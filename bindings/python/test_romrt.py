@@ -242,7 +242,7 @@ def library():
     except OSError:
         pass
     lim = romrt.limits()  # the library's, not a header macro
-    if lim["max_reduced_size"] != 256 or lim["collider_slots"] != 8:
+    if lim["max_reduced_size"] != 512 or lim["collider_slots"] != 8:
         return False, "limits %s" % lim
     return v == want[0] * 10000 + want[1] * 100 + want[2], "version %d, header %s" % (v, want)
 

@@ -157,3 +157,17 @@ if "$ROMKIT" build "$TMP/mixed.json" -o "$TMP/mixed.rombin" --report "$TMP/mixed
     && "$ROMKIT" rom "$TMP/mixed.json" --quiet >/dev/null 2>>"$TMP/err"; then ok cloud_and_mesh_build_run_and_rom
 else fail cloud_and_mesh_build_run_and_rom "$(tail -c 600 "$TMP/err")"; fi
 expect_fail cloud_and_mesh_have_no_full_order "a point cloud has no elements" "$ROMKIT" fom "$TMP/mixed.json"
+
+# The freeform paper's largest model steps in the desktop runtime: m = 32 eigen-weights on the
+# Table-1 beam is r = 396 (issue 37; the runtime refused it when ROMRT_MAX_R was 256).
+python3 -c "
+import json, sys
+s = json.load(open(sys.argv[1])); s.pop('reference', None); s['time']['duration'] = 0.02
+s['rom'] = [{'basis': 'rkpm_skinning', 'size': 32, 'mesh_free': {'points': 2000}}]
+json.dump(s, open(sys.argv[2], 'w'))" examples/scenes/beam_bend_table.json "$TMP/m32.json"
+if "$ROMKIT" build "$TMP/m32.json" -o "$TMP/m32.rombin" --quiet >"$TMP/out" 2>&1 \
+    && "$ROMKIT" run "$TMP/m32.rombin" --steps 2 --report "$TMP/m32run.json" --quiet >>"$TMP/out" 2>&1; then
+    json_checks run_steps_the_papers_largest_model "$TMP/m32run.json" r=396
+else
+    fail run_steps_the_papers_largest_model "$(tail -c 400 "$TMP/out")"
+fi
