@@ -286,14 +286,16 @@ paper-table: deps-build $(BUILD)/romkit
 	$(BUILD)/romkit compare examples/scenes/beam_twist360_table.json --quiet --report bench/results/paper_table_twist360.json | tee bench/results/paper_table_twist360.txt
 	for s in bend twist360; do $(BUILD)/romkit compare examples/scenes/beam_$${s}_table_pin1e3.json --quiet \
 	    --report bench/results/paper_table_$${s}_pin1e3.json | tee bench/results/paper_table_$${s}_pin1e3.txt; done
-	for s in armadillo_fix_side armadillo_hang armadillo_pull; do \
+	for s in armadillo_fix_side armadillo_hang armadillo_pull layered_sphere; do \
 	    $(BUILD)/romkit compare examples/scenes/$$s.json --quiet --report bench/results/$$s.json | tee bench/results/$$s.txt; done
 	@$(MAKE) --no-print-directory results-tables
 
 # How fine the beam's full-order reference must be for Table 1 (bench/beam_reference.sh): full-order
-# runs of the table scenes on 1,920 to 983,040 tets, the normalized MSE between levels. Not part of
-# make bench or make test: about an hour on 2 cores, more with the 983k-tet levels.
-bench-reference: deps-bench all $(BUILD)/bench_reference
+# runs of the table scenes on 1,920 to 983,040 tets, the normalized MSE between levels; and the
+# beam's converged static sag by quadratic tets (bench/bench_p2_beam.c: 4 to 13 minutes and 7 GB).
+# Not part of make bench or make test: about an hour on 2 cores, more with the 983k-tet levels.
+bench-reference: deps-bench all $(BUILD)/bench_reference $(BUILD)/bench_p2_beam
+	$(BUILD)/bench_p2_beam 2
 	BUILD=$(BUILD) sh bench/beam_reference.sh
 	@$(MAKE) --no-print-directory results-tables
 

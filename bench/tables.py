@@ -118,6 +118,9 @@ ABOUT = {
     "cage": ("The 43k-vertex class through a simulation cage (issue 32)", "make bench: bench/cage.sh",
              "spot.obj split 1:4 (46,126 vertices) on a cage of at most 20,000 tets, skinning eigenmodes and "
              "cubature by romkit build, and romkit run --frames' OBJ counts."),
+    "p2_beam": ("The beam's converged static sag by quadratic tets (issue 37)", "make bench-reference: build/bench_p2_beam",
+                "The freeform beam, linear, a tenth of gravity, first 0.5 m fixed: P2 on the Table-1 box mesh and "
+                "its 1:8 refinements; Richardson's extrapolation from the last three levels."),
     "beam_reference": ("How converged the beam's full-order reference is", "make bench-reference: bench/beam_reference.sh",
                        "Full-order runs of the table scenes on box meshes and their 1:8 refinements; "
                        "normalized MSE between consecutive levels."),
@@ -133,6 +136,8 @@ PAGES_OF_COMPARE_JSON = [
     ("armadillo_point_cloud", "A point cloud against the mesh path (armadillo, FreeForm Table 2)",
      "make paper-table: romkit compare examples/scenes/armadillo_*.json",
      ["armadillo_fix_side", "armadillo_hang", "armadillo_pull"]),
+    ("layered_sphere", "A sphere of four layers, stiff-soft-stiff-soft, dropped on the ground (FreeForm Fig. 7)",
+     "make paper-table: romkit compare examples/scenes/layered_sphere.json", ["layered_sphere"]),
 ]
 # Result files that no make target writes (one-off runs kept in bench/results): said on their page.
 NOT_FROM_A_TARGET = {

@@ -98,6 +98,23 @@ int rk_fem_principal_stress(const rk_fem *f, const double *x, double *out, rk_er
 void rk_cauchy_stress(rk_material_model model, double mu, double lambda, const double F[9], double s[9]);
 double rk_largest_principal(const double s[9]);
 
+/* ==== quadratic (P2, 10-node) tets: converged static references (p2.c) ====
+ * Where P1 cannot converge at a size this machine runs (the freeform beam at nu = 0.45 locks in
+ * bending: issue 37), the same mesh with a node on every edge. Static, small-strain linear
+ * elasticity only: the reference a reduced model's static sag is measured against. */
+#define RK_P2_MAX_NODES 200000000
+typedef struct {
+    int nn, nt, nv;  /* nodes: the mesh's nv vertices first (same numbering), then one per edge */
+    double *X;       /* 3 nn rest positions (edge nodes at the midpoints) */
+    int *elem;       /* 10 nt: the tet's four vertices, then its edges 01 02 03 12 13 23 */
+} rk_p2_mesh;
+int rk_p2_mesh_init(rk_p2_mesh *p, const rk_mesh *m, rk_error *err);
+void rk_p2_mesh_free(rk_p2_mesh *p);
+/* u (3 nn) solving K u = f for the body force `body` (N/m^3: rho g) with u = u_fixed (3 nn, NULL:
+ * 0) at every node where fixed[node] is set; one material. Fails naming a singular stiffness. */
+int rk_p2_static_linear(const rk_p2_mesh *p, double young, double poisson, const double body[3],
+                        const unsigned char *fixed, const double *u_fixed, double *u, rk_error *err);
+
 /* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
  * every column of the vertex (rows are sorted and the column ends at its diagonal). */
 static inline int rk_fem_diag_slot(const rk_sparse *S, int v, int i, int j)
