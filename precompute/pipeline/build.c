@@ -222,15 +222,23 @@ static int embed_surfaces(const rk_scene *s, const rk_surface *surfaces, rk_scen
     return 0;
 }
 
-/* The object's material, overridden by the last region that selects the place: its box holds p,
- * or (tagged: the place carries a tag) its tag is `tag`. */
+static int region_holds(const rk_scene_region *g, const double p[3], int tagged, int tag)
+{
+    if (g->by_tag) return tagged && tag == g->tag;
+    if (g->by_ball) {
+        double d[3] = {p[0] - g->center[0], p[1] - g->center[1], p[2] - g->center[2]};
+        return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= g->radius * g->radius;
+    }
+    return rk_box_contains(&g->box, p, 0);
+}
+
+/* The object's material, overridden by the last region that selects the place: its box or ball
+ * holds p, or (tagged: the place carries a tag) its tag is `tag`. */
 static rk_material region_material(const rk_scene_object *o, const double p[3], int tagged, int tag)
 {
     rk_material m = o->material;
-    for (int r = 0; r < o->nregions; r++) {
-        const rk_scene_region *g = &o->regions[r];
-        if (g->by_tag ? tagged && tag == g->tag : rk_box_contains(&g->box, p, 0)) m = g->material;
-    }
+    for (int r = 0; r < o->nregions; r++)
+        if (region_holds(&o->regions[r], p, tagged, tag)) m = o->regions[r].material;
     return m;
 }
 

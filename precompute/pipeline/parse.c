@@ -175,15 +175,25 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
 static int parse_region(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
 {
     rk_scene_object *o = user;
-    static const char *const keys[] = {"box", "tag", "material", NULL};
+    static const char *const keys[] = {"box", "tag", "ball", "material", NULL};
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     rk_scene_region *r = &o->regions[i];
     r->by_tag = cJSON_HasObjectItem(it, "tag");
-    if (r->by_tag && cJSON_HasObjectItem(it, "box"))
-        return rk_json_fail(c, path, "gives both a box and a tag: a region selects its tets by one of them");
-    if (r->by_tag ? rk_json_whole(c, it, path, "tag", -2147483647.0, 2147483647.0, &r->tag) : rk_json_box(c, it, path, &r->box))
-        return -1;
+    r->by_ball = cJSON_HasObjectItem(it, "ball");
+    if (r->by_tag + r->by_ball + cJSON_HasObjectItem(it, "box") > 1)
+        return rk_json_fail(c, path, "gives more than one of box, tag and ball: a region selects its tets by one of them");
     char p[PATH_LEN];
+    if (r->by_ball) { /* "ball": {"center": [x, y, z], "radius": r} */
+        static const char *const ball_keys[] = {"center", "radius", NULL};
+        const cJSON *b = rk_json_child(it, path, "ball", p, sizeof p);
+        if (!cJSON_IsObject(b)) return rk_json_fail(c, p, "must be {\"center\": [x, y, z], \"radius\": r}");
+        if (rk_json_check_keys(c, b, p, ball_keys) || rk_json_vector(c, b, p, "center", 1, 3, r->center) ||
+            rk_json_number(c, b, p, "radius", 1, &r->radius))
+            return -1;
+        if (!(r->radius > 0) || !isfinite(r->radius)) return rk_json_fail(c, p, "radius must be positive, got %g", r->radius);
+    } else if (r->by_tag ? rk_json_whole(c, it, path, "tag", -2147483647.0, 2147483647.0, &r->tag)
+                         : rk_json_box(c, it, path, &r->box))
+        return -1;
     const cJSON *m = rk_json_child(it, path, "material", p, sizeof p);
     if (!m) return rk_json_fail(c, p, "missing");
     r->material = o->material; /* inherit what the region leaves out */

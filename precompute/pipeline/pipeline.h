@@ -45,9 +45,12 @@ void rk_contact_tally_report(cJSON *obj, const rk_contact_tally *t);
 /* ---- the scene description (parse.c, parse_rom.c) ---- */
 
 typedef struct {
-    rk_box box;            /* the tets whose centroid it holds, unless by_tag */
+    rk_box box;            /* the tets whose centroid it holds, unless by_tag or by_ball */
     int by_tag, tag;       /* by_tag: the tets the mesh file tags `tag` (Gmsh physical group,
                             * MEDIT ref, TetGen region, VTK "tag"), kept through refinement */
+    int by_ball;           /* by_ball: the tets whose centroid lies within radius of center (layers of
+                            * a ball as nested balls, outermost first: the last region wins) */
+    double center[3], radius;
     rk_material material;  /* fields the region leaves out are inherited from the object */
 } rk_scene_region;
 

@@ -41,6 +41,26 @@ TEST(parses_the_design_example)
     rk_scene_free(&s);
 }
 
+/* Nested balls make the layers of a sphere (the freeform paper's Fig. 7): outermost first, the
+ * last region holding a place gives it its material; a place outside every ball keeps the
+ * object's. */
+TEST(ball_regions_layer_a_sphere)
+{
+    rk_error err;
+    rk_scene s;
+    const char *text =
+        "{\"objects\": [{" BEAM_OBJECT ", \"regions\": ["
+        " {\"ball\": {\"center\": [1, 0, 0], \"radius\": 0.4}, \"material\": {\"young\": 1e5}},"
+        " {\"ball\": {\"center\": [1, 0, 0], \"radius\": 0.2}, \"material\": {\"young\": 1e7}}]}]}";
+    CHECK_OK(rk_scene_parse(text, "layers.json", &s, &err));
+    const double at[4][3] = {{1, 0, 0}, {1.3, 0, 0}, {1, 0, -0.39}, {1, 0.41, 0}}, young[4] = {1e7, 1e5, 1e5, 5e6};
+    for (int k = 0; k < 4; k++) {
+        rk_material m = rk_scene_material_at(&s.objects[0], at[k]);
+        CHECK(m.young == young[k] && m.poisson == 0.45, "place %d: young %g, poisson %g", k, m.young, m.poisson);
+    }
+    rk_scene_free(&s);
+}
+
 TEST(resolves_files_against_the_scene_folder)
 {
     rk_error err;
@@ -56,6 +76,12 @@ TEST(resolves_files_against_the_scene_folder)
 static const struct {
     const char *name, *text, *expect1, *expect2;
 } bad_scenes[] = {
+    {"region with box and ball", "{\"objects\": [{" BEAM_OBJECT ", \"regions\": [{\"box\": [[0, 0, 0], [1, 1, 1]],"
+     " \"ball\": {\"center\": [0, 0, 0], \"radius\": 1}, \"material\": {\"young\": 1e6}}]}]}",
+     "objects[0].regions[0]", "more than one of box, tag and ball"},
+    {"ball of no radius", "{\"objects\": [{" BEAM_OBJECT ", \"regions\": [{\"ball\": {\"center\": [0, 0, 0],"
+     " \"radius\": 0}, \"material\": {\"young\": 1e6}}]}]}",
+     "objects[0].regions[0].ball", "radius must be positive"},
     {"unknown top key", "{\"objects\": [{" BEAM_OBJECT "}], \"gravty\": [0, -9.81, 0]}", "unknown key 'gravty'", "s.json"},
     {"unknown material key", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}},"
      " \"material\": {\"model\": \"linear\", \"yung\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
@@ -201,6 +227,7 @@ int main(void)
     RUN(parses_the_design_example);
     RUN(resolves_files_against_the_scene_folder);
     RUN(bad_scenes_give_one_clear_message);
+    RUN(ball_regions_layer_a_sphere);
     RUN(refine_key_splits_the_tets);
     RUN(missing_scene_file_is_named);
     return test_finish();
