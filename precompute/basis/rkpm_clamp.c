@@ -24,7 +24,9 @@
  * theory with balls around its vertices). Without tets (a point cloud, or a mesh's vertices taken as
  * one): balls around the fixed points, radius rho_i = max(0, b_i - n_i) (b_i the distance to the
  * nearest free point, n_i to the nearest other point): 0 at the region's boundary points, about a
- * spacing a layer deeper, so the balls fill the inside without reaching into the free part. */
+ * spacing a layer deeper, so the balls fill the inside without reaching into the free part.
+ * (The scene pipeline does not clamp clouds yet, precompute/pipeline/basis.c says why: integrated
+ * at their own points, a mask that is flat at the fixed points hides a hinge there.) */
 #include "basis/rkpm_impl.h"
 
 #include <math.h>
