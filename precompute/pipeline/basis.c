@@ -56,8 +56,11 @@ unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err)
  * zero gradient at them hides the strain of a hinge just past the clamp from every point (the
  * beam of test_pipeline_meshfree_beam, vertices as the cloud, m = 16: 236% / 290% / 134% of beam
  * theory at 525 / 3,321 / 10,309 points; an 80,000-point check sees 8-12x the energy). Such a
- * cloud keeps free weights and the penalty until a clamp that leaves the gradient at the fixed
- * points (a null-space constraint on the nodal values) replaces it. */
+ * cloud keeps free weights and the penalty (71% / 78% / 88% there). A null-space constraint on the
+ * nodal values instead (sum_k phi_k(X_v) c_k = 0 at every fixed point, Eq. 15 solved densely in
+ * that space: the weights keep their gradient at the fixed points) held them to 1e-17 but locked
+ * the kernels by the clamp: 29% / 55% / 60%. A cloud clamp needs a better-integrated boundary
+ * (smoothed nodal integration, or integration points that are not the cloud's own). */
 static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, int m, int k,
                        const unsigned char *fixed, rk_basis *b, rk_scene_basis_info *info, rk_error *err)
 {
