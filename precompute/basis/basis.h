@@ -109,6 +109,21 @@ typedef struct {
     int *item;        /* point indices, cell by cell, ascending within a cell */
 } rk_rkpm_grid;
 
+/* The clamp mask (rk_rkpm_set_clamp, rkpm_clamp.c): the fixed region as simplices of a mesh, or
+ * as balls around the fixed points of a cloud. */
+typedef struct {
+    int n;            /* fixed points; 0: no mask */
+    double *X;        /* 3n positions */
+    double *reach;    /* n ball radii rho_i (all 0 when the region comes from tets) */
+    int ntri, ntet;   /* the mesh's triangles and tets with every vertex fixed (0 without a mesh) */
+    double *tri;      /* 9 ntri corner coordinates */
+    double *tet;      /* 12 ntet corner coordinates */
+    double *centre;   /* 3 (n + ntri + ntet): each piece's centre (points, triangles, tets), hashed */
+    double extent;    /* the largest distance from a piece's centre to its farthest point */
+    double rise;      /* the mask rises from 0 to 1 over this distance from the region */
+    rk_rkpm_grid hash; /* private: the pieces' centres hashed */
+} rk_rkpm_clamp;
+
 typedef struct {
     int K;
     double *centers;  /* 3K kernel centres p_k (a copy) */
@@ -117,12 +132,27 @@ typedef struct {
     double max_support_radius;
     int max_support;  /* upper bound on the kernels covering any point (rk_rkpm_max_support) */
     rk_rkpm_grid hash; /* private: the centres hashed with cells of about max_support_radius */
+    rk_rkpm_clamp clamp; /* clamp.n > 0: every shape function is masked, d(X) phi_k (rk_rkpm_set_clamp) */
 } rk_rkpm;
 
 /* Copies the K centres (3K coordinates), computes the radii and the spatial hash. Needs K >= 4
  * finite, pairwise distinct centres (coincident ones are named). On failure *k is empty. */
 int rk_rkpm_init(rk_rkpm *k, const double *centers, int K, rk_error *err);
 void rk_rkpm_free(rk_rkpm *k);
+
+/* Clamps the shape functions to a fixed region (essential boundary conditions by Kantorovich /
+ * R-function weighting, rkpm_clamp.c): from now on rk_rkpm_eval, rk_rkpm_interpolate and
+ * rk_rkpm_assemble give d(X) phi_k(X) and its gradient (product rule), d = 0 on the region
+ * (exactly 0 at its points, so every weight vanishes there) and 1 beyond `rise` from it. The
+ * region: the n points X (3n) flagged in fixed, with the tets (4 nt indices into X, or NULL)
+ * whose vertices are all fixed and their triangles; without tets, balls around the fixed points
+ * bounded by the free ones. No fixed point: no mask. Fails when every point is fixed. Masked
+ * functions no longer reproduce constants or linear fields (the clamp forbids those motions). */
+int rk_rkpm_set_clamp(rk_rkpm *k, const double *X, int n, const unsigned char *fixed, const int *tets, int nt,
+                      double rise, rk_error *err);
+/* The rise of the mask in kernel radii (their mean): measured on the beam of
+ * tests/unit/test_pipeline_meshfree_beam.c (rkpm_clamp.c). */
+#define RK_RKPM_CLAMP_RISE 2.0
 
 /* An upper bound on the number of kernels covering any one point, for sizing the buffers of
  * rk_rkpm_eval: max over k of #{l : |p_k - p_l| < R_k + R_l} (R = support radius). */
@@ -195,6 +225,9 @@ typedef struct {
     int integration_points; /* rkpm_skinning: grid points inside a mesh, or the cloud's cap (default 40000) */
     int from_vertices;      /* rkpm_skinning on a mesh: its vertices taken as a point cloud (no tet used), as a
                              * cloud sampled from the mesh would be */
+    int clamp_penalty;      /* rom.clamp "penalty": skinning weights free on the fixed region, which the reduced
+                             * model holds by its penalty alone (before issue 37); default 0, "dirichlet": the
+                             * weights vanish there (rk_basis_skinning, rk_basis_rkpm_skinning) */
 } rk_basis_options;
 
 /* Defaults: no type chosen, size and tolerance 0, 1000 kernels, 40000 integration points. */
@@ -273,8 +306,12 @@ void rk_stiffness_derivative(const rk_fem *f, const double *a, const double *b, 
  * H_w = K_xx + K_yy + K_zz of the rest stiffness (= the integral of (lambda + 4 mu) grad w . grad w,
  * freeform paper Prop. 1, for P1 weights) and the scalar mass M_w (consistent or lumped);
  * m + 1 weights (the constant one first, not counted in m, as in the paper), U = 12 (m + 1)
- * LBS columns. Constraints play no part (a reduced simulator enforces them). */
-int rk_basis_skinning(const rk_fem *f, int lumped, int m, rk_basis *b, rk_error *err);
+ * LBS columns. fixed (nv flags, or NULL / none set): a clamp, the fixed vertices a Dirichlet
+ * boundary: H_w v = lambda M_w v over the free vertices only, the weights exactly 0 at every fixed
+ * vertex; there is no constant weight then (it would move the clamp), so the m + 1 weights are
+ * all eigen-weights of the clamped problem (r stays 12 (m + 1)), and a fixed vertex gets a zero
+ * row of U (a reduced model holds it without a penalty). */
+int rk_basis_skinning(const rk_fem *f, const unsigned char *fixed, int lumped, int m, rk_basis *b, rk_error *err);
 
 /* Seconds spent in each part of an RKPM skinning build (for make bench). */
 typedef struct {
@@ -285,10 +322,16 @@ typedef struct {
  * sampling of the integration points, H_w (Prop. 1, coef = lambda + 4 mu per point) and the RKPM
  * mass (Eq. 14), the m + 1 smallest generalized eigenvectors (Eq. 15) as nodal values, the
  * weights interpolated at the n points Xeval (mesh vertices, splat centres) and LBS columns
- * there. timing may be NULL. */
+ * there. fixed (n flags over Xeval, or NULL / none set): a clamp, as in rk_basis_skinning, by
+ * masking the shape functions (rk_rkpm_set_clamp with the tets over Xeval, or NULL for a cloud;
+ * rise RK_RKPM_CLAMP_RISE mean kernel radii):
+ * the m + 1 weights all vanish at the fixed points (exactly) and on the region between them, and
+ * the mask stays with b->rkpm, so weights evaluated later anywhere are the same functions.
+ * Kernels the mask leaves without mass (inside the region) get nodal values 0. timing may be
+ * NULL. */
 int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
-                           const double *Xeval, int n, rk_basis *b, rk_rkpm_timing *timing,
-                           rk_error *err);
+                           const double *Xeval, int n, const unsigned char *fixed, const int *tets, int nt,
+                           rk_basis *b, rk_rkpm_timing *timing, rk_error *err);
 
 /* POD: the r leading mass-weighted left singular vectors of snapshot displacements D (3n x T,
  * column-major: T frames one after another, the layout of a T x n x 3 array). M is the 3n x 3n
@@ -326,9 +369,11 @@ int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max
                 double *U, int *r_out, double *sigma_all, rk_error *err);
 
 /* The m + 1 smallest weight-space eigenpairs (H_w c = lambda M c, c^T M c = I): values and C
- * (size x (m+1)). Fails, naming the count, when the constant mode is not simple (the object
- * falls into several disconnected pieces) or when m + 1 >= size. */
-int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, double *values, double *C,
+ * (size x (m+1)). Free (clamped = 0): fails, naming the count, when the constant mode is not
+ * simple (the object falls into several disconnected pieces). Clamped (the pencil restricted or
+ * masked to vanish on a fixed region): fails when any eigenvalue is zero (a piece with no fixed
+ * point). Both fail when m + 1 >= size. */
+int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, int clamped, double *values, double *C,
                    int *nzero, rk_error *err);
 
 /* Relative M-norm error of projecting the T frames D (3n x T) onto the span of U's first

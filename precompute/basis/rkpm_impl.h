@@ -66,6 +66,10 @@ static inline double rkpm_window(const rk_rkpm *k, int kid, const double X[3], d
  * point < 0 calls it "the point at ...". */
 int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const int *kid, double *phi,
                   double *grad, int *regularized, rk_error *err);
+/* The clamp mask d at X (1 without a clamp is the caller's business) and its gradient grad[3]. */
+double rkpm_clamp_at(const rk_rkpm_clamp *c, const double X[3], double grad[3]);
+void rkpm_clamp_free(rk_rkpm_clamp *c);
+
 /* The kernels covering X, ascending: count, or -1 (with err) when more than cap. */
 int rkpm_cover(const rk_rkpm *k, const double X[3], int cap, int *idx, rk_error *err);
 

@@ -12,6 +12,7 @@ void rk_rkpm_free(rk_rkpm *k)
     free(k->radius);
     free(k->support);
     rkpm_grid_free(&k->hash);
+    rkpm_clamp_free(&k->clamp);
     memset(k, 0, sizeof *k);
 }
 

@@ -176,6 +176,14 @@ int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const i
                 grad[3 * a + j] = grad[3 * a + j] * s + w * (Q[0] * v[j][0] + Q[1] * v[j][1] + Q[2] * v[j][2] + Q[3] * v[j][3]);
         phi[a] = w * s;
     }
+    if (k->clamp.n > 0) { /* the clamp mask: d phi_k, grad (d phi_k) = d grad phi_k + phi_k grad d */
+        double gd[3], d = rkpm_clamp_at(&k->clamp, X, gd);
+        for (int a = 0; a < n; a++) {
+            if (grad)
+                for (int j = 0; j < 3; j++) grad[3 * a + j] = d * grad[3 * a + j] + phi[a] * gd[j];
+            phi[a] *= d;
+        }
+    }
     return 0;
 }
 

@@ -1,16 +1,54 @@
 /* RKPM skinning eigenmodes, mesh-free (freeform paper Sec. 3.2 and 7.1): kernels on farthest
  * samples of the integration points, the weight-space eigenproblem H_w c = lambda M c (Eq. 15)
- * with H_w from Prop. 1 and M from Eq. 14, weights W^j(X) = sum_k phi_k(X) c_k^j (Eq. 6). */
+ * with H_w from Prop. 1 and M from Eq. 14, weights W^j(X) = sum_k phi_k(X) c_k^j (Eq. 6). With a
+ * clamp the phi_k are masked (rkpm_clamp.c) before anything is assembled, so Eq. 15 is solved in
+ * the masked space and every weight vanishes on the fixed region. */
 #include "basis/basis.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "util/util.h"
 
+/* The kernels' mean radius: the clamp mask's unit. */
+static double mean_radius(const rk_rkpm *k)
+{
+    double s = 0;
+    for (int c = 0; c < k->K; c++) s += k->radius[c];
+    return s / k->K;
+}
+
+/* The clamped eigenproblem: kernels whose masked mass vanishes (all their support inside the fixed
+ * region, M_kk below 1e-12 of the largest) are left out (their rows would make the pencil
+ * singular) and get nodal value 0. */
+static int clamped_eigs(const rk_sparse *H, const rk_sparse *M, int m, double *values, double *C, int *nzero,
+                        rk_error *err)
+{
+    int K = H->n, kept = 0, rc = -1;
+    double top = 0;
+    for (int c = 0; c < K; c++) top = fmax(top, M->val[M->colptr[c + 1] - 1]); /* (the diagonal ends a column) */
+    int *keep = rk_calloc((size_t)K, sizeof(int), err);
+    if (!keep) return -1;
+    for (int c = 0; c < K; c++) keep[c] = M->val[M->colptr[c + 1] - 1] > 1e-12 * top ? kept++ : -1;
+    rk_sparse Hf = {0}, Mf = {0};
+    double *Cf = rk_calloc((size_t)kept * (m + 1), sizeof(double), err);
+    if (Cf && !rk_sparse_restrict(H, keep, kept, &Hf, err) && !rk_sparse_restrict(M, keep, kept, &Mf, err) &&
+        !rk_weight_eigs(&Hf, &Mf, m, 1, values, Cf, nzero, err)) {
+        for (int j = 0; j <= m; j++)
+            for (int c = 0; c < K; c++) C[(size_t)K * j + c] = keep[c] >= 0 ? Cf[(size_t)kept * j + keep[c]] : 0;
+        rc = 0;
+    }
+    rk_sparse_free(&Hf);
+    rk_sparse_free(&Mf);
+    free(Cf);
+    free(keep);
+    return rc;
+}
+
 int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
-                           const double *Xeval, int n, rk_basis *b, rk_rkpm_timing *timing,
-                           rk_error *err)
+                           const double *Xeval, int n, const unsigned char *fixed, const int *tets, int nt,
+                           rk_basis *b, rk_rkpm_timing *timing, rk_error *err)
 {
     memset(b, 0, sizeof *b);
     rk_rkpm_timing tm = {0};
@@ -27,6 +65,8 @@ int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int ke
     t = rk_now();
     if (rk_rkpm_init(b->rkpm, centers, kernels, err)) goto out;
     have_rkpm = 1;
+    if (fixed && rk_rkpm_set_clamp(b->rkpm, Xeval, n, fixed, tets, nt, RK_RKPM_CLAMP_RISE * mean_radius(b->rkpm), err))
+        goto out;
     tm.kernels = rk_now() - t;
     t = rk_now();
     int damped_integration = 0;
@@ -42,7 +82,9 @@ int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int ke
     b->W = rk_calloc((size_t)n * (m + 1), sizeof(double), err);
     b->U = rk_calloc(3 * (size_t)n * b->r, sizeof(double), err);
     if (!b->values || !b->C || !b->W || !b->U) goto out;
-    if (rk_weight_eigs(&H, &M, m, b->values, b->C, &b->nzero, err)) goto out;
+    if (b->rkpm->clamp.n > 0 ? clamped_eigs(&H, &M, m, b->values, b->C, &b->nzero, err)
+                             : rk_weight_eigs(&H, &M, m, 0, b->values, b->C, &b->nzero, err))
+        goto out;
     tm.eigs = rk_now() - t;
     t = rk_now();
     if (rk_rkpm_interpolate(b->rkpm, Xeval, n, b->C, m + 1, b->W, NULL, &b->damped_points, err)) goto out;

@@ -2,7 +2,8 @@
  * freeform paper Sec. 3.2). H_w = K_xx + K_yy + K_zz: the sum of the diagonal blocks of the
  * rest stiffness, which for linear elasticity is the integral of (lambda + 4 mu) grad w . grad w
  * (Prop. 1) with P1 weights, so each element's own Lame parameters come in. M_w is the
- * volume mass (no density), as in the paper's Eq. 14, so mesh and RKPM weights compare. */
+ * volume mass (no density), as in the paper's Eq. 14, so mesh and RKPM weights compare. A clamp
+ * (fixed vertices) is a Dirichlet boundary: the pencil restricted to the free vertices. */
 #include "basis/basis.h"
 
 #include <math.h>
@@ -45,11 +46,38 @@ static int mass_scalar(const rk_sparse *S, int nv, rk_sparse *out, rk_error *err
     return 0;
 }
 
-int rk_basis_skinning(const rk_fem *f, int lumped, int m, rk_basis *b, rk_error *err)
+/* The weights over the free vertices of the pencil (Hw, Mw) (keep: each vertex's free index or
+ * -1), expanded with zeros at the fixed ones: the Dirichlet clamp. */
+static int clamped_eigs(const rk_sparse *Hw, const rk_sparse *Mw, const int *keep, int nfree, int m, double *values,
+                        double *W, int *nzero, rk_error *err)
+{
+    rk_sparse Hf = {0}, Mf = {0};
+    double *Wf = rk_calloc((size_t)nfree * (m + 1), sizeof(double), err);
+    int rc = -1, nv = Hw->n;
+    if (Wf && !rk_sparse_restrict(Hw, keep, nfree, &Hf, err) && !rk_sparse_restrict(Mw, keep, nfree, &Mf, err) &&
+        !rk_weight_eigs(&Hf, &Mf, m, 1, values, Wf, nzero, err)) {
+        for (int j = 0; j <= m; j++)
+            for (int v = 0; v < nv; v++) W[(size_t)nv * j + v] = keep[v] >= 0 ? Wf[(size_t)nfree * j + keep[v]] : 0;
+        rc = 0;
+    }
+    rk_sparse_free(&Hf);
+    rk_sparse_free(&Mf);
+    free(Wf);
+    return rc;
+}
+
+int rk_basis_skinning(const rk_fem *f, const unsigned char *fixed, int lumped, int m, rk_basis *b, rk_error *err)
 {
     memset(b, 0, sizeof *b);
     rk_sparse K = {0}, M = {0}, Hw = {0}, Mw = {0};
-    int rc = -1;
+    int rc = -1, nfree = 0;
+    int *keep = rk_calloc((size_t)f->nv, sizeof(int), err);
+    if (!keep) return -1;
+    for (int v = 0; v < f->nv; v++) keep[v] = fixed && fixed[v] ? -1 : nfree++;
+    if (nfree == 0) {
+        rk_fail(err, "skinning eigenmodes: every vertex is fixed, nothing is left to move");
+        goto out;
+    }
     if (rk_sparse_alloc_pattern(f, &K, err) || rk_sparse_alloc_pattern(f, &M, err)) goto out;
     rk_fem_add_rest_stiffness(f, 1.0, &K);
     rk_fem_add_volume_mass(f, lumped, 1.0, &M);
@@ -62,11 +90,14 @@ int rk_basis_skinning(const rk_fem *f, int lumped, int m, rk_basis *b, rk_error 
     b->W = rk_calloc((size_t)f->nv * (m + 1), sizeof(double), err);
     b->U = rk_calloc((size_t)3 * f->nv * b->r, sizeof(double), err);
     if (!b->values || !b->W || !b->U) goto out;
-    if (rk_weight_eigs(&Hw, &Mw, m, b->values, b->W, &b->nzero, err)) goto out;
+    if (nfree < f->nv ? clamped_eigs(&Hw, &Mw, keep, nfree, m, b->values, b->W, &b->nzero, err)
+                      : rk_weight_eigs(&Hw, &Mw, m, 0, b->values, b->W, &b->nzero, err))
+        goto out;
     rk_skinning_to_U(b->W, f->nv, m + 1, f->X, b->U);
     rc = 0;
 out:
     rk_sparse_free(&K); rk_sparse_free(&M); rk_sparse_free(&Hw); rk_sparse_free(&Mw);
+    free(keep);
     if (rc) rk_basis_free(b);
     return rc;
 }

@@ -50,9 +50,19 @@ unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err)
 
 /* The RKPM skinning eigenmodes of object k alone: integration points from its tets (a grid), its
  * vertices taken as a cloud (from_vertices), or a point cloud's own points; the weights at all its
- * vertices. */
+ * vertices, clamped to its fixed ones (fixed: the scene's flags, or NULL for none) when it has
+ * tets. Not yet for a cloud (its own points, or a mesh's vertices taken as one): there the
+ * integration points are the cloud's points, the fixed ones included, and a mask that is 0 with
+ * zero gradient at them hides the strain of a hinge just past the clamp from every point (the
+ * beam of test_pipeline_meshfree_beam, vertices as the cloud, m = 16: 236% / 290% / 134% of beam
+ * theory at 525 / 3,321 / 10,309 points; an 80,000-point check sees 8-12x the energy). Such a
+ * cloud keeps free weights and the penalty (71% / 78% / 88% there). A null-space constraint on the
+ * nodal values instead (sum_k phi_k(X_v) c_k = 0 at every fixed point, Eq. 15 solved densely in
+ * that space: the weights keep their gradient at the fixed points) held them to 1e-17 but locked
+ * the kernels by the clamp: 29% / 55% / 60%. A cloud clamp needs a better-integrated boundary
+ * (smoothed nodal integration, or integration points that are not the cloud's own). */
 static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, int m, int k,
-                       rk_basis *b, rk_scene_basis_info *info, rk_error *err)
+                       const unsigned char *fixed, rk_basis *b, rk_scene_basis_info *info, rk_error *err)
 {
     rk_object_view ov;
     if (rk_scene_object_view(sim, k, &ov, err)) return -1;
@@ -73,7 +83,9 @@ static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_
             coef[i] = lame_sum(&mat);
         }
         int kernels = cloud || o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;
-        rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, ov.mesh.X, ov.mesh.nv, b, &info->rkpm, err);
+        int clamp = fixed && !cloud && !o->from_vertices;
+        rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, ov.mesh.X, ov.mesh.nv, clamp ? fixed + ov.v0 : NULL,
+                                    ov.mesh.tets, ov.mesh.nt, b, &info->rkpm, err);
     }
     info->integration_points += pts.n;
     free(coef);
@@ -84,15 +96,15 @@ static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_
 
 /* The scene's RKPM skinning basis: one object's, or each object's own side by side (rk_basis_join:
  * a disconnected body has no single constant weight). */
-static int rkpm_scene(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, int m, rk_basis *b,
-                      rk_scene_basis_info *info, rk_error *err)
+static int rkpm_scene(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, int m,
+                      const unsigned char *fixed, rk_basis *b, rk_scene_basis_info *info, rk_error *err)
 {
     int n = scene->nobjects;
-    if (n == 1) return rkpm_object(scene, sim, o, m, 0, b, info, err);
+    if (n == 1) return rkpm_object(scene, sim, o, m, 0, fixed, b, info, err);
     rk_basis *parts = rk_calloc((size_t)n, sizeof *parts, err);
     if (!parts) return -1;
     for (int k = 0; k < n; k++)
-        if (rkpm_object(scene, sim, o, m, k, &parts[k], info, err)) {
+        if (rkpm_object(scene, sim, o, m, k, fixed, &parts[k], info, err)) {
             for (int i = 0; i < k; i++) rk_basis_free(&parts[i]);
             free(parts);
             return -1;
@@ -111,7 +123,10 @@ static int rkpm_on_points(const rk_scene *scene, const rk_scene_sim *sim, const 
         return rk_fail(err, "%s: rom.tolerance needs full-order frames, and a point cloud has no mesh "
                        "to simulate: give rom.size", scene->path);
     if (!sim) return rk_fail(err, "%s: a point cloud's basis needs the built scene", scene->path);
-    int rc = rkpm_scene(scene, sim, o, o->size, b, info, err);
+    unsigned char *fixed = o->clamp_penalty ? NULL : rk_scene_fixed_vertices(sim, err);
+    if (!o->clamp_penalty && !fixed) return -1;
+    int rc = rkpm_scene(scene, sim, o, o->size, fixed, b, info, err);
+    free(fixed);
     info->vertices = sim->mesh.nv;
     info->X = rk_calloc(3 * (size_t)sim->mesh.nv, sizeof(double), err);
     if (!info->X) rc = -1;
@@ -129,8 +144,9 @@ static int build_sized(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     case RK_BASIS_MODES: return rk_basis_modes(&sim->fem, fixed, lumped, size, b, err);
     case RK_BASIS_MODAL_DERIVATIVES:
         return rk_basis_modal_derivatives(&sim->fem, fixed, lumped, size, o->modes, b, err);
-    case RK_BASIS_SKINNING: return rk_basis_skinning(&sim->fem, lumped, size, b, err);
-    case RK_BASIS_RKPM_SKINNING: return rkpm_scene(scene, sim, o, size, b, info, err);
+    /* the clamp (issue 37): skinning weights vanish on the fixed region unless rom.clamp is "penalty" */
+    case RK_BASIS_SKINNING: return rk_basis_skinning(&sim->fem, o->clamp_penalty ? NULL : fixed, lumped, size, b, err);
+    case RK_BASIS_RKPM_SKINNING: return rkpm_scene(scene, sim, o, size, o->clamp_penalty ? NULL : fixed, b, info, err);
     case RK_BASIS_POD: {
         int max_r = size < T ? size : T;
         if (o->size && o->size > T)

@@ -26,6 +26,12 @@ static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, c
         rk_json_whole(c, e, path, "kernels", 4, 100000, &o->kernels) ||
         rk_json_whole(c, e, path, "integration_points", 100, 1e7, &o->integration_points))
         return -1;
+    const char *clamp = NULL;
+    if (rk_json_string(c, e, path, "clamp", 0, &clamp)) return -1;
+    if (clamp && strcmp(clamp, "dirichlet") && strcmp(clamp, "penalty"))
+        return rk_json_fail(c, path, "clamp must be \"dirichlet\" (skinning weights vanish on the fixed region) or "
+                            "\"penalty\" (free weights, the fixed vertices held by pin_stiffness), got \"%s\"", clamp);
+    o->clamp_penalty = clamp && !strcmp(clamp, "penalty");
     if (!(tol >= 0 && tol < 1)) return rk_json_fail(c, path, "tolerance must be in (0, 1), got %g", tol);
     if (o->size == 0 && tol == 0)
         return rk_json_fail(c, path, "needs size (how many columns or weights) or tolerance (the "
@@ -204,7 +210,7 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
     /* the keys every entry may have, then each method's own */
     static const char *const common[] = {"basis", "size", "tolerance", "modes", "kernels", "integration_points",
                                          "cubature", "koopman", "name", "reference", "asset", "method", "mesh_free",
-                                         "training", "pin_stiffness", NULL};
+                                         "training", "pin_stiffness", "clamp", NULL};
     const char *keys[160];
     int n = 0;
     for (int k = 0; common[k]; k++) keys[n++] = common[k];

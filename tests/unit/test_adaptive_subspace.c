@@ -36,7 +36,7 @@ static int make_scene(scene *s, double young, int m, rk_error *err)
     static double v0[3 * 4096];
     for (int v = 0; v < s->body.m.nv; v++) v0[3 * v + 2] = -1.0;
     s->opt.velocity0 = v0;
-    return rk_basis_skinning(&s->body.f, 0, m, &s->basis, err);
+    return rk_basis_skinning(&s->body.f, NULL, 0, m, &s->basis, err);
 }
 
 static void free_scene(scene *s)

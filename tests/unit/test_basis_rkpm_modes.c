@@ -30,7 +30,7 @@ TEST(first_mode_is_nearly_linear_with_the_bar_eigenvalue)
     double *coef;
     CHECK_OK(bar_points(L, 12000, L, soft, soft, &pts, &coef, &err));
     rk_basis b;
-    CHECK_OK(rk_basis_rkpm_skinning(&pts, coef, 400, 3, pts.X, pts.n, &b, NULL, &err));
+    CHECK_OK(rk_basis_rkpm_skinning(&pts, coef, 400, 3, pts.X, pts.n, NULL, NULL, 0, &b, NULL, &err));
     /* Least-squares linear fit w ~ c0 + c1 x + c2 y + c3 z over the points (normal equations). */
     const double *w = b.W + (size_t)pts.n;
     double A[4][5] = {{0}};
@@ -76,7 +76,7 @@ TEST(two_material_bar_matches_proposition_1)
     double *coef;
     CHECK_OK(bar_points(L, 12000, a, stiff, soft, &pts, &coef, &err));
     rk_basis b;
-    CHECK_OK(rk_basis_rkpm_skinning(&pts, coef, 400, 1, pts.X, pts.n, &b, NULL, &err));
+    CHECK_OK(rk_basis_rkpm_skinning(&pts, coef, 400, 1, pts.X, pts.n, NULL, NULL, 0, &b, NULL, &err));
     double exact = two_material_eigenvalue(lame_sum(stiff), lame_sum(soft), a, L);
     double homogeneous = lame_sum(soft) * pow(M_PI / L, 2);
     printf("# RKPM two-material bar: lambda_1 %.6g, 1D analytic %.6g (all soft: %.6g)\n", b.values[1], exact, homogeneous);
@@ -94,7 +94,7 @@ TEST(weights_are_orthonormal_in_the_rkpm_mass)
     double *coef;
     CHECK_OK(bar_points(2.0, 6000, 2.0, soft, soft, &pts, &coef, &err));
     rk_basis b;
-    CHECK_OK(rk_basis_rkpm_skinning(&pts, coef, 200, 5, pts.X, pts.n, &b, NULL, &err));
+    CHECK_OK(rk_basis_rkpm_skinning(&pts, coef, 200, 5, pts.X, pts.n, NULL, NULL, 0, &b, NULL, &err));
     /* W evaluated at the integration points: sum_i v_i W_a(X_i) W_b(X_i) is c^T M c (Eq. 14). */
     double worst = 0;
     for (int p = 0; p < b.m; p++)
@@ -123,7 +123,7 @@ TEST(gaussian_splats_give_weights_without_a_mesh)
     for (int i = 0; i < pts.n; i++) coef[i] = lame_sum(soft);
     rk_basis b;
     rk_rkpm_timing tm;
-    int rc = rk_basis_rkpm_skinning(&pts, coef, 1000, 16, X, n, &b, &tm, &err);
+    int rc = rk_basis_rkpm_skinning(&pts, coef, 1000, 16, X, n, NULL, NULL, 0, &b, &tm, &err);
     if (!rc) {
         printf("# donut splats: %d points, %d integration points, 1000 kernels, 16 modes: fps %.3f s, "
                "assemble %.3f s, eigensolve %.3f s, weights at the splats %.3f s\n",
@@ -147,15 +147,15 @@ TEST(bad_requests_fail_clearly)
     double *coef;
     CHECK_OK(bar_points(2.0, 2000, 2.0, soft, soft, &pts, &coef, &err));
     rk_basis b;
-    int too_many_kernels = rk_basis_rkpm_skinning(&pts, coef, pts.n + 1, 4, pts.X, pts.n, &b, NULL, &err) != 0;
+    int too_many_kernels = rk_basis_rkpm_skinning(&pts, coef, pts.n + 1, 4, pts.X, pts.n, NULL, NULL, 0, &b, NULL, &err) != 0;
     char m1[1024];
     snprintf(m1, sizeof m1, "%s", err.msg);
-    int too_many_modes = rk_basis_rkpm_skinning(&pts, coef, 20, 19, pts.X, pts.n, &b, NULL, &err) != 0;
+    int too_many_modes = rk_basis_rkpm_skinning(&pts, coef, 20, 19, pts.X, pts.n, NULL, NULL, 0, &b, NULL, &err) != 0;
     char m2[1024];
     snprintf(m2, sizeof m2, "%s", err.msg);
     /* Weights asked 100 m away from every kernel. */
     double far[6] = {0.5, 0.25, 0.25, 100, 0, 0};
-    int far_point = rk_basis_rkpm_skinning(&pts, coef, 50, 2, far, 2, &b, NULL, &err) != 0;
+    int far_point = rk_basis_rkpm_skinning(&pts, coef, 50, 2, far, 2, NULL, NULL, 0, &b, NULL, &err) != 0;
     rk_rkpm_points_free(&pts);
     free(coef);
     CHECK(too_many_kernels && strstr(m1, "RKPM"), "more kernels than points: %s", m1);
@@ -183,7 +183,7 @@ TEST(disconnected_point_clouds_are_refused)
     }
     rk_rkpm_points two = {.n = 2 * n, .X = X, .weight = v};
     rk_basis b;
-    int rc = rk_basis_rkpm_skinning(&two, c, 100, 3, X, 2 * n, &b, NULL, &err);
+    int rc = rk_basis_rkpm_skinning(&two, c, 100, 3, X, 2 * n, NULL, NULL, 0, &b, NULL, &err);
     free(X); free(v); free(c); free(coef);
     rk_rkpm_points_free(&pts);
     CHECK(rc != 0, "two separate pieces accepted");

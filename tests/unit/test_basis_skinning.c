@@ -1,6 +1,7 @@
 /* Skinning eigenmodes on meshes: M-orthonormal weights, the constant mode, the weight-space
  * eigenvalues of a bar against the 1D analytic problem (homogeneous and two-material, which is
- * Proposition 1's (lambda + 4 mu) weighting), LBS columns, and disconnected objects. */
+ * Proposition 1's (lambda + 4 mu) weighting), LBS columns, disconnected objects, and the clamp
+ * (issue 37): weights that vanish at fixed vertices, the 1D problem with a Dirichlet end. */
 #include "basis/basis.h"
 #include "bar_1d.h"
 #include "fem_body.h"
@@ -14,7 +15,7 @@ TEST(weights_are_mass_orthonormal_and_start_constant)
     fem_body b;
     CHECK_OK(fem_body_box(&b, 2.0, 0.5, 0.5, 12, 3, 3, soft, &err));
     rk_basis s;
-    CHECK_OK(rk_basis_skinning(&b.f, 0, 6, &s, &err));
+    CHECK_OK(rk_basis_skinning(&b.f, NULL, 0, 6, &s, &err));
     CHECK(s.m == 7 && s.r == 84 && s.nzero == 1, "m %d r %d zero %d", s.m, s.r, s.nzero);
     /* Volume mass, written out here: V/20 (1 + delta_ab) per tet vertex pair. */
     double worst = 0, cmin = INFINITY, cmax = -INFINITY;
@@ -44,7 +45,7 @@ TEST(bar_eigenvalues_match_the_1d_problem)
     fem_body b;
     CHECK_OK(fem_body_box(&b, L, 0.25, 0.25, 64, 2, 2, soft, &err));
     rk_basis s;
-    CHECK_OK(rk_basis_skinning(&b.f, 0, 2, &s, &err));
+    CHECK_OK(rk_basis_skinning(&b.f, NULL, 0, 2, &s, &err));
     double c = lame_sum(soft), l1 = c * pow(M_PI / L, 2), l2 = c * pow(2 * M_PI / L, 2);
     printf("# mesh skinning, homogeneous bar: lambda_1 %.6g vs (lambda + 4 mu)(pi/L)^2 = %.6g, lambda_2 %.6g vs %.6g\n",
            s.values[1], l1, s.values[2], l2);
@@ -70,7 +71,7 @@ TEST(heterogeneous_material_shifts_modes_as_proposition_1_says)
     CHECK_OK(rk_fem_init(&b.f, &b.m, mats, &err));
     free(mats);
     rk_basis s;
-    CHECK_OK(rk_basis_skinning(&b.f, 0, 1, &s, &err));
+    CHECK_OK(rk_basis_skinning(&b.f, NULL, 0, 1, &s, &err));
     double c1 = lame_sum(stiff), c2 = lame_sum(soft);
     double exact = two_material_eigenvalue(c1, c2, a, L);
     /* Density plays no part (volume mass), so only lambda + 4 mu shifts the mode. */
@@ -120,10 +121,44 @@ TEST(disconnected_pieces_are_refused)
     rk_mesh_free(&one);
     CHECK_OK(fem_body_init(&b, soft, &err));
     rk_basis s;
-    int rc = rk_basis_skinning(&b.f, 0, 3, &s, &err);
+    int rc = rk_basis_skinning(&b.f, NULL, 0, 3, &s, &err);
     fem_body_free(&b);
     CHECK(rc != 0, "two pieces accepted");
     CHECK(strstr(err.msg, "disconnected pieces"), "message: %s", err.msg);
+}
+
+/* The Dirichlet clamp: a bar fixed at x = 0 and free at x = L has the weight-space eigenvalues
+ * (lambda + 4 mu)((k + 1/2) pi / L)^2 (quarter waves sin((k + 1/2) pi x / L)), no constant
+ * weight, and every weight exactly 0 at the fixed vertices; m + 1 weights still make
+ * r = 12 (m + 1). */
+TEST(a_clamped_bar_has_quarter_wave_weights_that_vanish_at_the_clamp)
+{
+    rk_error err;
+    const double L = 4.0;
+    fem_body b;
+    CHECK_OK(fem_body_box(&b, L, 0.25, 0.25, 64, 2, 2, soft, &err));
+    unsigned char *fixed = calloc((size_t)b.f.nv, 1);
+    for (int v = 0; v < b.f.nv; v++) fixed[v] = b.f.X[3 * v] < 1e-9;
+    rk_basis s;
+    CHECK_OK(rk_basis_skinning(&b.f, fixed, 0, 2, &s, &err));
+    double c = lame_sum(soft), l0 = c * pow(M_PI / (2 * L), 2), l1 = c * pow(3 * M_PI / (2 * L), 2), held = 0;
+    printf("# clamped bar: lambda_0 %.6g vs (lambda + 4 mu)(pi/2L)^2 = %.6g, lambda_1 %.6g vs %.6g\n", s.values[0], l0,
+           s.values[1], l1);
+    CHECK(s.m == 3 && s.r == 36 && s.nzero == 0, "m %d r %d zero %d", s.m, s.r, s.nzero);
+    CHECK(fabs(s.values[0] / l0 - 1) < 0.01 && fabs(s.values[1] / l1 - 1) < 0.02, "eigenvalues %g %g, 1D %g %g",
+          s.values[0], s.values[1], l0, l1);
+    for (int j = 0; j < s.m; j++)
+        for (int v = 0; v < s.n; v++)
+            if (fixed[v]) held = fmax(held, fabs(s.W[(size_t)j * s.n + v]));
+    for (size_t k = 0; k < (size_t)3 * s.n * s.r; k++)
+        if (fixed[(k % (3 * (size_t)s.n)) / 3]) held = fmax(held, fabs(s.U[k]));
+    CHECK(held == 0, "a weight or LBS row is %g at a fixed vertex", held);
+    rk_basis_free(&s);
+    memset(fixed, 1, (size_t)b.f.nv);
+    CHECK(rk_basis_skinning(&b.f, fixed, 0, 2, &s, &err) != 0 && strstr(err.msg, "every vertex is fixed"),
+          "an all-fixed object was accepted: %s", err.msg);
+    free(fixed);
+    fem_body_free(&b);
 }
 
 int main(void)
@@ -133,5 +168,6 @@ int main(void)
     RUN(heterogeneous_material_shifts_modes_as_proposition_1_says);
     RUN(lbs_columns_move_vertices_by_weight_times_affine_map);
     RUN(disconnected_pieces_are_refused);
+    RUN(a_clamped_bar_has_quarter_wave_weights_that_vanish_at_the_clamp);
     return test_finish();
 }
