@@ -299,6 +299,9 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
     const rk_rom_model *m = R->model;
     if (m->is_static)
         return rk_fail(err, "asset: the runtime steps dynamic models, and this scene asks for a static solve (time.static)");
+    if (m->quad.vol_k)
+        return rk_fail(err, "asset: the runtime does not step a projected volume yet (rom.volume \"projected\"); "
+                       "bake with rom.volume \"pointwise\"");
     rk_bake_state s;
     memset(&s, 0, sizeof s);
     const rk_embedded_surface *E = R->embedded;
