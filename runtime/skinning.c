@@ -179,12 +179,49 @@ static void element_span(const romrt_model *m, int *x0, int *x1)
 /* Where coordinate i = 12 j + 4 a + c sits in the (a, j, c) order of m->He. */
 static int block_index(int i, int np) { return i % 12 / 4 * np + i / 12 * 4 + i % 4; }
 
+/* Element or point e's Hd from m->skin_Q, as rt_skin_elastic forms it (rt_volume_gather's pass). */
+static void skin_Hd(romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9])
+{
+    int j0, j1;
+    (void)q;
+    if (e >= m->ne) {
+        point_N(m, e - m->ne);
+        point_H(m, Hd);
+        return;
+    }
+    element_handles(m, e, &j0, &j1);
+    element_H(m, e, j0, j1, Hd);
+}
+
+/* The projected volume's dtheta/dq of e (N in m->skin_N, non-zero on [x0, x1)) into C
+ * (rt_volume_add): dtheta/dA_j[a][c] = sum_b dtheta/dF_ab N[(j, c), b]. */
+static void skin_volume_add(romrt_model *m, int e, romrt_real w, const romrt_real Hd[9], int x0, int x1)
+{
+    int np = RT_PAD(4 * m->skin), r = m->r, a, b, x, i;
+    const romrt_real *lame;
+    romrt_real dth[9], *t = m->vt, *blk = m->vt + RT_PAD(r);
+    RT_PHYS(volume_h)(rt_material(m, e, &lame), Hd, dth);
+    for (a = 0; a < 3; a++)
+        for (x = 0; x < np; x++) {
+            romrt_real s = 0;
+            if (x >= x0 && x < x1)
+                for (b = 0; b < 3; b++) s += dth[3 * a + b] * m->skin_N[(size_t)np * b + x];
+            blk[(size_t)np * a + x] = s;
+        }
+    for (i = 0; i < r; i++) t[i] = blk[block_index(i, np)];
+    rt_volume_add(m, e, w, t);
+}
+
 romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
     int r = m->r, np = RT_PAD(4 * m->skin), L = 3 * np, e, i, j, a, b, x;
     romrt_real E = 0;
     for (i = 0; i < 3 * np; i++) m->skin_Q[i] = m->skin_gQ[i] = 0;
     for (i = 0; i < r; i++) m->skin_Q[block_index(i, np)] = q[i];
+    if (m->vk) {
+        E = rt_volume_gather(m, q, H != 0, skin_Hd);
+        if (!isfinite(E)) return (romrt_real)INFINITY;
+    }
     if (H)
         for (i = 0; i < L * L; i++) m->He[i] = 0;
     for (e = 0; e < m->ne + m->np; e++) {
@@ -217,6 +254,7 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
             }
         }
         if (H) element_hessian(m, A, w, x0, x1);
+        if (H && m->vk) skin_volume_add(m, e, w, Hd, x0, x1);
     }
     if (g)
         for (i = 0; i < r; i++) g[i] += m->skin_gQ[block_index(i, np)];
@@ -228,6 +266,7 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
                 H[i + (size_t)ld * j] += m->He[lo + (size_t)L * hi];
             }
         }
+    if (H && m->vk) rt_volume_hessian(m, H, ld);
     return E;
 }
 

@@ -184,6 +184,30 @@ TEST(mesh_free_rkpm_beam_matches)
                      head_field(&f, ROMBIN_HEAD_ELEMENTS) == 0);
 }
 
+/* The projected volume (rom.volume "projected", VPRS) through each of the runtime's three elastic
+ * paths: the modes cantilever's elements with G formed at open (a constant pressure), the RKPM
+ * beam's elements through the skinning weights (the weights' pressure space), and its mesh-free
+ * points (the weights times (1, x, y, z)); nu = 0.4 and 0.45, stable Neo-Hookean. */
+static const char *with_volume(const char *json, const char *keys)
+{
+    static char out[2048];
+    const char *rom = strstr(json, "\"rom\": {");
+    snprintf(out, sizeof out, "%.*s\"rom\": {%s, %s", (int)(rom - json), json, keys, rom + strlen("\"rom\": {"));
+    return out;
+}
+
+TEST(projected_volume_matches_on_every_path)
+{
+    char scene[2048];
+    snprintf(scene, sizeof scene, "%s", with_volume(cantilever("backward_euler", 2e5), "\"volume\": \"projected\", \"pressure\": \"constant\""));
+    CHECK_PARITY("modes cantilever, projected volume", scene, 40, NULL, PARITY_TOL, f.R.model.quad.vol_k == 1);
+    snprintf(scene, sizeof scene, "%s", with_volume(sagging_rkpm, "\"volume\": \"projected\""));
+    CHECK_PARITY("RKPM beam, projected volume", scene, 60, NULL, PARITY_TOL, f.R.model.quad.vol_k > 1 && f.R.points.n == 0);
+    snprintf(scene, sizeof scene, "%s", with_volume(sagging_mesh_free, "\"volume\": \"projected\", \"pressure\": \"weights_affine\""));
+    CHECK_PARITY("mesh-free RKPM beam, projected volume", scene, 60, NULL, PARITY_TOL,
+                 f.R.model.quad.vol_k > 5 && f.R.points.n > 0);
+}
+
 /* A point cloud (a 9 x 3 x 3 lattice of points, no mesh) hanging from its left end and falling
  * onto a plane under its right end: the cloud's proxy surface meets the plane. */
 static const char *hanging_cloud = /* %s: the cloud's file */
@@ -323,6 +347,7 @@ int main(void)
     RUN(twisted_drop_on_a_plane_matches);
     RUN(sagging_rkpm_beam_matches);
     RUN(mesh_free_rkpm_beam_matches);
+    RUN(projected_volume_matches_on_every_path);
     RUN(point_cloud_on_a_plane_matches);
     RUN(thrown_bar_starts_moving_and_matches);
     RUN(reset_returns_to_the_baked_velocity);
