@@ -152,7 +152,8 @@ static romrt_status volume_pressure(rt_loader *L, romrt_model *m)
     rt_scratch(L, (size_t)k, &m->vc);
     rt_scratch(L, (size_t)k * (size_t)m->r, &m->vC);
     rt_scratch(L, (size_t)n, &m->vp);
-    rt_scratch(L, (size_t)RT_PAD(m->r) + 3 * (size_t)RT_PAD(4 * (m->skin > 0 ? m->skin : 0)), &m->vt);
+    rt_scratch(L, (size_t)m->r, &m->vt);
+    rt_scratch(L, 9 * (size_t)n, &m->vHd);
     return ROMRT_OK;
 }
 

@@ -193,7 +193,9 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
         /* F - I by the same arithmetic whether or not the gradient is asked, so the line search
          * compares energies computed alike: G q with G formed at open, else from the vertices'
          * displacements (12 dot products) */
-        if (m->G_all) element_H_formed(r, rp, G, q, Hd);
+        if (m->vk) /* formed by rt_volume_gather */
+            for (k = 0; k < 9; k++) Hd[k] = m->vHd[9 * (size_t)e + k];
+        else if (m->G_all) element_H_formed(r, rp, G, q, Hd);
         else element_H(m, e, q, Hd);
         psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;

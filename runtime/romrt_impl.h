@@ -198,8 +198,9 @@ struct romrt_model {
     const uint32_t *pt_model; /* np (IPMD) */
     int vk;                   /* the projected volume's pressure functions per element or point (VPRS), 0: pointwise */
     const romrt_real *vphi;   /* (ne + np) x vk, or NULL (VPRS) */
-    romrt_real *vc, *vC, *vp, *vt; /* its scratch: c (vk), C (vk x r, row-major), each element's or point's
-                               * pressure (ne + np), one's dtheta/dq (RT_PAD(r) + 3 RT_PAD(4 skin)) */
+    romrt_real *vc, *vC, *vp, *vt, *vHd; /* its scratch: c (vk), C (vk x r, row-major), each element's or
+                               * point's pressure (ne + np), one's dtheta/dq (r), each one's Hd (9 (ne + np),
+                               * formed once by rt_volume_gather for the elastic loop) */
     const romrt_real *grad;   /* shown x skin x 3: dw_j/dX at the shown vertices (GRAD), or NULL */
     const uint32_t *contacts; /* ncontacts x 2 */
     const uint32_t *cv;       /* ncv collision vertices (CVTX), or NULL */
@@ -315,7 +316,8 @@ romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9]);
 rk_material_model rt_material(const romrt_model *m, int e, const romrt_real **lame);
 romrt_real rt_point_weight(const romrt_model *m, int e);
 /* The projected volume (volume.c; precompute/cubature/volume.c's, the same sums): before the
- * elastic loop, c = sum_e w_e theta_e Phi_e over every element or point's Hd (from hd), each one's
+ * elastic loop, c = sum_e w_e theta_e Phi_e over every element or point's Hd (from hd, kept in vHd
+ * for the loop), each one's
  * pressure p_e = Phi_e . c into vp, C zeroed when the Hessian is asked; returns 1/2 |c|^2. In the
  * loop, rt_element_psi and rt_element_stress then leave lambda to it and add p_e's terms, and
  * rt_volume_add takes each one's dtheta/dq (t, r) into C; after it, rt_volume_hessian adds C^T C

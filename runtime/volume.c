@@ -15,7 +15,7 @@ romrt_real rt_volume_gather(romrt_model *m, const romrt_real *q, int hessian, rt
         for (a = 0; a < k * m->r; a++) m->vC[a] = 0;
     for (e = 0; e < n; e++) {
         const romrt_real *lame, *phi = m->vphi + (size_t)k * (size_t)e;
-        romrt_real Hd[9], dth[9], wt;
+        romrt_real *Hd = m->vHd + 9 * (size_t)e, dth[9], wt;
         hd(m, e, q, Hd);
         wt = rt_point_weight(m, e) * RT_PHYS(volume_h)(rt_material(m, e, &lame), Hd, dth);
         for (a = 0; a < k; a++) m->vc[a] += wt * phi[a];
