@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 8   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 9   /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -84,6 +84,7 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_WGHT "WGHT"   /* real x vertices x handles: the skinning weights, in place of ROWS (1.2, critical) */
 #define ROMBIN_IPNT "IPNT"   /* real, points x (6 + 4 H): mesh-free integration points (1.3, critical with points) */
 #define ROMBIN_IPMD "IPMD"   /* u32, points: their material models (1.3, critical with points) */
+#define ROMBIN_VPRS "VPRS"   /* real, (elements + points) x k: the projected volume's pressure functions (1.9, critical) */
 #define ROMBIN_GRAD "GRAD"   /* real, shown x H x 3: the skinning weights' gradients at the shown vertices (1.3, optional) */
 #define ROMBIN_SPLY "SPLY"   /* bytes: the source Gaussian-splat PLY, every attribute (1.3, optional; romkit run --splats) */
 #define ROMBIN_GRPS "GRPS"   /* u32, groups x 2: first, count into GVTX (optional) */

@@ -60,6 +60,15 @@ void rk_pk1(rk_material_model model, double mu, double lambda, const double F[9]
 #define RK_PROJECT_JACOBI 2
 void rk_dpdf(rk_material_model model, double mu, double lambda, const double F[9],
              double dPdF[81], int project);
+/* The volume measure theta of a model on Hd = F - I, with dtheta/dF (9): tr eps (linear), tr E
+ * (StVK), sum s_i - 3 (corotated), J - 1 (stable Neo-Hookean). Every model splits as
+ * Psi(mu, lambda; F) = Psi(mu, 0; F) + lambda/2 theta^2 (physics_impl.h says why for each), which
+ * is what a pressure projection evaluates on a projected theta (cubature.h, rk_quadrature_volume). */
+double rk_volume_h(rk_material_model model, const double Hd[9], double dtheta[9]);
+/* The Hessian of Psi(mu, lambda; F) + pres theta(F) (rk_dpdf with a pressure pres on theta),
+ * projected as rk_dpdf's when asked: a projected pressure's point term. */
+void rk_dpdf_p(rk_material_model model, double mu, double lambda, double pres, const double F[9],
+               double dPdF[81], int project);
 
 /* Tet element kernels. x: 12 (a, b, c, d positions). Dm_inv: 9. vol: rest volume.
  * rk_tet_F: deformation gradient. rk_tet_energy: vol * Psi. rk_tet_gradient: 12 (added

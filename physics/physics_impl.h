@@ -66,6 +66,9 @@ PHYS_API void PHYS_FN(pk1_h)(rk_material_model model, PHYS_REAL mu, PHYS_REAL la
                              PHYS_REAL P[9]);
 PHYS_API void PHYS_FN(dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
                             const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project);
+PHYS_API void PHYS_FN(dpdf_p)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL pres,
+                              const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project);
+PHYS_API PHYS_REAL PHYS_FN(volume_h)(rk_material_model model, const PHYS_REAL Hd[9], PHYS_REAL dtheta[9]);
 PHYS_API void PHYS_FN(tet_F)(const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9], PHYS_REAL F[9]);
 PHYS_API PHYS_REAL PHYS_FN(tet_energy)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
                                        const PHYS_REAL x[12], const PHYS_REAL Dm_inv[9],
@@ -729,7 +732,7 @@ PHYS_API void PHYS_FN(pk1)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lamb
  *  - Neo-Hookean: D = mu I + lambda_bar cof (x) cof + lambda_bar (J - gamma) d2J/dF2 with
  *    cof = I, J - gamma = -mu/lambda_bar and d2J/dF_ij dF_kl = e_ikm e_jlm = d_ij d_kl - d_il d_jk,
  *    so D = mu d_ik d_jl + (lambda + mu) d_ij d_kl - mu (d_ij d_kl - d_il d_jk) -> linear. */
-static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
+static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL pres,
                               const PHYS_REAL F[9], PHYS_REAL D[81])
 {
     int i, j, k, l;
@@ -753,7 +756,7 @@ static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL l
         tr = PHYS_K_(0.5) * (C[0] + C[4] + C[8] - PHYS_K_(3));
         for (i = 0; i < 9; i++)
             S[i] = mu * (C[i] - (i % 4 == 0 ? PHYS_K_(1) : PHYS_K_(0))) +
-                   (i % 4 == 0 ? lambda * tr : PHYS_K_(0));
+                   (i % 4 == 0 ? lambda * tr + pres : PHYS_K_(0));
         for (i = 0; i < 3; i++)
             for (j = 0; j < 3; j++)
                 for (k = 0; k < 3; k++)
@@ -788,7 +791,7 @@ static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL l
             for (b = a + 1; b < 3; b++) {
                 PHYS_REAL den = s[a] + s[b];
                 if (den < PHYS_SQRT_EPS_) den = PHYS_SQRT_EPS_;
-                coef = (lambda * tr - PHYS_K_(2) * mu) * PHYS_K_(2) / den;
+                coef = (lambda * tr + pres - PHYS_K_(2) * mu) * PHYS_K_(2) / den;
                 for (i = 0; i < 3; i++) /* T = (u_a v_b^T - u_b v_a^T) / sqrt 2 */
                     for (j = 0; j < 3; j++)
                         T[3 * i + j] = PHYS_K_(0.70710678118654752440) *
@@ -806,7 +809,7 @@ static void PHYS_FN(dpdf_raw)(rk_material_model model, PHYS_REAL mu, PHYS_REAL l
         int m, n;
         PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
         PHYS_FN(m3_cofactor)(F, cof);
-        h = lbar * (J - gam);
+        h = lbar * (J - gam) + pres;
         for (i = 0; i < 9; i++) {
             D[10 * i] += mu;
             for (k = 0; k < 9; k++) D[9 * i + k] += lbar * (cof[i] * cof[k]);
@@ -868,8 +871,8 @@ static void PHYS_FN(project_linear)(PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL D[
  *    cancels (so repeated singular values need no special case).
  * D holds the raw dP/dF on entry and is left exactly as it is when no eigenvalue is negative (as
  * the Jacobi projection leaves it); otherwise it is rebuilt from the clamped eigensystem. */
-static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, const PHYS_REAL F[9],
-                                  PHYS_REAL D[81])
+static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL pres,
+                                  const PHYS_REAL F[9], PHYS_REAL D[81])
 {
     static const int pair[3][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}}; /* i, j and the third */
     PHYS_REAL U[9], V[9], s[3], A[9], wA[3], E[9], flip[3], twist[3], M[9];
@@ -881,7 +884,7 @@ static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_RE
     if (model != RK_MAT_STVK && model != RK_MAT_COROTATED && model != RK_MAT_NEOHOOKEAN) return;
     PHYS_FN(svd3)(F, U, s, V);
     if (model == RK_MAT_STVK) { /* Psi = mu/4 sum (s_i^2 - 1)^2 + lambda/8 (sum s_i^2 - 3)^2 */
-        PHYS_REAL half_li = PHYS_K_(0.5) * lambda * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - PHYS_K_(3));
+        PHYS_REAL half_li = PHYS_K_(0.5) * lambda * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - PHYS_K_(3)) + pres;
         for (a = 0; a < 3; a++)
             for (b = 0; b < 3; b++)
                 A[3 * a + b] = lambda * (s[a] * s[b]) + (a == b ? mu * (PHYS_K_(3) * s[a] * s[a] - PHYS_K_(1)) + half_li : 0);
@@ -897,13 +900,13 @@ static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_RE
             PHYS_REAL den = s[pair[p][0]] + s[pair[p][1]];
             if (den < PHYS_SQRT_EPS_) den = PHYS_SQRT_EPS_; /* as dpdf_raw: R jumps where s_i + s_j = 0 */
             flip[p] = PHYS_K_(2) * mu;
-            twist[p] = PHYS_K_(2) * mu + PHYS_K_(2) * (lambda * tr - PHYS_K_(2) * mu) / den;
+            twist[p] = PHYS_K_(2) * mu + PHYS_K_(2) * (lambda * tr + pres - PHYS_K_(2) * mu) / den;
         }
     } else { /* stable Neo-Hookean: Psi = lambda_bar/2 (J - gamma)^2 + mu/2 sum s_i^2 - E0/2 */
         PHYS_REAL lbar, gam, E0, g[3], h;
         PHYS_FN(snh_constants)(mu, lambda, &lbar, &gam, &E0);
         g[0] = s[1] * s[2], g[1] = s[0] * s[2], g[2] = s[0] * s[1]; /* dJ/ds */
-        h = lbar * (s[0] * g[0] - gam);                             /* lambda_bar (J - gamma) */
+        h = lbar * (s[0] * g[0] - gam) + pres;                      /* lambda_bar (J - gamma) + pres */
         for (a = 0; a < 3; a++)
             for (b = 0; b < 3; b++) A[3 * a + b] = lbar * (g[a] * g[b]) + (a == b ? mu : h * s[3 - a - b]);
         for (p = 0; p < 3; p++) {
@@ -986,12 +989,57 @@ static void PHYS_FN(project_dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_RE
     }
 }
 
+PHYS_API void PHYS_FN(dpdf_p)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda, PHYS_REAL pres,
+                              const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project)
+{
+    PHYS_FN(dpdf_raw)(model, mu, lambda, pres, F, dPdF);
+    if (project == RK_PROJECT_JACOBI) PHYS_FN(project_psd)(9, dPdF);
+    else if (project) PHYS_FN(project_dpdf)(model, mu, lambda, pres, F, dPdF);
+}
+
 PHYS_API void PHYS_FN(dpdf)(rk_material_model model, PHYS_REAL mu, PHYS_REAL lambda,
                             const PHYS_REAL F[9], PHYS_REAL dPdF[81], int project)
 {
-    PHYS_FN(dpdf_raw)(model, mu, lambda, F, dPdF);
-    if (project == RK_PROJECT_JACOBI) PHYS_FN(project_psd)(9, dPdF);
-    else if (project) PHYS_FN(project_dpdf)(model, mu, lambda, F, dPdF);
+    PHYS_FN(dpdf_p)(model, mu, lambda, PHYS_K_(0), F, dPdF, project);
+}
+
+/* The volume measure theta of each model (physics.h, rk_volume_h): every model's energy is
+ * Psi(mu, lambda; F) = Psi(mu, 0; F) + lambda/2 theta(F)^2, which the pressure projection
+ * (precompute/cubature/volume.c) rests on:
+ *  - linear: tr eps = tr Hd, dtheta/dF = I;
+ *  - StVK: tr E = tr Hd + |Hd|^2 / 2, dtheta/dF = F;
+ *  - corotated: sum s_i - 3 = tr(R^T F) - 3, dtheta/dF = R;
+ *  - stable Neo-Hookean: J - 1, dtheta/dF = cof F. Its Eq. 11 (Smith et al. 2018), expanded as in
+ *    psi_h, is 1/2 [lambda_bar j^2 - 2 mu (i2 + det Hd) + mu |Hd|^2] with lambda_bar = lambda + mu, so
+ *    Psi(mu, lambda) - Psi(mu, 0) = lambda/2 j^2 exactly: the split keeps the mu j^2 / 2 (the
+ *    rest-stability part, gamma's mu / lambda_bar shift) with the shear, and only the Lame lambda,
+ *    the part that locks as lambda / mu grows, goes on the projected volume. */
+PHYS_API PHYS_REAL PHYS_FN(volume_h)(rk_material_model model, const PHYS_REAL Hd[9], PHYS_REAL dtheta[9])
+{
+    int i;
+    switch (model) {
+    case RK_MAT_STVK: {
+        PHYS_REAL sum = PHYS_K_(0);
+        for (i = 0; i < 9; i++) {
+            sum += Hd[i] * Hd[i];
+            dtheta[i] = Hd[i] + (PHYS_REAL)(i % 4 == 0);
+        }
+        return Hd[0] + Hd[4] + Hd[8] + PHYS_K_(0.5) * sum;
+    }
+    case RK_MAT_COROTATED: {
+        PHYS_REAL F[9], s[3];
+        for (i = 0; i < 9; i++) F[i] = Hd[i] + (PHYS_REAL)(i % 4 == 0);
+        PHYS_FN(polar3)(F, dtheta, s);
+        return s[0] + s[1] + s[2] - PHYS_K_(3);
+    }
+    case RK_MAT_NEOHOOKEAN:
+        PHYS_FN(cof_minus_identity)(Hd, dtheta);
+        for (i = 0; i < 9; i += 4) dtheta[i] += PHYS_K_(1);
+        return PHYS_FN(j_minus_one)(Hd);
+    default: /* linear */
+        for (i = 0; i < 9; i++) dtheta[i] = (PHYS_REAL)(i % 4 == 0);
+        return Hd[0] + Hd[4] + Hd[8];
+    }
 }
 
 /* ------------------------------------------------------------------------------------------

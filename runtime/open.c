@@ -7,7 +7,7 @@
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
                                            ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_VEL0, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
-                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_GRAD, ROMBIN_SPLY, ROMBIN_GRPS,
+                                           ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_VPRS, ROMBIN_GRAD, ROMBIN_SPLY, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
                                            ROMBIN_KINI, ROMBIN_ALRH, ROMBIN_ALRP, ROMBIN_QDRV, ROMBIN_VMSS,
@@ -132,6 +132,31 @@ static romrt_status integration_points(rt_loader *L, romrt_model *m)
     return ROMRT_OK;
 }
 
+/* VPRS: the projected volume's reduced pressure functions (precompute/cubature/volume.c), k per
+ * element or integration point in their order, 1 <= k <= r; absent: every one's volume is its own. */
+static romrt_status volume_pressure(rt_loader *L, romrt_model *m)
+{
+    rombin_chunk c;
+    int found;
+    uint64_t n = (uint64_t)m->ne + (uint64_t)m->np, size = L->file.real_type == ROMBIN_REAL_F32 ? 4 : 8, k;
+    romrt_status st = rt_chunk(L, ROMBIN_VPRS, ROMBIN_TYPE_REAL, 0, 0, &c, &found);
+    m->vk = 0;
+    m->vphi = 0;
+    if (st || !found) return st;
+    k = n ? c.raw / size / n : 0;
+    if (n == 0 || c.raw % (size * n) != 0 || k < 1 || k > (uint64_t)m->r)
+        return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_VPRS, "holds ", c.raw / size,
+                          " values, not 1 to r per element or integration point (", n, " of them)");
+    m->vk = (int)k;
+    if ((st = rt_reals(L, ROMBIN_VPRS, n * k, 1, &m->vphi))) return st;
+    rt_scratch(L, (size_t)k, &m->vc);
+    rt_scratch(L, (size_t)k * (size_t)m->r, &m->vC);
+    rt_scratch(L, (size_t)n, &m->vp);
+    rt_scratch(L, (size_t)m->r, &m->vt);
+    rt_scratch(L, 9 * (size_t)n, &m->vHd);
+    return ROMRT_OK;
+}
+
 /* GRAD: the weights' gradients at the shown vertices (romrt_deformation_gradients), with SKIN only. */
 static romrt_status shown_gradients(rt_loader *L, romrt_model *m)
 {
@@ -188,7 +213,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
         (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, m->ne > 0, &m->elem)) ||
         (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, m->ne > 0, &m->elem_real)) ||
-        (st = integration_points(L, m)) || (st = shown_gradients(L, m)) ||
+        (st = integration_points(L, m)) || (st = volume_pressure(L, m)) || (st = shown_gradients(L, m)) ||
         (st = rt_reals(L, ROMBIN_PLAN, 6 * (uint64_t)m->nplanes, m->nplanes > 0, &m->planes)) ||
         (st = rt_u32s(L, ROMBIN_CONT, 2 * (uint64_t)m->ncontacts, m->ncontacts > 0, &m->contacts)) ||
         (st = rt_u32s(L, ROMBIN_CVTX, (uint64_t)m->ncv, m->ncv > 0, &m->cv)))

@@ -115,7 +115,7 @@ static void element_hessian(romrt_model *m, const romrt_real *G)
 
 /* The material of element e (ELEM, ELMR), or of integration point e - ne (IPMD, IPNT): its mu and
  * lambda at lame[0..1]. */
-static rk_material_model material(const romrt_model *m, int e, const romrt_real **lame)
+rk_material_model rt_material(const romrt_model *m, int e, const romrt_real **lame)
 {
     if (e < m->ne) {
         *lame = m->elem_real + 12 * (size_t)e + 10;
@@ -125,23 +125,35 @@ static rk_material_model material(const romrt_model *m, int e, const romrt_real 
     return (rk_material_model)m->pt_model[e - m->ne];
 }
 
+romrt_real rt_point_weight(const romrt_model *m, int e)
+{
+    return e < m->ne ? m->elem_real[12 * (size_t)e + 9] : m->pt[(6 + 4 * (size_t)m->skin) * (size_t)(e - m->ne) + 3];
+}
+
+/* With a projected volume (VPRS) lambda is carried by rt_volume_gather's 1/2 |c|^2, and each
+ * element or point adds its pressure p_e's terms: p_e dtheta/dF to P, p_e d2theta/dF2 to A. */
 romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9])
 {
     const romrt_real *lame;
-    rk_material_model model = material(m, e, &lame);
-    return RT_PHYS(psi_h)(model, lame[0], lame[1], Hd);
+    rk_material_model model = rt_material(m, e, &lame);
+    return RT_PHYS(psi_h)(model, lame[0], m->vk ? 0 : lame[1], Hd);
 }
 
 void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romrt_real *P, romrt_real *A)
 {
     const romrt_real *lame;
-    rk_material_model model = material(m, e, &lame);
-    romrt_real F[9];
+    rk_material_model model = rt_material(m, e, &lame);
+    romrt_real F[9], lambda = m->vk ? 0 : lame[1], p = m->vk ? m->vp[e] : 0;
     int k;
-    if (P) RT_PHYS(pk1_h)(model, lame[0], lame[1], Hd, P);
+    if (P) RT_PHYS(pk1_h)(model, lame[0], lambda, Hd, P);
+    if (P && m->vk) {
+        romrt_real dth[9];
+        RT_PHYS(volume_h)(model, Hd, dth);
+        for (k = 0; k < 9; k++) P[k] += p * dth[k];
+    }
     if (!A) return;
     for (k = 0; k < 9; k++) F[k] = Hd[k] + (romrt_real)(k % 4 == 0);
-    RT_PHYS(dpdf)(model, lame[0], lame[1], F, A, !m->exact_hessian);
+    RT_PHYS(dpdf_p)(model, lame[0], lambda, p, F, A, !m->exact_hessian);
 }
 
 void rt_form_element_G(romrt_model *m)
@@ -157,11 +169,22 @@ static void element_H_formed(int r, int rp, const romrt_real *RT_RESTRICT G, con
     for (k = 0; k < 9; k++) Hd[k] = rt_dot(r, G + (size_t)rp * k, q);
 }
 
+/* Element e's Hd at q, as elastic() forms it (rt_volume_gather's pass). */
+static void element_Hd(romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9])
+{
+    if (m->G_all) element_H_formed(m->r, RT_PAD(m->r), m->G_all + (size_t)9 * RT_PAD(m->r) * (size_t)e, q, Hd);
+    else element_H(m, e, q, Hd);
+}
+
 static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
     int r = m->r, rp = RT_PAD(r), e, i, j, k;
     romrt_real E = 0;
     if (m->skin) return rt_skin_elastic(m, q, g, H, ld);
+    if (m->vk) {
+        E = rt_volume_gather(m, q, H != 0, element_Hd);
+        if (!isfinite(E)) return (romrt_real)INFINITY;
+    }
     if (H)
         for (i = 0; i < rp * rp; i++) m->He[i] = 0;
     for (e = 0; e < m->ne; e++) {
@@ -170,7 +193,9 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
         /* F - I by the same arithmetic whether or not the gradient is asked, so the line search
          * compares energies computed alike: G q with G formed at open, else from the vertices'
          * displacements (12 dot products) */
-        if (m->G_all) element_H_formed(r, rp, G, q, Hd);
+        if (m->vk) /* formed by rt_volume_gather */
+            for (k = 0; k < 9; k++) Hd[k] = m->vHd[9 * (size_t)e + k];
+        else if (m->G_all) element_H_formed(r, rp, G, q, Hd);
         else element_H(m, e, q, Hd);
         psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;
@@ -189,10 +214,18 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
             element_AG(m, G, A, w);
             element_hessian(m, G);
         }
+        if (H && m->vk) { /* dtheta/dq = G^T dtheta/dF */
+            const romrt_real *lame;
+            romrt_real dth[9];
+            RT_PHYS(volume_h)(rt_material(m, e, &lame), Hd, dth);
+            combine9(rp, G, dth, m->vt);
+            rt_volume_add(m, e, w, m->vt);
+        }
     }
     if (H)
         for (j = 0; j < r; j++)
             for (i = 0; i <= j; i++) H[i + (size_t)ld * j] += m->He[i + (size_t)rp * j];
+    if (H && m->vk) rt_volume_hessian(m, H, ld);
     return E;
 }
 

@@ -62,6 +62,9 @@ romrt_real romrt_phys_psi_h(rk_material_model model, romrt_real mu, romrt_real l
 void romrt_phys_pk1_h(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real Hd[9], romrt_real P[9]);
 void romrt_phys_dpdf(rk_material_model model, romrt_real mu, romrt_real lambda, const romrt_real F[9],
                      romrt_real dPdF[81], int project);
+void romrt_phys_dpdf_p(rk_material_model model, romrt_real mu, romrt_real lambda, romrt_real pres, const romrt_real F[9],
+                       romrt_real dPdF[81], int project);
+romrt_real romrt_phys_volume_h(rk_material_model model, const romrt_real Hd[9], romrt_real dtheta[9]);
 romrt_real romrt_phys_barrier(romrt_real d, romrt_real dhat, romrt_real *d1, romrt_real *d2);
 romrt_real romrt_phys_barrier_distance(romrt_real d, romrt_real dhat, romrt_real *f1, romrt_real *f2);
 void romrt_phys_motion(rk_motion_kind kind, const romrt_real axis[3], const romrt_real center[3], romrt_real rate,
@@ -195,6 +198,11 @@ struct romrt_model {
     const romrt_real *pt;     /* np x (6 + 4 skin): mesh-free integration points (IPNT): X, weight, mu, lambda,
                                * then per handle j its weight and gradient (w_j, dw_j/dX) */
     const uint32_t *pt_model; /* np (IPMD) */
+    int vk;                   /* the projected volume's pressure functions per element or point (VPRS), 0: pointwise */
+    const romrt_real *vphi;   /* (ne + np) x vk, or NULL (VPRS) */
+    romrt_real *vc, *vC, *vp, *vt, *vHd; /* its scratch: c (vk), C (vk x r, row-major), each element's or
+                               * point's pressure (ne + np), one's dtheta/dq (r), each one's Hd (9 (ne + np),
+                               * formed once by rt_volume_gather for the elastic loop) */
     const romrt_real *grad;   /* shown x skin x 3: dw_j/dX at the shown vertices (GRAD), or NULL */
     const uint32_t *contacts; /* ncontacts x 2 */
     const uint32_t *cv;       /* ncv collision vertices (CVTX), or NULL */
@@ -305,6 +313,21 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
  * its energy density; P (may be NULL) and dP/dF into A (may be NULL), projected to PSD unless
  * m->exact_hessian. */
 romrt_real rt_element_psi(const romrt_model *m, int e, const romrt_real Hd[9]);
+/* The material of element e, or of integration point e - ne, with its mu and lambda at lame[0..1];
+ * its weight (volume times cubature weight). */
+rk_material_model rt_material(const romrt_model *m, int e, const romrt_real **lame);
+romrt_real rt_point_weight(const romrt_model *m, int e);
+/* The projected volume (volume.c; precompute/cubature/volume.c's, the same sums): before the
+ * elastic loop, c = sum_e w_e theta_e Phi_e over every element or point's Hd (from hd, kept in vHd
+ * for the loop), each one's
+ * pressure p_e = Phi_e . c into vp, C zeroed when the Hessian is asked; returns 1/2 |c|^2. In the
+ * loop, rt_element_psi and rt_element_stress then leave lambda to it and add p_e's terms, and
+ * rt_volume_add takes each one's dtheta/dq (t, r) into C; after it, rt_volume_hessian adds C^T C
+ * into H's upper triangle. */
+typedef void (*rt_point_hd)(romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9]);
+romrt_real rt_volume_gather(romrt_model *m, const romrt_real *q, int hessian, rt_point_hd hd);
+void rt_volume_add(romrt_model *m, int e, romrt_real w, const romrt_real *t);
+void rt_volume_hessian(const romrt_model *m, romrt_real *H, int ld);
 void rt_element_stress(const romrt_model *m, int e, const romrt_real Hd[9], romrt_real *P, romrt_real *A);
 /* The elastic energy (gradient, Hessian) of a skinning basis through its weights (skinning.c). */
 romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld);

@@ -179,12 +179,58 @@ static void element_span(const romrt_model *m, int *x0, int *x1)
 /* Where coordinate i = 12 j + 4 a + c sits in the (a, j, c) order of m->He. */
 static int block_index(int i, int np) { return i % 12 / 4 * np + i / 12 * 4 + i % 4; }
 
+/* Element or point e's Hd from m->skin_Q (rt_volume_gather's pass): an integration point's
+ * straight from its weights, Hd_ab = sum_j (A_j[a] . X̄) dw_j/dX_b + w_j A_j[a][b] (no N formed). */
+static void skin_Hd(romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9])
+{
+    int j0, j1, np = RT_PAD(4 * m->skin), j, a, b;
+    (void)q;
+    if (e >= m->ne) {
+        const romrt_real *s = m->pt + (6 + 4 * (size_t)m->skin) * (size_t)(e - m->ne), *X = s;
+        for (a = 0; a < 9; a++) Hd[a] = 0;
+        for (j = 0; j < m->skin; j++) {
+            const romrt_real *wj = s + 6 + 4 * j; /* w_j, dw_j/dX_0..2 */
+            for (a = 0; a < 3; a++) {
+                const romrt_real *A = m->skin_Q + (size_t)np * a + 4 * j;
+                romrt_real u = A[0] * X[0] + A[1] * X[1] + A[2] * X[2] + A[3];
+                for (b = 0; b < 3; b++) Hd[3 * a + b] += u * wj[1 + b] + wj[0] * A[b];
+            }
+        }
+        return;
+    }
+    element_handles(m, e, &j0, &j1);
+    element_H(m, e, j0, j1, Hd);
+}
+
+/* The projected volume's dtheta/dq of e (N in m->skin_N, non-zero on handles [x0 / 4, x1 / 4))
+ * into C (rt_volume_add): dtheta/dA_j[a][c] = sum_b dtheta/dF_ab N[(j, c), b], at q's column
+ * 12 j + 4 a + c. */
+static void skin_volume_add(romrt_model *m, int e, romrt_real w, const romrt_real Hd[9], int x0, int x1)
+{
+    int np = RT_PAD(4 * m->skin), r = m->r, a, c, j;
+    const romrt_real *lame, *N = m->skin_N;
+    romrt_real dth[9], *t = m->vt;
+    RT_PHYS(volume_h)(rt_material(m, e, &lame), Hd, dth);
+    for (j = 0; j < r; j++) t[j] = 0;
+    for (j = x0 / 4; j < x1 / 4; j++)
+        for (a = 0; a < 3; a++)
+            for (c = 0; c < 4; c++) {
+                int x = 4 * j + c;
+                t[12 * j + 4 * a + c] = dth[3 * a] * N[x] + dth[3 * a + 1] * N[np + x] + dth[3 * a + 2] * N[2 * np + x];
+            }
+    rt_volume_add(m, e, w, t);
+}
+
 romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, romrt_real *H, int ld)
 {
     int r = m->r, np = RT_PAD(4 * m->skin), L = 3 * np, e, i, j, a, b, x;
     romrt_real E = 0;
     for (i = 0; i < 3 * np; i++) m->skin_Q[i] = m->skin_gQ[i] = 0;
     for (i = 0; i < r; i++) m->skin_Q[block_index(i, np)] = q[i];
+    if (m->vk) {
+        E = rt_volume_gather(m, q, H != 0, skin_Hd);
+        if (!isfinite(E)) return (romrt_real)INFINITY;
+    }
     if (H)
         for (i = 0; i < L * L; i++) m->He[i] = 0;
     for (e = 0; e < m->ne + m->np; e++) {
@@ -192,7 +238,11 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
         int x0, x1, j0 = 0, j1 = 0;
         romrt_real Hd[9], P[9], A[81], psi,
             w = point ? m->pt[(6 + 4 * (size_t)m->skin) * (size_t)(e - m->ne) + 3] : m->elem_real[12 * (size_t)e + 9];
-        if (point) {
+        if (m->vk) { /* Hd formed by rt_volume_gather; N only where a derivative needs it */
+            for (i = 0; i < 9; i++) Hd[i] = m->vHd[9 * (size_t)e + i];
+            if (point && (g || H)) point_N(m, e - m->ne);
+            if (!point) element_handles(m, e, &j0, &j1);
+        } else if (point) {
             point_N(m, e - m->ne);
             point_H(m, Hd);
         } else {
@@ -217,6 +267,7 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
             }
         }
         if (H) element_hessian(m, A, w, x0, x1);
+        if (H && m->vk) skin_volume_add(m, e, w, Hd, x0, x1);
     }
     if (g)
         for (i = 0; i < r; i++) g[i] += m->skin_gQ[block_index(i, np)];
@@ -228,6 +279,7 @@ romrt_real rt_skin_elastic(romrt_model *m, const romrt_real *q, romrt_real *g, r
                 H[i + (size_t)ld * j] += m->He[lo + (size_t)L * hi];
             }
         }
+    if (H && m->vk) rt_volume_hessian(m, H, ld);
     return E;
 }
 

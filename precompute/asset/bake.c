@@ -299,6 +299,11 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
     const rk_rom_model *m = R->model;
     if (m->is_static)
         return rk_fail(err, "asset: the runtime steps dynamic models, and this scene asks for a static solve (time.static)");
+    if (m->quad.vol_k > m->r)
+        return rk_fail(err, "asset: the projected volume keeps %d pressure functions, more than r = %d (VPRS holds at "
+                       "most r)", m->quad.vol_k, m->r);
+    if (m->quad.vol_k && R->alrom)
+        return rk_fail(err, "asset: an adaptive linear ROM does not take a projected volume (rom.volume \"projected\")");
     rk_bake_state s;
     memset(&s, 0, sizeof s);
     const rk_embedded_surface *E = R->embedded;
@@ -345,6 +350,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
              rombin_add_reals(w, ROMBIN_PARM, 1, parm, ROMBIN_PARM_COUNT, err) ||
              add_geometry(R, X, &s, w, err) || add_operators(m, R->velocity0, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
+             (m->quad.vol_k && rombin_add_reals(w, ROMBIN_VPRS, 1, m->quad.vol_phi, (size_t)m->quad.count * m->quad.vol_k, err)) ||
              add_contacts(m, &s, w, err) || rk_bake_obstacles(m, o, w, err) || add_cloud(R, &s, w, err) ||
              add_collisions(m, o, &s, w, err) || rk_bake_objects(m, collision_vertices(m, o), w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||

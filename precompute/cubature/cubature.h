@@ -95,6 +95,11 @@ typedef struct {
                                 * non-zeros, so the Hessian costs a fifth (quadrature.c); 0 otherwise */
     double *N;
     double *skin_scratch;      /* with skin_H: 81 count (each point's dP/dF) + (4H)^2 (one Hessian block) */
+    /* The projected volume (rk_quadrature_volume; vol_k = 0: every point's own, Psi(F_i)): count x
+     * vol_k reduced pressure functions Phi (row-major), and the evaluation's scratch. */
+    int vol_k;
+    double *vol_phi;
+    double *vol_scratch;
 } rk_quadrature;
 
 /* Mesh-free integration points under a linear-blend-skinning basis (freeform paper Eq. 21-22):
@@ -139,6 +144,34 @@ int rk_quadrature_alloc(rk_quadrature *Q, int r, int count, int skin_H, const ch
  * (each point's dP/dF projected to PSD when project != 0, like the full-order model). Returns
  * +INFINITY when a value is not finite. Uses Q->scratch, so one call at a time per Q. */
 double rk_quadrature_eval(rk_quadrature *Q, const double *q, double *g, double *H, int project);
+
+/* ==== the projected volume (volume.c) ====
+ * Volumetric locking: a subspace whose F_i cannot keep theta_i = 0 (J - 1, or tr eps) at every
+ * point while it bends pays lambda/2 theta_i^2 at each, and lambda >> mu makes it stiff. The mixed
+ * u-p formulation statically condensed (B-bar / F-bar: Hughes 1980; de Souza Neto et al. 1996;
+ * for reproducing-kernel particles Chen, Yoon, Wang & Liu 2000, CMAME 181, Sec. 3) evaluates the
+ * lambda part on the L2 projection of theta onto a small pressure space psi (k functions):
+ *
+ *   theta_bar = Psi G^-1 Psi^T W theta,  G = Psi^T W Psi,  W = diag(w_i),
+ *   E = sum_i w_i Psi(mu, 0; F_i) + sum_i w_i lambda_i / 2 theta_bar_i^2      (physics.h's split)
+ *     = sum_i w_i Psi(mu, 0; F_i) + 1/2 |Phi^T W theta|^2,
+ *
+ * with Phi Phi^T = Psi S Psi^T, S = G^+ (Psi^T W Lambda Psi) G^+ (PSD; G^+ the pseudo-inverse,
+ * so a pressure function the points cannot tell apart from the others adds nothing). Then with
+ * c = Phi^T W theta and the projected pressure p_i = Phi_i . c:
+ *   dE/dq  = sum_i w_i G_i^T (P(mu, 0; F_i) + p_i dtheta_i/dF),
+ *   d2E/dq2 = sum_i w_i G_i^T (dP/dF(mu, 0) + p_i d2theta/dF2)_i G_i + C^T C,
+ *   C = Phi^T W T,  row i of T = (G_i^T dtheta_i)^T:
+ * the point terms have rk_dpdf_p's form, the coupling is rank k. lambda = 0 everywhere leaves S = 0
+ * and the quadrature pointwise (vol_k = 0): nothing changes. */
+/* Sets Q's pressure space: psi (count x k, row-major) its k functions at the points. Fails on
+ * non-finite values or allocation. */
+int rk_quadrature_volume(rk_quadrature *Q, int k, const double *psi, rk_error *err);
+/* The evaluation's pieces (quadrature.c): 1/2 |c|^2 at the points' F (9 count), leaving each
+ * point's dtheta/dF and pressure p_i in the scratch (rk_quadrature_volume_pressure); and H += C^T C. */
+double rk_quadrature_volume_energy(rk_quadrature *Q, const double *F);
+const double *rk_quadrature_volume_pressure(const rk_quadrature *Q, const double **dtheta);
+void rk_quadrature_volume_hessian(rk_quadrature *Q, double *H);
 
 /* One point's reduced internal force contribution -w_i G_i^T P_i(I + G_i q) is
  * rk_quadrature_point_force(Q, i, F, out) with F = I + G_i q precomputed: out (r) = w_i G_i^T P. */

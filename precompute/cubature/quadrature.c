@@ -88,6 +88,8 @@ void rk_quadrature_free(rk_quadrature *Q)
     free(Q->scratch);
     free(Q->N);
     free(Q->skin_scratch);
+    free(Q->vol_phi);
+    free(Q->vol_scratch);
     memset(Q, 0, sizeof *Q);
 }
 
@@ -107,6 +109,16 @@ void rk_quadrature_point_force(const rk_quadrature *Q, int i, const double F[9],
                 0.0, out, 1);
 }
 
+/* Point i's lambda in its own Psi: 0 with a projected volume, which carries lambda instead. */
+static double point_lambda(const rk_quadrature *Q, int i) { return Q->vol_k ? 0 : Q->lambda[i]; }
+
+/* Point i's w-less tangent dP/dF, with its projected pressure's term when the volume is projected. */
+static void point_dpdf(const rk_quadrature *Q, int i, const double *F, double *D, int project)
+{
+    const double *dth, *pres = Q->vol_k ? rk_quadrature_volume_pressure(Q, &dth) : NULL;
+    rk_dpdf_p(Q->model[i], Q->mu[i], point_lambda(Q, i), pres ? pres[i] : 0, F + 9 * (size_t)i, D, project);
+}
+
 /* The Hessian of a skinning-structured quadrature (rk_quadrature_points): row (a, b) of G_i is
  * N_i[., b] on the 4H coordinates of row a of the handles, so block (a, a') of G^T D G over those
  * coordinates is sum_i N_i^T (w_i D_i[(a, .), (a', .)]) N_i: with the points' N stacked (3n x 4H),
@@ -116,7 +128,7 @@ static void skin_hessian(rk_quadrature *Q, const double *F, double *H, int proje
 {
     int n = Q->count, L = 4 * Q->skin_H, r = Q->r;
     double *D = Q->skin_scratch, *B = D + 81 * (size_t)n;
-    for (int i = 0; i < n; i++) rk_dpdf(Q->model[i], Q->mu[i], Q->lambda[i], F + 9 * i, D + 81 * (size_t)i, project);
+    for (int i = 0; i < n; i++) point_dpdf(Q, i, F, D + 81 * (size_t)i, project);
     for (int a = 0; a < 3; a++)
         for (int a2 = a; a2 < 3; a2++) {
             for (int i = 0; i < n; i++) /* C_i = (w D_i[(a, b), (a2, b2)]) N_i, rows b */
@@ -150,12 +162,16 @@ double rk_quadrature_eval(rk_quadrature *Q, const double *q, double *g, double *
         Fi[0] += 1;
         Fi[4] += 1;
         Fi[8] += 1;
-        E += Q->weight[i] * rk_psi(Q->model[i], Q->mu[i], Q->lambda[i], Fi);
+        E += Q->weight[i] * rk_psi(Q->model[i], Q->mu[i], point_lambda(Q, i), Fi);
     }
+    if (Q->vol_k) E += rk_quadrature_volume_energy(Q, F);
     if (!isfinite(E)) return INFINITY;
     if (g) {
+        const double *dth = NULL, *pres = Q->vol_k ? rk_quadrature_volume_pressure(Q, &dth) : NULL;
         for (int i = 0; i < n; i++) {
-            rk_pk1(Q->model[i], Q->mu[i], Q->lambda[i], F + 9 * i, P + 9 * i);
+            rk_pk1(Q->model[i], Q->mu[i], point_lambda(Q, i), F + 9 * i, P + 9 * i);
+            if (pres)
+                for (int k = 0; k < 9; k++) P[9 * i + k] += pres[i] * dth[9 * i + k];
             for (int k = 0; k < 9; k++) P[9 * i + k] *= Q->weight[i];
         }
         cblas_dgemv(CblasRowMajor, CblasTrans, 9 * n, r, 1.0, Q->G, r, P, 1, 1.0, g, 1);
@@ -167,12 +183,13 @@ double rk_quadrature_eval(rk_quadrature *Q, const double *q, double *g, double *
          * (r x 9n) by (9n x r) product for all points. */
         for (int i = 0; i < n; i++) {
             double D[81];
-            rk_dpdf(Q->model[i], Q->mu[i], Q->lambda[i], F + 9 * i, D, project);
+            point_dpdf(Q, i, F, D, project);
             cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 9, r, 9, Q->weight[i], D, 9,
                         Q->G + (size_t)i * 9 * r, r, 0.0, DG + (size_t)i * 9 * r, r);
         }
         /* Row-major r x r result = column-major (symmetric) H. */
         cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, r, r, 9 * n, 1.0, Q->G, r, DG, r, 1.0, H, r);
     }
+    if (H && Q->vol_k) rk_quadrature_volume_hessian(Q, H);
     return E;
 }

@@ -128,6 +128,12 @@ typedef struct {
 #define RK_METHOD_OWN_BYTES 4096
 
 /* One entry of the scene's rom section. */
+/* rom.volume: how the reduced elastic energy treats lambda's volume term (cubature.h, "the projected
+ * volume"): at each point (pointwise, locks at nu -> 1/2 in a skinning subspace), or on its L2
+ * projection onto a pressure space (rom.pressure). */
+enum { RK_VOLUME_PROJECTED = 0, RK_VOLUME_POINTWISE = 1 };
+enum { RK_PRESSURE_WEIGHTS = 0, RK_PRESSURE_CONSTANT = 1, RK_PRESSURE_WEIGHTS_AFFINE = 2 };
+
 typedef struct {
     int index;                       /* its place in the list */
     char path[32];                   /* "rom" or "rom[i]": names it in messages */
@@ -146,6 +152,8 @@ typedef struct {
         char file[1024];             /* resolved against the scene folder */
     } training[RK_MAX_TRAINING];
     rk_asset_options asset;          /* rom.asset.{precision, compress, show, groups} */
+    int volume;                      /* rom.volume: RK_VOLUME_* (a scene default resolved in parse_rom.c) */
+    int pressure;                    /* rom.pressure: RK_PRESSURE_*, the projected volume's pressure space */
     double pin_stiffness;            /* rom.pin_stiffness: the reduced penalty on prescribed vertices in
                                       * units of (lambda + 2 mu) / (rho L^2); 0: RK_ROM_PIN_STIFFNESS */
     double reference_nmse;           /* rom.reference.normalized_mse: a published value to print beside ours; NAN if none */

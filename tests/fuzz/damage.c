@@ -488,6 +488,8 @@ static void ids(void)
                 skip("a model header hidden (the other model remains, a valid asset)", c.id);
             } else if (memcmp(c.id, ROMBIN_VEL0, 4) == 0) { /* critical when present; absent, the model starts at rest */
                 GOOD("good_without_initial_velocity", b, orig_size, "missing_%s_starts_at_rest", c.id);
+            } else if (memcmp(c.id, ROMBIN_VPRS, 4) == 0) { /* critical when present; absent, the volume is pointwise */
+                GOOD("good_without_projected_volume", b, orig_size, "missing_%s_steps_pointwise", c.id);
             } else {
                 BAD("missing_chunk", b, orig_size, "missing_%s", c.id);
             }
@@ -666,6 +668,13 @@ static void model(void)
     if (vertices)
         MODEL("index", with_u32(ROMBIN_SURF, 0, head(ROMBIN_HEAD_SHOWN), "SURF vertex"), "index_SURF_vertex_eq_shown");
     /* Parameters that are finite but meaningless. */
+    {
+        rombin_chunk c;
+        if (find(ROMBIN_VPRS, &c, NULL)) /* the projected volume's pressure functions: finite */
+            MODEL("vprs", with_real(ROMBIN_VPRS, 0, SET_NAN, "VPRS"), "vprs_nan");
+        else
+            skip("projected volume", ROMBIN_VPRS);
+    }
     MODEL("parm", with_real(ROMBIN_PARM, ROMBIN_PARM_H, SET_NEG, "h"), "parm_h_negative");
     MODEL("parm", with_real(ROMBIN_PARM, ROMBIN_PARM_H, SET_ZERO, "h"), "parm_h_zero");
     MODEL("parm", with_real(ROMBIN_PARM, ROMBIN_PARM_MASS, SET_NEG, "mass"), "parm_mass_negative");

@@ -24,7 +24,8 @@ replay() {
 
 # A reduced model (tests/fuzz/seed_scene.json), a Koopman operator (seed_koopman.json), both in
 # one asset (seed_both.json), a skinning basis stored as its weights (seed_skinning.json: SKIN, WGHT),
-# a point cloud on mesh-free integration points (seed_points.json: IPNT, IPMD, GRAD, SPLY), and an
+# a point cloud on mesh-free integration points with a projected volume (seed_points.json: IPNT,
+# IPMD, GRAD, SPLY, VPRS), and an
 # adaptive linear ROM (seed_adaptive.json: ALRH, ALRP, QDRV, VMSS, VLOD, AMOV, AMOT), and one with a
 # CROM decoder (seed_crom.json: CRMS, CRMX, CRMW), two objects that collide (seed_objects.json:
 # COBJ, OBHD, CEDG, CTRI), and a sphere, capsule, box and moving mesh obstacle (seed_obstacles.json: OBHD, OBJS,

@@ -17,9 +17,9 @@
 
 static inline double beam_timoshenko_tip(double nu)
 {
-    double area = 1, I = 1.0 / 12, q = BEAM_DENSITY * BEAM_GRAVITY * area;
+    double area = 1, inertia = 1.0 / 12, q = BEAM_DENSITY * BEAM_GRAVITY * area; /* (I is complex.h's) */
     double G = BEAM_YOUNG / (2 * (1 + nu)), kappa = 10 * (1 + nu) / (12 + 11 * nu);
-    return q * pow(BEAM_FREE_LENGTH, 4) / (8 * BEAM_YOUNG * I) +
+    return q * pow(BEAM_FREE_LENGTH, 4) / (8 * BEAM_YOUNG * inertia) +
            q * BEAM_FREE_LENGTH * BEAM_FREE_LENGTH / (2 * kappa * G * area);
 }
 
