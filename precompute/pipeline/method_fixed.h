@@ -81,7 +81,7 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
 void rk_scene_rom_free(rk_scene_rom *r);
 /* rom.volume "projected" (volume.c): sets the pressure space of R's quadrature from rom.pressure
  * (after any cubature: the projection is over the points the model integrates with). */
-int rk_scene_rom_volume(const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene_rom *R, rk_error *err);
+int rk_scene_rom_volume(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene_rom *R, rk_error *err);
 /* The source of an asset bake (asset.h) for a built scene and its reduced model. */
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R);
 /* The reduced velocity at t = 0 (r values into *v0, malloc'd) of the scene's initial velocities:

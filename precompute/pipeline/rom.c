@@ -193,7 +193,7 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
     }
-    if (rk_scene_rom_volume(sim, o, R, err)) {
+    if (rk_scene_rom_volume(scene, sim, o, R, err)) {
         rk_scene_rom_free(R);
         return -1;
     }

@@ -1,14 +1,22 @@
 /* rom.volume "projected": the reduced model's pressure space (cubature.h, "the projected volume")
  * at its quadrature's points, from rom.pressure:
  *   constant        {1}: one mean volume change per quadrature (B-bar's constant pressure);
- *   weights         {W_j}: the skinning weights, one pressure per handle (a partition of unity,
- *                   so it holds the constant);
+ *   weights         {W_j}: the skinning eigen-weights of the object without its clamp, one
+ *                   pressure per handle (a partition of unity, so it holds the constant);
  *   weights_affine  {W_j (1, x, y, z)}: each handle's pressure also varying linearly, as the
  *                   handles' affine maps vary the strain (x centred and scaled by the quadrature's
  *                   extent, which keeps the Gram matrix conditioned).
  * A richer space holds more of theta's pointwise values (the limit, one function per point, is the
  * pointwise energy that locks); a poorer one constrains less and can leave a volume change with no
- * energy. The sag test (tests/unit/test_pipeline_meshfree_beam.c) measures the three. */
+ * energy. The sag test (tests/unit/test_pipeline_volume_beam.c) measures the three.
+ *
+ * Why the weights without the clamp. A basis clamped to the scene's fixed region (rom.clamp
+ * "dirichlet", issue 37) has weights that vanish there and rise beside it, where a clamped bend's
+ * pressure is largest; the pressure takes no boundary condition, so its space is the same problem's
+ * eigen-weights with no clamp (as many, computed again without the fixed region). On the FreeForm
+ * beam at nu = 0.45 (static; the converged solid, P2: 0.1220 m) the clamped weights as pressures
+ * sagged 109 / 109 / 107% of the solid at m = 16 / 20 / 32 (too few patterns held near the clamp;
+ * adding the constant changed nothing), the unclamped ones 98.2 / 99.5 / 100.9%. */
 #include "pipeline/method_fixed.h"
 #include "pipeline/pipeline.h"
 
@@ -16,28 +24,60 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The skinning weights (H) and position at quadrature point k: a mesh-free point's own, or the
- * mean of a tet's vertices'. */
-static void point_weights(const rk_scene_sim *sim, const rk_scene_rom *R, int k, double *W, double X[3])
+/* The pressure weights (H) and position at quadrature point k: a mesh-free point's, or the mean of
+ * a tet's vertices'. At (n x H, column-major) holds them at the mesh-free points (R->points' order),
+ * else at the mesh's vertices. */
+static void point_weights(const rk_scene_sim *sim, const rk_scene_rom *R, const double *at, int H, int k, double *W,
+                          double X[3])
 {
     const rk_quadrature *Q = &R->model.quad;
     int i = Q->source[k];
     if (R->points.n) {
-        for (int j = 0; j < R->points.H; j++) W[j] = R->points.W[(size_t)i + (size_t)R->points.n * j];
+        for (int j = 0; j < H; j++) W[j] = at[(size_t)i + (size_t)R->points.n * j];
         memcpy(X, R->points.X + 3 * (size_t)i, sizeof(double) * 3);
         return;
     }
     const int *v = &sim->fem.tets[4 * (size_t)i];
-    int n = R->basis.n, m = R->basis.m;
+    int n = sim->mesh.nv;
     memset(X, 0, sizeof(double) * 3);
-    for (int j = 0; j < m; j++) W[j] = 0;
+    for (int j = 0; j < H; j++) W[j] = 0;
     for (int c = 0; c < 4; c++) {
-        for (int j = 0; j < m; j++) W[j] += 0.25 * R->basis.W[(size_t)v[c] + (size_t)n * j];
+        for (int j = 0; j < H; j++) W[j] += 0.25 * at[(size_t)v[c] + (size_t)n * j];
         for (int a = 0; a < 3; a++) X[a] += 0.25 * sim->mesh.X[3 * (size_t)v[c] + a];
     }
 }
 
-int rk_scene_rom_volume(const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene_rom *R, rk_error *err)
+/* The weights the pressure space takes (the file's comment says why): the basis's own, or for a
+ * clamped skinning basis of one object (no constant weight, nzero 0) the same basis built without
+ * the clamp, into *free_basis and *free_points (freed by the caller). *at: n x H at the mesh-free
+ * points, or nv x H at the vertices. */
+static int pressure_weights(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, const rk_scene_rom *R,
+                            rk_basis *free_basis, rk_skin_points *free_points, const double **at, rk_error *err)
+{
+    *at = R->points.n ? R->points.W : R->basis.W;
+    if (R->basis.nzero != 0 || R->basis.nparts > 0 || !R->basis.W) return 0;
+    rk_basis_options unclamped = o->basis;
+    unclamped.clamp_penalty = 1;
+    rk_scene_basis_info info;
+    memset(&info, 0, sizeof info);
+    int rc = rk_scene_basis(scene, sim, &unclamped, NULL, 0, free_basis, &info, err);
+    rk_scene_basis_info_free(&info);
+    if (rc) return rk_error_prefix(err, "the unclamped weights of the pressure space");
+    if (free_basis->m != R->basis.m)
+        return rk_fail(err, "the unclamped weights of the pressure space: %d weights, the basis %d", free_basis->m,
+                       R->basis.m);
+    if (!R->points.n) {
+        *at = free_basis->W;
+        return 0;
+    }
+    if (rk_scene_object_weights(free_basis, 0, R->points.X, R->points.n, free_points, err))
+        return rk_error_prefix(err, "the unclamped weights of the pressure space");
+    *at = free_points->W;
+    return 0;
+}
+
+int rk_scene_rom_volume(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene_rom *R,
+                        rk_error *err)
 {
     rk_quadrature *Q = &R->model.quad;
     int n = Q->count;
@@ -48,14 +88,18 @@ int rk_scene_rom_volume(const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene
                        o->name, affine ? "weights_affine" : "weights", rk_basis_type_name(o->basis.type));
     int k = o->pressure == RK_PRESSURE_CONSTANT ? 1 : (affine ? 4 : 1) * H;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, X[3];
+    rk_basis free_basis;
+    rk_skin_points free_points;
+    memset(&free_basis, 0, sizeof free_basis);
+    memset(&free_points, 0, sizeof free_points);
+    const double *at = NULL;
     double *psi = rk_calloc((size_t)n * k, sizeof(double), err), *W = rk_calloc(H > 0 ? H : 1, sizeof(double), err);
-    if (!psi || !W) {
-        free(psi);
-        free(W);
-        return rk_error_prefix(err, "%s: pressure space", o->name);
-    }
+    int rc = -1;
+    if (!psi || !W) goto out;
+    if (o->pressure != RK_PRESSURE_CONSTANT && pressure_weights(scene, sim, o, R, &free_basis, &free_points, &at, err))
+        goto out;
     for (int i = 0; i < n && o->pressure != RK_PRESSURE_CONSTANT; i++) {
-        point_weights(sim, R, i, W, X);
+        point_weights(sim, R, at, H, i, W, X);
         for (int a = 0; a < 3; a++) lo[a] = fmin(lo[a], X[a]), hi[a] = fmax(hi[a], X[a]);
     }
     double size = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
@@ -65,7 +109,7 @@ int rk_scene_rom_volume(const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene
             row[0] = 1;
             continue;
         }
-        point_weights(sim, R, i, W, X);
+        point_weights(sim, R, at, H, i, W, X);
         for (int j = 0; j < H; j++) {
             if (!affine) {
                 row[j] = W[j];
@@ -75,8 +119,11 @@ int rk_scene_rom_volume(const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene
             for (int a = 0; a < 3; a++) row[4 * j + 1 + a] = W[j] * (X[a] - 0.5 * (lo[a] + hi[a])) / (size > 0 ? size : 1);
         }
     }
-    int rc = rk_quadrature_volume(Q, k, psi, err);
+    rc = rk_quadrature_volume(Q, k, psi, err);
+out:
     free(psi);
     free(W);
-    return rc ? rk_error_prefix(err, "%s", o->name) : 0;
+    rk_basis_free(&free_basis);
+    rk_skin_points_free(&free_points);
+    return rc ? rk_error_prefix(err, "%s: pressure space", o->name) : 0;
 }
