@@ -6,10 +6,29 @@
 #include <string.h>
 
 #include "args.h"
+#include "asset_open.h"
 #include "commands.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
 #include "util/util.h"
+
+/* Opens the written asset with this romkit's runtime, as romkit run would, and warns when the
+ * runtime finds its model inconsistent (ROMRT_E_MODEL): a basis whose columns are nearly dependent
+ * bakes a reduced mass that a float32 Cholesky cannot factor (a thin bar's clamped skinning weights
+ * times affine handles), which the double precompute does not see. Other refusals (an r above this
+ * build's bound, a Koopman-only asset) are an app's runtime's business, not warned of. */
+static void warn_if_runtime_refuses(const char *path)
+{
+    tool_asset a;
+    romrt_error rerr;
+    rk_error err = {{0}};
+    if (tool_asset_open(&a, path, 0, &rerr, &err) && rerr.status == ROMRT_E_MODEL)
+        fprintf(stderr, "romkit build: warning: %s does not open in this romkit's %s runtime: %s%s\n", path,
+                sizeof(romrt_real) == 4 ? "float32" : "float64", err.msg,
+                strstr(err.msg, "'MASS'") ? " (the basis's columns are nearly dependent at this precision: bake "
+                                            "with --precision float64, or fewer weights)" : "");
+    tool_asset_close(&a);
+}
 
 static void build_usage(FILE *f)
 {
@@ -88,6 +107,7 @@ int cmd_build(int argc, char **argv)
         (report_out && rk_json_write_file(report_out, baked.report, &err)))
         goto done;
     printf("%s: %s\n", out, baked.summary);
+    warn_if_runtime_refuses(out);
     rc = 0;
 done:
     if (rc) fprintf(stderr, "romkit build: %s\n", err.msg);

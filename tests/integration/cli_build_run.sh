@@ -171,3 +171,16 @@ if "$ROMKIT" build "$TMP/m32.json" -o "$TMP/m32.rombin" --quiet >"$TMP/out" 2>&1
 else
     fail run_steps_the_papers_largest_model "$(tail -c 400 "$TMP/out")"
 fi
+
+# A basis whose columns are nearly dependent in float32 (a 1 x 0.1 x 0.1 bar of 20 layers, clamped,
+# 7 skinning weights times affine handles): the double precompute bakes it, the float32 runtime
+# cannot factor its reduced mass; romkit build says so and how to bake it instead.
+cat >"$TMP/thinbar.json" <<'EOF2'
+{"objects": [{"mesh": {"box": {"size": [1, 0.1, 0.1], "cells": [20, 2, 2]}},
+  "material": {"model": "linear", "young": 1e5, "poisson": 0, "density": 1000},
+  "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]}],
+ "time": {"step": 0.01, "duration": 0.1}, "rom": {"basis": "skinning", "size": 6}}
+EOF2
+"$ROMKIT" build "$TMP/thinbar.json" -o "$TMP/thinbar.rombin" --quiet >"$TMP/out" 2>&1
+grep -q "warning: .*thinbar.rombin does not open in this romkit's float32 runtime: .*'MASS'.*bake with --precision float64" "$TMP/out" \
+    && ok build_warns_of_an_asset_its_runtime_refuses || fail build_warns_of_an_asset_its_runtime_refuses "$(cat "$TMP/out")"

@@ -75,7 +75,7 @@ scene typo bar.mesh '{"tag": 7, "material": {"young": 1e7}}' 0
 expect_fail a_missing_tag_is_named "objects\[0\].regions\[0\]: no tet of the mesh has tag 7 (its tags: 1, 2)" \
     "$ROMKIT" fom "$TMP/typo.json" --quiet
 scene both bar.mesh '{"tag": 2, "box": [[0, 0, 0], [1, 1, 1]], "material": {"young": 1e7}}' 0
-expect_fail a_region_with_box_and_tag_is_refused "gives both a box and a tag" "$ROMKIT" fom "$TMP/both.json" --quiet
+expect_fail a_region_with_box_and_tag_is_refused "gives more than one of box, tag and ball" "$ROMKIT" fom "$TMP/both.json" --quiet
 sed 's|"file": "bar.mesh", "refine": 0|"box": {"size": [1, 0.1, 0.1], "cells": [10, 1, 1]}|' "$TMP/typo.json" >"$TMP/untagged.json"
 expect_fail a_box_mesh_has_no_tags "its tags: none" "$ROMKIT" fom "$TMP/untagged.json" --quiet
 
@@ -175,11 +175,13 @@ pulled_bar_stress() {
 pulled_bar_stress cbar 0 81 99 90 1 && ok run_stress_meets_e_times_strain "$(cat "$TMP/stress")" ||
     fail run_stress_meets_e_times_strain "$(cat "$TMP/stress")"
 expect_fail run_stress_needs_the_scene "needs --scene" "$ROMKIT" run "$TMP/cbar.rombin" --steps 1 --stress "$TMP/x.npy"
-# The same bar as a tet mesh (20 x 2 x 2 cells of 6 tets, skinning 6) showing every vertex: the
+# The same bar as a tet mesh (20 x 2 x 2 cells of 6 tets, skinning 5) showing every vertex: the
 # stress from its tets, as romkit fom --stress takes them (at rest: the float32 asset's rounding of
 # the rest positions, 0.02 Pa; vertex (i, j, k) is i + 21 (j + 3 k)); a mesh that shows its
-# surface only is told how.
-sed 's|{"points": "cbar.ply"}|{"box": {"size": [1, 0.1, 0.1], "cells": [20, 2, 2]}}|; s|"rom": {.*|"rom": {"basis": "skinning", "size": 6, "asset": {"show": "all"}}}|' \
+# surface only is told how. (Size 5: with 6 clamped weights on this 20-layer bar the weights times
+# affine handles are nearly dependent and the float32 runtime cannot factor the reduced mass, which
+# romkit build now warns of.)
+sed 's|{"points": "cbar.ply"}|{"box": {"size": [1, 0.1, 0.1], "cells": [20, 2, 2]}}|; s|"rom": {.*|"rom": {"basis": "skinning", "size": 5, "asset": {"show": "all"}}}|' \
     "$TMP/cbar.json" >"$TMP/mbar.json"
 pulled_bar_stress mbar 1e-5 9 11 10 21 && ok run_stress_of_a_mesh_from_its_tets "$(cat "$TMP/stress")" ||
     fail run_stress_of_a_mesh_from_its_tets "$(cat "$TMP/stress")"
