@@ -375,6 +375,11 @@ int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max
  * point). Both fail when m + 1 >= size. */
 int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, int clamped, double *values, double *C,
                    int *nzero, rk_error *err);
+/* The clamped weights (rk_weight_eigs with clamped set) over the unknowns keep[c] >= 0 of the pencil
+ * (nkept of them, numbered by keep), expanded into C (n x (m + 1)) with zeros at the others: the
+ * Dirichlet clamp of mesh skinning (fixed vertices) and RKPM skinning (masked-out kernels). */
+int rk_weight_eigs_restricted(const rk_sparse *Hw, const rk_sparse *Mw, const int *keep, int nkept, int m,
+                              double *values, double *C, int *nzero, rk_error *err);
 
 /* Relative M-norm error of projecting the T frames D (3n x T) onto the span of U's first
  * columns, err[g] for the first (g + 1) * group columns, g < r / group: one pass of

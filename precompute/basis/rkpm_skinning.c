@@ -31,17 +31,7 @@ static int clamped_eigs(const rk_sparse *H, const rk_sparse *M, int m, double *v
     int *keep = rk_calloc((size_t)K, sizeof(int), err);
     if (!keep) return -1;
     for (int c = 0; c < K; c++) keep[c] = M->val[M->colptr[c + 1] - 1] > 1e-12 * top ? kept++ : -1;
-    rk_sparse Hf = {0}, Mf = {0};
-    double *Cf = rk_calloc((size_t)kept * (m + 1), sizeof(double), err);
-    if (Cf && !rk_sparse_restrict(H, keep, kept, &Hf, err) && !rk_sparse_restrict(M, keep, kept, &Mf, err) &&
-        !rk_weight_eigs(&Hf, &Mf, m, 1, values, Cf, nzero, err)) {
-        for (int j = 0; j <= m; j++)
-            for (int c = 0; c < K; c++) C[(size_t)K * j + c] = keep[c] >= 0 ? Cf[(size_t)kept * j + keep[c]] : 0;
-        rc = 0;
-    }
-    rk_sparse_free(&Hf);
-    rk_sparse_free(&Mf);
-    free(Cf);
+    rc = rk_weight_eigs_restricted(H, M, keep, kept, m, values, C, nzero, err);
     free(keep);
     return rc;
 }

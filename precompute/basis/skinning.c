@@ -46,26 +46,6 @@ static int mass_scalar(const rk_sparse *S, int nv, rk_sparse *out, rk_error *err
     return 0;
 }
 
-/* The weights over the free vertices of the pencil (Hw, Mw) (keep: each vertex's free index or
- * -1), expanded with zeros at the fixed ones: the Dirichlet clamp. */
-static int clamped_eigs(const rk_sparse *Hw, const rk_sparse *Mw, const int *keep, int nfree, int m, double *values,
-                        double *W, int *nzero, rk_error *err)
-{
-    rk_sparse Hf = {0}, Mf = {0};
-    double *Wf = rk_calloc((size_t)nfree * (m + 1), sizeof(double), err);
-    int rc = -1, nv = Hw->n;
-    if (Wf && !rk_sparse_restrict(Hw, keep, nfree, &Hf, err) && !rk_sparse_restrict(Mw, keep, nfree, &Mf, err) &&
-        !rk_weight_eigs(&Hf, &Mf, m, 1, values, Wf, nzero, err)) {
-        for (int j = 0; j <= m; j++)
-            for (int v = 0; v < nv; v++) W[(size_t)nv * j + v] = keep[v] >= 0 ? Wf[(size_t)nfree * j + keep[v]] : 0;
-        rc = 0;
-    }
-    rk_sparse_free(&Hf);
-    rk_sparse_free(&Mf);
-    free(Wf);
-    return rc;
-}
-
 int rk_basis_skinning(const rk_fem *f, const unsigned char *fixed, int lumped, int m, rk_basis *b, rk_error *err)
 {
     memset(b, 0, sizeof *b);
@@ -90,7 +70,7 @@ int rk_basis_skinning(const rk_fem *f, const unsigned char *fixed, int lumped, i
     b->W = rk_calloc((size_t)f->nv * (m + 1), sizeof(double), err);
     b->U = rk_calloc((size_t)3 * f->nv * b->r, sizeof(double), err);
     if (!b->values || !b->W || !b->U) goto out;
-    if (nfree < f->nv ? clamped_eigs(&Hw, &Mw, keep, nfree, m, b->values, b->W, &b->nzero, err)
+    if (nfree < f->nv ? rk_weight_eigs_restricted(&Hw, &Mw, keep, nfree, m, b->values, b->W, &b->nzero, err)
                       : rk_weight_eigs(&Hw, &Mw, m, 0, b->values, b->W, &b->nzero, err))
         goto out;
     rk_skinning_to_U(b->W, f->nv, m + 1, f->X, b->U);

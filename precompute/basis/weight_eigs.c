@@ -5,6 +5,7 @@
 #include "basis/basis.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, int clamped, double *values, double *C,
                    int *nzero, rk_error *err)
@@ -30,4 +31,22 @@ int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, int clamped,
         return rk_fail(err, "skinning eigenmodes: the smallest eigenvalue %.3g is not zero, so "
                        "constant weights are not free of energy (a bug or a broken matrix)", values[0]);
     return 0;
+}
+
+int rk_weight_eigs_restricted(const rk_sparse *Hw, const rk_sparse *Mw, const int *keep, int nkept, int m,
+                              double *values, double *C, int *nzero, rk_error *err)
+{
+    rk_sparse Hf = {0}, Mf = {0};
+    double *Cf = rk_calloc((size_t)nkept * (m + 1), sizeof(double), err);
+    int rc = -1, n = Hw->n;
+    if (Cf && !rk_sparse_restrict(Hw, keep, nkept, &Hf, err) && !rk_sparse_restrict(Mw, keep, nkept, &Mf, err) &&
+        !rk_weight_eigs(&Hf, &Mf, m, 1, values, Cf, nzero, err)) {
+        for (int j = 0; j <= m; j++)
+            for (int c = 0; c < n; c++) C[(size_t)n * j + c] = keep[c] >= 0 ? Cf[(size_t)nkept * j + keep[c]] : 0;
+        rc = 0;
+    }
+    rk_sparse_free(&Hf);
+    rk_sparse_free(&Mf);
+    free(Cf);
+    return rc;
 }
