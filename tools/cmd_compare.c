@@ -37,10 +37,10 @@ static void print_table(const char *path, const rk_compare_result *res)
 {
     printf("%s: %d vertices, %d tets, %d steps; full order %.4g s/step\n", path, res->vertices, res->tets, res->steps,
            res->fom_seconds_per_step);
-    if (res->reference_refine > 0)
-        printf("reference: refine %d, %d vertices, %d tets, full order %.4g s/step (%.4g s); errors at the %d vertices "
+    if (res->reference_refine > 0 || res->reference_order == 2)
+        printf("reference: refine %d, %d vertices, %d %s tets, full order %.4g s/step (%.4g s); errors at the %d vertices "
                "above; full order on the %d tets: nMSE %.3g, max err %.3g\n", res->reference_refine,
-               res->reference_vertices, res->reference_tets, res->reference_seconds_per_step,
+               res->reference_vertices, res->reference_tets, res->reference_order == 2 ? "quadratic" : "linear", res->reference_seconds_per_step,
                res->reference_seconds_total, res->vertices, res->tets, res->fom_normalized_mse,
                res->fom_normalized_max_error);
     printf("%-28s %5s %6s %10s %10s %10s %10s %10s %10s %9s %9s\n", "method", "r", "cub", "nMSE", "paper", "max err",

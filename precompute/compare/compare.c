@@ -12,6 +12,22 @@
 #include "util/util.h"
 
 
+/* The state after step `step` (0: the start) into F, at F's vertices (through F->map, if any). */
+static void keep_state(rk_fom_frames *F, int step, const double *xs, const double *vs, double seconds)
+{
+    double *x = F->x + (size_t)F->ndof * step, *v = F->v + (size_t)F->ndof * step;
+    if (F->map) {
+        for (int i = 0; i < F->ndof / 3; i++) {
+            memcpy(x + 3 * (size_t)i, xs + 3 * (size_t)F->map[i], 3 * sizeof(double));
+            memcpy(v + 3 * (size_t)i, vs + 3 * (size_t)F->map[i], 3 * sizeof(double));
+        }
+    } else {
+        memcpy(x, xs, sizeof(double) * F->ndof);
+        memcpy(v, vs, sizeof(double) * F->ndof);
+    }
+    if (step > 0) F->step_seconds[step - 1] = seconds;
+}
+
 static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     rk_fom_frames *F = ctx;
@@ -20,23 +36,27 @@ static int keep_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error
     if (rk_fom_contact_measure(fom, &crossings, &d, err)) return -1;
     F->min_distance = fmin(F->min_distance, d);
     F->intersections = crossings > F->intersections ? crossings : F->intersections;
-    double *x = F->x + (size_t)F->ndof * step, *v = F->v + (size_t)F->ndof * step;
-    if (F->map) {
-        for (int i = 0; i < F->ndof / 3; i++) {
-            memcpy(x + 3 * (size_t)i, fom->x + 3 * (size_t)F->map[i], 3 * sizeof(double));
-            memcpy(v + 3 * (size_t)i, fom->v + 3 * (size_t)F->map[i], 3 * sizeof(double));
-        }
-    } else {
-        memcpy(x, fom->x, sizeof(double) * F->ndof);
-        memcpy(v, fom->v, sizeof(double) * F->ndof);
-    }
-    if (step > 0) F->step_seconds[step - 1] = seconds;
+    keep_state(F, step, fom->x, fom->v, seconds);
     return 0;
 }
 
-/* The built scene's full-order run into F, keeping nv vertices: all of them (map NULL) or those map
- * lists. */
-static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const char *label, rk_fom_frames *F,
+typedef struct {
+    rk_fom_frames *F;
+    const char *label;
+} p2_progress;
+
+/* A P2 run's frame (the mesh's vertices are its first nodes, so F's map applies as it is). */
+static int keep_p2_frame(void *ctx, int step, const double *x, const double *v, double seconds, rk_error *err)
+{
+    p2_progress *p = ctx;
+    keep_state(p->F, step, x, v, seconds);
+    if (step > 0) rk_progress(p->label, step, p->F->T);
+    return 0;
+}
+
+/* The built scene's full-order run into F on linear (order 1) or quadratic tets (order 2), keeping
+ * nv vertices: all of them (map NULL) or those map lists. */
+static int run_frames(const rk_scene_sim *sim, int order, const int *map, int nv, const char *label, rk_fom_frames *F,
                       rk_fom_stats *stats, rk_error *err)
 {
     F->ndof = 3 * nv;
@@ -47,7 +67,16 @@ static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const cha
     F->v = rk_calloc((size_t)F->ndof * (F->T + 1), sizeof(double), err);
     F->step_seconds = rk_calloc((size_t)F->T + 1, sizeof(double), err);
     if (!F->x || !F->v || !F->step_seconds) return -1;
-    int rc = rk_scene_fom_run(sim, NULL, label, keep_frame, F, stats, err);
+    int rc;
+    if (order == 2) {
+        if (sim->cloud_points > 0) return rk_fail(err, "%s: a point cloud has no tets to make quadratic", label);
+        p2_progress p = {F, label};
+        rc = rk_p2_fom_run(&sim->fem, &sim->options, keep_p2_frame, &p, stats, err);
+        rk_progress_done(label);
+        if (rc) rk_error_prefix(err, "%s", label);
+    } else {
+        rc = rk_scene_fom_run(sim, NULL, label, keep_frame, F, stats, err);
+    }
     F->map = NULL; /* it pointed into the caller's map, kept only while running */
     return rc;
 }
@@ -55,7 +84,7 @@ static int run_frames(const rk_scene_sim *sim, const int *map, int nv, const cha
 static int run_fom(const rk_scene_sim *sim, rk_fom_frames *F, rk_compare_result *out, rk_error *err)
 {
     rk_fom_stats stats;
-    if (run_frames(sim, NULL, sim->mesh.nv, "full-order run", F, &stats, err)) return -1;
+    if (run_frames(sim, 1, NULL, sim->mesh.nv, "full-order run", F, &stats, err)) return -1;
     out->fom_seconds_total = stats.seconds_total;
     out->fom_newton_iterations = stats.newton_iterations;
     out->fom_seconds_per_step = rk_median(F->step_seconds, F->T);
@@ -76,6 +105,7 @@ static void rk_fom_frames_free(rk_fom_frames *F)
 static void reference_is_fom(rk_compare_result *out)
 {
     out->reference_refine = 0;
+    out->reference_order = 1;
     out->reference_vertices = out->vertices;
     out->reference_tets = out->tets;
     out->reference_seconds_per_step = out->fom_seconds_per_step;
@@ -86,24 +116,33 @@ static void reference_is_fom(rk_compare_result *out)
     out->fom_normalized_mse = out->fom_normalized_max_error = out->fom_max_error_m = out->fom_relative_error = 0;
 }
 
-/* The scene refined scene->reference_refine more times, run at full order into R (kept at sim's
- * vertices), and the scene's own run F measured against it. The refined model is freed before
- * returning: only R's frames stay. */
+/* The scene refined scene->reference_refine more times (or as it is), run at full order on the
+ * reference's tets (linear, or quadratic for "order": 2) into R (kept at sim's vertices), and the
+ * scene's own run F measured against it. The refined model is freed before returning: only R's
+ * frames stay. */
 static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const rk_fom_frames *F, rk_fom_frames *R,
                          rk_compare_result *out, rk_error *err)
 {
     rk_scene_sim fine;
-    int *map = NULL, k = scene->reference_refine;
-    if (rk_scene_build_reference(scene, sim, k, &fine, &map, err)) return -1;
+    int *map = NULL, k = scene->reference_refine, order = scene->reference_order == 2 ? 2 : 1;
+    const rk_scene_sim *ref = sim;
+    if (k > 0) {
+        if (rk_scene_build_reference(scene, sim, k, &fine, &map, err)) return -1;
+        ref = &fine;
+    }
     out->reference_refine = k;
-    out->reference_vertices = fine.mesh.nv;
-    out->reference_tets = fine.mesh.nt;
+    out->reference_order = order;
+    out->reference_vertices = ref->mesh.nv;
+    out->reference_tets = ref->mesh.nt;
     char label[128];
-    snprintf(label, sizeof label, "reference run (refine %d: %d tets)", k, fine.mesh.nt);
+    snprintf(label, sizeof label, "reference run (refine %d: %d %s tets)", k, ref->mesh.nt,
+             order == 2 ? "quadratic" : "linear");
     rk_fom_stats stats;
-    int rc = run_frames(&fine, map, sim->mesh.nv, label, R, &stats, err);
-    free(map);
-    rk_scene_sim_free(&fine);
+    int rc = run_frames(ref, order, map, sim->mesh.nv, label, R, &stats, err);
+    if (k > 0) {
+        free(map);
+        rk_scene_sim_free(&fine);
+    }
     if (rc) return -1;
     if (R->T != F->T) return rk_fail(err, "reference run: %d frames, the scene's run %d", R->T, F->T);
     out->reference_seconds_total = stats.seconds_total;
@@ -157,7 +196,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     if (run_fom(&sim, &F, out, err)) goto done;
     out->steps = F.T;
     reference_is_fom(out);
-    if (scene->reference_refine > 0) {
+    if (scene->reference_refine > 0 || scene->reference_order == 2) {
         if (run_reference(scene, &sim, &F, &R, out, err)) goto done;
         ref = &R;
     }

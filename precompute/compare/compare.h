@@ -29,6 +29,8 @@ typedef struct {
      * train, on the scene's mesh; speed-ups are over the full-order run on it. k = 0: the
      * reference is that run itself (sizes and seconds its own, the fom_* errors 0). */
     int reference_refine, reference_vertices, reference_tets;
+    int reference_order;           /* 1: linear tets; 2: quadratic ("order": 2, rk_p2_fom_run), its
+                                    * vertices and tets those of the mesh it puts nodes on */
     double reference_seconds_per_step, reference_seconds_total;
     long reference_newton_iterations;
     double reference_min_distance; /* contact over the reference's frames, on its own surface */

@@ -98,10 +98,11 @@ int rk_fem_principal_stress(const rk_fem *f, const double *x, double *out, rk_er
 void rk_cauchy_stress(rk_material_model model, double mu, double lambda, const double F[9], double s[9]);
 double rk_largest_principal(const double s[9]);
 
-/* ==== quadratic (P2, 10-node) tets: converged static references (p2.c) ====
+/* ==== quadratic (P2, 10-node) tets: converged references (p2.c, p2_elastic.c) ====
  * Where P1 cannot converge at a size this machine runs (the freeform beam at nu = 0.45 locks in
  * bending: issue 37), the same mesh with a node on every edge. Static, small-strain linear
- * elasticity only: the reference a reduced model's static sag is measured against. */
+ * elasticity (p2.c: the reference a reduced model's static sag is measured against), and the
+ * nonlinear element and mass of the dynamic reference (p2_elastic.c; precompute/fom's p2_fom.c). */
 #define RK_P2_MAX_NODES 200000000
 typedef struct {
     int nn, nt, nv;  /* nodes: the mesh's nv vertices first (same numbering), then one per edge */
@@ -114,6 +115,20 @@ void rk_p2_mesh_free(rk_p2_mesh *p);
  * 0) at every node where fixed[node] is set; one material. Fails naming a singular stiffness. */
 int rk_p2_static_linear(const rk_p2_mesh *p, double young, double poisson, const double body[3],
                         const unsigned char *fixed, const double *u_fixed, double *u, rk_error *err);
+/* The upper-triangle pattern of a P2 matrix over the free dofs (free_of[3 node + c] >= 0: the
+ * dof's index among nfree; < 0: prescribed, left out), and Ke (30 x 30, row-major over the
+ * element's nodes' dofs) times scale added into S at the free dofs of nodes. */
+int rk_p2_pattern(const rk_p2_mesh *p, const int *free_of, int nfree, rk_sparse *S, rk_error *err);
+int rk_p2_slot(const rk_sparse *S, int row, int col);
+void rk_p2_scatter(rk_sparse *S, const int *free_of, const int nodes[10], const double Ke[900], double scale);
+/* The nonlinear element (p2_elastic.c): the barycentric gradients dL (4 x 3) from P1's Dm^-1; the
+ * elastic energy of a P2 tet of rest volume vol with node displacements u (30), its gradient g (30,
+ * written; NULL: none) and Hessian H (30 x 30, written; NULL: none; PSD-projected per quadrature
+ * point as rk_dpdf when project); and its exact consistent mass (10 x 10 over nodes, kg). */
+void rk_p2_barycentric_gradients(const double Dm_inv[9], double dL[12]);
+double rk_p2_element_elastic(rk_material_model model, double mu, double lambda, const double dL[12], double vol,
+                             const double u[30], double g[30], double H[900], int project);
+void rk_p2_mass_element(double vol, double density, double Me[100]);
 
 /* Index in val of the diagonal-block entry (3v + i, 3v + j), i <= j: the diagonal block closes
  * every column of the vertex (rows are sorted and the column ends at its diagonal). */

@@ -12,8 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The six edges of a tet in rk_p2_mesh's node order (nodes 4..9). */
-static const int EDGE[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+#include "fem/p2_impl.h"
+
+#define EDGE RK_P2_EDGE
+const int RK_P2_EDGE[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 typedef struct {
     long long key; /* lo * nv + hi */
@@ -78,9 +80,7 @@ void rk_p2_mesh_free(rk_p2_mesh *p)
     memset(p, 0, sizeof *p);
 }
 
-/* The gradients (3 x 10, node by node) of the ten shape functions at barycentric point L, given
- * the constant gradients dL (4 x 3) of the barycentric coordinates. */
-static void p2_gradients(const double L[4], const double dL[12], double dN[30])
+void rk_p2_shape_gradients(const double L[4], const double dL[12], double dN[30])
 {
     for (int a = 0; a < 4; a++)
         for (int c = 0; c < 3; c++) dN[3 * a + c] = (4 * L[a] - 1) * dL[3 * a + c];
@@ -90,10 +90,16 @@ static void p2_gradients(const double L[4], const double dL[12], double dN[30])
     }
 }
 
-static void p2_values(const double L[4], double N[10])
+void rk_p2_shape_values(const double L[4], double N[10])
 {
     for (int a = 0; a < 4; a++) N[a] = L[a] * (2 * L[a] - 1);
     for (int k = 0; k < 6; k++) N[4 + k] = 4 * L[EDGE[k][0]] * L[EDGE[k][1]];
+}
+
+void rk_p2_quadrature_point(int q, double L[4])
+{
+    const double qa = 0.5854101966249685, qb = 0.1381966011250105; /* degree-2 rule, weights vol/4 */
+    for (int k = 0; k < 4; k++) L[k] = k == q ? qa : qb;
 }
 
 /* Tet t's 30 x 30 stiffness (row-major, dof 3 node + c) and 30 body-force loads; its volume. */
@@ -105,18 +111,14 @@ static double p2_element(const rk_p2_mesh *p, int t, double mu, double lambda, c
     for (int a = 0; a < 4; a++)
         for (int c = 0; c < 3; c++) X[3 * a + c] = p->X[3 * n[a] + c];
     double vol = fabs(rk_tet_rest(X, Dm_inv));
-    /* dL_k / dX_c for k = 1..3 is row k-1 of Dm^-1; dL_0 = -(their sum) */
-    for (int k = 0; k < 3; k++)
-        for (int c = 0; c < 3; c++) dL[3 * (k + 1) + c] = Dm_inv[3 * k + c];
-    for (int c = 0; c < 3; c++) dL[c] = -(dL[3 + c] + dL[6 + c] + dL[9 + c]);
+    rk_p2_barycentric_gradients(Dm_inv, dL);
     memset(Ke, 0, 900 * sizeof(double));
     memset(fe, 0, 30 * sizeof(double));
-    const double qa = 0.5854101966249685, qb = 0.1381966011250105; /* degree-2 rule, weights vol/4 */
     for (int q = 0; q < 4; q++) {
-        double L[4] = {qb, qb, qb, qb}, dN[30], N[10], w = vol / 4;
-        L[q] = qa;
-        p2_gradients(L, dL, dN);
-        p2_values(L, N);
+        double L[4], dN[30], N[10], w = vol / 4;
+        rk_p2_quadrature_point(q, L);
+        rk_p2_shape_gradients(L, dL, dN);
+        rk_p2_shape_values(L, N);
         for (int i = 0; i < 10; i++)
             for (int c = 0; c < 3; c++) fe[3 * i + c] += w * N[i] * b[c];
         /* K_{(i,c),(j,d)} = mu (delta_cd gi.gj + gi_d gj_c) + lambda gi_c gj_d */
@@ -141,8 +143,7 @@ static int cmp_int(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The upper-triangle pattern over the free dofs (free[dof] >= 0: its index). */
-static int p2_pattern(const rk_p2_mesh *p, const int *free_of, int nfree, rk_sparse *S, rk_error *err)
+int rk_p2_pattern(const rk_p2_mesh *p, const int *free_of, int nfree, rk_sparse *S, rk_error *err)
 {
     /* node -> tets, then each node's neighbour nodes (sorted, unique) */
     int *count = rk_calloc((size_t)p->nn + 1, sizeof(int), err), *at = NULL, *list = NULL, *nb = NULL, *nbp = NULL;
@@ -220,6 +221,29 @@ out:
     return ret;
 }
 
+int rk_p2_slot(const rk_sparse *S, int row, int col)
+{
+    int k = S->colptr[col], hi = S->colptr[col + 1] - 1; /* bisect the sorted rows */
+    while (k < hi) {
+        int mid = (k + hi) / 2;
+        if (S->rowind[mid] < row) k = mid + 1;
+        else hi = mid;
+    }
+    return k;
+}
+
+void rk_p2_scatter(rk_sparse *S, const int *free_of, const int nodes[10], const double Ke[900], double scale)
+{
+    for (int a = 0; a < 30; a++) {
+        int row = free_of[3 * nodes[a / 3] + a % 3];
+        if (row < 0) continue;
+        for (int b = 0; b < 30; b++) {
+            int col = free_of[3 * nodes[b / 3] + b % 3];
+            if (col >= row) S->val[rk_p2_slot(S, row, col)] += scale * Ke[30 * a + b];
+        }
+    }
+}
+
 int rk_p2_static_linear(const rk_p2_mesh *p, double young, double poisson, const double body[3],
                         const unsigned char *fixed, const double *u_fixed, double *u, rk_error *err)
 {
@@ -240,7 +264,7 @@ int rk_p2_static_linear(const rk_p2_mesh *p, double young, double poisson, const
         rk_fail(err, "P2 static: every node is fixed");
         goto out;
     }
-    if (p2_pattern(p, free_of, nfree, &K, err)) goto out;
+    if (rk_p2_pattern(p, free_of, nfree, &K, err)) goto out;
     f = rk_calloc((size_t)nfree, sizeof(double), err);
     if (!f) goto out;
     for (int t = 0; t < p->nt; t++) {
@@ -257,14 +281,7 @@ int rk_p2_static_linear(const rk_p2_mesh *p, double young, double poisson, const
                     if (u_fixed) f[row] -= Ke[30 * a + b] * u_fixed[3 * node + b % 3];
                     continue;
                 }
-                if (row > col) continue;
-                int k = K.colptr[col], hi = K.colptr[col + 1] - 1; /* bisect the sorted rows */
-                while (k < hi) {
-                    int mid = (k + hi) / 2;
-                    if (K.rowind[mid] < row) k = mid + 1;
-                    else hi = mid;
-                }
-                K.val[k] += Ke[30 * a + b];
+                if (row <= col) K.val[rk_p2_slot(&K, row, col)] += Ke[30 * a + b];
             }
         }
     }

@@ -233,4 +233,18 @@ int rk_fom_contact_measure(rk_fom *s, int *intersections, double *min_distance, 
 /* The contact stage's counters (pairs, broad phase, CCD and barrier seconds), or NULL without contact. */
 const rk_contact_stats *rk_fom_contact_stats(const rk_fom *s);
 
+/* ---- full order on quadratic tets (p2_fom.c): a dynamic reference converged where P1 is not ----
+ * fem's mesh with a node on every edge (rk_p2_mesh), its materials per tet, run as opt says with the
+ * same potential, Newton, integrator and tolerance as rk_fom_step: gravity (consistent load),
+ * Rayleigh damping, prescribed groups (an edge node moves with a group holding both its ends), a
+ * start at opt's position0 / velocity0 (edge nodes midway), extra forces on the vertex nodes.
+ * Contact, obstacles, several objects, a lumped mass and a static solve are refused by name. After
+ * the start (step 0) and every step, frame gets x and v over the P2 nodes (3 nn; the mesh's vertices
+ * first, in its numbering) and the step's seconds. stats gets steps, Newton iterations, halvings,
+ * unconverged steps, projected Hessians and seconds (total, analysis, assembly, factorization,
+ * solves). */
+typedef int (*rk_p2_frame_fn)(void *ctx, int step, const double *x, const double *v, double seconds, rk_error *err);
+int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn frame, void *ctx, rk_fom_stats *stats,
+                  rk_error *err);
+
 #endif

@@ -340,19 +340,28 @@ static void count_text(char *buf, size_t size, double n)
     else snprintf(buf, size, "over 1e300");
 }
 
-/* "reference": {"refine": k}: romkit compare's full-order reference on every object's mesh refined
- * k more times (after its own mesh.refine). The levels in all must stay within what rk_mesh_refine
- * makes; a box's tet count is known here, so the message says what k would make (a mesh file's is
- * known when it is loaded, and rk_mesh_refine's message says it then). */
+/* "reference": {"refine": k, "order": o}: romkit compare's full-order reference on every object's
+ * mesh refined k more times (after its own mesh.refine; default 0), on linear (o = 1, the default) or
+ * quadratic tets (o = 2: rk_p2_fom_run, which converges where P1 locks). The levels in all must stay
+ * within what rk_mesh_refine makes; a box's tet count is known here, so the message says what k
+ * would make (a mesh file's is known when it is loaded, and rk_mesh_refine's message says it then). */
 static int parse_reference(const rk_json_ctx *c, const cJSON *ref, const char *path, rk_scene *s)
 {
-    static const char *const keys[] = {"refine", NULL};
+    static const char *const keys[] = {"refine", "order", NULL};
     if (!cJSON_IsObject(ref)) return rk_json_fail(c, path, "must be an object such as {\"refine\": 1}");
     if (rk_json_check_keys(c, ref, path, keys)) return -1;
     char p[PATH_LEN];
+    double order = 1;
+    if (rk_json_number(c, ref, path, "order", 0, &order)) return -1;
+    snprintf(p, sizeof p, "%s.order", path);
+    if (order != 1 && order != 2)
+        return rk_json_fail(c, p, "must be 1 (linear tets) or 2 (quadratic tets), got %g", order);
+    if (!cJSON_GetObjectItemCaseSensitive(ref, "refine") && order == 1)
+        return rk_json_fail(c, path, "names neither \"refine\" nor \"order\": 2, so it is the scene's own run");
+    s->reference_order = (int)order;
     snprintf(p, sizeof p, "%s.refine", path);
     double k = 0;
-    if (rk_json_number(c, ref, path, "refine", 1, &k)) return -1;
+    if (rk_json_number(c, ref, path, "refine", 0, &k)) return -1;
     if (k < 0 || k != floor(k))
         return rk_json_fail(c, p, "must be a whole number of 1:8 refinement levels (0: the scene's own mesh, 1, 2, "
                             "...), got %g", k);

@@ -184,6 +184,8 @@ typedef struct {
                             * a full-order run with each object's mesh refined k more times
                             * (rk_scene_build_reference), at the scene mesh's vertices; 0 (the
                             * default): against the full-order run on the scene's own mesh */
+    int reference_order;   /* "reference": {"order": 2}: that run on quadratic tets (rk_p2_fom_run,
+                            * also with refine 0); 1 (the default): linear tets */
 } rk_scene;
 
 int rk_scene_load(const char *path, rk_scene *s, rk_error *err);

@@ -51,12 +51,28 @@ if "$ROMKIT" compare "$TMP/ref.json" --quiet --report "$TMP/ref_r.json" >"$TMP/o
     e=$(json_num "$TMP/ref_r.json" 'methods[0].normalized_mse')
     [ -n "$e" ] && awk -v e="$e" 'BEGIN { exit !(e > 0) }' && ok compare_reference_fom_error \
         || fail compare_reference_fom_error "fom nMSE against the refined reference: '$e'"
-    grep -q "reference: refine 1, 425 vertices, 1536 tets" "$TMP/out" && ok compare_reference_printed \
+    grep -q "reference: refine 1, 425 vertices, 1536 linear tets" "$TMP/out" && ok compare_reference_printed \
         || fail compare_reference_printed "$(head -c 400 "$TMP/out")"
 else
     fail compare_reference_keys "$(cat "$TMP/err")"
 fi
 json_checks compare_reference_default "$TMP/r.json" reference.refine=0 'methods[0].normalized_mse=0'
+# A quadratic-tet reference on the scene's own mesh (rk_p2_fom_run): P2 converges where P1 locks in
+# bending (nu = 0.4), so the scene's P1 run is further from it than from P1 refined once.
+scene "$TMP/p2.json" '[{"basis": "modes", "size": 6}], "reference": {"order": 2}'
+if "$ROMKIT" compare "$TMP/p2.json" --quiet --report "$TMP/p2_r.json" >"$TMP/out" 2>"$TMP/err"; then
+    json_checks compare_p2_reference_keys "$TMP/p2_r.json" reference.order=2 reference.refine=0 reference.tets=192
+    e2=$(json_num "$TMP/p2_r.json" 'methods[0].normalized_mse'); e1=$(json_num "$TMP/ref_r.json" 'methods[0].normalized_mse')
+    echo "# the scene's P1 run against P2 on its mesh: nMSE $e2; against P1 refined once: $e1"
+    [ -n "$e2" ] && [ -n "$e1" ] && awk -v a="$e2" -v b="$e1" 'BEGIN { exit !(a > b && b > 0) }' \
+        && ok compare_p2_reference_is_further_converged || fail compare_p2_reference_is_further_converged "P2 $e2, P1 refined $e1"
+    grep -q "reference: refine 0, 81 vertices, 192 quadratic tets" "$TMP/out" && ok compare_p2_reference_printed \
+        || fail compare_p2_reference_printed "$(head -c 400 "$TMP/out")"
+else
+    fail compare_p2_reference_keys "$(cat "$TMP/err")"
+fi
+scene "$TMP/badorder.json" '[{"basis": "modes", "size": 6}], "reference": {"order": 3}'
+expect_fail compare_reference_bad_order "reference.order" "$ROMKIT" compare "$TMP/badorder.json"
 scene "$TMP/badref.json" '[{"basis": "modes", "size": 6}], "reference": {"refine": 5}'
 expect_fail compare_reference_too_fine "into 6291456 tets" "$ROMKIT" compare "$TMP/badref.json"
 

@@ -7,6 +7,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+#include <lapacke.h>
 
 #include "freeform_beam.h"
 #include "fem/fem.h"
@@ -103,8 +106,76 @@ TEST(p2_beam_converges_to_beam_theory)
     CHECK(s1 > s0 && s1 - s0 < 0.01 * s1, "nu = 0.45: levels %g and %g (%.2f%%)", s0, s1, 100 * (s1 - s0) / s1);
 }
 
+/* The nonlinear element (p2_elastic.c) against central differences: the gradient of its energy
+ * and the Hessian of its gradient, Neo-Hookean at a large deformation (stretches of ~20%). */
+TEST(p2_element_gradient_and_hessian_match_finite_differences)
+{
+    const double X[12] = {0.1, 0.0, 0.05, 1.0, 0.1, 0.0, 0.2, 0.9, 0.1, 0.15, 0.2, 1.1};
+    double Dm_inv[9], dL[12], mu, lambda, u[30], g[30], H[900];
+    double vol = rk_tet_rest(X, Dm_inv);
+    CHECK(vol > 0, "test tet volume %g", vol);
+    rk_p2_barycentric_gradients(Dm_inv, dL);
+    rk_lame(1e6, 0.45, &mu, &lambda);
+    unsigned s = 11;
+    for (int k = 0; k < 30; k++) {
+        s = s * 1664525u + 1013904223u;
+        u[k] = 0.1 * ((double)(s >> 8) / (double)(1u << 23) - 1.0);
+    }
+    rk_p2_element_elastic(RK_MAT_NEOHOOKEAN, mu, lambda, dL, vol, u, g, H, 0);
+    double worst_g = 0, scale_g = 0, worst_h = 0, scale_h = 0, eps = 1e-6;
+    for (int k = 0; k < 30; k++) {
+        double up[30], um[30], gp[30], gm[30];
+        memcpy(up, u, sizeof up);
+        memcpy(um, u, sizeof um);
+        up[k] += eps;
+        um[k] -= eps;
+        double ep = rk_p2_element_elastic(RK_MAT_NEOHOOKEAN, mu, lambda, dL, vol, up, gp, NULL, 0);
+        double em = rk_p2_element_elastic(RK_MAT_NEOHOOKEAN, mu, lambda, dL, vol, um, gm, NULL, 0);
+        worst_g = fmax(worst_g, fabs((ep - em) / (2 * eps) - g[k]));
+        scale_g = fmax(scale_g, fabs(g[k]));
+        for (int j = 0; j < 30; j++) {
+            worst_h = fmax(worst_h, fabs((gp[j] - gm[j]) / (2 * eps) - H[30 * j + k]));
+            scale_h = fmax(scale_h, fabs(H[30 * j + k]));
+        }
+    }
+    printf("# P2 element: gradient error %.2e of %.2e, Hessian error %.2e of %.2e\n", worst_g, scale_g, worst_h,
+           scale_h);
+    CHECK(worst_g < 1e-6 * scale_g, "gradient off by %g (largest entry %g)", worst_g, scale_g);
+    CHECK(worst_h < 1e-6 * scale_h, "Hessian off by %g (largest entry %g)", worst_h, scale_h);
+    /* projected: positive semi-definite, and equal to the exact one where that already is (rest) */
+    double Hp[900], w[30];
+    rk_p2_element_elastic(RK_MAT_NEOHOOKEAN, mu, lambda, dL, vol, u, NULL, Hp, 1);
+    CHECK(LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'N', 'U', 30, Hp, 30, w) == 0, "dsyev failed");
+    CHECK(w[0] > -1e-9 * fabs(w[29]), "projected Hessian's smallest eigenvalue %g (largest %g)", w[0], w[29]);
+}
+
+/* The exact consistent mass: the integrals of the shape functions (rows sum to int N_a = -V/20 at
+ * a vertex, V/5 at an edge: a quadratic's nodal weights), the total rho V, and the second moment
+ * int X^2 dV = sum_ab X_a M_ab X_b / rho for a coordinate (P2 holds X^2 exactly), against the
+ * monomial formula on the reference tet computed by hand: int x^2 = V/10 there for x = L1. */
+TEST(p2_mass_integrates_quadratics_exactly)
+{
+    double Me[100], vol = 0.7, rho = 3.0, total = 0, moment = 0;
+    rk_p2_mass_element(vol, rho, Me);
+    for (int a = 0; a < 10; a++) {
+        double row = 0;
+        for (int b = 0; b < 10; b++) row += Me[10 * a + b];
+        total += row;
+        double want = a < 4 ? -vol / 20 : vol / 5;
+        CHECK(fabs(row / rho - want) < 1e-14, "node %d: row sum %.17g, int N = %.17g", a, row / rho, want);
+    }
+    CHECK(fabs(total - rho * vol) < 1e-13, "total mass %.17g, rho V = %.17g", total, rho * vol);
+    /* L1 at the nodes: 1 at vertex 1, 1/2 at edges 01, 12, 13, else 0 */
+    const double L1[10] = {0, 1, 0, 0, 0.5, 0, 0, 0.5, 0.5, 0};
+    for (int a = 0; a < 10; a++)
+        for (int b = 0; b < 10; b++) moment += L1[a] * Me[10 * a + b] * L1[b];
+    CHECK(fabs(moment / rho - vol / 10) < 1e-14, "int L1^2 = %.17g, V/10 = %.17g", moment / rho, vol / 10);
+}
+
 int main(void)
 {
+    RUN(p2_element_gradient_and_hessian_match_finite_differences);
+    RUN(p2_mass_integrates_quadratics_exactly);
     RUN(p2_reproduces_a_quadratic_equilibrium_exactly);
     RUN(p2_beam_converges_to_beam_theory);
     return test_finish();
