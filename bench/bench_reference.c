@@ -1,7 +1,7 @@
 /* bench/beam_reference.sh's tool: one level of a mesh-convergence study of a scene's full-order
  * run, and the normalized MSE between two levels at the coarse level's vertices.
  *
- *   bench_reference run SCENE.json LEVEL FRAMES.npy [--cells X,Y,Z] [--steps N]
+ *   bench_reference run SCENE.json LEVEL FRAMES.npy [--cells X,Y,Z] [--steps N] [--order 2]
  *       The scene (its box mesh given X x Y x Z cells when --cells is there) with every object's
  *       mesh refined LEVEL more times, built as romkit compare builds a refined reference
  *       (rk_scene_build_reference), run at full order as the scene says. FRAMES.npy: every frame
@@ -11,6 +11,8 @@
  *       seconds_total: the whole run (rk_fom_stats.seconds_total); seconds_per_step: the median step;
  *       peak_rss_mib: this process's peak resident memory (ru_maxrss), the level's alone.
  *       --steps N: only the first N steps (a probe, to estimate what the whole run costs).
+ *       --order 2: on quadratic tets (rk_p2_fom_run, the scene key "reference": {"order": 2});
+ *       vertices then counts the P1 mesh's vertices, not the P2 nodes.
  *   bench_reference nmse A.npy B.npy [--steps N]
  *       Two such files of the same vertices and frames (the same rest positions, checked): prints
  *           normalized_mse,normalized_max_error
@@ -37,13 +39,22 @@ typedef struct {
     double *secs;    /* each step's seconds */
 } frames;
 
-static int keep(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
+static int keep_x(frames *f, int step, const double *xs, double seconds)
 {
-    frames *f = ctx;
     double *x = f->x + (size_t)3 * f->n * step;
-    for (int i = 0; i < f->n; i++) memcpy(x + 3 * (size_t)i, fom->x + 3 * (size_t)f->map[i], 3 * sizeof(double));
+    for (int i = 0; i < f->n; i++) memcpy(x + 3 * (size_t)i, xs + 3 * (size_t)f->map[i], 3 * sizeof(double));
     if (step > 0) f->secs[step - 1] = seconds;
     return 0;
+}
+
+static int keep(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
+{
+    return keep_x(ctx, step, fom->x, seconds);
+}
+
+static int keep_p2(void *ctx, int step, const double *x, const double *v, double seconds, rk_error *err)
+{
+    return keep_x(ctx, step, x, seconds);
 }
 
 static int parse_cells(const char *s, int cells[3])
@@ -53,7 +64,8 @@ static int parse_cells(const char *s, int cells[3])
            cells[2] > 0;
 }
 
-static int run_level(const char *scene_path, int level, const char *out, const int *cells, int steps, rk_error *err)
+static int run_level(const char *scene_path, int level, const char *out, const int *cells, int steps, int order,
+                     rk_error *err)
 {
     rk_scene scene;
     if (rk_scene_load(scene_path, &scene, err)) return -1;
@@ -89,7 +101,9 @@ static int run_level(const char *scene_path, int level, const char *out, const i
     char label[64];
     snprintf(label, sizeof label, "level %d (%d tets)", level, nt);
     rk_fom_stats stats;
-    if (rk_scene_fom_run(sim, NULL, label, keep, &f, &stats, err)) goto done;
+    if (order == 2 ? rk_p2_fom_run(&sim->fem, &sim->options, keep_p2, &f, &stats, err)
+                   : rk_scene_fom_run(sim, NULL, label, keep, &f, &stats, err))
+        goto done;
     long shape[3] = {f.T + 1, f.n, 3};
     if (rk_npy_write(out, f.x, 3, shape, err)) goto done;
     struct rusage ru;
@@ -136,7 +150,7 @@ done:
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: bench_reference run SCENE.json LEVEL FRAMES.npy [--cells X,Y,Z] [--steps N]\n"
+    fprintf(stderr, "usage: bench_reference run SCENE.json LEVEL FRAMES.npy [--cells X,Y,Z] [--steps N] [--order 2]\n"
                     "       bench_reference nmse A.npy B.npy [--steps N]\n");
 }
 
@@ -156,8 +170,10 @@ int main(int argc, char **argv)
             return 2;
         }
         long steps = 0;
+        int order = 1;
         for (int i = 5; i < argc; i += 2) {
             if (i + 1 < argc && strcmp(argv[i], "--cells") == 0 && parse_cells(argv[i + 1], cells)) c = cells;
+            else if (i + 1 < argc && strcmp(argv[i], "--order") == 0 && strcmp(argv[i + 1], "2") == 0) order = 2;
             else if (i + 1 < argc && strcmp(argv[i], "--steps") == 0 && (steps = strtol(argv[i + 1], &end, 10)) > 0 &&
                      !*end)
                 continue;
@@ -166,7 +182,7 @@ int main(int argc, char **argv)
                 return 2;
             }
         }
-        if (run_level(argv[2], (int)level, argv[4], c, (int)steps, &err) == 0) return 0;
+        if (run_level(argv[2], (int)level, argv[4], c, (int)steps, order, &err) == 0) return 0;
     } else if ((argc == 4 || (argc == 6 && strcmp(argv[4], "--steps") == 0)) && strcmp(argv[1], "nmse") == 0) {
         char *end = NULL;
         long steps = argc == 6 ? strtol(argv[5], &end, 10) : 0;
