@@ -14,7 +14,8 @@ CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) -pthread \
 # -lgomp: precompute/util/threads.c, the one place that sets thread counts, keeps CHOLMOD's OpenMP
 # regions on one thread; romkit's own loops run on plain threads (-pthread).
 # -lmeshoptimizer: precompute/cage simplifies surfaces into simulation cages (meshopt_simplify).
-LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lmeshoptimizer -lm
+# -lpng: precompute/video reads the frames of filmed dot markers (and writes the test renderer's).
+LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lmeshoptimizer -lpng -lm
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # The runtime's version, read from romrt.h (ROMRT_VERSION_MAJOR/MINOR/PATCH): the shared library's
@@ -24,8 +25,10 @@ ROMRT_SOMAJOR := $(call rt_version_part,MAJOR)
 ROMRT_VERSION := $(ROMRT_SOMAJOR).$(call rt_version_part,MINOR).$(call rt_version_part,PATCH)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
+STAGES := util video mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
 DEPS_util    := util
+# Dot markers in frames: images, dots, pyramidal Lucas-Kanade, cameras, the lift onto a surface.
+DEPS_video   := video util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
