@@ -48,7 +48,7 @@ DEPS_koopman := koopman formats neural cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset koopman formats rom grassmann neural cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver cage contact fem physics mesh neural util
+DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver cage contact fem physics mesh neural video util
 DEPS_compare := compare $(DEPS_pipeline)
 # An asset's shown vertices as glTF (romkit export): the container's rows, the skinning rows of basis.
 DEPS_export  := export basis formats fem physics mesh util
