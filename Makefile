@@ -69,7 +69,7 @@ TEST_DOUBLE := test_runtime_engine test_runtime_obstacles test_runtime_mesh_coll
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-unit test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
-all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq \
+all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq $(BUILD)/render_dots \
      $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
 $(BUILD)/obj/%.o: %.c
@@ -173,6 +173,10 @@ $(BUILD)/readme_example: examples/embed/readme_example.c runtime/romrt.h $(RT_LI
 # test compares against it; tests/tools/rt_push.c).
 $(BUILD)/rt_push: tests/tools/rt_push.c runtime/romrt.h $(RT_LIB)
 	$(CC) -std=c99 -pedantic -Wall -Wextra $(WERR) $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
+
+# render_dots: cli_track.sh's synthetic video of dot markers on a full-order run (tests/tools/render_dots.c).
+$(BUILD)/render_dots: tests/tools/render_dots.c $(call libs_of,video) $(call lib_of,mesh)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call lib_of,mesh) $(call libs_of,video) $(LDLIBS)
 
 # jsonq: the integration tests read JSON reports through it (tests/tools/jsonq.c).
 $(BUILD)/jsonq: tests/tools/jsonq.c
