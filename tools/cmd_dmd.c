@@ -26,7 +26,7 @@ static void dmd_usage(FILE *f)
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
             "       romkit dmd --markers M.npy --marker-vertices V.txt --scene SCENE.json --modes B --dt H\n"
             "                  -o OUT.rombin [--marker-ridge RHO] [the fit, --gravity, --from-rest and output options]\n"
-            "       romkit dmd --tracks TRACKS.json --cameras CAMS.json --scene SCENE.json --modes B --dt H\n"
+            "       romkit dmd --tracks TRACKS.json [--cameras CAMS.json] --scene SCENE.json --modes B --dt H\n"
             "                  -o OUT.rombin [--match-tol D] [--marker-ridge RHO] [the same options as --markers]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
             "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
@@ -68,8 +68,9 @@ static void dmd_usage(FILE *f)
             "                    the lift's error under 0.5 mm noise from 36%% to 3.1%% with 4 markers on 12 modes)\n"
             "  Learning from video (romkit track's output), instead of --markers and --marker-vertices:\n"
             "  --tracks T.json   the 2D dot tracks of each view, one frame per H seconds, frame 0 at rest\n"
-            "  --cameras C.json  each view's calibration, in --view order: {\"views\": [{\"name\", \"K\": 3 x 3,\n"
-            "                    \"R\": 3 x 3 (world -> camera, a rotation), \"t\": [3], \"size\": [w, h]}]};\n"
+            "  --cameras C.json  each view's calibration, in the tracks' view order (default: the cameras the\n"
+            "                    tracks carry from romkit track --cameras): {\"views\": [{\"name\", \"frames\",\n"
+            "                    \"K\": 3 x 3, \"R\": 3 x 3 (world -> camera, a rotation), \"t\": [3], \"size\": [w, h]}]};\n"
             "                    x_cam = R X + t, pixel = K x_cam / z, pixel (0, 0) the top-left pixel's centre\n"
             "  --match-tol D     frame 0's dots are ray-cast onto the scene's rest surface; dots of different\n"
             "                    views whose hits lie within D (default 1%% of the rest shape's diagonal) are one\n"
@@ -102,9 +103,9 @@ typedef struct {
 static int markers_args(const dmd_args *a)
 {
     if (a->tracks || a->cameras || a->match_tol) {
-        if (!a->tracks || !a->cameras || !a->scene || !a->modes || !a->dt || !a->out || a->markers || a->marker_vertices) {
-            fprintf(stderr, "romkit dmd: learning from video needs --tracks, --cameras, --scene, --modes, --dt and -o "
-                    "(not --markers or --marker-vertices)\n");
+        if (!a->tracks || !a->scene || !a->modes || !a->dt || !a->out || a->markers || a->marker_vertices) {
+            fprintf(stderr, "romkit dmd: learning from video needs --tracks, --scene, --modes, --dt and -o (and --cameras "
+                    "unless romkit track was given them; not --markers or --marker-vertices)\n");
             return -1;
         }
     } else if (!a->markers || !a->marker_vertices || !a->scene || !a->modes || !a->dt || !a->out) {
@@ -115,8 +116,8 @@ static int markers_args(const dmd_args *a)
     const char *clash = a->nsnap ? "--snapshots" : a->pod ? "--pod" : a->rest ? "--rest" : a->mesh ? "--mesh"
                       : a->mass ? "--vertex-mass" : a->naccel ? "--accel" : NULL;
     if (clash) {
-        fprintf(stderr, "romkit dmd: %s does not go with --markers (the scene gives the recording's rest, masses and "
-                "surface; --gravity sets the acceleration)\n", clash);
+        fprintf(stderr, "romkit dmd: %s does not go with %s (the scene gives the recording's rest, masses and "
+                "surface; --gravity sets the acceleration)\n", clash, a->tracks ? "--tracks" : "--markers");
         return -1;
     }
     return 0;

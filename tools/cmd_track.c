@@ -13,14 +13,19 @@
 static void track_usage(FILE *f)
 {
     fprintf(f,
-            "usage: romkit track --view PATTERN [--view PATTERN ...] --frames T -o TRACKS.json\n"
+            "usage: romkit track --cameras CAMS.json --frames T -o TRACKS.json [options]\n"
+            "       romkit track --view PATTERN [--view PATTERN ...] --frames T -o TRACKS.json\n"
             "                    [--start N] [--bright] [--threshold L] [--min-area A] [--max-area A]\n"
             "                    [--levels L] [--window HW] [--fb PX] [--quiet]\n"
             "  finds dot markers in each view's first frame and follows them through T frames with pyramidal\n"
             "  Lucas-Kanade optical flow; a track whose forward-backward round trip misses by more than --fb\n"
             "  pixels, or whose window leaves the image or turns flat, is lost from that frame on.\n"
-            "  --view PATTERN    one camera's frames, a printf pattern of the frame number: 'cam0/%%04d.png'\n"
-            "                    (PNG: gray, RGB, with or without alpha, 8 or 16 bit; or binary PGM, P5)\n"
+            "  --cameras CAMS.json  the calibrated views, each with its frames (\"frames\": \"cam0/%%04d.png\"; the\n"
+            "                    file romkit dmd --cameras reads): the tracks file carries the cameras along, so\n"
+            "                    romkit dmd --tracks needs no --cameras\n"
+            "  --view PATTERN    instead, one uncalibrated view's frames, a printf pattern of the frame number:\n"
+            "                    'cam0/%%04d.png' (PNG: gray, RGB, with or without alpha, 8 or 16 bit; or binary\n"
+            "                    PGM, P5)\n"
             "  --frames T        frames per view (T >= 2), numbered --start (default 0) to --start + T - 1\n"
             "  --bright          bright dots on a dark surface (default: dark dots on a light one)\n"
             "  --threshold L     dot pixels are darker than luminance L in [0, 1] (default 0.3; --bright:\n"
@@ -32,13 +37,14 @@ static void track_usage(FILE *f)
             "  -o TRACKS.json    per view: the frames' pattern, size, the dot counts, and per dot the pixel\n"
             "                    positions up to the frame it is lost at ('lost', -1: never)\n"
             "example (two calibrated views of a filmed object, then the model, see romkit dmd --help):\n"
-            "  romkit track --view 'cam0/%%04d.png' --view 'cam1/%%04d.png' --frames 101 -o tracks.json\n"
-            "  romkit dmd --tracks tracks.json --cameras cams.json --scene beam.json --modes 12 --dt 0.01\n"
+            "  romkit track --cameras cams.json --frames 101 -o tracks.json\n"
+            "  romkit dmd --tracks tracks.json --scene beam.json --modes 12 --dt 0.01\n"
             "             --from-rest --gravity 0,-9.81,0 -o video.rombin\n");
 }
 
 typedef struct {
-    const char *view[RK_VIDEO_MAX_VIEWS], *frames, *start, *out, *threshold, *min_area, *max_area, *levels, *window, *fb;
+    const char *view[RK_VIDEO_MAX_VIEWS], *frames, *start, *out, *threshold, *min_area, *max_area, *levels, *window, *fb,
+        *cameras;
     int nviews, bright, quiet;
 } track_args;
 
@@ -49,7 +55,8 @@ static int parse_args(int argc, char **argv, track_args *a)
         const char **value;
     } values[] = {{"--frames", &a->frames},     {"--start", &a->start},       {"-o", &a->out},
                   {"--threshold", &a->threshold}, {"--min-area", &a->min_area}, {"--max-area", &a->max_area},
-                  {"--levels", &a->levels},     {"--window", &a->window},     {"--fb", &a->fb}};
+                  {"--levels", &a->levels},     {"--window", &a->window},     {"--fb", &a->fb},
+                  {"--cameras", &a->cameras}};
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--bright") || !strcmp(argv[i], "--quiet")) {
@@ -76,8 +83,12 @@ static int parse_args(int argc, char **argv, track_args *a)
         }
         *values[k].value = argv[++i];
     }
-    if (!a->nviews || !a->frames || !a->out) {
-        fprintf(stderr, "romkit track: --view, --frames and -o are required\n");
+    if (!(a->nviews || a->cameras) || !a->frames || !a->out) {
+        fprintf(stderr, "romkit track: --cameras (or --view), --frames and -o are required\n");
+        return -1;
+    }
+    if (a->nviews && a->cameras) {
+        fprintf(stderr, "romkit track: --view does not go with --cameras (the cameras file names each view's frames)\n");
         return -1;
     }
     return 0;
@@ -201,6 +212,20 @@ static int options(const track_args *a, int *T, int *start, rk_dot_options *d, r
     return 0;
 }
 
+/* --cameras: the views and their frames from the cameras file, carried into the tracks. */
+static int calibrated_views(const char *path, track_args *a, rk_tracks *tr, rk_error *err)
+{
+    if (rk_cameras_load(path, &tr->cams, err)) return rk_error_prefix(err, "--cameras");
+    for (int v = 0; v < tr->cams.n; v++) {
+        if (!tr->cams.cam[v].frames[0])
+            return rk_fail(err, "--cameras %s: views[%d] has no \"frames\" (its frames' printf pattern)", path, v);
+        a->view[v] = tr->cams.cam[v].frames;
+    }
+    a->nviews = tr->cams.n;
+    tr->calibrated = 1;
+    return 0;
+}
+
 int cmd_track(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++)
@@ -224,9 +249,16 @@ int cmd_track(int argc, char **argv)
         fprintf(stderr, "romkit track: %s\n", err.msg);
         return 2;
     }
+    if (a.cameras && calibrated_views(a.cameras, &a, &tr, &err)) goto done;
     tr.nviews = a.nviews;
     for (int v = 0; v < a.nviews; v++)
         if (track_view(a.view[v], v, tr.T, start, &dopt, &lo, &tr.v[v], &err)) goto done;
+    for (int v = 0; tr.calibrated && v < a.nviews; v++)
+        if (tr.v[v].w != tr.cams.cam[v].w || tr.v[v].h != tr.cams.cam[v].h) {
+            rk_fail(&err, "view %d (%s): the frames are %d x %d pixels, the camera is calibrated for %d x %d (%s)", v,
+                    a.view[v], tr.v[v].w, tr.v[v].h, tr.cams.cam[v].w, tr.cams.cam[v].h, a.cameras);
+            goto done;
+        }
     rk_progress_done("track");
     if (rk_tracks_save(a.out, &tr, &err)) goto done;
     for (int v = 0; v < tr.nviews; v++) {

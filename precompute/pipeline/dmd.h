@@ -35,7 +35,7 @@ typedef struct {
 int rk_dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
                         double ridge, rk_dmd_markers *out, rk_error *err);
 /* The same from filmed dots (romkit dmd --tracks): the 2D tracks of tracks_path (rk_tracks_load)
- * of the views calibrated in cameras_path lifted onto the scene's rest surface (rk_video_lift,
+ * of the views calibrated in cameras_path (NULL: the cameras the tracks carry) lifted onto the scene's rest surface (rk_video_lift,
  * matching tolerance tol; <= 0: 1% of the rest shape's bounding-box diagonal), each marker a
  * surface point whose modes' rows are its triangle's mixed by its barycentric weights; the fit
  * and the dense frames as rk_dmd_markers_load's (one implementation). */

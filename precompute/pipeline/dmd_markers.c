@@ -252,15 +252,18 @@ int rk_dmd_markers_video(const char *scene_path, const char *tracks_path, const 
     rk_cameras cams;
     int rc = -1;
     if (rk_tracks_load(tracks_path, &tr, err)) return rk_error_prefix(err, "--tracks");
-    if (rk_cameras_load(cameras_path, &cams, err)) {
-        rk_error_prefix(err, "--cameras");
+    if (cameras_path ? rk_cameras_load(cameras_path, &cams, err) : !tr.calibrated) {
+        if (cameras_path) rk_error_prefix(err, "--cameras");
+        else rk_fail(err, "--tracks %s carries no cameras (tracked with --view): give --cameras", tracks_path);
         goto done;
     }
+    if (!cameras_path) cams = tr.cams;
     if (scene_modes(scene_path, b, out, err)) goto done;
     if (tol <= 0) tol = 0.01 * rk_points_diagonal(out->X, out->nv);
     rk_video_markers *v = &out->video;
     if (rk_video_lift(&tr, &cams, out->X, out->nv, out->tris, out->ntris, tol, v, err)) {
-        rk_error_prefix(err, "--tracks %s with --cameras %s", tracks_path, cameras_path);
+        rk_error_prefix(err, "--tracks %s with %s%s", tracks_path, cameras_path ? "--cameras " : "its cameras",
+                        cameras_path ? cameras_path : "");
         goto done;
     }
     out->from_video = 1;

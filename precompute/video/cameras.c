@@ -24,8 +24,12 @@ static int matrix(const cJSON *a, int rows, int cols, double *out)
 
 static int camera_load(const cJSON *o, int i, rk_camera *c, rk_error *err)
 {
-    const cJSON *name = cJSON_GetObjectItem(o, "name");
+    const cJSON *name = cJSON_GetObjectItem(o, "name"), *frames = cJSON_GetObjectItem(o, "frames");
     snprintf(c->name, sizeof c->name, "%s", cJSON_IsString(name) ? name->valuestring : "");
+    if (frames && !cJSON_IsString(frames)) return rk_fail(err, "views[%d].frames: expected a printf pattern (a string)", i);
+    if (frames && strlen(frames->valuestring) >= sizeof c->frames)
+        return rk_fail(err, "views[%d].frames: longer than %zu characters", i, sizeof c->frames - 1);
+    snprintf(c->frames, sizeof c->frames, "%s", frames ? frames->valuestring : "");
     double size[2];
     if (matrix(cJSON_GetObjectItem(o, "K"), 3, 3, c->K)) return rk_fail(err, "views[%d].K: expected 3 x 3 numbers", i);
     if (matrix(cJSON_GetObjectItem(o, "R"), 3, 3, c->R)) return rk_fail(err, "views[%d].R: expected 3 x 3 numbers", i);
@@ -50,19 +54,46 @@ static int camera_load(const cJSON *o, int i, rk_camera *c, rk_error *err)
     return 0;
 }
 
+int rk_cameras_from_json(const cJSON *root, rk_cameras *c, rk_error *err)
+{
+    memset(c, 0, sizeof *c);
+    const cJSON *views = cJSON_GetObjectItem(root, "views");
+    if (!cJSON_IsArray(views) || cJSON_GetArraySize(views) < 1 || cJSON_GetArraySize(views) > RK_VIDEO_MAX_VIEWS)
+        return rk_fail(err, "views: expected an array of 1..%d cameras", RK_VIDEO_MAX_VIEWS);
+    c->n = cJSON_GetArraySize(views);
+    for (int i = 0; i < c->n; i++)
+        if (camera_load(cJSON_GetArrayItem(views, i), i, &c->cam[i], err)) return -1;
+    return 0;
+}
+
+cJSON *rk_cameras_to_json(const rk_cameras *c)
+{
+    cJSON *root = cJSON_CreateObject(), *views = cJSON_AddArrayToObject(root, "views");
+    for (int i = 0; i < c->n; i++) {
+        const rk_camera *k = &c->cam[i];
+        cJSON *o = cJSON_CreateObject(), *K = cJSON_AddArrayToObject(o, "K"), *R;
+        int size[2] = {k->w, k->h};
+        if (k->name[0]) cJSON_AddStringToObject(o, "name", k->name);
+        if (k->frames[0]) cJSON_AddStringToObject(o, "frames", k->frames);
+        R = cJSON_CreateArray();
+        for (int r = 0; r < 3; r++) {
+            cJSON_AddItemToArray(K, cJSON_CreateDoubleArray(k->K + 3 * r, 3));
+            cJSON_AddItemToArray(R, cJSON_CreateDoubleArray(k->R + 3 * r, 3));
+        }
+        cJSON_AddItemToObject(o, "R", R);
+        cJSON_AddItemToObject(o, "t", cJSON_CreateDoubleArray(k->t, 3));
+        cJSON_AddItemToObject(o, "size", cJSON_CreateIntArray(size, 2));
+        cJSON_AddItemToArray(views, o);
+    }
+    return root;
+}
+
 int rk_cameras_load(const char *path, rk_cameras *c, rk_error *err)
 {
     memset(c, 0, sizeof *c);
     cJSON *root = rk_video_json_load(path, err);
     if (!root) return -1;
-    const cJSON *views = cJSON_GetObjectItem(root, "views");
-    int rc = 0;
-    if (!cJSON_IsArray(views) || cJSON_GetArraySize(views) < 1 || cJSON_GetArraySize(views) > RK_VIDEO_MAX_VIEWS)
-        rc = rk_fail(err, "views: expected an array of 1..%d cameras", RK_VIDEO_MAX_VIEWS);
-    else {
-        c->n = cJSON_GetArraySize(views);
-        for (int i = 0; i < c->n && !rc; i++) rc = camera_load(cJSON_GetArrayItem(views, i), i, &c->cam[i], err);
-    }
+    int rc = rk_cameras_from_json(root, c, err);
     cJSON_Delete(root);
     return rc ? rk_error_prefix(err, "%s", path) : 0;
 }

@@ -50,6 +50,7 @@ int rk_tracks_save(const char *path, const rk_tracks *t, rk_error *err)
     cJSON_AddNumberToObject(root, "frames", t->T);
     for (int v = 0; v < t->nviews; v++) cJSON_AddItemToArray(views, view_json(&t->v[v], t->T));
     cJSON_AddItemToObject(root, "views", views);
+    if (t->calibrated) cJSON_AddItemToObject(root, "cameras", rk_cameras_to_json(&t->cams));
     char *text = cJSON_PrintUnformatted(root);
     cJSON_Delete(root);
     if (!text) return rk_fail(err, "%s: out of memory writing the tracks", path);
@@ -145,6 +146,12 @@ int rk_tracks_load(const char *path, rk_tracks *t, rk_error *err)
         t->T = T->valueint;
         t->nviews = cJSON_GetArraySize(views);
         for (int v = 0; v < t->nviews && !rc; v++) rc = view_load(cJSON_GetArrayItem(views, v), v, t->T, &t->v[v], err);
+        const cJSON *cams = cJSON_GetObjectItem(root, "cameras");
+        if (!rc && cams) {
+            rc = rk_cameras_from_json(cams, &t->cams, err);
+            if (rc) rk_error_prefix(err, "cameras");
+            t->calibrated = !rc;
+        }
     }
     cJSON_Delete(root);
     if (rc) {

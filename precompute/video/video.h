@@ -94,6 +94,29 @@ int rk_lk_track(const rk_pyramid *I, const rk_pyramid *J, const rk_lk_options *o
 int rk_lk_track_fb(const rk_pyramid *I, const rk_pyramid *J, const rk_lk_options *o, double x, double y, double *ox,
                    double *oy, double *fb);
 
+/* ==== cameras (cameras.c) ==== */
+
+typedef struct {
+    char name[64];
+    char frames[512];        /* the view's frames, a printf pattern of the frame number ("" if not given) */
+    double K[9], R[9], t[3]; /* row-major */
+    int w, h;
+} rk_camera;
+
+typedef struct {
+    int n;
+    rk_camera cam[RK_VIDEO_MAX_VIEWS];
+} rk_cameras;
+
+/* {"views": [{"name": "cam0", "frames": "cam0/%04d.png", "K": [[fx, s, cx], [0, fy, cy], [0, 0, 1]],
+ * "R": [[...], [...], [...]], "t": [tx, ty, tz], "size": [w, h]}, ...]} ("name" and "frames" optional). R must be a rotation (R^T R = I and det R = +1 to
+ * 1e-6), K upper triangular with positive fx, fy and K[2][2] = 1. */
+int rk_cameras_load(const char *path, rk_cameras *c, rk_error *err);
+/* The pixel of world point X; returns its depth z (<= 0: behind the camera). */
+double rk_camera_project(const rk_camera *c, const double X[3], double px[2]);
+/* The ray through a pixel: origin (the camera centre -R^T t) and unit direction, world frame. */
+void rk_camera_ray(const rk_camera *c, const double px[2], double origin[3], double dir[3]);
+
 /* ==== tracks (tracks.c) ==== */
 
 typedef struct {
@@ -108,35 +131,16 @@ typedef struct {
 typedef struct {
     int T, nviews;
     rk_view_tracks v[RK_VIDEO_MAX_VIEWS];
+    int calibrated;       /* cams holds the views' cameras (romkit track --cameras) */
+    rk_cameras cams;
 } rk_tracks;
 
 void rk_tracks_free(rk_tracks *t);
 /* JSON: {"frames": T, "views": [{"source", "size": [w, h], "dots": {...}, "tracks": [{"lost": f|-1,
- * "xy": [x0, y0, x1, y1, ...]}]}]} (xy up to the frame before lost). */
+ * "xy": [x0, y0, x1, y1, ...]}]}], "cameras": {"views": [...]}} (xy up to the frame before lost;
+ * "cameras", as rk_cameras_load reads them, when calibrated). */
 int rk_tracks_save(const char *path, const rk_tracks *t, rk_error *err);
 int rk_tracks_load(const char *path, rk_tracks *t, rk_error *err);
-
-/* ==== cameras (cameras.c) ==== */
-
-typedef struct {
-    char name[64];
-    double K[9], R[9], t[3]; /* row-major */
-    int w, h;
-} rk_camera;
-
-typedef struct {
-    int n;
-    rk_camera cam[RK_VIDEO_MAX_VIEWS];
-} rk_cameras;
-
-/* {"views": [{"name": "cam0", "K": [[fx, s, cx], [0, fy, cy], [0, 0, 1]], "R": [[...], [...], [...]],
- * "t": [tx, ty, tz], "size": [w, h]}, ...]}. R must be a rotation (R^T R = I and det R = +1 to
- * 1e-6), K upper triangular with positive fx, fy and K[2][2] = 1. */
-int rk_cameras_load(const char *path, rk_cameras *c, rk_error *err);
-/* The pixel of world point X; returns its depth z (<= 0: behind the camera). */
-double rk_camera_project(const rk_camera *c, const double X[3], double px[2]);
-/* The ray through a pixel: origin (the camera centre -R^T t) and unit direction, world frame. */
-void rk_camera_ray(const rk_camera *c, const double px[2], double origin[3], double dir[3]);
 
 /* ==== lift (lift.c) ==== */
 

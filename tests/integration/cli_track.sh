@@ -22,13 +22,14 @@ cat >"$TMP/beam.json" <<'JSON'
   "time": {"step": 0.01, "duration": 1.0}
 }
 JSON
-# Two views from above and in front, 0.6 m apart (x_cam = R X + t, pixel = K x_cam / z).
-cat >"$TMP/cams.json" <<'JSON'
+# Two views from above and in front, 0.6 m apart (x_cam = R X + t, pixel = K x_cam / z), each
+# with its frames.
+cat >"$TMP/cams.json" <<JSON
 {"views": [
- {"name": "left", "K": [[330, 0, 159.5], [0, 330, 119.5], [0, 0, 1]], "size": [320, 240],
+ {"name": "left", "frames": "$TMP/video/cam0/%04d.png", "K": [[330, 0, 159.5], [0, 330, 119.5], [0, 0, 1]], "size": [320, 240],
   "R": [[0.964763821238, 0.0, 0.263117405792], [-0.154853561091, -0.8084724073, 0.567796390665],
         [0.212723162463, -0.588534082815, -0.779984929032]], "t": [-0.495537780908, -0.015640831572, 1.295838598005]},
- {"name": "right", "K": [[330, 0, 159.5], [0, 330, 119.5], [0, 0, 1]], "size": [320, 240],
+ {"name": "right", "frames": "$TMP/video/cam1/%04d.png", "K": [[330, 0, 159.5], [0, 330, 119.5], [0, 0, 1]], "size": [320, 240],
   "R": [[0.964763821238, 0.0, -0.263117405792], [0.154853561091, -0.8084724073, 0.567796390665],
         [-0.212723162463, -0.588534082815, -0.779984929032]], "t": [-0.469226040329, -0.170494392662, 1.508561760468]}
 ]}
@@ -46,11 +47,11 @@ BOX="--box 1,0.1,0.1 --cells 10,2,2 --cameras $TMP/cams.json --dots $TMP/V.txt -
 "$RENDER" --snapshots "$TMP/S.npy" $BOX --out "$TMP/video" >/dev/null 2>"$TMP/err" || fail track_render "$(cat "$TMP/err")"
 
 T=101
-if "$ROMKIT" track --view "$TMP/video/cam0/%04d.png" --view "$TMP/video/cam1/%04d.png" --frames $T \
-        -o "$TMP/tracks.json" --quiet >"$TMP/out" 2>"$TMP/err"; then
+if "$ROMKIT" track --cameras "$TMP/cams.json" --frames $T -o "$TMP/tracks.json" --quiet >"$TMP/out" 2>"$TMP/err"; then
     sed 's/^/# /' "$TMP/out"
     json_checks track_file_keys "$TMP/tracks.json" frames=$T views[1].size[0]=320 views[0].dots.found=14 \
-        views[1].dots.found=14 views[0].lost=0 views[1].lost=0 "views[0].tracks[13].xy[$((2 * T - 1))]"
+        views[1].dots.found=14 views[0].lost=0 views[1].lost=0 "views[0].tracks[13].xy[$((2 * T - 1))]" \
+        cameras.views[1].name='"right"' cameras.views[0].size[1]=240
 else
     fail track_file_keys "$(cat "$TMP/err")"
 fi
@@ -60,8 +61,8 @@ fi
 sed 's/^/# /' "$TMP/check"
 
 set -- --scene "$TMP/beam.json" --modes 12 --dt 0.01 --from-rest --gravity 0,-9.81,0 --quiet
-if "$ROMKIT" dmd --tracks "$TMP/tracks.json" --cameras "$TMP/cams.json" "$@" -o "$TMP/v.rombin" --report "$TMP/v.json" \
-        >"$TMP/out" 2>"$TMP/err"; then
+# the tracks carry their cameras: no --cameras
+if "$ROMKIT" dmd --tracks "$TMP/tracks.json" "$@" -o "$TMP/v.rombin" --report "$TMP/v.json" >"$TMP/out" 2>"$TMP/err"; then
     echo "# $(cat "$TMP/out")"
     json_checks track_lift_report "$TMP/v.json" markers.count=14 markers.video.triangulated=14 markers.video.matched=14 \
         markers.video.single_view=0 markers.video.lost=0 markers.video.dots[1]=14 markers.video.reprojection_rms_px
@@ -107,7 +108,13 @@ expect_fail track_refuses_a_pattern_without_a_number "expected one %d for the fr
 sed 's/0.964763821238, 0.0, 0.263117405792/0.964763821238, 0.1, 0.263117405792/' "$TMP/cams.json" >"$TMP/skew.json"
 expect_fail track_names_a_camera_that_is_not_a_rotation "skew.json: views\[0\].R is not a rotation" "$ROMKIT" dmd \
     --tracks "$TMP/tracks.json" --cameras "$TMP/skew.json" "$@" -o "$TMP/no.rombin"
-expect_fail track_needs_the_cameras "learning from video needs --tracks, --cameras" "$ROMKIT" dmd \
-    --tracks "$TMP/tracks.json" "$@" -o "$TMP/no.rombin"
+"$ROMKIT" track --view "$V0" --frames 3 -o "$TMP/uncal.json" --quiet >/dev/null 2>&1
+expect_fail track_needs_the_cameras "uncal.json carries no cameras (tracked with --view): give --cameras" "$ROMKIT" dmd \
+    --tracks "$TMP/uncal.json" "$@" -o "$TMP/no.rombin"
+sed 's|"frames": "[^"]*", ||' "$TMP/cams.json" >"$TMP/noframes.json"
+expect_fail track_names_a_view_without_frames "noframes.json: views\[0\] has no \"frames\"" "$ROMKIT" track \
+    --cameras "$TMP/noframes.json" --frames 3 -o "$TMP/no.json"
+expect_fail track_refuses_cameras_that_are_not_rotations "skew.json: views\[0\].R is not a rotation" "$ROMKIT" track \
+    --cameras "$TMP/skew.json" --frames 3 -o "$TMP/no.json"
 if [ -e "$TMP/no.json" ] || [ -e "$TMP/no.rombin" ] || ls "$TMP" | grep -q '\.tmp\.'; then fail track_no_partial_output "a failure left a file"
 else ok track_no_partial_output; fi
