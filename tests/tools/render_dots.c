@@ -45,13 +45,15 @@ typedef struct {
 } scene;
 
 /* One frame of view c (positions x) into im. */
-static void render(const scene *s, const rk_camera *c, const double *x, rk_image *im, float *hi, float *depth)
+static void render(const scene *s, const rk_camera *c, const double *x, rk_image *im, float *hi, float *depth,
+                   const float *bg)
 {
     int W = c->w * SS, H = c->h * SS;
     rk_camera k = *c; /* the supersampled camera: sample (2u + 1/2) is pixel u's centre at SS = 2 */
     k.K[0] *= SS, k.K[1] *= SS, k.K[4] *= SS;
     k.K[2] = SS * k.K[2] + 0.5 * (SS - 1), k.K[5] = SS * k.K[5] + 0.5 * (SS - 1);
-    for (int p = 0; p < W * H; p++) hi[p] = (float)background(p % W / (double)SS, p / W / (double)SS), depth[p] = INFINITY;
+    memcpy(hi, bg, sizeof(float) * (size_t)W * H);
+    for (int p = 0; p < W * H; p++) depth[p] = INFINITY;
     double light[3] = {0.3, 0.8, 0.52}, ln = sqrt(0.09 + 0.64 + 0.2704);
     for (int f = 0; f < s->ntris; f++) {
         const int *t = s->tris + 3 * f;
@@ -86,10 +88,11 @@ static void render(const scene *s, const rk_camera *c, const double *x, rk_image
                 for (int a = 0; a < 3; a++)
                     for (int d = 0; d < 3; d++) X[d] += w[a] / sw * s->X0[3 * t[a] + d];
                 double cover = 0, sample_len = zz / k.K[0]; /* a sample's size on the surface, about */
+                double reach = (s->radius + sample_len) * (s->radius + sample_len);
                 for (int i = 0; i < s->ndots; i++) {
                     const double *D = s->X0 + 3 * s->dot[i];
-                    double d = sqrt((X[0] - D[0]) * (X[0] - D[0]) + (X[1] - D[1]) * (X[1] - D[1]) + (X[2] - D[2]) * (X[2] - D[2]));
-                    cover = fmax(cover, fmin(1, fmax(0, (s->radius - d) / sample_len + 0.5)));
+                    double d2 = (X[0] - D[0]) * (X[0] - D[0]) + (X[1] - D[1]) * (X[1] - D[1]) + (X[2] - D[2]) * (X[2] - D[2]);
+                    if (d2 < reach) cover = fmax(cover, fmin(1, fmax(0, (s->radius - sqrt(d2)) / sample_len + 0.5)));
                 }
                 hi[v * W + u] = (float)((1 - cover) * shade * texture(X) + cover * 0.1);
             }
@@ -241,9 +244,11 @@ int main(int argc, char **argv)
         rk_image im;
         rk_image_alloc(&im, cams.cam[v].w, cams.cam[v].h, &err);
         size_t n = (size_t)cams.cam[v].w * cams.cam[v].h * SS * SS;
-        float *hi = calloc(n, sizeof(float)), *depth = calloc(n, sizeof(float));
+        float *hi = calloc(n, sizeof(float)), *depth = calloc(n, sizeof(float)), *bg = calloc(n, sizeof(float));
+        int W = cams.cam[v].w * SS;
+        for (size_t p = 0; p < n; p++) bg[p] = (float)background((double)(p % W) / SS, (double)(p / W) / SS); /* fixed */
         for (int t = 0; t < T; t++) {
-            render(&s, &cams.cam[v], S + (size_t)3 * mesh.nv * t, &im, hi, depth);
+            render(&s, &cams.cam[v], S + (size_t)3 * mesh.nv * t, &im, hi, depth, bg);
             snprintf(path, sizeof path, "%s/%04d.png", dir, t);
             if (rk_image_save_png(path, &im, &err)) {
                 fprintf(stderr, "render_dots: %s\n", err.msg);
@@ -252,6 +257,7 @@ int main(int argc, char **argv)
         }
         free(hi);
         free(depth);
+        free(bg);
         rk_image_free(&im);
     }
     printf("render_dots: %d frames of %d views, %d dots\n", T, cams.n, ndots);
