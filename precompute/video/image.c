@@ -1,6 +1,6 @@
 /* Frames as float luminance: PNG through libpng (its simplified API converts any colour type and
- * bit depth to 8-bit gray with the sRGB-to-linear weights; the alpha channel, if any, is dropped),
- * and binary PGM (P5, maxval up to 65535) read directly since it is a header and raw bytes. */
+ * bit depth to 8-bit sRGB RGBA; the luma 0.2126 R + 0.7152 G + 0.0722 B of those values is taken,
+ * the alpha channel ignored: a camera's frame has no transparency to composite), and binary PGM (P5, maxval up to 65535) read directly since it is a header and raw bytes. */
 #include "video/video.h"
 
 #include <math.h>
@@ -27,7 +27,7 @@ static int load_png(const char *path, rk_image *im, rk_error *err)
     memset(&p, 0, sizeof p);
     p.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_file(&p, path)) return rk_fail(err, "%s: not a readable PNG (%s)", path, p.message);
-    p.format = PNG_FORMAT_GRAY;
+    p.format = PNG_FORMAT_RGBA;
     if (p.width < 2 || p.height < 2 || p.width > 1 << 15 || p.height > 1 << 15) {
         png_image_free(&p);
         return rk_fail(err, "%s: %u x %u pixels; expected 2..32768 each way", path, p.width, p.height);
@@ -42,7 +42,8 @@ static int load_png(const char *path, rk_image *im, rk_error *err)
         return rk_fail(err, "%s: PNG data unreadable (%s)", path, p.message);
     }
     int rc = rk_image_alloc(im, (int)p.width, (int)p.height, err);
-    for (size_t i = 0; !rc && i < (size_t)im->w * im->h; i++) im->px[i] = buf[i] / 255.0f;
+    for (size_t i = 0; !rc && i < (size_t)im->w * im->h; i++)
+        im->px[i] = (float)((0.2126 * buf[4 * i] + 0.7152 * buf[4 * i + 1] + 0.0722 * buf[4 * i + 2]) / 255.0);
     free(buf);
     return rc;
 }

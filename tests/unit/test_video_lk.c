@@ -1,7 +1,9 @@
 /* precompute/video: pyramidal Lucas-Kanade recovers a known subpixel motion (a shift, and a shift
  * with a small rotation) of a smooth textured image to 0.05 px; dot centroids of anti-aliased
  * discs under noise land within 0.5 px; the forward-backward check drops a dot that is covered in
- * the second frame and keeps the others; images round-trip through PNG and PGM. */
+ * the second frame and keeps the others; images round-trip through PNG and PGM, RGBA as luminance. */
+#include <png.h>
+
 #include "testlib.h"
 #include "video/video.h"
 
@@ -181,6 +183,16 @@ TEST(images_round_trip_png_and_pgm)
     fprintf(f, "not an image");
     fclose(f);
     CHECK(rk_image_load(pgm, &b, &err) && strstr(err.msg, "neither a PNG nor"), "%s", err.msg);
+    /* RGBA: gray pixels keep their value, green is brighter than red, red than blue; alpha ignored */
+    unsigned char rgba[4 * 4] = {200, 200, 200, 255, 0, 255, 0, 128, 255, 0, 0, 255, 0, 0, 255, 0};
+    png_image p;
+    memset(&p, 0, sizeof p);
+    p.version = PNG_IMAGE_VERSION, p.width = 2, p.height = 2, p.format = PNG_FORMAT_RGBA;
+    CHECK(png_image_write_to_file(&p, png, 0, rgba, 0, NULL), "RGBA PNG not written: %s", p.message);
+    CHECK_OK(rk_image_load(png, &b, &err));
+    CHECK(b.w == 2 && b.h == 2 && fabs(b.px[0] - 200 / 255.0) < 0.01 && b.px[1] > b.px[2] && b.px[2] > b.px[3] &&
+          b.px[3] > 0, "RGBA as luminance: %g %g %g %g", b.px[0], b.px[1], b.px[2], b.px[3]);
+    rk_image_free(&b);
     remove(png);
     remove(pgm);
     CHECK(rk_image_load(png, &b, &err) && strstr(err.msg, "cannot open"), "%s", err.msg);
