@@ -7,6 +7,7 @@
  *               --dots V.txt --radius R --out DIR          (frames DIR/cam<v>/<t>.png, 4 digits)
  *   render_dots --snapshots S.npy ... --check TRACKS.json  (the tracks against the projected truth)
  *   render_dots --snapshots S.npy ... --truth TRACKS.json  (the projected truth as tracks)
+ *   render_dots --occlude 'DIR/%04d.png' --rect X0,Y0,X1,Y1 --from F --frames T  (a flat patch from F on)
  *
  * The mesh is rk_mesh_box's (the scene's box, same vertex order); S.npy its T x n x 3 positions.
  * Each listed surface vertex carries a dark disc of radius R painted in material coordinates (so
@@ -189,8 +190,39 @@ static int check(const char *path, const rk_cameras *cams, const double *S, int 
     return bad;
 }
 
+/* --occlude PATTERN --rect X0,Y0,X1,Y1 --from F --frames T: frames F..T-1 of PATTERN painted over by a
+ * flat light rectangle (something passing in front of the camera), in place. */
+static int occlude(const char *pattern, const char *rect, int from, int T)
+{
+    int r[4];
+    rk_error err = {{0}};
+    if (sscanf(rect, "%d,%d,%d,%d", r, r + 1, r + 2, r + 3) != 4) return 2;
+    for (int t = from; t < T; t++) {
+        char path[4096];
+        rk_image im;
+        snprintf(path, sizeof path, pattern, t);
+        if (rk_image_load(path, &im, &err)) {
+            fprintf(stderr, "render_dots: %s\n", err.msg);
+            return 1;
+        }
+        for (int y = r[1]; y <= r[3] && y < im.h; y++)
+            for (int x = r[0]; x <= r[2] && x < im.w; x++)
+                if (x >= 0 && y >= 0) im.px[y * im.w + x] = 0.9f;
+        int rc = rk_image_save_png(path, &im, &err);
+        rk_image_free(&im);
+        if (rc) {
+            fprintf(stderr, "render_dots: %s\n", err.msg);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 9 && !strcmp(argv[1], "--occlude") && !strcmp(argv[3], "--rect") && !strcmp(argv[5], "--from") &&
+        !strcmp(argv[7], "--frames"))
+        return occlude(argv[2], argv[4], atoi(argv[6]), atoi(argv[8]));
     const char *snap = NULL, *box = NULL, *cells = NULL, *camf = NULL, *dots = NULL, *out = NULL, *chk = NULL, *tru = NULL;
     double radius = 0.02;
     for (int i = 1; i + 1 < argc; i += 2) {
