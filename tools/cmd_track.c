@@ -164,7 +164,7 @@ static int track_view(const char *pattern, int view, int T, int start, const rk_
         }
         rk_pyramid_free(&P);
         P = Q;
-        rk_progress("track", (long)view * T + t, (long)T);
+        rk_progress("track", t, (long)T - 1);
     }
     rc = 0;
 done_p:

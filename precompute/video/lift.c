@@ -150,6 +150,8 @@ int rk_video_lift(const rk_tracks *tr, const rk_cameras *c, const double *X, int
 {
     memset(out, 0, sizeof *out);
     if (check_views(tr, c, err)) return -1;
+    for (int i = 0; i < 3 * ntris; i++)
+        if (tris[i] < 0 || tris[i] >= nv) return rk_fail(err, "surface triangle %d names vertex %d of %d", i / 3, tris[i], nv);
     int nm = 0, T = tr->T;
     out->nviews = tr->nviews;
     marker *m = group(tr, c, X, tris, ntris, tol, &nm, out, err);
@@ -219,7 +221,6 @@ int rk_video_lift(const rk_tracks *tr, const rk_cameras *c, const double *X, int
     out->disp = d;
     free(P);
     free(m);
-    (void)nv;
     if (!out->k) {
         rk_video_markers_free(out);
         return rk_fail(err, "no marker left to fit: %d dots hit the rest surface, %d markers matched across views "
