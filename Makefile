@@ -14,7 +14,8 @@ CFLAGS_PC := -std=c11 -D_DEFAULT_SOURCE $(OPT) -g $(WARN) $(SANFLAGS) -pthread \
 # -lgomp: precompute/util/threads.c, the one place that sets thread counts, keeps CHOLMOD's OpenMP
 # regions on one thread; romkit's own loops run on plain threads (-pthread).
 # -lmeshoptimizer: precompute/cage simplifies surfaces into simulation cages (meshopt_simplify).
-LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lmeshoptimizer -lm
+# -lpng: precompute/video reads the frames of filmed dot markers (and writes the test renderer's).
+LDLIBS    := -lcholmod -larpack -llapacke -lopenblas -lmetis -lgomp -lz -lcjson -lmeshoptimizer -lpng -lm
 LDFLAGS   := $(SANFLAGS) -pthread
 
 # The runtime's version, read from romrt.h (ROMRT_VERSION_MAJOR/MINOR/PATCH): the shared library's
@@ -24,8 +25,10 @@ ROMRT_SOMAJOR := $(call rt_version_part,MAJOR)
 ROMRT_VERSION := $(ROMRT_SOMAJOR).$(call rt_version_part,MINOR).$(call rt_version_part,PATCH)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
+STAGES := util video mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
 DEPS_util    := util
+# Dot markers in frames: images, dots, pyramidal Lucas-Kanade, cameras, the lift onto a surface.
+DEPS_video   := video util
 DEPS_mesh    := mesh util
 DEPS_physics := physics
 DEPS_fem     := fem physics mesh util
@@ -45,7 +48,7 @@ DEPS_koopman := koopman formats neural cubature fem physics mesh util
 DEPS_formats := formats util
 DEPS_asset   := asset koopman formats rom grassmann neural cubature fom solver contact fem physics mesh util
 # The scene parsed once and the whole-scene orchestration: every stage below it.
-DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver cage contact fem physics mesh neural util
+DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver cage contact fem physics mesh neural video util
 DEPS_compare := compare $(DEPS_pipeline)
 # An asset's shown vertices as glTF (romkit export): the container's rows, the skinning rows of basis.
 DEPS_export  := export basis formats fem physics mesh util
@@ -66,7 +69,7 @@ TEST_DOUBLE := test_runtime_engine test_runtime_obstacles test_runtime_mesh_coll
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-unit test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
-all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq \
+all: $(BUILD)/romkit $(BUILD)/romkit-double $(TEST_BIN) $(BUILD)/embed $(BUILD)/embed_cpp $(BUILD)/readme_example $(BUILD)/jsonq $(BUILD)/render_dots \
      $(BUILD)/lib/libromrt.so.$(ROMRT_VERSION) $(BUILD)/lib/libromrt_double.so.$(ROMRT_VERSION) $(BUILD)/rt_push
 
 $(BUILD)/obj/%.o: %.c
@@ -170,6 +173,10 @@ $(BUILD)/readme_example: examples/embed/readme_example.c runtime/romrt.h $(RT_LI
 # test compares against it; tests/tools/rt_push.c).
 $(BUILD)/rt_push: tests/tools/rt_push.c runtime/romrt.h $(RT_LIB)
 	$(CC) -std=c99 -pedantic -Wall -Wextra $(WERR) $(OPT) $(SANFLAGS) -Iruntime -o $@ $< $(RT_LIB) -lm
+
+# render_dots: cli_track.sh's synthetic video of dot markers on a full-order run (tests/tools/render_dots.c).
+$(BUILD)/render_dots: tests/tools/render_dots.c $(call libs_of,video) $(call lib_of,mesh)
+	$(CC) $(CFLAGS_PC) -o $@ $< $(call lib_of,mesh) $(call libs_of,video) $(LDLIBS)
 
 # jsonq: the integration tests read JSON reports through it (tests/tools/jsonq.c).
 $(BUILD)/jsonq: tests/tools/jsonq.c

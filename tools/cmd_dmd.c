@@ -26,6 +26,8 @@ static void dmd_usage(FILE *f)
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
             "       romkit dmd --markers M.npy --marker-vertices V.txt --scene SCENE.json --modes B --dt H\n"
             "                  -o OUT.rombin [--marker-ridge RHO] [the fit, --gravity, --from-rest and output options]\n"
+            "       romkit dmd --tracks TRACKS.json [--cameras CAMS.json] --scene SCENE.json --modes B --dt H\n"
+            "                  -o OUT.rombin [--match-tol D] [--marker-ridge RHO] [the same options as --markers]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
             "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
             "  S.npy: T x n x 3 positions (u = x - rest), or T x d observables used as they are.\n"
@@ -63,7 +65,20 @@ static void dmd_usage(FILE *f)
             "                    w_j = omega_j / omega_1 (the penalty is the elastic energy), lambda = RHO times\n"
             "                    the largest singular value of the weighted modes at the markers: less\n"
             "                    amplified tracking noise, at a bias towards rest (default 0: none; 0.03 cut\n"
-            "                    the lift's error under 0.5 mm noise from 36%% to 3.1%% with 4 markers on 12 modes)\n\n"
+            "                    the lift's error under 0.5 mm noise from 36%% to 3.1%% with 4 markers on 12 modes)\n"
+            "  Learning from video (romkit track's output), instead of --markers and --marker-vertices:\n"
+            "  --tracks T.json   the 2D dot tracks of each view, one frame per H seconds, frame 0 at rest\n"
+            "  --cameras C.json  each view's calibration, in the tracks' view order (default: the cameras the\n"
+            "                    tracks carry from romkit track --cameras): {\"views\": [{\"name\", \"frames\",\n"
+            "                    \"K\": 3 x 3, \"R\": 3 x 3 (world -> camera, a rotation), \"t\": [3], \"size\": [w, h]}]};\n"
+            "                    x_cam = R X + t, pixel = K x_cam / z, pixel (0, 0) the top-left pixel's centre\n"
+            "  --match-tol D     frame 0's dots are ray-cast onto the scene's rest surface; dots of different\n"
+            "                    views whose hits lie within D (default 1%% of the rest shape's diagonal) are one\n"
+            "                    marker, at the hit's surface point (its modes' rows: its triangle's, by its\n"
+            "                    barycentric weights). Each frame's position is the midpoint of the views' rays;\n"
+            "                    a dot seen by one view only, or a marker tracked by fewer than two views at some\n"
+            "                    frame, is dropped (one ray has no depth). --report adds markers.video: the\n"
+            "                    counts and the reprojection error in pixels\n\n"
             "example (snapshots of a full-order run, then the operator, then 1000 steps at once):\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy\n"
             "  romkit dmd --snapshots S.npy --dt 0.01 --from-rest --gravity 0,-9.81,0 --clamp -o koopman.rombin\n"
@@ -79,7 +94,7 @@ typedef struct {
     const char *snapshots[MAX_FILES], *accel[MAX_FILES];
     int nsnap, naccel;
     const char *dt, *rank, *energy, *pod, *gravity, *rest, *mesh, *mass, *out, *report, *precision;
-    const char *markers, *marker_vertices, *scene, *modes, *marker_ridge;
+    const char *markers, *marker_vertices, *scene, *modes, *marker_ridge, *tracks, *cameras, *match_tol;
     int clamp, no_refit, compress, quiet, from_rest;
 } dmd_args;
 
@@ -87,7 +102,13 @@ typedef struct {
  * none of those that would give them otherwise. */
 static int markers_args(const dmd_args *a)
 {
-    if (!a->markers || !a->marker_vertices || !a->scene || !a->modes || !a->dt || !a->out) {
+    if (a->tracks || a->cameras || a->match_tol) {
+        if (!a->tracks || !a->scene || !a->modes || !a->dt || !a->out || a->markers || a->marker_vertices) {
+            fprintf(stderr, "romkit dmd: learning from video needs --tracks, --scene, --modes, --dt and -o (and --cameras "
+                    "unless romkit track was given them; not --markers or --marker-vertices)\n");
+            return -1;
+        }
+    } else if (!a->markers || !a->marker_vertices || !a->scene || !a->modes || !a->dt || !a->out) {
         fprintf(stderr, "romkit dmd: learning from markers needs --markers, --marker-vertices, --scene, --modes, --dt "
                 "and -o\n");
         return -1;
@@ -95,8 +116,8 @@ static int markers_args(const dmd_args *a)
     const char *clash = a->nsnap ? "--snapshots" : a->pod ? "--pod" : a->rest ? "--rest" : a->mesh ? "--mesh"
                       : a->mass ? "--vertex-mass" : a->naccel ? "--accel" : NULL;
     if (clash) {
-        fprintf(stderr, "romkit dmd: %s does not go with --markers (the scene gives the recording's rest, masses and "
-                "surface; --gravity sets the acceleration)\n", clash);
+        fprintf(stderr, "romkit dmd: %s does not go with %s (the scene gives the recording's rest, masses and "
+                "surface; --gravity sets the acceleration)\n", clash, a->tracks ? "--tracks" : "--markers");
         return -1;
     }
     return 0;
@@ -111,7 +132,8 @@ static int parse_args(int argc, char **argv, dmd_args *a)
                   {"--gravity", &a->gravity}, {"--rest", &a->rest}, {"--mesh", &a->mesh}, {"--vertex-mass", &a->mass},
                   {"-o", &a->out},        {"--report", &a->report}, {"--precision", &a->precision},
                   {"--markers", &a->markers}, {"--marker-vertices", &a->marker_vertices}, {"--scene", &a->scene},
-                  {"--modes", &a->modes}, {"--marker-ridge", &a->marker_ridge}};
+                  {"--modes", &a->modes}, {"--marker-ridge", &a->marker_ridge}, {"--tracks", &a->tracks},
+                  {"--cameras", &a->cameras}, {"--match-tol", &a->match_tol}};
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
@@ -143,7 +165,9 @@ static int parse_args(int argc, char **argv, dmd_args *a)
         }
         *values[k].value = argv[++i];
     }
-    if (a->markers || a->marker_vertices || a->scene || a->modes || a->marker_ridge) return markers_args(a);
+    if (a->markers || a->marker_vertices || a->scene || a->modes || a->marker_ridge || a->tracks || a->cameras ||
+        a->match_tol)
+        return markers_args(a);
     if (!a->nsnap || !a->dt || !a->out) {
         fprintf(stderr, "romkit dmd: --snapshots, --dt and -o are required\n");
         return -1;
@@ -182,10 +206,13 @@ static int vector3(const char *what, const char *text, double v[3], rk_error *er
 static int markers_recording(const dmd_args *a, rk_dmd_markers *mk, rk_dmd_recordings *r, rk_error *err)
 {
     int b = 0;
-    double ridge = 0;
+    double ridge = 0, tol = 0;
     if (whole("--modes", a->modes, 1, 4096, &b, err) ||
         (a->marker_ridge && number("--marker-ridge", a->marker_ridge, 0, 1e6, &ridge, err)) ||
-        rk_dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, ridge, mk, err))
+        (a->match_tol && number("--match-tol", a->match_tol, 1e-12, 1e12, &tol, err)))
+        return -1;
+    if (a->tracks ? rk_dmd_markers_video(a->scene, a->tracks, a->cameras, b, ridge, tol, mk, err)
+                  : rk_dmd_markers_load(a->scene, a->markers, a->marker_vertices, b, ridge, mk, err))
         return -1;
     return rk_dmd_recordings_markers(mk, a->from_rest, r, err);
 }
@@ -246,11 +273,12 @@ int cmd_dmd(int argc, char **argv)
         (a.pod && whole("--pod", a.pod, 1, 100000, &pod, &err)))
         goto done;
     o.clamp = a.clamp;
+    int sparse = a.markers || a.tracks; /* markers lifted through the scene's modes */
     o.stabilize = a.no_refit ? -1 : 0;
-    if (a.markers ? markers_recording(&a, &mk, &rec, &err) : snapshot_recordings(&a, &rec, &err)) goto done_rec;
+    if (sparse ? markers_recording(&a, &mk, &rec, &err) : snapshot_recordings(&a, &rec, &err)) goto done_rec;
     if (recordings_accel(&a, &rec, gravity, &err)) goto done_rec;
     double fit_t = rk_now();
-    if (a.markers ? rk_koopman_fit_projected(rec.traj, 1, 3 * rec.nv, mk.Pin, mk.Phi, mk.b, &o, &k, &err)
+    if (sparse ? rk_koopman_fit_projected(rec.traj, 1, 3 * rec.nv, mk.Pin, mk.Phi, mk.b, &o, &k, &err)
         : pod ? rk_koopman_fit_pod(rec.traj, rec.ntraj, 3 * rec.nv, pod, &o, &k, &err)
               : rk_koopman_fit(rec.traj, rec.ntraj, 3 * rec.nv, &o, &k, &err))
         goto done_rec;
@@ -267,16 +295,24 @@ int cmd_dmd(int argc, char **argv)
         if (rk_mesh_boundary(&mesh, &tris, &ntris, &err)) goto done_rec;
     }
     rk_baked baked;
-    if (!rk_dmd_bake(&k, &rec, a.markers ? &mk : NULL, tris, ntris, have_mesh ? mesh.nt : 0, a.gravity ? gravity : NULL,
-                     &ao, a.markers ? "romkit dmd --markers" : "romkit dmd", fit_t, &baked, &err)) {
+    if (!rk_dmd_bake(&k, &rec, sparse ? &mk : NULL, tris, ntris, have_mesh ? mesh.nt : 0, a.gravity ? gravity : NULL,
+                     &ao, a.tracks ? "romkit dmd --tracks" : a.markers ? "romkit dmd --markers" : "romkit dmd", fit_t,
+                     &baked, &err)) {
         cJSON_AddNumberToObject(cJSON_GetObjectItem(baked.report, "seconds"), "total", rk_now() - t0);
         if (!rombin_save(a.out, baked.data, baked.bytes, &err) &&
             (!a.report || !rk_json_write_file(a.report, baked.report, &err))) {
-            if (a.markers)
-                printf("%s: %d markers on %d modes (they miss the markers by at most %.3g of the largest marker "
-                       "displacement), ", a.out, mk.k, mk.b, mk.marker_misfit);
-            else
-                printf("%s: ", a.out);
+            printf("%s: ", a.out);
+            if (a.tracks) {
+                const rk_video_markers *v = &mk.video;
+                printf("dots in frame 0");
+                for (int i = 0; i < v->nviews; i++) printf("%s %d", i ? "," : "", v->dots[i]);
+                printf(" (per view): %d on the rest surface, %d markers matched across views, %d dots seen by one view "
+                       "only, %d markers lost, %d triangulated (reprojection error rms %.3g px, max %.3g px); ", v->hit,
+                       v->matched, v->single_view, v->lost, v->triangulated, v->reproj_rms, v->reproj_max);
+            }
+            if (sparse)
+                printf("%d markers on %d modes (they miss the markers by at most %.3g of the largest marker "
+                       "displacement), ", mk.k, mk.b, mk.marker_misfit);
             printf("%s\n", baked.summary);
             rc = 0;
         }

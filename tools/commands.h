@@ -11,6 +11,7 @@ int cmd_compare(int argc, char **argv);
 int cmd_build(int argc, char **argv);
 int cmd_run(int argc, char **argv);
 int cmd_rom(int argc, char **argv);
+int cmd_track(int argc, char **argv);
 int cmd_dmd(int argc, char **argv);
 int cmd_neural_dmd(int argc, char **argv);
 int cmd_control(int argc, char **argv);

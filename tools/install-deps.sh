@@ -12,7 +12,7 @@
 # tests that need it print "skip NAME: why" (tests/run.sh counts them; CI turns a skip into a FAIL).
 set -eu
 BUILD_PKGS="build-essential pkg-config libsuitesparse-dev libarpack2-dev libopenblas-dev liblapacke-dev \
-libmetis-dev zlib1g-dev libcjson-dev libmeshoptimizer-dev"
+libmetis-dev zlib1g-dev libcjson-dev libmeshoptimizer-dev libpng-dev"
 TEST_PKGS="tetgen clang libclang-rt-14-dev gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm xxd \
 python3 python3-numpy binutils"
 # A node that came another way (NodeSource's nodejs bundles npm and conflicts with Debian's npm) is kept.

@@ -20,6 +20,7 @@ static const command commands[] = { /* in pipeline order */
     {"run", cmd_run, "step a .rombin asset with the runtime, as an application would"},
     {"rom", cmd_rom, "step a scene's reduced model in the reduced simulator, every object (splats per frame)"},
     {"compare", cmd_compare, "full-order model and every reduced method of a scene: error against time"},
+    {"track", cmd_track, "dot markers followed through the frames of calibrated views (Lucas-Kanade tracks)"},
     {"dmd", cmd_dmd, "a Koopman operator (DMD) from outside snapshot data, baked into a .rombin asset"},
     {"neural-dmd", cmd_neural_dmd, "the neural DMD trained on a family of meshes and shape codes, baked at one"},
     {"control", cmd_control, "forces on named groups that make a scene's Koopman model follow a target trajectory"},

@@ -256,6 +256,11 @@ int rk_koopman_track(const rk_koopman *k, const rk_koopman_track_problem *p, dou
  * weight is not positive. */
 int rk_koopman_marker_coords(const double *Phi, int n3, int b, const int *vertex, int k, const double *markers, int T,
                              double ridge, const double *weight, double *q, rk_error *err);
+/* The same for markers at surface points (a video's dots, romkit dmd --tracks): marker i's row of
+ * the basis is the barycentric mix bary[3i..3i+2] of the rows of vertices tri[3i..3i+2]; bary NULL:
+ * tri holds one vertex per marker (rk_koopman_marker_coords is this with bary NULL). */
+int rk_koopman_surface_coords(const double *Phi, int n3, int b, const int *tri, const double *bary, int k,
+                              const double *markers, int T, double ridge, const double *weight, double *q, rk_error *err);
 
 /* ---- Neural, discretization-agnostic DMD (neural.c; koopman-dmd-log-linear paper, Sec. 5, Fig. 6)
  *

@@ -199,6 +199,20 @@ int rk_dmd_bake(const rk_koopman *k, const rk_dmd_recordings *r, const rk_dmd_ma
         cJSON_AddNumberToObject(mj, "frames", m->T);
         cJSON_AddNumberToObject(mj, "misfit", m->marker_misfit);
         cJSON_AddNumberToObject(mj, "ridge", m->ridge);
+        if (m->from_video) {
+            const rk_video_markers *v = &m->video;
+            cJSON *vj = cJSON_AddObjectToObject(mj, "video"), *dots = cJSON_AddArrayToObject(vj, "dots");
+            for (int i = 0; i < v->nviews; i++)
+                cJSON_AddItemToArray(dots, cJSON_CreateNumber(v->dots[i]));
+            cJSON_AddNumberToObject(vj, "on_surface", v->hit);
+            cJSON_AddNumberToObject(vj, "matched", v->matched);
+            cJSON_AddNumberToObject(vj, "single_view", v->single_view);
+            cJSON_AddNumberToObject(vj, "lost", v->lost);
+            cJSON_AddNumberToObject(vj, "triangulated", v->triangulated);
+            cJSON_AddNumberToObject(vj, "match_max", v->match_max);
+            cJSON_AddNumberToObject(vj, "reprojection_rms_px", v->reproj_rms);
+            cJSON_AddNumberToObject(vj, "reprojection_max_px", v->reproj_max);
+        }
     }
     cJSON *s = cJSON_AddObjectToObject(out->report, "seconds");
     cJSON_AddNumberToObject(s, "fit", seconds_fit);

@@ -7,6 +7,7 @@
 #define RK_PIPELINE_DMD_H
 
 #include "pipeline/method_koopman.h"
+#include "video/video.h"
 
 /* The most recordings one fit takes. */
 #define RK_DMD_MAX_RECORDINGS 64
@@ -22,6 +23,8 @@ typedef struct {
     double ridge;          /* rk_koopman_marker_coords' */
     double *weight;        /* b: omega_j / omega_1 (the ridge's weights: its penalty the elastic energy) */
     double marker_misfit;  /* max over frames of |S Phi q_t - m_t| / max_t |m_t|: what b modes miss */
+    int from_video;        /* the markers came from tracks (rk_dmd_markers_video): video holds the lift */
+    rk_video_markers video;
 } rk_dmd_markers;
 
 /* The scene's first b linear modes (rk_scene_basis, type modes), the markers (T x k x 3 positions
@@ -31,6 +34,13 @@ typedef struct {
  * the row (and the romkit dmd option that gave it). */
 int rk_dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
                         double ridge, rk_dmd_markers *out, rk_error *err);
+/* The same from filmed dots (romkit dmd --tracks): the 2D tracks of tracks_path (rk_tracks_load)
+ * of the views calibrated in cameras_path (NULL: the cameras the tracks carry) lifted onto the scene's rest surface (rk_video_lift,
+ * matching tolerance tol; <= 0: 1% of the rest shape's bounding-box diagonal), each marker a
+ * surface point whose modes' rows are its triangle's mixed by its barycentric weights; the fit
+ * and the dense frames as rk_dmd_markers_load's (one implementation). */
+int rk_dmd_markers_video(const char *scene_path, const char *tracks_path, const char *cameras_path, int b, double ridge,
+                         double tol, rk_dmd_markers *out, rk_error *err);
 void rk_dmd_markers_free(rk_dmd_markers *m);
 
 /* The recordings as displacement trajectories of n = 3 nv values (T x d data padded to a

@@ -26,6 +26,7 @@ void rk_dmd_markers_free(rk_dmd_markers *m)
     free(m->Pin);
     free(m->weight);
     free(m->tris);
+    rk_video_markers_free(&m->video);
     memset(m, 0, sizeof *m);
 }
 
@@ -185,17 +186,21 @@ done_scene:
     return rc ? rk_error_prefix(err, "--scene") : 0;
 }
 
-/* max_t |S Phi q_t - m_t| / max_t |m_t|: how far b modes are from the tracked motion. */
-static double misfit(const rk_dmd_markers *m, const int *vertex, const double *disp, const double *q)
+/* max_t |S Phi q_t - m_t| / max_t |m_t|: how far b modes are from the tracked motion (S the
+ * markers' rows: one vertex each, or with bary a barycentric mix of three). */
+static double misfit(const rk_dmd_markers *m, const int *tri, const double *bary, const double *disp, const double *q)
 {
-    int n3 = 3 * m->nv, k = m->k;
+    int n3 = 3 * m->nv, k = m->k, per = bary ? 3 : 1;
     double worst = 0, scale = 0;
     for (int t = 0; t < m->T; t++) {
         double e = 0, s = 0;
         for (int i = 0; i < k; i++)
             for (int c = 0; c < 3; c++) {
                 double v = 0, d = disp[(size_t)3 * k * t + 3 * i + c];
-                for (int j = 0; j < m->b; j++) v += m->Phi[(size_t)n3 * j + 3 * vertex[i] + c] * q[(size_t)m->b * t + j];
+                for (int a = 0; a < per; a++)
+                    for (int j = 0; j < m->b; j++)
+                        v += (bary ? bary[3 * i + a] : 1) * m->Phi[(size_t)n3 * j + 3 * tri[per * i + a] + c] *
+                             q[(size_t)m->b * t + j];
                 e += (v - d) * (v - d), s += d * d;
             }
         worst = fmax(worst, sqrt(e)), scale = fmax(scale, sqrt(s));
@@ -203,28 +208,74 @@ static double misfit(const rk_dmd_markers *m, const int *vertex, const double *d
     return scale > 0 ? worst / scale : 0;
 }
 
+/* The one fit of both entries: each frame's modal coordinates from the markers (k points: tri and
+ * bary as rk_koopman_surface_coords takes them; disp 3k x T displacements), the dense frames. */
+static int fit_markers(rk_dmd_markers *out, const int *tri, const double *bary, const double *disp, double ridge,
+                       rk_error *err)
+{
+    int n3 = 3 * out->nv, b = out->b;
+    if (left_inverse(out, err)) return -1;
+    double *q = rk_calloc((size_t)b * out->T, sizeof(double), err);
+    out->u = rk_calloc((size_t)n3 * out->T, sizeof(double), err);
+    int rc = -1;
+    if (q && out->u &&
+        !rk_koopman_surface_coords(out->Phi, n3, b, tri, bary, out->k, disp, out->T, ridge, out->weight, q, err)) {
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n3, out->T, b, 1.0, out->Phi, n3, q, b, 0.0, out->u, n3);
+        out->ridge = ridge;
+        out->marker_misfit = misfit(out, tri, bary, disp, q);
+        rc = 0;
+    }
+    free(q);
+    return rc;
+}
+
 int rk_dmd_markers_load(const char *scene_path, const char *markers_path, const char *vertices_path, int b,
                      double ridge, rk_dmd_markers *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
     int *vertex = NULL, rc = -1;
-    double *disp = NULL, *q = NULL;
-    if (scene_modes(scene_path, b, out, err) || read_vertices(vertices_path, out->nv, &vertex, &out->k, err) ||
-        read_markers(markers_path, out->nv, vertex, out->k, out->X, &disp, &out->T, err) || left_inverse(out, err))
-        goto done;
-    int n3 = 3 * out->nv;
-    q = rk_calloc((size_t)b * out->T, sizeof(double), err);
-    out->u = rk_calloc((size_t)n3 * out->T, sizeof(double), err);
-    if (!q || !out->u || rk_koopman_marker_coords(out->Phi, n3, b, vertex, out->k, disp, out->T, ridge, out->weight, q, err))
-        goto done;
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n3, out->T, b, 1.0, out->Phi, n3, q, b, 0.0, out->u, n3);
-    out->ridge = ridge;
-    out->marker_misfit = misfit(out, vertex, disp, q);
-    rc = 0;
-done:
+    double *disp = NULL;
+    if (!scene_modes(scene_path, b, out, err) && !read_vertices(vertices_path, out->nv, &vertex, &out->k, err) &&
+        !read_markers(markers_path, out->nv, vertex, out->k, out->X, &disp, &out->T, err))
+        rc = fit_markers(out, vertex, NULL, disp, ridge, err);
     free(vertex);
     free(disp);
-    free(q);
+    if (rc) rk_dmd_markers_free(out);
+    return rc;
+}
+
+int rk_dmd_markers_video(const char *scene_path, const char *tracks_path, const char *cameras_path, int b, double ridge,
+                         double tol, rk_dmd_markers *out, rk_error *err)
+{
+    memset(out, 0, sizeof *out);
+    rk_tracks tr;
+    rk_cameras cams;
+    int rc = -1;
+    if (rk_tracks_load(tracks_path, &tr, err)) return rk_error_prefix(err, "--tracks");
+    if (cameras_path ? rk_cameras_load(cameras_path, &cams, err) : !tr.calibrated) {
+        if (cameras_path) rk_error_prefix(err, "--cameras");
+        else rk_fail(err, "--tracks %s carries no cameras (tracked with --view): give --cameras", tracks_path);
+        goto done;
+    }
+    if (!cameras_path) cams = tr.cams;
+    if (scene_modes(scene_path, b, out, err)) goto done;
+    if (tol <= 0) tol = 0.01 * rk_points_diagonal(out->X, out->nv);
+    rk_video_markers *v = &out->video;
+    if (rk_video_lift(&tr, &cams, out->X, out->nv, out->tris, out->ntris, tol, v, err)) {
+        rk_error_prefix(err, "--tracks %s with %s%s", tracks_path, cameras_path ? "--cameras " : "its cameras",
+                        cameras_path ? cameras_path : "");
+        goto done;
+    }
+    out->from_video = 1;
+    out->k = v->k;
+    out->T = v->T;
+    if (out->T < 3) {
+        rk_fail(err, "--tracks %s: %d frames; at least 3 are needed", tracks_path, out->T);
+        goto done;
+    }
+    rc = fit_markers(out, v->tri, v->bary, v->disp, ridge, err);
+done:
+    rk_tracks_free(&tr);
     if (rc) rk_dmd_markers_free(out);
     return rc;
 }
