@@ -1,0 +1,187 @@
+/* A scene entry's bake as steps (plan.h): which runs it trains on, whether its basis and cubature
+ * can be steps of their own, and each step's command, files and dependencies. */
+#include "plan/plan.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "pipeline/method_fixed.h"
+
+/* A file the Makefile and the scripts name as it is: no space, quote or character make or sh reads. */
+static int nameable(const char *path, rk_error *err)
+{
+    for (const char *c = path; *c; c++)
+        if (strchr(" \t\n\"'\\$#:;%*?`&|<>()[]{}=", *c))
+            return rk_fail(err, "%s: the plan's Makefile and scripts cannot name a file with '%c' in its path; move or "
+                           "rename it", path, *c);
+    if (strlen(path) >= 1024) return rk_fail(err, "%s: path too long for a plan (1023 characters at most)", path);
+    return 0;
+}
+
+static rk_plan_step *add_step(rk_plan *p, rk_step_kind kind, const char *id, const char *output)
+{
+    rk_plan_step *s = &p->steps[p->nsteps++];
+    memset(s, 0, sizeof *s);
+    s->kind = kind;
+    snprintf(s->id, sizeof s->id, "%s", id);
+    snprintf(s->output, sizeof s->output, "%s", output);
+    return s;
+}
+
+static void arg(rk_plan_step *s, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(s->args[s->nargs++], sizeof s->args[0], fmt, ap);
+    va_end(ap);
+}
+
+static void input(rk_plan_step *s, const char *file)
+{
+    for (int i = 0; i < s->ninputs; i++)
+        if (!strcmp(s->inputs[i], file)) return;
+    size_t n = strlen(file) < sizeof s->inputs[0] ? strlen(file) : sizeof s->inputs[0] - 1;
+    memmove(s->inputs[s->ninputs], file, n); /* (file may be another step's output in the same plan) */
+    s->inputs[s->ninputs++][n] = '\0';
+}
+
+/* s waits for step k and reads its output. */
+static void after(rk_plan *p, rk_plan_step *s, int k)
+{
+    s->after[s->nafter++] = k;
+    input(s, p->steps[k].output);
+}
+
+/* The training files a step passes on: --training for the scene's own run, --training-run per
+ * item of the list (a step's output, or the list's own snapshot file). */
+static void training_args(rk_plan *p, const rk_rom_entry *e, rk_plan_step *s)
+{
+    if (!e->ntraining) {
+        arg(s, "--training");
+        arg(s, "%s", p->steps[0].output);
+        after(p, s, 0);
+        return;
+    }
+    for (int k = 0, t = 0; k < e->ntraining; k++) {
+        arg(s, "--training-run");
+        if (e->training[k].snapshots) {
+            arg(s, "%s", e->training[k].file);
+            input(s, e->training[k].file);
+        } else {
+            arg(s, "%s", p->steps[t].output);
+            after(p, s, t++);
+        }
+    }
+}
+
+/* Why entry e is baked in one step, or "" when its basis and cubature can be steps. */
+static void whole_reason(const rk_scene *scene, const rk_rom_entry *e, char *why, size_t size)
+{
+    rk_basis_type t = e->basis.type;
+    why[0] = '\0';
+    if (e->method != &rk_method_fixed)
+        snprintf(why, size, "a %s entry: its models are built and baked in one romkit build (not split yet)",
+                 e->method->name);
+    else if (t != RK_BASIS_MODES && t != RK_BASIS_MODAL_DERIVATIVES && t != RK_BASIS_POD)
+        snprintf(why, size, "a %s basis is more than U (weights, kernels): no basis file for it yet",
+                 rk_basis_type_name(t));
+    else if (rk_scene_mesh_free(scene, e))
+        snprintf(why, size, "a mesh-free entry: its integration points are made with the basis (no file for them yet)");
+}
+
+int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene_abs, int threads, rk_plan *p,
+                 rk_error *err)
+{
+    memset(p, 0, sizeof *p);
+    if (nameable(scene_abs, err)) return -1;
+    for (int k = 0; k < e->ntraining; k++)
+        if (nameable(e->training[k].file, err)) return rk_error_prefix(err, "%s.training[%d]", e->path, k);
+    snprintf(p->scene, sizeof p->scene, "%s", scene_abs);
+    p->entry = e->index;
+    snprintf(p->entry_name, sizeof p->entry_name, "%s", e->name);
+    snprintf(p->method, sizeof p->method, "%s", e->method->name);
+    p->threads = threads;
+    whole_reason(scene, e, p->whole_reason, sizeof p->whole_reason);
+    p->split = p->whole_reason[0] == '\0';
+    /* the training runs, where something trains on frames (rk_scene_entry_frames: the basis or the
+     * cubature of a reduced model; a point cloud has no full order). Other methods train inside
+     * their own build. */
+    int reduced = e->method == &rk_method_fixed;
+    int frames = reduced && rk_scene_clouds(scene) == 0 && (e->cubature || rk_basis_needs_frames(&e->basis));
+    if (frames && !e->ntraining) {
+        rk_plan_step *s = add_step(p, RK_STEP_TRAIN, "train-0", "train-0.npy");
+        arg(s, "fom");
+        arg(s, "%s", scene_abs);
+        arg(s, "--snapshots");
+        arg(s, "%s", s->output);
+        arg(s, "--quiet");
+        input(s, scene_abs);
+    }
+    for (int k = 0; frames && k < e->ntraining; k++) {
+        if (e->training[k].snapshots) continue;
+        char id[32], out[64];
+        snprintf(id, sizeof id, "train-%d", p->nsteps);
+        snprintf(out, sizeof out, "train-%d.npy", p->nsteps);
+        rk_plan_step *s = add_step(p, RK_STEP_TRAIN, id, out);
+        arg(s, "fom");
+        arg(s, "%s", e->training[k].file);
+        arg(s, "--snapshots");
+        arg(s, "%s", s->output);
+        arg(s, "--quiet");
+        input(s, e->training[k].file);
+    }
+    p->ntrain = p->nsteps;
+    int basis = -1, cubature = -1;
+    if (p->split) {
+        rk_plan_step *s = add_step(p, RK_STEP_BASIS, "basis", "basis.npy");
+        basis = p->nsteps - 1;
+        arg(s, "basis");
+        arg(s, "%s", scene_abs);
+        arg(s, "--entry");
+        arg(s, "%d", e->index);
+        input(s, scene_abs);
+        if (frames && rk_basis_needs_frames(&e->basis)) training_args(p, e, s);
+        arg(s, "--basis");
+        arg(s, "%s", s->output);
+        arg(s, "--quiet");
+    }
+    if (p->split && e->cubature) {
+        rk_plan_step *s = add_step(p, RK_STEP_CUBATURE, "cubature", "cubature.json");
+        cubature = p->nsteps - 1;
+        arg(s, "cubature");
+        arg(s, "%s", scene_abs);
+        arg(s, "--entry");
+        arg(s, "%d", e->index);
+        input(s, scene_abs);
+        arg(s, "--basis");
+        arg(s, "%s", p->steps[basis].output);
+        after(p, s, basis);
+        if (frames) training_args(p, e, s);
+        arg(s, "-o");
+        arg(s, "%s", s->output);
+        arg(s, "--quiet");
+    }
+    rk_plan_step *s = add_step(p, RK_STEP_BAKE, "bake", "asset.rombin");
+    arg(s, "build");
+    arg(s, "%s", scene_abs);
+    arg(s, "--entry");
+    arg(s, "%d", e->index);
+    input(s, scene_abs);
+    if (p->split) {
+        arg(s, "--basis");
+        arg(s, "%s", p->steps[basis].output);
+        after(p, s, basis);
+        if (cubature >= 0) {
+            arg(s, "--cubature");
+            arg(s, "%s", p->steps[cubature].output);
+            after(p, s, cubature);
+        }
+    } else if (frames) {
+        training_args(p, e, s);
+    }
+    arg(s, "-o");
+    arg(s, "%s", s->output);
+    arg(s, "--quiet");
+    return 0;
+}
