@@ -144,15 +144,13 @@ static void submit(text *t, const rk_plan *p)
         const char *name = kind_name(s->kind);
         char dep[512] = "";
         int train = 0;
-        for (int i = 0; i < s->nafter; i++) {
-            if (s->after[i] < p->ntrain) {
-                if (train++) continue; /* the array's id covers every task */
-                strcat(dep, ":$train");
-            } else {
+        for (int i = 0; i < s->nafter; i++) /* the array's one id covers every task */
+            if (s->after[i] < p->ntrain && !train++) strcat(dep, ":$train");
+        for (int i = 0; i < s->nafter; i++)
+            if (s->after[i] >= p->ntrain) {
                 strcat(dep, ":$");
                 strcat(dep, kind_name(p->steps[s->after[i]].kind));
             }
-        }
         if (dep[0]) put(t, "%s=$(id \"$(sbatch --parsable --dependency=afterok%s slurm/%s.sbatch)\")\n", name, dep, name);
         else put(t, "%s=$(id \"$(sbatch --parsable slurm/%s.sbatch)\")\n", name, name);
         put(t, "echo \"%s $%s%s%s\"\n", name, name, dep[0] ? " afterok" : "", dep);
