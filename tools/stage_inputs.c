@@ -11,6 +11,9 @@ int tool_stage_args(const char *cmd, int *argc, char **argv, tool_stage *s)
     int n = cli_take_all(cmd, argc, argv, "--training-run", s->runs, RK_MAX_TRAINING);
     if (n < 0) return -1;
     s->nruns = n;
+    n = cli_take_all(cmd, argc, argv, "--trajectory-run", s->traj, RK_KOOPMAN_MAX_TRAJECTORIES);
+    if (n < 0) return -1;
+    s->ntraj = n;
     return 0;
 }
 
@@ -36,6 +39,8 @@ int tool_stage_load(tool_stage *s, const rk_scene *scene, const rk_rom_entry *e,
     if (s->nruns && s->training)
         return rk_fail(err, "--training (the scene's own run) and --training-run (the training list's) both given");
     if ((s->basis || s->cubature) && takes_basis(scene, e, err)) return -1;
+    if (s->ntraj && !rk_koopman_of(e))
+        return rk_fail(err, "--trajectory-run: %s (%s) has no koopman section, no trajectories", e->path, e->name);
     if (s->cubature && !e->cubature)
         return rk_fail(err, "--cubature %s: %s has no rom.cubature (it integrates exactly)", s->cubature, e->path);
     if (s->training) {
@@ -47,6 +52,8 @@ int tool_stage_load(tool_stage *s, const rk_scene *scene, const rk_rom_entry *e,
     }
     req->training_runs = s->runs;
     req->ntraining_runs = s->nruns;
+    req->trajectory_runs = s->traj;
+    req->ntrajectory_runs = s->ntraj;
     if (s->basis) {
         if (rk_scene_basis_read(s->basis, e->basis.type, &s->b, err)) return rk_error_prefix(err, "--basis");
         s->have_basis = 1;

@@ -5,18 +5,22 @@
 #define ROMKIT_STAGE_INPUTS_H
 
 #include "pipeline/method_fixed.h"
+#include "pipeline/method_koopman.h"
 
 typedef struct {
     const char *training, *basis, *cubature;  /* set by the command's own option table */
     const char *runs[RK_MAX_TRAINING];
     int nruns;
+    const char *traj[RK_KOOPMAN_MAX_TRAJECTORIES]; /* --trajectory-run: a Koopman entry's trajectories */
+    int ntraj;
     double *snapshots;
     rk_basis b;
     rk_cubature_set c;
     int have_basis, have_cubature;
 } tool_stage;
 
-/* Takes the --training-run pairs out of argv (before cli_parse). -1 after a message. */
+/* Takes the --training-run and --trajectory-run pairs out of argv (before cli_parse). -1 after a
+ * message. */
 int tool_stage_args(const char *cmd, int *argc, char **argv, tool_stage *s);
 /* Reads the files into req for entry e, checking that e can take them (a fixed-basis entry of a
  * modes, modal_derivatives or pod basis, not mesh-free, for --basis; one with rom.cubature for

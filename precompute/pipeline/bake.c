@@ -202,7 +202,13 @@ static int build_models(const rk_scene *scene, const rk_rom_entry *e, const rk_b
         s->have_rom = 1;
     }
     if (koopman) {
-        if (rk_scene_koopman_build(scene, &s->sim, e, frames, T, &s->K, err)) return -1;
+        const rk_koopman_entry *ko = rk_koopman_of(e);
+        int ntraj = ko->ntraj ? ko->ntraj : 1;
+        if (req->ntrajectory_runs && req->ntrajectory_runs != ntraj)
+            return rk_fail(err, "%d trajectory files given for %s's %d trajectories", req->ntrajectory_runs, e->path, ntraj);
+        if (rk_scene_koopman_build_from(scene, &s->sim, e, frames, T, req->ntrajectory_runs ? req->trajectory_runs : NULL,
+                                        &s->K, err))
+            return -1;
         s->have_koopman = 1;
     }
     return 0;

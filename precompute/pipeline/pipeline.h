@@ -308,6 +308,10 @@ typedef struct {
      * rk_scene_training_set_from), run as separate jobs; 0: the items are run here. */
     const char *const *training_runs;
     int ntraining_runs;
+    /* A Koopman entry's trajectories from these files (romkit fom --trajectory I --snapshots), one
+     * per trajectory (one for an entry listing none); 0: run here. */
+    const char *const *trajectory_runs;
+    int ntrajectory_runs;
     /* A split bake's parts (romkit plan): the basis and the cubature from their steps' files
      * (rk_scene_rom_given); NULL: built here. Fixed-basis entries only. */
     const rk_basis *basis;

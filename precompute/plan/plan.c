@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "pipeline/method_fixed.h"
+#include "pipeline/method_koopman.h"
 
 /* A file the Makefile and the scripts name as it is: no space, quote or character make or sh reads. */
 static int nameable(const char *path, rk_error *err)
@@ -80,7 +81,10 @@ static void whole_reason(const rk_scene *scene, const rk_rom_entry *e, char *why
 {
     rk_basis_type t = e->basis.type;
     why[0] = '\0';
-    if (e->method != &rk_method_fixed)
+    if (rk_koopman_of(e))
+        snprintf(why, size, "a koopman entry: its trajectories are steps of their own, the fit and the bake one romkit "
+                 "build (no operator file yet)");
+    else if (e->method != &rk_method_fixed)
         snprintf(why, size, "a %s entry: its models are built and baked in one romkit build (not split yet)",
                  e->method->name);
     else if (t != RK_BASIS_MODES && t != RK_BASIS_MODAL_DERIVATIVES && t != RK_BASIS_POD)
@@ -107,8 +111,10 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
     /* the training runs, where something trains on frames (rk_scene_entry_frames: the basis or the
      * cubature of a reduced model; a point cloud has no full order). Other methods train inside
      * their own build. */
-    int reduced = e->method == &rk_method_fixed;
-    int frames = reduced && rk_scene_clouds(scene) == 0 && (e->cubature || rk_basis_needs_frames(&e->basis));
+    const rk_koopman_entry *ko = rk_koopman_of(e);
+    int frames = rk_scene_clouds(scene) == 0 &&
+                 (ko ? e->cubature || (ko->project && rk_basis_needs_frames(&e->basis))
+                     : e->method == &rk_method_fixed && (e->cubature || rk_basis_needs_frames(&e->basis)));
     if (frames && !e->ntraining) {
         rk_plan_step *s = add_step(p, RK_STEP_TRAIN, "train-0", "train-0.npy");
         arg(s, "fom");
@@ -130,6 +136,24 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
         arg(s, "%s", s->output);
         arg(s, "--quiet");
         input(s, e->training[k].file);
+    }
+    /* a Koopman entry's trajectories: the scene run as each varies it (one: as written) */
+    int first_traj = p->nsteps, ntraj = ko ? (ko->ntraj ? ko->ntraj : 1) : 0;
+    for (int i = 0; i < ntraj; i++) {
+        char id[32], out[64];
+        snprintf(id, sizeof id, "trajectory-%d", i);
+        snprintf(out, sizeof out, "trajectory-%d.npy", i);
+        rk_plan_step *s = add_step(p, RK_STEP_TRAIN, id, out);
+        arg(s, "fom");
+        arg(s, "%s", scene_abs);
+        arg(s, "--entry");
+        arg(s, "%d", e->index);
+        arg(s, "--trajectory");
+        arg(s, "%d", i);
+        arg(s, "--snapshots");
+        arg(s, "%s", s->output);
+        arg(s, "--quiet");
+        input(s, scene_abs);
     }
     p->ntrain = p->nsteps;
     int basis = -1, cubature = -1;
@@ -179,6 +203,11 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
         }
     } else if (frames) {
         training_args(p, e, s);
+    }
+    for (int i = 0; i < ntraj; i++) {
+        arg(s, "--trajectory-run");
+        arg(s, "%s", p->steps[first_traj + i].output);
+        after(p, s, first_traj + i);
     }
     arg(s, "-o");
     arg(s, "%s", s->output);

@@ -6,24 +6,29 @@
  *
  *   training runs  romkit fom ITEM --snapshots train-K.npy: the scene's own run, or each scene of
  *                  the entry's training list (snapshot files in the list are inputs, not steps);
- *                  only where the basis or the cubature trains on frames
+ *                  only where the basis or the cubature trains on frames; and a Koopman entry's
+ *                  trajectories, romkit fom --entry K --trajectory I --snapshots trajectory-I.npy
  *   basis          romkit basis --basis basis.npy (modes, modal_derivatives, pod bases)
  *   cubature       romkit cubature --basis basis.npy -o cubature.json (entries with rom.cubature)
  *   bake           romkit build --basis basis.npy --cubature cubature.json -o asset.rombin
  *
  * The asset is byte-identical to romkit build's at the same ROMKIT_THREADS (the plan fixes it for
  * every step): every file between the steps is exact (float64 .npy, 17-digit JSON), and each step
- * computes what romkit build computes from the same numbers. Entries that cannot be split yet (other
- * methods: koopman, adaptive, alrom; skinning, rkpm_skinning and mesh-free bases, whose basis is
- * more than U) are one romkit build step, after their training runs where build takes them. */
+ * computes what romkit build computes from the same numbers. Entries that cannot be split yet are
+ * one romkit build step after their training runs: koopman (the fit and the bake: no operator file
+ * yet; its trajectories are steps), adaptive and alrom (their own trainings, run inside), and
+ * skinning, rkpm_skinning and mesh-free bases (more than U: weights, kernels, points). */
 #ifndef RK_PLAN_H
 #define RK_PLAN_H
 
+#include "pipeline/method_koopman.h"
 #include "pipeline/pipeline.h"
 
-#define RK_PLAN_MAX_STEPS (RK_MAX_TRAINING + 4)
-#define RK_PLAN_MAX_ARGS (2 * RK_MAX_TRAINING + 16)
-#define RK_PLAN_MAX_INPUTS (RK_MAX_TRAINING + 4)
+/* training runs, Koopman trajectories, basis, cubature, bake */
+#define RK_PLAN_MAX_RUNS (RK_MAX_TRAINING + RK_KOOPMAN_MAX_TRAJECTORIES)
+#define RK_PLAN_MAX_STEPS (RK_PLAN_MAX_RUNS + 4)
+#define RK_PLAN_MAX_ARGS (2 * RK_PLAN_MAX_RUNS + 16)
+#define RK_PLAN_MAX_INPUTS (RK_PLAN_MAX_RUNS + 4)
 
 typedef enum { RK_STEP_TRAIN = 0, RK_STEP_BASIS = 1, RK_STEP_CUBATURE = 2, RK_STEP_BAKE = 3 } rk_step_kind;
 

@@ -1,5 +1,5 @@
 # romkit plan: the bake as a job graph run by make -j2 gives romkit build's asset byte for byte
-# (the scene's own run, and a training list of two scenes); a rerun after deleting one intermediate
+# (the scene's own run, a training list of two scenes, a Koopman entry's trajectories); a rerun after deleting one intermediate
 # redoes that step and its dependents only; entries not split yet are one build step; bad input
 # writes nothing.
 . tests/lib.sh
@@ -65,6 +65,35 @@ if "$ROMKIT" plan "$TMP/pod.json" --entry 1 -o "$TMP/skin" >"$TMP/out" 2>"$TMP/e
     json_checks plan_whole_entry_one_step "$TMP/skin/plan.json" split=false one_step_because 'steps[1].id="bake"' \
         'steps[1].command[1]="build"' 'steps[1].command[5]="--training"' 'steps[1].after[0]="train-0"'
 else fail plan_whole_entry_identical "$(cat "$TMP/err" "$TMP/skin.log" | tail -5)"; fi
+
+# a Koopman entry: its trajectories (one as written, two varied) and the scene's own run (its pod
+# basis trains on it) are steps; the fit and the bake one romkit build step
+cat >"$TMP/k.json" <<'JSON'
+{
+  "objects": [{
+    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [8, 2, 2]}},
+    "material": {"model": "neohookean", "young": 2e6, "poisson": 0.4, "density": 1000},
+    "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]
+  }],
+  "gravity": [0, -9.81, 0],
+  "time": {"step": 0.01, "duration": 0.2},
+  "rom": {"basis": "pod", "size": 6, "koopman": {"rank": 8, "clamp": true, "project": true,
+          "trajectories": [{}, {"gravity": [0, -20, 0], "velocity": [0, 0, 0.5]}, {"load_scale": 2}]}}
+}
+JSON
+if "$ROMKIT" plan "$TMP/k.json" -o "$TMP/kp" >"$TMP/out" 2>"$TMP/err" && make -C "$TMP/kp" -j2 >"$TMP/kp.log" 2>&1; then
+    same plan_koopman_identical "$TMP/k.json" 0 "$TMP/kp"
+    json_checks plan_koopman_trajectories_are_steps "$TMP/kp/plan.json" split=false 'steps[0].id="train-0"' \
+        'steps[2].id="trajectory-1"' 'steps[2].command[5]="--trajectory"' 'steps[4].id="bake"' 'steps[4].after[3]="trajectory-2"'
+    # the bake reads the trajectory files: another run's frames in trajectory-1.npy change the asset
+    cp "$TMP/kp/trajectory-2.npy" "$TMP/kp/trajectory-1.npy"
+    make -C "$TMP/kp" >/dev/null 2>&1
+    cmp -s "$TMP/plan_koopman_identical.ref.rombin" "$TMP/kp/asset.rombin" \
+        && fail plan_koopman_reads_trajectory_files "the asset did not change" || ok plan_koopman_reads_trajectory_files
+else fail plan_koopman_identical "$(cat "$TMP/err" "$TMP/kp.log" | tail -5)"; fi
+expect_fail fom_trajectory_out_of_range "one of rom's 3 trajectories, 0..2, got '3'" \
+    "$ROMKIT" fom "$TMP/k.json" --entry 0 --trajectory 3 --snapshots "$TMP/t.npy"
+expect_fail fom_trajectory_needs_koopman "has no koopman section" "$ROMKIT" fom "$TMP/a.json" --trajectory 0
 
 # --run: the same steps in order, in process order, without make
 "$ROMKIT" plan "$TMP/pod.json" --entry 2 -o "$TMP/run" --run >"$TMP/run.log" 2>&1 \
