@@ -121,17 +121,19 @@ int cmd_plan(int argc, char **argv)
     int have_scene = 0, made_dir = 0, rc = 1;
     long entry = 0;
     char scene_abs[PATH_MAX], dir_abs[PATH_MAX], romkit[PATH_MAX];
-    if (rk_scene_load(scene_path, &scene, &err)) goto done;
+    /* loaded by its absolute path, so every file it names (meshes, training scenes) is absolute
+     * too: the steps run in DIR */
+    if (!realpath(scene_path, scene_abs)) {
+        rk_fail(&err, "%s: cannot read the scene: %s", scene_path, strerror(errno));
+        goto done;
+    }
+    if (rk_scene_load(scene_abs, &scene, &err)) goto done;
     have_scene = 1;
     if (scene.nentries == 0 || cli_whole(entry_text, 0, scene.nentries - 1, &entry)) {
         rk_fail(&err, "--entry must be a rom entry of %s, 0..%d, got '%s'", scene_path, scene.nentries - 1, entry_text);
         goto done;
     }
     if (rk_scene_entry(&scene, (int)entry, &e, &err)) goto done;
-    if (!realpath(scene_path, scene_abs)) {
-        rk_fail(&err, "%s: %s", scene_path, strerror(errno));
-        goto done;
-    }
     ssize_t len = readlink("/proc/self/exe", romkit, sizeof romkit - 1);
     if (len <= 0) {
         rk_fail(&err, "cannot tell where this romkit is (/proc/self/exe): %s", strerror(errno));

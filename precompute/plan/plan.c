@@ -42,6 +42,10 @@ static void input(rk_plan_step *s, const char *file)
 {
     for (int i = 0; i < s->ninputs; i++)
         if (!strcmp(s->inputs[i], file)) return;
+    if (s->ninputs == RK_PLAN_MAX_INPUTS) {
+        s->too_many = 1; /* (rk_plan_make fails on it) */
+        return;
+    }
     size_t n = strlen(file) < sizeof s->inputs[0] ? strlen(file) : sizeof s->inputs[0] - 1;
     memmove(s->inputs[s->ninputs], file, n); /* (file may be another step's output in the same plan) */
     s->inputs[s->ninputs++][n] = '\0';
@@ -74,6 +78,23 @@ static void training_args(rk_plan *p, const rk_rom_entry *e, rk_plan_step *s)
             after(p, s, t++);
         }
     }
+}
+
+/* What a step reading the scene reads with it: the objects' mesh and point files and the
+ * obstacles' meshes, so that make redoes the steps when one changes. */
+static int scene_files(const rk_scene *scene, rk_plan_step *s, rk_error *err)
+{
+    for (int k = 0; k < scene->nobjects; k++)
+        if (scene->objects[k].shape != RK_SHAPE_BOX) {
+            if (nameable(scene->objects[k].file, err)) return rk_error_prefix(err, "objects[%d].mesh", k);
+            input(s, scene->objects[k].file);
+        }
+    for (int k = 0; k < scene->nobstacles; k++)
+        if (scene->obstacles[k].file[0]) {
+            if (nameable(scene->obstacles[k].file, err)) return rk_error_prefix(err, "obstacles[%d]", k);
+            input(s, scene->obstacles[k].file);
+        }
+    return 0;
 }
 
 /* Why entry e is baked in one step, or "" when its basis and cubature can be steps. */
@@ -123,6 +144,7 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
         arg(s, "%s", s->output);
         arg(s, "--quiet");
         input(s, scene_abs);
+        if (scene_files(scene, s, err)) return -1;
     }
     for (int k = 0; frames && k < e->ntraining; k++) {
         if (e->training[k].snapshots) continue;
@@ -154,6 +176,7 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
         arg(s, "%s", s->output);
         arg(s, "--quiet");
         input(s, scene_abs);
+        if (scene_files(scene, s, err)) return -1;
     }
     p->ntrain = p->nsteps;
     int basis = -1, cubature = -1;
@@ -165,6 +188,7 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
         arg(s, "--entry");
         arg(s, "%d", e->index);
         input(s, scene_abs);
+        if (scene_files(scene, s, err)) return -1;
         if (frames && rk_basis_needs_frames(&e->basis)) training_args(p, e, s);
         arg(s, "--basis");
         arg(s, "%s", s->output);
@@ -178,6 +202,7 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
         arg(s, "--entry");
         arg(s, "%d", e->index);
         input(s, scene_abs);
+        if (scene_files(scene, s, err)) return -1;
         arg(s, "--basis");
         arg(s, "%s", p->steps[basis].output);
         after(p, s, basis);
@@ -192,6 +217,7 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
     arg(s, "--entry");
     arg(s, "%d", e->index);
     input(s, scene_abs);
+    if (scene_files(scene, s, err)) return -1;
     if (p->split) {
         arg(s, "--basis");
         arg(s, "%s", p->steps[basis].output);
@@ -212,5 +238,8 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
     arg(s, "-o");
     arg(s, "%s", s->output);
     arg(s, "--quiet");
+    for (int k = 0; k < p->nsteps; k++)
+        if (p->steps[k].too_many)
+            return rk_fail(err, "step %s reads more than %d files: too many for a plan", p->steps[k].id, RK_PLAN_MAX_INPUTS);
     return 0;
 }

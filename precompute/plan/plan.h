@@ -28,7 +28,7 @@
 #define RK_PLAN_MAX_RUNS (RK_MAX_TRAINING + RK_KOOPMAN_MAX_TRAJECTORIES)
 #define RK_PLAN_MAX_STEPS (RK_PLAN_MAX_RUNS + 4)
 #define RK_PLAN_MAX_ARGS (2 * RK_PLAN_MAX_RUNS + 16)
-#define RK_PLAN_MAX_INPUTS (RK_PLAN_MAX_RUNS + 4)
+#define RK_PLAN_MAX_INPUTS (RK_PLAN_MAX_RUNS + 16)
 
 typedef enum { RK_STEP_TRAIN = 0, RK_STEP_BASIS = 1, RK_STEP_CUBATURE = 2, RK_STEP_BAKE = 3 } rk_step_kind;
 
@@ -39,9 +39,11 @@ typedef struct {
     char args[RK_PLAN_MAX_ARGS][1024]; /* the romkit command's arguments after "romkit" */
     char output[64];          /* the file it writes, in the plan's folder */
     int ninputs;
-    char inputs[RK_PLAN_MAX_INPUTS][1024]; /* files it reads: absolute, or other steps' outputs */
+    char inputs[RK_PLAN_MAX_INPUTS][1024]; /* files it reads: absolute (the scene, its meshes), or
+                                            * other steps' outputs */
     int nafter;
     int after[RK_PLAN_MAX_STEPS]; /* the steps it waits for (indices) */
+    int too_many;             /* more inputs than RK_PLAN_MAX_INPUTS (an error) */
 } rk_plan_step;
 
 typedef struct {

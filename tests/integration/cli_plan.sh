@@ -107,6 +107,13 @@ expect_fail fom_trajectory_needs_koopman "has no koopman section" "$ROMKIT" fom 
     && sh -n "$TMP/sl/submit.sh" && sh -n "$TMP/sl/slurm/train.sbatch" && ok plan_slurm_scripts \
     || fail plan_slurm_scripts "$(cat "$TMP/err"; ls "$TMP/sl" "$TMP/sl/slurm" 2>&1 | tr '\n' ' ')"
 
+# a scene named by a relative path: every file the steps read is absolute (they run in DIR), its
+# mesh file among the inputs, so make redoes the steps when the mesh changes
+(cd examples && "$ROMKIT" plan scenes/knight_sag.json -o "$TMP/kn" >/dev/null 2>"$TMP/err")
+mesh=$("$JSONQ" get "$TMP/kn/plan.json" 'steps[1].inputs[1]' 2>/dev/null)
+case $mesh in /*decimated-knight.off) ok plan_mesh_file_is_an_absolute_input ;;
+    *) fail plan_mesh_file_is_an_absolute_input "steps[1].inputs[1] is '$mesh' $(cat "$TMP/err")" ;; esac
+
 # bad input: a clear error, nothing written
 expect_fail plan_entry_out_of_range "entry must be a rom entry of .*0..2, got '3'" "$ROMKIT" plan "$TMP/pod.json" --entry 3 -o "$TMP/bad1"
 [ ! -e "$TMP/bad1" ] && ok plan_entry_out_of_range_writes_nothing || fail plan_entry_out_of_range_writes_nothing "$TMP/bad1 made"

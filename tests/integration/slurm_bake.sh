@@ -51,7 +51,7 @@ munged --force --key-file="$D/munge/munge.key" --socket="$D/munge/munge.sock" --
 export SLURM_CONF=$D/slurm.conf
 cat >"$SLURM_CONF" <<CONF
 ClusterName=romkit-test
-SlurmctldHost=$HOST
+SlurmctldHost=$HOST(127.0.0.1)
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
@@ -77,7 +77,7 @@ MpiDefault=none
 ReturnToService=2
 MinJobAge=600
 MailProg=/bin/true
-NodeName=$HOST CPUs=$(nproc) State=UNKNOWN
+NodeName=$HOST NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
 PartitionName=debug Nodes=$HOST Default=YES MaxTime=INFINITE State=UP
 CONF
 slurmctld -D -f "$SLURM_CONF" >"$D/slurmctld.out" 2>&1 &
