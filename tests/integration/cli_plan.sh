@@ -59,6 +59,18 @@ if grep -q 'romkit cubature ' "$TMP/resume.log" && grep -q 'romkit build ' "$TMP
 else fail plan_resume_redoes_only_dependents "$ran commands ran: $(grep '/romkit ' "$TMP/resume.log" | cut -c1-200)"; fi
 make -C "$TMP/pod" -q && ok plan_complete_is_up_to_date || fail plan_complete_is_up_to_date "make -q says something is stale"
 
+# a retry: a damaged training run makes the basis step fail (make fails, the basis not rewritten); with
+# the damaged file removed, rerunning make redoes that run and everything after it
+printf 'not an npy' >"$TMP/pod/train-1.npy"
+if make -C "$TMP/pod" -j2 >"$TMP/fail.log" 2>&1; then fail plan_failed_step_fails_make "make succeeded on a damaged run"
+elif grep -q "train-1.npy" "$TMP/fail.log" && [ "$TMP/pod/basis.npy" -ot "$TMP/pod/train-1.npy" ]; then ok plan_failed_step_fails_make
+else fail plan_failed_step_fails_make "$(tail -3 "$TMP/fail.log")"; fi
+rm -f "$TMP/pod/train-1.npy"
+make -C "$TMP/pod" -j2 >"$TMP/retry.log" 2>&1
+ran=$(grep -c '/romkit ' "$TMP/retry.log")
+[ "$ran" -eq 4 ] && ! grep -q 'a.json --snapshots' "$TMP/retry.log" && same plan_retry_after_failure "$TMP/pod.json" 0 "$TMP/pod" \
+    || fail plan_retry_after_failure "$ran commands: $(grep '/romkit ' "$TMP/retry.log" | cut -c1-120)"
+
 # an entry not split yet (skinning): its training run, then one romkit build step
 if "$ROMKIT" plan "$TMP/pod.json" --entry 1 -o "$TMP/skin" >"$TMP/out" 2>"$TMP/err" && make -C "$TMP/skin" -j2 >"$TMP/skin.log" 2>&1; then
     same plan_whole_entry_identical "$TMP/pod.json" 1 "$TMP/skin"
