@@ -129,16 +129,12 @@ int cmd_basis(int argc, char **argv)
     int T = 0;
     const char *trained_on;
     rk_bake_request req = {0};
-    if ((st.training || st.nruns) &&
-        (tool_stage_load(&st, &scene, e, &req, &err) || rk_scene_entry_frames(&scene, &sim, e, &req, &frames, &T, &trained_on, &err)))
+    if ((st.training || st.nruns) && (tool_stage_load(&st, &scene, e, &req, &err) ||
+                                      rk_scene_entry_frames(&scene, &sim, e, &req, &frames, &T, &trained_on, &err)))
         goto done;
-    rc = rk_scene_basis(&scene, have_sim ? &sim : NULL, &e->basis, frames, T, &b, &info, &err);
+    int failed = rk_scene_basis(&scene, have_sim ? &sim : NULL, &e->basis, frames, T, &b, &info, &err);
     free(frames);
-    if (rc) {
-        rc = 1;
-        goto done;
-    }
-    rc = 1;
+    if (failed) goto done;
     have_basis = 1;
     if (weights_out && !b.W) {
         rk_fail(&err, "--weights: a %s basis has no skinning weights", rk_basis_type_name(b.type));
