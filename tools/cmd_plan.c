@@ -160,9 +160,9 @@ int cmd_plan(int argc, char **argv)
         goto done;
     }
     made_dir = 0; /* written: kept whatever --run does */
-    printf("%s: %d steps for %s (%s)%s%s%s\n", dir, p->nsteps, e->name, e->path,
-           p->split ? "" : ", baked in one step: ", p->split ? "" : p->whole_reason,
-           slurm ? "; submit with submit.sh" : "; run with make -C DIR -j2");
+    printf("%s: %d steps for %s (%s)%s%s; run with make -C %s -j2%s\n", dir, p->nsteps, e->name, e->path,
+           p->split ? "" : ", baked in one step: ", p->split ? "" : p->whole_reason, dir,
+           slurm ? ", or on Slurm with sh submit.sh there" : "");
     for (int k = 0; k < p->nsteps; k++) printf("  %-9s -> %s\n", p->steps[k].id, p->steps[k].output);
     if (run && run_plan(p, dir_abs, romkit, &err)) goto done;
     rc = 0;
