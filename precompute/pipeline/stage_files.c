@@ -1,10 +1,13 @@
 /* The files between a split bake's steps (romkit plan; method_fixed.h): the basis as romkit basis
- * writes it (n x 3 x r float64 .npy, exact) and the cubature as JSON (element ids and weights;
- * cJSON prints a double with 17 digits where 15 do not read back, so the weights are exact too). */
+ * writes it (n x 3 x r float64 .npy, exact) and the cubature as JSON (element ids and weights).
+ * The weights are printed here with %.17g, which reads back to the same double: cJSON 1.7.15 prints
+ * 15 digits whenever they read back within DBL_EPSILON relative (compare_double), up to an ulp off,
+ * and an ulp in a weight changed a float64 asset's bytes. strtod (cJSON's parse) rounds correctly. */
 #include "pipeline/method_fixed.h"
 #include "pipeline/parse_impl.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -42,6 +45,15 @@ int rk_scene_basis_read(const char *path, rk_basis_type type, rk_basis *b, rk_er
     return 0;
 }
 
+/* A finite double as JSON text that reads back to it bit for bit (null otherwise). */
+static cJSON *exact(double v)
+{
+    char text[40];
+    if (!isfinite(v)) return cJSON_CreateNull();
+    snprintf(text, sizeof text, "%.17g", v);
+    return cJSON_CreateRaw(text);
+}
+
 int rk_scene_cubature_write(const char *path, const rk_scene_rom *R, rk_error *err)
 {
     const rk_cubature_set *s = &R->cubature_set;
@@ -49,8 +61,9 @@ int rk_scene_cubature_write(const char *path, const rk_scene_rom *R, rk_error *e
     cJSON *j = cJSON_CreateObject();
     cJSON *ids = cJSON_AddArrayToObject(j, "elements");
     for (int i = 0; i < s->count; i++) cJSON_AddItemToArray(ids, cJSON_CreateNumber(s->index[i]));
-    cJSON_AddItemToObject(j, "weights", rk_json_array(s->weight, s->count));
-    cJSON_AddNumberToObject(j, "relative_error", s->relative_error);
+    cJSON *w = cJSON_AddArrayToObject(j, "weights");
+    for (int i = 0; i < s->count; i++) cJSON_AddItemToArray(w, exact(s->weight[i]));
+    cJSON_AddItemToObject(j, "relative_error", exact(s->relative_error));
     cJSON_AddBoolToObject(j, "reached", s->reached);
     cJSON_AddNumberToObject(j, "greedy_count", s->greedy_count);
     cJSON_AddNumberToObject(j, "poses", R->cubature_poses);
@@ -80,7 +93,9 @@ int rk_scene_cubature_read(const char *path, rk_cubature_set *s, int *poses, rk_
     int rc = 0, n = cJSON_GetArraySize(ids);
     if (!cJSON_IsArray(ids) || !cJSON_IsArray(w) || n < 1 || cJSON_GetArraySize(w) != n)
         rc = rk_fail(err, "%s: elements and weights must be arrays of the same length, at least 1", path);
-    rc = rc || number(j, "relative_error", path, &e, err) || number(j, "greedy_count", path, &greedy, err) ||
+    if (cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(j, "relative_error"))) e = NAN; /* (not measured) */
+    else rc = rc || number(j, "relative_error", path, &e, err);
+    rc = rc || number(j, "greedy_count", path, &greedy, err) ||
          number(j, "poses", path, &np, err);
     if (!rc) {
         s->index = rk_calloc(n, sizeof(int), err);

@@ -25,7 +25,7 @@ scene "$TMP/a.json" -9.81 '{"basis": "modes", "size": 6}'
 scene "$TMP/b.json" -30 '{"basis": "modes", "size": 6}'
 scene "$TMP/pod.json" -15 '[{"basis": "pod", "size": 5, "cubature": {"tolerance": 0.05}, "training": ["a.json", "b.json"]},
       {"basis": "skinning", "size": 2, "cubature": {"tolerance": 0.05}},
-      {"basis": "modes", "size": 6, "cubature": {"tolerance": 0.05}}]'
+      {"basis": "modes", "size": 6, "cubature": {"tolerance": 0.05}, "asset": {"precision": "float64"}}]'
 CANT=$PWD/examples/scenes/cantilever_small.json
 
 # same NAME SCENE ENTRY DIR: the plan's asset equals romkit build's, byte for byte
@@ -107,7 +107,8 @@ expect_fail fom_trajectory_out_of_range "one of rom's 3 trajectories, 0..2, got 
     "$ROMKIT" fom "$TMP/k.json" --entry 0 --trajectory 3 --snapshots "$TMP/t.npy"
 expect_fail fom_trajectory_needs_koopman "has no koopman section" "$ROMKIT" fom "$TMP/a.json" --trajectory 0
 
-# --run: the same steps in order, in process order, without make
+# --run: the same steps in order, without make; a float64 asset (an ulp off in a cubature weight
+# would show in its bytes)
 "$ROMKIT" plan "$TMP/pod.json" --entry 2 -o "$TMP/run" --run >"$TMP/run.log" 2>&1 \
     && same plan_run_identical "$TMP/pod.json" 2 "$TMP/run" || fail plan_run_identical "$(tail -5 "$TMP/run.log")"
 
