@@ -106,8 +106,8 @@ static void whole_reason(const rk_scene *scene, const rk_rom_entry *e, char *why
         snprintf(why, size, "a koopman entry: its trajectories are steps of their own, the fit and the bake one romkit "
                  "build (no operator file yet)");
     else if (e->method != &rk_method_fixed)
-        snprintf(why, size, "a %s entry: its models are built and baked in one romkit build (not split yet)",
-                 e->method->name);
+        snprintf(why, size, "method %s: its trainings and models are built and baked in one romkit build (not "
+                 "split yet)", e->method->name);
     else if (t != RK_BASIS_MODES && t != RK_BASIS_MODAL_DERIVATIVES && t != RK_BASIS_POD)
         snprintf(why, size, "a %s basis is more than U (weights, kernels): no basis file for it yet",
                  rk_basis_type_name(t));
