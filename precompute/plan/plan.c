@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "pipeline/method_adaptive_linear.h"
 #include "pipeline/method_fixed.h"
 #include "pipeline/method_koopman.h"
 
@@ -105,6 +106,9 @@ static void whole_reason(const rk_scene *scene, const rk_rom_entry *e, char *why
     if (rk_koopman_of(e))
         snprintf(why, size, "a koopman entry: its trajectories are steps of their own, the fit and the bake one romkit "
                  "build (no operator file yet)");
+    else if (rk_adaptive_linear_of(e))
+        snprintf(why, size, "method adaptive_linear: its training list's runs are steps, its decoder, cubature and "
+                 "model one romkit build (no decoder file yet)");
     else if (e->method != &rk_method_fixed)
         snprintf(why, size, "method %s: its trainings and models are built and baked in one romkit build (not "
                  "split yet)", e->method->name);
@@ -133,9 +137,11 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
      * cubature of a reduced model; a point cloud has no full order). Other methods train inside
      * their own build. */
     const rk_koopman_entry *ko = rk_koopman_of(e);
+    const rk_adaptive_linear_entry *al = rk_adaptive_linear_of(e);
     int frames = rk_scene_clouds(scene) == 0 &&
-                 (ko ? e->cubature || (ko->project && rk_basis_needs_frames(&e->basis))
-                     : e->method == &rk_method_fixed && (e->cubature || rk_basis_needs_frames(&e->basis)));
+                 (ko   ? e->cubature || (ko->project && rk_basis_needs_frames(&e->basis))
+                  : al ? e->ntraining && (e->cubature || al->quadratic_pod || al->crom) /* (its list only) */
+                       : e->method == &rk_method_fixed && (e->cubature || rk_basis_needs_frames(&e->basis)));
     if (frames && !e->ntraining) {
         rk_plan_step *s = add_step(p, RK_STEP_TRAIN, "train-0", "train-0.npy");
         arg(s, "fom");

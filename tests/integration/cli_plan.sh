@@ -107,6 +107,15 @@ expect_fail fom_trajectory_out_of_range "one of rom's 3 trajectories, 0..2, got 
     "$ROMKIT" fom "$TMP/k.json" --entry 0 --trajectory 3 --snapshots "$TMP/t.npy"
 expect_fail fom_trajectory_needs_koopman "has no koopman section" "$ROMKIT" fom "$TMP/a.json" --trajectory 0
 
+# an adaptive_linear entry: its training list's two runs are steps, the decoder and the bake one
+scene "$TMP/al.json" -15 '{"method": "adaptive_linear", "size": 4, "decoder": "quadratic_pod",
+      "cubature": {"tolerance": 0.05}, "training": ["a.json", "b.json"]}'
+if "$ROMKIT" plan "$TMP/al.json" -o "$TMP/al" >"$TMP/out" 2>"$TMP/err" && make -C "$TMP/al" -j2 >"$TMP/al.log" 2>&1; then
+    same plan_alrom_identical "$TMP/al.json" 0 "$TMP/al"
+    json_checks plan_alrom_training_runs_are_steps "$TMP/al/plan.json" split=false 'steps[1].id="train-1"' \
+        'steps[2].id="bake"' 'steps[2].command[5]="--training-run"' 'steps[2].after[1]="train-1"'
+else fail plan_alrom_identical "$(cat "$TMP/err" "$TMP/al.log" | tail -5)"; fi
+
 # --run: the same steps in order, without make; a float64 asset (an ulp off in a cubature weight
 # would show in its bytes)
 "$ROMKIT" plan "$TMP/pod.json" --entry 2 -o "$TMP/run" --run >"$TMP/run.log" 2>&1 \
