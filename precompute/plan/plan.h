@@ -16,7 +16,8 @@
  * every step): every file between the steps is exact (float64 .npy, 17-digit JSON), and each step
  * computes what romkit build computes from the same numbers. Entries that cannot be split yet are
  * one romkit build step after their training runs: koopman (the fit and the bake: no operator file
- * yet; its trajectories are steps), adaptive and alrom (their own trainings, run inside), and
+ * yet; its trajectories are steps), adaptive_linear (the decoder and the bake: no decoder file yet;
+ * its training list's runs are steps), adaptive_subspace (its own trainings, run inside), and
  * skinning, rkpm_skinning and mesh-free bases (more than U: weights, kernels, points). */
 #ifndef RK_PLAN_H
 #define RK_PLAN_H
