@@ -21,6 +21,11 @@ static int nameable(const char *path, rk_error *err)
     return 0;
 }
 
+static void input(rk_plan_step *s, const char *file);
+
+/* Every step reads plan.json: a plan made again differently (another entry, other threads) in the
+ * same folder makes every output out of date, rather than leaving the last plan's files looking
+ * done (rk_plan_write leaves an unchanged plan.json alone). */
 static rk_plan_step *add_step(rk_plan *p, rk_step_kind kind, const char *id, const char *output)
 {
     rk_plan_step *s = &p->steps[p->nsteps++];
@@ -28,6 +33,7 @@ static rk_plan_step *add_step(rk_plan *p, rk_step_kind kind, const char *id, con
     s->kind = kind;
     snprintf(s->id, sizeof s->id, "%s", id);
     snprintf(s->output, sizeof s->output, "%s", output);
+    input(s, "plan.json");
     return s;
 }
 

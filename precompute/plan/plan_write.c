@@ -163,11 +163,25 @@ typedef struct {
     int mode;
 } file_out;
 
+/* Whether path holds exactly these bytes already (then it is left alone: its time stays, and make
+ * redoes nothing for a plan made again unchanged). */
+static int unchanged(const char *path, const text *t)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return 0;
+    int same = 1;
+    size_t i = 0;
+    for (int c; same && (c = fgetc(fp)) != EOF; i++) same = i < t->n && (unsigned char)t->s[i] == (unsigned char)c;
+    fclose(fp);
+    return same && i == t->n;
+}
+
 static int write_all(file_out *f, int n, rk_error *err)
 {
     for (int i = 0; i < n; i++) {
         rk_atomic_file a;
         if (f[i].t.failed) return rk_fail(err, "%s: out of memory", f[i].path);
+        if (unchanged(f[i].path, &f[i].t)) continue;
         if (rk_atomic_open(&a, f[i].path, err)) goto undo;
         fwrite(f[i].t.s, 1, f[i].t.n, a.fp);
         if (rk_atomic_commit(&a, err)) goto undo;

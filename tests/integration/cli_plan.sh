@@ -71,6 +71,15 @@ ran=$(grep -c '/romkit ' "$TMP/retry.log")
 [ "$ran" -eq 4 ] && ! grep -q 'a.json --snapshots' "$TMP/retry.log" && same plan_retry_after_failure "$TMP/pod.json" 0 "$TMP/pod" \
     || fail plan_retry_after_failure "$ran commands: $(grep '/romkit ' "$TMP/retry.log" | cut -c1-120)"
 
+# the same plan made again leaves everything up to date; another entry's plan in the same folder
+# makes every step out of date (each reads plan.json), not the last plan's files look done
+"$ROMKIT" plan "$TMP/pod.json" -o "$TMP/pod" >/dev/null 2>&1 && make -C "$TMP/pod" -q \
+    && ok plan_again_unchanged_is_up_to_date || fail plan_again_unchanged_is_up_to_date "make -q says something is stale"
+cp -r "$TMP/pod" "$TMP/pod2"
+"$ROMKIT" plan "$TMP/pod.json" --entry 2 -o "$TMP/pod2" >/dev/null 2>&1 && make -C "$TMP/pod2" -j2 >"$TMP/pod2.log" 2>&1 \
+    && same plan_another_entry_redoes_all "$TMP/pod.json" 2 "$TMP/pod2" \
+    || fail plan_another_entry_redoes_all "$(tail -3 "$TMP/pod2.log")"
+
 # an entry not split yet (skinning): its training run, then one romkit build step
 if "$ROMKIT" plan "$TMP/pod.json" --entry 1 -o "$TMP/skin" >"$TMP/out" 2>"$TMP/err" && make -C "$TMP/skin" -j2 >"$TMP/skin.log" 2>&1; then
     same plan_whole_entry_identical "$TMP/pod.json" 1 "$TMP/skin"
@@ -132,9 +141,9 @@ else fail plan_alrom_identical "$(cat "$TMP/err" "$TMP/al.log" | tail -5)"; fi
 # a scene named by a relative path: every file the steps read is absolute (they run in DIR), its
 # mesh file among the inputs, so make redoes the steps when the mesh changes
 (cd examples && "$ROMKIT" plan scenes/knight_sag.json -o "$TMP/kn" >/dev/null 2>"$TMP/err")
-mesh=$("$JSONQ" get "$TMP/kn/plan.json" 'steps[1].inputs[1]' 2>/dev/null)
+mesh=$("$JSONQ" get "$TMP/kn/plan.json" 'steps[1].inputs[2]' 2>/dev/null)
 case $mesh in /*decimated-knight.off) ok plan_mesh_file_is_an_absolute_input ;;
-    *) fail plan_mesh_file_is_an_absolute_input "steps[1].inputs[1] is '$mesh' $(cat "$TMP/err")" ;; esac
+    *) fail plan_mesh_file_is_an_absolute_input "steps[1].inputs[2] is '$mesh' $(cat "$TMP/err")" ;; esac
 
 # bad input: a clear error, nothing written
 expect_fail plan_entry_out_of_range "entry must be a rom entry of .*0..2, got '3'" "$ROMKIT" plan "$TMP/pod.json" --entry 3 -o "$TMP/bad1"
