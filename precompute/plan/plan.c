@@ -104,6 +104,30 @@ static int scene_files(const rk_scene *scene, rk_plan_step *s, rk_error *err)
     return 0;
 }
 
+/* A full-order run as a step, "NAME-K" writing NAME-K.npy: romkit fom of scene file (the plan's
+ * scene or a training item's), or trajectory `trajectory` of entry e (e NULL: none). */
+static rk_plan_step *fom_step(rk_plan *p, const char *name, int k, const char *file, const rk_rom_entry *e,
+                              int trajectory)
+{
+    char id[32], out[64];
+    snprintf(id, sizeof id, "%s-%d", name, k);
+    snprintf(out, sizeof out, "%s-%d.npy", name, k);
+    rk_plan_step *s = add_step(p, RK_STEP_TRAIN, id, out);
+    arg(s, "fom");
+    arg(s, "%s", file);
+    if (e) {
+        arg(s, "--entry");
+        arg(s, "%d", e->index);
+        arg(s, "--trajectory");
+        arg(s, "%d", trajectory);
+    }
+    arg(s, "--snapshots");
+    arg(s, "%s", s->output);
+    arg(s, "--quiet");
+    input(s, file);
+    return s;
+}
+
 /* Why entry e is baked in one step, or "" when its basis and cubature can be steps. */
 static void whole_reason(const rk_scene *scene, const rk_rom_entry *e, char *why, size_t size)
 {
@@ -148,48 +172,13 @@ int rk_plan_make(const rk_scene *scene, const rk_rom_entry *e, const char *scene
                  (ko   ? e->cubature || (ko->project && rk_basis_needs_frames(&e->basis))
                   : al ? e->ntraining && (e->cubature || al->quadratic_pod || al->crom) /* (its list only) */
                        : e->method == &rk_method_fixed && (e->cubature || rk_basis_needs_frames(&e->basis)));
-    if (frames && !e->ntraining) {
-        rk_plan_step *s = add_step(p, RK_STEP_TRAIN, "train-0", "train-0.npy");
-        arg(s, "fom");
-        arg(s, "%s", scene_abs);
-        arg(s, "--snapshots");
-        arg(s, "%s", s->output);
-        arg(s, "--quiet");
-        input(s, scene_abs);
-        if (scene_files(scene, s, err)) return -1;
-    }
-    for (int k = 0; frames && k < e->ntraining; k++) {
-        if (e->training[k].snapshots) continue;
-        char id[32], out[64];
-        snprintf(id, sizeof id, "train-%d", p->nsteps);
-        snprintf(out, sizeof out, "train-%d.npy", p->nsteps);
-        rk_plan_step *s = add_step(p, RK_STEP_TRAIN, id, out);
-        arg(s, "fom");
-        arg(s, "%s", e->training[k].file);
-        arg(s, "--snapshots");
-        arg(s, "%s", s->output);
-        arg(s, "--quiet");
-        input(s, e->training[k].file);
-    }
+    if (frames && !e->ntraining && scene_files(scene, fom_step(p, "train", 0, scene_abs, NULL, -1), err)) return -1;
+    for (int k = 0; frames && k < e->ntraining; k++) /* (an item's own meshes are not listed) */
+        if (!e->training[k].snapshots) fom_step(p, "train", p->nsteps, e->training[k].file, NULL, -1);
     /* a Koopman entry's trajectories: the scene run as each varies it (one: as written) */
     int first_traj = p->nsteps, ntraj = ko ? (ko->ntraj ? ko->ntraj : 1) : 0;
-    for (int i = 0; i < ntraj; i++) {
-        char id[32], out[64];
-        snprintf(id, sizeof id, "trajectory-%d", i);
-        snprintf(out, sizeof out, "trajectory-%d.npy", i);
-        rk_plan_step *s = add_step(p, RK_STEP_TRAIN, id, out);
-        arg(s, "fom");
-        arg(s, "%s", scene_abs);
-        arg(s, "--entry");
-        arg(s, "%d", e->index);
-        arg(s, "--trajectory");
-        arg(s, "%d", i);
-        arg(s, "--snapshots");
-        arg(s, "%s", s->output);
-        arg(s, "--quiet");
-        input(s, scene_abs);
-        if (scene_files(scene, s, err)) return -1;
-    }
+    for (int i = 0; i < ntraj; i++)
+        if (scene_files(scene, fom_step(p, "trajectory", i, scene_abs, e, i), err)) return -1;
     p->ntrain = p->nsteps;
     int basis = -1, cubature = -1;
     if (p->split) {
