@@ -25,7 +25,7 @@ ROMRT_SOMAJOR := $(call rt_version_part,MAJOR)
 ROMRT_VERSION := $(ROMRT_SOMAJOR).$(call rt_version_part,MINOR).$(call rt_version_part,PATCH)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util video mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare export
+STAGES := util video mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare plan export
 DEPS_util    := util
 # Dot markers in frames: images, dots, pyramidal Lucas-Kanade, cameras, the lift onto a surface.
 DEPS_video   := video util
@@ -50,11 +50,13 @@ DEPS_asset   := asset koopman formats rom grassmann neural cubature fom solver c
 # The scene parsed once and the whole-scene orchestration: every stage below it.
 DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive grassmann fom solver cage contact fem physics mesh neural video util
 DEPS_compare := compare $(DEPS_pipeline)
+# A scene entry's bake as a job graph (romkit plan): Makefile, Slurm scripts.
+DEPS_plan    := plan $(DEPS_pipeline)
 # An asset's shown vertices as glTF (romkit export): the container's rows, the skinning rows of basis.
 DEPS_export  := export basis formats fem physics mesh util
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
-DEPS_tools   := export $(DEPS_compare)
+DEPS_tools   := export plan $(DEPS_compare)
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))

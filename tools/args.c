@@ -72,3 +72,26 @@ int cli_precision(const char *cmd, const char *text, int *given, int *real_type)
     }
     return 0;
 }
+
+int cli_take_all(const char *cmd, int *argc, char **argv, const char *name, const char **out, int max)
+{
+    int n = 0, k = 1;
+    for (int i = 1; i < *argc; i++) {
+        if (strcmp(argv[i], name) != 0) {
+            argv[k++] = argv[i];
+            continue;
+        }
+        if (i + 1 >= *argc) {
+            fprintf(stderr, "romkit %s: %s needs a value\n", cmd, name);
+            return -1;
+        }
+        if (n == max) {
+            fprintf(stderr, "romkit %s: %s given more than %d times\n", cmd, name, max);
+            return -1;
+        }
+        out[n++] = argv[++i];
+    }
+    *argc = k;
+    argv[k] = NULL;
+    return n;
+}

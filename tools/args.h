@@ -24,4 +24,9 @@ int cli_real(const char *text, double lo, double hi, double *out);
  * (formats/rombin.h). Prints "romkit CMD: ..." and returns -1 on another value. */
 int cli_precision(const char *cmd, const char *text, int *given, int *real_type);
 
+/* Takes every "NAME VALUE" pair out of argv (an option given once per item, e.g. --training-run),
+ * the values into out (at most max) in order; *argc shrinks. Returns how many, or -1 after
+ * printing "romkit CMD: ..." (a missing value, more than max). */
+int cli_take_all(const char *cmd, int *argc, char **argv, const char *name, const char **out, int max);
+
 #endif

@@ -9,19 +9,23 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/method_fixed.h"
 #include "commands.h"
+#include "stage_inputs.h"
 #include "util/util.h"
 
 static void basis_usage(FILE *out)
 {
     fprintf(out,
             "usage: romkit basis SCENE.json [--entry K] [--basis U.npy] [--weights W.npy]\n"
-            "                    [--report R.json] [--quiet]\n\n"
+            "                    [--report R.json] [--quiet] [--training S.npy | --training-run S.npy ...]\n\n"
             "Builds the reduced basis of the scene's rom section (entry K of a list, default 0):\n"
             "modes, modal_derivatives, skinning, rkpm_skinning or pod, of rom.size, or the\n"
             "smallest that meets rom.tolerance on the scene's own full-order frames.\n"
             "  --basis U.npy     the basis, n x 3 x r float64 (vertex, coordinate, column)\n"
             "  --weights W.npy   skinning weights at the vertices, n x m float64 (constant first)\n"
             "  --report R.json   sizes, eigenvalues or singular values, errors, timings\n"
+            "  --training S.npy  the scene's own full-order run (romkit fom --snapshots), not run here\n"
+            "  --training-run S.npy  one per item of the entry's training list: the frames a pod basis\n"
+            "                    or a tolerance trains on, as romkit build trains them (romkit plan)\n"
             "  --quiet           no progress line on stderr\n"
             "Nothing is written when the build fails.\n\n"
             "example:\n"
@@ -91,10 +95,12 @@ int cmd_basis(int argc, char **argv)
         }
     const char *scene_path, *entry = "0", *basis_out = NULL, *weights_out = NULL, *report_out = NULL;
     int quiet = 0;
+    tool_stage st = {0};
     const cli_option opts[] = {{"--entry", &entry, NULL},     {"--basis", &basis_out, NULL},
                                {"--weights", &weights_out, NULL}, {"--report", &report_out, NULL},
-                               {"--quiet", NULL, &quiet},      {NULL, NULL, NULL}};
-    if (cli_parse("basis", argc, argv, opts, &scene_path, "scene file")) {
+                               {"--training", &st.training, NULL}, {"--quiet", NULL, &quiet},
+                               {NULL, NULL, NULL}};
+    if (tool_stage_args("basis", &argc, argv, &st) || cli_parse("basis", argc, argv, opts, &scene_path, "scene file")) {
         basis_usage(stderr);
         return 2;
     }
@@ -117,7 +123,18 @@ int cmd_basis(int argc, char **argv)
     if (rk_scene_entry(&scene, (int)index, &e, &err)) goto done;
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     have_sim = 1;
-    if (rk_scene_basis(&scene, have_sim ? &sim : NULL, &e->basis, NULL, 0, &b, &info, &err)) goto done;
+    /* with training files given, the frames romkit build would train this basis on (its training
+     * list or the scene's own run); without, the basis runs the scene itself where it needs to */
+    double *frames = NULL;
+    int T = 0;
+    const char *trained_on;
+    rk_bake_request req = {0};
+    if ((st.training || st.nruns) && (tool_stage_load(&st, &scene, e, &req, &err) ||
+                                      rk_scene_entry_frames(&scene, &sim, e, &req, &frames, &T, &trained_on, &err)))
+        goto done;
+    int failed = rk_scene_basis(&scene, have_sim ? &sim : NULL, &e->basis, frames, T, &b, &info, &err);
+    free(frames);
+    if (failed) goto done;
     have_basis = 1;
     if (weights_out && !b.W) {
         rk_fail(&err, "--weights: a %s basis has no skinning weights", rk_basis_type_name(b.type));
@@ -145,6 +162,7 @@ int cmd_basis(int argc, char **argv)
     rc = 0;
 done:
     if (rc) fprintf(stderr, "romkit basis: %s\n", err.msg);
+    tool_stage_free(&st);
     if (have_basis) rk_basis_free(&b);
     rk_scene_basis_info_free(&info);
     if (have_sim) rk_scene_sim_free(&sim);

@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
+#include "stage_inputs.h"
 #include "util/util.h"
 
 /* Opens the written asset with this romkit's runtime, as romkit run would, and warns when the
@@ -34,6 +35,8 @@ static void build_usage(FILE *f)
 {
     fprintf(f, "usage: romkit build SCENE.json -o OUT.rombin [--report R.json] [--precision float32|float64]\n"
                "                    [--compress] [--entry K] [--training S.npy] [--quiet]\n"
+               "                    [--training-run S.npy ...] [--basis U.npy] [--cubature C.json]\n"
+               "                    [--trajectory-run S.npy ...]\n"
                "  builds the reduced model of one rom entry of the scene (basis, cubature) and bakes it\n"
                "  into OUT.rombin with only what the runtime needs: the reduced operators, the cubature\n"
                "  elements with the basis rows of the vertices they touch, and the rows of the shown\n"
@@ -48,6 +51,13 @@ static void build_usage(FILE *f)
                "  --entry K     bake entry K of the scene's rom list instead of the first (0)\n"
                "  --training    the scene's full-order frames from romkit fom --snapshots, used instead\n"
                "                of running the scene again (cubature, POD and tolerances train on them)\n"
+               "  --training-run  one per item of the entry's training list, in order: that item's frames\n"
+               "                (romkit fom ITEM --snapshots), read instead of running the item here\n"
+               "  --trajectory-run  one per rom.koopman trajectory, in order: its frames (romkit fom\n"
+               "                --entry K --trajectory I --snapshots), read instead of running it here\n"
+               "  --basis       the basis from romkit basis --basis (modes, modal_derivatives, pod)\n"
+               "  --cubature    the cubature from romkit cubature -o (element ids and weights)\n"
+               "                (the three are the steps of romkit plan: the asset is byte-identical)\n"
                "  --quiet       no progress lines on stderr\n"
                "  Nothing is written when the build fails.\n\n"
                "example:\n"
@@ -61,13 +71,15 @@ int cmd_build(int argc, char **argv)
             build_usage(stdout);
             return 0;
         }
-    const char *scene_path, *out = NULL, *report_out = NULL, *precision = NULL, *entry_text = NULL, *training = NULL;
+    const char *scene_path, *out = NULL, *report_out = NULL, *precision = NULL, *entry_text = NULL;
     int quiet = 0, compress = 0;
+    tool_stage st = {0};
     const cli_option opts[] = {{"-o", &out, NULL},           {"--report", &report_out, NULL},
                                {"--precision", &precision, NULL}, {"--compress", NULL, &compress},
-                               {"--entry", &entry_text, NULL}, {"--training", &training, NULL},
+                               {"--entry", &entry_text, NULL}, {"--training", &st.training, NULL},
+                               {"--basis", &st.basis, NULL},   {"--cubature", &st.cubature, NULL},
                                {"--quiet", NULL, &quiet},     {NULL, NULL, NULL}};
-    if (cli_parse("build", argc, argv, opts, &scene_path, "scene file")) {
+    if (tool_stage_args("build", &argc, argv, &st) || cli_parse("build", argc, argv, opts, &scene_path, "scene file")) {
         build_usage(stderr);
         return 2;
     }
@@ -83,7 +95,6 @@ int cmd_build(int argc, char **argv)
     rk_scene scene;
     rk_baked baked = {0};
     const rk_rom_entry *e;
-    double *snapshots = NULL;
     int have_scene = 0, rc = 1;
     long entry = 0;
     if (rk_scene_load(scene_path, &scene, &err)) goto done;
@@ -93,14 +104,9 @@ int cmd_build(int argc, char **argv)
         goto done;
     }
     if (rk_scene_entry(&scene, (int)entry, &e, &err)) goto done;
-    if (training) {
-        int ndim;
-        if (rk_npy_read(training, &snapshots, &ndim, req.snapshot_shape, &err)) goto done;
-        req.snapshots = snapshots;
-        req.snapshot_dims = ndim;
-    }
+    if (tool_stage_load(&st, &scene, e, &req, &err)) goto done;
     if (rk_scene_bake(&scene, e, &req, &baked, &err)) {
-        if (training) rk_error_prefix(&err, "--training %s", training);
+        if (st.training) rk_error_prefix(&err, "--training %s", st.training);
         goto done;
     }
     if (rombin_save(out, baked.data, baked.bytes, &err) ||
@@ -111,7 +117,7 @@ int cmd_build(int argc, char **argv)
     rc = 0;
 done:
     if (rc) fprintf(stderr, "romkit build: %s\n", err.msg);
-    free(snapshots);
+    tool_stage_free(&st);
     rk_baked_free(&baked);
     if (have_scene) rk_scene_free(&scene);
     return rc;

@@ -10,13 +10,15 @@
 #include "commands.h"
 #include "fom/fom.h"
 #include "pipeline/fom_report.h"
+#include "pipeline/method_koopman.h"
 #include "util/util.h"
 
 static void fom_usage(FILE *out)
 {
     fprintf(out,
             "usage: romkit fom SCENE.json [--positions P.npy] [--snapshots S.npy] [--frames DIR]\n"
-            "                  [--frame-format obj|ply|vtk|mesh] [--stress T.npy] [--report R.json] [--quiet]\n\n"
+            "                  [--frame-format obj|ply|vtk|mesh] [--stress T.npy] [--report R.json] [--quiet]\n"
+            "                  [--entry K --trajectory I]\n\n"
             "Runs the full-order simulation the scene describes (or its static equilibrium when\n"
             "time.static is true) and writes what is asked:\n"
             "  --positions P.npy   final positions, n x 3 float64\n"
@@ -29,6 +31,10 @@ static void fom_usage(FILE *out)
             "                      parts: factorization, assembly, solve, line search, contact ...;\n"
             "                      newton.*: the median iteration against its factorization), final state\n"
             "  --quiet             no progress line on stderr\n"
+            "  --trajectory I      run trajectory I of rom entry K's koopman section instead (its\n"
+            "                      gravity, load scale, initial velocity; 0 for an entry listing none):\n"
+            "                      what romkit build --trajectory-run reads (a step of romkit plan)\n"
+            "  --entry K           the rom entry (default 0) whose trajectory --trajectory runs\n"
             "Nothing is written when the run fails. ROMKIT_THREADS=N: threads (default: the CPUs).\n\n"
             "example:\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy --report fom.json\n");
@@ -37,6 +43,7 @@ static void fom_usage(FILE *out)
 typedef struct {
     const char *scene, *positions, *snapshots, *frames, *report, *stress;
     const char *frame_format;
+    const char *entry, *trajectory;
     int quiet;
 } fom_args;
 
@@ -47,9 +54,13 @@ static int parse_args(int argc, char **argv, fom_args *a)
     const cli_option opts[] = {{"--positions", &a->positions, NULL}, {"--snapshots", &a->snapshots, NULL},
                                {"--frames", &a->frames, NULL},       {"--frame-format", &a->frame_format, NULL},
                                {"--report", &a->report, NULL},       {"--quiet", NULL, &a->quiet},
-                               {"--stress", &a->stress, NULL},
-                               {NULL, NULL, NULL}};
+                               {"--stress", &a->stress, NULL},       {"--entry", &a->entry, NULL},
+                               {"--trajectory", &a->trajectory, NULL}, {NULL, NULL, NULL}};
     if (cli_parse("fom", argc, argv, opts, &a->scene, "scene file")) return -1;
+    if (a->entry && !a->trajectory) {
+        fprintf(stderr, "romkit fom: --entry names whose --trajectory to run; give --trajectory I too\n");
+        return -1;
+    }
     const char *formats[] = {"obj", "ply", "vtk", "mesh"};
     for (int k = 0; k < 4; k++)
         if (strcmp(a->frame_format, formats[k]) == 0) return 0;
@@ -84,6 +95,23 @@ static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *
     return o->a->frames ? write_frame(o->a, &o->sim->mesh, fom->x, step, err) : 0;
 }
 
+/* --entry K --trajectory I: the built scene changed to run as that Koopman trajectory runs. */
+static int vary(const rk_scene *scene, rk_scene_sim *sim, const fom_args *a, rk_error *err)
+{
+    long k = 0, i;
+    const rk_rom_entry *e;
+    if (a->entry && (scene->nentries == 0 || cli_whole(a->entry, 0, scene->nentries - 1, &k)))
+        return rk_fail(err, "--entry must be a rom entry of %s, 0..%d, got '%s'", a->scene, scene->nentries - 1, a->entry);
+    if (rk_scene_entry(scene, (int)k, &e, err)) return -1;
+    const rk_koopman_entry *ko = rk_koopman_of(e);
+    if (!ko) return rk_fail(err, "--trajectory: %s (%s) has no koopman section", e->path, e->name);
+    int n = ko->ntraj ? ko->ntraj : 1;
+    if (cli_whole(a->trajectory, 0, n - 1, &i))
+        return rk_fail(err, "--trajectory must be one of %s's %d trajectories, 0..%d, got '%s'", e->path, n, n - 1,
+                       a->trajectory);
+    return rk_koopman_scene_vary(sim, ko->ntraj ? &ko->traj[i] : NULL, err);
+}
+
 int cmd_fom(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++)
@@ -108,6 +136,7 @@ int cmd_fom(int argc, char **argv)
     have_scene = 1;
     if (rk_scene_build(&scene, &sim, &err)) goto done;
     have_sim = 1;
+    if (a.trajectory && vary(&scene, &sim, &a, &err)) goto done;
     int nv = sim.mesh.nv, steps = sim.options.is_static ? 1 : sim.steps;
     out.sim = &sim;
     if (a.frames && mkdir(a.frames, 0777) != 0 && errno != EEXIST) {

@@ -9,6 +9,8 @@ int cmd_adaptive(int argc, char **argv);
 int cmd_basis(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_build(int argc, char **argv);
+int cmd_cubature(int argc, char **argv);
+int cmd_plan(int argc, char **argv);
 int cmd_run(int argc, char **argv);
 int cmd_rom(int argc, char **argv);
 int cmd_track(int argc, char **argv);

@@ -14,7 +14,8 @@ set -eu
 BUILD_PKGS="build-essential pkg-config libsuitesparse-dev libarpack2-dev libopenblas-dev liblapacke-dev \
 libmetis-dev zlib1g-dev libcjson-dev libmeshoptimizer-dev libpng-dev"
 TEST_PKGS="tetgen clang libclang-rt-14-dev gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm xxd \
-python3 python3-numpy binutils"
+python3 python3-numpy binutils slurmctld slurmd munge"
+# slurmctld, slurmd, munge (Slurm 22.05): tests/integration/slurm_bake.sh starts a one-node cluster.
 # A node that came another way (NodeSource's nodejs bundles npm and conflicts with Debian's npm) is kept.
 command -v node >/dev/null 2>&1 && command -v npm >/dev/null 2>&1 || TEST_PKGS="$TEST_PKGS nodejs npm"
 WEB_PKGS="emscripten chromium"

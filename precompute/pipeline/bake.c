@@ -135,10 +135,9 @@ static void state_free(bake_state *s)
     free(s->own_frames);
 }
 
-/* The given snapshots as displacement frames after each step (s->own_frames, 3 nv x steps). */
-static int given_frames(const rk_bake_request *req, bake_state *s, int *T, rk_error *err)
+/* The given snapshots as displacement frames after each step (*D, 3 nv x steps). */
+static int given_frames(const rk_bake_request *req, const rk_scene_sim *sim, double **D, int *T, rk_error *err)
 {
-    const rk_scene_sim *sim = &s->sim;
     const long *shape = req->snapshot_shape;
     int n3 = 3 * sim->mesh.nv;
     if (req->snapshot_dims != 3 || shape[1] != sim->mesh.nv || shape[2] != 3 || shape[0] != sim->steps + 1)
@@ -147,11 +146,41 @@ static int given_frames(const rk_bake_request *req, bake_state *s, int *T, rk_er
                        req->snapshot_dims > 1 ? shape[1] : 0L, req->snapshot_dims > 2 ? " x " : "",
                        req->snapshot_dims > 2 ? shape[2] : 0L);
     *T = sim->steps;
-    s->own_frames = rk_calloc((size_t)n3 * (*T > 0 ? *T : 1), sizeof(double), err);
-    if (!s->own_frames) return -1;
+    *D = rk_calloc((size_t)n3 * (*T > 0 ? *T : 1), sizeof(double), err);
+    if (!*D) return -1;
     for (int t = 0; t < *T; t++)
         for (int i = 0; i < n3; i++)
-            s->own_frames[(size_t)n3 * t + i] = req->snapshots[(size_t)n3 * (t + 1) + i] - sim->mesh.X[i];
+            (*D)[(size_t)n3 * t + i] = req->snapshots[(size_t)n3 * (t + 1) + i] - sim->mesh.X[i];
+    return 0;
+}
+
+int rk_scene_entry_frames(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                          const rk_bake_request *req, double **D, int *T, const char **trained_on, rk_error *err)
+{
+    *D = NULL;
+    *T = 0;
+    *trained_on = "nothing (no data-driven part)";
+    if (req->snapshots) {
+        if (given_frames(req, sim, D, T, err)) return -1;
+        *trained_on = "the snapshots given (--snapshots)";
+        return 0;
+    }
+    int koopman = rk_koopman_of(e) != NULL, reduced = !koopman || e->cubature;
+    int cubature = e->cubature && !req->cubature, basis = rk_basis_needs_frames(&e->basis) && !req->basis;
+    /* a point cloud has no full order: its cubature trains on random poses alone. An entry that
+     * lists its training runs trains on them, as romkit compare trains it (a POD of the scene's
+     * own run would be fitted to the very motion it is tested on) */
+    if (reduced && !sim->cloud_points && (cubature || basis)) {
+        if (req->ntraining_runs && req->ntraining_runs != e->ntraining)
+            return rk_fail(err, "%d training run files given for %s's %d training runs", req->ntraining_runs, e->path,
+                           e->ntraining);
+        if (e->ntraining ? rk_scene_training_set_from(scene, sim, e, req->ntraining_runs ? req->training_runs : NULL,
+                                                      D, T, err)
+                         : rk_scene_training_frames(sim, D, T, err))
+            return -1;
+        *trained_on = e->ntraining ? "the entry's training list" : "the scene's own full-order run";
+    } else if (reduced && sim->cloud_points && e->cubature)
+        *trained_on = "random poses (a point cloud has no full order)";
     return 0;
 }
 
@@ -163,30 +192,23 @@ static int build_models(const rk_scene *scene, const rk_rom_entry *e, const rk_b
     if (rk_scene_build(scene, &s->sim, err)) return -1;
     s->have_sim = 1;
     int T = 0;
-    s->trained_on = "nothing (no data-driven part)";
-    if (req->snapshots && given_frames(req, s, &T, err)) return -1;
+    if (rk_scene_entry_frames(scene, &s->sim, e, req, &s->own_frames, &T, &s->trained_on, err)) return -1;
     const double *frames = s->own_frames;
     int koopman = rk_koopman_of(e) != NULL, reduced = !koopman || e->cubature;
-    /* a point cloud has no full order: its cubature trains on random poses alone. An entry that
-     * lists its training runs trains on them, as romkit compare trains it (a POD of the scene's
-     * own run would be fitted to the very motion it is tested on) */
-    if (reduced && !frames && !s->sim.cloud_points && (e->cubature || rk_basis_needs_frames(&e->basis))) {
-        if (e->ntraining ? rk_scene_training_set(scene, &s->sim, e, &s->own_frames, &T, err)
-                         : rk_scene_training_frames(&s->sim, &s->own_frames, &T, err))
-            return -1;
-        frames = s->own_frames;
-        s->trained_on = e->ntraining ? "the entry's training list" : "the scene's own full-order run";
-    } else if (frames) {
-        s->trained_on = "the snapshots given (--snapshots)";
-    } else if (reduced && s->sim.cloud_points && e->cubature)
-        s->trained_on = "random poses (a point cloud has no full order)";
     s->training_frames = frames ? T : 0;
     if (reduced) {
-        if (rk_scene_rom_build(scene, &s->sim, e, frames, T, &s->R, err)) return -1;
+        rk_scene_rom_given g = {req->basis, req->cubature, req->cubature_poses};
+        if (rk_scene_rom_build_given(scene, &s->sim, e, frames, T, &g, &s->R, err)) return -1;
         s->have_rom = 1;
     }
     if (koopman) {
-        if (rk_scene_koopman_build(scene, &s->sim, e, frames, T, &s->K, err)) return -1;
+        const rk_koopman_entry *ko = rk_koopman_of(e);
+        int ntraj = ko->ntraj ? ko->ntraj : 1;
+        if (req->ntrajectory_runs && req->ntrajectory_runs != ntraj)
+            return rk_fail(err, "%d trajectory files given for %s's %d trajectories", req->ntrajectory_runs, e->path, ntraj);
+        if (rk_scene_koopman_build_from(scene, &s->sim, e, frames, T, req->ntrajectory_runs ? req->trajectory_runs : NULL,
+                                        &s->K, err))
+            return -1;
         s->have_koopman = 1;
     }
     return 0;

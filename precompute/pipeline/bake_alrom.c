@@ -46,10 +46,12 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
         }
 }
 
-int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
-                        rk_error *err)
+int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao,
+                        const char *const *training_runs, int n, rk_baked *out, rk_error *err)
 {
     if (!AL(e)) return rk_fail(err, "%s is not method adaptive_linear", e->path);
+    if (n && n != e->ntraining)
+        return rk_fail(err, "%d training run files given for %s's %d training runs", n, e->path, e->ntraining);
     double t0 = rk_now();
     rk_scene_sim sim;
     if (rk_scene_build(scene, &sim, err)) return -1;
@@ -63,7 +65,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         rk_fail(err, "%s: an adaptive linear ROM steps dynamics; the scene asks for a static solve", e->path);
         goto out;
     }
-    if ((e->cubature || AL(e)->quadratic_pod || AL(e)->crom) && (e->ntraining ? rk_scene_training_set(scene, &sim, e, &D, &T, err)
+    if ((e->cubature || AL(e)->quadratic_pod || AL(e)->crom) && (e->ntraining ? rk_scene_training_set_from(scene, &sim, e, n ? training_runs : NULL, &D, &T, err)
                                                            : rk_scene_training_frames(&sim, &D, &T, err)))
         goto out;
     if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err)) goto out;

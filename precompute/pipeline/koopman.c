@@ -69,27 +69,82 @@ static int record(void *ctx, int step, rk_fom *fom, double seconds, rk_error *er
     return 0;
 }
 
+/* What trajectory v runs under: opt (sim's options) with v's gravity, force (3 nv: every load
+ * times load_scale) and vel (3 nv: v's velocity, else the scene's) in arrays of the caller's. */
+static void variation(const rk_scene_sim *sim, const rk_koopman_variation *v, rk_fom_options *opt, double *force,
+                      double *vel)
+{
+    *opt = sim->options;
+    if (v && v->has_gravity) memcpy(opt->gravity, v->gravity, sizeof opt->gravity);
+    for (int i = 0; i < 3 * sim->mesh.nv; i++) {
+        force[i] = sim->options.force ? sim->options.force[i] * (v ? v->load_scale : 1) : 0;
+        vel[i] = v && v->has_velocity ? v->velocity[i % 3] : sim->options.velocity0 ? sim->options.velocity0[i] : 0;
+    }
+    opt->force = force;
+    opt->velocity0 = vel;
+}
+
+int rk_koopman_scene_vary(rk_scene_sim *sim, const rk_koopman_variation *v, rk_error *err)
+{
+    int n3 = 3 * sim->mesh.nv;
+    double *force = rk_calloc((size_t)n3, sizeof(double), err), *vel = rk_calloc((size_t)n3, sizeof(double), err);
+    if (!force || !vel) {
+        free(force);
+        free(vel);
+        return -1;
+    }
+    rk_fom_options opt;
+    variation(sim, v, &opt, force, vel);
+    free(sim->options.force);
+    free(sim->options.velocity0);
+    sim->options = opt;
+    return 0;
+}
+
 int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v, rk_koopman_run *out, rk_error *err)
 {
     memset(out, 0, sizeof *out);
     if (sim->options.is_static) return rk_fail(err, "Koopman: the scene is a static solve; DMD learns dynamics");
     int n3 = 3 * sim->mesh.nv, rc = -1;
-    rk_fom_options opt = sim->options;
+    rk_fom_options opt;
     double *force = rk_calloc((size_t)n3, sizeof(double), err), *vel = rk_calloc((size_t)n3, sizeof(double), err);
     if (force && vel) {
-        if (v && v->has_gravity) memcpy(opt.gravity, v->gravity, sizeof opt.gravity);
-        for (int i = 0; i < n3; i++) {
-            force[i] = sim->options.force ? sim->options.force[i] * (v ? v->load_scale : 1) : 0;
-            vel[i] = v && v->has_velocity ? v->velocity[i % 3] : sim->options.velocity0 ? sim->options.velocity0[i] : 0;
-        }
-        opt.force = force;
-        opt.velocity0 = vel;
+        variation(sim, v, &opt, force, vel);
         recording r = {sim, out};
         rc = run_start(sim, opt.gravity, force, vel, sim->steps, out, err) ||
                      rk_scene_fom_run(sim, &opt, "Koopman training run", record, &r, NULL, err)
                  ? -1
                  : 0;
     }
+    free(force);
+    free(vel);
+    if (rc) rk_koopman_run_free(out);
+    return rc;
+}
+
+int rk_koopman_scene_run_file(const rk_scene_sim *sim, const rk_koopman_variation *v, const char *file,
+                              rk_koopman_run *out, rk_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (sim->options.is_static) return rk_fail(err, "Koopman: the scene is a static solve; DMD learns dynamics");
+    int nv = sim->mesh.nv, n3 = 3 * nv, T = sim->steps, ndim, rc = -1;
+    long shape[4];
+    rk_fom_options opt;
+    double *force = rk_calloc((size_t)n3, sizeof(double), err), *vel = rk_calloc((size_t)n3, sizeof(double), err);
+    double *x = NULL;
+    if (!force || !vel || rk_npy_read(file, &x, &ndim, shape, err)) goto done;
+    if (ndim != 3 || shape[0] != T + 1 || shape[1] != nv || shape[2] != 3) {
+        rk_fail(err, "%s: a trajectory of this scene is %d x %d x 3 (romkit fom --trajectory --snapshots)", file, T + 1, nv);
+        goto done;
+    }
+    variation(sim, v, &opt, force, vel);
+    if (run_start(sim, opt.gravity, force, vel, T, out, err)) goto done;
+    /* as record() keeps them: u_s = x_s - X after the frame before */
+    for (int t = 0; t <= T; t++)
+        for (int i = 0; i < n3; i++) out->u[(size_t)(t + 1) * n3 + i] = x[(size_t)t * n3 + i] - sim->mesh.X[i];
+    rc = 0;
+done:
+    free(x);
     free(force);
     free(vel);
     if (rc) rk_koopman_run_free(out);
@@ -141,6 +196,13 @@ done:
 int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_entry *o, const rk_basis *basis,
                          const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err)
 {
+    return rk_koopman_scene_fit_from(sim, o, basis, frames, T, NULL, k, info, err);
+}
+
+int rk_koopman_scene_fit_from(const rk_scene_sim *sim, const rk_koopman_entry *o, const rk_basis *basis,
+                              const double *frames, int T, const char *const *files, rk_koopman *k,
+                              rk_koopman_scene_info *info, rk_error *err)
+{
     memset(k, 0, sizeof *k);
     memset(info, 0, sizeof *info);
     int ntraj = o->ntraj ? o->ntraj : 1, rc = -1;
@@ -152,8 +214,10 @@ int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_entry *o, con
     for (int i = 0; i < ntraj; i++) {
         const rk_koopman_variation *v = o->ntraj ? &o->traj[i] : NULL;
         info->reused |= frames && as_written(v);
-        if (frames && as_written(v) ? rk_koopman_scene_run_frames(sim, frames, T, &runs[i], err)
-                                    : rk_koopman_scene_run(sim, v, &runs[i], err)) {
+        int rc_run = frames && as_written(v) ? rk_koopman_scene_run_frames(sim, frames, T, &runs[i], err)
+                     : files             ? rk_koopman_scene_run_file(sim, v, files[i], &runs[i], err)
+                                         : rk_koopman_scene_run(sim, v, &runs[i], err);
+        if (rc_run) {
             rk_error_prefix(err, "trajectory %d", i);
             goto done;
         }
@@ -213,6 +277,13 @@ int rk_scene_koopman_geometry(const rk_scene_sim *sim, rk_scene_koopman *p, rk_e
 int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_scene_koopman *out, rk_error *err)
 {
+    return rk_scene_koopman_build_from(scene, sim, e, frames, T, NULL, out, err);
+}
+
+int rk_scene_koopman_build_from(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                                const double *frames, int T, const char *const *files, rk_scene_koopman *out,
+                                rk_error *err)
+{
     rk_basis b;
     rk_scene_basis_info bi;
     double *own = NULL, seconds_basis = 0;
@@ -230,7 +301,7 @@ int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const
         have_basis = 1;
         seconds_basis = rk_now() - t0;
     }
-    rc = rk_koopman_scene_fit(sim, ko, have_basis ? &b : NULL, frames, T, &out->k, &out->info, err);
+    rc = rk_koopman_scene_fit_from(sim, ko, have_basis ? &b : NULL, frames, T, files, &out->k, &out->info, err);
     if (!rc && have_basis) {
         out->info.basis_type = b.type;
         out->info.basis_columns = b.r;

@@ -81,7 +81,7 @@ static int bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_requ
 {
     if (req->snapshots)
         return rk_fail(err, "%s: method adaptive_linear trains on its entry's training list, not on --snapshots", e->path);
-    return rk_scene_bake_alrom(scene, e, ao, out, err);
+    return rk_scene_bake_alrom(scene, e, ao, req->training_runs, req->ntraining_runs, out, err);
 }
 
 static void report(const rk_compare_method *m, cJSON *j)

@@ -55,8 +55,10 @@ int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const
                            int T, rk_decoder *dec, rk_error *err);
 
 /* rk_scene_bake of an adaptive_linear entry (bake_alrom.c): the decoder's asset (quadratic, fitted
- * quadratic or CROM) with the chunks the runtime's adaptive step reads (formats/ROMBIN.md). */
-int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao, rk_baked *out,
-                        rk_error *err);
+ * quadratic or CROM) with the chunks the runtime's adaptive step reads (formats/ROMBIN.md).
+ * training_runs (n of them, or NULL): the training list's items from files, as
+ * rk_scene_training_set_from reads them (romkit plan's training steps). */
+int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_asset_options *ao,
+                        const char *const *training_runs, int n, rk_baked *out, rk_error *err);
 
 #endif

@@ -66,6 +66,8 @@ typedef struct {
                                     * at each shown surface vertex itself (nv x H, column-major), or NULL
                                     * (then the asset interpolates them in the vertex's tet) */
     int cubature_points;           /* 0 for exact integration */
+    rk_cubature_set cubature_set;  /* the trained (or given) elements and weights, what romkit cubature
+                                    * writes (count 0 for exact integration) */
     double cubature_error;         /* relative force error on the training poses (NAN: exact) */
     int cubature_reached, cubature_poses;
     double seconds_basis, seconds_cubature;
@@ -78,7 +80,24 @@ typedef struct {
  * them run their own, and the cubature trains on random poses only). */
 int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                        int T, rk_scene_rom *out, rk_error *err);
+/* What a split bake (romkit plan) gives the reduced model instead of building it: the basis from a
+ * basis step's file (only bases that are U alone: modes, modal_derivatives, pod), the cubature from
+ * a cubature step's (rk_scene_cubature_read). NULL members: built here. */
+typedef struct {
+    const rk_basis *basis;
+    const rk_cubature_set *cubature;
+    int cubature_poses;
+} rk_scene_rom_given;
+/* rk_scene_rom_build with parts given (g may be NULL): the same model from the same numbers. */
+int rk_scene_rom_build_given(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                             const double *frames, int T, const rk_scene_rom_given *g, rk_scene_rom *out, rk_error *err);
 void rk_scene_rom_free(rk_scene_rom *r);
+/* A split bake's files (stage_files.c): a basis step's U (n x 3 x r float64 .npy, as romkit basis
+ * --basis writes it; exact) read as a basis of the given type; the cubature R trained written as
+ * JSON (elements, weights, relative_error, reached, greedy_count, poses; exact) and read back. */
+int rk_scene_basis_read(const char *path, rk_basis_type type, rk_basis *b, rk_error *err);
+int rk_scene_cubature_write(const char *path, const rk_scene_rom *R, rk_error *err);
+int rk_scene_cubature_read(const char *path, rk_cubature_set *s, int *poses, rk_error *err);
 /* rom.volume "projected" (volume.c): sets the pressure space of R's quadrature from rom.pressure
  * (after any cubature: the projection is over the points the model integrates with). */
 int rk_scene_rom_volume(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene_rom *R, rk_error *err);

@@ -58,6 +58,13 @@ int rk_koopman_scene_run(const rk_scene_sim *sim, const rk_koopman_variation *v,
  * displacements after each of its T steps (rk_scene_training_frames). */
 int rk_koopman_scene_run_frames(const rk_scene_sim *sim, const double *frames, int T, rk_koopman_run *out,
                                 rk_error *err);
+/* The same trajectory from a file: the positions romkit fom --entry K --trajectory I --snapshots
+ * wrote for it ((steps + 1) x nv x 3 float64, a job of its own: romkit plan), bit for bit the run. */
+int rk_koopman_scene_run_file(const rk_scene_sim *sim, const rk_koopman_variation *v, const char *file,
+                              rk_koopman_run *out, rk_error *err);
+/* The built scene changed to run as trajectory v runs (gravity, every load times load_scale, the
+ * initial velocities; its own arrays, freed with sim): what romkit fom --trajectory runs. */
+int rk_koopman_scene_vary(rk_scene_sim *sim, const rk_koopman_variation *v, rk_error *err);
 void rk_koopman_run_free(rk_koopman_run *r);
 
 typedef struct {
@@ -75,6 +82,11 @@ typedef struct {
  * already done, used for each trajectory that changes nothing. */
 int rk_koopman_scene_fit(const rk_scene_sim *sim, const rk_koopman_entry *ko, const rk_basis *basis,
                          const double *frames, int T, rk_koopman *k, rk_koopman_scene_info *info, rk_error *err);
+/* The same with trajectory i read from files[i] (rk_koopman_scene_run_file; files NULL: run here;
+ * an entry listing no trajectory has one, the scene as written). */
+int rk_koopman_scene_fit_from(const rk_scene_sim *sim, const rk_koopman_entry *ko, const rk_basis *basis,
+                              const double *frames, int T, const char *const *files, rk_koopman *k,
+                              rk_koopman_scene_info *info, rk_error *err);
 
 /* An entry's Koopman operator and what baking it needs: the scene's constant acceleration, the
  * start (where the training runs start: X_0 = [0; h v_0]) and the boundary to show. */
@@ -91,6 +103,10 @@ typedef struct {
  * when NULL and something needs it, it is run here. */
 int rk_scene_koopman_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_scene_koopman *out, rk_error *err);
+/* The same with the trajectories from files (rk_koopman_scene_fit_from; NULL: run here). */
+int rk_scene_koopman_build_from(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                                const double *frames, int T, const char *const *files, rk_scene_koopman *out,
+                                rk_error *err);
 void rk_scene_koopman_free(rk_scene_koopman *p);
 /* What an asset of the built scene shows and steps along: the boundary, the scene's forcing, the
  * start (p's accel, u0, u_prev, tris and geometry; its operator k left alone, freed with p). */

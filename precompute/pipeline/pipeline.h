@@ -291,6 +291,10 @@ int rk_scene_training_frames(const rk_scene_sim *sim, double **D, int *T, rk_err
  * Fails naming the item. */
 int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, double **D, int *T,
                           rk_error *err);
+/* The same set with item k read from files[k] where files[k] is not NULL: the snapshots of item k's
+ * run (romkit fom --snapshots of its scene, a job of its own: romkit plan), or the item's own file. */
+int rk_scene_training_set_from(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                               const char *const *files, double **D, int *T, rk_error *err);
 
 
 /* ---- an entry baked (bake.c) ---- */
@@ -302,6 +306,19 @@ typedef struct {
     const double *snapshots;
     int snapshot_dims;
     long snapshot_shape[4];
+    /* The entry's training list item by item from these files (ntraining_runs = the list's length;
+     * rk_scene_training_set_from), run as separate jobs; 0: the items are run here. */
+    const char *const *training_runs;
+    int ntraining_runs;
+    /* A Koopman entry's trajectories from these files (romkit fom --trajectory I --snapshots), one
+     * per trajectory (one for an entry listing none); 0: run here. */
+    const char *const *trajectory_runs;
+    int ntrajectory_runs;
+    /* A split bake's parts (romkit plan): the basis and the cubature from their steps' files
+     * (rk_scene_rom_given); NULL: built here. Fixed-basis entries only. */
+    const rk_basis *basis;
+    const rk_cubature_set *cubature;
+    int cubature_poses;
     int has_real_type;               /* real_type overrides rom.asset.precision */
     int real_type;
     int compress;                    /* deflate, beside rom.asset.compress */
@@ -317,6 +334,12 @@ typedef struct {
 /* Entry e of the scene end to end: the full-order run when something trains on it, the basis, the
  * cubature, the Koopman operator, baked into one asset (reduced model, Koopman operator or both).
  * Nothing is written; the caller saves data. */
+/* The full-order frames (3 nv x *T displacements, malloc'd; *D NULL when nothing needs them) that
+ * entry e's reduced model trains on as rk_scene_bake trains it: the request's snapshots, the
+ * training list (from req->training_runs, or run here) or the scene's own run, where the basis
+ * (unless req->basis) or the cubature (unless req->cubature) needs frames. *trained_on says which. */
+int rk_scene_entry_frames(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                          const rk_bake_request *req, double **D, int *T, const char **trained_on, rk_error *err);
 int rk_scene_bake(const rk_scene *scene, const rk_rom_entry *e, const rk_bake_request *req, rk_baked *out,
                   rk_error *err);
 void rk_baked_free(rk_baked *b);

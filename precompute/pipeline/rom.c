@@ -71,10 +71,24 @@ static double *reduced_training_run(const rk_scene_sim *sim, rk_scene_rom *R, in
     return q;
 }
 
-static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames, int T,
-                          rk_scene_rom *R, rk_error *err)
+/* A copy of a given set (g), or the set trained on the frames (or random poses). */
+static int cubature_set(const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames, int T,
+                        const rk_scene_rom_given *g, rk_scene_rom *R, rk_cubature_set *set, rk_error *err)
 {
-    double t0 = rk_now();
+    if (g && g->cubature) {
+        const rk_cubature_set *c = g->cubature;
+        *set = *c;
+        set->index = rk_calloc(c->count > 0 ? c->count : 1, sizeof(int), err);
+        set->weight = rk_calloc(c->count > 0 ? c->count : 1, sizeof(double), err);
+        if (!set->index || !set->weight) {
+            rk_cubature_set_free(set);
+            return -1;
+        }
+        memcpy(set->index, c->index, sizeof(int) * c->count);
+        memcpy(set->weight, c->weight, sizeof(double) * c->count);
+        R->cubature_poses = g->cubature_poses;
+        return 0;
+    }
     double *q = frames ? reduced_frames(sim, R, frames, T, err) : NULL;
     if (frames && !q) return -1;
     if (!frames && sim->cloud_points) {
@@ -82,11 +96,30 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
         if (!q) return -1;
         frames = q; /* (only its presence is read below) */
     }
-    rk_cubature_set set;
-    int rc = rk_cubature_train(&R->model.quad, R->model.M, R->model.mass, q, frames ? T : 0, &o->cub, &set,
+    int rc = rk_cubature_train(&R->model.quad, R->model.M, R->model.mass, q, frames ? T : 0, &o->cub, set,
                                &R->cubature_poses, err);
     free(q);
-    if (rc) return rk_error_prefix(err, "cubature training");
+    return rc ? rk_error_prefix(err, "cubature training") : 0;
+}
+
+static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames, int T,
+                          const rk_scene_rom_given *g, rk_scene_rom *R, rk_error *err)
+{
+    double t0 = rk_now();
+    rk_cubature_set set = {0};
+    if (cubature_set(sim, o, frames, T, g, R, &set, err)) return -1;
+    int candidates = R->points.n ? R->points.n : sim->mesh.nt;
+    if (g && g->cubature && (set.count < 1 || set.count > candidates)) {
+        rk_cubature_set_free(&set);
+        return rk_fail(err, "the cubature given has %d points, not 1..%d", set.count, candidates);
+    }
+    for (int i = 0; g && g->cubature && i < set.count; i++)
+        if (set.index[i] < 0 || set.index[i] >= candidates || !(set.weight[i] > 0)) {
+            rk_fail(err, "the cubature given: point %d (element %d, weight %g) is not an element of this scene with a "
+                    "positive weight", i, set.index[i], set.weight[i]);
+            rk_cubature_set_free(&set);
+            return -1;
+        }
     rk_quadrature cub;
     int made = R->points.n ? rk_quadrature_points(&R->points, set.count, set.index, set.weight, &cub, err)
                            : rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, set.count, set.index, set.weight,
@@ -101,7 +134,6 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
     R->cubature_error = set.relative_error;
     R->cubature_reached = set.reached;
     const char *what = R->points.n ? "integration points" : "elements";
-    int candidates = R->points.n ? R->points.n : sim->mesh.nt;
     if (set.reached && set.greedy_count > set.count)
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "rom.cubature.tolerance %g: %d of %d %s "
                  "(pruned from the greedy selection's %d) reproduce the reduced forces of %d training poses to %.3g",
@@ -115,7 +147,7 @@ static int train_cubature(const rk_scene_sim *sim, const rk_rom_entry *o, const 
                  "%.3g, above rom.cubature.tolerance %g",
                  o->cub.max_points && set.count >= o->cub.max_points ? "rom.cubature.max_points" : "no further point helped",
                  set.count, candidates, what, set.relative_error, o->cub.tolerance);
-    rk_cubature_set_free(&set);
+    R->cubature_set = set; /* kept: romkit cubature writes it */
     R->seconds_cubature = rk_now() - t0;
     return 0;
 }
@@ -139,16 +171,52 @@ static int embedded_weights(const rk_scene_sim *sim, rk_scene_rom *R, rk_error *
     return 0;
 }
 
+/* A given basis (U alone) copied into R->basis, checked against the entry and the scene. */
+static int given_basis(const rk_scene_sim *sim, const rk_rom_entry *o, const rk_basis *b, rk_scene_rom *R, rk_error *err)
+{
+    if (b->type != o->basis.type || b->W || b->nparts || b->rkpm)
+        return rk_fail(err, "the basis given is a %s basis%s; the entry's is %s, and only modes, modal_derivatives "
+                       "and pod bases are taken from a file", rk_basis_type_name(b->type), b->W ? " with weights" : "",
+                       rk_basis_type_name(o->basis.type));
+    if (b->n != sim->mesh.nv || b->r < 1)
+        return rk_fail(err, "the basis given has %d vertices and %d columns; the scene has %d vertices", b->n, b->r,
+                       sim->mesh.nv);
+    R->basis.type = b->type;
+    R->basis.n = b->n;
+    R->basis.r = b->r;
+    R->basis.U = rk_calloc((size_t)3 * b->n * b->r, sizeof(double), err);
+    if (!R->basis.U) return -1;
+    memcpy(R->basis.U, b->U, sizeof(double) * 3 * (size_t)b->n * b->r);
+    R->basis_info.vertices = sim->mesh.nv;
+    R->basis_info.tets = sim->mesh.nt;
+    R->basis_info.projection_error = R->basis_info.projection_error_below = NAN;
+    snprintf(R->basis_reason, sizeof R->basis_reason, "the basis given (a basis step's file, %d columns)", b->r);
+    return 0;
+}
+
 int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, const double *frames,
                        int T, rk_scene_rom *R, rk_error *err)
+{
+    return rk_scene_rom_build_given(scene, sim, o, frames, T, NULL, R, err);
+}
+
+int rk_scene_rom_build_given(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o,
+                             const double *frames, int T, const rk_scene_rom_given *g, rk_scene_rom *R, rk_error *err)
 {
     memset(R, 0, sizeof *R);
     R->cubature_error = NAN;
     double t0 = rk_now();
-    if (rk_scene_basis(scene, sim, &o->basis, frames, T, &R->basis, &R->basis_info, err))
-        return rk_error_prefix(err, "%s", o->name);
+    if (g && g->basis) {
+        if (given_basis(sim, o, g->basis, R, err)) {
+            rk_scene_rom_free(R);
+            return rk_error_prefix(err, "%s", o->name);
+        }
+    } else {
+        if (rk_scene_basis(scene, sim, &o->basis, frames, T, &R->basis, &R->basis_info, err))
+            return rk_error_prefix(err, "%s", o->name);
+        explain_basis(o, R);
+    }
     R->seconds_basis = rk_now() - t0;
-    explain_basis(o, R);
     if (R->basis.n != sim->mesh.nv) {
         rk_scene_rom_free(R);
         return rk_fail(err, "%s: the reduced simulator needs a mesh (the basis has %d points, the mesh %d vertices)",
@@ -189,7 +257,7 @@ int rk_scene_rom_build(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     else
         snprintf(R->cubature_reason, sizeof R->cubature_reason, "no rom.cubature: exact integration over all %d elements",
                  sim->mesh.nt);
-    if (o->cubature && train_cubature(sim, o, frames, T, R, err)) {
+    if (o->cubature && train_cubature(sim, o, frames, T, g, R, err)) {
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
     }
@@ -215,6 +283,7 @@ void rk_scene_rom_free(rk_scene_rom *R)
     R->embedded_W = NULL;
     rk_basis_free(&R->basis);
     rk_scene_basis_info_free(&R->basis_info);
+    rk_cubature_set_free(&R->cubature_set);
 }
 
 rk_asset_rom rk_scene_asset_rom(const rk_scene_sim *sim, const rk_scene_rom *R)

@@ -73,11 +73,21 @@ static int from_snapshots(const rk_scene_sim *sim, const char *file, double **D,
 int rk_scene_training_set(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, double **D, int *T,
                           rk_error *err)
 {
+    return rk_scene_training_set_from(scene, sim, e, NULL, D, T, err);
+}
+
+/* A scene item's frames from its snapshot file are the frames of running it here bit for bit:
+ * romkit fom writes the positions x in float64 and both subtract the same rest positions (the
+ * same object: same_object's check, which a plan's item scene meets exactly). */
+int rk_scene_training_set_from(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
+                               const char *const *files, double **D, int *T, rk_error *err)
+{
     *D = NULL;
     *T = 0;
     for (int k = 0; k < e->ntraining; k++) {
-        const char *file = e->training[k].file;
-        int rc = e->training[k].snapshots ? from_snapshots(sim, file, D, T, err) : from_scene(sim, file, D, T, err);
+        const char *file = files && files[k] ? files[k] : e->training[k].file;
+        int rc = e->training[k].snapshots || (files && files[k]) ? from_snapshots(sim, file, D, T, err)
+                                                                 : from_scene(sim, file, D, T, err);
         if (rc) {
             free(*D);
             *D = NULL;
