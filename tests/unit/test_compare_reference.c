@@ -206,7 +206,9 @@ TEST(bad_reference_values_name_the_path)
         {", \"reference\": {\"refine\": -1}", "", "got -1"},
         {", \"reference\": {\"refine\": 1.5}", "", "whole number"},
         {", \"reference\": {\"refine\": \"2\"}", "", "must be a number"},
-        {", \"reference\": {}", "", "missing"},
+        {", \"reference\": {}", "", "names neither"},
+        {", \"reference\": {\"order\": 3}", "", "reference.order: must be 1 (linear tets) or 2"},
+        {", \"reference\": {\"order\": 1}", "", "names neither"},
         {", \"reference\": {\"refine\": 1, \"cells\": 2}", "", "cells"},
         {", \"reference\": 2", "", "must be an object"},
         /* 240 tets x 8^5 = 7,864,320 tets, but 5 levels */
@@ -228,6 +230,10 @@ TEST(bad_reference_values_name_the_path)
     rk_scene scene;
     CHECK_OK(rk_scene_parse(beam("", ", \"reference\": {\"refine\": 0}"), "beam.json", &scene, &err));
     CHECK(scene.reference_refine == 0, "refine %d", scene.reference_refine);
+    rk_scene_free(&scene);
+    CHECK_OK(rk_scene_parse(beam("", ", \"reference\": {\"order\": 2}"), "beam.json", &scene, &err));
+    CHECK(scene.reference_refine == 0 && scene.reference_order == 2, "refine %d, order %d", scene.reference_refine,
+          scene.reference_order);
     rk_scene_free(&scene);
     CHECK_OK(rk_scene_parse(beam("", ", \"reference\": {\"refine\": 3}"), "beam.json", &scene, &err));
     CHECK(scene.reference_refine == 3, "refine %d", scene.reference_refine);
