@@ -18,6 +18,8 @@
 #include "fom/fom.h"
 
 #define RANK 10
+/* seconds simulated: 60 steps of 0.01 s, the sag and its first swings (the asset test's 0.6 s) */
+#define DURATION 0.6
 
 typedef struct {
     const beam *b;
@@ -105,12 +107,11 @@ static int neural_on_unseen(const rk_koopman_neural_mesh *m, const beam *u, cons
 {
     rk_koopman_neural_options o;
     rk_koopman_neural_default_options(&o);
-    /* test_koopman_neural's better variant: a rollout window of K = 20 forced steps after the
-     * longer regression onto the classical start's modes */
+    /* Eq. 23's one-step loss (K = 1) and the default epochs: the K = 20 window and 3000 + 1000
+     * epochs of test_koopman_neural take 6x as long on the 24x6x6 mesh, and against the P2 run
+     * the discretization gap, not the rollout, dominates (a K = 20 run, 1 s simulated: neural
+     * 16.5% against classical 17.7%) */
     o.rank = RANK;
-    o.window = 20;
-    o.epochs = 1000;
-    o.pretrain_epochs = 3000;
     rk_koopman_neural nk;
     rk_koopman_neural_report rep;
     if (rk_koopman_neural_train(m, 2, &o, &nk, &rep, err)) return -1;
@@ -137,7 +138,7 @@ TEST(neural_across_resolutions_against_a_converged_run)
     memset(&ref, 0, sizeof ref);
     int rc = 0, np2 = 0;
     double t0 = rk_now();
-    for (int i = 0; i < 3 && !rc; i++) rc = beam_open(&b[i], cells[i][0], cells[i][1], cells[i][2], 1.0, &err);
+    for (int i = 0; i < 3 && !rc; i++) rc = beam_open(&b[i], cells[i][0], cells[i][1], cells[i][2], DURATION, &err);
     printf("# P1 runs: %.1f s\n", rk_now() - t0);
     t0 = rk_now();
     for (int i = 0; i < 3 && !rc; i++, np2++) rc = p2_run(&b[i], &p2[i], &err);
@@ -201,8 +202,20 @@ TEST(neural_across_resolutions_against_a_converged_run)
     printf("#   the 12x3x3 P1 run itself                %14s %18.4g\n", "0", pct[2][0]);
     printf("# (a) <= 2 (b) against the P2 run: %s (%.4g%% against %.4g%%)\n", nn_conv <= 2 * cl_conv ? "met" : "NOT met",
            nn_conv, cl_conv);
-    (void)p2_12;
-    (void)p2_8_pct;
+    /* the reference is converged far beyond any P1 run: the 12x3x3 and 8x2x2 P2 runs are closer
+     * to it than the 24x6x6 P1 run on its own mesh */
+    CHECK(p2_12 < 0.1 * pct[1][0] && p2_8_pct < pct[1][0], "P2 12x3x3 %.4g%%, P2 8x2x2 %.4g%%, P1 24x6x6 %.4g%% MSE",
+          p2_12, p2_8_pct, pct[1][0]);
+    /* the classical fit on the unseen mesh reproduces its own P1 run; against the converged run it
+     * carries that run's discretization error, a hundred times more than its own-run error shows */
+    CHECK(cl_conv > 100 * cl_own && cl_conv > 0.5 * pct[2][0], "classical: %.4g%% own run, %.4g%% P2, P1 itself %.4g%%",
+          cl_own, cl_conv, pct[2][0]);
+    /* issue 35's bar, measured against one converged run: the neural model on the unseen mesh within
+     * 2x of the classical DMD fitted on that mesh */
+    CHECK(nn_conv <= 2 * cl_conv, "neural %.4g%% MSE, classical %.4g%% against the P2 run", nn_conv, cl_conv);
+    /* trained on converged runs of the training meshes, the neural model on the unseen mesh is
+     * closer to the converged run than anything fitted on that mesh's P1 run can be */
+    CHECK(nq_conv < 0.1 * cl_conv, "neural on P2 runs %.4g%% MSE, classical %.4g%%", nq_conv, cl_conv);
 }
 
 int main(void)
