@@ -53,10 +53,13 @@ static int p2_run(const beam *b, rk_koopman_run *out, rk_error *err)
     memcpy(out->u, b->run.u, sizeof(double) * n3); /* u_{-1} */
     out->t = (rk_koopman_trajectory){out->u, T, out->accel};
     p2_recording r = {b, out};
-    if (rk_p2_fom_run(&b->sim.fem, &b->sim.options, keep_p2, &r, NULL, err)) {
+    rk_fom_stats st;
+    if (rk_p2_fom_run(&b->sim.fem, &b->sim.options, keep_p2, &r, &st, err)) {
         rk_koopman_run_free(out);
         return -1;
     }
+    printf("# P2 run on %d vertices: %ld steps, %ld Newton iterations, %.1f s (factor %.1f, assemble %.1f)\n",
+           b->sim.mesh.nv, st.steps, st.newton_iterations, st.seconds_total, st.seconds_factor, st.seconds_assemble);
     return 0;
 }
 
