@@ -32,6 +32,7 @@ typedef struct {
     rk_chol chol;
     double *f;             /* n: gravity's consistent load */
     double *scratch;       /* n */
+    double Mref[100];      /* the unit tet's mass (volume 1, density 1): an element's is rho V times it */
     double w_inertia, w_damping, a, b;
     const double *xtilde, *xt;
     int factored;          /* the last Newton matrix factored (even projected); else solve fails */
@@ -81,7 +82,7 @@ static int newton_matrix(p2_sim *s, const double *x, int project, rk_error *err)
     memset(s->A.val, 0, (size_t)s->A.nnz * sizeof(double));
     double t0 = rk_now();
     for (int t = 0; t < fem->nt; t++) {
-        double u[30], H[900], K0[900], Me[100];
+        double u[30], H[900], K0[900];
         element_u(s, t, x, u);
         rk_p2_element_elastic(fem->model[t], fem->mu[t], fem->lambda[t], s->dL[t], fem->vol[t], u, NULL, H, project);
         if (s->w_damping * s->b != 0) {
@@ -89,11 +90,10 @@ static int newton_matrix(p2_sim *s, const double *x, int project, rk_error *err)
             rk_p2_element_elastic(fem->model[t], fem->mu[t], fem->lambda[t], s->dL[t], fem->vol[t], zero, NULL, K0, 0);
             for (int k = 0; k < 900; k++) H[k] += s->w_damping * s->b * K0[k];
         }
-        rk_p2_mass_element(fem->vol[t], fem->density[t], Me);
-        double wm = s->w_inertia + s->w_damping * s->a;
+        double wm = (s->w_inertia + s->w_damping * s->a) * fem->density[t] * fem->vol[t];
         for (int a = 0; a < 10; a++)
             for (int b = 0; b < 10; b++)
-                for (int c = 0; c < 3; c++) H[30 * (3 * a + c) + 3 * b + c] += wm * Me[10 * a + b];
+                for (int c = 0; c < 3; c++) H[30 * (3 * a + c) + 3 * b + c] += wm * s->Mref[10 * a + b];
         rk_p2_scatter(&s->A, s->free_of, &s->p2.elem[10 * t], H, 1.0);
     }
     s->stats->seconds_assemble += rk_now() - t0;
@@ -269,13 +269,14 @@ int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn f
     if (all_dofs_matrix(&s, &s.M, err) || (s.b != 0 && all_dofs_matrix(&s, &s.K0, err)) ||
         rk_p2_pattern(&s.p2, s.free_of, s.nfree, &s.A, err))
         goto out;
+    rk_p2_mass_element(1.0, 1.0, s.Mref);
     int *all = rk_calloc((size_t)s.n, sizeof(int), err);
     if (!all) goto out;
     for (int i = 0; i < s.n; i++) all[i] = i;
     for (int t = 0; t < fem->nt; t++) {
         double Me[100], Mx[900] = {0};
         rk_p2_barycentric_gradients(&fem->Dm_inv[9 * t], s.dL[t]);
-        rk_p2_mass_element(fem->vol[t], fem->density[t], Me);
+        for (int k = 0; k < 100; k++) Me[k] = fem->density[t] * fem->vol[t] * s.Mref[k];
         const int *nd = &s.p2.elem[10 * t];
         for (int a = 0; a < 10; a++)
             for (int b = 0; b < 10; b++)
