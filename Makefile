@@ -303,10 +303,12 @@ paper-table: deps-build $(BUILD)/romkit
 
 # How fine the beam's full-order reference must be for Table 1 (bench/beam_reference.sh): full-order
 # runs of the table scenes on 1,920 to 983,040 tets, the normalized MSE between levels; and the
-# beam's converged static sag by quadratic tets (bench/bench_p2_beam.c: 4 to 13 minutes and 7 GB).
+# beam's converged static sag by quadratic tets (bench/bench_p2_beam.c: 4 to 13 minutes and 7 GB);
+# how converged the bend's dynamic quadratic-tet reference is (bench/p2_reference.sh, 40 minutes).
 # Not part of make bench or make test: about an hour on 2 cores, more with the 983k-tet levels.
 bench-reference: deps-bench all $(BUILD)/bench_reference $(BUILD)/bench_p2_beam
 	$(BUILD)/bench_p2_beam 2
+	BUILD=$(BUILD) sh bench/p2_reference.sh
 	BUILD=$(BUILD) sh bench/beam_reference.sh
 	@$(MAKE) --no-print-directory results-tables
 

@@ -121,6 +121,12 @@ ABOUT = {
     "p2_beam": ("The beam's converged static sag by quadratic tets (issue 37)", "make bench-reference: build/bench_p2_beam",
                 "The freeform beam, linear, a tenth of gravity, first 0.5 m fixed: P2 on the Table-1 box mesh and "
                 "its 1:8 refinements; Richardson's extrapolation from the last three levels."),
+    "p2_reference": ("How converged the bend's quadratic-tet reference is (issue 37)",
+                     "make bench-reference: bench/p2_reference.sh",
+                     "The bend on quadratic tets along two chains of 1:8 refinements (the table box 20x4x4, "
+                     "and 10x2x2 for the rate); normalized MSE between consecutive levels at each chain's "
+                     "level-0 vertices, the ratio of consecutive changes, and the table reference's "
+                     "estimated distance to the limit."),
     "beam_reference": ("How converged the beam's full-order reference is", "make bench-reference: bench/beam_reference.sh",
                        "Full-order runs of the table scenes on box meshes and their 1:8 refinements; "
                        "normalized MSE between consecutive levels."),
