@@ -65,3 +65,21 @@ npy_shape() { head -c "$(npy_header_bytes "$1")" "$1" | LC_ALL=C sed -n "s/.*'sh
 npy_values() { od -A n -v -t f8 -j "$(npy_header_bytes "$1")" "$1" | tr -s ' ' '\n' | sed '/^$/d'; }
 # below A B: A is a number (not empty, not text that awk would read as 0) and A < B.
 below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a ~ /^[-+]?[0-9.]+([eE][-+]?[0-9]+)?$/ && a + 0 < b + 0) }'; }
+
+# cantilever FILE CELLS_X GRAVITY_Y ROM_JSON: the small neo-Hookean cantilever several scripts bake
+# (1 x 0.2 x 0.2 m, CELLS_X x 2 x 2 cells, clamped at x = 0), 0.2 s under gravity GRAVITY_Y (m/s^2),
+# its rom section ROM_JSON.
+cantilever() {
+    cat >"$1" <<JSON
+{
+  "objects": [{
+    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [$2, 2, 2]}},
+    "material": {"model": "neohookean", "young": 2e6, "poisson": 0.4, "density": 1000},
+    "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]
+  }],
+  "gravity": [0, $3, 0],
+  "time": {"step": 0.01, "duration": 0.2},
+  "rom": $4
+}
+JSON
+}

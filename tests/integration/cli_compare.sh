@@ -1,20 +1,7 @@
 # romkit compare: the report's keys (DESIGN.md), the table on stdout, and the errors a user meets.
 . tests/lib.sh
 
-scene() { # scene FILE ROM_JSON: a small cantilever under gravity
-    cat >"$1" <<JSON
-{
-  "objects": [{
-    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [8, 2, 2]}},
-    "material": {"model": "neohookean", "young": 2e6, "poisson": 0.4, "density": 1000},
-    "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]
-  }],
-  "gravity": [0, -9.81, 0],
-  "time": {"step": 0.01, "duration": 0.2},
-  "rom": $2
-}
-JSON
-}
+scene() { cantilever "$1" 8 -9.81 "$2"; } # scene FILE ROM_JSON: tests/lib.sh's cantilever, 8 cells
 
 "$ROMKIT" compare --help | grep -q "normalized MSE" && ok compare_help || fail compare_help "no description"
 

@@ -7,20 +7,7 @@ export ROMKIT_THREADS=2
 command -v make >/dev/null 2>&1 || { echo "skip cli_plan: make is not installed"; exit 0; }
 
 # scene FILE GRAVITY_Y ROM_JSON: a small cantilever (108 vertices), 0.2 s
-scene() {
-    cat >"$1" <<JSON
-{
-  "objects": [{
-    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [8, 2, 2]}},
-    "material": {"model": "neohookean", "young": 2e6, "poisson": 0.4, "density": 1000},
-    "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]
-  }],
-  "gravity": [0, $2, 0],
-  "time": {"step": 0.01, "duration": 0.2},
-  "rom": $3
-}
-JSON
-}
+scene() { cantilever "$1" 8 "$2" "$3"; } # tests/lib.sh's cantilever, 108 vertices
 scene "$TMP/a.json" -9.81 '{"basis": "modes", "size": 6}'
 scene "$TMP/b.json" -30 '{"basis": "modes", "size": 6}'
 scene "$TMP/pod.json" -15 '[{"basis": "pod", "size": 5, "cubature": {"tolerance": 0.05}, "training": ["a.json", "b.json"]},

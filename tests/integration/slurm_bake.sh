@@ -97,20 +97,7 @@ fi
 echo "# $NAME: node $HOST idle: slurmctld on port $CTLD_PORT, slurmd on $SLURMD_PORT, $(nproc) CPUs"
 
 # the scene: a cantilever (60 vertices) trained on two runs under other gravities, pod + cubature
-scene() {
-    cat >"$1" <<JSON
-{
-  "objects": [{
-    "mesh": {"box": {"size": [1, 0.2, 0.2], "cells": [6, 2, 2]}},
-    "material": {"model": "neohookean", "young": 2e6, "poisson": 0.4, "density": 1000},
-    "fixed": [{"box": [[-1, -1, -1], [0.01, 1, 1]]}]
-  }],
-  "gravity": [0, $2, 0],
-  "time": {"step": 0.01, "duration": 0.2},
-  "rom": $3
-}
-JSON
-}
+scene() { cantilever "$1" 6 "$2" "$3"; } # tests/lib.sh's cantilever, 60 vertices
 mkdir "$TMP/s"
 scene "$TMP/s/a.json" -9.81 '{"basis": "modes", "size": 6}'
 scene "$TMP/s/b.json" -30 '{"basis": "modes", "size": 6}'
