@@ -109,6 +109,8 @@ typedef struct {
     double *X;       /* 3 nn rest positions (edge nodes at the midpoints) */
     int *elem;       /* 10 nt: the tet's four vertices, then its edges 01 02 03 12 13 23 */
 } rk_p2_mesh;
+/* The six edges of a tet in rk_p2_mesh's node order: node 4 + k sits on RK_P2_EDGE[k]'s two vertices. */
+extern const int RK_P2_EDGE[6][2];
 int rk_p2_mesh_init(rk_p2_mesh *p, const rk_mesh *m, rk_error *err);
 void rk_p2_mesh_free(rk_p2_mesh *p);
 /* u (3 nn) solving K u = f for the body force `body` (N/m^3: rho g) with u = u_fixed (3 nn, NULL:

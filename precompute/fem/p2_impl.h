@@ -3,8 +3,6 @@
 #ifndef RK_FEM_P2_IMPL_H
 #define RK_FEM_P2_IMPL_H
 
-/* The six edges of a tet in rk_p2_mesh's node order (nodes 4..9). */
-extern const int RK_P2_EDGE[6][2];
 /* The gradients (3 x 10, node by node) of the ten shape functions at barycentric point L, given
  * the constant gradients dL (4 x 3) of the barycentric coordinates. */
 void rk_p2_shape_gradients(const double L[4], const double dL[12], double dN[30]);

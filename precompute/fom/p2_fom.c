@@ -74,6 +74,20 @@ static void element_u(const p2_sim *s, int t, const double *x, double u[30])
         for (int c = 0; c < 3; c++) u[3 * a + c] = x[3 * nd[a] + c] - s->p2.X[3 * nd[a] + c];
 }
 
+/* scale S (every dof, the rest stiffness assembled once) added into the Newton matrix at the free
+ * dofs: free dofs are numbered in the dofs' order, so an upper entry stays upper. */
+static void add_free(p2_sim *s, const rk_sparse *S, double scale)
+{
+    for (int j = 0; j < S->n; j++) {
+        int col = s->free_of[j];
+        if (col < 0) continue;
+        for (int k = S->colptr[j]; k < S->colptr[j + 1]; k++) {
+            int row = s->free_of[S->rowind[k]];
+            if (row >= 0) s->A.val[rk_p2_slot(&s->A, row, col)] += scale * S->val[k];
+        }
+    }
+}
+
 /* The Newton matrix at x over the free dofs (elements projected when project), factored; returns
  * RK_CHOL_NOT_POSDEF when it is not positive definite, -1 on another failure. */
 static int newton_matrix(p2_sim *s, const double *x, int project, rk_error *err)
@@ -82,20 +96,16 @@ static int newton_matrix(p2_sim *s, const double *x, int project, rk_error *err)
     memset(s->A.val, 0, (size_t)s->A.nnz * sizeof(double));
     double t0 = rk_now();
     for (int t = 0; t < fem->nt; t++) {
-        double u[30], H[900], K0[900];
+        double u[30], H[900];
         element_u(s, t, x, u);
         rk_p2_element_elastic(fem->model[t], fem->mu[t], fem->lambda[t], s->dL[t], fem->vol[t], u, NULL, H, project);
-        if (s->w_damping * s->b != 0) {
-            double zero[30] = {0};
-            rk_p2_element_elastic(fem->model[t], fem->mu[t], fem->lambda[t], s->dL[t], fem->vol[t], zero, NULL, K0, 0);
-            for (int k = 0; k < 900; k++) H[k] += s->w_damping * s->b * K0[k];
-        }
         double wm = (s->w_inertia + s->w_damping * s->a) * fem->density[t] * fem->vol[t];
         for (int a = 0; a < 10; a++)
             for (int b = 0; b < 10; b++)
                 for (int c = 0; c < 3; c++) H[30 * (3 * a + c) + 3 * b + c] += wm * s->Mref[10 * a + b];
         rk_p2_scatter(&s->A, s->free_of, &s->p2.elem[10 * t], H, 1.0);
     }
+    if (s->w_damping * s->b != 0) add_free(s, &s->K0, s->w_damping * s->b);
     s->stats->seconds_assemble += rk_now() - t0;
     t0 = rk_now();
     int st = rk_chol_factor(&s->chol, err);
@@ -181,28 +191,17 @@ static int refuse(const rk_fom_options *o, rk_error *err)
 static void node_groups(const p2_sim *s, const rk_fom_options *o, int *group, int *ends)
 {
     const rk_p2_mesh *p = &s->p2;
-    static const int EDGE[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
     for (int i = 0; i < p->nn; i++) group[i] = -1;
     for (int g = 0; g < o->nprescribed; g++)
         for (int k = 0; k < o->prescribed[g].count; k++) group[o->prescribed[g].verts[k]] = g;
     for (int t = 0; t < p->nt; t++)
         for (int k = 0; k < 6; k++) {
-            int node = p->elem[10 * t + 4 + k], a = p->elem[10 * t + EDGE[k][0]], b = p->elem[10 * t + EDGE[k][1]];
+            int node = p->elem[10 * t + 4 + k], a = p->elem[10 * t + RK_P2_EDGE[k][0]],
+                b = p->elem[10 * t + RK_P2_EDGE[k][1]];
             ends[2 * (node - p->nv)] = a;
             ends[2 * (node - p->nv) + 1] = b;
             if (group[a] >= 0 && group[a] == group[b]) group[node] = group[a];
         }
-}
-
-/* Every dof of the P2 mesh, free or not: the numbering M and K0 are stored in. */
-static int all_dofs_matrix(const p2_sim *s, rk_sparse *S, rk_error *err)
-{
-    int *all = rk_calloc((size_t)s->n, sizeof(int), err);
-    if (!all) return -1;
-    for (int i = 0; i < s->n; i++) all[i] = i;
-    int rc = rk_p2_pattern(&s->p2, all, s->n, S, err);
-    free(all);
-    return rc;
 }
 
 static void p2_sim_free(p2_sim *s)
@@ -231,7 +230,7 @@ int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn f
     s.stats = &local;
     rk_stepper st;
     memset(&st, 0, sizeof st);
-    int *group = NULL, *ends = NULL, rc = -1;
+    int *group = NULL, *ends = NULL, *all = NULL, rc = -1;
     double *x = NULL, *v = NULL, *work = NULL;
     double start = rk_now();
     rk_mesh view;
@@ -250,10 +249,12 @@ int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn f
     s.scratch = rk_calloc((size_t)2 * s.n, sizeof(double), err);
     group = rk_calloc((size_t)nn, sizeof(int), err);
     ends = rk_calloc((size_t)2 * (nn - nv) + 1, sizeof(int), err);
+    all = rk_calloc((size_t)s.n, sizeof(int), err);
     x = rk_calloc((size_t)s.n, sizeof(double), err);
     v = rk_calloc((size_t)s.n, sizeof(double), err);
     work = rk_calloc(RK_NEWTON_WORK(s.n), sizeof(double), err);
-    if (!s.free_of || !s.prescribed || !s.dL || !s.f || !s.scratch || !group || !ends || !x || !v || !work) goto out;
+    if (!s.free_of || !s.prescribed || !s.dL || !s.f || !s.scratch || !group || !ends || !all || !x || !v || !work)
+        goto out;
     node_groups(&s, opt, group, ends);
     for (int i = 0; i < nn; i++)
         for (int c = 0; c < 3; c++) {
@@ -266,13 +267,12 @@ int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn f
     }
     s.a = opt->rayleigh_mass;
     s.b = opt->rayleigh_stiffness;
-    if (all_dofs_matrix(&s, &s.M, err) || (s.b != 0 && all_dofs_matrix(&s, &s.K0, err)) ||
+    /* M and K0 over every dof, free or not (all: the identity numbering), the Newton matrix over the free */
+    for (int i = 0; i < s.n; i++) all[i] = i;
+    if (rk_p2_pattern(&s.p2, all, s.n, &s.M, err) || (s.b != 0 && rk_p2_pattern(&s.p2, all, s.n, &s.K0, err)) ||
         rk_p2_pattern(&s.p2, s.free_of, s.nfree, &s.A, err))
         goto out;
     rk_p2_mass_element(1.0, 1.0, s.Mref);
-    int *all = rk_calloc((size_t)s.n, sizeof(int), err);
-    if (!all) goto out;
-    for (int i = 0; i < s.n; i++) all[i] = i;
     for (int t = 0; t < fem->nt; t++) {
         double Me[100], Mx[900] = {0};
         rk_p2_barycentric_gradients(&fem->Dm_inv[9 * t], s.dL[t]);
@@ -291,7 +291,6 @@ int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn f
             rk_p2_scatter(&s.K0, all, nd, K0, 1.0);
         }
     }
-    free(all);
     if (opt->force)
         for (int k = 0; k < 3 * nv; k++) s.f[k] += opt->force[k];
     double t0 = rk_now();
@@ -354,6 +353,7 @@ out:
     p2_sim_free(&s);
     free(group);
     free(ends);
+    free(all);
     free(x);
     free(v);
     free(work);
