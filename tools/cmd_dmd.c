@@ -13,6 +13,7 @@
 #include "formats/rombin_write.h"
 #include "pipeline/dmd.h"
 #include "mesh/mesh.h"
+#include "video/video.h"
 #include "util/util.h"
 
 #define MAX_FILES RK_DMD_MAX_RECORDINGS
@@ -26,7 +27,7 @@ static void dmd_usage(FILE *f)
             "                  [--precision float32|float64] [--compress] [--report R.json] [--quiet]\n"
             "       romkit dmd --markers M.npy --marker-vertices V.txt --scene SCENE.json --modes B --dt H\n"
             "                  -o OUT.rombin [--marker-ridge RHO] [the fit, --gravity, --from-rest and output options]\n"
-            "       romkit dmd --tracks TRACKS.json [--cameras CAMS.json] --scene SCENE.json --modes B --dt H\n"
+            "       romkit dmd --tracks TRACKS.json [--cameras CAMS.json] --scene SCENE.json [--modes B] [--dt H]\n"
             "                  -o OUT.rombin [--match-tol D] [--marker-ridge RHO] [the same options as --markers]\n"
             "  fits a Koopman operator by DMD on states [u_t; u_t - u_{t-1}] from every file jointly (each\n"
             "  one trajectory at time step H) and bakes it into OUT.rombin for the runtime.\n"
@@ -67,7 +68,8 @@ static void dmd_usage(FILE *f)
             "                    amplified tracking noise, at a bias towards rest (default 0: none; 0.03 cut\n"
             "                    the lift's error under 0.5 mm noise from 36%% to 3.1%% with 4 markers on 12 modes)\n"
             "  Learning from video (romkit track's output), instead of --markers and --marker-vertices:\n"
-            "  --tracks T.json   the 2D dot tracks of each view, one frame per H seconds, frame 0 at rest\n"
+            "  --tracks T.json   the 2D dot tracks of each view, one frame per H seconds, frame 0 at rest (--dt:\n"
+            "                    default the cameras' \"dt\"; --modes: default 12)\n"
             "  --cameras C.json  each view's calibration, in the tracks' view order (default: the cameras the\n"
             "                    tracks carry from romkit track --cameras): {\"views\": [{\"name\", \"frames\",\n"
             "                    \"K\": 3 x 3, \"R\": 3 x 3 (world -> camera, a rotation), \"t\": [3], \"size\": [w, h]}]};\n"
@@ -103,9 +105,9 @@ typedef struct {
 static int markers_args(const dmd_args *a)
 {
     if (a->tracks || a->cameras || a->match_tol) {
-        if (!a->tracks || !a->scene || !a->modes || !a->dt || !a->out || a->markers || a->marker_vertices) {
-            fprintf(stderr, "romkit dmd: learning from video needs --tracks, --scene, --modes, --dt and -o (and --cameras "
-                    "unless romkit track was given them; not --markers or --marker-vertices)\n");
+        if (!a->tracks || !a->scene || !a->out || a->markers || a->marker_vertices) {
+            fprintf(stderr, "romkit dmd: learning from video needs --tracks, --scene and -o (and --cameras unless romkit "
+                    "track was given them; not --markers or --marker-vertices)\n");
             return -1;
         }
     } else if (!a->markers || !a->marker_vertices || !a->scene || !a->modes || !a->dt || !a->out) {
@@ -202,13 +204,41 @@ static int vector3(const char *what, const char *text, double v[3], rk_error *er
     return 0;
 }
 
+/* --tracks without --modes: the modes each frame's markers are fitted by (12 fitted the filmed
+ * cantilever of cli_track.sh to 1.2% with 14 markers). */
+#define RK_DMD_TRACKS_MODES 12
+
+/* --tracks without --dt: the seconds between frames the cameras give ("dt", carried by romkit track
+ * into the tracks, or in --cameras). */
+static int tracks_dt(const dmd_args *a, double *h, rk_error *err)
+{
+    rk_tracks tr;
+    rk_cameras cams;
+    double dt = 0;
+    if (a->cameras) {
+        if (rk_cameras_load(a->cameras, &cams, err)) return rk_error_prefix(err, "--cameras");
+        dt = cams.dt;
+    } else {
+        if (rk_tracks_load(a->tracks, &tr, err)) return rk_error_prefix(err, "--tracks");
+        dt = tr.calibrated ? tr.cams.dt : 0;
+        rk_tracks_free(&tr);
+    }
+    if (!(dt > 0))
+        return rk_fail(err, "--dt is needed: the cameras (%s) give no \"dt\", the seconds between frames",
+                       a->cameras ? a->cameras : a->tracks);
+    *h = dt;
+    return 0;
+}
+
 /* --markers: the scene's modes, the markers lifted (dmd.h), as the one recording. */
 static int markers_recording(const dmd_args *a, rk_dmd_markers *mk, rk_dmd_recordings *r, rk_error *err)
 {
     int b = 0;
     double ridge = 0, tol = 0;
-    if (whole("--modes", a->modes, 1, 4096, &b, err) ||
-        (a->marker_ridge && number("--marker-ridge", a->marker_ridge, 0, 1e6, &ridge, err)) ||
+    if (!a->modes && a->tracks) b = RK_DMD_TRACKS_MODES;
+    else if (whole("--modes", a->modes, 1, 4096, &b, err))
+        return -1;
+    if ((a->marker_ridge && number("--marker-ridge", a->marker_ridge, 0, 1e6, &ridge, err)) ||
         (a->match_tol && number("--match-tol", a->match_tol, 1e-12, 1e12, &tol, err)))
         return -1;
     if (a->tracks ? rk_dmd_markers_video(a->scene, a->tracks, a->cameras, b, ridge, tol, mk, err)
@@ -267,7 +297,7 @@ int cmd_dmd(int argc, char **argv)
     if (cli_precision("dmd", a.precision, &has_real_type, &real_type)) return 2;
     if (has_real_type) ao.real_type = real_type;
     ao.compress = a.compress;
-    if (number("--dt", a.dt, 1e-12, 1e6, &o.h, &err) ||
+    if ((a.tracks && !a.dt ? tracks_dt(&a, &o.h, &err) : number("--dt", a.dt, 1e-12, 1e6, &o.h, &err)) ||
         (a.rank && whole("--rank", a.rank, 1, 4096, &o.rank, &err)) ||
         (a.energy && number("--energy", a.energy, 1e-12, 1, &o.energy, &err)) ||
         (a.pod && whole("--pod", a.pod, 1, 100000, &pod, &err)))

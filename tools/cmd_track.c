@@ -13,20 +13,22 @@
 static void track_usage(FILE *f)
 {
     fprintf(f,
-            "usage: romkit track --cameras CAMS.json --frames T -o TRACKS.json [options]\n"
-            "       romkit track --view PATTERN [--view PATTERN ...] --frames T -o TRACKS.json\n"
+            "usage: romkit track --cameras CAMS.json -o TRACKS.json [--frames T] [options]\n"
+            "       romkit track --view PATTERN [--view PATTERN ...] -o TRACKS.json [--frames T]\n"
             "                    [--start N] [--bright] [--threshold L] [--min-area A] [--max-area A]\n"
             "                    [--levels L] [--window HW] [--fb PX] [--quiet]\n"
             "  finds dot markers in each view's first frame and follows them through T frames with pyramidal\n"
             "  Lucas-Kanade optical flow; a track whose forward-backward round trip misses by more than --fb\n"
             "  pixels, or whose window leaves the image or turns flat, is lost from that frame on.\n"
             "  --cameras CAMS.json  the calibrated views, each with its frames (\"frames\": \"cam0/%%04d.png\"; the\n"
-            "                    file romkit dmd --cameras reads): the tracks file carries the cameras along, so\n"
-            "                    romkit dmd --tracks needs no --cameras\n"
+            "                    file romkit dmd --cameras reads; a view without \"size\" takes its frames'; \"dt\", the\n"
+            "                    seconds between frames, is romkit dmd's --dt): the tracks file carries the\n"
+            "                    cameras along, so romkit dmd --tracks needs no --cameras\n"
             "  --view PATTERN    instead, one uncalibrated view's frames, a printf pattern of the frame number:\n"
             "                    'cam0/%%04d.png' (PNG: gray, RGB, with or without alpha, 8 or 16 bit; or binary\n"
             "                    PGM, P5)\n"
             "  --frames T        frames per view (T >= 2), numbered --start (default 0) to --start + T - 1\n"
+            "                    (default: the first view's frames from --start up to the first one missing)\n"
             "  --bright          bright dots on a dark surface (default: dark dots on a light one)\n"
             "  --threshold L     dot pixels are darker than luminance L in [0, 1] (default 0.3; --bright:\n"
             "                    brighter than 1 - L)\n"
@@ -37,7 +39,7 @@ static void track_usage(FILE *f)
             "  -o TRACKS.json    per view: the frames' pattern, size, the dot counts, and per dot the pixel\n"
             "                    positions up to the frame it is lost at ('lost', -1: never)\n"
             "example (two calibrated views of a filmed object, then the model, see romkit dmd --help):\n"
-            "  romkit track --cameras cams.json --frames 101 -o tracks.json\n"
+            "  romkit track --cameras cams.json -o tracks.json\n"
             "  romkit dmd --tracks tracks.json --scene beam.json --modes 12 --dt 0.01\n"
             "             --from-rest --gravity 0,-9.81,0 -o video.rombin\n");
 }
@@ -83,8 +85,8 @@ static int parse_args(int argc, char **argv, track_args *a)
         }
         *values[k].value = argv[++i];
     }
-    if (!(a->nviews || a->cameras) || !a->frames || !a->out) {
-        fprintf(stderr, "romkit track: --cameras (or --view), --frames and -o are required\n");
+    if (!(a->nviews || a->cameras) || !a->out) {
+        fprintf(stderr, "romkit track: --cameras (or --view) and -o are required\n");
         return -1;
     }
     if (a->nviews && a->cameras) {
@@ -182,8 +184,10 @@ static int options(const track_args *a, int *T, int *start, rk_dot_options *d, r
     rk_dot_default_options(d);
     rk_lk_default_options(l);
     d->dark = !a->bright;
-    if (cli_whole(a->frames, 2, 1000000, &v)) return rk_fail(err, "--frames must be a whole number >= 2, got '%s'", a->frames);
-    *T = (int)v;
+    *T = 0; /* counted from the files when not given */
+    if (a->frames && cli_whole(a->frames, 2, 1000000, &v))
+        return rk_fail(err, "--frames must be a whole number >= 2, got '%s'", a->frames);
+    if (a->frames) *T = (int)v;
     *start = 0;
     if (a->start) {
         if (cli_whole(a->start, 0, 1000000000, &v)) return rk_fail(err, "--start must be a whole number >= 0, got '%s'", a->start);
@@ -209,6 +213,27 @@ static int options(const track_args *a, int *T, int *start, rk_dot_options *d, r
         l->fb_threshold = x;
     }
     if (d->min_area > d->max_area) return rk_fail(err, "--min-area %d is above --max-area %d", d->min_area, d->max_area);
+    return 0;
+}
+
+/* The frames of pattern from start up to the first missing file: how many (at least 2). */
+static int count_frames(const char *pattern, int start, int *T, rk_error *err)
+{
+    if (check_pattern(pattern, err)) return -1;
+    char path[1024];
+    int t = 0;
+    for (; t < 1000000; t++) {
+        snprintf(path, sizeof path, pattern, start + t);
+        FILE *f = fopen(path, "rb");
+        if (!f) break;
+        fclose(f);
+    }
+    if (t < 2) {
+        snprintf(path, sizeof path, pattern, start + t);
+        return rk_fail(err, "'%s': %d frame%s from %d on (%s is missing): tracking needs at least 2", pattern, t,
+                       t == 1 ? "" : "s", start, path);
+    }
+    *T = t;
     return 0;
 }
 
@@ -251,14 +276,20 @@ int cmd_track(int argc, char **argv)
     }
     if (a.cameras && calibrated_views(a.cameras, &a, &tr, &err)) goto done;
     tr.nviews = a.nviews;
+    if (!tr.T && count_frames(a.view[0], start, &tr.T, &err)) goto done;
     for (int v = 0; v < a.nviews; v++)
         if (track_view(a.view[v], v, tr.T, start, &dopt, &lo, &tr.v[v], &err)) goto done;
-    for (int v = 0; tr.calibrated && v < a.nviews; v++)
+    for (int v = 0; tr.calibrated && v < a.nviews; v++) {
+        if (!tr.cams.cam[v].w) { /* no "size" in the cameras file: the frames' */
+            tr.cams.cam[v].w = tr.v[v].w;
+            tr.cams.cam[v].h = tr.v[v].h;
+        }
         if (tr.v[v].w != tr.cams.cam[v].w || tr.v[v].h != tr.cams.cam[v].h) {
             rk_fail(&err, "view %d (%s): the frames are %d x %d pixels, the camera is calibrated for %d x %d (%s)", v,
                     a.view[v], tr.v[v].w, tr.v[v].h, tr.cams.cam[v].w, tr.cams.cam[v].h, a.cameras);
             goto done;
         }
+    }
     rk_progress_done("track");
     if (rk_tracks_save(a.out, &tr, &err)) goto done;
     for (int v = 0; v < tr.nviews; v++) {

@@ -30,12 +30,13 @@ static int camera_load(const cJSON *o, int i, rk_camera *c, rk_error *err)
     if (frames && strlen(frames->valuestring) >= sizeof c->frames)
         return rk_fail(err, "views[%d].frames: longer than %zu characters", i, sizeof c->frames - 1);
     snprintf(c->frames, sizeof c->frames, "%s", frames ? frames->valuestring : "");
-    double size[2];
+    double size[2] = {0, 0};
     if (matrix(cJSON_GetObjectItem(o, "K"), 3, 3, c->K)) return rk_fail(err, "views[%d].K: expected 3 x 3 numbers", i);
     if (matrix(cJSON_GetObjectItem(o, "R"), 3, 3, c->R)) return rk_fail(err, "views[%d].R: expected 3 x 3 numbers", i);
     if (matrix(cJSON_GetObjectItem(o, "t"), 1, 3, c->t)) return rk_fail(err, "views[%d].t: expected 3 numbers", i);
-    if (matrix(cJSON_GetObjectItem(o, "size"), 1, 2, size) || size[0] < 2 || size[1] < 2 || size[0] > 32768 ||
-        size[1] > 32768 || size[0] != floor(size[0]) || size[1] != floor(size[1]))
+    const cJSON *sz = cJSON_GetObjectItem(o, "size");
+    if (sz && (matrix(sz, 1, 2, size) || size[0] < 2 || size[1] < 2 || size[0] > 32768 ||
+        size[1] > 32768 || size[0] != floor(size[0]) || size[1] != floor(size[1])))
         return rk_fail(err, "views[%d].size: expected [width, height] in pixels", i);
     c->w = (int)size[0], c->h = (int)size[1];
     const double *K = c->K, *R = c->R;
@@ -63,6 +64,10 @@ int rk_cameras_from_json(const cJSON *root, rk_cameras *c, rk_error *err)
     c->n = cJSON_GetArraySize(views);
     for (int i = 0; i < c->n; i++)
         if (camera_load(cJSON_GetArrayItem(views, i), i, &c->cam[i], err)) return -1;
+    const cJSON *dt = cJSON_GetObjectItem(root, "dt");
+    if (dt && (!cJSON_IsNumber(dt) || !(dt->valuedouble > 0) || !isfinite(dt->valuedouble)))
+        return rk_fail(err, "dt: expected the seconds between frames, a positive number");
+    c->dt = dt ? dt->valuedouble : 0;
     return 0;
 }
 
@@ -85,6 +90,7 @@ cJSON *rk_cameras_to_json(const rk_cameras *c)
         cJSON_AddItemToObject(o, "size", cJSON_CreateIntArray(size, 2));
         cJSON_AddItemToArray(views, o);
     }
+    if (c->dt > 0) cJSON_AddNumberToObject(root, "dt", c->dt);
     return root;
 }
 

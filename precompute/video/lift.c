@@ -104,7 +104,7 @@ static int check_views(const rk_tracks *tr, const rk_cameras *c, rk_error *err)
         return rk_fail(err, "the tracks have %d views, the cameras %d (view i is filmed by camera i)", tr->nviews, c->n);
     if (tr->nviews < 2) return rk_fail(err, "one view gives no depth: at least two calibrated views are needed");
     for (int v = 0; v < c->n; v++)
-        if (tr->v[v].w != c->cam[v].w || tr->v[v].h != c->cam[v].h)
+        if (c->cam[v].w && (tr->v[v].w != c->cam[v].w || tr->v[v].h != c->cam[v].h)) /* w = 0: no "size" given */
             return rk_fail(err, "view %d: the frames are %d x %d pixels, camera %d (%s) is calibrated for %d x %d", v,
                            tr->v[v].w, tr->v[v].h, v, c->cam[v].name, c->cam[v].w, c->cam[v].h);
     return 0;

@@ -106,10 +106,12 @@ typedef struct {
 typedef struct {
     int n;
     rk_camera cam[RK_VIDEO_MAX_VIEWS];
+    double dt;               /* seconds between frames ("dt", optional: 0 when not given) */
 } rk_cameras;
 
 /* {"views": [{"name": "cam0", "frames": "cam0/%04d.png", "K": [[fx, s, cx], [0, fy, cy], [0, 0, 1]],
- * "R": [[...], [...], [...]], "t": [tx, ty, tz], "size": [w, h]}, ...]} ("name" and "frames" optional). R must be a rotation (R^T R = I and det R = +1 to
+ * "R": [[...], [...], [...]], "t": [tx, ty, tz], "size": [w, h]}, ...], "dt": h} ("name", "frames",
+ * "size" and "dt" optional: a view without "size" takes its frames' (w = h = 0 until then). R must be a rotation (R^T R = I and det R = +1 to
  * 1e-6), K upper triangular with positive fx, fy and K[2][2] = 1. */
 int rk_cameras_load(const char *path, rk_cameras *c, rk_error *err);
 /* The pixel of world point X; returns its depth z (<= 0: behind the camera). */

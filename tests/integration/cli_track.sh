@@ -61,6 +61,15 @@ fi
 sed 's/^/# /' "$TMP/check"
 
 set -- --scene "$TMP/beam.json" --modes 12 --dt 0.01 --from-rest --gravity 0,-9.81,0 --quiet
+# DESIGN.md's form: a cameras file without names or sizes, with "dt"; no --frames (the files there),
+# no --modes (12) and no --dt (the cameras'): the same asset as the explicit commands make.
+sed 's/"name": "[a-z]*", //; s/, "size": \[320, 240\],/,/; s/^]}$/], "dt": 0.01}/' "$TMP/cams.json" >"$TMP/design.json"
+if "$ROMKIT" track --cameras "$TMP/design.json" -o "$TMP/tracks_d.json" --quiet >/dev/null 2>"$TMP/err" \
+    && "$ROMKIT" dmd --tracks "$TMP/tracks_d.json" --scene "$TMP/beam.json" --from-rest --gravity 0,-9.81,0 --quiet \
+        -o "$TMP/vd.rombin" >/dev/null 2>>"$TMP/err" \
+    && "$ROMKIT" dmd --tracks "$TMP/tracks.json" "$@" -o "$TMP/ve.rombin" >/dev/null 2>>"$TMP/err" \
+    && cmp -s "$TMP/vd.rombin" "$TMP/ve.rombin"; then ok track_design_form_gives_the_same_asset
+else fail track_design_form_gives_the_same_asset "$(grep -c dt "$TMP/design.json") dt; $(tail -c 400 "$TMP/err")"; fi
 # the tracks carry their cameras: no --cameras
 if "$ROMKIT" dmd --tracks "$TMP/tracks.json" "$@" -o "$TMP/v.rombin" --report "$TMP/v.json" >"$TMP/out" 2>"$TMP/err"; then
     echo "# $(cat "$TMP/out")"
