@@ -324,20 +324,22 @@ deps-build deps-test deps-web deps-bench:
 
 # make test: the unit and validation tiers of tests/unit (tests/tiers) and tests/integration;
 # make test-unit: the quick tier alone, tests/unit's unit tests (seconds each, deterministic).
+# TEST_JOBS tests at once (tests/run.sh's JOBS: each gets the CPUs / TEST_JOBS threads).
+TEST_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 test: deps-test
 	$(MAKE) WERROR=1 all
-	@BUILD=$(BUILD) WERROR=1 TIERS="unit validation" sh tests/run.sh
+	@BUILD=$(BUILD) WERROR=1 TIERS="unit validation" JOBS=$(TEST_JOBS) sh tests/run.sh
 
 test-unit: deps-test
 	$(MAKE) WERROR=1 all
-	@BUILD=$(BUILD) WERROR=1 TIERS=unit SUITES=unit sh tests/run.sh
+	@BUILD=$(BUILD) WERROR=1 TIERS=unit SUITES=unit JOBS=$(TEST_JOBS) sh tests/run.sh
 
 # The test scripts' own make calls (make mcu, the fuzz tools) see the same flags through the
 # environment, so they never relink sanitized objects without the sanitizer.
 SAN := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
 test-sanitize: deps-test
 	$(MAKE) BUILD=build-san OPT=-O1 SANFLAGS="$(SAN)" WERROR=1 all
-	@BUILD=build-san WERROR=1 OPT=-O1 SANFLAGS="$(SAN)" ROMKIT_SANITIZE=1 sh tests/run.sh
+	@BUILD=build-san WERROR=1 OPT=-O1 SANFLAGS="$(SAN)" ROMKIT_SANITIZE=1 JOBS=$(TEST_JOBS) sh tests/run.sh
 
 clean:
 	rm -rf build build-san

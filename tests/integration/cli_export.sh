@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # romkit export: every kind of asset as glTF 2.0. Each exported file passes the Khronos glTF
 # validator (tools/gltf, npm ci from its lockfile) with no error, and is read back by
 # tests/tools/glb_check.py (the standard library only): at every keyframe, the rest positions plus

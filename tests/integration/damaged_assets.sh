@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # Damaged assets: tests/fuzz/damage writes hundreds of variants of a freshly built asset (in both
 # precisions); under ASan/UBSan (replay-san) the runtime must refuse every bad one with a status
 # and a message, and open and step the good ones and the asset itself.

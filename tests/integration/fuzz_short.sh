@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # A short fuzz run of every libFuzzer target (tests/fuzz/fuzz.mk): each target first replays its
 # regression inputs (tests/fuzz/regressions/<target>/: inputs that once crashed it), then fuzzes
 # for FUZZ_SHORT_SECONDS (3) from its seeds, so CI catches a reader or runtime change that the

@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # make install into a scratch DESTDIR with a PREFIX that does not exist: the layout, the shared
 # library's soname and exports, examples/embed built against the installed copy with
 # pkg-config (shared, static, double) stepping an asset exactly as the tree's build does, the

@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # The runtime on a Cortex-M4F: `make mcu` cross-compiles it with the asset of
 # tests/mcu/scene.json in flash, runs it under qemu (MPS2-AN386, -icount) and on the host, and
 # compares the two (tests/mcu/compare.sh writes $BUILD/mcu/mcu.json).

@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # The shipped runtime runs on any x86-64: a default build (no NATIVE=1) of libromrt.so and of the
 # static libromrt.a has no AVX or FMA instruction (no ymm/zmm register, no vfmadd, no VEX-encoded
 # v-prefixed arithmetic), so an installed library cannot die with an illegal instruction on an

@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # The Python binding (bindings/python/romrt.py, ctypes + numpy over build/lib/libromrt.so.*):
 # its positions equal the C runtime's bit for bit on the same asset and steps (romkit run
 # --snapshots; build/rt_push for pushes; a Koopman asset; the double runtime against romkit-double),

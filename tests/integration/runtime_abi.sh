@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # What an app links against (issue 21): an app compiled with ROMRT_DOUBLE and linked against the
 # float runtime (or the other way round) fails to link, naming a romrt_f64_/romrt_f32_ function,
 # where the right precision links and runs; the static and shared libraries export romrt.h's

@@ -1,3 +1,4 @@
+# tests/run.sh: make-lock (this script runs make in the shared build folder)
 # The runtime's rules (DESIGN.md): strict C99 in every configuration, only <math.h> <string.h>
 # <stdint.h> <stddef.h> <float.h>, no allocation, no stdio, no writable globals.
 . tests/lib.sh
