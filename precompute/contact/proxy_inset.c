@@ -3,11 +3,13 @@
  * A voxel's faces lie anywhere from 0 to g off the points it holds, and its corners up to sqrt(3) g,
  * so a cloud rested up to a voxel above what it touched. Each surface vertex goes in along its
  * area-weighted normal to the first place within RK_PROXY_INSET g of a point (or, where that ray
- * passes between the points, the place along it nearest one). The connectivity stays the voxels'
- * (same triangles, no more of them: a level set of the distance on a finer lattice had 5-10x the
- * triangles, which the runtime's contact pays every step). A move is kept only where it is safe,
+ * passes between the points, the place along it nearest one), then those still farther straight
+ * toward their nearest point. The connectivity stays the voxels' (same triangles, no more of them:
+ * a level set of the distance on a finer lattice had 5-10x the triangles, which the runtime's
+ * contact pays every step). A move is kept only where it is safe,
  * checked exactly (contact.h's orientation and segment-triangle predicates):
- *   - no face turns over or collapses (its normal within ~75 degrees of the voxel face's);
+ *   - no face turns over or collapses (its normal within ~87 degrees of its voxel face's, its area
+ *     at least 1/20 of it);
  *   - no two faces cross or touch, but along the edges and corners they share;
  *   - no point lies in the convex hull of a face before and after its move: the faces pass over no
  *     point on the straight way from the voxel surface, which held every point inside, so every
@@ -74,33 +76,37 @@ static double nearest_at(const point_grid *G, const double *x, int r, const doub
 
 static double nearest(const point_grid *G, const double *x, int r) { return nearest_at(G, x, r, NULL); }
 
-static int64_t *sort_keys;
-static int cmp_idx(const void *a, const void *b)
+typedef struct {
+    int64_t key;
+    int idx;
+} keyed_point;
+
+static int by_cell(const void *a, const void *b)
 {
-    int64_t x = sort_keys[*(const int *)a], y = sort_keys[*(const int *)b];
-    return (x > y) - (x < y);
+    const keyed_point *x = a, *y = b;
+    if (x->key != y->key) return x->key < y->key ? -1 : 1;
+    return (x->idx > y->idx) - (x->idx < y->idx);
 }
 
 static int grid_build(point_grid *G, const double *X, int n, double g, const double lo[3], rk_error *err)
 {
     G->X = X, G->n = n, G->g = g;
     memcpy(G->lo, lo, sizeof G->lo);
-    int64_t *k = rk_calloc((size_t)n, sizeof *k, err);
+    keyed_point *k = rk_calloc((size_t)n, sizeof *k, err);
     G->key = rk_calloc((size_t)n, sizeof *G->key, err);
     G->idx = rk_calloc((size_t)n, sizeof *G->idx, err);
     if (!k || !G->key || !G->idx) {
         free(k), free(G->key), free(G->idx);
+        G->key = NULL, G->idx = NULL;
         return -1;
     }
     for (int i = 0; i < n; i++) {
         long c[3];
         cell_of(G, X + 3 * i, c);
-        k[i] = cell_key(c);
-        G->idx[i] = i;
+        k[i].key = cell_key(c), k[i].idx = i;
     }
-    sort_keys = k; /* qsort has no context argument in C11 */
-    qsort(G->idx, (size_t)n, sizeof *G->idx, cmp_idx);
-    for (int i = 0; i < n; i++) G->key[i] = k[G->idx[i]];
+    qsort(k, (size_t)n, sizeof *k, by_cell);
+    for (int i = 0; i < n; i++) G->key[i] = k[i].key, G->idx[i] = k[i].idx;
     free(k);
     return 0;
 }
@@ -340,7 +346,7 @@ int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *er
         alpha[v] = 1;
     }
     if (settle(m, tris, nf, &G, Xv, base, dir, alpha, boxes, bad, moved, n, err)) goto done;
-    /* then, twice, the vertices still farther than tau from the points (a ray between them, a move
+    /* then, four times, the vertices still farther than tau from the points (a ray between them, a move
      * backed off) straight toward their nearest point, to tau from it */
     for (int round = 0; round < 4; round++) {
         memcpy(base, m->X, sizeof(double) * 3 * nv);
