@@ -182,12 +182,73 @@ static int faces_cross(const int *ta, const int *tb, const double *x)
     return 0;
 }
 
+/* Whether both faces' vertices moved from base by one vector: then they meet as they met at base,
+ * where they did not (coplanar neighbours on a flat side, whose exact tests are the slow ones). */
+static int same_shift(const int *ta, const int *tb, const double *base, const double *x)
+{
+    int v0 = ta[0];
+    for (int k = 0; k < 6; k++) {
+        int v = k < 3 ? ta[k] : tb[k - 3];
+        for (int d = 0; d < 3; d++)
+            if (x[3 * v + d] - base[3 * v + d] != x[3 * v0 + d] - base[3 * v0 + d]) return 0;
+    }
+    return 1;
+}
+
 /* Whether a point of the grid lies in the convex hull of the 6 positions v (a face before and after
  * its move), exactly: p is outside iff some plane through 3 of them has all 6 on one side and p
  * strictly on the other (a facet of the hull; a flat hull has none, and p is then outside iff it is
  * off its plane, which the same test finds). */
+/* Whether p lies in the prism a b c (v6[0..2]) translated to v6[3..5], exactly: between the two
+ * triangles' planes and inside the three side planes. -1 when the prism is flat (the move runs
+ * along the triangle's plane). The general test below finds the same, slower: a prism's sides are
+ * quads, four points in a plane, whose exact zeros take the predicates' slow path. */
+static int prism_holds(const double *const v6[6], const double *p)
+{
+    int s1 = rk_orient3d_sign(v6[0], v6[1], v6[2], p), s2 = rk_orient3d_sign(v6[3], v6[4], v6[5], p);
+    if (s1 && s2 && s1 == s2) return 0;
+    for (int e = 0; e < 3; e++) {
+        const double *a = v6[e], *b = v6[(e + 1) % 3], *c = v6[(e + 2) % 3], *a2 = v6[3 + e];
+        int in = rk_orient3d_sign(a, b, a2, c);
+        if (in == 0) return -1;
+        int sp = rk_orient3d_sign(a, b, a2, p);
+        if (sp && sp != in) return 0;
+    }
+    return 1;
+}
+
 static int hull_holds_point(const point_grid *G, const double *const v6[6])
 {
+    int prism = 1; /* every vertex moved by the same vector (a face moved along its own normal) */
+    for (int k = 1; k < 3 && prism; k++)
+        for (int d = 0; d < 3; d++) prism = prism && v6[3 + k][d] - v6[k][d] == v6[3][d] - v6[0][d];
+    if (prism && (v6[3][0] != v6[0][0] || v6[3][1] != v6[0][1] || v6[3][2] != v6[0][2])) {
+        double lo[3], hi[3];
+        for (int d = 0; d < 3; d++) {
+            lo[d] = hi[d] = v6[0][d];
+            for (int l = 1; l < 6; l++) lo[d] = fmin(lo[d], v6[l][d]), hi[d] = fmax(hi[d], v6[l][d]);
+        }
+        long c0[3], c1[3], q[3];
+        cell_of(G, lo, c0);
+        cell_of(G, hi, c1);
+        int flat = 0;
+        for (q[2] = c0[2]; q[2] <= c1[2] && !flat; q[2]++)
+            for (q[1] = c0[1]; q[1] <= c1[1] && !flat; q[1]++)
+                for (q[0] = c0[0]; q[0] <= c1[0] && !flat; q[0]++) {
+                    if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
+                    int64_t key = cell_key(q);
+                    for (size_t a = lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
+                        const double *p = G->X + 3 * G->idx[a];
+                        int in = 1;
+                        for (int d = 0; d < 3 && in; d++) in = p[d] >= lo[d] && p[d] <= hi[d];
+                        if (!in) continue;
+                        int h = prism_holds(v6, p);
+                        if (h == 1) return 1;
+                        if (h < 0) flat = 1;
+                    }
+                }
+        if (!flat) return 0;
+    }
     const double *v[6];
     int nvert = 0, facet[20][4], nfacet = -1; /* i, j, k and the side of the others; -1: not yet */
     for (int l = 0; l < 6; l++) { /* an unmoved vertex once: exact zeros are the predicates' slow path */
@@ -256,6 +317,20 @@ static int settle(rk_mesh *m, const int *tris, int nf, const point_grid *G, cons
         free(last), free(dirty);
         return -1;
     }
+    /* the pairs of faces that can meet anywhere along the moves: their boxes from base to base + dir */
+    for (int f = 0; f < nf; f++)
+        for (int d = 0; d < 3; d++) {
+            boxes[6 * f + d] = INFINITY, boxes[6 * f + 3 + d] = -INFINITY;
+            for (int k = 0; k < 3; k++) {
+                double b = base[3 * tris[3 * f + k] + d], e = b + dir[3 * tris[3 * f + k] + d];
+                boxes[6 * f + d] = fmin(boxes[6 * f + d], fmin(b, e));
+                boxes[6 * f + 3 + d] = fmax(boxes[6 * f + 3 + d], fmax(b, e));
+            }
+        }
+    if (rk_broad_phase(boxes, nf, boxes, nf, &pairs, &npairs, err)) {
+        free(last), free(dirty);
+        return -1;
+    }
     for (int pass = 0;; pass++) {
         for (size_t v = (size_t)n; v < nv; v++)
             for (int d = 0; d < 3; d++) m->X[3 * v + d] = base[3 * v + d] + alpha[v] * dir[3 * v + d];
@@ -267,10 +342,6 @@ static int settle(rk_mesh *m, const int *tris, int nf, const point_grid *G, cons
             moved[f] = 0;
             for (int k = 0; k < 3; k++)
                 for (int d = 0; d < 3; d++) moved[f] |= m->X[3 * t[k] + d] != base[3 * t[k] + d];
-            for (int d = 0; d < 3; d++) {
-                boxes[6 * f + d] = fmin(m->X[3 * t[0] + d], fmin(m->X[3 * t[1] + d], m->X[3 * t[2] + d]));
-                boxes[6 * f + 3 + d] = fmax(m->X[3 * t[0] + d], fmax(m->X[3 * t[1] + d], m->X[3 * t[2] + d]));
-            }
             if (!moved[f] || !dirty[f]) continue;
             double n0[3], n1[3];
             cross(Xv + 3 * t[0], Xv + 3 * t[1], Xv + 3 * t[2], n0);
@@ -281,17 +352,21 @@ static int settle(rk_mesh *m, const int *tris, int nf, const point_grid *G, cons
             /* turned past ~87 degrees or shrunk under 1/20 of its area; or over a point */
             bad[f] = dot(n0, n1) < 0.05 * l0 * l1 || l1 < 0.05 * l0 || hull_holds_point(G, v6);
         }
-        free(pairs);
-        pairs = NULL;
         memcpy(last, alpha, sizeof(double) * nv);
-        if (rk_broad_phase(boxes, nf, boxes, nf, &pairs, &npairs, err)) {
-            free(last), free(dirty);
-            return -1;
-        }
         for (int p = 0; p < npairs; p++) {
-            int a = pairs[2 * p], b = pairs[2 * p + 1];
+            int a = pairs[2 * p], b = pairs[2 * p + 1], apart = 0;
             if (a >= b || !(moved[a] || moved[b]) || !(dirty[a] || dirty[b]) || (bad[a] && bad[b])) continue;
-            if (faces_cross(tris + 3 * a, tris + 3 * b, m->X)) bad[a] = bad[b] = 1;
+            for (int d = 0; d < 3 && !apart; d++) {
+                const int *ta = tris + 3 * a, *tb = tris + 3 * b;
+                double alo = fmin(m->X[3 * ta[0] + d], fmin(m->X[3 * ta[1] + d], m->X[3 * ta[2] + d]));
+                double ahi = fmax(m->X[3 * ta[0] + d], fmax(m->X[3 * ta[1] + d], m->X[3 * ta[2] + d]));
+                double blo = fmin(m->X[3 * tb[0] + d], fmin(m->X[3 * tb[1] + d], m->X[3 * tb[2] + d]));
+                double bhi = fmax(m->X[3 * tb[0] + d], fmax(m->X[3 * tb[1] + d], m->X[3 * tb[2] + d]));
+                apart = ahi < blo || bhi < alo;
+            }
+            if (apart) continue;
+            if (!same_shift(tris + 3 * a, tris + 3 * b, base, m->X) && faces_cross(tris + 3 * a, tris + 3 * b, m->X))
+                bad[a] = bad[b] = 1;
         }
         for (int f = 0; f < nf; f++) /* (a face that did not move and is crossed: the one that did backs off) */
             if (bad[f] && moved[f]) {
@@ -312,7 +387,7 @@ int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *er
     int *tris = NULL, nf = 0, rc = -1;
     point_grid G = {0};
     double *Xv = NULL, *base = NULL, *dir = NULL, *boxes = NULL, *alpha = NULL, tau = RK_PROXY_INSET * g;
-    char *bad = NULL, *moved = NULL;
+    char *bad = NULL, *moved = NULL, *on = NULL;
     if (rk_mesh_boundary(m, &tris, &nf, err) || grid_build(&G, m->X, n, g, lo, err)) goto done;
     size_t nv = (size_t)m->nv;
     Xv = rk_calloc(3 * nv, sizeof *Xv, err);
@@ -322,7 +397,9 @@ int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *er
     boxes = rk_calloc(6 * (size_t)nf, sizeof *boxes, err);
     bad = rk_calloc((size_t)nf, 1, err);
     moved = rk_calloc((size_t)nf, 1, err);
-    if (!Xv || !base || !dir || !alpha || !boxes || !bad || !moved) goto done;
+    on = rk_calloc(nv, 1, err); /* on the surface */
+    if (!Xv || !base || !dir || !alpha || !boxes || !bad || !moved || !on) goto done;
+    for (int k = 0; k < 3 * nf; k++) on[tris[k]] = 1;
     memcpy(Xv, m->X, sizeof(double) * 3 * nv);
     memcpy(base, m->X, sizeof(double) * 3 * nv);
     /* first along the area-weighted normals (the cross products are twice the faces' areas) */
@@ -352,20 +429,19 @@ int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *er
         memcpy(base, m->X, sizeof(double) * 3 * nv);
         memset(dir, 0, sizeof(double) * 3 * nv);
         memset(alpha, 0, sizeof(double) * nv);
-        for (int f = 0; f < nf; f++)
-            for (int k = 0; k < 3; k++) {
-                size_t v = (size_t)tris[3 * f + k];
-                const double *p = NULL, *x = base + 3 * v;
-                double d = nearest_at(&G, x, 3, &p);
-                if (alpha[v] || !p || !(d > 1.05 * tau)) continue;
-                for (int a = 0; a < 3; a++) dir[3 * v + a] = p[a] + tau * (x[a] - p[a]) / d - x[a];
-                alpha[v] = 1;
-            }
+        for (size_t v = (size_t)n; v < nv; v++) {
+            if (!on[v]) continue;
+            const double *p = NULL, *x = base + 3 * v;
+            double d = nearest_at(&G, x, 2, &p);
+            if (!p || !(d > 1.05 * tau)) continue;
+            for (int a = 0; a < 3; a++) dir[3 * v + a] = p[a] + tau * (x[a] - p[a]) / d - x[a];
+            alpha[v] = 1;
+        }
         if (settle(m, tris, nf, &G, Xv, base, dir, alpha, boxes, bad, moved, n, err)) goto done;
     }
     rc = 0;
 done:
     free(tris), free(G.key), free(G.idx), free(Xv), free(base), free(dir), free(alpha), free(boxes), free(bad),
-        free(moved);
+        free(moved), free(on);
     return rc;
 }
