@@ -232,6 +232,18 @@ typedef int (*rk_advance_move)(void *ctx, double t, double fraction, rk_error *e
 /* Moves in as many safe moves as it takes; fails, naming t, when the motion is locked. */
 int rk_contact_advance(void *ctx, double t, rk_advance_fraction fraction, rk_advance_move move, rk_error *err);
 
+/* ---- a point cloud's contact surface (points_proxy.c, proxy_inset.c) ---- */
+
+/* A closed surface around a point cloud (X, n points) for contact, as ghost tets (Kuhn's 6 per
+ * voxel, faces matching between neighbours) over the corners of the voxels of edge g that hold a
+ * point, grown where two meet only along an edge or at a corner (so the surface is a 2-manifold);
+ * out has the n points first (no tets, nothing uses them), then the corners, and rk_mesh_boundary
+ * gives the surface: the voxels' outward faces with each of their vertices moved in along its
+ * normal to about g / 2 from its nearest point, where that is safe (proxy_inset.c). The surface is
+ * closed, 2-manifold, free of crossings, and holds every point inside. Fails on n < 1, g not
+ * positive and finite, a non-finite point (named), or a cloud more than 2^20 voxels across. */
+int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err);
+
 /* ---- measures (intersect.c) ---- */
 
 /* Edge-triangle crossings at x, exactly: between objects, within an object when self-contact is

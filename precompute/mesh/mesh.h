@@ -198,14 +198,6 @@ int rk_points_load(const char *path, double **X, int *n, rk_error *err);
  * number, as a Gmsh physical group is a tet's), or NULL when the file has none. */
 int rk_points_load_tagged(const char *path, double **X, int *n, int **tag, rk_error *err);
 
-/* A closed surface around a point cloud (X, n points) for contact: the union of the voxels of edge
- * g that hold a point, as ghost tets (Kuhn's 6 per voxel, faces matching between neighbours) over
- * the voxel corners. out has the n points first (no tets, nothing uses them), then the corners:
- * rk_mesh_boundary gives the union's outward faces, and every point lies inside the union,
- * anywhere in its own voxel (so between 0 and g inside the surface). Fails on n < 1, g not
- * positive and finite, a non-finite point (named), or a cloud more than 2^20 voxels across. */
-int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err);
-
 /* ==== Gaussian splats (3DGS PLY: Kerbl et al. 2023, the FreeForm paper's splat input) ====
  *
  * rk_splats_read keeps every property of the PLY's "vertex" element, in file order, as doubles

@@ -1,10 +1,12 @@
-/* rk_points_proxy: a closed surface around a point cloud, for contact (mesh.h). */
+/* rk_points_proxy: a closed surface around a point cloud, for contact (contact.h): the voxels that
+ * hold points, grown where they meet only along an edge or at a corner so their surface is a
+ * 2-manifold, as Kuhn ghost tets; then that surface moved in toward the points (proxy_inset.c). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "mesh/mesh_impl.h"
+#include "contact/points_proxy_impl.h"
 
 static int cmp_i64(const void *a, const void *b)
 {
@@ -34,6 +36,84 @@ static size_t find(const int64_t *k, size_t n, int64_t key)
     return lo;
 }
 
+/* Whether the voxels of mask (bit x | y << 1 | z << 2 of a 2 x 2 x 2 block) are face-connected. */
+static int face_connected(int mask)
+{
+    int seen = mask & -mask, grew = 1;
+    while (grew) {
+        grew = 0;
+        for (int b = 0; b < 8; b++)
+            for (int s = 1; s < 8 && ((seen >> b) & 1); s <<= 1)
+                if (((mask >> (b ^ s)) & 1) && !((seen >> (b ^ s)) & 1)) seen |= 1 << (b ^ s), grew = 1;
+    }
+    return seen == mask;
+}
+
+/* The voxel at place b of the 2 x 2 x 2 block around corner key c. */
+static int64_t block_voxel(int64_t c, int b)
+{
+    const int64_t S = RK_PROXY_S;
+    return c + ((b & 1) - 1) + S * ((((b >> 1) & 1) - 1) + S * (((b >> 2) & 1) - 1));
+}
+
+/* Grows the voxel set (sorted keys, *nvox of them, capacity *cap) until it is well-composed
+ * (Latecki 1997): around every lattice corner the occupied voxels of its 2 x 2 x 2 block are
+ * face-connected, and so are the empty ones. Then no two voxels meet only along an edge or at a
+ * corner, and the boundary of their union is a 2-manifold (the voxel union's own is not: two
+ * voxels on a diagonal share an edge that four faces use). A block that fails gets the voxels in
+ * the box of its occupied ones: a box, and what is left of a 2 x 2 x 2 block around a box, are
+ * face-connected. Only voxels inside the box of the cloud's voxels are added, so this ends. */
+static int well_composed(int64_t **vox, size_t *nvox, rk_error *err)
+{
+    int ok[256];
+    for (int mask = 0; mask < 256; mask++) ok[mask] = face_connected(mask) && face_connected(255 & ~mask);
+    for (;;) {
+        int64_t *corner = malloc(sizeof(int64_t) * 8 * *nvox), *grow = NULL;
+        if (!corner) return rk_fail(err, "contact proxy: out of memory");
+        for (size_t v = 0; v < *nvox; v++)
+            for (int b = 0; b < 8; b++) corner[8 * v + b] = block_voxel((*vox)[v], b) + 1 + RK_PROXY_S * (1 + RK_PROXY_S);
+        size_t ncorner = unique(corner, 8 * *nvox), ngrow = 0, capgrow = 0;
+        for (size_t c = 0; c < ncorner; c++) {
+            int mask = 0, lo[3] = {1, 1, 1}, hi[3] = {0, 0, 0};
+            for (int b = 0; b < 8; b++) {
+                int64_t k = block_voxel(corner[c], b);
+                size_t at = find(*vox, *nvox, k);
+                if (at < *nvox && (*vox)[at] == k) {
+                    mask |= 1 << b;
+                    for (int d = 0; d < 3; d++) lo[d] = lo[d] < ((b >> d) & 1) ? lo[d] : (b >> d) & 1, hi[d] = hi[d] > ((b >> d) & 1) ? hi[d] : (b >> d) & 1;
+                }
+            }
+            if (ok[mask]) continue;
+            for (int b = 0; b < 8; b++) {
+                int in = 1;
+                for (int d = 0; d < 3; d++) in = in && ((b >> d) & 1) >= lo[d] && ((b >> d) & 1) <= hi[d];
+                if (!in || ((mask >> b) & 1)) continue;
+                if (ngrow == capgrow) {
+                    capgrow = capgrow ? 2 * capgrow : 64;
+                    int64_t *more = realloc(grow, sizeof *grow * capgrow);
+                    if (!more) {
+                        free(corner), free(grow);
+                        return rk_fail(err, "contact proxy: out of memory");
+                    }
+                    grow = more;
+                }
+                grow[ngrow++] = block_voxel(corner[c], b);
+            }
+        }
+        free(corner);
+        if (ngrow == 0) return 0;
+        int64_t *all = realloc(*vox, sizeof(int64_t) * (*nvox + ngrow));
+        if (!all) {
+            free(grow);
+            return rk_fail(err, "contact proxy: out of memory");
+        }
+        memcpy(all + *nvox, grow, sizeof(int64_t) * ngrow);
+        free(grow);
+        *vox = all;
+        *nvox = unique(all, *nvox + ngrow);
+    }
+}
+
 /* Kuhn's split of the unit cube: the 6 tets around the diagonal 000-111, one per axis order;
  * corner bits are x | y << 1 | z << 2. Faces on the cube's sides are cut along the diagonal
  * through the lower corner in every cube alike, so neighbouring voxels' faces match. */
@@ -47,7 +127,7 @@ int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *er
     for (int i = 1; i < n; i++)
         for (int d = 0; d < 3; d++) lo[d] = fmin(lo[d], X[3 * i + d]);
     for (int d = 0; d < 3; d++) lo[d] -= 0.5 * g; /* no point on a voxel's lower face at the edge */
-    const int64_t S = 1 << 20;                      /* lattice keys: i + S (j + S k) */
+    const int64_t S = RK_PROXY_S;
     int64_t *vox = malloc(sizeof(int64_t) * (size_t)n), *corner = NULL;
     if (!vox) return rk_fail(err, "contact proxy: out of memory");
     for (int i = 0; i < n; i++) {
@@ -70,6 +150,10 @@ int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *er
         vox[i] = c[0] + S * (c[1] + S * c[2]);
     }
     size_t nvox = unique(vox, (size_t)n);
+    if (well_composed(&vox, &nvox, err)) {
+        free(vox);
+        return -1;
+    }
     corner = malloc(sizeof(int64_t) * 8 * nvox);
     if (!corner) {
         free(vox);
@@ -110,5 +194,9 @@ int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *er
     }
     free(vox);
     free(corner);
+    if (rk_proxy_inset(out, n, g, lo, err)) {
+        rk_mesh_free(out);
+        return -1;
+    }
     return 0;
 }

@@ -1,0 +1,378 @@
+/* precompute/contact rk_points_proxy: a point cloud's contact surface, checked from its output
+ * alone, against geometry computed here:
+ *   - the points come first, unchanged; no tets;
+ *   - rk_mesh_boundary of its ghost tets is closed and 2-manifold: every directed edge once and its
+ *     reverse once, and the faces around every vertex one fan (a single cycle of links);
+ *   - no edge crosses or touches a face it shares no vertex with (the exact segment-triangle test,
+ *     rk_segment_triangle_intersect, as rk_contact_intersections runs it);
+ *   - every point is inside: the parity of a long segment's exact crossings is odd;
+ *   - every surface vertex lies within g of a point (the voxel surface's corners were up to
+ *     sqrt(3) g off; lattices: within 0.55 g), and the test prints the largest and mean of those;
+ * on one point, lattices at the voxel and half the voxel, a scattered cloud whose voxels meet
+ * along edges and at corners, the pedestal scan and the donut splat capture (tests/data/meshes);
+ *   - bad input fails. */
+#include "contact/contact.h"
+#include "testlib.h"
+#include "util/util.h"
+
+#include <stdint.h>
+
+static uint64_t rng = 31337;
+static double uni(void) { return rk_uniform(&rng); }
+
+static int cmp64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* What the checks measured. */
+typedef struct {
+    int faces, surface_vertices;
+    double max_vertex_distance, mean_vertex_distance; /* surface vertex -> nearest point, in g */
+} proxy_stats;
+
+/* Points bucketed in cells of edge h from lo, for nearest-point queries. */
+typedef struct {
+    const double *X;
+    int n;
+    double h, lo[3];
+    int64_t *key; /* cell key << 24 | point: sorted */
+} bucket;
+
+static int64_t bucket_cell(const bucket *B, const double *x)
+{
+    int64_t c[3];
+    for (int d = 0; d < 3; d++) c[d] = (int64_t)floor((x[d] - B->lo[d]) / B->h) + 8;
+    return c[0] + 4096 * (c[1] + 4096 * c[2]);
+}
+
+static void bucket_init(bucket *B, const double *X, int n, double h)
+{
+    B->X = X, B->n = n, B->h = h;
+    for (int d = 0; d < 3; d++) {
+        B->lo[d] = X[d];
+        for (int i = 1; i < n; i++) B->lo[d] = fmin(B->lo[d], X[3 * i + d]);
+    }
+    B->key = malloc(sizeof(int64_t) * (size_t)n);
+    for (int i = 0; i < n; i++) B->key[i] = bucket_cell(B, X + 3 * i) << 24 | i;
+    qsort(B->key, (size_t)n, sizeof(int64_t), cmp64);
+}
+
+/* The distance from x to the nearest point (exact when it is under h). */
+static double bucket_nearest(const bucket *B, const double *x)
+{
+    double best = INFINITY;
+    int64_t c = bucket_cell(B, x);
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int64_t k = (c + dx + 4096 * (dy + 4096 * dz)) << 24;
+                int lo = 0, hi = B->n;
+                while (lo < hi) {
+                    int mid = (lo + hi) / 2;
+                    if (B->key[mid] < k) lo = mid + 1;
+                    else hi = mid;
+                }
+                for (int a = lo; a < B->n && B->key[a] >> 24 == k >> 24; a++) {
+                    const double *p = B->X + 3 * (B->key[a] & 0xffffff);
+                    double d2 = 0;
+                    for (int d = 0; d < 3; d++) d2 += (p[d] - x[d]) * (p[d] - x[d]);
+                    best = fmin(best, sqrt(d2));
+                }
+            }
+    return best;
+}
+
+static void box_of(const double *const *v, int k, double *box)
+{
+    for (int d = 0; d < 3; d++) {
+        box[d] = box[3 + d] = v[0][d];
+        for (int a = 1; a < k; a++) box[d] = fmin(box[d], v[a][d]), box[3 + d] = fmax(box[3 + d], v[a][d]);
+    }
+}
+
+/* Every check above on the proxy of (X, n) with voxel g. Returns 0 or leaves a message in why. */
+static int check_proxy(const double *X, int n, double g, double bound, proxy_stats *st, char *why, size_t len)
+{
+    rk_error err;
+    rk_mesh m;
+    memset(st, 0, sizeof *st);
+#define FAIL_IF(cond, ...)                          \
+    do {                                            \
+        if (cond) {                                 \
+            snprintf(why, len, __VA_ARGS__);        \
+            rc = -1;                                \
+            goto done;                              \
+        }                                           \
+    } while (0)
+    int rc = 0, *tris = NULL, nf = 0, *pairs = NULL, npairs = 0, *col = NULL;
+    int64_t *edges = NULL, *link = NULL;
+    double *boxes = NULL, *eboxes = NULL;
+    bucket B = {0};
+    if (rk_points_proxy(X, n, g, &m, &err)) {
+        snprintf(why, len, "rk_points_proxy: %s", err.msg);
+        return -1;
+    }
+    FAIL_IF(m.nt != 0, "%d tets (expected none)", m.nt);
+    FAIL_IF(m.nv <= n || memcmp(m.X, X, sizeof(double) * 3 * (size_t)n) != 0, "the first %d vertices are not the points", n);
+    if (rk_mesh_boundary(&m, &tris, &nf, &err)) FAIL_IF(1, "rk_mesh_boundary: %s", err.msg);
+    st->faces = nf;
+    FAIL_IF(nf < 4, "%d boundary triangles", nf);
+    for (int k = 0; k < 3 * nf; k++) FAIL_IF(tris[k] < n, "a boundary triangle uses point %d", tris[k]);
+    /* closed, consistently oriented, edge-manifold: every directed edge once, its reverse once */
+    const int64_t V = m.nv;
+    edges = malloc(sizeof(int64_t) * 3 * (size_t)nf);
+    for (int f = 0; f < nf; f++)
+        for (int k = 0; k < 3; k++) edges[3 * f + k] = tris[3 * f + k] * V + tris[3 * f + (k + 1) % 3];
+    qsort(edges, 3 * (size_t)nf, sizeof *edges, cmp64);
+    for (int e = 0; e < 3 * nf; e++) {
+        FAIL_IF(e > 0 && edges[e] == edges[e - 1], "edge %lld -> %lld is used twice: not a 2-manifold",
+                (long long)(edges[e] / V), (long long)(edges[e] % V));
+        int64_t rev = (edges[e] % V) * V + edges[e] / V;
+        FAIL_IF(!bsearch(&rev, edges, 3 * (size_t)nf, sizeof rev, cmp64), "edge %lld -> %lld has no reverse: not closed",
+                (long long)(edges[e] / V), (long long)(edges[e] % V));
+    }
+    /* vertex-manifold: the links (b -> c of each face (v, b, c) around v) make one cycle */
+    link = malloc(sizeof(int64_t) * 3 * (size_t)nf); /* v << 42 | b << 21 | c */
+    for (int f = 0; f < nf; f++)
+        for (int k = 0; k < 3; k++)
+            link[3 * f + k] = (int64_t)tris[3 * f + k] << 42 | (int64_t)tris[3 * f + (k + 1) % 3] << 21 | tris[3 * f + (k + 2) % 3];
+    qsort(link, 3 * (size_t)nf, sizeof *link, cmp64);
+    for (int a = 0; a < 3 * nf;) {
+        int b = a;
+        while (b < 3 * nf && link[b] >> 42 == link[a] >> 42) b++;
+        /* from the first link, follow b -> c (each b once: edge-manifold above) and count */
+        int64_t start = link[a] >> 21 & 0x1fffff, at = start;
+        int steps = 0;
+        do {
+            int64_t next = -1;
+            for (int k = a; k < b; k++)
+                if ((link[k] >> 21 & 0x1fffff) == at) next = link[k] & 0x1fffff;
+            FAIL_IF(next < 0, "vertex %lld: its fan is open at %lld", (long long)(link[a] >> 42), (long long)at);
+            at = next, steps++;
+        } while (at != start && steps <= b - a);
+        FAIL_IF(steps != b - a, "vertex %lld: its %d faces make a fan of %d: not a 2-manifold (a pinch)",
+                (long long)(link[a] >> 42), b - a, steps);
+        st->surface_vertices++;
+        a = b;
+    }
+    /* no edge meets a face it shares no vertex with, exactly */
+    boxes = malloc(sizeof(double) * 6 * (size_t)nf);
+    eboxes = malloc(sizeof(double) * 6 * 3 * (size_t)nf);
+    for (int f = 0; f < nf; f++) {
+        const double *v[3] = {m.X + 3 * tris[3 * f], m.X + 3 * tris[3 * f + 1], m.X + 3 * tris[3 * f + 2]};
+        box_of(v, 3, boxes + 6 * f);
+        for (int k = 0; k < 3; k++) {
+            const double *e[2] = {v[k], v[(k + 1) % 3]};
+            box_of(e, 2, eboxes + 6 * (3 * f + k));
+        }
+    }
+    if (rk_broad_phase(eboxes, 3 * nf, boxes, nf, &pairs, &npairs, &err)) FAIL_IF(1, "broad phase: %s", err.msg);
+    for (int p = 0; p < npairs; p++) {
+        int e = pairs[2 * p], f = pairs[2 * p + 1], a = tris[e], b = tris[3 * (e / 3) + (e % 3 + 1) % 3];
+        const int *t = tris + 3 * f;
+        if (a == t[0] || a == t[1] || a == t[2] || b == t[0] || b == t[1] || b == t[2]) continue;
+        FAIL_IF(rk_segment_triangle_intersect(m.X + 3 * a, m.X + 3 * b, m.X + 3 * t[0], m.X + 3 * t[1], m.X + 3 * t[2]),
+                "edge (%d, %d) meets face %d (%d, %d, %d): the surface intersects itself", a, b, f, t[0], t[1], t[2]);
+    }
+    /* every point inside: a segment from it along (1, 0.00123, 0.00071) past the surface crosses
+     * it an odd number of times; the faces it can cross are those whose (y, z) box meets its own */
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; d++) {
+        lo[d] = INFINITY, hi[d] = -INFINITY;
+        for (int f = 0; f < nf; f++) lo[d] = fmin(lo[d], boxes[6 * f + d]), hi[d] = fmax(hi[d], boxes[6 * f + 3 + d]);
+    }
+    int ny = (int)((hi[1] - lo[1]) / g) + 1, nz = (int)((hi[2] - lo[2]) / g) + 1, *count = calloc((size_t)(ny * nz + 1), sizeof(int));
+    col = malloc(sizeof(int) * 8 * (size_t)nf);
+    int ncol = 0;
+    for (int pass = 0; pass < 2; pass++) { /* count, then fill the faces of each (y, z) column */
+        for (int f = 0; f < nf; f++) {
+            int y0 = (int)((boxes[6 * f + 1] - lo[1]) / g), y1 = (int)((boxes[6 * f + 4] - lo[1]) / g);
+            int z0 = (int)((boxes[6 * f + 2] - lo[2]) / g), z1 = (int)((boxes[6 * f + 5] - lo[2]) / g);
+            for (int y = y0; y <= y1; y++)
+                for (int z = z0; z <= z1; z++) {
+                    if (pass == 0) count[y * nz + z + 1]++;
+                    else col[count[y * nz + z]++] = f;
+                }
+        }
+        if (pass == 0) {
+            for (int c = 0; c < ny * nz; c++) count[c + 1] += count[c];
+            ncol = count[ny * nz];
+            col = realloc(col, sizeof(int) * (size_t)(ncol > 0 ? ncol : 1));
+        } else {
+            for (int c = ny * nz; c > 0; c--) count[c] = count[c - 1];
+            count[0] = 0;
+        }
+    }
+    for (int i = 0; i < n && rc == 0; i++) {
+        const double *p = X + 3 * i;
+        double L = 1.1 * (hi[0] - p[0]) + g, q[3] = {p[0] + L, p[1] + 0.00123 * L, p[2] + 0.00071 * L};
+        int y0 = (int)((p[1] - lo[1]) / g), y1 = (int)((q[1] - lo[1]) / g), z0 = (int)((p[2] - lo[2]) / g), z1 = (int)((q[2] - lo[2]) / g);
+        int crossings = 0, outside = p[1] < lo[1] || p[2] < lo[2] || y1 >= ny || z1 >= nz;
+        for (int y = y0; y <= y1 && !outside; y++)
+            for (int z = z0; z <= z1; z++)
+                for (int k = count[y * nz + z]; k < count[y * nz + z + 1]; k++) {
+                    int f = col[k], y0f = (int)((boxes[6 * f + 1] - lo[1]) / g), z0f = (int)((boxes[6 * f + 2] - lo[2]) / g);
+                    if ((y0f > y0 ? y0f : y0) != y || (z0f > z0 ? z0f : z0) != z) continue; /* counted in its first column */
+                    const int *t = tris + 3 * f;
+                    crossings += rk_segment_triangle_intersect(p, q, m.X + 3 * t[0], m.X + 3 * t[1], m.X + 3 * t[2]);
+                }
+        if (outside || crossings % 2 != 1) {
+            free(count);
+            FAIL_IF(1, "point %d (%g, %g, %g) is outside the surface (%d crossings)", i, p[0], p[1], p[2], crossings);
+        }
+    }
+    free(count);
+    /* how far the surface vertices lie from the points */
+    bucket_init(&B, X, n, 2 * g);
+    for (int a = 0; a < 3 * nf; a += 0) {
+        int v = (int)(link[a] >> 42), b = a;
+        while (b < 3 * nf && link[b] >> 42 == link[a] >> 42) b++;
+        double d = bucket_nearest(&B, m.X + 3 * v) / g;
+        st->max_vertex_distance = fmax(st->max_vertex_distance, d);
+        st->mean_vertex_distance += d / st->surface_vertices;
+        a = b;
+    }
+    FAIL_IF(!(st->max_vertex_distance <= bound), "a surface vertex lies %.3g g from the nearest point (at most %g)",
+            st->max_vertex_distance, bound);
+done:
+#undef FAIL_IF
+    free(tris), free(edges), free(link), free(boxes), free(eboxes), free(pairs), free(col), free(B.key);
+    rk_mesh_free(&m);
+    return rc;
+}
+
+static void print_stats(const char *what, int n, double g, const proxy_stats *st)
+{
+    printf("# %s: %d points, voxel %g: %d triangles, %d surface vertices; vertex to nearest point: max %.3f g, mean %.3f g\n",
+           what, n, g, st->faces, st->surface_vertices, st->max_vertex_distance, st->mean_vertex_distance);
+}
+
+TEST(one_point_is_a_small_closed_surface)
+{
+    double X[3] = {0.3, -1.2, 7.0};
+    proxy_stats st;
+    char why[256];
+    CHECK(check_proxy(X, 1, 0.25, 1, &st, why, sizeof why) == 0, "%s", why);
+    print_stats("one point", 1, 0.25, &st);
+    /* its voxel's 8 corners, sqrt(3)/2 g off the point, each moved in to g/2 off it */
+    CHECK(st.faces == 12 && st.surface_vertices == 8, "%d triangles, %d vertices", st.faces, st.surface_vertices);
+    CHECK(fabs(st.max_vertex_distance - 0.5) < 0.02 && fabs(st.mean_vertex_distance - 0.5) < 0.02, "vertices %.4f (max), %.4f (mean) g off",
+          st.max_vertex_distance, st.mean_vertex_distance);
+}
+
+/* A lattice of nx x ny x nz points h apart from o into X. */
+static int lattice(double *X, int nx, int ny, int nz, double h, const double o[3])
+{
+    int n = 0;
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++)
+            for (int k = 0; k < nz; k++, n++) X[3 * n] = o[0] + h * i, X[3 * n + 1] = o[1] + h * j, X[3 * n + 2] = o[2] + h * k;
+    return n;
+}
+
+TEST(lattices_are_wrapped_within_a_voxel)
+{
+    /* points at the voxel's spacing, and at half of it (the default voxel: twice the points' spacing) */
+    double X[3 * 8 * 6 * 5], g = 0.05, o[3] = {1, 0, -2};
+    proxy_stats st;
+    char why[256];
+    int n = lattice(X, 4, 3, 2, g, o);
+    CHECK(check_proxy(X, n, g, 0.55, &st, why, sizeof why) == 0, "%s", why);
+    print_stats("lattice at g", n, g, &st);
+    n = lattice(X, 8, 6, 5, g / 2, o);
+    CHECK(check_proxy(X, n, g, 0.55, &st, why, sizeof why) == 0, "%s", why);
+    print_stats("lattice at g/2", n, g, &st);
+}
+
+TEST(a_scattered_cloud_is_wrapped)
+{
+    /* a block, a thin rod, a diagonal chain of voxels touching only at edges and corners, and
+     * strays: the voxels' union has holes, pockets and non-manifold edges and corners */
+    int n = 0;
+    double *X = calloc(3 * 800, sizeof *X), g = 0.1;
+    for (int i = 0; i < 500; i++, n++) X[3 * n] = 0.5 * uni(), X[3 * n + 1] = 0.3 * uni(), X[3 * n + 2] = 0.25 * uni();
+    for (int i = 0; i < 150; i++, n++) X[3 * n] = 0.6 + uni(), X[3 * n + 1] = 0.12 + 0.01 * uni(), X[3 * n + 2] = 0.1 + 0.01 * uni();
+    for (int i = 0; i < 8; i++, n++) X[3 * n] = -0.5 - 0.1 * i, X[3 * n + 1] = -0.5 - 0.1 * i, X[3 * n + 2] = 0.03 + 0.1 * (i % 2);
+    for (int i = 0; i < 40; i++, n++) X[3 * n] = 3 * uni() - 1, X[3 * n + 1] = 2 * uni() - 1, X[3 * n + 2] = 2 * uni() + 0.5;
+    proxy_stats st;
+    char why[256];
+    /* (the voxels added where others met along an edge hold no point: their corners may stay
+     * farther than g from one where moving them in would cross the chain's thin surface) */
+    int rc = check_proxy(X, n, g, 1.5, &st, why, sizeof why);
+    print_stats("scattered", n, g, &st);
+    CHECK(rc == 0, "%s", why);
+    free(X);
+}
+
+/* A cloud from tests/data at 1/40 of its bounding box's diagonal, the default voxel of a dense
+ * capture (pipeline.h, RK_PROXY_VOXELS), or at voxel g when g > 0. */
+static void check_file(const char *file, double g)
+{
+    rk_error err;
+    double *X = NULL;
+    int n = 0;
+    CHECK_OK(rk_points_load(test_data(file), &X, &n, &err));
+    if (!(g > 0)) {
+        double lo[3], hi[3], d2 = 0;
+        for (int d = 0; d < 3; d++) {
+            lo[d] = hi[d] = X[d];
+            for (int i = 1; i < n; i++) lo[d] = fmin(lo[d], X[3 * i + d]), hi[d] = fmax(hi[d], X[3 * i + d]);
+            d2 += (hi[d] - lo[d]) * (hi[d] - lo[d]);
+        }
+        g = sqrt(d2) / 40;
+    }
+    proxy_stats st;
+    char why[256];
+    int rc = check_proxy(X, n, g, 1, &st, why, sizeof why);
+    print_stats(file, n, g, &st);
+    free(X);
+    CHECK(rc == 0, "%s: %s", file, why);
+}
+
+TEST(a_scan_and_a_splat_capture_are_wrapped)
+{
+    check_file("meshes/pedestal_points.ply", 0.02); /* 1 cm apart: twice that, the default */
+    check_file("meshes/donut_3dgs.ply", 0);
+}
+
+TEST(bad_input_fails)
+{
+    rk_error err;
+    rk_mesh m;
+    double X[6] = {0, 0, 0, 1, 1, 1};
+    CHECK(rk_points_proxy(X, 0, 0.1, &m, &err) != 0, "no points accepted");
+    CHECK(m.X == NULL && m.ghost == NULL, "a failed call left a mesh");
+    const double bad_g[4] = {0, -0.1, NAN, INFINITY};
+    for (int k = 0; k < 4; k++) CHECK(rk_points_proxy(X, 2, bad_g[k], &m, &err) != 0, "voxel %g accepted", bad_g[k]);
+    CHECK(rk_points_proxy(X, 2, 1e-9, &m, &err) != 0 && strstr(err.msg, "too small"), "voxel 1e-9 for a unit cloud: %s", err.msg);
+    CHECK(m.X == NULL && m.ghost == NULL, "a failed call left a mesh");
+}
+
+/* Points the lattice cannot hold: a non-finite coordinate, and one so far away that its voxel
+ * index does not fit in an integer (the conversion is undefined there): refused, not wrapped. */
+TEST(points_off_the_lattice_fail)
+{
+    rk_error err;
+    rk_mesh m;
+    double nan_point[6] = {0, 0, 0, 1, NAN, 1};
+    CHECK(rk_points_proxy(nan_point, 2, 0.1, &m, &err) != 0, "a NaN coordinate gave a proxy of %d vertices", m.nv);
+    CHECK(strstr(err.msg, "point 1") != NULL, "the message does not name point 1: %s", err.msg);
+    double inf_point[6] = {0, 0, 0, INFINITY, 1, 1};
+    CHECK(rk_points_proxy(inf_point, 2, 0.1, &m, &err) != 0, "an infinite coordinate gave a proxy of %d vertices", m.nv);
+    double far_point[6] = {0, 0, 0, 1e300, 1, 1};
+    CHECK(rk_points_proxy(far_point, 2, 0.1, &m, &err) != 0, "a point 1e300 away gave a proxy of %d vertices", m.nv);
+    CHECK(m.X == NULL && m.ghost == NULL, "a failed call left a mesh");
+}
+
+int main(void)
+{
+    RUN(one_point_is_a_small_closed_surface);
+    RUN(lattices_are_wrapped_within_a_voxel);
+    RUN(a_scattered_cloud_is_wrapped);
+    RUN(a_scan_and_a_splat_capture_are_wrapped);
+    RUN(bad_input_fails);
+    RUN(points_off_the_lattice_fail);
+    return test_finish();
+}
