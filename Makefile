@@ -267,6 +267,7 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)
 	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/pour.sh
 	BUILD=$(BUILD) sh bench/moving_obstacles.sh
+	BUILD=$(BUILD) sh bench/adaptive_moving.sh
 	BUILD=$(BUILD) sh bench/cage.sh
 	@$(MAKE) --no-print-directory bench-plots
 	@$(MAKE) --no-print-directory results-tables

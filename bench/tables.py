@@ -112,6 +112,8 @@ ABOUT = {
     "contact_pour": ("The pour in the runtime: 8 objects into a mesh box (issue 30)", "make bench: bench/pour.sh",
                      "Contact every frame, CPU us per step split into broad phase, narrow phase and Newton, "
                      "and the ratio against the old code."),
+    "adaptive_moving": ("Adaptive subspaces through a moving obstacle (issue 34)", "make bench: bench/adaptive_moving.sh",
+                        "A bar lifted by a rising box platform, the adaptive method against full order."),
     "moving_obstacles": ("Moving obstacles in the runtime (issue 30)", "make bench: bench/moving_obstacles.sh",
                          "A slab thrown onto a terrain rising at 1 m/s: us per step, Newton iterations, closest "
                          "approach and crossings, against an older build with OLD."),

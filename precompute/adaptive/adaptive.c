@@ -56,7 +56,8 @@ static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
         ALLOC(im->pcg_work, 4 * n) || ALLOC(im->xtry, n) || ALLOC(im->sc_a, r) || ALLOC(im->sc1, n) ||
         ALLOC(im->sc2, n) || ALLOC(im->sc3, n) || ALLOC(im->sc4, n) || ALLOC(im->elem_e, nt) ||
         ALLOC(im->fixed_vertex, nv) || ALLOC(im->elem_psi, nt) || ALLOC(im->elem_g, 12 * (size_t)nt) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
-        ALLOC(im->newton_work, RK_NEWTON_WORK(n)) || ALLOC(im->x_moved, n))
+        ALLOC(im->newton_work, RK_NEWTON_WORK(n + 1)) || ALLOC(im->x_moved, n) || ALLOC(im->y, n + 1) ||
+        ALLOC(im->prescribed_y, n + 1) || ALLOC(im->hxs, n) || ALLOC(im->sx, n) || ALLOC(im->dq_b, r))
         return -1;
     return 0;
 }
@@ -84,7 +85,14 @@ int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *f
     if (check_options(o, fem, r, err)) return -1;
     if (fo->is_static) return rk_fail(err, "simulates dynamics only (the scene asks for a static solve)");
     ad->opt = *o;
-    if (rk_fom_init(&ad->fom, fem, fo, err)) return -1;
+    /* moving obstacles go by their progress s, an unknown of this solver (obstacles.c) */
+    rk_fom_options fom_opt = *fo;
+    fom_opt.obstacle_progress = 1;
+    for (int k = 0; k < fo->nobstacles; k++)
+        if (fo->obstacles[k].kind == RK_OBSTACLE_PLANE && fo->obstacles[k].motion != RK_MOTION_FIXED)
+            return rk_fail(err, "obstacle %d: a moving plane is not supported (a plane has no vertices to move "
+                                "by their progress; make it a box)", k);
+    if (rk_fom_init(&ad->fom, fem, &fom_opt, err)) return -1;
     rk_adaptive_impl *im = rk_calloc(1, sizeof *im, err);
     if (!im) goto fail;
     ad->impl = im;
@@ -94,10 +102,6 @@ int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *f
     im->r = r;
     im->nblocks = r / o->block;
     rk_fom_view_get(&ad->fom, &im->view);
-    if (im->view.nobs) {
-        rk_fail(err, "moving obstacles are not supported (they are unknowns of the full-order solve)");
-        goto fail;
-    }
     if (alloc_impl(im, fem->nt, err) || ALLOC(im->U, (size_t)im->n * r)) goto fail;
     for (size_t k = 0; k < (size_t)im->n * r; k++) {
         if (!isfinite(U[k])) {
@@ -106,6 +110,8 @@ int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *f
         }
         im->U[k] = im->view.prescribed[k % im->n] ? 0 : U[k];
     }
+    memcpy(im->prescribed_y, im->view.prescribed, (size_t)im->n);
+    for (int v = 0; v < im->nv; v++) im->mass += fem->vertex_mass[v];
     for (int v = 0; v < im->nv; v++)
         im->fixed_vertex[v] =
             (char)(im->view.prescribed[3 * v] && im->view.prescribed[3 * v + 1] && im->view.prescribed[3 * v + 2]);
@@ -157,7 +163,8 @@ void rk_adaptive_free(rk_adaptive *ad)
                           im->Dinv, im->coup_pos, im->block_size, im->part_mark_dofs, im->gq, im->dq, im->dx,
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
-                          im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g, im->MU, im->CU, im->ctri_r, im->ctri_v};
+                          im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g, im->MU, im->CU, im->ctri_r, im->ctri_v,
+                          im->y, im->prescribed_y, im->hxs, im->sx, im->dq_b};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }
@@ -193,7 +200,7 @@ static void account_step(rk_adaptive_impl *im, const double *x)
     im->have_prev = 0;
 }
 
-static double energy(void *ctx, const double *x, double *g, int hessian, double *magnitude)
+static double energy_x(void *ctx, const double *x, double *g, int hessian, double *magnitude)
 {
     newton_ctx *c = ctx;
     rk_adaptive *ad = c->ad;
@@ -243,6 +250,22 @@ static double energy(void *ctx, const double *x, double *g, int hessian, double 
     return E;
 }
 
+/* With moving obstacles the unknowns are x and their progress s (obstacles.c): the obstacles
+ * placed at s, their points degrees of freedom of the contact blocks, and the pull added. */
+static double energy(void *ctx, const double *y, double *g, int hessian, double *magnitude)
+{
+    newton_ctx *c = ctx;
+    rk_adaptive_impl *im = c->ad->impl;
+    if (!im->way) return energy_x(ctx, y, g, hessian, magnitude);
+    rk_contact *oc = im->view.contact;
+    rk_obstacle_way_place(im->way, oc, y[im->n]);
+    oc->obstacle_dofs = 1;
+    double E = energy_x(ctx, y, g, hessian, magnitude);
+    oc->obstacle_dofs = 0;
+    if (!isfinite(E)) return E;
+    return E + rk_adaptive_obstacle_terms(c->ad, y, g, hessian, magnitude);
+}
+
 /* The same iterate's full-space Newton system, by CHOLMOD and by block-Jacobi CG (opt.probe). */
 static int probe(rk_adaptive *ad, const rk_fom_terms *T, const double *d_ours, double seconds_ours, long pcg_before,
                  rk_error *err)
@@ -288,7 +311,8 @@ static int solve(void *ctx, const double *g, double *d, rk_error *err)
     rk_adaptive_impl *im = c->ad->impl;
     double t0 = rk_now();
     long pcg_before = c->ad->stats.pcg_iterations;
-    if (rk_adaptive_solve(c->ad, c->T, g, d, err)) return -1;
+    if (im->way ? rk_adaptive_solve_bordered(c->ad, c->T, g, d, err) : rk_adaptive_solve(c->ad, c->T, g, d, err))
+        return -1;
     if (c->ad->opt.probe && !c->ad->stats.probe.done &&
         probe(c->ad, c->T, d, rk_now() - t0, pcg_before, err))
         return -1;
@@ -301,6 +325,9 @@ static int solve(void *ctx, const double *g, double *d, rk_error *err)
 static double max_step(void *ctx, const double *x, const double *d)
 {
     newton_ctx *c = ctx;
+    rk_adaptive_impl *im = c->ad->impl;
+    if (im->way) /* the body and the obstacles together, s within [0, 1] */
+        return rk_obstacle_way_max_step(im->way, im->view.contact, x, d, x[im->n], d[im->n], &c->failure);
     double alpha = rk_fom_max_step(&c->ad->fom, x, d, &c->failure);
     return alpha >= 0 ? alpha : 0;
 }
@@ -344,30 +371,82 @@ static int enrich_residual(rk_adaptive *ad, const double *d, double h, double to
  * within this share of the largest (or above the tolerance, whichever is higher). */
 #define RK_ADAPTIVE_RESIDUAL_SHARE 0.5
 
+/* The body's |d|_inf and, with moving obstacles, their step along the way (m). */
+static double step_norm(void *ctx, const double *d)
+{
+    rk_adaptive_impl *im = ((newton_ctx *)ctx)->ad->impl;
+    double size = 0;
+    for (int i = 0; i < im->n; i++) size = fmax(size, fabs(d[i]));
+    return im->way ? fmax(size, rk_obstacle_way_step_norm(im->way, d[im->n])) : size;
+}
+
+/* Newton from im->y; with moving obstacles, rounds of the method of multipliers on their pull
+ * until they arrive within tol_d or a round does not halve the shortfall (obstacle_solve.c's). */
+static int solve_rounds(rk_adaptive *ad, const newton_ctx *c, const rk_newton_problem *p, const rk_fom *s,
+                        double tol_d, int *converged, rk_newton_stats *stats, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    for (int round = 0;; round++) {
+        im->first_iteration = 1;
+        im->have_prev = 0;
+        im->have_step = 0;
+        int rc = rk_newton_solve(p, im->y, tol_d, s->opt.newton_max_iter, im->newton_work, converged, stats, err);
+        account_step(im, im->y);
+        if (rc || c->failure.msg[0] || !im->way || round + 1 >= RK_OBSTACLE_ROUNDS ||
+            !rk_obstacle_way_round(im->way, im->y[im->n], tol_d))
+            return rc;
+        ad->stats.obstacle_rounds++;
+    }
+}
+
+/* The obstacles' way over the step (their progress an unknown: obstacles.c) unless nothing moves
+ * or the whole way is clear of the body as it is (then they are there at once, the body after):
+ * 1 with *way set, 0, -1 on failure. */
+static int obstacle_way(rk_adaptive *ad, rk_fom *s, rk_obstacle_way *way, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    if (!im->view.contact || !im->view.og) return 0;
+    double t = s->t + s->opt.h;
+    int moving = rk_obstacle_way_init(way, im->view.contact, t, im->mass, s->opt.h, err);
+    if (moving <= 0) return moving;
+    memset(im->sx, 0, sizeof(double) * (size_t)im->n);
+    double clear = rk_contact_max_step(im->view.contact, s->x, im->sx, way->way, err);
+    if (clear >= 1) rk_contact_set_time(im->view.contact, t);
+    if (clear < 0 || clear >= 1) rk_obstacle_way_free(way);
+    return clear < 0 ? -1 : clear < 1;
+}
+
 static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
 {
     rk_adaptive *ad = ctx;
     rk_adaptive_impl *im = ad->impl;
     newton_ctx c = {.ad = ad, .T = T};
-    rk_newton_problem p = {.n = im->n, .ctx = &c, .what = "incremental potential (adaptive subspace)",
+    rk_obstacle_way way;
+    int moving = obstacle_way(ad, s, &way, err);
+    if (moving < 0) return -1;
+    im->way = moving ? &way : NULL;
+    memcpy(im->y, s->x, sizeof(double) * (size_t)im->n);
+    im->y[im->n] = 0; /* s = 0: the obstacles where they are */
+    rk_newton_problem p = {.n = im->n + moving, .ctx = &c, .what = "incremental potential (adaptive subspace)",
                            .energy = energy, .solve = solve,
                            .max_step = im->view.has_contact ? max_step : NULL,
-                           .prescribed = im->view.prescribed};
+                           .step_norm = step_norm, .prescribed = im->prescribed_y};
     rk_newton_stats stats = {0};
     double tol_v = tol_d / s->opt.h; /* the Newton tolerance, m/s */
     int rc = 0;
     for (int round = 0;; round++) {
-        im->first_iteration = 1;
-        im->have_prev = 0;
-        im->have_step = 0;
-        rc = rk_newton_solve(&p, s->x, tol_d, s->opt.newton_max_iter, im->newton_work, converged, &stats, err);
-        account_step(im, s->x);
+        rc = solve_rounds(ad, &c, &p, s, tol_d, converged, &stats, err);
+        memcpy(s->x, im->y, sizeof(double) * (size_t)im->n);
+        if (moving) rk_obstacle_way_place(&way, im->view.contact, im->y[im->n]); /* not a line search's trial */
         if (rc || c.failure.msg[0] || !ad->opt.residual) break;
         /* the full-order Newton step that would remain from here: the paper's accuracy measure
          * (Fig. 12), which its oracle's thresholds do not bound; where it exceeds the tolerance the
          * subspace and the enrichment missed motion there: enrich those parts and solve again */
         double r = full_residual(ad, s, T, im->sc4, err);
-        if (r < 0) return -1;
+        if (r < 0) {
+            rc = -1;
+            break;
+        }
         int added = 0;
         if (r > tol_v && round < ad->opt.residual_rounds && ad->opt.nodal)
             added = enrich_residual(ad, im->sc4, s->opt.h, fmax(tol_v, RK_ADAPTIVE_RESIDUAL_SHARE * r));
@@ -380,6 +459,17 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
         }
         ad->stats.residual_rounds++;
         ad->stats.residual_nodes_added += added;
+    }
+    im->way = NULL;
+    if (moving) { /* at t + h when within the tolerance of it and CCD lets the last bit go */
+        int behind = 0;
+        memset(im->sx, 0, sizeof(double) * (size_t)im->n);
+        if (!rc && !c.failure.msg[0] &&
+            rk_obstacle_way_arrive(&way, im->view.contact, s->x, im->sx, im->y[im->n], s->t + s->opt.h, tol_d,
+                                   &behind, err))
+            rc = -1;
+        ad->stats.obstacles_behind += behind;
+        rk_obstacle_way_free(&way);
     }
     ad->stats.newton_iterations += stats.iterations;
     s->stats.newton_iterations += stats.iterations;

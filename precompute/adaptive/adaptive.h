@@ -41,7 +41,10 @@
  *  - the oracle's per-vertex energies split each element's energy equally among its four
  *    vertices, the consistent mass's quadratic form by rows, a contact pair's barrier equally
  *    among its mesh points; lagged friction is left out of them (it is in the system);
- *  - moving obstacles (unknowns of the full-order solve) and static solves are refused. */
+ *  - moving obstacles go by their progress s along the step's straight way, one more unknown
+ *    pulled to 1 (the reduced simulator's, contact.h rk_obstacle_way) beside x, Eq. 19 bordered
+ *    by it (obstacles.c); full order makes each obstacle vertex an unknown instead. Moving planes
+ *    and static solves are refused. */
 #ifndef RK_ADAPTIVE_H
 #define RK_ADAPTIVE_H
 
@@ -109,6 +112,8 @@ typedef struct {
     long residual_over;           /* steps that ended with it above the Newton tolerance (after the rounds) */
     long residual_rounds;         /* enrichment rounds the residual asked for, and their vertices */
     long residual_nodes_added;
+    long obstacle_rounds;         /* moving obstacles: extra rounds of the method of multipliers on their pull */
+    long obstacles_behind;        /* solves that left them short of where they were due (the body in the way) */
 } rk_adaptive_stats;
 
 typedef struct rk_adaptive_impl rk_adaptive_impl;

@@ -102,6 +102,13 @@ struct rk_adaptive_impl {
     int first_iteration;        /* the next Newton iteration is a solve's first (BFGS restarts) */
     double *dq_last;            /* a: alpha d_q of the last Newton step (the secant's s) */
     int have_step;
+    /* moving obstacles (obstacles.c): their progress s along the step's way is unknown n beside x */
+    rk_obstacle_way *way;       /* the step's way while a joint solve runs, else NULL */
+    double mass;                /* the body's (the pull's scale) */
+    double *y;                  /* n + 1: x and s */
+    char *prescribed_y;         /* n + 1: the prescribed dofs, and s free */
+    double *hxs, *sx, *dq_b;    /* n, n, r: d2/dx ds, its solve and that solve's d_q */
+    double hss, gs;             /* d2/ds2 and d/ds at the last Hessian */
 };
 
 /* partition.c */
@@ -134,6 +141,14 @@ int rk_adaptive_bfgs_restart(rk_adaptive *a, const double *x, rk_error *err);
 int rk_adaptive_oracle(rk_adaptive *a, const rk_fom_terms *T, const double *x, double E, const double *g,
                        int *changed_modes, int *changed_nodes, rk_error *err);
 void rk_adaptive_downdate(rk_adaptive *a);
+
+/* obstacles.c: the joint solve of x and the obstacles' progress s (contact.h, rk_obstacle_way) */
+/* Adds the pull and d/ds into E and g[n] at y (obstacles placed at y[n]); with hessian, d2/ds2
+ * and d2/dx ds from the potential's contact blocks (im->view, fresh). */
+double rk_adaptive_obstacle_terms(rk_adaptive *a, const double *y, double *g, int hessian, double *magnitude);
+/* d (n + 1) for the bordered system [H hxs; hxs^T hss] by two Schur solves (Eq. 19's with g, then
+ * with hxs): Eq. 19's d_q and d_x, and d_s. */
+int rk_adaptive_solve_bordered(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);
 
 /* system.c: d (n) from Eq. 19 by the Schur complement */
 int rk_adaptive_solve(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);

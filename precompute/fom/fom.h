@@ -66,6 +66,10 @@ typedef struct {
     double pin_stiffness;     /* reduced models only: the penalty holding prescribed vertices, in
                                * units of (lambda + 2 mu) / (rho L^2) (rom.h); <= 0: RK_ROM_PIN_STIFFNESS */
     int newton_max_iter;
+    int obstacle_progress;    /* moving obstacles are not unknowns of the full-order Newton: the solver
+                               * given to rk_fom_step_with moves them by their progress along the
+                               * step's way (contact.h, rk_obstacle_way; precompute/adaptive), with
+                               * the obstacle points' gradient in rk_fom_view's og */
 } rk_fom_options;
 
 /* Relative Newton tolerance used when newton_tol <= 0: rk_fom_init sets
@@ -96,7 +100,8 @@ typedef struct {
 } rk_fom_terms;
 
 /* A contact pair's Hessian block as the contact stage hands it over (mesh vertex ids; obstacle
- * ids negative, dropped). */
+ * vertex k as -1 - k, dropped from the Newton matrix, or matrix vertex nv + k when the obstacles
+ * are its unknowns). */
 typedef struct {
     int np, id[4];
     double H[144];
@@ -198,6 +203,8 @@ typedef struct {
     int nblocks;                /* the last rk_fom_potential(..., hessian != 0)'s contact blocks */
     const rk_contact_block *blocks;
     rk_contact *contact;        /* NULL without contact */
+    const double *og;           /* 3 onv: with opt.obstacle_progress and a moving obstacle, the obstacle
+                                 * points' gradient of the last rk_fom_potential with g (else NULL) */
 } rk_fom_view;
 void rk_fom_view_get(const rk_fom *s, rk_fom_view *v);
 /* Each of v's contact blocks sandwiched in a subspace: out (a x a, column-major) += A_p^T H_b A_p,

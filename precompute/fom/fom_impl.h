@@ -50,6 +50,7 @@ struct rk_fom_impl {
     int nobs, ndof;
     double *y;              /* ndof */
     double *obs_target, *al_lambda; /* 3 nobs: the obstacles' targets, the multipliers */
+    double *og;             /* 3 onv: the obstacle points' gradient (opt.obstacle_progress) */
     double al_kappa, al_mass;
     /* Owned copies of what opt pointed to (s->opt points here after init). */
     rk_prescribed *groups;

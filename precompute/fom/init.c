@@ -123,7 +123,7 @@ static int init_contact(rk_fom *s, rk_error *err)
     /* moving obstacles: every obstacle vertex becomes an unknown (the static ones prescribed) */
     int moving = 0;
     for (int k = 0; k < o->nobstacles; k++) moving |= obstacles[k].motion != RK_MOTION_FIXED;
-    im->nobs = moving ? im->contact.onv : 0;
+    im->nobs = moving && !o->obstacle_progress ? im->contact.onv : 0;
     im->ndof = im->n + 3 * im->nobs;
     im->contact.obstacle_dofs = im->nobs > 0;
     im->al_mass = mass / f->nv;
@@ -143,7 +143,9 @@ static int init_contact(rk_fom *s, rk_error *err)
     im->y = rk_calloc(nd, sizeof(double), err);
     im->obs_target = rk_calloc(3 * (size_t)im->nobs + 1, sizeof(double), err);
     im->al_lambda = rk_calloc(3 * (size_t)im->nobs + 1, sizeof(double), err);
-    return im->newton_work && im->g_barrier && im->y && im->obs_target && im->al_lambda ? 0 : -1;
+    if (moving && o->obstacle_progress) im->og = rk_calloc(3 * (size_t)im->contact.onv + 1, sizeof(double), err);
+    return im->newton_work && im->g_barrier && im->y && im->obs_target && im->al_lambda &&
+                   (im->og || !moving || !o->obstacle_progress) ? 0 : -1;
 }
 
 /* Inertia mass, Rayleigh damping a M + b K0, and f_ext = m_v g + force. Gravity uses the lumped
@@ -252,7 +254,7 @@ void rk_fom_free(rk_fom *s)
         if (im->has_contact) rk_contact_free(&im->contact);
         rk_contact_set_free(&im->pairs);
         rk_newton_matrix_free(&im->N);
-        free(im->g_barrier), free(im->y), free(im->obs_target), free(im->al_lambda);
+        free(im->g_barrier), free(im->y), free(im->obs_target), free(im->al_lambda), free(im->og);
         free(im->force);
         free(im->f_ext);
         free(im->prescribed_dof);

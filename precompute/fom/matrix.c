@@ -209,7 +209,9 @@ void rk_newton_matrix_record(void *ctx, const int *id, int npoints, const double
     }
     rk_contact_block *b = &N->blocks[N->nblocks++];
     b->np = npoints;
-    for (int k = 0; k < npoints; k++) /* obstacle vertex k is matrix vertex nmesh + k when unknown */
-        b->id[k] = id[k] >= 0 ? id[k] : N->nobs ? N->nmesh + (-1 - id[k]) : -1;
+    for (int k = 0; k < npoints; k++) /* obstacle vertex k is matrix vertex nmesh + k when unknown, else
+                                        * stays -1 - k (dropped from A; a caller moving the obstacles
+                                        * by their progress reads it, rk_fom_view) */
+        b->id[k] = id[k] >= 0 || !N->nobs ? id[k] : N->nmesh + (-1 - id[k]);
     memcpy(b->H, H, sizeof(double) * 9 * (size_t)npoints * npoints);
 }

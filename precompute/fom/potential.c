@@ -82,11 +82,14 @@ static double contact_term(rk_fom *s, const double *y, double *g, int hessian, r
 {
     rk_fom_impl *im = s->impl;
     rk_contact *c = &im->contact;
-    im->N.nblocks = 0;
+    if (hessian) /* a caller's evaluation without one (a line search, the adaptive oracle's) keeps the
+                  * blocks of the last Hessian: rk_fom_view hands them on */
+        im->N.nblocks = 0;
     if (im->nobs) memcpy(c->ox, y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
     if (rk_contact_gather(c, y, &im->pairs, err)) return NAN;
     double closest;
-    double *og = g && im->nobs ? g + im->n : NULL;
+    double *og = !g ? NULL : im->nobs ? g + im->n : im->og;
+    if (og == im->og && og) memset(og, 0, sizeof(double) * 3 * (size_t)c->onv);
     if (g && hessian && !c->kappa_set && im->pairs.n > 0) {
         /* the first contact sets kappa: measure the barrier's push at the current kappa first */
         memset(im->g_barrier, 0, sizeof(double) * (size_t)im->ndof);
@@ -146,7 +149,8 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     tc = rk_now();
     if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);
     if (T->friction && isfinite(stored))
-        stored += rk_contact_friction_energy(&im->contact, y, s->opt.h, g, g && im->nobs ? g + n : NULL,
+        stored += rk_contact_friction_energy(&im->contact, y, s->opt.h, g,
+                                             !g ? NULL : im->nobs ? g + n : im->og,
                                              hessian ? rk_newton_matrix_record : NULL, &im->N);
     contact += rk_now() - tc;
     double E = stored - work + quad;
@@ -174,7 +178,7 @@ void rk_fom_view_get(const rk_fom *s, rk_fom_view *v)
     *v = (rk_fom_view){.n = im->n, .nobs = im->nobs, .M = &im->M, .C = &im->C, .f_ext = im->f_ext,
                        .prescribed = im->prescribed_dof, .has_contact = im->has_contact,
                        .nblocks = im->N.nblocks, .blocks = im->N.blocks,
-                       .contact = im->has_contact ? (rk_contact *)&im->contact : NULL};
+                       .contact = im->has_contact ? (rk_contact *)&im->contact : NULL, .og = im->og};
 }
 
 double rk_fom_max_step(rk_fom *s, const double *x, const double *d, rk_error *err)

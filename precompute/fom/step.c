@@ -38,6 +38,9 @@ static int step(rk_fom *s, rk_fom_newton_fn newton, void *newton_ctx, rk_error *
     rk_stepper *st = &im->stepper;
     double h = s->opt.h;
     if (check_state(s, err)) return -1;
+    if (!newton && im->og)
+        return rk_fail(err, "opt.obstacle_progress: the moving obstacles need a solver that moves them "
+                            "(rk_fom_step_with)");
     rk_stepper_predict(st, s->x, s->v);
     int friction = im->has_contact && s->opt.contact.friction > 0;
     rk_fom_terms T = {.w_inertia = st->w_inertia, .xtilde = st->xtilde, .w_damping = 1.0 / h, .xt = st->xt,

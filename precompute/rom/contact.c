@@ -107,21 +107,12 @@ void rk_rom_reduce_block(void *ctx, const int *id, int npoints, const double *B)
     for (int i = 0; i < dim; i++)
         if (rows[i]) cblas_dger(CblasColMajor, r, r, 1.0, rows[i], 1, c->JB + (size_t)i * r, 1, c->H, r);
     if (!c->way) return;
-    /* the obstacles moving by s D_o (obstacle_solve.c): BD = B D over the obstacle points, then
-     * d2/ds2 += D . BD and d2/dq ds += sum over the mesh points of J^T BD */
-    double D[12] = {0}, BD[12];
-    int any = 0;
-    for (int k = 0; k < npoints; k++)
-        for (int a = 0; a < 3 && id[k] < 0; a++) D[3 * k + a] = c->way[3 * (-1 - id[k]) + a], any = 1;
-    if (!any) return;
-    for (int i = 0; i < dim; i++) {
-        BD[i] = 0;
-        for (int k = 0; k < dim; k++) BD[i] += B[dim * i + k] * D[k];
-    }
-    for (int i = 0; i < dim; i++) {
-        *c->hss += D[i] * BD[i];
+    /* the obstacles moving by s D_o (obstacle_solve.c): d2/ds2 += D . B D and d2/dq ds += sum over
+     * the mesh points of J^T B D */
+    double BD[12];
+    if (!rk_obstacle_way_block(c->way, id, npoints, B, BD, c->hss)) return;
+    for (int i = 0; i < dim; i++)
         if (rows[i] && BD[i] != 0) cblas_daxpy(r, BD[i], rows[i], 1, c->hqs, 1);
-    }
 }
 
 double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err)
@@ -140,7 +131,7 @@ double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g
         E += rk_contact_friction_energy(&m->contact, s->x, m->h, g ? s->gx : NULL, og,
                                         H ? rk_rom_reduce_block : NULL, &ctx);
     if (g && isfinite(E)) rk_rom_pull_vertex_gradient(s, g);
-    if (og && isfinite(E)) s->obs_gs += cblas_ddot(3 * onv, og, 1, s->obs_way, 1);
+    if (og && isfinite(E)) s->obs_gs += rk_obstacle_way_gradient(s->obs_way, og);
     return E;
 }
 

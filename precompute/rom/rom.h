@@ -115,7 +115,7 @@ typedef struct {
     /* a joint solve moving the obstacles (obstacle_solve.c): their way (NULL outside one), the
      * contact terms' gradient at the obstacle vertices (3 onv), and their derivatives in the
      * obstacles' progress (d/ds, d2/ds2, d2/dq ds: r) */
-    const double *obs_way;
+    const rk_obstacle_way *obs_way;
     double *ogx, obs_gs, obs_hss, *obs_hqs;
     double *jb;                /* 12 x r contact scratch */
     rk_contact_set pairs;      /* this evaluation's contact pairs */

@@ -53,9 +53,9 @@ typedef struct {
     const rk_rom_model *m;
     double *H;      /* r x r, column-major (both triangles) */
     double *JB;     /* 12 x r scratch */
-    /* a joint solve moving the obstacles (obstacle_solve.c), or NULL: their way D (3 per obstacle
-     * vertex), and the block's d2/dq ds (r) and d2/ds2 added into hqs and *hss */
-    const double *way;
+    /* a joint solve moving the obstacles (obstacle_solve.c), or NULL: their way D, and the block's
+     * d2/dq ds (r) and d2/ds2 added into hqs and *hss */
+    const rk_obstacle_way *way;
     double *hqs, *hss;
 } rk_rom_reduce_ctx;
 void rk_rom_reduce_block(void *ctx, const int *id, int npoints, const double *B);
