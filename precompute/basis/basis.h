@@ -42,15 +42,12 @@ typedef struct {
     double volume;   /* mesh: the sum of |tet volumes|; cloud: the occupancy volume estimate */
 } rk_rkpm_points;
 
-/* A uniform grid of spacing s = cbrt(mesh volume / target), centred on the mesh's bounding box
- * (Sec. 7.1), each grid point standing for its cell clipped to the mesh: the cell is sampled by
- * q^3 sub-points (q = 4, fewer past 2^24 sub-points), each tested against the tets by barycentric
- * coordinates (tolerance 1e-9, a sub-point on a shared face kept once); a cell with any inside
- * becomes a point at their centroid, weight s^3 times their share, the partial cells' weights
- * scaled so all sum to the mesh's volume. p->tet: the lowest-index tet holding the point (where
- * none of its cell's tets holds the centroid, the point is its sub-point nearest the centroid).
- * A cell wholly inside keeps its centre and s^3. Points are ordered by grid index (x fastest).
- * Fails when no sub-point falls inside. On failure *p is empty. */
+/* A uniform grid of spacing s = cbrt(mesh volume / target), centred on the mesh's bounding box,
+ * keeping the grid points inside the mesh (Sec. 7.1). Each tet's bounding box is rasterized onto
+ * the grid and its points tested by barycentric coordinates (tolerance 1e-9), so a point on a
+ * shared face is kept once, in the containing tet of lowest index (recorded in p->tet). Every
+ * weight is s^3. Points are ordered by grid index (x fastest). Fails when no grid point falls
+ * inside (a mesh thinner than s everywhere). On failure *p is empty. */
 int rk_rkpm_sample_mesh(const rk_mesh *m, int target, rk_rkpm_points *p, rk_error *err);
 
 /* count points uniformly random inside the mesh (tets picked by volume, uniform within each;
