@@ -374,8 +374,8 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
 static void form_used(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k, e, l, q;
-    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R], *WC = al->gram_c;
+    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k, e, l, q, slot;
+    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R], *WC = al->gram_c, *EuT = al->work;
     const double *p = al->p;
     /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
     for (l = 0; l < r; l++) {
@@ -414,6 +414,8 @@ static void form_used(romrt_model *m, int count, const double *Eu)
             }
         }
     }
+    for (i = 0; i < r; i++) /* E_u's rows contiguous */
+        for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
     for (k = 0; k < al->ns_on; k++) {
         int a, v = (int)al->sv[k];
         for (a = 0; a < 3; a++) {
@@ -425,17 +427,17 @@ static void form_used(romrt_model *m, int count, const double *Eu)
             }
             rt_alrom_jacobian_row(m, row_i, Urow);
             for (j = 0; j < r; j++) acc[j] = 0;
-            for (e = 0; e < count; e++) {
-                double de = al->ds[(size_t)slot_of(al, e) * (size_t)n + (size_t)(3 * k + a)];
+            for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) { /* slot_of(al, e) */
+                double de = al->ds[(size_t)slot * (size_t)n + (size_t)(3 * k + a)];
                 const double *c = al->coef + (size_t)e * (size_t)r;
-                for (j = 0; j < r; j++) acc[j] += de * c[j];
+                for (j = 0; j < r; j++) acc[j] += de * c[j]; /* axpys over contiguous rows: they vectorise */
             }
-            for (j = 0; j < r; j++) {
-                const double *ej = Eu + (size_t)r * j;
-                double s2 = acc[j];
-                for (i = 0; i < r; i++) s2 += Urow[i] * ej[i];
-                row[j] = (romrt_real)s2;
+            for (i = 0; i < r; i++) {
+                const double *ei = EuT + (size_t)r * (size_t)i;
+                double ui = Urow[i];
+                for (j = 0; j < r; j++) acc[j] += ui * ei[j];
             }
+            for (j = 0; j < r; j++) row[j] = (romrt_real)acc[j];
         }
     }
 }
