@@ -14,6 +14,11 @@
  * is stored and the mass is lumped. Inner products are Euclidean over the stored rows. With a
  * CROM decoder (ALRH's decoder 1) the code is the encoder network's output and U the decoder
  * network's Jacobian at each stored vertex (forward mode), every vertex stored for the encoder.
+ * With the quadratic decoder (issue 33) the state is in K-space: every basis is B C (B = [ROWS |
+ * QDRV], R = r + pairs columns), the free part of u is B c and of v B w, the ring holds c_e, M_r,
+ * the loads and U^T M (x~ - x_ref) come from Grams of B formed at open, and U's rows are formed
+ * only at the vertices a step reads (al->sv); u_t is kept there and on the prescribed vertices,
+ * the other shown vertices formed from c when read (rt_alrom_position).
  * This file: a step's reference, inertia and forces around the basis (alrom_basis.c, from the
  * decoders of alrom_decoder.c), the state moved on, reset, pushes, and saving the state; the
  * chunks are read in alrom_load.c. */
