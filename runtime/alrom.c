@@ -261,6 +261,12 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
         if (!isfinite(al->u_new[i]) || !isfinite(al->u_new[i] + al->X0[i]))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
     }
+    for (i = 0; i < 2 * R; i++) { /* as the state's pairs hold them, so that a saved state's u and v,
+                                   * formed from c and w, come back the same (rt_alrom_get_state) */
+        romrt_real pair[2];
+        rt_split(c_new[i], pair);
+        c_new[i] = (double)pair[0] + (double)pair[1];
+    }
     memcpy(al->c_prev, al->c, sizeof(double) * (size_t)R);
     memcpy(al->w_prev, al->w, sizeof(double) * (size_t)R);
     memcpy(al->c, c_new, sizeof(double) * (size_t)R);
