@@ -216,7 +216,9 @@ romrt_status romrt_positions(const romrt_model *m, romrt_real *xyz, size_t capac
     if (holds_shown(m, xyz, capacity, stride, err)) return ROMRT_E_ARGUMENT;
     for (i = 0; i < m->shown; i++) {
         romrt_real *x = xyz + stride * (size_t)i;
-        for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)i + (size_t)a] + rt_row_dot(m, (uint32_t)i, a, m->q);
+        if (m->alrom) rt_alrom_position(m, (uint32_t)i, x); /* formed here, not each step */
+        else
+            for (a = 0; a < 3; a++) x[a] = m->X[3 * (size_t)i + (size_t)a] + rt_row_dot(m, (uint32_t)i, a, m->q);
     }
     return ROMRT_OK;
 }
@@ -226,8 +228,9 @@ romrt_status romrt_rest_positions(const romrt_model *m, romrt_real *xyz, size_t 
 {
     int i, a;
     if (holds_shown(m, xyz, capacity, stride, err)) return ROMRT_E_ARGUMENT;
-    for (i = 0; i < m->shown; i++)
-        for (a = 0; a < 3; a++) xyz[stride * (size_t)i + (size_t)a] = m->X[3 * (size_t)i + (size_t)a];
+    for (i = 0; i < m->shown; i++) /* an adaptive linear ROM's X is the step's reference */
+        for (a = 0; a < 3; a++)
+            xyz[stride * (size_t)i + (size_t)a] = (m->alrom ? m->al.X0 : m->X)[3 * (size_t)i + (size_t)a];
     return ROMRT_OK;
 }
 

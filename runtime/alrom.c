@@ -14,6 +14,11 @@
  * is stored and the mass is lumped. Inner products are Euclidean over the stored rows. With a
  * CROM decoder (ALRH's decoder 1) the code is the encoder network's output and U the decoder
  * network's Jacobian at each stored vertex (forward mode), every vertex stored for the encoder.
+ * With the quadratic decoder (issue 33) the state is in K-space: every basis is B C (B = [ROWS |
+ * QDRV], R = r + pairs columns), the free part of u is B c and of v B w, the ring holds c_e, M_r,
+ * the loads and U^T M (x~ - x_ref) come from Grams of B formed at open, and U's rows are formed
+ * only at the vertices a step reads (al->sv); u_t is kept there and on the prescribed vertices,
+ * the other shown vertices formed from c when read (rt_alrom_position).
  * This file: a step's reference, inertia and forces around the basis (alrom_basis.c, from the
  * decoders of alrom_decoder.c), the state moved on, reset, pushes, and saving the state; the
  * chunks are read in alrom_load.c. */
@@ -23,6 +28,8 @@
 #include "runtime/alrom_impl.h"
 
 /* ---- a step ---- */
+
+static void reference_positions(romrt_model *m);
 
 /* x_ref: where the step starts, the prescribed vertices moved to their targets at time t. */
 static void place_prescribed(romrt_model *m, double t)
@@ -92,16 +99,114 @@ static romrt_status reduced_terms(romrt_model *m, const double *xtilde, romrt_er
     return ROMRT_OK;
 }
 
+/* The quadratic decoder's reduced terms in K-space (issue 33): with U = B C_s (al->cs, W_F C_s in
+ * al->wcs, alrom_basis.c) and the free parts of u and x~ B c and B c~, M_r = C_s^T W_F C_s,
+ * U^T M (x~ - x_ref) = (W_F C_s)^T (c~ - c) and f_r = C_s^T B^T (f + f_app) over the free rows
+ * (B^T f baked at open, the app's forces gathered where they are nonzero): the same sums as
+ * reduced_terms without a pass of n r^2 over the rows. */
+static romrt_status reduced_terms_k(romrt_model *m, int bdf2, romrt_error *err)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k;
+    double *dc = al->ext, *fc = al->ext + R, h = m->h;
+    romrt_real *b = m->qtilde;
+    for (k = 0; k < R; k++) {
+        double ct = bdf2 ? (4 * al->c[k] - al->c_prev[k]) / 3 + 2 * h / 9 * (4 * al->w[k] - al->w_prev[k])
+                         : al->c[k] + h * al->w[k];
+        dc[k] = ct - al->c[k];
+        fc[k] = al->load_c[k];
+    }
+    for (i = 0; i < n; i++) {
+        double fa = al->f_app[i];
+        if (fa == 0 || rt_alrom_prescribed(al, i)) continue;
+        for (k = 0; k < r; k++) fc[k] += fa * (double)al->phi[(size_t)i * (size_t)r + (size_t)k];
+        for (k = 0; k < al->pairs; k++) fc[r + k] += fa * (double)al->psi[(size_t)i * (size_t)al->pairs + (size_t)k];
+    }
+    for (j = 0; j < r; j++) {
+        const double *cj = al->cs + (size_t)R * (size_t)j, *wj = al->wcs + (size_t)R * (size_t)j;
+        double sb = 0, sf = 0;
+        for (i = 0; i < R; i++) {
+            sb += wj[i] * dc[i];
+            sf += cj[i] * fc[i];
+        }
+        b[j] = (romrt_real)sb;
+        al->f[j] = (romrt_real)sf;
+        for (k = 0; k <= j; k++) {
+            const double *ck = al->cs + (size_t)R * (size_t)k;
+            double s = 0;
+            for (i = 0; i < R; i++) s += ck[i] * wj[i];
+            al->M[k + (size_t)r * j] = al->M[j + (size_t)r * k] = (romrt_real)s;
+        }
+    }
+    for (k = 0; k < r * r; k++) al->C[k] = al->damping * al->M[k];
+    memcpy(m->H, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r);
+    if (rt_cholesky(r, m->H))
+        return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_VMSS, "the step basis has no mass on some direction (U^T M U is singular)");
+    rt_cholesky_solve(r, m->H, b);
+    return ROMRT_OK;
+}
+
+/* u_new's row i: u_ref + U_i q (U's row there, formed on the used vertices and zero on the
+ * prescribed, as the step read it). */
+static void u_step(romrt_model *m, int i)
+{
+    rt_alrom *al = &m->al;
+    const romrt_real *row = al->rows + (size_t)i * (size_t)m->r;
+    double du = 0;
+    int j;
+    for (j = 0; j < m->r && !rt_alrom_prescribed(al, i); j++) du += (double)row[j] * m->q[j];
+    al->u_new[i] = al->u_ref[i] + du;
+}
+
+/* The collision vertices used from this step on (a collider set, or the asset's collision
+ * surface), or no longer: their displacements and the ring's entries there formed from the
+ * K-space state once, when they are taken up. */
+void rt_alrom_take_collision_vertices(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    int k, a, e, slots = al->m + 1, n = 3 * m->nv;
+    if (al->decoder || al->ns_on == al->ns) return;
+    for (k = al->ns_base; k < al->ns; k++)
+        for (a = 0; a < 3; a++) {
+            int i = 3 * (int)al->sv[k] + a;
+            if (rt_alrom_prescribed(al, i)) continue; /* held already */
+            al->u_t[i] = al->u_ref[i] = rt_alrom_b_dot(m, i, al->c); /* between steps: u_ref = u_t */
+            for (e = 1; e <= al->count; e++) { /* the held entries, newest first */
+                size_t slot = (size_t)((al->head - e + slots) % slots);
+                al->ds[slot * (size_t)n + (size_t)(3 * k + a)] = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
+            }
+        }
+    al->ns_on = al->ns;
+    reference_positions(m);
+}
+
+void rt_alrom_position(const romrt_model *m, uint32_t v, romrt_real x[3])
+{
+    const rt_alrom *al = &m->al;
+    int a;
+    for (a = 0; a < 3; a++) {
+        int i = 3 * (int)v + a;
+        x[a] = rt_alrom_held(al, (int)v) ? al->x_ref[i] : (romrt_real)(al->X0[i] + rt_alrom_b_dot(m, i, al->c));
+    }
+}
+
 /* x_ref = X0 + u_ref (the model's X, for positions and contacts), and the shown positions' bound
  * rt_showable checks (q is 0 between steps, and the rows orthonormal within one). */
 static void reference_positions(romrt_model *m)
 {
     rt_alrom *al = &m->al;
     size_t n = 3 * (size_t)m->nv, k;
-    for (k = 0; k < n; k++) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_ref[k]);
+    for (k = 0; k < n; k++)
+        if (rt_alrom_held(al, (int)(k / 3))) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_ref[k]);
     m->x_bound = 0;
     for (k = 0; k < 3 * (size_t)m->shown; k++)
-        if (fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+        if (rt_alrom_held(al, (int)(k / 3)) && fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+    if (!al->decoder) { /* the others', X0 + B c: |B_i c| <= sum |B_i| max |c| */
+        int R = m->r + al->pairs, a;
+        double top = 0;
+        for (a = 0; a < R; a++) top = fabs(al->c[a]) > top ? fabs(al->c[a]) : top;
+        if (al->x0_max + al->b_sum * top > m->x_bound) m->x_bound = al->x0_max + al->b_sum * top;
+    }
 }
 
 romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
@@ -111,19 +216,67 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     romrt_real h = m->h;
     double *xtilde = al->res;
     romrt_status st;
+    if (!al->decoder && !m->surface && !m->ncolliders) al->ns_on = al->ns_base;
+    else rt_alrom_take_collision_vertices(m);
     if ((st = rt_alrom_step_basis(m, err))) return st;
     /* the step's reference: the start with the prescribed vertices at their targets */
     memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
     place_prescribed(m, rt_clock(m, 1));
     reference_positions(m);
     element_offsets(m);
-    for (i = 0; i < n; i++)
-        xtilde[i] = bdf2 ? (4 * al->u_t[i] - al->u_prev[i]) / 3 + 2 * (double)h / 9 * (4 * al->v[i] - al->v_prev[i])
-                         : al->u_t[i] + (double)h * al->v[i];
     *w_inertia = bdf2 ? RT_K(9.0) / (RT_K(4.0) * h * h) : 1 / (h * h);
-    if ((st = reduced_terms(m, xtilde, err))) return st;
+    if (!al->decoder) {
+        if ((st = reduced_terms_k(m, bdf2, err))) return st;
+    } else {
+        for (i = 0; i < n; i++)
+            xtilde[i] = bdf2 ? (4 * al->u_t[i] - al->u_prev[i]) / 3 + 2 * (double)h / 9 * (4 * al->v[i] - al->v_prev[i])
+                             : al->u_t[i] + (double)h * al->v[i];
+        if ((st = reduced_terms(m, xtilde, err))) return st;
+    }
     m->C = al->damping > 0 ? al->C : 0;
     for (i = 0; i < r; i++) m->q[i] = m->v[i] = m->f_app[i] = 0;
+    return ROMRT_OK;
+}
+
+/* The quadratic decoder's step kept: c += C_s q, w as v is (the free parts of u and v in K-space),
+ * and u over the stored rows u_ref + B (C_s q) (zero on the prescribed, which rt_alrom_begin
+ * placed). */
+static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j;
+    double h = m->h, *dq = al->ext, *c_new = al->ext + R, *w_new = al->ext + 2 * R;
+    for (i = 0; i < R; i++) {
+        double s = 0;
+        for (j = 0; j < r; j++) s += al->cs[(size_t)R * (size_t)j + (size_t)i] * (double)m->q[j];
+        dq[i] = s;
+        c_new[i] = al->c[i] + s;
+        w_new[i] = bdf2 ? (3 * c_new[i] - 4 * al->c[i] + al->c_prev[i]) / (2 * h) : s / h;
+        if (!isfinite(c_new[i]) || !isfinite(w_new[i]))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "K-space coordinate ", (uint64_t)i, " is not finite after the step");
+    }
+    for (i = 0; i < n; i++) {
+        if (!rt_alrom_held(al, i / 3)) continue; /* B c (rt_alrom_position) */
+        u_step(m, i);
+        if (!isfinite(al->u_new[i]) || !isfinite(al->u_new[i] + al->X0[i]))
+            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
+    }
+    for (i = 0; i < 2 * R; i++) { /* as the state's pairs hold them, so that a saved state's u and v,
+                                   * formed from c and w, come back the same (rt_alrom_get_state) */
+        romrt_real pair[2];
+        rt_split(c_new[i], pair);
+        c_new[i] = (double)pair[0] + (double)pair[1];
+    }
+    memcpy(al->c_prev, al->c, sizeof(double) * (size_t)R);
+    memcpy(al->w_prev, al->w, sizeof(double) * (size_t)R);
+    memcpy(al->c, c_new, sizeof(double) * (size_t)R);
+    memcpy(al->w, w_new, sizeof(double) * (size_t)R);
+    memcpy(al->u_t, al->u_new, sizeof(double) * (size_t)n);
+    memcpy(al->u_ref, al->u_new, sizeof(double) * (size_t)n);
+    reference_positions(m);
+    al->head = (al->head + 1) % (al->m + 1);
+    if (al->count < al->m) al->count++;
+    for (i = 0; i < r; i++) m->q[i] = 0;
     return ROMRT_OK;
 }
 
@@ -132,6 +285,7 @@ romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
     double h = m->h, *u_new = al->u_new, *v_new = al->v_new;
+    if (!al->decoder) return commit_k(m, bdf2, err);
     for (i = 0; i < n; i++) {
         const romrt_real *row = al->rows + (size_t)i * (size_t)r;
         double du = 0;
@@ -175,6 +329,14 @@ void rt_alrom_reset(romrt_model *m)
     memset(al->f_app, 0, sizeof(romrt_real) * n);
     memset(al->Hd0, 0, sizeof(romrt_real) * 9 * (size_t)m->ne);
     al->count = al->head = al->dd_valid = 0;
+    if (!al->decoder) {
+        al->ns_on = al->ns_base;
+        size_t R = (size_t)(m->r + al->pairs);
+        memset(al->c, 0, sizeof(double) * R);
+        memset(al->w, 0, sizeof(double) * R);
+        memset(al->c_prev, 0, sizeof(double) * R);
+        memset(al->w_prev, 0, sizeof(double) * R);
+    }
     reference_positions(m); /* the rest */
     /* until the first step, the decoder's linear part (orthonormalised by that step) */
     memcpy(al->rows, al->phi, sizeof(romrt_real) * n * (size_t)m->r);
@@ -203,12 +365,16 @@ int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply)
     return 0;
 }
 /* The state after the clock and have_prev (access.c): the ring's count and head, then as pairs
- * (rt_split: the state is double in either build) u_t, v, u_prev, v_prev, the ring's D and P,
+ * (rt_split: the state is double in either build) u_t, then with the quadratic decoder its K-space
+ * c, w, c_prev, w_prev, the ring's coordinates and their used rows, with a CROM v, u_prev, v_prev
+ * and the ring's D, then P,
  * then the applied forces (romrt_real, as the app gave them). */
 int rt_alrom_state_size(const romrt_model *m)
 {
     const rt_alrom *al = &m->al;
-    int n = 3 * m->nv, slots = al->m + 1;
+    int n = 3 * m->nv, slots = al->m + 1, R = m->r + al->pairs;
+    if (!al->decoder) /* u_t, v (formed), c, w, c_prev, w_prev, the ring's c_e and P */
+        return 2 + 2 * (2 * n + 4 * R + slots * (R + m->r)) + n;
     return 2 + 2 * (4 * n + slots * (n + m->r)) + n;
 }
 
@@ -229,14 +395,26 @@ static const romrt_real *take(const romrt_real *s, double *x, size_t count)
 void rt_alrom_get_state(const romrt_model *m, romrt_real *s)
 {
     const rt_alrom *al = &m->al;
-    size_t n = 3 * (size_t)m->nv, slots = (size_t)al->m + 1;
+    size_t n = 3 * (size_t)m->nv, slots = (size_t)al->m + 1, k;
     *s++ = (romrt_real)al->count;
     *s++ = (romrt_real)al->head;
-    s = put(s, al->u_t, n);
-    s = put(s, al->v, n);
-    s = put(s, al->u_prev, n);
-    s = put(s, al->v_prev, n);
-    s = put(s, al->D, slots * n);
+    if (!al->decoder) { /* u and v formed from c and w on the free rows (what a restore reads) */
+        size_t R = (size_t)(m->r + al->pairs);
+        for (k = 0; k < n; k++, s += 2)
+            rt_split(rt_alrom_prescribed(al, (int)k) ? al->u_t[k] : rt_alrom_b_dot(m, (int)k, al->c), s);
+        for (k = 0; k < n; k++, s += 2) rt_split(rt_alrom_prescribed(al, (int)k) ? 0 : rt_alrom_b_dot(m, (int)k, al->w), s);
+        s = put(s, al->c, R);
+        s = put(s, al->w, R);
+        s = put(s, al->c_prev, R);
+        s = put(s, al->w_prev, R);
+        s = put(s, al->D, slots * R);
+    } else {
+        s = put(s, al->u_t, n);
+        s = put(s, al->v, n);
+        s = put(s, al->u_prev, n);
+        s = put(s, al->v_prev, n);
+        s = put(s, al->D, slots * n);
+    }
     s = put(s, al->P, slots * (size_t)m->r);
     memcpy(s, al->f_app, sizeof(romrt_real) * n);
 }
@@ -255,13 +433,37 @@ int rt_alrom_set_state(romrt_model *m, const romrt_real *s)
     al->head = (int)head;
     s += 2;
     s = take(s, al->u_t, n);
-    s = take(s, al->v, n);
-    s = take(s, al->u_prev, n);
-    s = take(s, al->v_prev, n);
-    s = take(s, al->D, slots * n);
+    if (!al->decoder) { /* c is the state; u's free rows and v are B c and B w (get_state) */
+        size_t R = (size_t)(m->r + al->pairs);
+        s = take(s, al->res, n);
+        s = take(s, al->c, R);
+        s = take(s, al->w, R);
+        s = take(s, al->c_prev, R);
+        s = take(s, al->w_prev, R);
+        s = take(s, al->D, slots * R);
+    } else {
+        s = take(s, al->v, n);
+        s = take(s, al->u_prev, n);
+        s = take(s, al->v_prev, n);
+        s = take(s, al->D, slots * n);
+    }
     s = take(s, al->P, slots * (size_t)m->r);
     memcpy(al->f_app, s, sizeof(romrt_real) * n);
     al->dd_valid = 0; /* the ring's inner products, from the restored entries */
+    if (!al->decoder) { /* the used rows of u and of the ring's entries formed from K-space */
+        int e, j2;
+        al->ns_on = al->ns_base;
+        for (k = 0; k < (size_t)al->ns_base; k++)
+            for (j2 = 0; j2 < 3; j2++) {
+                int i = 3 * (int)al->sv[k] + j2;
+                if (rt_alrom_prescribed(al, i)) continue;
+                al->u_t[i] = rt_alrom_b_dot(m, i, al->c);
+                for (e = 1; e <= al->count; e++) {
+                    size_t slot = (size_t)((al->head - e + (int)slots) % (int)slots);
+                    al->ds[slot * n + (size_t)(3 * k + j2)] = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
+                }
+            }
+    }
     rt_alrom_abort(m); /* x_ref, its bound and q from u_t */
     return 0;
 }

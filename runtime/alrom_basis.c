@@ -180,16 +180,21 @@ static double entry_dot(const romrt_model *m, int a, int b)
 static void history_gram(romrt_model *m, int count)
 {
     rt_alrom *al = &m->al;
-    int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1, R = m->r + al->pairs;
-    for (e = 0; e <= first; e++) {
-        if (!al->decoder) /* and its coordinates B^T d (D^T U = (D^T B) C(p)) */
-            rt_alrom_free_coordinates(m, al->D + (size_t)slot_of(al, e) * (size_t)(3 * m->nv),
-                                      al->db + (size_t)slot_of(al, e) * (size_t)R);
+    int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1, R = m->r + al->pairs, k;
+    for (e = 0; e <= first && !al->decoder; e++) { /* d_e = B c_e: B^T d_e = F c_e, B^T W d_e = W_F c_e */
+        size_t s = (size_t)slot_of(al, e) * (size_t)R;
+        rt_alrom_gram_times(R, al->gram_free, al->D + s, al->db + s);
+        rt_alrom_gram_times(R, al->gram_wfree, al->D + s, al->wdb + s);
+    }
+    for (e = 0; e <= first; e++)
         for (f = e; f < count; f++) {
             int a = slot_of(al, e), b = slot_of(al, f);
-            al->dd[a + (size_t)slots * b] = al->dd[b + (size_t)slots * a] = entry_dot(m, a, b);
+            double d = 0;
+            if (al->decoder) d = entry_dot(m, a, b);
+            else
+                for (k = 0; k < R; k++) d += al->D[(size_t)a * (size_t)R + (size_t)k] * al->db[(size_t)b * (size_t)R + (size_t)k];
+            al->dd[a + (size_t)slots * b] = al->dd[b + (size_t)slots * a] = d;
         }
-    }
     al->dd_valid = 1;
 }
 
@@ -202,7 +207,12 @@ static double history_ridge(const romrt_model *m, int count)
     const rt_alrom *al = &m->al;
     double uu, vv = 0, dd = 0, rate;
     int i, e, slots = al->m + 1;
-    for (i = 0; i < 3 * m->nv; i++)
+    if (!al->decoder) { /* v's free part is B w */
+        int R = m->r + al->pairs;
+        rt_alrom_gram_times(R, al->gram_free, al->w, al->ext);
+        for (i = 0; i < R; i++) vv += al->w[i] * al->ext[i];
+    }
+    for (i = 0; i < 3 * m->nv && al->decoder; i++)
         if (!rt_alrom_prescribed(al, i)) vv += al->v[i] * al->v[i];
     for (e = 0; e < count; e++) dd += al->dd[(size_t)(slots + 1) * (size_t)slot_of(al, e)];
     uu = al->dd[(size_t)(slots + 1) * (size_t)al->head];
@@ -357,6 +367,81 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
     }
 }
 
+/* The quadratic decoder's step basis U = B C_s, C_s = sum_e c_e E_d's row e + C(p) E_u (R x r, into
+ * al->cs), W_F C_s into al->wcs (from the entries' W_F c_e and W_F C(p): no R x R x r product), and
+ * U's rows at the used vertices only (al->sv), from the Jacobian's rows and the ring's entries
+ * there; the other rows are never read by a step (rt_alrom_used). */
+static void form_used(romrt_model *m, int count, const double *Eu)
+{
+    rt_alrom *al = &m->al;
+    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k, e, l, q, slot;
+    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R], *WC = al->gram_c, *EuT = al->work;
+    const double *p = al->p;
+    /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
+    for (l = 0; l < r; l++) {
+        double *cl = al->cs + (size_t)R * (size_t)l;
+        const double *el = Eu + (size_t)r * (size_t)l;
+        for (k = 0; k < r; k++) cl[k] = el[k];
+        for (k = 0, q = r; k < r; k++)
+            for (j = k; j < r; j++, q++) cl[q] = k == j ? p[k] * el[k] : p[j] * el[k] + p[k] * el[j];
+    }
+    /* W_F C(p) (R x r): column k = W_F e_k + sum_j p_j W_F e_(r + pair(k, j)) */
+    for (k = 0; k < r; k++) {
+        double *c = WC + (size_t)R * (size_t)k;
+        const double *Sk = al->gram_wfree + (size_t)R * (size_t)k;
+        for (i = 0; i < R; i++) c[i] = Sk[i];
+        for (j = 0; j < r; j++) {
+            const double *Sj = al->gram_wfree + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
+            if (p[j] != 0)
+                for (i = 0; i < R; i++) c[i] += p[j] * Sj[i];
+        }
+    }
+    for (l = 0; l < r; l++) { /* W_F C(p) E_u */
+        double *wl = al->wcs + (size_t)R * (size_t)l;
+        const double *el = Eu + (size_t)r * (size_t)l;
+        for (i = 0; i < R; i++) wl[i] = 0;
+        for (k = 0; k < r; k++)
+            for (i = 0; i < R; i++) wl[i] += WC[(size_t)R * (size_t)k + (size_t)i] * el[k];
+    }
+    for (e = 0; e < count; e++) { /* + c_e E_d[e, :], W_F c_e E_d[e, :] */
+        const double *ce = al->D + (size_t)slot_of(al, e) * (size_t)R, *we = al->wdb + (size_t)slot_of(al, e) * (size_t)R,
+                     *ed = al->coef + (size_t)e * (size_t)r;
+        for (l = 0; l < r; l++) {
+            double *cl = al->cs + (size_t)R * (size_t)l, *wl = al->wcs + (size_t)R * (size_t)l, x = ed[l];
+            for (i = 0; i < R; i++) {
+                cl[i] += ce[i] * x;
+                wl[i] += we[i] * x;
+            }
+        }
+    }
+    for (i = 0; i < r; i++) /* E_u's rows contiguous */
+        for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
+    for (k = 0; k < al->ns_on; k++) {
+        int a, v = (int)al->sv[k];
+        for (a = 0; a < 3; a++) {
+            int row_i = 3 * v + a;
+            romrt_real *row = al->rows + (size_t)row_i * (size_t)r;
+            if (rt_alrom_prescribed(al, row_i)) {
+                for (j = 0; j < r; j++) row[j] = 0;
+                continue;
+            }
+            rt_alrom_jacobian_row(m, row_i, Urow);
+            for (j = 0; j < r; j++) acc[j] = 0;
+            for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) { /* slot_of(al, e) */
+                double de = al->ds[(size_t)slot * (size_t)n + (size_t)(3 * k + a)];
+                const double *c = al->coef + (size_t)e * (size_t)r;
+                for (j = 0; j < r; j++) acc[j] += de * c[j]; /* axpys over contiguous rows: they vectorise */
+            }
+            for (i = 0; i < r; i++) {
+                const double *ei = EuT + (size_t)r * (size_t)i;
+                double ui = Urow[i];
+                for (j = 0; j < r; j++) acc[j] += ui * ei[j];
+            }
+            for (j = 0; j < r; j++) row[j] = (romrt_real)acc[j];
+        }
+    }
+}
+
 romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
@@ -379,7 +464,13 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     }
     if (gram_factor(r, Suu, Ru))
         return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_QDRV, "the decoder's basis lost rank at this state");
-    memcpy(al->D + (size_t)al->head * (size_t)n, al->u, sizeof(double) * (size_t)n);
+    if (al->decoder) memcpy(al->D + (size_t)al->head * (size_t)n, al->u, sizeof(double) * (size_t)n);
+    else { /* the entry's K-space coordinates, and its values on the used rows */
+        int R = r + al->pairs;
+        memcpy(al->D + (size_t)al->head * (size_t)R, al->c, sizeof(double) * (size_t)R);
+        for (k = 0; k < al->ns_on; k++)
+            for (j = 0; j < 3; j++) al->ds[(size_t)al->head * (size_t)n + (size_t)(3 * k + j)] = al->u[3 * al->sv[k] + (uint32_t)j];
+    }
     memcpy(al->P + (size_t)al->head * (size_t)r, al->p, sizeof(double) * (size_t)r);
     count = al->count < al->m ? al->count + 1 : al->m;
     history_gram(m, count);
@@ -418,6 +509,7 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
         solve_left(r, Ru, Eu);
         count = 0;
     }
-    form_rows(m, count, Eu);
+    if (al->decoder) form_rows(m, count, Eu);
+    else form_used(m, count, Eu);
     return ROMRT_OK;
 }

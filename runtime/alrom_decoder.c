@@ -55,38 +55,86 @@ void rt_alrom_gram(romrt_model *m)
 {
     rt_alrom *al = &m->al;
     int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a, b;
-    double *G = al->gram, *F = al->gram_free, *row = al->ext;
-    for (i = 0; i < R * R; i++) G[i] = F[i] = 0;
+    double *G = al->gram, *F = al->gram_free, *WF = al->gram_wfree, *row = al->ext;
+    for (i = 0; i < R * R; i++) G[i] = F[i] = WF[i] = 0;
+    for (a = 0; a < R; a++) al->load_c[a] = 0;
     for (i = 0; i < n; i++) {
         double w = al->mass[i / 3];
         int is_free = !rt_alrom_prescribed(al, i);
         for (a = 0; a < r; a++) row[a] = al->phi[(size_t)i * (size_t)r + (size_t)a];
         for (a = 0; a < P; a++) row[r + a] = al->psi[(size_t)i * (size_t)P + (size_t)a];
+        for (a = 0; a < R && is_free; a++) al->load_c[a] += (double)al->load[i] * row[a];
         for (b = 0; b < R; b++) {
-            double wb = w * row[b], xb = row[b], *Gb = G + (size_t)R * (size_t)b, *Fb = F + (size_t)R * (size_t)b;
+            double wb = w * row[b], xb = row[b], *Gb = G + (size_t)R * (size_t)b, *Fb = F + (size_t)R * (size_t)b,
+                   *Wb = WF + (size_t)R * (size_t)b;
             if (xb == 0) continue; /* the rigid modes' pairs are zero */
             for (a = 0; a <= b; a++) Gb[a] += wb * row[a];
-            for (a = 0; a <= b && is_free; a++) Fb[a] += xb * row[a];
+            for (a = 0; a <= b && is_free; a++) {
+                Fb[a] += xb * row[a];
+                Wb[a] += wb * row[a];
+            }
         }
     }
     for (b = 0; b < R; b++)
         for (a = 0; a < b; a++) {
             G[b + (size_t)R * a] = G[a + (size_t)R * b];
             F[b + (size_t)R * a] = F[a + (size_t)R * b];
+            WF[b + (size_t)R * a] = WF[a + (size_t)R * b];
         }
 }
 
-void rt_alrom_free_coordinates(const romrt_model *m, const double *d, double *out)
+void rt_alrom_used(romrt_model *m)
+{
+    rt_alrom *al = &m->al;
+    int v, k, e, i;
+    al->s_of = al->sv + m->nv;
+    for (v = 0; v < m->nv; v++) al->s_of[v] = ROMBIN_NO_MOTION;
+    for (e = 0; e < m->ne; e++)
+        for (k = 0; k < 4; k++) al->s_of[m->elem[5 * (size_t)e + (size_t)k]] = 0;
+    for (k = 0; k < m->ncontacts; k++) al->s_of[m->contacts[2 * (size_t)k]] = 0;
+    for (v = 0, al->ns = 0; v < m->nv; v++)
+        if (al->s_of[v] != ROMBIN_NO_MOTION) {
+            al->s_of[v] = (uint32_t)al->ns;
+            al->sv[al->ns++] = (uint32_t)v;
+        }
+    al->ns_base = al->ns; /* then the collision vertices not among them, used while a collider or the
+                           * collision surface is (rt_alrom_begin) */
+    for (k = 0; k < m->ncv; k++)
+        if (al->s_of[m->cv[k]] == ROMBIN_NO_MOTION) {
+            al->s_of[m->cv[k]] = (uint32_t)al->ns;
+            al->sv[al->ns++] = m->cv[k];
+        }
+    al->ns_on = al->ns_base;
+    al->b_sum = al->x0_max = 0; /* the bounds of rt_alrom_bound */
+    for (i = 0; i < 3 * m->nv; i++) {
+        double s = 0;
+        for (k = 0; k < m->r; k++) s += fabs((double)al->phi[(size_t)i * (size_t)m->r + (size_t)k]);
+        for (k = 0; k < al->pairs; k++) s += fabs((double)al->psi[(size_t)i * (size_t)al->pairs + (size_t)k]);
+        if (s > al->b_sum) al->b_sum = s;
+        if (i < 3 * m->shown && fabs((double)al->X0[i]) > al->x0_max) al->x0_max = fabs((double)al->X0[i]);
+    }
+}
+
+double rt_alrom_b_dot(const romrt_model *m, int i, const double *c)
 {
     const rt_alrom *al = &m->al;
-    int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a;
+    int r = m->r, P = al->pairs, a;
+    const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
+    double s = 0;
+    for (a = 0; a < r; a++) s += (double)phi[a] * c[a];
+    for (a = 0; a < P; a++) s += (double)psi[a] * c[r + a];
+    return s;
+}
+
+void rt_alrom_gram_times(int R, const double *G, const double *v, double *out)
+{
+    int a, b;
     for (a = 0; a < R; a++) out[a] = 0;
-    for (i = 0; i < n; i++) {
-        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
-        double x = d[i];
-        if (x == 0 || rt_alrom_prescribed(al, i)) continue;
-        for (a = 0; a < r; a++) out[a] += x * phi[a];
-        for (a = 0; a < P; a++) out[r + a] += x * psi[a];
+    for (b = 0; b < R; b++) {
+        const double *Gb = G + (size_t)R * (size_t)b;
+        double vb = v[b];
+        if (vb == 0) continue;
+        for (a = 0; a < R; a++) out[a] += Gb[a] * vb;
     }
 }
 
@@ -130,19 +178,6 @@ static void code_change(int r, const double *p, const double *d, double *dc)
         }
 }
 
-/* out = G v (R x R by R). */
-static void gram_times(int R, const double *G, const double *v, double *out)
-{
-    int a, b;
-    for (a = 0; a < R; a++) out[a] = 0;
-    for (b = 0; b < R; b++) {
-        const double *Gb = G + (size_t)R * (size_t)b;
-        double vb = v[b];
-        if (vb == 0) continue;
-        for (a = 0; a < R; a++) out[a] += Gb[a] * vb;
-    }
-}
-
 /* x = (C^T G C + 1e-12 max diag I)^-1 C^T gres at p (the mass least squares of the misfit's
  * residual, whose B^T W is gres); A: r x r scratch. */
 static romrt_status code_step(romrt_model *m, const double *p, const double *gres, double *x, double *A, romrt_error *err)
@@ -170,18 +205,21 @@ static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
     double *gres = al->ext, *dc = gres + R, *Gdc = dc + R, *zero = Gdc + R, d[ROMRT_MAX_R], step_p[ROMRT_MAX_R],
            ptry[ROMRT_MAX_R];
     romrt_status st;
-    for (a = 0; a < R; a++) gres[a] = zero[a] = 0;
-    for (i = 0; i < n; i++) { /* gres = B^T W u: the only pass over the rows */
+    /* gres = B^T W u = (B^T W B)_free c + B^T W u over the prescribed rows (u's free part is B c:
+     * alrom.c), no pass over the free rows */
+    rt_alrom_gram_times(R, al->gram_wfree, al->c, gres);
+    for (a = 0; a < R; a++) zero[a] = 0;
+    for (i = 0; i < n; i++) {
         double wu = al->mass[i / 3] * al->u[i];
         const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
-        if (wu == 0) continue;
+        if (wu == 0 || !rt_alrom_prescribed(al, i)) continue;
         for (a = 0; a < r; a++) gres[a] += wu * phi[a];
         for (a = 0; a < P; a++) gres[r + a] += wu * psi[a];
     }
     if ((st = code_step(m, zero, gres, al->p, al->work, err))) return st;
     for (k = 0; k < r; k++) d[k] = al->p[k];
     code_change(r, zero, d, dc); /* gres -= G c(p) */
-    gram_times(R, al->gram, dc, Gdc);
+    rt_alrom_gram_times(R, al->gram, dc, Gdc);
     for (a = 0; a < R; a++) gres[a] -= Gdc[a];
     for (it = 0; it < ENCODE_ITERATIONS; it++) {
         double step = 0, size = 0, t, change = INFINITY;
@@ -192,7 +230,7 @@ static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
                 d[k] = ptry[k] - al->p[k];
             }
             code_change(r, al->p, d, dc);
-            gram_times(R, al->gram, dc, Gdc);
+            rt_alrom_gram_times(R, al->gram, dc, Gdc);
             change = 0;
             for (a = 0; a < R; a++) change += dc[a] * (Gdc[a] - 2 * gres[a]);
             if (change < 0) break;

@@ -22,14 +22,24 @@ static inline int rt_alrom_pair(int r, int i, int j)
 /* The quadratic decoder (alrom_decoder.c), B = [ROWS | QDRV] (n x R, R = r + pairs) and U = B C(p):
  * at open, B^T W B into al->gram and B^T B over the free rows into al->gram_free; */
 void rt_alrom_gram(romrt_model *m);
-/* B^T d over the free rows (R); */
-void rt_alrom_free_coordinates(const romrt_model *m, const double *d, double *out);
+/* the vertices a step reads rows of into al->sv (al->ns, al->s_of): the cubature elements', the
+ * collision vertices and the plane contacts' (at open, the quadratic decoder); */
+void rt_alrom_used(romrt_model *m);
+/* B_i . c (R) for row i, and out = G v for G R x R; */
+double rt_alrom_b_dot(const romrt_model *m, int i, const double *c);
+void rt_alrom_gram_times(int R, const double *G, const double *v, double *out);
 /* C(p)^T v (r) for v an R-vector, and C(p)^T S C(p) (r x r, column-major) for S R x R (al->gram_c
  * as scratch); */
 void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, double *out);
 void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out);
 /* row i of U at al->p. */
 void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui);
+/* Whether the quadratic decoder's state holds vertex v's displacement in u_t (a used or a
+ * prescribed vertex), or leaves it to B c (alrom.c). */
+static inline int rt_alrom_held(const rt_alrom *al, int v)
+{
+    return al->decoder || al->s_of[v] < (uint32_t)al->ns_on || al->motion_of[v] != ROMBIN_NO_MOTION;
+}
 /* Whether row (a dof) of the stored vertices is prescribed (its basis row is zero). */
 static inline int rt_alrom_prescribed(const rt_alrom *al, int row) { return al->motion_of[row / 3] != ROMBIN_NO_MOTION; }
 /* The prescribed rows of A (n x r, a row's r doubles contiguous) zeroed. */

@@ -116,7 +116,8 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, n, &al->v_prev);
     rt_scratch_wide(L, n, &al->u_ref);
     rt_scratch(L, n, &al->f_app);
-    rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->D);
+    /* the ring: n-vectors for a CROM, K-space coordinates for the quadratic decoder (alrom.c) */
+    rt_scratch_wide(L, (al->decoder ? n : r + (uint64_t)al->pairs) * (uint64_t)(al->m + 1), &al->D);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->coef);
     rt_scratch(L, n, &al->x_ref);
@@ -138,6 +139,17 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->db);
         rt_scratch_wide(L, R * r, &al->gram_c);
         rt_scratch_wide(L, 4 * R, &al->ext);
+        rt_scratch_wide(L, R, &al->c);
+        rt_scratch_wide(L, R, &al->w);
+        rt_scratch_wide(L, R, &al->c_prev);
+        rt_scratch_wide(L, R, &al->w_prev);
+        rt_scratch_wide(L, R * R, &al->gram_wfree);
+        rt_scratch_wide(L, R, &al->load_c);
+        rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->wdb);
+        rt_scratch_wide(L, R * r, &al->cs);
+        rt_scratch_wide(L, R * r, &al->wcs);
+        rt_scratch_u32(L, 2 * nv, &al->sv);
+        rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->ds); /* 3 ns <= n per slot */
     }
     rt_scratch_wide(L, 4 * r * r, &al->work);
     rt_scratch_wide(L, n, &al->u_new);
@@ -162,7 +174,10 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
     if (al->decoder && !(al->u_scale > 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMW, "the displacement scale must be positive");
-    if (!al->decoder) rt_alrom_gram(m);
+    if (!al->decoder) {
+        rt_alrom_gram(m);
+        rt_alrom_used(m);
+    }
     if (!(al->lambda >= 0 && al->lambda <= 1) || !(al->reg >= 0) || !(al->damping >= 0) || !(al->ridge >= 0) ||
         !(al->budget >= 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_ALRP,

@@ -46,6 +46,7 @@ romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collide
         memcpy(k->target, shape, sizeof shape);
         return ROMRT_OK;
     }
+    if (m->alrom) rt_alrom_take_collision_vertices(m); /* their positions current */
     for (i = 0; i < m->ncv; i++) {
         rt_vertex_position(m, m->cv[i], m->q, x);
         if (!(RT_PHYS(collider_distance)((int)c->kind, shape, x, 0, 0) > 0))

@@ -149,6 +149,7 @@ romrt_status romrt_set_mesh_collider(romrt_model *m, size_t slot, const romrt_me
     m->cache_valid = 0;
     m->nfric = 0;
     m->obs_overflow = 0;
+    if (m->alrom) rt_alrom_take_collision_vertices(m); /* their positions current */
     if (crosses_body(m, M) || !isfinite(rt_obstacles_energy(m, m->q, 0, 0, 0, 0))) {
         int overflow = m->obs_overflow;
         *k = before;

@@ -138,7 +138,8 @@ typedef struct {
     const romrt_real *motions; /* nmotions x 12 (AMOT) */
     /* state, in double in either build: displacements from rest (an absolute position in float
      * would lose the digits a step moves), velocities, and BDF2's history */
-    double *u_t, *v, *u_prev, *v_prev; /* nv x 3 */
+    double *u_t, *v, *u_prev, *v_prev; /* nv x 3 (the quadratic decoder: u_t's free rows held on the
+                                        * used vertices only, the rest B c: rt_alrom_position) */
     double *u_ref;             /* nv x 3: the step's reference, u_t with the prescribed at their targets */
     romrt_real *f_app;         /* nv x 3: the app's forces on the stored vertices */
     double *D, *P;             /* (m + 1) slots of nv x 3 displacements and r latent codes: a ring */
@@ -159,6 +160,17 @@ typedef struct {
      * Gram B^T W B and its Euclidean Gram over the free rows (R x R each, formed at open), S C(p)
      * (R x r), 4 R-vectors, and each ring entry's B^T d over the free rows ((m + 1) x R) */
     double *gram, *gram_free, *gram_c, *ext, *db;
+    /* the quadratic decoder's state in K-space (issue 33; alrom.c): every basis it forms is B C
+     * with C R x r (the Jacobian B C(p), the history's entries B c_e), so the free part of the
+     * displacement is B c and its velocity B w (R each, with BDF2's previous two); the mass Gram of
+     * B over the free rows (R x R) and B^T load there (R); each ring entry's mass coordinates
+     * B^T W d over the free rows ((m + 1) x R); the step basis' C and B^T W B C (R x r each); the
+     * rows that a step reads (rt_alrom_used: the cubature elements' and the contacts' vertices,
+     * ns of them) and the ring's entries on them ((m + 1) x 3 ns) */
+    double *c, *w, *c_prev, *w_prev, *gram_wfree, *load_c, *wdb, *cs, *wcs, *ds;
+    uint32_t *sv, *s_of;       /* ns used vertices; nv: each vertex's index there, or ROMBIN_NO_MOTION */
+    int ns, ns_base, ns_on;    /* the first ns_base always used, the first ns_on now (the rest: CVTX's) */
+    double b_sum, x0_max;      /* max over rows of sum |B_i|, over shown coordinates of |X0|: x_bound */
     /* a CROM decoder (ALRH's decoder 1): layer counts, sizes (CRMS: encoder's then decoder's),
      * normalised rest positions (CRMX), parameters (CRMW), the widest layer's buffers */
     int decoder, enc_layers, dec_layers, widest;
@@ -476,6 +488,12 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
 romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err);
 void rt_alrom_abort(romrt_model *m);
 void rt_alrom_reset(romrt_model *m);
+/* Stored vertex v's position between steps (the quadratic decoder forms a vertex no step reads from
+ * its K-space state only here: X0 + B_v c). */
+void rt_alrom_position(const romrt_model *m, uint32_t v, romrt_real x[3]);
+/* The collision vertices kept current from now on (a collider placed; rt_alrom_begin lets them go
+ * while no collider and no collision surface reads them). */
+void rt_alrom_take_collision_vertices(romrt_model *m);
 /* Its state after the clock and have_prev (access.c's layout): rt_alrom_state_size reals; set
  * refuses (-1, changing nothing) ring counters out of range. */
 int rt_alrom_state_size(const romrt_model *m);

@@ -142,7 +142,9 @@ static void put_pair(double x, romrt_real *p)
     p[1] = (romrt_real)(x - (double)p[0]);
 }
 
-/* The runtime on the baked bar: the same measurement through romrt_get_state and romrt_set_state. */
+/* The runtime on the baked bar: the same measurement through romrt_get_state and romrt_set_state,
+ * the perturbation made in the quadratic decoder's K-space state (c and w: u's free part is B c, v's
+ * B w), its size and growth measured on the u and v get_state forms from them. */
 static int runtime_growth(const char *extra, double *worst, rk_error *err)
 {
     scene_fixture f;
@@ -175,30 +177,46 @@ static int runtime_growth(const char *extra, double *worst, rk_error *err)
         goto out;
     }
     size_t ns = romrt_state_size(m);
+    int R = 6 + 6 * 7 / 2; /* the quadratic decoder's K-space: the state is its c and w (runtime/alrom.c) */
     s0 = malloc(sizeof(romrt_real) * 3 * ns);
-    buf = malloc(sizeof(double) * 18 * (size_t)nv);
+    buf = malloc(sizeof(double) * (18 * (size_t)nv + 2 * (size_t)R));
     romrt_real *s1 = s0 + ns, *sp = s1 + ns;
     double *u0 = buf, *v0 = u0 + 3 * nv, *u1 = v0 + 3 * nv, *v1 = u1 + 3 * nv, *du = v1 + 3 * nv, *dv = du + 3 * nv;
+    double *dk = dv + 3 * nv; /* the perturbation of c then w */
     uint64_t seed = 3;
-    for (int i = 0; i < 3 * nv; i++) du[i] = rk_uniform(&seed) - 0.5, dv[i] = rk_uniform(&seed) - 0.5;
+    for (int i = 0; i < 2 * R; i++) dk[i] = rk_uniform(&seed) - 0.5;
+    const size_t at_c = STATE_HEAD + 2 + 12 * (size_t)nv; /* after u and v, pairs each */
     for (int t = 0; t < f.sim.steps; t++) {
         if (romrt_get_state(m, s0, ns, &rerr) || romrt_step(m, &rerr) || romrt_get_state(m, s1, ns, &rerr)) goto rt_fail;
         state_uv(s0, nv, u0, v0);
         state_uv(s1, nv, u1, v1);
         double size = EPS * fmax(state_norm(&f, vmap, u0, v0, nv), 1e-3);
         for (int k = 0; k < 4; k++) {
-            double d = state_norm(&f, vmap, du, dv, nv);
-            if (!(d > 0)) break;
-            memcpy(sp, s0, sizeof(romrt_real) * ns);
-            romrt_real *pu = sp + STATE_HEAD + 2, *pv = pu + 6 * nv;
-            for (int i = 0; i < 3 * nv; i++) {
-                put_pair(u0[i] + size / d * du[i], pu + 2 * i);
-                put_pair(v0[i] + size / d * dv[i], pv + 2 * i);
+            double d = 0, scale = 1;
+            for (int pass = 0; pass < 2; pass++) { /* its norm in u and v (B c, B w), then scaled to size */
+                memcpy(sp, s0, sizeof(romrt_real) * ns);
+                for (int i = 0; i < 2 * R; i++) {
+                    romrt_real *p = sp + at_c + 2 * (size_t)i;
+                    put_pair((double)p[0] + (double)p[1] + scale * dk[i], p);
+                }
+                if (romrt_set_state(m, sp, ns, &rerr)) goto rt_fail;
+                if (pass == 1) break;
+                if (romrt_get_state(m, sp, ns, &rerr)) goto rt_fail;
+                state_uv(sp, nv, du, dv);
+                for (int i = 0; i < 3 * nv; i++) du[i] -= u0[i], dv[i] -= v0[i];
+                d = state_norm(&f, vmap, du, dv, nv);
+                if (!(d > 0)) break;
+                scale = size / d;
             }
-            if (romrt_set_state(m, sp, ns, &rerr) || romrt_step(m, &rerr) || romrt_get_state(m, sp, ns, &rerr)) goto rt_fail;
+            if (!(d > 0)) break;
+            if (romrt_step(m, &rerr) || romrt_get_state(m, sp, ns, &rerr)) goto rt_fail;
             state_uv(sp, nv, du, dv);
             for (int i = 0; i < 3 * nv; i++) du[i] -= u1[i], dv[i] -= v1[i];
             *worst = fmax(*worst, state_norm(&f, vmap, du, dv, nv) / size);
+            for (int i = 0; i < 2 * R; i++) { /* the next direction: the perturbation stepped */
+                const romrt_real *p = sp + at_c + 2 * (size_t)i, *q = s1 + at_c + 2 * (size_t)i;
+                dk[i] = ((double)p[0] - (double)q[0]) + ((double)p[1] - (double)q[1]);
+            }
         }
         if (romrt_set_state(m, s1, ns, &rerr)) goto rt_fail;
     }
