@@ -243,7 +243,11 @@ romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t cap
     r = (size_t)m->r; /* 3 shown r <= 3 2^24 256: no overflow */
     if (capacity < 3 * (size_t)m->shown * r) return short_buffer(err, "rows holds ", capacity, 3 * (size_t)m->shown * r);
     for (i = 0; i < m->shown; i++)
-        for (a = 0; a < 3; a++) rt_row(m, (uint32_t)i, a, rows + (3 * (size_t)i + (size_t)a) * r);
+        for (a = 0; a < 3; a++) {
+            romrt_real *out = rows + (3 * (size_t)i + (size_t)a) * r;
+            if (m->alrom) rt_alrom_row(m, (uint32_t)i, a, out);
+            else rt_row(m, (uint32_t)i, a, out);
+        }
     return ROMRT_OK;
 }
 

@@ -190,6 +190,17 @@ void rt_alrom_position(const romrt_model *m, uint32_t v, romrt_real x[3])
     }
 }
 
+void rt_alrom_row(const romrt_model *m, uint32_t v, int a, romrt_real *out)
+{
+    const rt_alrom *al = &m->al;
+    int i = 3 * (int)v + a, r = m->r, R = r + al->pairs, j;
+    if (al->decoder || rt_alrom_prescribed(al, i)) { /* CROM forms every row; prescribed rows are zero */
+        rt_row(m, v, a, out);
+        return;
+    }
+    for (j = 0; j < r; j++) out[j] = (romrt_real)rt_alrom_b_dot(m, i, al->cs + (size_t)R * (size_t)j);
+}
+
 /* x_ref = X0 + u_ref (the model's X, for positions and contacts), and the shown positions' bound
  * rt_showable checks (q is 0 between steps, and the rows orthonormal within one). */
 static void reference_positions(romrt_model *m)

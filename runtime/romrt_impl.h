@@ -491,6 +491,9 @@ void rt_alrom_reset(romrt_model *m);
 /* Stored vertex v's position between steps (the quadratic decoder forms a vertex no step reads from
  * its K-space state only here: X0 + B_v c). */
 void rt_alrom_position(const romrt_model *m, uint32_t v, romrt_real x[3]);
+/* Row (v, a) of the last step's basis (r reals), for any shown vertex: a step forms only the rows
+ * it reads. */
+void rt_alrom_row(const romrt_model *m, uint32_t v, int a, romrt_real *out);
 /* The collision vertices kept current from now on (a collider placed; rt_alrom_begin lets them go
  * while no collider and no collision surface reads them). */
 void rt_alrom_take_collision_vertices(romrt_model *m);

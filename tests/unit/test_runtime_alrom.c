@@ -9,6 +9,7 @@
 #include "pipeline/method_adaptive_linear.h"
 #include "formats/rombin_read.h"
 #include "runtime/romrt.h"
+#include "runtime/romrt_impl.h" /* the step's own rows (m->al.rows), for romrt_basis_rows */
 
 #include <stdint.h>
 
@@ -176,6 +177,25 @@ TEST(every_vertex_stored_takes_the_precompute_steps)
                cub ? "cubature" : "every element", rel, PARITY_TOL, f.s.stats.history_used);
         CHECK(f.s.stats.history_used >= 3, "the history was blended in only %ld steps", f.s.stats.history_used);
         CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+        /* romrt_basis_rows forms every shown row from the K-space basis; at the vertices the step
+         * reads it must give the rows the step formed itself */
+        const romrt_model *m = f.m;
+        int r = m->r, checked = 0;
+        romrt_real *rows = malloc(sizeof(romrt_real) * 3 * (size_t)m->shown * (size_t)r);
+        double diff = 0, big = 0;
+        CHECK(romrt_basis_rows(m, rows, 3 * (size_t)m->shown * (size_t)r, NULL) == ROMRT_OK, "basis rows");
+        for (int k = 0; k < m->al.ns_on; k++) {
+            int v = (int)m->al.sv[k];
+            if (v >= m->shown) continue;
+            for (int i = 3 * v * r; i < 3 * (v + 1) * r; i++) {
+                diff = fmax(diff, fabs((double)rows[i] - (double)m->al.rows[i]));
+                big = fmax(big, fabs((double)m->al.rows[i]));
+            }
+            checked++;
+        }
+        CHECK(checked > 0 && diff <= 1e-5 * big, "basis rows at %d used vertices %g off the step's (largest %g)",
+              checked, diff, big);
+        free(rows);
         fixture_close(&f);
     }
 }
