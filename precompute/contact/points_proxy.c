@@ -25,7 +25,7 @@ static size_t unique(int64_t *k, size_t n)
     return m;
 }
 
-static size_t find(const int64_t *k, size_t n, int64_t key)
+size_t rk_proxy_lower_bound(const int64_t *k, size_t n, int64_t key)
 {
     size_t lo = 0, hi = n;
     while (lo < hi) {
@@ -77,7 +77,7 @@ static int well_composed(int64_t **vox, size_t *nvox, rk_error *err)
             int mask = 0, lo[3] = {1, 1, 1}, hi[3] = {0, 0, 0};
             for (int b = 0; b < 8; b++) {
                 int64_t k = block_voxel(corner[c], b);
-                size_t at = find(*vox, *nvox, k);
+                size_t at = rk_proxy_lower_bound(*vox, *nvox, k);
                 if (at < *nvox && (*vox)[at] == k) {
                     mask |= 1 << b;
                     for (int d = 0; d < 3; d++) lo[d] = lo[d] < ((b >> d) & 1) ? lo[d] : (b >> d) & 1, hi[d] = hi[d] > ((b >> d) & 1) ? hi[d] : (b >> d) & 1;
@@ -180,7 +180,7 @@ int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *er
     for (size_t v = 0; v < nvox; v++) {
         int id[8];
         for (int b = 0; b < 8; b++)
-            id[b] = n + (int)find(corner, ncorner, vox[v] + (b & 1) + S * (((b >> 1) & 1) + S * ((b >> 2) & 1)));
+            id[b] = n + (int)rk_proxy_lower_bound(corner, ncorner, vox[v] + (b & 1) + S * (((b >> 1) & 1) + S * ((b >> 2) & 1)));
         for (int t = 0; t < 6; t++) {
             int *T = out->ghost + 4 * (6 * v + t);
             for (int a = 0; a < 4; a++) T[a] = id[KUHN[t][a]];

@@ -3,12 +3,16 @@
 #ifndef RK_CONTACT_POINTS_PROXY_IMPL_H
 #define RK_CONTACT_POINTS_PROXY_IMPL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "contact/contact.h"
 
 /* Voxel (and corner) (i, j, k) of the lattice of origin lo and edge g is the key i + S (j + S k). */
 #define RK_PROXY_S ((int64_t)1 << 20)
+
+/* The first of the n sorted keys k not below key (n if none). */
+size_t rk_proxy_lower_bound(const int64_t *k, size_t n, int64_t key);
 
 /* Moves the surface vertices of m (rk_mesh_boundary of its ghost tets; its first n vertices are the
  * cloud's points, the rest the lattice corners of origin lo, edge g) in toward the points, each

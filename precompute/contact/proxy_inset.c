@@ -38,17 +38,6 @@ static void cell_of(const point_grid *G, const double *x, long c[3])
     for (int d = 0; d < 3; d++) c[d] = (long)floor((x[d] - G->lo[d]) / G->g);
 }
 
-static size_t lower_bound(const int64_t *k, size_t n, int64_t key)
-{
-    size_t lo = 0, hi = n;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (k[mid] < key) lo = mid + 1;
-        else hi = mid;
-    }
-    return lo;
-}
-
 /* The distance from x to the nearest point in the cells within r of x's (INFINITY if none), that
  * point in *at (may be NULL). */
 static double nearest_at(const point_grid *G, const double *x, int r, const double **at)
@@ -61,7 +50,7 @@ static double nearest_at(const point_grid *G, const double *x, int r, const doub
             for (q[0] = c[0] - r; q[0] <= c[0] + r; q[0]++) {
                 if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
                 int64_t k = cell_key(q);
-                for (size_t i = lower_bound(G->key, (size_t)G->n, k); i < (size_t)G->n && G->key[i] == k; i++) {
+                for (size_t i = rk_proxy_lower_bound(G->key, (size_t)G->n, k); i < (size_t)G->n && G->key[i] == k; i++) {
                     const double *p = G->X + 3 * G->idx[i];
                     double d2 = 0;
                     for (int d = 0; d < 3; d++) d2 += (p[d] - x[d]) * (p[d] - x[d]);
@@ -237,7 +226,7 @@ static int hull_holds_point(const point_grid *G, const double *const v6[6])
                 for (q[0] = c0[0]; q[0] <= c1[0] && !flat; q[0]++) {
                     if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
                     int64_t key = cell_key(q);
-                    for (size_t a = lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
+                    for (size_t a = rk_proxy_lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
                         const double *p = G->X + 3 * G->idx[a];
                         int in = 1;
                         for (int d = 0; d < 3 && in; d++) in = p[d] >= lo[d] && p[d] <= hi[d];
@@ -269,7 +258,7 @@ static int hull_holds_point(const point_grid *G, const double *const v6[6])
             for (q[0] = c0[0]; q[0] <= c1[0]; q[0]++) {
                 if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
                 int64_t key = cell_key(q);
-                for (size_t a = lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
+                for (size_t a = rk_proxy_lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
                     const double *p = G->X + 3 * G->idx[a];
                     int in = 1;
                     for (int d = 0; d < 3 && in; d++) in = p[d] >= lo[d] && p[d] <= hi[d];
