@@ -19,6 +19,9 @@ BUILD=${BUILD:-build}
 OUT=${2:-bench/results}
 ROMKIT=$BUILD/romkit
 JSONQ=$BUILD/jsonq
+for tool in "$ROMKIT" "$JSONQ" "$BUILD/bench_assets"; do # (make bench builds them; a pipe would hide one missing)
+    [ -x "$tool" ] || { echo "bench_alrom_runtime.sh: $tool is not built (make $tool)" >&2; exit 1; }
+done
 DIR=$(cd examples/scenes/alrom && pwd)
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
