@@ -31,11 +31,28 @@ typedef struct {
     int *idx;
 } point_grid;
 
-static int64_t cell_key(long c[3]) { return c[0] + RK_PROXY_S * (c[1] + RK_PROXY_S * c[2]); }
+static int64_t cell_key(const long c[3]) { return c[0] + RK_PROXY_S * (c[1] + RK_PROXY_S * c[2]); }
 
 static void cell_of(const point_grid *G, const double *x, long c[3])
 {
     for (int d = 0; d < 3; d++) c[d] = (long)floor((x[d] - G->lo[d]) / G->g);
+}
+
+/* Cell q's points: G->idx[*first .. end - 1] (an empty range for a cell off the lattice). */
+static size_t cell_points(const point_grid *G, const long q[3], size_t *first)
+{
+    if (q[0] < 0 || q[1] < 0 || q[2] < 0) return *first = 0;
+    int64_t key = cell_key(q);
+    size_t end = *first = rk_proxy_lower_bound(G->key, (size_t)G->n, key);
+    while (end < (size_t)G->n && G->key[end] == key) end++;
+    return end;
+}
+
+static int in_box(const double *p, const double lo[3], const double hi[3])
+{
+    int in = 1;
+    for (int d = 0; d < 3 && in; d++) in = p[d] >= lo[d] && p[d] <= hi[d];
+    return in;
 }
 
 /* The distance from x to the nearest point in the cells within r of x's (INFINITY if none), that
@@ -48,9 +65,8 @@ static double nearest_at(const point_grid *G, const double *x, int r, const doub
     for (q[2] = c[2] - r; q[2] <= c[2] + r; q[2]++)
         for (q[1] = c[1] - r; q[1] <= c[1] + r; q[1]++)
             for (q[0] = c[0] - r; q[0] <= c[0] + r; q[0]++) {
-                if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
-                int64_t k = cell_key(q);
-                for (size_t i = rk_proxy_lower_bound(G->key, (size_t)G->n, k); i < (size_t)G->n && G->key[i] == k; i++) {
+                size_t i, end = cell_points(G, q, &i);
+                for (; i < end; i++) {
                     const double *p = G->X + 3 * G->idx[i];
                     double d2 = 0;
                     for (int d = 0; d < 3; d++) d2 += (p[d] - x[d]) * (p[d] - x[d]);
@@ -224,13 +240,10 @@ static int hull_holds_point(const point_grid *G, const double *const v6[6])
         for (q[2] = c0[2]; q[2] <= c1[2] && !flat; q[2]++)
             for (q[1] = c0[1]; q[1] <= c1[1] && !flat; q[1]++)
                 for (q[0] = c0[0]; q[0] <= c1[0] && !flat; q[0]++) {
-                    if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
-                    int64_t key = cell_key(q);
-                    for (size_t a = rk_proxy_lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
+                    size_t a, end = cell_points(G, q, &a);
+                    for (; a < end; a++) {
                         const double *p = G->X + 3 * G->idx[a];
-                        int in = 1;
-                        for (int d = 0; d < 3 && in; d++) in = p[d] >= lo[d] && p[d] <= hi[d];
-                        if (!in) continue;
+                        if (!in_box(p, lo, hi)) continue;
                         int h = prism_holds(v6, p);
                         if (h == 1) return 1;
                         if (h < 0) flat = 1;
@@ -256,12 +269,10 @@ static int hull_holds_point(const point_grid *G, const double *const v6[6])
     for (q[2] = c0[2]; q[2] <= c1[2]; q[2]++)
         for (q[1] = c0[1]; q[1] <= c1[1]; q[1]++)
             for (q[0] = c0[0]; q[0] <= c1[0]; q[0]++) {
-                if (q[0] < 0 || q[1] < 0 || q[2] < 0) continue;
-                int64_t key = cell_key(q);
-                for (size_t a = rk_proxy_lower_bound(G->key, (size_t)G->n, key); a < (size_t)G->n && G->key[a] == key; a++) {
+                size_t a, end = cell_points(G, q, &a);
+                for (; a < end; a++) {
                     const double *p = G->X + 3 * G->idx[a];
-                    int in = 1;
-                    for (int d = 0; d < 3 && in; d++) in = p[d] >= lo[d] && p[d] <= hi[d];
+                    int in = in_box(p, lo, hi);
                     if (in && nfacet < 0) { /* the facets, once a point lies in the hull's box */
                         nfacet = 0;
                         for (int i = 0; i < nvert; i++)
