@@ -68,6 +68,7 @@ static void print_table(const char *path, const rk_compare_result *res)
         if (m->failure[0]) continue;
         if (m->method->print) m->method->print(m, stdout);
         else printf("  %s: basis %s; cubature %s\n", m->name, m->basis_reason, m->cubature_reason);
+        if (m->volume_warning[0]) printf("  warning: %s: %s\n", m->name, m->volume_warning);
     }
 }
 

@@ -30,6 +30,7 @@ static cJSON *method_json(const rk_compare_method *m)
     cJSON_AddNumberToObject(c, "elements", m->cubature_points);
     add_number(c, "relative_error", m->cubature_error);
     cJSON_AddStringToObject(c, "bound_by", m->cubature_reason);
+    if (m->volume_warning[0]) cJSON_AddStringToObject(j, "volume_warning", m->volume_warning);
     add_number(j, "normalized_mse", m->normalized_mse);
     add_number(j, "normalized_max_error", m->normalized_max_error);
     add_number(j, "max_error", m->max_error_m);

@@ -250,6 +250,9 @@ static int bake_reduced(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     if (s->R.model.quad.count > 0 && !s->R.cubature_reached && isfinite(s->R.cubature_error))
         snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
                  "\n  warning: the cubature missed its tolerance (%s)", s->R.cubature_reason);
+    if (s->R.volume_warning[0])
+        snprintf(out->summary + strlen(out->summary), sizeof out->summary - strlen(out->summary),
+                 "\n  warning: %s", s->R.volume_warning);
     /* the objects' initial velocities are baked (VEL0) as compare starts its free run; a basis that
      * cannot hold them starts the runtime slower than the scene says: said, not silent */
     if (moving)

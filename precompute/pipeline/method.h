@@ -60,6 +60,7 @@ typedef struct {
     double reference_nmse;
     char reference_source[96];
     char basis_reason[256], cubature_reason[256];
+    char volume_warning[256];      /* rk_scene_rom's: a volume that locks, or empty */
     char failure[1024];            /* empty when it ran; else why it did not (the error message) */
     /* what only this method measures (its header's type, read through rk_method_measures) */
     _Alignas(max_align_t) unsigned char own[RK_COMPARE_OWN_BYTES];

@@ -73,6 +73,8 @@ typedef struct {
     double seconds_basis, seconds_cubature;
     char basis_reason[256];        /* which option bound the basis size, with the numbers */
     char cubature_reason[256];     /* which option bound the cubature size */
+    char volume_warning[256];      /* the pointwise volume on a skinning basis of a nearly incompressible
+                                    * material (volume.c says why), or empty */
 } rk_scene_rom;
 
 /* Builds entry e's reduced model for the built scene sim. frames: the scene's full-order

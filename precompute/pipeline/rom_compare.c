@@ -102,6 +102,7 @@ int rk_fixed_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method
     m->seconds_training_run = R.basis_info.fom_frames ? c->fom_seconds_total : 0;
     memcpy(m->basis_reason, R.basis_reason, sizeof m->basis_reason);
     memcpy(m->cubature_reason, R.cubature_reason, sizeof m->cubature_reason);
+    memcpy(m->volume_warning, R.volume_warning, sizeof m->volume_warning);
     const rk_fom_frames *ref = c->ref;
     int rc = run_free(c->sim, &R, ref, c->M, m, err) || run_realigned(c->sim, &R, ref, c->M, m, err) ||
                      rk_compare_basis_fit(R.basis.U, ref->ndof, R.basis.r, c->sim->mesh.X, ref, m, err)
