@@ -112,6 +112,7 @@ static int run_fom(const rk_scene *scene, const rk_scene_sim *sim, rk_fom_frames
         }
         run = &body;
         F->layout = &body.layout;
+        out->tets = body.mesh.nt; /* the bodies' (the scene's clouds have none of their own) */
     }
     int rc = run_frames(run, 1, NULL, sim->mesh.nv, "full-order run", F, &stats, err);
     if (run != sim) rk_scene_sim_free(&body);
