@@ -80,7 +80,7 @@ static int run_frames(const rk_scene_sim *sim, int order, const int *map, int nv
     if (!F->x || !F->v || !F->step_seconds) return -1;
     int rc;
     if (order == 2) {
-        if (sim->cloud_points > 0) return rk_fail(err, "%s: a point cloud has no tets to make quadratic", label);
+        if (sim->cloud_points > 0) return rk_fail(err, "%s: reference.order 2 with a point cloud: its full-order body is linear tets (its voxels' Kuhn split), with no quadratic version yet", label);
         p2_progress p = {F, label};
         rc = rk_p2_fom_run(&sim->fem, &sim->options, keep_p2_frame, &p, stats, err);
         rk_progress_done(label);
@@ -225,11 +225,6 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     out->vertices = sim.mesh.nv;
     out->tets = sim.mesh.nt;
     out->bbox_diagonal = rk_points_diagonal(sim.mesh.X, sim.mesh.nv);
-    if (sim.cloud_points && scene->reference_refine > 0) {
-        rk_fail(err, "%s: reference.refine with a point cloud: its full-order body is its contact surface's voxels, "
-                "which refinement does not make finer; use mesh.proxy_voxel", scene->path);
-        goto done;
-    }
     if (run_fom(scene, &sim, &F, out, err)) goto done;
     out->steps = F.T;
     reference_is_fom(out);
