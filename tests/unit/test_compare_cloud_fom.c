@@ -5,6 +5,7 @@
  *  - the body has the box's volume (within 1%) and weighs the cloud's mass (the reduced model's:
  *    rho V / n a point, V the occupancy volume, exact for even point counts) to 1e-9, and the
  *    layout gives back rk_scene_build's vertices at rest (points and contact surface) to 1e-12 m;
+ *  - its tets take their nearest point's tag (regions by tag set their material);
  *  - clamped at one end under gravity (static), it sags as the same box meshed (rk_mesh_box) does,
  *    within 2%;
  *  - dropped at 0.5 m/s onto a meshed slab on a plane, no edge ever crosses a triangle (exact test,
@@ -72,6 +73,47 @@ TEST(a_lattice_clouds_body_has_its_mass_and_volume)
     CHECK(worst < 1e-12, "the layout at rest is %g m off the scene's vertices", worst);
     free(x);
     rk_scene_sim_free(&full);
+    rk_scene_sim_free(&sim);
+    rk_scene_free(&scene);
+}
+
+/* Per-point tags become the body's tets' (their nearest point's): a 12 x 4 x 4 lattice whose
+ * points at x > 0.11 are tagged 2, that tag 10 times as dense: every tet of the body's far half is
+ * 10 times as dense as every tet of its near half, and the body weighs the cloud (5.5 x uniform). */
+TEST(a_clouds_point_tags_set_its_bodys_tets)
+{
+    char path[512], json[2048];
+    const char *ply = tl_scratch(path, sizeof path, "tagged.ply");
+    FILE *fp = fopen(ply, "w");
+    CHECK(fp != NULL, "%s", ply);
+    if (!fp) return;
+    fprintf(fp, "ply\nformat ascii 1.0\nelement vertex 192\nproperty float x\nproperty float y\nproperty float z\n"
+                "property int tag\nend_header\n");
+    for (int i = 0; i < 12; i++)
+        for (int j = 0; j < 4; j++)
+            for (int k = 0; k < 4; k++) fprintf(fp, "%g %g %g %d\n", S * (i + 0.5), S * (j + 0.5), S * (k + 0.5), i < 6 ? 1 : 2);
+    fclose(fp);
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"points\": \"%s\", \"proxy_voxel\": %g}, \"regions\": [{\"tag\": 2,"
+             " \"material\": {\"density\": 10000}}], \"material\": {\"model\": \"neohookean\", \"young\": 1e5,"
+             " \"poisson\": 0.3, \"density\": 1000}}], \"time\": {\"step\": 0.01, \"duration\": 0.01}}", ply, S);
+    rk_error err = {{0}};
+    rk_scene scene;
+    rk_scene_sim sim;
+    CHECK_OK(rk_scene_parse(json, "tagged.json", &scene, &err));
+    CHECK_OK(rk_scene_build_full_order(&scene, &sim, &err));
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {0, 0};
+    for (int t = 0; t < sim.mesh.nt; t++) {
+        double cx = 0;
+        for (int a = 0; a < 4; a++) cx += 0.25 * sim.mesh.X[3 * sim.mesh.tets[4 * t + a]];
+        int far = cx > 0.12;
+        lo[far] = fmin(lo[far], sim.materials[t].density), hi[far] = fmax(hi[far], sim.materials[t].density);
+    }
+    CHECK(lo[0] == hi[0] && lo[1] == hi[1] && fabs(lo[1] / lo[0] - 10) < 1e-12,
+          "near half's densities %g..%g, far half's %g..%g", lo[0], hi[0], lo[1], hi[1]);
+    double box = 12 * 4 * 4 * S * S * S;
+    CHECK(fabs(sim.body_mass / (5500 * box) - 1) < 1e-9, "the cloud weighs %g kg, 5.5 x uniform is %g", sim.body_mass,
+          5500 * box);
     rk_scene_sim_free(&sim);
     rk_scene_free(&scene);
 }
@@ -213,6 +255,7 @@ TEST(compare_measures_a_clouds_reduced_model_against_full_order)
 int main(void)
 {
     RUN(a_lattice_clouds_body_has_its_mass_and_volume);
+    RUN(a_clouds_point_tags_set_its_bodys_tets);
     RUN(a_clamped_cloud_sags_as_the_box_meshed);
     RUN(a_cloud_dropped_on_a_meshed_slab_never_crosses_and_rests_on_it);
     RUN(compare_measures_a_clouds_reduced_model_against_full_order);
