@@ -35,6 +35,9 @@ static void fom_usage(FILE *out)
             "                      gravity, load scale, initial velocity; 0 for an entry listing none):\n"
             "                      what romkit build --trajectory-run reads (a step of romkit plan)\n"
             "  --entry K           the rom entry (default 0) whose trajectory --trajectory runs\n"
+            "A point cloud (mesh.points) runs on its full-order body, the tets filling its contact\n"
+            "surface with the cloud's mass; positions, snapshots and stresses are at the scene's vertices\n"
+            "as romkit rom numbers them (its points, then its contact surface's), frames show the body.\n"
             "Nothing is written when the run fails. ROMKIT_THREADS=N: threads (default: the CPUs).\n\n"
             "example:\n"
             "  romkit fom examples/scenes/cantilever_small.json --snapshots S.npy --report fom.json\n");
@@ -82,15 +85,37 @@ typedef struct {
     rk_npy_stream snap, stress;
     int have_snap, have_stress;
     double *sigma;            /* nv: the frame's largest principal stresses */
+    double *shown;            /* 3 layout.nv: a frame at the scene's vertices (point clouds' points) */
+    double *sigma_shown;      /* layout.nv */
 } fom_output;
+
+/* A frame's positions as written: the run's, or taken back to the scene's vertices (layout). */
+static const double *shown(const fom_output *o, const double *x)
+{
+    if (!o->sim->layout.nv) return x;
+    rk_scene_layout_apply(&o->sim->layout, x, o->shown);
+    return o->shown;
+}
+
+/* The scene's vertex count, as the snapshots and positions hold them. */
+static int shown_nv(const rk_scene_sim *sim) { return sim->layout.nv ? sim->layout.nv : sim->mesh.nv; }
 
 static int on_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
 {
     fom_output *o = ctx;
-    if (o->have_snap) rk_npy_stream_append(&o->snap, fom->x, 3 * (size_t)o->sim->mesh.nv);
+    if (o->have_snap) rk_npy_stream_append(&o->snap, shown(o, fom->x), 3 * (size_t)shown_nv(o->sim));
     if (o->have_stress) {
         if (rk_fem_principal_stress(&o->sim->fem, fom->x, o->sigma, err)) return -1;
-        rk_npy_stream_append(&o->stress, o->sigma, (size_t)o->sim->mesh.nv);
+        const double *sigma = o->sigma;
+        if (o->sim->layout.nv) { /* a point's stress: its tet's vertices' at its barycentric coordinates */
+            const rk_scene_layout *L = &o->sim->layout;
+            for (int j = 0; j < L->nv; j++) {
+                o->sigma_shown[j] = 0;
+                for (int a = 0; a < 4; a++) o->sigma_shown[j] += L->weight[4 * j + a] * o->sigma[L->vertex[4 * j + a]];
+            }
+            sigma = o->sigma_shown;
+        }
+        rk_npy_stream_append(&o->stress, sigma, (size_t)shown_nv(o->sim));
     }
     return o->a->frames ? write_frame(o->a, &o->sim->mesh, fom->x, step, err) : 0;
 }
@@ -134,11 +159,14 @@ int cmd_fom(int argc, char **argv)
     int have_scene = 0, have_sim = 0, have_m = 0, rc = 1;
     if (rk_scene_load(a.scene, &scene, &err)) goto done;
     have_scene = 1;
-    if (rk_scene_build(&scene, &sim, &err)) goto done;
+    if (rk_scene_build_full_order(&scene, &sim, &err)) goto done;
     have_sim = 1;
     if (a.trajectory && vary(&scene, &sim, &a, &err)) goto done;
-    int nv = sim.mesh.nv, steps = sim.options.is_static ? 1 : sim.steps;
+    int nv = shown_nv(&sim), steps = sim.options.is_static ? 1 : sim.steps;
     out.sim = &sim;
+    if (sim.layout.nv && (!(out.shown = rk_calloc(3 * (size_t)nv, sizeof(double), &err)) ||
+                          !(out.sigma_shown = rk_calloc((size_t)nv, sizeof(double), &err))))
+        goto done;
     if (a.frames && mkdir(a.frames, 0777) != 0 && errno != EEXIST) {
         rk_fail(&err, "%s: cannot create frames folder: %s", a.frames, strerror(errno));
         goto done;
@@ -150,7 +178,7 @@ int cmd_fom(int argc, char **argv)
     }
     if (a.stress) {
         long shape[2] = {steps + 1, nv};
-        if (!(out.sigma = rk_calloc((size_t)nv, sizeof(double), &err)) ||
+        if (!(out.sigma = rk_calloc((size_t)sim.mesh.nv, sizeof(double), &err)) ||
             rk_npy_stream_open(&out.stress, a.stress, 2, shape, &err))
             goto done;
         out.have_stress = 1;
@@ -167,7 +195,7 @@ int cmd_fom(int argc, char **argv)
     }
     if (a.positions) {
         long shape[2] = {nv, 3};
-        if (rk_npy_write(a.positions, m.x, 2, shape, &err)) goto done;
+        if (rk_npy_write(a.positions, shown(&out, m.x), 2, shape, &err)) goto done;
     }
     cJSON *report = rk_fom_report(&sim, &m, rk_now() - t0);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
@@ -176,7 +204,7 @@ int cmd_fom(int argc, char **argv)
     }
     printf("%s: %d vertices, %d tets; %d %s of %g s: %.4g s/step (factorization %.0f%%), "
            "%.2f Newton iterations/step\n",
-           a.scene, nv, sim.mesh.nt, m.steps, sim.options.is_static ? "static solve" : "steps", sim.options.h,
+           a.scene, sim.mesh.nv, sim.mesh.nt, m.steps, sim.options.is_static ? "static solve" : "steps", sim.options.h,
            cJSON_GetObjectItem(report, "seconds_per_step")->valuedouble,
            100 * cJSON_GetObjectItem(report, "factorization_share")->valuedouble,
            (double)m.stats.newton_iterations / m.steps);
@@ -185,6 +213,10 @@ int cmd_fom(int argc, char **argv)
            rk_threads());
     printf("final: %d inverted elements, max displacement %.4g m, kinetic energy %.4g J\n", m.inverted,
            m.max_displacement, m.kinetic_energy);
+    if (sim.body_points)
+        printf("point clouds: %d points embedded in their full-order bodies (%d outside, %d surface vertices' inset "
+               "cut back); snapshots and positions are at the scene's %d vertices\n", sim.body_points,
+               sim.body_outside, sim.body_backed_off, nv);
     if (m.contact)
         printf("contact: closest %.3g m, %ld crossings over %ld frames, %.1f pairs per evaluation (at most %ld); "
                "broad phase %.3g s, CCD %.3g s\n", m.tally.min_distance, m.tally.intersections, m.tally.frames,
@@ -197,6 +229,8 @@ done:
     if (out.have_snap) rk_npy_stream_abort(&out.snap);
     if (out.have_stress) rk_npy_stream_abort(&out.stress);
     free(out.sigma);
+    free(out.shown);
+    free(out.sigma_shown);
     if (have_m) rk_fom_measure_free(&m);
     if (have_sim) rk_scene_sim_free(&sim);
     if (have_scene) rk_scene_free(&scene);

@@ -16,7 +16,18 @@
 static void keep_state(rk_fom_frames *F, int step, const double *xs, const double *vs, double seconds)
 {
     double *x = F->x + (size_t)F->ndof * step, *v = F->v + (size_t)F->ndof * step;
-    if (F->map) {
+    if (F->layout) {
+        rk_scene_layout_apply(F->layout, xs, x);
+        for (int i = 0; i < F->ndof / 3; i++) { /* velocities interpolated alike (no offset) */
+            double *vi = v + 3 * (size_t)i;
+            vi[0] = vi[1] = vi[2] = 0;
+            for (int a = 0; a < 4; a++) {
+                double w = F->layout->weight[4 * (size_t)i + a];
+                const double *vs_a = vs + 3 * (size_t)F->layout->vertex[4 * (size_t)i + a];
+                for (int d = 0; d < 3; d++) vi[d] += w * vs_a[d];
+            }
+        }
+    } else if (F->map) {
         for (int i = 0; i < F->ndof / 3; i++) {
             memcpy(x + 3 * (size_t)i, xs + 3 * (size_t)F->map[i], 3 * sizeof(double));
             memcpy(v + 3 * (size_t)i, vs + 3 * (size_t)F->map[i], 3 * sizeof(double));
@@ -69,7 +80,7 @@ static int run_frames(const rk_scene_sim *sim, int order, const int *map, int nv
     if (!F->x || !F->v || !F->step_seconds) return -1;
     int rc;
     if (order == 2) {
-        if (sim->cloud_points > 0) return rk_fail(err, "%s: a point cloud has no tets to make quadratic", label);
+        if (sim->cloud_points > 0) return rk_fail(err, "%s: reference.order 2 with a point cloud: its full-order body is linear tets (its voxels' Kuhn split), with no quadratic version yet", label);
         p2_progress p = {F, label};
         rc = rk_p2_fom_run(&sim->fem, &sim->options, keep_p2_frame, &p, stats, err);
         rk_progress_done(label);
@@ -78,13 +89,34 @@ static int run_frames(const rk_scene_sim *sim, int order, const int *map, int nv
         rc = rk_scene_fom_run(sim, NULL, label, keep_frame, F, stats, err);
     }
     F->map = NULL; /* it pointed into the caller's map, kept only while running */
+    F->layout = NULL;
     return rc;
 }
 
-static int run_fom(const rk_scene_sim *sim, rk_fom_frames *F, rk_compare_result *out, rk_error *err)
+/* The scene's full-order run into F at sim's vertices: on sim itself, or for a scene with point
+ * clouds on its full-order build (each cloud's body, rk_scene_build_full_order), taken back to
+ * sim's vertices (the cloud's points at their barycentric coordinates, its contact surface's
+ * vertices as they are) through the layout. */
+static int run_fom(const rk_scene *scene, const rk_scene_sim *sim, rk_fom_frames *F, rk_compare_result *out,
+                   rk_error *err)
 {
     rk_fom_stats stats;
-    if (run_frames(sim, 1, NULL, sim->mesh.nv, "full-order run", F, &stats, err)) return -1;
+    rk_scene_sim body;
+    const rk_scene_sim *run = sim;
+    if (sim->cloud_points) {
+        if (rk_scene_build_full_order(scene, &body, err)) return -1;
+        if (body.layout.nv != sim->mesh.nv) {
+            rk_scene_sim_free(&body);
+            return rk_fail(err, "%s: the full-order build has %d scene vertices, the scene %d", scene->path,
+                           body.layout.nv, sim->mesh.nv);
+        }
+        run = &body;
+        F->layout = &body.layout;
+        out->tets = body.mesh.nt; /* the bodies' (the scene's clouds have none of their own) */
+    }
+    int rc = run_frames(run, 1, NULL, sim->mesh.nv, "full-order run", F, &stats, err);
+    if (run != sim) rk_scene_sim_free(&body);
+    if (rc) return -1;
     out->fom_seconds_total = stats.seconds_total;
     out->fom_newton_iterations = stats.newton_iterations;
     out->fom_seconds_per_step = rk_median(F->step_seconds, F->T);
@@ -193,7 +225,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     out->vertices = sim.mesh.nv;
     out->tets = sim.mesh.nt;
     out->bbox_diagonal = rk_points_diagonal(sim.mesh.X, sim.mesh.nv);
-    if (run_fom(&sim, &F, out, err)) goto done;
+    if (run_fom(scene, &sim, &F, out, err)) goto done;
     out->steps = F.T;
     reference_is_fom(out);
     if (scene->reference_refine > 0 || scene->reference_order == 2) {
@@ -204,6 +236,9 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     D = rk_calloc((size_t)F.ndof * F.T, sizeof(double), err);
     if (!D || rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto done;
     rk_fem_add_mass(&sim.fem, sim.options.lumped_mass, 1.0, &M);
+    /* a cloud's points weigh outside any element (rk_fem_init_points): without them the realigned
+     * runs projected a cloud's full-order state with a zero mass */
+    if (rk_fem_add_point_mass(&sim.fem, 1.0, &M, err)) goto done;
     for (int s = 0; s < F.T; s++)
         for (int i = 0; i < F.ndof; i++) D[(size_t)F.ndof * s + i] = F.x[(size_t)F.ndof * (s + 1) + i] - sim.mesh.X[i];
     out->methods = rk_calloc((size_t)n, sizeof *out->methods, err);

@@ -119,11 +119,11 @@ static int well_composed(int64_t **vox, size_t *nvox, rk_error *err)
  * through the lower corner in every cube alike, so neighbouring voxels' faces match. */
 static const int KUHN[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
-int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err)
+int rk_proxy_lattice(const double *X, int n, double g, rk_mesh *out, double lo[3], rk_error *err)
 {
     memset(out, 0, sizeof *out);
     if (n < 1 || !(g > 0) || !isfinite(g)) return rk_fail(err, "contact proxy: %d points, voxel %g", n, g);
-    double lo[3] = {X[0], X[1], X[2]};
+    for (int d = 0; d < 3; d++) lo[d] = X[d];
     for (int i = 1; i < n; i++)
         for (int d = 0; d < 3; d++) lo[d] = fmin(lo[d], X[3 * i + d]);
     for (int d = 0; d < 3; d++) lo[d] -= 0.5 * g; /* no point on a voxel's lower face at the edge */
@@ -194,7 +194,14 @@ int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *er
     }
     free(vox);
     free(corner);
-    if (rk_proxy_inset(out, n, g, lo, err)) {
+    return 0;
+}
+
+int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err)
+{
+    double lo[3];
+    if (rk_proxy_lattice(X, n, g, out, lo, err)) return -1;
+    if (rk_proxy_inset(out, n, g, RK_PROXY_INSET * g, lo, err)) {
         rk_mesh_free(out);
         return -1;
     }

@@ -14,15 +14,33 @@
 /* The first of the n sorted keys k not below key (n if none). */
 size_t rk_proxy_lower_bound(const int64_t *k, size_t n, int64_t key);
 
+/* The voxel surface before it moves in: rk_points_proxy's mesh (the n points, then the corners of
+ * the well-composed voxels of edge g, 6 Kuhn ghost tets per voxel, voxel by voxel) with the
+ * lattice's origin in lo. */
+int rk_proxy_lattice(const double *X, int n, double g, rk_mesh *out, double lo[3], rk_error *err);
+
+/* The cloud's points bucketed by lattice cell: key[i] sorted, idx[i] the point. */
+typedef struct {
+    const double *X;
+    int n;
+    double g, lo[3];
+    int64_t *key;
+    int *idx;
+} rk_proxy_grid;
+
+int rk_proxy_grid_build(rk_proxy_grid *G, const double *X, int n, double g, const double lo[3], rk_error *err);
+void rk_proxy_grid_free(rk_proxy_grid *G);
+/* The distance from x to the nearest point in the cells within r of x's (INFINITY if none), that
+ * point in *at (may be NULL). */
+double rk_proxy_nearest_at(const rk_proxy_grid *G, const double *x, int r, const double **at);
+
 /* Moves the surface vertices of m (rk_mesh_boundary of its ghost tets; its first n vertices are the
  * cloud's points, the rest the lattice corners of origin lo, edge g) in toward the points, each
- * along its normal to about RK_PROXY_INSET g from its nearest point, backing a vertex off (halving
+ * along its normal to about tau from its nearest point (RK_PROXY_INSET g for contact), backing a vertex off (halving
  * its move, then none) wherever a face would turn over, cross another face (exact test), or sweep
  * over a point on its way. The surface stays closed, 2-manifold and free of crossings, and every
  * point stays inside it: what the voxels' surface was. */
-int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *err);
+int rk_proxy_inset(rk_mesh *m, int n, double g, double tau, const double lo[3], rk_error *err);
 
-/* The target distance of a surface vertex to its nearest point, in voxel edges. */
-#define RK_PROXY_INSET 0.5
 
 #endif

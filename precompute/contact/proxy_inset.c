@@ -22,14 +22,7 @@
 
 #include "contact/points_proxy_impl.h"
 
-/* The cloud's points bucketed by voxel: key[i] sorted, idx[i] the point. */
-typedef struct {
-    const double *X;
-    int n;
-    double g, lo[3];
-    int64_t *key;
-    int *idx;
-} point_grid;
+typedef rk_proxy_grid point_grid;
 
 static int64_t cell_key(const long c[3]) { return c[0] + RK_PROXY_S * (c[1] + RK_PROXY_S * c[2]); }
 
@@ -55,9 +48,7 @@ static int in_box(const double *p, const double lo[3], const double hi[3])
     return in;
 }
 
-/* The distance from x to the nearest point in the cells within r of x's (INFINITY if none), that
- * point in *at (may be NULL). */
-static double nearest_at(const point_grid *G, const double *x, int r, const double **at)
+double rk_proxy_nearest_at(const point_grid *G, const double *x, int r, const double **at)
 {
     long c[3], q[3];
     cell_of(G, x, c);
@@ -79,7 +70,7 @@ static double nearest_at(const point_grid *G, const double *x, int r, const doub
     return sqrt(best);
 }
 
-static double nearest(const point_grid *G, const double *x, int r) { return nearest_at(G, x, r, NULL); }
+static double nearest(const point_grid *G, const double *x, int r) { return rk_proxy_nearest_at(G, x, r, NULL); }
 
 typedef struct {
     int64_t key;
@@ -93,7 +84,7 @@ static int by_cell(const void *a, const void *b)
     return (x->idx > y->idx) - (x->idx < y->idx);
 }
 
-static int grid_build(point_grid *G, const double *X, int n, double g, const double lo[3], rk_error *err)
+int rk_proxy_grid_build(point_grid *G, const double *X, int n, double g, const double lo[3], rk_error *err)
 {
     G->X = X, G->n = n, G->g = g;
     memcpy(G->lo, lo, sizeof G->lo);
@@ -114,6 +105,12 @@ static int grid_build(point_grid *G, const double *X, int n, double g, const dou
     for (int i = 0; i < n; i++) G->key[i] = k[i].key, G->idx[i] = k[i].idx;
     free(k);
     return 0;
+}
+
+void rk_proxy_grid_free(rk_proxy_grid *G)
+{
+    free(G->key), free(G->idx);
+    G->key = NULL, G->idx = NULL;
 }
 
 static void cross(const double *a, const double *b, const double *c, double *nrm)
@@ -382,13 +379,13 @@ static int settle(rk_mesh *m, const int *tris, int nf, const point_grid *G, cons
     return 0;
 }
 
-int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *err)
+int rk_proxy_inset(rk_mesh *m, int n, double g, double tau, const double lo[3], rk_error *err)
 {
     int *tris = NULL, nf = 0, rc = -1;
     point_grid G = {0};
-    double *Xv = NULL, *base = NULL, *dir = NULL, *boxes = NULL, *alpha = NULL, tau = RK_PROXY_INSET * g;
+    double *Xv = NULL, *base = NULL, *dir = NULL, *boxes = NULL, *alpha = NULL;
     char *bad = NULL, *moved = NULL, *on = NULL;
-    if (rk_mesh_boundary(m, &tris, &nf, err) || grid_build(&G, m->X, n, g, lo, err)) goto done;
+    if (rk_mesh_boundary(m, &tris, &nf, err) || rk_proxy_grid_build(&G, m->X, n, g, lo, err)) goto done;
     size_t nv = (size_t)m->nv;
     Xv = rk_calloc(3 * nv, sizeof *Xv, err);
     base = rk_calloc(3 * nv, sizeof *base, err);
@@ -432,7 +429,7 @@ int rk_proxy_inset(rk_mesh *m, int n, double g, const double lo[3], rk_error *er
         for (size_t v = (size_t)n; v < nv; v++) {
             if (!on[v]) continue;
             const double *p = NULL, *x = base + 3 * v;
-            double d = nearest_at(&G, x, 2, &p);
+            double d = rk_proxy_nearest_at(&G, x, 2, &p);
             if (!p || !(d > 1.05 * tau)) continue;
             for (int a = 0; a < 3; a++) dir[3 * v + a] = p[a] + tau * (x[a] - p[a]) / d - x[a];
             alpha[v] = 1;

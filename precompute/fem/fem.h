@@ -78,6 +78,9 @@ int rk_sparse_find(const rk_sparse *S, int row, int col);
 void rk_fem_add_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M);
 /* The same with density 1: integral of phi_a phi_b over the volume (I3 per vertex pair). */
 void rk_fem_add_volume_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M);
+/* The masses rk_fem_init_points gave vertices beyond their elements' (a cloud's points: rk_fem_add_mass
+ * has only the elements'), times scale, on M's diagonal: the two make the model's whole mass. */
+int rk_fem_add_point_mass(const rk_fem *f, double scale, rk_sparse *M, rk_error *err);
 /* Linear-elasticity stiffness at rest, added into K (scaled): each element's own model's
  * unprojected Hessian at x = X (all four models share the linear tangent at F = I). */
 void rk_fem_add_rest_stiffness(const rk_fem *f, double scale, rk_sparse *K);

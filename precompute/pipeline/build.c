@@ -1,7 +1,7 @@
 /* rk_scene -> something to simulate: meshes loaded (surfaces tetrahedralized), placed and
  * concatenated; one material per element (regions override by element centroid, in order);
  * the FEM model; full-order options with prescribed vertex groups, loads and initial velocities. */
-#include "pipeline/pipeline.h"
+#include "pipeline/build_impl.h"
 #include "util/util.h"
 
 #include <math.h>
@@ -22,10 +22,13 @@ static int load_cage(const rk_scene_object *o, rk_mesh *m, rk_surface *surface, 
 /* The object's mesh, checked for simulation: flat tets dropped with a warning (mesh.h); rep gets
  * what the check repaired. A caged object's mesh is its cage, its surface in *surface. */
 static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
-                               int **point_tag, rk_surface *surface, rk_cage_report *cr, rk_error *err)
+                               int **point_tag, rk_surface *surface, rk_cage_report *cr, rk_cloud_body *body,
+                               rk_error *err)
 {
     memset(m, 0, sizeof *m);
     memset(rep, 0, sizeof *rep);
+    if (body && o->shape == RK_SHAPE_POINTS) /* full order: the tets filling its contact surface */
+        return rk_cloud_body_load(o, m, body, err) || rk_mesh_check(m, o->file, RK_MESH_KEEP_FLAT, rep, err) ? -1 : 0;
     if (o->cage_tets)
         return load_cage(o, m, surface, cr, err) || rk_mesh_check(m, o->file, RK_MESH_DROP_FLAT, rep, err) ? -1 : 0;
     switch (o->shape) {
@@ -36,19 +39,10 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
         double *X = NULL;
         int n = 0;
         if (rk_points_load_tagged(o->file, &X, &n, point_tag, err)) return -1;
-        /* the spacing of the cloud's RKPM sampling (twice the points' median spacing: its
-         * occupancy voxel), so that neighbouring points' balls of radius g / 2 overlap and the
-         * surface around them has no holes; no finer than 1/RK_PROXY_VOXELS of the cloud's
-         * diagonal, which bounds the surface's triangles (a dense capture's spacing is tiny) */
-        double g = o->proxy_voxel / o->scale;
-        if (!(g > 0)) {
-            rk_rkpm_points occupancy;
-            if (rk_rkpm_sample_cloud(X, n, n, &occupancy, err)) {
-                free(X);
-                return -1;
-            }
-            g = fmax(rk_points_diagonal(X, n) / RK_PROXY_VOXELS, occupancy.spacing);
-            rk_rkpm_points_free(&occupancy);
+        double g;
+        if (rk_cloud_proxy_spacing(o, X, n, &g, err)) {
+            free(X);
+            return -1;
         }
         int rc = rk_points_proxy(X, n, g, m, err);
         free(X);
@@ -75,9 +69,10 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
  * checked again (children of a sliver are slivers; a tet near the flat threshold may cross it),
  * whatever that check repairs added to rep. */
 static int load_object_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_mesh_report *rep, int *cloud_points,
-                            int **point_tag, rk_surface *surface, rk_cage_report *cr, rk_error *err)
+                            int **point_tag, rk_surface *surface, rk_cage_report *cr, rk_cloud_body *body,
+                            rk_error *err)
 {
-    if (load_unrefined_mesh(o, k, m, rep, cloud_points, point_tag, surface, cr, err)) return -1;
+    if (load_unrefined_mesh(o, k, m, rep, cloud_points, point_tag, surface, cr, body, err)) return -1;
     if (o->refine == 0) return 0;
     rk_mesh fine;
     if (rk_mesh_refine(m, o->refine, &fine, err)) { /* "refine: ..." after "objects[k].mesh: " */
@@ -232,9 +227,7 @@ static int region_holds(const rk_scene_region *g, const double p[3], int tagged,
     return rk_box_contains(&g->box, p, 0);
 }
 
-/* The object's material, overridden by the last region that selects the place: its box or ball
- * holds p, or (tagged: the place carries a tag) its tag is `tag`. */
-static rk_material region_material(const rk_scene_object *o, const double p[3], int tagged, int tag)
+rk_material rk_scene_region_material(const rk_scene_object *o, const double p[3], int tagged, int tag)
 {
     rk_material m = o->material;
     for (int r = 0; r < o->nregions; r++)
@@ -242,11 +235,11 @@ static rk_material region_material(const rk_scene_object *o, const double p[3], 
     return m;
 }
 
-rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]) { return region_material(o, p, 0, 0); }
+rk_material rk_scene_material_at(const rk_scene_object *o, const double p[3]) { return rk_scene_region_material(o, p, 0, 0); }
 
 rk_material rk_scene_point_material(const rk_scene *s, const rk_scene_sim *sim, int k, int v)
 {
-    return region_material(&s->objects[k], &sim->mesh.X[3 * (size_t)v], sim->point_tag != NULL,
+    return rk_scene_region_material(&s->objects[k], &sim->mesh.X[3 * (size_t)v], sim->point_tag != NULL,
                            sim->point_tag ? sim->point_tag[v] : 0);
 }
 
@@ -320,7 +313,7 @@ static int assign_materials(const rk_scene *s, rk_scene_sim *out, rk_error *err)
             double c[3] = {0, 0, 0};
             for (int a = 0; a < 4; a++)
                 for (int i = 0; i < 3; i++) c[i] += 0.25 * m->X[3 * m->tets[4 * t + a] + i];
-            out->materials[t] = region_material(o, c, 1, out->tet_tag[t]);
+            out->materials[t] = rk_scene_region_material(o, c, 1, out->tet_tag[t]);
         }
     }
     return 0;
@@ -473,18 +466,30 @@ static int cloud_fem(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     return rc;
 }
 
-int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
+static void free_bodies(rk_cloud_body *bodies, int n)
+{
+    for (int k = 0; bodies && k < n; k++) rk_cloud_body_free(&bodies[k]);
+    free(bodies);
+}
+
+/* full_order: each point cloud as its body (build_body.c), the scene's own vertices in out->layout */
+static int scene_build(const rk_scene *s, rk_scene_sim *out, int full_order, rk_error *err)
 {
     memset(out, 0, sizeof *out);
+    rk_cloud_body *bodies = NULL;
     out->object_first_vertex = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     out->object_first_tet = rk_calloc((size_t)s->nobjects + 1, sizeof(int), err);
     if (!out->object_first_vertex || !out->object_first_tet) goto fail;
     int clouds = rk_scene_clouds(s);
+    if (full_order && clouds) {
+        if (!(bodies = rk_calloc((size_t)s->nobjects, sizeof *bodies, err))) goto fail;
+        clouds = 0; /* every object has tets */
+    }
     if (clouds && !(out->object_points = rk_calloc((size_t)s->nobjects, sizeof(int), err))) goto fail;
     rk_mesh_report repaired = {0}; /* what the objects' own checks changed */
     int caged = 0;
     for (int k = 0; k < s->nobjects; k++) caged += s->objects[k].cage_tets > 0;
-    if (caged && clouds) {
+    if (caged && (clouds || bodies)) {
         rk_fail(err, "%s: a scene with a caged object (mesh.cage) has no point cloud, for now", s->path);
         goto fail;
     }
@@ -495,12 +500,13 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
         rk_mesh_report rep;
         int points = 0, *point_tag = NULL;
         if (load_object_mesh(&s->objects[k], k, &m, &rep, &points, &point_tag, caged ? &surfaces[k] : NULL, &out->cage,
-                             err)) {
+                             bodies ? &bodies[k] : NULL, err)) {
             rk_error_prefix(err, "%s: objects[%d].mesh", s->path, k);
             free_surfaces(surfaces, s->nobjects);
             goto fail;
         }
         if (caged) transform_surface(&surfaces[k], s->objects[k].scale, s->objects[k].translate);
+        if (bodies) rk_cloud_body_place(&bodies[k], s->objects[k].scale, s->objects[k].translate);
         repaired.reoriented += rep.reoriented;
         repaired.unused_removed += rep.unused_removed;
         repaired.flat_dropped += rep.flat_dropped;
@@ -544,6 +550,7 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
     if (!out->materials) goto fail;
     if (assign_materials(s, out, err)) goto fail;
+    if (bodies && rk_cloud_bodies_finish(s, bodies, out, err)) goto fail;
     if (cloud ? cloud_fem(s, out, err) : rk_fem_init(&out->fem, &out->mesh, out->materials, err)) goto fail;
 
     rk_fom_options *opt = &out->options;
@@ -564,10 +571,19 @@ int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err)
     if (build_prescribed(s, out, slack, err)) goto fail;
     if (build_loads_and_velocities(s, out, slack, err)) goto fail;
     if (build_obstacles(s, out, diag, err)) goto fail;
+    free_bodies(bodies, s->nobjects);
     return 0;
 fail:
+    free_bodies(bodies, s->nobjects);
     rk_scene_sim_free(out);
     return -1;
+}
+
+int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err) { return scene_build(s, out, 0, err); }
+
+int rk_scene_build_full_order(const rk_scene *s, rk_scene_sim *out, rk_error *err)
+{
+    return scene_build(s, out, 1, err);
 }
 
 int rk_scene_object_view(const rk_scene_sim *sim, int k, rk_object_view *ov, rk_error *err)
@@ -607,6 +623,9 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->embedded.tet);
     free(out->embedded.bary);
     free(out->embedded_first);
+    free(out->layout.vertex);
+    free(out->layout.weight);
+    free(out->layout.offset);
     memset(out, 0, sizeof *out);
 }
 

@@ -181,5 +181,17 @@ cJSON *rk_fom_report(const rk_scene_sim *sim, const rk_fom_measure *m, double se
     cJSON_AddNumberToObject(fin, "elastic_energy", m->elastic_energy);
     cJSON_AddNumberToObject(r, "max_inverted_elements", m->max_inverted);
     if (m->contact) add_contact(r, m);
+    if (sim->body_points) { /* point clouds run on their bodies (rk_scene_build_full_order) */
+        cJSON *b = cJSON_AddObjectToObject(r, "cloud_body");
+        cJSON_AddNumberToObject(b, "points", sim->body_points);
+        cJSON_AddNumberToObject(b, "points_outside", sim->body_outside);
+        cJSON_AddNumberToObject(b, "worst_distance", sim->body_worst_distance);
+        cJSON_AddNumberToObject(b, "backed_off", sim->body_backed_off);
+        cJSON_AddNumberToObject(b, "min_volume_ratio", sim->body_min_volume_ratio);
+        cJSON_AddNumberToObject(b, "mass_scale", sim->body_mass_scale);
+        cJSON_AddNumberToObject(b, "volume", sim->body_volume);
+        cJSON_AddNumberToObject(b, "mass", sim->body_mass);
+        cJSON_AddNumberToObject(b, "scene_vertices", sim->layout.nv);
+    }
     return r;
 }

@@ -26,6 +26,8 @@ typedef struct rk_json_ctx rk_json_ctx;
 typedef struct {
     int ndof, T;
     const int *map;  /* NULL: every vertex of the run; else the run's vertex kept as vertex i (ndof / 3) */
+    const rk_scene_layout *layout; /* else, when not NULL: the run taken back to the scene's vertices
+                                    * (a scene with point clouds run on their bodies) */
     double *x, *v;   /* ndof x (T + 1): the start, then after every step */
     double *step_seconds;
     double min_distance;   /* contact over the frames: closest surfaces (m), most crossings */

@@ -210,6 +210,22 @@ int rk_scene_clouds(const rk_scene *s);
 /* A point cloud's contact-surface spacing at least: this fraction of its bounding-box diagonal. */
 #define RK_PROXY_VOXELS 40
 
+/* A full-order run's vertices taken back to the scene's vertices as rk_scene_build numbers them:
+ * vertex j is offset[j] + sum_a weight[4j + a] x[vertex[4j + a]] (a cloud's point: its body tet's
+ * four vertices at its barycentric coordinates; any other: one vertex, weight 1). The offset is a
+ * body vertex's rest position less the contact surface's where rk_points_body cut its inset back,
+ * else 0. */
+typedef struct {
+    int nv;              /* 0: the run's vertices are the scene's */
+    int *vertex;         /* 4 nv */
+    double *weight;      /* 4 nv */
+    double *offset;      /* 3 nv */
+} rk_scene_layout;
+
+/* Layout vertex j at run positions x; all nv of them into out (3 nv). */
+void rk_scene_layout_at(const rk_scene_layout *L, const double *x, int j, double out[3]);
+void rk_scene_layout_apply(const rk_scene_layout *L, const double *x, double *out);
+
 typedef struct {
     rk_mesh mesh;
     rk_mesh_report mesh_report; /* the joined mesh measured, plus what each object's own check
@@ -239,9 +255,27 @@ typedef struct {
                                * clamped, and warned about */
     double embedded_worst;    /* the farthest of those from the cage's boundary (m) */
     rk_cage_report cage;      /* the (last) cage made */
+    /* rk_scene_build_full_order of a scene with point clouds: each cloud's body (rk_points_body)
+     * in its place, and the layout that takes the run back to rk_scene_build's vertices (points,
+     * then contact surface) for whatever a run writes; layout.nv = 0 and these 0 without a cloud */
+    rk_scene_layout layout;
+    int body_points;          /* the clouds' points, embedded in their bodies */
+    int body_outside;         /* of those, in no tet (exact test): carried by the nearest, warned about */
+    double body_worst_distance;
+    int body_backed_off;      /* body vertices whose inset move was cut back (no inverted, flat tet) */
+    double body_min_volume_ratio; /* the smallest body tet over its lattice tet's volume */
+    double body_mass_scale;   /* the largest density factor that made a body weigh its cloud */
+    double body_volume;       /* the bodies' rest volume (m^3) */
+    double body_mass;         /* the clouds' mass, which the bodies weigh (kg) */
 } rk_scene_sim;
 
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);
+/* The scene as the full-order simulator runs it: as rk_scene_build, but each point cloud as its
+ * full-order body (rk_points_body: the tets filling its contact surface, with the cloud's mass and
+ * its points' materials), its points embedded, and out->layout giving rk_scene_build's vertices
+ * (what romkit fom writes and romkit compare measures). A scene without a cloud builds as
+ * rk_scene_build builds it. */
+int rk_scene_build_full_order(const rk_scene *s, rk_scene_sim *out, rk_error *err);
 
 /* Object k of a built scene on its own: its vertices (mesh.X borrowed: global positions), its tets
  * renumbered from 0 (mesh.tets owned: free it), its first vertex and tet in the scene, and for a

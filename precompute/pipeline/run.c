@@ -12,8 +12,10 @@ int rk_scene_fom_run(const rk_scene_sim *sim, const rk_fom_options *opt, const c
 {
     rk_fom fom;
     if (sim->cloud_points > 0)
-        return rk_fail(err, "%s: a point cloud has no elements; the full-order simulator needs a tet mesh or a "
-                       "closed surface (mesh.file) for every object; a mesh-free rom entry simulates the cloud", label);
+        return rk_fail(err, "%s: a point cloud runs at full order on its body (romkit fom and romkit compare: "
+                       "rk_scene_build_full_order), but nothing trains on that run yet (a data-driven basis, "
+                       "cubature or Koopman fit of a scene with a point cloud); a mesh-free rom entry simulates the "
+                       "cloud", label);
     if (rk_fom_init(&fom, &sim->fem, opt ? opt : &sim->options, err)) return rk_error_prefix(err, "%s", label);
     int steps = fom.opt.is_static ? 1 : sim->steps;
     int rc = frame ? frame(ctx, 0, &fom, 0, err) : 0;

@@ -129,19 +129,23 @@ expect_fail run_jump_needs_koopman "no Koopman operator" "$ROMKIT" run "$TMP/a.r
 expect_fail run_missing_file "cannot open" "$ROMKIT" run "$TMP/none.rombin" --steps 1
 
 # A point cloud, mesh-free (the fuzz seed's lattice): built, stepped, its splats written per frame
-# as PLY (frame 0 the start) with the cloud's points in file order; a mesh asset has none to write,
-# and a point cloud has no full order.
+# as PLY (frame 0 the start) with the cloud's points in file order; a mesh asset has none to write.
+# At full order the cloud runs on its body, its snapshots at the scene's vertices (its 81 points,
+# then its contact surface's 54 vertices).
 if "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/p.rombin" --quiet >/dev/null 2>"$TMP/err" \
     && "$ROMKIT" run "$TMP/p.rombin" --steps 5 --splats "$TMP/splats" --snapshots "$TMP/ps.npy" --quiet >/dev/null 2>>"$TMP/err" \
     && [ "$(ls "$TMP/splats" | wc -l)" = 6 ] && head -c 300 "$TMP/splats/frame_00005.ply" | grep -q "element vertex 81" \
     && grep -q "'shape': (5, 81, 3)" "$TMP/ps.npy"; then ok point_cloud_builds_runs_and_writes_splats
 else fail point_cloud_builds_runs_and_writes_splats "$(tail -c 600 "$TMP/err")"; fi
 expect_fail run_splats_needs_a_cloud "holds no Gaussian splats" "$ROMKIT" run "$TMP/a.rombin" --steps 1 --splats "$TMP/nosplats"
-expect_fail point_cloud_has_no_full_order "a point cloud has no elements" "$ROMKIT" fom tests/fuzz/seed_points.json
+if "$ROMKIT" fom tests/fuzz/seed_points.json --snapshots "$TMP/fs.npy" --quiet >"$TMP/out" 2>"$TMP/err" \
+    && grep -q "81 points embedded in their full-order bodies (0 outside" "$TMP/out" \
+    && grep -q "'shape': (11, 135, 3)" "$TMP/fs.npy"; then ok point_cloud_runs_at_full_order
+else fail point_cloud_runs_at_full_order "$(cat "$TMP/out") $(tail -c 600 "$TMP/err")"; fi
 
 # A point cloud and a tet mesh in one scene (the fuzz seed's lattice resting over a meshed slab):
-# built into an asset and stepped by the runtime, and by the reduced simulator; the full-order
-# simulator refuses it, naming the cloud's missing elements.
+# built into an asset and stepped by the runtime, and by the reduced simulator; at full order (the
+# cloud on its body) with no crossing, and romkit compare measures the reduced model against it.
 cat >"$TMP/mixed.json" <<JSON
 {"objects": [
   {"mesh": {"box": {"size": [0.5, 0.04, 0.2], "cells": [5, 1, 2]}, "translate": [-0.05, -0.15, -0.1]},
@@ -156,7 +160,11 @@ if "$ROMKIT" build "$TMP/mixed.json" -o "$TMP/mixed.rombin" --report "$TMP/mixed
     && "$ROMKIT" run "$TMP/mixed.rombin" --steps 5 --quiet >/dev/null 2>>"$TMP/err" \
     && "$ROMKIT" rom "$TMP/mixed.json" --quiet >/dev/null 2>>"$TMP/err"; then ok cloud_and_mesh_build_run_and_rom
 else fail cloud_and_mesh_build_run_and_rom "$(tail -c 600 "$TMP/err")"; fi
-expect_fail cloud_and_mesh_have_no_full_order "a point cloud has no elements" "$ROMKIT" fom "$TMP/mixed.json"
+if "$ROMKIT" fom "$TMP/mixed.json" --report "$TMP/mixed_fom.json" --quiet >/dev/null 2>"$TMP/err" \
+    && python3 -c "import json, sys; r = json.load(open(sys.argv[1])); sys.exit(not (r['contact']['intersections'] == 0 and r['cloud_body']['points'] == 81))" "$TMP/mixed_fom.json" \
+    && "$ROMKIT" compare "$TMP/mixed.json" --report "$TMP/mixed_cmp.json" --quiet >/dev/null 2>>"$TMP/err" \
+    && python3 -c "import json, math, sys; m = json.load(open(sys.argv[1]))['methods'][1]; sys.exit(not math.isfinite(m['normalized_mse']))" "$TMP/mixed_cmp.json"; then ok cloud_and_mesh_run_at_full_order_and_compare
+else fail cloud_and_mesh_run_at_full_order_and_compare "$(tail -c 600 "$TMP/err")"; fi
 
 # The freeform paper's largest model steps in the desktop runtime: m = 32 eigen-weights on the
 # Table-1 beam is r = 396 (issue 37; the runtime refused it when ROMRT_MAX_R was 256).
