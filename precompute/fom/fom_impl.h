@@ -54,6 +54,7 @@ struct rk_fom_impl {
     double al_kappa, al_mass;
     /* Owned copies of what opt pointed to (s->opt points here after init). */
     rk_prescribed *groups;
+    rk_chamber *chambers;   /* opt.nchambers, their faces copied */
     double *force;
     /* Contact (when obstacles, several objects or self-contact): the model, this evaluation's pairs,
      * the barrier's gradient alone (for kappa). */

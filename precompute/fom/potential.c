@@ -124,6 +124,20 @@ static double obstacle_term(rk_fom *s, const double *y, double *g)
     return E;
 }
 
+/* The chambers' pressure work load sum_c P_c V_c(y) (pressure.c: -P V is the load's potential), and
+ * with g its negative gradient, the follower forces, subtracted from g. Its stiffness stays out of
+ * the Newton matrix (pressure.c says why). */
+static double chamber_work(rk_fom *s, double load, const double *y, double *g)
+{
+    double W = 0;
+    for (int k = 0; k < s->opt.nchambers; k++) {
+        const rk_chamber *c = &s->impl->chambers[k];
+        W += load * c->pressure * rk_chamber_volume(c, y);
+        if (g) rk_chamber_force(c, y, -load, g);
+    }
+    return W;
+}
+
 double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, double *g, int hessian,
                         double *magnitude, rk_error *err)
 {
@@ -145,6 +159,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
         if (!T->no_elastic) rk_fem_add_gradient(f, y, 1.0, g);
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
+    if (isfinite(stored)) work += chamber_work(s, T->load, y, g);
     if (im->nobs) stored += obstacle_term(s, y, g);
     tc = rk_now();
     if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);

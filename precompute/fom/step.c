@@ -123,3 +123,8 @@ void rk_fom_set_force(rk_fom *s, const double *force)
     for (int i = 0; i < im->n; i++) im->f_ext[i] += im->force[i];
     s->opt.force = im->force;
 }
+
+void rk_fom_set_pressure(rk_fom *s, const double *pressure)
+{
+    for (int k = 0; k < s->opt.nchambers; k++) s->impl->chambers[k].pressure = pressure[k];
+}
