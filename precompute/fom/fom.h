@@ -48,6 +48,10 @@ typedef struct {
     int nf;
     int *tris;           /* 3 nf vertex indices, counter-clockwise seen from the void */
     double pressure;     /* Pa */
+    int nkeys;           /* > 0: the pressure follows keys instead, each step taking its value at the
+                          * step's end time */
+    double *keys;        /* 2 nkeys: (t, P) pairs, times increasing, linear between them and held
+                          * before the first and after the last */
 } rk_chamber;
 
 /* Face (xa, xb, xc)'s force at pressure P on each of its three vertices (f, 3 values: the same on
@@ -58,7 +62,10 @@ void rk_pressure_face(const double *xa, const double *xb, const double *xc, doub
 void rk_chamber_force(const rk_chamber *c, const double *x, double scale, double *f);
 /* The void's volume at x (m^3; positive for a chamber of faces pointing into it). */
 double rk_chamber_volume(const rk_chamber *c, const double *x);
-/* A chamber of nv-vertex mesh: faces given, vertices in range, finite pressure, and a closed,
+/* The chamber's pressure at time t (its keys, or its constant pressure). */
+double rk_chamber_pressure_at(const rk_chamber *c, double t);
+/* A chamber of nv-vertex mesh: faces given, vertices in range, finite pressure and keys (times
+ * increasing), and a closed,
  * consistently oriented surface (every edge shared by two faces in opposite directions; names the
  * first edge that is not). */
 int rk_chamber_check(const rk_chamber *c, int nv, rk_error *err);
@@ -204,8 +211,8 @@ void rk_fom_set_state(rk_fom *s, const double *x, const double *v, const double 
  * integrator (BDF2 keeps its history, as a fresh rk_fom_init per step would not). */
 void rk_fom_set_force(rk_fom *s, const double *force);
 
-/* Replaces the chambers' pressures (Pa, nchambers values) from the next step on: a controller's
- * input, as rk_fom_set_force. */
+/* Replaces the chambers' pressures (Pa, nchambers values; their keys dropped) from the next step on:
+ * a controller's input, as rk_fom_set_force. */
 void rk_fom_set_pressure(rk_fom *s, const double *pressure);
 
 /* ---- the step's potential, for a solver of the step other than the full-order Newton ----

@@ -96,6 +96,9 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x);
  * (the pattern stays as it is; the solver zeroes their gradient). */
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H);
 
+/* Keyed chambers take their pressure at time t (rk_chamber_pressure_at). */
+void rk_fom_pressure_at(rk_fom *s, double t);
+
 /* The moving obstacles' targets at time t for the next solves (multipliers reset). */
 void rk_fom_obstacle_targets(rk_fom *s, double t);
 

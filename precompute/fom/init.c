@@ -65,9 +65,11 @@ static int copy_chambers(rk_fom *s, rk_error *err)
     if (!im->chambers) return -1;
     for (int k = 0; k < n; k++) {
         const rk_chamber *c = &s->opt.chambers[k];
-        im->chambers[k] = (rk_chamber){.nf = c->nf, .pressure = c->pressure};
+        im->chambers[k] = (rk_chamber){.nf = c->nf, .pressure = c->pressure, .nkeys = c->nkeys};
         if (!(im->chambers[k].tris = rk_calloc(3 * (size_t)c->nf, sizeof(int), err))) return -1;
         memcpy(im->chambers[k].tris, c->tris, sizeof(int) * 3 * (size_t)c->nf);
+        if (!(im->chambers[k].keys = rk_calloc(2 * (size_t)c->nkeys + 1, sizeof(double), err))) return -1;
+        if (c->nkeys) memcpy(im->chambers[k].keys, c->keys, sizeof(double) * 2 * (size_t)c->nkeys);
     }
     s->opt.chambers = im->chambers;
     return 0;
@@ -274,7 +276,7 @@ void rk_fom_free(rk_fom *s)
             for (int k = 0; k < s->opt.nprescribed; k++) free(im->groups[k].verts);
         free(im->groups);
         if (im->chambers)
-            for (int k = 0; k < s->opt.nchambers; k++) free(im->chambers[k].tris);
+            for (int k = 0; k < s->opt.nchambers; k++) free(im->chambers[k].tris), free(im->chambers[k].keys);
         free(im->chambers);
         if (im->has_contact) rk_contact_free(&im->contact);
         rk_contact_set_free(&im->pairs);

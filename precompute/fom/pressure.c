@@ -79,6 +79,19 @@ double rk_chamber_volume(const rk_chamber *c, const double *x)
     return V;
 }
 
+double rk_chamber_pressure_at(const rk_chamber *c, double t)
+{
+    if (c->nkeys == 0) return c->pressure;
+    const double *k = c->keys;
+    if (t <= k[0]) return k[1];
+    for (int i = 1; i < c->nkeys; i++)
+        if (t <= k[2 * i]) {
+            double w = (t - k[2 * i - 2]) / (k[2 * i] - k[2 * i - 2]);
+            return (1 - w) * k[2 * i - 1] + w * k[2 * i + 1];
+        }
+    return k[2 * c->nkeys - 1];
+}
+
 static int edge_cmp(const void *p, const void *q)
 {
     const long long *a = p, *b = q;
@@ -89,6 +102,14 @@ int rk_chamber_check(const rk_chamber *c, int nv, rk_error *err)
 {
     if (c->nf < 1 || !c->tris) return rk_fail(err, "has no faces");
     if (!isfinite(c->pressure)) return rk_fail(err, "pressure %g is not finite", c->pressure);
+    if (c->nkeys < 0 || (c->nkeys > 0 && !c->keys)) return rk_fail(err, "%d pressure keys given without data", c->nkeys);
+    for (int k = 0; k < c->nkeys; k++) {
+        if (!isfinite(c->keys[2 * k]) || !isfinite(c->keys[2 * k + 1]))
+            return rk_fail(err, "pressure key %d (%g s, %g Pa) is not finite", k, c->keys[2 * k], c->keys[2 * k + 1]);
+        if (k > 0 && !(c->keys[2 * k] > c->keys[2 * k - 2]))
+            return rk_fail(err, "pressure key %d at %g s does not come after key %d at %g s", k, c->keys[2 * k], k - 1,
+                           c->keys[2 * k - 2]);
+    }
     for (int t = 0; t < 3 * c->nf; t++)
         if (c->tris[t] < 0 || c->tris[t] >= nv)
             return rk_fail(err, "face %d: vertex %d out of range (the mesh has %d)", t / 3, c->tris[t], nv);

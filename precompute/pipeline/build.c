@@ -428,6 +428,8 @@ static int build_chambers(const rk_scene *s, rk_scene_sim *out, double slack, rk
             const rk_scene_chamber *sc = &s->objects[k].chambers[j];
             snprintf(out->chamber_name[c], sizeof out->chamber_name[c], "%s", sc->name);
             ch[c].pressure = sc->pressure;
+            ch[c].nkeys = sc->nkeys;
+            ch[c].keys = sc->keys; /* the scene's: rk_fom_init copies them */
             if (!(ch[c].tris = rk_calloc(3 * (size_t)nf + 1, sizeof(int), err))) goto done;
             for (int t = 0; t < nf; t++) {
                 const int *f = &tris[3 * t];

@@ -50,9 +50,9 @@ static int chambers_init(const rk_scene_sim *sim, const rk_control_options *o, g
         g->pressures++;
     }
     for (int c = 0; c < opt->nchambers; c++)
-        if (opt->chambers[c].pressure != 0)
-            return rk_fail(err, "chamber \"%s\" holds %g Pa in the scene: control solves the chambers' pressures from "
-                           "0 (set it to 0)", sim->chamber_name[c], opt->chambers[c].pressure);
+        if (opt->chambers[c].pressure != 0 || opt->chambers[c].nkeys)
+            return rk_fail(err, "chamber \"%s\" holds %g Pa (or a schedule) in the scene: control solves the chambers' "
+                           "pressures from 0 (set it to 0)", sim->chamber_name[c], opt->chambers[c].pressure);
     if (g->pressures && !(o->train_pressure > 0))
         return rk_fail(err, "a pressure input needs a training pressure (Pa, > 0)");
     if (g->pressures && !o->nfollow)

@@ -302,6 +302,30 @@ static int parse_chamber(const rk_json_ctx *c, const cJSON *it, const char *path
                             RK_CHAMBER_NAME - 1);
     snprintf(ch->name, sizeof ch->name, "%s", name);
     if (rk_json_box(c, it, path, &ch->box)) return -1;
+    char p[PATH_LEN];
+    const cJSON *sched = rk_json_child(it, path, "pressure", p, sizeof p);
+    if (cJSON_IsArray(sched)) { /* [[t, P], ...]: times increasing */
+        int n = cJSON_GetArraySize(sched);
+        if (n < 1) return rk_json_fail(c, p, "a pressure schedule needs at least one [t, P] pair");
+        if (!(ch->keys = rk_calloc(2 * (size_t)n, sizeof(double), c->err))) return -1;
+        for (int k = 0; k < n; k++) {
+            const cJSON *kv = cJSON_GetArrayItem(sched, k);
+            if (!cJSON_IsArray(kv) || cJSON_GetArraySize(kv) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(kv, 0)) ||
+                !cJSON_IsNumber(cJSON_GetArrayItem(kv, 1)))
+                return rk_json_fail(c, p, "entry %d must be [t, P] (seconds, pascals)", k);
+            ch->keys[2 * k] = cJSON_GetArrayItem(kv, 0)->valuedouble;
+            ch->keys[2 * k + 1] = cJSON_GetArrayItem(kv, 1)->valuedouble;
+            if (!isfinite(ch->keys[2 * k]) || !isfinite(ch->keys[2 * k + 1]))
+                return rk_json_fail(c, p, "entry %d is not finite", k);
+            if (k > 0 && !(ch->keys[2 * k] > ch->keys[2 * k - 2]))
+                return rk_json_fail(c, p, "entry %d's time %g s does not come after %g s", k, ch->keys[2 * k],
+                                    ch->keys[2 * k - 2]);
+            ch->nkeys++;
+        }
+        return 0;
+    }
+    if (sched && !cJSON_IsNumber(sched))
+        return rk_json_fail(c, p, "must be a pressure in Pa or a schedule [[t, P], ...]");
     if (rk_json_number(c, it, path, "pressure", 0, &ch->pressure)) return -1;
     if (!isfinite(ch->pressure)) return rk_json_fail(c, path, "pressure %g (Pa) is not finite", ch->pressure);
     return 0;
@@ -537,6 +561,7 @@ void rk_scene_free(rk_scene *s)
         free(s->objects[i].motions);
         free(s->objects[i].loads);
         free(s->objects[i].voids);
+        for (int j = 0; s->objects[i].chambers && j < s->objects[i].nchambers; j++) free(s->objects[i].chambers[j].keys);
         free(s->objects[i].chambers);
     }
     free(s->objects);

@@ -76,6 +76,8 @@ typedef struct {
     char name[RK_CHAMBER_NAME]; /* unique in the scene: romkit control's inputs name it */
     rk_box box;
     double pressure;       /* Pa */
+    int nkeys;             /* "pressure": [[t, P], ...] instead: keys (rk_chamber's), 0: constant */
+    double *keys;          /* 2 nkeys */
 } rk_scene_chamber;
 
 typedef enum { RK_SHAPE_FILE = 0, RK_SHAPE_BOX = 1, RK_SHAPE_POINTS = 2 } rk_shape_kind;

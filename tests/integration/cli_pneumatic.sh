@@ -53,3 +53,9 @@ expect_fail pneumatic_refuses_a_name_twice "'c0' is already objects" \
 sed 's/"pressure": 0}/"pressure": "high"}/' "$TMP/finger.json" >"$TMP/word.json"
 expect_fail pneumatic_refuses_a_pressure_that_is_no_number "pressure" \
     "$ROMKIT" fom "$TMP/word.json" --quiet
+sed 's/"pressure": 0}/"pressure": [[0, 0], [0.2, 1e4], [0.1, 2e4]]}/' "$TMP/finger.json" >"$TMP/keys.json"
+expect_fail pneumatic_refuses_keys_out_of_order "entry 2's time 0.1 s does not come after 0.2 s" \
+    "$ROMKIT" fom "$TMP/keys.json" --quiet
+sed 's/"pressure": 0}/"pressure": [[0, 0], [0.2, 1e4]]}/' "$TMP/finger.json" >"$TMP/keyed.json"
+expect_fail pneumatic_control_refuses_a_pressurised_scene 'chamber "c0" holds' \
+    "$ROMKIT" control "$TMP/keyed.json" --target "$TMP/target.npy" --inputs c0:p --follow tip --train-pressure 1 --quiet

@@ -130,11 +130,33 @@ TEST(outer_pressure_compresses_a_box_uniformly)
     fem_body_free(&body);
 }
 
+TEST(keyed_pressure_is_linear_between_keys_and_held_outside)
+{
+    double keys[6] = {0.1, 0, 0.3, 100, 0.4, 50};
+    rk_chamber c = {.pressure = 7, .nkeys = 3, .keys = keys};
+    double t[6] = {0, 0.1, 0.2, 0.3, 0.35, 1}, want[6] = {0, 0, 50, 100, 75, 50};
+    for (int i = 0; i < 6; i++)
+        CHECK(fabs(rk_chamber_pressure_at(&c, t[i]) - want[i]) < 1e-12, "at %g s: %g Pa, expected %g", t[i],
+              rk_chamber_pressure_at(&c, t[i]), want[i]);
+    c.nkeys = 0;
+    CHECK(rk_chamber_pressure_at(&c, 0.2) == 7, "an unkeyed chamber's pressure is its own");
+    rk_error err;
+    carved cv;
+    CHECK_OK(carve_box(&cv, 4, 1.0, 0.25, 0.75, &err));
+    cv.c.nkeys = 3;
+    cv.c.keys = keys;
+    keys[2] = 0.1; /* a key at the same time as the one before */
+    CHECK(rk_chamber_check(&cv.c, cv.m.nv, &err) != 0 && strstr(err.msg, "does not come after"), "keys: '%s'",
+          err.msg);
+    carved_free(&cv);
+}
+
 int main(void)
 {
     RUN(face_force_derivative_matches_finite_differences);
     RUN(closed_chamber_force_is_the_volume_gradient_and_sums_to_zero);
     RUN(open_empty_and_nan_chambers_are_refused);
     RUN(outer_pressure_compresses_a_box_uniformly);
+    RUN(keyed_pressure_is_linear_between_keys_and_held_outside);
     return test_finish();
 }
