@@ -66,3 +66,6 @@ expect_fail pneumatic_refuses_keys_out_of_order "entry 2's time 0.1 s does not c
 sed 's/"pressure": 0}/"pressure": [[0, 0], [0.2, 1e4]]}/' "$TMP/finger.json" >"$TMP/keyed.json"
 expect_fail pneumatic_control_refuses_a_pressurised_scene 'chamber "c0" holds' \
     "$ROMKIT" control "$TMP/keyed.json" --target "$TMP/target.npy" --inputs c0:p --follow tip --train-pressure 1 --quiet
+# a Koopman bake of a pressurised scene: the fit would take the follower pressure for no forcing
+expect_fail pneumatic_koopman_bake_refuses_a_pressure "chamber 0 holds a pressure" \
+    "$ROMKIT" build "$TMP/pressed.json" -o "$TMP/pressed.rombin" --quiet
