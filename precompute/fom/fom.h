@@ -60,6 +60,9 @@ typedef struct {
 void rk_pressure_face(const double *xa, const double *xb, const double *xc, double P, double f[3], double J[27]);
 /* f (3 nv) += the chamber's force at positions x under scale times its pressure. */
 void rk_chamber_force(const rk_chamber *c, const double *x, double scale, double *f);
+/* H (upper-stored, a pattern holding every face's vertex pairs) += the Hessian of -scale P V at x,
+ * the load stiffness -d f / dx (symmetric summed over the closed chamber; indefinite). */
+void rk_chamber_add_stiffness(const rk_chamber *c, const double *x, double scale, rk_sparse *H);
 /* The void's volume at x (m^3; positive for a chamber of faces pointing into it). */
 double rk_chamber_volume(const rk_chamber *c, const double *x);
 /* The chamber's pressure at time t (its keys, or its constant pressure). */

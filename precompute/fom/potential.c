@@ -37,6 +37,8 @@ static void assemble_hessian(rk_fom *s, const rk_fom_terms *T, const double *x, 
             for (int i = 0; i < 3; i++) H->val[rk_fem_diag_slot(H, v, i, i)] += T->reg * f->vertex_mass[v];
     double t0 = rk_now();
     rk_fem_add_hessian(f, x, 1.0, !im->exact_elastic, H);
+    for (int k = 0; im->exact_elastic && k < s->opt.nchambers; k++) /* indefinite: with the exact dP/dF only */
+        rk_chamber_add_stiffness(&im->chambers[k], x, T->load, H);
     s->stats.seconds_hessian += rk_now() - t0;
 }
 
@@ -125,8 +127,8 @@ static double obstacle_term(rk_fom *s, const double *y, double *g)
 }
 
 /* The chambers' pressure work load sum_c P_c V_c(y) (pressure.c: -P V is the load's potential), and
- * with g its negative gradient, the follower forces, subtracted from g. Its stiffness stays out of
- * the Newton matrix (pressure.c says why). */
+ * with g its negative gradient, the follower forces, subtracted from g. Its stiffness joins the
+ * Newton matrix with the exact dP/dF only (assemble_hessian; pressure.c says why). */
 static double chamber_work(rk_fom *s, double load, const double *y, double *g)
 {
     double W = 0;

@@ -10,10 +10,12 @@
  * dV/dx_a = -1/6 sum (x_b x x_c) equals -1/6 sum n2 (the edge terms of the neighbouring faces
  * cancel), so f = P dV/dx exactly and the load is the potential W = -P V (hydrostatic work). The
  * time step's incremental potential takes W, its gradient is exact, the line search sees the
- * pressure's work, and the load stiffness -P d2V/dx2 is symmetric. It is left out of the Newton
- * matrix (lagged): indefinite, it could make the matrix that CHOLMOD factors lose definiteness;
- * leaving it out costs a few more Newton iterations when P is a sizeable part of the stiffness. An
- * open face set has no such W and is refused (rk_chamber_check). */
+ * pressure's work, and the load stiffness -P d2V/dx2 is symmetric. It is indefinite, so it goes
+ * into the Newton matrix only with the elements' exact dP/dF (time steps, where the inertia keeps
+ * the matrix definite almost always); where CHOLMOD finds that matrix indefinite, the projected one
+ * it falls back to, and every static solve's, leaves it out (lagged: a few more Newton iterations
+ * when P is a sizeable part of the stiffness). An open face set has no such W and is refused
+ * (rk_chamber_check). */
 #include "fom/fom.h"
 
 #include <math.h>
@@ -59,6 +61,26 @@ void rk_chamber_force(const rk_chamber *c, const double *x, double scale, double
         rk_pressure_face(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], scale * c->pressure, fv, NULL);
         for (int k = 0; k < 3; k++)
             for (int i = 0; i < 3; i++) f[3 * v[k] + i] += fv[i];
+    }
+}
+
+void rk_chamber_add_stiffness(const rk_chamber *c, const double *x, double scale, rk_sparse *H)
+{
+    for (int t = 0; t < c->nf; t++) {
+        const int *v = &c->tris[3 * t];
+        double f[3], J[27];
+        rk_pressure_face(&x[3 * v[0]], &x[3 * v[1]], &x[3 * v[2]], scale * c->pressure, f, J);
+        /* the potential's Hessian is -df/dx: vertex v[k] takes -J_w from vertex v[w]; only the upper
+         * triangle is stored, which summed over the closed chamber is the symmetric whole's */
+        for (int k = 0; k < 3; k++)
+            for (int w = 0; w < 3; w++)
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++) {
+                        int row = 3 * v[k] + i, col = 3 * v[w] + j;
+                        if (row > col) continue;
+                        int slot = rk_p2_slot(H, row, col); /* a face's vertices share a tet: in the pattern */
+                        if (slot < H->colptr[col + 1] && H->rowind[slot] == row) H->val[slot] -= J[9 * w + 3 * i + j];
+                    }
     }
 }
 

@@ -130,6 +130,48 @@ TEST(outer_pressure_compresses_a_box_uniformly)
     fem_body_free(&body);
 }
 
+/* The load stiffness the Newton matrix takes: the Hessian of -P V, the negative derivative of the
+ * summed force, symmetric over the closed chamber (its upper triangle against finite differences). */
+TEST(chamber_stiffness_is_the_force_derivative)
+{
+    rk_error err;
+    carved cv;
+    CHECK_OK(carve_box(&cv, 4, 1.0, 0.25, 0.75, &err));
+    cv.c.pressure = 1e3;
+    fem_body body = {.m = cv.m};
+    CHECK_OK(fem_body_init(&body, (rk_material){RK_MAT_NEOHOOKEAN, 1e6, 0.3, 1000.0}, &err));
+    rk_sparse H;
+    memset(&H, 0, sizeof H);
+    CHECK_OK(rk_sparse_alloc_pattern(&body.f, &H, &err));
+    int n = 3 * cv.m.nv;
+    double *x = calloc((size_t)n, sizeof(double)), *fp = calloc((size_t)n, sizeof(double)),
+           *fm = calloc((size_t)n, sizeof(double));
+    unsigned seed = 5;
+    for (int i = 0; i < n; i++) x[i] = cv.m.X[i] + 0.02 * (urand(&seed) - 0.5);
+    rk_chamber_add_stiffness(&cv.c, x, 1.0, &H);
+    double worst = 0, big = 0;
+    for (int col = 0; col < n; col++) {
+        double h = 1e-6, keep = x[col];
+        memset(fp, 0, sizeof(double) * n), memset(fm, 0, sizeof(double) * n);
+        x[col] = keep + h;
+        rk_chamber_force(&cv.c, x, 1.0, fp);
+        x[col] = keep - h;
+        rk_chamber_force(&cv.c, x, 1.0, fm);
+        x[col] = keep;
+        for (int k = H.colptr[col]; k < H.colptr[col + 1]; k++) {
+            double fd = -(fp[H.rowind[k]] - fm[H.rowind[k]]) / (2 * h);
+            worst = fmax(worst, fabs(H.val[k] - fd));
+            big = fmax(big, fabs(fd));
+        }
+    }
+    CHECK(big > 0 && worst <= 1e-6 * big, "stiffness off the force's derivative by %g (largest %g)", worst, big);
+    free(x), free(fp), free(fm);
+    rk_sparse_free(&H);
+    rk_fem_free(&body.f);
+    free(cv.c.tris);
+    rk_mesh_free(&body.m);
+}
+
 TEST(keyed_pressure_is_linear_between_keys_and_held_outside)
 {
     double keys[6] = {0.1, 0, 0.3, 100, 0.4, 50};
@@ -157,6 +199,7 @@ int main(void)
     RUN(closed_chamber_force_is_the_volume_gradient_and_sums_to_zero);
     RUN(open_empty_and_nan_chambers_are_refused);
     RUN(outer_pressure_compresses_a_box_uniformly);
+    RUN(chamber_stiffness_is_the_force_derivative);
     RUN(keyed_pressure_is_linear_between_keys_and_held_outside);
     return test_finish();
 }
