@@ -43,7 +43,7 @@ typedef struct {
  * under a gauge pressure that pushes its walls out of the void. The load is the follower force
  * -P n2 / 6 on each vertex of a face (n2: twice the deformed face's area times its normal), the
  * gradient of -P V(x), V the void's deformed volume, so it enters the incremental potential as
- * -P V (exact gradient; its stiffness is lagged, left out of the Newton matrix: pressure.c). */
+ * -P V (exact gradient; its stiffness joins the exact Newton matrix, lagged elsewhere: pressure.c). */
 typedef struct {
     int nf;
     int *tris;           /* 3 nf vertex indices, counter-clockwise seen from the void */
