@@ -27,8 +27,9 @@
 static void control_usage(FILE *f)
 {
     fprintf(f,
-            "usage: romkit control SCENE.json --target T.npy --inputs GROUP:AXES[,GROUP:AXES...]\n"
+            "usage: romkit control SCENE.json --target T.npy --inputs GROUP:AXES|CHAMBER:p[,...]\n"
             "                      [--follow GROUP[,GROUP...]] [--horizon H] [--train-force N] [--nonnegative]\n"
+            "                      [--train-pressure PA]\n"
             "                      [--regularize RHO]\n"
             "                      [--report R.json] [--forces C.npy] [--snapshots S.npy] [--quiet]\n"
             "  solves for forces on the scene's named vertex groups (rom.asset.groups of the first rom\n"
@@ -37,12 +38,16 @@ static void control_usage(FILE *f)
             "  T.npy        T x n x 3 positions, frame 0 the scene's start, one frame per scene time step\n"
             "               (romkit fom --snapshots of the same object under other loads)\n"
             "  --inputs     the controlled forces: tip:xyz is three inputs, tip's total force along x, y\n"
-            "               and z (newtons, spread over the group's vertices by mass)\n"
-            "  --follow     the groups whose vertices must follow the target (default: the inputs' groups)\n"
+            "               and z (newtons, spread over the group's vertices by mass); c0:p is chamber\n"
+            "               c0's pressure (pascals; objects[].chambers), a follower load on its walls whose\n"
+            "               map A(X) is updated from the predicted state, 5 solves a frame (Sec. 7.3)\n"
+            "  --follow     the groups whose vertices must follow the target (default: the inputs' groups;\n"
+            "               required with a pressure input)\n"
             "  --horizon    each frame's force is the constant one that meets the target H frames later,\n"
             "               applied for one step, solved again at the next frame (default 1)\n"
             "  --train-force  newtons held on each input during its training run (default: the group's weight)\n"
-            "  --nonnegative  forces >= 0 (NNLS)\n"
+            "  --train-pressure  pascals held in each chamber during its training run (required with one)\n"
+            "  --nonnegative  forces and pressures >= 0 (NNLS)\n"
             "  --regularize   RHO >= 0: each frame minimises |A C - b|^2 + lambda^2 |C|^2 with lambda = RHO times\n"
             "               A's largest singular value (Tikhonov), so that an input the model barely\n"
             "               responds to (a pull along a stiff beam) is not spent on model error\n"
@@ -58,7 +63,8 @@ static void control_usage(FILE *f)
 }
 
 typedef struct {
-    const char *scene, *target, *inputs, *follow, *horizon, *train_force, *regularize, *report, *forces, *snapshots;
+    const char *scene, *target, *inputs, *follow, *horizon, *train_force, *train_pressure, *regularize, *report, *forces,
+        *snapshots;
     int nonnegative, quiet;
 } control_args;
 
@@ -69,20 +75,44 @@ static int group_index(const rk_rom_entry *e, const char *name, size_t len, rk_e
     return rk_fail(err, "no group \"%.*s\" in %s.asset.groups (%d named)", (int)len, name, e->path, e->asset.ngroups);
 }
 
-/* "tip:xyz,base:y" into inputs; "tip,base" into follow groups. */
-static int parse_inputs(const rk_rom_entry *e, const char *text, rk_control_options *o, rk_error *err)
+/* Whether the scene has a chamber of that name (objects[].chambers). */
+static int has_chamber(const rk_scene *s, const char *name, size_t len)
+{
+    for (int k = 0; k < s->nobjects; k++)
+        for (int j = 0; j < s->objects[k].nchambers; j++)
+            if (strlen(s->objects[k].chambers[j].name) == len && !strncmp(s->objects[k].chambers[j].name, name, len))
+                return 1;
+    return 0;
+}
+
+/* "tip:xyz,base:y,c0:p" into inputs (CHAMBER:p a chamber's pressure); "tip,base" into follow groups. */
+static int parse_inputs(const rk_scene *s, const rk_rom_entry *e, const char *text, rk_control_options *o,
+                        rk_error *err)
 {
     for (const char *p = text; *p;) {
         const char *end = strchr(p, ','), *colon = strchr(p, ':');
         if (!end) end = p + strlen(p);
         if (!colon || colon > end || colon + 1 == end)
-            return rk_fail(err, "--inputs: '%.*s' is not GROUP:AXES (axes among x, y, z)", (int)(end - p), p);
+            return rk_fail(err, "--inputs: '%.*s' is not GROUP:AXES (axes among x, y, z) or CHAMBER:p", (int)(end - p),
+                           p);
+        if (end == colon + 2 && colon[1] == 'p') { /* a chamber's pressure */
+            size_t len = (size_t)(colon - p);
+            if (!has_chamber(s, p, len))
+                return rk_fail(err, "--inputs: '%.*s': the scene has no chamber \"%.*s\" (objects[].chambers)",
+                               (int)(end - p), p, (int)len, p);
+            if (o->ninputs == RK_CONTROL_MAX_INPUTS) return rk_fail(err, "--inputs: at most %d", RK_CONTROL_MAX_INPUTS);
+            rk_control_input *in = &o->input[o->ninputs++];
+            memset(in, 0, sizeof *in);
+            snprintf(in->chamber, sizeof in->chamber, "%.*s", (int)len, p);
+            p = *end ? end + 1 : end;
+            continue;
+        }
         int q = group_index(e, p, (size_t)(colon - p), err);
         if (q < 0) return rk_error_prefix(err, "--inputs");
         for (const char *a = colon + 1; a < end; a++) {
             if (*a < 'x' || *a > 'z') return rk_fail(err, "--inputs: axis '%c' in '%.*s' is not x, y or z", *a, (int)(end - p), p);
             if (o->ninputs == RK_CONTROL_MAX_INPUTS) return rk_fail(err, "--inputs: at most %d", RK_CONTROL_MAX_INPUTS);
-            o->input[o->ninputs++] = (rk_control_input){q, *a - 'x'};
+            o->input[o->ninputs++] = (rk_control_input){.group = q, .axis = *a - 'x'};
         }
         p = *end ? end + 1 : end;
     }
@@ -186,7 +216,11 @@ static int run_control(const control_args *a, rk_error *err)
                 a->regularize);
         goto done_scene;
     }
-    if (parse_inputs(e, a->inputs, &o, err) || (a->follow && parse_follow(e, a->follow, &o, err))) goto done_scene;
+    if (a->train_pressure && cli_real(a->train_pressure, 1e-300, 1e300, &o.train_pressure)) {
+        rk_fail(err, "--train-pressure must be a positive number of pascals, got '%s'", a->train_pressure);
+        goto done_scene;
+    }
+    if (parse_inputs(&scene, e, a->inputs, &o, err) || (a->follow && parse_follow(e, a->follow, &o, err))) goto done_scene;
     if (rk_scene_build(&scene, &sim, err)) goto done_scene;
     if (load_target(a->target, &sim, &target, &T, err)) goto done_sim;
     int n3 = 3 * sim.mesh.nv;
@@ -228,6 +262,7 @@ int cmd_control(int argc, char **argv)
     const cli_option opts[] = {{"--target", &a.target, NULL},   {"--inputs", &a.inputs, NULL},
                                {"--follow", &a.follow, NULL},   {"--horizon", &a.horizon, NULL},
                                {"--train-force", &a.train_force, NULL}, {"--nonnegative", NULL, &a.nonnegative},
+                               {"--train-pressure", &a.train_pressure, NULL},
                                {"--regularize", &a.regularize, NULL},
                                {"--report", &a.report, NULL},   {"--forces", &a.forces, NULL},
                                {"--snapshots", &a.snapshots, NULL}, {"--quiet", NULL, &a.quiet},

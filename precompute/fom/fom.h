@@ -38,6 +38,41 @@ typedef struct {
     double velocity[3];  /* translate: m/s */
 } rk_prescribed;
 
+/* A pneumatic chamber (pressure.c; koopman-dmd-log-linear paper, Sec. 7.3): the closed surface of
+ * an interior void, as boundary faces of the mesh oriented outward of the solid (into the void),
+ * under a gauge pressure that pushes its walls out of the void. The load is the follower force
+ * -P n2 / 6 on each vertex of a face (n2: twice the deformed face's area times its normal), the
+ * gradient of -P V(x), V the void's deformed volume, so it enters the incremental potential as
+ * -P V (exact gradient; its stiffness joins the exact Newton matrix, lagged elsewhere: pressure.c). */
+typedef struct {
+    int nf;
+    int *tris;           /* 3 nf vertex indices, counter-clockwise seen from the void */
+    double pressure;     /* Pa */
+    int nkeys;           /* > 0: the pressure follows keys instead, each step taking its value at the
+                          * step's end time */
+    double *keys;        /* 2 nkeys: (t, P) pairs, times increasing, linear between them and held
+                          * before the first and after the last */
+} rk_chamber;
+
+/* Face (xa, xb, xc)'s force at pressure P on each of its three vertices (f, 3 values: the same on
+ * all three) and, with J (27 values), its derivative: J[9 w + 3 i + j] = d f_i / d x_w,j for
+ * w = a, b, c (non-symmetric per face; symmetric summed over a closed chamber). */
+void rk_pressure_face(const double *xa, const double *xb, const double *xc, double P, double f[3], double J[27]);
+/* f (3 nv) += the chamber's force at positions x under scale times its pressure. */
+void rk_chamber_force(const rk_chamber *c, const double *x, double scale, double *f);
+/* H (upper-stored, a pattern holding every face's vertex pairs) += the Hessian of -scale P V at x,
+ * the load stiffness -d f / dx (symmetric summed over the closed chamber; indefinite). */
+void rk_chamber_add_stiffness(const rk_chamber *c, const double *x, double scale, rk_sparse *H);
+/* The void's volume at x (m^3; positive for a chamber of faces pointing into it). */
+double rk_chamber_volume(const rk_chamber *c, const double *x);
+/* The chamber's pressure at time t (its keys, or its constant pressure). */
+double rk_chamber_pressure_at(const rk_chamber *c, double t);
+/* A chamber of nv-vertex mesh: faces given, vertices in range, finite pressure and keys (times
+ * increasing), and a closed,
+ * consistently oriented surface (every edge shared by two faces in opposite directions; names the
+ * first edge that is not). */
+int rk_chamber_check(const rk_chamber *c, int nv, rk_error *err);
+
 /* Where a group's vertices are at time t: x = R X + shift (fixed: R = I, shift = 0; translate:
  * shift = velocity t; twist: rotation by rate t about the axis through center, Rodrigues). */
 void rk_prescribed_transform(const rk_prescribed *p, double t, double R[9], double shift[3]);
@@ -66,6 +101,8 @@ typedef struct {
     double pin_stiffness;     /* reduced models only: the penalty holding prescribed vertices, in
                                * units of (lambda + 2 mu) / (rho L^2) (rom.h); <= 0: RK_ROM_PIN_STIFFNESS */
     int newton_max_iter;
+    int nchambers;            /* pneumatic chambers under pressure (rk_chamber), full order only */
+    const rk_chamber *chambers;
     int obstacle_progress;    /* moving obstacles are not unknowns of the full-order Newton: the solver
                                * given to rk_fom_step_with moves them by their progress along the
                                * step's way (contact.h, rk_obstacle_way; precompute/adaptive), with
@@ -84,6 +121,7 @@ void rk_fom_default_options(rk_fom_options *o);
 
 /* The incremental potential being minimised (fom.h, paper Eq. 2 divided by alpha h^2):
  *   E(x) = w_inertia/2 |x - xtilde|_M^2 + Psi(x) + B(x) + w_damping/2 |x - xt|_C^2 - load f.x
+ *          - load sum_c P_c V_c(x)    (the chambers' pressure work, rk_chamber)
  * with C = a M + b K0. Dynamics: w_inertia = 1/(alpha h^2), w_damping = 1/h, load = 1.
  * Static: w_inertia = w_damping = 0, load in (0, 1] (load stepping) and a tiny mass-proportional
  * shift `reg` added to the Hessian only (free rigid modes, projected-away directions). */
@@ -175,6 +213,10 @@ void rk_fom_set_state(rk_fom *s, const double *x, const double *v, const double 
  * gravity kept: a load that changes between steps (a controller's input) without restarting the
  * integrator (BDF2 keeps its history, as a fresh rk_fom_init per step would not). */
 void rk_fom_set_force(rk_fom *s, const double *force);
+
+/* Replaces the chambers' pressures (Pa, nchambers values; their keys dropped) from the next step on:
+ * a controller's input, as rk_fom_set_force. */
+void rk_fom_set_pressure(rk_fom *s, const double *pressure);
 
 /* ---- the step's potential, for a solver of the step other than the full-order Newton ----
  * (precompute/adaptive solves each time step's minimisation itself, on the same potential, the

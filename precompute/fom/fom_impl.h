@@ -54,6 +54,7 @@ struct rk_fom_impl {
     double al_kappa, al_mass;
     /* Owned copies of what opt pointed to (s->opt points here after init). */
     rk_prescribed *groups;
+    rk_chamber *chambers;   /* opt.nchambers, their faces copied */
     double *force;
     /* Contact (when obstacles, several objects or self-contact): the model, this evaluation's pairs,
      * the barrier's gradient alone (for kappa). */
@@ -94,6 +95,9 @@ void rk_fom_prescribe(const rk_fom *s, double t, double *x);
 /* Prescribed dofs out of the Newton matrix: zero rows and columns with 1 on the diagonal of H
  * (the pattern stays as it is; the solver zeroes their gradient). */
 void rk_fom_eliminate(const rk_fom *s, rk_sparse *H);
+
+/* Keyed chambers take their pressure at time t (rk_chamber_pressure_at). */
+void rk_fom_pressure_at(rk_fom *s, double t);
 
 /* The moving obstacles' targets at time t for the next solves (multipliers reset). */
 void rk_fom_obstacle_targets(rk_fom *s, double t);

@@ -49,6 +49,29 @@ int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err)
                            o->object_first_vertex[k], o->object_first_vertex[k + 1], nv);
     if (o->nprescribed < 0 || (o->nprescribed > 0 && !o->prescribed))
         return rk_fail(err, "%d prescribed groups given without data", o->nprescribed);
+    if (o->nchambers < 0 || (o->nchambers > 0 && !o->chambers))
+        return rk_fail(err, "%d chambers given without data", o->nchambers);
+    for (int k = 0; k < o->nchambers; k++)
+        if (rk_chamber_check(&o->chambers[k], nv, err)) return rk_error_prefix(err, "chamber %d", k);
+    return 0;
+}
+
+/* Copies the chambers (their faces and pressures): the caller's arrays need not outlive init. */
+static int copy_chambers(rk_fom *s, rk_error *err)
+{
+    rk_fom_impl *im = s->impl;
+    int n = s->opt.nchambers;
+    im->chambers = rk_calloc((size_t)n + 1, sizeof *im->chambers, err);
+    if (!im->chambers) return -1;
+    for (int k = 0; k < n; k++) {
+        const rk_chamber *c = &s->opt.chambers[k];
+        im->chambers[k] = (rk_chamber){.nf = c->nf, .pressure = c->pressure, .nkeys = c->nkeys};
+        if (!(im->chambers[k].tris = rk_calloc(3 * (size_t)c->nf, sizeof(int), err))) return -1;
+        memcpy(im->chambers[k].tris, c->tris, sizeof(int) * 3 * (size_t)c->nf);
+        if (!(im->chambers[k].keys = rk_calloc(2 * (size_t)c->nkeys + 1, sizeof(double), err))) return -1;
+        if (c->nkeys) memcpy(im->chambers[k].keys, c->keys, sizeof(double) * 2 * (size_t)c->nkeys);
+    }
+    s->opt.chambers = im->chambers;
     return 0;
 }
 
@@ -226,7 +249,8 @@ int rk_fom_init(rk_fom *s, const rk_fem *fem, const rk_fom_options *opt, rk_erro
     s->impl = rk_calloc(1, sizeof *s->impl, err);
     if (!s->impl) return -1;
     s->impl->n = 3 * fem->nv;
-    if (alloc_state(s, err) || copy_prescribed(s, err) || build_constants(s, err)) goto fail;
+    if (alloc_state(s, err) || copy_prescribed(s, err) || copy_chambers(s, err) || build_constants(s, err))
+        goto fail;
     memcpy(s->x, opt->position0 ? opt->position0 : fem->X, (size_t)s->impl->n * sizeof(double));
     if (opt->velocity0) memcpy(s->v, opt->velocity0, (size_t)s->impl->n * sizeof(double));
     if (init_contact(s, err) || check_start(s, err)) goto fail;
@@ -251,6 +275,9 @@ void rk_fom_free(rk_fom *s)
         if (im->groups)
             for (int k = 0; k < s->opt.nprescribed; k++) free(im->groups[k].verts);
         free(im->groups);
+        if (im->chambers)
+            for (int k = 0; k < s->opt.nchambers; k++) free(im->chambers[k].tris), free(im->chambers[k].keys);
+        free(im->chambers);
         if (im->has_contact) rk_contact_free(&im->contact);
         rk_contact_set_free(&im->pairs);
         rk_newton_matrix_free(&im->N);

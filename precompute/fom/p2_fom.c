@@ -183,6 +183,7 @@ static int refuse(const rk_fom_options *o, rk_error *err)
     if (o->nobjects > 1) return rk_fail(err, "P2 reference: %d objects (contact between them) are not supported", o->nobjects);
     if (o->contact.self) return rk_fail(err, "P2 reference: self-contact is not supported");
     if (o->lumped_mass) return rk_fail(err, "P2 reference: a lumped mass is not supported (P2's has negative vertex rows)");
+    if (o->nchambers > 0) return rk_fail(err, "P2 reference: pressure chambers are not supported (%d given)", o->nchambers);
     return 0;
 }
 

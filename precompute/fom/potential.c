@@ -37,6 +37,8 @@ static void assemble_hessian(rk_fom *s, const rk_fom_terms *T, const double *x, 
             for (int i = 0; i < 3; i++) H->val[rk_fem_diag_slot(H, v, i, i)] += T->reg * f->vertex_mass[v];
     double t0 = rk_now();
     rk_fem_add_hessian(f, x, 1.0, !im->exact_elastic, H);
+    for (int k = 0; im->exact_elastic && k < s->opt.nchambers; k++) /* indefinite: with the exact dP/dF only */
+        rk_chamber_add_stiffness(&im->chambers[k], x, T->load, H);
     s->stats.seconds_hessian += rk_now() - t0;
 }
 
@@ -124,6 +126,20 @@ static double obstacle_term(rk_fom *s, const double *y, double *g)
     return E;
 }
 
+/* The chambers' pressure work load sum_c P_c V_c(y) (pressure.c: -P V is the load's potential), and
+ * with g its negative gradient, the follower forces, subtracted from g. Its stiffness joins the
+ * Newton matrix with the exact dP/dF only (assemble_hessian; pressure.c says why). */
+static double chamber_work(rk_fom *s, double load, const double *y, double *g)
+{
+    double W = 0;
+    for (int k = 0; k < s->opt.nchambers; k++) {
+        const rk_chamber *c = &s->impl->chambers[k];
+        W += load * c->pressure * rk_chamber_volume(c, y);
+        if (g) rk_chamber_force(c, y, -load, g);
+    }
+    return W;
+}
+
 double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, double *g, int hessian,
                         double *magnitude, rk_error *err)
 {
@@ -145,6 +161,7 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
         if (!T->no_elastic) rk_fem_add_gradient(f, y, 1.0, g);
         for (int i = 0; i < n; i++) g[i] -= T->load * im->f_ext[i];
     }
+    if (isfinite(stored)) work += chamber_work(s, T->load, y, g);
     if (im->nobs) stored += obstacle_term(s, y, g);
     tc = rk_now();
     if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);

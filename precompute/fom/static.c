@@ -76,6 +76,7 @@ static int solve(rk_fom *s, rk_error *err)
     if (s->opt.nprescribed == 0 && !s->impl->has_contact && has_load(s))
         return rk_fail(err, "a loaded body with no prescribed vertex and no obstacle has no equilibrium");
     static_ctx c = {.s = s, .T = {.reg = static_reg(s)}, .t_end = s->opt.steps * s->opt.h};
+    rk_fom_pressure_at(s, c.t_end);
     int converged, used;
     if (rk_load_stepping(im->n, s->x, increment, &c, &converged, &used, err)) return -1;
     if (!converged)

@@ -62,6 +62,7 @@ static int step(rk_fom *s, rk_fom_newton_fn newton, void *newton_ctx, rk_error *
     }
     memcpy(s->x, start_predicted ? st->xtilde : st->xt, sizeof(double) * (size_t)im->n);
     rk_fom_obstacle_targets(s, s->t + h);
+    rk_fom_pressure_at(s, s->t + h); /* keyed chambers: their pressure at the step's end, as the loads act there */
     step_solve c = {&T, 1, newton, newton_ctx};
     if (rk_fom_advance_kinematics(s, s->t + h, solve_step, &c, err)) return -1;
     /* then lagged again at the solution and solved again, until a solve has nothing left to do */
@@ -122,4 +123,17 @@ void rk_fom_set_force(rk_fom *s, const double *force)
         memset(im->force, 0, sizeof(double) * (size_t)im->n);
     for (int i = 0; i < im->n; i++) im->f_ext[i] += im->force[i];
     s->opt.force = im->force;
+}
+
+void rk_fom_set_pressure(rk_fom *s, const double *pressure)
+{
+    for (int k = 0; k < s->opt.nchambers; k++) s->impl->chambers[k].pressure = pressure[k], s->impl->chambers[k].nkeys = 0;
+}
+
+void rk_fom_pressure_at(rk_fom *s, double t)
+{
+    for (int k = 0; k < s->opt.nchambers; k++) {
+        rk_chamber *c = &s->impl->chambers[k];
+        if (c->nkeys) c->pressure = rk_chamber_pressure_at(c, t);
+    }
 }

@@ -276,4 +276,9 @@ typedef struct {
 /* Whether p lies in b grown by slack on every side. */
 int rk_box_contains(const rk_box *b, const double *p, double slack);
 
+/* Cuts voids: drops the tets whose centroid lies in any of the boxes and the vertices only they used
+ * (renumbering the rest, rk_mesh_check), so each void's walls become boundary faces (carve.c; a
+ * pneumatic chamber's cavity). Fails when nothing is left. */
+int rk_mesh_carve(rk_mesh *m, const rk_box *boxes, int nboxes, rk_error *err);
+
 #endif

@@ -398,6 +398,58 @@ static int build_loads_and_velocities(const rk_scene *s, rk_scene_sim *out, doub
     return 0;
 }
 
+/* Chambers: each one's box selects the object's boundary faces whose centroid it holds (rk_chamber);
+ * they must close a void (rk_chamber_check). */
+static int build_chambers(const rk_scene *s, rk_scene_sim *out, double slack, rk_error *err)
+{
+    int n = 0;
+    for (int k = 0; k < s->nobjects; k++) n += s->objects[k].nchambers;
+    if (n == 0) return 0;
+    int *tris = NULL, nf = 0, rc = -1;
+    rk_chamber *ch = rk_calloc((size_t)n, sizeof *ch, err);
+    out->chamber_name = rk_calloc((size_t)n, sizeof *out->chamber_name, err);
+    if (!ch || !out->chamber_name) {
+        free(ch);
+        return -1;
+    }
+    out->options.chambers = ch;
+    out->options.nchambers = n;
+    if (rk_mesh_boundary(&out->mesh, &tris, &nf, err)) return -1;
+    for (int k = 0, c = 0; k < s->nobjects; k++) {
+        int v0 = out->object_first_vertex[k], v1 = out->object_first_vertex[k + 1];
+        for (int j = 0; j < s->objects[k].nchambers; j++, c++) {
+            const rk_scene_chamber *sc = &s->objects[k].chambers[j];
+            snprintf(out->chamber_name[c], sizeof out->chamber_name[c], "%s", sc->name);
+            ch[c].pressure = sc->pressure;
+            ch[c].nkeys = sc->nkeys;
+            ch[c].keys = sc->keys; /* the scene's: rk_fom_init copies them */
+            if (!(ch[c].tris = rk_calloc(3 * (size_t)nf + 1, sizeof(int), err))) goto done;
+            for (int t = 0; t < nf; t++) {
+                const int *f = &tris[3 * t];
+                double cen[3] = {0, 0, 0};
+                for (int q = 0; q < 3; q++)
+                    for (int i = 0; i < 3; i++) cen[i] += out->mesh.X[3 * f[q] + i] / 3;
+                if (f[0] >= v0 && f[0] < v1 && rk_box_contains(&sc->box, cen, slack))
+                    memcpy(&ch[c].tris[3 * ch[c].nf++], f, 3 * sizeof(int));
+            }
+            if (ch[c].nf == 0) {
+                rk_fail(err, "%s: objects[%d].chambers[%d] (\"%s\"): its box holds no boundary face of the object "
+                        "(a chamber is the walls of a void: mesh.voids)", s->path, k, j, sc->name);
+                goto done;
+            }
+            if (rk_chamber_check(&ch[c], out->mesh.nv, err)) {
+                rk_error_prefix(err, "%s: objects[%d].chambers[%d] (\"%s\"): %d faces", s->path, k, j, sc->name,
+                                ch[c].nf);
+                goto done;
+            }
+        }
+    }
+    rc = 0;
+done:
+    free(tris);
+    return rc;
+}
+
 /* Obstacles: meshes loaded and placed, the contact options completed (dhat: 1e-3 of the rest
  * bounding-box diagonal unless given), and every vertex strictly on the free side of every plane
  * (the simulator checks every other intersection exactly when it starts). */
@@ -513,6 +565,13 @@ static int scene_build(const rk_scene *s, rk_scene_sim *out, int full_order, rk_
         repaired.ghosts += rep.ghosts;
         repaired.orphans_removed += rep.orphans_removed;
         rk_mesh_transform(&m, s->objects[k].scale, s->objects[k].translate);
+        if (rk_mesh_carve(&m, s->objects[k].voids, s->objects[k].nvoids, err)) {
+            rk_error_prefix(err, "%s: objects[%d].mesh.voids", s->path, k);
+            rk_mesh_free(&m);
+            free(point_tag);
+            free_surfaces(surfaces, s->nobjects);
+            goto fail;
+        }
         int rc = append_tags(out, &m, point_tag, points, err) || append_mesh(&out->mesh, &m, err);
         rk_mesh_free(&m);
         free(point_tag);
@@ -571,6 +630,7 @@ static int scene_build(const rk_scene *s, rk_scene_sim *out, int full_order, rk_
     if (build_prescribed(s, out, slack, err)) goto fail;
     if (build_loads_and_velocities(s, out, slack, err)) goto fail;
     if (build_obstacles(s, out, diag, err)) goto fail;
+    if (build_chambers(s, out, slack, err)) goto fail;
     free_bodies(bodies, s->nobjects);
     return 0;
 fail:
@@ -611,6 +671,10 @@ void rk_scene_sim_free(rk_scene_sim *out)
     for (int i = 0; i < out->options.nprescribed; i++) free(out->options.prescribed[i].verts);
     free(out->options.prescribed);
     free(out->options.force);
+    for (int c = 0; out->options.chambers && c < out->options.nchambers; c++)
+        free(out->options.chambers[c].tris);
+    free((rk_chamber *)out->options.chambers);
+    free(out->chamber_name);
     free(out->options.velocity0);
     for (int k = 0; out->obstacle_meshes && k < out->options.nobstacles; k++) rk_surface_free(&out->obstacle_meshes[k]);
     free(out->obstacle_meshes);

@@ -1,5 +1,5 @@
 /* rk_scene_control (pipeline.h): the Koopman control of Sec. 7.3 on a scene, from the command line's
- * point of view. The inputs are forces on named vertex groups; the operator is trained on the
+ * point of view. The inputs are forces on named vertex groups or chambers' pressures; the operator is trained on the
  * entry's trajectories plus one run per input (a linear model answers a push it never saw with
  * whatever its fit happens to say: test_pipeline_koopman_control.c); the target is followed by
  * rk_koopman_track; the full-order model is then run under the same inputs, as Fig. 15 does. */
@@ -12,17 +12,67 @@
 
 #include "util/util.h"
 
-/* The inputs' groups as vertex lists. */
+/* The inputs' groups as vertex lists, each pressure input's chamber (index into the scene's), and
+ * scratch for a pressure field (positions, forces). */
 typedef struct {
     const rk_scene_sim *sim;
     const rk_control_options *o;
     int *verts[RK_ASSET_MAX_GROUPS], count[RK_ASSET_MAX_GROUPS];
     double mass[RK_ASSET_MAX_GROUPS];
+    int chamber[RK_CONTROL_MAX_INPUTS];  /* -1: a force input */
+    int pressures;                       /* pressure inputs */
+    double *x, *f;                       /* 3 nv each */
+    double *trained[RK_CONTROL_MAX_INPUTS]; /* a pressure input's field per pascal (m/s^2 / Pa) where its
+                                             * training run ended: the one forcing the fit has seen */
 } groups;
 
 static void groups_free(groups *g)
 {
     for (int i = 0; i < RK_ASSET_MAX_GROUPS; i++) free(g->verts[i]);
+    for (int j = 0; j < RK_CONTROL_MAX_INPUTS; j++) free(g->trained[j]);
+    free(g->x);
+    free(g->f);
+}
+
+/* Pressure inputs: their chambers by name; none of the scene's chambers pressurised (the solve
+ * starts every chamber from 0). */
+static int chambers_init(const rk_scene_sim *sim, const rk_control_options *o, groups *g, rk_error *err)
+{
+    const rk_fom_options *opt = &sim->options;
+    for (int j = 0; j < o->ninputs; j++) {
+        g->chamber[j] = -1;
+        if (!o->input[j].chamber[0]) continue;
+        for (int c = 0; c < opt->nchambers && g->chamber[j] < 0; c++)
+            if (!strcmp(sim->chamber_name[c], o->input[j].chamber)) g->chamber[j] = c;
+        if (g->chamber[j] < 0)
+            return rk_fail(err, "input %d: the scene has no chamber \"%s\" (%d named)", j, o->input[j].chamber,
+                           opt->nchambers);
+        g->pressures++;
+    }
+    for (int c = 0; c < opt->nchambers; c++)
+        if (opt->chambers[c].pressure != 0 || opt->chambers[c].nkeys)
+            return rk_fail(err, "chamber \"%s\" holds %g Pa (or a schedule) in the scene: control solves the chambers' "
+                           "pressures from 0 (set it to 0)", sim->chamber_name[c], opt->chambers[c].pressure);
+    if (g->pressures && !(o->train_pressure > 0))
+        return rk_fail(err, "a pressure input needs a training pressure (Pa, > 0)");
+    if (g->pressures && !o->nfollow)
+        return rk_fail(err, "a pressure input has no group to follow: name the followed groups");
+    int n3 = 3 * sim->mesh.nv;
+    g->x = rk_calloc((size_t)n3, sizeof(double), err);
+    g->f = rk_calloc((size_t)n3, sizeof(double), err);
+    return g->x && g->f ? 0 : -1;
+}
+
+/* A(X) for pressure input j: the force of 1 Pa on its chamber's walls at displacements u (NULL:
+ * rest) into g->f. */
+static void unit_pressure_force(const groups *g, int j, const double *u)
+{
+    const rk_scene_sim *sim = g->sim;
+    int n3 = 3 * sim->mesh.nv;
+    rk_chamber c = sim->options.chambers[g->chamber[j]];
+    c.pressure = 1;
+    for (int i = 0; i < n3; i++) g->x[i] = sim->mesh.X[i] + (u ? u[i] : 0), g->f[i] = 0;
+    rk_chamber_force(&c, g->x, 1.0, g->f);
 }
 
 static int groups_init(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_control_options *o, groups *g,
@@ -44,30 +94,63 @@ static int groups_init(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_
     return 0;
 }
 
-/* a += C times input j's acceleration field: C / M_group along the axis on the group's vertices
- * (force m_v C / M_group on vertex v, C newtons in all). */
-static void add_field(const groups *g, int j, double C, double *a)
+/* a += C times input j's acceleration field at displacements u (NULL: rest): a force input's is
+ * C / M_group along the axis on the group's vertices (force m_v C / M_group on vertex v, C newtons
+ * in all). A pressure input's is C A(X) / m_v, the force of C pascals on the chamber's walls where
+ * they are at u over each vertex's mass, once trained taken along the trained field alone: its
+ * mass-weighted projection on it. Why: the fit has seen the pressure push one way only (its training
+ * run's), and a linear model answers a forcing it never saw with whatever its fit happens to say (on
+ * examples/scenes/finger_pneumatic.json the rest walls' field, 1e5 Pa, threw the tip 125 m where the
+ * run moved it 2.4 mm); what A(X) then says is how much of that push a pascal makes where the walls
+ * are (they stretch: more area, more force). */
+static void add_field(const groups *g, int j, double C, const double *u, double *a)
 {
     const rk_control_input *in = &g->o->input[j];
+    const rk_scene_sim *sim = g->sim;
+    int n3 = 3 * sim->mesh.nv;
+    if (g->chamber[j] >= 0) {
+        unit_pressure_force(g, j, u);
+        const double *T = g->trained[j];
+        if (!T) {
+            for (int i = 0; i < n3; i++)
+                if (g->f[i] != 0) a[i] += C * g->f[i] / sim->fem.vertex_mass[i / 3];
+            return;
+        }
+        double fa = 0, aa = 0; /* <a(X), T>_M / <T, T>_M with a(X) = f / m: sum f T over sum m T T */
+        for (int i = 0; i < n3; i++) fa += g->f[i] * T[i], aa += sim->fem.vertex_mass[i / 3] * T[i] * T[i];
+        for (int i = 0; aa > 0 && i < n3; i++) a[i] += C * fa / aa * T[i];
+        return;
+    }
     for (int q = 0; q < g->count[in->group]; q++) a[3 * g->verts[in->group][q] + in->axis] += C / g->mass[in->group];
 }
 
 static int input_field(void *ctx, const double *u, int j, double *a)
 {
-    (void)u; /* a force of fixed direction: A does not depend on the state */
-    add_field(ctx, j, 1, a);
+    /* a force of fixed direction does not depend on the state; a pressure's A(X) does (Sec. 7.3: it
+     * is evaluated at the predicted final state, and the solve repeated) */
+    add_field(ctx, j, 1, u, a);
     return 0;
 }
 
-/* force = the scene's loads + sum_j C_j (input j's forces); C NULL: the loads alone. */
-static void forces(const groups *g, const double *C, double *force)
+/* force = the scene's loads + sum_j C_j (input j's forces; a pressure input's as its force on the rest
+ * walls, unless follower: then it is left to the chambers, rk_fom_set_pressure); C NULL: the loads. */
+static void forces(const groups *g, const double *C, int follower, double *force)
 {
     const rk_scene_sim *sim = g->sim;
     int n3 = 3 * sim->mesh.nv;
     for (int i = 0; i < n3; i++) force[i] = 0;
-    for (int j = 0; C && j < g->o->ninputs; j++) add_field(g, j, C[j], force); /* accelerations first */
+    for (int j = 0; C && j < g->o->ninputs; j++)
+        if (!(follower && g->chamber[j] >= 0)) add_field(g, j, C[j], NULL, force); /* accelerations first */
     for (int i = 0; i < n3; i++)
         force[i] = force[i] * sim->fem.vertex_mass[i / 3] + (sim->options.force ? sim->options.force[i] : 0);
+}
+
+/* P (the scene's chambers) = sum of the pressure inputs' C_j on each. */
+static void pressures(const groups *g, const double *C, double *P)
+{
+    for (int c = 0; c < g->sim->options.nchambers; c++) P[c] = 0;
+    for (int j = 0; j < g->o->ninputs; j++)
+        if (g->chamber[j] >= 0) P[g->chamber[j]] += C[j];
 }
 
 /* The training runs (the entry's trajectories, then one per input holding its train force) and the fit. */
@@ -84,19 +167,37 @@ static int train(const groups *g, const rk_rom_entry *e, rk_koopman *k, rk_contr
     if (!runs || !t || !f || !C) goto done;
     for (int i = 0; i < ntraj; i++) {
         rk_scene_sim s = *sim; /* a shallow copy with its own load */
-        if (i >= nvar) {
-            int j = i - nvar, q = o->input[j].group;
+        int j = i - nvar, pressure = i >= nvar && g->chamber[j] >= 0;
+        if (i >= nvar && !pressure) {
+            int q = o->input[j].group;
             double gn = sqrt(sim->options.gravity[0] * sim->options.gravity[0] +
                              sim->options.gravity[1] * sim->options.gravity[1] +
                              sim->options.gravity[2] * sim->options.gravity[2]);
             memset(C, 0, sizeof(double) * (size_t)o->ninputs);
             C[j] = o->train_force > 0 ? o->train_force : g->mass[q] * (gn > 0 ? gn : 9.81);
-            forces(g, C, f);
+            forces(g, C, 0, f);
             s.options.force = f;
         }
-        if (rk_koopman_scene_run(&s, i < nvar && ko->ntraj ? &ko->traj[i] : NULL, &runs[i], err)) {
-            rk_error_prefix(err, i < nvar ? "trajectory %d" : "training run of input %d", i < nvar ? i : i - nvar);
+        rk_chamber *held = NULL;
+        if (pressure) { /* the chamber held at the training pressure, a follower load as the replay's */
+            if (!(held = rk_calloc((size_t)sim->options.nchambers, sizeof *held, err))) goto done;
+            memcpy(held, sim->options.chambers, sizeof *held * (size_t)sim->options.nchambers);
+            held[g->chamber[j]].pressure = o->train_pressure;
+            s.options.chambers = held;
+        }
+        int failed = rk_koopman_scene_run(&s, i < nvar && ko->ntraj ? &ko->traj[i] : NULL, &runs[i], err);
+        free(held);
+        if (failed) {
+            rk_error_prefix(err, i < nvar ? "trajectory %d" : "training run of input %d", i < nvar ? i : j);
             goto done;
+        }
+        if (pressure) { /* the fit's forcing: the pressure's field where the run ends (Sec. 7.3's
+                         * quasi-static assumption: a constant force at the final state) */
+            double *field = rk_calloc((size_t)n3, sizeof(double), err);
+            if (!field) goto done;
+            add_field(g, j, 1, runs[i].u + (size_t)n3 * (runs[i].t.frames - 1), field); /* before it is trained */
+            for (int v = 0; v < n3; v++) runs[i].accel[v] += o->train_pressure * field[v];
+            ((groups *)g)->trained[j] = field;
         }
         t[i] = runs[i].t;
     }
@@ -160,7 +261,9 @@ static int solve(const groups *g, const rk_koopman *k, const double *target, int
                                   .goal = goal, .z0 = z0, .accel = accel, .inputs = g->o->ninputs,
                                   .input_field = input_field, .ctx = (void *)g, .nonnegative = g->o->nonnegative,
                                   .regularize = g->o->regularize,
-                                  .iterations = 1}; /* A does not depend on the state: one solve is exact */
+                                  /* forces: A does not depend on the state, one solve is exact;
+                                   * pressures: the paper's 5 (Sec. 7.3) */
+                                  .iterations = g->pressures ? 5 : 1};
     rc = rk_koopman_track(k, &p, out->C, out->u_model, err);
     out->seconds_solve = rk_now() - t0;
 done:
@@ -174,7 +277,7 @@ done:
 typedef struct {
     const groups *g;
     rk_control_result *out;
-    double *force;
+    double *force, *pressure;
 } replay;
 
 /* After step s: keep the frame, then set the forces of step s + 1 (inputs C_s). */
@@ -184,8 +287,11 @@ static int replay_frame(void *ctx, int step, rk_fom *fom, double seconds, rk_err
     int n3 = 3 * r->g->sim->mesh.nv;
     for (int i = 0; i < n3; i++) r->out->u_fom[(size_t)n3 * step + i] = fom->x[i] - r->g->sim->mesh.X[i];
     if (step + 1 < r->out->T) {
-        forces(r->g, r->out->C + (size_t)r->out->inputs * step, r->force);
+        const double *C = r->out->C + (size_t)r->out->inputs * step;
+        forces(r->g, C, 1, r->force);
         rk_fom_set_force(fom, r->force);
+        pressures(r->g, C, r->pressure);
+        rk_fom_set_pressure(fom, r->pressure);
     }
     return 0;
 }
@@ -194,11 +300,15 @@ static int full_order(const groups *g, rk_control_result *out, rk_error *err)
 {
     rk_scene_sim s = *g->sim;
     s.steps = out->T - 1;
-    replay r = {g, out, rk_calloc((size_t)3 * s.mesh.nv, sizeof(double), err)};
+    replay r = {g, out, rk_calloc((size_t)3 * s.mesh.nv, sizeof(double), err),
+                rk_calloc((size_t)s.options.nchambers + 1, sizeof(double), err)};
     double t0 = rk_now();
-    int rc = r.force ? rk_scene_fom_run(&s, NULL, "full-order run under the inputs", replay_frame, &r, NULL, err) : -1;
+    int rc = r.force && r.pressure
+                 ? rk_scene_fom_run(&s, NULL, "full-order run under the inputs", replay_frame, &r, NULL, err)
+                 : -1;
     out->seconds_fom = rk_now() - t0;
     free(r.force);
+    free(r.pressure);
     return rc;
 }
 
@@ -221,7 +331,8 @@ int rk_scene_control(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_co
         return rk_fail(err, "%d inputs: between 1 and %d", o->ninputs, RK_CONTROL_MAX_INPUTS);
     if (T < 2) return rk_fail(err, "the target has %d frames: at least 2", T);
     for (int j = 0; j < o->ninputs; j++)
-        if (o->input[j].group < 0 || o->input[j].group >= e->asset.ngroups || o->input[j].axis < 0 || o->input[j].axis > 2)
+        if (!o->input[j].chamber[0] && (o->input[j].group < 0 || o->input[j].group >= e->asset.ngroups ||
+                                        o->input[j].axis < 0 || o->input[j].axis > 2))
             return rk_fail(err, "input %d: no such group or axis", j);
     groups g;
     rk_koopman k;
@@ -233,7 +344,7 @@ int rk_scene_control(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_co
     out->C = rk_calloc((size_t)o->ninputs * (T - 1), sizeof(double), err);
     out->u_model = rk_calloc((size_t)n3 * T, sizeof(double), err);
     out->u_fom = rk_calloc((size_t)n3 * T, sizeof(double), err);
-    if (out->C && out->u_model && out->u_fom && !groups_init(sim, e, o, &g, err))
+    if (out->C && out->u_model && out->u_fom && !groups_init(sim, e, o, &g, err) && !chambers_init(sim, o, &g, err))
         rc = train(&g, e, &k, out, err) || solve(&g, &k, target, T, out, err) || full_order(&g, out, err) ? -1 : 0;
     groups_free(&g);
     rk_koopman_free(&k);

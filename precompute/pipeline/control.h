@@ -8,10 +8,12 @@
 
 /* One controlled input: a force along one axis on one of the entry's named vertex groups
  * (rom.asset.groups), spread over the group's vertices by mass (a uniform acceleration), C newtons
- * in all. */
+ * in all; or (chamber[0] set) the pressure of the scene's chamber of that name, C pascals, whose
+ * force A(X) C follows the deformed walls (fom.h, rk_chamber; Sec. 7.3). */
 typedef struct {
-    int group;                       /* index into e->asset.groups */
-    int axis;                        /* 0, 1, 2: x, y, z */
+    int group;                       /* index into e->asset.groups (forces) */
+    int axis;                        /* 0, 1, 2: x, y, z (forces) */
+    char chamber[RK_CHAMBER_NAME];   /* a pressure input: the chamber's name ("" for a force) */
 } rk_control_input;
 
 #define RK_CONTROL_MAX_INPUTS 64
@@ -22,6 +24,7 @@ typedef struct {
     int nfollow;                     /* groups whose vertices follow the target; 0: the inputs' groups */
     int follow[RK_ASSET_MAX_GROUPS];
     double train_force;              /* N held during each input's training run; 0: the group's weight */
+    double train_pressure;           /* Pa behind each pressure input's training run (> 0 when there is one) */
     int horizon;                     /* rk_koopman_track's H (>= 1) */
     int nonnegative;
     double regularize;               /* rho of rk_lstsq_tikhonov (>= 0; 0: plain least squares) */
@@ -37,10 +40,13 @@ typedef struct {
 } rk_control_result;
 
 /* Entry e's Koopman operator (rom.koopman, unprojected) trained on the entry's trajectories and one
- * run per input holding train_force, then the inputs that make the followed vertices track target
+ * run per input holding train_force (a pressure input: the force of train_pressure on the chamber's
+ * rest walls, held, so that the fit's forcing is the run's own), then the inputs that make the
+ * followed vertices track target (a pressure input's field A(X) re-evaluated at the predicted state,
+ * 5 times a frame, the paper's iteration)
  * (3 nv x T displacements from the rest positions, frame 0 the scene's start; the scene's time
  * step between frames) by rk_koopman_track, and the full-order run under those inputs
- * (rk_fom_set_force each step). */
+ * (rk_fom_set_force and rk_fom_set_pressure each step: the pressures as follower loads). */
 int rk_scene_control(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_control_options *o,
                      const double *target, int T, rk_control_result *out, rk_error *err);
 void rk_control_result_free(rk_control_result *r);

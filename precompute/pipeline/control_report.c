@@ -44,8 +44,12 @@ cJSON *rk_control_report(const rk_rom_entry *e, const rk_control_options *o, con
     cJSON_AddNumberToObject(rep, "regularize", o->regularize);
     for (int j = 0; j < o->ninputs; j++) {
         cJSON *x = cJSON_CreateObject();
-        cJSON_AddStringToObject(x, "group", e->asset.groups[o->input[j].group].name);
-        cJSON_AddStringToObject(x, "axis", (const char *[]){"x", "y", "z"}[o->input[j].axis]);
+        if (o->input[j].chamber[0]) {
+            cJSON_AddStringToObject(x, "chamber", o->input[j].chamber); /* a pressure (Pa) */
+        } else {
+            cJSON_AddStringToObject(x, "group", e->asset.groups[o->input[j].group].name);
+            cJSON_AddStringToObject(x, "axis", (const char *[]){"x", "y", "z"}[o->input[j].axis]);
+        }
         cJSON_AddItemToArray(in, x);
     }
     cJSON_AddNumberToObject(rep, "followed_values", r->follow_values);

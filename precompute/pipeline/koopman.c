@@ -205,6 +205,12 @@ int rk_koopman_scene_fit_from(const rk_scene_sim *sim, const rk_koopman_entry *o
 {
     memset(k, 0, sizeof *k);
     memset(info, 0, sizeof *info);
+    /* the fit takes each run's forcing as a constant acceleration (gravity, loads): a chamber's
+     * pressure, a follower load, is not one; romkit control takes chambers as inputs instead */
+    for (int c = 0; c < sim->options.nchambers; c++)
+        if (sim->options.chambers[c].pressure != 0 || sim->options.chambers[c].nkeys)
+            return rk_fail(err, "Koopman: chamber %d holds a pressure, which the fit does not model as a forcing (romkit "
+                           "control takes chambers as inputs); set it to 0", c);
     int ntraj = o->ntraj ? o->ntraj : 1, rc = -1;
     rk_koopman_run *runs = rk_calloc((size_t)ntraj, sizeof *runs, err);
     rk_koopman_trajectory *t = rk_calloc((size_t)ntraj, sizeof *t, err);

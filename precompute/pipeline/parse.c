@@ -118,11 +118,35 @@ static int parse_cage(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     return 0;
 }
 
+/* "voids": [{"box": [[x0, y0, z0], [x1, y1, z1]]}, ...]: cavities cut out of a tet mesh (a
+ * pneumatic chamber's, rk_mesh_carve). */
+static int parse_voids(const rk_json_ctx *c, const cJSON *obj, const char *path, rk_scene_object *o)
+{
+    char p[PATH_LEN], q[PATH_LEN];
+    const cJSON *voids = rk_json_child(obj, path, "voids", p, sizeof p);
+    if (!voids) return 0;
+    if (!cJSON_IsArray(voids)) return rk_json_fail(c, p, "must be a list of {\"box\": [[x0, y0, z0], [x1, y1, z1]]}");
+    if (o->shape == RK_SHAPE_POINTS || o->cage_tets)
+        return rk_json_fail(c, p, "voids are cut from a tet mesh (a file or a box), not from %s",
+                            o->cage_tets ? "a cage" : "a point cloud");
+    int n = cJSON_GetArraySize(voids);
+    if (!(o->voids = rk_calloc((size_t)n + 1, sizeof *o->voids, c->err))) return -1;
+    for (int i = 0; i < n; i++) {
+        const cJSON *it = cJSON_GetArrayItem(voids, i);
+        static const char *const keys[] = {"box", NULL};
+        snprintf(q, sizeof q, "%s[%d]", p, i);
+        if (!cJSON_IsObject(it)) return rk_json_fail(c, q, "must be {\"box\": [[x0, y0, z0], [x1, y1, z1]]}");
+        if (rk_json_check_keys(c, it, q, keys) || rk_json_box(c, it, q, &o->voids[i])) return -1;
+        o->nvoids++;
+    }
+    return 0;
+}
+
 static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, const char *scene_dir,
                       rk_scene_object *o)
 {
     static const char *const keys[] = {"file", "box", "points", "scale", "translate", "quality",
-                                       "max_volume", "refine", "proxy_voxel", "cage", NULL};
+                                       "max_volume", "refine", "proxy_voxel", "cage", "voids", NULL};
     if (rk_json_check_keys(c, obj, path, keys)) return -1;
     const char *file = NULL, *points = NULL;
     if (rk_json_string(c, obj, path, "file", 0, &file)) return -1;
@@ -165,6 +189,7 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     if (o->refine && o->shape == RK_SHAPE_POINTS)
         return rk_json_fail(c, path, "refine applies to tet meshes (file or box), not to a point cloud");
     if (parse_cage(c, obj, path, o)) return -1;
+    if (parse_voids(c, obj, path, o)) return -1;
     if (rk_json_number(c, obj, path, "proxy_voxel", 0, &o->proxy_voxel)) return -1;
     if (o->proxy_voxel != 0 && (o->shape != RK_SHAPE_POINTS || !(o->proxy_voxel > 0)))
         return rk_json_fail(c, path, "proxy_voxel (m) is a point cloud's contact-proxy voxel edge: positive, and "
@@ -260,6 +285,52 @@ static int parse_load(const rk_json_ctx *c, const cJSON *it, const char *path, i
     return rk_json_vector(c, it, path, "force", 1, 3, o->loads[i].force);
 }
 
+/* {"name": "c0", "box": [[..], [..]], "pressure": P}: a pneumatic chamber (rk_scene_chamber). */
+static int parse_chamber(const rk_json_ctx *c, const cJSON *it, const char *path, int i, void *user)
+{
+    rk_scene_object *o = user;
+    static const char *const keys[] = {"name", "box", "pressure", NULL};
+    if (rk_json_check_keys(c, it, path, keys)) return -1;
+    if (o->shape == RK_SHAPE_POINTS || o->cage_tets)
+        return rk_json_fail(c, path, "a chamber is a void's walls in a tet mesh, not in %s",
+                            o->cage_tets ? "a cage" : "a point cloud");
+    rk_scene_chamber *ch = &o->chambers[i];
+    const char *name = NULL;
+    if (rk_json_string(c, it, path, "name", 1, &name)) return -1;
+    if (!name[0] || strlen(name) >= RK_CHAMBER_NAME || strpbrk(name, ",:"))
+        return rk_json_fail(c, path, "name '%s' must be 1 to %d characters without ',' or ':'", name,
+                            RK_CHAMBER_NAME - 1);
+    snprintf(ch->name, sizeof ch->name, "%s", name);
+    if (rk_json_box(c, it, path, &ch->box)) return -1;
+    char p[PATH_LEN];
+    const cJSON *sched = rk_json_child(it, path, "pressure", p, sizeof p);
+    if (cJSON_IsArray(sched)) { /* [[t, P], ...]: times increasing */
+        int n = cJSON_GetArraySize(sched);
+        if (n < 1) return rk_json_fail(c, p, "a pressure schedule needs at least one [t, P] pair");
+        if (!(ch->keys = rk_calloc(2 * (size_t)n, sizeof(double), c->err))) return -1;
+        for (int k = 0; k < n; k++) {
+            const cJSON *kv = cJSON_GetArrayItem(sched, k);
+            if (!cJSON_IsArray(kv) || cJSON_GetArraySize(kv) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(kv, 0)) ||
+                !cJSON_IsNumber(cJSON_GetArrayItem(kv, 1)))
+                return rk_json_fail(c, p, "entry %d must be [t, P] (seconds, pascals)", k);
+            ch->keys[2 * k] = cJSON_GetArrayItem(kv, 0)->valuedouble;
+            ch->keys[2 * k + 1] = cJSON_GetArrayItem(kv, 1)->valuedouble;
+            if (!isfinite(ch->keys[2 * k]) || !isfinite(ch->keys[2 * k + 1]))
+                return rk_json_fail(c, p, "entry %d is not finite", k);
+            if (k > 0 && !(ch->keys[2 * k] > ch->keys[2 * k - 2]))
+                return rk_json_fail(c, p, "entry %d's time %g s does not come after %g s", k, ch->keys[2 * k],
+                                    ch->keys[2 * k - 2]);
+            ch->nkeys++;
+        }
+        return 0;
+    }
+    if (sched && !cJSON_IsNumber(sched))
+        return rk_json_fail(c, p, "must be a pressure in Pa or a schedule [[t, P], ...]");
+    if (rk_json_number(c, it, path, "pressure", 0, &ch->pressure)) return -1;
+    if (!isfinite(ch->pressure)) return rk_json_fail(c, path, "pressure %g (Pa) is not finite", ch->pressure);
+    return 0;
+}
+
 static int array_size(const cJSON *obj, const char *key)
 {
     const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, key);
@@ -271,7 +342,7 @@ static int parse_object(const rk_json_ctx *c, const cJSON *it, const char *path,
     const char *scene_dir = ((const char **)user)[0];
     rk_scene_object *o = &((rk_scene_object *)((void **)user)[1])[i];
     static const char *const keys[] = {"mesh", "material", "regions", "fixed", "moving", "loads",
-                                       "velocity", NULL};
+                                       "chambers", "velocity", NULL};
     if (rk_json_check_keys(c, it, path, keys)) return -1;
     char p[PATH_LEN];
     const cJSON *mesh = rk_json_child(it, path, "mesh", p, sizeof p);
@@ -284,12 +355,14 @@ static int parse_object(const rk_json_ctx *c, const cJSON *it, const char *path,
     o->motions = rk_calloc((size_t)(array_size(it, "fixed") + array_size(it, "moving")),
                            sizeof *o->motions, c->err);
     o->loads = rk_calloc((size_t)array_size(it, "loads"), sizeof *o->loads, c->err);
-    if (!o->regions || !o->motions || !o->loads) return -1;
+    o->chambers = rk_calloc((size_t)array_size(it, "chambers") + 1, sizeof *o->chambers, c->err);
+    if (!o->regions || !o->motions || !o->loads || !o->chambers) return -1;
     int nfixed = 0, nmoving = 0;
     if (each_item(c, it, path, "regions", &o->nregions, parse_region, o)) return -1;
     if (each_item(c, it, path, "fixed", &nfixed, parse_fixed, o)) return -1;
     if (each_item(c, it, path, "moving", &nmoving, parse_moving, o)) return -1;
     if (each_item(c, it, path, "loads", &o->nloads, parse_load, o)) return -1;
+    if (each_item(c, it, path, "chambers", &o->nchambers, parse_chamber, o)) return -1;
     return rk_json_vector(c, it, path, "velocity", 0, 3, o->velocity);
 }
 
@@ -408,6 +481,16 @@ static int parse_root(const rk_json_ctx *c, const cJSON *root, const char *scene
     s->nobjects = cJSON_GetArraySize(objects);
     const void *user[2] = {scene_dir, s->objects};
     if (each_item(c, root, "", "objects", &s->nobjects, parse_object, (void *)user)) return -1;
+    for (int k = 0; k < s->nobjects; k++) /* chamber names are control inputs: one chamber each */
+        for (int j = 0; j < s->objects[k].nchambers; j++)
+            for (int k2 = 0; k2 <= k; k2++)
+                for (int j2 = 0; j2 < (k2 == k ? j : s->objects[k2].nchambers); j2++)
+                    if (!strcmp(s->objects[k].chambers[j].name, s->objects[k2].chambers[j2].name)) {
+                        char cp[PATH_LEN];
+                        snprintf(cp, sizeof cp, "objects[%d].chambers[%d].name", k, j);
+                        return rk_json_fail(c, cp, "'%s' is already objects[%d].chambers[%d]'s name",
+                                            s->objects[k].chambers[j].name, k2, j2);
+                    }
     if (rk_json_vector(c, root, "", "gravity", 0, 3, s->gravity)) return -1;
     const void *obstacle_user[2] = {scene_dir, s};
     if (each_item(c, root, "", "obstacles", &s->nobstacles, rk_parse_obstacle, (void *)obstacle_user) ||
@@ -477,6 +560,9 @@ void rk_scene_free(rk_scene *s)
         free(s->objects[i].regions);
         free(s->objects[i].motions);
         free(s->objects[i].loads);
+        free(s->objects[i].voids);
+        for (int j = 0; s->objects[i].chambers && j < s->objects[i].nchambers; j++) free(s->objects[i].chambers[j].keys);
+        free(s->objects[i].chambers);
     }
     free(s->objects);
     free(s->obstacles);

@@ -69,6 +69,17 @@ typedef struct {
     double force[3];       /* total force (N), shared among the selected vertices by mass */
 } rk_scene_force;
 
+/* A pneumatic chamber (fom.h, rk_chamber): the object's boundary faces whose centroid lies in box,
+ * a closed surface (the walls of a void, mesh.voids), under a pressure held from the start. */
+#define RK_CHAMBER_NAME 64
+typedef struct {
+    char name[RK_CHAMBER_NAME]; /* unique in the scene: romkit control's inputs name it */
+    rk_box box;
+    double pressure;       /* Pa */
+    int nkeys;             /* "pressure": [[t, P], ...] instead: keys (rk_chamber's), 0: constant */
+    double *keys;          /* 2 nkeys */
+} rk_scene_chamber;
+
 typedef enum { RK_SHAPE_FILE = 0, RK_SHAPE_BOX = 1, RK_SHAPE_POINTS = 2 } rk_shape_kind;
 
 typedef struct {
@@ -94,6 +105,11 @@ typedef struct {
     rk_scene_motion *motions;
     int nloads;
     rk_scene_force *loads;
+    int nvoids;            /* mesh.voids: the tets whose centroid lies in a box are cut out (rk_mesh_carve,
+                            * after scale, translate and refine) */
+    rk_box *voids;
+    int nchambers;
+    rk_scene_chamber *chambers;
     double velocity[3];
 } rk_scene_object;
 
@@ -236,6 +252,7 @@ typedef struct {
     int *point_tag;           /* one per vertex: a point cloud's PLY "tag" at its points, else 0 */
     rk_fem fem;
     rk_fom_options options;   /* points into arrays owned here */
+    char (*chamber_name)[RK_CHAMBER_NAME]; /* options.nchambers: the chambers' names, objects in order */
     rk_obstacle *obstacles;   /* the scene's, meshes loaded (options.obstacles) */
     rk_surface *obstacle_meshes; /* one per obstacle (empty unless a mesh) */
     int steps;

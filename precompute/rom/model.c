@@ -214,6 +214,11 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
         rk_rom_model_free(m);
         return rk_error_prefix(err, "reduced model");
     }
+    if (opt->nchambers > 0) {
+        rk_rom_model_free(m);
+        return rk_fail(err, "reduced model: pressure chambers act at full order and on Koopman models (romkit fom, "
+                       "control), not on a reduced model yet (%d given)", opt->nchambers);
+    }
     for (size_t i = 0; i < (size_t)3 * fem->nv * r; i++)
         if (!isfinite(U[i])) {
             rk_rom_model_free(m);
