@@ -54,6 +54,10 @@ typedef struct {
                                   same seed, same result */
     int prune;                 /* after reaching the tolerance, drop points while the rest, re-fitted,
                                   still meets it (greedy.c) */
+    /* Optional (both or neither): what a candidate costs beside those selected, >= 1; the score
+     * is divided by it. cost_begin(ctx, selected indices, count) before each pick's scoring. */
+    void (*cost_begin)(void *ctx, const int *selected, int count);
+    double (*cost)(void *ctx, int candidate);
 } rk_cubature_problem;
 
 typedef struct {
@@ -187,6 +191,8 @@ typedef struct {
     double amplitude;     /* RMS displacement (m) of the random poses; 0: the largest snapshot's */
     unsigned long long seed;
     int prune;            /* drop points the tolerance does without (greedy.c; default 0) */
+    double vertex_cost;   /* rk_cubature_train_moving only: what a vertex the selection does not use
+                           * yet costs against an element (default 8; 0: elements alone), moving.c */
 } rk_cubature_options;
 
 void rk_cubature_default_options(rk_cubature_options *o);
@@ -207,7 +213,8 @@ int rk_cubature_train(rk_quadrature *exact, const double *Mr, double mass, const
  * (0 <= t < poses) gives a displacement u (3 nv) and its own basis U (3 nv x r, column-major,
  * zero on the rows the method holds); the training columns are each element's U_t^T f_e(u_t),
  * every pose's block divided by the norm of its exact total (An et al. Eq. 5), and the greedy NNLS
- * above picks elements to o->tolerance (o->poses, o->amplitude: unused; the poses are the caller's).
+ * above picks elements to o->tolerance (o->poses, o->amplitude: unused; the poses are the caller's),
+ * each candidate's score divided by 1 + o->vertex_cost x (its vertices no selected element has) / 4.
  * Every fourth pose (t % 4 == 3) is held out of the fit, and the weights' relative force error
  * over those is measured. out->index are element numbers, out->weight multiply their rest
  * volumes. Poses whose exact force vanishes (rest) are dropped. Fails on bad input, a non-finite

@@ -3,7 +3,7 @@
  * reduced forces are the gradients of the quadrature's energy in U_t (rk_quadrature_eval, a path
  * the trainer does not take): the errors the trainer reports, over the fitted and the held-out
  * poses (every fourth), recomputed that way; the weights positive on distinct elements; the
- * tolerance met; bad input and a failing pose. */
+ * tolerance met; the vertex cost choosing elements on fewer vertices; bad input and a failing pose. */
 #include "cubature/cubature.h"
 #include "fem_body.h"
 #include "testlib.h"
@@ -101,6 +101,47 @@ TEST(reported_errors_match_the_quadratures_forces)
     fem_body_free(&b);
 }
 
+static int vertices_of(const rk_fem *f, const rk_cubature_set *set)
+{
+    unsigned char *seen = calloc((size_t)f->nv, 1);
+    int count = 0;
+    for (int k = 0; k < set->count; k++)
+        for (int a = 0; a < 4; a++) {
+            count += !seen[f->tets[4 * set->index[k] + a]];
+            seen[f->tets[4 * set->index[k] + a]] = 1;
+        }
+    free(seen);
+    return count;
+}
+
+TEST(vertex_cost_picks_elements_on_fewer_vertices)
+{
+    rk_error err;
+    fem_body b;
+    CHECK_OK(box(&b, &err));
+    poses_ctx c = {3 * b.m.nv, -1};
+    rk_moving_poses P = {POSES, pose, &c};
+    rk_cubature_options o;
+    rk_cubature_default_options(&o);
+    o.tolerance = 0.02;
+    o.sample = 0;
+    rk_cubature_set set[2];
+    rk_moving_fit fit[2];
+    int v[2];
+    for (int k = 0; k < 2; k++) {
+        o.vertex_cost = k ? 32 : 0;
+        CHECK_OK(rk_cubature_train_moving(&b.f, R, &P, &o, &set[k], &fit[k], &err));
+        CHECK(set[k].reached, "vertex cost %g: error %g", o.vertex_cost, fit[k].train_error);
+        v[k] = vertices_of(&b.f, &set[k]);
+    }
+    printf("# %d elements on %d vertices without the vertex cost, %d on %d with 32\n", set[0].count, v[0],
+           set[1].count, v[1]);
+    CHECK(v[1] < v[0], "%d vertices with the cost, %d without", v[1], v[0]);
+    rk_cubature_set_free(&set[0]);
+    rk_cubature_set_free(&set[1]);
+    fem_body_free(&b);
+}
+
 TEST(bad_input_and_a_failing_pose_are_errors)
 {
     rk_error err;
@@ -128,6 +169,7 @@ TEST(bad_input_and_a_failing_pose_are_errors)
 int main(void)
 {
     RUN(reported_errors_match_the_quadratures_forces);
+    RUN(vertex_cost_picks_elements_on_fewer_vertices);
     RUN(bad_input_and_a_failing_pose_are_errors);
     return test_finish();
 }
