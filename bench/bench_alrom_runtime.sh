@@ -7,8 +7,8 @@
 #   pca        POD of the six training runs, cubature trained on them (tolerance 0.01)
 #   adaptive   the quadratic manifold fitted to the same training frames (decoder quadratic_pod:
 #              their 16 POD modes and a least-squares quadratic term),
-#              m = 20, lambda = 0.2, the cubature trained as romkit compare trains it (for the POD
-#              basis of the same frames); stepped over the stored vertices only
+#              m = 20, lambda = 0.2, the cubature trained for the moving basis (the decoder's
+#              basis at each training frame's code); stepped over the stored vertices only
 #   crom       the same with the CROM decoder trained on those frames (every vertex stored; the
 #              decoder network's Jacobian at each vertex each step)
 # The training runs are romkit fom jobs whose snapshots both entries list (the job-array form).

@@ -54,6 +54,10 @@ typedef struct {
                                   same seed, same result */
     int prune;                 /* after reaching the tolerance, drop points while the rest, re-fitted,
                                   still meets it (greedy.c) */
+    /* Optional (both or neither): what a candidate costs beside those selected, >= 1; the score
+     * is divided by it. cost_begin(ctx, selected indices, count) before each pick's scoring. */
+    void (*cost_begin)(void *ctx, const int *selected, int count);
+    double (*cost)(void *ctx, int candidate);
 } rk_cubature_problem;
 
 typedef struct {
@@ -187,6 +191,8 @@ typedef struct {
     double amplitude;     /* RMS displacement (m) of the random poses; 0: the largest snapshot's */
     unsigned long long seed;
     int prune;            /* drop points the tolerance does without (greedy.c; default 0) */
+    double vertex_cost;   /* rk_cubature_train_moving only: what a vertex the selection does not use
+                           * yet costs against an element (default 8; 0: elements alone), moving.c */
 } rk_cubature_options;
 
 void rk_cubature_default_options(rk_cubature_options *o);
@@ -201,5 +207,31 @@ void rk_cubature_default_options(rk_cubature_options *o);
 int rk_cubature_train(rk_quadrature *exact, const double *Mr, double mass, const double *snapshots,
                       int nsnapshots, const rk_cubature_options *o, rk_cubature_set *out, int *poses_used,
                       rk_error *err);
+
+/* ==== a cubature for a moving basis (moving.c; issue 33) ====
+ * The adaptive linear ROM integrates each step's forces in the basis that step forms. Pose t
+ * (0 <= t < poses) gives a displacement u (3 nv) and its own basis U (3 nv x r, column-major,
+ * zero on the rows the method holds); the training columns are each element's U_t^T f_e(u_t),
+ * every pose's block divided by the norm of its exact total (An et al. Eq. 5), and the greedy NNLS
+ * above picks elements to o->tolerance (o->poses, o->amplitude: unused; the poses are the caller's),
+ * each candidate's score divided by 1 + o->vertex_cost x (its vertices no selected element has) / 4.
+ * Every fourth pose (t % 4 == 3) is held out of the fit, and the weights' relative force error
+ * over those is measured. out->index are element numbers, out->weight multiply their rest
+ * volumes. Poses whose exact force vanishes (rest) are dropped. Fails on bad input, a non-finite
+ * force (naming the pose and element), the callback's failure, or allocation. */
+typedef struct {
+    int poses;
+    int (*pose)(void *ctx, int t, double *u, double *U, rk_error *err);
+    void *ctx;
+} rk_moving_poses;
+
+typedef struct {
+    int poses, heldout_poses;     /* those kept (nonzero force) in the fit, and held out */
+    double train_error;           /* |A_S w - b| / |b| over the fitted poses */
+    double heldout_error;         /* the same over the held-out ones (NaN when there are none) */
+} rk_moving_fit;
+
+int rk_cubature_train_moving(const rk_fem *f, int r, const rk_moving_poses *P, const rk_cubature_options *o,
+                             rk_cubature_set *out, rk_moving_fit *fit, rk_error *err);
 
 #endif

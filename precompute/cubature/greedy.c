@@ -178,12 +178,14 @@ static int pick(greedy *g, int *best, rk_error *err)
     int s = draw_subset(g);
     double rnorm = cblas_dnrm2(g->rows, g->r, 1), best_score = RK_GREEDY_SCORE_FLOOR * rnorm;
     *best = -1;
+    if (g->p->cost_begin) g->p->cost_begin(g->p->ctx, g->idx, g->count);
     for (int i = 0; i < s; i++) {
         int c = g->draw[i];
         if (fetch_column(g, c, g->col, err)) return -1;
         double norm = cblas_dnrm2(g->rows, g->col, 1);
         if (!(norm > RK_GREEDY_NORM_FLOOR * g->bnorm)) { pool_remove(g, c); continue; }
         double score = cblas_ddot(g->rows, g->col, 1, g->r, 1) / norm;
+        if (g->p->cost_begin) score /= g->p->cost(g->p->ctx, c);
         if (score > best_score) {
             best_score = score;
             *best = c;

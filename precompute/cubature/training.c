@@ -18,6 +18,8 @@ void rk_cubature_default_options(rk_cubature_options *o)
     o->sample = 1000;
     o->amplitude = 0;
     o->seed = 0x5eed;
+    o->prune = 0;
+    o->vertex_cost = 8;
 }
 
 static double uniform(uint64_t *s) { return ((double)(rk_splitmix64(s) >> 11) + 0.5) / 9007199254740992.0; }

@@ -143,36 +143,70 @@ int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk
     return 0;
 }
 
-int rk_scene_alrom_cubature(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
-                            int T, int **element, double **weight, int *count, rk_error *err)
+/* Pose t of the moving basis' training: frame s (evenly spaced over the T frames), its code p =
+ * e(u) and the decoder's basis dg/dp there, with the prescribed rows zero as every step's basis. */
+typedef struct {
+    const rk_decoder *dec;
+    const double *frames;
+    int T, poses;
+    const unsigned char *prescribed; /* per dof */
+    double *p;
+} moving_ctx;
+
+static int moving_pose(void *ctx, int t, double *u, double *U, rk_error *err)
+{
+    const moving_ctx *m = ctx;
+    int n = m->dec->n, r = m->dec->r;
+    long s = m->poses > 1 ? (long)t * (m->T - 1) / (m->poses - 1) : m->T - 1;
+    memcpy(u, m->frames + (size_t)n * s, sizeof(double) * (size_t)n);
+    if (m->dec->encode(m->dec->ctx, u, m->p, err) || m->dec->jacobian(m->dec->ctx, m->p, U, err))
+        return rk_error_prefix(err, "the decoder at frame %ld", s);
+    for (int j = 0; j < r; j++)
+        for (int i = 0; i < n; i++)
+            if (m->prescribed[i]) U[(size_t)n * j + i] = 0;
+    return 0;
+}
+
+int rk_scene_alrom_cubature(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_decoder *dec, const double *frames,
+                            int T, int **element, double **weight, int *count, rk_moving_fit *fit, rk_error *err)
 {
     *element = NULL;
     *weight = NULL;
     *count = 0;
+    memset(fit, 0, sizeof *fit);
     if (!e->cubature) return 0;
-    /* the PCA basis of the same frames at the same r, and the cubature trained for it: An et al.'s
-     * weights depend on the basis they were trained in; here they integrate a basis that moves */
-    rk_rom_entry pe = *e;
-    pe.method = &rk_method_fixed;
-    pe.basis.type = RK_BASIS_POD;
-    pe.ntraining = 0;
-    rk_scene_rom R;
-    if (rk_scene_rom_build(scene, sim, &pe, frames, T, &R, err))
-        return rk_error_prefix(err, "%s: the cubature (trained with a POD basis of the same frames)", e->path);
-    const rk_quadrature *Q = &R.model.quad;
-    int rc = 0;
-    *element = malloc(sizeof(int) * (size_t)(Q->count + 1));
-    *weight = malloc(sizeof(double) * (size_t)(Q->count + 1));
-    if (!*element || !*weight) {
-        rc = rk_fail(err, "out of memory for a cubature of %d elements", Q->count);
-    } else {
-        for (int k = 0; k < Q->count; k++) { /* Q's weights carry the rest volume; the energy has it too */
-            (*element)[k] = Q->source[k];
-            (*weight)[k] = Q->weight[k] / sim->fem.vol[Q->source[k]];
-        }
-        *count = Q->count;
+    int nv = sim->mesh.nv, n = 3 * nv, r = e->basis.size, rc = -1;
+    if (!frames || T < 1) return rk_fail(err, "%s: the cubature trains on the entry's frames, and there are none", e->path);
+    if (dec->n != n || dec->r != r)
+        return rk_fail(err, "%s: the decoder is %d x %d, the cubature needs %d x %d", e->path, dec->n, dec->r, n, r);
+    moving_ctx m = {dec, frames, T, T < e->cub.poses ? T : e->cub.poses, NULL, NULL};
+    unsigned char *pre = rk_calloc((size_t)n, 1, err);
+    m.p = rk_calloc((size_t)r, sizeof(double), err);
+    m.prescribed = pre;
+    rk_cubature_set set = {0};
+    if (!pre || !m.p) goto out;
+    for (int g = 0; g < sim->options.nprescribed; g++)
+        for (int k = 0; k < sim->options.prescribed[g].count; k++)
+            memset(pre + 3 * (size_t)sim->options.prescribed[g].verts[k], 1, 3);
+    rk_moving_poses P = {m.poses, moving_pose, &m};
+    if (rk_cubature_train_moving(&sim->fem, r, &P, &e->cub, &set, fit, err)) {
+        rk_error_prefix(err, "%s: the cubature (trained for the moving basis)", e->path);
+        goto out;
     }
-    rk_scene_rom_free(&R);
+    *element = malloc(sizeof(int) * (size_t)(set.count + 1));
+    *weight = malloc(sizeof(double) * (size_t)(set.count + 1));
+    if (!*element || !*weight) {
+        rk_fail(err, "out of memory for a cubature of %d elements", set.count);
+        goto out;
+    }
+    memcpy(*element, set.index, sizeof(int) * (size_t)set.count);
+    memcpy(*weight, set.weight, sizeof(double) * (size_t)set.count);
+    *count = set.count;
+    rc = 0;
+out:
+    rk_cubature_set_free(&set);
+    free(pre);
+    free(m.p);
     if (rc) {
         free(*element);
         free(*weight);

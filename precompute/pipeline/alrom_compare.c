@@ -16,6 +16,7 @@ typedef struct {
     double seconds;             /* its build (training) time */
     int ncub, *cub_element;     /* the entry's cubature (rom.cubature), or none */
     double *cub_weight;
+    rk_moving_fit fit;          /* its training */
 } decoder_cache;
 
 static int same_decoder(const rk_rom_entry *ea, const rk_rom_entry *eb)
@@ -69,7 +70,8 @@ int rk_adaptive_linear_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_comp
         cache_clear(cache);
         double t0 = rk_now();
         if (rk_scene_alrom_decoder(scene, sim, e, D, T, &cache->dec, err) ||
-            rk_scene_alrom_cubature(scene, sim, e, D, T, &cache->cub_element, &cache->cub_weight, &cache->ncub, err))
+            rk_scene_alrom_cubature(sim, e, &cache->dec, D, T, &cache->cub_element, &cache->cub_weight, &cache->ncub,
+                                    &cache->fit, err))
             goto out;
         cache->from = e;
         cache->seconds = rk_now() - t0;
@@ -81,6 +83,11 @@ int rk_adaptive_linear_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_comp
     o.cub_element = cache->cub_element;
     o.cub_weight = cache->cub_weight;
     m->cubature_points = cache->ncub;
+    if (cache->ncub) {
+        m->cubature_error = cache->fit.train_error;
+        snprintf(m->cubature_reason, sizeof m->cubature_reason, "trained for the moving basis on %d frames, held-out "
+                 "error %.4g on %d", cache->fit.poses, cache->fit.heldout_error, cache->fit.heldout_poses);
+    }
     if (rk_alrom_init(&s, &sim->fem, &sim->options, dec, &o, err)) {
         rk_error_prefix(err, "%s", e->path);
         goto out;

@@ -1,7 +1,7 @@
 /* An adaptive linear ROM entry into an asset (pipeline.h, rk_scene_bake_alrom): the decoder (a
  * quadratic one's parts, or a trained CROM's networks), the cubature the runtime integrates every
- * step's basis with (trained as rk_scene_alrom_cubature trains it for romkit compare, or every
- * element), a reduced model on the decoder's linear part (a CROM's Jacobian at p = 0) for the
+ * step's basis with (trained for the moving basis as rk_scene_alrom_cubature trains it for romkit
+ * compare, or every element), a reduced model on the decoder's linear part (a CROM's Jacobian at p = 0) for the
  * chunks a reduced model has (its pin penalty left out: the runtime moves the prescribed vertices
  * itself), and the adaptive chunks beside them. */
 #include "pipeline/method_adaptive_linear.h"
@@ -14,8 +14,23 @@
 /* the entry's own options (the caller checked its method) */
 #define AL(e) rk_adaptive_linear_of(e)
 
+/* The vertices the cubature's elements touch: the rows the runtime forms each step. */
+static int cubature_vertices(const rk_scene_sim *sim, const rk_rom_model *model)
+{
+    unsigned char *seen = calloc((size_t)sim->mesh.nv + 1, 1);
+    int count = 0;
+    for (int k = 0; seen && k < model->quad.count; k++)
+        for (int a = 0; a < 4; a++) {
+            int v = sim->fem.tets[4 * model->quad.source[k] + a];
+            count += !seen[v];
+            seen[v] = 1;
+        }
+    free(seen);
+    return seen ? count : -1;
+}
+
 static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e, const rk_rom_model *model,
-                   const rk_asset_summary *sum, double seconds)
+                   const rk_moving_fit *fit, const rk_asset_summary *sum, double seconds)
 {
     cJSON *b = cJSON_AddObjectToObject(out->report, "basis");
     cJSON_AddStringToObject(b, "type", AL(e)->crom ? "crom" : AL(e)->quadratic_pod ? "quadratic_pod" : "quadratic_manifold");
@@ -23,6 +38,13 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
     cJSON_AddNumberToObject(b, "columns", model->r);
     cJSON *c = cJSON_AddObjectToObject(out->report, "cubature");
     cJSON_AddNumberToObject(c, "elements", model->quad.count);
+    cJSON_AddNumberToObject(c, "vertices", cubature_vertices(sim, model));
+    if (e->cubature) { /* trained for the moving basis (rk_scene_alrom_cubature) */
+        cJSON_AddNumberToObject(c, "poses", fit->poses);
+        cJSON_AddNumberToObject(c, "relative_error", fit->train_error);
+        cJSON_AddNumberToObject(c, "heldout_poses", fit->heldout_poses);
+        if (isfinite(fit->heldout_error)) cJSON_AddNumberToObject(c, "heldout_error", fit->heldout_error);
+    }
     cJSON *a = cJSON_AddObjectToObject(out->report, "adaptive_linear");
     cJSON_AddNumberToObject(a, "history", AL(e)->opt.history);
     cJSON_AddNumberToObject(a, "lambda", AL(e)->opt.lambda);
@@ -61,6 +83,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     rk_quadrature quad = {0};
     rk_decoder dec = {0};
     rk_crom_parts crom;
+    rk_moving_fit fit = {0};
     if (sim.options.is_static) {
         rk_fail(err, "%s: an adaptive linear ROM steps dynamics; the scene asks for a static solve", e->path);
         goto out;
@@ -68,13 +91,15 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     if ((e->cubature || AL(e)->quadratic_pod || AL(e)->crom) && (e->ntraining ? rk_scene_training_set_from(scene, &sim, e, n ? training_runs : NULL, &D, &T, err)
                                                            : rk_scene_training_frames(&sim, &D, &T, err)))
         goto out;
-    if (rk_scene_alrom_cubature(scene, &sim, e, D, T, &cub_element, &cub_weight, &ncub, err)) goto out;
+    /* the decoder first: the cubature trains on its bases at the frames */
+    if (((e->cubature || AL(e)->crom) && rk_scene_alrom_decoder(scene, &sim, e, D, T, &dec, err)) ||
+        rk_scene_alrom_cubature(&sim, e, &dec, D, T, &cub_element, &cub_weight, &ncub, &fit, err))
+        goto out;
     if (AL(e)->crom) { /* the trained CROM; its Jacobian at p = 0 stands as the model's rows */
         size_t nr = (size_t)3 * sim.mesh.nv * r;
         double *p0 = NULL;
-        int bad = rk_scene_alrom_decoder(scene, &sim, e, D, T, &dec, err) || rk_crom_parts_of(&dec, &crom) ||
-                  !(p0 = rk_calloc((size_t)r, sizeof(double), err)) || !(Phi = rk_calloc(nr, sizeof(double), err)) ||
-                  dec.jacobian(dec.ctx, p0, Phi, err);
+        int bad = rk_crom_parts_of(&dec, &crom) || !(p0 = rk_calloc((size_t)r, sizeof(double), err)) ||
+                  !(Phi = rk_calloc(nr, sizeof(double), err)) || dec.jacobian(dec.ctx, p0, Phi, err);
         free(p0);
         if (bad) goto out;
     } else if (rk_scene_quadratic_parts(&sim, e, D, T, &Phi, &Psi, err)) {
@@ -108,7 +133,7 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
     free(info);
     if (!rc) {
         out->report = cJSON_CreateObject();
-        report(out, &sim, e, &model, &sum, rk_now() - t0);
+        report(out, &sim, e, &model, &fit, &sum, rk_now() - t0);
     } else {
         rk_error_prefix(err, "%s", e->path);
     }

@@ -46,10 +46,15 @@ int rk_scene_quadratic_parts(const rk_scene_sim *sim, const rk_rom_entry *e, con
 int rk_scene_alrom_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                         int T, rk_alrom *s, rk_decoder *dec, double *seconds_decoder, rk_error *err);
 /* With rom.cubature: the elements and weights (multiplying each element's energy) of a cubature
- * trained, as a fixed basis's is, for the POD basis of the same frames at the same r; none (count
- * 0) without. malloc'd. */
-int rk_scene_alrom_cubature(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
-                            int T, int **element, double **weight, int *count, rk_error *err);
+ * trained for the moving basis (issue 33, rk_cubature_train_moving): up to rom.cubature.poses
+ * frames evenly spaced over the entry's (3 nv x T displacements), each with the decoder's basis
+ * dg/dp at its code p = e(u) (the prescribed rows zero), to rom.cubature.tolerance, with the fit's
+ * error on held-out frames in *fit. Why the decoder's basis: the step's basis is the Grassmann
+ * point between it and the history basis, and along a motion the decoder fits, the history's
+ * secant D P^T (P P^T)^-1 is the decoder's Jacobian to first order. None (count 0) without
+ * rom.cubature. malloc'd. */
+int rk_scene_alrom_cubature(const rk_scene_sim *sim, const rk_rom_entry *e, const rk_decoder *dec, const double *frames,
+                            int T, int **element, double **weight, int *count, rk_moving_fit *fit, rk_error *err);
 /* The decoder alone (rk_scene_alrom_init's first half). */
 int rk_scene_alrom_decoder(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e, const double *frames,
                            int T, rk_decoder *dec, rk_error *err);

@@ -48,15 +48,18 @@ static int parse_cubature(const rk_json_ctx *c, const cJSON *e, const char *path
     o->cubature = cub != NULL;
     if (!cub) return 0;
     if (!cJSON_IsObject(cub)) return rk_json_fail(c, cpath, "must be an object");
-    static const char *const keys[] = {"tolerance", "max_points", "poses", "sample", "prune", NULL};
+    static const char *const keys[] = {"tolerance", "max_points", "poses", "sample", "prune", "vertex_cost", NULL};
     if (rk_json_check_keys(c, cub, cpath, keys)) return -1;
     double tol = o->cub.tolerance;
     if (rk_json_number(c, cub, cpath, "tolerance", 0, &tol) ||
         rk_json_whole(c, cub, cpath, "max_points", 0, 1e7, &o->cub.max_points) ||
         rk_json_whole(c, cub, cpath, "poses", 1, 10000, &o->cub.poses) ||
         rk_json_whole(c, cub, cpath, "sample", 0, 1e7, &o->cub.sample) ||
-        rk_json_bool(c, cub, cpath, "prune", &o->cub.prune))
+        rk_json_bool(c, cub, cpath, "prune", &o->cub.prune) ||
+        rk_json_number(c, cub, cpath, "vertex_cost", 0, &o->cub.vertex_cost))
         return -1;
+    if (!(o->cub.vertex_cost >= 0 && o->cub.vertex_cost <= 1e6))
+        return rk_json_fail(c, cpath, "vertex_cost must be in [0, 1e6], got %g", o->cub.vertex_cost);
     if (!(tol > 0 && tol < 1)) return rk_json_fail(c, cpath, "tolerance must be in (0, 1), got %g", tol);
     o->cub.tolerance = tol;
     return 0;

@@ -99,8 +99,9 @@ static int fixture_open(fixture *f, const char *json, rk_error *err)
     double *D = NULL;
     int T = 0, ncub = 0;
     if (e->cubature && rk_scene_training_frames(&f->sim, &D, &T, err)) return -1;
-    int rc = rk_scene_alrom_cubature(&f->scene, &f->sim, e, D, T, &f->cub_element, &f->cub_weight, &ncub, err) ||
-             rk_scene_alrom_decoder(&f->scene, &f->sim, e, NULL, 0, &f->dec, err);
+    rk_moving_fit fit;
+    int rc = rk_scene_alrom_decoder(&f->scene, &f->sim, e, NULL, 0, &f->dec, err) ||
+             rk_scene_alrom_cubature(&f->sim, e, &f->dec, D, T, &f->cub_element, &f->cub_weight, &ncub, &fit, err);
     free(D);
     if (rc) return -1;
     f->stage = 3;
