@@ -235,9 +235,9 @@ static int run_control(const control_args *a, rk_error *err)
         const cJSON *fe = cJSON_GetObjectItem(cJSON_GetObjectItem(rep, "error"), "fom_vs_target");
         int under2 = cJSON_GetObjectItem(fe, "frames_under_2_percent")->valueint;
         printf("control: %d frames, %d inputs, Koopman rank %d; per-frame error in %% of the target's largest "
-               "displacement: full order under the solved forces vs target max %.3g%% (%d of %d frames under 2%%), "
+               "displacement: full order under the solved %s vs target max %.3g%% (%d of %d frames under 2%%), "
                "model vs target max %.3g%%, model vs full order max %.3g%%\n",
-               T, o.ninputs, r.rank, mx[0], under2, T, mx[1], mx[2]);
+               T, o.ninputs, r.rank, a->train_pressure ? "inputs" : "forces", mx[0], under2, T, mx[1], mx[2]);
         rc = 0;
     }
     cJSON_Delete(rep);
