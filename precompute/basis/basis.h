@@ -38,15 +38,15 @@ typedef struct {
     double *weight;  /* n integration weights (m^3); they sum to about the object's volume */
     int *tet;        /* rk_rkpm_sample_mesh: n containing tets (for per-element materials); else NULL */
     int *source;     /* rk_rkpm_sample_cloud: n indices into the input cloud; else NULL */
-    double spacing;  /* mesh: the grid spacing; cloud: the voxel size of the volume estimate */
+    double spacing;  /* mesh: the grid cell's edge (geometric mean); cloud: the voxel size of the volume estimate */
     double volume;   /* mesh: the sum of |tet volumes|; cloud: the occupancy volume estimate */
 } rk_rkpm_points;
 
-/* A uniform grid of spacing s = cbrt(mesh volume / target), centred on the mesh's bounding box,
- * keeping the grid points inside the mesh (Sec. 7.1). Each tet's bounding box is rasterized onto
- * the grid and its points tested by barycentric coordinates (tolerance 1e-9), so a point on a
- * shared face is kept once, in the containing tet of lowest index (recorded in p->tet). Every
- * weight is s^3. Points are ordered by grid index (x fastest). Fails when no grid point falls
+/* A uniform grid whose cells tile the mesh's bounding box (ceil(extent / s) cells per axis, s =
+ * cbrt(mesh volume / target), a point at each cell's centre), keeping the grid points inside the
+ * mesh (Sec. 7.1). Each tet's bounding box is rasterized onto the grid and its points tested by
+ * barycentric coordinates (tolerance 1e-9), so a point on a shared face is kept once, in the
+ * containing tet of lowest index (recorded in p->tet). Every weight is its cell's volume. Points are ordered by grid index (x fastest). Fails when no grid point falls
  * inside (a mesh thinner than s everywhere). On failure *p is empty. */
 int rk_rkpm_sample_mesh(const rk_mesh *m, int target, rk_rkpm_points *p, rk_error *err);
 
