@@ -41,6 +41,8 @@ typedef struct {
     rk_material_model *model; /* nt */
     double *mu, *lambda, *density; /* nt, Lame parameters and density per element */
     double *vertex_mass; /* nv lumped masses (kg): each tet gives rho*vol/4 to each vertex */
+    double *point_mass;  /* nv masses beyond the elements' (rk_fem_init_points' vertex_mass: a
+                          * cloud's points), included in vertex_mass; NULL from rk_fem_init */
     /* The 3nv x 3nv pattern of every matrix below: all tet couplings plus every vertex's
      * diagonal 3x3 block. slot[78*t + k] is where the k-th upper-triangle entry of tet t's
      * 12x12 block lands in val (k runs over (i <= j) row-major over the 12 dofs a0 a1 a2 b0 ...). */
@@ -80,7 +82,7 @@ void rk_fem_add_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M);
 void rk_fem_add_volume_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M);
 /* The masses rk_fem_init_points gave vertices beyond their elements' (a cloud's points: rk_fem_add_mass
  * has only the elements'), times scale, on M's diagonal: the two make the model's whole mass. */
-int rk_fem_add_point_mass(const rk_fem *f, double scale, rk_sparse *M, rk_error *err);
+void rk_fem_add_point_mass(const rk_fem *f, double scale, rk_sparse *M);
 /* Linear-elasticity stiffness at rest, added into K (scaled): each element's own model's
  * unprojected Hessian at x = X (all four models share the linear tangent at F = I). */
 void rk_fem_add_rest_stiffness(const rk_fem *f, double scale, rk_sparse *K);

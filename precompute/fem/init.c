@@ -93,12 +93,18 @@ int rk_fem_init_points(rk_fem *f, const rk_mesh *m, const rk_material *mats, con
         rk_fem_free(f);
         return -1;
     }
+    f->point_mass = rk_calloc((size_t)m->nv, sizeof(double), err);
+    if (!f->point_mass) {
+        rk_fem_free(f);
+        return -1;
+    }
     for (int v = 0; v < m->nv; v++) {
         if (!(vertex_mass[v] >= 0 && isfinite(vertex_mass[v]))) {
             rk_fem_free(f);
             return rk_fail(err, "point model: vertex %d has mass %g", v, vertex_mass[v]);
         }
         f->vertex_mass[v] += vertex_mass[v];
+        f->point_mass[v] = vertex_mass[v];
     }
     return 0;
 }
@@ -112,6 +118,7 @@ void rk_fem_free(rk_fem *f)
     free(f->lambda);
     free(f->density);
     free(f->vertex_mass);
+    free(f->point_mass);
     free(f->pattern.colptr);
     free(f->pattern.rowind);
     free(f->pattern.val);

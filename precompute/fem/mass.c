@@ -24,19 +24,11 @@ void rk_fem_add_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M)
     add_mass(f, lumped, 0, scale, M);
 }
 
-int rk_fem_add_point_mass(const rk_fem *f, double scale, rk_sparse *M, rk_error *err)
+void rk_fem_add_point_mass(const rk_fem *f, double scale, rk_sparse *M)
 {
-    double *share = rk_calloc((size_t)f->nv + 1, sizeof(double), err);
-    if (!share) return -1;
-    for (int t = 0; t < f->nt; t++)
-        for (int a = 0; a < 4; a++) share[f->tets[4 * t + a]] += f->density[t] * f->vol[t] / 4;
-    for (int v = 0; v < f->nv; v++) {
-        double extra = f->vertex_mass[v] - share[v]; /* rounding aside, 0 at a mesh's vertices */
-        if (extra > 1e-12 * f->vertex_mass[v])
-            for (int i = 0; i < 3; i++) M->val[rk_fem_diag_slot(M, v, i, i)] += scale * extra;
-    }
-    free(share);
-    return 0;
+    for (int v = 0; f->point_mass && v < f->nv; v++)
+        if (f->point_mass[v] > 0)
+            for (int i = 0; i < 3; i++) M->val[rk_fem_diag_slot(M, v, i, i)] += scale * f->point_mass[v];
 }
 
 void rk_fem_add_volume_mass(const rk_fem *f, int lumped, double scale, rk_sparse *M)

@@ -38,11 +38,7 @@ static double *reduced_frames(const rk_scene_sim *sim, const rk_scene_rom *R, co
         return NULL;
     }
     rk_fem_add_mass(&sim->fem, sim->options.lumped_mass, 1.0, &M);
-    if (rk_fem_add_point_mass(&sim->fem, 1.0, &M, err)) {
-        free(q);
-        rk_sparse_free(&M);
-        return NULL;
-    }
+    rk_fem_add_point_mass(&sim->fem, 1.0, &M);
     for (int t = 0; t < T; t++)
         if (rk_rom_project(&R->model, &M, R->basis.U, ndof, NULL, frames + (size_t)ndof * t, q + (size_t)r * t, err)) {
             free(q);

@@ -57,7 +57,7 @@ int rk_scene_rom_velocity0(const rk_scene_sim *sim, const rk_scene_rom *R, doubl
         if (rk_sparse_alloc_pattern(&sim->fem, &M, err)) goto out;
         rk_fem_add_mass(&sim->fem, sim->options.lumped_mass, 1.0, &M);
         /* a cloud's points beside the meshes weigh too (else its velocity projected to nothing) */
-        if (rk_fem_add_point_mass(&sim->fem, 1.0, &M, err)) goto out;
+        rk_fem_add_point_mass(&sim->fem, 1.0, &M);
         if (rk_rom_project(&R->model, &M, R->basis.U, ndof, NULL, v, q, err)) goto out;
     } else if (project_unweighted(R->basis.U, ndof, r, v, q, err))
         goto out;

@@ -85,7 +85,8 @@ static int build_matrices(rk_rom_model *m, const rk_fem *fem, const rk_fom_optio
         rk_fem_add_mass(fem, opt->lumped_mass, 1.0, &S);
         /* and a cloud's points' (no element holds them: without this U^T M U was singular for a
          * cloud and M_r served, which full-order states are not measured in) */
-        m->M_proj_chol = rk_fem_add_point_mass(fem, 1.0, &S, err) ? NULL : rk_calloc((size_t)r * r, sizeof(double), err);
+        rk_fem_add_point_mass(fem, 1.0, &S);
+        m->M_proj_chol = rk_calloc((size_t)r * r, sizeof(double), err);
         if (!m->M_proj_chol) {
             free(SU), free(fext), rk_sparse_free(&S);
             return -1;
