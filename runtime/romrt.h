@@ -215,8 +215,10 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romr
  * solves with it (a modified Newton step: only the potential and its gradient are evaluated, the
  * cubature's r x r Hessian and its Cholesky factorization are not). In the converged mode a fresh
  * matrix replaces it wherever its steps stop halving or its line search has to shorten one, so the
- * answer meets the same tolerance; in the fixed-cost mode it is replaced only by age, and the
- * error against the converged answer grows with k (docs/results/newton_modes.md). A kept factor is
+ * answer meets the same tolerance; in the fixed-cost mode it is replaced by age, and where its
+ * step would not lower the incremental potential (a stale matrix overshooting; one energy more an
+ * iteration), and the error against the converged answer grows with k
+ * (docs/results/newton_modes.md). A kept factor is
  * dropped by romrt_reset, romrt_set_state, placing or removing a collider, a collider's move and
  * a change of the integrator's inertia weight (BDF2's first step), so a restored state's steps may
  * differ from the uninterrupted run's by up to the solve's tolerance. Kept across romrt_reset.

@@ -223,12 +223,27 @@ static romrt_status direction(romrt_model *m, int n, int it, romrt_error *err)
 static romrt_status newton_fixed(romrt_model *m, const rt_terms *T, romrt_error *err)
 {
     int n = unknowns(m), it, i, kept;
-    romrt_real *y = m->y, *d = m->d, alpha, E, magnitude;
+    romrt_real *y = m->y, *d = m->d, *trial = m->trial, alpha, E, magnitude;
     romrt_status st;
     for (it = 0; it < m->fixed_iterations; it++) {
         if ((st = newton_system(m, T, y, &E, &magnitude, it, 0, &kept, err))) return st;
         if ((st = direction(m, n, it, err))) return st;
         alpha = filtered(m) ? max_step(m, y, d) : 1;
+        if (kept) {
+            /* A kept matrix's modified step is the one step here that can run away: a matrix from
+             * up to hessian_reuse steps back, too soft for a stiffer state (the projected volume's
+             * C^T C at nu = 0.45), overshoots, and with nothing checking, the next step starts from
+             * an inverted point. Where it does not lower the potential, a fresh matrix at y gives the
+             * step (unchecked, as every fixed-mode step is): one energy per iteration more. */
+            romrt_real Et;
+            for (i = 0; i < n; i++) trial[i] = y[i] + alpha * d[i];
+            Et = potential(m, T, trial, 0, 0, 0);
+            if (!(Et <= E)) {
+                if ((st = newton_system(m, T, y, &E, &magnitude, it, 1, &kept, err)) || (st = direction(m, n, it, err)))
+                    return st;
+                alpha = filtered(m) ? max_step(m, y, d) : 1;
+            }
+        }
         for (i = 0; i < n; i++) y[i] += alpha * d[i];
     }
     m->last.converged = 0; /* not tested */
