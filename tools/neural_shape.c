@@ -81,6 +81,8 @@ typedef struct {
     int lift, nregion, *region; /* --lift: its box and the shape's vertices in it */
     double box[6];
     double fd[RK_KOOPMAN_SHAPE_MAX]; /* the difference steps when keys move in whole steps */
+    char *text;                      /* the scene built (rk_family_shape_text), */
+    int ready;                       /* and everything above made from it */
 } shape_ctx;
 
 static void shape_close(shape_ctx *c)
@@ -91,15 +93,28 @@ static void shape_close(shape_ctx *c)
     }
     free(c->accel);
     free(c->region);
+    free(c->text);
     c->accel = NULL;
     c->region = NULL;
-    c->built = 0;
+    c->text = NULL;
+    c->built = c->ready = 0;
 }
 
 static int family_shape(void *ctx, const double *gamma, rk_koopman_shape *s, rk_error *err)
 {
     shape_ctx *c = ctx;
+    /* keys in whole steps give one scene to many codes (a difference's two sides, most trial
+     * steps): the scene, its load and region are reused while the scene's text is the same */
+    char *text = rk_family_shape_text(c->f, gamma, err);
+    if (!text) return -1;
+    int same = c->ready && !strcmp(text, c->text);
+    if (same) {
+        free(text);
+        *s = (rk_koopman_shape){c->sim.mesh.X, c->sim.mesh.nv, c->accel, 3 * c->vertex + c->axis, c->region, c->nregion, 1};
+        return 0;
+    }
     shape_close(c);
+    c->text = text;
     if (rk_family_shape_scene(c->f, gamma, &c->sc, err)) return -1;
     if (rk_scene_build(&c->sc, &c->sim, err)) {
         rk_scene_free(&c->sc);
@@ -113,6 +128,7 @@ static int family_shape(void *ctx, const double *gamma, rk_koopman_shape *s, rk_
     rk_koopman_scene_accel(&c->sim, c->sim.options.gravity, c->sim.options.force, c->accel);
     if (rk_koopman_scene_pressure_accel(&c->sim, c->accel, err)) return -1; /* the members' load, as trained */
     *s = (rk_koopman_shape){c->sim.mesh.X, nv, c->accel, 3 * c->vertex + c->axis, c->region, c->nregion, 1};
+    c->ready = 1;
     return 0;
 }
 

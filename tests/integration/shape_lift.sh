@@ -6,7 +6,7 @@
 # short chamber with a thick wall it finds the code that lifts the tip most after 20 steps. Full
 # order at the optimum (the scene --scene-out writes) must confirm the rise over the start, by
 # more than the model's own error, and match the model's prediction there within 1.5 times that
-# error (measured 1.0 times). Bad "shape" keys are refused naming the key. About 11 s of CPU.
+# error (measured 1.0 times). Bad "shape" keys are refused naming the key. About 9 s of CPU.
 . tests/lib.sh
 M=examples/shape_family/member.sh
 export STEPS=20
@@ -66,7 +66,7 @@ if "$ROMKIT" neural-dmd "$TMP/family.json" --lift "$TIP" --steps 20 --gamma-star
         || fail shape_lift_full_order_confirms_the_rise "full order $fstart m at the start, $fopt m at the optimum, own error $own"
     # and the model's lift at the optimum is the full-order one within about the model's own
     # error. Measured (seed 1): the optimum (0.794, 0) has held-out h80's mesh (the keys round to
-    # whole cells), 5.2% off there against an own error of 5.2% (h80's, the larger of two): the bound 1.5
+    # whole cells), 5.2% off there against an own error of 5.2% (h80's, the larger of two): bound 1.5
     # times. An earlier family (m55 on a jagged part-cell void) put it 12.0% off against 11.5%
     awk -v p="$popt" -v o="$fopt" -v e="$own" 'BEGIN { d = (p - o) / o; if (d < 0) d = -d; exit !(o != "" && d <= 1.5 * e) }' \
         && ok shape_lift_prediction_within_own_error \
