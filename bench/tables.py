@@ -117,6 +117,9 @@ ABOUT = {
     "moving_obstacles": ("Moving obstacles in the runtime (issue 30)", "make bench: bench/moving_obstacles.sh",
                          "A slab thrown onto a terrain rising at 1 m/s: us per step, Newton iterations, closest "
                          "approach and crossings, against an older build with OLD."),
+    "shape_family": ("Shape optimisation of a pneumatic finger's lift (issue 35)", "make bench: bench/shape_family.sh",
+                     "examples/shape_family: a 3-value code (chamber length, wall thickness, offset), the neural "
+                     "DMD's lift optimum checked by full order."),
     "cage": ("The 43k-vertex class through a simulation cage (issue 32)", "make bench: bench/cage.sh",
              "spot.obj split 1:4 (46,126 vertices) on a cage of at most 20,000 tets, skinning eigenmodes and "
              "cubature by romkit build, and romkit run --frames' OBJ counts."),

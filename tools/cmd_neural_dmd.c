@@ -26,6 +26,8 @@ static void neural_dmd_usage(FILE *f)
             "                         [--model M | --save-model M]\n"
             "       romkit neural-dmd FAMILY.json --objective VERTEX,AXIS --target T --steps N -o OUT.rombin\n"
             "                         [--gamma-start G1,G2,...] [the output options]\n"
+            "       romkit neural-dmd FAMILY.json --lift X0,Y0,Z0,X1,Y1,Z1 --steps N -o OUT.rombin\n"
+            "                         [--gamma-start G1,G2,...] [--scene-out S.json] [the output options]\n"
             "  trains the neural DMD (modes as a network of rest position and shape code gamma, eigenvalues\n"
             "  as a network of gamma) on every member of the family, then bakes its operator on the mesh of\n"
             "  S.json at shape code gamma into OUT.rombin for the runtime.\n"
@@ -54,14 +56,25 @@ static void neural_dmd_usage(FILE *f)
             "  --objective  VERTEX,AXIS: the vertex (index in the shape's mesh) and x, y or z\n"
             "  --target     the position (m) that coordinate should reach after --steps N steps from rest\n"
             "  --steps      N >= 1\n"
-            "  --gamma-start  where Newton starts (default: the middle of the members' range)\n\n"
+            "  --gamma-start  where the search starts (default: the middle of the members' range)\n"
+            "  --lift       maximise instead the mean y displacement after --steps N steps of the vertices whose\n"
+            "               rest positions lie in the box (Fig. 16's lift), by projected gradient ascent over the\n"
+            "               members' range; the family's \"shape\" may also move any number of its scene by\n"
+            "               \"keys\": [{\"key\": \"objects[0].mesh.voids[0].box[1][0]\", \"per_gamma\": [...]}]. A\n"
+            "               chamber's pressure, held from t = 0, is each member's load. The report gives each\n"
+            "               member's lift by the model and at full order; members with \"held_out\": true are\n"
+            "               not trained on, and their error is the model's own\n"
+            "  --scene-out  write the optimum's scene there (for romkit fom at the optimum)\n\n"
             "example (a family of beams of three thicknesses, baked at an unseen one, against its own run):\n"
             "  romkit fom b14.json --snapshots b14.npy   (and b18, b22; family.json lists the three)\n"
             "  romkit neural-dmd family.json --scene b20.json --gamma 0.20 -o b20.rombin --report r.json\n"
             "  romkit fom b20.json --snapshots b20.npy\n"
             "  romkit run b20.rombin --steps 100 --reference b20.npy\n"
             "example (a \"shape\" in family.json: the thickness whose tip corner, vertex 6, is 3.5 cm down at 1 s):\n"
-            "  romkit neural-dmd family.json --objective 6,y --target -0.035 --steps 100 -o tip.rombin\n");
+            "  romkit neural-dmd family.json --objective 6,y --target -0.035 --steps 100 -o tip.rombin\n"
+            "example (the pneumatic finger family of examples/shape_family: the chamber that lifts the tip most):\n"
+            "  romkit neural-dmd family.json --lift 0.0795,-1,-1,0.081,1,1 --steps 40 -o opt.rombin\n"
+            "                    --scene-out opt.json --report opt_report.json\n");
 }
 
 typedef struct {
@@ -109,12 +122,13 @@ static int member_errors(const rk_koopman_neural *nk, const rk_family *f, cJSON 
         if (rc) return rk_error_prefix(err, "members[%d]: %s", i, m->snapshots);
         cJSON *o = cJSON_CreateObject();
         cJSON_AddStringToObject(o, "snapshots", m->snapshots);
+        cJSON_AddBoolToObject(o, "held_out", m->held_out);
         cJSON_AddItemToObject(o, "gamma", rk_json_array(m->gamma, f->g));
         cJSON_AddNumberToObject(o, "mse_percent", pct);
         cJSON_AddNumberToObject(o, "peak_relative_error", peak);
         cJSON_AddItemToArray(arr, o);
-        if (!quiet) printf("  member %d (%s): rollout %.4g%% MSE, peak %.3g of the largest displacement\n", i,
-                           m->snapshots, pct, peak);
+        if (!quiet) printf("  member %d (%s%s): rollout %.4g%% MSE, peak %.3g of the largest displacement\n", i,
+                           m->snapshots, m->held_out ? ", held out" : "", pct, peak);
     }
     return 0;
 }
@@ -125,9 +139,9 @@ static int bake(const rk_koopman_neural *nk, const rk_koopman_neural_report *tr,
 {
     rk_scene_koopman sk;
     memset(&sk, 0, sizeof sk);
-    sk.info.trajectories = f->nmembers;
+    sk.info.trajectories = f->ntrain;
     int rc = rk_koopman_neural_operator(nk, sim->mesh.X, sim->mesh.nv, f->g ? gamma : NULL, &sk.k, err) ||
-             rk_scene_koopman_geometry(sim, &sk, err);
+             rk_scene_koopman_geometry(sim, &sk, err) || rk_koopman_scene_pressure_accel(sim, sk.accel, err);
     cJSON *info = cJSON_CreateObject(), *members = cJSON_CreateArray();
     cJSON_AddStringToObject(info, "method", "koopman");
     cJSON_AddStringToObject(info, "source", "romkit neural-dmd");
@@ -141,6 +155,7 @@ static int bake(const rk_koopman_neural *nk, const rk_koopman_neural_report *tr,
     if (!rc) {
         cJSON *n = cJSON_AddObjectToObject(out->report, "neural");
         cJSON_AddNumberToObject(n, "members", f->nmembers);
+        cJSON_AddNumberToObject(n, "held_out", f->nmembers - f->ntrain);
         cJSON_AddNumberToObject(n, "shape_dim", f->g);
         cJSON_AddItemToObject(n, "gamma", rk_json_array(gamma, f->g));
         cJSON_AddNumberToObject(n, "pretrained_loss", tr->pretrained_loss);
@@ -179,14 +194,15 @@ static int train(const nd_args *a, const rk_family *f, rk_koopman_neural *nk, rk
                               tr->final_loss);
     } else {
         int blas = rk_threads_blas(1); /* the same sums, so the same weights, on any thread count */
-        int rc = rk_koopman_neural_train(f->mesh, f->nmembers, &f->options, nk, tr, err);
+        int rc = rk_koopman_neural_train(f->train, f->ntrain, &f->options, nk, tr, err);
         rk_threads_blas(blas);
         if (rc) return -1;
         if (!a->quiet)
             printf("neural DMD on %d members, rank %d: loss %.4g after the regression, %.4g after %d steps (%.1f s)\n",
-                   f->nmembers, nk->r, tr->pretrained_loss, tr->final_loss, f->options.epochs, tr->seconds);
+                   f->ntrain, nk->r, tr->pretrained_loss, tr->final_loss, f->options.epochs, tr->seconds);
     }
-    if (a->sh.objective && neural_shape_optimize(&a->sh, nk, f, gamma, opt, err)) {
+    if (neural_shape_wanted(&a->sh) && (neural_shape_optimize(&a->sh, nk, f, gamma, opt, err) ||
+                                         neural_shape_members(&a->sh, nk, f, opt, a->quiet, err))) {
         rk_koopman_neural_free(nk);
         return -1;
     }
@@ -200,12 +216,12 @@ static int bake_and_save(const nd_args *a, const rk_koopman_neural *nk, const rk
     rk_scene sc;
     rk_scene_sim sim;
     rk_baked baked;
-    if (open_scene(a->sh.objective ? NULL : a->scene, f, gamma, &sc, &sim, err)) return -1;
+    if (open_scene(neural_shape_wanted(&a->sh) ? NULL : a->scene, f, gamma, &sc, &sim, err)) return -1;
     int rc = bake(nk, tr, f, &sim, gamma, ao, &baked, err);
     rk_scene_sim_free(&sim);
     rk_scene_free(&sc);
     if (rc) return -1;
-    if (a->sh.objective) cJSON_AddItemReferenceToObject(baked.report, "shape_optimization", opt);
+    if (neural_shape_wanted(&a->sh)) cJSON_AddItemReferenceToObject(baked.report, "shape_optimization", opt);
     rc = member_errors(nk, f, cJSON_GetObjectItem(cJSON_GetObjectItem(baked.report, "neural"), "member_errors"),
                        a->quiet, err) ||
          rombin_save(a->out, baked.data, baked.bytes, err) || (a->report && rk_json_write_file(a->report, baked.report, err)) ||
@@ -225,9 +241,10 @@ static int neural_dmd(const nd_args *a, const rk_asset_options *ao, rk_error *er
     rk_scene sc;
     rk_scene_sim sim;
     /* every input checked before the training: the code, the scene (or the shape at the start) */
-    int rc = a->sh.objective ? neural_shape_check(&a->sh, &f, err)
-                             : bake_gamma(a->gamma, &f, gamma, err) || open_scene(a->scene, &f, gamma, &sc, &sim, err);
-    if (!rc && !a->sh.objective) rk_scene_sim_free(&sim), rk_scene_free(&sc);
+    int shape = neural_shape_wanted(&a->sh);
+    int rc = shape ? neural_shape_check(&a->sh, &f, err)
+                   : bake_gamma(a->gamma, &f, gamma, err) || open_scene(a->scene, &f, gamma, &sc, &sim, err);
+    if (!rc && !shape) rk_scene_sim_free(&sim), rk_scene_free(&sc);
     cJSON *opt = cJSON_CreateObject();
     if (!rc && !(rc = train(a, &f, &nk, &tr, gamma, opt, err))) {
         rc = bake_and_save(a, &nk, &tr, &f, gamma, opt, ao, err);
@@ -253,17 +270,29 @@ int cmd_neural_dmd(int argc, char **argv)
                                {"--quiet", NULL, &a.quiet},         {"--objective", &a.sh.objective, NULL},
                                {"--target", &a.sh.target, NULL},    {"--steps", &a.sh.steps, NULL},
                                {"--gamma-start", &a.sh.start, NULL}, {"--model", &a.model, NULL},
-                               {"--save-model", &a.save_model, NULL}, {NULL, NULL, NULL}};
+                               {"--save-model", &a.save_model, NULL}, {"--lift", &a.sh.lift, NULL},
+                               {"--scene-out", &a.sh.scene_out, NULL}, {NULL, NULL, NULL}};
     if (cli_parse("neural-dmd", argc, argv, opts, &a.family, "family file")) {
         neural_dmd_usage(stderr);
         return 2;
     }
-    const char *clash = !a.sh.objective ? (a.sh.target ? "--target" : a.sh.steps ? "--steps" : a.sh.start ? "--gamma-start" : NULL)
-                      : a.scene ? "--scene" : a.gamma ? "--gamma" : NULL;
+    int shape = neural_shape_wanted(&a.sh);
+    const char *clash = !shape ? (a.sh.target     ? "--target"
+                                  : a.sh.steps    ? "--steps"
+                                  : a.sh.start    ? "--gamma-start"
+                                  : a.sh.scene_out ? "--scene-out"
+                                                  : NULL)
+                      : a.scene                    ? "--scene"
+                      : a.gamma                    ? "--gamma"
+                      : a.sh.lift && a.sh.objective ? "--lift"
+                      : a.sh.lift && a.sh.target   ? "--target"
+                                                   : NULL;
     if (clash) {
         fprintf(stderr, "romkit neural-dmd: %s %s\n", clash,
-                a.sh.objective ? "does not go with --objective (the optimum's code and the family's shape are baked)"
-                               : "needs --objective");
+                !shape ? "needs --objective or --lift"
+                : a.sh.lift && (a.sh.objective || a.sh.target)
+                    ? "does not go with --objective (--lift is an objective of its own, with no target)"
+                    : "does not go with --objective or --lift (the optimum's code and the family's shape are baked)");
         neural_dmd_usage(stderr);
         return 2;
     }
@@ -272,8 +301,8 @@ int cmd_neural_dmd(int argc, char **argv)
         neural_dmd_usage(stderr);
         return 2;
     }
-    if ((!a.scene && !a.sh.objective) || !a.out) {
-        fprintf(stderr, "romkit neural-dmd: -o and --scene (or --objective) are required\n");
+    if ((!a.scene && !shape) || !a.out) {
+        fprintf(stderr, "romkit neural-dmd: -o and --scene (or --objective, or --lift) are required\n");
         neural_dmd_usage(stderr);
         return 2;
     }

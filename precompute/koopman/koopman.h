@@ -401,12 +401,19 @@ int rk_koopman_neural_operator(const rk_koopman_neural *nk, const double *X, int
  * half-range; the iteration is Gauss-Newton on the residual f - target (for g = 1 Newton's method
  * on f(gamma) = target) with the step halved until |f - target| decreases and gamma clamped to the
  * training range. The paper runs gradient descent (rate 0.025, 150 steps) on a loss it maximises;
- * a target on one value has a root, which Newton finds in a few steps. */
+ * a target on one value has a root, which Newton finds in a few steps.
+ *
+ * The lift objective (Fig. 16's frog, a finger's tip): with a region (nregion vertices) the
+ * objective is instead the mean displacement along `axis` of the region's vertices at step N,
+ *   f(gamma) = (1 / |R|) sum_{v in R} u_N[3 v + axis],
+ * and rk_koopman_shape_maximize raises it (below). */
 typedef struct {
     const double *X;      /* 3 nv rest positions of the shape; valid until the next call */
     int nv;
     const double *accel;  /* 3 nv: the constant acceleration (gravity, loads), or NULL */
     int index;            /* 0 .. 3 nv - 1: the value whose final position is the objective */
+    const int *region;    /* nregion > 0: the lift objective over these vertices (index unused) */
+    int nregion, axis;
 } rk_koopman_shape;
 
 /* Fills s for shape code gamma (g values); returns non-zero (with err set) to stop. */
@@ -421,16 +428,25 @@ typedef struct {
     double tolerance;     /* > 0: stop when |f - target| <= tolerance (m) */
     double epsilon;       /* > 0: the central difference's step (default 1e-4, the paper's) */
     int max_iterations;   /* >= 1 (default 50) */
+    const double *fd_step; /* g values > 0: the central difference's steps in gamma's own units
+                           * instead (NULL: epsilon times each half-range). A family whose mesh is
+                           * piecewise constant in the code (remeshed, or keys moved in whole cells)
+                           * needs steps that reach across one of its mesh's changes, or the
+                           * difference sees the network's code input alone. Either way a
+                           * difference that would leave the training range is taken one-sided. */
 } rk_koopman_shape_problem;
 
 /* tolerance 1e-5 m, epsilon 1e-4, max_iterations 50; nk, shape, steps and target must be set. */
 void rk_koopman_shape_default(rk_koopman_shape_problem *p);
 
+#define RK_KOOPMAN_SHAPE_HISTORY 201
 typedef struct {
-    int iterations;       /* Gauss-Newton steps taken */
+    int iterations;       /* Gauss-Newton (or ascent) steps taken */
     int evaluations;      /* objective evaluations (operators built and jumped) */
     double value;         /* f at the returned gamma */
     double seconds;
+    double history[RK_KOOPMAN_SHAPE_HISTORY]; /* rk_koopman_shape_maximize: f at the start, then
+                                                 after each iteration (iterations + 1 values) */
 } rk_koopman_shape_report;
 
 /* f(gamma) (above) for one code. Fails on a non-finite gamma or objective, naming them. */
@@ -440,6 +456,18 @@ int rk_koopman_shape_objective(const rk_koopman_shape_problem *p, const double *
  * bad settings), a non-finite objective (naming gamma), or no convergence within max_iterations
  * (gamma then holds the best code found and report its value). report may be NULL. */
 int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, rk_koopman_shape_report *report,
+                              rk_error *err);
+/* Maximises f (the lift objective, or any f above) over the training range: projected gradient
+ * ascent as the paper's (Sec. 7.4: central differences with eps = 1e-4, in units of each
+ * component's half-range), but with the step chosen by backtracking instead of its fixed rate
+ * 0.025: each iteration tries a step of length `step` (in those units, initially half the range,
+ * so that a mesh piecewise constant in the code changes) along the gradient, projected onto the
+ * range, halving it until f rises (Armijo: by at
+ * least 1e-4 of the gradient's prediction), and doubling it after a success. It stops when no
+ * projected step of 1e-6 half-ranges or more raises f (a corner of the range, or a maximum), or after
+ * max_iterations (at most RK_KOOPMAN_SHAPE_HISTORY - 1). target is unused. gamma: the start in,
+ * the best code out; report (may be NULL) its value and the history. */
+int rk_koopman_shape_maximize(const rk_koopman_shape_problem *p, double *gamma, rk_koopman_shape_report *report,
                               rk_error *err);
 
 /* Dense solvers (lstsq.c); A is m x n, column-major, left unchanged.

@@ -25,7 +25,11 @@ int rk_koopman_shape_objective(const rk_koopman_shape_problem *p, const double *
     for (int c = 0; c < p->nk->g; c++)
         if (!isfinite(gamma[c])) return rk_fail(err, "shape optimisation: gamma[%d] is %g", c, gamma[c]);
     if (p->shape(p->ctx, gamma, &s, err)) return rk_error_prefix(err, "shape optimisation: the shape at gamma[0] = %g", gamma[0]);
-    if (!s.X || s.nv < 1 || s.index < 0 || s.index >= 3 * s.nv)
+    for (int i = 0; i < s.nregion; i++)
+        if (!s.region || s.region[i] < 0 || s.region[i] >= s.nv || s.axis < 0 || s.axis > 2)
+            return rk_fail(err, "shape optimisation: the shape at gamma[0] = %g has %d vertices: region vertex %d (%d), "
+                           "axis %d", gamma[0], s.nv, i, s.region ? s.region[i] : -1, s.axis);
+    if (!s.X || s.nv < 1 || (!s.nregion && (s.index < 0 || s.index >= 3 * s.nv)))
         return rk_fail(err, "shape optimisation: the shape at gamma[0] = %g has %d vertices and objective index %d", gamma[0],
                        s.nv, s.index);
     if (rk_koopman_neural_operator(p->nk, s.X, s.nv, gamma, &k, err)) return -1;
@@ -34,7 +38,8 @@ int rk_koopman_shape_objective(const rk_koopman_shape_problem *p, const double *
     /* from rest (u_{-1} = u_0 = 0: z = 0), N forced steps in closed form (Eq. 19, Eq. 25) */
     if (z && u && !rk_koopman_forced(&k, p->steps, s.accel, z, err)) {
         rk_koopman_positions(&k, z, u);
-        *value = s.X[s.index] + u[s.index];
+        *value = s.nregion ? 0 : s.X[s.index] + u[s.index];
+        for (int i = 0; i < s.nregion; i++) *value += u[3 * s.region[i] + s.axis] / s.nregion;
         rc = isfinite(*value) ? 0 : rk_fail(err, "shape optimisation: the objective at gamma[0] = %g is %g", gamma[0], *value);
     }
     free(z);
@@ -48,6 +53,9 @@ static int check_problem(const rk_koopman_shape_problem *p, const double *gamma,
     if (!p || !p->nk || p->nk->g < 1 || !p->shape || !gamma)
         return rk_fail(err, "shape optimisation: needs a model trained with a shape code (g >= 1), a shape function and "
                        "a start gamma");
+    for (int c = 0; p->fd_step && c < p->nk->g; c++)
+        if (!(p->fd_step[c] > 0) || !isfinite(p->fd_step[c]))
+            return rk_fail(err, "shape optimisation: the difference step %d is %g", c, p->fd_step[c]);
     if (p->steps < 1 || !(p->tolerance > 0) || !(p->epsilon > 0) || p->max_iterations < 1)
         return rk_fail(err, "shape optimisation: bad settings (steps %lld, tolerance %g, epsilon %g, iterations %d)",
                        p->steps, p->tolerance, p->epsilon, p->max_iterations);
@@ -61,21 +69,25 @@ static int check_problem(const rk_koopman_shape_problem *p, const double *gamma,
     return 0;
 }
 
-/* df/dgamma (g values) by central differences, step epsilon times each component's half-range. */
+/* df/dgamma (g values) by central differences, step epsilon times each component's half-range
+ * (or fd_step), one-sided where a side would leave the training range. */
 static int gradient(const rk_koopman_shape_problem *p, double *gamma, double *grad, int *evals, rk_error *err)
 {
     const rk_koopman_neural *nk = p->nk;
     for (int c = 0; c < nk->g; c++) {
-        double keep = gamma[c], half = 0.5 * (nk->gamma_hi[c] - nk->gamma_lo[c]), e = p->epsilon * (half > 0 ? half : 1);
-        double fp, fm;
-        gamma[c] = keep + e;
+        double keep = gamma[c], half = 0.5 * (nk->gamma_hi[c] - nk->gamma_lo[c]);
+        double e = p->fd_step ? p->fd_step[c] : p->epsilon * (half > 0 ? half : 1), fp, fm;
+        double hi = keep + e, lo = keep - e;
+        if (hi > nk->gamma_hi[c] && lo >= nk->gamma_lo[c]) hi = keep;
+        else if (lo < nk->gamma_lo[c] && hi <= nk->gamma_hi[c]) lo = keep;
+        gamma[c] = hi;
         int rc = rk_koopman_shape_objective(p, gamma, &fp, err);
-        gamma[c] = keep - e;
+        gamma[c] = lo;
         if (!rc) rc = rk_koopman_shape_objective(p, gamma, &fm, err);
         gamma[c] = keep;
         if (rc) return -1;
         *evals += 2;
-        grad[c] = (fp - fm) / (2 * e);
+        grad[c] = (fp - fm) / (hi - lo);
     }
     return 0;
 }
@@ -120,6 +132,65 @@ int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, 
     } else {
         rc = 0;
     }
+done:
+    if (report) {
+        report->iterations = it;
+        report->evaluations = evals;
+        report->value = f;
+        report->seconds = rk_now() - t0;
+    }
+    return rc;
+}
+
+int rk_koopman_shape_maximize(const rk_koopman_shape_problem *p, double *gamma, rk_koopman_shape_report *report,
+                              rk_error *err)
+{
+    rk_koopman_shape_problem q = *p;
+    q.target = 0; /* unused: check_problem wants it finite */
+    if (check_problem(&q, gamma, err)) return -1;
+    if (p->max_iterations >= RK_KOOPMAN_SHAPE_HISTORY)
+        return rk_fail(err, "shape optimisation: %d iterations, at most %d", p->max_iterations,
+                       RK_KOOPMAN_SHAPE_HISTORY - 1);
+    const rk_koopman_neural *nk = p->nk;
+    int g = nk->g, evals = 1, it = 0, rc = -1;
+    double t0 = rk_now(), f, ft, grad[RK_KOOPMAN_SHAPE_MAX], trial[RK_KOOPMAN_SHAPE_MAX], half[RK_KOOPMAN_SHAPE_MAX];
+    double step = 1; /* in half-range units: half the range */
+    for (int c = 0; c < g; c++) half[c] = 0.5 * (nk->gamma_hi[c] - nk->gamma_lo[c]) > 0 ? 0.5 * (nk->gamma_hi[c] - nk->gamma_lo[c]) : 1;
+    if (rk_koopman_shape_objective(p, gamma, &f, err)) return -1;
+    if (report) report->history[0] = f;
+    while (it < p->max_iterations) {
+        if (gradient(p, gamma, grad, &evals, err)) goto done;
+        /* the gradient in half-range units: d f / d (gamma_c / half_c) */
+        double gn = 0;
+        for (int c = 0; c < g; c++) gn += (grad[c] * half[c]) * (grad[c] * half[c]);
+        gn = sqrt(gn);
+        if (!(gn > 0)) break; /* flat: a stationary point */
+        int better = 0;
+        double moved = 0;
+        for (; step > 1e-6 && !better; step *= 0.5) {
+            double rise = 0; /* the gradient's prediction for the projected step */
+            moved = 0;
+            for (int c = 0; c < g; c++) {
+                double x = fmin(nk->gamma_hi[c], fmax(nk->gamma_lo[c], gamma[c] + step * grad[c] * half[c] * half[c] / gn));
+                rise += grad[c] * (x - gamma[c]);
+                moved = fmax(moved, fabs(x - gamma[c]) / half[c]);
+                trial[c] = x;
+            }
+            if (moved < 1e-6) break; /* the projection leaves nowhere to go */
+            if (rk_koopman_shape_objective(p, trial, &ft, err)) goto done;
+            evals++;
+            better = ft > f + 1e-4 * rise;
+        }
+        if (!better) break;
+        step *= 4; /* undo the loop's last halving, and double */
+        if (step > 2) step = 2;
+        memcpy(gamma, trial, sizeof(double) * g);
+        f = ft;
+        it++;
+        if (report) report->history[it] = f;
+        if (moved < 1e-6) break;
+    }
+    rc = 0;
 done:
     if (report) {
         report->iterations = it;

@@ -1,8 +1,6 @@
 /* A family of meshes for the neural, shape-conditioned DMD (pipeline.h, rk_family): the family
  * file parsed strictly, each member's scene built and its full-order snapshots read and checked. */
-#include "pipeline/parse_impl.h"
-
-#include "pipeline/family.h"
+#include "pipeline/family_impl.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -34,10 +32,11 @@ static int parse_gamma(const rk_json_ctx *c, const cJSON *it, const char *path, 
 static int parse_member(const rk_json_ctx *c, const cJSON *it, const char *path, const char *dir, int *g,
                         rk_family_member *m)
 {
-    static const char *const keys[] = {"scene", "snapshots", "gamma", NULL};
+    static const char *const keys[] = {"scene", "snapshots", "gamma", "held_out", NULL};
     const char *scene, *snap;
     if (rk_json_check_keys(c, it, path, keys) || rk_json_string(c, it, path, "scene", 1, &scene) ||
-        rk_json_string(c, it, path, "snapshots", 1, &snap) || parse_gamma(c, it, path, g, m->gamma))
+        rk_json_string(c, it, path, "snapshots", 1, &snap) || parse_gamma(c, it, path, g, m->gamma) ||
+        rk_json_bool(c, it, path, "held_out", &m->held_out))
         return -1;
     resolve(dir, scene, m->scene, sizeof m->scene);
     resolve(dir, snap, m->snapshots, sizeof m->snapshots);
@@ -75,18 +74,11 @@ static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neu
     return 0;
 }
 
-/* "shape": {"scene", "size", "size_per_gamma": g rows of 3}; the scene is read when used. */
-static int parse_shape(const rk_json_ctx *c, const cJSON *root, const char *dir, rk_family *f)
+/* "size" and "size_per_gamma": g rows of 3. */
+static int parse_size(const rk_json_ctx *c, const cJSON *sh, const char *p, rk_family *f)
 {
-    static const char *const keys[] = {"scene", "size", "size_per_gamma", NULL};
-    char p[512], q[600];
-    const cJSON *sh = rk_json_child(root, "", "shape", p, sizeof p);
-    if (!sh) return 0;
-    const char *scene;
-    if (rk_json_check_keys(c, sh, p, keys) || rk_json_string(c, sh, p, "scene", 1, &scene) ||
-        rk_json_vector(c, sh, p, "size", 1, 3, f->size))
-        return -1;
-    resolve(dir, scene, f->shape_scene, sizeof f->shape_scene);
+    char q[600];
+    if (rk_json_vector(c, sh, p, "size", 1, 3, f->size)) return -1;
     const cJSON *rows = rk_json_child(sh, p, "size_per_gamma", q, sizeof q);
     if (!rows || !cJSON_IsArray(rows) || cJSON_GetArraySize(rows) != f->g || f->g == 0)
         return rk_json_fail(c, q, "must be an array of %d rows [x, y, z], one per shape code value", f->g);
@@ -100,6 +92,28 @@ static int parse_shape(const rk_json_ctx *c, const cJSON *root, const char *dir,
         }
         if (!good) return rk_json_fail(c, q, "row %d must be 3 finite numbers [x, y, z]", j);
     }
+    f->has_size = 1;
+    return 0;
+}
+
+/* "shape": {"scene", and "size" with "size_per_gamma", and/or "keys" (family_keys.c)}. The scene's
+ * text is read now, so that every key is checked before any training. */
+static int parse_shape(const rk_json_ctx *c, const cJSON *root, const char *dir, rk_family *f)
+{
+    static const char *const keys[] = {"scene", "size", "size_per_gamma", "keys", NULL};
+    char p[512];
+    const cJSON *sh = rk_json_child(root, "", "shape", p, sizeof p);
+    if (!sh) return 0;
+    const char *scene;
+    if (rk_json_check_keys(c, sh, p, keys) || rk_json_string(c, sh, p, "scene", 1, &scene)) return -1;
+    if (f->g == 0) return rk_json_fail(c, p, "needs members with a shape code (gamma)");
+    resolve(dir, scene, f->shape_scene, sizeof f->shape_scene);
+    int has_size = cJSON_HasObjectItem(sh, "size") || cJSON_HasObjectItem(sh, "size_per_gamma");
+    if (!has_size && !cJSON_HasObjectItem(sh, "keys"))
+        return rk_json_fail(c, p, "needs \"size\" with \"size_per_gamma\", or \"keys\" (how a code changes the scene)");
+    if (has_size && parse_size(c, sh, p, f)) return -1;
+    if (!(f->shape_text = rk_json_file_text(f->shape_scene, "shape.scene", c->err))) return -1;
+    if (rk_family_parse_keys(c, sh, p, f)) return -1;
     f->has_shape = 1;
     return 0;
 }
@@ -115,16 +129,20 @@ static int parse_family(const rk_json_ctx *c, const cJSON *root, const char *dir
     f->nmembers = cJSON_GetArraySize(arr);
     f->member = rk_calloc((size_t)f->nmembers, sizeof *f->member, c->err);
     f->mesh = rk_calloc((size_t)f->nmembers, sizeof *f->mesh, c->err);
-    if (!f->member || !f->mesh) return -1;
+    f->train = rk_calloc((size_t)f->nmembers, sizeof *f->train, c->err);
+    if (!f->member || !f->mesh || !f->train) return -1;
     f->g = -1;
     for (int i = 0; i < f->nmembers; i++) {
         snprintf(p, sizeof p, "members[%d]", i);
         if (parse_member(c, cJSON_GetArrayItem(arr, i), p, dir, &f->g, &f->member[i])) return -1;
     }
     f->options.shape_dim = f->g;
+    for (int i = 0; i < f->nmembers; i++) f->ntrain += !f->member[i].held_out;
+    if (f->ntrain < 1) return rk_json_fail(c, "members", "every member is held out: none left to train on");
     if (parse_shape(c, root, dir, f)) return -1;
-    if (f->options.init_mesh >= f->nmembers)
-        return rk_json_fail(c, "training.init_member", "%d, but there are %d members", f->options.init_mesh, f->nmembers);
+    if (f->options.init_mesh >= f->ntrain)
+        return rk_json_fail(c, "training.init_member", "%d, but there are %d members to train on", f->options.init_mesh,
+                            f->ntrain);
     return 0;
 }
 
@@ -160,6 +178,9 @@ static int member_run(const char *file, int i, rk_family_member *m, rk_error *er
     for (long j = 3 * nv; j < T * 3 * nv; j++) S[j] -= m->sim.mesh.X[j % (3 * nv)];
     rc = rk_koopman_scene_run_frames(&m->sim, S + 3 * nv, (int)T - 1, &m->run, err);
     m->ran = !rc;
+    /* a chamber's pressure, held from t = 0, is the member's load (rk_koopman_scene_pressure_accel) */
+    if (!rc && (rc = rk_koopman_scene_pressure_accel(&m->sim, m->run.accel, err)))
+        rk_error_prefix(err, "%s: members[%d].scene: %s", file, i, m->scene);
 done:
     free(S);
     return rc;
@@ -167,6 +188,7 @@ done:
 
 static int build_members(const char *file, rk_family *f, rk_error *err)
 {
+    int n = 0;
     for (int i = 0; i < f->nmembers; i++) {
         rk_family_member *m = &f->member[i];
         if (rk_scene_load(m->scene, &m->sc, err)) return rk_error_prefix(err, "%s: members[%d].scene", file, i);
@@ -182,6 +204,7 @@ static int build_members(const char *file, rk_family *f, rk_error *err)
         f->options.h = h;
         if (member_run(file, i, m, err)) return -1;
         f->mesh[i] = (rk_koopman_neural_mesh){m->sim.mesh.X, m->sim.mesh.nv, &m->run.t, 1, f->g ? m->gamma : NULL};
+        if (!m->held_out) f->train[n++] = f->mesh[i];
     }
     return 0;
 }
@@ -217,26 +240,80 @@ void rk_family_free(rk_family *f)
     }
     free(f->member);
     free(f->mesh);
+    free(f->train);
+    free(f->keys);
+    free(f->shape_text);
     memset(f, 0, sizeof *f);
+}
+
+void rk_family_range(const rk_family *f, double *lo, double *hi)
+{
+    for (int j = 0; j < f->g; j++) {
+        lo[j] = INFINITY, hi[j] = -INFINITY;
+        for (int i = 0; i < f->nmembers; i++) lo[j] = fmin(lo[j], f->member[i].gamma[j]), hi[j] = fmax(hi[j], f->member[i].gamma[j]);
+    }
+}
+
+/* The box form on a parsed scene: the first object's box size at gamma. */
+static int box_size(const rk_family *f, const double *gamma, double *size, rk_error *err)
+{
+    for (int a = 0; a < 3; a++) {
+        size[a] = f->size[a];
+        for (int j = 0; j < f->g; j++) size[a] += gamma[j] * f->size_per_gamma[j][a];
+        if (!(size[a] > 0))
+            return rk_fail(err, "shape: at gamma[0] = %g the box's size %d is %g m (must be positive)", gamma[0], a,
+                           size[a]);
+    }
+    return 0;
+}
+
+char *rk_family_shape_text(const rk_family *f, const double *gamma, rk_error *err)
+{
+    if (!f->has_shape) {
+        rk_fail(err, "the family has no \"shape\": no mesh for a shape code");
+        return NULL;
+    }
+    cJSON *root = rk_json_parse_text(f->shape_text, f->shape_scene, err);
+    if (!root) return NULL;
+    char *text = NULL;
+    double size[3];
+    if (!rk_family_apply_keys(f, gamma, root, err)) {
+        cJSON *box = cJSON_GetObjectItem(cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(root, "objects"), 0),
+                                                             "mesh"), "box");
+        if (!f->has_size) text = cJSON_Print(root);
+        else if (!cJSON_IsObject(box))
+            rk_fail(err, "shape.scene: %s: the first object's mesh must be a box", f->shape_scene);
+        else if (!box_size(f, gamma, size, err)) {
+            cJSON_DeleteItemFromObject(box, "size");
+            cJSON_AddItemToObject(box, "size", rk_json_array(size, 3));
+            text = cJSON_Print(root);
+        }
+    }
+    cJSON_Delete(root);
+    return text;
 }
 
 int rk_family_shape_scene(const rk_family *f, const double *gamma, rk_scene *out, rk_error *err)
 {
     if (!f->has_shape) return rk_fail(err, "the family has no \"shape\": no mesh for a shape code");
-    if (rk_scene_load(f->shape_scene, out, err)) return rk_error_prefix(err, "shape.scene");
+    int rc;
+    if (f->nkeys) {
+        char *text = rk_family_shape_text(f, gamma, err);
+        rc = !text || rk_scene_parse(text, f->shape_scene, out, err);
+        free(text);
+        if (rc) return rk_error_prefix(err, "shape at gamma[0] = %g", gamma[0]);
+    } else if (rk_scene_load(f->shape_scene, out, err)) {
+        return rk_error_prefix(err, "shape.scene");
+    }
+    if (!f->has_size) return 0;
     rk_scene_object *o = &out->objects[0];
     if (out->nobjects < 1 || o->shape != RK_SHAPE_BOX) {
         rk_scene_free(out);
         return rk_fail(err, "shape.scene: %s: the first object's mesh must be a box", f->shape_scene);
     }
-    for (int a = 0; a < 3; a++) {
-        o->box_size[a] = f->size[a];
-        for (int j = 0; j < f->g; j++) o->box_size[a] += gamma[j] * f->size_per_gamma[j][a];
-        if (!(o->box_size[a] > 0)) {
-            rk_scene_free(out);
-            return rk_fail(err, "shape: at gamma[0] = %g the box's size %d is %g m (must be positive)", gamma[0], a,
-                           o->box_size[a]);
-        }
+    if (box_size(f, gamma, o->box_size, err)) {
+        rk_scene_free(out);
+        return -1;
     }
     return 0;
 }

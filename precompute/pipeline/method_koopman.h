@@ -42,6 +42,19 @@ const rk_koopman_entry *rk_koopman_of(const rk_rom_entry *e);
  * (force, N, 3 nv or NULL) over its vertex's lumped mass: what a trajectory runs under and what an
  * asset steps along, as impulses (Eq. 19). */
 void rk_koopman_scene_accel(const rk_scene_sim *sim, const double gravity[3], const double *force, double *accel);
+/* accel (3 nv) += the chambers' load as a constant acceleration, the pressure held from t = 0
+ * (the neural DMD's family members, rk_family): u_1 / h^2, u_1 the displacement one full-order
+ * step from rest under the pressure alone takes (implicit Euler: about (M + h D + h^2 K)^-1 h^2
+ * A(X_0) C, the follower force included). Not A(X_0) C over the lumped mass: that impulse sits
+ * on the chamber walls alone and is ~10^3 times the motion of a step (the walls' stiffness over
+ * their mass, times h^2), outside every mode a fit can learn, so the fitted model misses it
+ * wholesale (measured: rollout errors of 10^6 %). u_1 is the same push as the motion it starts:
+ * the impulse Eq. 19 adds then lies among the states the model is fitted on, and the operator's
+ * forcing term learns the rest of the response (the follower load's change with the
+ * deformation included, for that pressure; romkit control, which varies the pressure, takes
+ * chambers as inputs instead). Fails on a chamber that follows a schedule (keys) or a static
+ * scene. No pressure: accel unchanged. */
+int rk_koopman_scene_pressure_accel(const rk_scene_sim *sim, double *accel, rk_error *err);
 /* The frame before a start at rest positions moving at vel (3 nv, or NULL: at rest): u_{-1} = -h v. */
 void rk_koopman_frame_before(const rk_scene_sim *sim, const double *vel, double *u_prev);
 

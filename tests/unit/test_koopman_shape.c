@@ -176,7 +176,7 @@ static int beam_shape(void *ctx, const double *gamma, rk_koopman_shape *s, rk_er
     c->accel = rk_calloc((size_t)3 * nv, sizeof(double), err);
     if (!c->accel) return -1;
     rk_koopman_scene_accel(&c->b.sim, c->b.sim.options.gravity, NULL, c->accel);
-    *s = (rk_koopman_shape){c->b.sim.mesh.X, nv, c->accel, 3 * tip + 1};
+    *s = (rk_koopman_shape){c->b.sim.mesh.X, nv, c->accel, 3 * tip + 1, NULL, 0, 0};
     return tip < 0 ? rk_fail(err, "no vertex at the tip corner") : 0;
 }
 
