@@ -203,6 +203,7 @@ TEST_ALSO_test_koopman_dmd := asset formats
 TEST_ALSO_test_koopman_neural := $(DEPS_pipeline)
 TEST_ALSO_test_koopman_shape := $(DEPS_pipeline)
 TEST_ALSO_test_koopman_neural_io := $(DEPS_pipeline)
+TEST_ALSO_test_koopman_neural_sample := $(DEPS_pipeline)
 TEST_ALSO_test_koopman_xres := $(DEPS_pipeline)
 test_libs = $(foreach s,$(TEST_ALSO_$(1)),$(call lib_of,$(s))) $(call libs_of,$(call test_stage,$(1)))
 $(BUILD)/tests/%: tests/unit/%.c tests/testlib.h $$(call test_libs,$$*) $(RT_LIB)
