@@ -38,3 +38,9 @@ if (sed "s#^cd $EX\$#cd \"$TMP/ex\"#" "$TMP/block.sh" >"$TMP/run.sh" && . "$TMP/
 else
     fail example_neural_family_runs "$(tail -c 400 "$TMP/err")"
 fi
+# a bad sample size is refused, naming the key, before any training
+sed 's/"vertices": 100/"vertices": -5/' "$TMP/ex/family.json" >"$TMP/ex/bad.json"
+expect_fail example_neural_family_bad_vertices "bad.json: training: vertices must be a whole number from 0" \
+    "$ROMKIT" neural-dmd "$TMP/ex/bad.json" --scene "$TMP/ex/beam_17.json" --gamma 0.17 -o "$TMP/ex/bad.rombin" --quiet
+[ ! -e "$TMP/ex/bad.rombin" ] && ok example_neural_family_bad_vertices_writes_nothing \
+    || fail example_neural_family_bad_vertices_writes_nothing "bad.rombin was written"
