@@ -136,6 +136,10 @@ ABOUT = {
                      "and 10x2x2 for the rate); normalized MSE between consecutive levels at each chain's "
                      "level-0 vertices, the ratio of consecutive changes, and the table reference's "
                      "estimated distance to the limit."),
+    "neural_resolution": ("Neural DMD at resolution: 2.4k, 10k and 106k vertices (issue 35)",
+                          "make bench-reference: bench/neural_resolution.sh",
+                          "A linear cantilever's full-order run and the neural DMD trained on a vertex sample and "
+                          "evaluated at every vertex: CPU seconds, peak memory, relative error and normalized MSE."),
     "beam_reference": ("How converged the beam's full-order reference is", "make bench-reference: bench/beam_reference.sh",
                        "Full-order runs of the table scenes on box meshes and their 1:8 refinements; "
                        "normalized MSE between consecutive levels."),

@@ -34,17 +34,21 @@ static void neural_dmd_usage(FILE *f)
             "  FAMILY.json  {\"members\": [{\"scene\": \"a.json\", \"snapshots\": \"a.npy\", \"gamma\": [0.14]}, ...],\n"
             "               \"rank\": R, \"network\": {\"hidden\": 64, \"depth\": 3, \"eig_hidden\": 32, \"eig_depth\": 2},\n"
             "               \"training\": {\"pretrain_epochs\": 300, \"epochs\": 400, \"learning_rate\": 2e-4,\n"
-            "               \"window\": 1, \"init_member\": -1, \"polish\": 0}, \"seed\": 1}: polish is L-BFGS\n"
-            "               steps on the same loss after Adam's; each member a scene (mesh, material,\n"
-            "               fixed vertices, forcing, time step), its run by romkit fom --snapshots and its\n"
-            "               shape code (g numbers, the same g for all; none: g = 0); paths relative to\n"
-            "               FAMILY.json; every key but members and rank optional (the defaults shown)\n"
+            "               \"window\": 1, \"init_member\": -1, \"polish\": 0, \"vertices\": 4096}, \"seed\": 1}:\n"
+            "               polish is L-BFGS steps on the same loss after Adam's; vertices the most of a\n"
+            "               member the training sees (a fixed random sample of a larger mesh; 0: all: the\n"
+            "               modes are a field of the rest position, evaluated and baked at every vertex);\n"
+            "               each member a scene (mesh, material, fixed vertices, forcing, time step),\n"
+            "               its run by romkit fom --snapshots and its shape code (g numbers, the same g\n"
+            "               for all; none: g = 0); paths relative to FAMILY.json; every key but members\n"
+            "               and rank optional (the defaults shown)\n"
             "  --scene      the mesh to bake on (its forcing and start go into the asset; the family's time step)\n"
             "  --gamma      its shape code, g comma-separated numbers inside the members' range (needed when g > 0)\n"
             "  --precision  real type of the asset's arrays: float32 (default) or float64\n"
             "  --compress   deflate the asset's chunks\n"
-            "  --report R.json  the training loss, each member's rollout error (%% MSE against its snapshots),\n"
-            "               the asset's rank, eigenvalues and max |lambda|\n"
+            "  --report R.json  the training loss, each member's rollout error (%% MSE against its snapshots;\n"
+            "               relative error and normalized MSE of the positions at all its vertices), the\n"
+            "               asset's rank, eigenvalues and max |lambda|\n"
             "  --quiet      no progress on stderr\n"
             "  --save-model M  also save the trained model to M (written last, when all else succeeded)\n"
             "  --model M    a model saved by --save-model instead of training (it must match the family's\n"
@@ -108,16 +112,19 @@ static int open_scene(const char *path, const rk_family *f, const double *gamma,
     return -1;
 }
 
-/* Each member's rollout against its own snapshots, into the report and onto stdout. */
+/* Each member's rollout against its own snapshots at every vertex, into the report and onto stdout:
+ * the % MSE of the displacements, and the relative error and normalized MSE of the positions
+ * (util's metrics, as romkit run --reference has them at the shown vertices only). */
 static int member_errors(const rk_koopman_neural *nk, const rk_family *f, cJSON *arr, int quiet, rk_error *err)
 {
     for (int i = 0; i < f->nmembers; i++) {
         const rk_family_member *m = &f->member[i];
         rk_koopman k;
         double pct, peak;
+        rk_run_error e;
         if (rk_koopman_neural_operator(nk, m->sim.mesh.X, m->sim.mesh.nv, f->g ? m->gamma : NULL, &k, err))
             return rk_error_prefix(err, "members[%d]", i);
-        int rc = rk_koopman_rollout_error(&k, &m->run.t, &pct, &peak, err);
+        int rc = rk_koopman_rollout_run_error(&k, &m->run.t, m->sim.mesh.X, &e, &pct, &peak, err);
         rk_koopman_free(&k);
         if (rc) return rk_error_prefix(err, "members[%d]: %s", i, m->snapshots);
         cJSON *o = cJSON_CreateObject();
@@ -126,9 +133,14 @@ static int member_errors(const rk_koopman_neural *nk, const rk_family *f, cJSON 
         cJSON_AddItemToObject(o, "gamma", rk_json_array(m->gamma, f->g));
         cJSON_AddNumberToObject(o, "mse_percent", pct);
         cJSON_AddNumberToObject(o, "peak_relative_error", peak);
+        cJSON_AddNumberToObject(o, "vertices", m->sim.mesh.nv);
+        cJSON_AddNumberToObject(o, "relative_error", rk_relative_error(&e));
+        cJSON_AddNumberToObject(o, "normalized_mse", rk_normalized_mse(&e));
         cJSON_AddItemToArray(arr, o);
-        if (!quiet) printf("  member %d (%s%s): rollout %.4g%% MSE, peak %.3g of the largest displacement\n", i,
-                           m->snapshots, m->held_out ? ", held out" : "", pct, peak);
+        if (!quiet)
+            printf("  member %d (%s%s): rollout %.4g%% MSE, peak %.3g of the largest displacement; at all %d vertices "
+                   "relative error %.3g, normalized MSE %.3g\n", i, m->snapshots, m->held_out ? ", held out" : "", pct, peak,
+                   m->sim.mesh.nv, rk_relative_error(&e), rk_normalized_mse(&e));
     }
     return 0;
 }

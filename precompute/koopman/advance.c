@@ -142,24 +142,31 @@ void rk_koopman_real_step(const rk_koopman *k, double *y)
     }
 }
 
-int rk_koopman_rollout_error(const rk_koopman *k, const rk_koopman_trajectory *t, double *pct, double *peak,
-                             rk_error *err)
+/* The rollout against t (rk_koopman_rollout_error); with X (3 n rest positions, n = k->n / 3)
+ * each predicted frame also goes into e as positions beside the reference's. */
+static int rollout(const rk_koopman *k, const rk_koopman_trajectory *t, const double *X, rk_run_error *e, double *pct,
+                   double *peak, rk_error *err)
 {
     int n = k->n, T = t->frames;
     double *z = rk_calloc((size_t)k->r, sizeof(double), err), *u = rk_calloc((size_t)n, sizeof(double), err);
+    double *x = X ? rk_calloc((size_t)n, sizeof(double), err) : NULL, *xr = X ? rk_calloc((size_t)n, sizeof(double), err) : NULL;
     double se = 0, sr = 0, worst = 0, scale = 0;
     int rc = -1;
-    if (!z || !u) goto done;
+    if (!z || !u || (X && (!x || !xr))) goto done;
     rk_koopman_lift(k, t->u + n, t->u, z);
     for (int s = 2; s < T; s++) {
         if (rk_koopman_forced(k, 1, t->accel, z, err)) goto done;
         rk_koopman_positions(k, z, u);
         const double *ref = t->u + (size_t)n * s;
-        double e = 0, r = 0;
-        for (int i = 0; i < n; i++) e += (u[i] - ref[i]) * (u[i] - ref[i]), r += ref[i] * ref[i];
-        se += e, sr += r;
-        worst = fmax(worst, sqrt(e));
+        double e2 = 0, r = 0;
+        for (int i = 0; i < n; i++) e2 += (u[i] - ref[i]) * (u[i] - ref[i]), r += ref[i] * ref[i];
+        se += e2, sr += r;
+        worst = fmax(worst, sqrt(e2));
         scale = fmax(scale, sqrt(r));
+        if (X) {
+            for (int i = 0; i < n; i++) x[i] = X[i] + u[i], xr[i] = X[i] + ref[i];
+            rk_run_error_add(e, x, xr);
+        }
     }
     *pct = 100 * se / sr;
     *peak = worst / scale;
@@ -167,5 +174,21 @@ int rk_koopman_rollout_error(const rk_koopman *k, const rk_koopman_trajectory *t
 done:
     free(z);
     free(u);
+    free(x);
+    free(xr);
     return rc;
+}
+
+int rk_koopman_rollout_error(const rk_koopman *k, const rk_koopman_trajectory *t, double *pct, double *peak,
+                             rk_error *err)
+{
+    return rollout(k, t, NULL, NULL, pct, peak, err);
+}
+
+int rk_koopman_rollout_run_error(const rk_koopman *k, const rk_koopman_trajectory *t, const double *X, rk_run_error *e,
+                                 double *pct, double *peak, rk_error *err)
+{
+    if (k->n % 3) return rk_fail(err, "a rollout's run error needs positions: %d values a frame", k->n);
+    rk_run_error_init(e, X, k->n / 3);
+    return rollout(k, t, X, e, pct, peak, err);
 }

@@ -164,6 +164,11 @@ int rk_koopman_forced(const rk_koopman *k, long long N, const double *a, double 
  * |u - u_t| / max_s |u_t,s| in *peak. Fails when either is not finite. */
 int rk_koopman_rollout_error(const rk_koopman *k, const rk_koopman_trajectory *t, double *pct, double *peak,
                              rk_error *err);
+/* The same, and the rollout's frames as positions X + u against the trajectory's X + u_t in e
+ * (util's rk_run_error, started here over the n / 3 points of rest positions X): its relative error
+ * and normalized MSE at every vertex, as romkit run --reference measures at the shown ones. */
+int rk_koopman_rollout_run_error(const rk_koopman *k, const rk_koopman_trajectory *t, const double *X, rk_run_error *e,
+                                 double *pct, double *peak, rk_error *err);
 
 /* A goal on one value of the final frame: value `index` (0..n-1, as the fit's trajectories hold
  * values: displacements) should end at `goal`. */
@@ -330,6 +335,10 @@ typedef struct {
     int eig_hidden, eig_depth; /* with g > 0 the eigenvalue MLP gamma -> r: `eig_depth` hidden ELU layers
                            * of `eig_hidden` units (32, 2); it starts constant at the classical
                            * start's spectrum (output weights zero) */
+    int vertices;         /* the most vertices of one mesh the training sees (default 4096; 0: all):
+                           * a mesh with more trains on a fixed uniform sample of that many
+                           * (rk_koopman_neural_sample), so a step costs O(vertices) whatever the
+                           * resolution; the classical start too. Meshes at or under it: all, as before */
 } rk_koopman_neural_options;
 
 void rk_koopman_neural_default_options(rk_koopman_neural_options *o);
@@ -378,7 +387,23 @@ int rk_koopman_neural_loss(rk_koopman_neural *nk, const rk_koopman_neural_mesh *
  * lambda_im (a pair: +b at its first, -b at its second). */
 int rk_koopman_neural_eigenvalues(const rk_koopman_neural *nk, const double *gamma, double *re, double *im,
                                   rk_error *err);
-/* Phi (6 nv x r, column-major) at rest positions X (3 nv) of shape gamma (as above). */
+/* A training mesh restricted to `count` of its vertices (all when count <= 0 or >= nv), drawn
+ * uniformly without replacement from the seed and kept in the mesh's order (neural_sample.c): mesh
+ * is the sampled mesh (X and every trajectory's frames and accel at those vertices, its gamma the
+ * original's), index the original vertex of each. Memory: 3 count (frames + 2) doubles per
+ * trajectory. */
+typedef struct {
+    rk_koopman_neural_mesh mesh;
+    int *index;
+    double *X;
+    rk_koopman_trajectory *traj;
+} rk_koopman_neural_sample;
+int rk_koopman_neural_sample_init(const rk_koopman_neural_mesh *m, int count, unsigned long long seed,
+                                  rk_koopman_neural_sample *s, rk_error *err);
+void rk_koopman_neural_sample_free(rk_koopman_neural_sample *s);
+/* Phi (6 nv x r, column-major) at rest positions X (3 nv) of shape gamma (as above); the network
+ * runs over blocks of RK_KOOPMAN_NEURAL_BLOCK vertices, so its workspace does not grow with nv. */
+#define RK_KOOPMAN_NEURAL_BLOCK 4096
 int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv, const double *gamma, double *Phi,
                             rk_error *err);
 /* The model on one mesh of shape gamma (g values; NULL when g = 0; any finite code, outside the

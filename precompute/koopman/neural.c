@@ -27,6 +27,7 @@ void rk_koopman_neural_default_options(rk_koopman_neural_options *o)
     o->shape_dim = 0;
     o->eig_hidden = 32;
     o->eig_depth = 2;
+    o->vertices = 4096;
 }
 
 void rk_koopman_neural_free(rk_koopman_neural *nk)
@@ -157,17 +158,21 @@ static void inputs(const rk_koopman_neural *nk, const double *X, int nv, const d
     }
 }
 
-/* Network outputs (nv x 6r, row-major) <-> Phi (6 nv x r, column-major). */
-static void outputs_to_phi(const double *Y, int nv, int r, double *Phi)
+/* Network outputs of vertices p0 .. p0 + count - 1 (count x 6r, row-major) -> their rows of Phi
+ * (6 nv x r, column-major). */
+static void outputs_to_phi_rows(const double *Y, int nv, int p0, int count, int r, double *Phi)
 {
     size_t D = 6 * (size_t)nv;
-    for (int p = 0; p < nv; p++)
+    for (int q = 0; q < count; q++)
         for (int j = 0; j < r; j++)
             for (int c = 0; c < 6; c++) {
-                size_t row = c < 3 ? 3 * (size_t)p + c : 3 * (size_t)nv + 3 * (size_t)p + c - 3;
-                Phi[D * j + row] = Y[(size_t)6 * r * p + 6 * j + c];
+                size_t p = (size_t)p0 + q, row = c < 3 ? 3 * p + c : 3 * (size_t)nv + 3 * p + c - 3;
+                Phi[D * j + row] = Y[(size_t)6 * r * q + 6 * j + c];
             }
 }
+
+/* Network outputs (nv x 6r, row-major) <-> Phi (6 nv x r, column-major). */
+static void outputs_to_phi(const double *Y, int nv, int r, double *Phi) { outputs_to_phi_rows(Y, nv, 0, nv, r, Phi); }
 
 static void phi_to_outputs(const double *Phi, int nv, int r, double *Y)
 {
@@ -185,14 +190,19 @@ int rk_koopman_neural_modes(const rk_koopman_neural *nk, const double *X, int nv
 {
     if (check_gamma(nk, gamma, err)) return -1;
     rk_mlp_work w;
-    double *in = rk_calloc((size_t)nv * (3 + nk->g), sizeof(double), err);
-    double *Y = rk_calloc((size_t)nv * 6 * nk->r, sizeof(double), err);
+    int nb = nv < RK_KOOPMAN_NEURAL_BLOCK ? nv : RK_KOOPMAN_NEURAL_BLOCK; /* rows per pass: bounded memory */
+    double *in = rk_calloc((size_t)nb * (3 + nk->g), sizeof(double), err);
+    double *Y = rk_calloc((size_t)nb * 6 * nk->r, sizeof(double), err);
     int rc = -1;
-    if (!in || !Y || rk_mlp_work_init(&w, &nk->net, nv, 0, err)) goto done;
-    inputs(nk, X, nv, gamma, in);
-    rc = rk_mlp_forward(&nk->net, &w, nv, in, Y, err);
+    if (!in || !Y || rk_mlp_work_init(&w, &nk->net, nb, 0, err)) goto done;
+    rc = 0;
+    for (int p0 = 0; !rc && p0 < nv; p0 += nb) {
+        int count = nv - p0 < nb ? nv - p0 : nb;
+        inputs(nk, X + 3 * (size_t)p0, count, gamma, in);
+        rc = rk_mlp_forward(&nk->net, &w, count, in, Y, err);
+        if (!rc) outputs_to_phi_rows(Y, nv, p0, count, nk->r, Phi);
+    }
     rk_mlp_work_free(&w);
-    if (!rc) outputs_to_phi(Y, nv, nk->r, Phi);
 done:
     free(in);
     free(Y);
@@ -666,8 +676,10 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
     clock_gettime(CLOCK_MONOTONIC, &t0);
     int r = o->rank, rc = -1, m0 = o->init_mesh < 0 ? nmesh - 1 : o->init_mesh, maxnv = 0;
     mesh_data *md = rk_calloc((size_t)nmesh, sizeof *md, err);
+    rk_koopman_neural_sample *smp = rk_calloc((size_t)nmesh, sizeof *smp, err);
+    rk_koopman_neural_mesh *sampled = rk_calloc((size_t)nmesh, sizeof *sampled, err);
     int sizes[16];
-    if (!md || o->depth > 14) goto fail;
+    if (!md || !smp || !sampled || o->depth > 14 || o->vertices < 0) goto fail;
     nk->r = r;
     nk->h = o->h;
     nk->window = o->window;
@@ -688,6 +700,21 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
         diag += (hi[c] - lo[c]) * (hi[c] - lo[c]);
     }
     nk->scale = diag > 0 ? 0.5 * sqrt(diag) : 1;
+    /* at resolution (the frame above is the whole start mesh's): every mesh of more than
+     * o->vertices vertices trains on a fixed sample of them (neural_sample.c), the classical start
+     * and every step of the loss alike; smaller meshes train on all their vertices */
+    for (int m = 0; m < nmesh; m++) {
+        sampled[m] = mesh[m];
+        if (o->vertices > 0 && mesh[m].nv > o->vertices) {
+            if (rk_koopman_neural_sample_init(&mesh[m], o->vertices, o->seed + 7919 * (unsigned long long)m, &smp[m],
+                                              err)) {
+                rk_error_prefix(err, "mesh %d", m);
+                goto fail;
+            }
+            sampled[m] = smp[m].mesh;
+        }
+    }
+    mesh = sampled;
     sizes[0] = 3 + nk->g; /* [x; gamma]: phi(gamma, x) (Sec. 5) */
     for (int l = 1; l <= o->depth; l++) sizes[l] = o->hidden;
     sizes[o->depth + 1] = 6 * r;
@@ -748,7 +775,10 @@ int rk_koopman_neural_train(const rk_koopman_neural_mesh *mesh, int nmesh, const
     rc = 0;
 fail:
     for (int m = 0; md && m < nmesh; m++) mesh_data_free(&md[m]);
+    for (int m = 0; smp && m < nmesh; m++) rk_koopman_neural_sample_free(&smp[m]);
     free(md);
+    free(smp);
+    free(sampled);
     if (rc) {
         rk_koopman_neural_free(nk);
         return rk_error_prefix(err, "neural DMD");

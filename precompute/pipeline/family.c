@@ -48,7 +48,7 @@ static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neu
 {
     static const char *const net_keys[] = {"hidden", "depth", "eig_hidden", "eig_depth", NULL};
     static const char *const train_keys[] = {"pretrain_epochs", "epochs", "learning_rate", "window", "init_member",
-                                             "polish", NULL};
+                                             "polish", "vertices", NULL};
     char p[512];
     int seed = 0;
     if (!cJSON_GetObjectItemCaseSensitive(root, "rank")) return rk_json_fail(c, "", "rank is required (r >= 1)");
@@ -68,6 +68,7 @@ static int parse_options(const rk_json_ctx *c, const cJSON *root, rk_koopman_neu
                rk_json_whole(c, tr, p, "polish", 0, 1e7, &o->polish) ||
                rk_json_whole(c, tr, p, "window", 1, 1000, &o->window) ||
                rk_json_whole(c, tr, p, "init_member", -1, 1e6, &o->init_mesh) ||
+               rk_json_whole(c, tr, p, "vertices", 0, 1e9, &o->vertices) ||
                rk_json_number(c, tr, p, "learning_rate", 0, &o->base_lr)))
         return -1;
     if (!(o->base_lr > 0)) return rk_json_fail(c, p, "learning_rate must be positive, got %g", o->base_lr);

@@ -8,7 +8,7 @@
  *
  * A family file (JSON): {"members": [{"scene": "a.json", "snapshots": "a.npy", "gamma": [0.14]}, ...],
  * "rank": R, "network": {"hidden", "depth", "eig_hidden", "eig_depth"}, "training": {"pretrain_epochs",
- * "epochs", "learning_rate", "window", "init_member"}, "seed": S}. Each member is a scene (its mesh,
+ * "epochs", "learning_rate", "window", "init_member", "polish", "vertices"}, "seed": S}. Each member is a scene (its mesh,
  * material, fixed vertices, forcing and time step, built as every command builds one), that
  * scene's full-order run as romkit fom --snapshots writes it (T x nv x 3 positions, the rest
  * state first) and its shape code gamma (g numbers, the same g for every member; absent or null:
