@@ -54,6 +54,11 @@ ABOUT = {
                 "The float32 runtime on a float32 asset against the double reduced simulator on the "
                 "same model and the full-order step; linear modes, cubature at tolerance 0.01; "
                 "bytes of the asset (and deflated), the arena, every chunk."),
+    "volume_runtime": ("The runtime's step: projected volume against pointwise (issue 37)",
+                       "make bench: bench/volume_runtime.sh",
+                       "The bend's mesh-free float32 assets at m = 16 and 32, pointwise and projected volume, "
+                       "the same 5,000 exact integration points; romkit run from rest, one thread, the pairs "
+                       "interleaved; median seconds per step of each run, Newton iterations, factorizations."),
     "runtime_speed": ("Runtime speed against error", "make bench: bench/bench_speed.sh",
                       "The runtime (float32 unless the model says double), one thread: microseconds "
                       "per step in each Newton mode, Newton iterations per step, the error of the "
