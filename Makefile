@@ -292,8 +292,9 @@ bench-plots:
 	else echo "bench-plots: gnuplot not found; no charts drawn (the CSVs are in bench/results)"; fi
 
 # The freeform paper's Table 1 beam tests, every method beside the paper's numbers: the bend against
-# quadratic tets on 15,360 tets (converged to about 4e-7: docs/methods.md), the twists against 122,880
-# linear tets (about 1.5 hours on 2 cores, most of it the bend's P2 and the 720-degree twist's references).
+# quadratic tets on 15,360 tets (converged to about 4e-7: docs/methods.md), the twists against quadratic
+# tets on their own 1,920 tets (the 720-degree one took 705 s on one thread at load 6-13, where its
+# 122,880-tet P1 reference took 1,600-2,660 s; the whole target was about 1.5 hours on 2 cores before).
 paper-table: deps-build $(BUILD)/romkit
 	@mkdir -p bench/results
 	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt

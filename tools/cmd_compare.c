@@ -14,7 +14,7 @@
 
 static void compare_usage(FILE *f)
 {
-    fprintf(f, "usage: romkit compare SCENE.json [--report R.json] [--quiet]\n"
+    fprintf(f, "usage: romkit compare SCENE.json [--report R.json] [--reference-frames R.npy] [--quiet]\n"
                "  runs the scene at full order, then every entry of its rom section (a list or one\n"
                "  object) as a reduced model, and prints error against time for each:\n"
                "  normalized MSE and max error (over all frames, by the bounding-box diagonal), total\n"
@@ -28,6 +28,10 @@ static void compare_usage(FILE *f)
                "  mesh, and the fom row then gives the scene mesh's own error against the reference.\n"
                "  --report R.json   the same per method (methods[]), plus the full-order timings and\n"
                "                    the reference (reference.refine, .vertices, .tets, .seconds_per_step)\n"
+               "  --reference-frames R.npy  the reference's positions at the scene mesh's vertices,\n"
+               "                    every frame from the start ((steps + 1) x n x 3 float64, as\n"
+               "                    bench_reference writes a level's): to measure a costly reference\n"
+               "                    against another level without running it again\n"
                "  --quiet           no progress line on stderr\n\n"
                "example:\n"
                "  romkit compare examples/scenes/cantilever_small.json --report compare.json\n");
@@ -79,9 +83,10 @@ int cmd_compare(int argc, char **argv)
             compare_usage(stdout);
             return 0;
         }
-    const char *scene_path, *report_out = NULL;
+    const char *scene_path, *report_out = NULL, *frames_out = NULL;
     int quiet = 0;
-    const cli_option opts[] = {{"--report", &report_out, NULL}, {"--quiet", NULL, &quiet}, {NULL, NULL, NULL}};
+    const cli_option opts[] = {{"--report", &report_out, NULL}, {"--reference-frames", &frames_out, NULL},
+                               {"--quiet", NULL, &quiet}, {NULL, NULL, NULL}};
     if (cli_parse("compare", argc, argv, opts, &scene_path, "scene file")) {
         compare_usage(stderr);
         return 2;
@@ -102,6 +107,10 @@ int cmd_compare(int argc, char **argv)
     int wrote = !report_out || rk_json_write_file(report_out, report, &err) == 0;
     cJSON_Delete(report);
     if (!wrote) goto done;
+    if (frames_out) {
+        const long shape[3] = {res.steps + 1, res.vertices, 3};
+        if (rk_npy_write(frames_out, res.reference_x, 3, shape, &err)) goto done;
+    }
     print_table(scene_path, &res);
     rc = 0;
     for (int k = 0; k < res.nmethods; k++)

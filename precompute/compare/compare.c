@@ -232,6 +232,9 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
         if (run_reference(scene, &sim, &F, &R, out, err)) goto done;
         ref = &R;
     }
+    out->reference_x = rk_calloc((size_t)ref->ndof * (ref->T + 1), sizeof(double), err);
+    if (!out->reference_x) goto done;
+    memcpy(out->reference_x, ref->x, sizeof(double) * (size_t)ref->ndof * (ref->T + 1));
     /* Displacement frames, as the bases train on them. */
     D = rk_calloc((size_t)F.ndof * F.T, sizeof(double), err);
     if (!D || rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto done;
@@ -275,5 +278,6 @@ done:
 void rk_compare_result_free(rk_compare_result *r)
 {
     free(r->methods);
+    free(r->reference_x);
     memset(r, 0, sizeof *r);
 }

@@ -38,6 +38,11 @@ typedef struct {
     /* The full-order run on the scene's mesh against the reference (its discretization error;
      * util/util.h's metrics over every frame, as the methods'). */
     double fom_normalized_mse, fom_normalized_max_error, fom_max_error_m, fom_relative_error;
+    /* The reference's positions at the scene mesh's vertices, every frame from the start:
+     * (steps + 1) x vertices x 3, as bench/bench_reference.c writes a level's frames, so a
+     * reference run inside compare (hours at 15,360 quadratic tets) can be measured against
+     * other levels without running it again (romkit compare --reference-frames). */
+    double *reference_x;
     int nmethods;
     rk_compare_method *methods;
 } rk_compare_result;

@@ -121,6 +121,18 @@ TEST(refined_reference_is_measured_at_the_scene_vertices)
     printf("# by hand: nMSE %.6e, compare %.6e\n", nmse, r1.fom_normalized_mse);
     CHECK(nmse > 1e-6 && fabs(nmse - r1.fom_normalized_mse) <= 1e-12 * nmse, "by hand %.12g, compare %.12g", nmse,
           r1.fom_normalized_mse);
+    /* the reference's frames kept in the result (romkit compare --reference-frames writes them): the
+     * refined run's at the scene's vertices with a refined reference, the scene's own run without */
+    double d0 = 0, d1 = 0, moved = 0;
+    for (size_t i = 0; i < (size_t)coarse.ndof * (coarse.T + 1); i++) {
+        d0 = fmax(d0, fabs(r0.reference_x[i] - coarse.x[i]));
+        d1 = fmax(d1, fabs(r1.reference_x[i] - fine.x[i]));
+        moved = fmax(moved, fabs(fine.x[i] - coarse.x[i]));
+    }
+    printf("# reference frames: refine 0 %.3g m from the scene's run, refine 1 %.3g m from the refined run "
+           "(the two runs %.3g m apart)\n", d0, d1, moved);
+    CHECK(r1.steps == coarse.T && r1.vertices == coarse.nv && d0 <= 1e-9 && d1 <= 1e-9 && moved > 1e-3,
+          "reference frames: %g, %g m off (runs %g m apart)", d0, d1, moved);
     free(coarse.x);
     free(fine.x);
     rk_compare_result_free(&r0);
