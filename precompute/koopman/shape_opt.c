@@ -92,6 +92,15 @@ static int gradient(const rk_koopman_shape_problem *p, double *gamma, double *gr
     return 0;
 }
 
+static void fill_report(rk_koopman_shape_report *report, int it, int evals, double f, double t0)
+{
+    if (!report) return;
+    report->iterations = it;
+    report->evaluations = evals;
+    report->value = f;
+    report->seconds = rk_now() - t0;
+}
+
 int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, rk_koopman_shape_report *report,
                               rk_error *err)
 {
@@ -133,12 +142,7 @@ int rk_koopman_shape_optimize(const rk_koopman_shape_problem *p, double *gamma, 
         rc = 0;
     }
 done:
-    if (report) {
-        report->iterations = it;
-        report->evaluations = evals;
-        report->value = f;
-        report->seconds = rk_now() - t0;
-    }
+    fill_report(report, it, evals, f, t0);
     return rc;
 }
 
@@ -192,11 +196,6 @@ int rk_koopman_shape_maximize(const rk_koopman_shape_problem *p, double *gamma, 
     }
     rc = 0;
 done:
-    if (report) {
-        report->iterations = it;
-        report->evaluations = evals;
-        report->value = f;
-        report->seconds = rk_now() - t0;
-    }
+    fill_report(report, it, evals, f, t0);
     return rc;
 }
