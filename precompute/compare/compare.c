@@ -232,9 +232,6 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
         if (run_reference(scene, &sim, &F, &R, out, err)) goto done;
         ref = &R;
     }
-    out->reference_x = rk_calloc((size_t)ref->ndof * (ref->T + 1), sizeof(double), err);
-    if (!out->reference_x) goto done;
-    memcpy(out->reference_x, ref->x, sizeof(double) * (size_t)ref->ndof * (ref->T + 1));
     /* Displacement frames, as the bases train on them. */
     D = rk_calloc((size_t)F.ndof * F.T, sizeof(double), err);
     if (!D || rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto done;
@@ -265,6 +262,11 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
     free(ctx.training_D);
     for (int i = 0; i < rk_method_count(); i++)
         if (caches[i] && rk_method_at(i)->compare_free) rk_method_at(i)->compare_free(caches[i]);
+    /* the reference's frames go to the result (romkit compare --reference-frames): handed over, not
+     * copied, since a refined reference's frames are the largest thing a compare holds */
+    rk_fom_frames *kept = ref == &R ? &R : &F;
+    out->reference_x = kept->x;
+    kept->x = NULL;
     rc = 0;
 done:
     free(D);
