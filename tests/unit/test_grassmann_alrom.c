@@ -71,7 +71,8 @@ TEST(complete_basis_takes_the_full_order_steps)
 /* A 1 x 0.5 x 0.5 m bar clamped at x = 0, started squashed along x (x -> x (1 - 0.5 x): its free
  * end at half its length), released with mass damping; the quadratic manifold of its first 8 linear
  * modes (clamp held) and their modal derivatives as the decoder. */
-static int recovery_run(double lambda, double *left, double *fom_left, rk_error *err)
+static int recovery_run(double lambda, int history, int paper, double *left, double *fom_left, long *blended,
+                        rk_error *err)
 {
     fem_body b;
     if (fem_body_box(&b, 1, 0.5, 0.5, 6, 3, 3, (rk_material){RK_MAT_NEOHOOKEAN, 1e5, 0.45, 1000}, err)) return -1;
@@ -110,6 +111,8 @@ static int recovery_run(double lambda, double *left, double *fom_left, rk_error 
     rk_alrom_options o;
     rk_alrom_default_options(&o);
     o.lambda = lambda;
+    if (history > 0) o.history = history;
+    if (paper) o.ridge = 0, o.budget = 0; /* Eq. 13 as the paper writes it */
     if (rk_alrom_init(&s, &b.f, &fo, &dec, &o, err) || rk_fom_init(&fom, &b.f, &fo, err)) goto out;
     double u0 = 0, ua = 0, uf = 0;
     for (int i = 0; i < n; i++) u0 = fmax(u0, fabs(x0[i] - b.m.X[i]));
@@ -121,6 +124,7 @@ static int recovery_run(double lambda, double *left, double *fom_left, rk_error 
     }
     *left = ua / u0;
     *fom_left = uf / u0;
+    if (blended) *blended = s.stats.history_used;
     rc = 0;
 out:
     rk_alrom_free(&s);
@@ -141,18 +145,46 @@ TEST(history_brings_an_extreme_compression_back_to_rest)
 {
     rk_error err;
     double blended, decoder_only, fom;
-    CHECK_OK(recovery_run(0.2, &blended, &fom, &err));
+    CHECK_OK(recovery_run(0.2, 0, 0, &blended, &fom, NULL, &err));
     CHECK(fom < 1e-3, "full order itself kept %g of the displacement", fom);
     CHECK(blended < 1e-3, "lambda 0.2 kept %g of the initial displacement after 3 s", blended);
-    CHECK_OK(recovery_run(1.0, &decoder_only, &fom, &err));
+    CHECK_OK(recovery_run(1.0, 0, 0, &decoder_only, &fom, NULL, &err));
     CHECK(!(decoder_only < 1e-2), "the decoder's basis alone came back to %g of it too", decoder_only);
     printf("# released from 50%% compression, 3 s later: lambda 0.2 keeps %.3g of the displacement, lambda 1 %.3g, "
            "full order %.3g\n", blended, decoder_only, fom);
+}
+
+
+/* Algorithm 3 with a history shorter than the basis (m < r: the Grassmann paper's Table 1 runs m
+ * from 1 to 20 at r = 16). Eq. 13's Phi = D P^T (P P^T + 1e-8 I)^-1 then has rank m at most, and
+ * Algorithm 4's geodesic needs two r-dimensional spans, so the paper's own step cannot blend there
+ * (romkit falls back to the decoder's basis, and Table 1's rows for m < r came out identical; here
+ * the bar released from its squash then never recovers). The
+ * ridge toward the decoder's basis U (issue 33, history.c: Phi = (D P^T + rho U)(P P^T + (rho +
+ * reg) I)^-1) fills the directions the history does not span with U's, so the step blends at any m,
+ * and m changes the answer. */
+TEST(a_history_shorter_than_the_basis_blends)
+{
+    rk_error err;
+    double left[3], fom;
+    long used[3];
+    const int m[3] = {3, 3, 20};
+    const int paper[3] = {0, 1, 0}; /* the default ridge, the paper's Eq. 13, the default */
+    for (int k = 0; k < 3; k++) CHECK_OK(recovery_run(0.2, m[k], paper[k], &left[k], &fom, &used[k], &err));
+    printf("# r = 8, 300 steps: m = 3 blended %ld steps (left %.3g), m = 3 with Eq. 13 unridged %ld (%.3g), m = 20 %ld "
+           "(%.3g)\n", used[0], left[0], used[1], left[1], used[2], left[2]);
+    CHECK(used[0] > 250, "m = 3 < r = 8 blended only %ld of 300 steps", used[0]);
+    CHECK(used[1] == 0, "Eq. 13 without the ridge blended %ld steps at m = 3 < r (rank m basis)", used[1]);
+    CHECK(left[0] != left[2], "m = 3 and m = 20 gave the same run (%.17g): the history length changes nothing", left[0]);
+    /* measured: m = 3 keeps 0.024 of the squash after 3 s, m = 20 0.0009, the unblended step 1.33 */
+    CHECK(left[0] < 0.1 && left[1] > 0.5, "m = 3 kept %g of the initial displacement after 3 s, unridged %g", left[0],
+          left[1]);
 }
 
 int main(void)
 {
     RUN(complete_basis_takes_the_full_order_steps);
     RUN(history_brings_an_extreme_compression_back_to_rest);
+    RUN(a_history_shorter_than_the_basis_blends);
     return test_finish();
 }
