@@ -8,6 +8,7 @@
 #include "args.h"
 #include "asset_open.h"
 #include "commands.h"
+#include "formats/rombin_read.h"
 #include "formats/rombin_write.h"
 #include "pipeline/pipeline.h"
 #include "stage_inputs.h"
@@ -23,11 +24,18 @@ static void warn_if_runtime_refuses(const char *path)
     tool_asset a;
     romrt_error rerr;
     rk_error err = {{0}};
-    if (tool_asset_open(&a, path, 0, &rerr, &err) && rerr.status == ROMRT_E_MODEL)
+    if (tool_asset_open(&a, path, 0, &rerr, &err) && rerr.status == ROMRT_E_MODEL) {
+        rombin_file file;
+        rombin_error fe;
+        /* a float64 asset whose mass does not factor has columns dependent in double as well */
+        int f64 = a.data && !rombin_open(&file, a.data, a.bytes, NULL, &fe) && file.real_type == ROMBIN_REAL_F64;
+        const char *hint = !strstr(err.msg, "'MASS'") ? ""
+                           : f64 ? " (the basis's columns are dependent even in double: fewer weights, rom.size)"
+                                 : " (the basis's columns are nearly dependent at this precision: bake with "
+                                   "--precision float64, or fewer weights)";
         fprintf(stderr, "romkit build: warning: %s does not open in this romkit's %s runtime: %s%s\n", path,
-                sizeof(romrt_real) == 4 ? "float32" : "float64", err.msg,
-                strstr(err.msg, "'MASS'") ? " (the basis's columns are nearly dependent at this precision: bake "
-                                            "with --precision float64, or fewer weights)" : "");
+                sizeof(romrt_real) == 4 ? "float32" : "float64", err.msg, hint);
+    }
     tool_asset_close(&a);
 }
 
