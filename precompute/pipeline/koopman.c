@@ -29,23 +29,6 @@ void rk_koopman_scene_accel(const rk_scene_sim *sim, const double gravity[3], co
         }
 }
 
-/* Keeps the first step's displacements and stops the run (first_step's sentinel). */
-typedef struct {
-    double *u1;
-    int n3, done;
-} first_step;
-
-static int keep_first_step(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
-{
-    first_step *f = ctx;
-    (void)seconds;
-    (void)err;
-    if (step == 0) return 0;
-    memcpy(f->u1, fom->x, sizeof(double) * (size_t)f->n3);
-    f->done = 1;
-    return 1; /* stop: one step is all it takes */
-}
-
 int rk_koopman_scene_pressure_accel(const rk_scene_sim *sim, double *accel, rk_error *err)
 {
     int n3 = 3 * sim->mesh.nv, pressed = 0;
@@ -57,20 +40,16 @@ int rk_koopman_scene_pressure_accel(const rk_scene_sim *sim, double *accel, rk_e
     }
     if (!pressed) return 0;
     if (sim->options.is_static) return rk_fail(err, "the scene is a static solve; DMD learns dynamics");
-    first_step f = {rk_calloc((size_t)n3, sizeof(double), err), n3, 0};
-    if (!f.u1) return -1;
     rk_fom_options opt = sim->options; /* the pressure alone: gravity and loads stay raw impulses */
     memset(opt.gravity, 0, sizeof opt.gravity);
     opt.force = NULL;
     opt.velocity0 = NULL;
-    int rc = rk_scene_fom_run(sim, &opt, "pressure's first step", keep_first_step, &f, NULL, err);
-    if (rc && f.done) {
-        rc = 0;
-        err->msg[0] = '\0';
-    }
+    rk_fom fom;
+    if (rk_fom_init(&fom, &sim->fem, &opt, err)) return rk_error_prefix(err, "the chambers' load");
+    int rc = rk_fom_step(&fom, err); /* one step from rest: u_1 */
     double h2 = sim->options.h * sim->options.h;
-    for (int i = 0; !rc && i < n3; i++) accel[i] += (f.u1[i] - sim->mesh.X[i]) / h2;
-    free(f.u1);
+    for (int i = 0; !rc && i < n3; i++) accel[i] += (fom.x[i] - sim->mesh.X[i]) / h2;
+    rk_fom_free(&fom);
     return rc ? rk_error_prefix(err, "the chambers' load") : 0;
 }
 
