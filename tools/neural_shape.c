@@ -11,17 +11,17 @@
 int neural_gamma(const char *opt, const char *text, const rk_family *f, double *gamma, rk_error *err)
 {
     const char *p = text;
+    double lo[RK_KOOPMAN_SHAPE_MAX], hi[RK_KOOPMAN_SHAPE_MAX];
+    rk_family_range(f, lo, hi);
     for (int j = 0; j < f->g; j++) {
         char *end;
         gamma[j] = strtod(p, &end);
         if (end == p || !isfinite(gamma[j]) || (j + 1 < f->g ? *end != ',' : *end != '\0'))
             return rk_fail(err, "%s '%s': need %d comma-separated finite numbers (the family's shape code)", opt, text,
                            f->g);
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < f->nmembers; i++) lo = fmin(lo, f->member[i].gamma[j]), hi = fmax(hi, f->member[i].gamma[j]);
-        if (gamma[j] < lo || gamma[j] > hi)
+        if (gamma[j] < lo[j] || gamma[j] > hi[j])
             return rk_fail(err, "%s '%s': value %d (%g) is outside the members' range [%g, %g]", opt, text, j, gamma[j],
-                           lo, hi);
+                           lo[j], hi[j]);
         p = end + 1;
     }
     return 0;
@@ -164,18 +164,14 @@ static int problem(const neural_shape_args *a, const rk_family *f, shape_ctx *c,
             if (f->keys[k].step > 0 && f->keys[k].per_gamma[j] != 0)
                 c->fd[j] = fmax(c->fd[j], f->keys[k].step / fabs(f->keys[k].per_gamma[j])), stepped = 1;
     }
+    double lo[RK_KOOPMAN_SHAPE_MAX], hi[RK_KOOPMAN_SHAPE_MAX];
+    rk_family_range(f, lo, hi);
     if (stepped) {
-        double lo[RK_KOOPMAN_SHAPE_MAX], hi[RK_KOOPMAN_SHAPE_MAX];
-        rk_family_range(f, lo, hi);
         for (int j = 0; j < f->g; j++)
             if (!(c->fd[j] > 0)) c->fd[j] = p->epsilon * (hi[j] > lo[j] ? 0.5 * (hi[j] - lo[j]) : 1);
         p->fd_step = c->fd;
     }
-    for (int j = 0; j < f->g; j++) { /* default start: the middle of the members' range */
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < f->nmembers; i++) lo = fmin(lo, f->member[i].gamma[j]), hi = fmax(hi, f->member[i].gamma[j]);
-        gamma[j] = 0.5 * (lo + hi);
-    }
+    for (int j = 0; j < f->g; j++) gamma[j] = 0.5 * (lo[j] + hi[j]); /* default start: the middle of the range */
     return a->start ? neural_gamma("--gamma-start", a->start, f, gamma, err) : 0;
 }
 
