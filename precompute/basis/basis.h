@@ -46,8 +46,9 @@ typedef struct {
  * cbrt(mesh volume / target), a point at each cell's centre), keeping the grid points inside the
  * mesh (Sec. 7.1). Each tet's bounding box is rasterized onto the grid and its points tested by
  * barycentric coordinates (tolerance 1e-9), so a point on a shared face is kept once, in the
- * containing tet of lowest index (recorded in p->tet). Every weight is its cell's volume. Points are ordered by grid index (x fastest). Fails when no grid point falls
- * inside (a mesh thinner than s everywhere). On failure *p is empty. */
+ * containing tet of lowest index (recorded in p->tet). Every weight is its cell's volume. Points
+ * are ordered by grid index (x fastest). Fails when no grid point falls inside (a mesh thinner
+ * than s everywhere). On failure *p is empty. */
 int rk_rkpm_sample_mesh(const rk_mesh *m, int target, rk_rkpm_points *p, rk_error *err);
 
 /* count points uniformly random inside the mesh (tets picked by volume, uniform within each;

@@ -20,6 +20,12 @@ static int by_index(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* dst (3 S) = the 3-vectors of src at the S vertices index[0 .. S-1]. */
+static void gather(double *dst, const double *src, const int *index, int S)
+{
+    for (int i = 0; i < S; i++) memcpy(dst + 3 * (size_t)i, src + 3 * (size_t)index[i], sizeof(double) * 3);
+}
+
 void rk_koopman_neural_sample_free(rk_koopman_neural_sample *s)
 {
     for (int k = 0; s->traj && k < s->mesh.ntraj; k++) {
@@ -60,7 +66,7 @@ int rk_koopman_neural_sample_init(const rk_koopman_neural_mesh *m, int count, un
     s->mesh.nv = S;
     s->mesh.X = s->X;
     s->mesh.traj = s->traj;
-    for (int i = 0; i < S; i++) memcpy(s->X + 3 * (size_t)i, m->X + 3 * (size_t)s->index[i], sizeof(double) * 3);
+    gather(s->X, m->X, s->index, S);
     size_t d = 3 * (size_t)nv, ds = 3 * (size_t)S;
     for (int k = 0; k < m->ntraj; k++) {
         const rk_koopman_trajectory *t = &m->traj[k];
@@ -68,12 +74,10 @@ int rk_koopman_neural_sample_init(const rk_koopman_neural_mesh *m, int count, un
         s->traj[k].u = u;
         s->traj[k].frames = t->frames;
         if (!u) goto fail;
-        for (int f = 0; f < t->frames; f++)
-            for (int i = 0; i < S; i++)
-                memcpy(u + ds * f + 3 * (size_t)i, t->u + d * f + 3 * (size_t)s->index[i], sizeof(double) * 3);
+        for (int f = 0; f < t->frames; f++) gather(u + ds * f, t->u + d * f, s->index, S);
         if (t->accel) {
             if (!(a = rk_calloc(ds, sizeof(double), err))) goto fail;
-            for (int i = 0; i < S; i++) memcpy(a + 3 * (size_t)i, t->accel + 3 * (size_t)s->index[i], sizeof(double) * 3);
+            gather(a, t->accel, s->index, S);
             s->traj[k].accel = a;
         }
     }
