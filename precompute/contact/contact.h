@@ -281,17 +281,21 @@ int rk_contact_advance(void *ctx, double t, rk_advance_fraction fraction, rk_adv
  * point, grown where two meet only along an edge or at a corner (so the surface is a 2-manifold);
  * out has the n points first (no tets, nothing uses them), then the corners, and rk_mesh_boundary
  * gives the surface: the voxels' outward faces with each of their vertices moved in along its
- * normal to about g / 2 from its nearest point, where that is safe (proxy_inset.c). The surface is
- * closed, 2-manifold, free of crossings, and holds every point inside. Fails on n < 1, g not
- * positive and finite, a non-finite point (named), or a cloud more than 2^20 voxels across. */
-int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err);
-/* The target distance of a contact surface vertex to its nearest point, in voxel edges. */
+ * normal to about g / 2 from its nearest point, then on toward it to about s / 2 (s the points'
+ * median nearest-neighbour spacing; 0: g / 2 only), where that is safe (proxy_inset.c). The
+ * surface is closed, 2-manifold, free of crossings, and holds every point inside; its triangles are
+ * the voxels' faces (no more of them). Fails on n < 1, g not positive and finite, s negative or
+ * not finite, a non-finite point (named), or a cloud more than 2^20 voxels across. */
+int rk_points_proxy(const double *X, int n, double g, double s, rk_mesh *out, rk_error *err);
+/* The target distance of a contact surface vertex to its nearest point: first in voxel edges, then
+ * in the points' spacings. */
 #define RK_PROXY_INSET 0.5
+#define RK_PROXY_SPACING_INSET 0.5
 
 /* A point cloud's full-order body (proxy_body.c): rk_points_proxy's ghost tets as elements over its
  * corners (body vertex c is the proxy's vertex n + c), the surface moved in to about tau from the
- * points (half the points' spacing gives the body the cloud's volume; the contact surface sits at
- * g / 2), each tet kept at RK_BODY_MIN_VOLUME of its lattice volume or more by cutting back the
+ * points (sqrt(3) / 2 of the points' spacing s gives the body the cloud's volume; the contact
+ * surface, rk_points_proxy at spacing s, goes on to s / 2), each tet kept at RK_BODY_MIN_VOLUME of its lattice volume or more by cutting back the
  * inset moves of its vertices where needed (so none inverts or flattens). tet_point[t]: the point
  * nearest tet t's centroid (its material's and tag's source); proxy_X: where rk_points_proxy puts
  * the corners (3 per corner), before any cut-back. rep: what was cut back and the smallest tet. */
@@ -300,7 +304,7 @@ typedef struct {
     int backed_off;          /* surface vertices whose inset move was cut back */
     double min_volume_ratio; /* the smallest tet's volume over the lattice tet's g^3 / 6 */
 } rk_points_body_report;
-int rk_points_body(const double *X, int n, double g, double tau, rk_mesh *body, int **tet_point, double **proxy_X,
+int rk_points_body(const double *X, int n, double g, double s, double tau, rk_mesh *body, int **tet_point, double **proxy_X,
                    rk_points_body_report *rep, rk_error *err);
 
 /* ---- measures (intersect.c) ---- */

@@ -1,6 +1,7 @@
 /* rk_points_proxy: a closed surface around a point cloud, for contact (contact.h): the voxels that
  * hold points, grown where they meet only along an edge or at a corner so their surface is a
- * 2-manifold, as Kuhn ghost tets; then that surface moved in toward the points (proxy_inset.c). */
+ * 2-manifold, as Kuhn ghost tets; then that surface moved in toward the points, to half a voxel
+ * and on to half the points' spacing where the exact checks allow (proxy_inset.c). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -197,11 +198,16 @@ int rk_proxy_lattice(const double *X, int n, double g, rk_mesh *out, double lo[3
     return 0;
 }
 
-int rk_points_proxy(const double *X, int n, double g, rk_mesh *out, rk_error *err)
+int rk_points_proxy(const double *X, int n, double g, double s, rk_mesh *out, rk_error *err)
 {
     double lo[3];
+    memset(out, 0, sizeof *out);
+    if (!(s >= 0) || !isfinite(s)) return rk_fail(err, "contact proxy: points' spacing %g (expected 0 or more)", s);
     if (rk_proxy_lattice(X, n, g, out, lo, err)) return -1;
-    if (rk_proxy_inset(out, n, g, RK_PROXY_INSET * g, lo, err)) {
+    /* half the spacing: a point stands for the cell of edge s around it, whose faces are s / 2 off
+     * it (a lattice cloud's flat side then rests where its cells' union ends) */
+    double tau = s > 0 ? fmin(RK_PROXY_SPACING_INSET * s, RK_PROXY_INSET * g) : RK_PROXY_INSET * g;
+    if (rk_proxy_inset(out, n, g, tau, lo, err)) {
         rk_mesh_free(out);
         return -1;
     }

@@ -34,9 +34,14 @@ void rk_proxy_grid_free(rk_proxy_grid *G);
  * point in *at (may be NULL). */
 double rk_proxy_nearest_at(const rk_proxy_grid *G, const double *x, int r, const double **at);
 
+/* Rounds of the second stage of rk_proxy_inset (straight toward the nearest point, to tau): on
+ * the donut capture 4 rounds left the mean vertex 2.1 s off, 8 rounds 1.9 s (s its spacing). */
+#define RK_PROXY_PULL_ROUNDS 8
+
 /* Moves the surface vertices of m (rk_mesh_boundary of its ghost tets; its first n vertices are the
- * cloud's points, the rest the lattice corners of origin lo, edge g) in toward the points, each
- * along its normal to about tau from its nearest point (RK_PROXY_INSET g for contact), backing a vertex off (halving
+ * cloud's points, the rest the lattice corners of origin lo, edge g) in toward the points: first
+ * each along its normal to about tau1 = max(tau, RK_PROXY_INSET g) from its nearest point, then
+ * (where tau is nearer) straight toward it, to about tau, backing a vertex off (halving
  * its move, then none) wherever a face would turn over, cross another face (exact test), or sweep
  * over a point on its way. The surface stays closed, 2-manifold and free of crossings, and every
  * point stays inside it: what the voxels' surface was. */

@@ -89,7 +89,7 @@ static int nearest_points(const rk_mesh *b, const double *X, int n, double g, co
     return 0;
 }
 
-int rk_points_body(const double *X, int n, double g, double tau, rk_mesh *body, int **tet_point, double **proxy_X,
+int rk_points_body(const double *X, int n, double g, double s, double tau, rk_mesh *body, int **tet_point, double **proxy_X,
                    rk_points_body_report *rep, rk_error *err)
 {
     memset(body, 0, sizeof *body);
@@ -104,7 +104,7 @@ int rk_points_body(const double *X, int n, double g, double tau, rk_mesh *body, 
     L = rk_calloc(3 * (size_t)p.nv, sizeof(double), err);
     if (!L) goto done;
     memcpy(L, p.X, sizeof(double) * 3 * (size_t)p.nv);
-    if (rk_points_proxy(X, n, g, &contact, err)) goto done; /* where the contact surface is (proxy_X) */
+    if (rk_points_proxy(X, n, g, s, &contact, err)) goto done; /* where the contact surface is (proxy_X) */
     if (rk_proxy_inset(&p, n, g, tau, lo, err)) goto done;
     body->nv = nc;
     body->nt = p.nghost;

@@ -12,17 +12,21 @@
 
 #include "util/util.h"
 
-int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, double *g, rk_error *err)
+int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, double *g, double *s, rk_error *err)
 {
-    /* the spacing of the cloud's RKPM sampling (twice the points' median spacing: its occupancy
-     * voxel), so that neighbouring points' balls of radius g / 2 overlap and the surface around
-     * them has no holes; no finer than 1/RK_PROXY_VOXELS of the cloud's diagonal, which bounds the
-     * surface's triangles (a dense capture's spacing is tiny) */
+    /* the points' median spacing s (the occupancy voxel is 2 s: rk_rkpm_sample_cloud), which the
+     * contact surface comes in to s / 2 of; g defaults to the cloud's RKPM sampling spacing 2 s, so
+     * that neighbouring points' balls of radius g / 2 overlap and the surface around them has no
+     * holes, no finer than 1/RK_PROXY_VOXELS of the cloud's diagonal, which bounds the surface's
+     * triangles (a dense capture's spacing is tiny). Under 4 points (no spacing): s = 0, and the
+     * surface stays at g / 2 */
     *g = o->proxy_voxel / o->scale;
-    if (*g > 0) return 0;
+    *s = 0;
+    if (n < 4 && *g > 0) return 0;
     rk_rkpm_points occupancy;
     if (rk_rkpm_sample_cloud(X, n, n, &occupancy, err)) return -1;
-    *g = fmax(rk_points_diagonal(X, n) / RK_PROXY_VOXELS, occupancy.spacing);
+    *s = 0.5 * occupancy.spacing;
+    if (!(*g > 0)) *g = fmax(rk_points_diagonal(X, n) / RK_PROXY_VOXELS, occupancy.spacing);
     rk_rkpm_points_free(&occupancy);
     return 0;
 }
@@ -30,20 +34,22 @@ int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, dou
 int rk_cloud_body_load(const rk_scene_object *o, rk_mesh *m, rk_cloud_body *b, rk_error *err)
 {
     memset(b, 0, sizeof *b);
-    double g, tau;
-    rk_rkpm_points occupancy = {0};
-    if (rk_points_load_tagged(o->file, &b->X, &b->n, &b->tag, err) || rk_cloud_proxy_spacing(o, b->X, b->n, &g, err) ||
-        rk_rkpm_sample_cloud(b->X, b->n, b->n, &occupancy, err))
+    double g, spacing, tau;
+    if (rk_points_load_tagged(o->file, &b->X, &b->n, &b->tag, err) ||
+        rk_cloud_proxy_spacing(o, b->X, b->n, &g, &spacing, err))
         goto fail;
+    if (!(spacing > 0)) {
+        rk_fail(err, "point cloud: %d points, at least 4 are needed", b->n);
+        goto fail;
+    }
     /* the body's surface vertices no farther than sqrt(3) / 2 s from the points, s the points'
-     * median spacing (occupancy.spacing is 2 s): a point stands for the cube of edge s around it,
+     * median spacing: a point stands for the cube of edge s around it,
      * whose corners are that far from it, so the union of those cubes is what a surface vertex
      * nearer than that already bounds (a lattice cloud at proxy_voxel s keeps its cells' union, the
-     * box it samples, exactly). The contact surface sits at g / 2 (RK_PROXY_INSET), closer in
-     * at g = s (a lattice would lose a third of its cells' volume) */
-    tau = 0.25 * sqrt(3.0) * occupancy.spacing;
-    rk_rkpm_points_free(&occupancy);
-    if (rk_points_body(b->X, b->n, g, tau, m, &b->tet_point, &b->proxy_X, &b->rep, err)) goto fail;
+     * box it samples, exactly). The contact surface comes in to s / 2 (RK_PROXY_SPACING_INSET),
+     * nearer (the body at s / 2 would lose a third of a lattice's cells' volume) */
+    tau = 0.5 * sqrt(3.0) * spacing;
+    if (rk_points_body(b->X, b->n, g, spacing, tau, m, &b->tet_point, &b->proxy_X, &b->rep, err)) goto fail;
     b->corners = m->nv;
     m->tet_tag = rk_calloc((size_t)m->nt + 1, sizeof(int), err);
     if (!m->tet_tag) goto fail;

@@ -9,9 +9,10 @@
  * holds p, or (tagged: the place carries a tag) its tag is `tag`. */
 rk_material rk_scene_region_material(const rk_scene_object *o, const double p[3], int tagged, int tag);
 
-/* The spacing g of a cloud's contact surface (X: its n points, unplaced): mesh.proxy_voxel, else the
- * cloud's RKPM sampling spacing, no finer than 1/RK_PROXY_VOXELS of its diagonal. */
-int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, double *g, rk_error *err);
+/* The voxel g of a cloud's contact surface (X: its n points, unplaced): mesh.proxy_voxel, else the
+ * cloud's RKPM sampling spacing, no finer than 1/RK_PROXY_VOXELS of its diagonal; and s, the
+ * points' median nearest-neighbour spacing (0 for a cloud of under 4 points at a given voxel). */
+int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, double *g, double *s, rk_error *err);
 
 /* A cloud object's full-order body while the scene is built: its points and what ties them to it. */
 typedef struct {

@@ -95,7 +95,7 @@ typedef struct {
     int cage_tets;         /* mesh.cage.max_tets: a surface file simulated on a cage of at most this
                             * many tets (precompute/cage), the surface embedded in it; 0 = none */
     double proxy_voxel;    /* point cloud: the spacing g (m) of its contact surface (rk_points_proxy:
-                            * g / 2 from the points); 0: 1/RK_PROXY_VOXELS of the cloud's
+                            * g / 2, then s / 2 from the points, s their spacing); 0: 1/RK_PROXY_VOXELS of the cloud's
                             * bounding-box diagonal, or the spacing its RKPM sampling uses (twice
                             * the points' median spacing) where that is more */
     rk_material material;
