@@ -2,9 +2,10 @@
  *
  * A voxel's faces lie anywhere from 0 to g off the points it holds, and its corners up to sqrt(3) g,
  * so a cloud rested up to a voxel above what it touched. Each surface vertex goes in along its
- * area-weighted normal to the first place within RK_PROXY_INSET g of a point (or, where that ray
- * passes between the points, the place along it nearest one), then those still farther straight
- * toward their nearest point. The connectivity stays the voxels' (same triangles, no more of them:
+ * area-weighted normal to the first place within tau1 = max(tau, RK_PROXY_INSET g) of a point (or,
+ * where that ray passes between the points, the place along it nearest one), then those still
+ * farther straight toward their nearest point, to tau1 and then on to tau (for contact half the
+ * points' spacing s: issue 30 asks for the surface within s of the points). The connectivity stays the voxels' (same triangles, no more of them:
  * a level set of the distance on a finer lattice had 5-10x the triangles, which the runtime's
  * contact pays every step). A move is kept only where it is safe,
  * checked exactly (contact.h's orientation and segment-triangle predicates):
