@@ -5,9 +5,10 @@
  * area-weighted normal to the first place within tau1 = max(tau, RK_PROXY_INSET g) of a point (or,
  * where that ray passes between the points, the place along it nearest one), then those still
  * farther straight toward their nearest point, to tau1 and then on to tau (for contact half the
- * points' spacing s: issue 30 asks for the surface within s of the points). The connectivity stays the voxels' (same triangles, no more of them:
- * a level set of the distance on a finer lattice had 5-10x the triangles, which the runtime's
- * contact pays every step). A move is kept only where it is safe,
+ * points' spacing s: issue 30 asks for the surface within s of the points). The connectivity
+ * stays the voxels' (same triangles, no more of them: a level set of the distance on a finer
+ * lattice had 5-10x the triangles, which the runtime's contact pays every step). A move is kept
+ * only where it is safe,
  * checked exactly (contact.h's orientation and segment-triangle predicates):
  *   - no face turns over or collapses (its normal within ~87 degrees of its voxel face's, its area
  *     at least 1/20 of it);
