@@ -192,9 +192,9 @@ TEST(donut_splats_land_on_a_block_of_points)
      * highest (its surface is not flat: rk_points_proxy moves each vertex in toward the points as
      * far as is safe, so the lowest may sit beside the block's highest and below it; that they
      * never cross is checked every frame above); and each object's points lie inside its surface,
-     * which sits about g/2 off them (the voxel surface: anywhere up to g), so the lowest splat is
-     * at most g_donut + dhat + g_block over the block's highest point, g taken as twice the reach
-     * of the rest surface below the lowest rest point. */
+     * which sits from about g/2 to s/2 off them (s their spacing; the voxel surface: anywhere up
+     * to g), so the lowest splat is at most g_donut + dhat + g_block over the block's highest
+     * point, g taken as twice the reach of the rest surface below the lowest rest point. */
     double rest_lo, rest_hi, rest_proxy_lo, rest_proxy_hi;
     extent(sim.mesh.X, nd, v1, 2, &rest_proxy_lo, &rest_proxy_hi);
     double g_donut = 2 * (X0lo - rest_proxy_lo);
