@@ -7,11 +7,16 @@
  *    crosses the surface (the exact segment-triangle test of precompute/contact: the capsule's
  *    segment, the box's edges and the surface's edges through the box's faces, and the path of
  *    the shape's centre from where it started), the face pushed down ahead of it; on the vertex
- *    path every one of them went through (the face's vertices are its corners, far from it);
+ *    path every one of them went through (the face's vertices far from it); a capsule placed
+ *    through the face is refused;
  *  - two objects dropped onto a sphere, a capsule and a box, baked as the scene's obstacles in
  *    one asset and placed as the app's colliders in another: the same path (1e-10 of the largest
- *    displacement in double), with contact and friction. */
+ *    displacement in double), with contact and friction;
+ *  - friction on the analytic incline (test_runtime_incline's law, gravity tilted by theta) with
+ *    an app box as the ground: the block sticks below tan theta = mu (drift under 1e-4 m over
+ *    1 s) and slides with a = g (sin theta - mu cos theta) within 1% above it. */
 #include "runtime_fixture.h"
+#include "trajectory_fit.h"
 
 #include "contact/contact.h"
 #include "physics/physics.h"
@@ -219,6 +224,15 @@ TEST(thin_shapes_driven_into_a_coarse_face_do_not_pass_between_its_vertices)
                           {(romrt_real)s, (romrt_real)-s, 0, (romrt_real)s, (romrt_real)s, 0, 0, 0, 1}, 0, 0, {0.02f, 0.02f, 0.02f}};
     const romrt_collider *shapes[3] = {&cap, &ball, &box};
     const char *names[3] = {"capsule r 3 mm", "sphere r 5 mm", "box on its edge"};
+    /* placed through the face between its vertices (no vertex within it): refused, nothing placed */
+    romrt_collider through = cap; /* turned 45 degrees about z: its segment through the face at its middle */
+    const romrt_real turned[9] = {(romrt_real)s, (romrt_real)-s, 0, (romrt_real)s, (romrt_real)s, 0, 0, 0, 1};
+    memcpy(through.rotation, turned, sizeof turned);
+    through.position[1] = 0.2f;
+    romrt_status placed = romrt_set_collider(F.m, 0, &through, &rerr);
+    printf("# a capsule placed through the face: %s\n", placed == ROMRT_OK ? "taken" : rerr.message);
+    CHECK(placed == ROMRT_E_ARGUMENT, "a capsule through the face should be refused (status %d)", (int)placed);
+    CHECK(romrt_set_collider(F.m, 0, &cap, &rerr) == ROMRT_OK, "the slot should still be free: %s", rerr.message);
     drive_result r[3];
     int rc[3];
     for (int i = 0; i < 3; i++) {
@@ -314,9 +328,60 @@ TEST(sphere_capsule_and_box_as_app_colliders_take_the_baked_obstacles_path)
     rt_fixture_close(&A), rt_fixture_close(&B);
 }
 
+/* A 10 x 5 x 10 cm block resting dhat / 2 over an app box's top face (y = 0, its diagonal away
+ * from the block's path), gravity tilted by theta along x, 100 steps of 0.01 s: the mean of its
+ * shown vertices along x, its drift and its acceleration fitted over the second half second. */
+static int incline_on_a_box(double mu, double tan_theta, double eps_v, double *drift, double *accel, rk_error *err)
+{
+    char json[2048];
+    double th = atan(tan_theta), x[101];
+    snprintf(json, sizeof json,
+             "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.1, 0.05, 0.1], \"cells\": [2, 1, 2]}, \"translate\": [0, 5e-4, 0]},"
+             "  \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1000}}],"
+             " \"gravity\": [%.17g, %.17g, 0],"
+             " \"contact\": {\"dhat\": 1e-3, \"friction\": %.17g, \"eps_v\": %.17g, \"self\": true},"
+             " \"time\": {\"step\": 0.01, \"duration\": 1.0}, \"rom\": {\"basis\": \"modes\", \"size\": 12}}",
+             9.81 * sin(th), -9.81 * cos(th), mu, eps_v);
+    rt_fixture f;
+    romrt_error rerr;
+    romrt_collider ground = {ROMRT_COLLIDER_BOX, {0.7f, -0.0625f, 0.4f}, {1, 0, 0, 0, 1, 0, 0, 0, 1}, 0, 0, {2, 0.0625f, 0.5f}};
+    int rc = rt_fixture_open(&f, json, ASSET_REAL, err, &rerr);
+    if (!rc && romrt_set_collider(f.m, 0, &ground, &rerr) != ROMRT_OK) rc = rk_fail(err, "ground: %s", rerr.message);
+    int n = rc ? 0 : romrt_shown_count(f.m);
+    romrt_real *xyz = calloc((size_t)3 * n + 3, sizeof(romrt_real));
+    for (int k = 0; !rc && k <= 100; k++) {
+        if (k > 0 && romrt_step(f.m, &rerr) != ROMRT_OK) {
+            rc = rk_fail(err, "step %d: %s", k, rerr.message);
+            break;
+        }
+        romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
+        x[k] = 0;
+        for (int i = 0; i < n; i++) x[k] += (double)xyz[3 * i] / n;
+    }
+    if (!rc) *drift = x[100] - x[0], *accel = fit_acceleration(x, 50, 100, 0.01);
+    free(xyz);
+    rt_fixture_close(&f);
+    return rc;
+}
+
+TEST(a_block_on_an_app_box_sticks_and_slides_by_the_incline_law)
+{
+    rk_error err = {{0}};
+    double mu = 0.5, t_rest = 0.5 * mu, t_slide = 1.5 * mu + 0.05, drift, a_rest, d_slide, accel;
+    CHECK_OK(incline_on_a_box(mu, t_rest, 1e-5, &drift, &a_rest, &err));
+    CHECK_OK(incline_on_a_box(mu, t_slide, 1e-3, &d_slide, &accel, &err));
+    double th = atan(t_slide), expect = 9.81 * (sin(th) - mu * cos(th));
+    printf("# incline on an app box (%s), mu %.1f: at rest (tan %.3f) drift %.2e m over 1 s; sliding (tan %.3f)"
+           " a %.5f vs %.5f m/s^2 (%+.4f%%), %.3f m\n",
+           PRECISION, mu, t_rest, drift, t_slide, accel, expect, 100 * (accel / expect - 1), d_slide);
+    CHECK(fabs(drift) < 1e-4, "the block drifted %g m", drift);
+    CHECK(fabs(accel / expect - 1) < 0.01, "acceleration %.6g, expected %.6g (%+.3f%%)", accel, expect, 100 * (accel / expect - 1));
+}
+
 int main(void)
 {
     RUN(thin_shapes_driven_into_a_coarse_face_do_not_pass_between_its_vertices);
     RUN(sphere_capsule_and_box_as_app_colliders_take_the_baked_obstacles_path);
+    RUN(a_block_on_an_app_box_sticks_and_slides_by_the_incline_law);
     return test_finish();
 }
