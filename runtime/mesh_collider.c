@@ -8,7 +8,9 @@
  * where the body cannot give way the mesh stops short, as the other colliders do, and goes on at
  * the next step. A straight line per vertex rather than the pose's screw: CCD is exact on it, and
  * the pose is reached exactly at its end (a rotation moves the vertices through chords of their
- * arcs on the way, a shape that is never touched): mesh_move.c. */
+ * arcs on the way, a shape that is never touched): mesh_move.c. The app's spheres, capsules and
+ * boxes on an asset with a collision surface are such meshes too, over the runtime's own storage
+ * (shape_collider.c), placed by rt_mesh_place as an app's mesh is. */
 #include <math.h>
 #include <string.h>
 
