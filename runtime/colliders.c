@@ -1,6 +1,9 @@
 /* An application's colliders (romrt.h): the reduced simulator's (precompute/rom/colliders.c and
  * collider_solve.c) in C99 and fixed memory, on the asset's collision vertices (CVTX). The
- * geometry, the step filter and friction's smoothing are physics/collider_impl.h's, shared. */
+ * geometry, the step filter and friction's smoothing are physics/collider_impl.h's, shared.
+ * On an asset with a collision surface only the planes take this path (a plane meets a triangle
+ * mesh first at a vertex: exact there); spheres, capsules and boxes go to the obstacles'
+ * (shape_collider.c). */
 #include <math.h>
 #include <string.h>
 
@@ -44,6 +47,7 @@ romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collide
     for (i = 12; i < RT_COLLIDER_REALS; i++) same &= k->now[i] == shape[i];
     if (k->active && k->kind == (int)c->kind && same) { /* a move: made by the next step */
         memcpy(k->target, shape, sizeof shape);
+        if (k->mesh) m->hessian_age = -1; /* as an app mesh's move (romrt.h) */
         return ROMRT_OK;
     }
     if (m->alrom) rt_alrom_take_collision_vertices(m); /* their positions current */
@@ -53,6 +57,7 @@ romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collide
             return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: it would overlap the body at stored vertex ",
                              m->cv[i], ": place it clear, then move it");
     }
+    if (m->shapes && c->kind != ROMRT_COLLIDER_PLANE) return rt_shape_place(m, (int)slot, (int)c->kind, shape, err);
     if (k->mesh) rt_mesh_leave(m, (int)slot); /* a mesh's slot taken over */
     m->ncolliders += !k->active;
     m->hessian_age = -1; /* a kept Newton matrix lacks the new collider's terms */

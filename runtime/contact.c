@@ -38,12 +38,17 @@ void rt_obstacles_stencil(const romrt_model *m, const int32_t id[4], const romrt
         pts[k] = id[k] >= 0 ? m->ocx + 3 * (size_t)id[k] : rt_obstacle_point(m, (uint32_t)(-1 - id[k]), RT_AT_NOW);
 }
 
-/* An app mesh's thickness is 0. */
+/* A baked obstacle's thickness (OBJS), or a collider's (0 for an app mesh, a sphere's or
+ * capsule's radius: shape_collider.c). */
 romrt_real rt_obstacles_xi(const romrt_model *m, const int32_t id[4])
 {
     int k;
     for (k = 0; k < 4; k++)
-        if (id[k] < 0) return -1 - id[k] < m->onv ? m->obs_xi[4 * (size_t)m->overt_obs[-1 - id[k]]] : 0;
+        if (id[k] < 0) {
+            uint32_t o = (uint32_t)(-1 - id[k]);
+            return o < (uint32_t)m->onv ? m->obs_xi[4 * (size_t)m->overt_obs[o]]
+                                        : m->colliders[(o - (uint32_t)m->onv) >> RT_MESH_SHIFT].mesh->xi;
+        }
     return 0;
 }
 

@@ -52,9 +52,9 @@ static void baked_view(const romrt_model *m, int k, bvh_view *V)
 static void mesh_view(const romrt_model *m, int slot, rt_mesh *M, bvh_view *V)
 {
     V->nodes = M->node, V->items = M->item, V->edges = M->edges, V->tris = (const uint32_t *)(const void *)M->tri;
-    V->bounds = M->bounds, V->x = M->x, V->dx = M->dx, V->xi = 0;
+    V->bounds = M->bounds, V->x = M->x, V->dx = M->dx, V->xi = M->xi;
     V->root = 0, V->count = M->nodes, V->base = (uint32_t)m->onv + ((uint32_t)slot << RT_MESH_SHIFT);
-    V->has_edges = V->has_tris = 1;
+    V->has_edges = M->ne != 0, V->has_tris = M->nt != 0;
 }
 
 /* Item it's vertices (1 to 3), in the view's ids. */
@@ -154,7 +154,7 @@ void rt_mesh_refit(rt_mesh *M, int swept)
 {
     bvh_view V;
     V.nodes = M->node, V.items = M->item, V.edges = M->edges, V.tris = (const uint32_t *)(const void *)M->tri;
-    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = 0, V.root = 0, V.count = M->nodes, V.base = 0;
+    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = M->xi, V.root = 0, V.count = M->nodes, V.base = 0;
     refit(&V, swept);
 }
 
@@ -166,7 +166,7 @@ int rt_mesh_query(const rt_mesh *M, const romrt_real box[6], int type, int (*vis
     int top = 0;
     romrt_real ib[6];
     V.nodes = M->node, V.items = M->item, V.edges = M->edges, V.tris = (const uint32_t *)(const void *)M->tri;
-    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = 0, V.root = 0, V.count = M->nodes, V.base = 0;
+    V.bounds = M->bounds, V.x = M->x, V.dx = M->dx, V.xi = M->xi, V.root = 0, V.count = M->nodes, V.base = 0;
     stack[top++] = 0;
     while (top > 0) {
         uint32_t i = stack[--top], j;

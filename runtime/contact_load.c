@@ -117,6 +117,11 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, 3 * (size_t)m->onv, &m->odx);
     rt_scratch(L, 3 * (size_t)m->onv, &m->cache_ox);
     rt_scratch(L, 3 * (size_t)m->onv, &m->fox0);
+    { /* the app's spheres, capsules and boxes on the obstacles' path (shape_collider.c) */
+        romrt_real *shapes;
+        rt_scratch(L, (RT_SHAPES * sizeof(rt_shape) + sizeof(romrt_real) - 1) / sizeof(romrt_real), &shapes);
+        m->shapes = (rt_shape *)(void *)shapes;
+    }
     rt_scratch(L, 6 * (size_t)m->onode, &m->obounds);
     rt_scratch(L, 3 * (size_t)m->ncv, &m->ocx);
     rt_scratch(L, 3 * (size_t)m->ncv, &m->ocdx);

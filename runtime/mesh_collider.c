@@ -8,7 +8,9 @@
  * where the body cannot give way the mesh stops short, as the other colliders do, and goes on at
  * the next step. A straight line per vertex rather than the pose's screw: CCD is exact on it, and
  * the pose is reached exactly at its end (a rotation moves the vertices through chords of their
- * arcs on the way, a shape that is never touched): mesh_move.c. */
+ * arcs on the way, a shape that is never touched): mesh_move.c. The app's spheres, capsules and
+ * boxes on an asset with a collision surface are such meshes too, over the runtime's own storage
+ * (shape_collider.c), placed by rt_mesh_place as an app's mesh is. */
 #include <math.h>
 #include <string.h>
 
@@ -88,13 +90,58 @@ void rt_mesh_leave(romrt_model *m, int slot)
     m->nfric = 0;
 }
 
+romrt_status rt_mesh_place(romrt_model *m, int slot, rt_mesh *M, int kind, const romrt_real *shape, romrt_error *err)
+{
+    rt_collider *k = &m->colliders[slot], before;
+    int placed;
+    /* placed at once, clear of the body: its pairs at the body's q must all be apart */
+    before = *k;
+    placed = k->active && k->mesh;
+    rt_mesh_world(M, shape, M->x);
+    memcpy(M->x0, M->x, sizeof(romrt_real) * 3 * (size_t)M->nv);
+    memset(M->dx, 0, sizeof(romrt_real) * 3 * (size_t)M->nv);
+    rt_mesh_refit(M, 0);
+    M->part = M->part_start = M->moving = 0;
+    k->active = 1;
+    k->kind = kind;
+    k->mesh = M;
+    m->nmeshes += !placed;
+    m->cache_valid = 0;
+    m->nfric = 0;
+    m->obs_overflow = 0;
+    if (m->alrom) rt_alrom_take_collision_vertices(m); /* their positions current */
+    if (crosses_body(m, M) || !isfinite(rt_obstacles_energy(m, m->q, 0, 0, 0, 0))) {
+        int overflow = m->obs_overflow;
+        *k = before;
+        m->nmeshes -= !placed;
+        m->cache_valid = 0;
+        m->obs_overflow = 0;
+        if (overflow)
+            return rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD,
+                             kind == ROMRT_COLLIDER_MESH ? "romrt_set_mesh_collider: more contact pairs than the asset's capacity of "
+                                                         : "romrt_set_collider: more contact pairs than the asset's capacity of ",
+                             (uint64_t)m->pair_cap, " (bake with a larger rom.asset.contact_pairs)");
+        return rt_fail(err, ROMRT_E_ARGUMENT, 0,
+                       kind == ROMRT_COLLIDER_MESH
+                           ? "romrt_set_mesh_collider: it would touch or cross the body: place it clear, then move it"
+                           : "romrt_set_collider: it would touch or cross the body: place it clear, then move it");
+    }
+    m->ncolliders += !before.active;
+    m->hessian_age = -1; /* a kept Newton matrix lacks the mesh's terms */
+    memcpy(k->now, shape, sizeof k->now);
+    memcpy(k->target, shape, sizeof k->target);
+    memcpy(k->start, shape, sizeof k->start);
+    memcpy(k->lag, shape, sizeof k->lag);
+    return ROMRT_OK;
+}
+
 romrt_status romrt_set_mesh_collider(romrt_model *m, size_t slot, const romrt_mesh *mesh, const romrt_real position[3],
                                      const romrt_real rotation[9], romrt_error *err)
 {
     romrt_real shape[RT_COLLIDER_REALS];
-    rt_collider *k, before;
+    rt_collider *k;
     rt_mesh *M;
-    int i, placed;
+    int i;
     if (!m || !mesh || !position || !rotation)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_mesh_collider: no model, mesh, position or rotation (NULL)");
     if (slot >= ROMRT_MAX_COLLIDERS)
@@ -134,40 +181,6 @@ romrt_status romrt_set_mesh_collider(romrt_model *m, size_t slot, const romrt_me
         m->hessian_age = -1; /* a kept Newton matrix is dropped by a collider's move (romrt.h) */
         return ROMRT_OK;
     }
-    /* placed at once, clear of the body: its pairs at the body's q must all be apart */
-    before = *k;
-    placed = k->active && k->mesh;
-    rt_mesh_world(M, shape, M->x);
-    memcpy(M->x0, M->x, sizeof(romrt_real) * 3 * (size_t)M->nv);
-    memset(M->dx, 0, sizeof(romrt_real) * 3 * (size_t)M->nv);
-    rt_mesh_refit(M, 0);
-    M->part = M->part_start = M->moving = 0;
-    k->active = 1;
-    k->kind = ROMRT_COLLIDER_MESH;
-    k->mesh = M;
-    m->nmeshes += !placed;
-    m->cache_valid = 0;
-    m->nfric = 0;
-    m->obs_overflow = 0;
-    if (m->alrom) rt_alrom_take_collision_vertices(m); /* their positions current */
-    if (crosses_body(m, M) || !isfinite(rt_obstacles_energy(m, m->q, 0, 0, 0, 0))) {
-        int overflow = m->obs_overflow;
-        *k = before;
-        m->nmeshes -= !placed;
-        m->cache_valid = 0;
-        m->obs_overflow = 0;
-        return overflow ? rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD,
-                                    "romrt_set_mesh_collider: more contact pairs than the asset's capacity of ",
-                                    (uint64_t)m->pair_cap, " (bake with a larger rom.asset.contact_pairs)")
-                        : rt_fail(err, ROMRT_E_ARGUMENT, 0,
-                                  "romrt_set_mesh_collider: it would touch or cross the body: place it clear, then move it");
-    }
-    m->ncolliders += !before.active;
-    m->hessian_age = -1; /* a kept Newton matrix lacks the mesh's terms */
-    memcpy(k->now, shape, sizeof shape);
-    memcpy(k->target, shape, sizeof shape);
-    memcpy(k->start, shape, sizeof shape);
-    memcpy(k->lag, shape, sizeof shape);
-    return ROMRT_OK;
+    return rt_mesh_place(m, (int)slot, M, ROMRT_COLLIDER_MESH, shape, err);
 }
 

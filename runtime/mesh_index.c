@@ -219,13 +219,18 @@ romrt_status romrt_mesh_index_build(const romrt_mesh *mesh, romrt_error *err)
     M->bounds = (romrt_real *)(void *)(base + L.bounds);
     M->x = (romrt_real *)(void *)(base + L.x);
     M->dx = M->x + 3 * (size_t)M->nv, M->x0 = M->dx + 3 * (size_t)M->nv, M->cache = M->x0 + 3 * (size_t)M->nv;
-    unique_edges(M, (uint64_t *)(void *)M->bounds); /* the bounds' space, free until the first refit */
+    rt_mesh_build(M);
+    M->magic = MESH_MAGIC;
+    return ROMRT_OK;
+}
+
+void rt_mesh_build(rt_mesh *M)
+{
+    if (M->nt) unique_edges(M, (uint64_t *)(void *)M->bounds); /* the bounds' space, free until the first refit */
     build_bvh(M);
     memcpy(M->x, M->X, sizeof(romrt_real) * 3 * (size_t)M->nv);
     memset(M->dx, 0, sizeof(romrt_real) * 3 * (size_t)M->nv);
     rt_mesh_refit(M, 0);
-    M->magic = MESH_MAGIC;
-    return ROMRT_OK;
 }
 
 static int index_fits(const romrt_mesh *mesh)

@@ -313,9 +313,18 @@ size_t romrt_state_size(const romrt_model *m);
 romrt_status romrt_get_state(const romrt_model *m, romrt_real *state, size_t capacity, romrt_error *err);
 romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, size_t count, romrt_error *err);
 
-/* Colliders the application owns: planes, spheres, capsules and boxes acting on the asset's
- * collision vertices (its boundary, CVTX) with the barrier of the scene's planes, the same step
- * filter and, when the asset has friction (FRIC), the same friction. A collider has a pose,
+/* Colliders the application owns: planes, spheres, capsules and boxes. On an asset with a
+ * collision surface (OBHD: baked with a mesh obstacle, several objects or contact.self) spheres,
+ * capsules and boxes collide as the scene's obstacles of those kinds and the app's meshes do:
+ * a sphere is its centre and a capsule its segment, each with thickness r, a box its 12
+ * triangles, against the surface's triangles and edges (the obstacles' barrier, CCD and lagged
+ * friction; their pairs count against the asset's pair capacity, ROMRT_E_LIMIT past it), moved
+ * as a mesh is (each vertex on a straight line to the new pose), so a shape thinner than the
+ * surface's edges cannot pass between its vertices. Planes, and every kind on an asset without
+ * a collision surface (CVTX only, as the Cortex-M build's), act on the collision vertices (its
+ * boundary, CVTX) with the barrier of the scene's planes, the same step filter and, when the
+ * asset has friction (FRIC), the same friction: exact for a plane, while a sphere, capsule or box
+ * thinner than the surface's edges can pass between its vertices there. A collider has a pose,
  * position and rotation (row-major, local to world, orthonormal), and a size: a sphere's radius;
  * a capsule's radius and half length along its local x; a box's half extents. A plane passes
  * through the position with its normal along the local z (rotation's third column).

@@ -110,9 +110,33 @@ typedef struct {
     uint32_t *edges, *node, *item;
     romrt_real *bounds, *x, *dx, *x0, *cache;
     int part, part_start, moving; /* moving: dx holds a move (boxes swept); part_start: part at the step's start */
+    romrt_real xi;                /* thickness: 0 for an app's mesh, the radius of a sphere's or capsule's */
 } rt_mesh;
 /* Stencil ids of a mesh collider's vertices: obstacle vertex onv + (slot << RT_MESH_SHIFT) + v. */
 #define RT_MESH_SHIFT 24
+
+/* An analytic collider (sphere, capsule, box) as the scene's obstacles of that kind are baked
+ * (precompute/contact/collision.c): a sphere its centre of thickness r, a capsule its segment of
+ * thickness r, a box its 8 corners and 12 triangles; an rt_mesh over the runtime's own storage
+ * (shape_collider.c), in the arena of an asset with a collision surface. Sized for the box: the
+ * index's layout for 8 vertices and 12 triangles (mesh_index.c: 3 t edge slots, v + 4 t items,
+ * one node more). */
+#define RT_SHAPE_NV 8
+#define RT_SHAPE_NT 12
+#define RT_SHAPE_ITEMS (RT_SHAPE_NV + 4 * RT_SHAPE_NT)
+typedef struct {
+    union { /* the edges' sort keys (u64) take the bounds' space before the first refit */
+        uint64_t align;
+        romrt_real r[6 * (RT_SHAPE_ITEMS + 1)];
+    } bounds;
+    rt_mesh mesh;
+    romrt_real X[3 * RT_SHAPE_NV], x[4 * 3 * RT_SHAPE_NV];
+    int32_t tri[3 * RT_SHAPE_NT];
+    uint32_t edges[2 * 3 * RT_SHAPE_NT], node[3 * (RT_SHAPE_ITEMS + 1)], item[RT_SHAPE_ITEMS];
+} rt_shape;
+/* Storages for the shapes: one per slot and a spare, so that a shape is built where no placed
+ * collider reads and a refused placement changes nothing. */
+#define RT_SHAPES (ROMRT_MAX_COLLIDERS + 1)
 
 /* An application's collider slot (as precompute/rom's rk_rom_collider): where it is, where the app
  * wants it, where it was when the step began and when friction was lagged; a mesh's index. */
@@ -302,7 +326,8 @@ struct romrt_model {
     romrt_real *fric;         /* pair_cap x 11: its weights (4), tangent basis (6), normal force */
     int pair_cap, ncand, nfric, cache_valid, obs_overflow;
     double obs_time;          /* the time the obstacles were last put at (NAN: moved part way) */
-    int nmeshes;              /* app meshes placed (colliders of kind ROMRT_COLLIDER_MESH) */
+    int nmeshes;              /* colliders on the obstacles' contact path: app meshes and shapes */
+    rt_shape *shapes;         /* RT_SHAPES (an asset with a collision surface), or NULL: the vertex path */
     int alrom;                /* an adaptive linear ROM (ALRH): its data and state in al */
     rt_alrom al;
 };
@@ -459,6 +484,16 @@ void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x);
 /* Slot's mesh leaves it (removed, reset or replaced): its pairs are dropped; whether an index was
  * built for mesh (mesh_index.c). */
 void rt_mesh_leave(romrt_model *m, int slot);
+/* M (its world positions in its index, a collider of `kind` at pose shape) placed in slot at
+ * once: refused (ROMRT_E_ARGUMENT, naming romrt_set_mesh_collider for kind ROMRT_COLLIDER_MESH,
+ * else romrt_set_collider) when it touches or crosses the body, or the pairs overflow
+ * (ROMRT_E_LIMIT), the slot then as it was (mesh_collider.c). */
+romrt_status rt_mesh_place(romrt_model *m, int slot, rt_mesh *M, int kind, const romrt_real *shape, romrt_error *err);
+/* M's unique edges (from its triangles; with none, M->ne edges given), its BVH and its world
+ * positions at its own frame: M's counts, X, tri and storage set (mesh_index.c). */
+void rt_mesh_build(rt_mesh *M);
+/* A sphere, capsule or box at pose shape placed in slot on the obstacles' path (shape_collider.c). */
+romrt_status rt_shape_place(romrt_model *m, int slot, int kind, const romrt_real *shape, romrt_error *err);
 int rt_mesh_index_of(const romrt_mesh *mesh);
 /* The mesh's positions finite and its triangles' indices in range and distinct: ROMRT_OK, or
  * ROMRT_E_ARGUMENT naming the vertex or the triangle and corner (and the function: placing or
