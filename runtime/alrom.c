@@ -164,7 +164,7 @@ static void u_step(romrt_model *m, int i)
 void rt_alrom_take_collision_vertices(romrt_model *m)
 {
     rt_alrom *al = &m->al;
-    int k, a, e, slots = al->m + 1, n = 3 * m->nv;
+    int k, a, e, slots = al->m + 1;
     if (al->decoder || al->ns_on == al->ns) return;
     for (k = al->ns_base; k < al->ns; k++)
         for (a = 0; a < 3; a++) {
@@ -173,7 +173,7 @@ void rt_alrom_take_collision_vertices(romrt_model *m)
             al->u_t[i] = al->u_ref[i] = rt_alrom_b_dot(m, i, al->c); /* between steps: u_ref = u_t */
             for (e = 1; e <= al->count; e++) { /* the held entries, newest first */
                 size_t slot = (size_t)((al->head - e + slots) % slots);
-                al->ds[slot * (size_t)n + (size_t)(3 * k + a)] = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
+                *rt_alrom_ds(al, (int)slot, 3 * k + a) = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
             }
         }
     al->ns_on = al->ns;
@@ -364,6 +364,7 @@ void rt_alrom_reset(romrt_model *m)
     m->C = 0;
     /* positions are x_ref + rows q with q = 0 between steps and orthonormal rows within one */
     m->row_bound = m->r;
+    rt_form_element_G(m); /* G_e follows the rows (potential.c) */
 }
 
 int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply)
@@ -471,7 +472,7 @@ int rt_alrom_set_state(romrt_model *m, const romrt_real *s)
                 al->u_t[i] = rt_alrom_b_dot(m, i, al->c);
                 for (e = 1; e <= al->count; e++) {
                     size_t slot = (size_t)((al->head - e + (int)slots) % (int)slots);
-                    al->ds[slot * n + (size_t)(3 * k + j2)] = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
+                    *rt_alrom_ds(al, (int)slot, 3 * (int)k + j2) = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
                 }
             }
     }

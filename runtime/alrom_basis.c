@@ -376,7 +376,7 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
 static void form_used(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k, e, e0, l, q, slot;
+    int r = m->r, R = r + al->pairs, i, j, k, e, e0, l, q, slot;
     double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R], de[FORM_CHUNK], *WC = al->gram_c, *EuT = al->work;
     const double *p = al->p;
     /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
@@ -435,7 +435,7 @@ static void form_used(romrt_model *m, int count, const double *Eu)
             for (e0 = 0, slot = al->head; e0 < count; e0 += FORM_CHUNK) {
                 int ne = count - e0 < FORM_CHUNK ? count - e0 : FORM_CHUNK;
                 for (e = 0; e < ne; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e0 + e) */
-                    de[e] = al->ds[(size_t)slot * (size_t)n + (size_t)(3 * k + a)];
+                    de[e] = *rt_alrom_ds(al, slot, 3 * k + a);
                 for (e = 0; e < ne; e++) {
                     const double *c = al->coef + (size_t)(e0 + e) * (size_t)r;
                     double d = de[e];
@@ -479,7 +479,7 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
         int R = r + al->pairs;
         memcpy(al->D + (size_t)al->head * (size_t)R, al->c, sizeof(double) * (size_t)R);
         for (k = 0; k < al->ns_on; k++)
-            for (j = 0; j < 3; j++) al->ds[(size_t)al->head * (size_t)n + (size_t)(3 * k + j)] = al->u[3 * al->sv[k] + (uint32_t)j];
+            for (j = 0; j < 3; j++) *rt_alrom_ds(al, al->head, 3 * k + j) = al->u[3 * al->sv[k] + (uint32_t)j];
     }
     memcpy(al->P + (size_t)al->head * (size_t)r, al->p, sizeof(double) * (size_t)r);
     count = al->count < al->m ? al->count + 1 : al->m;
@@ -521,5 +521,6 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     }
     if (al->decoder) form_rows(m, count, Eu);
     else form_used(m, count, Eu);
+    rt_form_element_G(m); /* the step's G_e, for all of its Newton iterations and line searches */
     return ROMRT_OK;
 }

@@ -166,7 +166,7 @@ typedef struct {
      * B over the free rows (R x R) and B^T load there (R); each ring entry's mass coordinates
      * B^T W d over the free rows ((m + 1) x R); the step basis' C and B^T W B C (R x r each); the
      * rows that a step reads (rt_alrom_used: the cubature elements' and the contacts' vertices,
-     * ns of them) and the ring's entries on them ((m + 1) x 3 ns) */
+     * ns of them) and the ring's entries on them (3 ns x (m + 1), rt_alrom_ds) */
     double *c, *w, *c_prev, *w_prev, *gram_wfree, *load_c, *wdb, *cs, *wcs, *ds;
     uint32_t *sv, *s_of;       /* ns used vertices; nv: each vertex's index there, or ROMBIN_NO_MOTION */
     int ns, ns_base, ns_on;    /* the first ns_base always used, the first ns_on now (the rest: CVTX's) */
@@ -257,7 +257,8 @@ struct romrt_model {
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
     romrt_real *G_all;        /* ne x 9 rows of RT_PAD(r): every cubature element's dF/dq, formed once at
-                               * open for a basis of stored rows (a fixed linear map), or NULL */
+                               * open for a basis of stored rows (a fixed linear map), once a step for
+                               * an adaptive one (alrom_basis.c), or NULL */
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
     int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
@@ -316,7 +317,8 @@ typedef struct {
 /* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle, leading
  * dimension ld >= r). The colliders where they are now, friction when T->friction. *magnitude:
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
-/* Every cubature element's G_e into m->G_all (allocated at open for a basis of stored rows). */
+/* Every cubature element's G_e into m->G_all (allocated at open for a basis of stored rows), from
+ * m->rows: again whenever an adaptive ROM forms its rows. */
 void rt_form_element_G(romrt_model *m);
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
