@@ -367,7 +367,35 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
     }
 }
 
-#define FORM_CHUNK 32
+/* acc = z^T Z (Z: T x r, row-major) with each column's sum kept in a register, 8 columns at a
+ * time: the axpys over an acc in memory loaded and stored it once per term (perf: half of
+ * form_used). Each column's terms are added in the same order as by the axpys. */
+static void row_times(int T, int r, const double *z, const double *Z, double *acc)
+{
+    int j = 0, t;
+    for (; j + 8 <= r; j += 8) {
+        double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+        const double *Zt = Z + j;
+        for (t = 0; t < T; t++, Zt += r) {
+            double x = z[t];
+            a0 += x * Zt[0];
+            a1 += x * Zt[1];
+            a2 += x * Zt[2];
+            a3 += x * Zt[3];
+            a4 += x * Zt[4];
+            a5 += x * Zt[5];
+            a6 += x * Zt[6];
+            a7 += x * Zt[7];
+        }
+        acc[j] = a0, acc[j + 1] = a1, acc[j + 2] = a2, acc[j + 3] = a3;
+        acc[j + 4] = a4, acc[j + 5] = a5, acc[j + 6] = a6, acc[j + 7] = a7;
+    }
+    for (; j < r; j++) {
+        double a = 0;
+        for (t = 0; t < T; t++) a += z[t] * Z[(size_t)t * (size_t)r + (size_t)j];
+        acc[j] = a;
+    }
+}
 
 /* The quadratic decoder's step basis U = B C_s, C_s = sum_e c_e E_d's row e + C(p) E_u (R x r, into
  * al->cs), W_F C_s into al->wcs (from the entries' W_F c_e and W_F C(p): no R x R x r product), and
@@ -376,8 +404,8 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
 static void form_used(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, i, j, k, e, e0, l, q, slot;
-    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R], de[FORM_CHUNK], *WC = al->gram_c, *EuT = al->work;
+    int r = m->r, R = r + al->pairs, i, j, k, e, l, q, slot;
+    double acc[ROMRT_MAX_R], *z = al->ext, *WC = al->gram_c, *EuT = al->coef + (size_t)count * (size_t)r;
     const double *p = al->p;
     /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
     for (l = 0; l < r; l++) {
@@ -416,6 +444,8 @@ static void form_used(romrt_model *m, int count, const double *Eu)
             }
         }
     }
+    /* Z = [E_d; E_u^T] (count + r rows of r, E_d's rows already in al->coef), and each used row's
+     * z = [its ring entries, newest first; its Jacobian row]: the row is z^T Z */
     for (i = 0; i < r; i++) /* E_u's rows contiguous */
         for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
     for (k = 0; k < al->ns_on; k++) {
@@ -427,26 +457,10 @@ static void form_used(romrt_model *m, int count, const double *Eu)
                 for (j = 0; j < r; j++) row[j] = 0;
                 continue;
             }
-            rt_alrom_jacobian_row(m, row_i, Urow);
-            for (j = 0; j < r; j++) acc[j] = 0;
-            /* the entries' values gathered first, FORM_CHUNK at a time: with the gather inside the
-             * axpys, gcc -O3 interchanged the loops into a scalar strided one (perf: a fifth of the
-             * step); apart, the axpys over contiguous rows vectorise */
-            for (e0 = 0, slot = al->head; e0 < count; e0 += FORM_CHUNK) {
-                int ne = count - e0 < FORM_CHUNK ? count - e0 : FORM_CHUNK;
-                for (e = 0; e < ne; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e0 + e) */
-                    de[e] = *rt_alrom_ds(al, slot, 3 * k + a);
-                for (e = 0; e < ne; e++) {
-                    const double *c = al->coef + (size_t)(e0 + e) * (size_t)r;
-                    double d = de[e];
-                    for (j = 0; j < r; j++) acc[j] += d * c[j];
-                }
-            }
-            for (i = 0; i < r; i++) {
-                const double *ei = EuT + (size_t)r * (size_t)i;
-                double ui = Urow[i];
-                for (j = 0; j < r; j++) acc[j] += ui * ei[j];
-            }
+            rt_alrom_jacobian_row(m, row_i, z + count);
+            for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e) */
+                z[e] = *rt_alrom_ds(al, slot, 3 * k + a);
+            row_times(count + r, r, z, al->coef, acc);
             for (j = 0; j < r; j++) row[j] = (romrt_real)acc[j];
         }
     }

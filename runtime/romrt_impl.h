@@ -155,7 +155,8 @@ typedef struct {
     double *du;                /* (m + 1) x r: the held entries' D^T U */
     double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
-    double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
+    double *coef;              /* (m + 1 + r) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e
+                                * (then E_d's rows, and E_u^T after the count held: alrom_basis.c) */
     /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
      * Gram B^T W B and its Euclidean Gram over the free rows (R x R each, formed at open), S C(p)
      * (R x r), 4 R-vectors, and each ring entry's B^T d over the free rows ((m + 1) x R) */
