@@ -220,7 +220,18 @@ static void reference_positions(romrt_model *m)
     }
 }
 
+static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err);
+
 romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
+{
+    romrt_status st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
+    st = begin(m, w_inertia, err);
+    RT_PROF_END(RT_PROF_ALROM_TERMS);
+    return st;
+}
+
+static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
@@ -291,7 +302,18 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
     return ROMRT_OK;
 }
 
+static romrt_status commit(romrt_model *m, romrt_error *err);
+
 romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
+{
+    romrt_status st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
+    st = commit(m, err);
+    RT_PROF_END(RT_PROF_ALROM_TERMS);
+    return st;
+}
+
+static romrt_status commit(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;

@@ -466,14 +466,28 @@ static void form_used(romrt_model *m, int count, const double *Eu)
     }
 }
 
+static romrt_status step_basis(romrt_model *m, romrt_error *err);
+
 romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
+{
+    romrt_status st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
+    st = step_basis(m, err);
+    RT_PROF_END(RT_PROF_ALROM_BASIS);
+    return st;
+}
+
+static romrt_status step_basis(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, j, k, e, count, blended = 0;
     double *Suu = small(al, r, S_UU), *Ru = small(al, r, R_U), *Eu = small(al, r, E_U), ridge;
     romrt_status st;
     memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
-    if ((st = rt_alrom_encode(m, err))) return st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_ENCODE);
+    st = rt_alrom_encode(m, err);
+    RT_PROF_END(RT_PROF_ALROM_ENCODE);
+    if (st) return st;
     if (!al->decoder) rt_alrom_c_gram(m, al->gram_free, al->p, Suu); /* U^T U = C^T (B^T B) C */
     else {
         rt_alrom_zero_prescribed(m, al->U);
@@ -533,8 +547,10 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
         solve_left(r, Ru, Eu);
         count = 0;
     }
+    RT_PROF_BEGIN(RT_PROF_ALROM_ROWS);
     if (al->decoder) form_rows(m, count, Eu);
     else form_used(m, count, Eu);
     rt_form_element_G(m); /* the step's G_e, for all of its Newton iterations and line searches */
+    RT_PROF_END(RT_PROF_ALROM_ROWS);
     return ROMRT_OK;
 }

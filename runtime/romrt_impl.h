@@ -555,8 +555,24 @@ romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk
  *                   contact_surface.c)
  *   RT_PROF_NARROW  per stencil: distance, barrier and its PSD projection, the pull into the
  *                   r x r system, friction, CCD, and the collision vertices' positions (contact.c,
- *                   contact_friction.c) */
-enum { RT_PROF_BROAD, RT_PROF_NARROW, RT_PROF_PHASES };
+ *                   contact_friction.c)
+ * and an adaptive linear ROM's work around its Newton solve (bench/bench_alrom_split.c, issue 33):
+ *   RT_PROF_ALROM_ENCODE  p = e(u), the quadratic decoder's Gauss-Newton (or CROM's networks)
+ *   RT_PROF_ALROM_BASIS   U^T U, the history's Grams and basis, the thin QRs, the SVD and the
+ *                         geodesic (alrom_basis.c, but the rows)
+ *   RT_PROF_ALROM_ROWS    the step basis' K-space columns (C_s, W_F C_s), its rows at the used
+ *                         vertices and the cubature elements' G_e
+ *   RT_PROF_ALROM_TERMS   the step's reference, F(x_ref), M_r, f_r and the prediction, and the
+ *                         commit (alrom.c) */
+enum {
+    RT_PROF_BROAD,
+    RT_PROF_NARROW,
+    RT_PROF_ALROM_ENCODE,
+    RT_PROF_ALROM_BASIS,
+    RT_PROF_ALROM_ROWS,
+    RT_PROF_ALROM_TERMS,
+    RT_PROF_PHASES
+};
 #ifdef ROMRT_PROFILE
 void rt_prof_enter(int phase);
 void rt_prof_leave(int phase);
