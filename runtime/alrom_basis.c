@@ -415,17 +415,7 @@ static void form_used(romrt_model *m, int count, const double *Eu)
         for (k = 0, q = r; k < r; k++)
             for (j = k; j < r; j++, q++) cl[q] = k == j ? p[k] * el[k] : p[j] * el[k] + p[k] * el[j];
     }
-    /* W_F C(p) (R x r): column k = W_F e_k + sum_j p_j W_F e_(r + pair(k, j)) */
-    for (k = 0; k < r; k++) {
-        double *c = WC + (size_t)R * (size_t)k;
-        const double *Sk = al->gram_wfree + (size_t)R * (size_t)k;
-        for (i = 0; i < R; i++) c[i] = Sk[i];
-        for (j = 0; j < r; j++) {
-            const double *Sj = al->gram_wfree + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
-            if (p[j] != 0)
-                for (i = 0; i < R; i++) c[i] += p[j] * Sj[i];
-        }
-    }
+    rt_alrom_s_c(m, al->gram_wfree, p, WC); /* W_F C(p) (R x r) */
     for (l = 0; l < r; l++) { /* W_F C(p) E_u */
         double *wl = al->wcs + (size_t)R * (size_t)l;
         const double *el = Eu + (size_t)r * (size_t)l;

@@ -31,6 +31,8 @@ void rt_alrom_gram_times(int R, const double *G, const double *v, double *out);
 /* C(p)^T v (r) for v an R-vector, and C(p)^T S C(p) (r x r, column-major) for S R x R (al->gram_c
  * as scratch); */
 void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, double *out);
+/* S C(p) (R x r, column-major) for S R x R; */
+void rt_alrom_s_c(const romrt_model *m, const double *S, const double *p, double *SC);
 void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out);
 /* row i of U at al->p. */
 void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui);
