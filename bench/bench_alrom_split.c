@@ -99,7 +99,7 @@ int main(int argc, char **argv)
         }
     }
     for (k = ENCODE; k <= TERMS; k++) parts += phase_s[k];
-    printf("%.3f %.3f %.3f %.3f %.3f\n", phase_s[ENCODE] / total, phase_s[BASIS] / total, phase_s[ROWS] / total,
+    printf("%.5f %.5f %.5f %.5f %.5f\n", phase_s[ENCODE] / total, phase_s[BASIS] / total, phase_s[ROWS] / total,
            phase_s[TERMS] / total, (total - parts) / total);
     free(arena);
     free(asset);
