@@ -6,7 +6,8 @@
  *
  * Prints one CSV line per asset: asset, us_per_step (median over the rounds of each round's mean
  * us/step), us_min, us_max (fastest and slowest round), ratio (median over the first asset's
- * median), newton_iterations (per step, last round). A round is timed by the thread's CPU clock:
+ * median), newton_iterations (per step, last round); BENCH_HESSIAN_REUSE=N in the environment sets
+ * romrt_set_hessian_reuse(N) where an asset takes it. A round is timed by the thread's CPU clock:
  * the machine is shared, and its wall clock counts other jobs' time slices (a PCA round of 115 us a
  * step read 2 ms by the wall clock beside two builds). */
 #include <stdio.h>
@@ -60,6 +61,11 @@ static int load(asset *a, rk_error *err)
     a->arena = aligned_alloc(16, (need + 15) / 16 * 16);
     if (!a->arena || romrt_open(a->data, a->bytes, a->arena, need, &a->m, &re))
         return rk_fail(err, "%s: %s", a->path, re.message);
+    /* BENCH_HESSIAN_REUSE=N: romrt_set_hessian_reuse(N) on the assets that take it (0: a fresh Newton
+     * matrix every iteration, as an adaptive basis needs; a fixed one keeps it by default) */
+    const char *reuse = getenv("BENCH_HESSIAN_REUSE");
+    if (reuse && romrt_set_hessian_reuse(a->m, (size_t)atoi(reuse), &re))
+        fprintf(stderr, "bench_assets: %s: %s (left as it is)\n", a->path, re.message);
     return 0;
 }
 
