@@ -245,12 +245,17 @@ $(BUILD)/bench_pour: bench/bench_pour.c $(patsubst %.c,$(BUILD)/rt/prof-float/%.
 $(BUILD)/bench_pour_double: bench/bench_pour.c $(patsubst %.c,$(BUILD)/rt/prof-double/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(filter %.o,$^) -lm
 
+# An adaptive linear ROM's step split into encoder, basis, rows, terms and Newton
+# (bench_alrom_runtime.sh), on the profiled runtime objects as bench_pour.
+$(BUILD)/bench_alrom_split: bench/bench_alrom_split.c $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
+	$(CC) $(CFLAGS_PC) -o $@ $< $(filter %.o,$^) -lm
+
 # Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).
 $(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
 bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)/bench_newton_modes_double $(BUILD)/ablation_koopman_momentum $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive \
-       $(BUILD)/bench_pour $(BUILD)/bench_pour_double
+       $(BUILD)/bench_pour $(BUILD)/bench_pour_double $(BUILD)/bench_alrom_split
 	@mkdir -p bench/results
 	$(BUILD)/bench_physics tests/data/meshes bench/results
 	$(BUILD)/bench_fom tests/data/meshes bench/results

@@ -12,14 +12,19 @@
 #   crom       the same with the CROM decoder trained on those frames (every vertex stored; the
 #              decoder network's Jacobian at each vertex each step)
 # The training runs are romkit fom jobs whose snapshots both entries list (the job-array form).
+# Each step's split (bench_alrom_split, the runtime built with -DROMRT_PROFILE: CPU fractions over
+# 3 runs of the scene's steps, times the interleaved median): encode_us the encoder, basis_us the
+# history and Grassmann work, rows_us the step basis at the used vertices and the elements' G_e,
+# terms_us the reference, M_r, f_r and the commit, newton_us the reduced solve (PCA's whole step).
 # Writes bench/results/alrom_runtime.csv (scenario, method, us_per_step, us_min, us_max,
-# ratio_to_pca, newton_iterations, relative_error, stored_vertices).
+# ratio_to_pca, newton_iterations, relative_error, stored_vertices, cubature_elements and the
+# split).
 set -e
 BUILD=${BUILD:-build}
 OUT=${2:-bench/results}
 ROMKIT=$BUILD/romkit
 JSONQ=$BUILD/jsonq
-for tool in "$ROMKIT" "$JSONQ" "$BUILD/bench_assets"; do # (make bench builds them; a pipe would hide one missing)
+for tool in "$ROMKIT" "$JSONQ" "$BUILD/bench_assets" "$BUILD/bench_alrom_split"; do # (make bench builds them; a pipe would hide one missing)
     [ -x "$tool" ] || { echo "bench_alrom_runtime.sh: $tool is not built (make $tool)" >&2; exit 1; }
 done
 DIR=$(cd examples/scenes/alrom && pwd)
@@ -39,7 +44,7 @@ entries="{\"basis\": \"pod\", \"size\": 16, \"name\": \"pca\", \"cubature\": {\"
   \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]},
  {\"method\": \"adaptive_linear\", \"decoder\": \"crom\", \"size\": 16, \"history\": 20, \"lambda\": 0.2, \"name\": \"crom\",
   \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]}"
-echo "scenario,method,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error,stored_vertices" >"$OUT/alrom_runtime.csv"
+echo "scenario,method,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error,stored_vertices,cubature_elements,encode_us,basis_us,rows_us,terms_us,newton_us" >"$OUT/alrom_runtime.csv"
 for sc in compress bend; do
     fix "$DIR/armadillo_$sc.json" | python3 -c "
 import json, sys
@@ -59,7 +64,10 @@ json.dump(s, open(sys.argv[2], 'w'))" "$entries" "$TMP/$sc.json"
         name=$(echo "$asset" | sed 's/.*\.\([a-z]*\)\.rombin/\1/')
         err=$("$JSONQ" get "$TMP/$sc.$name.run.json" reference.relative_error)
         stored=$("$JSONQ" get "$TMP/$sc.$name.build.json" asset.stored_vertices)
-        echo "$sc,$name,$us,$lo,$hi,$ratio,$its,$err,$stored" >>"$OUT/alrom_runtime.csv"
+        elements=$("$JSONQ" get "$TMP/$sc.$name.build.json" cubature.elements)
+        split=$(OPENBLAS_NUM_THREADS=1 "$BUILD/bench_alrom_split" "$TMP/$sc.$name.rombin" "$steps" 3 |
+            awk -v us="$us" '{printf "%.4g,%.4g,%.4g,%.4g,%.4g", $1 * us, $2 * us, $3 * us, $4 * us, $5 * us}')
+        echo "$sc,$name,$us,$lo,$hi,$ratio,$its,$err,$stored,$elements,$split" >>"$OUT/alrom_runtime.csv"
     done <"$TMP/$sc.times"
 done
 echo "$OUT/alrom_runtime.csv"

@@ -6,15 +6,26 @@
  *
  * Prints one CSV line per asset: asset, us_per_step (median over the rounds of each round's mean
  * us/step), us_min, us_max (fastest and slowest round), ratio (median over the first asset's
- * median), newton_iterations (per step, last round). */
+ * median), newton_iterations (per step, last round); BENCH_HESSIAN_REUSE=N in the environment sets
+ * romrt_set_hessian_reuse(N) where an asset takes it. A round is timed by the thread's CPU clock:
+ * the machine is shared, and its wall clock counts other jobs' time slices (a PCA round of 115 us a
+ * step read 2 ms by the wall clock beside two builds). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "runtime/romrt.h"
 #include "util/util.h"
 
 #define MAX_ASSETS 8
+
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
 
 typedef struct {
     const char *path;
@@ -50,6 +61,11 @@ static int load(asset *a, rk_error *err)
     a->arena = aligned_alloc(16, (need + 15) / 16 * 16);
     if (!a->arena || romrt_open(a->data, a->bytes, a->arena, need, &a->m, &re))
         return rk_fail(err, "%s: %s", a->path, re.message);
+    /* BENCH_HESSIAN_REUSE=N: romrt_set_hessian_reuse(N) on the assets that take it (0: a fresh Newton
+     * matrix every iteration, as an adaptive basis needs; a fixed one keeps it by default) */
+    const char *reuse = getenv("BENCH_HESSIAN_REUSE");
+    if (reuse && romrt_set_hessian_reuse(a->m, (size_t)atoi(reuse), &re))
+        fprintf(stderr, "bench_assets: %s: %s (left as it is)\n", a->path, re.message);
     return 0;
 }
 
@@ -81,7 +97,7 @@ int main(int argc, char **argv)
             romrt_step_info info;
             romrt_reset(as[k].m, NULL);
             as[k].iterations = 0;
-            double t0 = rk_now();
+            double t0 = cpu_now();
             for (int s = 0; s < steps; s++) {
                 if (romrt_step(as[k].m, &re)) {
                     fprintf(stderr, "bench_assets: %s: step %d: %s\n", as[k].path, s, re.message);
@@ -91,7 +107,7 @@ int main(int argc, char **argv)
                 romrt_last_step(as[k].m, &info, NULL);
                 as[k].iterations += info.newton_iterations;
             }
-            as[k].us[round] = (rk_now() - t0) / steps * 1e6;
+            as[k].us[round] = (cpu_now() - t0) / steps * 1e6;
         }
     double first = 0;
     printf("asset,us_per_step,us_min,us_max,ratio,newton_iterations\n");

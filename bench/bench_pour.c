@@ -29,7 +29,7 @@
 void rt_prof_enter(int phase);
 void rt_prof_leave(int phase);
 
-#define PHASES 2
+#define PHASES 6 /* romrt_impl.h's RT_PROF_PHASES: a pour enters only the first two */
 #define DEPTH 16
 
 static double phase_s[PHASES], last;

@@ -107,8 +107,10 @@ ABOUT = {
               "The armadillo's Table 3 scenarios; total relative online error with per-step "
               "realignment, against r, the history m and lambda (adaptive: the CROM decoder)."),
     "alrom_runtime": ("Adaptive linear ROM in the runtime", "make bench: bench/bench_alrom_runtime.sh",
-                      "float32, the armadillo's scenes, r = 16; microseconds per step, median of 7 "
-                      "interleaved rounds of 40 steps; the free run's error against full order."),
+                      "float32, the armadillo's scenes, r = 16; CPU microseconds per step, median of 7 "
+                      "interleaved rounds of 40 steps; the free run's error against full order; the step split "
+                      "into encoder, basis (history, Grassmann), rows (the basis at the used vertices, G_e), "
+                      "terms (M_r, f_r, commit) and Newton by bench_alrom_split."),
     "contact_pour": ("The pour in the runtime: 8 objects into a mesh box (issue 30)", "make bench: bench/pour.sh",
                      "Contact every frame, CPU us per step split into broad phase, narrow phase and Newton, "
                      "and the ratio against the old code."),

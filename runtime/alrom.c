@@ -164,7 +164,7 @@ static void u_step(romrt_model *m, int i)
 void rt_alrom_take_collision_vertices(romrt_model *m)
 {
     rt_alrom *al = &m->al;
-    int k, a, e, slots = al->m + 1, n = 3 * m->nv;
+    int k, a, e, slots = al->m + 1;
     if (al->decoder || al->ns_on == al->ns) return;
     for (k = al->ns_base; k < al->ns; k++)
         for (a = 0; a < 3; a++) {
@@ -173,7 +173,7 @@ void rt_alrom_take_collision_vertices(romrt_model *m)
             al->u_t[i] = al->u_ref[i] = rt_alrom_b_dot(m, i, al->c); /* between steps: u_ref = u_t */
             for (e = 1; e <= al->count; e++) { /* the held entries, newest first */
                 size_t slot = (size_t)((al->head - e + slots) % slots);
-                al->ds[slot * (size_t)n + (size_t)(3 * k + a)] = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
+                *rt_alrom_ds(al, (int)slot, 3 * k + a) = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
             }
         }
     al->ns_on = al->ns;
@@ -220,7 +220,18 @@ static void reference_positions(romrt_model *m)
     }
 }
 
+static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err);
+
 romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
+{
+    romrt_status st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
+    st = begin(m, w_inertia, err);
+    RT_PROF_END(RT_PROF_ALROM_TERMS);
+    return st;
+}
+
+static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
@@ -291,7 +302,18 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
     return ROMRT_OK;
 }
 
+static romrt_status commit(romrt_model *m, romrt_error *err);
+
 romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
+{
+    romrt_status st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
+    st = commit(m, err);
+    RT_PROF_END(RT_PROF_ALROM_TERMS);
+    return st;
+}
+
+static romrt_status commit(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
@@ -364,6 +386,7 @@ void rt_alrom_reset(romrt_model *m)
     m->C = 0;
     /* positions are x_ref + rows q with q = 0 between steps and orthonormal rows within one */
     m->row_bound = m->r;
+    rt_form_element_G(m); /* G_e follows the rows (potential.c) */
 }
 
 int rt_alrom_push(romrt_model *m, uint32_t v, const romrt_real f[3], int apply)
@@ -471,7 +494,7 @@ int rt_alrom_set_state(romrt_model *m, const romrt_real *s)
                 al->u_t[i] = rt_alrom_b_dot(m, i, al->c);
                 for (e = 1; e <= al->count; e++) {
                     size_t slot = (size_t)((al->head - e + (int)slots) % (int)slots);
-                    al->ds[slot * n + (size_t)(3 * k + j2)] = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
+                    *rt_alrom_ds(al, (int)slot, 3 * (int)k + j2) = rt_alrom_b_dot(m, i, al->D + slot * (size_t)(m->r + al->pairs));
                 }
             }
     }

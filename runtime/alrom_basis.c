@@ -367,7 +367,35 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
     }
 }
 
-#define FORM_CHUNK 32
+/* acc = z^T Z (Z: T x r, row-major) with each column's sum kept in a register, 8 columns at a
+ * time: the axpys over an acc in memory loaded and stored it once per term (perf: half of
+ * form_used). Each column's terms are added in the same order as by the axpys. */
+static void row_times(int T, int r, const double *z, const double *Z, double *acc)
+{
+    int j = 0, t;
+    for (; j + 8 <= r; j += 8) {
+        double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+        const double *Zt = Z + j;
+        for (t = 0; t < T; t++, Zt += r) {
+            double x = z[t];
+            a0 += x * Zt[0];
+            a1 += x * Zt[1];
+            a2 += x * Zt[2];
+            a3 += x * Zt[3];
+            a4 += x * Zt[4];
+            a5 += x * Zt[5];
+            a6 += x * Zt[6];
+            a7 += x * Zt[7];
+        }
+        acc[j] = a0, acc[j + 1] = a1, acc[j + 2] = a2, acc[j + 3] = a3;
+        acc[j + 4] = a4, acc[j + 5] = a5, acc[j + 6] = a6, acc[j + 7] = a7;
+    }
+    for (; j < r; j++) {
+        double a = 0;
+        for (t = 0; t < T; t++) a += z[t] * Z[(size_t)t * (size_t)r + (size_t)j];
+        acc[j] = a;
+    }
+}
 
 /* The quadratic decoder's step basis U = B C_s, C_s = sum_e c_e E_d's row e + C(p) E_u (R x r, into
  * al->cs), W_F C_s into al->wcs (from the entries' W_F c_e and W_F C(p): no R x R x r product), and
@@ -376,8 +404,8 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
 static void form_used(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k, e, e0, l, q, slot;
-    double acc[ROMRT_MAX_R], Urow[ROMRT_MAX_R], de[FORM_CHUNK], *WC = al->gram_c, *EuT = al->work;
+    int r = m->r, R = r + al->pairs, i, j, k, e, l, q, slot;
+    double acc[ROMRT_MAX_R], *z = al->ext, *WC = al->gram_c, *EuT = al->coef + (size_t)count * (size_t)r;
     const double *p = al->p;
     /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
     for (l = 0; l < r; l++) {
@@ -387,17 +415,7 @@ static void form_used(romrt_model *m, int count, const double *Eu)
         for (k = 0, q = r; k < r; k++)
             for (j = k; j < r; j++, q++) cl[q] = k == j ? p[k] * el[k] : p[j] * el[k] + p[k] * el[j];
     }
-    /* W_F C(p) (R x r): column k = W_F e_k + sum_j p_j W_F e_(r + pair(k, j)) */
-    for (k = 0; k < r; k++) {
-        double *c = WC + (size_t)R * (size_t)k;
-        const double *Sk = al->gram_wfree + (size_t)R * (size_t)k;
-        for (i = 0; i < R; i++) c[i] = Sk[i];
-        for (j = 0; j < r; j++) {
-            const double *Sj = al->gram_wfree + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
-            if (p[j] != 0)
-                for (i = 0; i < R; i++) c[i] += p[j] * Sj[i];
-        }
-    }
+    rt_alrom_s_c(m, al->gram_wfree, p, WC); /* W_F C(p) (R x r) */
     for (l = 0; l < r; l++) { /* W_F C(p) E_u */
         double *wl = al->wcs + (size_t)R * (size_t)l;
         const double *el = Eu + (size_t)r * (size_t)l;
@@ -416,6 +434,8 @@ static void form_used(romrt_model *m, int count, const double *Eu)
             }
         }
     }
+    /* Z = [E_d; E_u^T] (count + r rows of r, E_d's rows already in al->coef), and each used row's
+     * z = [its ring entries, newest first; its Jacobian row]: the row is z^T Z */
     for (i = 0; i < r; i++) /* E_u's rows contiguous */
         for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
     for (k = 0; k < al->ns_on; k++) {
@@ -427,39 +447,37 @@ static void form_used(romrt_model *m, int count, const double *Eu)
                 for (j = 0; j < r; j++) row[j] = 0;
                 continue;
             }
-            rt_alrom_jacobian_row(m, row_i, Urow);
-            for (j = 0; j < r; j++) acc[j] = 0;
-            /* the entries' values gathered first, FORM_CHUNK at a time: with the gather inside the
-             * axpys, gcc -O3 interchanged the loops into a scalar strided one (perf: a fifth of the
-             * step); apart, the axpys over contiguous rows vectorise */
-            for (e0 = 0, slot = al->head; e0 < count; e0 += FORM_CHUNK) {
-                int ne = count - e0 < FORM_CHUNK ? count - e0 : FORM_CHUNK;
-                for (e = 0; e < ne; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e0 + e) */
-                    de[e] = al->ds[(size_t)slot * (size_t)n + (size_t)(3 * k + a)];
-                for (e = 0; e < ne; e++) {
-                    const double *c = al->coef + (size_t)(e0 + e) * (size_t)r;
-                    double d = de[e];
-                    for (j = 0; j < r; j++) acc[j] += d * c[j];
-                }
-            }
-            for (i = 0; i < r; i++) {
-                const double *ei = EuT + (size_t)r * (size_t)i;
-                double ui = Urow[i];
-                for (j = 0; j < r; j++) acc[j] += ui * ei[j];
-            }
+            rt_alrom_jacobian_row(m, row_i, z + count);
+            for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e) */
+                z[e] = *rt_alrom_ds(al, slot, 3 * k + a);
+            row_times(count + r, r, z, al->coef, acc);
             for (j = 0; j < r; j++) row[j] = (romrt_real)acc[j];
         }
     }
 }
 
+static romrt_status step_basis(romrt_model *m, romrt_error *err);
+
 romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
+{
+    romrt_status st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
+    st = step_basis(m, err);
+    RT_PROF_END(RT_PROF_ALROM_BASIS);
+    return st;
+}
+
+static romrt_status step_basis(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, j, k, e, count, blended = 0;
     double *Suu = small(al, r, S_UU), *Ru = small(al, r, R_U), *Eu = small(al, r, E_U), ridge;
     romrt_status st;
     memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
-    if ((st = rt_alrom_encode(m, err))) return st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_ENCODE);
+    st = rt_alrom_encode(m, err);
+    RT_PROF_END(RT_PROF_ALROM_ENCODE);
+    if (st) return st;
     if (!al->decoder) rt_alrom_c_gram(m, al->gram_free, al->p, Suu); /* U^T U = C^T (B^T B) C */
     else {
         rt_alrom_zero_prescribed(m, al->U);
@@ -479,7 +497,7 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
         int R = r + al->pairs;
         memcpy(al->D + (size_t)al->head * (size_t)R, al->c, sizeof(double) * (size_t)R);
         for (k = 0; k < al->ns_on; k++)
-            for (j = 0; j < 3; j++) al->ds[(size_t)al->head * (size_t)n + (size_t)(3 * k + j)] = al->u[3 * al->sv[k] + (uint32_t)j];
+            for (j = 0; j < 3; j++) *rt_alrom_ds(al, al->head, 3 * k + j) = al->u[3 * al->sv[k] + (uint32_t)j];
     }
     memcpy(al->P + (size_t)al->head * (size_t)r, al->p, sizeof(double) * (size_t)r);
     count = al->count < al->m ? al->count + 1 : al->m;
@@ -519,7 +537,10 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
         solve_left(r, Ru, Eu);
         count = 0;
     }
+    RT_PROF_BEGIN(RT_PROF_ALROM_ROWS);
     if (al->decoder) form_rows(m, count, Eu);
     else form_used(m, count, Eu);
+    rt_form_element_G(m); /* the step's G_e, for all of its Newton iterations and line searches */
+    RT_PROF_END(RT_PROF_ALROM_ROWS);
     return ROMRT_OK;
 }

@@ -28,14 +28,20 @@ void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui)
     const double *p = al->p;
     for (k = 0; k < r; k++) Ui[k] = phi[k];
     for (k = 0; k < r; k++) {
-        double pk = p[k], s = (double)psi[0] * p[k];
-        for (j = k + 1; j < r; j++) {
-            double x = psi[j - k];
-            s += x * p[j];
-            Ui[j] += x * pk;
+        /* column k's sum in four partial sums, and row k's additions apart: one loop doing both
+         * was a chain of dependent adds (perf: a seventh of the step) */
+        double pk = p[k], s[4] = {0, 0, 0, 0};
+        int len = r - k;
+        for (j = 1; j < len; j++) Ui[k + j] += (double)psi[j] * pk;
+        for (j = 0; j + 3 < len; j += 4) {
+            s[0] += (double)psi[j] * p[k + j];
+            s[1] += (double)psi[j + 1] * p[k + j + 1];
+            s[2] += (double)psi[j + 2] * p[k + j + 2];
+            s[3] += (double)psi[j + 3] * p[k + j + 3];
         }
-        Ui[k] += s;
-        psi += r - k;
+        for (; j < len; j++) s[j % 4] += (double)psi[j] * p[k + j];
+        Ui[k] += (s[0] + s[1]) + (s[2] + s[3]);
+        psi += len;
     }
 }
 
@@ -147,21 +153,61 @@ void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, do
     }
 }
 
+/* out = base + sum_i w_i col_i over R rows (base NULL: 0), each row's terms added in order. */
+static void combine(int R, const double *base, int terms, const double *const *col, const double *w, double *out)
+{
+    int a, i;
+    /* 8 rows at a time summed in registers: axpys over out in memory loaded and stored it once a
+     * term (the encoder's largest cost) */
+    for (a = 0; a + 8 <= R; a += 8) {
+        double c0 = 0, c1 = 0, c2 = 0, c3 = 0, c4 = 0, c5 = 0, c6 = 0, c7 = 0;
+        if (base) {
+            const double *b = base + a;
+            c0 = b[0], c1 = b[1], c2 = b[2], c3 = b[3], c4 = b[4], c5 = b[5], c6 = b[6], c7 = b[7];
+        }
+        for (i = 0; i < terms; i++) {
+            const double *Sj = col[i] + a, x = w[i];
+            c0 += x * Sj[0];
+            c1 += x * Sj[1];
+            c2 += x * Sj[2];
+            c3 += x * Sj[3];
+            c4 += x * Sj[4];
+            c5 += x * Sj[5];
+            c6 += x * Sj[6];
+            c7 += x * Sj[7];
+        }
+        out[a] = c0, out[a + 1] = c1, out[a + 2] = c2, out[a + 3] = c3;
+        out[a + 4] = c4, out[a + 5] = c5, out[a + 6] = c6, out[a + 7] = c7;
+    }
+    for (; a < R; a++) {
+        double x = base ? base[a] : 0;
+        for (i = 0; i < terms; i++) x += w[i] * col[i][a];
+        out[a] = x;
+    }
+}
+
+void rt_alrom_s_c(const romrt_model *m, const double *S, const double *p, double *SC)
+{
+    int r = m->r, R = r + m->al.pairs, k, j;
+    const double *col[ROMRT_MAX_R];
+    double w[ROMRT_MAX_R];
+    for (k = 0; k < r; k++) { /* SC column k = S e_k + sum_j p_j S e_(r + pair(k, j)) */
+        int terms = 0;
+        for (j = 0; j < r; j++)
+            if (p[j] != 0) {
+                col[terms] = S + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
+                w[terms++] = p[j];
+            }
+        combine(R, S + (size_t)R * (size_t)k, terms, col, w, SC + (size_t)R * (size_t)k);
+    }
+}
+
 void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out)
 {
     const rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, k, l, j, a;
+    int r = m->r, R = r + al->pairs, l;
     double *SC = al->gram_c;
-    for (k = 0; k < r; k++) { /* SC column k = S e_k + sum_j p_j S e_(r + pair(k, j)) */
-        double *c = SC + (size_t)R * (size_t)k;
-        const double *Sk = S + (size_t)R * (size_t)k;
-        for (a = 0; a < R; a++) c[a] = Sk[a];
-        for (j = 0; j < r; j++) {
-            const double *Sj = S + (size_t)R * (size_t)(r + rt_alrom_pair(r, k, j));
-            if (p[j] != 0)
-                for (a = 0; a < R; a++) c[a] += p[j] * Sj[a];
-        }
-    }
+    rt_alrom_s_c(m, S, p, SC);
     for (l = 0; l < r; l++) /* C^T (S C): column l */
         rt_alrom_c_apply(m, p, SC + (size_t)R * (size_t)l, out + (size_t)r * (size_t)l);
 }

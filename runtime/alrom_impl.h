@@ -31,6 +31,8 @@ void rt_alrom_gram_times(int R, const double *G, const double *v, double *out);
 /* C(p)^T v (r) for v an R-vector, and C(p)^T S C(p) (r x r, column-major) for S R x R (al->gram_c
  * as scratch); */
 void rt_alrom_c_apply(const romrt_model *m, const double *p, const double *v, double *out);
+/* S C(p) (R x r, column-major) for S R x R; */
+void rt_alrom_s_c(const romrt_model *m, const double *S, const double *p, double *SC);
 void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out);
 /* row i of U at al->p. */
 void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui);
@@ -40,6 +42,11 @@ static inline int rt_alrom_held(const rt_alrom *al, int v)
 {
     return al->decoder || al->s_of[v] < (uint32_t)al->ns_on || al->motion_of[v] != ROMBIN_NO_MOTION;
 }
+/* The ring's value of entry slot on used row k (3 s + a for used vertex s, axis a): a used row's
+ * m + 1 entries contiguous, so a step's gather of them (form_used) reads a cache line or three
+ * rather than one line per entry at a stride of the whole ring's row count (issue 33: the strided
+ * gather was 14% of the step). */
+static inline double *rt_alrom_ds(const rt_alrom *al, int slot, int k) { return al->ds + (size_t)k * (size_t)(al->m + 1) + (size_t)slot; }
 /* Whether row (a dof) of the stored vertices is prescribed (its basis row is zero). */
 static inline int rt_alrom_prescribed(const rt_alrom *al, int row) { return al->motion_of[row / 3] != ROMBIN_NO_MOTION; }
 /* The prescribed rows of A (n x r, a row's r doubles contiguous) zeroed. */

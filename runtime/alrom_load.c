@@ -119,7 +119,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     /* the ring: n-vectors for a CROM, K-space coordinates for the quadratic decoder (alrom.c) */
     rt_scratch_wide(L, (al->decoder ? n : r + (uint64_t)al->pairs) * (uint64_t)(al->m + 1), &al->D);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
-    rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->coef);
+    rt_scratch_wide(L, r * (uint64_t)(al->m + 1) + r * r, &al->coef); /* and E_u^T below them (form_used) */
     rt_scratch(L, n, &al->x_ref);
     rt_scratch(L, n * r, &al->rows);
     rt_scratch(L, r * r, &al->M);
@@ -138,7 +138,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         rt_scratch_wide(L, R * R, &al->gram_free);
         rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->db);
         rt_scratch_wide(L, R * r, &al->gram_c);
-        rt_scratch_wide(L, 4 * R, &al->ext);
+        rt_scratch_wide(L, 4 * R + (uint64_t)(al->m + 1) + r, &al->ext); /* or a used row's z (form_used) */
         rt_scratch_wide(L, R, &al->c);
         rt_scratch_wide(L, R, &al->w);
         rt_scratch_wide(L, R, &al->c_prev);

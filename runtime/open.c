@@ -238,8 +238,10 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
     if ((st = rt_alrom_arrays(L, m)) || (st = rt_objects_arrays(L, m)) || (st = rt_obstacles_arrays(L, m))) return st;
     /* A fixed basis of stored rows maps q to each element's F linearly: that map, G_e, formed once
      * here (rt_form_element_G) saves re-forming it from four vertices' rows at every potential
-     * (12 r dot products and 63 r flops an element, the step's largest cost after the Hessian). */
-    if (!m->alrom && !m->skin && !m->rows_from_weights && m->ne > 0)
+     * (12 r dot products and 63 r flops an element, the step's largest cost after the Hessian).
+     * An adaptive basis is fixed within a step: its G_e formed once a step (alrom.c), not at every
+     * potential of the step's Newton iterations and line searches (issue 33). */
+    if (!m->skin && !m->rows_from_weights && m->ne > 0)
         rt_scratch(L, (size_t)m->ne * 9 * (size_t)RT_PAD((size_t)r), &m->G_all);
     return rt_load_groups_and_surface(L, m);
 }

@@ -162,17 +162,21 @@ void rt_form_element_G(romrt_model *m)
     for (e = 0; m->G_all && e < m->ne; e++) element_G(m, e, m->G_all + (size_t)9 * RT_PAD(m->r) * (size_t)e);
 }
 
-/* Hd = F - I = G q over the formed G's rows (9 dot products). */
-static void element_H_formed(int r, int rp, const romrt_real *RT_RESTRICT G, const romrt_real *RT_RESTRICT q, romrt_real Hd[9])
+/* Hd = F - I = G q over the formed G's rows (9 dot products); an adaptive basis's incremental form
+ * adds F(x_ref) - I (element_H). */
+static void element_H_formed(const romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9])
 {
-    int k;
-    for (k = 0; k < 9; k++) Hd[k] = rt_dot(r, G + (size_t)rp * k, q);
+    int k, r = m->r;
+    const romrt_real *G = m->G_all + (size_t)9 * RT_PAD(r) * (size_t)e;
+    for (k = 0; k < 9; k++) Hd[k] = rt_dot(r, G + (size_t)RT_PAD(r) * k, q);
+    if (m->alrom)
+        for (k = 0; k < 9; k++) Hd[k] += m->al.Hd0[9 * (size_t)e + k];
 }
 
 /* Element e's Hd at q, as elastic() forms it (rt_volume_gather's pass). */
 static void element_Hd(romrt_model *m, int e, const romrt_real *q, romrt_real Hd[9])
 {
-    if (m->G_all) element_H_formed(m->r, RT_PAD(m->r), m->G_all + (size_t)9 * RT_PAD(m->r) * (size_t)e, q, Hd);
+    if (m->G_all) element_H_formed(m, e, q, Hd);
     else element_H(m, e, q, Hd);
 }
 
@@ -195,7 +199,7 @@ static romrt_real elastic(romrt_model *m, const romrt_real *q, romrt_real *g, ro
          * displacements (12 dot products) */
         if (m->vk) /* formed by rt_volume_gather */
             for (k = 0; k < 9; k++) Hd[k] = m->vHd[9 * (size_t)e + k];
-        else if (m->G_all) element_H_formed(r, rp, G, q, Hd);
+        else if (m->G_all) element_H_formed(m, e, q, Hd);
         else element_H(m, e, q, Hd);
         psi = rt_element_psi(m, e, Hd);
         if (!isfinite(psi)) return (romrt_real)INFINITY;

@@ -179,7 +179,8 @@ typedef struct {
     double *du;                /* (m + 1) x r: the held entries' D^T U */
     double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
-    double *coef;              /* (m + 1) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e */
+    double *coef;              /* (m + 1 + r) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e
+                                * (then E_d's rows, and E_u^T after the count held: alrom_basis.c) */
     /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
      * Gram B^T W B and its Euclidean Gram over the free rows (R x R each, formed at open), S C(p)
      * (R x r), 4 R-vectors, and each ring entry's B^T d over the free rows ((m + 1) x R) */
@@ -190,7 +191,7 @@ typedef struct {
      * B over the free rows (R x R) and B^T load there (R); each ring entry's mass coordinates
      * B^T W d over the free rows ((m + 1) x R); the step basis' C and B^T W B C (R x r each); the
      * rows that a step reads (rt_alrom_used: the cubature elements' and the contacts' vertices,
-     * ns of them) and the ring's entries on them ((m + 1) x 3 ns) */
+     * ns of them) and the ring's entries on them (3 ns x (m + 1), rt_alrom_ds) */
     double *c, *w, *c_prev, *w_prev, *gram_wfree, *load_c, *wdb, *cs, *wcs, *ds;
     uint32_t *sv, *s_of;       /* ns used vertices; nv: each vertex's index there, or ROMBIN_NO_MOTION */
     int ns, ns_base, ns_on;    /* the first ns_base always used, the first ns_on now (the rest: CVTX's) */
@@ -281,7 +282,8 @@ struct romrt_model {
     romrt_real *He;           /* RT_PAD(r) square: the elastic Hessian, accumulated in whole vectors */
     romrt_real *G, *AG;       /* 9 rows of RT_PAD(r): one element's dF/dq and w dP/dF dF/dq */
     romrt_real *G_all;        /* ne x 9 rows of RT_PAD(r): every cubature element's dF/dq, formed once at
-                               * open for a basis of stored rows (a fixed linear map), or NULL */
+                               * open for a basis of stored rows (a fixed linear map), once a step for
+                               * an adaptive one (alrom_basis.c), or NULL */
     /* a skinning basis (SKIN): its handles, and 3 rows of RT_PAD(4 H) each for skinning.c */
     int skin, rows_from_weights;  /* rows_from_weights: formed from WGHT (m->w), not read from ROWS */
     romrt_real *skin_N, *skin_C, *skin_Q, *skin_gQ;
@@ -341,7 +343,8 @@ typedef struct {
 /* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle, leading
  * dimension ld >= r). The colliders where they are now, friction when T->friction. *magnitude:
  * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
-/* Every cubature element's G_e into m->G_all (allocated at open for a basis of stored rows). */
+/* Every cubature element's G_e into m->G_all (allocated at open for a basis of stored rows), from
+ * m->rows: again whenever an adaptive ROM forms its rows. */
 void rt_form_element_G(romrt_model *m);
 romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, romrt_real *g, romrt_real *H, int ld,
                         romrt_real *magnitude);
@@ -587,8 +590,24 @@ romrt_status rt_fail_nn(romrt_error *err, romrt_status status, const char *chunk
  *                   contact_surface.c)
  *   RT_PROF_NARROW  per stencil: distance, barrier and its PSD projection, the pull into the
  *                   r x r system, friction, CCD, and the collision vertices' positions (contact.c,
- *                   contact_friction.c) */
-enum { RT_PROF_BROAD, RT_PROF_NARROW, RT_PROF_PHASES };
+ *                   contact_friction.c)
+ * and an adaptive linear ROM's work around its Newton solve (bench/bench_alrom_split.c, issue 33):
+ *   RT_PROF_ALROM_ENCODE  p = e(u), the quadratic decoder's Gauss-Newton (or CROM's networks)
+ *   RT_PROF_ALROM_BASIS   U^T U, the history's Grams and basis, the thin QRs, the SVD and the
+ *                         geodesic (alrom_basis.c, but the rows)
+ *   RT_PROF_ALROM_ROWS    the step basis' K-space columns (C_s, W_F C_s), its rows at the used
+ *                         vertices and the cubature elements' G_e
+ *   RT_PROF_ALROM_TERMS   the step's reference, F(x_ref), M_r, f_r and the prediction, and the
+ *                         commit (alrom.c) */
+enum {
+    RT_PROF_BROAD,
+    RT_PROF_NARROW,
+    RT_PROF_ALROM_ENCODE,
+    RT_PROF_ALROM_BASIS,
+    RT_PROF_ALROM_ROWS,
+    RT_PROF_ALROM_TERMS,
+    RT_PROF_PHASES
+};
 #ifdef ROMRT_PROFILE
 void rt_prof_enter(int phase);
 void rt_prof_leave(int phase);

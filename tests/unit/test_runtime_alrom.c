@@ -22,7 +22,8 @@
 #endif
 
 /* A bar clamped at x = 0 whose far end is driven down and sideways (a bend, under
- * gravity), the quadratic decoder of 6 modes, a history of 8 steps; cubature on or off. */
+ * gravity), the quadratic decoder of bar_size modes (6), a history of 8 steps; cubature on or off. */
+static int bar_size = 6;
 static const char *bar_with(const char *show, int cubature, const char *decoder);
 static const char *bar(const char *show, int cubature)
 {
@@ -39,10 +40,10 @@ static const char *bar_with(const char *show, int cubature, const char *decoder)
              " \"moving\": [{\"box\": [[0.99, -1, -1], [2, 2, 2]], \"translate\": {\"velocity\": [0, -0.5, 0.3]}}]}],"
              " \"gravity\": [0, -9.81, 0], \"lumped_mass\": true, \"newton\": {\"tolerance\": 1e-9},"
              " \"time\": {\"step\": 0.01, \"duration\": 0.3, \"integrator\": \"backward_euler\"},"
-             " \"rom\": {\"method\": \"adaptive_linear\", \"size\": 6, %s, \"history\": 8,"
+             " \"rom\": {\"method\": \"adaptive_linear\", \"size\": %d, %s, \"history\": 8,"
              "  %s \"asset\": {\"show\": \"%s\", \"precision\": \"%s\","
              "   \"groups\": [{\"name\": \"middle\", \"box\": [[0.45, -1, -1], [0.55, 2, 2]]}]}}}",
-             decoder, cubature ? "\"cubature\": {\"tolerance\": 0.01}," : "", show, ASSET_REAL);
+             bar_size, decoder, cubature ? "\"cubature\": {\"tolerance\": 0.01}," : "", show, ASSET_REAL);
     return json;
 }
 
@@ -201,6 +202,49 @@ TEST(every_vertex_stored_takes_the_precompute_steps)
     }
 }
 
+/* The step forms its rows at the used vertices as z^T Z (alrom_basis.c, row_times: 8 columns at a
+ * time in registers, then the rest one by one), z a row's ring entries and Jacobian row. At r = 10
+ * both paths run; the rows must be the K-space basis B C_s at those vertices (romrt_basis_rows,
+ * rt_alrom_row: another formation) to round-off, in double to 1e-12 of the largest. */
+TEST(step_rows_are_the_k_space_basis)
+{
+    rk_error err = {{0}};
+    fixture f;
+    int failed;
+    bar_size = 10;
+    CHECK_OK(fixture_open(&f, bar("all", 1), &err));
+    bar_size = 6;
+    double rel = run_both(&f, 10, NULL, NULL, NULL, &err, &failed);
+    CHECK(!failed, "%s", err.msg);
+    CHECK(f.s.stats.history_used >= 3, "the history was blended in only %ld steps", f.s.stats.history_used);
+    CHECK(rel <= PARITY_TOL, "r = 10: relative difference %.3g from the precompute above %g", rel, PARITY_TOL);
+    const romrt_model *m = f.m;
+    int r = m->r, checked = 0;
+    romrt_real *rows = malloc(sizeof(romrt_real) * 3 * (size_t)m->shown * (size_t)r);
+    double diff = 0, big = 0;
+#ifdef ROMRT_DOUBLE
+    double tol = 1e-12;
+#else
+    double tol = 1e-5;
+#endif
+    CHECK(r == 10, "r = %d", r);
+    CHECK(romrt_basis_rows(m, rows, 3 * (size_t)m->shown * (size_t)r, NULL) == ROMRT_OK, "basis rows");
+    for (int k = 0; k < m->al.ns_on; k++) {
+        int v = (int)m->al.sv[k];
+        if (v >= m->shown) continue;
+        for (int i = 3 * v * r; i < 3 * (v + 1) * r; i++) {
+            diff = fmax(diff, fabs((double)rows[i] - (double)m->al.rows[i]));
+            big = fmax(big, fabs((double)m->al.rows[i]));
+        }
+        checked++;
+    }
+    printf("# r = 10: the step's rows at %d used vertices %.3g from B C_s (largest %.3g); %.3g from the precompute\n",
+           checked, diff, big, rel);
+    CHECK(checked > 0 && diff <= tol * big, "rows %g off B C_s (tol %g of %g)", diff, tol, big);
+    free(rows);
+    fixture_close(&f);
+}
+
 /* A CROM decoder (small networks, a short training on the scene's own run): its weights in the
  * asset, every vertex stored for its encoder, the same steps as the precompute's simulator. */
 TEST(crom_decoder_takes_the_precompute_steps)
@@ -347,6 +391,7 @@ TEST(push_reset_and_refusals)
 int main(void)
 {
     RUN(every_vertex_stored_takes_the_precompute_steps);
+    RUN(step_rows_are_the_k_space_basis);
     RUN(crom_decoder_takes_the_precompute_steps);
     RUN(a_collider_holds_the_adaptive_bar);
     RUN(surface_and_cubature_vertices_as_accurate);
