@@ -240,14 +240,14 @@ $(BUILD)/rt/prof-float/%.o: %.c $(RT_FLAGS_STAMP)
 $(BUILD)/rt/prof-double/%.o: %.c $(RT_FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -DROMRT_PROFILE -MMD -MP -c $< -o $@
-$(BUILD)/bench_pour: bench/bench_pour.c $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
+$(BUILD)/bench_pour: bench/bench_pour.c bench/prof_phases.h $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(filter %.o,$^) -lm
-$(BUILD)/bench_pour_double: bench/bench_pour.c $(patsubst %.c,$(BUILD)/rt/prof-double/%.o,$(RT_SRC))
+$(BUILD)/bench_pour_double: bench/bench_pour.c bench/prof_phases.h $(patsubst %.c,$(BUILD)/rt/prof-double/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(filter %.o,$^) -lm
 
 # An adaptive linear ROM's step split into encoder, basis, rows, terms and Newton
 # (bench_alrom_runtime.sh), on the profiled runtime objects as bench_pour.
-$(BUILD)/bench_alrom_split: bench/bench_alrom_split.c $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
+$(BUILD)/bench_alrom_split: bench/bench_alrom_split.c bench/prof_phases.h $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(filter %.o,$^) -lm
 
 # Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).

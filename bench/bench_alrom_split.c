@@ -19,42 +19,16 @@
 
 #include "runtime/romrt.h"
 
-void rt_prof_enter(int phase);
-void rt_prof_leave(int phase);
+#include "bench/prof_phases.h"
 
 /* romrt_impl.h's RT_PROF_* order: broad, narrow, then the adaptive ROM's four */
-enum { BROAD, NARROW, ENCODE, BASIS, ROWS, TERMS, PHASES };
-#define DEPTH 16
-
-static double phase_s[PHASES], last;
-static int stack[DEPTH], depth;
+enum { BROAD, NARROW, ENCODE, BASIS, ROWS, TERMS };
 
 static double now(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static void charge(void)
-{
-    double t = now();
-    if (depth > 0 && depth <= DEPTH && stack[depth - 1] >= 0 && stack[depth - 1] < PHASES) phase_s[stack[depth - 1]] += t - last;
-    last = t;
-}
-
-void rt_prof_enter(int phase)
-{
-    charge();
-    if (depth < DEPTH) stack[depth] = phase;
-    depth++;
-}
-
-void rt_prof_leave(int phase)
-{
-    (void)phase;
-    charge();
-    depth--;
 }
 
 int main(int argc, char **argv)
@@ -90,7 +64,7 @@ int main(int argc, char **argv)
         romrt_reset(m, NULL);
         for (s = 0; s < steps; s++) {
             double t0 = now();
-            depth = 0, last = t0;
+            prof_depth = 0, prof_last = t0;
             if (romrt_step(m, &err) != ROMRT_OK) {
                 fprintf(stderr, "bench_alrom_split: step %d: %s\n", s, err.message);
                 return 1;
@@ -98,9 +72,9 @@ int main(int argc, char **argv)
             total += now() - t0;
         }
     }
-    for (k = ENCODE; k <= TERMS; k++) parts += phase_s[k];
-    printf("%.5f %.5f %.5f %.5f %.5f\n", phase_s[ENCODE] / total, phase_s[BASIS] / total, phase_s[ROWS] / total,
-           phase_s[TERMS] / total, (total - parts) / total);
+    for (k = ENCODE; k <= TERMS; k++) parts += prof_s[k];
+    printf("%.5f %.5f %.5f %.5f %.5f\n", prof_s[ENCODE] / total, prof_s[BASIS] / total, prof_s[ROWS] / total,
+           prof_s[TERMS] / total, (total - parts) / total);
     free(arena);
     free(asset);
     return 0;

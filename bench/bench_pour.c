@@ -26,14 +26,7 @@
 
 #include "runtime/romrt.h"
 
-void rt_prof_enter(int phase);
-void rt_prof_leave(int phase);
-
-#define PHASES 6 /* romrt_impl.h's RT_PROF_PHASES: a pour enters only the first two */
-#define DEPTH 16
-
-static double phase_s[PHASES], last;
-static int stack[DEPTH], depth;
+#include "bench/prof_phases.h" /* a pour enters only the first two phases: broad, narrow */
 
 static double clock_s(clockid_t id)
 {
@@ -43,28 +36,6 @@ static double clock_s(clockid_t id)
 }
 
 static double now(void) { return clock_s(CLOCK_MONOTONIC); }
-
-/* the interval since the last event goes to the innermost open phase (none: Newton's) */
-static void charge(void)
-{
-    double t = now();
-    if (depth > 0) phase_s[stack[depth - 1]] += t - last;
-    last = t;
-}
-
-void rt_prof_enter(int phase)
-{
-    charge();
-    if (depth < DEPTH) stack[depth] = phase;
-    depth++;
-}
-
-void rt_prof_leave(int phase)
-{
-    (void)phase;
-    charge();
-    depth--;
-}
 
 static int cmp(const void *a, const void *b)
 {
@@ -86,7 +57,7 @@ int main(int argc, char **argv)
     size_t arena_bytes;
     romrt_error err;
     int steps, repeats, newton = 0, k, s;
-    double *step_s, *cpu_s, *med, *wmed, total = 0, sum[PHASES] = {0, 0};
+    double *step_s, *cpu_s, *med, *wmed, total = 0, sum[PROF_PHASES] = {0, 0};
     long iters = 0, halvings = 0, projected = 0;
     if ((argc != 4 && argc != 5) || (steps = atoi(argv[2])) < 1 || (repeats = atoi(argv[3])) < 1 ||
         (argc == 5 && (newton = atoi(argv[4])) < 0)) {
@@ -123,11 +94,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_pour: %s\n", err.message);
             return 1;
         }
-        memset(phase_s, 0, sizeof phase_s);
+        memset(prof_s, 0, sizeof prof_s);
         for (s = 0; s < steps; s++) {
             romrt_step_info info;
             double c0 = clock_s(CLOCK_PROCESS_CPUTIME_ID), t0 = now();
-            depth = 0, last = t0;
+            prof_depth = 0, prof_last = t0;
             if (romrt_step(m, &err) != ROMRT_OK) {
                 fprintf(stderr, "bench_pour: step %d: %s\n", s, err.message);
                 return 1;
@@ -141,7 +112,7 @@ int main(int argc, char **argv)
             halvings += info.line_search_halvings;
             projected += info.projected_hessians;
         }
-        for (s = 0; s < PHASES; s++) sum[s] += phase_s[s];
+        for (s = 0; s < PROF_PHASES; s++) sum[s] += prof_s[s];
         med[k] = median(cpu_s, steps);
         wmed[k] = median(step_s, steps);
     }
