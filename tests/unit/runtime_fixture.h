@@ -105,4 +105,29 @@ static inline void rt_fixture_positions(const rt_fixture *f, double *x)
     free(q), free(qd);
 }
 
+/* An opened asset's surface for the exact crossing tests: its shown positions (x, in double) and
+ * triangles (rt_surface_read after each step). */
+typedef struct {
+    int n, nt, *tris;
+    romrt_real *xyz;
+    double *x;
+} rt_surface;
+
+static inline void rt_surface_init(rt_surface *b, const romrt_model *m)
+{
+    b->n = (int)romrt_shown_count(m), b->nt = (int)romrt_triangle_count(m);
+    b->tris = calloc((size_t)3 * b->nt + 3, sizeof(int));
+    b->xyz = calloc((size_t)3 * b->n, sizeof(romrt_real));
+    b->x = calloc((size_t)3 * b->n, sizeof(double));
+    romrt_triangles(m, b->tris, 3 * (size_t)b->nt, NULL);
+}
+
+static inline void rt_surface_read(rt_surface *b, const romrt_model *m)
+{
+    romrt_positions(m, b->xyz, 3 * (size_t)b->n, 3, NULL);
+    for (int i = 0; i < 3 * b->n; i++) b->x[i] = (double)b->xyz[i];
+}
+
+static inline void rt_surface_free(rt_surface *b) { free(b->tris), free(b->xyz), free(b->x); }
+
 #endif

@@ -121,33 +121,6 @@ static const char *two_boxes(double kappa, const char *obstacles, double gravity
     return json;
 }
 
-/* The body's surface: shown positions (double) and triangles. */
-typedef struct {
-    int n, nt, *tris;
-    romrt_real *xyz;
-    double *x;
-} body;
-
-static void body_init(body *b, const romrt_model *m)
-{
-    b->n = romrt_shown_count(m), b->nt = romrt_triangle_count(m);
-    b->tris = calloc((size_t)3 * b->nt + 3, sizeof(int));
-    b->xyz = calloc((size_t)3 * b->n, sizeof(romrt_real));
-    b->x = calloc((size_t)3 * b->n, sizeof(double));
-    romrt_triangles(m, b->tris, 3 * (size_t)b->nt, NULL);
-}
-
-static void body_read(body *b, const romrt_model *m)
-{
-    romrt_positions(m, b->xyz, 3 * (size_t)b->n, 3, NULL);
-    for (int i = 0; i < 3 * b->n; i++) b->x[i] = (double)b->xyz[i];
-}
-
-static void body_free(body *b)
-{
-    free(b->tris), free(b->xyz), free(b->x);
-}
-
 static int boxes_apart(const double *p, const double *q, int np, const double *a, const double *b, const double *c)
 {
     for (int k = 0; k < 3; k++) {
@@ -168,7 +141,7 @@ static void placed(const app_mesh *a, const double *R, const double *p, double *
 /* The body's surface against the mesh at y: crossings by the exact test (body edges through mesh
  * triangles, mesh edges through body triangles) and, when least, the least point-triangle and
  * edge-edge distance. */
-static int mesh_crossings(const body *b, const app_mesh *a, const double *y, double *least)
+static int mesh_crossings(const rt_surface *b, const app_mesh *a, const double *y, double *least)
 {
     int count = 0;
     for (int t = 0; t < b->nt; t++) {
@@ -220,8 +193,8 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
     remove(path);
     CHECK(romrt_mesh_index_build(&bowl.mesh, &rerr) == ROMRT_OK, "index: %s", rerr.message);
     CHECK(romrt_set_mesh_collider(B.m, 3, &bowl.mesh, zero, identity, &rerr) == ROMRT_OK, "place: %s", rerr.message);
-    body a, b;
-    body_init(&a, A.m), body_init(&b, B.m);
+    rt_surface a, b;
+    rt_surface_init(&a, A.m), rt_surface_init(&b, B.m);
     double *xa = calloc((size_t)3 * A.sim.mesh.nv, sizeof(double)), *xb = calloc((size_t)3 * B.sim.mesh.nv, sizeof(double));
     double worst = 0, scale = 0, least_a = INFINITY, least_b = INFINITY, lowest = INFINITY, between = INFINITY;
     int cross_a = 0, cross_b = 0, steps = 40, rc = 0;
@@ -235,7 +208,7 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
             break;
         }
         time_a += t1 - t0, time_b += seconds() - t1;
-        body_read(&a, A.m), body_read(&b, B.m);
+        rt_surface_read(&a, A.m), rt_surface_read(&b, B.m);
         for (int i = 0; i < 3 * a.n; i++) {
             worst = fmax(worst, fabs(a.x[i] - b.x[i]));
             scale = fmax(scale, fabs(a.x[i] - A.sim.mesh.X[3 * (int)A.vmap[i / 3] + i % 3]));
@@ -261,7 +234,7 @@ TEST(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing)
     CHECK(least_a > 0 && least_b > 0, "least distance %.3g / %.3g", least_a, least_b);
     CHECK(least_b < 0.002 && between < 0.002, "the objects should touch the bowl and each other (%.3g, %.3g)", least_b, between);
     CHECK(worst / scale <= PARITY_TOL, "baked and app bowl differ by %.3g of the displacement", worst / scale);
-    body_free(&a), body_free(&b);
+    rt_surface_free(&a), rt_surface_free(&b);
     free(xa), free(xb);
     app_mesh_free(&bowl);
     rt_fixture_close(&A), rt_fixture_close(&B);
@@ -287,11 +260,11 @@ TEST(a_terrain_swept_up_into_two_objects_never_crosses)
     double t0 = seconds();
     CHECK(romrt_mesh_index_build(&ter.mesh, &rerr) == ROMRT_OK, "index: %s", rerr.message);
     double build = seconds() - t0;
-    body b;
-    body_init(&b, F.m);
+    rt_surface b;
+    rt_surface_init(&b, F.m);
     double *y = calloc((size_t)3 * ter.nv, sizeof(double)), R[9], p[3] = {0, -0.04, 0}, lowest0 = INFINITY, lowest = INFINITY;
     romrt_real Rr[9], pr[3];
-    body_read(&b, F.m);
+    rt_surface_read(&b, F.m);
     for (int i = 0; i < b.n; i++) lowest0 = fmin(lowest0, b.x[3 * i + 1]);
     for (int k = 0; k < 9; k++) Rr[k] = identity[k];
     for (int k = 0; k < 3; k++) pr[k] = (romrt_real)p[k];
@@ -318,7 +291,7 @@ TEST(a_terrain_swept_up_into_two_objects_never_crosses)
         info.size = sizeof info;
         romrt_last_step(F.m, &info, NULL);
         behind += info.colliders_behind;
-        body_read(&b, F.m);
+        rt_surface_read(&b, F.m);
         /* the mesh where the runtime has it: at the pose, or short of it on the straight lines */
         placed(&ter, R, p, y);
         if (!info.colliders_behind) crossed += mesh_crossings(&b, &ter, y, NULL);
@@ -332,7 +305,7 @@ TEST(a_terrain_swept_up_into_two_objects_never_crosses)
     CHECK(crossed == 0, "%d crossings of the swept terrain", crossed);
     CHECK(behind < steps, "the terrain should reach its poses");
     CHECK(lowest > lowest0 + 0.2, "the terrain should push the boxes up ahead of it (lowest point %.4f)", lowest);
-    body_free(&b);
+    rt_surface_free(&b);
     free(y);
     app_mesh_free(&ter);
     rt_fixture_close(&F);
@@ -358,8 +331,8 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
     CHECK(romrt_mesh_index_build(&ter.mesh, &rerr) == ROMRT_OK, "index: %s", rerr.message);
     romrt_real p[3] = {0, 0, 0};
     CHECK(romrt_set_mesh_collider(B.m, 1, &ter.mesh, p, identity, &rerr) == ROMRT_OK, "place: %s", rerr.message);
-    body a, b;
-    body_init(&a, A.m), body_init(&b, B.m);
+    rt_surface a, b;
+    rt_surface_init(&a, A.m), rt_surface_init(&b, B.m);
     double worst = 0, scale = 0, *y = calloc((size_t)3 * ter.nv, sizeof(double)), R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     int steps = 30, rc = 0, crossed = 0, behind = 0;
     for (int k = 1; k <= steps && !rc; k++) {
@@ -373,7 +346,7 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
         info.size = sizeof info;
         romrt_last_step(B.m, &info, NULL);
         behind += info.colliders_behind;
-        body_read(&a, A.m), body_read(&b, B.m);
+        rt_surface_read(&a, A.m), rt_surface_read(&b, B.m);
         for (int i = 0; i < 3 * a.n; i++) {
             worst = fmax(worst, fabs(a.x[i] - b.x[i]));
             scale = fmax(scale, fabs(a.x[i] - A.sim.mesh.X[3 * (int)A.vmap[i / 3] + i % 3]));
@@ -389,7 +362,7 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
     CHECK(crossed == 0 && behind == 0, "%d crossings, %d steps behind", crossed, behind);
     CHECK(scale > 0.05, "the terrain should carry the boxes up (largest displacement %.3g m)", scale);
     CHECK(worst / scale <= PARITY_TOL, "baked and app terrain differ by %.3g of the displacement", worst / scale);
-    body_free(&a), body_free(&b);
+    rt_surface_free(&a), rt_surface_free(&b);
     free(y);
     app_mesh_free(&ter);
     rt_fixture_close(&A), rt_fixture_close(&B);

@@ -35,32 +35,8 @@
 #define PRECISION "float"
 #endif
 
-/* The body's surface: shown positions (double) and triangles. */
-typedef struct {
-    int n, nt, *tris;
-    romrt_real *xyz;
-    double *x;
-} body;
-
-static void body_init(body *b, const romrt_model *m)
-{
-    b->n = romrt_shown_count(m), b->nt = romrt_triangle_count(m);
-    b->tris = calloc((size_t)3 * b->nt + 3, sizeof(int));
-    b->xyz = calloc((size_t)3 * b->n, sizeof(romrt_real));
-    b->x = calloc((size_t)3 * b->n, sizeof(double));
-    romrt_triangles(m, b->tris, 3 * (size_t)b->nt, NULL);
-}
-
-static void body_read(body *b, const romrt_model *m)
-{
-    romrt_positions(m, b->xyz, 3 * (size_t)b->n, 3, NULL);
-    for (int i = 0; i < 3 * b->n; i++) b->x[i] = (double)b->xyz[i];
-}
-
-static void body_free(body *b) { free(b->tris), free(b->xyz), free(b->x); }
-
 /* Segment pq through the body's triangles: how many it crosses (exact test). */
-static int segment_crossings(const body *b, const double *p, const double *q)
+static int segment_crossings(const rt_surface *b, const double *p, const double *q)
 {
     int count = 0;
     for (int t = 0; t < b->nt; t++)
@@ -70,7 +46,7 @@ static int segment_crossings(const body *b, const double *p, const double *q)
 }
 
 /* The least distance from point p to the body's triangles. */
-static double point_distance(const body *b, const double *p)
+static double point_distance(const rt_surface *b, const double *p)
 {
     double least = INFINITY;
     for (int t = 0; t < b->nt; t++) {
@@ -81,7 +57,7 @@ static double point_distance(const body *b, const double *p)
 }
 
 /* The least distance from segment pq to the body's edges and triangles. */
-static double segment_distance(const body *b, const double *p, const double *q)
+static double segment_distance(const rt_surface *b, const double *p, const double *q)
 {
     double least = fmin(point_distance(b, p), point_distance(b, q));
     for (int t = 0; t < b->nt; t++)
@@ -107,7 +83,7 @@ static void box_corners(const romrt_collider *c, double *y)
 }
 
 /* The box's edges through the body's triangles and the body's edges through the box's. */
-static int box_crossings(const body *b, const romrt_collider *c)
+static int box_crossings(const rt_surface *b, const romrt_collider *c)
 {
     double y[24];
     int count = 0;
@@ -129,7 +105,7 @@ static int box_crossings(const body *b, const romrt_collider *c)
 
 /* The least distance between the box's edges and the body's, the box's corners and the body's
  * triangles, and the body's vertices and the box's faces. */
-static double box_distance(const body *b, const romrt_collider *c)
+static double box_distance(const rt_surface *b, const romrt_collider *c)
 {
     double y[24], least = INFINITY;
     box_corners(c, y);
@@ -165,7 +141,7 @@ typedef struct {
 static int drive(rt_fixture *F, romrt_collider c, double depth, drive_result *out, rk_error *err)
 {
     romrt_error rerr;
-    body b;
+    rt_surface b;
     double y0 = c.position[1], start[3] = {c.position[0], c.position[1] + 0.05, c.position[2]};
     int rc = 0;
     memset(out, 0, sizeof *out);
@@ -174,7 +150,7 @@ static int drive(rt_fixture *F, romrt_collider c, double depth, drive_result *ou
     if (romrt_reset(F->m, &rerr) != ROMRT_OK || romrt_set_collider(F->m, 0, &c, &rerr) != ROMRT_OK)
         return rk_fail(err, "place: %s", rerr.message);
     out->placed = 1;
-    body_init(&b, F->m);
+    rt_surface_init(&b, F->m);
     for (int k = 1; k <= 40 && !rc; k++) {
         romrt_step_info info;
         c.position[1] = (romrt_real)(y0 - depth * (k < 10 ? k : 10) / 10);
@@ -185,7 +161,7 @@ static int drive(rt_fixture *F, romrt_collider c, double depth, drive_result *ou
         info.size = sizeof info;
         romrt_last_step(F->m, &info, NULL);
         if (info.colliders_behind) continue;
-        body_read(&b, F->m);
+        rt_surface_read(&b, F->m);
         double p[3], q[3], centre[3], d;
         for (int a = 0; a < 3; a++) centre[a] = c.position[a];
         out->crossings += segment_crossings(&b, start, centre); /* the core's path from outside */
@@ -206,7 +182,7 @@ static int drive(rt_fixture *F, romrt_collider c, double depth, drive_result *ou
             break;
         }
     }
-    body_free(&b);
+    rt_surface_free(&b);
     return rc;
 }
 
@@ -293,8 +269,8 @@ TEST(sphere_capsule_and_box_as_app_colliders_take_the_baked_obstacles_path)
     CHECK(romrt_set_collider(B.m, 0, &ball, &rerr) == ROMRT_OK, "sphere: %s", rerr.message);
     CHECK(romrt_set_collider(B.m, 1, &cap, &rerr) == ROMRT_OK, "capsule: %s", rerr.message);
     CHECK(romrt_set_collider(B.m, 2, &ground, &rerr) == ROMRT_OK, "box: %s", rerr.message);
-    body a, b;
-    body_init(&a, A.m), body_init(&b, B.m);
+    rt_surface a, b;
+    rt_surface_init(&a, A.m), rt_surface_init(&b, B.m);
     double *xa = calloc((size_t)3 * A.sim.mesh.nv, sizeof(double));
     double worst = 0, scale = 0, least = INFINITY, slid = 0;
     int cross = 0, steps = 30, rc = 0;
@@ -305,7 +281,7 @@ TEST(sphere_capsule_and_box_as_app_colliders_take_the_baked_obstacles_path)
             rc = rk_fail(&err, "step %d: %s", k, rerr.message);
             break;
         }
-        body_read(&a, A.m), body_read(&b, B.m);
+        rt_surface_read(&a, A.m), rt_surface_read(&b, B.m);
         for (int i = 0; i < 3 * a.n; i++) {
             worst = fmax(worst, fabs(a.x[i] - b.x[i]));
             scale = fmax(scale, fabs(a.x[i] - A.sim.mesh.X[3 * (int)A.vmap[i / 3] + i % 3]));
@@ -323,7 +299,7 @@ TEST(sphere_capsule_and_box_as_app_colliders_take_the_baked_obstacles_path)
     CHECK(cross == 0 && least > 0, "crossings %d, least distance %.3g", cross, least);
     CHECK(least < 0.002, "the objects should touch the obstacles (least distance %.3g)", least);
     CHECK(worst / scale <= PARITY_TOL, "baked and app colliders differ by %.3g of the displacement", worst / scale);
-    body_free(&a), body_free(&b);
+    rt_surface_free(&a), rt_surface_free(&b);
     free(xa);
     rt_fixture_close(&A), rt_fixture_close(&B);
 }
