@@ -117,7 +117,7 @@ LOAD0=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
     if [ -n "$OLD" ]; then
         cat >"$T/planes.json" <<JSON
 {"objects": [{"mesh": {"box": {"size": [0.4, 0.1, 0.4], "cells": [8, 2, 8]}, "translate": [-0.2, 0.05, -0.2]},
-  "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}},
+  "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}}],
  "gravity": [0, -9.81, 0], "obstacles": [{"plane": {"point": [0, 0, 0], "normal": [0, 1, 0]}}],
  "contact": {"dhat": 0.002, "friction": 0.3}, "time": {"step": 0.01, "duration": 0.5},
  "rom": {"basis": "modes", "size": 12, "cubature": {"tolerance": 0.02}}}
