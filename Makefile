@@ -227,9 +227,9 @@ $(BUILD)/ablation_%: bench/ablation_%.c $(call libs_of,$(TOOL_STAGE))
 
 # The converged Newton mode with a fresh or a kept Newton matrix, and the default (issue 31), in
 # float and in double (for float64 assets).
-$(BUILD)/bench_newton_modes: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+$(BUILD)/bench_newton_modes: bench/bench_newton_modes.c bench/bench_read.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
-$(BUILD)/bench_newton_modes_double: bench/bench_newton_modes.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE)
+$(BUILD)/bench_newton_modes_double: bench/bench_newton_modes.c bench/bench_read.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE)
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB_DOUBLE) $(LDLIBS)
 
 # The pour's step split into broad phase, narrow phase and Newton (bench/pour.sh): the runtime's
@@ -240,18 +240,18 @@ $(BUILD)/rt/prof-float/%.o: %.c $(RT_FLAGS_STAMP)
 $(BUILD)/rt/prof-double/%.o: %.c $(RT_FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(RT_CFLAGS) -DROMRT_DOUBLE -DROMRT_PROFILE -MMD -MP -c $< -o $@
-$(BUILD)/bench_pour: bench/bench_pour.c bench/prof_phases.h $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
+$(BUILD)/bench_pour: bench/bench_pour.c bench/prof_phases.h bench/bench_read.h $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(filter %.o,$^) -lm
-$(BUILD)/bench_pour_double: bench/bench_pour.c bench/prof_phases.h $(patsubst %.c,$(BUILD)/rt/prof-double/%.o,$(RT_SRC))
+$(BUILD)/bench_pour_double: bench/bench_pour.c bench/prof_phases.h bench/bench_read.h $(patsubst %.c,$(BUILD)/rt/prof-double/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -DROMRT_DOUBLE -o $@ $< $(filter %.o,$^) -lm
 
 # An adaptive linear ROM's step split into encoder, basis, rows, terms and Newton
 # (bench_alrom_runtime.sh), on the profiled runtime objects as bench_pour.
-$(BUILD)/bench_alrom_split: bench/bench_alrom_split.c bench/prof_phases.h $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
+$(BUILD)/bench_alrom_split: bench/bench_alrom_split.c bench/prof_phases.h bench/bench_read.h $(patsubst %.c,$(BUILD)/rt/prof-float/%.o,$(RT_SRC))
 	$(CC) $(CFLAGS_PC) -o $@ $< $(filter %.o,$^) -lm
 
 # Several baked assets' runtime step cost, interleaved in one process (bench_alrom_runtime.sh).
-$(BUILD)/bench_assets: bench/bench_assets.c $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
+$(BUILD)/bench_assets: bench/bench_assets.c bench/bench_read.h $(call libs_of,$(TOOL_STAGE)) $(RT_LIB)
 	$(CC) $(CFLAGS_PC) -o $@ $< $(call libs_of,$(TOOL_STAGE)) $(RT_LIB) $(LDLIBS)
 
 bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)/bench_newton_modes_double $(BUILD)/ablation_koopman_momentum $(BUILD)/bench_physics $(BUILD)/bench_fom $(BUILD)/bench_contact $(BUILD)/bench_basis $(BUILD)/bench_rom $(BUILD)/bench_runtime $(BUILD)/bench_koopman $(BUILD)/bench_scale $(BUILD)/bench_adaptive \

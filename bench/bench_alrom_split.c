@@ -17,6 +17,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench/bench_read.h"
 #include "runtime/romrt.h"
 
 #include "bench/prof_phases.h"
@@ -33,8 +34,7 @@ static double now(void)
 
 int main(int argc, char **argv)
 {
-    FILE *f;
-    long size;
+    size_t size;
     void *asset, *arena;
     size_t arena_bytes;
     romrt_error err;
@@ -45,18 +45,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_alrom_split ASSET.rombin STEPS REPEATS\n");
         return 2;
     }
-    if (!(f = fopen(argv[1], "rb")) || fseek(f, 0, SEEK_END) || (size = ftell(f)) <= 0 || fseek(f, 0, SEEK_SET)) {
+    if (!(asset = bench_read_file(argv[1], &size))) {
         fprintf(stderr, "bench_alrom_split: cannot read %s\n", argv[1]);
         return 1;
     }
-    asset = malloc((size_t)size);
-    if (!asset || fread(asset, 1, (size_t)size, f) != (size_t)size) {
-        fprintf(stderr, "bench_alrom_split: cannot read %s\n", argv[1]);
-        return 1;
-    }
-    fclose(f);
-    if (romrt_arena_size(asset, (size_t)size, &arena_bytes, &err) != ROMRT_OK || !(arena = malloc(arena_bytes)) ||
-        romrt_open(asset, (size_t)size, arena, arena_bytes, &m, &err) != ROMRT_OK) {
+    if (romrt_arena_size(asset, size, &arena_bytes, &err) != ROMRT_OK || !(arena = malloc(arena_bytes)) ||
+        romrt_open(asset, size, arena, arena_bytes, &m, &err) != ROMRT_OK) {
         fprintf(stderr, "bench_alrom_split: %s: %s\n", argv[1], err.message);
         return 1;
     }

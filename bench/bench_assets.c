@@ -15,6 +15,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench/bench_read.h"
 #include "runtime/romrt.h"
 #include "util/util.h"
 
@@ -45,16 +46,8 @@ static int cmp(const void *a, const void *b)
 
 static int load(asset *a, rk_error *err)
 {
-    FILE *f = fopen(a->path, "rb");
-    if (!f) return rk_fail(err, "%s: cannot open", a->path);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    a->data = aligned_alloc(16, ((size_t)n + 15) / 16 * 16);
-    a->bytes = (size_t)n;
-    size_t got = a->data ? fread(a->data, 1, a->bytes, f) : 0;
-    fclose(f);
-    if (got != a->bytes) return rk_fail(err, "%s: cannot read", a->path);
+    a->data = bench_read_file(a->path, &a->bytes);
+    if (!a->data) return rk_fail(err, "%s: cannot read", a->path);
     size_t need;
     romrt_error re;
     if (romrt_arena_size(a->data, a->bytes, &need, &re)) return rk_fail(err, "%s: %s", a->path, re.message);

@@ -22,6 +22,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench/bench_read.h"
 #include "formats/rombin.h"
 #include "formats/rombin_read.h"
 #include "runtime/romrt.h"
@@ -43,23 +44,6 @@ static int cmp(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
-}
-
-static unsigned char *read_all(const char *path, size_t *bytes)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *data = n > 0 ? aligned_alloc(16, ((size_t)n + 15) / 16 * 16) : NULL;
-    *bytes = (size_t)n;
-    if (data && fread(data, 1, *bytes, f) != *bytes) {
-        free(data);
-        data = NULL;
-    }
-    fclose(f);
-    return data;
 }
 
 /* STEPS steps from rest in mode `mode`; positions into traj (steps x shown x 3) when given; *us its
@@ -107,7 +91,7 @@ int main(int argc, char **argv)
         size_t bytes, need;
         romrt_error re;
         romrt_model *m;
-        unsigned char *data = read_all(path, &bytes);
+        unsigned char *data = bench_read_file(path, &bytes);
         void *arena = NULL;
         if (!data || romrt_arena_size(data, bytes, &need, &re) || !(arena = aligned_alloc(16, (need + 15) / 16 * 16)) ||
             romrt_open(data, bytes, arena, need, &m, &re)) {

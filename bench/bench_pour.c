@@ -24,6 +24,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench/bench_read.h"
 #include "runtime/romrt.h"
 
 #include "bench/prof_phases.h" /* a pour enters only the first two phases: broad, narrow */
@@ -51,8 +52,7 @@ static double median(double *v, int n)
 
 int main(int argc, char **argv)
 {
-    FILE *f;
-    long size;
+    size_t size;
     void *asset, *arena;
     size_t arena_bytes;
     romrt_error err;
@@ -64,17 +64,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]\n");
         return 2;
     }
-    if (!(f = fopen(argv[1], "rb")) || fseek(f, 0, SEEK_END) || (size = ftell(f)) <= 0 || fseek(f, 0, SEEK_SET)) {
+    if (!(asset = bench_read_file(argv[1], &size))) {
         fprintf(stderr, "bench_pour: cannot read %s\n", argv[1]);
         return 1;
     }
-    asset = malloc((size_t)size);
-    if (!asset || fread(asset, 1, (size_t)size, f) != (size_t)size) {
-        fprintf(stderr, "bench_pour: cannot read %s\n", argv[1]);
-        return 1;
-    }
-    fclose(f);
-    if (romrt_arena_size(asset, (size_t)size, &arena_bytes, &err) != ROMRT_OK) {
+    if (romrt_arena_size(asset, size, &arena_bytes, &err) != ROMRT_OK) {
         fprintf(stderr, "bench_pour: %s: %s\n", argv[1], err.message);
         return 1;
     }
@@ -86,7 +80,7 @@ int main(int argc, char **argv)
     if (!arena || !step_s || !cpu_s || !med || !wmed) return 1;
     for (k = 0; k < repeats; k++) {
         romrt_model *m;
-        if (romrt_open(asset, (size_t)size, arena, arena_bytes, &m, &err) != ROMRT_OK) {
+        if (romrt_open(asset, size, arena, arena_bytes, &m, &err) != ROMRT_OK) {
             fprintf(stderr, "bench_pour: %s: %s\n", argv[1], err.message);
             return 1;
         }
