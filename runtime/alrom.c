@@ -220,18 +220,7 @@ static void reference_positions(romrt_model *m)
     }
 }
 
-static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err);
-
 romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
-{
-    romrt_status st;
-    RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
-    st = begin(m, w_inertia, err);
-    RT_PROF_END(RT_PROF_ALROM_TERMS);
-    return st;
-}
-
-static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;
@@ -240,7 +229,10 @@ static romrt_status begin(romrt_model *m, romrt_real *w_inertia, romrt_error *er
     romrt_status st;
     if (!al->decoder && !m->surface && !m->ncolliders) al->ns_on = al->ns_base;
     else rt_alrom_take_collision_vertices(m);
-    if ((st = rt_alrom_step_basis(m, err))) return st;
+    RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
+    st = rt_alrom_step_basis(m, err);
+    RT_PROF_END(RT_PROF_ALROM_BASIS);
+    if (st) return st;
     /* the step's reference: the start with the prescribed vertices at their targets */
     memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
     place_prescribed(m, rt_clock(m, 1));
@@ -302,18 +294,7 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
     return ROMRT_OK;
 }
 
-static romrt_status commit(romrt_model *m, romrt_error *err);
-
 romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
-{
-    romrt_status st;
-    RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
-    st = commit(m, err);
-    RT_PROF_END(RT_PROF_ALROM_TERMS);
-    return st;
-}
-
-static romrt_status commit(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, bdf2 = m->integrator == 1 && m->have_prev;

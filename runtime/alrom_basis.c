@@ -456,18 +456,7 @@ static void form_used(romrt_model *m, int count, const double *Eu)
     }
 }
 
-static romrt_status step_basis(romrt_model *m, romrt_error *err);
-
 romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
-{
-    romrt_status st;
-    RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
-    st = step_basis(m, err);
-    RT_PROF_END(RT_PROF_ALROM_BASIS);
-    return st;
-}
-
-static romrt_status step_basis(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int n = 3 * m->nv, r = m->r, i, j, k, e, count, blended = 0;

@@ -452,7 +452,10 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     bdf2 = m->integrator == 1 && m->have_prev;
     memset(&m->last, 0, sizeof m->last);
     if (m->alrom) { /* this step's basis, and the prediction in it (alrom.c) */
-        if ((st = rt_alrom_begin(m, &T.w_inertia, err))) {
+        RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
+        st = rt_alrom_begin(m, &T.w_inertia, err);
+        RT_PROF_END(RT_PROF_ALROM_TERMS);
+        if (st) {
             rt_alrom_abort(m);
             return st;
         }
@@ -506,7 +509,11 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     if (!st && !rt_showable(m, m->q))
         st = rt_fail(err, ROMRT_E_DIVERGED, 0, "the state grew past what the shown positions can hold");
     /* an adaptive model's stored vertices move on; its q is back at 0 in the next step's basis */
-    if (!st && m->alrom) st = rt_alrom_commit(m, err);
+    if (!st && m->alrom) {
+        RT_PROF_BEGIN(RT_PROF_ALROM_TERMS);
+        st = rt_alrom_commit(m, err);
+        RT_PROF_END(RT_PROF_ALROM_TERMS);
+    }
     if (st && m->surface && m->obs_overflow) /* the cause, rather than the non-finite potential it left */
         st = rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD, "more contact pairs than the asset's capacity of ",
                        (uint64_t)m->pair_cap, " (bake with a larger rom.asset.contact_pairs)");
