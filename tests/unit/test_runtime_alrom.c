@@ -160,6 +160,31 @@ static double run_both(fixture *f, int steps, rk_fom *fom, double *err_rt, doubl
     return worst / scale;
 }
 
+/* The step's own rows at the used vertices that are shown (m->al.rows) against romrt_basis_rows,
+ * the K-space basis formed apart: their largest difference and the largest row entry; returns the
+ * vertices compared, -1 when romrt_basis_rows fails. */
+static int used_rows_against_basis(const romrt_model *m, double *diff, double *big)
+{
+    int r = m->r, checked = 0;
+    romrt_real *rows = malloc(sizeof(romrt_real) * 3 * (size_t)m->shown * (size_t)r);
+    *diff = *big = 0;
+    if (!rows || romrt_basis_rows(m, rows, 3 * (size_t)m->shown * (size_t)r, NULL) != ROMRT_OK) {
+        free(rows);
+        return -1;
+    }
+    for (int k = 0; k < m->al.ns_on; k++) {
+        int v = (int)m->al.sv[k];
+        if (v >= m->shown) continue;
+        for (int i = 3 * v * r; i < 3 * (v + 1) * r; i++) {
+            *diff = fmax(*diff, fabs((double)rows[i] - (double)m->al.rows[i]));
+            *big = fmax(*big, fabs((double)m->al.rows[i]));
+        }
+        checked++;
+    }
+    free(rows);
+    return checked;
+}
+
 /* The history is blended from the second step. The paper's step (ridge and budget 0) amplified a
  * perturbation about 2.5 times a step on this bend (the history basis' smallest direction barely
  * above the rank floor: a difference of rounding, 1e-11 after the decoder's steps, was 1e-9 after
@@ -181,23 +206,11 @@ TEST(every_vertex_stored_takes_the_precompute_steps)
         CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
         /* romrt_basis_rows forms every shown row from the K-space basis; at the vertices the step
          * reads it must give the rows the step formed itself */
-        const romrt_model *m = f.m;
-        int r = m->r, checked = 0;
-        romrt_real *rows = malloc(sizeof(romrt_real) * 3 * (size_t)m->shown * (size_t)r);
-        double diff = 0, big = 0;
-        CHECK(romrt_basis_rows(m, rows, 3 * (size_t)m->shown * (size_t)r, NULL) == ROMRT_OK, "basis rows");
-        for (int k = 0; k < m->al.ns_on; k++) {
-            int v = (int)m->al.sv[k];
-            if (v >= m->shown) continue;
-            for (int i = 3 * v * r; i < 3 * (v + 1) * r; i++) {
-                diff = fmax(diff, fabs((double)rows[i] - (double)m->al.rows[i]));
-                big = fmax(big, fabs((double)m->al.rows[i]));
-            }
-            checked++;
-        }
+        double diff, big;
+        int checked = used_rows_against_basis(f.m, &diff, &big);
+        CHECK(checked >= 0, "basis rows");
         CHECK(checked > 0 && diff <= 1e-5 * big, "basis rows at %d used vertices %g off the step's (largest %g)",
               checked, diff, big);
-        free(rows);
         fixture_close(&f);
     }
 }
@@ -218,30 +231,18 @@ TEST(step_rows_are_the_k_space_basis)
     CHECK(!failed, "%s", err.msg);
     CHECK(f.s.stats.history_used >= 3, "the history was blended in only %ld steps", f.s.stats.history_used);
     CHECK(rel <= PARITY_TOL, "r = 10: relative difference %.3g from the precompute above %g", rel, PARITY_TOL);
-    const romrt_model *m = f.m;
-    int r = m->r, checked = 0;
-    romrt_real *rows = malloc(sizeof(romrt_real) * 3 * (size_t)m->shown * (size_t)r);
-    double diff = 0, big = 0;
+    double diff, big;
 #ifdef ROMRT_DOUBLE
     double tol = 1e-12;
 #else
     double tol = 1e-5;
 #endif
-    CHECK(r == 10, "r = %d", r);
-    CHECK(romrt_basis_rows(m, rows, 3 * (size_t)m->shown * (size_t)r, NULL) == ROMRT_OK, "basis rows");
-    for (int k = 0; k < m->al.ns_on; k++) {
-        int v = (int)m->al.sv[k];
-        if (v >= m->shown) continue;
-        for (int i = 3 * v * r; i < 3 * (v + 1) * r; i++) {
-            diff = fmax(diff, fabs((double)rows[i] - (double)m->al.rows[i]));
-            big = fmax(big, fabs((double)m->al.rows[i]));
-        }
-        checked++;
-    }
+    CHECK(f.m->r == 10, "r = %d", f.m->r);
+    int checked = used_rows_against_basis(f.m, &diff, &big);
+    CHECK(checked >= 0, "basis rows");
     printf("# r = 10: the step's rows at %d used vertices %.3g from B C_s (largest %.3g); %.3g from the precompute\n",
            checked, diff, big, rel);
     CHECK(checked > 0 && diff <= tol * big, "rows %g off B C_s (tol %g of %g)", diff, tol, big);
-    free(rows);
     fixture_close(&f);
 }
 
