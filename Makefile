@@ -25,7 +25,7 @@ ROMRT_SOMAJOR := $(call rt_version_part,MAJOR)
 ROMRT_VERSION := $(ROMRT_SOMAJOR).$(call rt_version_part,MINOR).$(call rt_version_part,PATCH)
 
 # Stages and what each links against (itself first, then what it uses); data flows one way.
-STAGES := util video mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline compare plan export
+STAGES := util video mesh physics fem contact cage solver fom adaptive grassmann basis cubature neural rom koopman formats asset pipeline motions compare plan export
 DEPS_util    := util
 # Dot markers in frames: images, dots, pyramidal Lucas-Kanade, cameras, the lift onto a surface.
 DEPS_video   := video util
@@ -52,11 +52,13 @@ DEPS_pipeline := pipeline asset koopman formats rom cubature basis adaptive gras
 DEPS_compare := compare $(DEPS_pipeline)
 # A scene entry's bake as a job graph (romkit plan): Makefile, Slurm scripts.
 DEPS_plan    := plan $(DEPS_pipeline)
+# Training scenes around a scene's object (romkit motions): the scene parsed and built.
+DEPS_motions := motions $(DEPS_pipeline)
 # An asset's shown vertices as glTF (romkit export): the container's rows, the skinning rows of basis.
 DEPS_export  := export basis formats fem physics mesh util
 DEPS_runtime := $(DEPS_pipeline)
 # The command line and the benches link every stage.
-DEPS_tools   := export plan $(DEPS_compare)
+DEPS_tools   := export plan motions $(DEPS_compare)
 src_of  = $(if $(filter physics formats,$(1)),$(wildcard $(1)/*.c),$(wildcard precompute/$(1)/*.c))
 lib_of  = $(BUILD)/lib/librk_$(1).a
 libs_of = $(foreach s,$(DEPS_$(1)),$(call lib_of,$(s)))

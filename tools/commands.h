@@ -5,6 +5,7 @@
 
 int cmd_mesh(int argc, char **argv);
 int cmd_fom(int argc, char **argv);
+int cmd_motions(int argc, char **argv);
 int cmd_adaptive(int argc, char **argv);
 int cmd_basis(int argc, char **argv);
 int cmd_compare(int argc, char **argv);

@@ -14,6 +14,7 @@ typedef struct {
 static const command commands[] = { /* in pipeline order */
     {"mesh", cmd_mesh, "check, convert or tetrahedralize a mesh (prints counts and quality)"},
     {"fom", cmd_fom, "full-order simulation of a scene (ground truth and training data)"},
+    {"motions", cmd_motions, "training scenes: the object dropped through pachinko pegs or tumbled in a drum"},
     {"adaptive", cmd_adaptive, "a scene's adaptive_subspace entry on its own (romkit fom's outputs, the model's sizes)"},
     {"basis", cmd_basis, "build the reduced basis a scene's rom section asks for (no asset)"},
     {"cubature", cmd_cubature, "train the cubature of a scene's rom entry on a given basis (a step of plan)"},

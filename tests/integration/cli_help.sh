@@ -2,7 +2,7 @@
 # what CMD does, lists the options its parser accepts and ends with an example; unknown commands
 # are refused; long stages show progress on a terminal only (DESIGN.md, Rules: Progress).
 . tests/lib.sh
-COMMANDS="mesh fom adaptive basis cubature build plan run rom compare track dmd neural-dmd control inspect export"
+COMMANDS="mesh fom motions adaptive basis cubature build plan run rom compare track dmd neural-dmd control inspect export"
 case "$ROMKIT" in */*) case "$ROMKIT" in /*) ;; *) ROMKIT=$PWD/$ROMKIT ;; esac ;; esac
 
 # romkit --help: every command, one line each, and a pipeline example.
