@@ -53,7 +53,7 @@ static int vertices_of(const rk_contact *con, int k, int *count)
 /* The contact model's app obstacles: every exact slot's (slot `slot` as c, NULL: none), in slot
  * order, the others kept where they stand (part way to their poses, if the body held them back),
  * slot's at its pose, or at slot_ox (its vertices' positions) when given; the slots' obstacle
- * indices and the simulator's obstacle scratch follow. */
+ * indices follow (the simulator's obstacle scratch has room for them all: rk_rom_init). */
 static int rebuild(rk_rom *s, int slot, const rk_collider *c, const double *slot_ox, rk_error *err)
 {
     rk_contact *con = &s->model->contact;
@@ -73,7 +73,6 @@ static int rebuild(rk_rom *s, int slot, const rk_collider *c, const double *slot
     }
     int onv = con->onv;
     double *was = rk_calloc(3 * (size_t)onv + 1, sizeof(double), err);
-    double *odx = NULL, *ogx = NULL;
     if (!was) return -1;
     memcpy(was, con->ox, sizeof(double) * 3 * (size_t)onv);
     if (rk_contact_set_app_obstacles(con, apps, n, err)) {
@@ -90,14 +89,6 @@ static int rebuild(rk_rom *s, int slot, const rk_collider *c, const double *slot
             memcpy(&con->ox[3 * to], k == slot ? slot_ox : &was[3 * first[k]], sizeof(double) * 3 * (size_t)nv);
     }
     free(was);
-    odx = rk_calloc(3 * (size_t)con->onv + 1, sizeof(double), err);
-    ogx = rk_calloc(3 * (size_t)con->onv + 1, sizeof(double), err);
-    if (!odx || !ogx) {
-        free(odx), free(ogx);
-        return -1;
-    }
-    free(s->odx), free(s->ogx);
-    s->odx = odx, s->ogx = ogx;
     return 0;
 }
 
