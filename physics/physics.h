@@ -103,6 +103,10 @@ void rk_motion(rk_motion_kind kind, const double axis[3], const double center[3]
  * extents (box, 3). A plane passes through the position, its normal the local z. */
 typedef enum { RK_COLLIDER_PLANE = 0, RK_COLLIDER_SPHERE = 1, RK_COLLIDER_CAPSULE = 2, RK_COLLIDER_BOX = 3 } rk_collider_kind;
 #define RK_COLLIDER_REALS 17
+/* A box's 12 outward triangles over its 8 corners (bit a of a corner's index: the max side on
+ * axis a): the scene's box obstacles (precompute/contact/collision.c), the app's boxes on the
+ * exact path in the reduced simulator (the same code) and in the runtime (shape_collider.c). */
+#define RK_BOX_TRIANGLES {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5}
 /* Collider slots (the runtime's default ROMRT_MAX_COLLIDERS), and the pull of a moved collider
  * toward where the app put it, over the whole mass's inertia along its path (rom.h). */
 #define RK_MAX_COLLIDERS 8

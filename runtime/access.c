@@ -287,6 +287,23 @@ romrt_status romrt_triangles(const romrt_model *m, int32_t *tri, size_t capacity
     return ROMRT_OK;
 }
 
+size_t romrt_collision_count(const romrt_model *m)
+{
+    return m && m->kind != ROMRT_KIND_KOOPMAN && m->cv ? (size_t)m->ncv : 0;
+}
+
+romrt_status romrt_collision_positions(const romrt_model *m, romrt_real *xyz, size_t capacity, romrt_error *err)
+{
+    size_t n = romrt_collision_count(m), i;
+    if (!m) return no_model(err);
+    if (!xyz) return no_buffer(err, "the vertex buffer is NULL");
+    if (capacity < 3 * n) return short_buffer(err, "the vertex buffer holds ", capacity, 3 * n);
+    for (i = 0; i < n; i++) /* as romrt_positions forms a shown vertex */
+        if (m->alrom) rt_alrom_position(m, m->cv[i], xyz + 3 * i);
+        else rt_vertex_position(m, m->cv[i], m->q, xyz + 3 * i);
+    return ROMRT_OK;
+}
+
 romrt_status romrt_find_group(const romrt_model *m, const char *name, size_t *group, romrt_error *err)
 {
     int g;

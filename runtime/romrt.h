@@ -121,6 +121,8 @@ typedef float romrt_real;
 #define romrt_time_step             ROMRT_LINK_NAME(time_step)
 #define romrt_triangle_count        ROMRT_LINK_NAME(triangle_count)
 #define romrt_triangles             ROMRT_LINK_NAME(triangles)
+#define romrt_collision_count       ROMRT_LINK_NAME(collision_count)
+#define romrt_collision_positions   ROMRT_LINK_NAME(collision_positions)
 #define romrt_version               ROMRT_LINK_NAME(version)
 
 typedef enum {
@@ -287,6 +289,12 @@ romrt_status romrt_basis_rows(const romrt_model *m, romrt_real *rows, size_t cap
 romrt_status romrt_deformation_gradients(const romrt_model *m, romrt_real *F, size_t capacity, romrt_error *err);
 /* Surface triangles (indices into the shown vertices, outward): tri holds at least 3 triangle_count. */
 romrt_status romrt_triangles(const romrt_model *m, int32_t *tri, size_t capacity, romrt_error *err);
+/* The collision vertices (CVTX: what contact and colliders act on; 0 without), and their positions
+ * (m) in CVTX's order, 3 reals each (xyz holds at least 3 collision_count): for a tool measuring
+ * contact on the collision surface, which may hold vertices no app draws (a point cloud's contact
+ * surface, whose stored vertices follow the shown ones). */
+size_t romrt_collision_count(const romrt_model *m);
+romrt_status romrt_collision_positions(const romrt_model *m, romrt_real *xyz, size_t capacity, romrt_error *err);
 /* The reduced coordinates q (r of them; a Koopman model's eigen-coordinates y). */
 romrt_status romrt_reduced_coordinates(const romrt_model *m, romrt_real *q, size_t capacity, romrt_error *err);
 

@@ -12,8 +12,7 @@
 
 #include "runtime/romrt_impl.h"
 
-static const int32_t box_tris[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
-                                     2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+static const int32_t box_tris[36] = RK_BOX_TRIANGLES; /* physics.h: the obstacles' own */
 
 /* A storage that no placed collider reads (there is one more than the slots: if all the others
  * are read, the last is not). */

@@ -317,7 +317,7 @@ int cmd_run(int argc, char **argv)
     if (measure_contact) {
         if (run_contact_open(&contact, &scene, &err)) goto fail;
         if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;
-        if (run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
+        if (run_contact_frame(&contact, m, romrt_time(m), xyz, &err)) goto fail;
     }
     if (stress_out) {
         if (run_stress_open(&stress, stress_out, steps + 1, &scene, m, &err)) goto fail;
@@ -348,7 +348,7 @@ int cmd_run(int argc, char **argv)
             reference_add(&ref, k + 1, frame);
             if (frames_dir && write_obj(frames_dir, k + 1, m, xyz, tris, &err)) goto fail;
             if (splats_dir && run_splats_frame(&splats, m, k + 1, xyz, &err)) goto fail;
-            if (measure_contact && run_contact_frame(&contact, romrt_time(m), xyz, &err)) goto fail;
+            if (measure_contact && run_contact_frame(&contact, m, romrt_time(m), xyz, &err)) goto fail;
             if (stress_out && run_stress_frame(&stress, m, k + 1, xyz, &err)) goto fail;
         }
         if (!quiet) rk_progress("run", k + 1, steps);

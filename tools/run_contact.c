@@ -1,7 +1,8 @@
-/* romkit run --scene (run_contact.h). The runtime gives the shown vertices only; the collision
- * surface is the scene mesh's boundary, so every collision vertex must be shown (asset.show
- * "surface", the default for meshes) and the rest of the mesh, which no contact measure reads,
- * stays at rest. */
+/* romkit run --scene (run_contact.h). The collision surface is the scene mesh's boundary: its
+ * vertices are the asset's shown vertices (asset.show "surface", the default for meshes) or its
+ * collision vertices (CVTX, romrt_collision_positions: a point cloud's contact surface, its proxy's
+ * corners, stored but not shown), each placed at its scene vertex (VMAP); the rest of the mesh,
+ * which no contact measure reads, stays at rest. */
 #include "run_contact.h"
 
 #include <stdlib.h>
@@ -23,7 +24,13 @@ int run_contact_open(run_contact *o, const run_scene *S, rk_error *err)
         return rk_fail(err, "out of memory");
     }
     memcpy(o->x, S->sim.mesh.X, sizeof(double) * 3 * (size_t)nv);
+    o->cxyz = calloc((size_t)3 * S->ncollision + 1, sizeof(romrt_real));
+    if (!o->cxyz) {
+        free(shown_of);
+        return rk_fail(err, "out of memory");
+    }
     for (int v = 0; v < nv; v++) shown_of[v] = -1;
+    for (int i = 0; i < S->ncollision; i++) shown_of[S->collision_source[i]] = i;
     for (int i = 0; i < S->shown; i++) shown_of[S->source[i]] = i;
     /* the contact model as the full-order run builds it (fom/init.c): dhat 0 is 1e-3 of the
      * diagonal; kappa and the mass do not enter the measures */
@@ -39,13 +46,13 @@ int run_contact_open(run_contact *o, const run_scene *S, rk_error *err)
         int v = o->contact.vertex[i], obj = o->contact.object[v];
         if (shown_of[v] >= 0) continue;
         if (S->sim.object_points && S->sim.object_points[obj] > 0)
-            rc = rk_fail(err, "--scene %s: object %d is a point cloud, whose contact proxy (scene vertex %d on) the "
-                              "asset stores but does not show: the runtime gives the shown vertices only, so its "
-                              "contact is not measured", S->path, obj, v);
+            rc = rk_fail(err, "--scene %s: object %d is a point cloud, whose contact surface (scene vertex %d on) the "
+                              "asset neither shows nor stores as collision vertices (CVTX, VMAP over them): bake "
+                              "with the default asset.colliders", S->path, obj, v);
         else
-            rc = rk_fail(err, "--scene %s: scene vertex %d is on the collision surface but the asset does not show it "
-                              "(contact is measured on the shown vertices: bake with asset.show \"surface\")",
-                         S->path, v);
+            rc = rk_fail(err, "--scene %s: scene vertex %d is on the collision surface but the asset neither shows it "
+                              "nor stores it as a collision vertex (contact is measured on those: bake with asset.show "
+                              "\"surface\" or the default asset.colliders)", S->path, v);
     }
     free(shown_of);
     return rc;
@@ -57,10 +64,16 @@ int run_contact_wanted(const run_scene *S)
     return fo->nobstacles > 0 || fo->nobjects > 1 || fo->contact.self;
 }
 
-int run_contact_frame(run_contact *o, double t, const romrt_real *xyz, rk_error *err)
+int run_contact_frame(run_contact *o, const romrt_model *m, double t, const romrt_real *xyz, rk_error *err)
 {
-    for (int i = 0; i < o->S->shown; i++)
-        for (int a = 0; a < 3; a++) o->x[3 * (size_t)o->S->source[i] + a] = (double)xyz[3 * i + a];
+    const run_scene *S = o->S;
+    romrt_error rerr;
+    if (S->ncollision > 0 && romrt_collision_positions(m, o->cxyz, 3 * (size_t)S->ncollision, &rerr) != ROMRT_OK)
+        return rk_fail(err, "runtime: %s", rerr.message);
+    for (int i = 0; i < S->ncollision; i++)
+        for (int a = 0; a < 3; a++) o->x[3 * (size_t)S->collision_source[i] + a] = (double)o->cxyz[3 * i + a];
+    for (int i = 0; i < S->shown; i++)
+        for (int a = 0; a < 3; a++) o->x[3 * (size_t)S->source[i] + a] = (double)xyz[3 * i + a];
     rk_contact_set_time(&o->contact, t);
     int crossings;
     double closest;
@@ -72,6 +85,6 @@ int run_contact_frame(run_contact *o, double t, const romrt_real *xyz, rk_error 
 void run_contact_close(run_contact *o)
 {
     if (o->have_contact) rk_contact_free(&o->contact);
-    free(o->x);
+    free(o->x), free(o->cxyz);
     memset(o, 0, sizeof *o);
 }

@@ -59,6 +59,25 @@ int run_scene_open(run_scene *o, const char *scene_path, const unsigned char *as
         if (o->source[i] >= (uint32_t)nv)
             return rk_fail(err, "--scene %s has %d vertices; the asset's shown vertex %d comes from vertex %u: is this the "
                            "scene the asset was built from?", scene_path, nv, i, o->source[i]);
+    /* the collision vertices' scene vertices: VMAP names every stored vertex, CVTX the stored ones
+     * contact acts on (a point cloud's contact surface among them, stored but not shown) */
+    size_t ncv = romrt_collision_count(m);
+    rombin_chunk cv;
+    if (ncv > 0 && rombin_find(&f, ROMBIN_CVTX, &cv) && cv.raw >= 4 * (uint64_t)ncv && cv.stored == cv.raw &&
+        c.stored == c.raw) {
+        if (!(o->collision_source = calloc(ncv + 1, sizeof(uint32_t)))) return rk_fail(err, "out of memory");
+        o->ncollision = (int)ncv;
+        for (size_t i = 0; i < ncv; i++) {
+            uint32_t id = rombin_get_u32(cv.data + 4 * i), v = 0;
+            /* an asset whose VMAP names the shown ones only: measured on those */
+            if ((uint64_t)id * 4 + 4 > c.raw || (v = rombin_get_u32(c.data + 4 * (size_t)id)) >= (uint32_t)nv) {
+                free(o->collision_source);
+                o->collision_source = NULL, o->ncollision = 0;
+                break;
+            }
+            o->collision_source[i] = v;
+        }
+    }
     return check_rest(o, m, err);
 }
 
@@ -73,6 +92,6 @@ void run_scene_close(run_scene *o)
 {
     if (o->have_sim) rk_scene_sim_free(&o->sim);
     if (o->have_scene) rk_scene_free(&o->scene);
-    free(o->source);
+    free(o->source), free(o->collision_source);
     memset(o, 0, sizeof *o);
 }

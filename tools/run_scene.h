@@ -17,6 +17,8 @@ typedef struct {
     int have_scene, have_sim;
     int shown;
     uint32_t *source;      /* shown vertex -> scene mesh vertex (the asset's VMAP) */
+    int ncollision;        /* the asset's collision vertices (CVTX), when VMAP names their scene vertices */
+    uint32_t *collision_source; /* collision vertex (CVTX order) -> scene mesh vertex, or NULL */
 } run_scene;
 
 /* Builds the scene; fails, saying why, when the asset has no VMAP or its shown vertices are not the

@@ -102,8 +102,7 @@ static int check_obstacle(const rk_obstacle *o, int k, rk_error *err)
 }
 
 /* The box's 8 corners (bit i of the corner index: max on axis i) and 12 outward triangles. */
-static const int box_tris[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
-                                 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+static const int box_tris[36] = RK_BOX_TRIANGLES;
 
 /* Counts (count_only) or appends obstacle o's vertices and triangles (and a capsule's segment). */
 static void obstacle_geometry(rk_contact *c, const rk_obstacle *o, int count_only, int *nv, int *nf, int *nseg)
@@ -146,7 +145,7 @@ static void obstacle_geometry(rk_contact *c, const rk_obstacle *o, int count_onl
     }
 }
 
-static int build_obstacles(rk_contact *c, const rk_obstacle *obstacles, int n, rk_error *err)
+int rk_contact_build_obstacles(rk_contact *c, const rk_obstacle *obstacles, int n, rk_error *err)
 {
     c->nobstacles = n;
     c->obstacles = rk_calloc((size_t)n + 1, sizeof *c->obstacles, err);
@@ -203,6 +202,7 @@ static int build_obstacles(rk_contact *c, const rk_obstacle *obstacles, int n, r
     c->one = ntri_edges + nseg;
     memcpy(c->ox, c->oX, sizeof(double) * 3 * (size_t)nv);
     rk_contact_set_time(c, 0);
+    c->scene_obstacles = n, c->scene_onv = nv, c->scene_one = c->one, c->scene_onf = nf;
     return 0;
 }
 
@@ -244,7 +244,7 @@ int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_
     for (int v = 0; v < mesh->nv; v++)
         if (on[v]) c->vertex[c->nv++] = v;
     free(on);
-    if (build_obstacles(c, obstacles, nobstacles, err)) goto fail;
+    if (rk_contact_build_obstacles(c, obstacles, nobstacles, err)) goto fail;
     c->cache_x = rk_calloc(3 * (size_t)c->nv + 1, sizeof(double), err);
     c->cache_ox = rk_calloc(3 * (size_t)c->onv + 1, sizeof(double), err);
     if (!c->cache_x || !c->cache_ox) goto fail;
@@ -276,6 +276,11 @@ void rk_contact_free(rk_contact *c)
 
 static void obstacle_transform(const rk_obstacle *o, double t, double R[9], double shift[3])
 {
+    if (o->posed) { /* an app's: where its pose puts it, at any time */
+        memcpy(shift, o->pose, 3 * sizeof(double));
+        memcpy(R, o->pose + 3, 9 * sizeof(double));
+        return;
+    }
     rk_motion(o->motion, o->axis, o->motion_center, o->rate, o->velocity, t, R, shift);
 }
 

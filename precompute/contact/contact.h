@@ -62,6 +62,11 @@ typedef struct {
     const int *tris;
     rk_motion_kind motion;         /* RK_MOTION_FIXED: static */
     double axis[3], motion_center[3], rate, velocity[3];
+    /* an app's collider (rk_contact_set_app_obstacles): its geometry above in its own frame, and
+     * at every time where the pose puts it (position 3, rotation 9 row-major: physics.h's
+     * collider layout), the motion ignored */
+    int posed;
+    double pose[12];
 } rk_obstacle;
 
 typedef struct {
@@ -123,6 +128,9 @@ typedef struct {
     int onv;                       /* obstacle vertices: oX at rest, ox at the time set */
     double *oX, *ox;
     int *overt_obstacle;           /* onv: its obstacle */
+    /* the scene's obstacles come first (these counts of obstacles, vertices, edges, triangles),
+     * the app's after them (rk_contact_set_app_obstacles) */
+    int scene_obstacles, scene_onv, scene_one, scene_onf;
     int one, *oedges, onf, *ofaces;/* obstacle vertex ids */
     double *othick;                /* nobstacles: the thickness xi (sphere, capsule radius; else 0) */
     double *oplane;                /* nobstacles x 6: a plane's point and unit normal where it is now */
@@ -154,6 +162,14 @@ int rk_contact_init(rk_contact *c, const rk_mesh *mesh, const int *object_first_
                     const rk_obstacle *obstacles, int nobstacles, const rk_contact_options *o, double average_mass,
                     rk_error *err);
 void rk_contact_free(rk_contact *c);
+/* The app's colliders as obstacles after the scene's (replacing the ones there), each posed
+ * (rk_obstacle.posed) and standing at its pose; the scene's obstacles stay where they are. The
+ * Verlet list and the lagged friction pairs are dropped (the obstacle vertex ids may change). A
+ * bad one is named by its index in apps; on failure c is unchanged. */
+int rk_contact_set_app_obstacles(rk_contact *c, const rk_obstacle *apps, int n, rk_error *err);
+/* Where app obstacle k (an index into c->obstacles) is due: it goes there as the scene's moving
+ * obstacles go to where they are at a time (rk_contact_set_time, rk_obstacle_way). */
+void rk_contact_pose_obstacle(rk_contact *c, int k, const double pose[12]);
 /* Moves the obstacles to where their motions put them at time t (ox, oplane). */
 void rk_contact_set_time(rk_contact *c, double t);
 /* Where the obstacle vertices are at time t, into out (3 onv), without moving them. */

@@ -39,6 +39,9 @@ double rk_contact_pair_distance2(const rk_contact *c, const rk_contact_pair *p, 
 /* Signed distance of point p from plane obstacle `plane` where it is now. */
 double rk_contact_plane_distance(const rk_contact *c, int plane, const double *p);
 
+/* c's obstacles (arrays allocated, geometry, edges, positions at time 0, the scene counts) from
+ * n obstacles, each checked and named by its index on failure (collision.c). */
+int rk_contact_build_obstacles(rk_contact *c, const rk_obstacle *obstacles, int n, rk_error *err);
 /* Where the obstacles are at time t into ox_to and oplane_to (collision.c). */
 void rk_contact_obstacle_targets(rk_contact *c, double t);
 

@@ -88,7 +88,7 @@ static double max_step(void *ctx, const double *y, const double *d)
     }
     for (int k = 0; k < RK_MAX_COLLIDERS; k++) {
         rk_rom_collider *c = &s->colliders[k];
-        if (!c->active) continue;
+        if (!c->active || c->exact) continue; /* an obstacle's CCD is the contact stage's */
         int moving = -1;
         for (int j = 0; j < p->np; j++)
             if (p->slot[j] == k) moving = j;
@@ -119,7 +119,7 @@ int rk_rom_colliders_solve(rk_rom *s, const rk_rom_terms *T, int *converged, rk_
     rk_rom_contact_positions(s, s->q);
     for (int k = 0; k < RK_MAX_COLLIDERS; k++) {
         rk_rom_collider *c = &s->colliders[k];
-        if (!c->active || !memcmp(c->now, c->target, sizeof c->now)) continue;
+        if (!c->active || c->exact || !memcmp(c->now, c->target, sizeof c->now)) continue;
         p.slot[p.np] = k;
         memcpy(p.from[p.np], c->now, sizeof c->now);
         /* the path's length at the body: the farthest a collision vertex's spot travels (an upper bound) */

@@ -1,8 +1,11 @@
 /* An application's colliders in the reduced simulator (rom.h): planes, spheres, capsules and
  * boxes (physics.h) against the collision vertices x_v = X_v + U_v q, with the scene planes'
  * barrier kappa b(d, dhat) on each vertex's signed distance and, with contact.friction, the
- * smoothed Coulomb friction lagged like the contact stage's (IPC Sec. 5). The runtime steps the
- * same model in C99 (runtime/colliders.c); the parity tests hold the two together. */
+ * smoothed Coulomb friction lagged like the contact stage's (IPC Sec. 5). On a model with a
+ * collision surface the spheres, capsules and boxes are obstacles of the contact model instead
+ * (collider_obstacles.c; `exact`) and the functions here pass them by. The runtime steps the
+ * same model in C99 (runtime/colliders.c, shape_collider.c); the parity tests hold the two
+ * together. */
 #include "rom/rom_impl.h"
 
 #include <cblas.h>
@@ -38,6 +41,7 @@ int rk_rom_set_collider(rk_rom *s, int slot, const rk_collider *c, rk_error *err
     rk_rom_collider *k = &s->colliders[slot];
     if (k->active && same_shape(k, c)) { /* a move: made over the next steps */
         memcpy(k->target, c->shape, sizeof k->target);
+        if (k->exact) rk_contact_pose_obstacle(&s->model->contact, k->obstacle, c->shape);
         return 0;
     }
     const rk_rom_model *m = s->model;
@@ -48,6 +52,11 @@ int rk_rom_set_collider(rk_rom *s, int slot, const rk_collider *c, rk_error *err
             return rk_fail(err, "collider %d (%s) would overlap the body (vertex %d is %.3g m inside): place it "
                            "clear of the body, then move it", slot, kind_names[c->kind], m->cv[i], -d);
     }
+    /* on a collision surface a sphere, capsule or box is an obstacle (collider_obstacles.c); a
+     * plane stays on the vertices (exact for a plane), as in the runtime */
+    int exact = m->surface && c->kind != RK_COLLIDER_PLANE;
+    if ((exact || (k->active && k->exact)) && rk_rom_collider_obstacles(s, slot, exact ? c : NULL, err)) return -1;
+    if (exact) return 0;
     s->ncolliders += !k->active;
     k->active = 1;
     k->kind = c->kind;
@@ -62,6 +71,7 @@ int rk_rom_remove_collider(rk_rom *s, int slot, rk_error *err)
 {
     if (slot < 0 || slot >= RK_MAX_COLLIDERS)
         return rk_fail(err, "collider slot %d: slots are 0 to %d", slot, RK_MAX_COLLIDERS - 1);
+    if (s->colliders[slot].active && s->colliders[slot].exact && rk_rom_collider_obstacles(s, slot, NULL, err)) return -1;
     s->ncolliders -= s->colliders[slot].active;
     s->colliders[slot].active = 0;
     return 0;
@@ -135,7 +145,7 @@ double rk_rom_colliders_energy(rk_rom *s, const double *q, int friction, double 
     rk_rom_reduce_ctx ctx = {.m = m, .H = H, .JB = s->jb};
     for (int k = 0; k < RK_MAX_COLLIDERS && isfinite(E); k++) {
         const rk_rom_collider *c = &s->colliders[k];
-        if (!c->active) continue;
+        if (!c->active || c->exact) continue; /* an obstacle's terms are the contact stage's */
         for (int i = 0; i < m->ncv && isfinite(E); i++) {
             int v = m->cv[i];
             vertex_energy(m, c, friction, &s->x[3 * v], &s->xs[3 * v], &s->xl[3 * v], &t);
@@ -187,7 +197,7 @@ double rk_rom_colliders_max_step(rk_rom *s)
     double alpha = 1;
     for (int k = 0; k < RK_MAX_COLLIDERS; k++) {
         const rk_rom_collider *c = &s->colliders[k];
-        for (int i = 0; c->active && i < m->ncv; i++) {
+        for (int i = 0; c->active && !c->exact && i < m->ncv; i++) {
             int v = m->cv[i];
             alpha = fmin(alpha, rk_collider_step(c->kind, c->now, &s->x[3 * v], &s->dx[3 * v]));
         }
@@ -198,7 +208,8 @@ double rk_rom_colliders_max_step(rk_rom *s)
 int rk_rom_colliders_pending(const rk_rom *s)
 {
     for (int k = 0; k < RK_MAX_COLLIDERS; k++)
-        if (s->colliders[k].active && memcmp(s->colliders[k].now, s->colliders[k].target, sizeof s->colliders[k].now))
+        if (s->colliders[k].active && !s->colliders[k].exact &&
+            memcmp(s->colliders[k].now, s->colliders[k].target, sizeof s->colliders[k].now))
             return 1;
     return 0;
 }

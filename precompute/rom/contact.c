@@ -73,6 +73,8 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
     if (m->contact.nv != nc || memcmp(m->contact.vertex, m->cv, sizeof(int) * (size_t)nc) != 0)
         return rk_fail(err, "the contact stage's boundary (%d vertices) is not the reduced model's (%d)",
                        m->contact.nv, nc);
+    /* every obstacle but a plane has vertices: bake_obstacles.c's condition for OBHD */
+    m->surface = m->contact.onv > 0 || m->contact.mesh_pairs;
     return 0;
 }
 

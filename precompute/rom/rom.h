@@ -66,6 +66,10 @@ typedef struct {
     int *cv_of;                /* nv: collision vertex index of a mesh vertex, or -1 */
     rk_contact_options contact_options; /* dhat and kappa resolved: the barrier of contact and colliders */
     int has_contact;
+    /* the model has a collision surface (a scene obstacle other than a plane, several objects or
+     * self-contact: what the asset's OBHD records): the app's spheres, capsules and boxes are then
+     * obstacles of the contact model, exact against its triangles (collider_obstacles.c) */
+    int surface;
     rk_contact contact;
     double mass;               /* total mass (kg) */
     double newton_tol;         /* on sqrt(dq^T M_r dq / mass) (m), per step */
@@ -101,6 +105,8 @@ typedef struct {
     int active;
     rk_collider_kind kind;
     double now[RK_COLLIDER_REALS], target[RK_COLLIDER_REALS], start[RK_COLLIDER_REALS], lag[RK_COLLIDER_REALS];
+    int exact;                 /* an obstacle of the contact model (model->surface), not on the vertices */
+    int obstacle;              /* then its index among the contact model's obstacles */
 } rk_rom_collider;
 
 typedef struct {
@@ -143,8 +149,10 @@ void rk_rom_free(rk_rom *s);
  * progress along the way solved for with the body (collider_solve.c); where the body cannot give
  * way it stops short (colliders_behind) and goes on the step after. A new one, or a new kind or
  * size, must be placed clear of the body. They act on the collision vertices with the barrier of
- * the scene's planes and, with contact.friction, its friction. A bad collider is refused, naming
- * what, and changes nothing. */
+ * the scene's planes and, with contact.friction, its friction; on a model with a collision surface
+ * (model->surface) a sphere, capsule or box is instead an obstacle of the contact model, moved
+ * with the scene's moving obstacles (as the runtime's, shape_collider.c). A bad collider is
+ * refused, naming what, and changes nothing. */
 int rk_rom_set_collider(rk_rom *s, int slot, const rk_collider *c, rk_error *err);
 int rk_rom_remove_collider(rk_rom *s, int slot, rk_error *err);
 /* Contact at the current state, as rk_fom_contact_measure: exact crossings of the reduced surfaces

@@ -76,6 +76,11 @@ void rk_rom_colliders_path_terms(rk_rom *s, const double *q, int slot, const dou
 /* The step's solve with every moved collider's progress along its path as an unknown
  * (collider_solve.c); the colliders end where it leaves them. */
 int rk_rom_colliders_solve(rk_rom *s, const rk_rom_terms *T, int *converged, rk_error *err);
+/* The app's spheres, capsules and boxes on a model with a collision surface (collider_obstacles.c):
+ * slot's collider set to c (NULL: gone) among the contact model's obstacles, placed clear of the
+ * body or refused with nothing changed; after a step, the ones that arrived at their poses. */
+int rk_rom_collider_obstacles(rk_rom *s, int slot, const rk_collider *c, rk_error *err);
+void rk_rom_collider_obstacles_arrived(rk_rom *s);
 void rk_rom_colliders_friction_start(rk_rom *s);
 void rk_rom_colliders_friction_lag(rk_rom *s);
 

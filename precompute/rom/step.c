@@ -12,6 +12,10 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     memset(s, 0, sizeof *s);
     int r = m->r;
     s->model = m;
+    /* the model's contact without a former simulator's app obstacles (rk_rom_free drops them) */
+    if (m->has_contact && m->contact.nobstacles > m->contact.scene_obstacles &&
+        rk_contact_set_app_obstacles(&m->contact, NULL, 0, err))
+        return -1;
     s->q = rk_calloc((size_t)r, sizeof(double), err);
     s->v = rk_calloc((size_t)r, sizeof(double), err);
     s->work = rk_calloc((size_t)r * (RK_ROM_WORK_VECTORS + r), sizeof(double), err);
@@ -23,8 +27,11 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->xs = rk_calloc(n3, sizeof(double), err);
     s->xl = rk_calloc(n3, sizeof(double), err);
     s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
-    s->odx = rk_calloc(3 * (size_t)(m->has_contact ? m->contact.onv : 0) + 1, sizeof(double), err);
-    s->ogx = rk_calloc(3 * (size_t)(m->has_contact ? m->contact.onv : 0) + 1, sizeof(double), err);
+    /* obstacle scratch for the scene's and, on a collision surface, the app's (8 vertices at most:
+     * a box; collider_obstacles.c) */
+    size_t onv = m->has_contact ? (size_t)m->contact.onv + (m->surface ? 8 * RK_MAX_COLLIDERS : 0) : 0;
+    s->odx = rk_calloc(3 * onv + 1, sizeof(double), err);
+    s->ogx = rk_calloc(3 * onv + 1, sizeof(double), err);
     if (!s->q || !s->v || !s->work || !s->x || !s->dx || !s->gx || !s->xs || !s->xl || !s->jb || !s->odx || !s->ogx ||
         rk_stepper_init(&s->stepper, r, m->integrator, m->h, err)) {
         rk_rom_free(s);
@@ -79,6 +86,12 @@ int rk_rom_realign(rk_rom *s, const double *q, const double *v, double t, double
 
 void rk_rom_free(rk_rom *s)
 {
+    rk_rom_model *m = s->model;
+    rk_error ignored;
+    /* the app's obstacles leave the model's contact (out of memory they stay, and the next
+     * rk_rom_init drops them) */
+    if (m && m->has_contact && m->contact.nobstacles > m->contact.scene_obstacles)
+        rk_contact_set_app_obstacles(&m->contact, NULL, 0, &ignored);
     free(s->q);
     free(s->v);
     rk_stepper_free(&s->stepper);
@@ -194,6 +207,7 @@ static int dynamic_step(rk_rom *s, rk_error *err)
                          : move_and_solve(&c, s->t + m->h, 1, err))
         return -1;
     s->colliders_behind |= behind;
+    if (m->surface) rk_rom_collider_obstacles_arrived(s);
     /* then lagged again at the solution and solved again, the obstacles where they are, until a
      * solve has nothing left to do */
     for (int k = 1; friction && k < m->contact_options.friction_iterations; k++) {

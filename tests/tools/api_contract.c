@@ -22,6 +22,7 @@ static romrt_status (*const rest)(const romrt_model *, romrt_real *, size_t, siz
 static romrt_status (*const rows)(const romrt_model *, romrt_real *, size_t, romrt_error *) = romrt_basis_rows;
 static romrt_status (*const grads)(const romrt_model *, romrt_real *, size_t, romrt_error *) = romrt_deformation_gradients;
 static romrt_status (*const tris)(const romrt_model *, int32_t *, size_t, romrt_error *) = romrt_triangles;
+static romrt_status (*const collision)(const romrt_model *, romrt_real *, size_t, romrt_error *) = romrt_collision_positions;
 static romrt_status (*const coords)(const romrt_model *, romrt_real *, size_t, romrt_error *) = romrt_reduced_coordinates;
 static romrt_status (*const get_state)(const romrt_model *, romrt_real *, size_t, romrt_error *) = romrt_get_state;
 static romrt_status (*const set_state)(romrt_model *, const romrt_real *, size_t, romrt_error *) = romrt_set_state;
@@ -77,6 +78,7 @@ int main(int argc, char **argv)
     NULL_MODEL(rows(NULL, buf, 64, &err), "basis_rows");
     NULL_MODEL(grads(NULL, buf, 64, &err), "deformation_gradients");
     NULL_MODEL(tris(NULL, ibuf, 16, &err), "triangles");
+    NULL_MODEL(collision(NULL, buf, 64, &err), "collision_positions");
     NULL_MODEL(coords(NULL, buf, 64, &err), "reduced_coordinates");
     NULL_MODEL(get_state(NULL, buf, 64, &err), "get_state");
     NULL_MODEL(set_state(NULL, buf, 64, &err), "set_state");

@@ -1,6 +1,9 @@
 /* An application's colliders in the reduced simulator (rom.h, rk_rom_set_collider): a sphere the
  * app moves into a hanging block pushes it aside, no collision vertex ever inside it; a block
- * resting on a box collider stays on it; bad colliders are refused and change nothing. */
+ * resting on a box collider stays on it; bad colliders are refused and change nothing; on a model
+ * with a collision surface a capsule thinner than the edges, placed through the block between its
+ * vertices, is refused (the vertex path takes it), and the shapes come and go as obstacles of the
+ * contact model. */
 #include "scene_run.h"
 #include "rom/rom.h"
 
@@ -155,9 +158,69 @@ TEST(a_block_rests_on_a_turned_box_collider)
     CHECK(fabs(drift) < 1e-5, "the block slid %g m after landing", drift);
 }
 
+/* The hanging block with a collision surface (a far sphere obstacle). */
+#define SURFACE_HANGING                                                                                \
+    "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.2, 0.6, 0.2], \"cells\": [2, 6, 2]}},"           \
+    "  \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}," \
+    "  \"fixed\": [{\"box\": [[-1, 0.599, -1], [1, 1, 1]]}]}],"                                         \
+    " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"sphere\": {\"center\": [3, 3, 3], \"radius\": 0.05}}],"  \
+    " \"time\": {\"step\": 0.01, \"duration\": 0.5}, \"rom\": {\"basis\": \"modes\", \"size\": 12}}"
+
+TEST(on_a_collision_surface_shapes_are_obstacles_and_a_thin_one_cannot_slip_between_vertices)
+{
+    rk_error err;
+    reduced o;
+    /* a 3 mm capsule along z through the block 1 cm inside its x = 0 side, at y = 0.25 (between
+     * the vertices 10 cm apart: the nearest is 5.1 cm from its segment) */
+    rk_collider thin = {RK_COLLIDER_CAPSULE, {0.01, 0.25, 0.1, 0, 0, -1, 0, 1, 0, 1, 0, 0, 0.003, 0.3, 0, 0, 0}};
+    CHECK_OK(open_reduced(&o, HANGING, &err));
+    CHECK(!o.R.model.surface, "the hanging block has a collision surface");
+    CHECK_OK(rk_rom_set_collider(&o.rom, 0, &thin, &err)); /* the vertex path sees no vertex inside it */
+    close_reduced(&o);
+    CHECK_OK(open_reduced(&o, SURFACE_HANGING, &err));
+    rk_contact *c = &o.R.model.contact;
+    int scene = c->nobstacles, onv = c->onv;
+    CHECK(o.R.model.surface && scene == 1, "the model has no collision surface (%d obstacles)", scene);
+    int rc = rk_rom_set_collider(&o.rom, 0, &thin, &err);
+    printf("# through the block between its vertices: %s\n", err.msg);
+    CHECK(rc != 0 && strstr(err.msg, "cross") && o.rom.ncolliders == 0 && c->nobstacles == scene && c->onv == onv,
+          "the thin capsule through the block was taken (%d obstacles)", c->nobstacles);
+    /* clear of it: an obstacle with its two points, then a box in slot 1: 8 more */
+    thin.shape[0] = -0.05;
+    CHECK_OK(rk_rom_set_collider(&o.rom, 0, &thin, &err));
+    rk_collider box = {RK_COLLIDER_BOX, {0.5, 0.3, 0.1, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0.1, 0.1, 0.1}};
+    CHECK_OK(rk_rom_set_collider(&o.rom, 1, &box, &err));
+    CHECK(o.rom.colliders[0].exact && o.rom.colliders[1].exact && c->nobstacles == scene + 2 && c->onv == onv + 10,
+          "%d obstacles, %d obstacle vertices after a capsule and a box", c->nobstacles, c->onv);
+    /* moved, the box is due at its new pose and gets there in the step */
+    box.shape[0] = 0.45;
+    CHECK_OK(rk_rom_set_collider(&o.rom, 1, &box, &err));
+    CHECK_OK(rk_rom_step(&o.rom, &err));
+    CHECK(o.rom.colliders[1].now[0] == 0.45 && c->ox[3 * (onv + 2)] == 0.35, "the box is not where it was moved (%g)",
+          c->ox[3 * (onv + 2)]);
+    /* a capsule of another size through the block between its vertices, in slot 0, is refused by
+     * the exact test: the one there stays where it is */
+    rk_collider thick = thin;
+    thick.shape[0] = 0.01, thick.shape[12] = 0.004;
+    double was[6];
+    memcpy(was, &c->ox[3 * onv], sizeof was);
+    CHECK(rk_rom_set_collider(&o.rom, 0, &thick, &err) != 0 && strstr(err.msg, "cross") && c->nobstacles == scene + 2 &&
+              c->onv == onv + 10 && !memcmp(was, &c->ox[3 * onv], sizeof was) && o.rom.colliders[0].target[12] == 0.003,
+          "a capsule through the block replaced the one there");
+    /* slot 0 becomes a plane (the vertex path), then the box goes: the scene's obstacles alone */
+    rk_collider floor = {RK_COLLIDER_PLANE, {0, -0.5, 0, 1, 0, 0, 0, 0, 1, 0, -1, 0, 0, 0, 0, 0, 0}}; /* normal +y */
+    CHECK_OK(rk_rom_set_collider(&o.rom, 0, &floor, &err));
+    CHECK_OK(rk_rom_remove_collider(&o.rom, 1, &err));
+    CHECK(!o.rom.colliders[0].exact && o.rom.ncolliders == 1 && c->nobstacles == scene && c->onv == onv,
+          "%d colliders, %d obstacles left", o.rom.ncolliders, c->nobstacles);
+    CHECK_OK(rk_rom_step(&o.rom, &err));
+    close_reduced(&o);
+}
+
 int main(void)
 {
     RUN(an_app_moved_sphere_pushes_a_hanging_block);
+    RUN(on_a_collision_surface_shapes_are_obstacles_and_a_thin_one_cannot_slip_between_vertices);
     RUN(bad_colliders_are_refused_and_change_nothing);
     RUN(a_block_rests_on_a_turned_box_collider);
     return test_finish();
