@@ -6,8 +6,9 @@
  * unstable equilibrium whose sliding direction kept full-order Newton from converging), GAP above
  * a fixed sphere of radius 5 cm under its middle, falling at DROP_SPEED under gravity; BDF2 (the
  * paper's integrator, Sec. 4) at h = 0.01 s, dhat 1 mm, Newton tolerance NEWTON_TOL for both
- * simulators (the full-order default, 1e-5 of the diagonal per second, is not reached on this
- * scene: the barrier against a sphere is concave sideways and projected Newton creeps along it).
+ * simulators (the full-order default, 1e-5 of the diagonal per second, takes up to ~200 Newton
+ * iterations a step on this scene: the barrier against a sphere is concave sideways and projected
+ * Newton creeps along it; docs/methods.md).
  * Candidates: 24 linear modes of the clamped slab (computed with the clamps held; skinning
  * eigenmodes are free-object modes, and zeroed at a clamp they make the elements beside it
  * stiff), the first 12 active from the start (the paper starts with 36 to 312 columns, Table 2).

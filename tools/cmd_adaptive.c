@@ -10,6 +10,7 @@
 #include "args.h"
 #include "commands.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/fom_report.h"
 #include "pipeline/method_adaptive_subspace.h"
 #include "util/util.h"
 
@@ -160,6 +161,7 @@ int cmd_adaptive(int argc, char **argv)
     }
     rk_adaptive_residual_record(&res, &ad);
     rk_adaptive_residual_warn(stderr, e->name, &res, steps);
+    rk_unconverged_warn(stderr, e->name, ad.fom.stats.unconverged_steps, steps);
     cJSON *report = rk_adaptive_report(&sim, &ad, secs, steps, contact ? &tally : NULL, &res);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);

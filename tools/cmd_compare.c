@@ -9,6 +9,7 @@
 #include "args.h"
 #include "commands.h"
 #include "compare/compare.h"
+#include "pipeline/fom_report.h"
 #include "pipeline/pipeline.h"
 #include "util/util.h"
 
@@ -112,6 +113,9 @@ int cmd_compare(int argc, char **argv)
         if (rk_npy_write(frames_out, res.reference_x, 3, shape, &err)) goto done;
     }
     print_table(scene_path, &res);
+    for (int k = 0; k < res.nmethods; k++)
+        if (!res.methods[k].failure[0])
+            rk_unconverged_warn(stderr, res.methods[k].name, res.methods[k].unconverged_steps, res.steps);
     rc = 0;
     for (int k = 0; k < res.nmethods; k++)
         if (res.methods[k].failure[0]) {

@@ -197,6 +197,7 @@ int cmd_fom(int argc, char **argv)
         long shape[2] = {nv, 3};
         if (rk_npy_write(a.positions, shown(&out, m.x), 2, shape, &err)) goto done;
     }
+    rk_unconverged_warn(stderr, "full order", m.stats.unconverged_steps, m.steps);
     cJSON *report = rk_fom_report(&sim, &m, rk_now() - t0);
     if (a.report && rk_json_write_file(a.report, report, &err)) {
         cJSON_Delete(report);

@@ -390,7 +390,7 @@ static int solve_rounds(rk_adaptive *ad, const newton_ctx *c, const rk_newton_pr
         im->first_iteration = 1;
         im->have_prev = 0;
         im->have_step = 0;
-        int rc = rk_newton_solve(p, im->y, tol_d, s->opt.newton_max_iter, im->newton_work, converged, stats, err);
+        int rc = rk_newton_solve(p, im->y, tol_d, rk_fom_max_iter(&s->opt, 1), im->newton_work, converged, stats, err);
         account_step(im, im->y);
         if (rc || c->failure.msg[0] || !im->way || round + 1 >= RK_OBSTACLE_ROUNDS ||
             !rk_obstacle_way_round(im->way, im->y[im->n], tol_d))

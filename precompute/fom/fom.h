@@ -100,7 +100,7 @@ typedef struct {
     double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m); <= 0: default */
     double pin_stiffness;     /* reduced models only: the penalty holding prescribed vertices, in
                                * units of (lambda + 2 mu) / (rho L^2) (rom.h); <= 0: RK_ROM_PIN_STIFFNESS */
-    int newton_max_iter;
+    int newton_max_iter;      /* Newton iterations a solve may take; 0: the default (rk_fom_max_iter) */
     int nchambers;            /* pneumatic chambers under pressure (rk_chamber), full order only */
     const rk_chamber *chambers;
     int obstacle_progress;    /* moving obstacles are not unknowns of the full-order Newton: the solver
@@ -114,9 +114,25 @@ typedef struct {
  * solve then uses newton_tol * h metres). */
 #define RK_FOM_DEFAULT_TOL 1e-5
 
+/* Newton iterations a solve may take when newton_max_iter is 0. Full order (time steps, static
+ * load increments, the P2 reference): RK_FOM_DEFAULT_MAX_ITER. On contact scenes where a body
+ * balances on a curved obstacle, projected Newton creeps sideways along the barrier with full
+ * steps of nearly the same size (docs/methods.md, "Full order at the default tolerance"), and
+ * a step there took up to 205 iterations to the default tolerance (issue 34; 50 left 7 and 9 of
+ * 10 steps unconverged and mm off); steps that converge stop where they converge, so the
+ * limit costs only where 50 would have been wrong. The reduced solvers (precompute/rom, the
+ * adaptive subspace and adaptive linear ROM solves) and the assets' runtime, whose HEAD
+ * carries the limit, keep RK_REDUCED_DEFAULT_MAX_ITER: their solves are what the runtime does,
+ * and the full-order default must not change the runtime's. A scene's newton.max_iterations
+ * sets both. */
+#define RK_FOM_DEFAULT_MAX_ITER 500
+#define RK_REDUCED_DEFAULT_MAX_ITER 50
+/* o->newton_max_iter, or when it is 0 the full-order default (reduced = 0) or the reduced one. */
+int rk_fom_max_iter(const rk_fom_options *o, int reduced);
+
 /* Fills defaults: h 0.01, 100 steps, backward Euler, consistent mass, no gravity, no damping,
  * no obstacles, nothing prescribed, newton_tol 0 (= RK_FOM_DEFAULT_TOL relative, above),
- * 50 Newton iterations. */
+ * newton_max_iter 0 (rk_fom_max_iter). */
 void rk_fom_default_options(rk_fom_options *o);
 
 /* The incremental potential being minimised (fom.h, paper Eq. 2 divided by alpha h^2):

@@ -20,8 +20,8 @@ int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err)
     if (o->steps < 0) return rk_fail(err, "steps = %d must not be negative", o->steps);
     if (o->integrator != RK_BACKWARD_EULER && o->integrator != RK_BDF2)
         return rk_fail(err, "unknown integrator %d", (int)o->integrator);
-    if (o->newton_max_iter < 1)
-        return rk_fail(err, "newton_max_iter = %d must be at least 1", o->newton_max_iter);
+    if (o->newton_max_iter < 0)
+        return rk_fail(err, "newton_max_iter = %d must be at least 1 (or 0: the default)", o->newton_max_iter);
     if (!isfinite(o->newton_tol)) return rk_fail(err, "newton_tol = %g is not finite", o->newton_tol);
     if (!all_finite(o->gravity, 3)) return rk_fail(err, "gravity is not finite");
     if (!(isfinite(o->rayleigh_mass) && o->rayleigh_mass >= 0 && isfinite(o->rayleigh_stiffness) &&

@@ -97,7 +97,7 @@ int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged
     double tol_obs = AL_TOLERANCE * im->contact.opt.dhat, last = INFINITY;
     int rc = 0;
     for (int round = 0; round < (im->nobs ? AL_ROUNDS : 1) && !rc; round++) {
-        rc = rk_newton_solve(&p, im->y, tol_d, s->opt.newton_max_iter, im->newton_work, converged, &stats, err);
+        rc = rk_newton_solve(&p, im->y, tol_d, rk_fom_max_iter(&s->opt, 0), im->newton_work, converged, &stats, err);
         rk_fom_iteration_end(im);
         if (rc || !im->nobs) break;
         double r = obstacle_residual(im);

@@ -313,7 +313,7 @@ int rk_p2_fom_run(const rk_fem *fem, const rk_fom_options *opt, rk_p2_frame_fn f
         }
     double tol = opt->newton_tol;
     if (tol <= 0) tol = RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, nv);
-    int max_iter = opt->newton_max_iter > 0 ? opt->newton_max_iter : 50;
+    int max_iter = rk_fom_max_iter(opt, 0);
     if (rk_stepper_init(&st, s.n, opt->integrator, opt->h, err)) goto out;
     rk_newton_problem prob = {.n = s.n, .ctx = &s, .what = "P2 incremental potential", .energy = energy,
                               .solve = solve, .prescribed = s.prescribed};

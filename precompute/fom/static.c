@@ -81,7 +81,7 @@ static int solve(rk_fom *s, rk_error *err)
     if (rk_load_stepping(im->n, s->x, increment, &c, &converged, &used, err)) return -1;
     if (!converged)
         return rk_fail(err, "no convergence to |d|_inf <= %g m within %d Newton iterations, even in %d load increments",
-                       im->tol_static, s->opt.newton_max_iter, used);
+                       im->tol_static, rk_fom_max_iter(&s->opt, 0), used);
     memset(s->v, 0, (size_t)im->n * sizeof(double));
     return 0;
 }

@@ -317,7 +317,7 @@ static int newton(void *ctx, rk_fom *fom, const rk_fom_terms *T, double tol_d, i
         for (int i = 0; i < im->n; i++)
             if (!im->prescribed[i]) fom->x[i] = T->xt[i];
     im->first_solve = 0;
-    int rc = rk_newton_solve(&p, fom->x, tol_d, fom->opt.newton_max_iter, im->newton_work, converged, &stats, err);
+    int rc = rk_newton_solve(&p, fom->x, tol_d, rk_fom_max_iter(&fom->opt, 1), im->newton_work, converged, &stats, err);
     s->stats.newton_iterations += stats.iterations;
     fom->stats.newton_iterations += stats.iterations;
     if (im->failure.msg[0]) {

@@ -195,3 +195,11 @@ cJSON *rk_fom_report(const rk_scene_sim *sim, const rk_fom_measure *m, double se
     }
     return r;
 }
+
+void rk_unconverged_warn(FILE *f, const char *who, long unconverged, long steps)
+{
+    if (unconverged <= 0) return;
+    fprintf(f, "warning: %s: %ld of %ld steps stopped short of the Newton tolerance (at the iteration limit, or "
+            "where the line search found no decrease): their answer is not converged (unconverged_steps in the "
+            "report; newton.max_iterations raises the limit)\n", who, unconverged, steps);
+}

@@ -5,6 +5,8 @@
 #ifndef RK_PIPELINE_FOM_REPORT_H
 #define RK_PIPELINE_FOM_REPORT_H
 
+#include <stdio.h>
+
 #include "pipeline/pipeline.h"
 
 /* A timing over the run's Newton iterations: the median, the fastest and the slowest. */
@@ -39,5 +41,10 @@ void rk_fom_measure_free(rk_fom_measure *m);
  * threads, mesh.*, final.*, max_inverted_elements and, with contact, contact.*. seconds_total: the
  * command's wall time. */
 cJSON *rk_fom_report(const rk_scene_sim *sim, const rk_fom_measure *m, double seconds_total);
+
+/* Says on f that who's run (full order, a method of romkit compare) left unconverged of its steps
+ * short of the Newton tolerance: a run whose answer may be off must say so beside the report's
+ * unconverged_steps. Nothing when unconverged is 0. */
+void rk_unconverged_warn(FILE *f, const char *who, long unconverged, long steps);
 
 #endif

@@ -232,7 +232,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     m->static_time = opt->steps * opt->h;
     m->integrator = opt->integrator;
     m->is_static = opt->is_static;
-    m->newton_max_iter = opt->newton_max_iter;
+    m->newton_max_iter = rk_fom_max_iter(opt, 1); /* what the asset's HEAD carries */
     for (int v = 0; v < fem->nv; v++) m->mass += fem->vertex_mass[v];
     double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;

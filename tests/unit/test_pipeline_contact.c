@@ -44,9 +44,9 @@ static void y_range(const scene_run *r, int first, int last, double *lo, double 
 static void report(const char *name, const scene_run *r, const frame_checks *c)
 {
     const rk_contact_stats *st = rk_fom_contact_stats(&r->fom);
-    printf("# %s: %d frames, %d tets, %ld Newton iterations, pairs mean %.0f max %ld, closest %.3g m, "
-           "crossings %d, inverted %d\n",
-           name, c->frames - 1, r->sim.mesh.nt, r->fom.stats.newton_iterations,
+    printf("# %s: %d frames, %d tets, %ld Newton iterations (%ld steps unconverged), pairs mean %.0f max %ld, "
+           "closest %.3g m, crossings %d, inverted %d\n",
+           name, c->frames - 1, r->sim.mesh.nt, r->fom.stats.newton_iterations, r->fom.stats.unconverged_steps,
            st->gathers ? (double)st->pairs / (double)st->gathers : 0.0, st->max_pairs, c->min_distance,
            c->worst_intersections, c->worst_inverted);
 }

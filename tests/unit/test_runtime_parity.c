@@ -181,7 +181,10 @@ TEST(mesh_free_rkpm_beam_matches)
     CHECK_PARITY("mesh-free RKPM beam", sagging_mesh_free, 60, NULL, PARITY_TOL,
                  f.R.points.n >= 500 && f.R.model.quad.count < f.R.points.n &&
                      head_field(&f, ROMBIN_HEAD_POINTS) == (uint32_t)f.R.model.quad.count &&
-                     head_field(&f, ROMBIN_HEAD_ELEMENTS) == 0);
+                     head_field(&f, ROMBIN_HEAD_ELEMENTS) == 0 &&
+                     /* the scene sets no newton.max_iterations: the runtime keeps the reduced
+                      * solvers' limit, not full order's (fom.h, rk_fom_max_iter) */
+                     head_field(&f, ROMBIN_HEAD_NEWTON_MAX_ITER) == RK_REDUCED_DEFAULT_MAX_ITER);
 }
 
 /* The projected volume (rom.volume "projected", VPRS) through each of the runtime's three elastic
