@@ -400,9 +400,15 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
     if (m->ncolliders && isfinite(stored)) stored += rt_colliders_energy(m, q, T->friction, g, H, ld);
     if (m->surface && isfinite(stored)) stored += rt_obstacles_energy(m, q, T->friction, g, H, ld);
     if (!isfinite(stored)) return (romrt_real)INFINITY;
-    /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . q. */
+    /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . (q - q_t), their work
+     * since the step began. Against q itself the work is the constant f . q_t (gravity's whole work
+     * on the fall so far: 1.38 J on issue 30's pour at rest) plus the step's part, and in float
+     * that constant's rounding (1e-7 J) hid the line search's decreases at rest (friction's 1e-6 J
+     * an iteration), whose round-off floor (RT_ENERGY_NOISE of the magnitude) it also set: float
+     * Newton took 7.5 iterations and 10.7 halvings a step there (docs/runtime.md). A constant moves
+     * neither the gradient nor the minimum. */
     work = 0;
-    for (i = 0; i < r; i++) work += (m->f[i] + m->f_app[i] + m->pin_b[i]) * q[i];
+    for (i = 0; i < r; i++) work += (m->f[i] + m->f_app[i] + m->pin_b[i]) * (q[i] - m->qt[i]);
     if (m->A) quad += quadratic(m, m->A, 1, q, 0, g, Sd);
     quad += quadratic(m, m->M, T->w_inertia, q, m->qtilde, g, Sd);
     if (m->C) quad += quadratic(m, m->C, T->w_damping, q, m->qt, g, Sd);

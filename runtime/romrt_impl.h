@@ -342,7 +342,9 @@ typedef struct {
 
 /* Potential at q; with g (r), its gradient; with H, its Hessian (upper triangle, leading
  * dimension ld >= r). The colliders where they are now, friction when T->friction. *magnitude:
- * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. */
+ * the size of its terms, for the line search's round-off floor. +INFINITY when not finite. The
+ * loads' work counts from m->qt (the step's start), so the value is the potential less a constant
+ * of the step: only differences within one step mean anything. */
 /* Every cubature element's G_e into m->G_all (allocated at open for a basis of stored rows), from
  * m->rows: again whenever an adaptive ROM forms its rows. */
 void rt_form_element_G(romrt_model *m);
