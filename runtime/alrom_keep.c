@@ -24,9 +24,10 @@
 void rt_alrom_keep_note(romrt_model *m)
 {
     rt_alrom *al = &m->al;
-    size_t r = (size_t)m->r, R = r + (size_t)al->pairs;
+    size_t r = (size_t)m->r, R = r + (size_t)al->pairs, i, k;
     if (al->decoder) return;
-    memcpy(al->wcs_keep, al->wcs, sizeof(double) * R * r);
+    for (k = 0; k < R; k++) /* by K-space row (r contiguous): the carry's product runs along them */
+        for (i = 0; i < r; i++) al->wcs_keep[k * r + i] = al->wcs[i * R + k];
     memcpy(al->m_keep, al->M, sizeof(romrt_real) * r * r);
 }
 
@@ -38,13 +39,17 @@ int rt_alrom_keep_carry(romrt_model *m, romrt_real w_inertia)
     double s = (double)w_inertia + (al->damping > 0 ? (double)al->damping / (double)m->h : 0);
     const romrt_real *U = m->H;
     if (al->decoder || m->hessian_age < 0 || m->hessian_age >= rt_reuse_steps(m) || m->hessian_w != w_inertia) return -1;
-    for (j = 0; j < r; j++) /* X = U_old^T M U_new = (W_F C_old)^T C_new */
-        for (i = 0; i < r; i++) {
-            const double *a = al->wcs_keep + (size_t)R * (size_t)i, *b = al->cs + (size_t)R * (size_t)j;
-            double x = 0;
-            for (k = 0; k < R; k++) x += a[k] * b[k];
-            X[i + r * j] = x;
+    for (j = 0; j < r; j++) { /* X = U_old^T M U_new = (W_F C_old)^T C_new, a column at a time as
+                                * r independent sums (the compiler's vector lanes; dot products in
+                                * order would not be) */
+        const double *b = al->cs + (size_t)R * (size_t)j;
+        double *x = X + (size_t)r * (size_t)j;
+        for (i = 0; i < r; i++) x[i] = 0;
+        for (k = 0; k < R; k++) {
+            const double *a = al->wcs_keep + (size_t)r * (size_t)k, bk = b[k];
+            for (i = 0; i < r; i++) x[i] += a[i] * bk;
         }
+    }
     for (k = 0; k < r * r; k++) F[k] = (double)al->m_keep[k];
     if (rt_cholesky_wide(r, F)) return -1;
     memcpy(T, X, sizeof(double) * (size_t)r * (size_t)r); /* T = M_old^-1 X */

@@ -193,8 +193,8 @@ typedef struct {
      * rows that a step reads (rt_alrom_used: the cubature elements' and the contacts' vertices,
      * ns of them) and the ring's entries on them (3 ns x (m + 1), rt_alrom_ds) */
     double *c, *w, *c_prev, *w_prev, *gram_wfree, *load_c, *wdb, *cs, *wcs, *ds;
-    /* a Newton matrix kept across steps (alrom_keep.c): the W_F C and M_r of the step whose
-     * coordinates m->H's factor is in, M_r's factor (each step's, for its prediction: m->H is the
+    /* a Newton matrix kept across steps (alrom_keep.c): the W_F C (by K-space row: R x r, a row's
+     * r contiguous) and M_r of the step whose coordinates m->H's factor is in, M_r's factor (each step's, for its prediction: m->H is the
      * kept matrix's) and 4 r x r of scratch */
     double *wcs_keep, *keep_work;
     romrt_real *m_keep, *m_fac;
