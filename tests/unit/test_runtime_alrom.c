@@ -262,6 +262,8 @@ TEST(crom_decoder_takes_the_precompute_steps)
     printf("# CROM decoder: relative difference %.3g over 10 steps (tol %g), history blended in %ld\n", rel, PARITY_TOL,
            f.s.stats.history_used);
     CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+    /* a CROM basis has no K-space to carry a kept Newton matrix in (runtime/alrom_keep.c) */
+    CHECK(romrt_set_hessian_reuse(f.m, 10, NULL) == ROMRT_E_UNSUPPORTED, "a CROM model keeps no Newton matrix");
     fixture_close(&f);
 }
 
