@@ -92,10 +92,10 @@ static romrt_status reduced_terms(romrt_model *m, const double *xtilde, romrt_er
     for (j = 0; j < r; j++)
         for (k = 0; k < j; k++) al->M[j + (size_t)r * k] = al->M[k + (size_t)r * j];
     for (k = 0; k < r * r; k++) al->C[k] = al->damping * al->M[k];
-    memcpy(m->H, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r);
-    if (rt_cholesky(r, m->H))
+    memcpy(al->m_fac, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r); /* (m->H: a kept Newton matrix) */
+    if (rt_cholesky(r, al->m_fac))
         return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_VMSS, "the step basis has no mass on some direction (U^T M U is singular)");
-    rt_cholesky_solve(r, m->H, b);
+    rt_cholesky_solve(r, al->m_fac, b);
     return ROMRT_OK;
 }
 
@@ -139,10 +139,10 @@ static romrt_status reduced_terms_k(romrt_model *m, int bdf2, romrt_error *err)
         }
     }
     for (k = 0; k < r * r; k++) al->C[k] = al->damping * al->M[k];
-    memcpy(m->H, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r);
-    if (rt_cholesky(r, m->H))
+    memcpy(al->m_fac, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r); /* (m->H: a kept Newton matrix) */
+    if (rt_cholesky(r, al->m_fac))
         return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_VMSS, "the step basis has no mass on some direction (U^T M U is singular)");
-    rt_cholesky_solve(r, m->H, b);
+    rt_cholesky_solve(r, al->m_fac, b);
     return ROMRT_OK;
 }
 
@@ -241,6 +241,8 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     *w_inertia = bdf2 ? RT_K(9.0) / (RT_K(4.0) * h * h) : 1 / (h * h);
     if (!al->decoder) {
         if ((st = reduced_terms_k(m, bdf2, err))) return st;
+        /* a Newton matrix kept from an earlier step, into this step's basis (alrom_keep.c) */
+        if (m->hessian_age >= 0 && rt_alrom_keep_carry(m, *w_inertia)) m->hessian_age = -1;
     } else {
         for (i = 0; i < n; i++)
             xtilde[i] = bdf2 ? (4 * al->u_t[i] - al->u_prev[i]) / 3 + 2 * (double)h / 9 * (4 * al->v[i] - al->v_prev[i])
@@ -288,6 +290,7 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
     memcpy(al->u_t, al->u_new, sizeof(double) * (size_t)n);
     memcpy(al->u_ref, al->u_new, sizeof(double) * (size_t)n);
     reference_positions(m);
+    rt_alrom_keep_note(m); /* the coordinates a kept Newton matrix is in */
     al->head = (al->head + 1) % (al->m + 1);
     if (al->count < al->m) al->count++;
     for (i = 0; i < r; i++) m->q[i] = 0;
@@ -329,6 +332,7 @@ void rt_alrom_abort(romrt_model *m)
     memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
     reference_positions(m);
     for (k = 0; k < m->r; k++) m->q[k] = 0;
+    m->hessian_age = -1; /* a kept Newton matrix may be in the failed step's basis */
 }
 
 void rt_alrom_reset(romrt_model *m)

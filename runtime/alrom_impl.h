@@ -58,4 +58,10 @@ romrt_status rt_alrom_encode(romrt_model *m, romrt_error *err);
  * the decoder's basis there, the history written and, when it has rank r, the Grassmann point. */
 romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err);
 
+/* A Newton matrix kept across steps (alrom_keep.c): the step's W_F C and M_r noted at its commit,
+ * and m->H's kept factor carried into the new step's basis (0), or not (-1: none to carry, too old,
+ * another inertia weight, or one that would not factor; a fresh one is built). */
+void rt_alrom_keep_note(romrt_model *m);
+int rt_alrom_keep_carry(romrt_model *m, romrt_real w_inertia);
+
 #endif

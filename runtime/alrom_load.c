@@ -124,6 +124,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch(L, n * r, &al->rows);
     rt_scratch(L, r * r, &al->M);
     rt_scratch(L, r * r, &al->C);
+    rt_scratch(L, r * r, &al->m_fac);
     rt_scratch(L, r, &al->f);
     rt_scratch(L, 9 * (uint64_t)m->ne, &al->Hd0);
     if (al->decoder) rt_scratch_wide(L, n * r, &al->U); /* the quadratic's rows are formed where used */
@@ -148,6 +149,9 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         rt_scratch_wide(L, R * (uint64_t)(al->m + 1), &al->wdb);
         rt_scratch_wide(L, R * r, &al->cs);
         rt_scratch_wide(L, R * r, &al->wcs);
+        rt_scratch_wide(L, R * r, &al->wcs_keep);
+        rt_scratch_wide(L, 4 * r * r, &al->keep_work);
+        rt_scratch(L, r * r, &al->m_keep);
         rt_scratch_u32(L, 2 * nv, &al->sv);
         rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->ds); /* 3 ns <= n per slot */
     }

@@ -230,8 +230,11 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romr
  * same tolerance); fresh for an asset with a collision surface (obstacles other than planes,
  * several objects, self-contact), where a kept matrix took more iterations and was no faster; and
  * fresh in the fixed-cost mode. romrt_step_info's hessian_reuse reads the mode in force. k = 1
- * gives the reduced simulator's own iterates everywhere. ROMRT_E_ARGUMENT for k above 1000,
- * ROMRT_E_UNSUPPORTED for a Koopman or adaptive model. */
+ * gives the reduced simulator's own iterates everywhere. An adaptive model with the quadratic
+ * decoder keeps its matrix too, with the same default: its basis moves every step, and the kept
+ * matrix is carried into each new basis (the stiffness projected onto it, the inertia exact;
+ * runtime/alrom_keep.c) while the gradient is the new basis' own. ROMRT_E_ARGUMENT for k above 1000,
+ * ROMRT_E_UNSUPPORTED for a Koopman model or an adaptive one with a CROM decoder. */
 romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *err);
 
 /* Back to the start at t = 0: the rest shape, moving with the asset's initial velocity (VEL0: an

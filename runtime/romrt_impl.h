@@ -193,6 +193,11 @@ typedef struct {
      * rows that a step reads (rt_alrom_used: the cubature elements' and the contacts' vertices,
      * ns of them) and the ring's entries on them (3 ns x (m + 1), rt_alrom_ds) */
     double *c, *w, *c_prev, *w_prev, *gram_wfree, *load_c, *wdb, *cs, *wcs, *ds;
+    /* a Newton matrix kept across steps (alrom_keep.c): the W_F C (by K-space row: R x r, a row's
+     * r contiguous) and M_r of the step whose coordinates m->H's factor is in, M_r's factor (each step's, for its prediction: m->H is the
+     * kept matrix's) and 4 r x r of scratch */
+    double *wcs_keep, *keep_work;
+    romrt_real *m_keep, *m_fac;
     uint32_t *sv, *s_of;       /* ns used vertices; nv: each vertex's index there, or ROMBIN_NO_MOTION */
     int ns, ns_base, ns_on;    /* the first ns_base always used, the first ns_on now (the rest: CVTX's) */
     double b_sum, x0_max;      /* max over rows of sum |B_i|, over shown coordinates of |X0|: x_bound */

@@ -148,7 +148,7 @@ static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y
 /* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
 int rt_reuse_steps(const romrt_model *m)
 {
-    if (m->kind != ROMRT_KIND_REDUCED || m->alrom) return 0;
+    if (m->kind != ROMRT_KIND_REDUCED || (m->alrom && m->al.decoder)) return 0;
     if (m->hessian_reuse_set) return m->hessian_reuse;
     return m->fixed_iterations || m->surface ? 0 : DEFAULT_REUSE;
 }
@@ -197,7 +197,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
     if (indefinite && rt_cholesky(n, m->H) && shifted_factor(m, T, y, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
-    if (m->nmoving == 0 && !m->obs_joint && !m->alrom) {
+    if (m->nmoving == 0 && !m->obs_joint && !(m->alrom && m->al.decoder)) {
         m->hessian_age = 0;
         m->hessian_w = T->w_inertia;
     }
@@ -451,9 +451,9 @@ romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: no model (NULL)");
     if (m->kind != ROMRT_KIND_REDUCED)
         return rt_fail(err, ROMRT_E_UNSUPPORTED, 0, "romrt_set_hessian_reuse: a Koopman model has no Newton solve");
-    if (m->alrom)
+    if (m->alrom && m->al.decoder)
         return rt_fail(err, ROMRT_E_UNSUPPORTED, 0,
-                       "romrt_set_hessian_reuse: an adaptive model's basis changes every step, and its Newton matrix with it");
+                       "romrt_set_hessian_reuse: a CROM decoder's basis has no K-space to carry a Newton matrix in");
     if (steps > ROMRT_MAX_NEWTON)
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: steps must be 0 to 1000");
     m->hessian_reuse = (int)steps;

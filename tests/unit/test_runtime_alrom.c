@@ -262,6 +262,8 @@ TEST(crom_decoder_takes_the_precompute_steps)
     printf("# CROM decoder: relative difference %.3g over 10 steps (tol %g), history blended in %ld\n", rel, PARITY_TOL,
            f.s.stats.history_used);
     CHECK(rel <= PARITY_TOL, "relative difference %.3g above %g", rel, PARITY_TOL);
+    /* a CROM basis has no K-space to carry a kept Newton matrix in (runtime/alrom_keep.c) */
+    CHECK(romrt_set_hessian_reuse(f.m, 10, NULL) == ROMRT_E_UNSUPPORTED, "a CROM model keeps no Newton matrix");
     fixture_close(&f);
 }
 
@@ -389,6 +391,65 @@ TEST(push_reset_and_refusals)
     fixture_close(&f);
 }
 
+/* The Newton matrix kept across steps in the moving basis (runtime/alrom_keep.c: carried into each
+ * new basis by the M-orthogonal projection, the inertia exact), under the default a fixed basis
+ * gets (up to 10 steps): the same steps to the solve's tolerance (1e-9 here; the gradient is the
+ * new basis' own at every iteration) as a fresh matrix at every iteration, with far fewer
+ * factorizations. In double one matrix serves the 10 steps (a carry that got the coordinates
+ * wrong would be rebuilt at once, at least once a step); in float the floor's rule (step.c) ends
+ * each step on a fresh matrix, and the carried one serves the next step's first iterations. Over
+ * 10 steps, as the parity test above: the blended steps' growth (up to 1.02 a step) and the
+ * history's rank decisions let two runs that differ by round-off part further in longer ones. */
+static void steps_counted(romrt_model *m, int steps, long *iterations, long *factorizations, romrt_real *xyz)
+{
+    romrt_step_info info;
+    info.size = sizeof info;
+    romrt_error rerr;
+    *iterations = *factorizations = 0;
+    for (int k = 0; k < steps; k++) {
+        CHECK(romrt_step(m, &rerr) == ROMRT_OK, "step %d: %s", k, rerr.message);
+        romrt_last_step(m, &info, NULL);
+        *iterations += (long)info.newton_iterations;
+        *factorizations += (long)info.factorizations;
+    }
+    romrt_positions(m, xyz, 3 * (size_t)(romrt_shown_count(m)), 3, NULL);
+}
+
+TEST(kept_newton_matrix_meets_the_same_tolerance)
+{
+    rk_error err = {{0}};
+    fixture f;
+    romrt_step_info info;
+    info.size = sizeof info;
+    CHECK_OK(fixture_open(&f, bar("all", 1), &err));
+    int n = romrt_shown_count(f.m);
+    romrt_real *a = malloc(sizeof(romrt_real) * 3 * n), *b = malloc(sizeof(romrt_real) * 3 * n);
+    long it_fresh, fact_fresh, it_kept, fact_kept;
+    romrt_last_step(f.m, &info, NULL);
+    CHECK(info.hessian_reuse == 10, "the adaptive model's default reuse is %zu steps, not 10", info.hessian_reuse);
+    CHECK(romrt_set_hessian_reuse(f.m, 1, NULL) == ROMRT_OK, "reuse 1");
+    steps_counted(f.m, 10, &it_fresh, &fact_fresh, a);
+    romrt_reset(f.m, NULL);
+    CHECK(romrt_set_hessian_reuse(f.m, 10, NULL) == ROMRT_OK, "reuse 10");
+    steps_counted(f.m, 10, &it_kept, &fact_kept, b);
+    double apart = 0, size = 0;
+    for (int i = 0; i < 3 * n; i++) {
+        apart = fmax(apart, fabs((double)a[i] - b[i]));
+        size = fmax(size, fabs((double)a[i]));
+    }
+    printf("# kept Newton matrix, 10 steps: %ld iterations, %ld factorizations (fresh: %ld, %ld); %.3g m apart "
+           "(largest coordinate %.3g)\n", it_kept, fact_kept, it_fresh, fact_fresh, apart, size);
+#ifdef ROMRT_DOUBLE
+    CHECK(fact_kept <= 5, "the kept matrix was rebuilt %ld times in 10 steps", fact_kept);
+#endif
+    CHECK(fact_kept * 2 <= fact_fresh, "the kept matrix served little: %ld factorizations against %ld", fact_kept,
+          fact_fresh);
+    CHECK(apart <= PARITY_TOL * size, "the kept matrix's steps land %g m from the fresh ones", apart);
+    free(a);
+    free(b);
+    fixture_close(&f);
+}
+
 int main(void)
 {
     RUN(every_vertex_stored_takes_the_precompute_steps);
@@ -397,5 +458,6 @@ int main(void)
     RUN(a_collider_holds_the_adaptive_bar);
     RUN(surface_and_cubature_vertices_as_accurate);
     RUN(push_reset_and_refusals);
+    RUN(kept_newton_matrix_meets_the_same_tolerance);
     return test_finish();
 }
