@@ -121,14 +121,7 @@ int rk_rom_collider_obstacles(rk_rom *s, int slot, const rk_collider *c, rk_erro
         return rk_fail(err, "collider %d would touch or cross the body's surface: place it clear of the body, then "
                        "move it", slot);
     }
-    s->ncolliders += !k->active;
-    k->active = 1;
-    k->exact = 1;
-    k->kind = c->kind;
-    memcpy(k->now, c->shape, sizeof k->now);
-    memcpy(k->target, c->shape, sizeof k->now);
-    memcpy(k->start, c->shape, sizeof k->now);
-    memcpy(k->lag, c->shape, sizeof k->now);
+    rk_rom_collider_take(s, slot, c, 1);
     return 0;
 }
 

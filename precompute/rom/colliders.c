@@ -56,15 +56,21 @@ int rk_rom_set_collider(rk_rom *s, int slot, const rk_collider *c, rk_error *err
      * plane stays on the vertices (exact for a plane), as in the runtime */
     int exact = m->surface && c->kind != RK_COLLIDER_PLANE;
     if ((exact || (k->active && k->exact)) && rk_rom_collider_obstacles(s, slot, exact ? c : NULL, err)) return -1;
-    if (exact) return 0;
+    if (!exact) rk_rom_collider_take(s, slot, c, 0);
+    return 0;
+}
+
+void rk_rom_collider_take(rk_rom *s, int slot, const rk_collider *c, int exact)
+{
+    rk_rom_collider *k = &s->colliders[slot];
     s->ncolliders += !k->active;
     k->active = 1;
+    k->exact = exact;
     k->kind = c->kind;
     memcpy(k->now, c->shape, sizeof k->now);
     memcpy(k->target, c->shape, sizeof k->now);
     memcpy(k->start, c->shape, sizeof k->now);
     memcpy(k->lag, c->shape, sizeof k->now);
-    return 0;
 }
 
 int rk_rom_remove_collider(rk_rom *s, int slot, rk_error *err)

@@ -80,6 +80,8 @@ int rk_rom_colliders_solve(rk_rom *s, const rk_rom_terms *T, int *converged, rk_
  * slot's collider set to c (NULL: gone) among the contact model's obstacles, placed clear of the
  * body or refused with nothing changed; after a step, the ones that arrived at their poses. */
 int rk_rom_collider_obstacles(rk_rom *s, int slot, const rk_collider *c, rk_error *err);
+/* Slot `slot` now holds c, standing at its pose (exact: as an obstacle; colliders.c). */
+void rk_rom_collider_take(rk_rom *s, int slot, const rk_collider *c, int exact);
 void rk_rom_collider_obstacles_arrived(rk_rom *s);
 void rk_rom_colliders_friction_start(rk_rom *s);
 void rk_rom_colliders_friction_lag(rk_rom *s);
