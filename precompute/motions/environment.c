@@ -13,6 +13,10 @@
 #define CLEARANCE 0.25   /* L: every obstacle this far from the object's box at the start */
 #define DRUM_SIDES 8
 
+double rk_motions_peg_spacing(const rk_motions_frame *F) { return PEG_SPACING * F->L; }
+
+double rk_motions_drum_radius(const rk_motions_frame *F) { return 0.5 * F->D + CLEARANCE * F->L; }
+
 void rk_motions_point(const rk_motions_frame *F, double alpha, double upsilon, double beta, double out[3])
 {
     for (int k = 0; k < 3; k++) out[k] = F->c[k] + alpha * F->a[k] + upsilon * F->u[k] + beta * F->b[k];
@@ -32,7 +36,7 @@ static void add_plane(cJSON *arr, const rk_motions_frame *F, double alpha, doubl
 
 cJSON *rk_motions_board(const rk_motions_frame *F, rk_motions_report *rep)
 {
-    const double L = F->L, r = PEG_RADIUS * L, s = PEG_SPACING * L, half = BOARD_HALF * s;
+    const double L = F->L, r = PEG_RADIUS * L, s = rk_motions_peg_spacing(F), half = BOARD_HALF * s;
     const double depth = 0.5 * F->ext[2] + CLEARANCE * L; /* the front and back walls, from c */
     cJSON *arr = cJSON_CreateArray();
     double row = 0;
@@ -66,7 +70,7 @@ cJSON *rk_motions_board(const rk_motions_frame *F, rk_motions_report *rep)
 int rk_motions_drum_surface(const rk_motions_frame *F, rk_surface *s, rk_motions_report *rep, rk_error *err)
 {
     const int n = DRUM_SIDES;
-    const double inner = 0.5 * F->D + CLEARANCE * F->L; /* the object turns over inside */
+    const double inner = rk_motions_drum_radius(F);
     const double corner = inner / cos(M_PI / n), half = inner;
     s->nv = 2 * n + 2;
     s->nf = 4 * n;

@@ -58,9 +58,9 @@ static void measure(const double *X, int n, const double g[3], rk_motions_frame 
 }
 
 /* The template checked and its object measured (built as every command builds it). */
-static int read_template(const char *path, rk_scene *sc, rk_motions_frame *F, rk_error *err)
+static int read_template(const char *text, const char *path, rk_scene *sc, rk_motions_frame *F, rk_error *err)
 {
-    if (rk_scene_load(path, sc, err)) return -1;
+    if (rk_scene_parse(text, path, sc, err)) return -1;
     int rc = -1;
     rk_scene_sim sim;
     if (sc->nobjects != 1) {
@@ -139,15 +139,14 @@ static void draw(uint64_t *state, const rk_motions_frame *F, const rk_motions_op
     double speed = (o->speed > 0 ? o->speed : RK_MOTIONS_SPEED) * rk_uniform(state);
     memset(d, 0, sizeof *d);
     if (o->kind == RK_MOTIONS_PACHINKO) {
-        d->offset = (rk_uniform(state) - 0.5) * 2.4 * F->L;
+        d->offset = (rk_uniform(state) - 0.5) * rk_motions_peg_spacing(F);
         double th = M_PI * (1 + rk_uniform(state)); /* sin <= 0: not upward */
         for (int k = 0; k < 3; k++) d->velocity[k] = speed * (cos(th) * F->a[k] + sin(th) * F->u[k]);
     } else {
         double z = 2 * rk_uniform(state) - 1, ph = 2 * M_PI * rk_uniform(state), r = sqrt(1 - z * z);
         double dir[3] = {r * cos(ph), r * sin(ph), z};
         for (int k = 0; k < 3; k++) d->velocity[k] = speed * dir[k];
-        double radius = 0.5 * F->D + 0.25 * F->L; /* the drum's inner radius (environment.c) */
-        double rate = (0.3 + 0.4 * rk_uniform(state)) * sqrt(F->g / radius);
+        double rate = (0.3 + 0.4 * rk_uniform(state)) * sqrt(F->g / rk_motions_drum_radius(F));
         d->spin = (rk_uniform(state) < 0.5 ? -1 : 1) * rate * 180 / M_PI;
     }
 }
@@ -169,9 +168,13 @@ int rk_motions_write(const char *template_path, const rk_motions_options *o, con
     memset(rep, 0, sizeof *rep);
     rk_scene sc;
     rk_motions_frame F;
-    if (read_template(template_path, &sc, &F, err)) return -1;
     char *text = rk_json_file_text(template_path, "scene", err);
-    cJSON *base = text ? base_scene(text, template_path, &sc, o, &rep->replaced, err) : NULL;
+    if (!text) return -1;
+    if (read_template(text, template_path, &sc, &F, err)) {
+        free(text);
+        return -1;
+    }
+    cJSON *base = base_scene(text, template_path, &sc, o, &rep->replaced, err);
     free(text);
     rk_scene_free(&sc);
     if (!base) return -1;
@@ -207,15 +210,15 @@ int rk_motions_write(const char *template_path, const rk_motions_options *o, con
         char path[PATH_MAX];
         snprintf(path, sizeof path, "%s/%s_%d.json", dir, rk_motions_kind_name(o->kind), k);
         rk_scene check;
-        int bad = !out || rk_scene_parse(out, path, &check, err);
+        int bad = 1;
+        if (!out) rk_fail(err, "out of memory formatting %s", path);
+        else if (rk_scene_parse(out, path, &check, err)) rk_error_prefix(err, "the scene written would not read (a bug)");
+        else bad = 0, rk_scene_free(&check);
         free(out);
         if (bad) {
-            if (!out) rk_fail(err, "out of memory formatting %s", path);
-            else rk_error_prefix(err, "the scene written would not read (a bug)");
             cJSON_Delete(board);
             goto done;
         }
-        rk_scene_free(&check);
     }
     cJSON_Delete(board);
 

@@ -18,6 +18,11 @@ typedef struct {
     double g;               /* |gravity| */
 } rk_motions_frame;
 
+/* The pegs' spacing along the board (m): a draw starts the object within half of it of the middle. */
+double rk_motions_peg_spacing(const rk_motions_frame *F);
+/* The drum's inner radius (m): the object's half diagonal and a clearance, so it can turn over. */
+double rk_motions_drum_radius(const rk_motions_frame *F);
+
 /* c + alpha a + upsilon u + beta b */
 void rk_motions_point(const rk_motions_frame *F, double alpha, double upsilon, double beta, double out[3]);
 
