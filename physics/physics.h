@@ -107,6 +107,9 @@ typedef enum { RK_COLLIDER_PLANE = 0, RK_COLLIDER_SPHERE = 1, RK_COLLIDER_CAPSUL
  * axis a): the scene's box obstacles (precompute/contact/collision.c), the app's boxes on the
  * exact path in the reduced simulator (the same code) and in the runtime (shape_collider.c). */
 #define RK_BOX_TRIANGLES {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5}
+/* The most vertices an app collider brings as an obstacle: a box's 8 corners (a sphere or capsule
+ * brings 1 or 2, a plane none). */
+#define RK_COLLIDER_MAX_VERTICES 8
 /* Collider slots (the runtime's default ROMRT_MAX_COLLIDERS), and the pull of a moved collider
  * toward where the app put it, over the whole mass's inertia along its path (rom.h). */
 #define RK_MAX_COLLIDERS 8

@@ -145,10 +145,14 @@ static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y
  * fixed-cost mode, whose steps nothing checks, so a kept matrix would only move its answer. */
 #define DEFAULT_REUSE 10
 
+/* Whether the model's basis comes from a CROM decoder: a basis with no K-space to carry a Newton
+ * matrix from one step's basis into the next (alrom_keep.c), so its matrix is never kept. */
+static int crom_basis(const romrt_model *m) { return m->alrom && m->al.decoder; }
+
 /* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
 int rt_reuse_steps(const romrt_model *m)
 {
-    if (m->kind != ROMRT_KIND_REDUCED || (m->alrom && m->al.decoder)) return 0;
+    if (m->kind != ROMRT_KIND_REDUCED || crom_basis(m)) return 0;
     if (m->hessian_reuse_set) return m->hessian_reuse;
     return m->fixed_iterations || m->surface ? 0 : DEFAULT_REUSE;
 }
@@ -197,7 +201,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
     if (indefinite && rt_cholesky(n, m->H) && shifted_factor(m, T, y, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
-    if (m->nmoving == 0 && !m->obs_joint && !(m->alrom && m->al.decoder)) {
+    if (m->nmoving == 0 && !m->obs_joint && !crom_basis(m)) {
         m->hessian_age = 0;
         m->hessian_w = T->w_inertia;
     }
@@ -451,7 +455,7 @@ romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *
     if (!m) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: no model (NULL)");
     if (m->kind != ROMRT_KIND_REDUCED)
         return rt_fail(err, ROMRT_E_UNSUPPORTED, 0, "romrt_set_hessian_reuse: a Koopman model has no Newton solve");
-    if (m->alrom && m->al.decoder)
+    if (crom_basis(m))
         return rt_fail(err, ROMRT_E_UNSUPPORTED, 0,
                        "romrt_set_hessian_reuse: a CROM decoder's basis has no K-space to carry a Newton matrix in");
     if (steps > ROMRT_MAX_NEWTON)

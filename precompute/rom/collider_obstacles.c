@@ -98,7 +98,7 @@ int rk_rom_collider_obstacles(rk_rom *s, int slot, const rk_collider *c, rk_erro
     rk_rom_collider *k = &s->colliders[slot];
     /* what the slot was, to go back to: its collider where it was due, its vertices where they stand */
     rk_collider old = {.kind = k->kind};
-    double old_ox[3 * 8];
+    double old_ox[3 * RK_COLLIDER_MAX_VERTICES];
     int was_exact = k->active && k->exact, nv = 0, first = was_exact ? vertices_of(con, k->obstacle, &nv) : -1;
     memcpy(old.shape, k->target, sizeof old.shape);
     if (first >= 0) memcpy(old_ox, &con->ox[3 * first], sizeof(double) * 3 * (size_t)nv);
@@ -128,7 +128,7 @@ int rk_rom_collider_obstacles(rk_rom *s, int slot, const rk_collider *c, rk_erro
 void rk_rom_collider_obstacles_arrived(rk_rom *s)
 {
     rk_contact *con = &s->model->contact;
-    double at[3 * 8];
+    double at[3 * RK_COLLIDER_MAX_VERTICES];
     for (int k = 0; k < RK_MAX_COLLIDERS; k++) {
         rk_rom_collider *kc = &s->colliders[k];
         int nv, first;

@@ -27,9 +27,10 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->xs = rk_calloc(n3, sizeof(double), err);
     s->xl = rk_calloc(n3, sizeof(double), err);
     s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
-    /* obstacle scratch for the scene's and, on a collision surface, the app's (8 vertices at most:
-     * a box; collider_obstacles.c) */
-    size_t onv = m->has_contact ? (size_t)m->contact.onv + (m->surface ? 8 * RK_MAX_COLLIDERS : 0) : 0;
+    /* obstacle scratch for the scene's and, on a collision surface, the app's (collider_obstacles.c) */
+    size_t onv = m->has_contact
+                     ? (size_t)m->contact.onv + (m->surface ? RK_COLLIDER_MAX_VERTICES * RK_MAX_COLLIDERS : 0)
+                     : 0;
     s->odx = rk_calloc(3 * onv + 1, sizeof(double), err);
     s->ogx = rk_calloc(3 * onv + 1, sizeof(double), err);
     if (!s->q || !s->v || !s->work || !s->x || !s->dx || !s->gx || !s->xs || !s->xl || !s->jb || !s->odx || !s->ogx ||
