@@ -171,7 +171,7 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
         pin->motion.verts = NULL;
         pin->T = rk_calloc((size_t)r * 12, sizeof(double), err);
         if (!pin->T) return -1;
-        for (int k = 0; k < p->count; k++) {
+        for (int k = 0; k < p->count && g != opt->lift_group - 1; k++) { /* (the lifted group: no penalty) */
             int v = p->verts[k];
             if (v < 0 || v >= fem->nv)
                 return rk_fail(err, "prescribed group %d: vertex %d out of range (the mesh has %d)", g, v, fem->nv);
@@ -195,6 +195,38 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     for (int j = 0; j < r; j++) /* dsyr filled the upper triangle */
         for (int i = j + 1; i < r; i++) m->A[i + (size_t)r * j] = m->A[j + (size_t)r * i];
     return 0;
+}
+
+/* The lifting handle (rom.h): a moving group, a handle among the columns, and nothing the lifted
+ * coordinates would have to give way to (contact moves the body by its barrier alone). */
+static int set_lift(rk_rom_model *m, const rk_fom_options *opt, int r, rk_error *err)
+{
+    if (opt->lift_handle == 0 && opt->lift_group == 0) return 0;
+    int g = opt->lift_group - 1, h = opt->lift_handle - 1;
+    if (g < 0 || g >= opt->nprescribed || opt->prescribed[g].kind == RK_MOTION_FIXED)
+        return rk_fail(err, "the lifted group %d is not a moving prescribed group (%d groups)", g, opt->nprescribed);
+    if (h < 0 || 12 * (h + 1) > r || r % 12)
+        return rk_fail(err, "the lifting handle %d is not a skinning handle of the %d columns", h, r);
+    if (m->has_contact)
+        return rk_fail(err, "a lifted moving group (clamp \"lifted\") with contact: not yet (the prescribed "
+                       "coordinates cannot give way to the barrier); use clamp \"dirichlet\"");
+    m->lift_handle = h + 1;
+    m->lift_motion = opt->prescribed[g];
+    m->lift_motion.verts = NULL;
+    m->lift_motion.count = 0;
+    return 0;
+}
+
+void rk_rom_lift(const rk_rom_model *m, double t, double *q)
+{
+    if (!m->lift_handle) return;
+    double R[9], shift[3], *ql = q + 12 * (size_t)(m->lift_handle - 1);
+    rk_prescribed_transform(&m->lift_motion, t, R, shift);
+    /* column 12 j + 4 a + b of rk_skinning_to_U moves x_a by w_j X_b (b < 3) or w_j (b = 3) */
+    for (int a = 0; a < 3; a++) {
+        for (int b = 0; b < 3; b++) ql[4 * a + b] = R[3 * a + b] - (a == b);
+        ql[4 * a + 3] = shift[a];
+    }
 }
 
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
@@ -237,7 +269,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;
     if (build_matrices(m, fem, opt, U, points, err) || build_pins(m, fem, opt, U, points, err) ||
-        rk_rom_contact_init(m, fem, opt, U, err)) {
+        rk_rom_contact_init(m, fem, opt, U, err) || set_lift(m, opt, r, err)) {
         rk_rom_model_free(m);
         return rk_error_prefix(err, "reduced model");
     }

@@ -62,6 +62,7 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
         s->v[i] = v ? v[i] : 0;
     }
     s->t = t;
+    rk_rom_lift(s->model, t, s->q);
     rk_stepper_forget(&s->stepper);
     if (s->model->has_contact) rk_contact_set_time(&s->model->contact, t);
 }
@@ -153,6 +154,7 @@ static int increment(void *ctx, double lambda, double *q, int *converged, rk_err
     c->last_lambda = lambda;
     c->T.load = lambda;
     rk_rom_pin_target(m, lambda * m->static_time, c->pin);
+    rk_rom_lift(m, lambda * m->static_time, c->s->q);
     step_solve sv = {c->s, &c->T, 1};
     int rc = m->has_contact ? rk_contact_advance(&sv, lambda * m->static_time, obstacle_fraction, move_and_solve, err)
                             : move_and_solve(&sv, 0, 1, err);
@@ -195,6 +197,7 @@ static int dynamic_step(rk_rom *s, rk_error *err)
         *err = ctx.failure;
         return -1;
     }
+    rk_rom_lift(m, s->t + m->h, s->q); /* the moving group where it is due, before Newton moves the rest */
     step_solve c = {s, &T, 1};
     /* the app's colliders to where it put them, the body pushed ahead of them in the same solve */
     if (rk_rom_colliders_pending(s) && rk_rom_colliders_solve(s, &T, &c.converged, err)) return -1;
