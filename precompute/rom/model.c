@@ -214,7 +214,44 @@ static int set_lift(rk_rom_model *m, const rk_fom_options *opt, int r, rk_error 
     m->lift_motion = opt->prescribed[g];
     m->lift_motion.verts = NULL;
     m->lift_motion.count = 0;
-    return 0;
+    /* lift_fix: the M-orthogonal projection with the lifted coordinates given is the free one
+     * corrected by -P_ff^-1 P_fL dq_L; P is the projection's mass (rk_rom_project's factor) */
+    int nf = r - 12, l0 = 12 * h;
+    double *P = rk_calloc((size_t)r * r, sizeof(double), err), *Pff = rk_calloc((size_t)nf * nf + 1, sizeof(double), err);
+    m->lift_fix = rk_calloc((size_t)r * 12, sizeof(double), err);
+    int rc = -1;
+    if (!P || !Pff || !m->lift_fix) goto out;
+    if (m->M_proj_chol) /* P = R^T R from its upper factor */
+        cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, r, r, 1.0, m->M_proj_chol, r, 0.0, P, r);
+    else
+        memcpy(P, m->M, sizeof(double) * r * r);
+    for (int j = 0; j < r; j++) /* both triangles */
+        for (int i = j + 1; i < r; i++) P[i + (size_t)r * j] = P[j + (size_t)r * i];
+    double *B = rk_calloc((size_t)nf * 12 + 1, sizeof(double), err);
+    if (!B) goto out;
+    for (int j = 0, jj = 0; j < r; j++) {
+        if (j >= l0 && j < l0 + 12) continue;
+        for (int i = 0, ii = 0; i < r; i++) {
+            if (i >= l0 && i < l0 + 12) continue;
+            Pff[ii++ + (size_t)nf * jj] = P[i + (size_t)r * j];
+        }
+        for (int c = 0; c < 12; c++) B[jj + (size_t)nf * c] = -P[j + (size_t)r * (l0 + c)];
+        jj++;
+    }
+    if (nf > 0 && LAPACKE_dposv(LAPACK_COL_MAJOR, 'U', nf, 12, Pff, nf, B, nf) != 0) {
+        free(B);
+        rk_fail(err, "the lifting handle: the other coordinates' mass is singular");
+        goto out;
+    }
+    for (int i = 0, ii = 0; i < r; i++)
+        if (i < l0 || i >= l0 + 12)
+            for (int c = 0, k = ii++; c < 12; c++) m->lift_fix[i + (size_t)r * c] = B[k + (size_t)nf * c];
+    free(B);
+    rc = 0;
+out:
+    free(P);
+    free(Pff);
+    return rc;
 }
 
 void rk_rom_lift(const rk_rom_model *m, double t, double *q)
@@ -281,6 +318,7 @@ void rk_rom_model_free(rk_rom_model *m)
     free(m->M);
     free(m->M_chol);
     free(m->M_proj_chol);
+    free(m->lift_fix);
     free(m->C);
     free(m->f);
     free(m->A);

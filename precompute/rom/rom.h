@@ -66,6 +66,9 @@ typedef struct {
      * of every Newton step (zero gradient, identity rows of the Hessian); 0: none */
     int lift_handle;
     rk_prescribed lift_motion; /* verts not used */
+    double *lift_fix;          /* r x 12: -P_ff^-1 P_fL (P the projection's mass, f the other coordinates):
+                                * how a projected state's other coordinates follow when its lifted ones
+                                * are set to their prescribed values (rk_rom_reset) */
     /* The collision vertices (the boundary: what the scene's contact and an app's colliders act
      * on), always, and their rows; the contact model when the scene has something to collide. */
     int ncv, *cv;              /* ascending mesh vertex ids */

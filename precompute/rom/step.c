@@ -62,7 +62,17 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
         s->v[i] = v ? v[i] : 0;
     }
     s->t = t;
-    rk_rom_lift(s->model, t, s->q);
+    if (s->model->lift_handle) {
+        /* the lifted coordinates to their values at t, the others as the projection with those
+         * given would have them (lift_fix) */
+        const rk_rom_model *m = s->model;
+        double dl[12], *ql = s->q + 12 * (size_t)(m->lift_handle - 1);
+        memcpy(dl, ql, sizeof dl);
+        rk_rom_lift(m, t, s->q);
+        for (int c = 0; c < 12; c++) dl[c] = ql[c] - dl[c];
+        for (int c = 0; c < 12; c++)
+            for (int i = 0; i < r; i++) s->q[i] += m->lift_fix[i + (size_t)r * c] * dl[c];
+    }
     rk_stepper_forget(&s->stepper);
     if (s->model->has_contact) rk_contact_set_time(&s->model->contact, t);
 }
