@@ -221,9 +221,15 @@ static int set_lift(rk_rom_model *m, const rk_fom_options *opt, int r, rk_error 
     m->lift_fix = rk_calloc((size_t)r * 12, sizeof(double), err);
     int rc = -1;
     if (!P || !Pff || !m->lift_fix) goto out;
-    if (m->M_proj_chol) /* P = R^T R from its upper factor */
-        cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, r, r, 1.0, m->M_proj_chol, r, 0.0, P, r);
-    else
+    if (m->M_proj_chol) { /* P = R^T R from its upper factor (dpotrf left the lower triangle as it was) */
+        for (int j = 0; j < r; j++)
+            for (int i = 0; i <= j; i++) P[i + (size_t)r * j] = m->M_proj_chol[i + (size_t)r * j];
+        double *Rf = P;
+        P = rk_calloc((size_t)r * r, sizeof(double), err);
+        if (P) cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, r, r, 1.0, Rf, r, 0.0, P, r);
+        free(Rf);
+        if (!P) goto out;
+    } else
         memcpy(P, m->M, sizeof(double) * r * r);
     for (int j = 0; j < r; j++) /* both triangles */
         for (int i = j + 1; i < r; i++) P[i + (size_t)r * j] = P[j + (size_t)r * i];
@@ -254,16 +260,20 @@ out:
     return rc;
 }
 
-void rk_rom_lift(const rk_rom_model *m, double t, double *q)
+void rk_rom_lift_values(const rk_rom_model *m, double t, double ql[12])
 {
-    if (!m->lift_handle) return;
-    double R[9], shift[3], *ql = q + 12 * (size_t)(m->lift_handle - 1);
+    double R[9], shift[3];
     rk_prescribed_transform(&m->lift_motion, t, R, shift);
     /* column 12 j + 4 a + b of rk_skinning_to_U moves x_a by w_j X_b (b < 3) or w_j (b = 3) */
     for (int a = 0; a < 3; a++) {
         for (int b = 0; b < 3; b++) ql[4 * a + b] = R[3 * a + b] - (a == b);
         ql[4 * a + 3] = shift[a];
     }
+}
+
+void rk_rom_lift(const rk_rom_model *m, double t, double *q)
+{
+    if (m->lift_handle) rk_rom_lift_values(m, t, q + 12 * (size_t)(m->lift_handle - 1));
 }
 
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
