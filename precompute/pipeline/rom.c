@@ -14,7 +14,7 @@ static void explain_basis(const rk_rom_entry *o, rk_scene_rom *R)
 {
     const rk_scene_basis_info *in = &R->basis_info;
     const char *unit = R->basis.W ? "weights" : "columns";
-    int size = R->basis.W ? R->basis.m - 1 : R->basis.r;
+    int size = R->basis.W ? R->basis.m - 1 - (R->basis.lift_handle != 0) : R->basis.r; /* (m: not the lift) */
     if (o->basis.tolerance > 0 && isfinite(in->projection_error_below))
         snprintf(R->basis_reason, sizeof R->basis_reason,
                  "rom.tolerance %g: %d %s miss the full-order frames by %.3g, one fewer by %.3g", o->basis.tolerance,
