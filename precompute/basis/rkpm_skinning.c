@@ -2,7 +2,9 @@
  * samples of the integration points, the weight-space eigenproblem H_w c = lambda M c (Eq. 15)
  * with H_w from Prop. 1 and M from Eq. 14, weights W^j(X) = sum_k phi_k(X) c_k^j (Eq. 6). With a
  * clamp the phi_k are masked (rkpm_clamp.c) before anything is assembled, so Eq. 15 is solved in
- * the masked space and every weight vanishes on the fixed region. */
+ * the masked space and every weight vanishes on the fixed region. With a moving region too
+ * (rk_basis_rkpm_skinning_lifted) the mask covers both, and the lifting field of rkpm_lift.c is the
+ * last weight. */
 #include "basis/basis.h"
 
 #include <math.h>
