@@ -302,6 +302,10 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
     if (m->quad.vol_k > m->r)
         return rk_fail(err, "asset: the projected volume keeps %d pressure functions, more than r = %d (VPRS holds at "
                        "most r)", m->quad.vol_k, m->r);
+    if (m->lift_handle)
+        return rk_fail(err, "asset: the moving group is lifted (rom.clamp \"lifted\"), and the runtime holds moving "
+                       "groups by its penalty only (a lifted asset would be stepped wrong): build it with clamp "
+                       "\"dirichlet\"");
     if (m->quad.vol_k && R->alrom)
         return rk_fail(err, "asset: an adaptive linear ROM does not take a projected volume (rom.volume \"projected\")");
     rk_bake_state s;

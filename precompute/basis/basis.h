@@ -125,6 +125,15 @@ typedef struct {
     rk_rkpm_grid hash; /* private: the pieces' centres hashed */
 } rk_rkpm_clamp;
 
+/* A lifting field (rkpm_lift.c, rom.clamp "lifted"): w_L = d_0 / (d_0 + d_1), d_0 and d_1 the
+ * distances to the region held still (the fixed groups) and to the moving prescribed region, so
+ * w_L = 0 exactly on the first, 1 exactly on the second, between them the relative distance (a
+ * bar's linear ramp). It carries the moving region's prescribed motion into the body. */
+typedef struct {
+    rk_rkpm_clamp zero, one; /* the regions where w_L is 0 (none: w_L = 1 everywhere) and 1 */
+    double range;            /* farther than any distance asked for (twice the points' bounding box) */
+} rk_lift;
+
 typedef struct {
     int K;
     double *centers;  /* 3K kernel centres p_k (a copy) */
@@ -134,6 +143,8 @@ typedef struct {
     int max_support;  /* upper bound on the kernels covering any point (rk_rkpm_max_support) */
     rk_rkpm_grid hash; /* private: the centres hashed with cells of about max_support_radius */
     rk_rkpm_clamp clamp; /* clamp.n > 0: every shape function is masked, d(X) phi_k (rk_rkpm_set_clamp) */
+    int lift_column;     /* 1 + the column of c that rk_rkpm_interpolate adds the lift to; 0: none */
+    rk_lift lift;
 } rk_rkpm;
 
 /* Copies the K centres (3K coordinates), computes the radii and the spatial hash. Needs K >= 4
@@ -151,6 +162,20 @@ void rk_rkpm_free(rk_rkpm *k);
  * functions no longer reproduce constants or linear fields (the clamp forbids those motions). */
 int rk_rkpm_set_clamp(rk_rkpm *k, const double *X, int n, const unsigned char *fixed, const int *tets, int nt,
                       double rise, rk_error *err);
+/* The lifting field w_L of the n points X (3n) between the region flagged in zero (may be NULL or
+ * empty: w_L = 1 everywhere) and the one flagged in one (regions as rk_rkpm_set_clamp builds them:
+ * with tets, their simplices; without, balls). Fails, naming the point, when a point is in both,
+ * and when no point is in `one`. */
+int rk_lift_init(rk_lift *L, const double *X, int n, const unsigned char *zero, const unsigned char *one,
+                 const int *tets, int nt, rk_error *err);
+/* w_L at X and its gradient grad[3]. */
+double rk_lift_at(const rk_lift *L, const double X[3], double grad[3]);
+void rk_lift_free(rk_lift *L);
+/* From now on rk_rkpm_interpolate adds w_L (and its gradient) to column `column` of what it
+ * evaluates (whose nodal values the caller keeps at 0): the lifting handle of a skinning basis.
+ * Takes L over (also on failure). */
+int rk_rkpm_set_lift(rk_rkpm *k, rk_lift *L, int column, rk_error *err);
+
 /* The rise of the mask in kernel radii (their mean): measured on the beam of
  * tests/unit/test_pipeline_meshfree_beam.c (rkpm_clamp.c). */
 #define RK_RKPM_CLAMP_RISE 2.0
@@ -229,6 +254,8 @@ typedef struct {
     int clamp_penalty;      /* rom.clamp "penalty": skinning weights free on the fixed region, which the reduced
                              * model holds by its penalty alone (before issue 37); default 0, "dirichlet": the
                              * weights vanish there (rk_basis_skinning, rk_basis_rkpm_skinning) */
+    int clamp_lifted;       /* rom.clamp "lifted": the fixed groups clamped as "dirichlet", and the one moving
+                             * group held exactly too, by a lifting handle (rk_basis_rkpm_skinning_lifted) */
 } rk_basis_options;
 
 /* Defaults: no type chosen, size and tolerance 0, 1000 kernels, 40000 integration points. */
@@ -262,6 +289,10 @@ typedef struct rk_basis {
     /* Several objects (rk_basis_join): each its own skinning basis over its own vertices, their
      * handles one after another (an object's weights are zero on every other object); the parts
      * keep their kernels for evaluation elsewhere. nparts = 0 for one object. */
+    /* rom.clamp "lifted" (rkpm_lift.c): 1 + the handle whose weight is the lifting field w_L
+     * (the last one; its 12 coordinates are the moving region's prescribed motion, not unknowns);
+     * 0: none */
+    int lift_handle;
     int nparts;
     struct rk_basis *part;     /* nparts, each over its object's vertices */
     int *part_vertex;          /* nparts + 1: the first vertex of each part */
@@ -333,6 +364,15 @@ typedef struct {
 int rk_basis_rkpm_skinning(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
                            const double *Xeval, int n, const unsigned char *fixed, const int *tets, int nt,
                            rk_basis *b, rk_rkpm_timing *timing, rk_error *err);
+/* The same with a moving prescribed region (moving: n flags over Xeval; rom.clamp "lifted"): the
+ * mask covers the fixed and the moving points, so the m + 1 eigen-weights vanish on both, and
+ * one more weight, the lifting field w_L of rkpm_lift.c (1 on the moving points, 0 on the fixed
+ * ones), is appended as handle m + 2 (b->lift_handle; its nodal values 0, b->rkpm adds w_L
+ * wherever weights are evaluated): b->m = m + 2, r = 12 (m + 2), 12 (m + 1) of them free. Needs
+ * the tets (the regions are their simplices). */
+int rk_basis_rkpm_skinning_lifted(const rk_rkpm_points *pts, const double *coef, int kernels, int m,
+                                  const double *Xeval, int n, const unsigned char *fixed, const unsigned char *moving,
+                                  const int *tets, int nt, rk_basis *b, rk_rkpm_timing *timing, rk_error *err);
 
 /* POD: the r leading mass-weighted left singular vectors of snapshot displacements D (3n x T,
  * column-major: T frames one after another, the layout of a T x n x 3 array). M is the 3n x 3n

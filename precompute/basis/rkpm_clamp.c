@@ -161,10 +161,9 @@ void rkpm_clamp_free(rk_rkpm_clamp *c)
     memset(c, 0, sizeof *c);
 }
 
-int rk_rkpm_set_clamp(rk_rkpm *k, const double *X, int n, const unsigned char *fixed, const int *tets, int nt,
+int rkpm_region_build(rk_rkpm_clamp *c, const double *X, int n, const unsigned char *fixed, const int *tets, int nt,
                       double rise, rk_error *err)
 {
-    rk_rkpm_clamp *c = &k->clamp;
     rkpm_clamp_free(c);
     int nf = 0;
     for (int i = 0; i < n; i++) nf += fixed[i] != 0;
@@ -188,6 +187,12 @@ int rk_rkpm_set_clamp(rk_rkpm *k, const double *X, int n, const unsigned char *f
 fail:
     rkpm_clamp_free(c);
     return -1;
+}
+
+int rk_rkpm_set_clamp(rk_rkpm *k, const double *X, int n, const unsigned char *fixed, const int *tets, int nt,
+                      double rise, rk_error *err)
+{
+    return rkpm_region_build(&k->clamp, X, n, fixed, tets, nt, rise, err);
 }
 
 /* The point of triangle abc nearest to p (Ericson, Real-Time Collision Detection, 5.1.5: by the
@@ -269,17 +274,27 @@ static int visit_piece(int i, void *ctx)
     return 0;
 }
 
-double rkpm_clamp_at(const rk_rkpm_clamp *c, const double X[3], double grad[3])
+double rkpm_region_distance(const rk_rkpm_clamp *c, const double X[3], double range, double grad[3])
 {
     grad[0] = grad[1] = grad[2] = 0;
-    double R = c->rise + c->extent, lo[3], hi[3];
+    double R = range + c->extent, lo[3], hi[3];
     for (int d = 0; d < 3; d++) lo[d] = X[d] - R, hi[d] = X[d] + R;
     region_ctx r = {c, X, INFINITY, {0, 0, 0}, 0};
     rkpm_grid_visit(&c->hash, lo, hi, visit_piece, &r);
     if (r.inside || r.e <= 0) return 0;
-    if (r.e >= c->rise) return 1; /* (also: no piece within reach) */
-    double t = r.e / c->rise, len = dist(X, r.near);
-    double a = 6 * t * (1 - t) / (c->rise * len); /* d'(t) / rise along the unit direction away from the region */
-    for (int d = 0; d < 3; d++) grad[d] = a * (X[d] - r.near[d]);
+    if (r.e >= range) return r.e; /* (also: no piece within reach, INFINITY) */
+    double len = dist(X, r.near);
+    for (int d = 0; d < 3; d++) grad[d] = (X[d] - r.near[d]) / len; /* the unit direction away from the region */
+    return r.e;
+}
+
+double rkpm_clamp_at(const rk_rkpm_clamp *c, const double X[3], double grad[3])
+{
+    double g[3], e = rkpm_region_distance(c, X, c->rise, g);
+    grad[0] = grad[1] = grad[2] = 0;
+    if (e <= 0) return 0;
+    if (e >= c->rise) return 1;
+    double t = e / c->rise, a = 6 * t * (1 - t) / c->rise; /* d'(t) / rise */
+    for (int d = 0; d < 3; d++) grad[d] = a * g[d];
     return t * t * (3 - 2 * t);
 }

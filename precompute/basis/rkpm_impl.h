@@ -69,6 +69,13 @@ int rkpm_shape_at(const rk_rkpm *k, const double X[3], int point, int n, const i
 /* The clamp mask d at X (1 without a clamp is the caller's business) and its gradient grad[3]. */
 double rkpm_clamp_at(const rk_rkpm_clamp *c, const double X[3], double grad[3]);
 void rkpm_clamp_free(rk_rkpm_clamp *c);
+/* The region of the points flagged in fixed (rk_rkpm_set_clamp's), its mask rising over `rise`. */
+int rkpm_region_build(rk_rkpm_clamp *c, const double *X, int n, const unsigned char *fixed, const int *tets, int nt,
+                      double rise, rk_error *err);
+/* The distance from X to the region (0 inside) and, when it is below range, its gradient grad[3]
+ * (the unit direction away from the region's nearest point); range or more (INFINITY: nothing
+ * within range + the pieces' extent) with grad 0 otherwise. */
+double rkpm_region_distance(const rk_rkpm_clamp *c, const double X[3], double range, double grad[3]);
 
 /* The kernels covering X, ascending: count, or -1 (with err) when more than cap. */
 int rkpm_cover(const rk_rkpm *k, const double X[3], int cap, int *idx, rk_error *err);

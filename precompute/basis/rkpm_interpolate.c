@@ -39,9 +39,11 @@ int rk_rkpm_interpolate(const rk_rkpm *k, const double *X, int n, const double *
                 const double *cj = &c[(size_t)k->K * j];
                 double s = 0;
                 for (int q = 0; q < cnt; q++) s += phi[q] * cj[kid[q]];
+                double gl[3] = {0, 0, 0}; /* the lifting handle's field (rkpm_lift.c), added to its column */
+                if (j == k->lift_column - 1) s += rk_lift_at(&k->lift, &X[3 * i], gl);
                 W[i + (size_t)n * j] = s;
                 for (int b = 0; dW && b < 3; b++) {
-                    double g = 0;
+                    double g = gl[b];
                     for (int q = 0; q < cnt; q++) g += grad[3 * q + b] * cj[kid[q]];
                     dW[3 * (size_t)i + b + 3 * (size_t)n * j] = g;
                 }

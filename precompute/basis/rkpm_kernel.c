@@ -13,6 +13,7 @@ void rk_rkpm_free(rk_rkpm *k)
     free(k->support);
     rkpm_grid_free(&k->hash);
     rkpm_clamp_free(&k->clamp);
+    rk_lift_free(&k->lift);
     memset(k, 0, sizeof *k);
 }
 

@@ -100,6 +100,10 @@ typedef struct {
     double newton_tol;        /* on |d|_inf / h (m/s); static: on |d|_inf (m); <= 0: default */
     double pin_stiffness;     /* reduced models only: the penalty holding prescribed vertices, in
                                * units of (lambda + 2 mu) / (rho L^2) (rom.h); <= 0: RK_ROM_PIN_STIFFNESS */
+    int lift_group, lift_handle; /* reduced models only (rom.clamp "lifted", rom.h): prescribed group
+                               * lift_group - 1 moves with skinning handle lift_handle - 1, whose 12
+                               * coordinates are its motion, set and not solved for (no penalty on
+                               * it); 0: none */
     int newton_max_iter;      /* Newton iterations a solve may take; 0: the default (rk_fom_max_iter) */
     int nchambers;            /* pneumatic chambers under pressure (rk_chamber), full order only */
     const rk_chamber *chambers;

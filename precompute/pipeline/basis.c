@@ -48,6 +48,29 @@ unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err)
     return fixed;
 }
 
+unsigned char *rk_scene_moving_vertices(const rk_scene_sim *sim, int *group, rk_error *err)
+{
+    int found = -1;
+    for (int g = 0; g < sim->options.nprescribed; g++)
+        if (sim->options.prescribed[g].kind != RK_MOTION_FIXED) {
+            if (found >= 0) {
+                rk_fail(err, "clamp \"lifted\" holds one moving group exactly, and the scene has several (%d and %d "
+                        "among its prescribed groups): use clamp \"dirichlet\" (their penalty)", found, g);
+                return NULL;
+            }
+            found = g;
+        }
+    if (found < 0) {
+        rk_fail(err, "clamp \"lifted\" needs a moving group to lift, and the scene has none: use clamp \"dirichlet\"");
+        return NULL;
+    }
+    unsigned char *moving = rk_calloc((size_t)sim->mesh.nv, 1, err);
+    if (!moving) return NULL;
+    for (int k = 0; k < sim->options.prescribed[found].count; k++) moving[sim->options.prescribed[found].verts[k]] = 1;
+    *group = found;
+    return moving;
+}
+
 /* The RKPM skinning eigenmodes of object k alone: integration points from its tets (a grid), its
  * vertices taken as a cloud (from_vertices), or a point cloud's own points; the weights at all its
  * vertices, clamped to its fixed ones (fixed: the scene's flags, or NULL for none) when it has
@@ -84,8 +107,18 @@ static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         }
         int kernels = cloud || o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;
         int clamp = fixed && !cloud && !o->from_vertices;
-        rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, ov.mesh.X, ov.mesh.nv, clamp ? fixed + ov.v0 : NULL,
-                                    ov.mesh.tets, ov.mesh.nt, b, &info->rkpm, err);
+        if (o->clamp_lifted) {
+            int group;
+            unsigned char *moving = rk_scene_moving_vertices(sim, &group, err);
+            rc = !moving ? -1
+                 : cloud || o->from_vertices
+                     ? rk_fail(err, "clamp \"lifted\" needs the object's tets (not a point cloud, nor its vertices as one)")
+                     : rk_basis_rkpm_skinning_lifted(&pts, coef, kernels, m, ov.mesh.X, ov.mesh.nv, fixed + ov.v0,
+                                                     moving + ov.v0, ov.mesh.tets, ov.mesh.nt, b, &info->rkpm, err);
+            free(moving);
+        } else
+            rc = rk_basis_rkpm_skinning(&pts, coef, kernels, m, ov.mesh.X, ov.mesh.nv, clamp ? fixed + ov.v0 : NULL,
+                                        ov.mesh.tets, ov.mesh.nt, b, &info->rkpm, err);
     }
     info->integration_points += pts.n;
     free(coef);
@@ -101,6 +134,8 @@ static int rkpm_scene(const rk_scene *scene, const rk_scene_sim *sim, const rk_b
 {
     int n = scene->nobjects;
     if (n == 1) return rkpm_object(scene, sim, o, m, 0, fixed, b, info, err);
+    if (o->clamp_lifted)
+        return rk_fail(err, "clamp \"lifted\": one object only for now (the scene has %d)", n);
     rk_basis *parts = rk_calloc((size_t)n, sizeof *parts, err);
     if (!parts) return -1;
     for (int k = 0; k < n; k++)

@@ -28,10 +28,18 @@ static int parse_basis(const rk_json_ctx *c, const cJSON *e, const char *path, c
         return -1;
     const char *clamp = NULL;
     if (rk_json_string(c, e, path, "clamp", 0, &clamp)) return -1;
-    if (clamp && strcmp(clamp, "dirichlet") && strcmp(clamp, "penalty"))
-        return rk_json_fail(c, path, "clamp must be \"dirichlet\" (skinning weights vanish on the fixed region) or "
-                            "\"penalty\" (free weights, the fixed vertices held by pin_stiffness), got \"%s\"", clamp);
+    if (clamp && strcmp(clamp, "dirichlet") && strcmp(clamp, "penalty") && strcmp(clamp, "lifted"))
+        return rk_json_fail(c, path, "clamp must be \"dirichlet\" (skinning weights vanish on the fixed region), "
+                            "\"penalty\" (free weights, the fixed vertices held by pin_stiffness) or \"lifted\" "
+                            "(as dirichlet, and the moving group held exactly by a lifting handle), got \"%s\"", clamp);
     o->clamp_penalty = clamp && !strcmp(clamp, "penalty");
+    o->clamp_lifted = clamp && !strcmp(clamp, "lifted");
+    if (o->clamp_lifted && o->type != RK_BASIS_RKPM_SKINNING)
+        return rk_json_fail(c, path, "clamp \"lifted\" is for basis rkpm_skinning only (not yet for %s)",
+                            rk_basis_type_name(o->type));
+    if (o->clamp_lifted && tol > 0)
+        return rk_json_fail(c, path, "clamp \"lifted\" takes size, not tolerance (a tolerance would cut "
+                            "the lifting handle off)");
     if (!(tol >= 0 && tol < 1)) return rk_json_fail(c, path, "tolerance must be in (0, 1), got %g", tol);
     if (o->size == 0 && tol == 0)
         return rk_json_fail(c, path, "needs size (how many columns or weights) or tolerance (the "

@@ -14,7 +14,7 @@ static void explain_basis(const rk_rom_entry *o, rk_scene_rom *R)
 {
     const rk_scene_basis_info *in = &R->basis_info;
     const char *unit = R->basis.W ? "weights" : "columns";
-    int size = R->basis.W ? R->basis.m - 1 : R->basis.r;
+    int size = R->basis.W ? R->basis.m - 1 - (R->basis.lift_handle != 0) : R->basis.r; /* (m: not the lift) */
     if (o->basis.tolerance > 0 && isfinite(in->projection_error_below))
         snprintf(R->basis_reason, sizeof R->basis_reason,
                  "rom.tolerance %g: %d %s miss the full-order frames by %.3g, one fewer by %.3g", o->basis.tolerance,
@@ -226,6 +226,16 @@ int rk_scene_rom_build_given(const rk_scene *scene, const rk_scene_sim *sim, con
     rk_quadrature exact;
     rk_fom_options opt = sim->options; /* the entry's own penalty on prescribed vertices */
     opt.pin_stiffness = o->pin_stiffness;
+    if (R->basis.lift_handle) { /* the moving group rides on the lifting handle, not on the penalty */
+        unsigned char *moving = rk_scene_moving_vertices(sim, &opt.lift_group, err);
+        if (!moving) {
+            rk_scene_rom_free(R);
+            return rk_error_prefix(err, "%s", o->name);
+        }
+        free(moving);
+        opt.lift_group++;
+        opt.lift_handle = R->basis.lift_handle;
+    }
     int mesh_free = rk_scene_mesh_free(scene, o);
     rk_mesh_free_options mfo = o->mesh_free;
     if ((mesh_free && (rk_scene_mesh_free_points(scene, sim, &mfo, &R->basis, &R->points, err) ||

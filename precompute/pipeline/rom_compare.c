@@ -94,7 +94,7 @@ int rk_fixed_compare(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method
     rk_scene_rom R;
     if (rk_compare_training(c, e, &D, &T, m, err) || rk_scene_rom_build(c->scene, c->sim, e, D, T, &R, err)) return -1;
     m->r = R.basis.r;
-    m->size = R.basis.W ? R.basis.m - 1 : R.basis.r;
+    m->size = R.basis.W ? R.basis.m - 1 - (R.basis.lift_handle != 0) : R.basis.r; /* (m: not the lift) */
     m->cubature_points = R.cubature_points;
     m->cubature_error = R.cubature_error;
     m->seconds_basis = R.seconds_basis;

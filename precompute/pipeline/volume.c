@@ -55,6 +55,9 @@ static int pressure_weights(const rk_scene *scene, const rk_scene_sim *sim, cons
                             rk_basis *free_basis, rk_skin_points *free_points, const double **at, rk_error *err)
 {
     *at = R->points.n ? R->points.W : R->basis.W;
+    if (R->basis.lift_handle)
+        return rk_fail(err, "volume \"projected\" with clamp \"lifted\": not yet (the pressure space would take "
+                       "the lifting field as a weight); use volume \"pointwise\" or clamp \"dirichlet\"");
     if (R->basis.nzero != 0 || R->basis.nparts > 0 || !R->basis.W) return 0;
     rk_basis_options unclamped = o->basis;
     unclamped.clamp_penalty = 1;

@@ -29,6 +29,9 @@ int rk_rom_set_collider(rk_rom *s, int slot, const rk_collider *c, rk_error *err
 {
     if (slot < 0 || slot >= RK_MAX_COLLIDERS)
         return rk_fail(err, "collider slot %d: slots are 0 to %d", slot, RK_MAX_COLLIDERS - 1);
+    if (s->model->lift_handle)
+        return rk_fail(err, "collider %d: a model with a lifted moving group (clamp \"lifted\") takes no colliders "
+                       "yet (its prescribed coordinates cannot give way to them)", slot);
     switch (rk_collider_check(c->kind, c->shape)) {
     case 0: break;
     case RK_COLLIDER_NOT_FINITE: return rk_fail(err, "collider %d: a number is not finite", slot);

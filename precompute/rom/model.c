@@ -171,7 +171,7 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
         pin->motion.verts = NULL;
         pin->T = rk_calloc((size_t)r * 12, sizeof(double), err);
         if (!pin->T) return -1;
-        for (int k = 0; k < p->count; k++) {
+        for (int k = 0; k < p->count && g != opt->lift_group - 1; k++) { /* (the lifted group: no penalty) */
             int v = p->verts[k];
             if (v < 0 || v >= fem->nv)
                 return rk_fail(err, "prescribed group %d: vertex %d out of range (the mesh has %d)", g, v, fem->nv);
@@ -195,6 +195,85 @@ static int build_pins(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     for (int j = 0; j < r; j++) /* dsyr filled the upper triangle */
         for (int i = j + 1; i < r; i++) m->A[i + (size_t)r * j] = m->A[j + (size_t)r * i];
     return 0;
+}
+
+/* The lifting handle (rom.h): a moving group, a handle among the columns, and nothing the lifted
+ * coordinates would have to give way to (contact moves the body by its barrier alone). */
+static int set_lift(rk_rom_model *m, const rk_fom_options *opt, int r, rk_error *err)
+{
+    if (opt->lift_handle == 0 && opt->lift_group == 0) return 0;
+    int g = opt->lift_group - 1, h = opt->lift_handle - 1;
+    if (g < 0 || g >= opt->nprescribed || opt->prescribed[g].kind == RK_MOTION_FIXED)
+        return rk_fail(err, "the lifted group %d is not a moving prescribed group (%d groups)", g, opt->nprescribed);
+    if (h < 0 || 12 * (h + 1) > r || r % 12)
+        return rk_fail(err, "the lifting handle %d is not a skinning handle of the %d columns", h, r);
+    if (m->has_contact)
+        return rk_fail(err, "a lifted moving group (clamp \"lifted\") with contact: not yet (the prescribed "
+                       "coordinates cannot give way to the barrier); use clamp \"dirichlet\"");
+    m->lift_handle = h + 1;
+    m->lift_motion = opt->prescribed[g];
+    m->lift_motion.verts = NULL;
+    m->lift_motion.count = 0;
+    /* lift_fix: the M-orthogonal projection with the lifted coordinates given is the free one
+     * corrected by -P_ff^-1 P_fL dq_L; P is the projection's mass (rk_rom_project's factor) */
+    int nf = r - 12, l0 = 12 * h;
+    double *P = rk_calloc((size_t)r * r, sizeof(double), err), *Pff = rk_calloc((size_t)nf * nf + 1, sizeof(double), err);
+    m->lift_fix = rk_calloc((size_t)r * 12, sizeof(double), err);
+    int rc = -1;
+    if (!P || !Pff || !m->lift_fix) goto out;
+    if (m->M_proj_chol) { /* P = R^T R from its upper factor (dpotrf left the lower triangle as it was) */
+        for (int j = 0; j < r; j++)
+            for (int i = 0; i <= j; i++) P[i + (size_t)r * j] = m->M_proj_chol[i + (size_t)r * j];
+        double *Rf = P;
+        P = rk_calloc((size_t)r * r, sizeof(double), err);
+        if (P) cblas_dsyrk(CblasColMajor, CblasUpper, CblasTrans, r, r, 1.0, Rf, r, 0.0, P, r);
+        free(Rf);
+        if (!P) goto out;
+    } else
+        memcpy(P, m->M, sizeof(double) * r * r);
+    for (int j = 0; j < r; j++) /* both triangles */
+        for (int i = j + 1; i < r; i++) P[i + (size_t)r * j] = P[j + (size_t)r * i];
+    double *B = rk_calloc((size_t)nf * 12 + 1, sizeof(double), err);
+    if (!B) goto out;
+    for (int j = 0, jj = 0; j < r; j++) {
+        if (j >= l0 && j < l0 + 12) continue;
+        for (int i = 0, ii = 0; i < r; i++) {
+            if (i >= l0 && i < l0 + 12) continue;
+            Pff[ii++ + (size_t)nf * jj] = P[i + (size_t)r * j];
+        }
+        for (int c = 0; c < 12; c++) B[jj + (size_t)nf * c] = -P[j + (size_t)r * (l0 + c)];
+        jj++;
+    }
+    if (nf > 0 && LAPACKE_dposv(LAPACK_COL_MAJOR, 'U', nf, 12, Pff, nf, B, nf) != 0) {
+        free(B);
+        rk_fail(err, "the lifting handle: the other coordinates' mass is singular");
+        goto out;
+    }
+    for (int i = 0, ii = 0; i < r; i++)
+        if (i < l0 || i >= l0 + 12)
+            for (int c = 0, k = ii++; c < 12; c++) m->lift_fix[i + (size_t)r * c] = B[k + (size_t)nf * c];
+    free(B);
+    rc = 0;
+out:
+    free(P);
+    free(Pff);
+    return rc;
+}
+
+void rk_rom_lift_values(const rk_rom_model *m, double t, double ql[12])
+{
+    double R[9], shift[3];
+    rk_prescribed_transform(&m->lift_motion, t, R, shift);
+    /* column 12 j + 4 a + b of rk_skinning_to_U moves x_a by w_j X_b (b < 3) or w_j (b = 3) */
+    for (int a = 0; a < 3; a++) {
+        for (int b = 0; b < 3; b++) ql[4 * a + b] = R[3 * a + b] - (a == b);
+        ql[4 * a + 3] = shift[a];
+    }
+}
+
+void rk_rom_lift(const rk_rom_model *m, double t, double *q)
+{
+    if (m->lift_handle) rk_rom_lift_values(m, t, q + 12 * (size_t)(m->lift_handle - 1));
 }
 
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
@@ -237,7 +316,7 @@ int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *
     double tol = opt->newton_tol > 0 ? opt->newton_tol : RK_FOM_DEFAULT_TOL * rk_points_diagonal(fem->X, fem->nv);
     m->newton_tol = tol * opt->h;
     if (build_matrices(m, fem, opt, U, points, err) || build_pins(m, fem, opt, U, points, err) ||
-        rk_rom_contact_init(m, fem, opt, U, err)) {
+        rk_rom_contact_init(m, fem, opt, U, err) || set_lift(m, opt, r, err)) {
         rk_rom_model_free(m);
         return rk_error_prefix(err, "reduced model");
     }
@@ -249,6 +328,7 @@ void rk_rom_model_free(rk_rom_model *m)
     free(m->M);
     free(m->M_chol);
     free(m->M_proj_chol);
+    free(m->lift_fix);
     free(m->C);
     free(m->f);
     free(m->A);

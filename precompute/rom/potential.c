@@ -57,6 +57,11 @@ double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, doubl
             H[k] += a;
         }
     }
+    if (m->lift_handle) /* the lifting handle's coordinates are set, not solved for: Newton leaves them */
+        for (int i = 12 * (m->lift_handle - 1); i < 12 * m->lift_handle; i++) {
+            if (g) g[i] = 0;
+            for (int j = 0; H && j < r; j++) H[i + (size_t)r * j] = H[j + (size_t)r * i] = i == j;
+        }
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
     return isfinite(E) ? E : INFINITY;

@@ -13,7 +13,10 @@
  *
  *   P(q, t) = k/2 sum_i m_i |X_i + B_i q - target_i(t)|^2,   k = RK_ROM_PIN_STIFFNESS (lambda+2mu)/(rho L^2),
  *
- * L the bounding-box diagonal. Backward Euler or BDF2 as in fom.h, projected Newton on a dense
+ * L the bounding-box diagonal. A lifted model (rom.clamp "lifted", rkpm_lift.c) holds its moving
+ * group exactly instead: the weights vanish there but the lifting handle's, whose 12 coordinates are
+ * the group's motion at the time solved for, so x(q, t) = X + w_L (T(t) X - X) + U q and the
+ * potential above (inertia, elastic energy, damping) is minimised over the other coordinates. Backward Euler or BDF2 as in fom.h, projected Newton on a dense
  * r x r Cholesky, Armijo backtracking, every step filtered by CCD like full order, moving
  * obstacles advanced as far as CCD allows before each solve. Nothing per step costs
  * O(vertices) except contact (O(boundary vertices x r), only with something to collide with).
@@ -58,6 +61,14 @@ typedef struct {
     int npins;
     rk_rom_pin *pins;
     int pinned_vertices;       /* prescribed vertices held by the penalty (0: the basis holds them all) */
+    /* rom.clamp "lifted" (rkpm_lift.c): 1 + the handle whose 12 coordinates are the moving group's
+     * prescribed motion vec(R(t) - I), s(t), set at the time solved for (rk_rom_lift) and kept out
+     * of every Newton step (zero gradient, identity rows of the Hessian); 0: none */
+    int lift_handle;
+    rk_prescribed lift_motion; /* verts not used */
+    double *lift_fix;          /* r x 12: -P_ff^-1 P_fL (P the projection's mass, f the other coordinates):
+                                * how a projected state's other coordinates follow when its lifted ones
+                                * are set to their prescribed values (rk_rom_reset) */
     /* The collision vertices (the boundary: what the scene's contact and an app's colliders act
      * on), always, and their rows; the contact model when the scene has something to collide. */
     int ncv, *cv;              /* ascending mesh vertex ids */
@@ -158,6 +169,9 @@ int rk_rom_remove_collider(rk_rom *s, int slot, rk_error *err);
 /* Contact at the current state, as rk_fom_contact_measure: exact crossings of the reduced surfaces
  * (0 for a valid state) and their smallest distance (INFINITY without contact). */
 int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, rk_error *err);
+
+/* A lifted model's prescribed coordinates of q set to their values at time t (nothing without). */
+void rk_rom_lift(const rk_rom_model *m, double t, double *q);
 
 /* q = argmin |X + U q - x|_M, the M-orthogonal projection of a full-order state onto the subspace
  * (x - X for positions, or a velocity with X = NULL); M is the model's inertia mass. */

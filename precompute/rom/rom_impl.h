@@ -29,6 +29,8 @@ enum { RK_ROM_WORK_PIN, RK_ROM_WORK_TMP, RK_ROM_WORK_TMP2, RK_ROM_WORK_NEWTON,
 double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, double *g, double *H,
                         double *magnitude, rk_error *err);
 void rk_rom_pin_target(const rk_rom_model *m, double t, double *b);
+/* A lifted model's 12 prescribed coordinates at time t (rk_rom_lift). */
+void rk_rom_lift_values(const rk_rom_model *m, double t, double ql[12]);
 
 /* newton.c: the RMS displacement of a step d of q, sqrt(d^T M_r d / mass); d = -H^-1 g by Cholesky
  * of the n x n H (upper triangle, overwritten), failing with what the matrix is of. */

@@ -55,6 +55,18 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     return 0;
 }
 
+/* A projected state's (or velocity's) lifted coordinates set to `to`, the others as the projection
+ * with those given would have them (lift_fix: -P_ff^-1 P_fL times the change). */
+static void lift_set(const rk_rom_model *m, double *q, const double to[12])
+{
+    int r = m->r;
+    double *ql = q + 12 * (size_t)(m->lift_handle - 1), d[12];
+    for (int c = 0; c < 12; c++) d[c] = to[c] - ql[c];
+    for (int c = 0; c < 12; c++)
+        for (int i = 0; i < r; i++) q[i] += m->lift_fix[i + (size_t)r * c] * d[c]; /* (0 in the lifted rows) */
+    memcpy(ql, to, sizeof d);
+}
+
 void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
 {
     int r = s->model->r;
@@ -63,6 +75,18 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
         s->v[i] = v ? v[i] : 0;
     }
     s->t = t;
+    if (s->model->lift_handle) {
+        /* the lifted coordinates to their values at t, and their velocity to the backward
+         * difference a free run has there (0 at the start) */
+        const rk_rom_model *m = s->model;
+        double now[12], before[12], rate[12];
+        int moving = t >= m->h * (1 - 1e-9);
+        rk_rom_lift_values(m, t, now);
+        rk_rom_lift_values(m, moving ? t - m->h : t, before);
+        for (int c = 0; c < 12; c++) rate[c] = (now[c] - before[c]) / m->h;
+        lift_set(m, s->q, now);
+        lift_set(m, s->v, rate);
+    }
     rk_stepper_forget(&s->stepper);
     if (s->model->has_contact) rk_contact_set_time(&s->model->contact, t);
 }
@@ -154,6 +178,7 @@ static int increment(void *ctx, double lambda, double *q, int *converged, rk_err
     c->last_lambda = lambda;
     c->T.load = lambda;
     rk_rom_pin_target(m, lambda * m->static_time, c->pin);
+    rk_rom_lift(m, lambda * m->static_time, c->s->q);
     step_solve sv = {c->s, &c->T, 1};
     int rc = m->has_contact ? rk_contact_advance(&sv, lambda * m->static_time, obstacle_fraction, move_and_solve, err)
                             : move_and_solve(&sv, 0, 1, err);
@@ -196,6 +221,7 @@ static int dynamic_step(rk_rom *s, rk_error *err)
         *err = ctx.failure;
         return -1;
     }
+    rk_rom_lift(m, s->t + m->h, s->q); /* the moving group where it is due, before Newton moves the rest */
     step_solve c = {s, &T, 1};
     /* the app's colliders to where it put them, the body pushed ahead of them in the same solve */
     if (rk_rom_colliders_pending(s) && rk_rom_colliders_solve(s, &T, &c.converged, err)) return -1;
