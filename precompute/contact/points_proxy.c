@@ -211,5 +211,12 @@ int rk_points_proxy(const double *X, int n, double g, double s, rk_mesh *out, rk
         rk_mesh_free(out);
         return -1;
     }
+    /* then on to the points where only a noisy shell's outer splats held the surface back: those
+     * may end outside it by RK_PROXY_OUTSIDE s (issue 30: the points are what is drawn, the surface
+     * is what collides, so a splat overlaps what it rests on by at most that) */
+    if (rk_proxy_near(out, n, g, tau, RK_PROXY_OUTSIDE * s, lo, err)) {
+        rk_mesh_free(out);
+        return -1;
+    }
     return 0;
 }
