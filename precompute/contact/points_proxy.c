@@ -1,7 +1,8 @@
 /* rk_points_proxy: a closed surface around a point cloud, for contact (contact.h): the voxels that
  * hold points, grown where they meet only along an edge or at a corner so their surface is a
  * 2-manifold, as Kuhn ghost tets; then that surface moved in toward the points, to half a voxel
- * and on to half the points' spacing where the exact checks allow (proxy_inset.c). */
+ * and on to half the points' spacing where the exact checks allow (proxy_inset.c), the last stage
+ * letting a point end outside by at most RK_PROXY_OUTSIDE spacings (rk_proxy_near). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
