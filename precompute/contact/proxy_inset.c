@@ -486,8 +486,10 @@ static int loose_points(outside_bound *O, const point_grid *G, const int *tris, 
 }
 
 /* rk_proxy_inset (first) and rk_proxy_near (!first), one body: first runs the first two stages,
- * outside > 0 the last. */
-static int inset(rk_mesh *m, int n, double g, double tau, double outside, int first, const double lo[3], rk_error *err)
+ * outside > 0 the last; a face's turn and shrink are measured against its voxel face, lattice (the
+ * positions m->X had before rk_proxy_inset; NULL: m->X now, the voxel surface itself). */
+static int inset(rk_mesh *m, const double *lattice, int n, double g, double tau, double outside, int first, const double lo[3],
+                 rk_error *err)
 {
     int *tris = NULL, nf = 0, rc = -1;
     point_grid G = {0};
@@ -507,7 +509,7 @@ static int inset(rk_mesh *m, int n, double g, double tau, double outside, int fi
     on = rk_calloc(nv, 1, err); /* on the surface */
     if (!Xv || !base || !dir || !alpha || !boxes || !bad || !moved || !on) goto done;
     for (int k = 0; k < 3 * nf; k++) on[tris[k]] = 1;
-    memcpy(Xv, m->X, sizeof(double) * 3 * nv);
+    memcpy(Xv, lattice ? lattice : m->X, sizeof(double) * 3 * nv);
     memcpy(base, m->X, sizeof(double) * 3 * nv);
     int rounds = 0, near = outside > 0 ? RK_PROXY_NEAR_ROUNDS : 0;
     if (first) {
@@ -575,11 +577,12 @@ done:
 
 int rk_proxy_inset(rk_mesh *m, int n, double g, double tau, const double lo[3], rk_error *err)
 {
-    return inset(m, n, g, tau, 0, 1, lo, err);
+    return inset(m, NULL, n, g, tau, 0, 1, lo, err);
 }
 
-int rk_proxy_near(rk_mesh *m, int n, double g, double tau, double outside, const double lo[3], rk_error *err)
+int rk_proxy_near(rk_mesh *m, const double *lattice, int n, double g, double tau, double outside, const double lo[3],
+                  rk_error *err)
 {
     if (!(outside > 0)) return 0;
-    return inset(m, n, g, tau, outside, 0, lo, err);
+    return inset(m, lattice, n, g, tau, outside, 0, lo, err);
 }
