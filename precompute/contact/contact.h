@@ -310,9 +310,8 @@ int rk_points_proxy(const double *X, int n, double g, double s, rk_mesh *out, rk
 #define RK_PROXY_INSET 0.5
 #define RK_PROXY_SPACING_INSET 0.5
 /* How far outside the contact surface a point may lie, in the points' spacings (proxy_inset.c's
- * last stage): s, the issue's "within its points' spacing". At s / 2 the faces 10 s long of a
- * capped voxel, sagging where a noisy shell curves, still held most vertices back (a 12,000-splat
- * sphere shell at g = 9 s: 95th percentile 4.48 s at s / 2, 3.31 s at s). */
+ * last stage): s, the issue's "within its points' spacing" (a splat overlaps what it rests on by
+ * at most its spacing). */
 #define RK_PROXY_OUTSIDE 1.0
 
 /* A point cloud's full-order body (proxy_body.c): rk_points_proxy's ghost tets as elements over its
