@@ -298,15 +298,21 @@ int rk_contact_advance(void *ctx, double t, rk_advance_fraction fraction, rk_adv
  * out has the n points first (no tets, nothing uses them), then the corners, and rk_mesh_boundary
  * gives the surface: the voxels' outward faces with each of their vertices moved in along its
  * normal to about g / 2 from its nearest point, then on toward it to about s / 2 (s the points'
- * median nearest-neighbour spacing; 0: g / 2 only), where that is safe (proxy_inset.c). The
- * surface is closed, 2-manifold, free of crossings, and holds every point inside; its triangles are
- * the voxels' faces (no more of them). Fails on n < 1, g not positive and finite, s negative or
+ * median nearest-neighbour spacing; 0: g / 2 only), where that is safe (proxy_inset.c), then on to
+ * s / 2 where only the points-inside check held a vertex back, letting a point end outside by at
+ * most RK_PROXY_OUTSIDE s (rk_proxy_near). The surface is closed, 2-manifold, free of crossings,
+ * and holds every point inside or within RK_PROXY_OUTSIDE s of it (s = 0: every point inside); its
+ * triangles are the voxels' faces (no more of them). Fails on n < 1, g not positive and finite, s negative or
  * not finite, a non-finite point (named), or a cloud more than 2^20 voxels across. */
 int rk_points_proxy(const double *X, int n, double g, double s, rk_mesh *out, rk_error *err);
 /* The target distance of a contact surface vertex to its nearest point: first in voxel edges, then
  * in the points' spacings. */
 #define RK_PROXY_INSET 0.5
 #define RK_PROXY_SPACING_INSET 0.5
+/* How far outside the contact surface a point may lie, in the points' spacings (proxy_inset.c's
+ * last stage): s, the issue's "within its points' spacing" (a splat overlaps what it rests on by
+ * at most its spacing). */
+#define RK_PROXY_OUTSIDE 1.0
 
 /* A point cloud's full-order body (proxy_body.c): rk_points_proxy's ghost tets as elements over its
  * corners (body vertex c is the proxy's vertex n + c), the surface moved in to about tau from the

@@ -1,7 +1,8 @@
 /* rk_points_proxy: a closed surface around a point cloud, for contact (contact.h): the voxels that
  * hold points, grown where they meet only along an edge or at a corner so their surface is a
  * 2-manifold, as Kuhn ghost tets; then that surface moved in toward the points, to half a voxel
- * and on to half the points' spacing where the exact checks allow (proxy_inset.c). */
+ * and on to half the points' spacing where the exact checks allow (proxy_inset.c), the last stage
+ * letting a point end outside by at most RK_PROXY_OUTSIDE spacings (rk_proxy_near). */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -207,9 +208,18 @@ int rk_points_proxy(const double *X, int n, double g, double s, rk_mesh *out, rk
     /* half the spacing: a point stands for the cell of edge s around it, whose faces are s / 2 off
      * it (a lattice cloud's flat side then rests where its cells' union ends) */
     double tau = s > 0 ? fmin(RK_PROXY_SPACING_INSET * s, RK_PROXY_INSET * g) : RK_PROXY_INSET * g;
-    if (rk_proxy_inset(out, n, g, tau, lo, err)) {
+    /* the voxel surface, which every stage's turn and shrink checks compare with */
+    double *lattice = rk_calloc(3 * (size_t)out->nv, sizeof *lattice, err);
+    if (!lattice) {
         rk_mesh_free(out);
         return -1;
     }
-    return 0;
+    memcpy(lattice, out->X, sizeof(double) * 3 * (size_t)out->nv);
+    /* then on to the points where only a noisy shell's outer splats held the surface back: those
+     * may end outside it by RK_PROXY_OUTSIDE s (issue 30: the points are what is drawn, the surface
+     * is what collides, so a splat overlaps what it rests on by at most that) */
+    int rc = rk_proxy_inset(out, n, g, tau, lo, err) || rk_proxy_near(out, lattice, n, g, tau, RK_PROXY_OUTSIDE * s, lo, err);
+    free(lattice);
+    if (rc) rk_mesh_free(out);
+    return rc ? -1 : 0;
 }

@@ -34,9 +34,28 @@ void rk_proxy_grid_free(rk_proxy_grid *G);
  * point in *at (may be NULL). */
 double rk_proxy_nearest_at(const rk_proxy_grid *G, const double *x, int r, const double **at);
 
+/* A surface's faces on a grid of cells of edge h (proxy_outside.c): cell c lists face[start[c] ..
+ * start[c + 1] - 1], every face whose box (6 numbers a face in boxes: lo, hi) grown by pad meets
+ * it. */
+typedef struct {
+    double h, lo[3];
+    long dim[3];
+    size_t *start;
+    int *face;
+} rk_proxy_face_grid;
+
+int rk_proxy_face_grid_build(rk_proxy_face_grid *F, const double *boxes, int nf, double pad, double h, rk_error *err);
+void rk_proxy_face_grid_free(rk_proxy_face_grid *F);
+/* The faces listed in p's cell (a superset of those within pad of p): face[*first .. end - 1]. */
+size_t rk_proxy_faces_near(const rk_proxy_face_grid *F, const double *p, size_t *first);
+/* The distance from p to the triangle a b c. */
+double rk_proxy_face_distance(const double *p, const double *a, const double *b, const double *c);
+
 /* Rounds of the second stage of rk_proxy_inset (straight toward the nearest point, to tau): on
  * the donut capture 4 rounds left the mean vertex 2.1 s off, 8 rounds 1.9 s (s its spacing). */
 #define RK_PROXY_PULL_ROUNDS 8
+/* Rounds of the last stage (rk_proxy_near): 8, as the second's pull to tau. */
+#define RK_PROXY_NEAR_ROUNDS 8
 
 /* Moves the surface vertices of m (rk_mesh_boundary of its ghost tets; its first n vertices are the
  * cloud's points, the rest the lattice corners of origin lo, edge g) in toward the points: first
@@ -46,6 +65,15 @@ double rk_proxy_nearest_at(const rk_proxy_grid *G, const double *x, int r, const
  * over a point on its way. The surface stays closed, 2-manifold and free of crossings, and every
  * point stays inside it: what the voxels' surface was. */
 int rk_proxy_inset(rk_mesh *m, int n, double g, double tau, const double lo[3], rk_error *err);
+/* The last stage, on m as it is (after rk_proxy_inset; lattice: m->X before it, the voxel faces
+ * the turn and shrink checks compare with): the vertices
+ * farther than 1.05 tau from the points straight toward their nearest point, to tau, under the
+ * same checks but one: a point may end outside the surface by at most outside (> 0), measured
+ * (rk_proxy_face_distance) for every point a moved face swept over or that was within outside of
+ * the surface before, at every pass. Every point that was inside or within outside of the
+ * surface still is. */
+int rk_proxy_near(rk_mesh *m, const double *lattice, int n, double g, double tau, double outside, const double lo[3],
+                  rk_error *err);
 
 
 #endif
