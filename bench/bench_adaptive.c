@@ -183,7 +183,7 @@ static char *rom_entry(char *buf, size_t size, double eps_nodal, double eps_moda
 {
     snprintf(buf, size,
              "{\"method\": \"adaptive_subspace\", \"basis\": \"modes\", \"size\": 24, \"initial_size\": 12,"
-             " \"eps_g_units\": \"paper\", \"residual\": false, \"eps_g_nodal\": %g, \"eps_g_modal\": %g, \"downdate\": %s}",
+             " \"eps_g_units\": \"paper\", \"residual\": false, \"accuracy\": 0, \"eps_g_nodal\": %g, \"eps_g_modal\": %g, \"downdate\": %s}",
              eps_nodal, eps_modal, downdate ? "true" : "false");
     return buf;
 }
@@ -241,7 +241,7 @@ static void thresholds(const char *dir, int n)
 /* A free box's candidates: 8 skinning eigenmodes (108 columns), 4 weights' 48 active from the start. */
 static const char *free_entry =
     "{\"method\": \"adaptive_subspace\", \"basis\": \"skinning\", \"size\": 8, \"initial_size\": 48,"
-    " \"eps_g_units\": \"paper\", \"residual\": false, \"eps_g_nodal\": 1e-3, \"eps_g_modal\": 1e-3}";
+    " \"eps_g_units\": \"paper\", \"residual\": false, \"accuracy\": 0, \"eps_g_nodal\": 1e-3, \"eps_g_modal\": 1e-3}";
 
 static void stiffness(const char *dir, int n)
 {
@@ -358,7 +358,7 @@ static int build_moving(built *b, int cells, int downdate, rk_error *err)
              " \"time\": {\"step\": 0.01, \"duration\": 0.2, \"integrator\": \"bdf2\"},"
              " \"newton\": {\"tolerance\": %g, \"max_iterations\": 1000},"
              " \"rom\": {\"method\": \"adaptive_subspace\", \"basis\": \"modes\", \"size\": 24, \"initial_size\": 12,"
-             " \"eps_g_units\": \"paper\", \"residual\": false, \"eps_g_nodal\": %g, \"eps_g_modal\": %g, \"downdate\": %s}}",
+             " \"eps_g_units\": \"paper\", \"residual\": false, \"accuracy\": 0, \"eps_g_nodal\": %g, \"eps_g_modal\": %g, \"downdate\": %s}}",
              4 * cells, cells / 3 > 0 ? cells / 3 : 1, cells, NEWTON_TOL, EPS_FIXED, EPS_FIXED, downdate ? "true" : "false");
     return parse_and_build(b, json, "bench_adaptive_moving.json", err);
 }

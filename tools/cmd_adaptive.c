@@ -175,7 +175,7 @@ int cmd_adaptive(int argc, char **argv)
            st->sum_modes / steps, st->max_modes, st->sum_nodes / steps, st->max_nodes, ad.opt.subdomains,
            st->solves ? (double)st->pcg_iterations / st->solves : 0.0);
     if (res.residual)
-        printf("full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (Newton tolerance %.3g), %d steps over it\n",
+        printf("full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (its tolerance %.3g), %d steps over it\n",
                res.residual_mean, res.residual_max, res.residual_tolerance, res.residual_over);
     if (contact) printf("contact: closest %.3g m, %ld crossings over %ld frames\n", tally.min_distance, tally.intersections, tally.frames);
     rc = 0;

@@ -14,7 +14,7 @@ void rk_adaptive_default_options(rk_adaptive_options *o)
     *o = (rk_adaptive_options){.block = 12, .initial_blocks = 1, .eps_g_modal = 1, .eps_g_nodal = 1,
                                .eps_e = 1, .eps_d = 0.1, .subdomains = 0, .downdate = 1, .modal = 1,
                                .nodal = 1, .exact_hessian = 0, .pcg_tol = 1e-5, .pcg_max_iter = 10000,
-                               .residual = 1, .residual_rounds = 8};
+                               .residual = 1, .residual_rounds = 8, .accuracy = 1e-3};
 }
 
 static int check_options(const rk_adaptive_options *o, const rk_fem *f, int r, rk_error *err)
@@ -35,6 +35,9 @@ static int check_options(const rk_adaptive_options *o, const rk_fem *f, int r, r
         return rk_fail(err, "initial_blocks must be from 1 to %d (the candidate blocks), got %d", r / o->block,
                        o->initial_blocks);
     if (f->nt == 0) return rk_fail(err, "needs a tetrahedral mesh (a point cloud has no elements to enrich)");
+    if (!(o->accuracy >= 0) || !isfinite(o->accuracy))
+        return rk_fail(err, "accuracy (the target error over the bounding-box diagonal) must be 0 or positive, got %g",
+                       o->accuracy);
     if (o->residual_rounds < 0) return rk_fail(err, "residual_rounds must be at least 0, got %d", o->residual_rounds);
     if (o->subdomains < 0 || o->subdomains > f->nv)
         return rk_fail(err, "subdomains must be from 1 to the %d vertices, got %d", f->nv, o->subdomains);
@@ -116,22 +119,16 @@ int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *f
         im->fixed_vertex[v] =
             (char)(im->view.prescribed[3 * v] && im->view.prescribed[3 * v + 1] && im->view.prescribed[3 * v + 2]);
     rk_adaptive_vertex_scales(fem, im->psi_bar, im->area, im->volume);
+    im->length = rk_points_diagonal(fem->X, im->nv);
+    ad->tolerance = rk_adaptive_own_tolerance(o->accuracy, im->length, ad->fom.opt.h, fo->steps, ad->fom.opt.newton_tol);
     if (o->paper_units) {
         memcpy(im->gscale, im->area, sizeof(double) * (size_t)im->nv);
         memcpy(im->gpsi, im->psi_bar, sizeof(double) * (size_t)im->nv);
         memcpy(im->pscale, im->volume, sizeof(double) * (size_t)im->nv);
     } else {
-        rk_adaptive_tolerance_scale(fem, ad->fom.opt.h, ad->fom.opt.newton_tol, im->gscale, im->pscale);
+        rk_adaptive_tolerance_scale(fem, ad->fom.opt.h, ad->tolerance, im->gscale, im->pscale);
         for (int v = 0; v < im->nv; v++) im->gpsi[v] = 1;
     }
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int v = 0; v < im->nv; v++)
-        for (int c = 0; c < 3; c++) {
-            lo[c] = fmin(lo[c], fem->X[3 * v + c]);
-            hi[c] = fmax(hi[c], fem->X[3 * v + c]);
-        }
-    im->length = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
     int parts = o->subdomains ? o->subdomains : fem->nt / 250;
     if (parts < 2) parts = 2;
     if (parts > im->nv) parts = im->nv;
@@ -432,7 +429,9 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
                            .max_step = im->view.has_contact ? max_step : NULL,
                            .step_norm = step_norm, .prescribed = im->prescribed_y};
     rk_newton_stats stats = {0};
-    double tol_v = tol_d / s->opt.h; /* the Newton tolerance, m/s */
+    double tol_v = ad->tolerance; /* its own tolerance, m/s (rk_adaptive_own_tolerance), for its Newton
+                                   * iterations and the residual check; full order keeps its own */
+    tol_d = tol_v * s->opt.h;
     int rc = 0;
     for (int round = 0;; round++) {
         rc = solve_rounds(ad, &c, &p, s, tol_d, converged, &stats, err);

@@ -11,7 +11,8 @@
  *
  *   error     G_i = ||g_i|| / s_i, s_i = h^2 A_i psi_i (Eq. 5, 10); modes: Eq. 12, 14, 16; by default
  *             s_i = m_i tol / (alpha h) instead (rk_adaptive_tolerance_scale: G_i <= 1 everywhere bounds
- *             the full-space residual's mass-weighted RMS by the Newton tolerance tol)
+ *             the full-space residual's mass-weighted RMS by the method's own tolerance tol,
+ *             rk_adaptive_own_tolerance, from the accuracy target)
  *   progress  E_i = dE_i / c_i, c_i = h^2 V_i psi_i (Eq. 7, 8, 11); modes: Eq. 13, 15, 17
  *             dE_i: the one-ring potential's decrease along the active subspace's line-searched
  *             Newton direction (Eq. 18)
@@ -23,7 +24,7 @@
  *             (Eq. 20), exact in subdomains that hold an enriched vertex (Sec. 3.9)
  *   downdate  after the step, modes and vertices whose displacement did not pay (Sec. 3.11)
  *   residual  after each solve the full-space Newton step |d_full|_inf / h (CHOLMOD); above the
- *             Newton tolerance, the parts of the vertices where it is are enriched and the step
+ *             method's tolerance, the parts of the vertices where it is are enriched and the step
  *             solved again (opt.residual_rounds times at most): not in the paper, whose G does not
  *             bound it (romkit's measurements, docs/methods.md)
  *
@@ -55,11 +56,11 @@
 typedef struct {
     int block;              /* columns per candidate (skinning: 12, one weight's affine handle; modes: 1) */
     int initial_blocks;     /* the first blocks of U, active from the start and never downdated (1) */
-    double eps_g_modal;     /* error thresholds (1, 1): G in units of the Newton tolerance
+    double eps_g_modal;     /* error thresholds (1, 1): G in units of the method's tolerance
                              * (rk_adaptive_tolerance_scale), or with paper_units */
     double eps_g_nodal;
     int paper_units;        /* 1: G is the paper's dimensionless one (Eq. 5, 10; its Table 2: 0.5, 0.5) */
-    double eps_e;           /* progress threshold (1: E in squared Newton tolerances; with paper_units the
+    double eps_e;           /* progress threshold (1: E in squared tolerances; with paper_units the
                              * paper's E, whose threshold it gives as 1e-4, Sec. 4) */
     double eps_d;           /* downdating threshold (0.1) */
     int subdomains;         /* METIS parts (0: one per 250 tets, at least 2) */
@@ -70,10 +71,14 @@ typedef struct {
     int pcg_max_iter;       /* 10000 */
     int residual;           /* 1 (default): after each solve, the full-space Newton step at its answer,
                              * |d_full|_inf / h (m/s; CHOLMOD, one factorization): the paper's accuracy
-                             * measure (Fig. 12), checked against the Newton tolerance */
-    int residual_rounds;    /* with residual: while |d_full|_inf / h exceeds the Newton tolerance, enrich the
+                             * measure (Fig. 12), checked against the method's tolerance */
+    int residual_rounds;    /* with residual: while |d_full|_inf / h exceeds the method's tolerance, enrich the
                              * METIS parts of the vertices where |d_full_i| / h does and solve again, at most
                              * this many times a step (8; 0: report only) */
+    double accuracy;        /* the target a of the run's position error over the bounding-box diagonal (1e-3):
+                             * sets the method's own tolerance (rk_adaptive_own_tolerance) that the
+                             * thresholds' units, the residual check and its Newton iterations use; 0: full
+                             * order's Newton tolerance instead */
     int probe;              /* 1: at the next Newton iteration, also solve the full-space system at the same
                              * iterate by CHOLMOD and by block-Jacobi CG (rk_adaptive_probe; for make bench) */
 } rk_adaptive_options;
@@ -109,7 +114,7 @@ typedef struct {
     double seconds_line_search;
     rk_adaptive_probe probe;      /* with opt.probe */
     double residual_last, residual_max, residual_sum; /* with opt.residual: per step, |d_full|_inf / h */
-    long residual_over;           /* steps that ended with it above the Newton tolerance (after the rounds) */
+    long residual_over;           /* steps that ended with it above the method's tolerance (after the rounds) */
     long residual_rounds;         /* enrichment rounds the residual asked for, and their vertices */
     long residual_nodes_added;
     long obstacle_rounds;         /* moving obstacles: extra rounds of the method of multipliers on their pull */
@@ -124,6 +129,7 @@ typedef struct {
     rk_adaptive_stats stats;
     int modes;              /* active columns now */
     int nodes;              /* enriched vertices now */
+    double tolerance;       /* its own tolerance on |d|_inf / h (m/s): rk_adaptive_own_tolerance */
     const char *enriched;   /* nv flags */
     rk_adaptive_impl *impl;
 } rk_adaptive;
@@ -148,7 +154,7 @@ void rk_adaptive_free(rk_adaptive *a);
  * area of the faces opposite the vertex in its elements: its one-ring's surface) and V (a
  * quarter of each element's volume). nv each. */
 void rk_adaptive_vertex_scales(const rk_fem *f, double *psi_bar, double *area, double *volume);
-/* The oracle's error scale in units of the Newton tolerance (opt.paper_units 0): s_i with
+/* The oracle's error scale in units of a tolerance tol (opt.paper_units 0: the method's own): s_i with
  * G_i = alpha |g_i| / s_i = alpha h |g_i| / (m_i tol), the velocity the unbalanced force g_i would give the
  * vertex's own lumped mass m_i over the step, over the tolerance tol (m/s). Why it bounds the
  * residual: romkit's Newton matrix is H = M / (alpha h^2) + K + B (elastic and contact parts PSD
@@ -160,6 +166,15 @@ void rk_adaptive_vertex_scales(const rk_fem *f, double *psi_bar, double *area, d
  * worth m_i dv_i^2 / (2 alpha) of it, and E_i = (dv_i / tol)^2 for the velocity error dv_i whose
  * removal the subspace's own step bought there. p: nv. */
 void rk_adaptive_tolerance_scale(const rk_fem *f, double h, double tol, double *s, double *p);
+/* The method's own tolerance on the full-space residual |d|_inf / h (m/s), from the accuracy target a
+ * (the run's position error over the bounding-box diagonal L) for a run of N steps of h. A step that
+ * ends with residual v leaves its answer about h v from the step's minimiser; the error stays in the
+ * state (positions, and the velocity the integrator reads from them), so in free motion an error made
+ * at step k moves every later position by as much again each step: after N steps at most
+ * sum_k h v (N - k + 1) = h v N (N + 1) / 2. Its bound a L gives v = 2 a L / (h N (N + 1)): no mesh
+ * size or material in it (L and the duration are the scene's). Never below full order's own
+ * tolerance newton_tol (its answer is no closer than that); a <= 0: newton_tol. */
+double rk_adaptive_own_tolerance(double accuracy, double diagonal, double h, int steps, double newton_tol);
 /* Nodal error (Eq. 10): G_i = alpha |g_i| / (A_i psi_i) for gradient g (3 nv). */
 void rk_adaptive_nodal_error(int nv, const double *g, const double *area, const double *psi_bar, double alpha,
                              double *G);

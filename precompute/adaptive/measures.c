@@ -121,3 +121,10 @@ void rk_adaptive_tolerance_scale(const rk_fem *f, double h, double tol, double *
         p[i] = 0.5 * f->vertex_mass[i] * tol * tol;
     }
 }
+
+double rk_adaptive_own_tolerance(double accuracy, double diagonal, double h, int steps, double newton_tol)
+{
+    if (!(accuracy > 0) || steps < 1 || !(h > 0)) return newton_tol;
+    double n = steps;
+    return fmax(newton_tol, 2 * accuracy * diagonal / (h * n * (n + 1)));
+}

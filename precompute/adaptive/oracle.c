@@ -68,6 +68,19 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
         if (rc < 0) return -1;
     }
     for (int v = 0; v < nv; v++) im->dE[v] = step > 0 && rc == 0 ? im->e0[v] - im->e1[v] : 0;
+    /* In the tolerance's units the oracle acts once the active subspace's own Newton step is within
+     * the tolerance (or finds no decrease): before that G is mostly the step's unfinished motion,
+     * which the subspace is still removing (a free fall's first iteration: G 3e3-7e3 at every vertex,
+     * none after the rigid columns' step), and the paper's progress measure, which should veto it,
+     * is a signed projection that came out negative for every candidate block there, so six blocks
+     * were taken in free fall (docs/methods.md, "Why the defaults enriched"). Not in the paper,
+     * which acts at every iteration; its units (paper_units) keep that. */
+    int converging = 0;
+    if (!o->paper_units && step > 0) {
+        double size = 0;
+        for (int i = 0; i < n; i++) size = fmax(size, fabs(dx[i]));
+        converging = size / step / ad->fom.opt.h > ad->tolerance;
+    }
     if (o->nodal) {
         rk_adaptive_nodal_error(nv, g, im->gscale, im->gpsi, alpha_int, im->G);
         char *grow = im->part_mark;
@@ -76,7 +89,7 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
             double s = im->pscale[v] * im->gpsi[v];
             double progress = im->prog[v] = s > 0 ? alpha_int * im->dE[v] / s : 0;
             if (im->enriched[v] || im->fixed_vertex[v]) continue;
-            if (im->G[v] > o->eps_g_nodal && progress < o->eps_e) grow[im->part[v]] = 1;
+            if (im->G[v] > o->eps_g_nodal && progress < o->eps_e && !converging) grow[im->part[v]] = 1;
         }
         for (int l = 0; l < im->L; l++)
             if (grow[l]) {
@@ -85,7 +98,7 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
                 *changed_nodes |= added > 0;
             }
     }
-    if (o->modal) {
+    if (o->modal && !converging) {
         int k = o->block;
         for (int b = 0; b < im->nblocks; b++) {
             if (im->block_on[b]) continue;

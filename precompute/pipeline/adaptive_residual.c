@@ -1,5 +1,5 @@
 /* The adaptive simulator's full-space residual in the reports (method_adaptive_subspace.h): per
- * step, its summary, and the line on stderr when a run ended steps above the Newton tolerance. */
+ * step, its summary, and the line on stderr when a run ended steps above its tolerance (rk_adaptive_own_tolerance). */
 #include "pipeline/method_adaptive_subspace.h"
 
 #include <math.h>
@@ -23,7 +23,7 @@ void rk_adaptive_residual_record(rk_adaptive_subspace_measures *m, const rk_adap
 {
     const rk_adaptive_stats *s = &ad->stats;
     m->residual = ad->opt.residual;
-    m->residual_tolerance = ad->fom.opt.newton_tol;
+    m->residual_tolerance = ad->tolerance;
     m->residual_max = s->residual_max;
     m->residual_mean = s->steps ? s->residual_sum / s->steps : 0;
     m->residual_over = (int)s->residual_over;
@@ -49,8 +49,8 @@ void rk_adaptive_residual_report(cJSON *j, const rk_adaptive_subspace_measures *
 void rk_adaptive_residual_warn(FILE *f, const char *name, const rk_adaptive_subspace_measures *m, int steps)
 {
     if (!m->residual || m->residual_over == 0) return;
-    fprintf(f, "warning: %s: the full-space residual |d|_inf/h ended %d of %d steps above the Newton tolerance "
-            "%.3g m/s (largest %.3g m/s, after %d enrichment rounds for it): its answer is not full order's to that "
-            "tolerance (more residual_rounds or a lower eps_g_nodal enrich more)\n",
+    fprintf(f, "warning: %s: the full-space residual |d|_inf/h ended %d of %d steps above its tolerance "
+            "%.3g m/s (largest %.3g m/s, after %d enrichment rounds for it): its answer may miss its accuracy target "
+            "(more residual_rounds or a lower eps_g_nodal enrich more)\n",
             name, m->residual_over, steps, m->residual_tolerance, m->residual_max, m->residual_rounds);
 }

@@ -33,10 +33,11 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
         rk_json_bool(c, e, path, "nodal", &a->nodal) || rk_json_number(c, e, path, "pcg_tol", 0, &a->pcg_tol) ||
         rk_json_string(c, e, path, "hessian", 0, &hessian) || rk_json_bool(c, e, path, "residual", &a->residual) ||
         rk_json_whole(c, e, path, "residual_rounds", 0, 1e6, &a->residual_rounds) ||
+        rk_json_number(c, e, path, "accuracy", 0, &a->accuracy) ||
         rk_json_string(c, e, path, "eps_g_units", 0, &units))
         return -1;
     if (units && strcmp(units, "tolerance") && strcmp(units, "paper"))
-        return rk_json_fail(c, path, "eps_g_units must be \"tolerance\" (the Newton tolerance's) or \"paper\" (the "
+        return rk_json_fail(c, path, "eps_g_units must be \"tolerance\" (its own tolerance's, from accuracy) or \"paper\" (the "
                             "paper's dimensionless G), got \"%s\"", units);
     a->paper_units = units && !strcmp(units, "paper");
     if (a->paper_units) { /* the paper's defaults for what the entry leaves out (its Sec. 4, Table 2) */
@@ -103,7 +104,7 @@ static void print(const rk_compare_method *m, FILE *f)
             am->newton_per_step, am->pcg_per_solve, 100 * am->share_potential, 100 * am->share_oracle,
             100 * am->share_hessian, 100 * am->share_system, 100 * am->share_pcg, 100 * am->share_line_search);
     if (am->residual)
-        fprintf(f, "  %s: full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (Newton tolerance %.3g), %d steps "
+        fprintf(f, "  %s: full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (its tolerance %.3g), %d steps "
                 "over it; %d enrichment rounds for it (%d vertices)\n",
                 m->name, am->residual_mean, am->residual_max, am->residual_tolerance, am->residual_over,
                 am->residual_rounds, am->residual_nodes_added);
@@ -111,7 +112,7 @@ static void print(const rk_compare_method *m, FILE *f)
 
 static const char *const keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
                                    "downdate", "modal", "nodal", "hessian", "pcg_tol", "eps_g_units", "residual",
-                                   "residual_rounds", NULL};
+                                   "residual_rounds", "accuracy", NULL};
 
 const rk_method rk_method_adaptive_subspace = {
     .name = "adaptive_subspace",

@@ -92,6 +92,23 @@ TEST(nodal_and_modal_measures_by_hand)
     CHECK_CLOSE(rk_adaptive_modal_progress(2, w, 1, dE, volume, psi, 0.5), 0.5 * (3.0 / 2 + 3.0 / 4), 1e-15);
 }
 
+/* The method's own tolerance (rk_adaptive_own_tolerance): the accumulation bound by hand, its
+ * scaling with the diagonal and the run's length, and the floor at full order's tolerance. */
+TEST(own_tolerance_from_the_accuracy_target)
+{
+    /* a = 1e-3 of L = 2 m over N = 10 steps of h = 0.01 s: 2 a L / (h N (N + 1)) */
+    double v = rk_adaptive_own_tolerance(1e-3, 2, 0.01, 10, 1e-5);
+    CHECK_CLOSE(v, 2 * 1e-3 * 2 / (0.01 * 10 * 11), 1e-15);
+    /* the bound it stands for: N steps each leaving h v, each carried on by every later step */
+    double e = 0;
+    for (int k = 1; k <= 10; k++) e += 0.01 * v * (10 - k + 1);
+    CHECK_CLOSE(e, 1e-3 * 2, 1e-15);
+    CHECK_CLOSE(rk_adaptive_own_tolerance(1e-3, 4, 0.01, 10, 1e-5), 2 * v, 1e-15);  /* linear in L */
+    CHECK_CLOSE(rk_adaptive_own_tolerance(1e-3, 2, 0.01, 1, 1e-5), 1e-3 * 2 / 0.01, 1e-12); /* one step: a L / h */
+    CHECK(rk_adaptive_own_tolerance(1e-3, 2, 0.01, 1000, 1e-5) == 1e-5, "a long run is floored at full order's");
+    CHECK(rk_adaptive_own_tolerance(0, 2, 0.01, 10, 1e-5) == 1e-5, "accuracy 0 is full order's tolerance");
+}
+
 /* The per-vertex potential (energy.c) adds up to the whole incremental potential the solver
  * minimises, inertia, damping, gravity and contact included, at a state pressed into a sphere. */
 TEST(vertex_energies_add_up_to_the_potential)
@@ -162,5 +179,6 @@ int main(void)
     RUN(rest_hessian_norm_matches_finite_differences_of_the_energy);
     RUN(nodal_and_modal_measures_by_hand);
     RUN(vertex_energies_add_up_to_the_potential);
+    RUN(own_tolerance_from_the_accuracy_target);
     return test_finish();
 }

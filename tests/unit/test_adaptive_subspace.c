@@ -236,7 +236,7 @@ TEST(downdating_drops_what_a_free_fall_does_not_need)
 }
 
 /* The oracle told to add nothing (eps_g huge): the full-space residual |d_full|_inf / h the
- * subspace leaves exceeds the Newton tolerance, is counted and left so with residual_rounds 0,
+ * subspace leaves exceeds the method's tolerance, is counted and left so with residual_rounds 0,
  * and with the default rounds the parts where it is are enriched until every step ends below it. */
 TEST(residual_above_the_tolerance_enriches_until_it_is_not)
 {
@@ -257,7 +257,7 @@ TEST(residual_above_the_tolerance_enriches_until_it_is_not)
         for (int t = 0; t < 4; t++) {
             CHECK_OK(rk_adaptive_step(&ad, &err));
             printf("# rounds %d step %d: residual %.3g m/s (tolerance %g), %d vertices enriched\n", o.residual_rounds,
-                   t, ad.stats.residual_last, s.opt.newton_tol, ad.nodes);
+                   t, ad.stats.residual_last, ad.tolerance, ad.nodes);
         }
         over[k] = ad.stats.residual_over;
         rounds[k] = ad.stats.residual_rounds;
@@ -280,7 +280,8 @@ TEST(bad_options_are_named)
         const char *what, *expect;
     } cases[] = {{"nodal 0", "eps_g_nodal"}, {"modal -1", "eps_g_modal"}, {"eps_d 0", "eps_d"},
                  {"subdomains", "subdomains"}, {"block", "whole number of blocks"}, {"nan", "non-finite"},
-                 {"static", "dynamics only"}, {"initial", "initial_blocks"}, {"rounds", "residual_rounds"}};
+                 {"static", "dynamics only"}, {"initial", "initial_blocks"}, {"rounds", "residual_rounds"},
+                 {"accuracy", "accuracy"}};
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
         rk_adaptive_options o;
         rk_adaptive_default_options(&o);
@@ -296,6 +297,7 @@ TEST(bad_options_are_named)
         if (k == 6) fo.is_static = 1;
         if (k == 7) o.initial_blocks = 100;
         if (k == 8) o.residual_rounds = -1;
+        if (k == 9) o.accuracy = -1;
         rk_adaptive ad;
         err.msg[0] = 0;
         int rc = rk_adaptive_init(&ad, &s.body.f, &fo, s.basis.U, r, &o, &err);
