@@ -307,6 +307,7 @@ paper-table: deps-build $(BUILD)/romkit
 	@mkdir -p bench/results
 	$(BUILD)/romkit compare examples/scenes/beam_bend_table.json --quiet --report bench/results/paper_table_bend.json | tee bench/results/paper_table_bend.txt
 	$(BUILD)/romkit compare examples/scenes/beam_twist_table.json --quiet --report bench/results/paper_table_twist.json | tee bench/results/paper_table_twist.txt
+	$(BUILD)/romkit compare examples/scenes/beam_twist360_table_lifted.json --quiet --report bench/results/paper_table_twist360_lifted.json | tee bench/results/paper_table_twist360_lifted.txt
 	$(BUILD)/romkit compare examples/scenes/beam_twist360_table.json --quiet --report bench/results/paper_table_twist360.json | tee bench/results/paper_table_twist360.txt
 	for s in bend twist360; do $(BUILD)/romkit compare examples/scenes/beam_$${s}_table_pin1e3.json --quiet \
 	    --report bench/results/paper_table_$${s}_pin1e3.json | tee bench/results/paper_table_$${s}_pin1e3.txt; done

@@ -161,7 +161,8 @@ PAGES_OF_TEXT = [
     ("paper_table", "The FreeForm paper's Table 1 beam tests", "make paper-table",
      ["paper_table_bend", "paper_table_bend_pin1e3", "paper_table_twist", "paper_table_twist360",
       "paper_table_twist360_pin1e3", "paper_table_twist_L2", "paper_table_twist_levels",
-      "paper_table_twist360_pin_sweep"]),
+      "paper_table_twist360_pin_sweep", "paper_table_twist360_lifted", "paper_table_twist360_lifted_mesh",
+      "paper_table_twist360_lifted_p1", "paper_table_twist720_frames"]),
 ]
 PAGES_OF_COMPARE_JSON = [
     ("armadillo_point_cloud", "A point cloud against the mesh path (armadillo, FreeForm Table 2)",
@@ -177,6 +178,13 @@ NOT_FROM_A_TARGET = {
     "paper_table_twist360_pin_sweep": "no make target writes this file: it records one-off romkit compare runs "
                                       "of the 360-degree twist's rows at other pin_stiffness values, as its "
                                       "comment lines say",
+    "paper_table_twist360_lifted_mesh": "no make target writes this file: it records a one-off romkit compare "
+                                        "of the 360-degree twist's mesh-path rows lifted, as its comment lines say",
+    "paper_table_twist360_lifted_p1": "no make target writes this file: it records one-off romkit compare runs "
+                                      "of the lifted rows against the P1 run, as its comment lines say",
+    "paper_table_twist720_frames": "no make target writes this file: it records one-off runtime runs of the "
+                                   "720-degree twist's rows read frame by frame (bench/twist_buckle.py), as its "
+                                   "comment lines say",
     "paper_table_twist_L2": "no make target writes this file: it records one-off runs of "
                             "`romkit-double run --reference`, as its comment lines say",
 }
