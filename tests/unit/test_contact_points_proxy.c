@@ -475,6 +475,20 @@ static void check_file(const char *file, double g)
     CHECK(st.median_s <= 0.6, "%s: vertices %.3f s (median) off", file, st.median_s);
 }
 
+/* n splats on a sphere of radius R, a Fibonacci spiral of spacing about h, each pushed off the
+ * sphere by up to h / 2 and sideways by up to 0.15 h: a noisy shell, as a capture's surface is. */
+static double *jittered_shell(int n, double R, double h)
+{
+    double *X = malloc(sizeof(double) * 3 * (size_t)n);
+    for (int i = 0; i < n; i++) {
+        double z = 1 - 2 * (i + 0.5) / n, r = sqrt(1 - z * z), th = i * M_PI * (3 - sqrt(5.0)), rr = R + (uni() - 0.5) * h;
+        X[3 * i] = r * cos(th) * rr + (uni() - 0.5) * 0.3 * h;
+        X[3 * i + 1] = r * sin(th) * rr + (uni() - 0.5) * 0.3 * h;
+        X[3 * i + 2] = z * rr + (uni() - 0.5) * 0.3 * h;
+    }
+    return X;
+}
+
 /* A noisy sphere shell (the splats of a captured surface: radius 0.1, 4000 points on a golden
  * spiral, s about 5.6 mm apart, jittered by +-s/2 along the radius and +-0.15 s across) at the
  * default voxel g = 2 s: the vertices come in to s / 2 of the points, the 95th percentile within
@@ -482,13 +496,7 @@ static void check_file(const char *file, double g)
 TEST(a_noisy_shell_is_wrapped_within_its_spacing)
 {
     int n = 4000;
-    double *X = malloc(sizeof(double) * 3 * (size_t)n), R = 0.1, h = sqrt(4 * M_PI * R * R / n);
-    for (int i = 0; i < n; i++) {
-        double z = 1 - 2 * (i + 0.5) / n, r = sqrt(1 - z * z), th = i * M_PI * (3 - sqrt(5.0)), rr = R + (uni() - 0.5) * h;
-        X[3 * i] = r * cos(th) * rr + (uni() - 0.5) * 0.3 * h;
-        X[3 * i + 1] = r * sin(th) * rr + (uni() - 0.5) * 0.3 * h;
-        X[3 * i + 2] = z * rr + (uni() - 0.5) * 0.3 * h;
-    }
+    double R = 0.1, h = sqrt(4 * M_PI * R * R / n), *X = jittered_shell(n, R, h);
     double g = 2 * h, s = median_spacing(X, n, g);
     proxy_stats st;
     char why[256];
@@ -514,13 +522,7 @@ TEST(a_dense_shell_at_a_capped_voxel_comes_nearer)
 {
     int n = 12000;
     rng = 4242; /* its own draw, whatever ran before */
-    double *X = malloc(sizeof(double) * 3 * (size_t)n), R = 0.1, h = sqrt(4 * M_PI * R * R / n);
-    for (int i = 0; i < n; i++) {
-        double z = 1 - 2 * (i + 0.5) / n, r = sqrt(1 - z * z), th = i * M_PI * (3 - sqrt(5.0)), rr = R + (uni() - 0.5) * h;
-        X[3 * i] = r * cos(th) * rr + (uni() - 0.5) * 0.3 * h;
-        X[3 * i + 1] = r * sin(th) * rr + (uni() - 0.5) * 0.3 * h;
-        X[3 * i + 2] = z * rr + (uni() - 0.5) * 0.3 * h;
-    }
+    double R = 0.1, h = sqrt(4 * M_PI * R * R / n), *X = jittered_shell(n, R, h);
     double s = median_spacing(X, n, 4 * h), g = 10 * s, lo[3];
     proxy_stats st;
     char why[256];
