@@ -48,26 +48,29 @@ unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err)
     return fixed;
 }
 
-unsigned char *rk_scene_moving_vertices(const rk_scene_sim *sim, int *group, rk_error *err)
+int rk_scene_moving_group(const rk_scene_sim *sim, rk_error *err)
 {
     int found = -1;
     for (int g = 0; g < sim->options.nprescribed; g++)
         if (sim->options.prescribed[g].kind != RK_MOTION_FIXED) {
-            if (found >= 0) {
-                rk_fail(err, "clamp \"lifted\" holds one moving group exactly, and the scene has several (%d and %d "
-                        "among its prescribed groups): use clamp \"dirichlet\" (their penalty)", found, g);
-                return NULL;
-            }
+            if (found >= 0)
+                return rk_fail(err, "clamp \"lifted\" holds one moving group exactly, and the scene has several (%d and "
+                               "%d among its prescribed groups): use clamp \"dirichlet\" (their penalty)", found, g);
             found = g;
         }
-    if (found < 0) {
-        rk_fail(err, "clamp \"lifted\" needs a moving group to lift, and the scene has none: use clamp \"dirichlet\"");
-        return NULL;
-    }
+    if (found < 0)
+        return rk_fail(err, "clamp \"lifted\" needs a moving group to lift, and the scene has none: use clamp "
+                       "\"dirichlet\"");
+    return found;
+}
+
+unsigned char *rk_scene_moving_vertices(const rk_scene_sim *sim, rk_error *err)
+{
+    int g = rk_scene_moving_group(sim, err);
+    if (g < 0) return NULL;
     unsigned char *moving = rk_calloc((size_t)sim->mesh.nv, 1, err);
     if (!moving) return NULL;
-    for (int k = 0; k < sim->options.prescribed[found].count; k++) moving[sim->options.prescribed[found].verts[k]] = 1;
-    *group = found;
+    for (int k = 0; k < sim->options.prescribed[g].count; k++) moving[sim->options.prescribed[g].verts[k]] = 1;
     return moving;
 }
 
@@ -108,8 +111,7 @@ static int rkpm_object(const rk_scene *scene, const rk_scene_sim *sim, const rk_
         int kernels = cloud || o->from_vertices ? cloud_kernels(o->kernels, pts.n, info) : o->kernels;
         int clamp = fixed && !cloud && !o->from_vertices;
         if (o->clamp_lifted) {
-            int group;
-            unsigned char *moving = rk_scene_moving_vertices(sim, &group, err);
+            unsigned char *moving = rk_scene_moving_vertices(sim, err);
             rc = !moving ? -1
                  : cloud || o->from_vertices
                      ? rk_fail(err, "clamp \"lifted\" needs the object's tets (not a point cloud, nor its vertices as one)")

@@ -34,9 +34,10 @@ typedef struct {
 /* nv flags (calloc'd): the vertices the scene holds fixed (moving ones are free), which linear
  * modes and modal derivatives are computed with. NULL on failure. */
 unsigned char *rk_scene_fixed_vertices(const rk_scene_sim *sim, rk_error *err);
-/* The vertices of the scene's one moving prescribed group (rom.clamp "lifted"), its index in
- * *group; fails, saying why, when the scene has none or several. */
-unsigned char *rk_scene_moving_vertices(const rk_scene_sim *sim, int *group, rk_error *err);
+/* The index of the scene's one moving prescribed group (rom.clamp "lifted"), and its vertices as
+ * flags; both fail (-1, NULL), saying why, when the scene has none or several. */
+int rk_scene_moving_group(const rk_scene_sim *sim, rk_error *err);
+unsigned char *rk_scene_moving_vertices(const rk_scene_sim *sim, rk_error *err);
 int rk_scene_basis(const rk_scene *scene, const rk_scene_sim *sim, const rk_basis_options *o, const double *frames,
                    int T, rk_basis *b, rk_scene_basis_info *info, rk_error *err);
 void rk_scene_basis_info_free(rk_scene_basis_info *info);

@@ -227,13 +227,12 @@ int rk_scene_rom_build_given(const rk_scene *scene, const rk_scene_sim *sim, con
     rk_fom_options opt = sim->options; /* the entry's own penalty on prescribed vertices */
     opt.pin_stiffness = o->pin_stiffness;
     if (R->basis.lift_handle) { /* the moving group rides on the lifting handle, not on the penalty */
-        unsigned char *moving = rk_scene_moving_vertices(sim, &opt.lift_group, err);
-        if (!moving) {
+        int group = rk_scene_moving_group(sim, err);
+        if (group < 0) {
             rk_scene_rom_free(R);
             return rk_error_prefix(err, "%s", o->name);
         }
-        free(moving);
-        opt.lift_group++;
+        opt.lift_group = group + 1;
         opt.lift_handle = R->basis.lift_handle;
     }
     int mesh_free = rk_scene_mesh_free(scene, o);
