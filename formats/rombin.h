@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 9   /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 10  /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -124,11 +124,13 @@ enum {
     ROMBIN_OBHD_NODES,           /* OBVN, OBVB */
     ROMBIN_OBHD_ITEMS,           /* OBIT */
     ROMBIN_OBHD_PAIRS,           /* the runtime's pair capacity (candidates and friction pairs each) */
-    ROMBIN_OBHD_FLAGS,           /* 1.7: ROMBIN_OBHD_SELF; other bits 0 */
+    ROMBIN_OBHD_FLAGS,           /* 1.7: ROMBIN_OBHD_SELF; 1.10: ROMBIN_OBHD_COLLIDERS; other bits 0 */
     ROMBIN_OBHD_COUNT = 8
 };
 enum {
-    ROMBIN_OBHD_SELF = 1u        /* each object's surface also touches itself (contact.self) */
+    ROMBIN_OBHD_SELF = 1u,       /* each object's surface also touches itself (contact.self) */
+    ROMBIN_OBHD_COLLIDERS = 2u   /* the surface is there for the app's colliders alone (no obstacle,
+                                  * one object, no self-contact; 1.10) */
 };
 enum {
     ROMBIN_OBST_KIND = 0,        /* 1 sphere, 2 capsule, 3 box, 4 mesh (precompute/contact's kinds) */

@@ -227,7 +227,7 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     romrt_real h = m->h;
     double *xtilde = al->res;
     romrt_status st;
-    if (!al->decoder && !m->surface && !m->ncolliders) al->ns_on = al->ns_base;
+    if (!al->decoder && !rt_surface_on(m) && !m->ncolliders) al->ns_on = al->ns_base;
     else rt_alrom_take_collision_vertices(m);
     RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
     st = rt_alrom_step_basis(m, err);

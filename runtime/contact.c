@@ -11,6 +11,11 @@
 
 #include "runtime/romrt_impl.h"
 
+int rt_surface_on(const romrt_model *m)
+{
+    return m->surface && (m->nobs || m->self_contact || m->nobjects > 1 || m->nmeshes);
+}
+
 romrt_real *rt_obstacle_point(const romrt_model *m, uint32_t o, int which)
 {
     const rt_mesh *M;

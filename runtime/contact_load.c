@@ -60,15 +60,17 @@ romrt_status rt_obstacles_arrays(rt_loader *L, romrt_model *m)
     head = (const uint32_t *)(const void *)c.data;
     n = c.raw / 4;
     /* no obstacle besides planes: the collision surface touching itself (self-contact) or other
-     * objects' (COBJ, read before), 1.7 */
+     * objects' (COBJ, read before), 1.7, or there for the app's colliders alone (its flag), 1.10 */
     if (n < ROMBIN_OBHD_COUNT || head[ROMBIN_OBHD_OBSTACLES] > ROMBIN_MAX_OBSTACLES ||
-        (head[ROMBIN_OBHD_OBSTACLES] == 0 && !(head[ROMBIN_OBHD_FLAGS] & ROMBIN_OBHD_SELF) && m->nobjects < 2))
+        (head[ROMBIN_OBHD_OBSTACLES] == 0 && !(head[ROMBIN_OBHD_FLAGS] & (ROMBIN_OBHD_SELF | ROMBIN_OBHD_COLLIDERS)) &&
+         m->nobjects < 2))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD,
-                       "counts more obstacles than the runtime takes (64), or none with neither objects (COBJ) nor self-contact");
+                       "counts more obstacles than the runtime takes (64), or none with neither objects (COBJ), "
+                       "self-contact nor the colliders flag");
     if (n != ROMBIN_OBHD_COUNT + (uint64_t)ROMBIN_OBST_COUNT * head[ROMBIN_OBHD_OBSTACLES])
         return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "holds ", n, " values, its obstacle count implies ",
                           ROMBIN_OBHD_COUNT + (uint64_t)ROMBIN_OBST_COUNT * head[ROMBIN_OBHD_OBSTACLES], "");
-    if (head[ROMBIN_OBHD_FLAGS] & ~(uint32_t)ROMBIN_OBHD_SELF)
+    if (head[ROMBIN_OBHD_FLAGS] & ~(uint32_t)(ROMBIN_OBHD_SELF | ROMBIN_OBHD_COLLIDERS))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "flags hold a bit this runtime does not know");
     for (k = ROMBIN_OBHD_FLAGS + 1; k < ROMBIN_OBHD_COUNT; k++)
         if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_OBHD, "reserved field ", (uint64_t)k, " is not 0");

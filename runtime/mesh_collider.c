@@ -151,8 +151,8 @@ romrt_status romrt_set_mesh_collider(romrt_model *m, size_t slot, const romrt_me
                        "the asset has no collision vertices (baked with \"colliders\": false or before rombin 1.1)");
     if (!m->surface)
         return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_OBHD,
-                       "romrt_set_mesh_collider: the asset has no collision surface (bake it with a mesh obstacle, several "
-                       "objects or contact.self)");
+                       "romrt_set_mesh_collider: the asset has no collision surface (baked with \"colliders\": \"vertices\" "
+                       "or before rombin 1.10)");
     for (i = 0; i < 3; i++) shape[i] = position[i];
     for (i = 0; i < 9; i++) shape[3 + i] = rotation[i];
     for (i = 12; i < RT_COLLIDER_REALS; i++) shape[i] = 1; /* a unit sphere's size: only the pose is checked */

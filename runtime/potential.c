@@ -398,7 +398,7 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
     stored = elastic(m, q, g, H, ld);
     if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, T->friction, g, H, ld);
     if (m->ncolliders && isfinite(stored)) stored += rt_colliders_energy(m, q, T->friction, g, H, ld);
-    if (m->surface && isfinite(stored)) stored += rt_obstacles_energy(m, q, T->friction, g, H, ld);
+    if (rt_surface_on(m) && isfinite(stored)) stored += rt_obstacles_energy(m, q, T->friction, g, H, ld);
     if (!isfinite(stored)) return (romrt_real)INFINITY;
     /* Loads, applied forces and the pins' linear part: -(f + f_app + b(t)) . (q - q_t), their work
      * since the step began. Against q itself the work is the constant f . q_t (gravity's whole work

@@ -429,6 +429,10 @@ void rt_clock_rebase(romrt_model *m);
  *   rt_obstacles_lag       friction's step start (start) and lagged pairs at q */
 void rt_obstacles_at(romrt_model *m, double t);
 void rt_obstacles_target(romrt_model *m, double t);
+/* Whether the collision surface is in play: obstacles besides planes, other objects, self-contact
+ * or an app collider on the obstacles' path. An asset may carry the surface for the app's colliders
+ * alone (ROMBIN 1.9): until one is placed, its step is the planes-only step, kept matrix included. */
+int rt_surface_on(const romrt_model *m);
 romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d);
 romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q);

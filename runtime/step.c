@@ -97,7 +97,7 @@ static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real 
 /* Whether a step along a direction must be filtered: planes, colliders or other objects to keep. */
 static int filtered(const romrt_model *m)
 {
-    return m->ncontacts || m->ncolliders || m->surface;
+    return m->ncontacts || m->ncolliders || rt_surface_on(m);
 }
 
 static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
@@ -107,7 +107,7 @@ static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real
     if (m->obs_joint && d[p] > 0 && (1 - y[p]) / d[p] < alpha) alpha = (1 - y[p]) / d[p]; /* s stays in [0, 1] */
     if (m->obs_joint && d[p] < 0 && y[p] / -d[p] < alpha) alpha = y[p] / -d[p];
     if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
-    if (m->surface && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
+    if (rt_surface_on(m) && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
     return alpha;
 }
 
@@ -154,7 +154,7 @@ int rt_reuse_steps(const romrt_model *m)
 {
     if (m->kind != ROMRT_KIND_REDUCED || crom_basis(m)) return 0;
     if (m->hessian_reuse_set) return m->hessian_reuse;
-    return m->fixed_iterations || m->surface ? 0 : DEFAULT_REUSE;
+    return m->fixed_iterations || rt_surface_on(m) ? 0 : DEFAULT_REUSE;
 }
 
 /* Whether the Newton matrix factored in m->H may serve this iteration (romrt_set_hessian_reuse):
@@ -495,9 +495,9 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         T.w_inertia = 1 / (h * h);
     }
     T.w_damping = 1 / h;
-    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders || m->surface);
+    T.friction = m->mu > 0 && (m->ncontacts || m->ncolliders || rt_surface_on(m));
     memcpy(m->qt, m->q, sizeof(romrt_real) * (size_t)r);
-    if (m->surface) { /* the obstacles where the clock puts them (a reset may have moved it), unless
+    if (rt_surface_on(m)) { /* the obstacles where the clock puts them (a reset may have moved it), unless
                        * the last step left them behind; kept to go back to if this one fails */
         m->obs_overflow = 0;
         behind = m->obs_behind;
@@ -507,7 +507,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     }
     /* friction lagged at q_t for the first solve; the colliders' poses now, to go back to on failure */
     rt_colliders_lag(m, m->qt, 1);
-    if (m->surface && T.friction) rt_obstacles_lag(m, m->qt, 1);
+    if (rt_surface_on(m) && T.friction) rt_obstacles_lag(m, m->qt, 1);
     rt_pin_target(m, rt_clock(m, 1));
     /* Start from the inertial prediction when no contact is crossed on the way there. */
     for (i = 0; i < r; i++) m->d[i] = m->qtilde[i] - m->qt[i];
@@ -521,13 +521,13 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     for (i = 1; !st && T.friction && !m->fixed_iterations && i < m->friction_iterations; i++) {
         size_t before = m->last.newton_iterations;
         rt_colliders_lag(m, m->q, 0);
-        if (m->surface) rt_obstacles_lag(m, m->q, 0);
+        if (rt_surface_on(m)) rt_obstacles_lag(m, m->q, 0);
         st = solve(m, &T, 0, err);
         if (m->last.newton_iterations - before <= 1) break;
     }
     m->last.colliders_behind = rt_colliders_pending(m) || (m->nmeshes && rt_meshes_pending(m)) || m->obs_behind;
-    m->last.contact_pairs = m->surface ? (size_t)m->ncand : 0;
-    m->last.friction_pairs = m->surface ? (size_t)m->nfric : 0;
+    m->last.contact_pairs = rt_surface_on(m) ? (size_t)m->ncand : 0;
+    m->last.friction_pairs = rt_surface_on(m) ? (size_t)m->nfric : 0;
     for (i = 0; i < r && !st; i++) {
         vnew[i] = bdf2 ? (3 * m->q[i] - 4 * m->qt[i] + m->q_prev[i]) / (2 * h) : (m->q[i] - m->qt[i]) / h;
         if (!isfinite(m->q[i]) || !isfinite(vnew[i]))
@@ -541,7 +541,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
         st = rt_alrom_commit(m, err);
         RT_PROF_END(RT_PROF_ALROM_TERMS);
     }
-    if (st && m->surface && m->obs_overflow) /* the cause, rather than the non-finite potential it left */
+    if (st && rt_surface_on(m) && m->obs_overflow) /* the cause, rather than the non-finite potential it left */
         st = rt_fail_n(err, ROMRT_E_LIMIT, ROMBIN_OBHD, "more contact pairs than the asset's capacity of ",
                        (uint64_t)m->pair_cap, " (bake with a larger rom.asset.contact_pairs)");
     if (st) { /* leave the state as it was, the colliders too */

@@ -25,12 +25,17 @@ typedef struct {
 
 #define RK_ASSET_MAX_GROUPS 64
 
+/* An asset's collision geometry for the app's colliders: none; the collision vertices (CVTX) and
+ * the collision surface they span (OBHD, CEDG, CTRI), which a shape touches exactly (the default);
+ * or the vertices alone (the smallest asset: a shape thinner than an edge passes between them). */
+typedef enum { RK_COLLIDERS_NONE = 0, RK_COLLIDERS_SURFACE = 1, RK_COLLIDERS_VERTICES = 2 } rk_colliders;
+
 typedef struct {
     int real_type;            /* ROMBIN_REAL_F32 (default) or ROMBIN_REAL_F64 */
     int compress;             /* deflate the chunks (default 0: the runtime opens stored chunks only) */
     rk_show show;
     int show_first;           /* RK_SHOW_FIRST: how many */
-    int colliders;            /* store the collision vertices (CVTX) an app's colliders act on (default 1) */
+    int colliders;            /* what an app's colliders act on (rk_colliders; default RK_COLLIDERS_SURFACE) */
     int contact_pairs;        /* the runtime's obstacle pair capacity (OBHD; 0: sized at bake) */
     int ngroups;
     rk_asset_group groups[RK_ASSET_MAX_GROUPS];

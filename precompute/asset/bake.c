@@ -355,7 +355,7 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
              add_geometry(R, X, &s, w, err) || add_operators(m, R->velocity0, pins, w, err) ||
              (R->points ? add_points(R->points, &m->quad, w, err) : add_elements(R->fem, &m->quad, &s, w, err)) ||
              (m->quad.vol_k && rombin_add_reals(w, ROMBIN_VPRS, 1, m->quad.vol_phi, (size_t)m->quad.count * m->quad.vol_k, err)) ||
-             add_contacts(m, &s, w, err) || rk_bake_obstacles(m, o, w, err) || add_cloud(R, &s, w, err) ||
+             add_contacts(m, &s, w, err) || rk_bake_obstacles(m, R->fem, o, w, err) || add_cloud(R, &s, w, err) ||
              add_collisions(m, o, &s, w, err) || rk_bake_objects(m, collision_vertices(m, o), w, err) || (R->alrom && rk_bake_alrom_chunks(R, &s, w, err)) ||
              (k && rk_bake_koopman_chunks(k, g, o, &s, w, err)) || rk_bake_add_groups_and_surface(o, &s, w, err) ||
              (info && rombin_add_bytes(w, ROMBIN_INFO, 0, info, strlen(info), err));

@@ -37,7 +37,8 @@ int rk_bake_objects(const rk_rom_model *m, int ncv, rombin_writer *w, rk_error *
 /* The scene's obstacles other than planes (bake_obstacles.c): OBHD, OBJS, OBMO, OBVX, OBED, OBTR,
  * OBVN, OBVB, OBIT, and the collision surface CEDG, CTRI; OBHD, CEDG and CTRI alone for several
  * objects or self-contact without such obstacles; nothing without any of them. */
-int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_writer *w, rk_error *err);
+int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_options *o, rombin_writer *w,
+                      rk_error *err);
 /* GRPS, GVTX, GNAM, and SURF unless nothing is shown (renumbers s's groups and triangles). */
 int rk_bake_add_groups_and_surface(const rk_asset_options *o, rk_bake_state *s, rombin_writer *w, rk_error *err);
 

@@ -6,7 +6,12 @@
  * same stencils the reduced simulator does (object points against obstacle triangles, obstacle
  * points against object triangles, edges against edges, and, between objects or with
  * self-contact, the surface's own). With no obstacle but several objects or self-contact, OBHD
- * (counts 0, the pair capacity, the self flag) and the surface alone (1.7). */
+ * (counts 0, the pair capacity, the self flag) and the surface alone (1.7); and so, by default,
+ * with nothing of those either (1.10): the app's spheres, capsules, boxes and meshes then collide
+ * with the surface's triangles exactly, where on the collision vertices alone ("colliders":
+ * "vertices") a shape thinner than an edge passes between them. The runtime leaves a surface with
+ * nothing on it out of the step (rt_surface_on), so until the app places a collider the step is
+ * what it was. */
 #include "asset/bake_impl.h"
 
 #include <math.h>
@@ -125,10 +130,8 @@ static double triangle_area(const double *a, const double *b, const double *c)
  * surface can cover (its primitives times the object's area over its own, at most all of
  * them): a coarse object lying flat on a fine ground mesh has a candidate per ground primitive
  * beneath it, far more than its own primitives (4,000 against 2,308 for a slab on a 40 x 40 grid). */
-static int pair_capacity(const rk_rom_model *m, const rk_asset_options *o, const int *prims, const double *area,
-                         int nobs)
+static int pair_capacity(const rk_contact *c, const rk_asset_options *o, const int *prims, const double *area, int nobs)
 {
-    const rk_contact *c = &m->contact;
     double own = 0;
     for (int t = 0; t < c->nf; t++)
         own += triangle_area(&c->X[3 * c->faces[3 * t]], &c->X[3 * c->faces[3 * t + 1]], &c->X[3 * c->faces[3 * t + 2]]);
@@ -141,20 +144,42 @@ static int pair_capacity(const rk_rom_model *m, const rk_asset_options *o, const
     return cap > (double)(1 << 24) ? 1 << 24 : (int)ceil(cap);
 }
 
-int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_writer *w, rk_error *err)
+/* The contact stage's surface over the model's collision vertices, for a model without contact
+ * (no obstacle, one object): the same boundary rk_rom_contact_init took them from. */
+static int surface_alone(const rk_rom_model *m, const rk_fem *fem, rk_contact *own, rk_error *err)
 {
-    if (!m->has_contact) return 0;
+    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
+                    .nghost = fem->nghost, .ghost = (int *)fem->ghost};
+    if (rk_contact_init(own, &view, NULL, 1, NULL, 0, &m->contact_options, m->mass / fem->nv, err)) return -1;
+    if (own->nv != m->ncv) {
+        rk_contact_free(own);
+        return rk_fail(err, "the collision surface's %d vertices are not the model's %d", own->nv, m->ncv);
+    }
+    return 0;
+}
+
+int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_options *o, rombin_writer *w,
+                      rk_error *err)
+{
+    rk_contact own;
     const rk_contact *c = &m->contact;
+    int for_colliders = o->colliders == RK_COLLIDERS_SURFACE && m->ncv > 0;
+    if (!m->has_contact) {
+        if (!for_colliders) return 0;
+        if (surface_alone(m, fem, &own, err)) return -1;
+        c = &own;
+    }
     int nobs = 0, nobjects = 0;
     for (int k = 0; k < c->nobstacles; k++) nobs += c->obstacles[k].kind != RK_OBSTACLE_PLANE;
     for (int i = 0; i < c->nv; i++)
         if (c->object[c->vertex[i]] + 1 > nobjects) nobjects = c->object[c->vertex[i]] + 1;
     /* the surface touches other objects' (COBJ, bake_objects.c) or itself: OBHD, CEDG and CTRI
-     * without obstacles (1.7) */
+     * without obstacles (1.7); or the app's colliders may touch it (1.10) */
     int surface_pairs = nobjects > 1 || c->opt.self;
-    if (nobs == 0 && !surface_pairs) return 0;
-    if (nobs > (int)ROMBIN_MAX_OBSTACLES) return rk_fail(err, "at most %u obstacles besides planes, the scene has %d",
-                                                         ROMBIN_MAX_OBSTACLES, nobs);
+    if ((nobs == 0 && !surface_pairs && !for_colliders) || nobs > (int)ROMBIN_MAX_OBSTACLES) {
+        if (c == &own) rk_contact_free(&own);
+        return nobs ? rk_fail(err, "at most %u obstacles besides planes, the scene has %d", ROMBIN_MAX_OBSTACLES, nobs) : 0;
+    }
     int nitems_all = c->onv + c->one + c->onf;
     /* sizes: a BVH of n items has at most 2 n / 1 nodes (leaves of 1..LEAF_ITEMS, binary splits) */
     size_t headn = ROMBIN_OBHD_COUNT + (size_t)ROMBIN_OBST_COUNT * nobs;
@@ -206,7 +231,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
             area[j] += triangle_area(&c->oX[3 * c->ofaces[3 * t]], &c->oX[3 * c->ofaces[3 * t + 1]], &c->oX[3 * c->ofaces[3 * t + 2]]);
         vfirst += nv, tfirst += nt, j++;
     }
-    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(m, o, prims, area, nobs);
+    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(c, o, prims, area, nobs);
     if (vfirst != c->onv || tfirst != c->onf || ne != c->one) {
         rk_fail(err, "the obstacles' vertices or triangles are not grouped by obstacle");
         goto done;
@@ -221,7 +246,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
     head[ROMBIN_OBHD_TRIANGLES] = (uint32_t)c->onf;
     head[ROMBIN_OBHD_NODES] = (uint32_t)b.nnodes;
     head[ROMBIN_OBHD_ITEMS] = (uint32_t)b.nout;
-    head[ROMBIN_OBHD_FLAGS] = c->opt.self ? ROMBIN_OBHD_SELF : 0;
+    head[ROMBIN_OBHD_FLAGS] = c->opt.self ? ROMBIN_OBHD_SELF : nobs == 0 && !surface_pairs ? ROMBIN_OBHD_COLLIDERS : 0;
     rc = rombin_add_u32(w, ROMBIN_OBHD, 1, head, headn, err) ? -1 : 0;
     if (!rc && nobs > 0)
         rc = rombin_add_reals(w, ROMBIN_OBJS, 1, thick, 4 * (size_t)nobs, err) ||
@@ -240,5 +265,6 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_asset_options *o, rombin_w
 done:
     free(head), free(nodes), free(items), free(thick), free(motion), free(bounds), free(edges), free(work), free(centre);
     free(cedges), free(ctris), free(prims), free(area);
+    if (c == &own) rk_contact_free(&own);
     return rc;
 }

@@ -8,5 +8,5 @@ void rk_asset_default_options(rk_asset_options *o)
     memset(o, 0, sizeof *o);
     o->real_type = ROMBIN_REAL_F32;
     o->show = RK_SHOW_SURFACE;
-    o->colliders = 1;
+    o->colliders = RK_COLLIDERS_SURFACE;
 }

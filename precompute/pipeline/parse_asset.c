@@ -1,5 +1,6 @@
 /* A rom entry's "asset" keys into rk_asset_options (asset.h):
- *   {"precision": "float32" | "float64", "compress": bool, "show": "surface" | "all" | "none", "colliders": bool,
+ *   {"precision": "float32" | "float64", "compress": bool, "show": "surface" | "all" | "none",
+ *    "colliders": true (the collision vertices and surface) | "vertices" (the vertices alone) | false,
  *    "groups": [{"name": "tip", "box": [[..], [..]]}, ...], "contact_pairs": n (the runtime's obstacle
  *    pair capacity; 0, the default: sized at bake)} */
 #include "pipeline/parse_impl.h"
@@ -35,6 +36,16 @@ static int parse_groups(const rk_json_ctx *c, const cJSON *a, const char *path, 
     return 0;
 }
 
+static int parse_colliders(const rk_json_ctx *c, const cJSON *a, const char *path, rk_asset_options *o)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(a, "colliders");
+    if (!v) return 0;
+    if (cJSON_IsBool(v)) o->colliders = cJSON_IsTrue(v) ? RK_COLLIDERS_SURFACE : RK_COLLIDERS_NONE;
+    else if (cJSON_IsString(v) && strcmp(v->valuestring, "vertices") == 0) o->colliders = RK_COLLIDERS_VERTICES;
+    else return rk_json_fail(c, path, "colliders must be true, false or \"vertices\"");
+    return 0;
+}
+
 int rk_parse_asset(const rk_json_ctx *c, const cJSON *e, const char *path, rk_asset_options *o)
 {
     char apath[96];
@@ -46,7 +57,7 @@ int rk_parse_asset(const rk_json_ctx *c, const cJSON *e, const char *path, rk_as
     const char *precision = NULL, *show = NULL;
     if (rk_json_check_keys(c, a, apath, keys) || rk_json_string(c, a, apath, "precision", 0, &precision) ||
         rk_json_string(c, a, apath, "show", 0, &show) || rk_json_bool(c, a, apath, "compress", &o->compress) ||
-        rk_json_bool(c, a, apath, "colliders", &o->colliders) ||
+        parse_colliders(c, a, apath, o) ||
         rk_json_whole(c, a, apath, "contact_pairs", 0, 1 << 28, &o->contact_pairs) ||
         parse_groups(c, a, apath, o))
         return -1;

@@ -758,7 +758,7 @@ static void obstacles(void)
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_NODES, nodes - 1, "OBHD"), "obhd_nodes_minus_1");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0, "OBHD"), "obhd_pairs_0");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_PAIRS, 0xFFFFFFFFu, "OBHD"), "obhd_pairs_ffffffff");
-    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_FLAGS, 2, "OBHD"), "obhd_unknown_flag");
+    OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_FLAGS, 4, "OBHD"), "obhd_unknown_flag");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_KIND, 0, "OBHD"), "obhd_kind_plane");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_VERTICES, onv + 1, "OBHD"), "obhd_range_past_count");
     OBS("obhd", with_u32(ROMBIN_OBHD, ROMBIN_OBHD_COUNT + ROMBIN_OBST_NODES, 0, "OBHD"), "obhd_no_nodes");

@@ -176,12 +176,12 @@ static both_collider turning_capsule(int step, int *slot)
 
 TEST(an_app_moved_sphere_pushes_a_hanging_block_as_the_reduced_simulator)
 {
-    CHECK_RUN("sphere", HANGING("{}"), 30, sweeping_sphere, 0.05);
+    CHECK_RUN("sphere", HANGING("{\"colliders\": \"vertices\"}"), 30, sweeping_sphere, 0.05);
 }
 
 TEST(a_turning_capsule_pushes_a_hanging_block_as_the_reduced_simulator)
 {
-    CHECK_RUN("capsule", HANGING("{}"), 30, turning_capsule, 0.02);
+    CHECK_RUN("capsule", HANGING("{\"colliders\": \"vertices\"}"), 30, turning_capsule, 0.02);
 }
 
 /* A block on a plane, pushed along by a box sliding on the plane behind it, with friction. */
@@ -199,7 +199,7 @@ TEST(a_box_pushes_a_block_along_a_plane_with_friction_as_the_reduced_simulator)
               "  \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.4, \"density\": 1000}}],"
               " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 1, 0]}}],"
               " \"contact\": {\"dhat\": 1e-3, \"friction\": 0.4}, \"time\": {\"step\": 0.01, \"duration\": 0.1},"
-              " \"rom\": {\"basis\": \"modes\", \"size\": 12}}",
+              " \"rom\": {\"basis\": \"modes\", \"size\": 12, \"asset\": {\"colliders\": \"vertices\"}}}",
               40, sliding_box, 0.03);
 }
 
@@ -228,7 +228,7 @@ TEST(bad_colliders_are_refused_with_a_status_and_change_nothing)
     rk_error err = {{0}};
     romrt_error rerr;
     rt_fixture f;
-    CHECK_OK(rt_fixture_open(&f, HANGING("{}"), ASSET_REAL, &err, &rerr));
+    CHECK_OK(rt_fixture_open(&f, HANGING("{\"colliders\": \"vertices\"}"), ASSET_REAL, &err, &rerr));
     double p[3] = {0.5, 0.3, 0.1};
     both_collider c = make_collider(ROMRT_COLLIDER_SPHERE, p, I3, 0.05, 0, NULL);
     CHECK(romrt_takes_colliders(f.m), "the asset takes no colliders");
@@ -251,7 +251,7 @@ TEST(bad_colliders_are_refused_with_a_status_and_change_nothing)
     printf("# refused: %s\n", rerr.message);
     /* nothing changed: the model steps exactly as one that never saw them */
     rt_fixture g;
-    CHECK_OK(rt_fixture_open(&g, HANGING("{}"), ASSET_REAL, &err, &rerr));
+    CHECK_OK(rt_fixture_open(&g, HANGING("{\"colliders\": \"vertices\"}"), ASSET_REAL, &err, &rerr));
     int n = romrt_shown_count(f.m);
     romrt_real *a = calloc((size_t)3 * n, sizeof(romrt_real)), *b = calloc((size_t)3 * n, sizeof(romrt_real));
     for (int k = 0; k < 5; k++) romrt_step(f.m, &rerr), romrt_step(g.m, &rerr);

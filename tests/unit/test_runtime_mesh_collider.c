@@ -448,12 +448,14 @@ TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
     REFUSED(romrt_set_mesh_collider(F.m, 1, &a.mesh, far, identity, &rerr), "slot 0 already");
     CHECK(romrt_remove_collider(F.m, 0, &rerr) == ROMRT_OK && romrt_step(F.m, &rerr) == ROMRT_OK, "removed: %s", rerr.message);
     rt_fixture_close(&F);
-    /* an asset without a collision surface (one object over a plane) takes no mesh */
+    /* an asset without a collision surface (one object over a plane, baked with the collision
+     * vertices alone) takes no mesh */
     CHECK_OK(rt_fixture_open(&F,
                              "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.1, 0.1, 0.1], \"cells\": [1, 1, 1]}},"
                              "  \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}}],"
                              " \"obstacles\": [{\"plane\": {\"point\": [0, -0.1, 0], \"normal\": [0, 1, 0]}}],"
-                             " \"time\": {\"step\": 0.01, \"duration\": 0.1}, \"rom\": {\"basis\": \"modes\", \"size\": 6}}",
+                             " \"time\": {\"step\": 0.01, \"duration\": 0.1},"
+                             " \"rom\": {\"basis\": \"modes\", \"size\": 6, \"asset\": {\"colliders\": \"vertices\"}}}",
                              ASSET_REAL, &err, &rerr));
     romrt_status st = romrt_set_mesh_collider(F.m, 0, &a.mesh, far, identity, &rerr);
     printf("# no collision surface: %s\n", rerr.message);
