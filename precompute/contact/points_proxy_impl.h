@@ -68,8 +68,9 @@ double rk_proxy_face_distance(const double *p, const double *a, const double *b,
  * point stays inside it: what the voxels' surface was. */
 int rk_proxy_inset(rk_mesh *m, int n, double g, double tau, const double lo[3], rk_error *err);
 /* The last stage, on m as it is (after rk_proxy_inset; lattice: m->X before it, the voxel faces
- * the turn and shrink checks compare with): the vertices
- * farther than 1.05 tau from the points straight toward their nearest point, to tau, under the
+ * the turn and shrink checks compare with): the vertices (one colour of them a round, no face
+ * with two of a colour) farther than 1.05 tau from the points straight toward their nearest
+ * point, to tau, under the
  * same checks but one: a point may end outside the surface by at most outside (> 0), measured
  * (rk_proxy_face_distance) for every point a moved face swept over or that was within outside of
  * the surface before, at every pass. Every point that was inside or within outside of the

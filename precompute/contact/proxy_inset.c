@@ -30,7 +30,12 @@
  * it (proxy_outside.c's face grid) measured at every pass where one of them changed; where it is
  * over t, the moved faces within t of it back off like any bad face. At zero moves the surface
  * is the last accepted one, where the bound held, so this ends too; a point never swept over is
- * inside as before (its winding number did not change). */
+ * inside as before (its winding number did not change). This stage moves one colour of vertices
+ * a round (no face has two vertices of one colour), so a face that fails backs off the one vertex
+ * that moved and not its neighbours too: moving them all at once left the donut's 95th percentile
+ * at 4.99 s, by colours 2.39 s (a dense jittered shell at g = 10 s: 4.70 s, 0.52 s). What stays
+ * far on the donut is held by the turn and shrink checks, a staircase's riser that would turn
+ * over or collapse on the smooth capture; the voxels' triangles cannot go nearer there. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
