@@ -16,9 +16,9 @@
  *     (issue 30): where g is about 2 s (the default), median at most 0.55-0.6 s and 95th
  *     percentile at most s (the 95th percentile, not the worst: a vertex every move of which
  *     would sweep over a jittered point stays back, bounded by g above); the donut capture at
- *     g = 10 s, median at most 0.6 s (1.06 s before the last stage, 5.0 s at g / 2); a dense
- *     noisy shell at g = 10 s, median at most 0.55 s and 95th percentile at most 4.8 s, no more
- *     triangles than its voxel surface;
+ *     g = 10 s, median at most 0.6 s (1.06 s before the last stage, 5.0 s at g / 2) and 95th
+ *     percentile at most 2.6 s; a dense noisy shell at g = 10 s, median at most 0.55 s and 95th
+ *     percentile within s, no more triangles than its voxel surface;
  * on one point, lattices at the voxel and half the voxel, a scattered cloud whose voxels meet
  * along edges and at corners, the pedestal scan, the donut splat capture (tests/data/meshes) and
  * a noisy sphere shell;
@@ -469,10 +469,12 @@ static void check_file(const char *file, double g)
     free(X);
     CHECK(rc == 0, "%s: %s", file, why);
     /* half the vertices within 0.6 s (the donut at g = 10 s: 5.0 s with the surface at g / 2, 1.06 s
-     * before the last stage, rk_proxy_near, 0.52 s now); the rest are held back where faces
-     * 10 s long sag across the curved shell or would turn past ~87 degrees from their voxel
-     * face (95th percentile 5.01 s before, 4.99 s now) */
+     * before the last stage, rk_proxy_near, 0.50 s now). The 95th percentile: 5.01 s before the
+     * last stage, 4.99 s when it moved every vertex at once, 2.39 s one colour of vertices at a
+     * time; what is left far is held back where a face would turn over or shrink against its
+     * voxel face (a staircase's riser on a smooth surface) or cross another */
     CHECK(st.median_s <= 0.6, "%s: vertices %.3f s (median) off", file, st.median_s);
+    if (strstr(file, "donut")) CHECK(st.p95_s <= 2.6, "%s: vertices %.3f s (95th percentile) off", file, st.p95_s);
 }
 
 /* n splats on a sphere of radius R, a Fibonacci spiral of spacing about h, each pushed off the
@@ -505,19 +507,20 @@ TEST(a_noisy_shell_is_wrapped_within_its_spacing)
     free(X);
     CHECK(rc == 0, "%s", why);
     /* at g / 2 (about s) before: median 0.95 s, 95th percentile 0.98 s; before the last stage
-     * (rk_proxy_near) 0.50 s and 0.96 s, now 0.50 s and 0.87 s */
-    CHECK(st.median_s <= 0.55 && st.p95_s <= 0.9, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+     * (rk_proxy_near) 0.50 s and 0.96 s; with it moving every vertex at once 0.50 s and 0.87 s,
+     * one colour of vertices at a time 0.50 s and 0.52 s */
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 0.6, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
 }
 
 /* A dense noisy shell at a capped voxel (issue 30): 12,000 splats on a sphere of radius 0.1 (s about
  * 3 mm), jittered as above, wrapped at g = 10 s, the ratio the 1/40-of-the-diagonal cap gives the
  * donut capture. Before the last stage (rk_proxy_near) a vertex stayed wherever any move swept
- * over an outer splat; now half the vertices are at s / 2 (median 0.95 s before), and the price is
- * bounded: every point inside or within RK_PROXY_OUTSIDE s outside (check_proxy's brute-force
+ * over an outer splat (median 0.95 s, 95th percentile 4.97 s); with it moving every vertex at once,
+ * a face that failed a check held all three of its vertices back, and the 95th percentile stayed
+ * 4.70 s; one colour of vertices a round (no face with two), it is within s (issue 30). The price
+ * is bounded: every point inside or within RK_PROXY_OUTSIDE s outside (check_proxy's brute-force
  * distance), no crossing (exact), no face turned or shrunk against its voxel face, the voxel
- * surface's triangles. What is left far (95th percentile 4.70 s, 4.97 s before) is where a face
- * 10 s long sags between vertices on the curved shell or would turn over: reaching s there needs
- * vertices off the lattice (edge splits, not done). */
+ * surface's triangles. */
 TEST(a_dense_shell_at_a_capped_voxel_comes_nearer)
 {
     int n = 12000;
@@ -537,8 +540,9 @@ TEST(a_dense_shell_at_a_capped_voxel_comes_nearer)
     print_stats("dense shell", n, g, s, &st);
     free(X);
     CHECK(rc == 0, "%s", why);
-    /* before the last stage: median 0.95 s, 95th percentile 4.97 s; now 0.50 s and 4.70 s */
-    CHECK(st.median_s <= 0.55 && st.p95_s <= 4.8, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+    /* before the last stage: median 0.95 s, 95th percentile 4.97 s; all at once 0.50 s and 4.70 s,
+     * by colours 0.50 s and 0.52 s */
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
     CHECK(st.faces == voxel_faces, "%d triangles (the voxel surface has %d)", st.faces, voxel_faces);
 }
 
