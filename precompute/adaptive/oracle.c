@@ -23,9 +23,7 @@ static double subspace_direction(rk_adaptive *ad, const rk_fom_terms *T, const d
     rk_dense_atb(n, a, 1, im->Ua, g, b);
     for (int k = 0; k < a; k++) b[k] = -b[k];
     if (rk_spd_solve_shifted(a, im->Ha, im->Lq, b, p, RK_ADAPTIVE_SHIFTS)) return 0;
-    memset(dx, 0, sizeof(double) * (size_t)n);
-    for (int j = 0; j < a; j++)
-        for (int i = 0; i < n; i++) dx[i] += im->Ua[(size_t)j * n + i] * p[j];
+    rk_adaptive_combine(n, a, im->Ua, p, dx);
     double gd = 0;
     for (int i = 0; i < n; i++) gd += g[i] * dx[i];
     if (!(gd < 0)) return 0;
