@@ -156,7 +156,8 @@ int rk_adaptive_solve_bordered(rk_adaptive *a, const rk_fom_terms *T, const doub
 void rk_adaptive_combine(int n, int a, const double *A, const double *c, double *y);
 int rk_adaptive_solve(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);
 
-/* Dense helpers (OpenBLAS): C = A^T B with A n x a, B n x b (column-major). */
+/* Dense helpers (OpenBLAS): C = A^T B with A n x a, B n x b (column-major); fixed blocks of C's
+ * columns on the threads (hessian.c). */
 void rk_dense_atb(int n, int a, int b, const double *A, const double *B, double *C);
 /* The per-vertex one-ring potential e (nv) at x (energy.c); +INFINITY where undefined. */
 int rk_adaptive_vertex_energy(rk_adaptive *a, const rk_fom_terms *T, const double *x, const double *elem_psi,
