@@ -17,9 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The PCG's rows (or C's columns) per scheduled chunk (below, "the PCG's products"): tens of
- * microseconds of work each, to pay for handing it out. */
-#define RK_SCHUR_CHUNK 512
+/* The PCG's rows (or C's columns) per scheduled chunk (below, "the PCG's products"): about 1024 x 45
+ * multiply-adds, some 50 us, against 10-20 us to wake a sleeping worker; a PCG iteration runs three
+ * such loops, so small enriched sets (under 1024 dofs) stay on the calling thread. */
+#define RK_SCHUR_CHUNK 1024
 
 static int grow_int(int **p, size_t count, rk_error *err)
 {
@@ -197,14 +198,6 @@ static void hx_rows(void *ctx, long begin, long end)
     }
 }
 
-/* y = H_x x: the sparse rows and the contact pairs among enriched points. */
-static void hx_apply(const rk_adaptive_impl *im, const double *x, double *y)
-{
-    schur_job j = {im, x, y};
-    rk_parallel_for(im->nx, RK_SCHUR_CHUNK, hx_rows, &j);
-    for (int k = 0; k < im->nctri; k++) y[im->ctri_r[2 * k]] += im->ctri_v[k] * x[im->ctri_r[2 * k + 1]];
-}
-
 /* Chunk c's share of C x into y + c a (x: the enriched dofs). */
 static void c_chunks(void *ctx, long begin, long end)
 {
@@ -224,16 +217,49 @@ static void c_chunks(void *ctx, long begin, long end)
     }
 }
 
+/* C x's partial sums, chunk by chunk, into im->c_part; then added in chunk order into t (a). */
+static long c_chunk_count(const rk_adaptive_impl *im)
+{
+    return (im->ncoup + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK;
+}
+
+static void c_sum(const rk_adaptive_impl *im, double *t)
+{
+    int a = im->a;
+    memset(t, 0, sizeof(double) * (size_t)a);
+    for (long c = 0; c < c_chunk_count(im); c++)
+        for (int i = 0; i < a; i++) t[i] += im->c_part[(size_t)c * a + i];
+}
+
 /* t (a) = C x (x over the enriched dofs). */
 static void c_apply(const rk_adaptive_impl *im, const double *x, double *t)
 {
-    int a = im->a;
-    long chunks = (im->ncoup + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK;
     schur_job j = {im, x, im->c_part};
-    rk_parallel_for(chunks, 1, c_chunks, &j);
-    memset(t, 0, sizeof(double) * (size_t)a);
-    for (long c = 0; c < chunks; c++)
-        for (int i = 0; i < a; i++) t[i] += im->c_part[(size_t)c * a + i];
+    rk_parallel_for(c_chunk_count(im), 1, c_chunks, &j);
+    c_sum(im, t);
+}
+
+/* H_x x's rows and C x's chunks in one loop (one hand-out a PCG product, not two): chunk k holds
+ * H_x's rows k RK_SCHUR_CHUNK on and C's k-th chunk of columns. */
+static void hx_and_c_chunks(void *ctx, long begin, long end)
+{
+    schur_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    schur_job c = {im, j->x, im->c_part};
+    for (long k = begin; k < end; k++) {
+        long r1 = (k + 1) * RK_SCHUR_CHUNK < im->nx ? (k + 1) * RK_SCHUR_CHUNK : im->nx;
+        hx_rows(ctx, k * RK_SCHUR_CHUNK, r1);
+        if (k < c_chunk_count(im)) c_chunks(&c, k, k + 1);
+    }
+}
+
+/* y = H_x x (the sparse rows and the contact pairs among enriched points) and t = C x. */
+static void hx_and_c_apply(const rk_adaptive_impl *im, const double *x, double *y, double *t)
+{
+    schur_job j = {im, x, y};
+    rk_parallel_for((im->nx + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK, 1, hx_and_c_chunks, &j);
+    for (int k = 0; k < im->nctri; k++) y[im->ctri_r[2 * k]] += im->ctri_v[k] * x[im->ctri_r[2 * k + 1]];
+    c_sum(im, t);
 }
 
 static void hq_solve(const rk_adaptive_impl *im, double *t)
@@ -257,9 +283,8 @@ static void ct_columns(void *ctx, long begin, long end)
 static void schur_apply(void *ctx, const double *x, double *y)
 {
     rk_adaptive_impl *im = ctx;
-    hx_apply(im, x, y);
     double *t = im->sc_a;
-    c_apply(im, x, t);
+    hx_and_c_apply(im, x, y, t);
     hq_solve(im, t);
     schur_job j = {im, t, y};
     rk_parallel_for(im->ncoup, RK_SCHUR_CHUNK, ct_columns, &j);
