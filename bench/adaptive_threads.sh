@@ -110,5 +110,17 @@ for c in ("defaults", "paper"):
         tot = s["simulate"]
         sh = [s[p] / tot for p in parts]
         print("| %s | %d | " % (c, t) + " | ".join("%.0f%%" % (100 * x) for x in sh) + " | %.0f%% |" % (100 * (1 - sum(sh))))
+print()
+print("Each part's seconds on 1 thread over its seconds on 2 (medians over the runs; above 1: faster on 2):")
+print()
+print("| configuration | simulate | " + " | ".join(parts) + " |")
+print("|---|---:|" + "---:|" * len(parts))
+for c in ("defaults", "paper"):
+    row = []
+    for p in ["simulate"] + parts:
+        s1 = statistics.median(x["seconds"][p] for x in rep(c, 1))
+        s2 = statistics.median(x["seconds"][p] for x in rep(c, 2))
+        row.append("%.2f" % (s1 / s2) if s2 > 0 else "-")
+    print("| %s | " % c + " | ".join(row) + " |")
 PY
 cat "$OUT"
