@@ -38,18 +38,33 @@ static int grow_double(double **p, size_t count, rk_error *err)
     return 0;
 }
 
-/* The enriched rows of H in im->Hf: inertia and damping, then every exact element's Hessian. */
+typedef struct {
+    rk_adaptive_impl *im;
+    double wi, wd;
+} rows_job;
+
+/* The enriched rows [begin, end) of H in im->Hf: inertia and damping (each row its own). */
+static void inertia_rows(void *ctx, long begin, long end)
+{
+    rows_job *j = ctx;
+    rk_adaptive_impl *im = j->im;
+    const rk_full_pattern *P = &im->P;
+    for (long k = begin; k < end; k++) {
+        int r = im->xdof[k];
+        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++)
+            im->Hf[e] = j->wi * im->Mf[e] + (im->Cf ? j->wd * im->Cf[e] : 0);
+    }
+}
+
+/* The enriched rows of H in im->Hf: inertia and damping, then every exact element's Hessian (in
+ * element order, serial: elements share entries). */
 static void enriched_rows(rk_adaptive *ad, const rk_fom_terms *T)
 {
     rk_adaptive_impl *im = ad->impl;
     const rk_fem *f = im->f;
     const rk_full_pattern *P = &im->P;
-    double wi = T->w_inertia, wd = T->w_damping;
-    for (int k = 0; k < im->nx; k++) {
-        int r = im->xdof[k];
-        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++)
-            im->Hf[e] = wi * im->Mf[e] + (im->Cf ? wd * im->Cf[e] : 0);
-    }
+    rows_job j = {im, T->w_inertia, T->w_damping};
+    rk_parallel_for(im->nx, 256, inertia_rows, &j);
     for (int t = 0; t < f->nt; t++) {
         const int *v = &f->tets[4 * t];
         if (!(im->enriched[v[0]] || im->enriched[v[1]] || im->enriched[v[2]] || im->enriched[v[3]])) continue;
@@ -64,6 +79,25 @@ static void enriched_rows(rk_adaptive *ad, const rk_fom_terms *T)
                 if (im->xindex[rlo] >= 0) im->Hf[P->up[s]] += h[i];
                 if (rlo != rhi && im->xindex[rhi] >= 0) im->Hf[P->lo[s]] += h[i];
             }
+    }
+}
+
+/* C[:, j] = sum over modal i of B_a[i, :] H[j, i] for the coupled dofs [begin, end), from the
+ * elastic, inertia and damping rows (the contact pairs' part is added after). */
+static void coupling_columns(void *ctx, long begin, long end)
+{
+    rk_adaptive_impl *im = ctx;
+    const rk_full_pattern *P = &im->P;
+    int a = im->a, n = im->n;
+    for (long cj = begin; cj < end; cj++) {
+        int r = im->xdof[im->coup_dof[cj]];
+        double *col = im->Cq + (size_t)cj * a;
+        memset(col, 0, sizeof(double) * (size_t)a);
+        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++) {
+            int c = P->col[e];
+            if (im->xindex[c] >= 0 || im->Hf[e] == 0) continue;
+            for (int j = 0; j < a; j++) col[j] += im->Ba[(size_t)j * n + c] * im->Hf[e];
+        }
     }
 }
 
@@ -147,16 +181,7 @@ static int build_blocks(rk_adaptive *ad, rk_error *err)
     if (grow_double(&im->Cq, (size_t)a * im->ncoup, err) ||
         grow_double(&im->c_part, (size_t)a * ((im->ncoup + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK), err))
         return -1;
-    memset(im->Cq, 0, sizeof(double) * (size_t)a * im->ncoup);
-    for (int cj = 0; cj < im->ncoup; cj++) { /* C[:, j] = sum over modal i of B_a[i, :] H[j, i] */
-        int r = im->xdof[im->coup_dof[cj]];
-        double *col = im->Cq + (size_t)cj * a;
-        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++) {
-            int c = P->col[e];
-            if (im->xindex[c] >= 0 || im->Hf[e] == 0) continue;
-            for (int j = 0; j < a; j++) col[j] += im->Ba[(size_t)j * n + c] * im->Hf[e];
-        }
-    }
+    rk_parallel_for(im->ncoup, 64, coupling_columns, im); /* each column its own */
     for (int b = 0; b < im->view.nblocks; b++) {
         const rk_contact_block *blk = &blocks[b];
         int m = 3 * blk->np;
