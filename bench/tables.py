@@ -125,6 +125,9 @@ ABOUT = {
                      "and the ratio against the old code."),
     "adaptive_moving": ("Adaptive subspaces through a moving obstacle (issue 34)", "make bench: bench/adaptive_moving.sh",
                         "A bar lifted by a rising box platform, the adaptive method against full order."),
+    "adaptive_threads": ("Adaptive subspaces on 1 and 2 threads (issue 34)", "make bench: bench/adaptive_threads.sh",
+                         "bench_adaptive's clamped slab at the defaults and at the paper's settings, 1 and 2 "
+                         "threads alternated, against full order at its best thread count; the split by part."),
     "moving_obstacles": ("Moving obstacles in the runtime (issue 30)", "make bench: bench/moving_obstacles.sh",
                          "A slab thrown onto a terrain rising at 1 m/s: us per step, Newton iterations, closest "
                          "approach and crossings, against an older build with OLD."),

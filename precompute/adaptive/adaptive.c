@@ -156,7 +156,7 @@ void rk_adaptive_free(rk_adaptive *ad)
         void *arrays[] = {im->U, im->prog, im->solved_enriched, im->gscale, im->pscale, im->gpsi, im->psi_bar, im->area, im->volume, im->G, im->dE, im->e0, im->e1, im->block_on,
                           im->cols, im->Ua, im->Ba, im->enriched, im->xdof, im->xindex, im->q_total, im->Mf,
                           im->Cf, im->Hf, im->UMU, im->UCU, im->BMB, im->BCB, im->Ha, im->Hq, im->Lq,
-                          im->elem_exact, im->He, im->hx_rowptr, im->hx_col, im->hx_val, im->coup_dof, im->Cq,
+                          im->elem_exact, im->He, im->hx_rowptr, im->hx_col, im->hx_val, im->coup_dof, im->Cq, im->c_part,
                           im->Dinv, im->coup_pos, im->block_size, im->part_mark_dofs, im->gq, im->dq, im->dx,
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
@@ -333,13 +333,19 @@ static double max_step(void *ctx, const double *x, const double *d)
 static double full_residual(rk_adaptive *ad, rk_fom *s, const rk_fom_terms *T, double *d, rk_error *err)
 {
     rk_adaptive_impl *im = ad->impl;
-    double *g = im->sc3, r = 0;
-    if (!isfinite(rk_fom_potential(s, T, s->x, g, RK_FOM_NEWTON_MATRIX, NULL, err))) return -1;
-    for (int i = 0; i < im->n; i++)
+    double *g = im->sc3, r = 0, t0 = rk_now();
+    /* full order's assembly and factorization as full order runs them: OpenBLAS on every thread
+     * (CHOLMOD's supernodes; bit-identical across thread counts, as full order is: cli_fom.sh) */
+    int blas = rk_threads_blas(rk_threads());
+    int rc = !isfinite(rk_fom_potential(s, T, s->x, g, RK_FOM_NEWTON_MATRIX, NULL, err));
+    for (int i = 0; i < im->n && !rc; i++)
         if (im->view.prescribed[i]) g[i] = 0;
-    if (rk_fom_newton_direction(s, g, d, err)) return -1;
+    if (!rc) rc = rk_fom_newton_direction(s, g, d, err);
+    rk_threads_blas(blas);
+    if (rc) return -1;
     rk_fom_view_get(&ad->fom, &im->view);
     for (int i = 0; i < im->n; i++) r = fmax(r, fabs(d[i]));
+    ad->stats.seconds_residual += rk_now() - t0;
     return r / s->opt.h;
 }
 

@@ -112,6 +112,7 @@ typedef struct {
     double seconds_system;        /* the enriched rows and the coupling */
     double seconds_pcg;           /* the Schur complement PCG (with H_q's factorization) */
     double seconds_line_search;
+    double seconds_residual;      /* the full-space residual check: full order's Newton matrix and solve */
     rk_adaptive_probe probe;      /* with opt.probe */
     double residual_last, residual_max, residual_sum; /* with opt.residual: per step, |d_full|_inf / h */
     long residual_over;           /* steps that ended with it above the method's tolerance (after the rounds) */

@@ -77,6 +77,7 @@ struct rk_adaptive_impl {
     int hx_cap;
     int ncoup, *coup_dof;       /* enriched dofs coupled to the modal dofs: C's columns */
     double *Cq;                 /* a x ncoup */
+    double *c_part;             /* a per chunk of C's columns: C x's partial sums (system.c) */
     double *Dinv;               /* 9 per enriched vertex: the block-Jacobi preconditioner */
     int nctri, capctri, *ctri_r;/* contact entries among enriched dofs: (row, column) pairs */
     double *ctri_v;             /* and their values */
@@ -151,9 +152,12 @@ double rk_adaptive_obstacle_terms(rk_adaptive *a, const double *y, double *g, in
 int rk_adaptive_solve_bordered(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);
 
 /* system.c: d (n) from Eq. 19 by the Schur complement */
+/* y (n) = A c for A n x a (column-major), rows on the threads, each row summed in column order. */
+void rk_adaptive_combine(int n, int a, const double *A, const double *c, double *y);
 int rk_adaptive_solve(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);
 
-/* Dense helpers (OpenBLAS): C = A^T B with A n x a, B n x b (column-major). */
+/* Dense helpers (OpenBLAS): C = A^T B with A n x a, B n x b (column-major); fixed blocks of C's
+ * columns on the threads (hessian.c). */
 void rk_dense_atb(int n, int a, int b, const double *A, const double *B, double *C);
 /* The per-vertex one-ring potential e (nv) at x (energy.c); +INFINITY where undefined. */
 int rk_adaptive_vertex_energy(rk_adaptive *a, const rk_fom_terms *T, const double *x, const double *elem_psi,

@@ -13,10 +13,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* C's columns per product: fixed blocks (not one per thread), so that each block is the same
+ * OpenBLAS call, with the same sums, on any thread count. */
+#define RK_ATB_COLUMNS 16
+
+typedef struct {
+    int n, a, b;
+    const double *A, *B;
+    double *C;
+} atb_job;
+
+static void atb_blocks(void *ctx, long begin, long end)
+{
+    atb_job *j = ctx;
+    for (long k = begin; k < end; k++) {
+        int c0 = (int)k * RK_ATB_COLUMNS, w = j->b - c0 < RK_ATB_COLUMNS ? j->b - c0 : RK_ATB_COLUMNS;
+        cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, j->a, w, j->n, 1.0, j->A, j->n,
+                    j->B + (size_t)c0 * j->n, j->n, 0.0, j->C + (size_t)c0 * j->a, j->a);
+    }
+}
+
 void rk_dense_atb(int n, int a, int b, const double *A, const double *B, double *C)
 {
     if (a == 0 || b == 0) return;
-    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, a, b, n, 1.0, A, n, B, n, 0.0, C, a);
+    atb_job j = {n, a, b, A, B, C};
+    rk_parallel_for((b + RK_ATB_COLUMNS - 1) / RK_ATB_COLUMNS, 1, atb_blocks, &j);
 }
 
 /* ---- element Hessians ---- */
@@ -206,38 +227,97 @@ void rk_adaptive_bfgs_update(rk_adaptive *ad, const double *x)
 
 /* ---- inertia, damping and contact, exactly ---- */
 
-/* SA = S A and AtSA = A^T S A for the full-pattern matrix S (values val) and U_a (n x a). */
+/* SA = S A and AtSA = A^T S A for the full-pattern matrix S (values val) and U_a (n x a): the
+ * columns of S A on the threads (each its own), then the product (rk_dense_atb, fixed blocks). */
+typedef struct {
+    const rk_adaptive_impl *im;
+    const double *val;
+    double *SA;
+} sandwich_job;
+
+static void sandwich_columns(void *ctx, long begin, long end)
+{
+    sandwich_job *j = ctx;
+    size_t n = (size_t)j->im->n;
+    for (long c = begin; c < end; c++) rk_full_mul(&j->im->P, j->val, j->im->Ua + c * n, j->SA + c * n);
+}
+
 static void sandwich(rk_adaptive_impl *im, const double *val, double *SA, double *AtSA)
 {
-    int n = im->n, a = im->a;
-    for (int j = 0; j < a; j++) rk_full_mul(&im->P, val, im->Ua + (size_t)j * n, SA + (size_t)j * n);
-    rk_dense_atb(n, a, a, im->Ua, SA, AtSA);
+    sandwich_job j = {im, val, SA};
+    rk_parallel_for(im->a, 1, sandwich_columns, &j);
+    rk_dense_atb(im->n, im->a, im->a, im->Ua, SA, AtSA);
 }
 
 /* B^T S B from U^T S U and S U, B = U - E with E the enriched rows of U: only those rows enter,
  *   B^T S B = U^T S U - E^T S U - U^T S E + E^T S E,
- * so a change of the enriched set costs its rows, not the whole mesh. */
-static void masked(rk_adaptive_impl *im, const double *val, const double *SU, const double *UtSU, double *out)
+ * so a change of the enriched set costs its rows, not the whole mesh. On the threads: the enriched
+ * rows of U, of S U and of S E (t below) gathered row-major (rows independent), then each column
+ * of the a x a result summed over those rows in row order, whatever the thread count. */
+typedef struct {
+    const rk_adaptive_impl *im;
+    const double *val, *SU;
+    long first;              /* the block's first enriched row */
+    int rows;                /* rows in this block */
+    double *X, *Y, *T, *out; /* rows x a each, row-major: U's, S U's and S E's enriched rows */
+} masked_job;
+
+/* Enriched rows per block: bounds the gathered copies (3 x 4096 x a doubles). */
+#define RK_MASKED_ROWS 4096
+
+static void masked_rows(void *ctx, long begin, long end)
 {
-    int n = im->n, a = im->a, nx = im->nx;
-    size_t aa = (size_t)a * a;
-    memcpy(out, UtSU, sizeof(double) * aa);
-    for (int k = 0; k < nx; k++) {
-        int r = im->xdof[k];
-        const double *Ur = im->Ua + r, *SUr = SU + r; /* row r of U and of S U, stride n */
+    masked_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    int n = im->n, a = im->a;
+    for (long k = begin; k < end; k++) {
+        int r = im->xdof[j->first + k];
+        double *X = j->X + (size_t)k * a, *Y = j->Y + (size_t)k * a, *t = j->T + (size_t)k * a;
+        for (int i = 0; i < a; i++) {
+            X[i] = im->Ua[(size_t)i * n + r];
+            Y[i] = j->SU[(size_t)i * n + r];
+        }
         /* E^T S E's row r: sum over enriched columns c of S[r, c] U[c, :] */
-        double *t = im->sc_a;
         memset(t, 0, sizeof(double) * (size_t)a);
         for (int e = im->P.rowptr[r]; e < im->P.rowptr[r + 1]; e++) {
             int c = im->P.col[e];
-            if (im->xindex[c] < 0 || val[e] == 0) continue;
-            for (int j = 0; j < a; j++) t[j] += val[e] * im->Ua[(size_t)j * n + c];
+            if (im->xindex[c] < 0 || j->val[e] == 0) continue;
+            for (int i = 0; i < a; i++) t[i] += j->val[e] * im->Ua[(size_t)i * n + c];
         }
-        for (int j = 0; j < a; j++)
-            for (int i = 0; i < a; i++)
-                out[(size_t)j * a + i] += -Ur[(size_t)i * n] * SUr[(size_t)j * n] - SUr[(size_t)i * n] * Ur[(size_t)j * n] +
-                                          Ur[(size_t)i * n] * t[j];
     }
+}
+
+static void masked_columns(void *ctx, long begin, long end)
+{
+    masked_job *j = ctx;
+    int a = j->im->a;
+    for (long c = begin; c < end; c++) {
+        double *o = j->out + (size_t)c * a;
+        for (int k = 0; k < j->rows; k++) {
+            const double *X = j->X + (size_t)k * a, *Y = j->Y + (size_t)k * a;
+            double xc = X[c], yc = Y[c], tc = j->T[(size_t)k * a + c];
+            for (int i = 0; i < a; i++) o[i] += -X[i] * yc - Y[i] * xc + X[i] * tc;
+        }
+    }
+}
+
+static int masked(rk_adaptive_impl *im, const double *val, const double *SU, const double *UtSU, double *out,
+                  rk_error *err)
+{
+    int a = im->a, nx = im->nx;
+    memcpy(out, UtSU, sizeof(double) * (size_t)a * a);
+    if (nx == 0 || a == 0) return 0;
+    int block = nx < RK_MASKED_ROWS ? nx : RK_MASKED_ROWS;
+    double *X = rk_calloc(3 * (size_t)block * a, sizeof(double), err);
+    if (!X) return -1;
+    masked_job j = {im, val, SU, 0, 0, X, X + (size_t)block * a, X + 2 * (size_t)block * a, out};
+    for (j.first = 0; j.first < nx; j.first += block) { /* blocks in row order: each entry's sum too */
+        j.rows = (int)(nx - j.first < block ? nx - j.first : block);
+        rk_parallel_for(j.rows, 256, masked_rows, &j);
+        rk_parallel_for(a, 1, masked_columns, &j);
+    }
+    free(X);
+    return 0;
 }
 
 static int inertia(rk_adaptive *ad, rk_error *err)
@@ -252,11 +332,13 @@ static int inertia(rk_adaptive *ad, rk_error *err)
         im->inertia_valid = 0;
     }
     if (im->inertia_valid) return 0;
-    masked(im, im->Mf, im->MU, im->UMU, im->BMB);
-    if (im->Cf) masked(im, im->Cf, im->CU, im->UCU, im->BCB);
-    else memset(im->BCB, 0, sizeof(double) * aa);
+    if (masked(im, im->Mf, im->MU, im->UMU, im->BMB, err)) return -1;
+    if (im->Cf) {
+        if (masked(im, im->Cf, im->CU, im->UCU, im->BCB, err)) return -1;
+    } else {
+        memset(im->BCB, 0, sizeof(double) * aa);
+    }
     im->inertia_valid = 1;
-    (void)err;
     return 0;
 }
 

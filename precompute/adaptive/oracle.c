@@ -23,9 +23,7 @@ static double subspace_direction(rk_adaptive *ad, const rk_fom_terms *T, const d
     rk_dense_atb(n, a, 1, im->Ua, g, b);
     for (int k = 0; k < a; k++) b[k] = -b[k];
     if (rk_spd_solve_shifted(a, im->Ha, im->Lq, b, p, RK_ADAPTIVE_SHIFTS)) return 0;
-    memset(dx, 0, sizeof(double) * (size_t)n);
-    for (int j = 0; j < a; j++)
-        for (int i = 0; i < n; i++) dx[i] += im->Ua[(size_t)j * n + i] * p[j];
+    rk_adaptive_combine(n, a, im->Ua, p, dx);
     double gd = 0;
     for (int i = 0; i < n; i++) gd += g[i] * dx[i];
     if (!(gd < 0)) return 0;
@@ -45,6 +43,33 @@ static double subspace_direction(rk_adaptive *ad, const rk_fom_terms *T, const d
         }
     }
     return 0;
+}
+
+/* The modal measures (Eq. 14-17) of the inactive candidate blocks [begin, end) into GE (error,
+ * progress, computed: 3 per block); a work vector of n per range (a block's projection). */
+typedef struct {
+    const rk_adaptive_impl *im;
+    const double *g;
+    double alpha;
+    int k;
+    double *GE;
+} modal_job;
+
+static void modal_blocks(void *ctx, long begin, long end)
+{
+    modal_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    int n = im->n, nv = im->nv;
+    double *work = malloc(sizeof(double) * (size_t)n);
+    for (long b = begin; b < end; b++) {
+        j->GE[3 * b] = j->GE[3 * b + 1] = 0;
+        j->GE[3 * b + 2] = work != NULL; /* 0: out of memory (the caller fails) */
+        if (im->block_on[b] || !work) continue;
+        const double *Um = im->U + (size_t)b * j->k * n;
+        j->GE[3 * b] = rk_adaptive_modal_error(nv, Um, j->k, j->g, im->gscale, im->gpsi, j->alpha, work);
+        j->GE[3 * b + 1] = rk_adaptive_modal_progress(nv, Um, j->k, im->dE, im->pscale, im->gpsi, j->alpha);
+    }
+    free(work);
 }
 
 int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, double E, const double *g,
@@ -100,17 +125,25 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
     }
     if (o->modal && !converging) {
         int k = o->block;
+        /* each inactive block's measures on the threads (each block its own), then taken in order */
+        double *GE = rk_calloc(3 * (size_t)im->nblocks + 1, sizeof(double), err);
+        if (!GE) return -1;
+        modal_job j = {im, g, alpha_int, k, GE};
+        rk_parallel_for(im->nblocks, 1, modal_blocks, &j);
+        for (int b = 0; b < im->nblocks; b++)
+            if (!GE[3 * b + 2]) {
+                free(GE);
+                return rk_fail(err, "out of memory for the oracle's modal measures (%d dofs)", n);
+            }
         for (int b = 0; b < im->nblocks; b++) {
             if (im->block_on[b]) continue;
-            const double *Um = im->U + (size_t)b * k * n;
-            double Gm = rk_adaptive_modal_error(nv, Um, k, g, im->gscale, im->gpsi, alpha_int, im->sc4);
-            double Em = rk_adaptive_modal_progress(nv, Um, k, im->dE, im->pscale, im->gpsi, alpha_int);
-            if (Gm > o->eps_g_modal && Em < o->eps_e) {
+            if (GE[3 * b] > o->eps_g_modal && GE[3 * b + 1] < o->eps_e) {
                 im->block_on[b] = 1;
                 ad->stats.oracle_modes_added += k;
                 *changed_modes = 1;
             }
         }
+        free(GE);
     }
     return 0;
 }

@@ -17,6 +17,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The PCG's rows (or C's columns) per scheduled chunk (below, "the PCG's products"): about 1024 x 45
+ * multiply-adds, some 50 us, against 10-20 us to wake a sleeping worker; a PCG iteration runs three
+ * such loops, so small enriched sets (under 1024 dofs) stay on the calling thread. */
+#define RK_SCHUR_CHUNK 1024
+
 static int grow_int(int **p, size_t count, rk_error *err)
 {
     int *q = realloc(*p, sizeof(int) * (count ? count : 1));
@@ -33,18 +38,33 @@ static int grow_double(double **p, size_t count, rk_error *err)
     return 0;
 }
 
-/* The enriched rows of H in im->Hf: inertia and damping, then every exact element's Hessian. */
+typedef struct {
+    rk_adaptive_impl *im;
+    double wi, wd;
+} rows_job;
+
+/* The enriched rows [begin, end) of H in im->Hf: inertia and damping (each row its own). */
+static void inertia_rows(void *ctx, long begin, long end)
+{
+    rows_job *j = ctx;
+    rk_adaptive_impl *im = j->im;
+    const rk_full_pattern *P = &im->P;
+    for (long k = begin; k < end; k++) {
+        int r = im->xdof[k];
+        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++)
+            im->Hf[e] = j->wi * im->Mf[e] + (im->Cf ? j->wd * im->Cf[e] : 0);
+    }
+}
+
+/* The enriched rows of H in im->Hf: inertia and damping, then every exact element's Hessian (in
+ * element order, serial: elements share entries). */
 static void enriched_rows(rk_adaptive *ad, const rk_fom_terms *T)
 {
     rk_adaptive_impl *im = ad->impl;
     const rk_fem *f = im->f;
     const rk_full_pattern *P = &im->P;
-    double wi = T->w_inertia, wd = T->w_damping;
-    for (int k = 0; k < im->nx; k++) {
-        int r = im->xdof[k];
-        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++)
-            im->Hf[e] = wi * im->Mf[e] + (im->Cf ? wd * im->Cf[e] : 0);
-    }
+    rows_job j = {im, T->w_inertia, T->w_damping};
+    rk_parallel_for(im->nx, 256, inertia_rows, &j);
     for (int t = 0; t < f->nt; t++) {
         const int *v = &f->tets[4 * t];
         if (!(im->enriched[v[0]] || im->enriched[v[1]] || im->enriched[v[2]] || im->enriched[v[3]])) continue;
@@ -59,6 +79,25 @@ static void enriched_rows(rk_adaptive *ad, const rk_fom_terms *T)
                 if (im->xindex[rlo] >= 0) im->Hf[P->up[s]] += h[i];
                 if (rlo != rhi && im->xindex[rhi] >= 0) im->Hf[P->lo[s]] += h[i];
             }
+    }
+}
+
+/* C[:, j] = sum over modal i of B_a[i, :] H[j, i] for the coupled dofs [begin, end), from the
+ * elastic, inertia and damping rows (the contact pairs' part is added after). */
+static void coupling_columns(void *ctx, long begin, long end)
+{
+    rk_adaptive_impl *im = ctx;
+    const rk_full_pattern *P = &im->P;
+    int a = im->a, n = im->n;
+    for (long cj = begin; cj < end; cj++) {
+        int r = im->xdof[im->coup_dof[cj]];
+        double *col = im->Cq + (size_t)cj * a;
+        memset(col, 0, sizeof(double) * (size_t)a);
+        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++) {
+            int c = P->col[e];
+            if (im->xindex[c] >= 0 || im->Hf[e] == 0) continue;
+            for (int j = 0; j < a; j++) col[j] += im->Ba[(size_t)j * n + c] * im->Hf[e];
+        }
     }
 }
 
@@ -139,17 +178,10 @@ static int build_blocks(rk_adaptive *ad, rk_error *err)
         } else {
             im->coup_pos[k] = -1;
         }
-    if (grow_double(&im->Cq, (size_t)a * im->ncoup, err)) return -1;
-    memset(im->Cq, 0, sizeof(double) * (size_t)a * im->ncoup);
-    for (int cj = 0; cj < im->ncoup; cj++) { /* C[:, j] = sum over modal i of B_a[i, :] H[j, i] */
-        int r = im->xdof[im->coup_dof[cj]];
-        double *col = im->Cq + (size_t)cj * a;
-        for (int e = P->rowptr[r]; e < P->rowptr[r + 1]; e++) {
-            int c = P->col[e];
-            if (im->xindex[c] >= 0 || im->Hf[e] == 0) continue;
-            for (int j = 0; j < a; j++) col[j] += im->Ba[(size_t)j * n + c] * im->Hf[e];
-        }
-    }
+    if (grow_double(&im->Cq, (size_t)a * im->ncoup, err) ||
+        grow_double(&im->c_part, (size_t)a * ((im->ncoup + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK), err))
+        return -1;
+    rk_parallel_for(im->ncoup, 64, coupling_columns, im); /* each column its own */
     for (int b = 0; b < im->view.nblocks; b++) {
         const rk_contact_block *blk = &blocks[b];
         int m = 3 * blk->np;
@@ -169,27 +201,90 @@ static int build_blocks(rk_adaptive *ad, rk_error *err)
     return 0;
 }
 
-/* y = H_x x: the sparse rows and the contact pairs among enriched points. */
-static void hx_apply(const rk_adaptive_impl *im, const double *x, double *y)
+/* ---- the PCG's products on the threads (issue 34). Rows are independent, so the row loops split
+ * anywhere; C x sums over C's columns, so it is summed in fixed chunks of RK_SCHUR_CHUNK columns
+ * and the chunks' partial sums added in chunk order: the same additions whatever the thread count
+ * (the chunking does not depend on it), as full order's assembly does (fem/elastic.c). ---- */
+
+typedef struct {
+    const rk_adaptive_impl *im;
+    const double *x;
+    double *y;
+} schur_job;
+
+static void hx_rows(void *ctx, long begin, long end)
 {
-    for (int k = 0; k < im->nx; k++) {
+    schur_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    for (long k = begin; k < end; k++) {
         double s = 0;
-        for (int e = im->hx_rowptr[k]; e < im->hx_rowptr[k + 1]; e++) s += im->hx_val[e] * x[im->hx_col[e]];
-        y[k] = s;
+        for (int e = im->hx_rowptr[k]; e < im->hx_rowptr[k + 1]; e++) s += im->hx_val[e] * j->x[im->hx_col[e]];
+        j->y[k] = s;
     }
-    for (int k = 0; k < im->nctri; k++) y[im->ctri_r[2 * k]] += im->ctri_v[k] * x[im->ctri_r[2 * k + 1]];
+}
+
+/* Chunk c's share of C x into y + c a (x: the enriched dofs). */
+static void c_chunks(void *ctx, long begin, long end)
+{
+    schur_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    int a = im->a;
+    for (long c = begin; c < end; c++) {
+        double *t = j->y + (size_t)c * a;
+        memset(t, 0, sizeof(double) * (size_t)a);
+        int last = (int)((c + 1) * RK_SCHUR_CHUNK < im->ncoup ? (c + 1) * RK_SCHUR_CHUNK : im->ncoup);
+        for (int cj = (int)c * RK_SCHUR_CHUNK; cj < last; cj++) {
+            double v = j->x[im->coup_dof[cj]];
+            if (v == 0) continue;
+            const double *col = im->Cq + (size_t)cj * a;
+            for (int i = 0; i < a; i++) t[i] += col[i] * v;
+        }
+    }
+}
+
+/* C x's partial sums, chunk by chunk, into im->c_part; then added in chunk order into t (a). */
+static long c_chunk_count(const rk_adaptive_impl *im)
+{
+    return (im->ncoup + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK;
+}
+
+static void c_sum(const rk_adaptive_impl *im, double *t)
+{
+    int a = im->a;
+    memset(t, 0, sizeof(double) * (size_t)a);
+    for (long c = 0; c < c_chunk_count(im); c++)
+        for (int i = 0; i < a; i++) t[i] += im->c_part[(size_t)c * a + i];
 }
 
 /* t (a) = C x (x over the enriched dofs). */
 static void c_apply(const rk_adaptive_impl *im, const double *x, double *t)
 {
-    memset(t, 0, sizeof(double) * (size_t)im->a);
-    for (int cj = 0; cj < im->ncoup; cj++) {
-        double v = x[im->coup_dof[cj]];
-        if (v == 0) continue;
-        const double *col = im->Cq + (size_t)cj * im->a;
-        for (int j = 0; j < im->a; j++) t[j] += col[j] * v;
+    schur_job j = {im, x, im->c_part};
+    rk_parallel_for(c_chunk_count(im), 1, c_chunks, &j);
+    c_sum(im, t);
+}
+
+/* H_x x's rows and C x's chunks in one loop (one hand-out a PCG product, not two): chunk k holds
+ * H_x's rows k RK_SCHUR_CHUNK on and C's k-th chunk of columns. */
+static void hx_and_c_chunks(void *ctx, long begin, long end)
+{
+    schur_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    schur_job c = {im, j->x, im->c_part};
+    for (long k = begin; k < end; k++) {
+        long r1 = (k + 1) * RK_SCHUR_CHUNK < im->nx ? (k + 1) * RK_SCHUR_CHUNK : im->nx;
+        hx_rows(ctx, k * RK_SCHUR_CHUNK, r1);
+        if (k < c_chunk_count(im)) c_chunks(&c, k, k + 1);
     }
+}
+
+/* y = H_x x (the sparse rows and the contact pairs among enriched points) and t = C x. */
+static void hx_and_c_apply(const rk_adaptive_impl *im, const double *x, double *y, double *t)
+{
+    schur_job j = {im, x, y};
+    rk_parallel_for((im->nx + RK_SCHUR_CHUNK - 1) / RK_SCHUR_CHUNK, 1, hx_and_c_chunks, &j);
+    for (int k = 0; k < im->nctri; k++) y[im->ctri_r[2 * k]] += im->ctri_v[k] * x[im->ctri_r[2 * k + 1]];
+    c_sum(im, t);
 }
 
 static void hq_solve(const rk_adaptive_impl *im, double *t)
@@ -197,19 +292,27 @@ static void hq_solve(const rk_adaptive_impl *im, double *t)
     if (im->a) LAPACKE_dpotrs(LAPACK_COL_MAJOR, 'L', im->a, 1, im->Lq, im->a, t, im->a);
 }
 
+/* y[coupled dof j] -= C[:, j] . t, column by column. */
+static void ct_columns(void *ctx, long begin, long end)
+{
+    schur_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    for (long cj = begin; cj < end; cj++) {
+        const double *col = im->Cq + (size_t)cj * im->a;
+        double v = 0;
+        for (int i = 0; i < im->a; i++) v += col[i] * j->x[i];
+        j->y[im->coup_dof[cj]] -= v;
+    }
+}
+
 static void schur_apply(void *ctx, const double *x, double *y)
 {
     rk_adaptive_impl *im = ctx;
-    hx_apply(im, x, y);
     double *t = im->sc_a;
-    c_apply(im, x, t);
+    hx_and_c_apply(im, x, y, t);
     hq_solve(im, t);
-    for (int cj = 0; cj < im->ncoup; cj++) {
-        const double *col = im->Cq + (size_t)cj * im->a;
-        double v = 0;
-        for (int j = 0; j < im->a; j++) v += col[j] * t[j];
-        y[im->coup_dof[cj]] -= v;
-    }
+    schur_job j = {im, t, y};
+    rk_parallel_for(im->ncoup, RK_SCHUR_CHUNK, ct_columns, &j);
 }
 
 /* The inverse of each vertex's diagonal block of H_x (1 to 3 free dofs), for the preconditioner. */
@@ -243,23 +346,54 @@ static void block_jacobi(rk_adaptive_impl *im)
             for (int r = 0; r < m; r++) D[3 * r + i] = col[r];
         }
         im->block_size[k] = m;
+        for (int i = 1; i < m; i++) im->block_size[k + i] = 0; /* not a block's first dof */
         k += m;
+    }
+}
+
+/* z = D^-1 r for the blocks that start in [begin, end). */
+static void precondition_rows(void *ctx, long begin, long end)
+{
+    schur_job *j = ctx;
+    const rk_adaptive_impl *im = j->im;
+    for (long k = begin; k < end; k++) {
+        int m = im->block_size[k];
+        const double *D = &im->Dinv[9 * (size_t)k];
+        for (int i = 0; i < m; i++) {
+            double s = 0;
+            for (int c = 0; c < m; c++) s += D[3 * i + c] * j->x[k + c];
+            j->y[k + i] = s;
+        }
     }
 }
 
 static void precondition(void *ctx, const double *r, double *z)
 {
     rk_adaptive_impl *im = ctx;
-    for (int k = 0; k < im->nx;) {
-        int m = im->block_size[k];
-        const double *D = &im->Dinv[9 * (size_t)k];
-        for (int i = 0; i < m; i++) {
-            double s = 0;
-            for (int j = 0; j < m; j++) s += D[3 * i + j] * r[k + j];
-            z[k + i] = s;
-        }
-        k += m;
+    schur_job j = {im, r, z};
+    rk_parallel_for(im->nx, RK_SCHUR_CHUNK, precondition_rows, &j);
+}
+
+typedef struct {
+    int n, a;
+    const double *A, *c;
+    double *y;
+} combine_job;
+
+static void combine_rows(void *ctx, long begin, long end)
+{
+    combine_job *j = ctx;
+    memset(j->y + begin, 0, sizeof(double) * (size_t)(end - begin));
+    for (int k = 0; k < j->a; k++) { /* each row's terms in column order, however the rows split */
+        const double *col = j->A + (size_t)k * j->n, c = j->c[k];
+        for (long i = begin; i < end; i++) j->y[i] += col[i] * c;
     }
+}
+
+void rk_adaptive_combine(int n, int a, const double *A, const double *c, double *y)
+{
+    combine_job j = {n, a, A, c, y};
+    rk_parallel_for(n, 4 * RK_SCHUR_CHUNK, combine_rows, &j);
 }
 
 int rk_adaptive_solve(rk_adaptive *ad, const rk_fom_terms *T, const double *g, double *d, rk_error *err)
@@ -298,12 +432,7 @@ int rk_adaptive_solve(rk_adaptive *ad, const rk_fom_terms *T, const double *g, d
     for (int j = 0; j < a; j++) im->dq[j] = -im->dq[j];
     ad->stats.solves++;
     /* d = B_a d_q + S_x d_x */
-    memset(d, 0, sizeof(double) * (size_t)n);
-    for (int j = 0; j < a; j++) {
-        double c = im->dq[j];
-        const double *b = im->Ba + (size_t)j * n;
-        for (int i = 0; i < n; i++) d[i] += b[i] * c;
-    }
+    rk_adaptive_combine(n, a, im->Ba, im->dq, d);
     for (int k = 0; k < nx; k++) d[im->xdof[k]] = dx[k];
     ad->stats.seconds_pcg += rk_now() - t0;
     return 0;

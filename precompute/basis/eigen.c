@@ -61,8 +61,12 @@ int rk_eigs_smallest(const rk_sparse *A, const rk_sparse *B, int count, double s
     a_int ido = 0, info = 1;     /* info = 1: resid holds the starting vector */
     long solves = 0;
     for (;;) {
+        /* ARPACK's own BLAS (its dgemv reductions) on one thread: a threaded dgemv splits the sums
+         * by the thread count, and the modes would differ with it in the last bits (issue 34) */
+        int blas = rk_threads_blas(1);
         dsaupd_c(&ido, "G", n, "LM", count, 0.0, resid, ncv, V, n, iparam, ipntr, workd, workl,
                  lworkl, &info);
+        rk_threads_blas(blas);
         if (ido == -1 || ido == 1) {
             double *x = workd + ipntr[0] - 1, *y = workd + ipntr[1] - 1;
             if (ido == -1) rk_sparse_mul(B, x, y);          /* y = B x, then solve in place */
@@ -81,8 +85,10 @@ int rk_eigs_smallest(const rk_sparse *A, const rk_sparse *B, int count, double s
                 (int)info, arpack_reason((int)info), (int)iparam[2], (int)iparam[4], count);
         goto out;
     }
+    int blas = rk_threads_blas(1); /* as dsaupd_c's */
     dseupd_c(1, "A", select, d, Z, n, sigma, "G", n, "LM", count, 0.0, resid, ncv, V, n, iparam,
              ipntr, workd, workl, lworkl, &info);
+    rk_threads_blas(blas);
     if (info != 0) {
         rk_fail(err, "ARPACK dseupd failed (info %d)", (int)info);
         goto out;

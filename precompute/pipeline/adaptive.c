@@ -48,6 +48,7 @@ cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const 
     cJSON_AddNumberToObject(r, "vertices", sim->mesh.nv);
     cJSON_AddNumberToObject(r, "tets", sim->mesh.nt);
     cJSON_AddNumberToObject(r, "steps", steps);
+    cJSON_AddNumberToObject(r, "threads", rk_threads());
     double *t = malloc(sizeof(double) * (size_t)(steps > 0 ? steps : 1));
     if (t) memcpy(t, secs, sizeof(double) * (size_t)steps);
     cJSON_AddNumberToObject(r, "seconds_per_step", t && steps > 0 ? rk_median(t, steps) : 0);
@@ -76,6 +77,7 @@ cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const 
     cJSON_AddNumberToObject(sec, "enriched_rows", s->seconds_system);
     cJSON_AddNumberToObject(sec, "pcg", s->seconds_pcg - s->seconds_system);
     cJSON_AddNumberToObject(sec, "line_search", s->seconds_line_search);
+    cJSON_AddNumberToObject(sec, "residual_check", s->seconds_residual);
     if (contact) rk_contact_tally_report(cJSON_AddObjectToObject(r, "contact"), contact);
     return r;
 }

@@ -76,6 +76,23 @@ if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$TMP/d.json" --positions "$TMP/p1.npy" -
 else
     fail adaptive_command_outputs "$(cat "$TMP/err")"
 fi
+# The same, where the threads split the work (issue 34): 3,072 tets, skinning candidates at the
+# defaults, so that the oracle takes more than 16 columns (C = A^T B in several fixed blocks) and
+# more than 1024 / 3 vertices are enriched (the Schur PCG's rows in several chunks).
+# Measured: 204 columns, 765 of 765 vertices enriched, about 2.5 s of CPU a run.
+scene "$TMP/e.json" '[{"method": "adaptive_subspace", "basis": "skinning", "size": 16}]'
+sed -i -e 's/"cells": \[8, 4, 2\]/"cells": [16, 8, 4]/' -e 's/"duration": 0.04/"duration": 0.03/' "$TMP/e.json"
+if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$TMP/e.json" --positions "$TMP/e1.npy" --report "$TMP/e1.json" --quiet >/dev/null 2>"$TMP/err" &&
+   ROMKIT_THREADS=3 "$ROMKIT" adaptive "$TMP/e.json" --positions "$TMP/e3.npy" --report "$TMP/e3.json" --quiet >/dev/null 2>>"$TMP/err"; then
+    modes=$(json_num "$TMP/e1.json" adaptive.max_modes)
+    nodes=$(json_num "$TMP/e1.json" adaptive.max_enriched_vertices)
+    cmp -s "$TMP/e1.npy" "$TMP/e3.npy" && [ "$modes" -gt 16 ] && [ "$nodes" -gt 341 ] && json_is "$TMP/e3.json" threads 3 \
+        && [ "$(json_num "$TMP/e1.json" newton_iterations)" = "$(json_num "$TMP/e3.json" newton_iterations)" ] \
+        && ok adaptive_same_on_1_and_3_threads_when_split \
+        || fail adaptive_same_on_1_and_3_threads_when_split "$modes columns, $nodes enriched; $(cmp "$TMP/e1.npy" "$TMP/e3.npy")"
+else
+    fail adaptive_same_on_1_and_3_threads_when_split "$(cat "$TMP/err")"
+fi
 expect_fail adaptive_needs_an_adaptive_entry "no rom entry" "$ROMKIT" adaptive "$TMP/b.json" --entry 5
 
 # method adaptive_linear beside the PCA baseline (pod), with its online error.
