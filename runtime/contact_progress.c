@@ -3,9 +3,9 @@
  * to where their scripted motions put them at the step's end (ox_to), and the app's moved meshes'
  * vertices from where they were (x0) to where their poses put them, each mover (a baked obstacle
  * with a motion, an app mesh) at its own progress s_u in [0, 1], one more unknown beside q, pulled
- * to 1 by w_u/2 (1 - s_u)^2: one pinned against the body stops short alone, the others arrive. The barrier pushes the body
- * ahead of them within one Newton solve, and CCD filters the joint motion, as for the app's moved
- * colliders (colliders.c; IPC's moving obstacles, Li et al. 2020, Sec. 4.6). Safe moves (CCD's
+ * to 1 by w_u/2 (1 - s_u)^2: one pinned against the body stops short alone, the others arrive.
+ * The barrier pushes the body ahead of them within one Newton solve, and CCD filters the joint
+ * motion, as for the app's moved colliders (colliders.c; IPC's moving obstacles, Li et al. 2020, Sec. 4.6). Safe moves (CCD's
  * fraction with the body still, then a solve) took one move per closing of the body's barrier gap:
  * ~700 moves a step in double for a box thrown into a terrain rising at 1 m/s, past 1000 in float.
  *
@@ -120,34 +120,27 @@ static void arrive_some(romrt_model *m, const int *near)
 
 int rt_obstacles_end_joint(romrt_model *m, const romrt_real *s, double t, romrt_real tol)
 {
-    int n = m->obs_joint, u, v, nnear = 0, one[RT_MOVERS];
+    int n = m->obs_joint, u, v, nnear = 0, ndone = 0;
     rt_obstacles_place(m, s, 0);
     m->obs_joint = 0; /* (rt_obstacles_place above used the units) */
-    /* each within the solve's tolerance of its end: there, when CCD lets its last bit go */
-    for (u = 0; u < n; u++) nnear += m->obs_near[u] = (1 - s[u]) * m->obs_L[u] <= tol;
+    /* all within the solve's tolerance of their ends: there, when CCD lets their last bits go */
+    for (u = 0; u < n; u++) nnear += (1 - s[u]) * m->obs_L[u] <= tol;
     if (nnear == n && rt_obstacles_fraction(m, m->q, 0) >= 1) {
         rt_obstacles_arrive(m, t);
         return 0;
     }
-    if (nnear == 0 || (nnear == n && n == 1)) {
-        if (m->nmeshes) rt_meshes_end(m, 0, 0);
-        return 1;
-    }
-    if (rt_obstacles_fraction(m, m->q, m->obs_near) < 1) { /* together they cannot: each that can */
-        for (u = 0; u < n; u++) {
-            if (!m->obs_near[u]) continue;
-            for (v = 0; v < n; v++) one[v] = v == u;
-            m->obs_near[u] = rt_obstacles_fraction(m, m->q, one) >= 1;
-            if (!m->obs_near[u]) continue;
-            arrive_some(m, one); /* it arrives: the others are tried with it there */
-            if (m->nmeshes) rt_meshes_end(m, 1, one);
-        }
-        for (u = 0, nnear = 0; u < n; u++) nnear += m->obs_near[u];
-    } else {
+    /* else each whose rest of the way CCD lets go on its own, the others where they are (those
+     * gone before it at the end): near the end, or short only because the solve stopped at its
+     * floor first (in float a free obstacle's s creeps by the pinned one's CCD fractions); a
+     * pinned one's rest runs into the body (precompute/contact/progress.c's rule) */
+    for (u = 0; u < n; u++) {
+        for (v = 0; v < n; v++) m->obs_near[v] = v == u;
+        if (rt_obstacles_fraction(m, m->q, m->obs_near) < 1) continue;
+        ndone++;
         arrive_some(m, m->obs_near);
         if (m->nmeshes) rt_meshes_end(m, 1, m->obs_near);
     }
-    if (nnear == n) { /* all of them there after all */
+    if (ndone == n) { /* all there after all */
         rt_obstacles_arrive(m, t);
         return 0;
     }

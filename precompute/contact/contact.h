@@ -284,9 +284,10 @@ double rk_obstacle_way_step_norm(const rk_obstacle_way *p, const double *ds);
  * shortfall), 0 when every s_k is within tol (m) or did not halve its shortfall in the last round
  * (pinned: the multiplier would only press harder). */
 int rk_obstacle_way_round(rk_obstacle_way *p, const double *s, double tol);
-/* The obstacles at s after the solve; each at time t exactly when within tol (m) of it and CCD
- * lets its last bit go with the body still at x (still: 3 nmesh zeros); all of them there: c at t
- * (rk_contact_set_time). *behind: one stopped short. */
+/* The obstacles at s after the solve: all at time t (rk_contact_set_time) when each is within tol
+ * (m) of it and CCD lets their last bits go with the body still at x (still: 3 nmesh zeros); else
+ * each whose rest of the way CCD lets go on its own, in turn, at t, the others at s (a pinned
+ * one's rest runs into the body). *behind: one stopped short. */
 int rk_obstacle_way_arrive(rk_obstacle_way *p, rk_contact *c, const double *x, const double *still, const double *s,
                            double t, double tol, int *behind, rk_error *err);
 

@@ -182,46 +182,43 @@ int rk_obstacle_way_arrive(rk_obstacle_way *p, rk_contact *c, const double *x, c
     rk_obstacle_way_place(p, c, s);
     int nnear = 0;
     for (int u = 0; u < p->n; u++) nnear += p->near[u] = (1 - s[u]) * p->L[u] <= tol;
-    *behind = nnear < p->n;
-    if (nnear == 0) return 0;
-    int clear = rest_clear(p, c, x, still, s);
-    if (clear < 0) return rk_fail(err, "out of memory for the moving obstacles' last move");
-    if (!clear && nnear == 1) {
-        *behind = 1;
-        return 0;
-    }
-    if (!clear) { /* together they cannot: each on its own that can */
-        int *near = rk_calloc((size_t)p->n + 1, sizeof(int), err);
-        if (!near) return -1;
-        memcpy(near, p->near, sizeof(int) * (size_t)p->n);
-        for (int u = 0; u < p->n; u++) {
-            if (!near[u]) continue;
-            memset(p->near, 0, sizeof(int) * (size_t)p->n);
-            p->near[u] = 1;
-            int one = rest_clear(p, c, x, still, s);
-            if (one < 0) {
-                free(near);
-                return rk_fail(err, "out of memory for the moving obstacles' last move");
-            }
-            near[u] = one;
-            if (one) /* it arrives: the others are tried with it there */
-                for (int o = 0; o < p->onv; o++)
-                    for (int a = 0; a < 3 && p->unit[o] == u; a++) c->ox[3 * o + a] += (1 - s[u]) * p->way[3 * o + a];
+    *behind = 1;
+    if (nnear == p->n) { /* all within the tolerance: together, when CCD lets their last bits go */
+        int clear = rest_clear(p, c, x, still, s);
+        if (clear < 0) return rk_fail(err, "out of memory for the moving obstacles' last move");
+        if (clear) {
+            rk_contact_set_time(c, t);
+            *behind = 0;
+            return 0;
         }
-        memcpy(p->near, near, sizeof(int) * (size_t)p->n);
-        free(near);
-        rk_obstacle_way_place(p, c, s);
-        nnear = 0;
-        for (int u = 0; u < p->n; u++) nnear += p->near[u];
-        *behind = 1;
     }
-    if (nnear == p->n) { /* all there: exactly where the clock puts them (their planes too) */
+    /* else each whose rest of the way CCD lets go on its own, the others where they are (those
+     * gone before it at the end): near the end, or short only because the solve stopped at its
+     * floor first (in float a free obstacle's s creeps by the pinned one's CCD fractions); a
+     * pinned one's rest runs into the body */
+    int *done = rk_calloc((size_t)p->n + 1, sizeof(int), err), ndone = 0;
+    if (!done) return -1;
+    for (int u = 0; u < p->n; u++) {
+        memset(p->near, 0, sizeof(int) * (size_t)p->n);
+        p->near[u] = 1;
+        int one = rest_clear(p, c, x, still, s);
+        if (one < 0) {
+            free(done);
+            return rk_fail(err, "out of memory for the moving obstacles' last move");
+        }
+        if (!one) continue;
+        done[u] = 1, ndone++;
+        for (int o = 0; o < p->onv; o++)
+            for (int a = 0; a < 3 && p->unit[o] == u; a++) c->ox[3 * o + a] = p->from[3 * o + a] + p->way[3 * o + a];
+    }
+    if (ndone == p->n) { /* all there after all: exactly where the clock puts them (their planes too) */
         rk_contact_set_time(c, t);
         *behind = 0;
-        return 0;
+    } else if (ndone) { /* those there exactly where the clock puts them, the others at s */
+        rk_contact_obstacles_at(c, t, p->odx);
+        for (int o = 0; o < p->onv; o++)
+            for (int a = 0; a < 3 && p->unit[o] >= 0 && done[p->unit[o]]; a++) c->ox[3 * o + a] = p->odx[3 * o + a];
     }
-    rk_contact_obstacles_at(c, t, p->odx); /* those that arrive exactly there, the others at s */
-    for (int o = 0; o < p->onv; o++)
-        for (int a = 0; a < 3 && p->unit[o] >= 0 && p->near[p->unit[o]]; a++) c->ox[3 * o + a] = p->odx[3 * o + a];
+    free(done);
     return 0;
 }

@@ -2,11 +2,11 @@
  * go on straight lines from where they are to where their motions put them at the step's end,
  * x_o(s_k) = x_o^from + s_k D_o, and each moving obstacle's progress s_k is one more unknown
  * beside q (the Newton matrix dense, r + k square), pulled to 1 by w_k/2 (1 - s_k)^2, as the app's
- * moved colliders are (collider_solve.c; IPC's moving obstacles as
- * unknowns, Li et al. 2020, Sec. 4.6). The barrier pushes the body ahead of them within one
- * Newton solve and CCD filters the joint motion, so an obstacle moving fast arrives in one step;
- * where the body cannot give way (pinned), that obstacle stops short with a bounded force and goes
- * on next step, and the others arrive. Safe moves (rk_contact_advance: CCD's fraction with the body still, then a solve) need one
+ * moved colliders are (collider_solve.c; IPC's moving obstacles as unknowns, Li et al. 2020,
+ * Sec. 4.6). The barrier pushes the body ahead of them within one Newton solve and CCD filters the
+ * joint motion, so an obstacle moving fast arrives in one step; where the body cannot give way
+ * (pinned), that obstacle stops short with a bounded force and goes on next step, and the others
+ * arrive. Safe moves (rk_contact_advance: CCD's fraction with the body still, then a solve) need one
  * move per closing of the gap the barrier holds the body at: ~700 moves a step for a box thrown
  * into a terrain rising at 1 m/s, and in the float runtime over 1000.
  *
@@ -14,8 +14,8 @@
  * (progress.c, rk_obstacle_way; the adaptive simulator shares them): the contact stage gives the
  * obstacle points' gradient (og) and each pair's block with them as degrees of freedom
  * (obstacle_dofs, its PSD projection over all four points), and contact.c's sink turns those into
- * d/ds, d2/ds2 and d2/dq ds_k through D_k. w_k = RK_COLLIDER_PULL m L_k^2 / h^2, L_k obstacle k's longest D_o: the
- * obstacles fall short by about a h^2 / 1000 (m) when pushing the body at acceleration a.
+ * d/ds, d2/ds2 and d2/dq ds_k through D_k. w_k = RK_COLLIDER_PULL m L_k^2 / h^2, L_k obstacle k's
+ * longest D_o: the obstacles fall short by about a h^2 / 1000 (m) when pushing the body at acceleration a.
  * The runtime does the same (runtime/contact_progress.c). */
 #include "rom/rom_impl.h"
 

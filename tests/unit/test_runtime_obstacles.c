@@ -222,8 +222,9 @@ static double off_path(const rk_contact *c, int k, const double *ox, double t)
  * runtime/contact_progress.c): box 1 presses the slab onto the plane (pinned: it must stop short),
  * box 2 moves freely beside it. The free box reaches its scripted place every step, in the reduced
  * simulator and the runtime, while the pressing one stops short; in double the two agree to 1e-10
- * of the displacement. With one progress for both (before), the free box lagged with the pinned
- * one. No crossing by the exact test. */
+ * of the displacement. With one progress for both (958d182) the free box lagged with the pinned
+ * one, 37 mm behind its path after the 20 steps. No crossing by the exact test. 8 s wall in
+ * double, 2.7 s in float, at a load of 8-9 on 2 cores. */
 TEST(a_pinned_obstacle_does_not_hold_back_a_free_one)
 {
     const char *json = slab_scene(0.001, 0,
