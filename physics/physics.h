@@ -120,6 +120,9 @@ typedef enum { RK_COLLIDER_PLANE = 0, RK_COLLIDER_SPHERE = 1, RK_COLLIDER_CAPSUL
  * leaves them a h^2 / 1000 short while they push the body at acceleration a), or a round fails to
  * halve the shortfall (the body pinned: the multiplier would only press harder). */
 #define RK_OBSTACLE_ROUNDS 8
+/* The scene's moving obstacles at most in an asset (the runtime's default
+ * ROMRT_MAX_MOVING_OBSTACLES): each is its own progress unknown in a step's joint solve. */
+#define RK_MAX_MOVING_OBSTACLES 8
 /* rk_collider_check's answers (0: a valid collider). */
 enum { RK_COLLIDER_NOT_FINITE = 1, RK_COLLIDER_UNKNOWN_KIND, RK_COLLIDER_BAD_SIZE, RK_COLLIDER_NOT_ROTATION };
 int rk_collider_check(int kind, const double *shape);

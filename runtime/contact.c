@@ -192,10 +192,10 @@ romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romr
     c.alpha = 1, c.body_moves = 1, c.obstacles_move = m->obs_joint;
     RT_PROF_BEGIN(RT_PROF_NARROW);
     rt_obstacles_positions(m, y, d);
-    if (m->obs_joint) rt_obstacles_place(m, y[p], d[p]);
+    if (m->obs_joint) rt_obstacles_place(m, y + p, d + p);
     RT_PROF_END(RT_PROF_NARROW);
     rt_obstacles_swept(m, 1, FLOOR_GROW(m), ccd_visit, &c);
-    if (m->obs_joint) rt_obstacles_place(m, y[p], 0);
+    if (m->obs_joint) rt_obstacles_place(m, y + p, 0);
     return c.alpha;
 }
 
@@ -230,12 +230,15 @@ void rt_obstacles_at(romrt_model *m, double t)
     m->obs_time = t;
 }
 
-romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q)
+romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, const int *near)
 {
     ccd_ctx c;
-    int i;
-    for (i = 0; i < 3 * m->onv && m->obs_moving; i++) m->odx[i] = m->ox_to[i] - m->ox[i];
-    if (m->nmeshes) rt_meshes_way(m); /* the app meshes' way to their poses, in their dx */
+    int i, u;
+    for (i = 0; i < 3 * m->onv && m->obs_moving; i++) {
+        u = near ? rt_obstacle_unit(m, (uint32_t)(i / 3)) : 0;
+        m->odx[i] = u >= 0 && (!near || near[u]) ? m->ox_to[i] - m->ox[i] : 0;
+    }
+    if (m->nmeshes) rt_meshes_way(m, near); /* the app meshes' way to their poses, in their dx */
     rt_obstacles_positions(m, q, 0);
     for (i = 0; i < 3 * m->ncv; i++) m->ocdx[i] = 0;
     if (m->obs_moving) rt_obstacles_refit(m, 1); /* (static ones' boxes are where they are) */
@@ -248,6 +251,6 @@ romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q)
 
 void rt_obstacles_arrive(romrt_model *m, double t)
 {
-    if (m->nmeshes) rt_meshes_end(m, 1);
+    if (m->nmeshes) rt_meshes_end(m, 1, 0);
     if (m->obs_moving) rt_obstacles_at(m, t);
 }

@@ -298,7 +298,14 @@ romrt_status rt_obstacles_contents(rt_loader *L, romrt_model *m)
         const uint32_t *o = m->obs + ROMBIN_OBST_COUNT * k;
         for (i = (int)o[ROMBIN_OBST_FIRST_VERTEX]; i < (int)(o[ROMBIN_OBST_FIRST_VERTEX] + o[ROMBIN_OBST_VERTICES]); i++)
             m->overt_obs[i] = (uint32_t)k;
-        if (m->obs_motion[ROMBIN_PIN_PARAMS * k] != 0) m->obs_moving = 1;
+        if (m->obs_motion[ROMBIN_PIN_PARAMS * k] == 0) continue;
+        /* each moving obstacle is its own progress unknown in a step's joint solve (contact_progress.c):
+         * the Newton matrix has room for this many */
+        if (m->nmovers == ROMRT_MAX_MOVING_OBSTACLES)
+            return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_OBMO, "obstacle ", k,
+                             " moves: more moving obstacles than this runtime's ROMRT_MAX_MOVING_OBSTACLES");
+        m->movers[m->nmovers++] = (int)k;
+        m->obs_moving = 1;
     }
     for (i = 0; i < 3 * m->onv; i++) m->ox[i] = m->oX[i];
     if ((st = bvh_boxes(L, m))) return st;

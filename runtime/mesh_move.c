@@ -78,38 +78,43 @@ int rt_mesh_way(const romrt_model *m, uint32_t o, romrt_real D[3])
     return 1;
 }
 
-romrt_real rt_meshes_longest_way2(const romrt_model *m)
+romrt_real rt_mesh_longest_way2(const romrt_model *m, int k)
 {
-    const rt_mesh *M;
+    const rt_collider *c = &m->colliders[k];
     romrt_real L2 = 0, D[3], d2;
     uint32_t v;
-    int k;
-    EACH_MESH(m, k, M) {
-        if (!mesh_pending(&m->colliders[k])) continue;
-        for (v = 0; v < M->nv; v++) {
-            target_way(&m->colliders[k], v, D);
-            d2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
-            if (d2 > L2) L2 = d2;
-        }
+    if (!c->active || !c->mesh || !mesh_pending(c)) return 0;
+    for (v = 0; v < c->mesh->nv; v++) {
+        target_way(c, v, D);
+        d2 = D[0] * D[0] + D[1] * D[1] + D[2] * D[2];
+        if (d2 > L2) L2 = d2;
     }
     return L2;
 }
 
-/* The moving meshes at progress s of their way (ds = 0), or still there with their CCD move ds of
- * it in dx (ds != 0, boxes swept). */
-void rt_meshes_at(romrt_model *m, romrt_real s, romrt_real ds)
+/* Slot k's unknown in the joint solve (-1: none). */
+static int unit_of(const romrt_model *m, int k)
+{
+    return m->obs_unit[ROMRT_MAX_MOVING_OBSTACLES + k];
+}
+
+/* The moving meshes each at its progress s[u] of its way (ds NULL), or still there with its CCD
+ * move ds[u] of it in dx (boxes swept). */
+void rt_meshes_at(romrt_model *m, const romrt_real *s, const romrt_real *ds)
 {
     rt_mesh *M;
-    romrt_real D[3];
+    romrt_real D[3], sk, dsk;
     uint32_t v;
-    int k, a;
+    int k, a, u;
     EACH_MESH(m, k, M) {
         if (!mesh_pending(&m->colliders[k])) continue;
+        u = unit_of(m, k);
+        sk = u >= 0 ? s[u] : 0, dsk = u >= 0 && ds ? ds[u] : 0;
         for (v = 0; v < M->nv; v++) {
             target_way(&m->colliders[k], v, D);
             for (a = 0; a < 3; a++) {
-                M->x[3 * (size_t)v + a] = M->x0[3 * (size_t)v + a] + s * D[a];
-                M->dx[3 * (size_t)v + a] = ds * D[a];
+                M->x[3 * (size_t)v + a] = M->x0[3 * (size_t)v + a] + sk * D[a];
+                M->dx[3 * (size_t)v + a] = dsk * D[a];
             }
         }
         M->moving = ds != 0;
@@ -117,14 +122,22 @@ void rt_meshes_at(romrt_model *m, romrt_real s, romrt_real ds)
     }
 }
 
-/* The rest of the way to the target poses in dx (CCD with the body still). */
-void rt_meshes_way(romrt_model *m)
+/* The rest of the way to the target poses in dx (CCD with the body still), of the meshes whose
+ * unknown is near (all with near NULL); the others' dx zero. */
+void rt_meshes_way(romrt_model *m, const int *near)
 {
     rt_mesh *M;
     uint32_t i;
-    int k;
+    int k, u;
     EACH_MESH(m, k, M) {
         if (!mesh_pending(&m->colliders[k])) continue;
+        u = unit_of(m, k);
+        if (near && (u < 0 || !near[u])) {
+            memset(M->dx, 0, sizeof(romrt_real) * 3 * (size_t)M->nv);
+            M->moving = 0;
+            rt_mesh_refit(M, 0);
+            continue;
+        }
         rt_mesh_world(M, m->colliders[k].target, M->dx);
         for (i = 0; i < 3 * M->nv; i++) M->dx[i] -= M->x[i];
         M->moving = 1;
@@ -132,16 +145,17 @@ void rt_meshes_way(romrt_model *m)
     }
 }
 
-/* The end of a step's solve: the moving meshes at their poses exactly (arrive), or where the
- * solve left them, short of their poses (part), their dx cleared. */
-void rt_meshes_end(romrt_model *m, int arrive)
+/* The end of a step's solve: the moving meshes at their poses exactly (arrive, theirs near or near
+ * NULL), or where the solve left them, short of their poses (part), their dx cleared. */
+void rt_meshes_end(romrt_model *m, int arrive, const int *near)
 {
     rt_mesh *M;
-    int k;
+    int k, u;
     EACH_MESH(m, k, M) {
         rt_collider *c = &m->colliders[k];
         if (!mesh_pending(c)) continue;
-        if (arrive) {
+        u = unit_of(m, k);
+        if (arrive && (!near || (u >= 0 && near[u]))) {
             rt_mesh_world(M, c->target, M->x);
             memcpy(c->now, c->target, sizeof c->now);
             M->part = 0;

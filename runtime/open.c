@@ -220,11 +220,9 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         return st;
     m->force_rows = m->rows;
     {
-        /* The Newton matrix has a row per moved collider only when the asset takes colliders; the
-         * elastic Hessian is kept in whole vectors, in (a, j, c) order for a skinning basis. */
-        size_t n = (size_t)r + (m->ncv ? ROMRT_MAX_COLLIDERS : 0), rp = RT_PAD((size_t)r);
+        /* The elastic Hessian is kept in whole vectors, in (a, j, c) order for a skinning basis. */
+        size_t rp = RT_PAD((size_t)r);
         size_t sp = m->skin > 0 ? 3 * (size_t)RT_PAD(4 * m->skin) : 0, he = sp > rp ? sp : rp;
-        rt_scratch(L, n * n, &m->H);
         rt_scratch(L, he * he, &m->He);
         rt_scratch(L, 9 * rp, &m->G);
         rt_scratch(L, 9 * rp, &m->AG);
@@ -236,6 +234,15 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         }
     }
     if ((st = rt_alrom_arrays(L, m)) || (st = rt_objects_arrays(L, m)) || (st = rt_obstacles_arrays(L, m))) return st;
+    {
+        /* The Newton matrix has a row per moved collider only when the asset takes colliders, and
+         * in a joint solve one per moving obstacle (contact_progress.c: the app meshes and the
+         * scene's obstacles, at most ROMRT_MAX_MOVING_OBSTACLES of these; which of them move is
+         * read after the arena is laid out, so any obstacle counts) */
+        size_t movers = m->nobs < ROMRT_MAX_MOVING_OBSTACLES ? (size_t)m->nobs : ROMRT_MAX_MOVING_OBSTACLES;
+        size_t n = (size_t)r + (m->ncv ? ROMRT_MAX_COLLIDERS + movers : 0);
+        rt_scratch(L, n * n, &m->H);
+    }
     /* A fixed basis of stored rows maps q to each element's F linearly: that map, G_e, formed once
      * here (rt_form_element_G) saves re-forming it from four vertices' rows at every potential
      * (12 r dot products and 63 r flops an element, the step's largest cost after the Hessian).

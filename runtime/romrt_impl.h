@@ -37,8 +37,16 @@
 #endif
 /* Vertices or triangles of an app's collider mesh at most (32-bit indices with room for 3 n). */
 #define ROMRT_MESH_MAX_COUNT ((size_t)1 << 24)
-/* The Newton unknowns at most: q and the progress of each moved collider. */
-#define ROMRT_MAX_N (ROMRT_MAX_R + ROMRT_MAX_COLLIDERS)
+/* The scene's moving obstacles at most (an asset with more is refused at open, naming OBMO; the
+ * bake refuses them too): each has its own progress unknown in a step's joint solve
+ * (contact_progress.c), as each app mesh moved by its pose has. */
+#ifndef ROMRT_MAX_MOVING_OBSTACLES
+#define ROMRT_MAX_MOVING_OBSTACLES RK_MAX_MOVING_OBSTACLES
+#endif
+/* A joint solve's movers: the scene's moving obstacles (0..), then the collider slots. */
+#define RT_MOVERS (ROMRT_MAX_MOVING_OBSTACLES + ROMRT_MAX_COLLIDERS)
+/* The Newton unknowns at most: q and the progress of each moved collider, or of each mover. */
+#define ROMRT_MAX_N (ROMRT_MAX_R + RT_MOVERS)
 #define RT_COLLIDER_REALS RK_COLLIDER_REALS
 /* The r-long rows of the element kernels are padded with zeros to whole vectors of RT_LANES reals
  * (8 floats: one AVX register; 2 SSE or NEON ones), so their loops run without remainders. */
@@ -318,10 +326,15 @@ struct romrt_model {
     uint32_t *overt_obs;      /* onv: each obstacle vertex's obstacle */
     romrt_real *ox, *ox_to, *odx; /* onv x 3: where the obstacle vertices are, are going, the way there */
     romrt_real *ox_from;      /* onv x 3: where they were when the step began (contact_progress.c) */
-    int obs_joint;            /* a solve moves them too: y[r + nmoving] is their progress s */
+    int nmovers, movers[ROMRT_MAX_MOVING_OBSTACLES]; /* the obstacles with a motion, ascending */
+    int obs_joint;            /* a solve moves them too: the movers' progress s_u at y[r + nmoving + u],
+                               * u < obs_joint (0: no joint solve) */
+    int obs_unit[RT_MOVERS];  /* each mover's unknown u in it (-1: it stays this step) */
     int obs_behind;           /* the last step left them short of where the clock puts them */
-    romrt_real obs_w, obs_L;  /* the progress's pull and the longest way an obstacle vertex goes */
-    romrt_real obs_s, obs_lambda; /* where a solve starts s, and the pull's multiplier */
+    romrt_real obs_w[RT_MOVERS], obs_L[RT_MOVERS]; /* each progress's pull and its longest way */
+    romrt_real obs_s[RT_MOVERS], obs_lambda[RT_MOVERS], obs_short[RT_MOVERS]; /* where a solve starts
+                               * s, the pull's multiplier, the last round's shortfall */
+    int obs_near[RT_MOVERS];  /* scratch (rt_obstacles_end_joint) */
     romrt_real *obounds;      /* onode x 6: the BVH boxes where the obstacles are (swept when asked) */
     romrt_real *ocx, *ocdx;   /* ncv x 3: the collision vertices at q, and their move along a step */
     romrt_real *cache_x, *cache_ox; /* ncv x 3, onv x 3: where the candidate pairs were gathered */
@@ -422,10 +435,12 @@ void rt_clock_rebase(romrt_model *m);
  *                          friction when asked; +INFINITY where a pair touches or the pairs overflow
  *                          the capacity (m->obs_overflow set)
  *   rt_obstacles_max_step  the largest step of y along d that CCD allows (the obstacles still, or
- *                          in a joint solve along with the body by d[r + nmoving] of their way)
+ *                          in a joint solve along with the body, each mover by d[r + nmoving + u]
+ *                          of its way)
  *   rt_obstacles_fraction  the fraction of the moving obstacles' way to ox_to (rt_obstacles_begin_joint's
  *                          target) and the app meshes' to their poses that CCD allows with the body
- *                          at q; rt_obstacles_arrive puts them all where they are at t
+ *                          at q, of all of them (near NULL) or of the joint solve's unknowns u with
+ *                          near[u] set; rt_obstacles_arrive puts them all where they are at t
  *   rt_obstacles_lag       friction's step start (start) and lagged pairs at q */
 void rt_obstacles_at(romrt_model *m, double t);
 void rt_obstacles_target(romrt_model *m, double t);
@@ -435,24 +450,28 @@ void rt_obstacles_target(romrt_model *m, double t);
 int rt_surface_on(const romrt_model *m);
 romrt_real rt_obstacles_energy(romrt_model *m, const romrt_real *q, int friction, romrt_real *g, romrt_real *H, int ld);
 romrt_real rt_obstacles_max_step(romrt_model *m, const romrt_real *y, const romrt_real *d);
-romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q);
+romrt_real rt_obstacles_fraction(romrt_model *m, const romrt_real *q, const int *near);
 void rt_obstacles_arrive(romrt_model *m, double t);
 void rt_obstacles_lag(romrt_model *m, const romrt_real *q, int start);
 /* contact_progress.c: the obstacles (the baked ones on their scripted motions, the app's meshes to
  * their poses) moving with the body in one solve.
  *   rt_obstacles_begin_joint  their way from where they are to where they are at t (ox_from,
- *                             ox_to; the meshes' from x0), its pull and length; 0 when nothing
- *                             moves (no joint solve)
- *   rt_obstacles_place        the obstacles at progress s along it, with a CCD move of ds of it in
- *                             odx (and the meshes' dx; boxes swept when ds != 0)
- *   rt_obstacles_end_joint    the obstacles where the solve left them (s), at t when within tol
- *                             of it and the last bit is safe; 1 when they stay behind
+ *                             ox_to; the meshes' from x0), each mover's unknown (obs_unit), pull
+ *                             and length; the unknowns (obs_joint), 0 when nothing moves
+ *   rt_obstacles_place        the obstacles at progress s (obs_joint of them) along it, with a CCD
+ *                             move of ds of it in odx (ds NULL: none; the meshes' dx; boxes swept
+ *                             when ds is given)
+ *   rt_obstacles_end_joint    the obstacles where the solve left them (s), each at t when within
+ *                             tol of it and its last bit is safe; 1 when one stays behind
  *   rt_obstacles_pull_progress, rt_obstacles_slip_progress
  *                             a barrier stencil's and a friction pair's derivatives in s, added
- *                             into g and H at index r + nmoving (as rt_obstacles_pull[_slip] take) */
+ *                             into g and H at index r + nmoving + u (as rt_obstacles_pull[_slip]
+ *                             take) */
 int rt_obstacles_begin_joint(romrt_model *m, double t);
-void rt_obstacles_place(romrt_model *m, romrt_real s, romrt_real ds);
-int rt_obstacles_end_joint(romrt_model *m, romrt_real s, double t, romrt_real tol);
+/* A baked obstacle vertex's unknown in the joint solve (-1: its obstacle stays this step). */
+int rt_obstacle_unit(const romrt_model *m, uint32_t o);
+void rt_obstacles_place(romrt_model *m, const romrt_real *s, const romrt_real *ds);
+int rt_obstacles_end_joint(romrt_model *m, const romrt_real *s, double t, romrt_real tol);
 void rt_obstacles_pull_progress(romrt_model *m, const int32_t id[4], const romrt_real *gx, const romrt_real *B,
                                 romrt_real *g, romrt_real *H, int ld);
 void rt_obstacles_slip_progress(romrt_model *m, const int32_t id[4], const romrt_real w[4], const romrt_real gt[3],
@@ -481,17 +500,19 @@ romrt_real *rt_obstacle_point(const romrt_model *m, uint32_t o, int which);
 const romrt_real *rt_obstacle_rest(const romrt_model *m, uint32_t o);
 /* App meshes (mesh_move.c): the step's start recorded / put back; whether one is short of its
  * pose; an app mesh vertex's (stencil id -1 - o) way from the step's start to its pose (0 when its
- * mesh does not move); the longest such way, squared; the moving meshes at progress s of their way
- * with a CCD move ds of it (rt_meshes_at); the rest of the way into their dx (rt_meshes_way); at
- * the solve's end at their poses (arrive) or left short of them; the BVH boxes refitted. */
+ * mesh does not move); the longest such way of slot k's mesh, squared; the moving meshes each at
+ * its own progress s[u] of its way (u its joint unknown, obs_unit) with a CCD move ds[u] of it
+ * (ds NULL: none; rt_meshes_at); the rest of the way into their dx (rt_meshes_way: those with
+ * near[u] set, or all with near NULL); at the solve's end at their poses (arrive, and near[u] set
+ * or near NULL) or left short of them; the BVH boxes refitted. */
 void rt_meshes_begin(romrt_model *m);
 void rt_meshes_abort(romrt_model *m);
 int rt_meshes_pending(const romrt_model *m);
 int rt_mesh_way(const romrt_model *m, uint32_t o, romrt_real D[3]);
-romrt_real rt_meshes_longest_way2(const romrt_model *m);
-void rt_meshes_at(romrt_model *m, romrt_real s, romrt_real ds);
-void rt_meshes_way(romrt_model *m);
-void rt_meshes_end(romrt_model *m, int arrive);
+romrt_real rt_mesh_longest_way2(const romrt_model *m, int k);
+void rt_meshes_at(romrt_model *m, const romrt_real *s, const romrt_real *ds);
+void rt_meshes_way(romrt_model *m, const int *near);
+void rt_meshes_end(romrt_model *m, int arrive, const int *near);
 void rt_mesh_refit(rt_mesh *M, int swept);
 /* x = R X + p over the mesh's vertices (pose: position 3, rotation 9 row-major). */
 void rt_mesh_world(const rt_mesh *M, const romrt_real *pose, romrt_real *x);

@@ -53,7 +53,8 @@ static romrt_real step_size(romrt_model *m, const romrt_real *d)
     int k, p = m->r + m->nmoving;
     for (k = 0; k < m->nmoving; k++)
         if (RT_FABS(d[m->r + k]) * m->move_L[k] > size) size = RT_FABS(d[m->r + k]) * m->move_L[k];
-    if (m->obs_joint && RT_FABS(d[p]) * m->obs_L > size) size = RT_FABS(d[p]) * m->obs_L;
+    for (k = 0; k < m->obs_joint; k++)
+        if (RT_FABS(d[p + k]) * m->obs_L[k] > size) size = RT_FABS(d[p + k]) * m->obs_L[k];
     return size;
 }
 
@@ -68,18 +69,20 @@ static romrt_real potential(romrt_model *m, const rt_terms *T, const romrt_real 
     romrt_real E;
     if (m->nmoving) rt_colliders_place(m, y);
     if (m->obs_joint) {
-        rt_obstacles_place(m, y[p], 0);
-        if (g) g[p] = 0;
-        for (i = 0; H && i <= p; i++) H[i + (size_t)n * p] = 0;
+        rt_obstacles_place(m, y + p, 0);
+        for (k = 0; k < m->obs_joint; k++) {
+            if (g) g[p + k] = 0;
+            for (i = 0; H && i <= p + k; i++) H[i + (size_t)n * (p + k)] = 0;
+        }
     }
     E = rt_potential(m, T, y, g, H, n, magnitude);
     if (!isfinite(E)) return E;
-    if (m->obs_joint) { /* w/2 (1 - s)^2 - lambda (1 - s), lambda the multiplier's (obstacles_solve) */
-        romrt_real c = 1 - y[p], e = RT_K(0.5) * m->obs_w * c * c - m->obs_lambda * c;
+    for (k = 0; k < m->obs_joint; k++) { /* w_k/2 (1 - s_k)^2 - lambda_k (1 - s_k), lambda_k the multiplier's (obstacles_solve) */
+        romrt_real c = 1 - y[p + k], e = RT_K(0.5) * m->obs_w[k] * c * c - m->obs_lambda[k] * c;
         E += e;
         if (magnitude) *magnitude += RT_FABS(e);
-        if (g) g[p] += m->obs_lambda - m->obs_w * c;
-        if (H) H[p + (size_t)n * p] += m->obs_w;
+        if (g) g[p + k] += m->obs_lambda[k] - m->obs_w[k] * c;
+        if (H) H[p + k + (size_t)n * (p + k)] += m->obs_w[k];
     }
     for (k = 0; k < m->nmoving; k++) {
         romrt_real sk = y[r + k], gs = 0, hss = 0, pull = m->move_w[k] * (1 - sk), *hqs = H ? H + (size_t)n * (r + k) : 0;
@@ -103,9 +106,11 @@ static int filtered(const romrt_model *m)
 static romrt_real max_step(romrt_model *m, const romrt_real *y, const romrt_real *d)
 {
     romrt_real alpha = m->ncontacts ? rt_contact_max_step(m, y, d) : 1, c;
-    int p = m->r + m->nmoving;
-    if (m->obs_joint && d[p] > 0 && (1 - y[p]) / d[p] < alpha) alpha = (1 - y[p]) / d[p]; /* s stays in [0, 1] */
-    if (m->obs_joint && d[p] < 0 && y[p] / -d[p] < alpha) alpha = y[p] / -d[p];
+    int p = m->r + m->nmoving, k;
+    for (k = p; k < p + m->obs_joint; k++) { /* each s_k stays in [0, 1] */
+        if (d[k] > 0 && (1 - y[k]) / d[k] < alpha) alpha = (1 - y[k]) / d[k];
+        if (d[k] < 0 && y[k] / -d[k] < alpha) alpha = y[k] / -d[k];
+    }
     if (m->ncolliders && alpha > 0 && (c = rt_colliders_max_step(m, y, d)) < alpha) alpha = c;
     if (rt_surface_on(m) && alpha > 0 && (c = rt_obstacles_max_step(m, y, d)) < alpha) alpha = c;
     return alpha;
@@ -283,7 +288,7 @@ static int whole_step(romrt_model *m, const rt_terms *T, romrt_real alpha, romrt
     }
     for (i = 0; i < n; i++) m->trial[i] = m->y[i] + back * m->d[i];
     if (m->nmoving) rt_colliders_place(m, m->trial);
-    else if (m->obs_joint) rt_obstacles_place(m, m->trial[m->r], 0);
+    else if (m->obs_joint) rt_obstacles_place(m, m->trial + m->r, 0);
     return 0;
 }
 
@@ -385,7 +390,7 @@ static romrt_status solve(romrt_model *m, const rt_terms *T, int move_colliders,
     if (move_colliders) rt_colliders_begin_move(m, m->q);
     memcpy(m->y, m->q, sizeof(romrt_real) * (size_t)m->r);
     for (k = 0; k < m->nmoving; k++) m->y[m->r + k] = 0;
-    if (m->obs_joint) m->y[m->r + m->nmoving] = m->obs_s;
+    for (k = 0; k < m->obs_joint; k++) m->y[m->r + m->nmoving + k] = m->obs_s[k];
     st = newton(m, T, err);
     if (m->nmoving) {
         if (st) m->nmoving = 0; /* the caller puts the colliders back */
@@ -411,25 +416,28 @@ static romrt_status obstacles_solve(romrt_model *m, const rt_terms *T, romrt_err
 {
     double t = rt_clock(m, 1);
     romrt_status st = ROMRT_OK;
-    romrt_real short_by;
-    int round;
+    int round, k, again;
     if (!rt_obstacles_begin_joint(m, t)) {
         m->obs_behind = 0;
         return solve(m, T, 0, err);
     }
-    if (rt_obstacles_fraction(m, m->q) >= 1) { /* the whole way is clear of the body as it is: */
-        m->obs_joint = 0, m->obs_behind = 0;        /* there at once, the body solved after them */
+    if (rt_obstacles_fraction(m, m->q, 0) >= 1) { /* the whole way is clear of the body as it is: */
+        m->obs_joint = 0, m->obs_behind = 0;           /* there at once, the body solved after them */
         rt_obstacles_arrive(m, t);
         return solve(m, T, 0, err);
     }
-    m->obs_s = 0, m->obs_lambda = 0;
-    for (round = 0, short_by = (romrt_real)INFINITY; round < RK_OBSTACLE_ROUNDS && !st; round++) {
+    for (round = 0; round < RK_OBSTACLE_ROUNDS && !st; round++) {
         st = solve(m, T, 0, err);
-        m->obs_s = m->y[m->r];
-        /* arrived; or pinned: a round that did not halve the shortfall (the body cannot give way) */
-        if (st || (1 - m->obs_s) * m->obs_L <= arrival_tol(m) || 1 - m->obs_s > RT_K(0.5) * short_by) break;
-        short_by = 1 - m->obs_s;
-        m->obs_lambda -= m->obs_w * short_by; /* the method of multipliers */
+        /* each arrived; or pinned: a round that did not halve its shortfall (the body cannot give
+         * way); another round while one's multiplier rises */
+        for (k = 0, again = 0; k < m->obs_joint && !st; k++) {
+            romrt_real short_by = 1 - (m->obs_s[k] = m->y[m->r + k]);
+            if (short_by * m->obs_L[k] <= arrival_tol(m) || short_by > RT_K(0.5) * m->obs_short[k]) continue;
+            m->obs_short[k] = short_by;
+            m->obs_lambda[k] -= m->obs_w[k] * short_by; /* the method of multipliers */
+            again = 1;
+        }
+        if (!again) break;
     }
     if (st) {
         m->obs_joint = 0;

@@ -60,8 +60,10 @@ static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
         ALLOC(im->sc2, n) || ALLOC(im->sc3, n) || ALLOC(im->sc4, n) || ALLOC(im->elem_e, nt) ||
         ALLOC(im->fixed_vertex, nv) || ALLOC(im->elem_psi, nt) || ALLOC(im->elem_g, 12 * (size_t)nt) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
         ALLOC(im->newton_work, RK_NEWTON_WORK(n + 1)) || ALLOC(im->x_moved, n) || ALLOC(im->y, n + 1) ||
-        ALLOC(im->prescribed_y, n + 1) || ALLOC(im->hxs, n) || ALLOC(im->sx, n) || ALLOC(im->dq_b, r))
+        ALLOC(im->prescribed_y, n + 1) || ALLOC(im->hxs, n) || ALLOC(im->sx, n) || ALLOC(im->dq_b, r) ||
+        ALLOC(im->hss, 1))
         return -1;
+    im->kcap = 1;
     return 0;
 }
 
@@ -161,7 +163,7 @@ void rk_adaptive_free(rk_adaptive *ad)
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
                           im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g, im->MU, im->CU, im->ctri_r, im->ctri_v,
-                          im->y, im->prescribed_y, im->hxs, im->sx, im->dq_b};
+                          im->y, im->prescribed_y, im->hxs, im->sx, im->dq_b, im->hss};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }
@@ -255,7 +257,7 @@ static double energy(void *ctx, const double *y, double *g, int hessian, double 
     rk_adaptive_impl *im = c->ad->impl;
     if (!im->way) return energy_x(ctx, y, g, hessian, magnitude);
     rk_contact *oc = im->view.contact;
-    rk_obstacle_way_place(im->way, oc, y[im->n]);
+    rk_obstacle_way_place(im->way, oc, y + im->n);
     oc->obstacle_dofs = 1;
     double E = energy_x(ctx, y, g, hessian, magnitude);
     oc->obstacle_dofs = 0;
@@ -324,7 +326,7 @@ static double max_step(void *ctx, const double *x, const double *d)
     newton_ctx *c = ctx;
     rk_adaptive_impl *im = c->ad->impl;
     if (im->way) /* the body and the obstacles together, s within [0, 1] */
-        return rk_obstacle_way_max_step(im->way, im->view.contact, x, d, x[im->n], d[im->n], &c->failure);
+        return rk_obstacle_way_max_step(im->way, im->view.contact, x, d, x + im->n, d + im->n, &c->failure);
     double alpha = rk_fom_max_step(&c->ad->fom, x, d, &c->failure);
     return alpha >= 0 ? alpha : 0;
 }
@@ -380,7 +382,7 @@ static double step_norm(void *ctx, const double *d)
     rk_adaptive_impl *im = ((newton_ctx *)ctx)->ad->impl;
     double size = 0;
     for (int i = 0; i < im->n; i++) size = fmax(size, fabs(d[i]));
-    return im->way ? fmax(size, rk_obstacle_way_step_norm(im->way, d[im->n])) : size;
+    return im->way ? fmax(size, rk_obstacle_way_step_norm(im->way, d + im->n)) : size;
 }
 
 /* Newton from im->y; with moving obstacles, rounds of the method of multipliers on their pull
@@ -396,7 +398,7 @@ static int solve_rounds(rk_adaptive *ad, const newton_ctx *c, const rk_newton_pr
         int rc = rk_newton_solve(p, im->y, tol_d, rk_fom_max_iter(&s->opt, 1), im->newton_work, converged, stats, err);
         account_step(im, im->y);
         if (rc || c->failure.msg[0] || !im->way || round + 1 >= RK_OBSTACLE_ROUNDS ||
-            !rk_obstacle_way_round(im->way, im->y[im->n], tol_d))
+            !rk_obstacle_way_round(im->way, im->y + im->n, tol_d))
             return rc;
         ad->stats.obstacle_rounds++;
     }
@@ -404,7 +406,7 @@ static int solve_rounds(rk_adaptive *ad, const newton_ctx *c, const rk_newton_pr
 
 /* The obstacles' way over the step (their progress an unknown: obstacles.c) unless nothing moves
  * or the whole way is clear of the body as it is (then they are there at once, the body after):
- * 1 with *way set, 0, -1 on failure. */
+ * the number of progress unknowns with *way set, 0, -1 on failure. */
 static int obstacle_way(rk_adaptive *ad, rk_fom *s, rk_obstacle_way *way, rk_error *err)
 {
     rk_adaptive_impl *im = ad->impl;
@@ -412,11 +414,15 @@ static int obstacle_way(rk_adaptive *ad, rk_fom *s, rk_obstacle_way *way, rk_err
     double t = s->t + s->opt.h;
     int moving = rk_obstacle_way_init(way, im->view.contact, t, im->mass, s->opt.h, err);
     if (moving <= 0) return moving;
+    if (rk_adaptive_progress_room(im, moving, err)) {
+        rk_obstacle_way_free(way);
+        return -1;
+    }
     memset(im->sx, 0, sizeof(double) * (size_t)im->n);
     double clear = rk_contact_max_step(im->view.contact, s->x, im->sx, way->way, err);
     if (clear >= 1) rk_contact_set_time(im->view.contact, t);
     if (clear < 0 || clear >= 1) rk_obstacle_way_free(way);
-    return clear < 0 ? -1 : clear < 1;
+    return clear < 0 ? -1 : clear < 1 ? moving : 0;
 }
 
 static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
@@ -429,7 +435,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
     if (moving < 0) return -1;
     im->way = moving ? &way : NULL;
     memcpy(im->y, s->x, sizeof(double) * (size_t)im->n);
-    im->y[im->n] = 0; /* s = 0: the obstacles where they are */
+    memset(im->y + im->n, 0, sizeof(double) * (size_t)moving); /* s = 0: the obstacles where they are */
     rk_newton_problem p = {.n = im->n + moving, .ctx = &c, .what = "incremental potential (adaptive subspace)",
                            .energy = energy, .solve = solve,
                            .max_step = im->view.has_contact ? max_step : NULL,
@@ -442,7 +448,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
     for (int round = 0;; round++) {
         rc = solve_rounds(ad, &c, &p, s, tol_d, converged, &stats, err);
         memcpy(s->x, im->y, sizeof(double) * (size_t)im->n);
-        if (moving) rk_obstacle_way_place(&way, im->view.contact, im->y[im->n]); /* not a line search's trial */
+        if (moving) rk_obstacle_way_place(&way, im->view.contact, im->y + im->n); /* not a line search's trial */
         if (rc || c.failure.msg[0] || !ad->opt.residual) break;
         /* the full-order Newton step that would remain from here: the paper's accuracy measure
          * (Fig. 12), which its oracle's thresholds do not bound; where it exceeds the tolerance the
@@ -470,7 +476,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
         int behind = 0;
         memset(im->sx, 0, sizeof(double) * (size_t)im->n);
         if (!rc && !c.failure.msg[0] &&
-            rk_obstacle_way_arrive(&way, im->view.contact, s->x, im->sx, im->y[im->n], s->t + s->opt.h, tol_d,
+            rk_obstacle_way_arrive(&way, im->view.contact, s->x, im->sx, im->y + im->n, s->t + s->opt.h, tol_d,
                                    &behind, err))
             rc = -1;
         ad->stats.obstacles_behind += behind;

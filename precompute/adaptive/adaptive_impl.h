@@ -96,20 +96,22 @@ struct rk_adaptive_impl {
     const rk_fom_terms *T;
     double *g, *x_prev, *d_last;/* n: the gradient, the iterate and direction of the last Hessian */
     int have_prev;
-    double *newton_work;        /* RK_NEWTON_WORK(n) */
+    double *newton_work;        /* RK_NEWTON_WORK(n + kcap) */
     double *x_moved;            /* n: what the step's Newton iterations moved x by (downdating; Newton
                                  * may start from the prediction, which no coordinate accounts for) */
     rk_contact_set pairs;       /* the oracle's own contact pairs */
     int first_iteration;        /* the next Newton iteration is a solve's first (BFGS restarts) */
     double *dq_last;            /* a: alpha d_q of the last Newton step (the secant's s) */
     int have_step;
-    /* moving obstacles (obstacles.c): their progress s along the step's way is unknown n beside x */
+    /* moving obstacles (obstacles.c): each one's progress s_k along the step's way is unknown n + k
+     * beside x (k < way->n) */
     rk_obstacle_way *way;       /* the step's way while a joint solve runs, else NULL */
     double mass;                /* the body's (the pull's scale) */
-    double *y;                  /* n + 1: x and s */
-    char *prescribed_y;         /* n + 1: the prescribed dofs, and s free */
-    double *hxs, *sx, *dq_b;    /* n, n, r: d2/dx ds, its solve and that solve's d_q */
-    double hss, gs;             /* d2/ds2 and d/ds at the last Hessian */
+    int kcap;                   /* progress unknowns the arrays below have room for (rk_adaptive_progress_room) */
+    double *y;                  /* n + kcap: x and s */
+    char *prescribed_y;         /* n + kcap: the prescribed dofs, and s free */
+    double *hxs, *sx, *dq_b;    /* n kcap, n kcap, r kcap: d2/dx ds_k, its solve and that solve's d_q (column k) */
+    double *hss;                /* kcap x kcap: d2/ds2 at the last Hessian (leading dimension way->n) */
 };
 
 /* partition.c */
@@ -147,9 +149,11 @@ void rk_adaptive_downdate(rk_adaptive *a);
 /* Adds the pull and d/ds into E and g[n] at y (obstacles placed at y[n]); with hessian, d2/ds2
  * and d2/dx ds from the potential's contact blocks (im->view, fresh). */
 double rk_adaptive_obstacle_terms(rk_adaptive *a, const double *y, double *g, int hessian, double *magnitude);
-/* d (n + 1) for the bordered system [H hxs; hxs^T hss] by two Schur solves (Eq. 19's with g, then
- * with hxs): Eq. 19's d_q and d_x, and d_s. */
+/* d (n + k) for the bordered system [H hxs; hxs^T hss] by k + 1 Schur solves (Eq. 19's with g,
+ * then with each column of hxs): Eq. 19's d_q and d_x, and d_s. */
 int rk_adaptive_solve_bordered(rk_adaptive *a, const rk_fom_terms *T, const double *g, double *d, rk_error *err);
+/* Room in y, prescribed_y, newton_work and the bordered solve's arrays for k progress unknowns. */
+int rk_adaptive_progress_room(rk_adaptive_impl *im, int k, rk_error *err);
 
 /* system.c: d (n) from Eq. 19 by the Schur complement */
 /* y (n) = A c for A n x a (column-major), rows on the threads, each row summed in column order. */

@@ -180,6 +180,13 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
         if (c == &own) rk_contact_free(&own);
         return nobs ? rk_fail(err, "at most %u obstacles besides planes, the scene has %d", ROMBIN_MAX_OBSTACLES, nobs) : 0;
     }
+    /* each moving obstacle is its own progress unknown in the runtime's joint solve, whose Newton
+     * matrix has room for RK_MAX_MOVING_OBSTACLES (runtime/contact_progress.c) */
+    for (int k = 0, moving = 0; k < c->nobstacles; k++)
+        if (c->obstacles[k].kind != RK_OBSTACLE_PLANE && c->obstacles[k].motion != RK_MOTION_FIXED &&
+            ++moving > RK_MAX_MOVING_OBSTACLES)
+            return rk_fail(err, "obstacle %d moves: the runtime takes at most %d moving obstacles besides planes", k,
+                           RK_MAX_MOVING_OBSTACLES);
     int nitems_all = c->onv + c->one + c->onf;
     /* sizes: a BVH of n items has at most 2 n / 1 nodes (leaves of 1..LEAF_ITEMS, binary splits) */
     size_t headn = ROMBIN_OBHD_COUNT + (size_t)ROMBIN_OBST_COUNT * nobs;

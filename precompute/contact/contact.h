@@ -238,45 +238,57 @@ double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, con
 void rk_contact_move_obstacles(rk_contact *c, double t, double fraction);
 
 /* ---- moving obstacles solved for with the body (progress.c) ----
- * Over a step the obstacle vertices go on straight lines x_o(s) = from + s D_o to where they are
- * due, and the progress s is one more Newton unknown beside the body's, pulled to 1 by
- * w/2 (1 - s)^2 - lambda (1 - s), w = RK_COLLIDER_PULL mass L^2 / h^2 (L the longest D_o), lambda
- * raised in rounds of the method of multipliers (RK_OBSTACLE_ROUNDS at most). The contact terms
- * depend on s through the obstacle points alone: d/ds = og . D, and each Hessian block B (the
- * obstacle points as degrees of freedom: c->obstacle_dofs set) gives d2/ds2 = D.B D and the
- * coupling B D with the body's points. The reduced and the adaptive simulators share this. */
+ * Over a step the obstacle vertices go on straight lines x_o(s_k) = from + s_k D_o to where they
+ * are due, and the progress s_k of each obstacle k that moves this step is one more Newton unknown
+ * beside the body's (n of them, in the obstacles' order), pulled to 1 by
+ * w_k/2 (1 - s_k)^2 - lambda_k (1 - s_k), w_k = RK_COLLIDER_PULL mass L_k^2 / h^2 (L_k the longest
+ * D_o of obstacle k), lambda_k raised in rounds of the method of multipliers (RK_OBSTACLE_ROUNDS
+ * at most). The contact terms depend on s_k through obstacle k's points alone: d/ds_k = og . D_k,
+ * and each Hessian block B (the obstacle points as degrees of freedom: c->obstacle_dofs set) gives
+ * d2/ds_k ds_l = D_k.B D_l and the coupling B D_k with the body's points (D_k: the way at k's
+ * points, 0 elsewhere). The reduced and the adaptive simulators share this. Progress vectors s, ds
+ * have n entries; matrices hss are n x n with leading dimension ld. */
 typedef struct {
-    int onv;
+    int onv, n;                    /* obstacle vertices; the unknowns s_k (obstacles moving this step) */
     double *from, *way, *odx;      /* 3 onv: where they start, D, scratch */
-    double L, w, lambda, short_by; /* the longest way, the pull, its multiplier, the last shortfall */
+    int *unit;                     /* onv: the unknown its obstacle moves with, -1 when it stays */
+    double *L, *w, *lambda, *short_by; /* n: the longest way, the pull, its multiplier, the last shortfall */
+    double *gs;                    /* n: scratch */
+    int *near;                     /* n: scratch (arrive) */
 } rk_obstacle_way;
 /* The way from where c's obstacles are to where they are at t, for a body of the given mass and a
- * step of h seconds: 1 when something moves, 0 when nothing does, -1 out of memory (freed then). */
+ * step of h seconds: the number of unknowns (obstacles that move), 0 when nothing moves, -1 out of
+ * memory (freed then). */
 int rk_obstacle_way_init(rk_obstacle_way *p, const rk_contact *c, double t, double mass, double h, rk_error *err);
 void rk_obstacle_way_free(rk_obstacle_way *p);
 /* c's obstacle vertices at progress s. */
-void rk_obstacle_way_place(const rk_obstacle_way *p, rk_contact *c, double s);
-/* The pull at s: its value; d/ds added into *gs and d2/ds2 into *hss (each may be NULL). */
-double rk_obstacle_way_pull(const rk_obstacle_way *p, double s, double *gs, double *hss);
-/* d/ds of the contact terms from their obstacle-vertex gradient og (3 onv): og . D. */
-double rk_obstacle_way_gradient(const rk_obstacle_way *p, const double *og);
-/* A Hessian block (ids as the sink gets them) in s: BD (3 np) = B D, D the way at its obstacle
- * points (0 at the body's), and D.B D added into *hss; returns 0 (nothing set) without an
- * obstacle point. */
-int rk_obstacle_way_block(const rk_obstacle_way *p, const int *id, int np, const double *B, double *BD, double *hss);
+void rk_obstacle_way_place(const rk_obstacle_way *p, rk_contact *c, const double *s);
+/* The pulls at s: their value; d/ds_k added into gs[k] and d2/ds_k^2 into hss[k + ld k] (each may
+ * be NULL). */
+double rk_obstacle_way_pull(const rk_obstacle_way *p, const double *s, double *gs, double *hss, int ld);
+/* d/ds of the contact terms from their obstacle-vertex gradient og (3 onv), og . D_k, added into
+ * gs (n). */
+void rk_obstacle_way_gradient(rk_obstacle_way *p, const double *og, double *gs);
+/* A Hessian block (ids as the sink gets them) in s: the unknowns whose obstacle has points in it
+ * (at most 4) into units, for each j BD + 12 j (3 np) = B D_units[j], and D_k.B D_l added into
+ * hss[k + ld l] for each pair of them; returns how many (0: no moving obstacle point). */
+int rk_obstacle_way_block(const rk_obstacle_way *p, const int *id, int np, const double *B, int *units, double *BD,
+                          double *hss, int ld);
 /* The largest alpha in [0, 1] for the joint step: the body by alpha dx from x (3 nmesh), s by
  * alpha ds within [0, 1], CCD-filtered (the obstacles placed at s); 0 when CCD fails. */
-double rk_obstacle_way_max_step(rk_obstacle_way *p, rk_contact *c, const double *x, const double *dx, double s,
-                                double ds, rk_error *err);
-/* A step's size in s as metres along the way. */
-double rk_obstacle_way_step_norm(const rk_obstacle_way *p, double ds);
-/* After a solve left the progress at s: 1 when another round is due (lambda raised by the
- * shortfall), 0 when within tol (m) or when the round did not halve the shortfall (the body
- * pinned: the multiplier would only press harder). */
-int rk_obstacle_way_round(rk_obstacle_way *p, double s, double tol);
-/* The obstacles at s after the solve; at time t exactly when within tol (m) of it and CCD lets the
- * last bit go with the body still at x (still: 3 nmesh zeros). *behind: they stopped short. */
-int rk_obstacle_way_arrive(rk_obstacle_way *p, rk_contact *c, const double *x, const double *still, double s,
+double rk_obstacle_way_max_step(rk_obstacle_way *p, rk_contact *c, const double *x, const double *dx, const double *s,
+                                const double *ds, rk_error *err);
+/* A step's size in s as metres along the way: the largest |ds_k| L_k. */
+double rk_obstacle_way_step_norm(const rk_obstacle_way *p, const double *ds);
+/* After a solve left the progress at s: 1 when another round is due (some lambda_k raised by its
+ * shortfall), 0 when every s_k is within tol (m) or did not halve its shortfall in the last round
+ * (pinned: the multiplier would only press harder). */
+int rk_obstacle_way_round(rk_obstacle_way *p, const double *s, double tol);
+/* The obstacles at s after the solve: all at time t (rk_contact_set_time) when each is within tol
+ * (m) of it and CCD lets their last bits go with the body still at x (still: 3 nmesh zeros); else
+ * each whose rest of the way CCD lets go on its own, in turn, at t, the others at s (a pinned
+ * one's rest runs into the body). *behind: one stopped short. */
+int rk_obstacle_way_arrive(rk_obstacle_way *p, rk_contact *c, const double *x, const double *still, const double *s,
                            double t, double tol, int *behind, rk_error *err);
 
 /* ---- prescribed motion under contact (advance.c) ---- */

@@ -109,12 +109,13 @@ void rk_rom_reduce_block(void *ctx, const int *id, int npoints, const double *B)
     for (int i = 0; i < dim; i++)
         if (rows[i]) cblas_dger(CblasColMajor, r, r, 1.0, rows[i], 1, c->JB + (size_t)i * r, 1, c->H, r);
     if (!c->way) return;
-    /* the obstacles moving by s D_o (obstacle_solve.c): d2/ds2 += D . B D and d2/dq ds += sum over
-     * the mesh points of J^T B D */
-    double BD[12];
-    if (!rk_obstacle_way_block(c->way, id, npoints, B, BD, c->hss)) return;
-    for (int i = 0; i < dim; i++)
-        if (rows[i] && BD[i] != 0) cblas_daxpy(r, BD[i], rows[i], 1, c->hqs, 1);
+    /* the obstacles moving by s_k D_o (obstacle_solve.c): d2/ds_k ds_l += D_k . B D_l and
+     * d2/dq ds_k += sum over the mesh points of J^T B D_k */
+    double BD[48];
+    int units[4], nu = rk_obstacle_way_block(c->way, id, npoints, B, units, BD, c->hss, c->way->n);
+    for (int j = 0; j < nu; j++)
+        for (int i = 0; i < dim; i++)
+            if (rows[i] && BD[12 * j + i] != 0) cblas_daxpy(r, BD[12 * j + i], rows[i], 1, c->hqs + (size_t)r * units[j], 1);
 }
 
 double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g, double *H, rk_error *err)
@@ -123,7 +124,7 @@ double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g
     rk_rom_contact_positions(s, q);
     if (rk_contact_gather(&m->contact, s->x, &s->pairs, err)) return NAN;
     if (g) rk_rom_clear_vertex_gradient(s);
-    rk_rom_reduce_ctx ctx = {m, H, s->jb, s->obs_way, s->obs_hqs, &s->obs_hss};
+    rk_rom_reduce_ctx ctx = {m, H, s->jb, s->obs_way, s->obs_hqs, s->obs_hss};
     int onv = m->contact.onv;
     double *og = s->obs_way && g ? s->ogx : NULL; /* the obstacles' gradient, for d/ds */
     if (og) memset(og, 0, sizeof(double) * 3 * (size_t)onv);
@@ -133,7 +134,7 @@ double rk_rom_contact_energy(rk_rom *s, const double *q, int friction, double *g
         E += rk_contact_friction_energy(&m->contact, s->x, m->h, g ? s->gx : NULL, og,
                                         H ? rk_rom_reduce_block : NULL, &ctx);
     if (g && isfinite(E)) rk_rom_pull_vertex_gradient(s, g);
-    if (og && isfinite(E)) s->obs_gs += rk_obstacle_way_gradient(s->obs_way, og);
+    if (og && isfinite(E)) rk_obstacle_way_gradient(s->obs_way, og, s->obs_gs);
     return E;
 }
 

@@ -131,9 +131,10 @@ typedef struct {
     double *odx;               /* 3 obstacle vertices: their way over a step */
     /* a joint solve moving the obstacles (obstacle_solve.c): their way (NULL outside one), the
      * contact terms' gradient at the obstacle vertices (3 onv), and their derivatives in the
-     * obstacles' progress (d/ds, d2/ds2, d2/dq ds: r) */
-    const rk_obstacle_way *obs_way;
-    double *ogx, obs_gs, obs_hss, *obs_hqs;
+     * obstacles' progress s (n = obs_way->n of them: d/ds n, d2/ds2 n x n, d2/dq ds r x n, all
+     * column-major) */
+    rk_obstacle_way *obs_way;
+    double *ogx, *obs_gs, *obs_hss, *obs_hqs;
     double *jb;                /* 12 x r contact scratch */
     rk_contact_set pairs;      /* this evaluation's contact pairs */
     double *q, *v;             /* reduced positions and velocities */

@@ -56,7 +56,7 @@ typedef struct {
     double *H;      /* r x r, column-major (both triangles) */
     double *JB;     /* 12 x r scratch */
     /* a joint solve moving the obstacles (obstacle_solve.c), or NULL: their way D, and the block's
-     * d2/dq ds (r) and d2/ds2 added into hqs and *hss */
+     * d2/dq ds (r x way->n) and d2/ds2 (way->n x way->n) added into hqs and hss */
     const rk_obstacle_way *way;
     double *hqs, *hss;
 } rk_rom_reduce_ctx;

@@ -2,7 +2,8 @@
 # (contact.min_distance, contact.intersections by the exact segment-triangle test,
 # intersecting_frames, frames), on a block dropped at 1 m/s onto a plane; the same keys in the fom
 # report; the scenes run refuses to measure against, by name; a hidden surface and a point cloud's
-# contact surface measured on the asset's collision vertices.
+# contact surface measured on the asset's collision vertices; a ninth moving obstacle refused at
+# bake, by name.
 . tests/lib.sh
 cat >"$TMP/drop.json" <<'JSON'
 {"objects": [{"mesh": {"box": {"size": [0.1, 0.05, 0.1], "cells": [2, 1, 2]}, "translate": [0, 0.02, 0]},
@@ -77,3 +78,18 @@ if "$ROMKIT" build "$TMP/cloud.json" -o "$TMP/cloud.rombin" --quiet >/dev/null 2
 else
     fail run_scene_measures_a_cloud "$(cat "$TMP/err")"
 fi
+
+# each moving obstacle is its own progress unknown in the runtime's joint solve, which has room for
+# RK_MAX_MOVING_OBSTACLES (8): a ninth is refused at bake, by name
+nine=""
+for i in 0 1 2 3 4 5 6 7 8; do
+    nine="$nine${nine:+, }{\"sphere\": {\"center\": [0.$i, -0.2, 0.3], \"radius\": 0.02}, \"translate\": {\"velocity\": [0, 0, 0.1]}}"
+done
+cat >"$TMP/nine.json" <<JSON
+{"objects": [{"mesh": {"box": {"size": [0.2, 0.05, 0.2], "cells": [2, 1, 2]}, "translate": [-0.1, 0, -0.1]},
+  "material": {"model": "neohookean", "young": 1e5, "poisson": 0.4, "density": 1000}}],
+ "gravity": [0, -9.81, 0], "obstacles": [$nine], "contact": {"dhat": 0.002},
+ "time": {"step": 0.01, "duration": 0.03}, "rom": {"basis": "modes", "size": 6}}
+JSON
+expect_fail build_refuses_a_ninth_moving_obstacle "obstacle 8 moves: the runtime takes at most 8 moving obstacles" \
+    "$ROMKIT" build "$TMP/nine.json" -o "$TMP/nine.rombin" --quiet
