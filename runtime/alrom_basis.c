@@ -12,7 +12,31 @@
  * point is Q_Phi A + Q_U B, and the step basis D E_d + U E_u is formed in one last pass. The
  * Grams of well-conditioned bases (U: the decoder's Jacobian; Phi_h: held to U by the ridge) lose
  * nothing a step's float rows keep. Inner products are Euclidean over the free stored rows (the
- * prescribed rows are zero in every basis). */
+ * prescribed rows are zero in every basis).
+ *
+ * What a step costs with the quadratic decoder, in multiply-adds (r = 16, pairs = r (r + 1) / 2 =
+ * 136, R = r + pairs = 152, a history of m = 20; issue 33 asks each part to approach what it needs):
+ *   encoder (alrom_decoder.c)  a Gauss-Newton iteration C^T G C: G C(p) R (r + 1) r = 41k, C^T (.)
+ *                              r^2 (r + 1) = 4k, a trial's misfit R^2 = 23k; about 4 iterations a
+ *                              step on the armadillo (counted): 0.28 M, all in r- and K-space.
+ *   basis (this file)          U^T U = C^T F C 45k; the newest entry's F c, W_F c 2 R^2 = 46k; the
+ *                              ridge's F w 23k; D^T U m r^2 = 5k; Phi_h's Grams m^2 r + m r^2 = 11k
+ *                              (it was m^2 r^2 = 102k, a sum over entry pairs); QRs, SVD and the
+ *                              geodesic O(r^3), about 50k: 0.18 M, none of it per vertex.
+ *   rows (form_used)           C_s = sum_e c_e E_d[e] + C(p) E_u and W_F C_s: W_F C(p) 41k,
+ *                              (W_F C(p)) E_u R r^2 = 39k, the entries 2 m R r = 97k; then per used
+ *                              row the Jacobian's 2 pairs - r = 256 (each packed pair read once
+ *                              for the two columns it adds to: the r + r^2 = 272 the issue counts,
+ *                              less the symmetry) and the blend [D_i, U_i] E (m + r) r = 576: 832
+ *                              a row, 0.72 M at the 288 used vertices of a 210-element cubature.
+ *                              The blend's m r is the history's (Eq. 13 over the m stored entries);
+ *                              a row of D E_d costs no less through the decoder (B_i C_D E_d is
+ *                              R r), so 832 is what this basis needs a row, not a loss.
+ *   G_e (potential.c)          27 r = 432 (and 9 r subtractions) an element, 91k at 210; their own
+ *                              Newton work is PCA's (F = F(x_ref) + G_e q adds 9 a point).
+ * Against PCA's step (its Newton alone, 3 iterations over the same 210 elements) these parts are
+ * the adaptive step's excess: about 1.3 M multiply-adds a step, none of it per stored vertex
+ * but the used rows. */
 #include <math.h>
 #include <string.h>
 
@@ -269,13 +293,18 @@ static int history_basis(romrt_model *m, int count, double ridge)
     mul(r, G, 0, Suu, Shu, 1);
     /* Phi_h^T Phi_h = C^T (D^T D) C + K G + (K G)^T + G (U^T U) G */
     for (k = 0; k < r * r; k++) Shh[k] = 0;
-    for (e = 0; e < count; e++)
+    for (e = 0; e < count; e++) { /* += c_e t_e^T, t_e = sum_f (d_e . d_f) c_f: m^2 r + m r^2, not m^2 r^2 */
+        const double *ce = al->coef + (size_t)e * (size_t)r;
+        double t[ROMRT_MAX_R];
+        for (j = 0; j < r; j++) t[j] = 0;
         for (f = 0; f < count; f++) {
-            const double *ce = al->coef + (size_t)e * (size_t)r, *cf = al->coef + (size_t)f * (size_t)r;
+            const double *cf = al->coef + (size_t)f * (size_t)r;
             double w = al->dd[slot_of(al, e) + (size_t)slots * (size_t)slot_of(al, f)];
-            for (j = 0; j < r; j++)
-                for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += ce[i] * w * cf[j];
+            for (j = 0; j < r; j++) t[j] += w * cf[j];
         }
+        for (j = 0; j < r; j++)
+            for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += ce[i] * t[j];
+    }
     mul(r, K, 0, G, T, 0); /* T = K G */
     for (j = 0; j < r; j++)
         for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += T[i + (size_t)r * j] + T[j + (size_t)r * i];
@@ -440,6 +469,8 @@ static void form_used(romrt_model *m, int count, const double *Eu)
         for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
     for (k = 0; k < al->ns_on; k++) {
         int a, v = (int)al->sv[k];
+        double J[4 * ROMRT_MAX_R];
+        if (al->motion_of[v] == ROMBIN_NO_MOTION) rt_alrom_jacobian_vertex(m, v, J); /* (prescribed: zero rows) */
         for (a = 0; a < 3; a++) {
             int row_i = 3 * v + a;
             romrt_real *row = al->rows + (size_t)row_i * (size_t)r;
@@ -447,7 +478,7 @@ static void form_used(romrt_model *m, int count, const double *Eu)
                 for (j = 0; j < r; j++) row[j] = 0;
                 continue;
             }
-            rt_alrom_jacobian_row(m, row_i, z + count);
+            for (j = 0; j < r; j++) z[count + j] = J[4 * j + a];
             for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e) */
                 z[e] = *rt_alrom_ds(al, slot, 3 * k + a);
             row_times(count + r, r, z, al->coef, acc);
@@ -462,7 +493,7 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     int n = 3 * m->nv, r = m->r, i, j, k, e, count, blended = 0;
     double *Suu = small(al, r, S_UU), *Ru = small(al, r, R_U), *Eu = small(al, r, E_U), ridge;
     romrt_status st;
-    memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
+    rt_alrom_copy_held(m, al->u, al->u_t);
     RT_PROF_BEGIN(RT_PROF_ALROM_ENCODE);
     st = rt_alrom_encode(m, err);
     RT_PROF_END(RT_PROF_ALROM_ENCODE);

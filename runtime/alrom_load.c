@@ -156,6 +156,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->ds); /* 3 ns <= n per slot */
     }
     rt_scratch_wide(L, 4 * r * r, &al->work);
+    rt_scratch_u32(L, nv, &al->pv);
     rt_scratch_wide(L, n, &al->u_new);
     rt_scratch_wide(L, n, &al->v_new);
     return ROMRT_OK;
@@ -176,6 +177,8 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
             return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_AMOV, "stored vertex ", (uint64_t)v, " names motion ",
                               al->motion_of[v], ", beyond AMOT");
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
+    for (v = 0, m->al.npv = 0; v < m->nv; v++) /* the prescribed vertices, for the passes a step makes over them */
+        if (al->motion_of[v] != ROMBIN_NO_MOTION) m->al.pv[m->al.npv++] = (uint32_t)v;
     if (al->decoder && !(al->u_scale > 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMW, "the displacement scale must be positive");
     if (!al->decoder) {

@@ -199,6 +199,8 @@ typedef struct {
     double *wcs_keep, *keep_work;
     romrt_real *m_keep, *m_fac;
     uint32_t *sv, *s_of;       /* ns used vertices; nv: each vertex's index there, or ROMBIN_NO_MOTION */
+    uint32_t *pv;              /* the npv prescribed vertices (AMOV's moved ones) */
+    int npv;
     int ns, ns_base, ns_on;    /* the first ns_base always used, the first ns_on now (the rest: CVTX's) */
     double b_sum, x0_max;      /* max over rows of sum |B_i|, over shown coordinates of |X0|: x_bound */
     /* a CROM decoder (ALRH's decoder 1): layer counts, sizes (CRMS: encoder's then decoder's),
