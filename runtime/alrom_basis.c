@@ -205,10 +205,11 @@ static void history_gram(romrt_model *m, int count)
 {
     rt_alrom *al = &m->al;
     int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1, R = m->r + al->pairs, k;
-    for (e = 0; e <= first && !al->decoder; e++) { /* d_e = B c_e: B^T d_e = F c_e, B^T W d_e = W_F c_e */
+    for (e = 0; e <= first && !al->decoder; e++) { /* d_e = B c_e: B^T d_e = F c_e, B^T W d_e = W_F c_e
+                                                    * (the newest's formed by the encoder) */
         size_t s = (size_t)slot_of(al, e) * (size_t)R;
         rt_alrom_gram_times(R, al->gram_free, al->D + s, al->db + s);
-        rt_alrom_gram_times(R, al->gram_wfree, al->D + s, al->wdb + s);
+        if (e > 0) rt_alrom_gram_times(R, al->gram_wfree, al->D + s, al->wdb + s);
     }
     for (e = 0; e <= first; e++)
         for (f = e; f < count; f++) {

@@ -299,6 +299,8 @@ static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
     /* gres = B^T W u = (B^T W B)_free c + B^T W u over the prescribed rows (u's free part is B c:
      * alrom.c), no pass over the free rows */
     rt_alrom_gram_times(R, al->gram_wfree, al->c, gres);
+    /* c is the ring's newest entry this step (rt_alrom_step_basis): its W_F c kept for the history */
+    memcpy(al->wdb + (size_t)al->head * (size_t)R, gres, sizeof(double) * (size_t)R);
     for (a = 0; a < R; a++) zero[a] = 0;
     for (i = 0; i < 3 * al->npv; i++) { /* the prescribed rows, ascending as pv */
         int row = 3 * (int)al->pv[i / 3] + i % 3;
