@@ -27,7 +27,8 @@
  *                              (W_F C(p)) E_u R r^2 = 39k, the entries 2 m R r = 97k; then per used
  *                              row the Jacobian's 2 pairs - r = 256 (each packed pair read once
  *                              for the two columns it adds to: the r + r^2 = 272 the issue counts,
- *                              less the symmetry) and the blend [D_i, U_i] E (m + r) r = 576: 832
+ *                              less the symmetry) and the blend [D_i, U_i] E (m + r) r = 576 (in
+ *                              the build's precision, float's 4 lanes): 832
  *                              a row, 0.72 M at the 288 used vertices of a 210-element cubature.
  *                              The blend's m r is the history's (Eq. 13 over the m stored entries);
  *                              a row of D E_d costs no less through the decoder (B_i C_D E_d is
@@ -399,15 +400,18 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
 
 /* acc = z^T Z (Z: T x r, row-major) with each column's sum kept in a register, 8 columns at a
  * time: the axpys over an acc in memory loaded and stored it once per term (perf: half of
- * form_used). Each column's terms are added in the same order as by the axpys. */
-static void row_times(int T, int r, const double *z, const double *Z, double *acc)
+ * form_used). Each column's terms are added in the same order as by the axpys. In the build's
+ * precision, as the rows are kept (issue 33): float's four SSE lanes rather than double's two, the
+ * largest per-row product of the step; a row is within 6e-7 of B C_s's (double: as before, bit for
+ * bit), the free runs move by 1e-6 of their error. */
+static void row_times(int T, int r, const romrt_real *z, const romrt_real *Z, romrt_real *acc)
 {
     int j = 0, t;
     for (; j + 8 <= r; j += 8) {
-        double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
-        const double *Zt = Z + j;
+        romrt_real a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+        const romrt_real *Zt = Z + j;
         for (t = 0; t < T; t++, Zt += r) {
-            double x = z[t];
+            romrt_real x = z[t];
             a0 += x * Zt[0];
             a1 += x * Zt[1];
             a2 += x * Zt[2];
@@ -421,7 +425,7 @@ static void row_times(int T, int r, const double *z, const double *Z, double *ac
         acc[j + 4] = a4, acc[j + 5] = a5, acc[j + 6] = a6, acc[j + 7] = a7;
     }
     for (; j < r; j++) {
-        double a = 0;
+        romrt_real a = 0;
         for (t = 0; t < T; t++) a += z[t] * Z[(size_t)t * (size_t)r + (size_t)j];
         acc[j] = a;
     }
@@ -435,7 +439,8 @@ static void form_used(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
     int r = m->r, R = r + al->pairs, i, j, k, e, l, q, slot;
-    double acc[ROMRT_MAX_R], *z = al->ext, *WC = al->gram_c, *EuT = al->coef + (size_t)count * (size_t)r;
+    double *WC = al->gram_c, *EuT = al->coef + (size_t)count * (size_t)r;
+    romrt_real *z = al->zr + (size_t)(al->m + 1 + r) * (size_t)r; /* (al->zr's tail) */
     const double *p = al->p;
     /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
     for (l = 0; l < r; l++) {
@@ -468,6 +473,7 @@ static void form_used(romrt_model *m, int count, const double *Eu)
      * z = [its ring entries, newest first; its Jacobian row]: the row is z^T Z */
     for (i = 0; i < r; i++) /* E_u's rows contiguous */
         for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
+    for (i = 0; i < (count + r) * r; i++) al->zr[i] = (romrt_real)al->coef[i];
     for (k = 0; k < al->ns_on; k++) {
         int a, v = (int)al->sv[k];
         double J[4 * ROMRT_MAX_R];
@@ -479,11 +485,10 @@ static void form_used(romrt_model *m, int count, const double *Eu)
                 for (j = 0; j < r; j++) row[j] = 0;
                 continue;
             }
-            for (j = 0; j < r; j++) z[count + j] = J[4 * j + a];
+            for (j = 0; j < r; j++) z[count + j] = (romrt_real)J[4 * j + a];
             for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e) */
-                z[e] = *rt_alrom_ds(al, slot, 3 * k + a);
-            row_times(count + r, r, z, al->coef, acc);
-            for (j = 0; j < r; j++) row[j] = (romrt_real)acc[j];
+                z[e] = (romrt_real)*rt_alrom_ds(al, slot, 3 * k + a);
+            row_times(count + r, r, z, al->zr, row);
         }
     }
 }

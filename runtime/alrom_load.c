@@ -120,6 +120,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, (al->decoder ? n : r + (uint64_t)al->pairs) * (uint64_t)(al->m + 1), &al->D);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1) + r * r, &al->coef); /* and E_u^T below them (form_used) */
+    rt_scratch(L, (r + 1) * (uint64_t)(al->m + 1 + r), &al->zr); /* and a row's z (form_used) */
     rt_scratch(L, n, &al->x_ref);
     rt_scratch(L, n * r, &al->rows);
     rt_scratch(L, r * r, &al->M);

@@ -179,6 +179,7 @@ typedef struct {
     double *du;                /* (m + 1) x r: the held entries' D^T U */
     double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
+    romrt_real *zr;            /* (m + 1 + r) x (r + 1): coef's Z and a row's z in the build's precision */
     double *coef;              /* (m + 1 + r) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e
                                 * (then E_d's rows, and E_u^T after the count held: alrom_basis.c) */
     /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
