@@ -35,16 +35,16 @@ static void reference_positions(romrt_model *m);
 static void place_prescribed(romrt_model *m, double t)
 {
     rt_alrom *al = &m->al;
-    int v, a, g;
+    int k, a, g;
     romrt_real R[ROMBIN_MAX_MOTIONS][9], shift[ROMBIN_MAX_MOTIONS][3];
     for (g = 0; g < al->nmotions; g++) {
         const romrt_real *p = al->motions + ROMBIN_PIN_PARAMS * (size_t)g;
         RT_PHYS(motion)((rk_motion_kind)(int)p[0], p + 1, p + 4, p[7], p + 8, t, R[g], shift[g]);
     }
-    for (v = 0; v < m->nv; v++) {
+    for (k = 0; k < al->npv; k++) {
+        int v = (int)al->pv[k];
         uint32_t g2 = al->motion_of[v];
         const romrt_real *X = al->X0 + 3 * (size_t)v;
-        if (g2 == ROMBIN_NO_MOTION) continue;
         for (a = 0; a < 3; a++)
             al->u_ref[3 * v + a] = (double)R[g2][3 * a] * X[0] + (double)R[g2][3 * a + 1] * X[1] +
                                    (double)R[g2][3 * a + 2] * X[2] + shift[g2][a] - X[a];
@@ -207,11 +207,19 @@ static void reference_positions(romrt_model *m)
 {
     rt_alrom *al = &m->al;
     size_t n = 3 * (size_t)m->nv, k;
-    for (k = 0; k < n; k++)
-        if (rt_alrom_held(al, (int)(k / 3))) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_ref[k]);
     m->x_bound = 0;
-    for (k = 0; k < 3 * (size_t)m->shown; k++)
-        if (rt_alrom_held(al, (int)(k / 3)) && fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+    if (al->decoder) {
+        for (k = 0; k < n; k++) al->x_ref[k] = (romrt_real)(al->X0[k] + al->u_ref[k]);
+        for (k = 0; k < 3 * (size_t)m->shown; k++)
+            if (fabs((double)al->x_ref[k]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[k]);
+    }
+    for (k = 0; !al->decoder && k < (size_t)(al->ns_on + al->npv); k++) { /* the held vertices' */
+        size_t v = (size_t)rt_alrom_held_vertex(al, (int)k), i;
+        for (i = 3 * v; i < 3 * v + 3; i++) {
+            al->x_ref[i] = (romrt_real)(al->X0[i] + al->u_ref[i]);
+            if (v < (size_t)m->shown && fabs((double)al->x_ref[i]) > m->x_bound) m->x_bound = fabs((double)al->x_ref[i]);
+        }
+    }
     if (!al->decoder) { /* the others', X0 + B c: |B_i c| <= sum |B_i| max |c| */
         int R = m->r + al->pairs, a;
         double top = 0;
@@ -234,7 +242,7 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     RT_PROF_END(RT_PROF_ALROM_BASIS);
     if (st) return st;
     /* the step's reference: the start with the prescribed vertices at their targets */
-    memcpy(al->u_ref, al->u_t, sizeof(double) * (size_t)n);
+    rt_alrom_copy_held(m, al->u_ref, al->u_t);
     place_prescribed(m, rt_clock(m, 1));
     reference_positions(m);
     element_offsets(m);
@@ -260,7 +268,7 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
 static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j;
+    int r = m->r, R = r + al->pairs, i, j, k;
     double h = m->h, *dq = al->ext, *c_new = al->ext + R, *w_new = al->ext + 2 * R;
     for (i = 0; i < R; i++) {
         double s = 0;
@@ -271,11 +279,13 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
         if (!isfinite(c_new[i]) || !isfinite(w_new[i]))
             return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "K-space coordinate ", (uint64_t)i, " is not finite after the step");
     }
-    for (i = 0; i < n; i++) {
-        if (!rt_alrom_held(al, i / 3)) continue; /* B c (rt_alrom_position) */
-        u_step(m, i);
-        if (!isfinite(al->u_new[i]) || !isfinite(al->u_new[i] + al->X0[i]))
-            return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
+    for (k = 0; k < al->ns_on + al->npv; k++) { /* the held rows; the others are B c (rt_alrom_position) */
+        int i0 = 3 * rt_alrom_held_vertex(al, k);
+        for (i = i0; i < i0 + 3; i++) {
+            u_step(m, i);
+            if (!isfinite(al->u_new[i]) || !isfinite(al->u_new[i] + al->X0[i]))
+                return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "stored coordinate ", (uint64_t)i, " is not finite after the step");
+        }
     }
     for (i = 0; i < 2 * R; i++) { /* as the state's pairs hold them, so that a saved state's u and v,
                                    * formed from c and w, come back the same (rt_alrom_get_state) */
@@ -287,8 +297,8 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
     memcpy(al->w_prev, al->w, sizeof(double) * (size_t)R);
     memcpy(al->c, c_new, sizeof(double) * (size_t)R);
     memcpy(al->w, w_new, sizeof(double) * (size_t)R);
-    memcpy(al->u_t, al->u_new, sizeof(double) * (size_t)n);
-    memcpy(al->u_ref, al->u_new, sizeof(double) * (size_t)n);
+    rt_alrom_copy_held(m, al->u_t, al->u_new);
+    rt_alrom_copy_held(m, al->u_ref, al->u_new);
     reference_positions(m);
     rt_alrom_keep_note(m); /* the coordinates a kept Newton matrix is in */
     al->head = (al->head + 1) % (al->m + 1);

@@ -12,7 +12,32 @@
  * point is Q_Phi A + Q_U B, and the step basis D E_d + U E_u is formed in one last pass. The
  * Grams of well-conditioned bases (U: the decoder's Jacobian; Phi_h: held to U by the ridge) lose
  * nothing a step's float rows keep. Inner products are Euclidean over the free stored rows (the
- * prescribed rows are zero in every basis). */
+ * prescribed rows are zero in every basis).
+ *
+ * What a step costs with the quadratic decoder, in multiply-adds (r = 16, pairs = r (r + 1) / 2 =
+ * 136, R = r + pairs = 152, a history of m = 20; issue 33 asks each part to approach what it needs):
+ *   encoder (alrom_decoder.c)  a Gauss-Newton iteration C^T G C: G C(p) R (r + 1) r = 41k, C^T (.)
+ *                              r^2 (r + 1) = 4k, a trial's misfit R^2 = 23k; about 4 iterations a
+ *                              step on the armadillo (counted): 0.28 M, all in r- and K-space.
+ *   basis (this file)          U^T U = C^T F C 45k; the newest entry's F c, W_F c 2 R^2 = 46k; the
+ *                              ridge's F w 23k; D^T U m r^2 = 5k; Phi_h's Grams m^2 r + m r^2 = 11k
+ *                              (it was m^2 r^2 = 102k, a sum over entry pairs); QRs, SVD and the
+ *                              geodesic O(r^3), about 50k: 0.18 M, none of it per vertex.
+ *   rows (form_used)           C_s = sum_e c_e E_d[e] + C(p) E_u and W_F C_s: W_F C(p) 41k,
+ *                              (W_F C(p)) E_u R r^2 = 39k, the entries 2 m R r = 97k; then per used
+ *                              row the Jacobian's 2 pairs - r = 256 (each packed pair read once
+ *                              for the two columns it adds to: the r + r^2 = 272 the issue counts,
+ *                              less the symmetry) and the blend [D_i, U_i] E (m + r) r = 576 (in
+ *                              the build's precision, float's 4 lanes): 832
+ *                              a row, 0.72 M at the 288 used vertices of a 210-element cubature.
+ *                              The blend's m r is the history's (Eq. 13 over the m stored entries);
+ *                              a row of D E_d costs no less through the decoder (B_i C_D E_d is
+ *                              R r), so 832 is what this basis needs a row, not a loss.
+ *   G_e (potential.c)          27 r = 432 (and 9 r subtractions) an element, 91k at 210; their own
+ *                              Newton work is PCA's (F = F(x_ref) + G_e q adds 9 a point).
+ * Against PCA's step (its Newton alone, 3 iterations over the same 210 elements) these parts are
+ * the adaptive step's excess: about 1.3 M multiply-adds a step, none of it per stored vertex
+ * but the used rows. */
 #include <math.h>
 #include <string.h>
 
@@ -181,10 +206,11 @@ static void history_gram(romrt_model *m, int count)
 {
     rt_alrom *al = &m->al;
     int slots = al->m + 1, e, f, first = al->dd_valid ? 0 : count - 1, R = m->r + al->pairs, k;
-    for (e = 0; e <= first && !al->decoder; e++) { /* d_e = B c_e: B^T d_e = F c_e, B^T W d_e = W_F c_e */
+    for (e = 0; e <= first && !al->decoder; e++) { /* d_e = B c_e: B^T d_e = F c_e, B^T W d_e = W_F c_e
+                                                    * (the newest's formed by the encoder) */
         size_t s = (size_t)slot_of(al, e) * (size_t)R;
         rt_alrom_gram_times(R, al->gram_free, al->D + s, al->db + s);
-        rt_alrom_gram_times(R, al->gram_wfree, al->D + s, al->wdb + s);
+        if (e > 0) rt_alrom_gram_times(R, al->gram_wfree, al->D + s, al->wdb + s);
     }
     for (e = 0; e <= first; e++)
         for (f = e; f < count; f++) {
@@ -269,13 +295,18 @@ static int history_basis(romrt_model *m, int count, double ridge)
     mul(r, G, 0, Suu, Shu, 1);
     /* Phi_h^T Phi_h = C^T (D^T D) C + K G + (K G)^T + G (U^T U) G */
     for (k = 0; k < r * r; k++) Shh[k] = 0;
-    for (e = 0; e < count; e++)
+    for (e = 0; e < count; e++) { /* += c_e t_e^T, t_e = sum_f (d_e . d_f) c_f: m^2 r + m r^2, not m^2 r^2 */
+        const double *ce = al->coef + (size_t)e * (size_t)r;
+        double t[ROMRT_MAX_R];
+        for (j = 0; j < r; j++) t[j] = 0;
         for (f = 0; f < count; f++) {
-            const double *ce = al->coef + (size_t)e * (size_t)r, *cf = al->coef + (size_t)f * (size_t)r;
+            const double *cf = al->coef + (size_t)f * (size_t)r;
             double w = al->dd[slot_of(al, e) + (size_t)slots * (size_t)slot_of(al, f)];
-            for (j = 0; j < r; j++)
-                for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += ce[i] * w * cf[j];
+            for (j = 0; j < r; j++) t[j] += w * cf[j];
         }
+        for (j = 0; j < r; j++)
+            for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += ce[i] * t[j];
+    }
     mul(r, K, 0, G, T, 0); /* T = K G */
     for (j = 0; j < r; j++)
         for (i = 0; i < r; i++) Shh[i + (size_t)r * j] += T[i + (size_t)r * j] + T[j + (size_t)r * i];
@@ -369,15 +400,18 @@ static void form_rows(romrt_model *m, int count, const double *Eu)
 
 /* acc = z^T Z (Z: T x r, row-major) with each column's sum kept in a register, 8 columns at a
  * time: the axpys over an acc in memory loaded and stored it once per term (perf: half of
- * form_used). Each column's terms are added in the same order as by the axpys. */
-static void row_times(int T, int r, const double *z, const double *Z, double *acc)
+ * form_used). Each column's terms are added in the same order as by the axpys. In the build's
+ * precision, as the rows are kept (issue 33): float's four SSE lanes rather than double's two, the
+ * largest per-row product of the step; a row is within 6e-7 of B C_s's (double: as before, bit for
+ * bit), the free runs move by 1e-6 of their error. */
+static void row_times(int T, int r, const romrt_real *z, const romrt_real *Z, romrt_real *acc)
 {
     int j = 0, t;
     for (; j + 8 <= r; j += 8) {
-        double a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
-        const double *Zt = Z + j;
+        romrt_real a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0, a6 = 0, a7 = 0;
+        const romrt_real *Zt = Z + j;
         for (t = 0; t < T; t++, Zt += r) {
-            double x = z[t];
+            romrt_real x = z[t];
             a0 += x * Zt[0];
             a1 += x * Zt[1];
             a2 += x * Zt[2];
@@ -391,7 +425,7 @@ static void row_times(int T, int r, const double *z, const double *Z, double *ac
         acc[j + 4] = a4, acc[j + 5] = a5, acc[j + 6] = a6, acc[j + 7] = a7;
     }
     for (; j < r; j++) {
-        double a = 0;
+        romrt_real a = 0;
         for (t = 0; t < T; t++) a += z[t] * Z[(size_t)t * (size_t)r + (size_t)j];
         acc[j] = a;
     }
@@ -405,7 +439,8 @@ static void form_used(romrt_model *m, int count, const double *Eu)
 {
     rt_alrom *al = &m->al;
     int r = m->r, R = r + al->pairs, i, j, k, e, l, q, slot;
-    double acc[ROMRT_MAX_R], *z = al->ext, *WC = al->gram_c, *EuT = al->coef + (size_t)count * (size_t)r;
+    double *WC = al->gram_c, *EuT = al->coef + (size_t)count * (size_t)r;
+    romrt_real *z = al->zr + (size_t)(al->m + 1 + r) * (size_t)r; /* (al->zr's tail) */
     const double *p = al->p;
     /* C(p) E_u: rows 0..r-1 E_u, pair (k, j)'s row p_j E_u[k, :] + p_k E_u[j, :] (k < j), p_k E_u[k, :] */
     for (l = 0; l < r; l++) {
@@ -438,8 +473,11 @@ static void form_used(romrt_model *m, int count, const double *Eu)
      * z = [its ring entries, newest first; its Jacobian row]: the row is z^T Z */
     for (i = 0; i < r; i++) /* E_u's rows contiguous */
         for (j = 0; j < r; j++) EuT[(size_t)r * (size_t)i + (size_t)j] = Eu[(size_t)r * (size_t)j + (size_t)i];
+    for (i = 0; i < (count + r) * r; i++) al->zr[i] = (romrt_real)al->coef[i];
     for (k = 0; k < al->ns_on; k++) {
         int a, v = (int)al->sv[k];
+        double J[4 * ROMRT_MAX_R];
+        if (al->motion_of[v] == ROMBIN_NO_MOTION) rt_alrom_jacobian_vertex(m, v, J); /* (prescribed: zero rows) */
         for (a = 0; a < 3; a++) {
             int row_i = 3 * v + a;
             romrt_real *row = al->rows + (size_t)row_i * (size_t)r;
@@ -447,11 +485,10 @@ static void form_used(romrt_model *m, int count, const double *Eu)
                 for (j = 0; j < r; j++) row[j] = 0;
                 continue;
             }
-            rt_alrom_jacobian_row(m, row_i, z + count);
+            for (j = 0; j < r; j++) z[count + j] = (romrt_real)J[4 * j + a];
             for (e = 0, slot = al->head; e < count; e++, slot = slot ? slot - 1 : al->m) /* slot_of(al, e) */
-                z[e] = *rt_alrom_ds(al, slot, 3 * k + a);
-            row_times(count + r, r, z, al->coef, acc);
-            for (j = 0; j < r; j++) row[j] = (romrt_real)acc[j];
+                z[e] = (romrt_real)*rt_alrom_ds(al, slot, 3 * k + a);
+            row_times(count + r, r, z, al->zr, row);
         }
     }
 }
@@ -462,7 +499,7 @@ romrt_status rt_alrom_step_basis(romrt_model *m, romrt_error *err)
     int n = 3 * m->nv, r = m->r, i, j, k, e, count, blended = 0;
     double *Suu = small(al, r, S_UU), *Ru = small(al, r, R_U), *Eu = small(al, r, E_U), ridge;
     romrt_status st;
-    memcpy(al->u, al->u_t, sizeof(double) * (size_t)n);
+    rt_alrom_copy_held(m, al->u, al->u_t);
     RT_PROF_BEGIN(RT_PROF_ALROM_ENCODE);
     st = rt_alrom_encode(m, err);
     RT_PROF_END(RT_PROF_ALROM_ENCODE);

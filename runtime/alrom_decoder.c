@@ -45,6 +45,51 @@ void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui)
     }
 }
 
+/* Rows 3v, 3v + 1, 3v + 2 of U at al->p into J (r x 4, J[4 k + a] row 3v + a's column k, lane 3
+ * zero): the same sums as rt_alrom_jacobian_row, r + 2 pairs - r = 256 multiply-adds a row at
+ * r = 16 (the Jacobian's needed count, each pair read once for both columns it adds to), three rows
+ * side by side. A row at a time left each pair's two additions in short loops of r - k (one to 15)
+ * and chains of dependent adds: 2 G multiply-adds a second, a sixth of the step (perf, issue 33);
+ * three rows in lanes make every addition independent of the next but the row sums, which keep
+ * two partial sums each. */
+void rt_alrom_jacobian_vertex(const romrt_model *m, int v, double *J)
+{
+    const rt_alrom *al = &m->al;
+    int r = m->r, P = al->pairs, k, j, q;
+    const romrt_real *phi = al->phi + (size_t)3 * (size_t)v * (size_t)r, *s0 = al->psi + (size_t)3 * (size_t)v * (size_t)P,
+                     *s1 = s0 + P, *s2 = s1 + P;
+    const double *p = al->p;
+    for (k = 0; k < r; k++) {
+        J[4 * k] = phi[k];
+        J[4 * k + 1] = phi[r + k];
+        J[4 * k + 2] = phi[2 * r + k];
+        J[4 * k + 3] = 0;
+    }
+    for (k = 0, q = 0; k < r; k++) {
+        double pk = p[k], a0 = (double)s0[q] * pk, a1 = (double)s1[q] * pk, a2 = (double)s2[q] * pk, b0 = 0, b1 = 0, b2 = 0;
+        for (j = k + 1, q++; j < r; j++, q++) {
+            double x0 = s0[q], x1 = s1[q], x2 = s2[q], pj = p[j], *Jj = J + 4 * j;
+            Jj[0] += x0 * pk;
+            Jj[1] += x1 * pk;
+            Jj[2] += x2 * pk;
+            b0 += x0 * pj, b1 += x1 * pj, b2 += x2 * pj;
+            if (++j == r) {
+                q++;
+                break;
+            }
+            q++;
+            x0 = s0[q], x1 = s1[q], x2 = s2[q], pj = p[j], Jj = J + 4 * j;
+            Jj[0] += x0 * pk;
+            Jj[1] += x1 * pk;
+            Jj[2] += x2 * pk;
+            a0 += x0 * pj, a1 += x1 * pj, a2 += x2 * pj;
+        }
+        J[4 * k] += a0 + b0;
+        J[4 * k + 1] += a1 + b1;
+        J[4 * k + 2] += a2 + b2;
+    }
+}
+
 /* ---- the quadratic decoder's encoder, in r-space ----
  *
  * g(p) = B c(p) with B = [Phi | Psi's pairs] (n x R, R = r + pairs, QDRV's order) and c(p) = (p, the
@@ -247,18 +292,21 @@ static romrt_status code_step(romrt_model *m, const double *p, const double *gre
 static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
 {
     rt_alrom *al = &m->al;
-    int r = m->r, P = al->pairs, R = r + P, n = 3 * m->nv, i, a, it, k, h;
+    int r = m->r, P = al->pairs, R = r + P, i, a, it, k, h;
     double *gres = al->ext, *dc = gres + R, *Gdc = dc + R, *zero = Gdc + R, d[ROMRT_MAX_R], step_p[ROMRT_MAX_R],
            ptry[ROMRT_MAX_R];
     romrt_status st;
     /* gres = B^T W u = (B^T W B)_free c + B^T W u over the prescribed rows (u's free part is B c:
      * alrom.c), no pass over the free rows */
     rt_alrom_gram_times(R, al->gram_wfree, al->c, gres);
+    /* c is the ring's newest entry this step (rt_alrom_step_basis): its W_F c kept for the history */
+    memcpy(al->wdb + (size_t)al->head * (size_t)R, gres, sizeof(double) * (size_t)R);
     for (a = 0; a < R; a++) zero[a] = 0;
-    for (i = 0; i < n; i++) {
-        double wu = al->mass[i / 3] * al->u[i];
-        const romrt_real *phi = al->phi + (size_t)i * (size_t)r, *psi = al->psi + (size_t)i * (size_t)P;
-        if (wu == 0 || !rt_alrom_prescribed(al, i)) continue;
+    for (i = 0; i < 3 * al->npv; i++) { /* the prescribed rows, ascending as pv */
+        int row = 3 * (int)al->pv[i / 3] + i % 3;
+        double wu = al->mass[row / 3] * al->u[row];
+        const romrt_real *phi = al->phi + (size_t)row * (size_t)r, *psi = al->psi + (size_t)row * (size_t)P;
+        if (wu == 0) continue;
         for (a = 0; a < r; a++) gres[a] += wu * phi[a];
         for (a = 0; a < P; a++) gres[r + a] += wu * psi[a];
     }

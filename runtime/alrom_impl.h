@@ -2,6 +2,8 @@
 #ifndef ROMRT_ALROM_IMPL_H
 #define ROMRT_ALROM_IMPL_H
 
+#include <string.h>
+
 #include "runtime/romrt_impl.h"
 
 /* A QR diagonal below this fraction of the largest is rank loss, the precompute's rk_thin_q floor
@@ -36,11 +38,36 @@ void rt_alrom_s_c(const romrt_model *m, const double *S, const double *p, double
 void rt_alrom_c_gram(const romrt_model *m, const double *S, const double *p, double *out);
 /* row i of U at al->p. */
 void rt_alrom_jacobian_row(const romrt_model *m, int i, double *Ui);
+/* rows 3v..3v+2 of U at al->p, side by side (J: r x 4, lane a row 3v + a, lane 3 zero). */
+void rt_alrom_jacobian_vertex(const romrt_model *m, int v, double *J);
 /* Whether the quadratic decoder's state holds vertex v's displacement in u_t (a used or a
  * prescribed vertex), or leaves it to B c (alrom.c). */
 static inline int rt_alrom_held(const rt_alrom *al, int v)
 {
     return al->decoder || al->s_of[v] < (uint32_t)al->ns_on || al->motion_of[v] != ROMBIN_NO_MOTION;
+}
+/* Held vertex k of al->ns_on + al->npv (the used vertices now, then the prescribed; one of both is
+ * visited twice): the quadratic decoder's step passes over these rather than every stored vertex
+ * (issue 33: five passes over the stored rows were a twentieth of the step, and they grow with the
+ * mesh while the work they do does not). */
+static inline int rt_alrom_held_vertex(const rt_alrom *al, int k)
+{
+    return (int)(k < al->ns_on ? al->sv[k] : al->pv[k - al->ns_on]);
+}
+/* dst = src over every stored row (CROM) or the held vertices' rows (the quadratic decoder: the
+ * others are B c, never read). */
+static inline void rt_alrom_copy_held(const romrt_model *m, double *dst, const double *src)
+{
+    const rt_alrom *al = &m->al;
+    int k, a;
+    if (al->decoder) {
+        memcpy(dst, src, sizeof(double) * 3 * (size_t)m->nv);
+        return;
+    }
+    for (k = 0; k < al->ns_on + al->npv; k++) {
+        size_t i = 3 * (size_t)rt_alrom_held_vertex(al, k);
+        for (a = 0; a < 3; a++) dst[i + (size_t)a] = src[i + (size_t)a];
+    }
 }
 /* The ring's value of entry slot on used row k (3 s + a for used vertex s, axis a): a used row's
  * m + 1 entries contiguous, so a step's gather of them (form_used) reads a cache line or three

@@ -120,6 +120,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     rt_scratch_wide(L, (al->decoder ? n : r + (uint64_t)al->pairs) * (uint64_t)(al->m + 1), &al->D);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1), &al->P);
     rt_scratch_wide(L, r * (uint64_t)(al->m + 1) + r * r, &al->coef); /* and E_u^T below them (form_used) */
+    rt_scratch(L, (r + 1) * (uint64_t)(al->m + 1 + r), &al->zr); /* and a row's z (form_used) */
     rt_scratch(L, n, &al->x_ref);
     rt_scratch(L, n * r, &al->rows);
     rt_scratch(L, r * r, &al->M);
@@ -156,6 +157,7 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
         rt_scratch_wide(L, n * (uint64_t)(al->m + 1), &al->ds); /* 3 ns <= n per slot */
     }
     rt_scratch_wide(L, 4 * r * r, &al->work);
+    rt_scratch_u32(L, nv, &al->pv);
     rt_scratch_wide(L, n, &al->u_new);
     rt_scratch_wide(L, n, &al->v_new);
     return ROMRT_OK;
@@ -176,6 +178,8 @@ romrt_status rt_alrom_contents(rt_loader *L, romrt_model *m)
             return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_AMOV, "stored vertex ", (uint64_t)v, " names motion ",
                               al->motion_of[v], ", beyond AMOT");
     if (!L->arena) return ROMRT_OK; /* the values below live in the arena when converted */
+    for (v = 0, m->al.npv = 0; v < m->nv; v++) /* the prescribed vertices, for the passes a step makes over them */
+        if (al->motion_of[v] != ROMBIN_NO_MOTION) m->al.pv[m->al.npv++] = (uint32_t)v;
     if (al->decoder && !(al->u_scale > 0))
         return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_CRMW, "the displacement scale must be positive");
     if (!al->decoder) {

@@ -187,6 +187,7 @@ typedef struct {
     double *du;                /* (m + 1) x r: the held entries' D^T U */
     double *small;             /* 15 r x r: the step basis' Grams, factors and coefficients */
     double *u, *res;           /* nv x 3 */
+    romrt_real *zr;            /* (m + 1 + r) x (r + 1): coef's Z and a row's z in the build's precision */
     double *coef;              /* (m + 1 + r) x r: the history basis' coefficients, (P P^T + reg I)^-1 p_e
                                 * (then E_d's rows, and E_u^T after the count held: alrom_basis.c) */
     /* the quadratic decoder in r-space (alrom_decoder.c), R = r + pairs: B = [ROWS | QDRV]'s mass
@@ -207,6 +208,8 @@ typedef struct {
     double *wcs_keep, *keep_work;
     romrt_real *m_keep, *m_fac;
     uint32_t *sv, *s_of;       /* ns used vertices; nv: each vertex's index there, or ROMBIN_NO_MOTION */
+    uint32_t *pv;              /* the npv prescribed vertices (AMOV's moved ones) */
+    int npv;
     int ns, ns_base, ns_on;    /* the first ns_base always used, the first ns_on now (the rest: CVTX's) */
     double b_sum, x0_max;      /* max over rows of sum |B_i|, over shown coordinates of |X0|: x_bound */
     /* a CROM decoder (ALRH's decoder 1): layer counts, sizes (CRMS: encoder's then decoder's),
