@@ -130,8 +130,19 @@ static double triangle_area(const double *a, const double *b, const double *c)
  * surface can cover (its primitives times the object's area over its own, at most all of
  * them): a coarse object lying flat on a fine ground mesh has a candidate per ground primitive
  * beneath it, far more than its own primitives (4,000 against 2,308 for a slab on a 40 x 40 grid). */
-static int pair_capacity(const rk_contact *c, const rk_asset_options *o, const int *prims, const double *area, int nobs)
+static int pair_capacity(const rk_contact *c, const rk_asset_options *o, const int *prims, const double *area, int nobs,
+                         int alone)
 {
+    /* a surface there for the app's colliders alone: one pair per vertex of it, at least 64 (a
+     * shape touches a few primitives; an app's terrain under a whole face of the body about as many
+     * as the face has vertices, and a larger need is reported by status, naming
+     * rom.asset.contact_pairs), so the arena of a small asset stays small: 80 bytes a pair in
+     * float, and the obstacles' rule (below) put 120 KB on the Cortex-M test's 70 KB arena */
+    if (alone) {
+        double n = (double)c->nv;
+        if (o->contact_pairs > 0) n = o->contact_pairs;
+        return n < 64 ? 64 : n > (double)(1 << 24) ? 1 << 24 : (int)n;
+    }
     double own = 0;
     for (int t = 0; t < c->nf; t++)
         own += triangle_area(&c->X[3 * c->faces[3 * t]], &c->X[3 * c->faces[3 * t + 1]], &c->X[3 * c->faces[3 * t + 2]]);
@@ -238,7 +249,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
             area[j] += triangle_area(&c->oX[3 * c->ofaces[3 * t]], &c->oX[3 * c->ofaces[3 * t + 1]], &c->oX[3 * c->ofaces[3 * t + 2]]);
         vfirst += nv, tfirst += nt, j++;
     }
-    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(c, o, prims, area, nobs);
+    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(c, o, prims, area, nobs, nobs == 0 && !surface_pairs);
     if (vfirst != c->onv || tfirst != c->onf || ne != c->one) {
         rk_fail(err, "the obstacles' vertices or triangles are not grouped by obstacle");
         goto done;
