@@ -186,8 +186,8 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
         if (c->object[c->vertex[i]] + 1 > nobjects) nobjects = c->object[c->vertex[i]] + 1;
     /* the surface touches other objects' (COBJ, bake_objects.c) or itself: OBHD, CEDG and CTRI
      * without obstacles (1.7); or the app's colliders may touch it (1.10) */
-    int surface_pairs = nobjects > 1 || c->opt.self;
-    if ((nobs == 0 && !surface_pairs && !for_colliders) || nobs > (int)ROMBIN_MAX_OBSTACLES) {
+    int surface_pairs = nobjects > 1 || c->opt.self, alone = nobs == 0 && !surface_pairs; /* for the colliders */
+    if ((alone && !for_colliders) || nobs > (int)ROMBIN_MAX_OBSTACLES) {
         if (c == &own) rk_contact_free(&own);
         return nobs ? rk_fail(err, "at most %u obstacles besides planes, the scene has %d", ROMBIN_MAX_OBSTACLES, nobs) : 0;
     }
@@ -249,7 +249,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
             area[j] += triangle_area(&c->oX[3 * c->ofaces[3 * t]], &c->oX[3 * c->ofaces[3 * t + 1]], &c->oX[3 * c->ofaces[3 * t + 2]]);
         vfirst += nv, tfirst += nt, j++;
     }
-    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(c, o, prims, area, nobs, nobs == 0 && !surface_pairs);
+    head[ROMBIN_OBHD_PAIRS] = (uint32_t)pair_capacity(c, o, prims, area, nobs, alone);
     if (vfirst != c->onv || tfirst != c->onf || ne != c->one) {
         rk_fail(err, "the obstacles' vertices or triangles are not grouped by obstacle");
         goto done;
@@ -264,7 +264,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
     head[ROMBIN_OBHD_TRIANGLES] = (uint32_t)c->onf;
     head[ROMBIN_OBHD_NODES] = (uint32_t)b.nnodes;
     head[ROMBIN_OBHD_ITEMS] = (uint32_t)b.nout;
-    head[ROMBIN_OBHD_FLAGS] = c->opt.self ? ROMBIN_OBHD_SELF : nobs == 0 && !surface_pairs ? ROMBIN_OBHD_COLLIDERS : 0;
+    head[ROMBIN_OBHD_FLAGS] = c->opt.self ? ROMBIN_OBHD_SELF : alone ? ROMBIN_OBHD_COLLIDERS : 0;
     rc = rombin_add_u32(w, ROMBIN_OBHD, 1, head, headn, err) ? -1 : 0;
     if (!rc && nobs > 0)
         rc = rombin_add_reals(w, ROMBIN_OBJS, 1, thick, 4 * (size_t)nobs, err) ||
