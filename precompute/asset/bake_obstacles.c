@@ -133,15 +133,17 @@ static double triangle_area(const double *a, const double *b, const double *c)
 static int pair_capacity(const rk_contact *c, const rk_asset_options *o, const int *prims, const double *area, int nobs,
                          int alone)
 {
-    /* a surface there for the app's colliders alone: one pair per vertex of it, at least 64 (a
-     * shape touches a few primitives; an app's terrain under a whole face of the body about as many
-     * as the face has vertices, and a larger need is reported by status, naming
-     * rom.asset.contact_pairs), so the arena of a small asset stays small: 80 bytes a pair in
-     * float, and the obstacles' rule (below) put 120 KB on the Cortex-M test's 70 KB arena */
+    /* a surface there for the app's colliders alone: two pairs per vertex of it, at least 256 (a
+     * box's face pressed on a whole face of a coarse block, 18 vertices, takes 127: its corners,
+     * edges and triangles against every primitive there, test_runtime_colliders; an app's terrain
+     * under a whole face of the body about as many as the face has vertices; a larger need is
+     * reported by status, naming rom.asset.contact_pairs), so the arena of a small asset stays
+     * small: 80 bytes a pair in float, and the obstacles' rule (below) put 120 KB on the Cortex-M
+     * test's 70 KB arena */
     if (alone) {
-        double n = (double)c->nv;
+        double n = 2.0 * c->nv;
         if (o->contact_pairs > 0) n = o->contact_pairs;
-        return n < 64 ? 64 : n > (double)(1 << 24) ? 1 << 24 : (int)n;
+        return n < 256 && o->contact_pairs <= 0 ? 256 : n > (double)(1 << 24) ? 1 << 24 : (int)n;
     }
     double own = 0;
     for (int t = 0; t < c->nf; t++)
@@ -175,7 +177,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
     rk_contact own;
     const rk_contact *c = &m->contact;
     int for_colliders = o->colliders == RK_COLLIDERS_SURFACE && m->ncv > 0;
-    if (!m->has_contact) {
+    if (!m->has_contact && !(for_colliders && m->colliders_contact)) { /* a model built by another stage */
         if (!for_colliders) return 0;
         if (surface_alone(m, fem, &own, err)) return -1;
         c = &own;

@@ -241,7 +241,9 @@ int rk_scene_rom_build_given(const rk_scene *scene, const rk_scene_sim *sim, con
                        rk_quadrature_points(&R->points, R->points.n, NULL, NULL, &exact, err))) ||
         (!mesh_free && rk_quadrature_elements(&sim->fem, R->basis.U, R->basis.r, sim->mesh.nt, NULL, NULL, &exact, err)) ||
         rk_rom_model_init(&R->model, &sim->fem, &opt, R->basis.U, R->basis.r, &exact,
-                          mesh_free ? &R->points : NULL, err)) {
+                          mesh_free ? &R->points : NULL, err) ||
+        /* the app's shapes meet the surface's triangles, as the asset's runtime meets them */
+        (o->asset.colliders == RK_COLLIDERS_SURFACE && rk_rom_contact_for_colliders(&R->model, &sim->fem, err))) {
         rk_scene_rom_free(R);
         return rk_error_prefix(err, "%s", o->name);
     }

@@ -82,7 +82,7 @@ static double max_step(void *ctx, const double *y, const double *d)
         if (dk < 0) alpha = fmin(alpha, sk / -dk);
     }
     rk_rom_contact_move(s, y, d);
-    if (m->has_contact) {
+    if (rk_rom_contact_on(m)) {
         double c = rk_contact_max_step(&s->model->contact, s->x, s->dx, NULL, &p->failure);
         alpha = fmin(alpha, c >= 0 ? c : 0);
     }

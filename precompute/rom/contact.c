@@ -78,6 +78,23 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
     return 0;
 }
 
+int rk_rom_contact_for_colliders(rk_rom_model *m, const rk_fem *fem, rk_error *err)
+{
+    if (m->surface || m->ncv == 0) return 0;
+    if (!m->has_contact) {
+        rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
+                        .nghost = fem->nghost, .ghost = (int *)fem->ghost};
+        if (rk_contact_init(&m->contact, &view, NULL, 1, NULL, 0, &m->contact_options, m->mass / fem->nv, err))
+            return -1;
+        m->colliders_contact = 1;
+        if (m->contact.nv != m->ncv)
+            return rk_fail(err, "the collision surface's %d vertices are not the reduced model's %d", m->contact.nv,
+                           m->ncv);
+    }
+    m->surface = 1;
+    return 0;
+}
+
 /* x_v = X_v + U_v q at every collision vertex, into s->x. */
 void rk_rom_contact_positions(rk_rom *s, const double *q)
 {
@@ -170,7 +187,7 @@ double rk_rom_contact_max_step(rk_rom *s, const double *q, const double *dq, dou
     rk_rom_model *m = s->model;
     rk_rom_contact_move(s, q, dq);
     double alpha = 1;
-    if (m->has_contact) {
+    if (rk_rom_contact_on(m)) {
         if (!isnan(t)) { /* the obstacles' way to where they are at t */
             rk_contact_obstacles_at(&m->contact, t, s->odx);
             for (int i = 0; i < 3 * m->contact.onv; i++) s->odx[i] -= m->contact.ox[i];
@@ -191,7 +208,7 @@ int rk_rom_contact_measure(rk_rom *s, int *intersections, double *min_distance, 
 {
     *intersections = 0;
     *min_distance = INFINITY;
-    if (!s->model->has_contact) return 0;
+    if (!rk_rom_contact_on(s->model)) return 0;
     rk_rom_contact_positions(s, s->q);
     return rk_contact_measure(&s->model->contact, s->x, intersections, min_distance, err);
 }
@@ -200,12 +217,12 @@ int rk_rom_friction_start(rk_rom *s, const double *q, rk_error *err)
 {
     rk_rom_contact_positions(s, q);
     rk_rom_colliders_friction_start(s);
-    return s->model->has_contact ? rk_contact_friction_start(&s->model->contact, s->x, err) : 0;
+    return rk_rom_contact_on(s->model) ? rk_contact_friction_start(&s->model->contact, s->x, err) : 0;
 }
 
 int rk_rom_friction_lag(rk_rom *s, const double *q, rk_error *err)
 {
     rk_rom_contact_positions(s, q);
     rk_rom_colliders_friction_lag(s);
-    return s->model->has_contact ? rk_contact_friction_lag(&s->model->contact, s->x, err) : 0;
+    return rk_rom_contact_on(s->model) ? rk_contact_friction_lag(&s->model->contact, s->x, err) : 0;
 }

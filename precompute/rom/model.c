@@ -334,7 +334,7 @@ void rk_rom_model_free(rk_rom_model *m)
     free(m->A);
     for (int g = 0; m->pins && g < m->npins; g++) free(m->pins[g].T);
     free(m->pins);
-    if (m->has_contact) rk_contact_free(&m->contact);
+    if (m->has_contact || m->colliders_contact) rk_contact_free(&m->contact);
     free(m->cv_rows);
     free(m->cv_of);
     free(m->cv);

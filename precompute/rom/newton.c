@@ -84,7 +84,7 @@ void rk_rom_problem(rk_rom_problem_ctx *ctx, rk_newton_problem *p)
     const rk_rom_model *m = ctx->s->model;
     ctx->failure.msg[0] = 0;
     *p = (rk_newton_problem){.n = m->r, .ctx = ctx, .what = "reduced incremental potential", .energy = energy,
-                             .solve = solve, .max_step = m->has_contact || ctx->s->ncolliders ? max_step : NULL, .step_norm = step_norm};
+                             .solve = solve, .max_step = rk_rom_contact_on(m) || ctx->s->ncolliders ? max_step : NULL, .step_norm = step_norm};
 }
 
 int rk_rom_newton(rk_rom *s, const rk_rom_terms *T, double tol_d, int *converged, rk_error *err)

@@ -38,7 +38,7 @@ double rk_rom_potential(rk_rom *s, const rk_rom_terms *T, const double *q, doubl
     if (g) memset(g, 0, sizeof(double) * r);
     if (H) memset(H, 0, sizeof(double) * r * r);
     double stored = rk_quadrature_eval(&m->quad, q, g, H, !s->exact_hessian);
-    if (m->has_contact && isfinite(stored)) stored += rk_rom_contact_energy(s, q, T->friction, g, H, err);
+    if (rk_rom_contact_on(m) && isfinite(stored)) stored += rk_rom_contact_energy(s, q, T->friction, g, H, err);
     if (s->ncolliders && isfinite(stored)) stored += rk_rom_colliders_energy(s, q, T->friction, g, H);
     if (!isfinite(stored)) return INFINITY;
     /* Loads and the penalty's linear part: -(load f + b(t)) . q. */

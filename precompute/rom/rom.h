@@ -78,9 +78,13 @@ typedef struct {
     rk_contact_options contact_options; /* dhat and kappa resolved: the barrier of contact and colliders */
     int has_contact;
     /* the model has a collision surface (a scene obstacle other than a plane, several objects or
-     * self-contact: what the asset's OBHD records): the app's spheres, capsules and boxes are then
-     * obstacles of the contact model, exact against its triangles (collider_obstacles.c) */
+     * self-contact, or the surface for the app's shapes: what the asset's OBHD records): the app's
+     * spheres, capsules and boxes are then obstacles of the contact model, exact against its
+     * triangles (collider_obstacles.c) */
     int surface;
+    /* the contact model was built for the app's shapes alone (rk_rom_contact_for_colliders): the
+     * scene has no contact, and the model is in the step only while a shape is one of its obstacles */
+    int colliders_contact;
     rk_contact contact;
     double mass;               /* total mass (kg) */
     double newton_tol;         /* on sqrt(dq^T M_r dq / mass) (m), per step */
@@ -97,6 +101,12 @@ typedef struct {
 int rk_rom_model_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U,
                       int r, rk_quadrature *quad, const rk_skin_points *points, rk_error *err);
 void rk_rom_model_free(rk_rom_model *m);
+/* The app's spheres, capsules and boxes on the collision surface's triangles, as the runtime meets
+ * them on an asset baked with the surface for its colliders (rom.asset.colliders true, the default:
+ * bake_obstacles.c): a model without a surface of its own gets one (the contact model with no
+ * obstacle, built as that bake builds it), which stays out of the step until a shape is placed
+ * (runtime/contact.c's rt_surface_on). Nothing to do on a model with a surface or no boundary. */
+int rk_rom_contact_for_colliders(rk_rom_model *m, const rk_fem *fem, rk_error *err);
 
 typedef struct {
     long steps, newton_iterations, line_search_halvings, unconverged_steps;

@@ -41,6 +41,13 @@ int rk_rom_dense_solve(double *H, int n, const double *g, double *d, const char 
  * *behind: they stopped short (the body was in the way). */
 int rk_rom_obstacles_solve(rk_rom *s, const rk_rom_terms *T, double t, int *converged, int *behind, rk_error *err);
 
+/* Whether the contact model is in the step: the scene's contact, or a surface built for the app's
+ * shapes alone once one of them is its obstacle (rk_rom_contact_for_colliders). */
+static inline int rk_rom_contact_on(const rk_rom_model *m)
+{
+    return m->has_contact || (m->colliders_contact && m->contact.nobstacles > 0);
+}
+
 /* Contact in the subspace (contact.c). */
 int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options *opt, const double *U, rk_error *err);
 void rk_rom_contact_positions(rk_rom *s, const double *q);

@@ -13,7 +13,7 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     int r = m->r;
     s->model = m;
     /* the model's contact without a former simulator's app obstacles (rk_rom_free drops them) */
-    if (m->has_contact && m->contact.nobstacles > m->contact.scene_obstacles &&
+    if ((m->has_contact || m->colliders_contact) && m->contact.nobstacles > m->contact.scene_obstacles &&
         rk_contact_set_app_obstacles(&m->contact, NULL, 0, err))
         return -1;
     s->q = rk_calloc((size_t)r, sizeof(double), err);
@@ -28,7 +28,7 @@ int rk_rom_init(rk_rom *s, rk_rom_model *m, const double *q0, const double *v0, 
     s->xl = rk_calloc(n3, sizeof(double), err);
     s->jb = rk_calloc(12 * (size_t)r, sizeof(double), err);
     /* obstacle scratch for the scene's and, on a collision surface, the app's (collider_obstacles.c) */
-    size_t onv = m->has_contact
+    size_t onv = m->has_contact || m->colliders_contact
                      ? (size_t)m->contact.onv + (m->surface ? RK_COLLIDER_MAX_VERTICES * RK_MAX_COLLIDERS : 0)
                      : 0;
     s->odx = rk_calloc(3 * onv + 1, sizeof(double), err);
@@ -88,7 +88,7 @@ void rk_rom_reset(rk_rom *s, const double *q, const double *v, double t)
         lift_set(m, s->v, rate);
     }
     rk_stepper_forget(&s->stepper);
-    if (s->model->has_contact) rk_contact_set_time(&s->model->contact, t);
+    if (rk_rom_contact_on(s->model)) rk_contact_set_time(&s->model->contact, t);
 }
 
 int rk_rom_realign(rk_rom *s, const double *q, const double *v, double t, double *reached, rk_error *err)
@@ -96,7 +96,7 @@ int rk_rom_realign(rk_rom *s, const double *q, const double *v, double t, double
     int r = s->model->r;
     double alpha = 1, *target = s->work + RK_ROM_WORK_TMP2 * (size_t)r; /* scratch */
     memcpy(target, q, sizeof(double) * (size_t)r);
-    if (s->model->has_contact) {
+    if (rk_rom_contact_on(s->model)) {
         rk_contact_set_time(&s->model->contact, t);
         double *dq = s->work + RK_ROM_WORK_TMP * (size_t)r;
         for (int i = 0; i < r; i++) dq[i] = q[i] - s->q[i];
@@ -115,7 +115,7 @@ void rk_rom_free(rk_rom *s)
     rk_error ignored;
     /* the app's obstacles leave the model's contact (out of memory they stay, and the next
      * rk_rom_init drops them) */
-    if (m && m->has_contact && m->contact.nobstacles > m->contact.scene_obstacles)
+    if (m && (m->has_contact || m->colliders_contact) && m->contact.nobstacles > m->contact.scene_obstacles)
         rk_contact_set_app_obstacles(&m->contact, NULL, 0, &ignored);
     free(s->q);
     free(s->v);
@@ -157,7 +157,7 @@ static double obstacle_fraction(void *ctx, double t, rk_error *err)
 static int move_and_solve(void *ctx, double t, double fraction, rk_error *err)
 {
     step_solve *c = ctx;
-    if (c->s->model->has_contact) rk_contact_move_obstacles(&c->s->model->contact, t, fraction);
+    if (rk_rom_contact_on(c->s->model)) rk_contact_move_obstacles(&c->s->model->contact, t, fraction);
     return rk_rom_newton(c->s, c->T, c->s->model->newton_tol, &c->converged, err);
 }
 
@@ -174,13 +174,13 @@ static int increment(void *ctx, double lambda, double *q, int *converged, rk_err
 {
     static_ctx *c = ctx;
     rk_rom_model *m = c->s->model;
-    if (m->has_contact && lambda <= c->last_lambda) rk_contact_set_time(&m->contact, 0);
+    if (rk_rom_contact_on(m) && lambda <= c->last_lambda) rk_contact_set_time(&m->contact, 0);
     c->last_lambda = lambda;
     c->T.load = lambda;
     rk_rom_pin_target(m, lambda * m->static_time, c->pin);
     rk_rom_lift(m, lambda * m->static_time, c->s->q);
     step_solve sv = {c->s, &c->T, 1};
-    int rc = m->has_contact ? rk_contact_advance(&sv, lambda * m->static_time, obstacle_fraction, move_and_solve, err)
+    int rc = rk_rom_contact_on(m) ? rk_contact_advance(&sv, lambda * m->static_time, obstacle_fraction, move_and_solve, err)
                             : move_and_solve(&sv, 0, 1, err);
     *converged = sv.converged;
     return rc;
@@ -229,8 +229,9 @@ static int dynamic_step(rk_rom *s, rk_error *err)
     /* the scene's obstacles to where they are at the step's end: with the body in one solve
      * (obstacle_solve.c), or in safe moves when a plane moves (the runtime's planes are static) */
     int behind = 0;
-    if (m->has_contact && !moving_planes(&m->contact) ? rk_rom_obstacles_solve(s, &T, s->t + m->h, &c.converged, &behind, err)
-        : m->has_contact ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
+    int on = rk_rom_contact_on(m);
+    if (on && !moving_planes(&m->contact) ? rk_rom_obstacles_solve(s, &T, s->t + m->h, &c.converged, &behind, err)
+        : on ? rk_contact_advance(&c, s->t + m->h, obstacle_fraction, move_and_solve, err)
                          : move_and_solve(&c, s->t + m->h, 1, err))
         return -1;
     s->colliders_behind |= behind;

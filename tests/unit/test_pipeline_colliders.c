@@ -1,8 +1,9 @@
 /* An application's colliders in the reduced simulator (rom.h, rk_rom_set_collider): a sphere the
  * app moves into a hanging block pushes it aside, no collision vertex ever inside it; a block
  * resting on a box collider stays on it; bad colliders are refused and change nothing; on a model
- * with a collision surface a capsule thinner than the edges, placed through the block between its
- * vertices, is refused (the vertex path takes it), and the shapes come and go as obstacles of the
+ * with a collision surface (its own, or by default one for the app's shapes alone) a capsule
+ * thinner than the edges, placed through the block between its vertices, is refused (the vertex
+ * path, rom.asset.colliders "vertices", takes it), and the shapes come and go as obstacles of the
  * contact model. */
 #include "scene_run.h"
 #include "rom/rom.h"
@@ -158,6 +159,14 @@ TEST(a_block_rests_on_a_turned_box_collider)
     CHECK(fabs(drift) < 1e-5, "the block slid %g m after landing", drift);
 }
 
+/* The hanging block baked with its collision vertices alone for the app's shapes. */
+#define VERTEX_HANGING                                                                                 \
+    "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.2, 0.6, 0.2], \"cells\": [2, 6, 2]}},"           \
+    "  \"material\": {\"model\": \"neohookean\", \"young\": 1e5, \"poisson\": 0.4, \"density\": 1000}," \
+    "  \"fixed\": [{\"box\": [[-1, 0.599, -1], [1, 1, 1]]}]}],"                                         \
+    " \"gravity\": [0, -9.81, 0], \"time\": {\"step\": 0.01, \"duration\": 0.5},"                        \
+    " \"rom\": {\"basis\": \"modes\", \"size\": 12, \"asset\": {\"colliders\": \"vertices\"}}}"
+
 /* The hanging block with a collision surface (a far sphere obstacle). */
 #define SURFACE_HANGING                                                                                \
     "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.2, 0.6, 0.2], \"cells\": [2, 6, 2]}},"           \
@@ -173,9 +182,18 @@ TEST(on_a_collision_surface_shapes_are_obstacles_and_a_thin_one_cannot_slip_betw
     /* a 3 mm capsule along z through the block 1 cm inside its x = 0 side, at y = 0.25 (between
      * the vertices 10 cm apart: the nearest is 5.1 cm from its segment) */
     rk_collider thin = {RK_COLLIDER_CAPSULE, {0.01, 0.25, 0.1, 0, 0, -1, 0, 1, 0, 1, 0, 0, 0.003, 0.3, 0, 0, 0}};
-    CHECK_OK(open_reduced(&o, HANGING, &err));
-    CHECK(!o.R.model.surface, "the hanging block has a collision surface");
+    CHECK_OK(open_reduced(&o, VERTEX_HANGING, &err));
+    CHECK(!o.R.model.surface, "the block baked for its vertices alone has a collision surface");
     CHECK_OK(rk_rom_set_collider(&o.rom, 0, &thin, &err)); /* the vertex path sees no vertex inside it */
+    close_reduced(&o);
+    /* by default (rom.asset.colliders true) a model with no contact of its own has the surface for
+     * the app's shapes, out of the step until one is placed: the capsule through it is refused */
+    CHECK_OK(open_reduced(&o, HANGING, &err));
+    CHECK(o.R.model.surface && o.R.model.colliders_contact && o.R.model.contact.nobstacles == 0,
+          "the default block has no surface for its colliders");
+    int through = rk_rom_set_collider(&o.rom, 0, &thin, &err);
+    CHECK(through != 0 && strstr(err.msg, "cross") && o.rom.ncolliders == 0 && o.R.model.contact.nobstacles == 0,
+          "the thin capsule through the default block was taken");
     close_reduced(&o);
     CHECK_OK(open_reduced(&o, SURFACE_HANGING, &err));
     rk_contact *c = &o.R.model.contact;

@@ -203,6 +203,20 @@ TEST(a_box_pushes_a_block_along_a_plane_with_friction_as_the_reduced_simulator)
               40, sliding_box, 0.03);
 }
 
+/* On the default asset (rom.asset.colliders true) a model with no surface of its own, with no
+ * obstacle at all or planes only, holds its surface for the app's shapes: both take the exact path. */
+TEST(on_the_default_asset_the_shapes_collide_exactly_as_the_reduced_simulator)
+{
+    CHECK_PATH("sphere, no obstacle, default asset", HANGING("{}"), 30, sweeping_sphere, 0.05, 1);
+    CHECK_PATH("box and friction, planes only, default asset",
+              "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [0.2, 0.1, 0.2], \"cells\": [2, 1, 2]}, \"translate\": [0, 0.0005, 0]},"
+              "  \"material\": {\"model\": \"neohookean\", \"young\": 1e6, \"poisson\": 0.4, \"density\": 1000}}],"
+              " \"gravity\": [0, -9.81, 0], \"obstacles\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 1, 0]}}],"
+              " \"contact\": {\"dhat\": 1e-3, \"friction\": 0.4}, \"time\": {\"step\": 0.01, \"duration\": 0.1},"
+              " \"rom\": {\"basis\": \"modes\", \"size\": 12}}",
+              40, sliding_box, 0.03, 1);
+}
+
 TEST(on_a_collision_surface_the_shapes_collide_exactly_as_the_reduced_simulator)
 {
     CHECK_PATH("sphere, exact path", SURFACE_HANGING, 30, sweeping_sphere, 0.05, 1);
@@ -275,6 +289,7 @@ int main(void)
     RUN(an_app_moved_sphere_pushes_a_hanging_block_as_the_reduced_simulator);
     RUN(a_turning_capsule_pushes_a_hanging_block_as_the_reduced_simulator);
     RUN(a_box_pushes_a_block_along_a_plane_with_friction_as_the_reduced_simulator);
+    RUN(on_the_default_asset_the_shapes_collide_exactly_as_the_reduced_simulator);
     RUN(on_a_collision_surface_the_shapes_collide_exactly_as_the_reduced_simulator);
     RUN(bad_colliders_are_refused_with_a_status_and_change_nothing);
     return test_finish();
