@@ -12,7 +12,7 @@
 #define ROMBIN_SIGNATURE_BYTES 8
 
 #define ROMBIN_VERSION_MAJOR 1   /* a reader rejects any other major */
-#define ROMBIN_VERSION_MINOR 10  /* a reader accepts any minor of its major (minors only add) */
+#define ROMBIN_VERSION_MINOR 11  /* a reader accepts any minor of its major (minors only add) */
 
 #define ROMBIN_ENDIAN_SENTINEL 0x01020304u
 #define ROMBIN_F32_SENTINEL (-1.5f)               /* bits 0xBFC00000 */
@@ -74,6 +74,7 @@ enum { ROMBIN_COMP_NONE = 0, ROMBIN_COMP_DEFLATE = 1 };
 #define ROMBIN_VEL0 "VEL0"   /* real, r: the reduced velocity at t = 0 (1.8, critical; absent: at rest) */
 #define ROMBIN_PENA "PENA"   /* real, r x r: the pin penalty's quadratic term (present iff pins) */
 #define ROMBIN_PINS "PINS"   /* real, pins x (12 + 12 r): motion, then T (r x 12) */
+#define ROMBIN_LIFT "LIFT"   /* real, ROMBIN_LIFT_COUNT (1.11, critical): a lifted group's motion, then its handle's first column */
 #define ROMBIN_ELEM "ELEM"   /* u32, elements x 5: 4 vertices, material model */
 #define ROMBIN_ELMR "ELMR"   /* real, elements x 12: Dm^-1 (9), weight (m^3), mu, lambda */
 #define ROMBIN_PLAN "PLAN"   /* real, planes x 6: point, unit normal */
@@ -237,6 +238,7 @@ enum {
 };
 
 #define ROMBIN_PIN_PARAMS 12     /* kind, axis (3), center (3), rate, velocity (3), 0 */
+#define ROMBIN_LIFT_COUNT 13     /* LIFT: the motion (ROMBIN_PIN_PARAMS, as PINS's), the handle's first column */
 #define ROMBIN_GROUP_NAME_BYTES 32
 
 #endif

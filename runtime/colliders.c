@@ -9,7 +9,10 @@
 
 #include "runtime/romrt_impl.h"
 
-int romrt_takes_colliders(const romrt_model *m) { return m && m->kind == ROMRT_KIND_REDUCED && m->ncv > 0; }
+int romrt_takes_colliders(const romrt_model *m)
+{
+    return m && m->kind == ROMRT_KIND_REDUCED && m->ncv > 0 && !m->lift;
+}
 
 static void to_shape(const romrt_collider *c, romrt_real *shape)
 {
@@ -29,6 +32,9 @@ romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collide
     if (!m || !c) return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: no model or collider (NULL)");
     if (slot >= ROMRT_MAX_COLLIDERS)
         return rt_fail_n(err, ROMRT_E_ARGUMENT, 0, "romrt_set_collider: slot ", (uint64_t)slot, " is out of range");
+    if (m->lift) /* as the reduced simulator (precompute/rom/colliders.c) */
+        return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_LIFT, "a lifted moving group cannot give way to a collider "
+                       "(bake with rom.clamp \"dirichlet\" to use colliders)");
     if (!romrt_takes_colliders(m))
         return rt_fail(err, ROMRT_E_UNSUPPORTED, ROMBIN_CVTX,
                        "the asset has no collision vertices (baked with \"colliders\": false or before rombin 1.1)");

@@ -6,7 +6,7 @@
 #include "runtime/loader_impl.h"
 
 static const char *const known_chunks[] = {ROMBIN_HEAD, ROMBIN_PARM, ROMBIN_VERT, ROMBIN_ROWS, ROMBIN_MASS,
-                                           ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_VEL0, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_ELEM,
+                                           ROMBIN_DAMP, ROMBIN_LOAD, ROMBIN_VEL0, ROMBIN_PENA, ROMBIN_PINS, ROMBIN_LIFT, ROMBIN_ELEM,
                                            ROMBIN_ELMR, ROMBIN_PLAN, ROMBIN_CONT, ROMBIN_CVTX, ROMBIN_FRIC, ROMBIN_SKIN, ROMBIN_WGHT, ROMBIN_IPNT, ROMBIN_IPMD, ROMBIN_VPRS, ROMBIN_GRAD, ROMBIN_SPLY, ROMBIN_GRPS,
                                            ROMBIN_GVTX, ROMBIN_GNAM, ROMBIN_SURF, ROMBIN_VMAP, ROMBIN_INFO,
                                            ROMBIN_KHED, ROMBIN_KPRM, ROMBIN_KEIG, ROMBIN_KOUT, ROMBIN_KIMP, ROMBIN_KACC,
@@ -211,6 +211,7 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         (st = rt_reals(L, ROMBIN_LOAD, r, 1, &m->f)) || (st = rt_reals(L, ROMBIN_VEL0, r, 0, &m->v0)) ||
         (st = rt_reals(L, ROMBIN_PENA, rr, m->npins > 0, &m->A)) ||
         (st = rt_reals(L, ROMBIN_PINS, (uint64_t)m->npins * (ROMBIN_PIN_PARAMS + 12 * r), m->npins > 0, &m->pins)) ||
+        (st = rt_reals(L, ROMBIN_LIFT, ROMBIN_LIFT_COUNT, 0, &m->lift)) ||
         (st = rt_u32s(L, ROMBIN_ELEM, 5 * (uint64_t)m->ne, m->ne > 0, &m->elem)) ||
         (st = rt_reals(L, ROMBIN_ELMR, 12 * (uint64_t)m->ne, m->ne > 0, &m->elem_real)) ||
         (st = integration_points(L, m)) || (st = volume_pressure(L, m)) || (st = shown_gradients(L, m)) ||
@@ -254,6 +255,23 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
 }
 
 /* Indices and values the step relies on. */
+/* LIFT: a motion as PINS's, and the first of 12 skinning coordinates (a whole handle's, inside r)
+ * that nothing but the motion moves: no contact the handle would have to give way to (the reduced
+ * simulator refuses it too, precompute/rom/model.c's set_lift), no adaptive basis. */
+static romrt_status lifted_group(rt_loader *L, romrt_model *m)
+{
+    romrt_real c = m->lift[ROMBIN_PIN_PARAMS];
+    romrt_status st = rt_check_motion(L, ROMBIN_LIFT, "lifted group ", 0, m->lift);
+    if (st) return st;
+    if (!(c >= 0 && c + 12 <= (romrt_real)m->r && c == (romrt_real)(int)c && (int)c % 12 == 0 && m->skin > 0))
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_LIFT, "the lifting handle is not a skinning handle's 12 coordinates");
+    if (m->ncontacts || m->nobs || m->self_contact || m->nobjects > 1 || m->alrom)
+        return rt_fail(L->err, ROMRT_E_MODEL, ROMBIN_LIFT, "a lifted group with contact or an adaptive basis: it "
+                       "cannot give way");
+    m->lift_col = (int)c;
+    return ROMRT_OK;
+}
+
 static romrt_status contents(rt_loader *L, romrt_model *m)
 {
     romrt_status st;
@@ -294,6 +312,7 @@ static romrt_status contents(rt_loader *L, romrt_model *m)
         if ((st = rt_check_motion(L, ROMBIN_PINS, "pin ", (uint64_t)g,
                                   m->pins + (ROMBIN_PIN_PARAMS + 12 * (size_t)m->r) * (size_t)g)))
             return st;
+    if (m->lift && (st = lifted_group(L, m))) return st;
     for (k = 0; k < m->nplanes; k++) {
         const romrt_real *n = m->planes + 6 * (size_t)k + 3;
         romrt_real len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];

@@ -356,6 +356,20 @@ static romrt_real barrier(romrt_model *m, const romrt_real *q, int friction, rom
     return E;
 }
 
+void rt_lift(const romrt_model *m, double t, romrt_real *q)
+{
+    const romrt_real *p = m->lift;
+    romrt_real R[9], shift[3];
+    int a, b;
+    if (!p) return;
+    RT_PHYS(motion)((rk_motion_kind)(int)p[0], p + 1, p + 4, p[7], p + 8, t, R, shift);
+    /* coordinate 4 a + b of a handle moves x_a by w X_b (b < 3) or w (b = 3): rk_skinning_to_U */
+    for (a = 0; a < 3; a++) {
+        for (b = 0; b < 3; b++) q[m->lift_col + 4 * a + b] = R[3 * a + b] - (romrt_real)(a == b);
+        q[m->lift_col + 4 * a + 3] = shift[a];
+    }
+}
+
 void rt_pin_target(romrt_model *m, double t)
 {
     int r = m->r, g, j, k;
@@ -423,6 +437,11 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
                 if (m->C) a += T->w_damping * m->C[k];
                 H[i + (size_t)ld * j] += a;
             }
+    if (m->lift) /* the lifting handle's coordinates are set (rt_lift), not solved for: Newton leaves them */
+        for (i = m->lift_col; i < m->lift_col + 12; i++) {
+            if (g) g[i] = 0;
+            for (j = 0; H && j < r; j++) H[i + (size_t)ld * j] = H[j + (size_t)ld * i] = (romrt_real)(i == j);
+        }
     E = stored - work + quad;
     if (magnitude) *magnitude = RT_FABS(stored) + RT_FABS(work) + quad;
     return isfinite(E) ? E : (romrt_real)INFINITY;

@@ -367,7 +367,7 @@ typedef struct {
 } romrt_collider;
 romrt_status romrt_set_collider(romrt_model *m, size_t slot, const romrt_collider *c, romrt_error *err);
 romrt_status romrt_remove_collider(romrt_model *m, size_t slot, romrt_error *err);
-/* Whether the asset takes colliders (it holds CVTX). */
+/* Whether the asset takes colliders (it holds CVTX, and no lifted group: LIFT). */
 int romrt_takes_colliders(const romrt_model *m);
 
 /* Triangle meshes the application owns (level geometry, a paddle) as colliders, in a slot of the

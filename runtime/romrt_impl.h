@@ -245,6 +245,11 @@ struct romrt_model {
     const romrt_real *M, *C, *f, *A; /* r x r (column-major, symmetric), f: r; C, A may be NULL */
     const romrt_real *v0;     /* r: the velocity at t = 0 (VEL0), or NULL: at rest */
     const romrt_real *pins;   /* npins x (12 + 12 r) */
+    /* a moving group held by a lifting handle (LIFT; rom.clamp "lifted"): its motion, and lift_col
+     * the first of the handle's 12 coordinates, set to the motion's vec(R(t) - I), s(t) and left
+     * out of every Newton step (potential.c, step.c); lift NULL: none */
+    const romrt_real *lift;
+    int lift_col;
     const romrt_real *elem_real; /* ne x 12: Dm^-1, weight, mu, lambda */
     const romrt_real *planes; /* nplanes x 6 */
     const uint32_t *elem;     /* ne x 5 */
@@ -424,6 +429,8 @@ void rt_colliders_place(romrt_model *m, const romrt_real *y);
 void rt_colliders_end_move(romrt_model *m, const romrt_real *y);
 /* The pins' linear term at time t into m->pin_b. */
 void rt_pin_target(romrt_model *m, double t);
+/* The lifted group's handle coordinates of q to where its motion is at time t (LIFT; none: nothing). */
+void rt_lift(const romrt_model *m, double t, romrt_real *q);
 /* The clock (access.c): t `ahead` steps from now; advancing it by n steps; restarting it from
  * t = rt_clock(m, 0) before the step h changes. */
 double rt_clock(const romrt_model *m, unsigned long ahead);

@@ -522,6 +522,7 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     m->nmoving = 0;
     if (!filtered(m) || max_step(m, m->qt, m->d) >= 1)
         memcpy(m->q, m->qtilde, sizeof(romrt_real) * (size_t)r);
+    rt_lift(m, rt_clock(m, 1), m->q); /* the lifted group where it is due, before Newton moves the rest */
     /* the colliders the app moved, with the body in one solve; then the step's solve; then
      * friction lagged again at the solution until a solve has nothing left to do */
     st = rt_colliders_pending(m) ? solve(m, &T, 1, err) : ROMRT_OK;

@@ -136,6 +136,12 @@ static int add_operators(const rk_rom_model *m, const double *velocity0, int pen
         return -1;
     if (velocity0 && rombin_add_reals(w, ROMBIN_VEL0, 1, velocity0, (size_t)m->r, err)) return -1;
     if (m->C && rombin_add_reals(w, ROMBIN_DAMP, 1, m->C, rr, err)) return -1;
+    if (m->lift_handle) { /* the lifted group's motion and handle (1.11): set, not penalised */
+        double lift[ROMBIN_LIFT_COUNT];
+        rk_bake_motion_params(&m->lift_motion, lift);
+        lift[ROMBIN_PIN_PARAMS] = 12.0 * (m->lift_handle - 1);
+        if (rombin_add_reals(w, ROMBIN_LIFT, 1, lift, ROMBIN_LIFT_COUNT, err)) return -1;
+    }
     if (!penalty) return 0; /* the basis holds every prescribed vertex (or the runtime moves them): no penalty */
     size_t per = ROMBIN_PIN_PARAMS + 12 * (size_t)m->r;
     double *pins = rk_calloc(per * m->npins, sizeof(double), err);
@@ -302,10 +308,6 @@ int rk_asset_bake(const rk_asset_rom *R, const rk_koopman *k, const rk_koopman_g
     if (m->quad.vol_k > m->r)
         return rk_fail(err, "asset: the projected volume keeps %d pressure functions, more than r = %d (VPRS holds at "
                        "most r)", m->quad.vol_k, m->r);
-    if (m->lift_handle)
-        return rk_fail(err, "asset: the moving group is lifted (rom.clamp \"lifted\"), and the runtime holds moving "
-                       "groups by its penalty only (a lifted asset would be stepped wrong): build it with clamp "
-                       "\"dirichlet\"");
     if (m->quad.vol_k && R->alrom)
         return rk_fail(err, "asset: an adaptive linear ROM does not take a projected volume (rom.volume \"projected\")");
     rk_bake_state s;

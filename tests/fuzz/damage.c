@@ -490,6 +490,8 @@ static void ids(void)
                 GOOD("good_without_initial_velocity", b, orig_size, "missing_%s_starts_at_rest", c.id);
             } else if (memcmp(c.id, ROMBIN_VPRS, 4) == 0) { /* critical when present; absent, the volume is pointwise */
                 GOOD("good_without_projected_volume", b, orig_size, "missing_%s_steps_pointwise", c.id);
+            } else if (memcmp(c.id, ROMBIN_LIFT, 4) == 0) { /* critical when present; absent, the group is free */
+                GOOD("good_without_lift", b, orig_size, "missing_%s_group_free", c.id);
             } else {
                 BAD("missing_chunk", b, orig_size, "missing_%s", c.id);
             }
@@ -662,6 +664,10 @@ static void model(void)
     MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_EPS_V, SET_ZERO, "eps_v"), "fric_eps_v_zero");
     MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_ITERATIONS, SET_ZERO, "iterations"), "fric_iterations_zero");
     MODEL("fric", with_real(ROMBIN_FRIC, ROMBIN_FRIC_COUNT - 1, SET_NEG, "reserved"), "fric_reserved_set");
+    /* A lifted group's motion of no kind, and a handle that is none (LIFT, 1.11). */
+    MODEL("lift", with_real(ROMBIN_LIFT, 0, SET_BIG, "kind"), "lift_kind_20");
+    MODEL("lift", with_real(ROMBIN_LIFT, ROMBIN_PIN_PARAMS, SET_BIG, "handle column"), "lift_column_20");
+    MODEL("lift", with_real(ROMBIN_LIFT, ROMBIN_PIN_PARAMS, SET_NEG, "handle column"), "lift_column_negative");
     MODEL("index", with_u32(ROMBIN_GVTX, 0, 0xFFFFFFFFu, "GVTX vertex"), "index_GVTX_vertex_ffffffff");
     MODEL("index", with_u32(ROMBIN_GRPS, 0, 0xFFFFFFFFu, "GRPS first"), "index_GRPS_first_ffffffff");
     MODEL("index", with_u32(ROMBIN_GRPS, 1, 0xFFFFFFFFu, "GRPS count"), "index_GRPS_count_ffffffff");

@@ -59,8 +59,9 @@ fuzz-run-open-step: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romki
 	$(BUILD)/romkit build tests/fuzz/seed_crom.json -o $(FUZZ_DIR)/seedc.rombin --quiet
 	$(BUILD)/romkit build tests/fuzz/seed_objects.json -o $(FUZZ_DIR)/seedo.rombin --quiet
 	$(BUILD)/romkit build tests/fuzz/seed_obstacles.json -o $(FUZZ_DIR)/seedx.rombin --quiet
+	$(BUILD)/romkit build tests/fuzz/seed_lifted.json -o $(FUZZ_DIR)/seedl.rombin --quiet
 	rm -rf $(FUZZ_DIR)/damaged $(FUZZ_DIR)/damaged64 $(FUZZ_DIR)/damagedk $(FUZZ_DIR)/damagedb $(FUZZ_DIR)/damageds \
-	    $(FUZZ_DIR)/damagedp $(FUZZ_DIR)/damageda $(FUZZ_DIR)/damagedc $(FUZZ_DIR)/damagedx
+	    $(FUZZ_DIR)/damagedp $(FUZZ_DIR)/damageda $(FUZZ_DIR)/damagedc $(FUZZ_DIR)/damagedx $(FUZZ_DIR)/damagedl
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seed.rombin $(FUZZ_DIR)/damaged >/dev/null
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seed64.rombin $(FUZZ_DIR)/damaged64 >/dev/null
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seedk.rombin $(FUZZ_DIR)/damagedk >/dev/null
@@ -70,10 +71,11 @@ fuzz-run-open-step: $(FUZZ_DIR)/fuzz-open-step $(FUZZ_DIR)/damage $(BUILD)/romki
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seeda.rombin $(FUZZ_DIR)/damageda >/dev/null
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seedc.rombin $(FUZZ_DIR)/damagedc >/dev/null
 	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seedx.rombin $(FUZZ_DIR)/damagedx >/dev/null
+	$(FUZZ_DIR)/damage $(FUZZ_DIR)/seedl.rombin $(FUZZ_DIR)/damagedl >/dev/null
 	cp $(FUZZ_DIR)/seed.rombin $(FUZZ_DIR)/seed64.rombin $(FUZZ_DIR)/seedk.rombin $(FUZZ_DIR)/seedb.rombin \
 	    $(FUZZ_DIR)/seeds.rombin $(FUZZ_DIR)/seedp.rombin $(FUZZ_DIR)/seeda.rombin $(FUZZ_DIR)/seedc.rombin $(FUZZ_DIR)/seedx.rombin \
-	    $(FUZZ_DIR)/corpus/
-	for d in damaged damaged64 damagedk damagedb damageds damagedp damageda damagedc damagedx; do for k in bad good; do for f in $(FUZZ_DIR)/$$d/$$k/*; do \
+	    $(FUZZ_DIR)/seedl.rombin $(FUZZ_DIR)/corpus/
+	for d in damaged damaged64 damagedk damagedb damageds damagedp damageda damagedc damagedx damagedl; do for k in bad good; do for f in $(FUZZ_DIR)/$$d/$$k/*; do \
 	    cp "$$f" "$(FUZZ_DIR)/corpus/$$d-$$k-$$(basename "$$f")"; done; done; done
 	max=$$(wc -c <$(FUZZ_DIR)/seed64.rombin); a=$$(wc -c <$(FUZZ_DIR)/seed.rombin); \
 	[ "$$a" -gt "$$max" ] && max=$$a; \

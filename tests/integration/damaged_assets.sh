@@ -30,8 +30,8 @@ replay() {
 # adaptive linear ROM (seed_adaptive.json: ALRH, ALRP, QDRV, VMSS, VLOD, AMOV, AMOT), and one with a
 # CROM decoder (seed_crom.json: CRMS, CRMX, CRMW), two objects that collide (seed_objects.json:
 # COBJ, OBHD, CEDG, CTRI), and a sphere, capsule, box and moving mesh obstacle (seed_obstacles.json: OBHD, OBJS,
-# OBMO, OBVX, OBED, OBTR, OBVN, OBVB, OBIT, CEDG, CTRI).
-for kind in scene koopman both skinning points adaptive crom objects obstacles; do
+# OBMO, OBVX, OBED, OBTR, OBVN, OBVB, OBIT, CEDG, CTRI), and a lifted moving group (seed_lifted.json: LIFT).
+for kind in scene koopman both skinning points adaptive crom objects obstacles lifted; do
 for prec in float32 float64; do
     name=$kind-$prec
     seed=$TMP/seed-$name.rombin
