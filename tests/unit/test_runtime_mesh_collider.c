@@ -10,7 +10,8 @@
  *  - a 3200-triangle spiky terrain the app sweeps up into the two objects, turning: no crossing
  *    by the exact test in any frame, the objects pushed ahead;
  *  - a terrain baked rising at 1 m/s (OBMO) and the same terrain as an app mesh moved 1 cm before
- *    each step: one path (the move rule is the scripted obstacles'), 1e-10 in double;
+ *    each step: one path (the move rule is the scripted obstacles'), 1e-10 in double; and two halves
+ *    rising at 1 and 0.5 m/s, two moving obstacles against two app meshes moved at once;
  *  - bad meshes, indices and poses refused with ROMRT_E_ARGUMENT by name, nothing placed;
  *  - the cost of a 3200- and a 20,000-triangle terrain (index build, a resting step). */
 #include "runtime_fixture.h"
@@ -368,6 +369,82 @@ TEST(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path)
     rt_fixture_close(&A), rt_fixture_close(&B);
 }
 
+/* Two halves of the terrain, side by side under the lower box, rising at 1 and 0.5 m/s: baked as two
+ * moving obstacles (each its own progress unknown, contact_progress.c) and handed over as two app
+ * meshes moved before each step (the same rule, mesh_move.c): one path, no crossing, none behind. */
+TEST(two_app_meshes_moved_at_once_take_the_baked_obstacles_paths)
+{
+    rk_error err = {{0}};
+    romrt_error rerr;
+    rt_fixture A, B;
+    app_mesh half[2] = {{0}};
+    char path[2][64], obstacles[400];
+    const double rate[2] = {1.0, 0.5};
+    for (int h = 0; h < 2; h++) {
+        heightfield(&half[h], 10, 0.075, spiky_height);
+        for (int v = 0; v < half[h].nv; v++) {
+            half[h].X[3 * v] += h ? 0.075 : -0.075, half[h].X[3 * v + 1] -= 0.04;
+            for (int a = 0; a < 2; a++) half[h].Xr[3 * v + a] = (romrt_real)half[h].X[3 * v + a];
+        }
+        snprintf(path[h], sizeof path[h], "%s/romkit_half%d_%d.obj", tl_tmpdir(), h, (int)getpid());
+        CHECK(write_obj(path[h], &half[h]) == 0, "cannot write %s", path[h]);
+    }
+    snprintf(obstacles, sizeof obstacles,
+             "{\"mesh\": {\"file\": \"%s\"}, \"translate\": {\"velocity\": [0, %g, 0]}},"
+             "{\"mesh\": {\"file\": \"%s\"}, \"translate\": {\"velocity\": [0, %g, 0]}}",
+             path[0], rate[0], path[1], rate[1]);
+    CHECK_OK(rt_fixture_open(&A, two_boxes(0, obstacles, -9.81), ASSET_REAL, &err, &rerr));
+    CHECK_OK(rt_fixture_open(&B, two_boxes(A.R.model.contact.kappa, "", -9.81), ASSET_REAL, &err, &rerr));
+    remove(path[0]), remove(path[1]);
+    romrt_real p[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    for (int h = 0; h < 2; h++) {
+        CHECK(romrt_mesh_index_build(&half[h].mesh, &rerr) == ROMRT_OK, "index: %s", rerr.message);
+        CHECK(romrt_set_mesh_collider(B.m, (size_t)h + 1, &half[h].mesh, p[h], identity, &rerr) == ROMRT_OK, "place: %s",
+              rerr.message);
+    }
+    rt_surface a, b;
+    rt_surface_init(&a, A.m), rt_surface_init(&b, B.m);
+    double worst = 0, scale = 0, R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double *y = calloc((size_t)3 * half[0].nv, sizeof(double));
+    int steps = 25, rc = 0, crossed = 0, behind = 0;
+    for (int k = 1; k <= steps && !rc; k++) {
+        romrt_step_info info;
+        for (int h = 0; h < 2 && !rc; h++) {
+            p[h][1] = (romrt_real)(0.01 * rate[h] * k);
+            if (romrt_set_mesh_collider(B.m, (size_t)h + 1, &half[h].mesh, p[h], identity, &rerr) != ROMRT_OK)
+                rc = rk_fail(&err, "step %d, mesh %d: %s", k, h, rerr.message);
+        }
+        if (rc || romrt_step(A.m, &rerr) != ROMRT_OK || romrt_step(B.m, &rerr) != ROMRT_OK) {
+            if (!rc) rc = rk_fail(&err, "step %d: %s", k, rerr.message);
+            break;
+        }
+        info.size = sizeof info;
+        romrt_last_step(B.m, &info, NULL);
+        behind += info.colliders_behind;
+        rt_surface_read(&a, A.m), rt_surface_read(&b, B.m);
+        for (int i = 0; i < 3 * a.n; i++) {
+            worst = fmax(worst, fabs(a.x[i] - b.x[i]));
+            scale = fmax(scale, fabs(a.x[i] - A.sim.mesh.X[3 * (int)A.vmap[i / 3] + i % 3]));
+        }
+        for (int h = 0; h < 2; h++) {
+            double shift[3] = {0, (double)p[h][1], 0};
+            placed(&half[h], R, shift, y);
+            crossed += mesh_crossings(&b, &half[h], y, NULL);
+        }
+    }
+    printf("# two terrain halves rising at 1 and 0.5 m/s (%s): baked (OBMO) against two app meshes %.3g of the largest"
+           " displacement %.3g m (tol %g), %d crossings, %d steps behind\n",
+           PRECISION, worst / scale, scale, PARITY_TOL, crossed, behind);
+    CHECK(rc == 0, "%s", err.msg);
+    CHECK(crossed == 0 && behind == 0, "%d crossings, %d steps behind", crossed, behind);
+    CHECK(scale > 0.05, "the terrain should carry the boxes up (largest displacement %.3g m)", scale);
+    CHECK(worst / scale <= PARITY_TOL, "baked and app terrains differ by %.3g of the displacement", worst / scale);
+    rt_surface_free(&a), rt_surface_free(&b);
+    free(y);
+    app_mesh_free(&half[0]), app_mesh_free(&half[1]);
+    rt_fixture_close(&A), rt_fixture_close(&B);
+}
+
 TEST(bad_meshes_and_poses_are_refused_by_name_and_place_nothing)
 {
     rk_error err = {{0}};
@@ -524,6 +601,7 @@ int main(void)
     RUN(two_objects_in_a_mesh_bowl_baked_or_app_mesh_same_path_no_crossing);
     RUN(a_terrain_swept_up_into_two_objects_never_crosses);
     RUN(an_app_mesh_moved_as_a_baked_obstacle_moves_takes_its_path);
+    RUN(two_app_meshes_moved_at_once_take_the_baked_obstacles_paths);
     RUN(bad_meshes_and_poses_are_refused_by_name_and_place_nothing);
     RUN(cost_of_a_3200_and_a_20000_triangle_terrain);
     return test_finish();
