@@ -352,7 +352,7 @@ int rk_points_body(const double *X, int n, double g, double s, double tau, rk_me
  * of crossings (exact test). rep: what it measured; rep->outside_points counts the points neither
  * inside (the exact parity of a ray's crossings) nor within RK_PROXY_OUTSIDE s of a face, which the
  * caller must refuse (issue 30's bound). Fails on n < 1, h or s not positive and finite, a
- * non-finite point (named), or a lattice of more than 2^26 nodes. */
+ * non-finite point (named), or a lattice of more than 2^24 nodes. */
 typedef struct {
     int backed_off;        /* vertices whose move was cut back */
     int rounds;            /* back-off rounds until nothing crossed */

@@ -391,9 +391,10 @@ int rk_points_march(const double *X, int n, double h, double s, rk_surface *out,
         L.lo[d] -= 2 * h; /* the border nodes 2 h off every point: outside */
         double cells = ceil((hi[d] + 2 * h - L.lo[d]) / h) + 1;
         nodes *= cells;
-        L.dim[d] = nodes <= (double)(1 << 26) ? (long)cells : 0;
+        L.dim[d] = nodes <= (double)(1 << 24) && cells < (double)(RK_PROXY_S - 2) ? (long)cells : 0;
     }
-    if (!(nodes <= (double)(1 << 26))) return rk_fail(err, "contact surface: lattice edge %g is too small for the cloud's extent", h);
+    /* 2^24 nodes: the edge table is 7 ints a node; and the point grid's keys hold 2^20 cells an axis */
+    if (!(nodes <= (double)(1 << 24)) || !L.dim[0] || !L.dim[1] || !L.dim[2]) return rk_fail(err, "contact surface: lattice edge %g is too small for the cloud's extent", h);
     rk_proxy_grid G;
     if (rk_proxy_grid_build(&G, X, n, h, L.lo, err)) return -1;
     int rc = march(&G, &L, RK_MARCH_REACH * h, out, err) || pull_in(&G, out, RK_PROXY_SPACING_INSET * s, rep, err) ||

@@ -11,7 +11,9 @@
  *     capture at the default voxel (1/40 of its diagonal, g = 10 s), median and 95th percentile
  *     within s (the voxel surface moved in, rk_points_proxy: 0.50 s and 2.39 s), with at most 1.5
  *     times the voxel surface's triangles;
- * on one point, a noisy sphere shell at a capped voxel, the donut splat capture; bad input fails. */
+ * on one point, a solid lattice, a noisy sphere shell at a capped voxel, the donut splat capture,
+ * the pedestal scan;
+ * bad input fails. */
 #include "contact/contact.h"
 #include "contact/points_proxy_impl.h" /* the voxel surface: the triangle budget's base */
 #include "testlib.h"
@@ -295,6 +297,23 @@ TEST(one_point_is_a_small_closed_surface)
     CHECK(st.max_s <= 0.5 * 1.001, "a vertex %.3f s off the point (s / 2 expected)", st.max_s);
 }
 
+/* A solid lattice cloud (8 x 6 x 5 points 1 cm apart) at the default voxel g = 2 s: its flat sides
+ * wrapped within the spacing too, every point inside. */
+TEST(a_lattice_is_wrapped_within_its_spacing)
+{
+    double X[3 * 240], s = 0.01;
+    int n = 0;
+    for (int k = 0; k < 5; k++)
+        for (int j = 0; j < 6; j++)
+            for (int i = 0; i < 8; i++, n++) X[3 * n] = s * i, X[3 * n + 1] = s * j, X[3 * n + 2] = s * k;
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, n, RK_MARCH_LATTICE * 2 * s, s, &st, why, sizeof why);
+    print_stats("lattice", n, 2 * s, s, &st);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+}
+
 /* n splats on a sphere of radius R, a Fibonacci spiral of spacing about h, each pushed off the
  * sphere by up to h / 2 and sideways by up to 0.15 h (test_contact_points_proxy's noisy shell). */
 static double *jittered_shell(int n, double R, double h, uint64_t *rng)
@@ -352,6 +371,23 @@ TEST(the_donut_capture_is_wrapped_within_its_spacing)
     CHECK(st.faces <= 1.5 * voxel, "%d triangles (the voxel surface has %d)", st.faces, voxel);
 }
 
+/* The pedestal scan (points 1 cm apart) at twice that, the default voxel. */
+TEST(a_scan_is_wrapped_within_its_spacing)
+{
+    rk_error err;
+    double *X = NULL;
+    int n = 0;
+    CHECK_OK(rk_points_load(test_data("meshes/pedestal_points.ply"), &X, &n, &err));
+    double g = 0.02, s = median_spacing(X, n, g);
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, n, RK_MARCH_LATTICE * g, s, &st, why, sizeof why);
+    print_stats("pedestal", n, g, s, &st);
+    free(X);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+}
+
 TEST(bad_input_fails)
 {
     rk_error err;
@@ -372,8 +408,10 @@ TEST(bad_input_fails)
 int main(void)
 {
     RUN(one_point_is_a_small_closed_surface);
+    RUN(a_lattice_is_wrapped_within_its_spacing);
     RUN(a_dense_shell_is_wrapped_within_its_spacing);
     RUN(the_donut_capture_is_wrapped_within_its_spacing);
+    RUN(a_scan_is_wrapped_within_its_spacing);
     RUN(bad_input_fails);
     return test_finish();
 }
