@@ -362,7 +362,8 @@ typedef struct {
 int rk_points_march(const double *X, int n, double h, double s, rk_surface *out, rk_points_march_report *rep, rk_error *err);
 /* The lattice edge in proxy voxels, and the reach in lattice edges: just over the Kuhn tet's
  * circumradius sqrt(3) / 2 h, so a point's tet has a node within reach of it (inside). Donut
- * capture (g = 10 s): at 1.0 g 19,772 triangles, at 1.5 g 8,660 (voxel surface 6,364). */
+ * capture (g = 10 s): at 1.0 g 18,000 triangles, at 1.5 g 8,556 (voxel surface 6,364), at 2.0 g
+ * 5,148 but 14 points more than s outside. */
 #define RK_MARCH_LATTICE 1.5
 #define RK_MARCH_REACH 0.87
 /* Passes of proxy_march.c's retries of the vertices backed off (all the way, then half of what is
