@@ -51,6 +51,10 @@ size_t rk_proxy_faces_near(const rk_proxy_face_grid *F, const double *p, size_t 
 /* The distance from p to the triangle a b c. */
 double rk_proxy_face_distance(const double *p, const double *a, const double *b, const double *c);
 
+/* Whether closed triangles ta and tb (vertex ids into x) meet anywhere but the vertices and edge
+ * they share, exactly (proxy_inset.c; the one crossing check of the contact surfaces built here). */
+int rk_proxy_faces_cross(const int *ta, const int *tb, const double *x);
+
 /* Rounds of the second stage of rk_proxy_inset (straight toward the nearest point, to tau): on
  * the donut capture 4 rounds left the mean vertex 2.1 s off, 8 rounds 1.9 s (s its spacing). */
 #define RK_PROXY_PULL_ROUNDS 8

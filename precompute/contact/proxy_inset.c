@@ -174,7 +174,7 @@ static double inset_depth(const point_grid *G, const double *x, const double *nr
  * common line leaves both through such an edge, or runs along an edge from s that ends in the other
  * or is crossed by its opposite edge). Sharing an edge: iff they are coplanar and fold onto one
  * another (on one side of it). */
-static int faces_cross(const int *ta, const int *tb, const double *x)
+int rk_proxy_faces_cross(const int *ta, const int *tb, const double *x)
 {
     int shared = 0, sa[3] = {0, 0, 0}, sb[3] = {0, 0, 0};
     for (int i = 0; i < 3; i++)
@@ -442,7 +442,7 @@ static int settle(rk_mesh *m, const int *tris, int nf, const point_grid *G, cons
                 apart = ahi < blo || bhi < alo;
             }
             if (apart) continue;
-            if (!same_shift(tris + 3 * a, tris + 3 * b, base, m->X) && faces_cross(tris + 3 * a, tris + 3 * b, m->X))
+            if (!same_shift(tris + 3 * a, tris + 3 * b, base, m->X) && rk_proxy_faces_cross(tris + 3 * a, tris + 3 * b, m->X))
                 bad[a] = bad[b] = 1;
         }
         if (O) check_outside(O, &F, G, tris, m->X, boxes, dirty, moved, bad);

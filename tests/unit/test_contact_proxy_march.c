@@ -1,0 +1,417 @@
+/* precompute/contact rk_points_march: a point cloud's contact surface that follows the capture
+ * (issue 30: within the points' spacing s of them), checked from its output alone:
+ *   - closed and 2-manifold: every directed edge once and its reverse once, the faces around
+ *     every vertex one fan;
+ *   - no edge meets a face it shares no vertex with (the exact segment-triangle test,
+ *     rk_segment_triangle_intersect, as rk_contact_intersections runs it);
+ *   - every point inside (the parity of a long segment's exact crossings, against every face) or
+ *     outside by at most RK_PROXY_OUTSIDE s, its distance to every face by brute force, and the
+ *     report's count of those that are not agrees;
+ *   - the vertices' distances to their nearest point (brute force over a bucket grid): on the donut
+ *     capture at the default voxel (1/40 of its diagonal, g = 10 s), median and 95th percentile
+ *     within s (the voxel surface moved in, rk_points_proxy: 0.50 s and 2.39 s), with at most 1.5
+ *     times the voxel surface's triangles;
+ * on one point, a solid lattice, a noisy sphere shell at a capped voxel, the donut splat capture,
+ * the pedestal scan;
+ * bad input fails. */
+#include "contact/contact.h"
+#include "contact/points_proxy_impl.h" /* the voxel surface: the triangle budget's base */
+#include "testlib.h"
+#include "util/util.h"
+
+#include <stdint.h>
+
+static int cmp64(const void *a, const void *b)
+{
+    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* The distance from p to segment ab and to triangle abc, by brute force (not the library's). */
+static double segment_distance(const double *p, const double *a, const double *b)
+{
+    double u[3], w[3], uu = 0, uw = 0, d2 = 0;
+    for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], w[d] = p[d] - a[d], uu += u[d] * u[d], uw += u[d] * w[d];
+    double t = uu > 0 ? fmin(1, fmax(0, uw / uu)) : 0;
+    for (int d = 0; d < 3; d++) d2 += (w[d] - t * u[d]) * (w[d] - t * u[d]);
+    return sqrt(d2);
+}
+
+static double triangle_distance(const double *p, const double *a, const double *b, const double *c)
+{
+    double u[3], v[3], w[3], nrm[3];
+    for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], v[d] = c[d] - a[d], w[d] = p[d] - a[d];
+    nrm[0] = u[1] * v[2] - u[2] * v[1], nrm[1] = u[2] * v[0] - u[0] * v[2], nrm[2] = u[0] * v[1] - u[1] * v[0];
+    double nn = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
+    double best = fmin(segment_distance(p, a, b), fmin(segment_distance(p, b, c), segment_distance(p, c, a)));
+    if (nn > 0) {
+        double h = (w[0] * nrm[0] + w[1] * nrm[1] + w[2] * nrm[2]) / nn, q[3], e1[3], e2[3];
+        for (int d = 0; d < 3; d++) q[d] = w[d] - h * nrm[d];
+        e1[0] = q[1] * v[2] - q[2] * v[1], e1[1] = q[2] * v[0] - q[0] * v[2], e1[2] = q[0] * v[1] - q[1] * v[0];
+        e2[0] = u[1] * q[2] - u[2] * q[1], e2[1] = u[2] * q[0] - u[0] * q[2], e2[2] = u[0] * q[1] - u[1] * q[0];
+        double beta = (e1[0] * nrm[0] + e1[1] * nrm[1] + e1[2] * nrm[2]) / nn;
+        double gamma = (e2[0] * nrm[0] + e2[1] * nrm[1] + e2[2] * nrm[2]) / nn;
+        if (beta >= 0 && gamma >= 0 && beta + gamma <= 1) best = fmin(best, fabs(h) * sqrt(nn));
+    }
+    return best;
+}
+
+/* The distance from x to the nearest of the n points within 1.5 cells of edge h of it, from a
+ * sorted list of cell keys (cell << 24 | point); INFINITY past that. */
+typedef struct {
+    const double *X;
+    int n;
+    double h, lo[3];
+    int64_t *key;
+} bucket;
+
+static int64_t cell_of(const bucket *B, const double *x, int dx, int dy, int dz)
+{
+    int64_t c[3];
+    for (int d = 0; d < 3; d++) c[d] = (int64_t)floor((x[d] - B->lo[d]) / B->h) + 8;
+    return (c[0] + dx) + 4096 * ((c[1] + dy) + 4096 * (c[2] + dz));
+}
+
+static void bucket_init(bucket *B, const double *X, int n, double h)
+{
+    B->X = X, B->n = n, B->h = h;
+    for (int d = 0; d < 3; d++) {
+        B->lo[d] = X[d];
+        for (int i = 1; i < n; i++) B->lo[d] = fmin(B->lo[d], X[3 * i + d]);
+    }
+    B->key = malloc(sizeof(int64_t) * (size_t)n);
+    for (int i = 0; i < n; i++) B->key[i] = cell_of(B, X + 3 * i, 0, 0, 0) << 24 | i;
+    qsort(B->key, (size_t)n, sizeof(int64_t), cmp64);
+}
+
+/* The nearest point to x other than point skip (-1: any), within h (INFINITY past h). */
+static double bucket_nearest(const bucket *B, const double *x, int skip)
+{
+    double best = INFINITY;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int64_t k = cell_of(B, x, dx, dy, dz) << 24;
+                int lo = 0, hi = B->n;
+                while (lo < hi) {
+                    int mid = (lo + hi) / 2;
+                    if (B->key[mid] < k) lo = mid + 1;
+                    else hi = mid;
+                }
+                for (int a = lo; a < B->n && B->key[a] >> 24 == k >> 24; a++) {
+                    int i = (int)(B->key[a] & 0xffffff);
+                    double d2 = 0;
+                    for (int d = 0; d < 3; d++) d2 += (B->X[3 * i + d] - x[d]) * (B->X[3 * i + d] - x[d]);
+                    if (i != skip && d2 > 0) best = fmin(best, sqrt(d2));
+                    if (skip < 0 && d2 == 0) best = 0;
+                }
+            }
+    return best <= B->h ? best : INFINITY;
+}
+
+/* The points' median nearest-neighbour spacing (as test_contact_points_proxy measures it). */
+static double median_spacing(const double *X, int n, double h)
+{
+    bucket B;
+    bucket_init(&B, X, n, h);
+    double *nn = malloc(sizeof(double) * (size_t)n);
+    int pos = 0;
+    for (int i = 0; i < n; i++) {
+        double d = bucket_nearest(&B, X + 3 * i, i);
+        if (d < INFINITY) nn[pos++] = d;
+    }
+    qsort(nn, (size_t)pos, sizeof *nn, rk_cmp_double);
+    double m = pos > 0 ? nn[pos / 2] : 0;
+    free(nn), free(B.key);
+    return m;
+}
+
+typedef struct {
+    int faces;
+    double median_s, p95_s, max_s; /* surface vertex -> nearest point, in s */
+    int outside;                   /* points outside by more than RK_PROXY_OUTSIDE s */
+    double max_outside_s;          /* the farthest point outside, in s */
+    double min_quality;            /* the worst triangle's 4 sqrt(3) area / sum of squared edges (1: equilateral) */
+} march_stats;
+
+#define FAIL_IF(cond, ...)                   \
+    do {                                     \
+        if (cond) {                          \
+            snprintf(why, len, __VA_ARGS__); \
+            rc = -1;                         \
+            goto done;                       \
+        }                                    \
+    } while (0)
+
+/* Every check above on rk_points_march of (X, n) with lattice edge h and spacing s. */
+static int check_march(const double *X, int n, double h, double s, march_stats *st, char *why, size_t len)
+{
+    rk_error err;
+    rk_surface S;
+    rk_points_march_report rep;
+    memset(st, 0, sizeof *st);
+    int rc = 0, *pairs = NULL, npairs = 0;
+    int64_t *edges = NULL, *link = NULL;
+    double *boxes = NULL, *eboxes = NULL, *dist = NULL;
+    bucket B = {0};
+    if (rk_points_march(X, n, h, s, &S, &rep, &err)) {
+        snprintf(why, len, "rk_points_march: %s", err.msg);
+        return -1;
+    }
+    int nf = S.nf, *tris = S.tris;
+    const double *x = S.X;
+    st->faces = nf;
+    st->min_quality = 1;
+    for (int f = 0; f < nf; f++) {
+        double nrm[3], u[3], v[3], l2 = 0;
+        const int *t = tris + 3 * f;
+        for (int d = 0; d < 3; d++) u[d] = x[3 * t[1] + d] - x[3 * t[0] + d], v[d] = x[3 * t[2] + d] - x[3 * t[0] + d];
+        nrm[0] = u[1] * v[2] - u[2] * v[1], nrm[1] = u[2] * v[0] - u[0] * v[2], nrm[2] = u[0] * v[1] - u[1] * v[0];
+        for (int k = 0; k < 3; k++)
+            for (int d = 0; d < 3; d++) l2 += (x[3 * t[(k + 1) % 3] + d] - x[3 * t[k] + d]) * (x[3 * t[(k + 1) % 3] + d] - x[3 * t[k] + d]);
+        st->min_quality = fmin(st->min_quality, 2 * sqrt(3.0) * sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]) / l2);
+    }
+    FAIL_IF(nf < 4, "%d triangles", nf);
+    for (int k = 0; k < 3 * nf; k++) FAIL_IF(tris[k] < 0 || tris[k] >= S.nv, "triangle vertex %d of %d", tris[k], S.nv);
+    const int64_t V = S.nv;
+    edges = malloc(sizeof(int64_t) * 3 * (size_t)nf);
+    for (int f = 0; f < nf; f++)
+        for (int k = 0; k < 3; k++) edges[3 * f + k] = tris[3 * f + k] * V + tris[3 * f + (k + 1) % 3];
+    qsort(edges, 3 * (size_t)nf, sizeof *edges, cmp64);
+    for (int e = 0; e < 3 * nf; e++) {
+        FAIL_IF(e > 0 && edges[e] == edges[e - 1], "edge %lld -> %lld is used twice: not a 2-manifold", (long long)(edges[e] / V),
+                (long long)(edges[e] % V));
+        int64_t rev = (edges[e] % V) * V + edges[e] / V;
+        FAIL_IF(!bsearch(&rev, edges, 3 * (size_t)nf, sizeof rev, cmp64), "edge %lld -> %lld has no reverse: not closed",
+                (long long)(edges[e] / V), (long long)(edges[e] % V));
+    }
+    link = malloc(sizeof(int64_t) * 3 * (size_t)nf); /* v << 42 | b << 21 | c */
+    for (int f = 0; f < nf; f++)
+        for (int k = 0; k < 3; k++)
+            link[3 * f + k] = (int64_t)tris[3 * f + k] << 42 | (int64_t)tris[3 * f + (k + 1) % 3] << 21 | tris[3 * f + (k + 2) % 3];
+    qsort(link, 3 * (size_t)nf, sizeof *link, cmp64);
+    for (int a = 0; a < 3 * nf;) {
+        int b = a;
+        while (b < 3 * nf && link[b] >> 42 == link[a] >> 42) b++;
+        int64_t start = link[a] >> 21 & 0x1fffff, at = start;
+        int steps = 0;
+        do {
+            int64_t next = -1;
+            for (int k = a; k < b; k++)
+                if ((link[k] >> 21 & 0x1fffff) == at) next = link[k] & 0x1fffff;
+            FAIL_IF(next < 0, "vertex %lld: its fan is open", (long long)(link[a] >> 42));
+            at = next, steps++;
+        } while (at != start && steps <= b - a);
+        FAIL_IF(steps != b - a, "vertex %lld: its %d faces make a fan of %d (a pinch)", (long long)(link[a] >> 42), b - a, steps);
+        a = b;
+    }
+    /* no edge meets a face it shares no vertex with, exactly */
+    boxes = malloc(sizeof(double) * 6 * (size_t)nf);
+    eboxes = malloc(sizeof(double) * 18 * (size_t)nf);
+    for (int f = 0; f < nf; f++)
+        for (int d = 0; d < 3; d++) {
+            const int *t = tris + 3 * f;
+            boxes[6 * f + d] = fmin(x[3 * t[0] + d], fmin(x[3 * t[1] + d], x[3 * t[2] + d]));
+            boxes[6 * f + 3 + d] = fmax(x[3 * t[0] + d], fmax(x[3 * t[1] + d], x[3 * t[2] + d]));
+            for (int k = 0; k < 3; k++) {
+                eboxes[6 * (3 * f + k) + d] = fmin(x[3 * t[k] + d], x[3 * t[(k + 1) % 3] + d]);
+                eboxes[6 * (3 * f + k) + 3 + d] = fmax(x[3 * t[k] + d], x[3 * t[(k + 1) % 3] + d]);
+            }
+        }
+    if (rk_broad_phase(eboxes, 3 * nf, boxes, nf, &pairs, &npairs, &err)) FAIL_IF(1, "broad phase: %.200s", err.msg);
+    for (int p = 0; p < npairs; p++) {
+        int e = pairs[2 * p], f = pairs[2 * p + 1], a = tris[e], b = tris[3 * (e / 3) + (e % 3 + 1) % 3];
+        const int *t = tris + 3 * f;
+        if (a == t[0] || a == t[1] || a == t[2] || b == t[0] || b == t[1] || b == t[2]) continue;
+        FAIL_IF(rk_segment_triangle_intersect(x + 3 * a, x + 3 * b, x + 3 * t[0], x + 3 * t[1], x + 3 * t[2]),
+                "edge (%d, %d) meets face %d: the surface intersects itself", a, b, f);
+    }
+    /* every point inside (parity along (1, 0.00123, 0.00071), every face whose box can meet the
+     * segment) or within RK_PROXY_OUTSIDE s of a face */
+    double hi0 = -INFINITY, maxout = 0;
+    for (int f = 0; f < nf; f++) hi0 = fmax(hi0, boxes[6 * f + 3]);
+    for (int i = 0; i < n; i++) {
+        const double *p = X + 3 * i;
+        double L = 1.1 * (hi0 - p[0]) + h, q[3] = {p[0] + L, p[1] + 0.00123 * L, p[2] + 0.00071 * L};
+        int crossings = 0;
+        for (int f = 0; f < nf; f++) {
+            const double *b = boxes + 6 * f;
+            if (b[3] < p[0] || b[4] < p[1] || b[1] > q[1] || b[5] < p[2] || b[2] > q[2]) continue;
+            const int *t = tris + 3 * f;
+            crossings += rk_segment_triangle_intersect(p, q, x + 3 * t[0], x + 3 * t[1], x + 3 * t[2]);
+        }
+        if (crossings % 2 == 1) continue;
+        double near = INFINITY;
+        for (int f = 0; f < nf; f++) {
+            const int *t = tris + 3 * f;
+            near = fmin(near, triangle_distance(p, x + 3 * t[0], x + 3 * t[1], x + 3 * t[2]));
+        }
+        maxout = fmax(maxout, near);
+        if (near > RK_PROXY_OUTSIDE * s) st->outside++;
+    }
+    st->max_outside_s = maxout / s;
+    FAIL_IF(st->outside != rep.outside_points, "%d points outside by more than s, the report says %d", st->outside, rep.outside_points);
+    FAIL_IF(st->outside > 0, "%d points outside by more than s (the farthest %.3f s)", st->outside, st->max_outside_s);
+    /* the vertices' distances to the points */
+    bucket_init(&B, X, n, 4 * h);
+    dist = malloc(sizeof(double) * (size_t)S.nv);
+    for (int v = 0; v < S.nv; v++) {
+        dist[v] = bucket_nearest(&B, x + 3 * v, -1) / s;
+        FAIL_IF(!(dist[v] < INFINITY), "vertex %d is farther than %g from every point", v, 4 * h);
+    }
+    qsort(dist, (size_t)S.nv, sizeof *dist, rk_cmp_double);
+    st->median_s = dist[S.nv / 2], st->p95_s = dist[(int)(0.95 * S.nv)], st->max_s = dist[S.nv - 1];
+done:
+    free(S.X), free(S.tris), free(edges), free(link), free(boxes), free(eboxes), free(dist), free(pairs), free(B.key);
+    return rc;
+}
+
+static void print_stats(const char *what, int n, double g, double s, const march_stats *st)
+{
+    printf("  %s: %d points, g %.3g, s %.3g: %d triangles; vertices median %.3f s, 95th percentile %.3f s, worst %.3f s; "
+           "farthest point outside %.3f s; worst triangle quality %.2g\n",
+           what, n, g, s, st->faces, st->median_s, st->p95_s, st->max_s, st->max_outside_s, st->min_quality);
+}
+
+/* The voxel surface's triangles at voxel g (rk_points_proxy's; the budget's base). */
+static int voxel_faces(const double *X, int n, double g)
+{
+    rk_error err;
+    rk_mesh L;
+    double lo[3];
+    int *tris = NULL, nf = 0;
+    if (rk_proxy_lattice(X, n, g, &L, lo, &err) || rk_mesh_boundary(&L, &tris, &nf, &err)) return -1;
+    free(tris);
+    rk_mesh_free(&L);
+    return nf;
+}
+
+TEST(one_point_is_a_small_closed_surface)
+{
+    double X[3] = {0.1, -0.2, 0.3};
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, 1, 0.1, 0.05, &st, why, sizeof why);
+    print_stats("one point", 1, 0.1, 0.05, &st);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.max_s <= 0.5 * 1.001, "a vertex %.3f s off the point (s / 2 expected)", st.max_s);
+}
+
+/* A solid lattice cloud (8 x 6 x 5 points 1 cm apart) at the default voxel g = 2 s: its flat sides
+ * wrapped within the spacing too, every point inside. */
+TEST(a_lattice_is_wrapped_within_its_spacing)
+{
+    double X[3 * 240], s = 0.01;
+    int n = 0;
+    for (int k = 0; k < 5; k++)
+        for (int j = 0; j < 6; j++)
+            for (int i = 0; i < 8; i++, n++) X[3 * n] = s * i, X[3 * n + 1] = s * j, X[3 * n + 2] = s * k;
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, n, RK_MARCH_LATTICE * 2 * s, s, &st, why, sizeof why);
+    print_stats("lattice", n, 2 * s, s, &st);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+}
+
+/* n splats on a sphere of radius R, a Fibonacci spiral of spacing about h, each pushed off the
+ * sphere by up to h / 2 and sideways by up to 0.15 h (test_contact_points_proxy's noisy shell). */
+static double *jittered_shell(int n, double R, double h, uint64_t *rng)
+{
+    double *X = malloc(sizeof(double) * 3 * (size_t)n);
+    for (int i = 0; i < n; i++) {
+        double z = 1 - 2 * (i + 0.5) / n, r = sqrt(1 - z * z), th = i * M_PI * (3 - sqrt(5.0)), rr = R + (rk_uniform(rng) - 0.5) * h;
+        X[3 * i] = r * cos(th) * rr + (rk_uniform(rng) - 0.5) * 0.3 * h;
+        X[3 * i + 1] = r * sin(th) * rr + (rk_uniform(rng) - 0.5) * 0.3 * h;
+        X[3 * i + 2] = z * rr + (rk_uniform(rng) - 0.5) * 0.3 * h;
+    }
+    return X;
+}
+
+/* A dense noisy shell (12,000 splats, radius 0.1) at the capped voxel g = 10 s: within s. */
+TEST(a_dense_shell_is_wrapped_within_its_spacing)
+{
+    uint64_t rng = 4242;
+    int n = 12000;
+    double R = 0.1, hh = sqrt(4 * M_PI * R * R / n), *X = jittered_shell(n, R, hh, &rng);
+    double s = median_spacing(X, n, 4 * hh), g = 10 * s;
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, n, RK_MARCH_LATTICE * g, s, &st, why, sizeof why);
+    print_stats("dense shell", n, g, s, &st);
+    int voxel = voxel_faces(X, n, g);
+    free(X);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+    CHECK(st.faces <= 1.5 * voxel, "%d triangles (the voxel surface has %d)", st.faces, voxel);
+}
+
+/* The donut splat capture at the default voxel (1/40 of its diagonal, about 10 s): the voxel
+ * surface moved in (rk_points_proxy) left its 95th percentile vertex 2.39 s off. */
+TEST(the_donut_capture_is_wrapped_within_its_spacing)
+{
+    rk_error err;
+    double *X = NULL, lo[3], hi[3], d2 = 0;
+    int n = 0;
+    CHECK_OK(rk_points_load(test_data("meshes/donut_3dgs.ply"), &X, &n, &err));
+    for (int d = 0; d < 3; d++) {
+        lo[d] = hi[d] = X[d];
+        for (int i = 1; i < n; i++) lo[d] = fmin(lo[d], X[3 * i + d]), hi[d] = fmax(hi[d], X[3 * i + d]);
+        d2 += (hi[d] - lo[d]) * (hi[d] - lo[d]);
+    }
+    double g = sqrt(d2) / 40, s = median_spacing(X, n, g);
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, n, RK_MARCH_LATTICE * g, s, &st, why, sizeof why);
+    print_stats("donut", n, g, s, &st);
+    int voxel = voxel_faces(X, n, g);
+    free(X);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+    CHECK(st.faces <= 1.5 * voxel, "%d triangles (the voxel surface has %d)", st.faces, voxel);
+}
+
+/* The pedestal scan (points 1 cm apart) at twice that, the default voxel. */
+TEST(a_scan_is_wrapped_within_its_spacing)
+{
+    rk_error err;
+    double *X = NULL;
+    int n = 0;
+    CHECK_OK(rk_points_load(test_data("meshes/pedestal_points.ply"), &X, &n, &err));
+    double g = 0.02, s = median_spacing(X, n, g);
+    march_stats st;
+    char why[256];
+    int rc = check_march(X, n, RK_MARCH_LATTICE * g, s, &st, why, sizeof why);
+    print_stats("pedestal", n, g, s, &st);
+    free(X);
+    CHECK(rc == 0, "%s", why);
+    CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+}
+
+TEST(bad_input_fails)
+{
+    rk_error err;
+    rk_surface S;
+    rk_points_march_report rep;
+    double X[6] = {0, 0, 0, 1, 1, 1}, bad[4] = {0, -0.1, NAN, INFINITY};
+    CHECK(rk_points_march(X, 0, 0.1, 0.05, &S, &rep, &err) != 0, "no points accepted");
+    for (int k = 0; k < 4; k++) {
+        CHECK(rk_points_march(X, 2, bad[k], 0.05, &S, &rep, &err) != 0, "lattice edge %g accepted", bad[k]);
+        CHECK(rk_points_march(X, 2, 0.1, bad[k], &S, &rep, &err) != 0 && strstr(err.msg, "spacing"), "spacing %g: %s", bad[k], err.msg);
+    }
+    CHECK(rk_points_march(X, 2, 1e-9, 0.05, &S, &rep, &err) != 0 && strstr(err.msg, "too small"), "lattice 1e-9: %s", err.msg);
+    double nan_point[6] = {0, 0, 0, 1, NAN, 1};
+    CHECK(rk_points_march(nan_point, 2, 0.1, 0.05, &S, &rep, &err) != 0 && strstr(err.msg, "point 1"), "a NaN point: %s", err.msg);
+    CHECK(S.X == NULL && S.tris == NULL, "a failed call left a surface");
+}
+
+int main(void)
+{
+    RUN(one_point_is_a_small_closed_surface);
+    RUN(a_lattice_is_wrapped_within_its_spacing);
+    RUN(a_dense_shell_is_wrapped_within_its_spacing);
+    RUN(the_donut_capture_is_wrapped_within_its_spacing);
+    RUN(a_scan_is_wrapped_within_its_spacing);
+    RUN(bad_input_fails);
+    return test_finish();
+}
