@@ -274,6 +274,7 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/alrom_table3.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/bench_alrom_cadence.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/volume_step.sh bench/results
 	BUILD=$(BUILD) sh bench/pour.sh
 	BUILD=$(BUILD) sh bench/moving_obstacles.sh
