@@ -19,6 +19,9 @@
  * the loads and U^T M (x~ - x_ref) come from Grams of B formed at open, and U's rows are formed
  * only at the vertices a step reads (al->sv); u_t is kept there and on the prescribed vertices,
  * the other shown vertices formed from c when read (rt_alrom_position).
+ * With a basis cadence K (ALRH; issue 33) the first four lines run every K steps only, the basis
+ * held between (a linear ROM's step, PCA's cost; bench/results/alrom_cadence.csv: cheaper, and
+ * on the armadillo's bend less accurate).
  * This file: a step's reference, inertia and forces around the basis (alrom_basis.c, from the
  * decoders of alrom_decoder.c), the state moved on, reset, pushes, and saving the state; the
  * chunks are read in alrom_load.c. */
