@@ -5,9 +5,13 @@
  *   - its basis rows are the same after steps 1, 2 and 3 (held) and change at step 4 (refreshed),
  *     while K = 1's change at step 2: the held basis is reused, and only between refreshes;
  *   - a state set (romrt_set_state) forms the basis afresh at the next step;
- *   - the encoder's iteration cap reaches the asset and the run (1 iteration moves the steps). */
+ *   - the encoder's iteration cap reaches the asset and the run (1 iteration moves the steps);
+ *   - the precompute's simulator (precompute/grassmann/alrom.c) takes the same cadence: K = 3's
+ *     first step is K = 1's, it forms (and blends) its basis on a third of the steps only, and its
+ *     run parts from K = 1's. */
 #include "testlib.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/method_adaptive_linear.h"
 #include "runtime/romrt.h"
 
 #include <stdint.h>
@@ -157,10 +161,64 @@ TEST(the_encoder_cap_reaches_the_run)
     run_close(&capped);
 }
 
+/* The precompute's simulator on the bar with the entry's options and cadence K: positions after
+ * step 1 and after `steps` into x1 and xt, and the steps whose basis blended the history. */
+#define BAR_NV (11 * 3 * 3) /* the bar's 10 x 2 x 2 cells' vertices */
+
+static int precompute_run(int cadence, int steps, double *x1, double *xt, long *blended, rk_error *err)
+{
+    rk_scene scene;
+    rk_scene_sim sim;
+    rk_decoder dec = {0};
+    rk_alrom A = {0};
+    int rc = -1, stage = 0;
+    if (rk_scene_parse(bar(""), "cadence.json", &scene, err)) return -1;
+    stage = 1;
+    if (rk_scene_build(&scene, &sim, err)) goto out;
+    stage = 2;
+    if (sim.mesh.nv != BAR_NV) {
+        rk_fail(err, "the bar has %d vertices, the test's buffers %d", sim.mesh.nv, BAR_NV);
+        goto out;
+    }
+    rk_alrom_options o = rk_adaptive_linear_of(&scene.entries[0])->opt;
+    o.cadence = cadence;
+    if (rk_scene_alrom_decoder(&scene, &sim, &scene.entries[0], NULL, 0, &dec, err) ||
+        rk_alrom_init(&A, &sim.fem, &sim.options, &dec, &o, err))
+        goto out;
+    for (int t = 0; t < steps; t++) {
+        if (rk_alrom_step(&A, err)) goto out;
+        if (t == 0) memcpy(x1, A.fom.x, sizeof(double) * 3 * (size_t)sim.mesh.nv);
+    }
+    memcpy(xt, A.fom.x, sizeof(double) * 3 * (size_t)sim.mesh.nv);
+    *blended = A.stats.history_used;
+    rc = 0;
+out:
+    rk_alrom_free(&A);
+    rk_decoder_free(&dec);
+    if (stage >= 2) rk_scene_sim_free(&sim);
+    rk_scene_free(&scene);
+    return rc;
+}
+
+TEST(the_precompute_simulator_takes_the_cadence)
+{
+    rk_error err = {{0}};
+    static double a1[3 * BAR_NV], at[3 * BAR_NV], b1[3 * BAR_NV], bt[3 * BAR_NV];
+    long blended_one, blended_three;
+    CHECK_OK(precompute_run(1, 9, a1, at, &blended_one, &err));
+    CHECK_OK(precompute_run(3, 9, b1, bt, &blended_three, &err));
+    printf("# precompute, 9 steps: history blended in %ld (K = 1), %ld (K = 3)\n", blended_one, blended_three);
+    CHECK(!memcmp(a1, b1, sizeof a1), "K = 3's first step is not K = 1's");
+    CHECK(memcmp(at, bt, sizeof at), "K = 3 stepped as K = 1 over 9 steps");
+    CHECK(blended_one >= 7, "K = 1 blended only %ld of 9 steps: the test shows nothing", blended_one);
+    CHECK(blended_three >= 1 && blended_three <= 3, "K = 3 blended %ld of 9 steps (3 refreshes)", blended_three);
+}
+
 int main(void)
 {
     RUN(cadence_one_is_todays_asset);
     RUN(a_held_basis_is_reused_between_refreshes);
     RUN(the_encoder_cap_reaches_the_run);
+    RUN(the_precompute_simulator_takes_the_cadence);
     return test_finish();
 }
