@@ -69,7 +69,7 @@ TOOL_SRC := $(wildcard tools/*.c)
 TOOL_STAGE := tools
 TEST_SRC := $(wildcard tests/unit/test_*.c)
 # The runtime tests that also run against the double runtime, as <name>_double.
-TEST_DOUBLE := test_runtime_engine test_runtime_lifted test_runtime_obstacles test_runtime_mesh_collider test_runtime_objects test_runtime_object_contact test_runtime_parity test_runtime_alrom test_runtime_alrom_growth test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients test_runtime_incline test_runtime_cloud_mesh test_runtime_shape_colliders
+TEST_DOUBLE := test_runtime_engine test_runtime_lifted test_runtime_obstacles test_runtime_mesh_collider test_runtime_objects test_runtime_object_contact test_runtime_parity test_runtime_alrom test_runtime_alrom_growth test_runtime_alrom_cadence test_runtime_koopman test_runtime_colliders test_runtime_newton_modes test_runtime_skinning test_runtime_point_gradients test_runtime_incline test_runtime_cloud_mesh test_runtime_shape_colliders
 TEST_BIN := $(patsubst tests/unit/%.c,$(BUILD)/tests/%,$(TEST_SRC)) $(patsubst %,$(BUILD)/tests/%_double,$(TEST_DOUBLE))
 
 .PHONY: all test test-unit test-sanitize bench bench-reference paper-table demo clean deps deps-build deps-test deps-web deps-bench
@@ -274,6 +274,7 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)
 	BUILD=$(BUILD) sh bench/bench_alrom.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/alrom_table3.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/bench_alrom_runtime.sh tests/data/meshes bench/results
+	BUILD=$(BUILD) sh bench/bench_alrom_cadence.sh tests/data/meshes bench/results
 	BUILD=$(BUILD) sh bench/volume_step.sh bench/results
 	BUILD=$(BUILD) sh bench/pour.sh
 	BUILD=$(BUILD) sh bench/moving_obstacles.sh

@@ -19,7 +19,7 @@
 #include "runtime/romrt.h"
 #include "util/util.h"
 
-#define MAX_ASSETS 8
+#define MAX_ASSETS 16
 
 static double cpu_now(void)
 {

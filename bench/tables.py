@@ -120,6 +120,12 @@ ABOUT = {
                       "interleaved rounds of 40 steps; the free run's error against full order; the step split "
                       "into encoder, basis (history, Grassmann), rows (the basis at the used vertices, G_e), "
                       "terms (M_r, f_r, commit) and Newton by bench_alrom_split."),
+    "alrom_cadence": ("Adaptive linear ROM in the runtime: basis cadence, history, encoder (issue 33)",
+                      "make bench: bench/bench_alrom_cadence.sh",
+                      "float32, the armadillo's scenes, r = 16, the fitted quadratic decoder at PCA's 210 cubature "
+                      "elements; cadence K (the basis formed every K steps, held between), history m, the "
+                      "encoder's Gauss-Newton cap; CPU microseconds per step, median of 7 interleaved rounds "
+                      "of 40 steps, all assets in one process; the free run's error against full order."),
     "contact_pour": ("The pour in the runtime: 8 objects into a mesh box (issue 30)", "make bench: bench/pour.sh",
                      "Contact every frame, CPU us per step split into broad phase, narrow phase and Newton, "
                      "and the ratio against the old code."),

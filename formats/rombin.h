@@ -165,6 +165,8 @@ enum {
     ROMBIN_ALRH_PAIRS,           /* r (r + 1) / 2: the modal derivatives per row */
     ROMBIN_ALRH_MOTIONS,         /* prescribed motions (AMOT) */
     ROMBIN_ALRH_DECODER,         /* 0: quadratic (QDRV), 1: CROM (CRMS, CRMX, CRMW) */
+    ROMBIN_ALRH_CADENCE,         /* K: the basis refreshed every K steps, held between (0 or 1: every step) */
+    ROMBIN_ALRH_ENCODER,         /* the encoder's Gauss-Newton iterations at most (0: 20) */
     ROMBIN_ALRH_COUNT = 8        /* the rest reserved, 0 */
 };
 

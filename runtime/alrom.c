@@ -19,6 +19,9 @@
  * the loads and U^T M (x~ - x_ref) come from Grams of B formed at open, and U's rows are formed
  * only at the vertices a step reads (al->sv); u_t is kept there and on the prescribed vertices,
  * the other shown vertices formed from c when read (rt_alrom_position).
+ * With a basis cadence K (ALRH; issue 33) the first four lines run every K steps only, the basis
+ * held between (a linear ROM's step, PCA's cost; bench/results/alrom_cadence.csv: cheaper, and
+ * on the armadillo's bend less accurate).
  * This file: a step's reference, inertia and forces around the basis (alrom_basis.c, from the
  * decoders of alrom_decoder.c), the state moved on, reset, pushes, and saving the state; the
  * chunks are read in alrom_load.c. */
@@ -104,7 +107,7 @@ static romrt_status reduced_terms(romrt_model *m, const double *xtilde, romrt_er
  * U^T M (x~ - x_ref) = (W_F C_s)^T (c~ - c) and f_r = C_s^T B^T (f + f_app) over the free rows
  * (B^T f baked at open, the app's forces gathered where they are nonzero): the same sums as
  * reduced_terms without a pass of n r^2 over the rows. */
-static romrt_status reduced_terms_k(romrt_model *m, int bdf2, romrt_error *err)
+static romrt_status reduced_terms_k(romrt_model *m, int bdf2, int held, romrt_error *err)
 {
     rt_alrom *al = &m->al;
     int r = m->r, R = r + al->pairs, n = 3 * m->nv, i, j, k;
@@ -131,17 +134,19 @@ static romrt_status reduced_terms_k(romrt_model *m, int bdf2, romrt_error *err)
         }
         b[j] = (romrt_real)sb;
         al->f[j] = (romrt_real)sf;
-        for (k = 0; k <= j; k++) {
+        for (k = 0; k <= j && !held; k++) { /* (a held basis' M_r, C_r and factor are kept) */
             const double *ck = al->cs + (size_t)R * (size_t)k;
             double s = 0;
             for (i = 0; i < R; i++) s += ck[i] * wj[i];
             al->M[k + (size_t)r * j] = al->M[j + (size_t)r * k] = (romrt_real)s;
         }
     }
-    for (k = 0; k < r * r; k++) al->C[k] = al->damping * al->M[k];
-    memcpy(al->m_fac, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r); /* (m->H: a kept Newton matrix) */
-    if (rt_cholesky(r, al->m_fac))
-        return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_VMSS, "the step basis has no mass on some direction (U^T M U is singular)");
+    if (!held) {
+        for (k = 0; k < r * r; k++) al->C[k] = al->damping * al->M[k];
+        memcpy(al->m_fac, al->M, sizeof(romrt_real) * (size_t)r * (size_t)r); /* (m->H: a kept Newton matrix) */
+        if (rt_cholesky(r, al->m_fac))
+            return rt_fail(err, ROMRT_E_DIVERGED, ROMBIN_VMSS, "the step basis has no mass on some direction (U^T M U is singular)");
+    }
     rt_cholesky_solve(r, al->m_fac, b);
     return ROMRT_OK;
 }
@@ -237,10 +242,18 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     romrt_status st;
     if (!al->decoder && !rt_surface_on(m) && !m->ncolliders) al->ns_on = al->ns_base;
     else rt_alrom_take_collision_vertices(m);
-    RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
-    st = rt_alrom_step_basis(m, err);
-    RT_PROF_END(RT_PROF_ALROM_BASIS);
-    if (st) return st;
+    /* the basis refreshed every K steps (ALRH's cadence), and whenever the used rows changed or a
+     * step failed or the state was set: between refreshes the step is a fixed-basis linear ROM's,
+     * PCA's step in the held basis (its rows, G_e and M_r kept; issue 33: the encoder, history,
+     * Grassmann point and rows were four fifths of the step) */
+    al->refreshed = al->since < 0 || al->since >= al->cadence || al->ns_on != al->held_ns;
+    if (al->refreshed) {
+        RT_PROF_BEGIN(RT_PROF_ALROM_BASIS);
+        st = rt_alrom_step_basis(m, err);
+        RT_PROF_END(RT_PROF_ALROM_BASIS);
+        if (st) return st;
+        al->held_ns = al->ns_on;
+    }
     /* the step's reference: the start with the prescribed vertices at their targets */
     rt_alrom_copy_held(m, al->u_ref, al->u_t);
     place_prescribed(m, rt_clock(m, 1));
@@ -248,9 +261,10 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     element_offsets(m);
     *w_inertia = bdf2 ? RT_K(9.0) / (RT_K(4.0) * h * h) : 1 / (h * h);
     if (!al->decoder) {
-        if ((st = reduced_terms_k(m, bdf2, err))) return st;
-        /* a Newton matrix kept from an earlier step, into this step's basis (alrom_keep.c) */
-        if (m->hessian_age >= 0 && rt_alrom_keep_carry(m, *w_inertia)) m->hessian_age = -1;
+        if ((st = reduced_terms_k(m, bdf2, !al->refreshed, err))) return st;
+        /* a Newton matrix kept from an earlier step, into this step's basis (alrom_keep.c; in a
+         * held basis it is in this step's coordinates already) */
+        if (al->refreshed && m->hessian_age >= 0 && rt_alrom_keep_carry(m, *w_inertia)) m->hessian_age = -1;
     } else {
         for (i = 0; i < n; i++)
             xtilde[i] = bdf2 ? (4 * al->u_t[i] - al->u_prev[i]) / 3 + 2 * (double)h / 9 * (4 * al->v[i] - al->v_prev[i])
@@ -260,6 +274,18 @@ romrt_status rt_alrom_begin(romrt_model *m, romrt_real *w_inertia, romrt_error *
     m->C = al->damping > 0 ? al->C : 0;
     for (i = 0; i < r; i++) m->q[i] = m->v[i] = m->f_app[i] = 0;
     return ROMRT_OK;
+}
+
+/* A step kept: the ring takes the entry its refresh wrote (a refresh's state and code: with a
+ * cadence K the history's m entries are K steps apart), and the held basis' age. */
+static void advance(rt_alrom *al)
+{
+    if (al->refreshed) {
+        al->head = (al->head + 1) % (al->m + 1);
+        if (al->count < al->m) al->count++;
+        al->since = 0;
+    }
+    al->since++;
 }
 
 /* The quadratic decoder's step kept: c += C_s q, w as v is (the free parts of u and v in K-space),
@@ -301,8 +327,7 @@ static romrt_status commit_k(romrt_model *m, int bdf2, romrt_error *err)
     rt_alrom_copy_held(m, al->u_ref, al->u_new);
     reference_positions(m);
     rt_alrom_keep_note(m); /* the coordinates a kept Newton matrix is in */
-    al->head = (al->head + 1) % (al->m + 1);
-    if (al->count < al->m) al->count++;
+    advance(al);
     for (i = 0; i < r; i++) m->q[i] = 0;
     return ROMRT_OK;
 }
@@ -329,8 +354,7 @@ romrt_status rt_alrom_commit(romrt_model *m, romrt_error *err)
     memcpy(al->v, v_new, sizeof(double) * (size_t)n);
     memcpy(al->u_ref, u_new, sizeof(double) * (size_t)n);
     reference_positions(m);
-    al->head = (al->head + 1) % (al->m + 1);
-    if (al->count < al->m) al->count++;
+    advance(al);
     for (i = 0; i < r; i++) m->q[i] = 0;
     return ROMRT_OK;
 }
@@ -343,6 +367,7 @@ void rt_alrom_abort(romrt_model *m)
     reference_positions(m);
     for (k = 0; k < m->r; k++) m->q[k] = 0;
     m->hessian_age = -1; /* a kept Newton matrix may be in the failed step's basis */
+    al->since = -1;      /* and the next step's basis formed afresh */
 }
 
 void rt_alrom_reset(romrt_model *m)
@@ -357,6 +382,7 @@ void rt_alrom_reset(romrt_model *m)
     memset(al->f_app, 0, sizeof(romrt_real) * n);
     memset(al->Hd0, 0, sizeof(romrt_real) * 9 * (size_t)m->ne);
     al->count = al->head = al->dd_valid = 0;
+    al->since = -1;
     if (!al->decoder) {
         al->ns_on = al->ns_base;
         size_t R = (size_t)(m->r + al->pairs);

@@ -37,7 +37,7 @@
  *                              Newton work is PCA's (F = F(x_ref) + G_e q adds 9 a point).
  * Against PCA's step (its Newton alone, 3 iterations over the same 210 elements) these parts are
  * the adaptive step's excess: about 1.3 M multiply-adds a step, none of it per stored vertex
- * but the used rows. */
+ * but the used rows; with a basis cadence K (alrom.c) all of it but the terms once in K steps. */
 #include <math.h>
 #include <string.h>
 

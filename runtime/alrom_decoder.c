@@ -6,8 +6,6 @@
 
 #include "runtime/alrom_impl.h"
 
-#define ENCODE_ITERATIONS 20
-
 /* ---- small dense helpers (rows: n x r, row i's r reals contiguous) ---- */
 
 void rt_alrom_zero_prescribed(const romrt_model *m, double *A)
@@ -315,7 +313,7 @@ static romrt_status quadratic_encode(romrt_model *m, romrt_error *err)
     code_change(r, zero, d, dc); /* gres -= G c(p) */
     rt_alrom_gram_times(R, al->gram, dc, Gdc);
     for (a = 0; a < R; a++) gres[a] -= Gdc[a];
-    for (it = 0; it < ENCODE_ITERATIONS; it++) {
+    for (it = 0; it < al->encoder_iterations; it++) { /* (ALRH: 20 unless the asset says fewer) */
         double step = 0, size = 0, t, change = INFINITY;
         if ((st = code_step(m, al->p, gres, step_p, al->work, err))) return st;
         for (h = 0, t = 1; h < 10; h++, t *= 0.5) {

@@ -11,6 +11,9 @@
  * above 1e-12, so the data decides only from well above it). */
 #define RT_ALROM_RANK_TOL 1e-6
 
+/* The quadratic decoder's encoder: Gauss-Newton iterations at most (ALRH's encoder field may lower it). */
+#define RT_ALROM_ENCODE_ITERATIONS 20u
+
 /* Pair (i, j) of QDRV's r (r + 1) / 2, row-major over i <= j (the precompute's rk_quadratic_pairs). */
 static inline int rt_alrom_pair(int r, int i, int j)
 {

@@ -75,12 +75,16 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
                 return rt_fail(L->err, ROMRT_E_MODEL, rest[k], "an adaptive linear ROM's chunk without its header ALRH");
         return ROMRT_OK;
     }
-    for (k = ROMBIN_ALRH_DECODER + 1; k < ROMBIN_ALRH_COUNT; k++)
+    for (k = ROMBIN_ALRH_ENCODER + 1; k < ROMBIN_ALRH_COUNT; k++)
         if (head[k]) return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "reserved field ", (uint64_t)k, " is not 0");
     if (head[ROMBIN_ALRH_DECODER] > 1)
         return rt_fail_n(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "unknown decoder ", head[ROMBIN_ALRH_DECODER], "");
     if (head[ROMBIN_ALRH_HISTORY] < 1 || head[ROMBIN_ALRH_HISTORY] > MAX_HISTORY)
         return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "history of ", head[ROMBIN_ALRH_HISTORY], " steps is not in 1..1000");
+    if (head[ROMBIN_ALRH_CADENCE] > MAX_HISTORY)
+        return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "basis cadence of ", head[ROMBIN_ALRH_CADENCE], " steps is not in 0..1000");
+    if (head[ROMBIN_ALRH_ENCODER] > RT_ALROM_ENCODE_ITERATIONS)
+        return rt_fail_n(L->err, ROMRT_E_LIMIT, ROMBIN_ALRH, "encoder iterations ", head[ROMBIN_ALRH_ENCODER], " is not in 0..20");
     if ((uint64_t)head[ROMBIN_ALRH_PAIRS] != r * (r + 1) / 2)
         return rt_fail_nn(L->err, ROMRT_E_MODEL, ROMBIN_ALRH, "names ", head[ROMBIN_ALRH_PAIRS],
                           " modal-derivative pairs; r gives ", r * (r + 1) / 2, "");
@@ -92,6 +96,9 @@ romrt_status rt_alrom_arrays(rt_loader *L, romrt_model *m)
     al->m = (int)head[ROMBIN_ALRH_HISTORY];
     al->pairs = (int)head[ROMBIN_ALRH_PAIRS];
     al->nmotions = (int)head[ROMBIN_ALRH_MOTIONS];
+    al->cadence = head[ROMBIN_ALRH_CADENCE] ? (int)head[ROMBIN_ALRH_CADENCE] : 1; /* (assets before it: 0) */
+    al->encoder_iterations = head[ROMBIN_ALRH_ENCODER] ? (int)head[ROMBIN_ALRH_ENCODER] : (int)RT_ALROM_ENCODE_ITERATIONS;
+    al->since = -1;
     if ((st = rt_reals(L, ROMBIN_ALRP, ROMBIN_ALRP_COUNT, 1, &parm)) ||
         (!al->decoder && (st = rt_reals(L, ROMBIN_QDRV, n * (uint64_t)al->pairs, 1, &al->psi))) ||
         (al->decoder && (st = crom_arrays(L, m))) ||

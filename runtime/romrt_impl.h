@@ -161,6 +161,10 @@ typedef struct {
 typedef struct {
     int m, pairs, nmotions;
     romrt_real lambda, reg, damping, ridge, budget;
+    int cadence;               /* K: the basis refreshed every K steps, held between (ALRH; 1: every step) */
+    int encoder_iterations;    /* the encoder's Gauss-Newton iterations at most (ALRH) */
+    int since;                 /* steps taken in the held basis since its refresh; -1: refresh next */
+    int refreshed, held_ns;    /* whether this step refreshed it; the used vertices it was formed at */
     const romrt_real *X0;      /* nv x 3: rest positions (VERT) */
     const romrt_real *phi;     /* nv x 3 x r: the decoder's linear part (ROWS) */
     const romrt_real *psi;     /* nv x 3 x pairs: its modal derivatives (QDRV) */

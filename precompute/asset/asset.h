@@ -73,6 +73,8 @@ typedef struct {
     const rk_crom_parts *crom;   /* a CROM decoder (every vertex is then stored: its encoder reads them
                                   * all), or NULL */
     const rk_fom_options *options; /* the prescribed motions, gravity, loads and damping it steps under */
+    int cadence;                 /* K: the basis refreshed every K steps (0 or 1: every step) */
+    int encoder_iterations;      /* the encoder's Gauss-Newton iterations at most (0: 20) */
 } rk_asset_alrom;
 
 /* A detailed surface embedded in the model's tets (a cage's original surface, precompute/cage): what

@@ -184,6 +184,8 @@ int rk_bake_alrom_chunks(const rk_asset_rom *R, const rk_bake_state *s, rombin_w
     head[ROMBIN_ALRH_PAIRS] = (uint32_t)pairs;
     head[ROMBIN_ALRH_MOTIONS] = (uint32_t)o->nprescribed;
     head[ROMBIN_ALRH_DECODER] = A->crom ? 1 : 0;
+    head[ROMBIN_ALRH_CADENCE] = A->cadence > 1 ? (uint32_t)A->cadence : 0; /* (1: 0, as before it) */
+    head[ROMBIN_ALRH_ENCODER] = A->encoder_iterations > 0 && A->encoder_iterations < 20 ? (uint32_t)A->encoder_iterations : 0;
     double parm[ROMBIN_ALRP_COUNT] = {0};
     parm[ROMBIN_ALRP_LAMBDA] = A->lambda;
     parm[ROMBIN_ALRP_REG] = A->reg;

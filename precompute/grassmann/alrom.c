@@ -22,6 +22,7 @@ struct rk_alrom_impl {
     double *UMU, *UCU;      /* r x r: the step basis' inertia and damping (cubature) */
     int inertia_valid;
     int first_solve;        /* the step's first Newton solve: it starts from u(t-1) (Algorithm 2) */
+    int since;              /* steps taken in the held basis since it was formed; -1: form it next */
     double *newton_work;
     const char *prescribed;
     rk_error failure;
@@ -30,7 +31,8 @@ struct rk_alrom_impl {
 void rk_alrom_default_options(rk_alrom_options *o)
 {
     /* ridge and budget: issue 33 (history.c, history_ridge); 0 and 0 are the paper's step */
-    *o = (rk_alrom_options){.history = 20, .lambda = 0.2, .reg = 1e-8, .ridge = 0.01, .budget = 0.01};
+    *o = (rk_alrom_options){.history = 20, .lambda = 0.2, .reg = 1e-8, .ridge = 0.01, .budget = 0.01,
+                             .cadence = 1, .encoder_iterations = 20};
 }
 
 void rk_alrom_free(rk_alrom *s)
@@ -55,6 +57,7 @@ int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, cons
     if (!(o->reg >= 0)) return rk_fail(err, "the history's regularisation must be >= 0, got %g", o->reg);
     if (!(o->ridge >= 0)) return rk_fail(err, "the history's ridge must be >= 0, got %g", o->ridge);
     if (!(o->budget >= 0)) return rk_fail(err, "the history's growth budget must be >= 0, got %g", o->budget);
+    if (o->cadence < 1) return rk_fail(err, "the basis cadence (K) must be at least 1 step, got %d", o->cadence);
     if (o->ncub < 0 || (o->ncub > 0 && (!o->cub_element || !o->cub_weight)))
         return rk_fail(err, "a cubature needs its elements and weights (%d given)", o->ncub);
     for (int k = 0; k < o->ncub; k++)
@@ -74,6 +77,7 @@ int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, cons
         return -1;
     }
     s->impl = im;
+    im->since = -1;
     im->f = fem;
     im->dec = dec;
     im->n = dec->n;
@@ -331,12 +335,19 @@ int rk_alrom_step(rk_alrom *s, rk_error *err)
 {
     double t0 = rk_now();
     int blas = rk_threads_blas(1); /* small dense products: the same sums on any thread count */
-    int rc = step_basis(s, err);
+    /* the basis every K steps, held between (the runtime's cadence, runtime/alrom.c: the history's
+     * entries are then K steps apart); a held basis keeps its inertia terms */
+    int refresh = s->impl->since < 0 || s->impl->since >= s->opt.cadence, rc = refresh ? step_basis(s, err) : 0;
+    if (refresh && !rc) s->impl->since = 0;
     s->stats.seconds_basis += rk_now() - t0;
     s->impl->first_solve = 1;
     if (!rc) rc = rk_fom_step_with(&s->fom, newton, s, err);
     rk_threads_blas(blas);
-    if (rc) return -1;
+    if (rc) {
+        s->impl->since = -1;
+        return -1;
+    }
+    s->impl->since++;
     s->stats.steps++;
     s->stats.seconds_total += rk_now() - t0;
     return 0;
@@ -346,6 +357,7 @@ void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const dou
                         double t)
 {
     rk_fom_set_state(&s->fom, x, v, x_prev, v_prev, t);
+    s->impl->since = -1; /* a basis for the state set */
 }
 
 void rk_alrom_copy_state(rk_alrom *dst, const rk_alrom *src)
@@ -357,5 +369,6 @@ void rk_alrom_copy_state(rk_alrom *dst, const rk_alrom *src)
     memcpy(d->P, s->P, sizeof(double) * (size_t)s->r * s->m);
     d->count = s->count;
     d->head = s->head;
+    d->since = -1; /* (the held basis is not copied: dst forms its own next step) */
     dst->stats.steps = src->stats.steps;
 }

@@ -121,6 +121,10 @@ typedef struct {
                         * (history.c; 0: the paper's Eq. 13, which amplifies errors) */
     double budget;     /* what the history may add to a step's growth factor: the ridge is at
                         * least h |v| / (budget |u|) (alrom.c; 0: no such bound) */
+    int cadence;       /* K: the basis (encoder, history entry, Grassmann point) formed every K steps
+                        * and held between, a linear ROM's step there (1: every step, the paper's) */
+    int encoder_iterations; /* the runtime encoder's Gauss-Newton iterations at most (20; the asset's
+                             * ALRH: the precompute's decoder keeps its own 20) */
     /* the elastic energy by a cubature (An et al. 2008) instead of every element: ncub elements
      * with weights (multiplying each element's energy); 0: every element. Borrowed. */
     int ncub;

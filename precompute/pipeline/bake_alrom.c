@@ -48,6 +48,8 @@ static void report(rk_baked *out, const rk_scene_sim *sim, const rk_rom_entry *e
     cJSON *a = cJSON_AddObjectToObject(out->report, "adaptive_linear");
     cJSON_AddNumberToObject(a, "history", AL(e)->opt.history);
     cJSON_AddNumberToObject(a, "lambda", AL(e)->opt.lambda);
+    cJSON_AddNumberToObject(a, "cadence", AL(e)->opt.cadence);
+    cJSON_AddNumberToObject(a, "encoder_iterations", AL(e)->opt.encoder_iterations);
     cJSON_AddStringToObject(a, "decoder", AL(e)->crom ? "crom" : AL(e)->quadratic_pod ? "quadratic_pod" : "quadratic");
     rk_asset_report(cJSON_AddObjectToObject(out->report, "asset"), out->data, out->bytes, sum);
     cJSON_AddNumberToObject(out->report, "vertices", sim->mesh.nv);
@@ -113,7 +115,8 @@ int rk_scene_bake_alrom(const rk_scene *scene, const rk_rom_entry *e, const rk_a
         goto out;
     }
     have_model = 1;
-    rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, AL(e)->opt.ridge, AL(e)->opt.budget, Psi, AL(e)->crom ? &crom : NULL, &sim.options};
+    rk_asset_alrom A = {AL(e)->opt.history, AL(e)->opt.lambda, AL(e)->opt.reg, AL(e)->opt.ridge, AL(e)->opt.budget, Psi, AL(e)->crom ? &crom : NULL, &sim.options,
+                         AL(e)->opt.cadence, AL(e)->opt.encoder_iterations};
     rk_asset_rom R = {&sim.mesh, &sim.fem, Phi, &model, 0, NULL, 0, NULL, NULL, &A, NULL, NULL, NULL};
     rk_asset_summary sum = {0};
     rombin_writer w;

@@ -33,7 +33,9 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
     const char *decoder = NULL;
     if (rk_json_whole(c, e, path, "history", 1, 10000, &own->opt.history) ||
         rk_json_number(c, e, path, "lambda", 0, &own->opt.lambda) || rk_json_string(c, e, path, "decoder", 0, &decoder) ||
-        rk_json_number(c, e, path, "ridge", 0, &own->opt.ridge) || rk_json_number(c, e, path, "budget", 0, &own->opt.budget))
+        rk_json_number(c, e, path, "ridge", 0, &own->opt.ridge) || rk_json_number(c, e, path, "budget", 0, &own->opt.budget) ||
+        rk_json_whole(c, e, path, "cadence", 1, 1000, &own->opt.cadence) ||
+        rk_json_whole(c, e, path, "encoder_iterations", 1, 20, &own->opt.encoder_iterations))
         return -1;
     if (!(own->opt.ridge >= 0)) return rk_json_fail(c, path, "ridge must be >= 0, got %g", own->opt.ridge);
     if (!(own->opt.budget >= 0)) return rk_json_fail(c, path, "budget must be >= 0, got %g", own->opt.budget);
@@ -90,7 +92,7 @@ static void report(const rk_compare_method *m, cJSON *j)
     cJSON_AddNumberToObject(j, "history_share", lm->history_share);
 }
 
-static const char *const keys[] = {"history", "lambda", "ridge", "budget", "decoder", "crom", NULL};
+static const char *const keys[] = {"history", "lambda", "ridge", "budget", "cadence", "encoder_iterations", "decoder", "crom", NULL};
 
 const rk_method rk_method_adaptive_linear = {
     .name = "adaptive_linear",
