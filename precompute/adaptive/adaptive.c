@@ -255,7 +255,11 @@ static double energy_x(void *ctx, const double *x, double *g, int hessian, doubl
     if (rk_adaptive_oracle(ad, c->T, x, E, g, &changed_modes, &changed_nodes, &c->failure)) return NAN;
     double t3 = rk_now();
     ad->stats.seconds_oracle += t3 - t2;
-    if (changed_nodes && over_full(ad)) { /* full order finishes the step (adaptive_newton) */
+    /* Full order finishes the step (adaptive_newton) past full_fraction, and, on a step that tries the
+     * subspace again after full-order steps, as soon as the oracle wants more than the model it
+     * restarted with: such a try asks whether the body moves as the initial blocks hold it (free flight
+     * again), and growing the model to find out cost several full-order steps a try (docs/methods.md) */
+    if ((changed_nodes && over_full(ad)) || (im->full_backoff > 0 && (changed_nodes || changed_modes))) {
         im->go_full = 1;
         return NAN;
     }
@@ -514,7 +518,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
         int added = 0;
         if (r > tol_v && round < ad->opt.residual_rounds && ad->opt.nodal)
             added = enrich_residual(ad, im->sc4, s->opt.h, fmax(tol_v, RK_ADAPTIVE_RESIDUAL_SHARE * r));
-        if (added && over_full(ad)) {
+        if (added && (over_full(ad) || im->full_backoff > 0)) {
             im->go_full = 1;
             im->full_backoff = im->full_backoff ? 2 * im->full_backoff : 1;
             if (im->full_backoff > RK_ADAPTIVE_FULL_WAIT) im->full_backoff = RK_ADAPTIVE_FULL_WAIT;

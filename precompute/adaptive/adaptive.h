@@ -86,7 +86,9 @@ typedef struct {
                              * at the method's tolerance, from where it got to (0.25; 1: never): past it the
                              * subspace's dense products and the Schur PCG cost more than full order's whole
                              * step (measured: docs/methods.md). The next steps go straight to full order,
-                             * 1, 2, 4, 8 of them after each further step that passes it (0 once one does not) */
+                             * 1, 2, 4, 8 of them after each further step that passes it (0 once one does not);
+                             * a step that tries the subspace after them goes to full order as soon as the
+                             * oracle adds a mode or a vertex */
     int probe;              /* 1: at the next Newton iteration, also solve the full-space system at the same
                              * iterate by CHOLMOD and by block-Jacobi CG (rk_adaptive_probe; for make bench) */
 } rk_adaptive_options;
