@@ -95,6 +95,7 @@ struct rk_adaptive_impl {
     int go_full;                /* this step's enrichment passed opt.full_fraction: full order finishes it */
     int stepped_full;           /* the last step was finished by full order */
     int full_wait, full_backoff;/* steps still to hand to full order at once; how many the next switch sets */
+    double *x_start;            /* n: where the step's Newton started (full order starts there too) */
     int model_dirty;            /* downdating changed the model: rebuild before the next solve */
     /* the Newton iteration the solver is in */
     const rk_fom_terms *T;
