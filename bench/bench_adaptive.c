@@ -146,6 +146,7 @@ static int run_adaptive(built *b, const double *x_ref, int steps, int residual, 
     if (rk_scene_adaptive_init(&b->scene, &b->sim, &b->scene.entries[0], NULL, 0, &ad, NULL, err)) return -1;
     ad.opt.residual = residual;
     ad.opt.residual_rounds = 0; /* the paper's oracle alone: the residual measured, not acted on */
+    ad.opt.full_fraction = 1;   /* and no step handed to full order (the defaults' full_fraction) */
     double t[64];
     for (int s = 0; s < steps; s++) {
         ad.opt.probe = s == PROBE_STEP;

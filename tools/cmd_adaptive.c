@@ -170,9 +170,10 @@ int cmd_adaptive(int argc, char **argv)
     cJSON_Delete(report);
     const rk_adaptive_stats *st = &ad.stats;
     printf("%s (%s): %d vertices, %d tets; %d steps: %.4g s/step, %.1f Newton iterations a step; %.1f columns "
-           "(max %d), %.1f enriched vertices (max %d) of %d subdomains; %.1f PCG iterations a solve\n",
+           "(max %d), %.1f enriched vertices (max %d) of %d subdomains; %ld steps by full order; %.1f PCG iterations a "
+           "solve\n",
            a.scene, e->name, nv, sim.mesh.nt, steps, rk_median(secs, steps), (double)st->newton_iterations / steps,
-           st->sum_modes / steps, st->max_modes, st->sum_nodes / steps, st->max_nodes, ad.opt.subdomains,
+           st->sum_modes / steps, st->max_modes, st->sum_nodes / steps, st->max_nodes, ad.opt.subdomains, st->steps_full,
            st->solves ? (double)st->pcg_iterations / st->solves : 0.0);
     if (res.residual)
         printf("full-space residual |d|_inf/h: mean %.3g, max %.3g m/s (its tolerance %.3g), %d steps over it\n",

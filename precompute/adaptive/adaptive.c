@@ -14,7 +14,8 @@ void rk_adaptive_default_options(rk_adaptive_options *o)
     *o = (rk_adaptive_options){.block = 12, .initial_blocks = 1, .eps_g_modal = 1, .eps_g_nodal = 1,
                                .eps_e = 1, .eps_d = 0.1, .subdomains = 0, .downdate = 1, .modal = 1,
                                .nodal = 1, .exact_hessian = 0, .pcg_tol = 1e-5, .pcg_max_iter = 10000,
-                               .residual = 1, .residual_rounds = 8, .accuracy = 1e-3};
+                               .residual = 1, .residual_rounds = 8, .accuracy = 1e-3,
+                               .full_fraction = 0.25};
 }
 
 static int check_options(const rk_adaptive_options *o, const rk_fem *f, int r, rk_error *err)
@@ -38,6 +39,9 @@ static int check_options(const rk_adaptive_options *o, const rk_fem *f, int r, r
     if (!(o->accuracy >= 0) || !isfinite(o->accuracy))
         return rk_fail(err, "accuracy (the target error over the bounding-box diagonal) must be 0 or positive, got %g",
                        o->accuracy);
+    if (!(o->full_fraction > 0 && o->full_fraction <= 1))
+        return rk_fail(err, "full_fraction (the enriched share at which full order finishes a step) must be in (0, 1], "
+                       "got %g", o->full_fraction);
     if (o->residual_rounds < 0) return rk_fail(err, "residual_rounds must be at least 0, got %d", o->residual_rounds);
     if (o->subdomains < 0 || o->subdomains > f->nv)
         return rk_fail(err, "subdomains must be from 1 to the %d vertices, got %d", f->nv, o->subdomains);
@@ -60,7 +64,7 @@ static int alloc_impl(rk_adaptive_impl *im, int nt, rk_error *err)
         ALLOC(im->sc2, n) || ALLOC(im->sc3, n) || ALLOC(im->sc4, n) || ALLOC(im->elem_e, nt) ||
         ALLOC(im->fixed_vertex, nv) || ALLOC(im->elem_psi, nt) || ALLOC(im->elem_g, 12 * (size_t)nt) || ALLOC(im->g, n) || ALLOC(im->x_prev, n) || ALLOC(im->d_last, n) ||
         ALLOC(im->newton_work, RK_NEWTON_WORK(n + 1)) || ALLOC(im->x_moved, n) || ALLOC(im->y, n + 1) ||
-        ALLOC(im->prescribed_y, n + 1) || ALLOC(im->hxs, n) || ALLOC(im->sx, n) || ALLOC(im->dq_b, r) ||
+        ALLOC(im->prescribed_y, n + 1) || ALLOC(im->hxs, n) || ALLOC(im->sx, n) || ALLOC(im->dq_b, r) || ALLOC(im->x_start, n) ||
         ALLOC(im->hss, 1))
         return -1;
     im->kcap = 1;
@@ -117,9 +121,11 @@ int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *f
     }
     memcpy(im->prescribed_y, im->view.prescribed, (size_t)im->n);
     for (int v = 0; v < im->nv; v++) im->mass += fem->vertex_mass[v];
-    for (int v = 0; v < im->nv; v++)
+    for (int v = 0; v < im->nv; v++) {
         im->fixed_vertex[v] =
             (char)(im->view.prescribed[3 * v] && im->view.prescribed[3 * v + 1] && im->view.prescribed[3 * v + 2]);
+        im->free_vertices += !im->fixed_vertex[v];
+    }
     rk_adaptive_vertex_scales(fem, im->psi_bar, im->area, im->volume);
     im->length = rk_points_diagonal(fem->X, im->nv);
     ad->tolerance = rk_adaptive_own_tolerance(o->accuracy, im->length, ad->fom.opt.h, fo->steps, ad->fom.opt.newton_tol);
@@ -163,7 +169,7 @@ void rk_adaptive_free(rk_adaptive *ad)
                           im->rhs, im->work, im->pcg_work, im->xtry, im->sc_a, im->sc1, im->sc2, im->sc3,
                           im->sc4, im->elem_e, im->part_mark, im->fixed_vertex, im->g, im->x_prev, im->d_last,
                           im->dq_last, im->newton_work, im->x_moved, im->elem_psi, im->elem_g, im->MU, im->CU, im->ctri_r, im->ctri_v,
-                          im->y, im->prescribed_y, im->hxs, im->sx, im->dq_b, im->hss};
+                          im->y, im->prescribed_y, im->hxs, im->sx, im->dq_b, im->hss, im->x_start};
         for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) free(arrays[k]);
         free(im);
     }
@@ -199,6 +205,14 @@ static void account_step(rk_adaptive_impl *im, const double *x)
     im->have_prev = 0;
 }
 
+/* The enrichment has passed opt.full_fraction of the free vertices (moving obstacles aside: full order
+ * moves them its own way, not by their progress). */
+static int over_full(const rk_adaptive *ad)
+{
+    const rk_adaptive_impl *im = ad->impl;
+    return ad->opt.full_fraction < 1 && !im->view.og && ad->nodes > ad->opt.full_fraction * im->free_vertices;
+}
+
 static double energy_x(void *ctx, const double *x, double *g, int hessian, double *magnitude)
 {
     newton_ctx *c = ctx;
@@ -224,6 +238,10 @@ static double energy_x(void *ctx, const double *x, double *g, int hessian, doubl
         if (im->view.prescribed[i]) g[i] = 0;
     rk_fom_view_get(&ad->fom, &im->view);
     account_step(im, x);
+    if (over_full(ad)) { /* enriched past full_fraction already (a residual round, the last step's) */
+        im->go_full = 1;
+        return NAN;
+    }
     double t1 = rk_now();
     int changed_modes = 0, changed_nodes = 0;
     if (im->first_iteration) { /* BFGS starts each solve at the exact subspace Hessians */
@@ -237,6 +255,14 @@ static double energy_x(void *ctx, const double *x, double *g, int hessian, doubl
     if (rk_adaptive_oracle(ad, c->T, x, E, g, &changed_modes, &changed_nodes, &c->failure)) return NAN;
     double t3 = rk_now();
     ad->stats.seconds_oracle += t3 - t2;
+    /* Full order finishes the step (adaptive_newton) past full_fraction, and, on a step that tries the
+     * subspace again after full-order steps, as soon as the oracle wants more than the model it
+     * restarted with: such a try asks whether the body moves as the initial blocks hold it (free flight
+     * again), and growing the model to find out cost several full-order steps a try (docs/methods.md) */
+    if ((changed_nodes && over_full(ad)) || (im->full_backoff > 0 && (changed_nodes || changed_modes))) {
+        im->go_full = 1;
+        return NAN;
+    }
     if (changed_modes) { /* new columns: the subspace Hessians from scratch (Sec. 3.10) */
         if (rk_adaptive_set_columns(ad, &c->failure) || rk_adaptive_bfgs_restart(ad, x, &c->failure)) return NAN;
         if (!ad->opt.exact_hessian) rk_adaptive_bfgs_update(ad, x);
@@ -425,6 +451,24 @@ static int obstacle_way(rk_adaptive *ad, rk_fom *s, rk_obstacle_way *way, rk_err
     return clear < 0 ? -1 : clear < 1 ? moving : 0;
 }
 
+/* Steps handed to full order at once, at most, after a run of steps that went past full_fraction. */
+#define RK_ADAPTIVE_FULL_WAIT 8
+
+/* Full order's own Newton (CHOLMOD on its Newton matrix, as full order runs it: OpenBLAS on every
+ * thread, bit-identical across thread counts) from s->x to the method's tolerance tol_d. */
+static int full_order(rk_adaptive *ad, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
+{
+    rk_adaptive_impl *im = ad->impl;
+    long before = s->stats.newton_iterations;
+    int blas = rk_threads_blas(rk_threads());
+    int rc = rk_fom_newton(s, T, tol_d, converged, err);
+    rk_threads_blas(blas);
+    rk_fom_view_get(&ad->fom, &im->view);
+    ad->stats.newton_iterations += s->stats.newton_iterations - before;
+    ad->stats.steps_full++;
+    return rc;
+}
+
 static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
 {
     rk_adaptive *ad = ctx;
@@ -435,6 +479,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
     if (moving < 0) return -1;
     im->way = moving ? &way : NULL;
     memcpy(im->y, s->x, sizeof(double) * (size_t)im->n);
+    memcpy(im->x_start, s->x, sizeof(double) * (size_t)im->n);
     memset(im->y + im->n, 0, sizeof(double) * (size_t)moving); /* s = 0: the obstacles where they are */
     rk_newton_problem p = {.n = im->n + moving, .ctx = &c, .what = "incremental potential (adaptive subspace)",
                            .energy = energy, .solve = solve,
@@ -445,9 +490,22 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
                                    * iterations and the residual check; full order keeps its own */
     tol_d = tol_v * s->opt.h;
     int rc = 0;
-    for (int round = 0;; round++) {
+    im->go_full = 0;
+    if (im->full_wait > 0 && !moving) { /* the last steps went past full_fraction: this one at once */
+        im->full_wait--;
+        im->go_full = 1;
+    }
+    for (int round = 0; !im->go_full; round++) {
         rc = solve_rounds(ad, &c, &p, s, tol_d, converged, &stats, err);
         memcpy(s->x, im->y, sizeof(double) * (size_t)im->n);
+        if (im->go_full) { /* the oracle passed full_fraction: not a failure, the iterate stands */
+            rc = 0;
+            err->msg[0] = 0;
+            im->full_backoff = im->full_backoff ? 2 * im->full_backoff : 1;
+            if (im->full_backoff > RK_ADAPTIVE_FULL_WAIT) im->full_backoff = RK_ADAPTIVE_FULL_WAIT;
+            im->full_wait = im->full_backoff;
+            break;
+        }
         if (moving) rk_obstacle_way_place(&way, im->view.contact, im->y + im->n); /* not a line search's trial */
         if (rc || c.failure.msg[0] || !ad->opt.residual) break;
         /* the full-order Newton step that would remain from here: the paper's accuracy measure
@@ -461,7 +519,15 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
         int added = 0;
         if (r > tol_v && round < ad->opt.residual_rounds && ad->opt.nodal)
             added = enrich_residual(ad, im->sc4, s->opt.h, fmax(tol_v, RK_ADAPTIVE_RESIDUAL_SHARE * r));
+        if (added && (over_full(ad) || im->full_backoff > 0)) {
+            im->go_full = 1;
+            im->full_backoff = im->full_backoff ? 2 * im->full_backoff : 1;
+            if (im->full_backoff > RK_ADAPTIVE_FULL_WAIT) im->full_backoff = RK_ADAPTIVE_FULL_WAIT;
+            im->full_wait = im->full_backoff;
+            break;
+        }
         if (!added) {
+            im->full_backoff = 0; /* the subspace held this step */
             ad->stats.residual_last = r;
             ad->stats.residual_max = fmax(ad->stats.residual_max, r);
             ad->stats.residual_sum += r;
@@ -470,6 +536,22 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
         }
         ad->stats.residual_rounds++;
         ad->stats.residual_nodes_added += added;
+    }
+    im->stepped_full = im->go_full;
+    /* full order from where its own step starts, not from the subspace's iterate: that one may have
+     * crept up to an obstacle (the bunny drop of docs/methods.md ended 5e-11 m from it so, against
+     * full order's 8e-7; from the step's start, 1e-6) */
+    if (im->go_full) memcpy(s->x, im->x_start, sizeof(double) * (size_t)im->n);
+    if (im->go_full && (rc = full_order(ad, s, T, tol_d, converged, err)) == 0) {
+        double r = ad->opt.residual ? full_residual(ad, s, T, im->sc4, err) : 0;
+        if (r < 0) {
+            rc = -1;
+        } else if (ad->opt.residual) {
+            ad->stats.residual_last = r;
+            ad->stats.residual_max = fmax(ad->stats.residual_max, r);
+            ad->stats.residual_sum += r;
+            if (r > tol_v) ad->stats.residual_over++;
+        }
     }
     im->way = NULL;
     if (moving) { /* at t + h when within the tolerance of it and CCD lets the last bit go */
@@ -509,12 +591,23 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     rk_threads_blas(blas);
     if (rc) return -1;
     ad->stats.steps++;
+    if (im->stepped_full) { /* every free vertex solved at full order; the model starts again from its
+                             * initial blocks (what it had does not describe a full-order step) */
+        for (int v = 0; v < im->nv; v++) im->enriched[v] = (char)!im->fixed_vertex[v];
+        ad->nodes = im->free_vertices;
+    }
     ad->stats.sum_modes += ad->modes;
     ad->stats.sum_nodes += ad->nodes;
     if (ad->modes > ad->stats.max_modes) ad->stats.max_modes = ad->modes;
     if (ad->nodes > ad->stats.max_nodes) ad->stats.max_nodes = ad->nodes;
     memcpy(im->solved_enriched, im->enriched, (size_t)im->nv);
-    if (ad->opt.downdate) rk_adaptive_downdate(ad);
+    if (im->stepped_full) {
+        memset(im->enriched, 0, (size_t)im->nv);
+        for (int b = 0; b < im->nblocks; b++) im->block_on[b] = (char)(b < ad->opt.initial_blocks);
+        im->model_dirty = 1;
+    } else if (ad->opt.downdate) {
+        rk_adaptive_downdate(ad);
+    }
     ad->stats.seconds_total += rk_now() - t0;
     return 0;
 }

@@ -23,6 +23,8 @@
  *   H_q       exact inertia, damping and contact; elasticity by one BFGS matrix per subdomain
  *             (Eq. 20), exact in subdomains that hold an enriched vertex (Sec. 3.9)
  *   downdate  after the step, modes and vertices whose displacement did not pay (Sec. 3.11)
+ *   full      a step whose enrichment passes opt.full_fraction is finished by full order's Newton: not
+ *             in the paper; the enriched rows cost more per vertex than full order's (docs/methods.md)
  *   residual  after each solve the full-space Newton step |d_full|_inf / h (CHOLMOD); above the
  *             method's tolerance, the parts of the vertices where it is are enriched and the step
  *             solved again (opt.residual_rounds times at most): not in the paper, whose G does not
@@ -79,6 +81,14 @@ typedef struct {
                              * sets the method's own tolerance (rk_adaptive_own_tolerance) that the
                              * thresholds' units, the residual check and its Newton iterations use; 0: full
                              * order's Newton tolerance instead */
+    double full_fraction;   /* a step whose enrichment passes this share of the free vertices (by the oracle or
+                             * the residual check) is finished by full order's own Newton (rk_fom_newton, CHOLMOD)
+                             * at the method's tolerance, from where it got to (0.25; 1: never): past it the
+                             * subspace's dense products and the Schur PCG cost more than full order's whole
+                             * step (measured: docs/methods.md). The next steps go straight to full order,
+                             * 1, 2, 4, 8 of them after each further step that passes it (0 once one does not);
+                             * a step that tries the subspace after them goes to full order as soon as the
+                             * oracle adds a mode or a vertex */
     int probe;              /* 1: at the next Newton iteration, also solve the full-space system at the same
                              * iterate by CHOLMOD and by block-Jacobi CG (rk_adaptive_probe; for make bench) */
 } rk_adaptive_options;
@@ -116,6 +126,7 @@ typedef struct {
     rk_adaptive_probe probe;      /* with opt.probe */
     double residual_last, residual_max, residual_sum; /* with opt.residual: per step, |d_full|_inf / h */
     long residual_over;           /* steps that ended with it above the method's tolerance (after the rounds) */
+    long steps_full;              /* steps finished by full order's Newton (opt.full_fraction) */
     long residual_rounds;         /* enrichment rounds the residual asked for, and their vertices */
     long residual_nodes_added;
     long obstacle_rounds;         /* moving obstacles: extra rounds of the method of multipliers on their pull */

@@ -91,6 +91,11 @@ struct rk_adaptive_impl {
     double *elem_psi, *elem_g;  /* nt, 12 nt: each element's elastic energy and gradient at the iterate */
     char *part_mark;            /* L */
     char *fixed_vertex;         /* nv: every dof prescribed (never enriched) */
+    int free_vertices;          /* nv less the fixed ones: what full_fraction is a share of */
+    int go_full;                /* this step's enrichment passed opt.full_fraction: full order finishes it */
+    int stepped_full;           /* the last step was finished by full order */
+    int full_wait, full_backoff;/* steps still to hand to full order at once; how many the next switch sets */
+    double *x_start;            /* n: where the step's Newton started (full order starts there too) */
     int model_dirty;            /* downdating changed the model: rebuild before the next solve */
     /* the Newton iteration the solver is in */
     const rk_fom_terms *T;

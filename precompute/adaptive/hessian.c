@@ -123,8 +123,14 @@ static void subdomain_range(void *ctx, long begin, long end)
         rk_dense_atb(m, a, a, Ul, Y, j->restart ? s->B : s->Bu);
         if (!j->restart) { /* the masked one: enriched rows out */
             gather_rows(im, s, im->Ba, Ul);
-            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, a, m, 1.0, K, m, Ul, m, 0.0, Y, m);
-            rk_dense_atb(m, a, a, Ul, Y, s->B);
+            size_t nz = 0, ma = (size_t)m * a;
+            while (nz < ma && Ul[nz] == 0) nz++;
+            if (nz == ma) { /* every row enriched or prescribed: B_a^T K B_a is zero, skip its products */
+                memset(s->B, 0, sizeof(double) * (size_t)a * a);
+            } else {
+                cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, m, a, m, 1.0, K, m, Ul, m, 0.0, Y, m);
+                rk_dense_atb(m, a, a, Ul, Y, s->B);
+            }
         }
         free(K);
     }

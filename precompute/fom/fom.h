@@ -281,6 +281,12 @@ typedef int (*rk_fom_newton_fn)(void *ctx, rk_fom *s, const rk_fom_terms *T, dou
 /* One time step as rk_fom_step takes it (prediction, friction lagging, prescribed motion in
  * CCD-safe moves, velocity update), each minimisation by newton(ctx, ...). */
 int rk_fom_step_with(rk_fom *s, rk_fom_newton_fn newton, void *ctx, rk_error *err);
+/* Minimises the potential from s->x and the obstacles where they are (both updated in place) with
+ * the solver's Newton (CHOLMOD on the projected Hessian, CCD step filtering), converged when
+ * |d|_inf <= tol_d; with moving obstacles, in augmented-Lagrangian rounds until they are at their
+ * targets. Public so that another solver given to rk_fom_step_with may finish a step by it
+ * (the adaptive simulator's full_fraction). */
+int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err);
 /* The Newton matrix of the last rk_fom_potential(..., RK_FOM_NEWTON_MATRIX) (upper-stored, the
  * prescribed dofs eliminated), and d = -H^-1 g by CHOLMOD on it (numeric factorization, solve):
  * the full-space solve another solver is measured against. */

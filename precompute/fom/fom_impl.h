@@ -108,11 +108,7 @@ void rk_fom_obstacle_targets(rk_fom *s, double t);
 typedef int (*rk_fom_solve_fn)(rk_fom *s, void *ctx, rk_error *err);
 int rk_fom_advance_kinematics(rk_fom *s, double t, rk_fom_solve_fn solve, void *ctx, rk_error *err);
 
-/* Minimises the potential from s->x and the obstacles where they are (both updated in place) with
- * the solver's Newton (CHOLMOD on the projected Hessian, CCD step filtering), converged when
- * |d|_inf <= tol_d; with moving obstacles, in augmented-Lagrangian rounds until they are at their
- * targets. */
-int rk_fom_newton(rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err);
+/* rk_fom_newton: fom.h (another solver may hand a step to it). */
 /* The potential as the solver's problem (ctx: a rk_fom_problem_ctx that outlives its use). */
 typedef struct {
     rk_fom *s;

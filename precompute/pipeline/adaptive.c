@@ -58,6 +58,7 @@ cJSON *rk_adaptive_report(const rk_scene_sim *sim, const rk_adaptive *ad, const 
     cJSON *a = cJSON_AddObjectToObject(r, "adaptive");
     cJSON_AddNumberToObject(a, "mean_modes", s->steps ? s->sum_modes / s->steps : 0);
     cJSON_AddNumberToObject(a, "max_modes", s->max_modes);
+    cJSON_AddNumberToObject(a, "steps_full", (double)s->steps_full);
     cJSON_AddNumberToObject(a, "mean_enriched_vertices", s->steps ? s->sum_nodes / s->steps : 0);
     cJSON_AddNumberToObject(a, "max_enriched_vertices", s->max_nodes);
     cJSON_AddNumberToObject(a, "subdomains", ad->opt.subdomains);

@@ -22,6 +22,7 @@ void rk_adaptive_residual_add(rk_adaptive_subspace_measures *m, int s, int T, do
 void rk_adaptive_residual_record(rk_adaptive_subspace_measures *m, const rk_adaptive *ad)
 {
     const rk_adaptive_stats *s = &ad->stats;
+    m->steps_full = (int)s->steps_full;
     m->residual = ad->opt.residual;
     m->residual_tolerance = ad->tolerance;
     m->residual_max = s->residual_max;

@@ -34,6 +34,7 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
         rk_json_string(c, e, path, "hessian", 0, &hessian) || rk_json_bool(c, e, path, "residual", &a->residual) ||
         rk_json_whole(c, e, path, "residual_rounds", 0, 1e6, &a->residual_rounds) ||
         rk_json_number(c, e, path, "accuracy", 0, &a->accuracy) ||
+        rk_json_number(c, e, path, "full_fraction", 0, &a->full_fraction) ||
         rk_json_string(c, e, path, "eps_g_units", 0, &units))
         return -1;
     if (units && strcmp(units, "tolerance") && strcmp(units, "paper"))
@@ -50,6 +51,9 @@ static int parse(const rk_json_ctx *c, const cJSON *e, const char *path, double 
     for (int k = 0; k < 4; k++)
         if (!(values[k] > 0) || !isfinite(values[k]))
             return rk_json_fail(c, path, "%s must be a positive number, got %g", positive[k], values[k]);
+    if (!(a->full_fraction > 0 && a->full_fraction <= 1))
+        return rk_json_fail(c, path, "full_fraction (the enriched share at which full order finishes a step) must be in "
+                            "(0, 1], got %g", a->full_fraction);
     if (a->pcg_tol >= 1) return rk_json_fail(c, path, "pcg_tol must be below 1, got %g", a->pcg_tol);
     if (!isfinite(a->eps_e)) return rk_json_fail(c, path, "eps_e must be finite, got %g", a->eps_e);
     if (hessian && strcmp(hessian, "bfgs") && strcmp(hessian, "exact"))
@@ -84,6 +88,7 @@ static void report(const rk_compare_method *m, cJSON *j)
     cJSON_AddNumberToObject(a, "subdomains", am->subdomains);
     cJSON_AddNumberToObject(a, "pcg_iterations_per_solve", am->pcg_per_solve);
     cJSON_AddNumberToObject(a, "newton_iterations_per_step", am->newton_per_step);
+    cJSON_AddNumberToObject(a, "steps_full", am->steps_full);
     cJSON *sh = cJSON_AddObjectToObject(a, "shares");
     cJSON_AddNumberToObject(sh, "potential", am->share_potential);
     cJSON_AddNumberToObject(sh, "oracle", am->share_oracle);
@@ -97,10 +102,11 @@ static void report(const rk_compare_method *m, cJSON *j)
 static void print(const rk_compare_method *m, FILE *f)
 {
     const rk_adaptive_subspace_measures *am = (const void *)m->own;
-    fprintf(f, "  %s: %.1f modes (max %d), %.1f enriched vertices (%.1f%%, max %d) of %d subdomains; %.1f Newton "
-            "iterations a step, %.1f PCG iterations a solve; time: potential %.0f%%, oracle %.0f%%, subspace "
+    fprintf(f, "  %s: %.1f modes (max %d), %.1f enriched vertices (%.1f%%, max %d) of %d subdomains; %d steps by "
+            "full order; %.1f Newton iterations a step, %.1f PCG iterations a solve; time: potential %.0f%%, oracle %.0f%%, subspace "
             "Hessian %.0f%%, enriched rows %.0f%%, PCG %.0f%%, line search %.0f%%\n",
             m->name, am->mean_modes, am->max_modes, am->mean_nodes, 100 * am->enriched_share, am->max_nodes, am->subdomains,
+            am->steps_full,
             am->newton_per_step, am->pcg_per_solve, 100 * am->share_potential, 100 * am->share_oracle,
             100 * am->share_hessian, 100 * am->share_system, 100 * am->share_pcg, 100 * am->share_line_search);
     if (am->residual)
@@ -112,7 +118,7 @@ static void print(const rk_compare_method *m, FILE *f)
 
 static const char *const keys[] = {"eps_g_modal", "eps_g_nodal", "eps_e", "eps_d", "subdomains", "initial_size",
                                    "downdate", "modal", "nodal", "hessian", "pcg_tol", "eps_g_units", "residual",
-                                   "residual_rounds", "accuracy", NULL};
+                                   "residual_rounds", "accuracy", "full_fraction", NULL};
 
 const rk_method rk_method_adaptive_subspace = {
     .name = "adaptive_subspace",

@@ -10,7 +10,8 @@
  * "eps_g_units": "paper" for the paper's, whose defaults 0.5, 0.5, 1e-4 then apply), eps_d,
  * subdomains, initial_size (columns active from the start: default one block, or the rigid modes
  * of a modes basis), downdate, modal, nodal, hessian ("bfgs" or "exact"), pcg_tol, residual and
- * residual_rounds (the full-space residual's check, adaptive.h). The entry's basis is the candidate basis (block: 12
+ * residual_rounds (the full-space residual's check, adaptive.h), full_fraction (the enriched share at
+ * which full order finishes a step, adaptive.h). The entry's basis is the candidate basis (block: 12
  * columns per skinning weight, else 1). */
 typedef struct {
     rk_adaptive_options opt;
@@ -26,6 +27,7 @@ typedef struct {
 typedef struct {
     double mean_modes, mean_nodes, enriched_share, pcg_per_solve, newton_per_step;
     int max_modes, max_nodes, subdomains;
+    int steps_full;                  /* steps finished by full order (opt.full_fraction) */
     double share_potential, share_oracle, share_hessian, share_system, share_pcg, share_line_search;
     int residual;                    /* 0: not computed (opt.residual off) */
     double residual_tolerance, residual_max, residual_mean;

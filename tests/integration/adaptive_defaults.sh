@@ -40,6 +40,12 @@ if ROMKIT_THREADS=1 "$ROMKIT" compare "$TMP/drop.json" --report "$TMP/r.json" >"
     tol=$(json_num "$TMP/r.json" 'methods[1].adaptive.residual.tolerance')
     below "$modes" 135 && below 2.4e-3 "$tol" && below "$tol" 2.5e-3 && ok adaptive_defaults_own_tolerance_fewer_modes \
         || fail adaptive_defaults_own_tolerance_fewer_modes "mean columns $modes (156 before), tolerance $tol m/s (2.45e-3)"
+    # Past full_fraction (a quarter of the free vertices) a step goes to full order's Newton at the
+    # method's tolerance: the landing steps do (measured: 7 of 10, mean columns 24; before it, 0
+    # such steps and 114 columns, the enriched rows costing 7-10 times full order's step).
+    full=$(json_num "$TMP/r.json" 'methods[1].adaptive.steps_full')
+    below 0 "$full" && below "$modes" 80 && ok adaptive_defaults_hand_landings_to_full_order \
+        || fail adaptive_defaults_hand_landings_to_full_order "$full steps by full order, mean columns $modes"
     below 5e-2 "$old" && ok adaptive_paper_defaults_do_not \
         || fail adaptive_paper_defaults_do_not "the paper's defaults now reach relative error $old: the test no longer tells them apart"
     json_checks adaptive_defaults_residual_reported "$TMP/r.json" 'methods[1].adaptive.residual.per_step[9]' \

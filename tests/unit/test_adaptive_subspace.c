@@ -62,6 +62,7 @@ TEST(everything_enriched_takes_the_full_order_steps)
     rk_adaptive_options o;
     rk_adaptive_default_options(&o);
     o.eps_g_nodal = 1e-300; /* every vertex has some error: all enriched at the first iteration */
+    o.full_fraction = 1;    /* the Schur solve over everything, not full order's Newton in its place */
     o.eps_e = 1e300;
     o.downdate = 0;
     rk_adaptive ad;
@@ -93,6 +94,7 @@ static int init_adaptive(rk_adaptive *ad, scene *s, double eps_g, double eps_e, 
     o.eps_e = eps_e;
     o.downdate = downdate;
     o.subdomains = 6;
+    o.full_fraction = 1; /* the oracle's enrichment as it is, however far it goes */
     return rk_adaptive_init(ad, &s->body.f, &s->opt, s->basis.U, s->basis.r, &o, err);
 }
 
@@ -189,6 +191,7 @@ TEST(bfgs_and_exact_subspace_hessians_find_the_same_steps)
         o.initial_blocks = s.basis.r / 12; /* every candidate, fixed: the minimiser over one subspace */
         o.exact_hessian = exact;
         o.subdomains = 6;
+        o.full_fraction = 1;
         rk_adaptive ad;
         CHECK_OK(rk_adaptive_init(&ad, &s.body.f, &s.opt, s.basis.U, s.basis.r, &o, &err));
         for (int t = 0; t < 5; t++) CHECK_OK(rk_adaptive_step(&ad, &err));
@@ -251,6 +254,7 @@ TEST(residual_above_the_tolerance_enriches_until_it_is_not)
         o.eps_g_nodal = o.eps_g_modal = 1e300;
         o.downdate = 0;
         o.subdomains = 6;
+        o.full_fraction = 1; /* the residual's rounds enrich everything here (checked below) */
         if (k == 0) o.residual_rounds = 0;
         rk_adaptive ad;
         CHECK_OK(rk_adaptive_init(&ad, &s.body.f, &s.opt, s.basis.U, s.basis.r, &o, &err));
@@ -281,7 +285,7 @@ TEST(bad_options_are_named)
     } cases[] = {{"nodal 0", "eps_g_nodal"}, {"modal -1", "eps_g_modal"}, {"eps_d 0", "eps_d"},
                  {"subdomains", "subdomains"}, {"block", "whole number of blocks"}, {"nan", "non-finite"},
                  {"static", "dynamics only"}, {"initial", "initial_blocks"}, {"rounds", "residual_rounds"},
-                 {"accuracy", "accuracy"}};
+                 {"accuracy", "accuracy"}, {"full", "full_fraction"}};
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
         rk_adaptive_options o;
         rk_adaptive_default_options(&o);
@@ -298,6 +302,7 @@ TEST(bad_options_are_named)
         if (k == 7) o.initial_blocks = 100;
         if (k == 8) o.residual_rounds = -1;
         if (k == 9) o.accuracy = -1;
+        if (k == 10) o.full_fraction = 0;
         rk_adaptive ad;
         err.msg[0] = 0;
         int rc = rk_adaptive_init(&ad, &s.body.f, &fo, s.basis.U, r, &o, &err);

@@ -147,6 +147,8 @@ static const struct {
      " \"eps_g_units\": \"strain\"}}", "rom", "eps_g_units must be \"tolerance\""},
     {"adaptive negative residual rounds", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
      " \"residual_rounds\": -1}}", "rom", "residual_rounds"},
+    {"adaptive full fraction over 1", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
+     " \"full_fraction\": 1.5}}", "rom", "full_fraction"},
     {"adaptive residual not a bool", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_subspace\", \"size\": 4,"
      " \"residual\": 2}}", "rom", "residual"},
     {"adaptive linear lambda", "{\"objects\": [{" BEAM_OBJECT "}], \"rom\": {\"method\": \"adaptive_linear\", \"size\": 4,"
