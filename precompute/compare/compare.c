@@ -195,8 +195,9 @@ static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const r
 /* The P1 reference's locking (compare.h, reference_warning): the largest Poisson ratio over the
  * scene's elements, nu = lambda / (2 (lambda + mu)). The 0.4 bound: the FreeForm beam's P1 run
  * (1,920 tets) at nu = 0.45 is 0.0079 nMSE from a P2 run where a projected-volume m = 4 model is
- * 0.0012 (tests/data/demo_small.json, pipeline/volume.c), while P1's bending error grows as
- * lambda / mu = 2 nu / (1 - 2 nu): 4 at 0.4, 9 at 0.45. */
+ * 0.0012 (tests/data/demo_small.json, docs/methods.md), and the golden cantilever at 0.4 (P1 1.6e-3
+ * from its P2 run, a projected skinning-2 model 2.1e-4); the same bound as the pointwise volume's
+ * warning (pipeline/volume.c). */
 static void reference_locking(const rk_scene_sim *sim, rk_compare_result *out)
 {
     double nu = 0;
