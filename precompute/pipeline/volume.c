@@ -66,6 +66,9 @@ static int pressure_weights(const rk_scene *scene, const rk_scene_sim *sim, cons
     int rc = rk_scene_basis(scene, sim, &unclamped, NULL, 0, free_basis, &info, err);
     rk_scene_basis_info_free(&info);
     if (rc) return rk_error_prefix(err, "the unclamped weights of the pressure space");
+    /* a basis chosen by rom.tolerance kept a prefix of its weights (basis.c, meet_tolerance); the
+     * rebuild, without the frames, does not: keep as many of its lowest eigen-weights */
+    if (o->basis.tolerance > 0 && free_basis->m > R->basis.m) rk_basis_truncate(free_basis, 12 * R->basis.m);
     if (free_basis->m != R->basis.m)
         return rk_fail(err, "the unclamped weights of the pressure space: %d weights, the basis %d", free_basis->m,
                        R->basis.m);

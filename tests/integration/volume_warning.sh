@@ -39,3 +39,9 @@ if "$ROMKIT" compare "$TMP/p2.json" --report "$TMP/p2c.json" >"$TMP/p2c.out" 2>&
 else
     fail compare_quiet_against_quadratic_tets "$(tail -3 "$TMP/p2c.out")"
 fi
+# a clamped skinning basis chosen by tolerance keeps a prefix of its weights; the default's
+# pressure space rebuilds them unclamped without the frames, and takes as many (pipeline/volume.c)
+cantilever "$TMP/tol.json" 4 -9.81 '{"basis": "skinning", "tolerance": 0.05}'
+if "$ROMKIT" build "$TMP/tol.json" -o "$TMP/tol.rombin" --quiet >"$TMP/tol.out" 2>&1 &&
+    "$ROMKIT" inspect "$TMP/tol.rombin" | grep -q '^ *VPRS'; then ok build_projected_by_tolerance
+else fail build_projected_by_tolerance "$(tail -3 "$TMP/tol.out")"; fi
