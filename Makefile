@@ -323,9 +323,12 @@ paper-table: deps-build $(BUILD)/romkit
 # how converged the bend's dynamic quadratic-tet reference is (bench/p2_reference.sh, 40 minutes).
 # The neural DMD trained and evaluated at 2.4k, 10k and 106k vertices (bench/neural_resolution.sh,
 # issue 35: its 106k full-order run alone is about 8 minutes of CPU and 3.4 GB).
+# The beam's static sag by volume treatment and pressure space, m = 6 to 32, mesh-free and mesh
+# skinning (bench/bench_volume_sag.c, issue 37: about 15 minutes on a loaded 2-core machine).
 # Not part of make bench or make test: about an hour on 2 cores, more with the 983k-tet levels.
-bench-reference: deps-bench all $(BUILD)/bench_reference $(BUILD)/bench_p2_beam
+bench-reference: deps-bench all $(BUILD)/bench_reference $(BUILD)/bench_p2_beam $(BUILD)/bench_volume_sag
 	$(BUILD)/bench_p2_beam 2
+	$(BUILD)/bench_volume_sag
 	BUILD=$(BUILD) sh bench/p2_reference.sh
 	BUILD=$(BUILD) sh bench/beam_reference.sh
 	NEURAL_RES_100K=1 BUILD=$(BUILD) sh bench/neural_resolution.sh

@@ -150,6 +150,13 @@ ABOUT = {
     "p2_beam": ("The beam's converged static sag by quadratic tets (issue 37)", "make bench-reference: build/bench_p2_beam",
                 "The freeform beam, linear, a tenth of gravity, first 0.5 m fixed: P2 on the Table-1 box mesh and "
                 "its 1:8 refinements; Richardson's extrapolation from the last three levels."),
+    "volume_sag": ("The beam's static sag by volume treatment and pressure space (issue 37)",
+                   "make bench-reference: build/bench_volume_sag",
+                   "The freeform beam, linear, a tenth of gravity, first 0.5 m fixed (Dirichlet clamp), mesh-free "
+                   "rkpm_skinning (5,000 grid points) and mesh skinning (1,920 P1 tets) at m weights: tip sag per "
+                   "volume (pointwise; projected on the pressure space weights, weights_affine or constant), against "
+                   "the converged solid at nu = 0.45 (P2 Richardson, 0.1220 m, p2_beam.md) and Timoshenko at nu = 0. "
+                   "At nu = 0 every space gives the pointwise model bit for bit (lambda = 0)."),
     "p2_reference": ("How converged the bend's quadratic-tet reference is (issue 37)",
                      "make bench-reference: bench/p2_reference.sh",
                      "The bend on quadratic tets along two chains of 1:8 refinements (the table box 20x4x4, "

@@ -31,7 +31,8 @@ rom = []
 for k in (2, 12, 3, 13):  # the table's mesh-free entries: m = 16 pointwise, projected; m = 32 the same
     e = dict(s["rom"][k])
     e.pop("reference", None)
-    e["name"] = "m%d-%s" % (e["size"], e.get("volume", "pointwise"))
+    e.setdefault("volume", "pointwise")  # the scene marks its pointwise rows; the default is projected
+    e["name"] = "m%d-%s" % (e["size"], e["volume"])
     if sys.argv[2] == "cubature":
         e["cubature"] = {"tolerance": 0.01}
     rom.append(e)

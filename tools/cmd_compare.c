@@ -28,7 +28,9 @@ static void compare_usage(FILE *f)
                "  (1:8 each), taken at the scene mesh's vertices; the methods still run on the scene's\n"
                "  mesh, and the fom row then gives the scene mesh's own error against the reference.\n"
                "  --report R.json   the same per method (methods[]), plus the full-order timings and\n"
-               "                    the reference (reference.refine, .vertices, .tets, .seconds_per_step)\n"
+               "                    the reference (reference.refine, .vertices, .tets, .seconds_per_step;\n"
+               "                    .warning where linear tets lock: Poisson's ratio >= 0.4 without\n"
+               "                    \"reference\": {\"order\": 2}, also said on stderr)\n"
                "  --reference-frames R.npy  the reference's positions at the scene mesh's vertices,\n"
                "                    every frame from the start ((steps + 1) x n x 3 float64, as\n"
                "                    bench_reference writes a level's): to measure a costly reference\n"
@@ -113,6 +115,7 @@ int cmd_compare(int argc, char **argv)
         if (rk_npy_write(frames_out, res.reference_x, 3, shape, &err)) goto done;
     }
     print_table(scene_path, &res);
+    if (res.reference_warning[0]) fprintf(stderr, "romkit compare: warning: %s\n", res.reference_warning);
     for (int k = 0; k < res.nmethods; k++)
         if (!res.methods[k].failure[0])
             rk_unconverged_warn(stderr, res.methods[k].name, res.methods[k].unconverged_steps, res.steps);

@@ -192,6 +192,28 @@ static int run_reference(const rk_scene *scene, const rk_scene_sim *sim, const r
     return 0;
 }
 
+/* The P1 reference's locking (compare.h, reference_warning): the largest Poisson ratio over the
+ * scene's elements, nu = lambda / (2 (lambda + mu)). The 0.4 bound: the FreeForm beam's P1 run
+ * (1,920 tets) at nu = 0.45 is 0.0079 nMSE from a P2 run where a projected-volume m = 4 model is
+ * 0.0012 (tests/data/demo_small.json, docs/methods.md), and the golden cantilever at 0.4 (P1 1.6e-3
+ * from its P2 run, a projected skinning-2 model 2.1e-4); the same bound as the pointwise volume's
+ * warning (pipeline/volume.c). */
+static void reference_locking(const rk_scene_sim *sim, rk_compare_result *out)
+{
+    double nu = 0;
+    for (int e = 0; e < sim->fem.nt; e++)
+        if (sim->fem.lambda[e] + sim->fem.mu[e] > 0)
+            nu = fmax(nu, sim->fem.lambda[e] / (2 * (sim->fem.lambda[e] + sim->fem.mu[e])));
+    out->reference_poisson = nu;
+    out->reference_warning[0] = 0;
+    if (nu >= 0.4 && out->reference_order != 2)
+        snprintf(out->reference_warning, sizeof out->reference_warning,
+                 "Poisson's ratio %.3g: the reference runs on linear tets, which lock in bending as nu nears 1/2, so a "
+                 "reduced model that does not lock (volume \"projected\") measures worse against it than one that "
+                 "does; set the scene's \"reference\": {\"order\": 2} (quadratic tets) to measure against the "
+                 "converged solid", nu);
+}
+
 /* Entry e through its method's compare operation: built on the scene's mesh (trained on the
  * scene's run or the entry's training set) and measured against the reference. */
 static void run_method(rk_compare_ctx *c, const rk_rom_entry *e, rk_compare_method *m, const rk_compare_result *res)
@@ -232,6 +254,7 @@ int rk_compare_scene(const rk_scene *scene, rk_compare_result *out, rk_error *er
         if (run_reference(scene, &sim, &F, &R, out, err)) goto done;
         ref = &R;
     }
+    reference_locking(&sim, out);
     /* Displacement frames, as the bases train on them. */
     D = rk_calloc((size_t)F.ndof * F.T, sizeof(double), err);
     if (!D || rk_sparse_alloc_pattern(&sim.fem, &M, err)) goto done;

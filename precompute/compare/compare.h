@@ -31,6 +31,13 @@ typedef struct {
     int reference_refine, reference_vertices, reference_tets;
     int reference_order;           /* 1: linear tets; 2: quadratic ("order": 2, rk_p2_fom_run), its
                                     * vertices and tets those of the mesh it puts nodes on */
+    /* A linear-tet reference of a nearly incompressible scene (the largest element Poisson ratio
+     * reference_poisson >= 0.4) locks in bending as the pointwise volume does, so a reduced model
+     * that does not lock (rom.volume "projected", the skinning bases' default) measures worse
+     * against it than one that does (issue 37): reference_warning then says so and names
+     * "reference": {"order": 2}; empty otherwise. */
+    double reference_poisson;
+    char reference_warning[320];
     double reference_seconds_per_step, reference_seconds_total;
     long reference_newton_iterations;
     double reference_min_distance; /* contact over the reference's frames, on its own surface */

@@ -78,6 +78,7 @@ cJSON *rk_compare_report(const rk_compare_result *res, double seconds)
     cJSON_AddNumberToObject(ref, "seconds_per_step", res->reference_seconds_per_step);
     cJSON_AddNumberToObject(ref, "seconds_total", res->reference_seconds_total);
     cJSON_AddNumberToObject(ref, "newton_iterations", (double)res->reference_newton_iterations);
+    if (res->reference_warning[0]) cJSON_AddStringToObject(ref, "warning", res->reference_warning);
     if (res->has_contact) {
         cJSON *c = cJSON_AddObjectToObject(ref, "contact");
         add_number(c, "min_distance", res->reference_min_distance);

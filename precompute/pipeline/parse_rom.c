@@ -214,19 +214,23 @@ static int parse_name(const rk_json_ctx *c, const cJSON *e, const char *path, rk
     return 0;
 }
 
-/* rom.volume ("pointwise", the default, or "projected") and rom.pressure ("weights", the default,
- * "constant" or "weights_affine"; given alone, it implies "projected"): cubature.h. Why pointwise
- * stays the default: the projected model is softer than the P1 full-order model on the same mesh,
- * which locks too (issue 37: the 1,920-tet beam sags 0.074 m of a converged 0.127), so every
- * romkit compare against it would report a larger error as m grows (test_compare_scene's bend at
- * nu = 0.45: nMSE 1.7e-4, 7.0e-4, 1.5e-3 at m = 2, 6, 12 with it on); and the weights' space takes
- * back only part of the locked sag (test_pipeline_volume_beam). The default waits for a reference
- * that does not lock (P2) and a pressure space that meets the issue's 5%. */
+/* rom.volume ("projected" or "pointwise") and rom.pressure ("weights", the default, "constant" or
+ * "weights_affine"; given alone, it implies "projected"): cubature.h. Without either, a skinning
+ * basis (skinning, rkpm_skinning) gets the projected volume on its weights (issue 37), which does
+ * not lock: the FreeForm beam at nu = 0.45 sags 96-101% of the converged solid from m = 9 to 32,
+ * the pointwise volume 77-93% (m = 6: 113% against 45%; docs/results/volume_sag.md and
+ * docs/methods.md say why no pressure space does better there). At lambda = 0 it is the pointwise
+ * energy bit for bit, so one default serves every nu. The column bases (modes, modal_derivatives,
+ * pod) keep the pointwise volume: their pressure space would be the constant alone, which leaves
+ * the deviatoric part only (the beam sags 148%); so does clamp "lifted", whose lifting handle the
+ * pressure weights cannot take yet (pipeline/volume.c). romkit compare says when its linear-tet
+ * reference locks (compare.c, reference_locking). Called after parse_basis (the basis type). */
 static int parse_volume(const rk_json_ctx *c, const cJSON *e, const char *path, rk_rom_entry *o)
 {
     static const char *const volumes[] = {"projected", "pointwise", NULL}, *const spaces[] = {"weights", "constant", "weights_affine", NULL};
     const char *v = NULL, *p = NULL;
-    o->volume = RK_VOLUME_POINTWISE;
+    int skinning = o->basis.type == RK_BASIS_SKINNING || o->basis.type == RK_BASIS_RKPM_SKINNING;
+    o->volume = o->method->reduced_model && skinning && !o->basis.clamp_lifted ? RK_VOLUME_PROJECTED : RK_VOLUME_POINTWISE;
     o->pressure = RK_PRESSURE_WEIGHTS;
     if (rk_json_string(c, e, path, "volume", 0, &v) || rk_json_string(c, e, path, "pressure", 0, &p)) return -1;
     if ((v || p) && !o->method->reduced_model)
@@ -279,10 +283,8 @@ static int parse_entry(const rk_json_ctx *c, const cJSON *e, const char *path, d
     if (cJSON_HasObjectItem(e, "pin_stiffness") && !(o->pin_stiffness > 0 && o->pin_stiffness <= 1e12))
         return rk_json_fail(c, path, "pin_stiffness must be a number in (0, 1e12] (units of (lambda + 2 mu) / "
                             "(rho L^2); default %g), got %g", RK_ROM_PIN_STIFFNESS, o->pin_stiffness);
-    if (parse_volume(c, e, path, o)) return -1;
-    return parse_basis(c, e, path, o->method, &o->basis) ||
-                   (o->method->parse && o->method->parse(c, e, path, h, o)) ||
-                   parse_training(c, e, path, scene_path, o) ||
+    if (parse_basis(c, e, path, o->method, &o->basis) || parse_volume(c, e, path, o)) return -1;
+    return (o->method->parse && o->method->parse(c, e, path, h, o)) || parse_training(c, e, path, scene_path, o) ||
                    parse_cubature(c, e, path, o) || parse_mesh_free(c, e, path, o) ||
                    parse_reference(c, e, path, o) || rk_parse_asset(c, e, path, &o->asset) || parse_name(c, e, path, o)
                ? -1

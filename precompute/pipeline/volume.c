@@ -66,6 +66,9 @@ static int pressure_weights(const rk_scene *scene, const rk_scene_sim *sim, cons
     int rc = rk_scene_basis(scene, sim, &unclamped, NULL, 0, free_basis, &info, err);
     rk_scene_basis_info_free(&info);
     if (rc) return rk_error_prefix(err, "the unclamped weights of the pressure space");
+    /* a basis chosen by rom.tolerance kept a prefix of its weights (basis.c, meet_tolerance); the
+     * rebuild, without the frames, does not: keep as many of its lowest eigen-weights */
+    if (o->basis.tolerance > 0 && free_basis->m > R->basis.m) rk_basis_truncate(free_basis, 12 * R->basis.m);
     if (free_basis->m != R->basis.m)
         return rk_fail(err, "the unclamped weights of the pressure space: %d weights, the basis %d", free_basis->m,
                        R->basis.m);
@@ -80,12 +83,11 @@ static int pressure_weights(const rk_scene *scene, const rk_scene_sim *sim, cons
 }
 
 /* The pointwise volume on a skinning basis locks as nu nears 1/2 (issue 37): the FreeForm beam at
- * nu = 0.45 sags 85-94% of the converged solid from m = 16 to 32 (projected: 98-101%), and
- * tests/data/demo_small.json's m = 4 model is 0.0115 from a P2 run where the projected one is
- * 0.0012 (nMSE). It stays the default because romkit's P1 full order locks as well (the same
- * P2 run has the P1 run 0.0079 off), so against it the projected model measures worse (relative
- * 1.38 against 0.39 there), and the low-m projected model is too soft (m = 6: 114% of the solid
- * sag). A model that can be this stiff says so: nu >= 0.4 at any point. */
+ * nu = 0.45 sags 45-93% of the converged solid from m = 6 to 32 (projected: 96-101% from m = 9,
+ * docs/results/volume_sag.md), and tests/data/demo_small.json's m = 4 model is 0.0115 from a P2
+ * run where the projected one is 0.0012 (nMSE). The projected volume is the skinning bases'
+ * default (parse_rom.c parse_volume); a model that still uses the pointwise one on them (asked
+ * for, or clamp "lifted") says so where it can be this stiff: nu >= 0.4 at any point. */
 static void volume_warning(const rk_rom_entry *o, rk_scene_rom *R)
 {
     const rk_quadrature *Q = &R->model.quad;
@@ -96,8 +98,8 @@ static void volume_warning(const rk_rom_entry *o, rk_scene_rom *R)
         if (Q->lambda[i] + Q->mu[i] > 0) nu = fmax(nu, Q->lambda[i] / (2 * (Q->lambda[i] + Q->mu[i])));
     if (nu >= 0.4)
         snprintf(R->volume_warning, sizeof R->volume_warning, "Poisson's ratio %.3g with the pointwise volume: a "
-                 "skinning subspace locks (the FreeForm beam at 0.45 sags 6-15%% short); \"volume\": \"projected\" "
-                 "does not (docs/scene.md)", nu);
+                 "skinning subspace locks (the FreeForm beam at 0.45 sags 7-55%% short); \"volume\": \"projected\", "
+                 "the skinning bases' default, does not (docs/scene.md)", nu);
 }
 
 int rk_scene_rom_volume(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *o, rk_scene_rom *R,

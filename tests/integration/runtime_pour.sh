@@ -60,15 +60,18 @@ fi
 # (docs/runtime.md, "The pour in float"): with the loads' work counted from the step's start
 # (runtime/potential.c) float settles as double does, 4.93 Newton iterations a step over the 150
 # steps (double 6.35); with gravity's whole work in the potential (1.38 J at rest, whose float
-# rounding hid friction's decreases) it took 7.49, and 10.7 line-search halvings a step.
+# rounding hid friction's decreases) it took 7.49, and 10.7 line-search halvings a step. With the
+# projected volume (the skinning default since issue 37; the pour's nu is 0.4) float takes 938 and
+# double 927 in the 150 steps (pointwise: 778 and 916), so the bound is 1000 (6.7 a step), still
+# under the 1,124 that the old potential's 7.49 a step would give.
 mkdir -p "$TMP/p8"
 python3 bench/pour_scene.py "$TMP/p8" 8
 name=pour_f32_converged_settles_as_double_does
 if "$ROMKIT" build "$TMP/p8/pour.json" -o "$TMP/p8/f32.rombin" --quiet >/dev/null 2>"$TMP/err" &&
     "$ROMKIT" run "$TMP/p8/f32.rombin" --steps 150 --report "$TMP/p8/r.json" --quiet >/dev/null 2>"$TMP/err"; then
     its=$(json_num "$TMP/p8/r.json" newton_iterations)
-    if [ "$(json_num "$TMP/p8/r.json" unconverged_steps)" = 0 ] && below "$its" 900; then ok "$name ($its iterations in 150 steps)"
-    else fail "$name" "$its Newton iterations in 150 steps (under 900: 6 a step), $(json_num "$TMP/p8/r.json" unconverged_steps) unconverged steps"; fi
+    if [ "$(json_num "$TMP/p8/r.json" unconverged_steps)" = 0 ] && below "$its" 1000; then ok "$name ($its iterations in 150 steps)"
+    else fail "$name" "$its Newton iterations in 150 steps (under 1000: 6.7 a step), $(json_num "$TMP/p8/r.json" unconverged_steps) unconverged steps"; fi
 else
     fail "$name" "$(cat "$TMP/err")"
 fi

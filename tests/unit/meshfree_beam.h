@@ -35,20 +35,17 @@ static inline void lowest_eigenvalues(rk_rom_model *M, double eig[3])
  * the free end's vertices; *held (may be NULL) the largest displacement of a fixed vertex, which
  * the penalty clamp holds back (pin > 0: "clamp": "penalty" at rom.pin_stiffness pin; 0: the
  * Dirichlet clamp, the default, which holds them exactly); further rom keys (may be NULL), and
- * with eig lowest_eigenvalues. */
-static inline double model_tip_keys(double nu, int m, double pin, const char *keys, double *held, double *eig, rk_error *err,
-                             int *ok)
+ * with eig lowest_eigenvalues. model_tip_keys builds the rom object; model_tip_rom takes it whole. */
+/* The same for any rom object (rom: its keys without the braces, e.g. "\"basis\": \"skinning\", \"size\": 9"). */
+static inline double model_tip_rom(double nu, const char *rom_keys, double *held, double *eig, rk_error *err, int *ok)
 {
-    char json[1200], pin_key[160] = "";
-    if (pin > 0) snprintf(pin_key, sizeof pin_key, ", \"clamp\": \"penalty\", \"pin_stiffness\": %g", pin);
-    if (keys) snprintf(pin_key + strlen(pin_key), sizeof pin_key - strlen(pin_key), ", %s", keys);
+    char json[1400];
     snprintf(json, sizeof json,
              "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [5, 1, 1], \"cells\": [20, 4, 4]}},"
              " \"material\": {\"model\": \"linear\", \"young\": %g, \"poisson\": %g, \"density\": %g},"
              " \"fixed\": [{\"box\": [[-1, -1, -1], [0.5, 2, 2]]}]}],"
-             " \"gravity\": [0, %g, 0], \"time\": {\"static\": true},"
-             " \"rom\": {\"basis\": \"rkpm_skinning\", \"size\": %d, \"mesh_free\": {\"points\": 5000}%s}}",
-             BEAM_YOUNG, nu, BEAM_DENSITY, -BEAM_GRAVITY, m, pin_key);
+             " \"gravity\": [0, %g, 0], \"time\": {\"static\": true}, \"rom\": {%s}}",
+             BEAM_YOUNG, nu, BEAM_DENSITY, -BEAM_GRAVITY, rom_keys);
     rk_scene scene;
     rk_scene_sim sim;
     rk_scene_rom R;
@@ -82,6 +79,17 @@ no_rom:
 no_sim:
     rk_scene_free(&scene);
     return tip;
+}
+
+static inline double model_tip_keys(double nu, int m, double pin, const char *keys, double *held, double *eig, rk_error *err,
+                                    int *ok)
+{
+    char rom[600], pin_key[160] = "";
+    if (pin > 0) snprintf(pin_key, sizeof pin_key, ", \"clamp\": \"penalty\", \"pin_stiffness\": %g", pin);
+    if (keys) snprintf(pin_key + strlen(pin_key), sizeof pin_key - strlen(pin_key), ", %s", keys);
+    snprintf(rom, sizeof rom, "\"basis\": \"rkpm_skinning\", \"size\": %d, \"mesh_free\": {\"points\": 5000}%s", m,
+             pin_key);
+    return model_tip_rom(nu, rom, held, eig, err, ok);
 }
 
 static inline double model_tip_held(double nu, int m, double pin, double *held, rk_error *err, int *ok)

@@ -12,6 +12,11 @@
 #define ASSET_REAL ROMBIN_REAL_F64
 #define TOL 1e-10
 #define MODES 2
+/* The one-Newton-step mode (mode 1) stops short of convergence, so the two paths' rounding stays in
+ * its iterates and the contact barrier amplifies it: with the projected volume (the skinning
+ * default, issue 37: a rank-k coupling over every point) measured 4.5e-9 of the largest
+ * displacement, 2.7e-11 with the pointwise one; converged, 8.9e-15. */
+#define TOL_FIXED 1e-7
 #else
 #define ASSET_REAL ROMBIN_REAL_F32
 /* Float32 runs of a contact scene take other Newton paths for any change of rounding (the barrier
@@ -19,6 +24,7 @@
  * same arithmetic. */
 #define TOL 1e-3
 #define MODES 1 /* the fixed mode's exact-Hessian try can fall back in one and not the other */
+#define TOL_FIXED TOL
 #endif
 
 /* A skinning block thrown onto a plane (contact; no pins, whose stiff penalty makes float32 runs
@@ -93,7 +99,7 @@ TEST(weights_path_matches_the_dense_rows)
           "WGHT %llu bytes should replace ROWS' %llu at a 36th", (unsigned long long)wbytes, (unsigned long long)rbytes);
     int n = romrt_shown_count(f.m);
     romrt_real *a = calloc((size_t)3 * n, sizeof(romrt_real)), *b = calloc((size_t)3 * n, sizeof(romrt_real));
-    double worst = 0, scale = 0;
+    double worst[2] = {0, 0}, scale = 0; /* per mode */
     for (int mode = 0; mode < MODES; mode++) { /* converged, then one fixed Newton step a step */
         romrt_reset(f.m, NULL);
         romrt_reset(dense, NULL);
@@ -107,15 +113,18 @@ TEST(weights_path_matches_the_dense_rows)
             romrt_positions(f.m, a, 3 * (size_t)n, 3, NULL);
             romrt_positions(dense, b, 3 * (size_t)n, 3, NULL);
             for (int i = 0; i < 3 * n; i++) {
-                worst = fmax(worst, fabs((double)a[i] - (double)b[i]));
+                worst[mode] = fmax(worst[mode], fabs((double)a[i] - (double)b[i]));
                 scale = fmax(scale, fabs((double)b[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));
             }
         }
     }
     printf("# skinning block thrown on a plane (r = %d, %d cubature elements): weights against rows %.3g of the largest "
-           "displacement %.3g m\n", (int)romrt_reduced_size(f.m), f.R.model.quad.count, worst / scale, scale);
+           "displacement %.3g m converged, %.3g one Newton step a step\n", (int)romrt_reduced_size(f.m),
+           f.R.model.quad.count, worst[0] / scale, scale, worst[1] / scale);
     CHECK(scale > 1e-3, "the block should move (%.3g m)", scale);
-    CHECK(worst / scale <= TOL, "weights and rows differ by %.3g (tol %g)", worst / scale, TOL);
+    CHECK(worst[0] / scale <= TOL, "weights and rows differ by %.3g converged (tol %g)", worst[0] / scale, TOL);
+    CHECK(worst[1] / scale <= TOL_FIXED, "weights and rows differ by %.3g one step a step (tol %g)", worst[1] / scale,
+          TOL_FIXED);
     free(a);
     free(b);
     free(dense_asset);
