@@ -469,6 +469,15 @@ static int full_order(rk_adaptive *ad, rk_fom *s, const rk_fom_terms *T, double 
     return rc;
 }
 
+/* A step handed to full order: the next 1, 2, 4, then up to RK_ADAPTIVE_FULL_WAIT steps go there at
+ * once (the subspace tried again after each run of them). */
+static void hand_to_full(rk_adaptive_impl *im)
+{
+    im->full_backoff = im->full_backoff ? 2 * im->full_backoff : 1;
+    if (im->full_backoff > RK_ADAPTIVE_FULL_WAIT) im->full_backoff = RK_ADAPTIVE_FULL_WAIT;
+    im->full_wait = im->full_backoff;
+}
+
 static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double tol_d, int *converged, rk_error *err)
 {
     rk_adaptive *ad = ctx;
@@ -501,9 +510,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
         if (im->go_full) { /* the oracle passed full_fraction: not a failure, the iterate stands */
             rc = 0;
             err->msg[0] = 0;
-            im->full_backoff = im->full_backoff ? 2 * im->full_backoff : 1;
-            if (im->full_backoff > RK_ADAPTIVE_FULL_WAIT) im->full_backoff = RK_ADAPTIVE_FULL_WAIT;
-            im->full_wait = im->full_backoff;
+            hand_to_full(im);
             break;
         }
         if (moving) rk_obstacle_way_place(&way, im->view.contact, im->y + im->n); /* not a line search's trial */
@@ -521,9 +528,7 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
             added = enrich_residual(ad, im->sc4, s->opt.h, fmax(tol_v, RK_ADAPTIVE_RESIDUAL_SHARE * r));
         if (added && (over_full(ad) || im->full_backoff > 0)) {
             im->go_full = 1;
-            im->full_backoff = im->full_backoff ? 2 * im->full_backoff : 1;
-            if (im->full_backoff > RK_ADAPTIVE_FULL_WAIT) im->full_backoff = RK_ADAPTIVE_FULL_WAIT;
-            im->full_wait = im->full_backoff;
+            hand_to_full(im);
             break;
         }
         if (!added) {

@@ -25,7 +25,7 @@
  * caller refuses the surface unless it is 0.
  *
  * Measured on the donut capture (45,624 splats, s = 0.77 mm, g = 10 s, h = 1.5 g;
- * docs/results/cloud_march.md): 8,556 triangles (the voxel surface 6,364), vertices median and
+ * docs/cloud_march.md): 8,556 triangles (the voxel surface 6,364), vertices median and
  * 95th percentile 0.50 s from a point, worst 6.81 s, the farthest point outside 0.95 s. Its worst
  * triangle is a sliver (vertices pulled to one splat end close together): not cleaned up yet. */
 #include <math.h>
