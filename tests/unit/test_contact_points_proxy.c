@@ -25,6 +25,7 @@
  *   - bad input fails (a voxel or a spacing that is not a number, or negative). */
 #include "contact/contact.h"
 #include "contact/points_proxy_impl.h" /* the voxel surface's triangles: the budget's base */
+#include "surface_checks.h"
 #include "testlib.h"
 #include "util/util.h"
 
@@ -33,11 +34,6 @@
 static uint64_t rng = 31337;
 static double uni(void) { return rk_uniform(&rng); }
 
-static int cmp64(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
 
 /* What the checks measured. */
 typedef struct {
@@ -102,7 +98,7 @@ static void bucket_init(bucket *B, const double *X, int n, double h)
     }
     B->key = malloc(sizeof(int64_t) * (size_t)n);
     for (int i = 0; i < n; i++) B->key[i] = bucket_cell(B, X + 3 * i) << 24 | i;
-    qsort(B->key, (size_t)n, sizeof(int64_t), cmp64);
+    qsort(B->key, (size_t)n, sizeof(int64_t), surface_cmp64);
 }
 
 /* The distance from x to the nearest point (exact when it is under h). */
@@ -166,14 +162,6 @@ static double median_spacing(const double *X, int n, double h)
     return m;
 }
 
-static void box_of(const double *const *v, int k, double *box)
-{
-    for (int d = 0; d < 3; d++) {
-        box[d] = box[3 + d] = v[0][d];
-        for (int a = 1; a < k; a++) box[d] = fmin(box[d], v[a][d]), box[3 + d] = fmax(box[3 + d], v[a][d]);
-    }
-}
-
 /* Every check above on the proxy of (X, n) with voxel g and the points' spacing s. Returns 0 or
  * leaves a message in why. */
 static int check_proxy(const double *X, int n, double g, double s, double bound, proxy_stats *st, char *why, size_t len)
@@ -189,9 +177,8 @@ static int check_proxy(const double *X, int n, double g, double s, double bound,
             goto done;                              \
         }                                           \
     } while (0)
-    int rc = 0, *tris = NULL, nf = 0, *pairs = NULL, npairs = 0, *col = NULL;
-    int64_t *edges = NULL, *link = NULL;
-    double *boxes = NULL, *eboxes = NULL, *dist = NULL;
+    int rc = 0, *tris = NULL, nf = 0, *col = NULL;
+    double *boxes = NULL, *dist = NULL;
     bucket B = {0};
     if (rk_points_proxy(X, n, g, s, &m, &err)) {
         snprintf(why, len, "rk_points_proxy: %s", err.msg);
@@ -230,61 +217,13 @@ static int check_proxy(const double *X, int n, double g, double s, double bound,
     }
     FAIL_IF(nf < 4, "%d boundary triangles", nf);
     for (int k = 0; k < 3 * nf; k++) FAIL_IF(tris[k] < n, "a boundary triangle uses point %d", tris[k]);
-    /* closed, consistently oriented, edge-manifold: every directed edge once, its reverse once */
-    const int64_t V = m.nv;
-    edges = malloc(sizeof(int64_t) * 3 * (size_t)nf);
-    for (int f = 0; f < nf; f++)
-        for (int k = 0; k < 3; k++) edges[3 * f + k] = tris[3 * f + k] * V + tris[3 * f + (k + 1) % 3];
-    qsort(edges, 3 * (size_t)nf, sizeof *edges, cmp64);
-    for (int e = 0; e < 3 * nf; e++) {
-        FAIL_IF(e > 0 && edges[e] == edges[e - 1], "edge %lld -> %lld is used twice: not a 2-manifold",
-                (long long)(edges[e] / V), (long long)(edges[e] % V));
-        int64_t rev = (edges[e] % V) * V + edges[e] / V;
-        FAIL_IF(!bsearch(&rev, edges, 3 * (size_t)nf, sizeof rev, cmp64), "edge %lld -> %lld has no reverse: not closed",
-                (long long)(edges[e] / V), (long long)(edges[e] % V));
-    }
-    /* vertex-manifold: the links (b -> c of each face (v, b, c) around v) make one cycle */
-    link = malloc(sizeof(int64_t) * 3 * (size_t)nf); /* v << 42 | b << 21 | c */
-    for (int f = 0; f < nf; f++)
-        for (int k = 0; k < 3; k++)
-            link[3 * f + k] = (int64_t)tris[3 * f + k] << 42 | (int64_t)tris[3 * f + (k + 1) % 3] << 21 | tris[3 * f + (k + 2) % 3];
-    qsort(link, 3 * (size_t)nf, sizeof *link, cmp64);
-    for (int a = 0; a < 3 * nf;) {
-        int b = a;
-        while (b < 3 * nf && link[b] >> 42 == link[a] >> 42) b++;
-        /* from the first link, follow b -> c (each b once: edge-manifold above) and count */
-        int64_t start = link[a] >> 21 & 0x1fffff, at = start;
-        int steps = 0;
-        do {
-            int64_t next = -1;
-            for (int k = a; k < b; k++)
-                if ((link[k] >> 21 & 0x1fffff) == at) next = link[k] & 0x1fffff;
-            FAIL_IF(next < 0, "vertex %lld: its fan is open at %lld", (long long)(link[a] >> 42), (long long)at);
-            at = next, steps++;
-        } while (at != start && steps <= b - a);
-        FAIL_IF(steps != b - a, "vertex %lld: its %d faces make a fan of %d: not a 2-manifold (a pinch)",
-                (long long)(link[a] >> 42), b - a, steps);
-        st->surface_vertices++;
-        a = b;
-    }
-    /* no edge meets a face it shares no vertex with, exactly */
+    /* closed, consistently oriented, 2-manifold; no edge through a face (exact) */
     boxes = malloc(sizeof(double) * 6 * (size_t)nf);
-    eboxes = malloc(sizeof(double) * 6 * 3 * (size_t)nf);
-    for (int f = 0; f < nf; f++) {
-        const double *v[3] = {m.X + 3 * tris[3 * f], m.X + 3 * tris[3 * f + 1], m.X + 3 * tris[3 * f + 2]};
-        box_of(v, 3, boxes + 6 * f);
-        for (int k = 0; k < 3; k++) {
-            const double *e[2] = {v[k], v[(k + 1) % 3]};
-            box_of(e, 2, eboxes + 6 * (3 * f + k));
-        }
-    }
-    if (rk_broad_phase(eboxes, 3 * nf, boxes, nf, &pairs, &npairs, &err)) FAIL_IF(1, "broad phase: %s", err.msg);
-    for (int p = 0; p < npairs; p++) {
-        int e = pairs[2 * p], f = pairs[2 * p + 1], a = tris[e], b = tris[3 * (e / 3) + (e % 3 + 1) % 3];
-        const int *t = tris + 3 * f;
-        if (a == t[0] || a == t[1] || a == t[2] || b == t[0] || b == t[1] || b == t[2]) continue;
-        FAIL_IF(rk_segment_triangle_intersect(m.X + 3 * a, m.X + 3 * b, m.X + 3 * t[0], m.X + 3 * t[1], m.X + 3 * t[2]),
-                "edge (%d, %d) meets face %d (%d, %d, %d): the surface intersects itself", a, b, f, t[0], t[1], t[2]);
+    FAIL_IF(!boxes, "out of memory");
+    if (surface_closed_manifold(tris, nf, m.nv, &st->surface_vertices, why, len) ||
+        surface_crosses_itself(m.X, tris, nf, boxes, why, len)) {
+        rc = -1;
+        goto done;
     }
     /* every point inside: a segment from it along (1, 0.00123, 0.00071) past the surface crosses
      * it an odd number of times; the faces it can cross are those whose (y, z) box meets its own */
@@ -347,15 +286,17 @@ static int check_proxy(const double *X, int n, double g, double s, double bound,
     /* how far the surface vertices lie from the points */
     bucket_init(&B, X, n, 2 * g);
     dist = malloc(sizeof(double) * (size_t)st->surface_vertices);
-    for (int a = 0, k = 0; a < 3 * nf; k++) {
-        int v = (int)(link[a] >> 42), b = a;
-        while (b < 3 * nf && link[b] >> 42 == link[a] >> 42) b++;
+    char *on = calloc((size_t)m.nv + 1, 1);
+    FAIL_IF(!dist || !on, "out of memory");
+    for (int k = 0; k < 3 * nf; k++) on[tris[k]] = 1;
+    for (int v = 0, k = 0; v < m.nv; v++) {
+        if (!on[v]) continue;
         double d = bucket_nearest(&B, m.X + 3 * v) / g;
         st->max_vertex_distance = fmax(st->max_vertex_distance, d);
         st->mean_vertex_distance += d / st->surface_vertices;
-        dist[k] = d;
-        a = b;
+        dist[k++] = d;
     }
+    free(on);
     if (s > 0) {
         qsort(dist, (size_t)st->surface_vertices, sizeof *dist, rk_cmp_double);
         st->median_s = dist[st->surface_vertices / 2] * g / s;
@@ -366,7 +307,7 @@ static int check_proxy(const double *X, int n, double g, double s, double bound,
             st->max_vertex_distance, bound);
 done:
 #undef FAIL_IF
-    free(tris), free(edges), free(link), free(boxes), free(eboxes), free(pairs), free(col), free(B.key), free(dist);
+    free(tris), free(boxes), free(col), free(B.key), free(dist);
     rk_mesh_free(&m);
     return rc;
 }

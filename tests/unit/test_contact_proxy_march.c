@@ -16,16 +16,12 @@
  * bad input fails. */
 #include "contact/contact.h"
 #include "contact/points_proxy_impl.h" /* the voxel surface: the triangle budget's base */
+#include "surface_checks.h"
 #include "testlib.h"
 #include "util/util.h"
 
 #include <stdint.h>
 
-static int cmp64(const void *a, const void *b)
-{
-    int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
-    return (x > y) - (x < y);
-}
 
 /* The distance from p to segment ab and to triangle abc, by brute force (not the library's). */
 static double segment_distance(const double *p, const double *a, const double *b)
@@ -81,7 +77,7 @@ static void bucket_init(bucket *B, const double *X, int n, double h)
     }
     B->key = malloc(sizeof(int64_t) * (size_t)n);
     for (int i = 0; i < n; i++) B->key[i] = cell_of(B, X + 3 * i, 0, 0, 0) << 24 | i;
-    qsort(B->key, (size_t)n, sizeof(int64_t), cmp64);
+    qsort(B->key, (size_t)n, sizeof(int64_t), surface_cmp64);
 }
 
 /* The nearest point to x other than point skip (-1: any), within h (INFINITY past h). */
@@ -150,9 +146,8 @@ static int check_march(const double *X, int n, double h, double s, march_stats *
     rk_surface S;
     rk_points_march_report rep;
     memset(st, 0, sizeof *st);
-    int rc = 0, *pairs = NULL, npairs = 0;
-    int64_t *edges = NULL, *link = NULL;
-    double *boxes = NULL, *eboxes = NULL, *dist = NULL;
+    int rc = 0;
+    double *boxes = NULL, *dist = NULL;
     bucket B = {0};
     if (rk_points_march(X, n, h, s, &S, &rep, &err)) {
         snprintf(why, len, "rk_points_march: %s", err.msg);
@@ -173,58 +168,12 @@ static int check_march(const double *X, int n, double h, double s, march_stats *
     }
     FAIL_IF(nf < 4, "%d triangles", nf);
     for (int k = 0; k < 3 * nf; k++) FAIL_IF(tris[k] < 0 || tris[k] >= S.nv, "triangle vertex %d of %d", tris[k], S.nv);
-    const int64_t V = S.nv;
-    edges = malloc(sizeof(int64_t) * 3 * (size_t)nf);
-    for (int f = 0; f < nf; f++)
-        for (int k = 0; k < 3; k++) edges[3 * f + k] = tris[3 * f + k] * V + tris[3 * f + (k + 1) % 3];
-    qsort(edges, 3 * (size_t)nf, sizeof *edges, cmp64);
-    for (int e = 0; e < 3 * nf; e++) {
-        FAIL_IF(e > 0 && edges[e] == edges[e - 1], "edge %lld -> %lld is used twice: not a 2-manifold", (long long)(edges[e] / V),
-                (long long)(edges[e] % V));
-        int64_t rev = (edges[e] % V) * V + edges[e] / V;
-        FAIL_IF(!bsearch(&rev, edges, 3 * (size_t)nf, sizeof rev, cmp64), "edge %lld -> %lld has no reverse: not closed",
-                (long long)(edges[e] / V), (long long)(edges[e] % V));
-    }
-    link = malloc(sizeof(int64_t) * 3 * (size_t)nf); /* v << 42 | b << 21 | c */
-    for (int f = 0; f < nf; f++)
-        for (int k = 0; k < 3; k++)
-            link[3 * f + k] = (int64_t)tris[3 * f + k] << 42 | (int64_t)tris[3 * f + (k + 1) % 3] << 21 | tris[3 * f + (k + 2) % 3];
-    qsort(link, 3 * (size_t)nf, sizeof *link, cmp64);
-    for (int a = 0; a < 3 * nf;) {
-        int b = a;
-        while (b < 3 * nf && link[b] >> 42 == link[a] >> 42) b++;
-        int64_t start = link[a] >> 21 & 0x1fffff, at = start;
-        int steps = 0;
-        do {
-            int64_t next = -1;
-            for (int k = a; k < b; k++)
-                if ((link[k] >> 21 & 0x1fffff) == at) next = link[k] & 0x1fffff;
-            FAIL_IF(next < 0, "vertex %lld: its fan is open", (long long)(link[a] >> 42));
-            at = next, steps++;
-        } while (at != start && steps <= b - a);
-        FAIL_IF(steps != b - a, "vertex %lld: its %d faces make a fan of %d (a pinch)", (long long)(link[a] >> 42), b - a, steps);
-        a = b;
-    }
-    /* no edge meets a face it shares no vertex with, exactly */
+    int fans;
     boxes = malloc(sizeof(double) * 6 * (size_t)nf);
-    eboxes = malloc(sizeof(double) * 18 * (size_t)nf);
-    for (int f = 0; f < nf; f++)
-        for (int d = 0; d < 3; d++) {
-            const int *t = tris + 3 * f;
-            boxes[6 * f + d] = fmin(x[3 * t[0] + d], fmin(x[3 * t[1] + d], x[3 * t[2] + d]));
-            boxes[6 * f + 3 + d] = fmax(x[3 * t[0] + d], fmax(x[3 * t[1] + d], x[3 * t[2] + d]));
-            for (int k = 0; k < 3; k++) {
-                eboxes[6 * (3 * f + k) + d] = fmin(x[3 * t[k] + d], x[3 * t[(k + 1) % 3] + d]);
-                eboxes[6 * (3 * f + k) + 3 + d] = fmax(x[3 * t[k] + d], x[3 * t[(k + 1) % 3] + d]);
-            }
-        }
-    if (rk_broad_phase(eboxes, 3 * nf, boxes, nf, &pairs, &npairs, &err)) FAIL_IF(1, "broad phase: %.200s", err.msg);
-    for (int p = 0; p < npairs; p++) {
-        int e = pairs[2 * p], f = pairs[2 * p + 1], a = tris[e], b = tris[3 * (e / 3) + (e % 3 + 1) % 3];
-        const int *t = tris + 3 * f;
-        if (a == t[0] || a == t[1] || a == t[2] || b == t[0] || b == t[1] || b == t[2]) continue;
-        FAIL_IF(rk_segment_triangle_intersect(x + 3 * a, x + 3 * b, x + 3 * t[0], x + 3 * t[1], x + 3 * t[2]),
-                "edge (%d, %d) meets face %d: the surface intersects itself", a, b, f);
+    FAIL_IF(!boxes, "out of memory");
+    if (surface_closed_manifold(tris, nf, S.nv, &fans, why, len) || surface_crosses_itself(x, tris, nf, boxes, why, len)) {
+        rc = -1;
+        goto done;
     }
     /* every point inside (parity along (1, 0.00123, 0.00071), every face whose box can meet the
      * segment) or within RK_PROXY_OUTSIDE s of a face */
@@ -262,7 +211,7 @@ static int check_march(const double *X, int n, double h, double s, march_stats *
     qsort(dist, (size_t)S.nv, sizeof *dist, rk_cmp_double);
     st->median_s = dist[S.nv / 2], st->p95_s = dist[(int)(0.95 * S.nv)], st->max_s = dist[S.nv - 1];
 done:
-    free(S.X), free(S.tris), free(edges), free(link), free(boxes), free(eboxes), free(dist), free(pairs), free(B.key);
+    free(S.X), free(S.tris), free(boxes), free(dist), free(B.key);
     return rc;
 }
 
