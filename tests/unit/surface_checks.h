@@ -1,5 +1,6 @@
 /* Shared by the cloud contact-surface tests (test_contact_points_proxy, test_contact_proxy_march):
- * a closed triangle surface checked independently of the library's own checks. */
+ * a closed triangle surface checked independently of the library's own checks (closed, 2-manifold,
+ * no self-crossing), and brute-force distances to segments, triangles and the nearest point. */
 #ifndef RK_TEST_SURFACE_CHECKS_H
 #define RK_TEST_SURFACE_CHECKS_H
 
@@ -10,6 +11,7 @@
 #include <string.h>
 
 #include "contact/contact.h"
+#include "util/util.h"
 
 static int surface_cmp64(const void *a, const void *b)
 {
@@ -120,6 +122,106 @@ static inline int surface_crosses_itself(const double *x, const int *tris, int n
 done:
     free(fb), free(eb), free(pairs);
     return rc;
+}
+
+/* The distance from p to segment ab and to triangle abc, by brute force (not the library's). */
+static inline double segment_distance(const double *p, const double *a, const double *b)
+{
+    double u[3], w[3], uu = 0, uw = 0, d2 = 0;
+    for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], w[d] = p[d] - a[d], uu += u[d] * u[d], uw += u[d] * w[d];
+    double t = uu > 0 ? fmin(1, fmax(0, uw / uu)) : 0;
+    for (int d = 0; d < 3; d++) d2 += (w[d] - t * u[d]) * (w[d] - t * u[d]);
+    return sqrt(d2);
+}
+
+static inline double triangle_distance(const double *p, const double *a, const double *b, const double *c)
+{
+    double u[3], v[3], w[3], nrm[3];
+    for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], v[d] = c[d] - a[d], w[d] = p[d] - a[d];
+    nrm[0] = u[1] * v[2] - u[2] * v[1], nrm[1] = u[2] * v[0] - u[0] * v[2], nrm[2] = u[0] * v[1] - u[1] * v[0];
+    double nn = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
+    double best = fmin(segment_distance(p, a, b), fmin(segment_distance(p, b, c), segment_distance(p, c, a)));
+    if (nn > 0) {
+        double h = (w[0] * nrm[0] + w[1] * nrm[1] + w[2] * nrm[2]) / nn, q[3], e1[3], e2[3];
+        for (int d = 0; d < 3; d++) q[d] = w[d] - h * nrm[d];
+        e1[0] = q[1] * v[2] - q[2] * v[1], e1[1] = q[2] * v[0] - q[0] * v[2], e1[2] = q[0] * v[1] - q[1] * v[0];
+        e2[0] = u[1] * q[2] - u[2] * q[1], e2[1] = u[2] * q[0] - u[0] * q[2], e2[2] = u[0] * q[1] - u[1] * q[0];
+        double beta = (e1[0] * nrm[0] + e1[1] * nrm[1] + e1[2] * nrm[2]) / nn;
+        double gamma = (e2[0] * nrm[0] + e2[1] * nrm[1] + e2[2] * nrm[2]) / nn;
+        if (beta >= 0 && gamma >= 0 && beta + gamma <= 1) best = fmin(best, fabs(h) * sqrt(nn));
+    }
+    return best;
+}
+
+/* The distance from x to the nearest of the n points within 1.5 cells of edge h of it, from a
+ * sorted list of cell keys (cell << 24 | point); INFINITY past that. */
+typedef struct {
+    const double *X;
+    int n;
+    double h, lo[3];
+    int64_t *key;
+} bucket;
+
+static inline int64_t cell_of(const bucket *B, const double *x, int dx, int dy, int dz)
+{
+    int64_t c[3];
+    for (int d = 0; d < 3; d++) c[d] = (int64_t)floor((x[d] - B->lo[d]) / B->h) + 8;
+    return (c[0] + dx) + 4096 * ((c[1] + dy) + 4096 * (c[2] + dz));
+}
+
+static inline void bucket_init(bucket *B, const double *X, int n, double h)
+{
+    B->X = X, B->n = n, B->h = h;
+    for (int d = 0; d < 3; d++) {
+        B->lo[d] = X[d];
+        for (int i = 1; i < n; i++) B->lo[d] = fmin(B->lo[d], X[3 * i + d]);
+    }
+    B->key = malloc(sizeof(int64_t) * (size_t)n);
+    for (int i = 0; i < n; i++) B->key[i] = cell_of(B, X + 3 * i, 0, 0, 0) << 24 | i;
+    qsort(B->key, (size_t)n, sizeof(int64_t), surface_cmp64);
+}
+
+/* The nearest point to x other than point skip (-1: any), within h (INFINITY past h). */
+static inline double bucket_nearest(const bucket *B, const double *x, int skip)
+{
+    double best = INFINITY;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                int64_t k = cell_of(B, x, dx, dy, dz) << 24;
+                int lo = 0, hi = B->n;
+                while (lo < hi) {
+                    int mid = (lo + hi) / 2;
+                    if (B->key[mid] < k) lo = mid + 1;
+                    else hi = mid;
+                }
+                for (int a = lo; a < B->n && B->key[a] >> 24 == k >> 24; a++) {
+                    int i = (int)(B->key[a] & 0xffffff);
+                    double d2 = 0;
+                    for (int d = 0; d < 3; d++) d2 += (B->X[3 * i + d] - x[d]) * (B->X[3 * i + d] - x[d]);
+                    if (i != skip && d2 > 0) best = fmin(best, sqrt(d2));
+                    if (skip < 0 && d2 == 0) best = 0;
+                }
+            }
+    return best <= B->h ? best : INFINITY;
+}
+
+/* The points' median spacing: the median of their positive nearest-neighbour distances (those
+ * within h, the bucket's cell), as rk_rkpm_sample_cloud's occupancy voxel halves it. */
+static inline double median_spacing(const double *X, int n, double h)
+{
+    bucket B;
+    bucket_init(&B, X, n, h);
+    double *nn = malloc(sizeof(double) * (size_t)n);
+    int pos = 0;
+    for (int i = 0; i < n; i++) {
+        double d = bucket_nearest(&B, X + 3 * i, i);
+        if (d < INFINITY) nn[pos++] = d;
+    }
+    qsort(nn, (size_t)pos, sizeof *nn, rk_cmp_double);
+    double m = pos > 0 ? nn[pos / 2] : 0;
+    free(nn), free(B.key);
+    return m;
 }
 
 #endif

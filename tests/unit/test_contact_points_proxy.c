@@ -44,124 +44,6 @@ typedef struct {
     double max_outside;                               /* the farthest of those from it */
 } proxy_stats;
 
-/* The distance from p to the triangle a b c: the nearest of its plane's foot (when inside the
- * triangle) and its three edges' nearest points, by brute force (independent of the library's). */
-static double segment_distance(const double *p, const double *a, const double *b)
-{
-    double u[3], w[3], uu = 0, uw = 0, d2 = 0;
-    for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], w[d] = p[d] - a[d], uu += u[d] * u[d], uw += u[d] * w[d];
-    double t = uu > 0 ? fmin(1, fmax(0, uw / uu)) : 0;
-    for (int d = 0; d < 3; d++) d2 += (w[d] - t * u[d]) * (w[d] - t * u[d]);
-    return sqrt(d2);
-}
-
-static double triangle_distance(const double *p, const double *a, const double *b, const double *c)
-{
-    double u[3], v[3], w[3], nrm[3];
-    for (int d = 0; d < 3; d++) u[d] = b[d] - a[d], v[d] = c[d] - a[d], w[d] = p[d] - a[d];
-    nrm[0] = u[1] * v[2] - u[2] * v[1], nrm[1] = u[2] * v[0] - u[0] * v[2], nrm[2] = u[0] * v[1] - u[1] * v[0];
-    double nn = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
-    double best = fmin(segment_distance(p, a, b), fmin(segment_distance(p, b, c), segment_distance(p, c, a)));
-    if (nn > 0) { /* the foot's barycentric coordinates */
-        double h = (w[0] * nrm[0] + w[1] * nrm[1] + w[2] * nrm[2]) / nn, q[3], e1[3], e2[3];
-        for (int d = 0; d < 3; d++) q[d] = w[d] - h * nrm[d];
-        e1[0] = q[1] * v[2] - q[2] * v[1], e1[1] = q[2] * v[0] - q[0] * v[2], e1[2] = q[0] * v[1] - q[1] * v[0];
-        e2[0] = u[1] * q[2] - u[2] * q[1], e2[1] = u[2] * q[0] - u[0] * q[2], e2[2] = u[0] * q[1] - u[1] * q[0];
-        double beta = (e1[0] * nrm[0] + e1[1] * nrm[1] + e1[2] * nrm[2]) / nn;
-        double gamma = (e2[0] * nrm[0] + e2[1] * nrm[1] + e2[2] * nrm[2]) / nn;
-        if (beta >= 0 && gamma >= 0 && beta + gamma <= 1) best = fmin(best, fabs(h) * sqrt(nn));
-    }
-    return best;
-}
-
-/* Points bucketed in cells of edge h from lo, for nearest-point queries. */
-typedef struct {
-    const double *X;
-    int n;
-    double h, lo[3];
-    int64_t *key; /* cell key << 24 | point: sorted */
-} bucket;
-
-static int64_t bucket_cell(const bucket *B, const double *x)
-{
-    int64_t c[3];
-    for (int d = 0; d < 3; d++) c[d] = (int64_t)floor((x[d] - B->lo[d]) / B->h) + 8;
-    return c[0] + 4096 * (c[1] + 4096 * c[2]);
-}
-
-static void bucket_init(bucket *B, const double *X, int n, double h)
-{
-    B->X = X, B->n = n, B->h = h;
-    for (int d = 0; d < 3; d++) {
-        B->lo[d] = X[d];
-        for (int i = 1; i < n; i++) B->lo[d] = fmin(B->lo[d], X[3 * i + d]);
-    }
-    B->key = malloc(sizeof(int64_t) * (size_t)n);
-    for (int i = 0; i < n; i++) B->key[i] = bucket_cell(B, X + 3 * i) << 24 | i;
-    qsort(B->key, (size_t)n, sizeof(int64_t), surface_cmp64);
-}
-
-/* The distance from x to the nearest point (exact when it is under h). */
-static double bucket_nearest(const bucket *B, const double *x)
-{
-    double best = INFINITY;
-    int64_t c = bucket_cell(B, x);
-    for (int dz = -1; dz <= 1; dz++)
-        for (int dy = -1; dy <= 1; dy++)
-            for (int dx = -1; dx <= 1; dx++) {
-                int64_t k = (c + dx + 4096 * (dy + 4096 * dz)) << 24;
-                int lo = 0, hi = B->n;
-                while (lo < hi) {
-                    int mid = (lo + hi) / 2;
-                    if (B->key[mid] < k) lo = mid + 1;
-                    else hi = mid;
-                }
-                for (int a = lo; a < B->n && B->key[a] >> 24 == k >> 24; a++) {
-                    const double *p = B->X + 3 * (B->key[a] & 0xffffff);
-                    double d2 = 0;
-                    for (int d = 0; d < 3; d++) d2 += (p[d] - x[d]) * (p[d] - x[d]);
-                    best = fmin(best, sqrt(d2));
-                }
-            }
-    return best;
-}
-
-/* The points' median spacing: the median of their positive nearest-neighbour distances (those
- * under h, the bucket's cell: exact there), as rk_rkpm_sample_cloud's occupancy voxel halves it. */
-static double median_spacing(const double *X, int n, double h)
-{
-    bucket B;
-    bucket_init(&B, X, n, h);
-    double *nn = malloc(sizeof(double) * (size_t)n);
-    int pos = 0;
-    for (int i = 0; i < n; i++) {
-        double best = INFINITY;
-        int64_t c = bucket_cell(&B, X + 3 * i);
-        for (int dz = -1; dz <= 1; dz++)
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int64_t k = (c + dx + 4096 * (dy + 4096 * dz)) << 24;
-                    int lo = 0, hi = n;
-                    while (lo < hi) {
-                        int mid = (lo + hi) / 2;
-                        if (B.key[mid] < k) lo = mid + 1;
-                        else hi = mid;
-                    }
-                    for (int a = lo; a < n && B.key[a] >> 24 == k >> 24; a++) {
-                        const double *p = X + 3 * (B.key[a] & 0xffffff);
-                        double d2 = 0;
-                        for (int d = 0; d < 3; d++) d2 += (p[d] - X[3 * i + d]) * (p[d] - X[3 * i + d]);
-                        if (d2 > 0) best = fmin(best, sqrt(d2));
-                    }
-                }
-        if (best < h) nn[pos++] = best;
-    }
-    qsort(nn, (size_t)pos, sizeof *nn, rk_cmp_double);
-    double m = pos > 0 ? nn[pos / 2] : 0;
-    free(nn), free(B.key);
-    return m;
-}
-
 /* Every check above on the proxy of (X, n) with voxel g and the points' spacing s. Returns 0 or
  * leaves a message in why. */
 static int check_proxy(const double *X, int n, double g, double s, double bound, proxy_stats *st, char *why, size_t len)
@@ -291,7 +173,7 @@ static int check_proxy(const double *X, int n, double g, double s, double bound,
     for (int k = 0; k < 3 * nf; k++) on[tris[k]] = 1;
     for (int v = 0, k = 0; v < m.nv; v++) {
         if (!on[v]) continue;
-        double d = bucket_nearest(&B, m.X + 3 * v) / g;
+        double d = bucket_nearest(&B, m.X + 3 * v, -1) / g;
         st->max_vertex_distance = fmax(st->max_vertex_distance, d);
         st->mean_vertex_distance += d / st->surface_vertices;
         dist[k++] = d;
