@@ -63,7 +63,8 @@ static void run_usage(FILE *f)
                "                intersections, intersecting_frames, frames}, measured on the start and every\n"
                "                step as romkit fom measures its frames (the exact segment-triangle test; the\n"
                "                scene's collision surface, obstacles and objects; the asset must show the surface),\n"
-               "                when the scene has contact\n"
+               "                when the scene has contact; with --reference, a caged object's full-order frames\n"
+               "                (mesh.cage: the cage's vertices) carried to the surface the asset shows\n"
                "  --stress T.npy  every frame's largest principal Cauchy stress (Pa) at each shown vertex,\n"
                "                (N+1) x n float64 (frame 0: the start), as romkit fom --stress with --scene's\n"
                "                materials: a point cloud's from the runtime's deformation gradients (GRAD), a\n"
@@ -99,6 +100,7 @@ typedef struct {
     long T, nv;
     uint32_t *source;   /* shown vertex -> source vertex */
     int shown;
+    const run_scene *S; /* --scene, carrying a cage's frames to its embedded surface, or NULL */
     double *rest, *at;  /* the shown vertices in frame 0 and in the frame being compared (3 shown) */
     rk_run_error error;
 } reference;
@@ -108,11 +110,13 @@ static void reference_gather(const reference *ref, long k, double *out)
 {
     const double *F = ref->frames + (size_t)k * ref->nv * 3;
     for (int i = 0; i < ref->shown; i++)
-        for (int a = 0; a < 3; a++) out[3 * i + a] = F[3 * (size_t)ref->source[i] + a];
+        if (ref->S) run_scene_shown_at(ref->S, F, i, out + 3 * i);
+        else
+            for (int a = 0; a < 3; a++) out[3 * i + a] = F[3 * (size_t)ref->source[i] + a];
 }
 
 static int reference_open(reference *ref, const char *path, const unsigned char *asset, size_t bytes, int shown,
-                          rk_error *err)
+                          const run_scene *S, rk_error *err)
 {
     int ndim;
     long shape[4];
@@ -134,13 +138,16 @@ static int reference_open(reference *ref, const char *path, const unsigned char 
     memcpy(ref->source, c.data, 4 * (size_t)shown);
     rombin_chunk head;
     uint32_t source_nv = rombin_find(&f, ROMBIN_HEAD, &head) ? ((const uint32_t *)head.data)[ROMBIN_HEAD_SOURCE_VERTICES] : 0;
-    for (int i = 0; i < shown; i++)
+    /* a surface embedded in a cage (mesh.cage): the full-order frames are the cage's, carried to it
+     * by its barycentric coordinates in the cage's tets, which --scene knows */
+    if (S && S->sim.embedded.nv > 0 && ref->nv == S->sim.mesh.nv) ref->S = S;
+    for (int i = 0; i < shown && !ref->S; i++)
         if (ref->source[i] >= ref->nv)
             return rk_fail(err, "%s has %ld vertices; the asset's vertex %d comes from source vertex %u%s", path, ref->nv,
                            i, ref->source[i],
                            source_nv && ref->source[i] >= source_nv
                                ? " (a surface embedded in a simulation cage, mesh.cage: the full-order frames are the "
-                                 "cage's, which does not show it)"
+                                 "cage's; give --scene SCENE.json to carry them to the surface)"
                                : "");
     reference_gather(ref, 0, ref->rest);
     rk_run_error_init(&ref->error, ref->rest, shown);
@@ -288,7 +295,6 @@ int cmd_run(int argc, char **argv)
         rk_fail(&err, "out of memory for %zu shown vertices", n);
         goto fail;
     }
-    if (ref_path && reference_open(&ref, ref_path, data, size, (int)n, &err)) goto fail;
     if (frames_dir) {
         tris = calloc(3 * romrt_triangle_count(m) + 1, sizeof(int32_t));
         if (!tris || (mkdir(frames_dir, 0777) != 0 && errno != EEXIST)) {
@@ -311,9 +317,10 @@ int cmd_run(int argc, char **argv)
     }
     if (scene_path) {
         if (run_scene_open(&scene, scene_path, data, size, m, &err)) goto fail;
-        /* --scene measures contact; with --stress alone it may have none */
-        measure_contact = !stress_out || run_contact_wanted(&scene);
+        /* --scene measures contact; with --stress or --reference it may have none */
+        measure_contact = (!stress_out && !ref_path) || run_contact_wanted(&scene);
     }
+    if (ref_path && reference_open(&ref, ref_path, data, size, (int)n, scene_path ? &scene : NULL, &err)) goto fail;
     if (measure_contact) {
         if (run_contact_open(&contact, &scene, &err)) goto fail;
         if (romrt_positions(m, xyz, 3 * n, 3, &rerr)) goto runtime_fail;

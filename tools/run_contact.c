@@ -31,7 +31,8 @@ int run_contact_open(run_contact *o, const run_scene *S, rk_error *err)
     }
     for (int v = 0; v < nv; v++) shown_of[v] = -1;
     for (int i = 0; i < S->ncollision; i++) shown_of[S->collision_source[i]] = i;
-    for (int i = 0; i < S->shown; i++) shown_of[S->source[i]] = i;
+    for (int i = 0; i < S->shown; i++) /* (a caged object's embedded surface is not the contact surface) */
+        if (S->source[i] < (uint32_t)nv) shown_of[S->source[i]] = i;
     /* the contact model as the full-order run builds it (fom/init.c): dhat 0 is 1e-3 of the
      * diagonal; kappa and the mass do not enter the measures */
     const rk_fem *fem = &S->sim.fem;
@@ -73,7 +74,8 @@ int run_contact_frame(run_contact *o, const romrt_model *m, double t, const romr
     for (int i = 0; i < S->ncollision; i++)
         for (int a = 0; a < 3; a++) o->x[3 * (size_t)S->collision_source[i] + a] = (double)o->cxyz[3 * i + a];
     for (int i = 0; i < S->shown; i++)
-        for (int a = 0; a < 3; a++) o->x[3 * (size_t)S->source[i] + a] = (double)xyz[3 * i + a];
+        for (int a = 0; S->source[i] < (uint32_t)S->sim.mesh.nv && a < 3; a++)
+            o->x[3 * (size_t)S->source[i] + a] = (double)xyz[3 * i + a];
     rk_contact_set_time(&o->contact, t);
     int crossings;
     double closest;

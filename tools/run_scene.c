@@ -21,7 +21,8 @@ static int check_rest(const run_scene *o, const romrt_model *m, rk_error *err)
     const double *S = o->sim.mesh.X;
     double tol = 1e-5 * (rk_points_diagonal(S, o->sim.mesh.nv) + 1e-300);
     for (int i = 0; i < o->shown; i++) {
-        const double *s = &S[3 * (size_t)o->source[i]];
+        int v = (int)o->source[i], nv = o->sim.mesh.nv;
+        const double *s = v < nv ? &S[3 * (size_t)v] : &o->sim.embedded.X[3 * (size_t)(v - nv)];
         double d = fabs((double)X[3 * i] - s[0]) + fabs((double)X[3 * i + 1] - s[1]) + fabs((double)X[3 * i + 2] - s[2]);
         if (!(d <= tol)) {
             int bad = rk_fail(err, "--scene %s: the asset's shown vertex %d rests at (%g, %g, %g), its scene vertex %u at "
@@ -55,10 +56,11 @@ int run_scene_open(run_scene *o, const char *scene_path, const unsigned char *as
         return rk_fail(err, "--scene: the asset has no VMAP chunk saying which scene vertex each shown one is");
     if (!(o->source = calloc((size_t)o->shown + 1, sizeof(uint32_t)))) return rk_fail(err, "out of memory");
     memcpy(o->source, c.data, 4 * (size_t)o->shown);
-    for (int i = 0; i < o->shown; i++)
-        if (o->source[i] >= (uint32_t)nv)
-            return rk_fail(err, "--scene %s has %d vertices; the asset's shown vertex %d comes from vertex %u: is this the "
-                           "scene the asset was built from?", scene_path, nv, i, o->source[i]);
+    for (int i = 0; i < o->shown; i++) /* a caged object's surface: the embedded vertices after the mesh's */
+        if (o->source[i] >= (uint32_t)nv + (uint32_t)o->sim.embedded.nv)
+            return rk_fail(err, "--scene %s has %d vertices%s; the asset's shown vertex %d comes from vertex %u: is this "
+                           "the scene the asset was built from?", scene_path, nv,
+                           o->sim.embedded.nv ? " and an embedded surface" : "", i, o->source[i]);
     /* the collision vertices' scene vertices: VMAP names every stored vertex, CVTX the stored ones
      * contact acts on (a point cloud's contact surface among them, stored but not shown) */
     size_t ncv = romrt_collision_count(m);
@@ -79,6 +81,23 @@ int run_scene_open(run_scene *o, const char *scene_path, const unsigned char *as
         }
     }
     return check_rest(o, m, err);
+}
+
+void run_scene_shown_at(const run_scene *o, const double *x, int i, double out[3])
+{
+    int v = (int)o->source[i], nv = o->sim.mesh.nv;
+    if (v < nv) {
+        for (int a = 0; a < 3; a++) out[a] = x[3 * (size_t)v + a];
+        return;
+    }
+    /* its rest position moved by its tet's displacement there, as the asset's rows carry it (a vertex
+     * outside the cage has clamped coordinates, which do not give back its rest position) */
+    const rk_embedded_surface *E = &o->sim.embedded;
+    const int *t = &o->sim.mesh.tets[4 * (size_t)E->tet[v - nv]];
+    const double *b = &E->bary[4 * (size_t)(v - nv)], *X = o->sim.mesh.X;
+    for (int a = 0; a < 3; a++) out[a] = E->X[3 * (size_t)(v - nv) + a];
+    for (int k = 0; k < 4; k++)
+        for (int a = 0; a < 3; a++) out[a] += b[k] * (x[3 * (size_t)t[k] + a] - X[3 * (size_t)t[k] + a]);
 }
 
 int run_scene_object_of(const run_scene *o, int v)

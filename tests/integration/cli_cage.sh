@@ -30,3 +30,18 @@ json_checks asset_shows_the_surface "$TMP/A.json" asset.shown_vertices=11533 ass
 f="$TMP/frames/frame_00003.obj"
 [ -f "$f" ] && [ "$(grep -c '^v ' "$f")" -eq 11533 ] && [ "$(grep -c '^f ' "$f")" -eq 23062 ] \
     && ok frames_have_the_original_counts || fail frames_have_the_original_counts "$(ls "$TMP/frames" | head -3)"
+
+# The runtime's free run measured against full order at the surface it shows: the full-order frames
+# are the cage's, carried to the surface by --scene (each vertex's rest position plus its cage
+# tet's displacement at its barycentric coordinates). Without --scene the run says what to give.
+if "$ROMKIT" fom tests/data/scenes/spot_cage.json --snapshots "$TMP/ref.npy" --quiet >"$TMP/out" 2>"$TMP/err" &&
+   "$ROMKIT" run "$TMP/spot.rombin" --steps 20 --reference "$TMP/ref.npy" --scene tests/data/scenes/spot_cage.json \
+       --quiet >"$TMP/out" 2>"$TMP/err"; then
+    rel=$(sed -n 's/.*over 20 frames: relative error \([0-9.e+-]*\),.*/\1/p' "$TMP/out")
+    [ -n "$rel" ] && below "$rel" 0.1 && ok run_reference_through_the_cage \
+        || fail run_reference_through_the_cage "relative error '$rel': $(cat "$TMP/out")"
+else
+    fail run_reference_through_the_cage "$(tail -c 600 "$TMP/err")"
+fi
+expect_fail run_reference_cage_needs_the_scene "give --scene" "$ROMKIT" run "$TMP/spot.rombin" --steps 2 \
+    --reference "$TMP/ref.npy"
