@@ -49,17 +49,7 @@ scene "$T/defaults.json" '{"method": "adaptive_subspace", "basis": "skinning", "
 scene "$T/paper.json" '{"method": "adaptive_subspace", "basis": "modes", "size": 24, "initial_size": 12,
      "eps_g_units": "paper", "eps_g_nodal": 1e-3, "eps_g_modal": 1e-3, "eps_e": 1e-4, "eps_d": 0.1,
      "residual": false}'
-# cpu FILE COMMAND...: runs it, writing its CPU seconds (user + system, the whole process) to FILE;
-# on a shared machine the wall time says how the load shared the cores, the CPU time what the run did
-cpu() {
-    f=$1
-    shift
-    python3 -c 'import resource, subprocess, sys
-rc = subprocess.call(sys.argv[2:], stdout=subprocess.DEVNULL)
-u = resource.getrusage(resource.RUSAGE_CHILDREN)
-open(sys.argv[1], "w").write("%.3f\n" % (u.ru_utime + u.ru_stime))
-sys.exit(rc)' "$f" "$@"
-}
+. bench/cpu.sh
 load0=$(cut -d' ' -f1-3 /proc/loadavg)
 for r in $(seq 1 "$REPEATS"); do
     for t in 1 2; do
