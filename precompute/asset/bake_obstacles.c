@@ -157,20 +157,6 @@ static int pair_capacity(const rk_contact *c, const rk_asset_options *o, const i
     return cap > (double)(1 << 24) ? 1 << 24 : (int)ceil(cap);
 }
 
-/* The contact stage's surface over the model's collision vertices, for a model without contact
- * (no obstacle, one object): the same boundary rk_rom_contact_init took them from. */
-static int surface_alone(const rk_rom_model *m, const rk_fem *fem, rk_contact *own, rk_error *err)
-{
-    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
-                    .nghost = fem->nghost, .ghost = (int *)fem->ghost};
-    if (rk_contact_init(own, &view, NULL, 1, NULL, 0, &m->contact_options, m->mass / fem->nv, err)) return -1;
-    if (own->nv != m->ncv) {
-        rk_contact_free(own);
-        return rk_fail(err, "the collision surface's %d vertices are not the model's %d", own->nv, m->ncv);
-    }
-    return 0;
-}
-
 int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_options *o, rombin_writer *w,
                       rk_error *err)
 {
@@ -179,7 +165,7 @@ int rk_bake_obstacles(const rk_rom_model *m, const rk_fem *fem, const rk_asset_o
     int for_colliders = o->colliders == RK_COLLIDERS_SURFACE && m->ncv > 0;
     if (!m->has_contact && !(for_colliders && m->colliders_contact)) { /* a model built by another stage */
         if (!for_colliders) return 0;
-        if (surface_alone(m, fem, &own, err)) return -1;
+        if (rk_rom_colliders_surface(m, fem, &own, err)) return -1;
         c = &own;
     }
     int nobs = 0, nobjects = 0;

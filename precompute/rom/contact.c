@@ -78,18 +78,25 @@ int rk_rom_contact_init(rk_rom_model *m, const rk_fem *fem, const rk_fom_options
     return 0;
 }
 
+int rk_rom_colliders_surface(const rk_rom_model *m, const rk_fem *fem, rk_contact *out, rk_error *err)
+{
+    rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
+                    .nghost = fem->nghost, .ghost = (int *)fem->ghost};
+    if (rk_contact_init(out, &view, NULL, 1, NULL, 0, &m->contact_options, m->mass / fem->nv, err)) return -1;
+    if (out->nv != m->ncv) {
+        int nv = out->nv;
+        rk_contact_free(out);
+        return rk_fail(err, "the collision surface's %d vertices are not the reduced model's %d", nv, m->ncv);
+    }
+    return 0;
+}
+
 int rk_rom_contact_for_colliders(rk_rom_model *m, const rk_fem *fem, rk_error *err)
 {
     if (m->surface || m->ncv == 0) return 0;
     if (!m->has_contact) {
-        rk_mesh view = {.nv = fem->nv, .nt = fem->nt, .X = (double *)fem->X, .tets = (int *)fem->tets,
-                        .nghost = fem->nghost, .ghost = (int *)fem->ghost};
-        if (rk_contact_init(&m->contact, &view, NULL, 1, NULL, 0, &m->contact_options, m->mass / fem->nv, err))
-            return -1;
+        if (rk_rom_colliders_surface(m, fem, &m->contact, err)) return -1;
         m->colliders_contact = 1;
-        if (m->contact.nv != m->ncv)
-            return rk_fail(err, "the collision surface's %d vertices are not the reduced model's %d", m->contact.nv,
-                           m->ncv);
     }
     m->surface = 1;
     return 0;

@@ -107,6 +107,10 @@ void rk_rom_model_free(rk_rom_model *m);
  * obstacle, built as that bake builds it), which stays out of the step until a shape is placed
  * (runtime/contact.c's rt_surface_on). Nothing to do on a model with a surface or no boundary. */
 int rk_rom_contact_for_colliders(rk_rom_model *m, const rk_fem *fem, rk_error *err);
+/* That surface into *out (freed by the caller with rk_contact_free; nothing to free on failure):
+ * the contact stage's boundary of fem, the one rk_rom_contact_init took the model's collision
+ * vertices from, with no obstacle, one object and the model's barrier. */
+int rk_rom_colliders_surface(const rk_rom_model *m, const rk_fem *fem, rk_contact *out, rk_error *err);
 
 typedef struct {
     long steps, newton_iterations, line_search_halvings, unconverged_steps;
