@@ -32,14 +32,8 @@ DIR=$(cd examples/scenes/alrom && pwd)
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 mkdir -p "$OUT"
-fix() { sed "s|../../../tests|$PWD/tests|" "$1"; }
-train=""
-for s in "$DIR"/armadillo_train_*.json; do
-    name=$(basename "$s" .json)
-    fix "$s" >"$TMP/$name.json"
-    OPENBLAS_NUM_THREADS=1 "$ROMKIT" fom "$TMP/$name.json" --snapshots "$TMP/$name.npy" --quiet
-    train="${train:+$train, }{\"snapshots\": \"$TMP/$name.npy\"}"
-done
+. bench/alrom_armadillo.sh
+alrom_train
 entries="{\"basis\": \"pod\", \"size\": 16, \"name\": \"pca\", \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]},
  {\"method\": \"adaptive_linear\", \"decoder\": \"quadratic_pod\", \"size\": 16, \"history\": 20, \"lambda\": 0.2, \"name\": \"adaptive\",
   \"cubature\": {\"tolerance\": 0.01, \"max_points\": 210}, \"training\": [$train]},
@@ -47,13 +41,7 @@ entries="{\"basis\": \"pod\", \"size\": 16, \"name\": \"pca\", \"cubature\": {\"
   \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]}"
 echo "scenario,method,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error,stored_vertices,cubature_elements,encode_us,basis_us,rows_us,terms_us,newton_us" >"$OUT/alrom_runtime.csv"
 for sc in compress bend; do
-    fix "$DIR/armadillo_$sc.json" | python3 -c "
-import json, sys
-s = json.load(sys.stdin)
-s['rom'] = json.loads('[' + sys.argv[1] + ']')
-json.dump(s, open(sys.argv[2], 'w'))" "$entries" "$TMP/$sc.json"
-    OPENBLAS_NUM_THREADS=1 "$ROMKIT" fom "$TMP/$sc.json" --snapshots "$TMP/$sc.ref.npy" --quiet
-    steps=$(python3 -c "import json; t = json.load(open('$TMP/$sc.json'))['time']; print(round(t['duration'] / t['step']))")
+    alrom_scene "$sc" "$entries"
     for k in 0 1 2; do
         name=$(echo pca adaptive crom | cut -d' ' -f$((k + 1)))
         "$ROMKIT" build "$TMP/$sc.json" --entry $k -o "$TMP/$sc.$name.rombin" --report "$TMP/$sc.$name.build.json" --quiet
