@@ -216,8 +216,8 @@ int cmd_fom(int argc, char **argv)
            m.max_displacement, m.kinetic_energy);
     if (sim.body_points)
         printf("point clouds: %d points embedded in their full-order bodies (%d outside, %d surface vertices' inset "
-               "cut back); snapshots and positions are at the scene's %d vertices\n", sim.body_points,
-               sim.body_outside, sim.body_backed_off, nv);
+               "cut back; %d contact surface vertices outside); snapshots and positions are at the scene's %d vertices\n",
+               sim.body_points, sim.body_outside, sim.body_backed_off, sim.body_surface_outside, nv);
     if (m.contact)
         printf("contact: closest %.3g m, %ld crossings over %ld frames, %.1f pairs per evaluation (at most %ld); "
                "broad phase %.3g s, CCD %.3g s\n", m.tally.min_distance, m.tally.intersections, m.tally.frames,

@@ -360,6 +360,11 @@ typedef struct {
     double max_outside;    /* the farthest a point outside lies from the surface (m) */
 } rk_points_march_report;
 int rk_points_march(const double *X, int n, double h, double s, rk_surface *out, rk_points_march_report *rep, rk_error *err);
+/* The same surface as rk_points_proxy gives the voxel one (proxy_cone.c): out has the n points
+ * first, then the surface's vertices, and ghost tets only (each triangle coned to point 0), so
+ * rk_mesh_boundary gives exactly the surface's outward triangles. rep as rk_points_march's; the
+ * caller refuses rep->outside_points > 0. Fails as rk_points_march does. */
+int rk_points_march_mesh(const double *X, int n, double h, double s, rk_mesh *out, rk_points_march_report *rep, rk_error *err);
 /* The lattice edge in proxy voxels, and the reach in lattice edges: just over the Kuhn tet's
  * circumradius sqrt(3) / 2 h, so a point's tet has a node within reach of it (inside). Donut
  * capture (g = 10 s): at 1.0 g 18,000 triangles, at 1.5 g 8,556 (voxel surface 6,364), at 2.0 g

@@ -39,12 +39,7 @@ static int load_unrefined_mesh(const rk_scene_object *o, int k, rk_mesh *m, rk_m
         double *X = NULL;
         int n = 0;
         if (rk_points_load_tagged(o->file, &X, &n, point_tag, err)) return -1;
-        double g, spacing;
-        if (rk_cloud_proxy_spacing(o, X, n, &g, &spacing, err)) {
-            free(X);
-            return -1;
-        }
-        int rc = rk_points_proxy(X, n, g, spacing, m, err);
+        int rc = rk_cloud_surface(o, X, n, m, err);
         free(X);
         *cloud_points = n;
         (void)k;

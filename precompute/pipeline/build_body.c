@@ -31,6 +31,31 @@ int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, dou
     return 0;
 }
 
+int rk_cloud_surface(const rk_scene_object *o, const double *X, int n, rk_mesh *m, rk_error *err)
+{
+    double g, s;
+    if (rk_cloud_proxy_spacing(o, X, n, &g, &s, err)) return -1;
+    if (o->proxy_voxels || !(s > 0)) return rk_points_proxy(X, n, g, s, m, err);
+    /* the march surface follows the capture where the voxel surface's staircase cannot come in
+     * (docs/cloud_march.md: the donut's 95th percentile vertex 0.50 s from a point, not 2.39 s) */
+    rk_points_march_report rep;
+    if (rk_points_march_mesh(X, n, RK_MARCH_LATTICE * g, s, m, &rep, err)) return -1;
+    if (rep.outside_points == 0) return 0;
+    /* a lattice cell's alignment can leave a point past s (the pour's turned, thinned donut: 1 of
+     * 2,852 at 1.3 s); the finer lattice g kept every point of the donut within s
+     * (docs/cloud_march.md) at about twice the triangles, so it is tried before refusing */
+    rk_warn("%s: %d of %d points lie more than their spacing outside the contact surface on the lattice %g (the "
+            "farthest %g, in the file's units): trying the lattice %g", o->file, rep.outside_points, n,
+            RK_MARCH_LATTICE * g, rep.max_outside, g);
+    rk_mesh_free(m);
+    if (rk_points_march_mesh(X, n, g, s, m, &rep, err)) return -1;
+    if (rep.outside_points == 0) return 0;
+    rk_mesh_free(m);
+    return rk_fail(err, "%s: %d of %d points lie more than their spacing (%g in the file's units) outside the cloud's "
+                   "contact surface, the farthest %g, even on the lattice %g: give a smaller proxy_voxel, or proxy "
+                   "\"voxels\"", o->file, rep.outside_points, n, s, rep.max_outside, g);
+}
+
 int rk_cloud_body_load(const rk_scene_object *o, rk_mesh *m, rk_cloud_body *b, rk_error *err)
 {
     memset(b, 0, sizeof *b);
@@ -50,7 +75,18 @@ int rk_cloud_body_load(const rk_scene_object *o, rk_mesh *m, rk_cloud_body *b, r
      * nearer (the body at s / 2 would lose a third of a lattice's cells' volume) */
     tau = 0.5 * sqrt(3.0) * spacing;
     if (rk_points_body(b->X, b->n, g, spacing, tau, m, &b->tet_point, &b->proxy_X, &b->rep, err)) goto fail;
-    b->corners = m->nv;
+    b->corners = b->surface_nv = m->nv;
+    if (!o->proxy_voxels) { /* the march surface's vertices, embedded in the body (embed_cloud) */
+        rk_mesh surface;
+        if (rk_cloud_surface(o, b->X, b->n, &surface, err)) goto fail;
+        free(b->proxy_X);
+        b->surface_nv = surface.nv - b->n;
+        b->proxy_X = rk_calloc(3 * (size_t)b->surface_nv + 1, sizeof(double), err);
+        if (b->proxy_X) memcpy(b->proxy_X, surface.X + 3 * (size_t)b->n, sizeof(double) * 3 * (size_t)b->surface_nv);
+        rk_mesh_free(&surface);
+        if (!b->proxy_X) goto fail;
+        b->march = 1;
+    }
     m->tet_tag = rk_calloc((size_t)m->nt + 1, sizeof(int), err);
     if (!m->tet_tag) goto fail;
     for (int t = 0; t < m->nt; t++) m->tet_tag[t] = b->tag ? b->tag[b->tet_point[t]] : 0;
@@ -65,7 +101,7 @@ void rk_cloud_body_place(rk_cloud_body *b, double scale, const double translate[
 {
     for (int i = 0; i < b->n; i++)
         for (int d = 0; d < 3; d++) b->X[3 * i + d] = scale * b->X[3 * i + d] + translate[d];
-    for (int c = 0; c < b->corners; c++)
+    for (int c = 0; c < b->surface_nv; c++)
         for (int d = 0; d < 3; d++) b->proxy_X[3 * c + d] = scale * b->proxy_X[3 * c + d] + translate[d];
 }
 
@@ -111,30 +147,52 @@ static void direct(rk_scene_layout *L, int i, int v)
     L->weight[4 * (size_t)i] = 1;
 }
 
-/* The layout's entries for cloud k: its points embedded in its body's tets, then its body's
- * vertices, each with the offset from the weighted rest positions to where rk_scene_build has it. */
-static int embed_cloud(const rk_scene *s, const rk_cloud_body *b, int k, int *i, rk_scene_sim *out, rk_error *err)
+/* The layout's entries *i on for the n places P (3n) embedded in cloud k's body tets (ov), by
+ * rk_cage_embed (one warning for those outside, carried by their nearest tet); with `offset`, each
+ * entry's rest offset puts it exactly where it is (an outside place's barycentrics are clamped). */
+static int embed_places(const rk_scene *s, int k, const rk_object_view *ov, const double *P, int n, const char *what,
+                        int offset, int *i, rk_scene_sim *out, int *outside, double *worst, rk_error *err)
 {
-    rk_object_view ov;
-    rk_embedding e;
     rk_scene_layout *L = &out->layout;
-    if (rk_scene_object_view(out, k, &ov, err)) return -1;
-    int rc = rk_cage_embed(&ov.mesh, b->X, b->n, &e, err);
-    free(ov.mesh.tets);
-    if (rc) return rk_error_prefix(err, "%s: objects[%d]: embedding the points in the full-order body", s->path, k);
+    rk_embedding e;
+    if (rk_cage_embed(&ov->mesh, P, n, &e, err))
+        return rk_error_prefix(err, "%s: objects[%d]: embedding the %s in the full-order body", s->path, k, what);
     if (e.outside)
-        rk_warn("%s: objects[%d]: %d of %d points are outside the cloud's full-order body (the farthest, point %d, %.3g m "
-                "away): each is carried by its nearest tet", s->path, k, e.outside, b->n, e.worst_point, e.worst_distance);
-    out->body_outside += e.outside;
-    out->body_worst_distance = fmax(out->body_worst_distance, e.worst_distance);
-    for (int p = 0; p < b->n; p++, ++*i) {
-        const int *tet = out->mesh.tets + 4 * (size_t)(ov.t0 + e.tet[p]);
+        rk_warn("%s: objects[%d]: %d of %d %s are outside the cloud's full-order body (the farthest, %d, %.3g m "
+                "away): each is carried by its nearest tet", s->path, k, e.outside, n, what, e.worst_point, e.worst_distance);
+    *outside += e.outside;
+    *worst = fmax(*worst, e.worst_distance);
+    for (int p = 0; p < n; p++, ++*i) {
+        const int *tet = out->mesh.tets + 4 * (size_t)(ov->t0 + e.tet[p]);
         for (int a = 0; a < 4; a++) {
             L->vertex[4 * (size_t)*i + a] = tet[a];
             L->weight[4 * (size_t)*i + a] = e.bary[4 * (size_t)p + a];
         }
+        if (!offset) continue;
+        double at[3];
+        rk_scene_layout_at(L, out->mesh.X, *i, at);
+        for (int d = 0; d < 3; d++) L->offset[3 * (size_t)*i + d] = P[3 * p + d] - at[d];
     }
     rk_embedding_free(&e);
+    return 0;
+}
+
+/* The layout's entries for cloud k: its points embedded in its body's tets, then its contact
+ * surface's vertices: the march surface's embedded likewise (full order's contact stays the body's
+ * own boundary), or the voxel surface's, the body's vertices each with the offset from the body's
+ * rest positions to where rk_scene_build has it. */
+static int embed_cloud(const rk_scene *s, const rk_cloud_body *b, int k, int *i, rk_scene_sim *out, rk_error *err)
+{
+    rk_object_view ov;
+    rk_scene_layout *L = &out->layout;
+    if (rk_scene_object_view(out, k, &ov, err)) return -1;
+    double far = 0;
+    int rc = embed_places(s, k, &ov, b->X, b->n, "points", 0, i, out, &out->body_outside, &out->body_worst_distance, err);
+    if (!rc && b->march)
+        rc = embed_places(s, k, &ov, b->proxy_X, b->surface_nv, "contact surface vertices", 1, i, out,
+                          &out->body_surface_outside, &far, err);
+    free(ov.mesh.tets);
+    if (rc || b->march) return rc;
     for (int c = 0; c < ov.mesh.nv; c++, ++*i) {
         direct(L, *i, ov.v0 + c);
         for (int d = 0; d < 3; d++) L->offset[3 * (size_t)*i + d] = b->proxy_X[3 * c + d] - ov.mesh.X[3 * c + d];
@@ -146,7 +204,7 @@ int rk_cloud_bodies_finish(const rk_scene *s, rk_cloud_body *bodies, rk_scene_si
 {
     rk_scene_layout *L = &out->layout;
     int nv = out->mesh.nv;
-    for (int k = 0; k < s->nobjects; k++) nv += bodies[k].n;
+    for (int k = 0; k < s->nobjects; k++) nv += bodies[k].n + bodies[k].surface_nv - bodies[k].corners;
     L->vertex = rk_calloc(4 * (size_t)nv, sizeof(int), err);
     L->weight = rk_calloc(4 * (size_t)nv, sizeof(double), err);
     L->offset = rk_calloc(3 * (size_t)nv, sizeof(double), err);

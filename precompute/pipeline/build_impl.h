@@ -14,14 +14,25 @@ rk_material rk_scene_region_material(const rk_scene_object *o, const double p[3]
  * points' median nearest-neighbour spacing (0 for a cloud of under 4 points at a given voxel). */
 int rk_cloud_proxy_spacing(const rk_scene_object *o, const double *X, int n, double *g, double *s, rk_error *err);
 
+/* Cloud o's contact surface as a mesh (X: its n points, unplaced): the n points, then the surface's
+ * vertices, with ghost tets whose rk_mesh_boundary is the surface. mesh.proxy "march" (the
+ * default): rk_points_march_mesh at lattice edge RK_MARCH_LATTICE g, or where a point lies
+ * farther than RK_PROXY_OUTSIDE s outside that, at g (warned), refused (naming the file) when
+ * one still does; "voxels", or a cloud of under 4
+ * points (no spacing to pull to): rk_points_proxy. */
+int rk_cloud_surface(const rk_scene_object *o, const double *X, int n, rk_mesh *m, rk_error *err);
+
 /* A cloud object's full-order body while the scene is built: its points and what ties them to it. */
 typedef struct {
     double *X;                 /* the n points (placed once rk_cloud_body_place ran) */
     int n;
     int *tag;                  /* n, or NULL */
     int *tet_point;            /* the body's tets: the nearest point */
-    double *proxy_X;           /* the body's vertices where the reduced simulator's contact surface has them */
+    double *proxy_X;           /* the voxel surface: the body's vertices where the reduced simulator's contact
+                                * surface has them; the march surface: its vertices (embedded in the body) */
     int corners;               /* the body's vertices */
+    int surface_nv;            /* proxy_X's vertices (the voxel surface: corners) */
+    int march;                 /* proxy_X is the march surface, not the body's vertices */
     rk_points_body_report rep;
 } rk_cloud_body;
 

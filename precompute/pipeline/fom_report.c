@@ -186,6 +186,7 @@ cJSON *rk_fom_report(const rk_scene_sim *sim, const rk_fom_measure *m, double se
         cJSON_AddNumberToObject(b, "points", sim->body_points);
         cJSON_AddNumberToObject(b, "points_outside", sim->body_outside);
         cJSON_AddNumberToObject(b, "worst_distance", sim->body_worst_distance);
+        cJSON_AddNumberToObject(b, "surface_outside", sim->body_surface_outside);
         cJSON_AddNumberToObject(b, "backed_off", sim->body_backed_off);
         cJSON_AddNumberToObject(b, "min_volume_ratio", sim->body_min_volume_ratio);
         cJSON_AddNumberToObject(b, "mass_scale", sim->body_mass_scale);

@@ -146,7 +146,7 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
                       rk_scene_object *o)
 {
     static const char *const keys[] = {"file", "box", "points", "scale", "translate", "quality",
-                                       "max_volume", "refine", "proxy_voxel", "cage", "voids", NULL};
+                                       "max_volume", "refine", "proxy_voxel", "proxy", "cage", "voids", NULL};
     if (rk_json_check_keys(c, obj, path, keys)) return -1;
     const char *file = NULL, *points = NULL;
     if (rk_json_string(c, obj, path, "file", 0, &file)) return -1;
@@ -194,6 +194,12 @@ static int parse_mesh(const rk_json_ctx *c, const cJSON *obj, const char *path, 
     if (o->proxy_voxel != 0 && (o->shape != RK_SHAPE_POINTS || !(o->proxy_voxel > 0)))
         return rk_json_fail(c, path, "proxy_voxel (m) is a point cloud's contact-proxy voxel edge: positive, and "
                             "only with points");
+    const char *proxy = NULL;
+    if (rk_json_string(c, obj, path, "proxy", 0, &proxy)) return -1;
+    if (proxy && (o->shape != RK_SHAPE_POINTS || (strcmp(proxy, "march") != 0 && strcmp(proxy, "voxels") != 0)))
+        return rk_json_fail(c, path, "proxy is a point cloud's contact surface, \"march\" (the default) or \"voxels\", "
+                            "and only with points; got \"%s\"", proxy);
+    o->proxy_voxels = proxy && strcmp(proxy, "voxels") == 0;
     return 0;
 }
 

@@ -98,6 +98,8 @@ typedef struct {
                             * g / 2, then s / 2 from the points, s their spacing); 0: 1/RK_PROXY_VOXELS of the cloud's
                             * bounding-box diagonal, or the spacing its RKPM sampling uses (twice
                             * the points' median spacing) where that is more */
+    int proxy_voxels;      /* point cloud: mesh.proxy "voxels": the voxel surface moved in
+                            * (rk_points_proxy) instead of the default "march" (rk_points_march) */
     rk_material material;
     int nregions;
     rk_scene_region *regions;
@@ -279,6 +281,7 @@ typedef struct {
     int body_points;          /* the clouds' points, embedded in their bodies */
     int body_outside;         /* of those, in no tet (exact test): carried by the nearest, warned about */
     double body_worst_distance;
+    int body_surface_outside; /* the clouds' march contact surfaces' vertices in no body tet (carried by the nearest) */
     int body_backed_off;      /* body vertices whose inset move was cut back (no inverted, flat tet) */
     double body_min_volume_ratio; /* the smallest body tet over its lattice tet's volume */
     double body_mass_scale;   /* the largest density factor that made a body weigh its cloud */

@@ -132,7 +132,7 @@ expect_fail run_missing_file "cannot open" "$ROMKIT" run "$TMP/none.rombin" --st
 # A point cloud, mesh-free (the fuzz seed's lattice): built, stepped, its splats written per frame
 # as PLY (frame 0 the start) with the cloud's points in file order; a mesh asset has none to write.
 # At full order the cloud runs on its body, its snapshots at the scene's vertices (its 81 points,
-# then its contact surface's 54 vertices).
+# then its contact surface's 130 vertices, the march surface's).
 if "$ROMKIT" build tests/fuzz/seed_points.json -o "$TMP/p.rombin" --quiet >/dev/null 2>"$TMP/err" \
     && "$ROMKIT" run "$TMP/p.rombin" --steps 5 --splats "$TMP/splats" --snapshots "$TMP/ps.npy" --quiet >/dev/null 2>>"$TMP/err" \
     && [ "$(ls "$TMP/splats" | wc -l)" = 6 ] && head -c 300 "$TMP/splats/frame_00005.ply" | grep -q "element vertex 81" \
@@ -141,7 +141,7 @@ else fail point_cloud_builds_runs_and_writes_splats "$(tail -c 600 "$TMP/err")";
 expect_fail run_splats_needs_a_cloud "holds no Gaussian splats" "$ROMKIT" run "$TMP/a.rombin" --steps 1 --splats "$TMP/nosplats"
 if "$ROMKIT" fom tests/fuzz/seed_points.json --snapshots "$TMP/fs.npy" --quiet >"$TMP/out" 2>"$TMP/err" \
     && grep -q "81 points embedded in their full-order bodies (0 outside" "$TMP/out" \
-    && grep -q "'shape': (11, 135, 3)" "$TMP/fs.npy"; then ok point_cloud_runs_at_full_order
+    && grep -q "'shape': (11, 211, 3)" "$TMP/fs.npy"; then ok point_cloud_runs_at_full_order
 else fail point_cloud_runs_at_full_order "$(cat "$TMP/out") $(tail -c 600 "$TMP/err")"; fi
 
 # A point cloud and a tet mesh in one scene (the fuzz seed's lattice resting over a meshed slab):

@@ -21,6 +21,8 @@
 #include "util/util.h"
 
 #include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
 
 
 typedef struct {
@@ -164,6 +166,56 @@ TEST(a_lattice_is_wrapped_within_its_spacing)
     CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
 }
 
+/* A triangle as its smallest vertex first, its winding kept (so a flipped face differs). */
+static void rotate_min_first(int *t)
+{
+    while (t[0] > t[1] || t[0] > t[2]) {
+        int a = t[0];
+        t[0] = t[1], t[1] = t[2], t[2] = a;
+    }
+}
+
+static int by_triangle(const void *a, const void *b) { return memcmp(a, b, 3 * sizeof(int)); }
+
+/* rk_points_march_mesh (what a scene's cloud collides through): its ghost cones' rk_mesh_boundary
+ * is exactly the march surface, each triangle wound as the surface has it, over the points then
+ * the surface's vertices (a cone face left over, or a flipped one, would fail). Two lattices apart
+ * (two components coned to one apex). */
+TEST(the_ghost_cones_bound_exactly_the_march_surface)
+{
+    double X[3 * 240], s = 0.01;
+    int n = 0;
+    for (int k = 0; k < 4; k++)
+        for (int j = 0; j < 5; j++)
+            for (int i = 0; i < 6; i++, n++)
+                X[3 * n] = s * i + (k >= 2 ? 0.2 : 0), X[3 * n + 1] = s * j, X[3 * n + 2] = s * (k % 2);
+    rk_error err = {{0}};
+    rk_surface S;
+    rk_mesh m;
+    rk_points_march_report rep, rep2;
+    int *tris = NULL, nf = -1;
+    CHECK_OK(rk_points_march(X, n, RK_MARCH_LATTICE * 2 * s, s, &S, &rep, &err));
+    CHECK_OK(rk_points_march_mesh(X, n, RK_MARCH_LATTICE * 2 * s, s, &m, &rep2, &err));
+    CHECK_OK(rk_mesh_boundary(&m, &tris, &nf, &err));
+    CHECK(m.nv == n + S.nv && m.nt == 0 && m.nghost == S.nf && nf == S.nf, "vertices %d (%d + %d), ghosts %d, boundary %d of %d",
+          m.nv, n, S.nv, m.nghost, nf, S.nf);
+    int same = nf == S.nf && memcmp(m.X + 3 * (size_t)n, S.X, sizeof(double) * 3 * (size_t)S.nv) == 0;
+    for (int f = 0; same && f < nf; f++) {
+        for (int k = 0; k < 3; k++) S.tris[3 * f + k] += n;
+        rotate_min_first(S.tris + 3 * f), rotate_min_first(tris + 3 * f);
+    }
+    if (same) {
+        qsort(S.tris, (size_t)nf, 3 * sizeof(int), by_triangle);
+        qsort(tris, (size_t)nf, 3 * sizeof(int), by_triangle);
+        same = memcmp(S.tris, tris, sizeof(int) * 3 * (size_t)nf) == 0;
+    }
+    CHECK(same, "the boundary differs from the march surface (%d triangles, %d faces)", S.nf, nf);
+    printf("# two lattices: %d triangles, boundary of %d ghost cones the same\n", S.nf, m.nghost);
+    free(tris);
+    rk_surface_free(&S);
+    rk_mesh_free(&m);
+}
+
 /* n splats on a sphere of radius R, a Fibonacci spiral of spacing about h, each pushed off the
  * sphere by up to h / 2 and sideways by up to 0.15 h (test_contact_points_proxy's noisy shell). */
 /* X (n points, freed here) wrapped with voxel g (the lattice edge RK_MARCH_LATTICE g) and spacing s:
@@ -249,6 +301,7 @@ int main(void)
 {
     RUN(one_point_is_a_small_closed_surface);
     RUN(a_lattice_is_wrapped_within_its_spacing);
+    RUN(the_ghost_cones_bound_exactly_the_march_surface);
     RUN(a_dense_shell_is_wrapped_within_its_spacing);
     RUN(the_donut_capture_is_wrapped_within_its_spacing);
     RUN(a_scan_is_wrapped_within_its_spacing);

@@ -170,6 +170,12 @@ static const struct {
     {"proxy voxel on a mesh", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}, \"proxy_voxel\": 0.1},"
      " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
      "objects[0].mesh", "only with points"},
+    {"proxy on a mesh", "{\"objects\": [{\"mesh\": {\"box\": {\"size\": [1,1,1], \"cells\": [1,1,1]}, \"proxy\": \"march\"},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "only with points"},
+    {"unknown proxy", "{\"objects\": [{\"mesh\": {\"points\": \"a.ply\", \"proxy\": \"spheres\"},"
+     " \"material\": {\"model\": \"linear\", \"young\": 1e6, \"poisson\": 0.3, \"density\": 1}}]}",
+     "objects[0].mesh", "\"march\" (the default) or \"voxels\""},
 };
 
 TEST(bad_scenes_give_one_clear_message)
