@@ -465,7 +465,7 @@ static int full_order(rk_adaptive *ad, rk_fom *s, const rk_fom_terms *T, double 
     rk_threads_blas(blas);
     rk_fom_view_get(&ad->fom, &im->view);
     ad->stats.newton_iterations += s->stats.newton_iterations - before;
-    ad->stats.steps_full++;
+    im->full_this_step = 1;
     return rc;
 }
 
@@ -589,6 +589,7 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     }
     memset(im->q_total, 0, sizeof(double) * (size_t)im->r);
     memset(im->x_moved, 0, sizeof(double) * (size_t)im->n);
+    im->full_this_step = 0;
     /* The dense products are small (a columns): OpenBLAS on one thread, so that the results do not
      * depend on the thread count (a threaded product splits its sums differently). */
     int blas = rk_threads_blas(1);
@@ -596,6 +597,7 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     rk_threads_blas(blas);
     if (rc) return -1;
     ad->stats.steps++;
+    ad->stats.steps_full += im->full_this_step;
     if (im->stepped_full) { /* every free vertex solved at full order; the model starts again from its
                              * initial blocks (what it had does not describe a full-order step) */
         for (int v = 0; v < im->nv; v++) im->enriched[v] = (char)!im->fixed_vertex[v];
