@@ -14,9 +14,8 @@
 # times; LARGE=0 leaves it out); CPU s: the whole process's user + system seconds (set-up
 # included), the median over the runs (the machine is shared: the load average is printed before
 # and after; CPU time is what a run did, wall time what the load let it). The error against full
-# order is `romkit compare`'s (one run: it is deterministic), with the report's full-order solves
-# (steps_full: a step with a prescribed motion may take several solves), mean columns and mean
-# enriched share; the time shares are the first adaptive run's report's. Writes
+# order is `romkit compare`'s (one run: it is deterministic), with the report's steps by full order
+# (steps_full), mean columns and mean enriched share; the time shares are the first adaptive run's report's. Writes
 # bench/results/adaptive_defaults.md.
 # Usage: [BUILD=build] [REPEATS=2] [LARGE=1] [LARGE_REPEATS=1] sh bench/adaptive_defaults.sh
 set -eu
@@ -100,14 +99,13 @@ print("`sh bench/adaptive_defaults.sh` (make bench): %s objects thrown at 1 m/s 
       "bar that folds onto itself (self-contact, 60 steps); BDF2; the adaptive entry at its defaults (skinning "
       "candidates of size 16, its own tolerance, the residual check, full_fraction 0.25). CPU seconds of the whole "
       "process (set-up included), medians of the alternated runs of `romkit fom` and `romkit adaptive` on one "
-      "thread (runs: the count of each); the error and the model's sizes from one `romkit compare`; "
-      "full-order solves: steps_full (with a prescribed motion a step may take several). "
+      "thread (runs: the count of each); the error and the model's sizes from one `romkit compare`. "
       "The issue's bounds: relative error at most 5e-2, normalized MSE at most 1e-4. "
       "Load average %s before, %s after." % ("four" if large else "three",
                                              " (the last the bunny refined once)" if large else " (LARGE=0: not the refined bunny)",
                                              load0, load1))
 print()
-print("| scene | tets | runs | full order CPU s | adaptive CPU s | adaptive / full order | relative error | normalized MSE | full-order solves / steps | mean columns | mean enriched share |")
+print("| scene | tets | runs | full order CPU s | adaptive CPU s | adaptive / full order | relative error | normalized MSE | steps by full order | mean columns | mean enriched share |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 for s in scenes:
     rep = json.load(open(os.path.join(d, s + "-compare.json")))
