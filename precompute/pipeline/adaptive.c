@@ -49,8 +49,8 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
     int initial = own->initial_size;
     if (!initial) initial = skinning ? 12 * (basis.nparts ? basis.nparts : 1) : basis.nzero > 0 ? basis.nzero : 1;
     /* Several objects: each object's first weight's block first, so the initial blocks move every
-     * object (with only the first object's, the others would wait for the oracle to enrich them
-     * all, and every step would go to full order). */
+     * object (with only the first object's the others had no column until the oracle enriched
+     * them, even in free flight). */
     if (skinning && basis.nparts > 1 && first_blocks_first(&basis, err)) {
         rk_basis_free(&basis);
         return rk_error_prefix(err, "%s", e->path);
