@@ -465,7 +465,7 @@ static int full_order(rk_adaptive *ad, rk_fom *s, const rk_fom_terms *T, double 
     rk_threads_blas(blas);
     rk_fom_view_get(&ad->fom, &im->view);
     ad->stats.newton_iterations += s->stats.newton_iterations - before;
-    ad->stats.steps_full++;
+    im->full_this_step = 1;
     return rc;
 }
 
@@ -489,6 +489,9 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
     im->way = moving ? &way : NULL;
     memcpy(im->y, s->x, sizeof(double) * (size_t)im->n);
     memcpy(im->x_start, s->x, sizeof(double) * (size_t)im->n);
+    rk_contact *c0 = im->view.contact;
+    double kappa0 = c0 ? c0->kappa : 0, closest0 = c0 ? c0->min_distance_last : 0;
+    int kappa_set0 = c0 ? c0->kappa_set : 0;
     memset(im->y + im->n, 0, sizeof(double) * (size_t)moving); /* s = 0: the obstacles where they are */
     rk_newton_problem p = {.n = im->n + moving, .ctx = &c, .what = "incremental potential (adaptive subspace)",
                            .energy = energy, .solve = solve,
@@ -545,8 +548,18 @@ static int adaptive_newton(void *ctx, rk_fom *s, const rk_fom_terms *T, double t
     im->stepped_full = im->go_full;
     /* full order from where its own step starts, not from the subspace's iterate: that one may have
      * crept up to an obstacle (the bunny drop of docs/methods.md ended 5e-11 m from it so, against
-     * full order's 8e-7; from the step's start, 1e-6) */
-    if (im->go_full) memcpy(s->x, im->x_start, sizeof(double) * (size_t)im->n);
+     * full order's 8e-7; from the step's start, 1e-6); and with the barrier stiffness it had there:
+     * IPC's adaptive kappa is set at the first Hessian with a pair and doubled at later ones, so the
+     * subspace's iterates would set it differently from full order's (a stiff octopus landing on a
+     * soft slab bounced 0.1 m apart so, docs/methods.md) */
+    if (im->go_full) {
+        memcpy(s->x, im->x_start, sizeof(double) * (size_t)im->n);
+        if (c0) {
+            c0->kappa = kappa0;
+            c0->kappa_set = kappa_set0;
+            c0->min_distance_last = closest0;
+        }
+    }
     if (im->go_full && (rc = full_order(ad, s, T, tol_d, converged, err)) == 0) {
         double r = ad->opt.residual ? full_residual(ad, s, T, im->sc4, err) : 0;
         if (r < 0) {
@@ -589,6 +602,7 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     }
     memset(im->q_total, 0, sizeof(double) * (size_t)im->r);
     memset(im->x_moved, 0, sizeof(double) * (size_t)im->n);
+    im->full_this_step = 0;
     /* The dense products are small (a columns): OpenBLAS on one thread, so that the results do not
      * depend on the thread count (a threaded product splits its sums differently). */
     int blas = rk_threads_blas(1);
@@ -596,6 +610,7 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     rk_threads_blas(blas);
     if (rc) return -1;
     ad->stats.steps++;
+    ad->stats.steps_full += im->full_this_step;
     if (im->stepped_full) { /* every free vertex solved at full order; the model starts again from its
                              * initial blocks (what it had does not describe a full-order step) */
         for (int v = 0; v < im->nv; v++) im->enriched[v] = (char)!im->fixed_vertex[v];

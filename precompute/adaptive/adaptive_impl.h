@@ -94,6 +94,8 @@ struct rk_adaptive_impl {
     int free_vertices;          /* nv less the fixed ones: what full_fraction is a share of */
     int go_full;                /* this step's enrichment passed opt.full_fraction: full order finishes it */
     int stepped_full;           /* the last step was finished by full order */
+    int full_this_step;         /* some solve of this step went to full order (a prescribed motion's safe
+                                 * moves and friction's lagged solves are several solves of one step) */
     int full_wait, full_backoff;/* steps still to hand to full order at once; how many the next switch sets */
     double *x_start;            /* n: where the step's Newton started (full order starts there too) */
     int model_dirty;            /* downdating changed the model: rebuild before the next solve */

@@ -344,6 +344,13 @@ void rk_stiffness_derivative(const rk_fem *f, const double *a, const double *b, 
  * all eigen-weights of the clamped problem (r stays 12 (m + 1)), and a fixed vertex gets a zero
  * row of U (a reduced model holds it without a penalty). */
 int rk_basis_skinning(const rk_fem *f, const unsigned char *fixed, int lumped, int m, rk_basis *b, rk_error *err);
+/* The same for a mesh of nparts objects (vertices first_vertex[k] to first_vertex[k + 1] - 1 are
+ * object k's, no tet joins two): each object's own m + 1 weights, from the pencil restricted to its
+ * vertices (free, or clamped where it has fixed ones), side by side (rk_basis_join): a disconnected
+ * body has no single constant weight, and one eigenproblem over all of them would hand the weights
+ * to whichever piece is softest. */
+int rk_basis_skinning_objects(const rk_fem *f, const unsigned char *fixed, int lumped, int m, const int *first_vertex,
+                              int nparts, rk_basis *b, rk_error *err);
 
 /* Seconds spent in each part of an RKPM skinning build (for make bench). */
 typedef struct {
@@ -416,11 +423,12 @@ int rk_mass_pca(const double *A, int rows, int cols, const rk_sparse *M, int max
  * point). Both fail when m + 1 >= size. */
 int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, int clamped, double *values, double *C,
                    int *nzero, rk_error *err);
-/* The clamped weights (rk_weight_eigs with clamped set) over the unknowns keep[c] >= 0 of the pencil
- * (nkept of them, numbered by keep), expanded into C (n x (m + 1)) with zeros at the others: the
- * Dirichlet clamp of mesh skinning (fixed vertices) and RKPM skinning (masked-out kernels). */
+/* rk_weight_eigs over the unknowns keep[c] >= 0 of the pencil (nkept of them, numbered by keep),
+ * expanded into C (n x (m + 1)) with zeros at the others: with clamped set, the Dirichlet clamp of
+ * mesh skinning (fixed vertices) and RKPM skinning (masked-out kernels); free, one object of
+ * several (its own vertices: the constant weight of that piece alone). */
 int rk_weight_eigs_restricted(const rk_sparse *Hw, const rk_sparse *Mw, const int *keep, int nkept, int m,
-                              double *values, double *C, int *nzero, rk_error *err);
+                              int clamped, double *values, double *C, int *nzero, rk_error *err);
 
 /* Relative M-norm error of projecting the T frames D (3n x T) onto the span of U's first
  * columns, err[g] for the first (g + 1) * group columns, g < r / group: one pass of

@@ -33,7 +33,7 @@ static int clamped_eigs(const rk_sparse *H, const rk_sparse *M, int m, double *v
     int *keep = rk_calloc((size_t)K, sizeof(int), err);
     if (!keep) return -1;
     for (int c = 0; c < K; c++) keep[c] = M->val[M->colptr[c + 1] - 1] > 1e-12 * top ? kept++ : -1;
-    rc = rk_weight_eigs_restricted(H, M, keep, kept, m, values, C, nzero, err);
+    rc = rk_weight_eigs_restricted(H, M, keep, kept, m, 1, values, C, nzero, err);
     free(keep);
     return rc;
 }

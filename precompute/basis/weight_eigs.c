@@ -34,13 +34,13 @@ int rk_weight_eigs(const rk_sparse *Hw, const rk_sparse *Mw, int m, int clamped,
 }
 
 int rk_weight_eigs_restricted(const rk_sparse *Hw, const rk_sparse *Mw, const int *keep, int nkept, int m,
-                              double *values, double *C, int *nzero, rk_error *err)
+                              int clamped, double *values, double *C, int *nzero, rk_error *err)
 {
     rk_sparse Hf = {0}, Mf = {0};
     double *Cf = rk_calloc((size_t)nkept * (m + 1), sizeof(double), err);
     int rc = -1, n = Hw->n;
     if (Cf && !rk_sparse_restrict(Hw, keep, nkept, &Hf, err) && !rk_sparse_restrict(Mw, keep, nkept, &Mf, err) &&
-        !rk_weight_eigs(&Hf, &Mf, m, 1, values, Cf, nzero, err)) {
+        !rk_weight_eigs(&Hf, &Mf, m, clamped, values, Cf, nzero, err)) {
         for (int j = 0; j <= m; j++)
             for (int c = 0; c < n; c++) C[(size_t)n * j + c] = keep[c] >= 0 ? Cf[(size_t)nkept * j + keep[c]] : 0;
         rc = 0;

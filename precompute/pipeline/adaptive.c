@@ -7,6 +7,26 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Reorders a joined skinning basis's 12-column blocks: part k's first weight to block k, the rest
+ * after them in their order (the oracle adds blocks by their measures, not their order). */
+static int first_blocks_first(rk_basis *b, rk_error *err)
+{
+    size_t rows = 3 * (size_t)b->n, block = 12 * rows;
+    int H = b->m, at = b->nparts;
+    double *U = rk_calloc((size_t)b->r * rows, sizeof(double), err);
+    if (!U) return -1;
+    for (int h = 0; h < H; h++) {
+        int to = -1;
+        for (int k = 0; k < b->nparts; k++)
+            if (b->part_handle[k] == h) to = k;
+        if (to < 0) to = at++;
+        memcpy(U + block * (size_t)to, b->U + block * (size_t)h, sizeof(double) * block);
+    }
+    free(b->U);
+    b->U = U;
+    return 0;
+}
+
 int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const rk_rom_entry *e,
                            const double *frames, int T, rk_adaptive *ad, double *seconds_basis, rk_error *err)
 {
@@ -27,7 +47,14 @@ int rk_scene_adaptive_init(const rk_scene *scene, const rk_scene_sim *sim, const
     int skinning = basis.W != NULL;
     o.block = skinning ? 12 : 1; /* a skinning weight's 12 affine columns are one candidate (Sec. 3.5) */
     int initial = own->initial_size;
-    if (!initial) initial = skinning ? 12 : basis.nzero > 0 ? basis.nzero : 1;
+    if (!initial) initial = skinning ? 12 * (basis.nparts ? basis.nparts : 1) : basis.nzero > 0 ? basis.nzero : 1;
+    /* Several objects: each object's first weight's block first, so the initial blocks move every
+     * object (with only the first object's the others had no column until the oracle enriched
+     * them, even in free flight). */
+    if (skinning && basis.nparts > 1 && first_blocks_first(&basis, err)) {
+        rk_basis_free(&basis);
+        return rk_error_prefix(err, "%s", e->path);
+    }
     int rc = 0;
     if (initial % o.block || initial > basis.r)
         rc = rk_fail(err, "%s: initial_size must be a multiple of %d up to the %d candidate columns, got %d", e->path,

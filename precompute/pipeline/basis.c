@@ -182,7 +182,10 @@ static int build_sized(const rk_scene *scene, const rk_scene_sim *sim, const rk_
     case RK_BASIS_MODAL_DERIVATIVES:
         return rk_basis_modal_derivatives(&sim->fem, fixed, lumped, size, o->modes, b, err);
     /* the clamp (issue 37): skinning weights vanish on the fixed region unless rom.clamp is "penalty" */
-    case RK_BASIS_SKINNING: return rk_basis_skinning(&sim->fem, o->clamp_penalty ? NULL : fixed, lumped, size, b, err);
+    case RK_BASIS_SKINNING:
+        return scene->nobjects > 1 ? rk_basis_skinning_objects(&sim->fem, o->clamp_penalty ? NULL : fixed, lumped, size,
+                                                               sim->object_first_vertex, scene->nobjects, b, err)
+                                   : rk_basis_skinning(&sim->fem, o->clamp_penalty ? NULL : fixed, lumped, size, b, err);
     case RK_BASIS_RKPM_SKINNING: return rkpm_scene(scene, sim, o, size, o->clamp_penalty ? NULL : fixed, b, info, err);
     case RK_BASIS_POD: {
         int max_r = size < T ? size : T;

@@ -1,6 +1,6 @@
 /* Skinning eigenmodes on meshes: M-orthonormal weights, the constant mode, the weight-space
  * eigenvalues of a bar against the 1D analytic problem (homogeneous and two-material, which is
- * Proposition 1's (lambda + 4 mu) weighting), LBS columns, disconnected objects, and the clamp
+ * Proposition 1's (lambda + 4 mu) weighting), LBS columns, disconnected objects (refused as one, taken as several), and the clamp
  * (issue 37): weights that vanish at fixed vertices, the 1D problem with a Dirichlet end. */
 #include "basis/basis.h"
 #include "bar_1d.h"
@@ -97,7 +97,11 @@ TEST(lbs_columns_move_vertices_by_weight_times_affine_map)
     CHECK(col[1] == 0.5 && col[4] == 2.0, "translation column wrong");
 }
 
-TEST(disconnected_pieces_are_refused)
+/* One mesh of two pieces is refused as one object (two zero eigenvalues) and taken as two
+ * objects (rk_basis_skinning_objects): each its own m + 1 weights, the first constant on it,
+ * every weight 0 on the other piece, the second piece's eigenvalues those of the piece alone, and
+ * the second one fixed at one end clamped on its own (no constant weight there). */
+TEST(disconnected_pieces_are_refused_as_one_object_taken_as_two)
 {
     rk_error err;
     fem_body b;
@@ -122,9 +126,39 @@ TEST(disconnected_pieces_are_refused)
     CHECK_OK(fem_body_init(&b, soft, &err));
     rk_basis s;
     int rc = rk_basis_skinning(&b.f, NULL, 0, 3, &s, &err);
-    fem_body_free(&b);
     CHECK(rc != 0, "two pieces accepted");
     CHECK(strstr(err.msg, "disconnected pieces"), "message: %s", err.msg);
+    int n1 = b.f.nv / 2, first[3] = {0, n1, 2 * n1};
+    fem_body alone;
+    CHECK_OK(fem_body_box(&alone, 1, 1, 1, 2, 2, 2, soft, &err));
+    rk_basis a, two;
+    CHECK_OK(rk_basis_skinning(&alone.f, NULL, 0, 3, &a, &err));
+    CHECK_OK(rk_basis_skinning_objects(&b.f, NULL, 0, 3, first, 2, &two, &err));
+    CHECK(two.nparts == 2 && two.m == 8 && two.r == 96 && two.nzero == 2, "parts %d m %d r %d zero %d", two.nparts,
+          two.m, two.r, two.nzero);
+    double spread = 0, leak = 0, value = 0;
+    for (int k = 0; k < 2; k++)
+        for (int v = 0; v < b.f.nv; v++) {
+            int mine = (v >= first[k] && v < first[k + 1]);
+            double c = two.W[(size_t)b.f.nv * two.part_handle[k] + v], c0 = two.W[(size_t)b.f.nv * two.part_handle[k] + first[k]];
+            if (mine) spread = fmax(spread, fabs(c - c0));
+            for (int j = 0; !mine && j < 4; j++) leak = fmax(leak, fabs(two.W[(size_t)b.f.nv * (two.part_handle[k] + j) + v]));
+        }
+    for (int j = 0; j < 4; j++) /* (the cube's eigenvalues repeat: its weights are not unique, its values are) */
+        value = fmax(value, fabs(two.values[4 + j] - a.values[j]) / a.values[3]);
+    CHECK(spread < 1e-9 && leak == 0, "first weight varies by %g on its piece, a weight is %g on the other", spread, leak);
+    CHECK(value < 1e-8, "second piece's eigenvalues off by %g (relative)", value);
+    rk_basis_free(&two);
+    unsigned char *fixed = calloc((size_t)b.f.nv, 1);
+    for (int v = n1; v < 2 * n1; v++) fixed[v] = b.f.X[3 * v] < 3 + 1e-9;
+    CHECK_OK(rk_basis_skinning_objects(&b.f, fixed, 0, 3, first, 2, &two, &err));
+    CHECK(two.part[0].nzero == 1 && two.part[1].nzero == 0 && two.part[1].values[0] > 0, "zero eigenvalues %d, %d",
+          two.part[0].nzero, two.part[1].nzero);
+    rk_basis_free(&two);
+    rk_basis_free(&a);
+    free(fixed);
+    fem_body_free(&alone);
+    fem_body_free(&b);
 }
 
 /* The Dirichlet clamp: a bar fixed at x = 0 and free at x = L has the weight-space eigenvalues
@@ -167,7 +201,7 @@ int main(void)
     RUN(bar_eigenvalues_match_the_1d_problem);
     RUN(heterogeneous_material_shifts_modes_as_proposition_1_says);
     RUN(lbs_columns_move_vertices_by_weight_times_affine_map);
-    RUN(disconnected_pieces_are_refused);
+    RUN(disconnected_pieces_are_refused_as_one_object_taken_as_two);
     RUN(a_clamped_bar_has_quarter_wave_weights_that_vanish_at_the_clamp);
     return test_finish();
 }
