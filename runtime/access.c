@@ -93,7 +93,6 @@ romrt_status romrt_reset(romrt_model *m, romrt_error *err)
     m->have_prev = 0;
     m->obs_behind = 0; /* the obstacles where the clock puts them */
     m->hessian_age = -1; /* a kept Newton matrix belongs to the motion it was built in */
-    m->hel_age = -1;
     memset(m->colliders, 0, sizeof m->colliders); /* the app's colliders go: they may overlap the rest shape */
     m->ncolliders = 0;
     if (m->nmeshes) { /* their pairs go with them */
@@ -497,7 +496,7 @@ romrt_status romrt_set_state(romrt_model *m, const romrt_real *state, size_t cou
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "the state's q would put the shown vertices past the reals' range");
     }
     r = m->r;
-    m->hessian_age = m->hel_age = -1;
+    m->hessian_age = -1;
     m->obs_behind = 0; /* the state holds no obstacle lag: they go where its clock puts them */
     m->t0 = (double)state[0] + (double)state[1];
     m->steps = 0;

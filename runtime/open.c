@@ -243,7 +243,6 @@ static romrt_status arrays(rt_loader *L, romrt_model *m)
         size_t movers = m->nobs < ROMRT_MAX_MOVING_OBSTACLES ? (size_t)m->nobs : ROMRT_MAX_MOVING_OBSTACLES;
         size_t n = (size_t)r + (m->ncv ? ROMRT_MAX_COLLIDERS + movers : 0);
         rt_scratch(L, n * n, &m->H);
-        if (m->ncv) rt_scratch(L, (size_t)r * (size_t)r, &m->Hel); /* kept_elastic (step.c) */
     }
     /* A fixed basis of stored rows maps q to each element's F linearly: that map, G_e, formed once
      * here (rt_form_element_G) saves re-forming it from four vertices' rows at every potential

@@ -409,13 +409,7 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
     if (H)
         for (j = 0; j < r; j++)
             for (i = 0; i < r; i++) H[i + (size_t)ld * j] = 0;
-    stored = elastic(m, q, g, m->hel_mode == RT_HEL_USE ? 0 : H, ld);
-    if (H && m->hel_mode && isfinite(stored)) /* the elastic part alone is in H now (step.c, kept_elastic) */
-        for (j = 0; j < r; j++)
-            for (i = 0; i <= j; i++) {
-                if (m->hel_mode == RT_HEL_STORE) m->Hel[i + (size_t)r * j] = H[i + (size_t)ld * j];
-                else H[i + (size_t)ld * j] += m->Hel[i + (size_t)r * j];
-            }
+    stored = elastic(m, q, g, H, ld);
     if (m->ncontacts && isfinite(stored)) stored += barrier(m, q, T->friction, g, H, ld);
     if (m->ncolliders && isfinite(stored)) stored += rt_colliders_energy(m, q, T->friction, g, H, ld);
     if (rt_surface_on(m) && isfinite(stored)) stored += rt_obstacles_energy(m, q, T->friction, g, H, ld);

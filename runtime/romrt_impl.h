@@ -240,11 +240,6 @@ struct romrt_model {
     int hessian_reuse_set;    /* 0 until the app calls romrt_set_hessian_reuse: the default (reuse_steps) */
     int hessian_age;          /* steps since H's factor was built for the body alone (-1: none kept) */
     romrt_real hessian_w;     /* the inertia weight that factor was built with */
-    /* With a collision surface the factor is not kept, but the elastic part of the matrix is
-     * (step.c, kept_elastic): Hel, r x r upper triangle, column-major; its age in steps (-1: none),
-     * and what rt_potential does with it (RT_HEL_STORE, RT_HEL_USE; 0: neither). */
-    romrt_real *Hel;
-    int hel_age, hel_mode;
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */
@@ -445,7 +440,6 @@ void rt_lift(const romrt_model *m, double t, romrt_real *q);
 double rt_clock(const romrt_model *m, unsigned long ahead);
 /* How many steps a Newton matrix may be kept: the app's romrt_set_hessian_reuse, else the default. */
 int rt_reuse_steps(const romrt_model *m);
-enum { RT_HEL_STORE = 1, RT_HEL_USE = 2 };
 void rt_clock_advance(romrt_model *m, unsigned long n);
 void rt_clock_rebase(romrt_model *m);
 /* The scene's obstacles other than planes (contact.c, contact_broad.c, contact_friction.c):

@@ -159,7 +159,7 @@ int rt_reuse_steps(const romrt_model *m)
 {
     if (m->kind != ROMRT_KIND_REDUCED || crom_basis(m)) return 0;
     if (m->hessian_reuse_set) return m->hessian_reuse;
-    return m->fixed_iterations || (m->alrom && rt_surface_on(m)) ? 0 : DEFAULT_REUSE;
+    return m->fixed_iterations || rt_surface_on(m) ? 0 : DEFAULT_REUSE;
 }
 
 /* Whether the Newton matrix factored in m->H may serve this iteration (romrt_set_hessian_reuse):
@@ -168,28 +168,7 @@ int rt_reuse_steps(const romrt_model *m)
 static int kept_matrix(const romrt_model *m, const rt_terms *T)
 {
     int reuse = rt_reuse_steps(m);
-    return reuse > 1 && !rt_surface_on(m) && m->nmoving == 0 && !m->obs_joint && m->hessian_age >= 0 &&
-           m->hessian_age < reuse && m->hessian_w == T->w_inertia;
-}
-
-/* With a collision surface the barrier's terms change the matrix from one iteration to the next,
- * so a kept factor took more iterations and was no faster (a slab on spikes, romrt.h); but the
- * elastic part (every element's or integration point's Hessian, most of a step's cost with many
- * of them: 76% of a splat capture resting on a mesh, 10,111 points) changes as slowly as it does
- * without one. So there that part alone is kept, for as many steps as a factor would be, and each
- * iteration adds the contact terms and the inertia afresh and factors the sum: a modified Newton
- * step whose contact part is exact. Whether an iteration may use it: */
-static int kept_elastic(const romrt_model *m)
-{
-    int reuse = rt_reuse_steps(m);
-    return reuse > 1 && m->Hel && rt_surface_on(m) && !m->alrom && m->nmoving == 0 && !m->obs_joint &&
-           m->hel_age >= 0 && m->hel_age < reuse;
-}
-
-/* Whether a fresh matrix's elastic part is worth keeping (kept_elastic may use it next). */
-static int keeps_elastic(const romrt_model *m)
-{
-    return rt_reuse_steps(m) > 1 && m->Hel && rt_surface_on(m) && !m->alrom && m->nmoving == 0 && !m->obs_joint;
+    return reuse > 1 && m->nmoving == 0 && !m->obs_joint && m->hessian_age >= 0 && m->hessian_age < reuse && m->hessian_w == T->w_inertia;
 }
 
 /* The potential at y, its gradient in m->g, and the Newton matrix factored in m->H: the exact
@@ -203,43 +182,27 @@ static int keeps_elastic(const romrt_model *m)
 static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt_real *y, romrt_real *E,
                                   romrt_real *magnitude, int it, int fresh, int *kept, romrt_error *err)
 {
-    int n = unknowns(m), indefinite = 0, partial;
+    int n = unknowns(m), indefinite = 0;
     *kept = !fresh && kept_matrix(m, T);
-    partial = !*kept && !fresh && kept_elastic(m);
     if (*kept) {
         *E = potential(m, T, y, m->g, 0, magnitude);
     } else {
-        if (partial) { /* the kept elastic part, the rest fresh; where the sum will not factor, all fresh */
-            m->hel_mode = RT_HEL_USE;
-            *E = potential(m, T, y, m->g, m->H, magnitude);
-            m->hel_mode = 0;
-            m->hessian_age = -1;
-            m->last.factorizations++;
-            if (!isfinite(*E) || rt_cholesky(n, m->H)) partial = 0;
-        }
-        if (!partial) {
-            m->exact_hessian = m->nmoving == 0 && !m->obs_joint;
-            m->hel_mode = keeps_elastic(m) ? RT_HEL_STORE : 0;
-            *E = potential(m, T, y, m->g, m->H, magnitude);
-            indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
-            if (indefinite && m->exact_hessian) {
-                m->exact_hessian = 0;
-                *E = potential(m, T, y, m->g, m->H, magnitude);
-            }
-            m->hel_age = m->hel_mode && isfinite(*E) ? 0 : -1;
-            m->hel_mode = 0;
+        m->exact_hessian = m->nmoving == 0 && !m->obs_joint;
+        *E = potential(m, T, y, m->g, m->H, magnitude);
+        indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
+        if (indefinite && m->exact_hessian) {
             m->exact_hessian = 0;
-            m->hessian_age = -1; /* H is being rewritten */
-            m->last.factorizations++;
-            if (indefinite) m->last.projected_hessians++;
+            *E = potential(m, T, y, m->g, m->H, magnitude);
         }
+        m->exact_hessian = 0;
+        m->hessian_age = -1; /* H is being rewritten */
+        m->last.factorizations++;
+        if (indefinite) m->last.projected_hessians++;
     }
     if (!isfinite(*E) || !all_finite(m->g, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the incremental potential is not finite at Newton iteration ",
                          (uint64_t)it, "");
     if (*kept) return ROMRT_OK;
-    *kept = partial; /* a modified Newton step: the loops treat it as a kept factor's */
-    if (partial) return ROMRT_OK;
     if (indefinite && rt_cholesky(n, m->H) && shifted_factor(m, T, y, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
@@ -507,7 +470,7 @@ romrt_status romrt_set_hessian_reuse(romrt_model *m, size_t steps, romrt_error *
         return rt_fail(err, ROMRT_E_ARGUMENT, 0, "romrt_set_hessian_reuse: steps must be 0 to 1000");
     m->hessian_reuse = (int)steps;
     m->hessian_reuse_set = 1;
-    m->hessian_age = m->hel_age = -1;
+    m->hessian_age = -1;
     return ROMRT_OK;
 }
 
@@ -611,7 +574,6 @@ romrt_status romrt_step(romrt_model *m, romrt_error *err)
     }
     m->have_prev = 1;
     if (m->hessian_age >= 0) m->hessian_age++;
-    if (m->hel_age >= 0) m->hel_age++;
     rt_clock_advance(m, 1);
     return ROMRT_OK;
 }

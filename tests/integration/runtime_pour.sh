@@ -63,15 +63,12 @@ fi
 # rounding hid friction's decreases) it took 7.49, and 10.7 line-search halvings a step. With the
 # projected volume (the skinning default since issue 37; the pour's nu is 0.4) float takes 938 and
 # double 927 in the 150 steps (pointwise: 778 and 916), so the bound is 1000 (6.7 a step), still
-# under the 1,124 that the old potential's 7.49 a step would give. Measured with the fresh Newton
-# matrix (--hessian-reuse 1, the reduced simulator's iterates): the default keeps the matrix's
-# elastic part across iterations (runtime/step.c, kept_elastic), a modified Newton that takes more
-# of them for less time (1,149 here), which would hide what this counts.
+# under the 1,124 that the old potential's 7.49 a step would give.
 mkdir -p "$TMP/p8"
 python3 bench/pour_scene.py "$TMP/p8" 8
 name=pour_f32_converged_settles_as_double_does
 if "$ROMKIT" build "$TMP/p8/pour.json" -o "$TMP/p8/f32.rombin" --quiet >/dev/null 2>"$TMP/err" &&
-    "$ROMKIT" run "$TMP/p8/f32.rombin" --steps 150 --hessian-reuse 1 --report "$TMP/p8/r.json" --quiet >/dev/null 2>"$TMP/err"; then
+    "$ROMKIT" run "$TMP/p8/f32.rombin" --steps 150 --report "$TMP/p8/r.json" --quiet >/dev/null 2>"$TMP/err"; then
     its=$(json_num "$TMP/p8/r.json" newton_iterations)
     if [ "$(json_num "$TMP/p8/r.json" unconverged_steps)" = 0 ] && below "$its" 1000; then ok "$name ($its iterations in 150 steps)"
     else fail "$name" "$its Newton iterations in 150 steps (under 1000: 6.7 a step), $(json_num "$TMP/p8/r.json" unconverged_steps) unconverged steps"; fi
