@@ -14,8 +14,7 @@
  * A step is timed by the process's CPU clock (the machine is shared: its wall clock counts other
  * jobs' time slices), the phases by the monotonic clock, as fractions of the steps' wall time.
  *
- * Usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON [REUSE]]   (NEWTON > 0: romrt_set_newton_iterations;
- * REUSE > 0: romrt_set_hessian_reuse, 1 the fresh matrix at every iteration)
+ * Usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]   (NEWTON > 0: romrt_set_newton_iterations)
  * Prints one line: cpu_median_us cpu_lo_us cpu_hi_us wall_median_us broad narrow newton iters
  * halvings projected (the median over repeats of each repeat's median step, lo/hi the smallest and
  * largest repeat median; broad, narrow and newton the fractions of the step over all repeats;
@@ -57,12 +56,12 @@ int main(int argc, char **argv)
     void *asset, *arena;
     size_t arena_bytes;
     romrt_error err;
-    int steps, repeats, newton = 0, reuse = 0, k, s;
+    int steps, repeats, newton = 0, k, s;
     double *step_s, *cpu_s, *med, *wmed, total = 0, sum[PROF_PHASES] = {0, 0};
     long iters = 0, halvings = 0, projected = 0;
-    if (argc < 4 || argc > 6 || (steps = atoi(argv[2])) < 1 || (repeats = atoi(argv[3])) < 1 ||
-        (argc >= 5 && (newton = atoi(argv[4])) < 0) || (argc == 6 && (reuse = atoi(argv[5])) < 0)) {
-        fprintf(stderr, "usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON [REUSE]]\n");
+    if ((argc != 4 && argc != 5) || (steps = atoi(argv[2])) < 1 || (repeats = atoi(argv[3])) < 1 ||
+        (argc == 5 && (newton = atoi(argv[4])) < 0)) {
+        fprintf(stderr, "usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]\n");
         return 2;
     }
     if (!(asset = bench_read_file(argv[1], &size))) {
@@ -85,8 +84,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_pour: %s: %s\n", argv[1], err.message);
             return 1;
         }
-        if ((newton && romrt_set_newton_iterations(m, newton, &err) != ROMRT_OK) ||
-            (reuse && romrt_set_hessian_reuse(m, (size_t)reuse, &err) != ROMRT_OK)) {
+        if (newton && romrt_set_newton_iterations(m, newton, &err) != ROMRT_OK) {
             fprintf(stderr, "bench_pour: %s\n", err.message);
             return 1;
         }

@@ -92,11 +92,10 @@ LOAD0=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
     for p in f32 f64; do
         b="$BUILD/bench_pour"
         [ $p = f64 ] && b="$BUILD/bench_pour_double"
-        for k in 0:0 0:1 2:0; do # fixed Newton steps : romrt_set_hessian_reuse (0: the default)
-            set -- $("$b" "$T/$p.rombin" "$STEPS" "$REPEATS" ${k%:*} ${k#*:})
+        for k in 0 2; do
+            set -- $("$b" "$T/$p.rombin" "$STEPS" "$REPEATS" $k)
             name=converged
-            [ $k = 0:1 ] && name="converged, fresh matrix"
-            [ $k = 2:0 ] && name="2 fixed"
+            [ $k = 2 ] && name="2 fixed"
             echo "| $p | $name | $1 | $2 - $3 | $(python3 -c "print('%.0f' % (1e6 / $1))") |" \
                 "$(python3 -c "print('%.0f%%' % (100 * $5))") | $(python3 -c "print('%.0f%%' % (100 * $6))") |" \
                 "$(python3 -c "print('%.0f%%' % (100 * $7))") | $8 | $9 |"
@@ -107,9 +106,6 @@ LOAD0=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo ?)
     echo "Verlet list's filter. narrow: per stencil distance, barrier, PSD projection, the pull into"
     echo "the r x r system, friction, CCD. Newton: the rest (elastic energy, inertia, the dense r x r"
     echo "Cholesky and solve, line search). The median step includes the first steps' free fall."
-    echo "converged: the default, the elastic part of the Newton matrix kept for up to 10 steps and the"
-    echo "contact terms and inertia fresh at every iteration (runtime/step.c, kept_elastic); fresh matrix:"
-    echo "romrt_set_hessian_reuse(m, 1), every iteration's matrix built whole (the default before)."
     echo
     echo "## Against the old code"
     echo
