@@ -44,6 +44,8 @@ typedef struct {
     int *face;
 } rk_proxy_face_grid;
 
+/* Each triangle's box at x (6 nf: min xyz, max xyz), what rk_proxy_face_grid_build takes. */
+void rk_proxy_face_boxes(const double *x, const int *tris, int nf, double *boxes);
 int rk_proxy_face_grid_build(rk_proxy_face_grid *F, const double *boxes, int nf, double pad, double h, rk_error *err);
 void rk_proxy_face_grid_free(rk_proxy_face_grid *F);
 /* The faces listed in p's cell (a superset of those within pad of p): face[*first .. end - 1]. */

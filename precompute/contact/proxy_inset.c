@@ -471,12 +471,7 @@ static int loose_points(outside_bound *O, const point_grid *G, const int *tris, 
                         rk_error *err)
 {
     rk_proxy_face_grid F;
-    for (int f = 0; f < nf; f++)
-        for (int d = 0; d < 3; d++) {
-            const int *t = tris + 3 * f;
-            boxes[6 * f + d] = fmin(x[3 * t[0] + d], fmin(x[3 * t[1] + d], x[3 * t[2] + d]));
-            boxes[6 * f + 3 + d] = fmax(x[3 * t[0] + d], fmax(x[3 * t[1] + d], x[3 * t[2] + d]));
-        }
+    rk_proxy_face_boxes(x, tris, nf, boxes);
     if (rk_proxy_face_grid_build(&F, boxes, nf, O->t, G->g, err)) return -1;
     for (int i = 0; i < G->n; i++) {
         const double *p = G->X + 3 * i;

@@ -103,16 +103,6 @@ static void normal(const double *x, const int *t, double *nrm)
     nrm[0] = u[1] * v[2] - u[2] * v[1], nrm[1] = u[2] * v[0] - u[0] * v[2], nrm[2] = u[0] * v[1] - u[1] * v[0];
 }
 
-static void face_boxes(const double *x, const int *tris, int nf, double *boxes)
-{
-    for (int f = 0; f < nf; f++)
-        for (int d = 0; d < 3; d++) {
-            const int *t = tris + 3 * f;
-            boxes[6 * f + d] = fmin(x[3 * t[0] + d], fmin(x[3 * t[1] + d], x[3 * t[2] + d]));
-            boxes[6 * f + 3 + d] = fmax(x[3 * t[0] + d], fmax(x[3 * t[1] + d], x[3 * t[2] + d]));
-        }
-}
-
 /* Step 1 and 2: the level set R of the distance to the cloud, as outward triangles. */
 static int march(const rk_proxy_grid *G, const lattice *L, double R, rk_surface *out, rk_error *err)
 {
@@ -227,7 +217,7 @@ static int crossings(rk_surface *S, const double *from, const double *to, const 
     for (int v = 0; v < S->nv; v++)
         for (int d = 0; d < 3; d++) S->X[3 * v + d] = from[3 * v + d] + alpha[v] * (to[3 * v + d] - from[3 * v + d]);
     memset(bad, 0, (size_t)S->nv);
-    face_boxes(S->X, S->tris, S->nf, boxes);
+    rk_proxy_face_boxes(S->X, S->tris, S->nf, boxes);
     if (rk_broad_phase(boxes, S->nf, boxes, S->nf, &pairs, &npairs, err)) return -1;
     for (int k = 0; k < npairs; k++) {
         const int *ta = S->tris + 3 * pairs[2 * k], *tb = S->tris + 3 * pairs[2 * k + 1];
@@ -331,7 +321,7 @@ static int check_points(const double *X, int n, const rk_surface *S, double t, r
     rk_proxy_face_grid F;
     memset(&F, 0, sizeof F);
     if (!boxes) goto done;
-    face_boxes(S->X, S->tris, S->nf, boxes);
+    rk_proxy_face_boxes(S->X, S->tris, S->nf, boxes);
     for (int d = 0; d < 3; d++) {
         lo[d] = INFINITY, hi[d] = -INFINITY;
         for (size_t f = 0; f < nf; f++) lo[d] = fmin(lo[d], boxes[6 * f + d]), hi[d] = fmax(hi[d], boxes[6 * f + 3 + d]);

@@ -18,6 +18,16 @@ static long cell_index(const rk_proxy_face_grid *F, double x, int d)
     return c < 0 ? 0 : c >= F->dim[d] ? F->dim[d] - 1 : c;
 }
 
+void rk_proxy_face_boxes(const double *x, const int *tris, int nf, double *boxes)
+{
+    for (int f = 0; f < nf; f++)
+        for (int d = 0; d < 3; d++) {
+            const int *t = tris + 3 * f;
+            boxes[6 * f + d] = fmin(x[3 * t[0] + d], fmin(x[3 * t[1] + d], x[3 * t[2] + d]));
+            boxes[6 * f + 3 + d] = fmax(x[3 * t[0] + d], fmax(x[3 * t[1] + d], x[3 * t[2] + d]));
+        }
+}
+
 int rk_proxy_face_grid_build(rk_proxy_face_grid *F, const double *boxes, int nf, double pad, double h, rk_error *err)
 {
     memset(F, 0, sizeof *F);

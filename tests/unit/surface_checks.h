@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "contact/contact.h"
+#include "contact/points_proxy_impl.h"
 #include "util/util.h"
 
 static int surface_cmp64(const void *a, const void *b)
@@ -93,11 +94,10 @@ static inline int surface_crosses_itself(const double *x, const int *tris, int n
         snprintf(why, len, "out of memory");
         goto done;
     }
+    rk_proxy_face_boxes(x, tris, nf, fb);
     for (int f = 0; f < nf; f++)
         for (int d = 0; d < 3; d++) {
             const int *t = tris + 3 * f;
-            fb[6 * f + d] = fmin(x[3 * t[0] + d], fmin(x[3 * t[1] + d], x[3 * t[2] + d]));
-            fb[6 * f + 3 + d] = fmax(x[3 * t[0] + d], fmax(x[3 * t[1] + d], x[3 * t[2] + d]));
             for (int k = 0; k < 3; k++) {
                 eb[6 * (3 * f + k) + d] = fmin(x[3 * t[k] + d], x[3 * t[(k + 1) % 3] + d]);
                 eb[6 * (3 * f + k) + 3 + d] = fmax(x[3 * t[k] + d], x[3 * t[(k + 1) % 3] + d]);
