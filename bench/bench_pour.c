@@ -14,7 +14,8 @@
  * A step is timed by the process's CPU clock (the machine is shared: its wall clock counts other
  * jobs' time slices), the phases by the monotonic clock, as fractions of the steps' wall time.
  *
- * Usage: bench_pour ASSET.rombin STEPS REPEATS [NEWTON]   (NEWTON > 0: romrt_set_newton_iterations)
+ * Usage: [BENCH_HESSIAN_REUSE=N] bench_pour ASSET.rombin STEPS REPEATS [NEWTON]
+ *        (NEWTON > 0: romrt_set_newton_iterations; N: romrt_set_hessian_reuse)
  * Prints one line: cpu_median_us cpu_lo_us cpu_hi_us wall_median_us broad narrow newton iters
  * halvings projected (the median over repeats of each repeat's median step, lo/hi the smallest and
  * largest repeat median; broad, narrow and newton the fractions of the step over all repeats;
@@ -85,6 +86,13 @@ int main(int argc, char **argv)
             return 1;
         }
         if (newton && romrt_set_newton_iterations(m, newton, &err) != ROMRT_OK) {
+            fprintf(stderr, "bench_pour: %s\n", err.message);
+            return 1;
+        }
+        /* BENCH_HESSIAN_REUSE=N: romrt_set_hessian_reuse(N), as bench_assets takes it (1: a fresh
+         * Newton matrix every iteration; unset: the runtime's default) */
+        if (getenv("BENCH_HESSIAN_REUSE") &&
+            romrt_set_hessian_reuse(m, (size_t)atoi(getenv("BENCH_HESSIAN_REUSE")), &err) != ROMRT_OK) {
             fprintf(stderr, "bench_pour: %s\n", err.message);
             return 1;
         }

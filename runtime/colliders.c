@@ -159,6 +159,7 @@ romrt_real rt_colliders_energy(romrt_model *m, const romrt_real *q, int friction
         for (i = 0; i < m->ncv && isfinite(E); i++) {
             vertex_terms(m, c, friction, m->cv[i], q, &t);
             E += t.E;
+            m->contact_terms += t.barrier || t.friction;
             if (!(t.barrier || t.friction) || (!g && !H)) continue;
             for (a = 0; a < 3; a++) gx[a] = (t.barrier ? t.gb[a] : 0) + (t.friction ? t.gf[a] : 0);
             for (a = 0; a < 9; a++) B[a] = (t.barrier ? t.Bb[a] : 0) + (t.friction ? t.Bf[a] : 0);

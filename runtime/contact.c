@@ -91,6 +91,7 @@ static romrt_real pairs_energy(romrt_model *m, const romrt_real *q, int friction
         e = RT_PHYS(pair_barrier)(c[0], pts, xi, m->dhat, rt_obstacles_eps(m, c[0], id), g || H ? gl : 0, H ? Hl : 0, 0);
         if (!isfinite(e)) return (romrt_real)INFINITY;
         if (e == 0) continue;
+        m->contact_terms++;
         E += m->kappa * e;
         if (!g && !H) continue;
         for (k = 0; k < 12; k++) gl[k] *= m->kappa;
@@ -102,7 +103,10 @@ static romrt_real pairs_energy(romrt_model *m, const romrt_real *q, int friction
         rt_obstacles_pull(m, id, gl, H ? Hl : 0, g, H, ld);
         if (m->obs_joint) rt_obstacles_pull_progress(m, id, gl, H ? Hl : 0, g, H, ld);
     }
-    if (friction) E += rt_obstacles_friction(m, g, H, ld);
+    if (friction) {
+        E += rt_obstacles_friction(m, g, H, ld);
+        m->contact_terms += m->nfric;
+    }
     return E;
 }
 

@@ -314,6 +314,7 @@ static romrt_real plane_friction(romrt_model *m, int c, const romrt_real *q, rom
     romrt_real scale, E, gx[3], B[9];
     int a, b;
     if (!(dl > 0 && dl < m->dhat)) return 0;
+    m->contact_terms++;
     RT_PHYS(barrier_distance)(dl, m->dhat, &f1, &f2);
     scale = m->mu * m->kappa * RT_FABS(f1);
     RT_PHYS(tangent_basis)(n, T);
@@ -344,6 +345,7 @@ static romrt_real barrier(romrt_model *m, const romrt_real *q, int friction, rom
         if (!(d > 0)) return (romrt_real)INFINITY;
         if (friction) E += plane_friction(m, c, q, g, H, ld);
         if (d >= m->dhat) continue;
+        m->contact_terms++;
         E += m->kappa * RT_PHYS(barrier_distance)(d, m->dhat, &f1, &f2);
         if (!g && !H) continue;
         contact_gradient(m, c, a);
@@ -404,6 +406,7 @@ romrt_real rt_potential(romrt_model *m, const rt_terms *T, const romrt_real *q, 
 {
     int r = m->r, i, j;
     romrt_real stored, work, quad = 0, E, Sd[ROMRT_MAX_R];
+    m->contact_terms = 0;
     if (g)
         for (i = 0; i < r; i++) g[i] = 0;
     if (H)

@@ -227,9 +227,10 @@ romrt_status romrt_set_newton_iterations(romrt_model *m, size_t iterations, romr
  * The default, until this is called, is the fastest mode that meets the asset's tolerance, chosen
  * per asset at open (docs/results/newton_modes.md): in the converged mode the matrix kept for up
  * to 10 steps (on bunny_19k at r = 20, a third of the fresh mode's time a step, every step to the
- * same tolerance); fresh for an asset with a collision surface (obstacles other than planes,
- * several objects, self-contact), where a kept matrix took more iterations and was no faster; and
- * fresh in the fixed-cost mode. romrt_step_info's hessian_reuse reads the mode in force. k = 1
+ * same tolerance); on an asset with a collision surface (obstacles other than planes, several
+ * objects, self-contact) kept only while no contact term acts (objects apart), fresh at every
+ * iteration where a barrier or friction term does, where a kept matrix took more iterations and
+ * was no faster (docs/runtime.md); and fresh in the fixed-cost mode. romrt_step_info's hessian_reuse reads the mode in force. k = 1
  * gives the reduced simulator's own iterates everywhere. An adaptive model with the quadratic
  * decoder keeps its matrix too, with the same default: its basis moves every step, and the kept
  * matrix is carried into each new basis (the stiffness projected onto it, the inertia exact;

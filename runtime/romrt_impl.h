@@ -240,6 +240,9 @@ struct romrt_model {
     int hessian_reuse_set;    /* 0 until the app calls romrt_set_hessian_reuse: the default (reuse_steps) */
     int hessian_age;          /* steps since H's factor was built for the body alone (-1: none kept) */
     romrt_real hessian_w;     /* the inertia weight that factor was built with */
+    int contact_terms;        /* the barrier and friction terms acting in the last potential (planes,
+                               * colliders, the collision surface): a matrix with them is not kept by
+                               * default (step.c) */
     romrt_real mu, eps_v;     /* friction (FRIC; mu 0 without) */
     int friction_iterations;
     /* arrays: in the asset when its reals are this runtime's type, else converted into the arena */

@@ -143,11 +143,15 @@ static int shifted_factor(romrt_model *m, const rt_terms *T, const romrt_real *y
 
 /* The default (romrt.h, romrt_set_hessian_reuse; bench/results/newton_modes.csv): in the converged
  * mode a matrix kept for up to DEFAULT_REUSE steps, since there a kept matrix that stops paying is
- * replaced (newton) and the answer meets the same tolerance at a fraction of the cost; but fresh
- * for an asset with a collision surface (obstacles other than planes, several objects,
- * self-contact), whose barrier terms change the matrix from one iteration to the next: there a
- * kept one took 40-46% more iterations and 7-9% more time (a slab on spikes). Fresh in the
- * fixed-cost mode, whose steps nothing checks, so a kept matrix would only move its answer. */
+ * replaced (newton) and the answer meets the same tolerance at a fraction of the cost. On an asset
+ * with a collision surface (obstacles other than planes, several objects, self-contact) only a
+ * matrix built while no surface term acts (no barrier pair within dhat, no lagged friction pair)
+ * is kept, and only while none acts (contact_terms): the barrier's terms change the matrix from
+ * one iteration to the next, and a matrix kept with them took 40-46% more iterations and 7-9%
+ * more time (a slab on spikes); its elastic part kept alone took 2.5 times the iterations of the
+ * fresh matrix on a splat capture landing on a mesh (docs/runtime.md). Objects falling apart, the
+ * frames before a landing, take a lone object's kept matrix. Fresh in the fixed-cost mode, whose
+ * steps nothing checks, so a kept matrix would only move its answer. */
 #define DEFAULT_REUSE 10
 
 /* Whether the model's basis comes from a CROM decoder: a basis with no K-space to carry a Newton
@@ -159,7 +163,18 @@ int rt_reuse_steps(const romrt_model *m)
 {
     if (m->kind != ROMRT_KIND_REDUCED || crom_basis(m)) return 0;
     if (m->hessian_reuse_set) return m->hessian_reuse;
-    return m->fixed_iterations || rt_surface_on(m) ? 0 : DEFAULT_REUSE;
+    return m->fixed_iterations ? 0 : DEFAULT_REUSE;
+}
+
+/* Whether contact terms bar keeping the matrix of the last potential: on an asset with a collision
+ * surface, any barrier or friction term (its planes' too: an octopus resting on a plane under a
+ * splat capture took 20 Newton iterations a step on a kept matrix, 2.3 on fresh ones); the
+ * default's rule above. A planes-only asset keeps its matrix through its contacts as before (a
+ * slab resting on a plane: 2.8 iterations and 0.28 factorizations a step, 0.82 times the time of
+ * this rule's 2.5 and 2.3); an app's romrt_set_hessian_reuse keeps whatever it asked for. */
+static int contact_terms(const romrt_model *m)
+{
+    return !m->hessian_reuse_set && rt_surface_on(m) && m->contact_terms > 0;
 }
 
 /* Whether the Newton matrix factored in m->H may serve this iteration (romrt_set_hessian_reuse):
@@ -186,7 +201,9 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
     *kept = !fresh && kept_matrix(m, T);
     if (*kept) {
         *E = potential(m, T, y, m->g, 0, magnitude);
-    } else {
+        *kept = !contact_terms(m); /* a contact term acts at y: the matrix it lacks, fresh */
+    }
+    if (!*kept) {
         m->exact_hessian = m->nmoving == 0 && !m->obs_joint;
         *E = potential(m, T, y, m->g, m->H, magnitude);
         indefinite = isfinite(*E) && (!m->exact_hessian || rt_cholesky(n, m->H));
@@ -206,7 +223,7 @@ static romrt_status newton_system(romrt_model *m, const rt_terms *T, const romrt
     if (indefinite && rt_cholesky(n, m->H) && shifted_factor(m, T, y, n))
         return rt_fail_n(err, ROMRT_E_DIVERGED, 0, "the Newton matrix is not positive definite at iteration ",
                          (uint64_t)it, "");
-    if (m->nmoving == 0 && !m->obs_joint && !crom_basis(m)) {
+    if (m->nmoving == 0 && !m->obs_joint && !crom_basis(m) && !contact_terms(m)) {
         m->hessian_age = 0;
         m->hessian_w = T->w_inertia;
     }
