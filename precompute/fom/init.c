@@ -48,10 +48,13 @@ int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err)
             return rk_fail(err, "objects: object %d's vertices [%d, %d) do not tile the mesh's %d", k,
                            o->object_first_vertex[k], o->object_first_vertex[k + 1], nv);
     const rk_fom_contact_surface *cs = o->contact_surface;
-    for (int k = 0; cs && k < o->nobjects; k++)
-        if (!cs->object_first_vertex || cs->object_first_vertex[k] > cs->object_first_vertex[k + 1] ||
-            cs->object_first_vertex[0] != 0 || cs->object_first_vertex[o->nobjects] != cs->mesh.nv)
-            return rk_fail(err, "contact surface: object %d's vertices do not tile its %d", k, cs->mesh.nv);
+    if (cs && o->nobjects > 1 && !cs->object_first_vertex)
+        return rk_fail(err, "contact surface: %d objects given without their first vertices", o->nobjects);
+    for (int k = 0; cs && cs->object_first_vertex && k < o->nobjects; k++)
+        if (cs->object_first_vertex[k] > cs->object_first_vertex[k + 1] || cs->object_first_vertex[0] != 0 ||
+            cs->object_first_vertex[o->nobjects] != cs->mesh.nv)
+            return rk_fail(err, "contact surface: object %d's vertices [%d, %d) do not tile its %d", k,
+                           cs->object_first_vertex[k], cs->object_first_vertex[k + 1], cs->mesh.nv);
     if (o->nprescribed < 0 || (o->nprescribed > 0 && !o->prescribed))
         return rk_fail(err, "%d prescribed groups given without data", o->nprescribed);
     if (o->nchambers < 0 || (o->nchambers > 0 && !o->chambers))

@@ -7,7 +7,8 @@
  *  - its gradient matches central differences of its energy and its Hessian (exact per-pair blocks,
  *    expanded to the tets' vertices and split into 4-vertex blocks) differences of its gradient;
  *  - projected per pair (the default), the assembled Hessian is PSD;
- *  - CCD along a step of x keeps the embedded surfaces apart (exact test at the step's end). */
+ *  - CCD along a step of x keeps the embedded surfaces apart (exact test at the step's end);
+ *  - a bad embedding is refused by name. */
 #include "cage/cage.h"
 #include "fom/fom.h"
 #include "testlib.h"
@@ -240,9 +241,32 @@ TEST(ccd_along_a_step_keeps_the_embedded_surfaces_apart)
     free_scene(&s);
 }
 
+/* Bad embeddings are refused by name: a vertex naming no mesh vertex, an offset not finite,
+ * object ranges that do not tile the contact surface. */
+TEST(a_bad_embedding_is_named)
+{
+    rk_error err = {{0}};
+    scene s;
+    CHECK_OK(make_scene(&s, &err));
+    rk_fom_free(&s.fom);
+    s.vertex[4 * 5 + 2] = s.mesh.nv;
+    CHECK(rk_fom_init(&s.fom, &s.fem, &s.opt, &err) != 0 && strstr(err.msg, "vertex 5's embedding names mesh vertex"),
+          "out of range: %s", err.msg);
+    s.vertex[4 * 5 + 2] = 0;
+    s.offset[3 * 7 + 1] = NAN;
+    CHECK(rk_fom_init(&s.fom, &s.fem, &s.opt, &err) != 0 && strstr(err.msg, "vertex 7's offset is not finite"),
+          "NaN offset: %s", err.msg);
+    s.offset[3 * 7 + 1] = 0;
+    s.cfirst[1] = s.cfirst[2] + 1;
+    CHECK(rk_fom_init(&s.fom, &s.fem, &s.opt, &err) != 0 && strstr(err.msg, "vertices [37, 36) do not tile its 36"),
+          "ranges: %s", err.msg);
+    free_scene(&s);
+}
+
 int main(void)
 {
     RUN(pulled_back_barrier_matches_the_contact_stage_and_finite_differences);
     RUN(ccd_along_a_step_keeps_the_embedded_surfaces_apart);
+    RUN(a_bad_embedding_is_named);
     return test_finish();
 }
