@@ -198,6 +198,8 @@ $(BUILD)/tests/%_double: tests/unit/%.c tests/testlib.h $(call libs_of,runtime) 
 TEST_ALSO_test_basis_derivatives := fom solver contact
 TEST_ALSO_test_basis_pod := fom solver contact
 TEST_ALSO_test_adaptive_subspace := basis
+# the embedded contact surface's vertices located in the bodies by the cage's embedding
+TEST_ALSO_test_fom_contact_embedded := cage
 TEST_ALSO_test_grassmann_alrom := basis
 # The chain's default fit is baked and jumped in the runtime.
 TEST_ALSO_test_koopman_dmd := asset formats

@@ -93,6 +93,9 @@ int rk_adaptive_init(rk_adaptive *ad, const rk_fem *fem, const rk_fom_options *f
     memset(ad, 0, sizeof *ad);
     if (check_options(o, fem, r, err)) return -1;
     if (fo->is_static) return rk_fail(err, "simulates dynamics only (the scene asks for a static solve)");
+    if (fo->contact_surface) /* its contact reads fom's contact model at x (energy.c, system.c, obstacles.c) */
+        return rk_fail(err, "a contact surface embedded in the elements (a point cloud's at full order) is not "
+                            "supported: give the objects as tet meshes");
     ad->opt = *o;
     /* moving obstacles go by their progress s, an unknown of this solver (obstacles.c) */
     rk_fom_options fom_opt = *fo;

@@ -220,11 +220,12 @@ double rk_contact_friction_energy(const rk_contact *c, const double *x, double h
 double rk_contact_holding_kappa(double dhat, double weight);
 
 /* Adaptive kappa (IPC supplement Sec. 3.3): on the first call with pairs, kappa balances the
- * barrier's gradient gb (at the current kappa) against the rest of the potential's ge (3 nmesh
- * each), clamped to
+ * barrier's gradient gb (at the current kappa) against the rest of the potential's ge (n entries
+ * each: the simulator's unknowns, 3 nmesh or, through an embedded contact surface, the
+ * simulator's own), clamped to
  * [kappa_min, kappa_max]; later calls double it, up to kappa_max, while the smallest distance keeps
  * shrinking below 1e-9 of the bounding-box diagonal. A fixed opt.kappa is left alone. */
-void rk_contact_adapt_kappa(rk_contact *c, const double *ge, const double *gb, double min_distance);
+void rk_contact_adapt_kappa(rk_contact *c, const double *ge, const double *gb, int n, double min_distance);
 
 /* ---- the feasible step (ccd.c) ---- */
 

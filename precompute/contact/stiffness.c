@@ -7,13 +7,13 @@
  * diagonal: the barrier is losing against what pushes the surfaces together. */
 #define KAPPA_GROW_BELOW 1e-9
 
-void rk_contact_adapt_kappa(rk_contact *c, const double *ge, const double *gb, double min_distance)
+void rk_contact_adapt_kappa(rk_contact *c, const double *ge, const double *gb, int n, double min_distance)
 {
     if (c->opt.kappa > 0 || !isfinite(min_distance)) return; /* fixed, or no pair */
     if (!c->kappa_set) {
         /* the first contact: kappa that balances the barrier's push against the rest, along it */
         double num = 0, den = 0;
-        for (int i = 0; i < 3 * c->nmesh; i++) {
+        for (int i = 0; i < n; i++) {
             num += ge[i] * gb[i];
             den += gb[i] * gb[i];
         }

@@ -77,6 +77,20 @@ int rk_chamber_check(const rk_chamber *c, int nv, rk_error *err);
  * shift = velocity t; twist: rotation by rate t about the axis through center, Rodrigues). */
 void rk_prescribed_transform(const rk_prescribed *p, double t, double R[9], double shift[3]);
 
+/* Contact on a surface embedded in the elements (a point cloud's march surface in its full-order
+ * body, docs/cloud_march.md): contact vertex j is at y_j = offset_j + sum_a weight[4j + a]
+ * x[vertex[4j + a]], a fixed linear map of the simulated positions x, and the contact model
+ * (precompute/contact) runs on y: mesh's boundary (its tets and ghost tets, mesh.X = y at rest)
+ * is the contact surface and object k owns its vertices [object_first_vertex[k],
+ * object_first_vertex[k + 1]) (rk_fom_options.nobjects + 1 entries). rk_fom_init copies it. */
+typedef struct {
+    rk_mesh mesh;
+    const int *vertex;        /* 4 nv */
+    const double *weight;     /* 4 nv */
+    const double *offset;     /* 3 nv */
+    const int *object_first_vertex;
+} rk_fom_contact_surface;
+
 typedef struct {
     double h;                 /* time step (s) */
     int steps;                /* number of steps to run */
@@ -111,6 +125,7 @@ typedef struct {
                                * given to rk_fom_step_with moves them by their progress along the
                                * step's way (contact.h, rk_obstacle_way; precompute/adaptive), with
                                * the obstacle points' gradient in rk_fom_view's og */
+    const rk_fom_contact_surface *contact_surface; /* NULL: contact on the mesh's own boundary */
 } rk_fom_options;
 
 /* Relative Newton tolerance used when newton_tol <= 0: rk_fom_init sets

@@ -32,6 +32,16 @@ int rk_newton_matrix_couple(rk_newton_matrix *N, const rk_sparse *base, int *cha
 /* A = base (values) plus the recorded blocks. */
 void rk_newton_matrix_fill(rk_newton_matrix *N, const rk_sparse *base);
 
+/* Contact on an embedded surface (contact_view.c, rk_fom_contact_surface): the map y = W x + o
+ * copied, and scratch in contact space. on = 0 (a mesh's own boundary): y is x, nothing here is
+ * allocated and every wrapper hands x to the contact stage as it is. */
+typedef struct {
+    int on, nv;             /* nv contact vertices */
+    int *vertex;            /* 4 nv */
+    double *weight, *offset;/* 4 nv, 3 nv */
+    double *y, *dy, *g, *gb;/* 3 nv each: positions, a direction, the gradient, the barrier's alone */
+} rk_fom_embedding;
+
 /* The moving obstacles' augmented-Lagrangian stiffness at the start of each solve, times 1/h^2
  * and the average vertex mass: a thousand times the inertia's pull. */
 #define RK_FOM_AL_KAPPA 1e3
@@ -62,6 +72,7 @@ struct rk_fom_impl {
     rk_contact contact;
     rk_contact_set pairs;
     double *g_barrier;
+    rk_fom_embedding emb;
     rk_stepper stepper;     /* backward Euler / BDF2: prediction and history */
     double *newton_work;    /* RK_NEWTON_WORK(ndof) */
     double *work, *work2;   /* scratch, n each */
@@ -117,6 +128,28 @@ typedef struct {
     rk_error failure;       /* set when the contact stage failed inside a callback */
 } rk_fom_problem_ctx;
 void rk_fom_problem(rk_fom_problem_ctx *ctx, rk_newton_problem *p);
+
+/* Full order's contact through the embedding (contact_view.c), every call with the simulator's
+ * positions x (3 nv, mesh only; obstacle points as the contact stage has them): */
+int rk_fom_embedding_init(rk_fom_embedding *e, const rk_fom_contact_surface *cs, int nv_mesh, rk_error *err);
+void rk_fom_embedding_free(rk_fom_embedding *e);
+/* The contact positions at x (x itself without an embedding; else e->y) and a direction dx's
+ * (e->dy: the map's linear part, so a straight step in x is a straight path of y and CCD on y is
+ * exact). */
+const double *rk_fom_contact_x(rk_fom_impl *im, const double *x);
+const double *rk_fom_contact_dx(rk_fom_impl *im, const double *dx);
+/* Where the contact stage adds its gradient: g itself, or e->g zeroed (NULL for NULL); then
+ * rk_fom_contact_pull adds W^T of it into g (nothing without an embedding). */
+double *rk_fom_contact_gradient(rk_fom_impl *im, double *g);
+void rk_fom_contact_pull(rk_fom_impl *im, const double *gy, double *g);
+/* The Hessian sink into N: rk_newton_matrix_record, or a wrapper recording W^T B W for each block. */
+rk_hessian_sink rk_fom_contact_sink(rk_fom_impl *im, void **ctx);
+/* rk_contact_max_step, friction start and lag, intersections, min distance and measure at x. */
+double rk_fom_contact_ccd(rk_fom_impl *im, const double *x, const double *dx, const double *odx, rk_error *err);
+int rk_fom_friction_start(rk_fom_impl *im, const double *x, rk_error *err);
+int rk_fom_friction_lag(rk_fom_impl *im, const double *x, rk_error *err);
+int rk_fom_intersections(rk_fom_impl *im, const double *x, rk_error *err);
+double rk_fom_min_distance(rk_fom_impl *im, const double *x, rk_error *err);
 
 /* CHOLMOD on impl->H: analysis (init), factorization and solve of H d = -g. */
 int rk_fom_chol_analyze(rk_fom_impl *im, rk_error *err);

@@ -47,6 +47,14 @@ int rk_fom_check_options(const rk_fom_options *o, int nv, rk_error *err)
             o->object_first_vertex[o->nobjects] != nv)
             return rk_fail(err, "objects: object %d's vertices [%d, %d) do not tile the mesh's %d", k,
                            o->object_first_vertex[k], o->object_first_vertex[k + 1], nv);
+    const rk_fom_contact_surface *cs = o->contact_surface;
+    if (cs && o->nobjects > 1 && !cs->object_first_vertex)
+        return rk_fail(err, "contact surface: %d objects given without their first vertices", o->nobjects);
+    for (int k = 0; cs && cs->object_first_vertex && k < o->nobjects; k++)
+        if (cs->object_first_vertex[k] > cs->object_first_vertex[k + 1] || cs->object_first_vertex[0] != 0 ||
+            cs->object_first_vertex[o->nobjects] != cs->mesh.nv)
+            return rk_fail(err, "contact surface: object %d's vertices [%d, %d) do not tile its %d", k,
+                           cs->object_first_vertex[k], cs->object_first_vertex[k + 1], cs->mesh.nv);
     if (o->nprescribed < 0 || (o->nprescribed > 0 && !o->prescribed))
         return rk_fail(err, "%d prescribed groups given without data", o->nprescribed);
     if (o->nchambers < 0 || (o->nchambers > 0 && !o->chambers))
@@ -128,9 +136,11 @@ static int init_contact(rk_fom *s, rk_error *err)
     const rk_fom_options *o = &s->opt;
     const rk_obstacle *obstacles = o->obstacles;
     const int *first_vertex = o->object_first_vertex;
+    const rk_fom_contact_surface *cs = o->contact_surface;
     im->has_contact = o->nobstacles > 0 || o->nobjects > 1 || o->contact.self;
     s->opt.obstacles = NULL; /* copied into the contact model below; the caller's arrays need not outlive init */
     s->opt.object_first_vertex = NULL;
+    s->opt.contact_surface = NULL; /* copied into the contact model and im->emb below */
     if (!im->has_contact) return 0;
     const rk_fem *f = s->fem;
     rk_contact_options co = o->contact;
@@ -139,7 +149,12 @@ static int init_contact(rk_fom *s, rk_error *err)
     for (int v = 0; v < f->nv; v++) mass += f->vertex_mass[v];
     rk_mesh view = {.nv = f->nv, .nt = f->nt, .X = (double *)f->X, .tets = (int *)f->tets, .nghost = f->nghost,
                     .ghost = (int *)f->ghost};
-    if (rk_contact_init(&im->contact, &view, first_vertex, o->nobjects, obstacles, o->nobstacles, &co, mass / f->nv,
+    if (cs) { /* an embedded contact surface (contact_view.c): the contact model on its vertices */
+        view = cs->mesh;
+        first_vertex = cs->object_first_vertex;
+    }
+    if (rk_fom_embedding_init(&im->emb, cs, f->nv, err) ||
+        rk_contact_init(&im->contact, &view, first_vertex, o->nobjects, obstacles, o->nobstacles, &co, mass / f->nv,
                         err))
         return -1;
     s->opt.contact = co;
@@ -230,12 +245,12 @@ static int check_start(rk_fom *s, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     if (!im->has_contact) return 0;
-    int crossings = rk_contact_intersections(&im->contact, s->x, err);
+    int crossings = rk_fom_intersections(im, s->x, err);
     if (crossings < 0) return -1;
     if (crossings > 0)
         return rk_fail(err, "the start intersects itself, another object or an obstacle (%d crossings or points "
                        "behind a plane)", crossings);
-    double d = rk_contact_min_distance(&im->contact, s->x, err);
+    double d = rk_fom_min_distance(im, s->x, err);
     if (!(d > 0)) return rk_fail(err, "the start touches an obstacle or another surface (distance %g m)", d);
     return 0;
 }
@@ -279,6 +294,7 @@ void rk_fom_free(rk_fom *s)
             for (int k = 0; k < s->opt.nchambers; k++) free(im->chambers[k].tris), free(im->chambers[k].keys);
         free(im->chambers);
         if (im->has_contact) rk_contact_free(&im->contact);
+        rk_fom_embedding_free(&im->emb);
         rk_contact_set_free(&im->pairs);
         rk_newton_matrix_free(&im->N);
         free(im->g_barrier), free(im->y), free(im->obs_target), free(im->al_lambda), free(im->og);
@@ -300,7 +316,7 @@ int rk_fom_contact_measure(rk_fom *s, int *intersections, double *min_distance, 
     *intersections = 0;
     *min_distance = INFINITY;
     if (!s->impl->has_contact) return 0;
-    return rk_contact_measure(&s->impl->contact, s->x, intersections, min_distance, err);
+    return rk_contact_measure(&s->impl->contact, rk_fom_contact_x(s->impl, s->x), intersections, min_distance, err);
 }
 
 const rk_contact_stats *rk_fom_contact_stats(const rk_fom *s)

@@ -30,7 +30,7 @@ static double fraction(void *ctx, double t, rk_error *err)
 {
     rk_fom *s = ((kinematics *)ctx)->s;
     double t0 = rk_now();
-    double f = rk_contact_max_step(&s->impl->contact, s->x, remaining(s, t), NULL, err);
+    double f = rk_fom_contact_ccd(s->impl, s->x, remaining(s, t), NULL, err);
     s->stats.seconds_contact += rk_now() - t0;
     return f;
 }

@@ -47,7 +47,7 @@ static double max_step(void *ctx, const double *y, const double *d)
     rk_fom_impl *im = c->s->impl;
     if (im->nobs) memcpy(im->contact.ox, y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
     double t0 = rk_now();
-    double alpha = rk_contact_max_step(&im->contact, y, d, im->nobs ? d + im->n : NULL, &c->failure);
+    double alpha = rk_fom_contact_ccd(im, y, d, im->nobs ? d + im->n : NULL, &c->failure);
     c->s->stats.seconds_contact += rk_now() - t0;
     return alpha >= 0 ? alpha : 0; /* a failed CCD (out of memory) takes no step */
 }
@@ -78,7 +78,7 @@ static int snap_obstacles(rk_fom *s, rk_error *err)
     double *odx = im->g_barrier + im->n; /* scratch */
     memset(im->g_barrier, 0, sizeof(double) * (size_t)im->n);
     for (int i = 0; i < 3 * im->nobs; i++) odx[i] = im->prescribed_dof[im->n + i] ? 0 : im->obs_target[i] - im->y[im->n + i];
-    double alpha = rk_contact_max_step(&im->contact, im->y, im->g_barrier, odx, err);
+    double alpha = rk_fom_contact_ccd(im, im->y, im->g_barrier, odx, err);
     if (alpha < 0) return -1;
     if (alpha >= 1)
         for (int i = 0; i < 3 * im->nobs; i++) im->y[im->n + i] += odx[i];

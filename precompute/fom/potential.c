@@ -79,8 +79,10 @@ int rk_fom_newton_matrix_projected(rk_fom *s, const rk_fom_terms *T, const doubl
 
 /* The barrier at y: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
  * the gradient), the blocks recorded for the Newton matrix. The obstacle vertices are at
- * y[n..] when they are unknowns. */
-static double contact_term(rk_fom *s, const double *y, double *g, int hessian, rk_error *err)
+ * y[n..] when they are unknowns. cy: the contact positions at y (rk_fom_contact_x), cg: where
+ * the contact stage's gradient goes (rk_fom_contact_gradient; the caller pulls it back). */
+static double contact_term(rk_fom *s, const double *y, const double *cy, double *g, double *cg, int hessian,
+                           rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     rk_contact *c = &im->contact;
@@ -88,20 +90,26 @@ static double contact_term(rk_fom *s, const double *y, double *g, int hessian, r
                   * blocks of the last Hessian: rk_fom_view hands them on */
         im->N.nblocks = 0;
     if (im->nobs) memcpy(c->ox, y + im->n, sizeof(double) * 3 * (size_t)im->nobs);
-    if (rk_contact_gather(c, y, &im->pairs, err)) return NAN;
+    if (rk_contact_gather(c, cy, &im->pairs, err)) return NAN;
     double closest;
     double *og = !g ? NULL : im->nobs ? g + im->n : im->og;
     if (og == im->og && og) memset(og, 0, sizeof(double) * 3 * (size_t)c->onv);
     if (g && hessian && !c->kappa_set && im->pairs.n > 0) {
-        /* the first contact sets kappa: measure the barrier's push at the current kappa first */
+        /* the first contact sets kappa: measure the barrier's push at the current kappa first (in x:
+         * pulled back through the embedding), against the rest of the gradient, g so far */
         memset(im->g_barrier, 0, sizeof(double) * (size_t)im->ndof);
-        rk_contact_energy(c, &im->pairs, y, im->g_barrier, im->nobs ? im->g_barrier + im->n : NULL, NULL, NULL, &closest);
+        double *gb = im->emb.on ? im->emb.gb : im->g_barrier;
+        if (im->emb.on) memset(gb, 0, sizeof(double) * 3 * (size_t)im->emb.nv);
+        rk_contact_energy(c, &im->pairs, cy, gb, im->nobs ? im->g_barrier + im->n : NULL, NULL, NULL, &closest);
+        rk_fom_contact_pull(im, gb, im->g_barrier);
         for (int i = 0; i < im->ndof; i++)
             if (im->prescribed_dof[i]) im->g_barrier[i] = 0;
-        rk_contact_adapt_kappa(c, g, im->g_barrier, closest);
+        rk_contact_adapt_kappa(c, g, im->g_barrier, im->n, closest);
     }
-    double B = rk_contact_energy(c, &im->pairs, y, g, og, hessian ? rk_newton_matrix_record : NULL, &im->N, &closest);
-    if (hessian && c->kappa_set) rk_contact_adapt_kappa(c, NULL, NULL, closest);
+    void *ctx;
+    rk_hessian_sink sink = rk_fom_contact_sink(im, &ctx);
+    double B = rk_contact_energy(c, &im->pairs, cy, cg, og, hessian ? sink : NULL, ctx, &closest);
+    if (hessian && c->kappa_set) rk_contact_adapt_kappa(c, NULL, NULL, 0, closest);
     if (im->N.overflow) {
         im->N.overflow = 0;
         rk_fail(err, "out of memory for the contact Hessian blocks");
@@ -164,11 +172,17 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     if (isfinite(stored)) work += chamber_work(s, T->load, y, g);
     if (im->nobs) stored += obstacle_term(s, y, g);
     tc = rk_now();
-    if (im->has_contact && isfinite(stored)) stored += contact_term(s, y, g, hessian, err);
-    if (T->friction && isfinite(stored))
-        stored += rk_contact_friction_energy(&im->contact, y, s->opt.h, g,
-                                             !g ? NULL : im->nobs ? g + n : im->og,
-                                             hessian ? rk_newton_matrix_record : NULL, &im->N);
+    if (im->has_contact && isfinite(stored)) { /* on the contact positions (contact_view.c), pulled back */
+        const double *cy = rk_fom_contact_x(im, y);
+        double *cg = rk_fom_contact_gradient(im, g);
+        stored += contact_term(s, y, cy, g, cg, hessian, err);
+        void *ctx;
+        rk_hessian_sink sink = rk_fom_contact_sink(im, &ctx);
+        if (T->friction && isfinite(stored))
+            stored += rk_contact_friction_energy(&im->contact, cy, s->opt.h, cg, !g ? NULL : im->nobs ? g + n : im->og,
+                                                 hessian ? sink : NULL, ctx);
+        rk_fom_contact_pull(im, cg, g);
+    }
     contact += rk_now() - tc;
     double E = stored - work + quad;
     if (magnitude) *magnitude = fabs(stored) + fabs(work) + quad;
@@ -203,7 +217,7 @@ double rk_fom_max_step(rk_fom *s, const double *x, const double *d, rk_error *er
     rk_fom_impl *im = s->impl;
     if (!im->has_contact) return 1;
     double t0 = rk_now();
-    double alpha = rk_contact_max_step(&im->contact, x, d, NULL, err);
+    double alpha = rk_fom_contact_ccd(im, x, d, NULL, err);
     s->stats.seconds_contact += rk_now() - t0;
     return alpha;
 }

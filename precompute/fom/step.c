@@ -46,8 +46,7 @@ static int step(rk_fom *s, rk_fom_newton_fn newton, void *newton_ctx, rk_error *
     rk_fom_terms T = {.w_inertia = st->w_inertia, .xtilde = st->xtilde, .w_damping = 1.0 / h, .xt = st->xt,
                       .load = 1.0, .friction = friction};
     /* friction's normal forces and tangents lagged at x_t for the first solve */
-    if (friction && (rk_contact_friction_start(&im->contact, st->xt, err) ||
-                     rk_contact_friction_lag(&im->contact, st->xt, err)))
+    if (friction && (rk_fom_friction_start(im, st->xt, err) || rk_fom_friction_lag(im, st->xt, err)))
         return -1;
     /* Start Newton from the predictor when nothing is in the way (the obstacles where they are),
      * else from x_t; the prescribed vertices and the obstacles then move to their targets at t + h. */
@@ -55,7 +54,7 @@ static int step(rk_fom *s, rk_fom_newton_fn newton, void *newton_ctx, rk_error *
     if (im->has_contact) {
         for (int i = 0; i < im->n; i++) im->work2[i] = st->xtilde[i] - st->xt[i];
         double t0 = rk_now();
-        double alpha = rk_contact_max_step(&im->contact, st->xt, im->work2, NULL, err);
+        double alpha = rk_fom_contact_ccd(im, st->xt, im->work2, NULL, err);
         s->stats.seconds_contact += rk_now() - t0;
         if (alpha < 0) return -1;
         start_predicted = alpha >= 1;
@@ -68,7 +67,7 @@ static int step(rk_fom *s, rk_fom_newton_fn newton, void *newton_ctx, rk_error *
     /* then lagged again at the solution and solved again, until a solve has nothing left to do */
     for (int k = 1; friction && k < s->opt.contact.friction_iterations; k++) {
         long before = s->stats.newton_iterations;
-        if (rk_contact_friction_lag(&im->contact, s->x, err) || solve_step(s, &c, err)) return -1;
+        if (rk_fom_friction_lag(im, s->x, err) || solve_step(s, &c, err)) return -1;
         if (s->stats.newton_iterations - before <= 1) break;
     }
     if (!c.converged) s->stats.unconverged_steps++;

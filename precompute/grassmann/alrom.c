@@ -69,6 +69,9 @@ int rk_alrom_init(rk_alrom *s, const rk_fem *fem, const rk_fom_options *fo, cons
         return rk_fail(err, "the decoder maps %d latent coordinates to %d dofs; the mesh has %d", dec->r, dec->n,
                        3 * fem->nv);
     if (fo->is_static) return rk_fail(err, "simulates dynamics only (the scene asks for a static solve)");
+    if (fo->contact_surface) /* its contact blocks are read at x (rk_fom_contact_sandwich) */
+        return rk_fail(err, "a contact surface embedded in the elements (a point cloud's at full order) is not "
+                            "supported: give the objects as tet meshes");
     s->opt = *o;
     if (rk_fom_init(&s->fom, fem, fo, err)) return -1;
     rk_alrom_impl *im = rk_calloc(1, sizeof *im, err);

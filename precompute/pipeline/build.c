@@ -604,7 +604,8 @@ static int scene_build(const rk_scene *s, rk_scene_sim *out, int full_order, rk_
     out->materials = rk_calloc((size_t)out->mesh.nt, sizeof(rk_material), err);
     if (!out->materials) goto fail;
     if (assign_materials(s, out, err)) goto fail;
-    if (bodies && rk_cloud_bodies_finish(s, bodies, out, err)) goto fail;
+    if (bodies && (rk_cloud_bodies_finish(s, bodies, out, err) || rk_cloud_contact_surface(s, bodies, out, err)))
+        goto fail;
     if (cloud ? cloud_fem(s, out, err) : rk_fem_init(&out->fem, &out->mesh, out->materials, err)) goto fail;
 
     rk_fom_options *opt = &out->options;
@@ -626,6 +627,7 @@ static int scene_build(const rk_scene *s, rk_scene_sim *out, int full_order, rk_
     if (build_loads_and_velocities(s, out, slack, err)) goto fail;
     if (build_obstacles(s, out, diag, err)) goto fail;
     if (build_chambers(s, out, slack, err)) goto fail;
+    if (out->contact.mesh.nv) opt->contact_surface = &out->contact;
     free_bodies(bodies, s->nobjects);
     return 0;
 fail:
@@ -685,6 +687,11 @@ void rk_scene_sim_free(rk_scene_sim *out)
     free(out->layout.vertex);
     free(out->layout.weight);
     free(out->layout.offset);
+    rk_mesh_free(&out->contact.mesh);
+    free((int *)out->contact.vertex);
+    free((double *)out->contact.weight);
+    free((double *)out->contact.offset);
+    free((int *)out->contact.object_first_vertex);
     memset(out, 0, sizeof *out);
 }
 

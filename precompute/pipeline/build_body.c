@@ -82,9 +82,14 @@ int rk_cloud_body_load(const rk_scene_object *o, rk_mesh *m, rk_cloud_body *b, r
         free(b->proxy_X);
         b->surface_nv = surface.nv - b->n;
         b->proxy_X = rk_calloc(3 * (size_t)b->surface_nv + 1, sizeof(double), err);
+        b->ghost = rk_calloc(4 * (size_t)surface.nghost + 1, sizeof(int), err);
         if (b->proxy_X) memcpy(b->proxy_X, surface.X + 3 * (size_t)b->n, sizeof(double) * 3 * (size_t)b->surface_nv);
+        /* its ghost cones (rk_points_march_mesh: coned to point 0) over the apex, then the vertices */
+        for (int i = 0; b->ghost && i < 4 * surface.nghost; i++)
+            b->ghost[i] = surface.ghost[i] < b->n ? 0 : 1 + surface.ghost[i] - b->n;
+        b->nghost = surface.nghost;
         rk_mesh_free(&surface);
-        if (!b->proxy_X) goto fail;
+        if (!b->proxy_X || !b->ghost) goto fail;
         b->march = 1;
     }
     m->tet_tag = rk_calloc((size_t)m->nt + 1, sizeof(int), err);
@@ -107,7 +112,7 @@ void rk_cloud_body_place(rk_cloud_body *b, double scale, const double translate[
 
 void rk_cloud_body_free(rk_cloud_body *b)
 {
-    free(b->X), free(b->tag), free(b->tet_point), free(b->proxy_X);
+    free(b->X), free(b->tag), free(b->tet_point), free(b->proxy_X), free(b->ghost);
     memset(b, 0, sizeof *b);
 }
 

@@ -33,6 +33,7 @@ typedef struct {
     int corners;               /* the body's vertices */
     int surface_nv;            /* proxy_X's vertices (the voxel surface: corners) */
     int march;                 /* proxy_X is the march surface, not the body's vertices */
+    int nghost, *ghost;        /* the march surface's ghost cones: 0 their apex (point 0), 1 + i its vertex i */
     rk_points_body_report rep;
 } rk_cloud_body;
 
@@ -46,5 +47,9 @@ void rk_cloud_body_free(rk_cloud_body *b);
  * tets, and out->layout made (the scene's vertices as rk_scene_build numbers them). bodies[k].n is
  * 0 for a mesh. */
 int rk_cloud_bodies_finish(const rk_scene *s, rk_cloud_body *bodies, rk_scene_sim *out, rk_error *err);
+/* After rk_cloud_bodies_finish, when a cloud collides through its march surface: out->contact, the
+ * surface full order's contact runs on (rk_fom_contact_surface; build_contact.c); nothing (mesh.nv
+ * 0) when no cloud does. */
+int rk_cloud_contact_surface(const rk_scene *s, const rk_cloud_body *bodies, rk_scene_sim *out, rk_error *err);
 
 #endif

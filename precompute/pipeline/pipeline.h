@@ -287,6 +287,9 @@ typedef struct {
     double body_mass_scale;   /* the largest density factor that made a body weigh its cloud */
     double body_volume;       /* the bodies' rest volume (m^3) */
     double body_mass;         /* the clouds' mass, which the bodies weigh (kg) */
+    /* full order with a cloud colliding through its march surface: the contact surface (arrays owned
+     * here; options.contact_surface points to it), else mesh.nv = 0 (contact on the tets' boundary) */
+    rk_fom_contact_surface contact;
 } rk_scene_sim;
 
 int rk_scene_build(const rk_scene *s, rk_scene_sim *out, rk_error *err);

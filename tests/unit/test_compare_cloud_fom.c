@@ -9,8 +9,12 @@
  *  - clamped at one end under gravity (static), it sags as the same box meshed (rk_mesh_box) does,
  *    within 2%;
  *  - dropped at 0.5 m/s onto a meshed slab on a plane, no edge ever crosses a triangle (exact test,
- *    every frame), the surfaces stay apart, and it rests with its lowest points within s/2 (its body
- *    surface under them) + 2 dhat of the slab's top;
+ *    every frame), the surfaces stay apart, and it rests with its lowest points within s/2 (its
+ *    contact surface under them) + 2 dhat of the slab's top; full order collides through the cloud's
+ *    march surface embedded in its body (fom.h, rk_fom_contact_surface), so that surface, measured
+ *    on its own as rk_scene_build has it (the reduced model's and the runtime's), never crosses the
+ *    slab either (while full order collided through the body's boundary it crossed: 18 crossings
+ *    over the 41 frames) and rests within 2 dhat of the slab's top;
  *  - romkit compare's rk_compare_scene on a cloud scene runs and reports a finite error. */
 #include <math.h>
 #include <stdio.h>
@@ -169,6 +173,9 @@ typedef struct {
     double *shown;
     int crossings, frames;
     double closest;
+    rk_contact *scene;         /* the scene's own contact model (rk_scene_build's: the march surface) */
+    int scene_crossings;
+    double scene_closest;
 } drop_ctx;
 
 static int measure_drop(void *ctx, int step, rk_fom *fom, double seconds, rk_error *err)
@@ -181,6 +188,11 @@ static int measure_drop(void *ctx, int step, rk_fom *fom, double seconds, rk_err
     c->closest = fmin(c->closest, d);
     c->frames++;
     rk_scene_layout_apply(&c->sim->layout, fom->x, c->shown);
+    /* independently of full order's contact model: the scene's vertices where the run has them, on
+     * the contact surface the reduced model and the runtime collide through */
+    if (rk_contact_measure(c->scene, c->shown, &crossings, &d, err)) return -1;
+    c->scene_crossings += crossings;
+    c->scene_closest = fmin(c->scene_closest, d);
     return 0;
 }
 
@@ -206,7 +218,15 @@ TEST(a_cloud_dropped_on_a_meshed_slab_never_crosses_and_rests_on_it)
     rk_scene_sim sim;
     CHECK_OK(rk_scene_parse(json, "drop.json", &scene, &err));
     CHECK_OK(rk_scene_build_full_order(&scene, &sim, &err));
-    drop_ctx c = {&sim, calloc(3 * (size_t)sim.layout.nv, sizeof(double)), 0, 0, INFINITY};
+    CHECK(sim.options.contact_surface != NULL, "full order does not collide through the march surface");
+    rk_scene_sim reduced;
+    rk_contact own;
+    CHECK_OK(rk_scene_build(&scene, &reduced, &err));
+    CHECK(reduced.mesh.nv == sim.layout.nv, "the scene has %d vertices, the layout %d", reduced.mesh.nv, sim.layout.nv);
+    const rk_fom_options *ro = &reduced.options;
+    CHECK_OK(rk_contact_init(&own, &reduced.mesh, ro->object_first_vertex, ro->nobjects, ro->obstacles, ro->nobstacles,
+                             &ro->contact, 1.0, &err));
+    drop_ctx c = {&sim, calloc(3 * (size_t)sim.layout.nv, sizeof(double)), 0, 0, INFINITY, &own, 0, INFINITY};
     CHECK_OK(rk_scene_fom_run(&sim, NULL, "drop", measure_drop, &c, NULL, &err));
     /* the scene's vertices: the slab's 32, then the cloud's 125 points, then its contact surface;
      * the slab's top under the cloud: its top vertices at x, z = +-0.05, under the cube's edges */
@@ -215,13 +235,22 @@ TEST(a_cloud_dropped_on_a_meshed_slab_never_crosses_and_rests_on_it)
         if (fabs(sim.mesh.X[3 * v]) < 0.06 && fabs(sim.mesh.X[3 * v + 2]) < 0.06 && sim.mesh.X[3 * v + 1] > 0.02)
             top = fmax(top, c.shown[3 * v + 1]);
     for (int v = 32; v < 32 + 125; v++) low = fmin(low, c.shown[3 * v + 1]);
-    printf("  %d frames: %d crossings, closest %.3g m; the lowest points %.4g m over the slab\n", c.frames, c.crossings,
-           c.closest, low - top);
+    double surface = INFINITY; /* the contact surface: the march's vertices, after the points */
+    for (int v = 32 + 125; v < sim.layout.nv; v++) surface = fmin(surface, c.shown[3 * v + 1]);
+    printf("  %d frames: %d crossings, closest %.3g m; the lowest points %.4g m over the slab, the contact surface %.4g m\n",
+           c.frames, c.crossings, c.closest, low - top, surface - top);
     CHECK(c.frames == 41 && c.crossings == 0 && c.closest > 0, "%d frames: %d crossings, closest %g m", c.frames,
           c.crossings, c.closest);
+    printf("  the scene's own contact surface: %d crossings, closest %.3g m\n", c.scene_crossings, c.scene_closest);
+    CHECK(c.scene_crossings == 0 && c.scene_closest > 0, "the march surface: %d crossings, closest %g m",
+          c.scene_crossings, c.scene_closest);
+    CHECK(surface - top > -2 * 0.002 && surface - top < 2 * 0.002, "the contact surface rests %g m over the slab's top",
+          surface - top);
     CHECK(low - top > 0 && low - top < 0.5 * S + 2 * 0.002, "the lowest points are %g m over the slab's top",
           low - top);
     free(c.shown);
+    rk_contact_free(&own);
+    rk_scene_sim_free(&reduced);
     rk_scene_sim_free(&sim);
     rk_scene_free(&scene);
 }
