@@ -99,9 +99,10 @@ static int crosses(const tidy *T, const int *t, const int *ignore, int nignore)
     return 0;
 }
 
-/* Whether the new faces nt[0 .. n - 1] (replacing old[0 .. nold - 1], whose shapes are in
- * oldt) pass: better worst quality, no turn against a well-shaped face they replace (new face k
- * replaces old face k for k < nmatch), no crossing (with each other included). */
+/* Whether the new faces nt[0 .. n - 1] (replacing the faces old[0 .. nold - 1]) pass: worst
+ * quality above worse_than, no turn against a well-shaped face they replace (new face k replaces
+ * the face whose shape is oldt[k], for k < nmatch), no crossing with any face but the replaced
+ * ones, nor with each other. */
 static int passes(const tidy *T, const int (*nt)[3], int n, const int (*oldt)[3], int nold, int nmatch, const int *old,
                   double worse_than)
 {
@@ -157,7 +158,8 @@ static int collapse(tidy *T, int a, int b)
         for (int i = 0; i < 3; i++) nt[n][i] = t[i] == b ? a : t[i];
         n++;
     }
-    if (!passes(T, (const int (*)[3])nt, n, (const int (*)[3])oldt, nold, n, old, worst)) return 0;
+    /* against every face but b's (removed or replaced): a's others stay */
+    if (!passes(T, (const int (*)[3])nt, n, (const int (*)[3])oldt, nb, n, old + na, worst)) return 0;
     for (int k = 0, j = 0; k < na + nb; k++) {
         int *t = T->tris + 3 * F[k];
         if (k < na) continue;
