@@ -23,8 +23,8 @@
  * mesher chases them too (TetGen split the untidied donut surface into 5 million tets).
  *
  * The moves scan every face for the ones around a vertex (no adjacency kept up to date): on the
- * donut (2,674 slivers of 8,556 faces) test_contact_proxy_march takes 3.8 s of CPU against 3.6 s
- * untidied. */
+ * donut (2,674 slivers of 8,556 faces) rk_points_march takes 2.6-3.1 s of CPU against 2.2-2.3 s
+ * untidied (3 runs each, load 2-3; docs/cloud_march.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
