@@ -11,6 +11,9 @@
  *     capture at the default voxel (1/40 of its diagonal, g = 10 s), median and 95th percentile
  *     within s (the voxel surface moved in, rk_points_proxy: 0.50 s and 2.39 s), with at most 1.5
  *     times the voxel surface's triangles;
+ *   - the slivers tidied (rk_march_tidy): at most 5% of the triangles under RK_MARCH_SLIVER
+ *     (untidied, the donut had 31%), none on the solid lattice; the face centroids' distance to
+ *     the points is printed (the surface between the vertices; the tidy left it as it was);
  * on one point, a solid lattice, a noisy sphere shell at a capped voxel, the donut splat capture,
  * the pedestal scan;
  * bad input fails. */
