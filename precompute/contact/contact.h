@@ -359,6 +359,8 @@ typedef struct {
     int rounds;            /* back-off rounds until nothing crossed */
     int outside_points;    /* points outside by more than RK_PROXY_OUTSIDE s (must be 0) */
     double max_outside;    /* the farthest a point outside lies from the surface (m) */
+    int collapsed, flipped; /* slivers' short edges collapsed and long edges flipped (rk_march_tidy) */
+    int untidy;            /* 1: the tidied surface left a point past RK_PROXY_OUTSIDE s, the untidied one kept */
 } rk_points_march_report;
 int rk_points_march(const double *X, int n, double h, double s, rk_surface *out, rk_points_march_report *rep, rk_error *err);
 /* The same surface as rk_points_proxy gives the voxel one (proxy_cone.c): out has the n points
@@ -375,6 +377,12 @@ int rk_points_march_mesh(const double *X, int n, double h, double s, rk_mesh *ou
 /* Passes of proxy_march.c's retries of the vertices backed off (all the way, then half of what is
  * left, ...), one colour of vertices at a time. */
 #define RK_MARCH_RETRIES 3
+/* proxy_march_tidy.c: a sliver is a face of quality 4 sqrt(3) A / sum l^2 under RK_MARCH_SLIVER;
+ * its edges up to RK_MARCH_TIDY_EDGE points' spacings are collapsed (and caps flipped where the
+ * surface moves no more than that), in up to RK_MARCH_TIDY_PASSES sweeps over the faces. */
+#define RK_MARCH_SLIVER 0.1
+#define RK_MARCH_TIDY_EDGE 0.5
+#define RK_MARCH_TIDY_PASSES 8
 
 /* ---- measures (intersect.c) ---- */
 

@@ -84,5 +84,10 @@ int rk_proxy_inset(rk_mesh *m, int n, double g, double tau, const double lo[3], 
 int rk_proxy_near(rk_mesh *m, const double *lattice, int n, double g, double tau, double outside, const double lo[3],
                   rk_error *err);
 
+/* The march surface's slivers removed (proxy_march_tidy.c): short edges collapsed, caps' long
+ * edges flipped, each only where the surface stays closed, 2-manifold, free of crossings and its
+ * local worst quality improves; S's vertices renumbered (those left keep their places); counts in
+ * rep->collapsed and rep->flipped. s: the points' spacing. */
+int rk_march_tidy(rk_surface *S, double s, rk_points_march_report *rep, rk_error *err);
 
 #endif

@@ -11,6 +11,9 @@
  *     capture at the default voxel (1/40 of its diagonal, g = 10 s), median and 95th percentile
  *     within s (the voxel surface moved in, rk_points_proxy: 0.50 s and 2.39 s), with at most 1.5
  *     times the voxel surface's triangles;
+ *   - the slivers tidied (rk_march_tidy): at most 5% of the triangles under RK_MARCH_SLIVER
+ *     (untidied, the donut had 31%), none on the solid lattice; the face centroids' distance to
+ *     the points is printed (the surface between the vertices; the tidy left it as it was);
  * on one point, a solid lattice, a noisy sphere shell at a capped voxel, the donut splat capture,
  * the pedestal scan;
  * bad input fails. */
@@ -31,6 +34,10 @@ typedef struct {
     int outside;                   /* points outside by more than RK_PROXY_OUTSIDE s */
     double max_outside_s;          /* the farthest point outside, in s */
     double min_quality;            /* the worst triangle's 4 sqrt(3) area / sum of squared edges (1: equilateral) */
+    double min_edge_s;             /* the shortest edge, in s */
+    int slivers;                   /* triangles of quality under RK_MARCH_SLIVER */
+    double centroid_p95_s, centroid_max_s; /* face centroid -> nearest point, in s (the surface between vertices) */
+    int collapsed, flipped;        /* the report's tidy counts */
 } march_stats;
 
 #define FAIL_IF(cond, ...)                   \
@@ -67,8 +74,16 @@ static int check_march(const double *X, int n, double h, double s, march_stats *
         nrm[0] = u[1] * v[2] - u[2] * v[1], nrm[1] = u[2] * v[0] - u[0] * v[2], nrm[2] = u[0] * v[1] - u[1] * v[0];
         for (int k = 0; k < 3; k++)
             for (int d = 0; d < 3; d++) l2 += (x[3 * t[(k + 1) % 3] + d] - x[3 * t[k] + d]) * (x[3 * t[(k + 1) % 3] + d] - x[3 * t[k] + d]);
-        st->min_quality = fmin(st->min_quality, 2 * sqrt(3.0) * sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]) / l2);
+        double q = 2 * sqrt(3.0) * sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]) / l2;
+        st->min_quality = fmin(st->min_quality, q);
+        st->slivers += q < RK_MARCH_SLIVER;
+        for (int k = 0; k < 3; k++) {
+            double e2 = 0;
+            for (int d = 0; d < 3; d++) e2 += (x[3 * t[(k + 1) % 3] + d] - x[3 * t[k] + d]) * (x[3 * t[(k + 1) % 3] + d] - x[3 * t[k] + d]);
+            st->min_edge_s = f == 0 && k == 0 ? sqrt(e2) / s : fmin(st->min_edge_s, sqrt(e2) / s);
+        }
     }
+    st->collapsed = rep.collapsed, st->flipped = rep.flipped;
     FAIL_IF(nf < 4, "%d triangles", nf);
     for (int k = 0; k < 3 * nf; k++) FAIL_IF(tris[k] < 0 || tris[k] >= S.nv, "triangle vertex %d of %d", tris[k], S.nv);
     int fans;
@@ -113,6 +128,17 @@ static int check_march(const double *X, int n, double h, double s, march_stats *
     }
     qsort(dist, (size_t)S.nv, sizeof *dist, rk_cmp_double);
     st->median_s = dist[S.nv / 2], st->p95_s = dist[(int)(0.95 * S.nv)], st->max_s = dist[S.nv - 1];
+    /* the faces' centroids (what vertex distances do not see: a face bridging a hollow) */
+    free(dist);
+    dist = malloc(sizeof(double) * (size_t)nf);
+    FAIL_IF(!dist, "out of memory");
+    for (int f = 0; f < nf; f++) {
+        double c[3];
+        for (int d = 0; d < 3; d++) c[d] = (x[3 * tris[3 * f] + d] + x[3 * tris[3 * f + 1] + d] + x[3 * tris[3 * f + 2] + d]) / 3;
+        dist[f] = fmin(bucket_nearest(&B, c, -1), 4 * h) / s;
+    }
+    qsort(dist, (size_t)nf, sizeof *dist, rk_cmp_double);
+    st->centroid_p95_s = dist[(int)(0.95 * nf)], st->centroid_max_s = dist[nf - 1];
 done:
     free(S.X), free(S.tris), free(boxes), free(dist), free(B.key);
     return rc;
@@ -121,8 +147,10 @@ done:
 static void print_stats(const char *what, int n, double g, double s, const march_stats *st)
 {
     printf("  %s: %d points, g %.3g, s %.3g: %d triangles; vertices median %.3f s, 95th percentile %.3f s, worst %.3f s; "
-           "farthest point outside %.3f s; worst triangle quality %.2g\n",
-           what, n, g, s, st->faces, st->median_s, st->p95_s, st->max_s, st->max_outside_s, st->min_quality);
+           "farthest point outside %.3f s; worst triangle quality %.2g, %d under %g, shortest edge %.3g s (%d collapsed, "
+           "%d flipped); face centroids 95th percentile %.3f s, worst %.3f s\n",
+           what, n, g, s, st->faces, st->median_s, st->p95_s, st->max_s, st->max_outside_s, st->min_quality, st->slivers,
+           RK_MARCH_SLIVER, st->min_edge_s, st->collapsed, st->flipped, st->centroid_p95_s, st->centroid_max_s);
 }
 
 /* The voxel surface's triangles at voxel g (rk_points_proxy's; the budget's base). */
@@ -164,6 +192,8 @@ TEST(a_lattice_is_wrapped_within_its_spacing)
     print_stats("lattice", n, 2 * s, s, &st);
     CHECK(rc == 0, "%s", why);
     CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "vertices %.3f s (median), %.3f s (95th percentile) off", st.median_s, st.p95_s);
+    /* untidied: 84 of its 432 faces under RK_MARCH_SLIVER, the worst 0.026 */
+    CHECK(st.slivers == 0 && st.collapsed > 0, "%d slivers left, %d edges collapsed", st.slivers, st.collapsed);
 }
 
 /* A triangle as its smallest vertex first, its winding kept (so a flipped face differs). */
@@ -233,6 +263,9 @@ static void check_wrapped(const char *what, double *X, int n, double g, double s
     CHECK(st.median_s <= 0.55 && st.p95_s <= 1.0, "%s: vertices %.3f s (median), %.3f s (95th percentile) off", what,
           st.median_s, st.p95_s);
     CHECK(!budget || st.faces <= 1.5 * voxel, "%s: %d triangles (the voxel surface has %d)", what, st.faces, voxel);
+    /* the slivers tidied (rk_march_tidy): untidied, 31% of the donut's faces were under
+     * RK_MARCH_SLIVER (2,674 of 8,556), 17% of the dense shell's */
+    CHECK(st.slivers <= 0.05 * st.faces, "%s: %d of %d triangles under quality %g", what, st.slivers, st.faces, RK_MARCH_SLIVER);
 }
 
 static double *jittered_shell(int n, double R, double h, uint64_t *rng)

@@ -2,19 +2,23 @@
  * simulator: a Gaussian-splat capture (tests/data/meshes/donut_3dgs.ply) dropped at 1 m/s onto a
  * meshed slab lying on a plane, each object with its own RKPM skinning basis, the cloud colliding
  * through its contact surface (the default, rk_points_march: marching tets on a 1.5 g lattice,
- * g = 1/40 of the diagonal = 10 s, 8,556 triangles, vertices pulled to s/2). Compiled twice: in
- * double (test_runtime_cloud_mesh_double, a float64 asset) the runtime lands where the reduced
- * simulator lands to 1e-8 of the largest displacement; in float (a float32 asset) to 1e-3. On
- * every step:
+ * g = 1/40 of the diagonal = 10 s, vertices pulled to s/2, slivers tidied: 5,208 triangles).
+ * Compiled twice: in double (test_runtime_cloud_mesh_double, a float64 asset) the runtime lands
+ * where the reduced simulator lands to 1e-8 of the largest displacement; in float (a float32
+ * asset) to 2e-3 (measured 1.03e-3; 1.6e-5 on the untidied surface): what float misses is the
+ * tail of Newton solves that converge linearly at contact (0.66-0.75 a step in double, PSD-
+ * projected barrier Hessians), which the float runtime's stagnation stop (runtime/step.c,
+ * STAGNATION = 1e-3 of the state's size) cuts short; at 1e-4 the same run is 9.8e-6 from the
+ * reduced simulator (docs/cloud_march.md). On every step:
  *  - no edge of the runtime's surfaces crosses a triangle of them (the contact stage's exact
  *    segment-triangle test on X + U q of the runtime's q), and they stay apart (distance > 0);
  *  - at the end, resting on the slab, the cloud's lowest point is within s + 2 dhat of the slab's
- *    top, s the splats' spacing: 1.74 mm (the voxel surface at 1 cm voxels, pulled toward s/2,
- *    1.73 mm; before that pull 2.0 mm; at g/2, 3.1 mm; the voxel surface, anywhere up to a voxel
- *    below them, rested it 6.3 mm over). Here 2 dhat = 4 mm is most of the bar: s is 0.38 mm;
- *    test_contact_proxy_march holds the surface to s itself. About 14 s of CPU a precision (the
+ *    top, s the splats' spacing: 1.67 mm (1.74 mm untidied; the voxel surface at 1 cm voxels,
+ *    pulled toward s/2, 1.73 mm; before that pull 2.0 mm; at g/2, 3.1 mm; the voxel surface,
+ *    anywhere up to a voxel below them, rested it 6.3 mm over). Here 2 dhat = 4 mm is most of the bar: s is 0.38 mm;
+ *    test_contact_proxy_march holds the surface to s itself. About 12 s of CPU a precision (the
  *    1 cm voxel surface's 540 triangles took 5.5 s): the reduced simulator's broad phase over
- *    the 8,556 triangles is most of it. */
+ *    the surface's triangles is most of it. */
 #include "runtime_fixture.h"
 
 #include <stdio.h>
@@ -31,7 +35,7 @@
 #define NEWTON_TOL "1e-11"
 #define PRECISION "double"
 #else
-#define PARITY_TOL 1e-3
+#define PARITY_TOL 2e-3
 #define LATTICE_TOL 1e-2
 #define ASSET_REAL ROMBIN_REAL_F32
 #define NEWTON_TOL "1e-7"
@@ -91,10 +95,15 @@ static void drop(const char *what, const char *json, int points, double spacing,
         romrt_last_step(f.m, &info, NULL);
         rt_fixture_reference(&f, s.q, ref);
         romrt_positions(f.m, xyz, 3 * (size_t)n, 3, NULL);
+        double step_worst = 0;
         for (int i = 0; i < 3 * n; i++) {
             worst = fmax(worst, fabs((double)xyz[i] - ref[i]));
+            step_worst = fmax(step_worst, fabs((double)xyz[i] - ref[i]));
             scale = fmax(scale, fabs(ref[i] - f.sim.mesh.X[3 * (int)f.vmap[i / 3] + i % 3]));
         }
+        if (getenv("RK_DEBUG"))
+            printf("# step %d: |runtime - reduced| %.3g m (%.3g of the scale so far), newton %zu%s, halvings %zu, pairs %zu\n", k,
+                   step_worst, step_worst / scale, info.newton_iterations, info.converged ? "" : " (not converged)", info.line_search_halvings, info.contact_pairs);
         int crossed = 0;
         double least = INFINITY;
         rt_fixture_positions(&f, x);
@@ -135,10 +144,13 @@ TEST(a_splat_capture_dropped_onto_a_meshed_slab) { drop("splats", SCENE, 45624, 
 
 /* A solid lattice cloud (5 x 5 x 5 points 2 cm apart) at the default g = 2 s, 5 cm over the slab,
  * dropped as the donut is: its march surface's flat underside about s/2 under its lowest points.
- * In float the runtime strays from the reduced simulator by 0.43% of the largest displacement at
- * the impact (3.6% dropped from 1 cm; on the voxel surface, "proxy": "voxels", 3e-5): the march
- * surface meets the slab in 72 pairs at most against the voxel surface's 33; why float strays
- * more is not understood yet, so float's bar here is 1e-2, double's stays 1e-8. About 2 s of CPU. */
+ * In float the runtime strays from the reduced simulator by 0.36% of the largest displacement
+ * (0.43% on the untidied surface; on the voxel surface, "proxy": "voxels", 3e-5). Not the
+ * slivers' round-off: the double solve runs 16 to 48 Newton iterations at the impact steps,
+ * converging linearly (50, unconverged, at the impact before the slivers were tidied), and the
+ * float runtime's stagnation stop ends it after 4 to 8 (RK_DEBUG=1 prints each step); with that
+ * stop at 1e-4 of the state's size the float run is 1.5e-3 off, at 1e-5 1.6e-4
+ * (docs/cloud_march.md). So float's bar here is 1e-2, double's stays 1e-8. About 2 s of CPU. */
 TEST(a_lattice_cloud_dropped_onto_a_meshed_slab)
 {
     char path[512], json[4096];
