@@ -343,8 +343,8 @@ static double tolerances_apart(const rt_fixture *f, const romrt_real *a, const r
     return worst;
 }
 
-/* Where the default is the fresh matrix (the fixed-cost mode, an asset with a collision surface):
- * the same bits as romrt_set_hessian_reuse(m, 1), and romrt_step_info says the mode in force. */
+/* Where the default is the fresh matrix (the fixed-cost mode): the same bits as
+ * romrt_set_hessian_reuse(m, 1), and romrt_step_info says the mode in force. */
 static void default_is_fresh(const char *json, int fixed, const char *what)
 {
     rk_error err = {{0}};
@@ -366,7 +366,7 @@ static void default_is_fresh(const char *json, int fixed, const char *what)
     rt_fixture_close(&f);
 }
 
-/* On an asset with a collision surface the default keeps the matrix only while no surface term
+/* On an asset with a collision surface the default keeps the matrix only while no contact term
  * acts (step.c): the cantilever's tip sags onto a sphere. Before it touches, the kept matrix's
  * steps (fewer factorizations than iterations); once the tip rests on it, a fresh matrix at every
  * iteration; the whole run within 2 s tolerances of the fresh mode's, as on the cantilever alone. */
