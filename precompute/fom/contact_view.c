@@ -58,16 +58,15 @@ void rk_fom_embedding_free(rk_fom_embedding *e)
     memset(e, 0, sizeof *e);
 }
 
-/* out = W x (+ o when offset) */
-static void apply(const rk_fom_embedding *e, const double *x, int offset, double *out)
+void rk_fom_embed(int nv, const int *vertex, const double *weight, const double *offset, const double *x, double *y)
 {
-    for (int j = 0; j < e->nv; j++) {
-        double *p = out + 3 * (size_t)j;
-        for (int d = 0; d < 3; d++) p[d] = offset ? e->offset[3 * (size_t)j + d] : 0;
+    for (int j = 0; j < nv; j++) {
+        double *p = y + 3 * (size_t)j;
+        for (int d = 0; d < 3; d++) p[d] = offset ? offset[3 * (size_t)j + d] : 0;
         for (int a = 0; a < 4; a++) {
-            double w = e->weight[4 * (size_t)j + a];
+            double w = weight[4 * (size_t)j + a];
             if (w == 0) continue;
-            const double *q = x + 3 * (size_t)e->vertex[4 * (size_t)j + a];
+            const double *q = x + 3 * (size_t)vertex[4 * (size_t)j + a];
             for (int d = 0; d < 3; d++) p[d] += w * q[d];
         }
     }
@@ -76,14 +75,14 @@ static void apply(const rk_fom_embedding *e, const double *x, int offset, double
 const double *rk_fom_contact_x(rk_fom_impl *im, const double *x)
 {
     if (!im->emb.on) return x;
-    apply(&im->emb, x, 1, im->emb.y);
+    rk_fom_embed(im->emb.nv, im->emb.vertex, im->emb.weight, im->emb.offset, x, im->emb.y);
     return im->emb.y;
 }
 
 const double *rk_fom_contact_dx(rk_fom_impl *im, const double *dx)
 {
     if (!im->emb.on) return dx;
-    apply(&im->emb, dx, 0, im->emb.dy);
+    rk_fom_embed(im->emb.nv, im->emb.vertex, im->emb.weight, NULL, dx, im->emb.dy);
     return im->emb.dy;
 }
 

@@ -91,6 +91,10 @@ typedef struct {
     const int *object_first_vertex;
 } rk_fom_contact_surface;
 
+/* y = W x (+ o when offset is not NULL): the nv contact vertices' positions from the simulated
+ * positions x, as above (full order's contact view and the pipeline's rest positions alike). */
+void rk_fom_embed(int nv, const int *vertex, const double *weight, const double *offset, const double *x, double *y);
+
 typedef struct {
     double h;                 /* time step (s) */
     int steps;                /* number of steps to run */

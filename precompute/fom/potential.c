@@ -78,11 +78,11 @@ int rk_fom_newton_matrix_projected(rk_fom *s, const rk_fom_terms *T, const doubl
 }
 
 /* The barrier at y: the pairs gathered here, kappa adapted at a Hessian (against ge, the rest of
- * the gradient), the blocks recorded for the Newton matrix. The obstacle vertices are at
+ * the gradient), the blocks recorded for the Newton matrix through sink. The obstacle vertices are at
  * y[n..] when they are unknowns. cy: the contact positions at y (rk_fom_contact_x), cg: where
  * the contact stage's gradient goes (rk_fom_contact_gradient; the caller pulls it back). */
 static double contact_term(rk_fom *s, const double *y, const double *cy, double *g, double *cg, int hessian,
-                           rk_error *err)
+                           rk_hessian_sink sink, void *ctx, rk_error *err)
 {
     rk_fom_impl *im = s->impl;
     rk_contact *c = &im->contact;
@@ -106,8 +106,6 @@ static double contact_term(rk_fom *s, const double *y, const double *cy, double 
             if (im->prescribed_dof[i]) im->g_barrier[i] = 0;
         rk_contact_adapt_kappa(c, g, im->g_barrier, im->n, closest);
     }
-    void *ctx;
-    rk_hessian_sink sink = rk_fom_contact_sink(im, &ctx);
     double B = rk_contact_energy(c, &im->pairs, cy, cg, og, hessian ? sink : NULL, ctx, &closest);
     if (hessian && c->kappa_set) rk_contact_adapt_kappa(c, NULL, NULL, 0, closest);
     if (im->N.overflow) {
@@ -175,9 +173,9 @@ double rk_fom_potential(rk_fom *s, const rk_fom_terms *T, const double *y, doubl
     if (im->has_contact && isfinite(stored)) { /* on the contact positions (contact_view.c), pulled back */
         const double *cy = rk_fom_contact_x(im, y);
         double *cg = rk_fom_contact_gradient(im, g);
-        stored += contact_term(s, y, cy, g, cg, hessian, err);
-        void *ctx;
+        void *ctx; /* where the barrier's and friction's Hessian blocks go (pulled back when embedded) */
         rk_hessian_sink sink = rk_fom_contact_sink(im, &ctx);
+        stored += contact_term(s, y, cy, g, cg, hessian, sink, ctx, err);
         if (T->friction && isfinite(stored))
             stored += rk_contact_friction_energy(&im->contact, cy, s->opt.h, cg, !g ? NULL : im->nobs ? g + n : im->og,
                                                  hessian ? sink : NULL, ctx);

@@ -89,11 +89,6 @@ int rk_cloud_contact_surface(const rk_scene *s, const rk_cloud_body *bodies, rk_
     cs->mesh.nt = t;
     cs->mesh.nghost = g;
     /* its rest positions: the map at the bodies' rest (a march vertex exactly where the march put it) */
-    for (int v = 0; v < nv; v++) {
-        double *p = X + 3 * (size_t)v;
-        memcpy(p, a.offset + 3 * (size_t)v, 3 * sizeof(double));
-        for (int q = 0; q < 4; q++)
-            for (int d = 0; d < 3; d++) p[d] += a.weight[4 * (size_t)v + q] * m->X[3 * (size_t)a.vertex[4 * (size_t)v + q] + d];
-    }
+    rk_fom_embed(nv, a.vertex, a.weight, a.offset, m->X, X);
     return 0;
 }
