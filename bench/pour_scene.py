@@ -131,4 +131,5 @@ def main():
         json.dump(scene, out, indent=1)
 
 
-main()
+if __name__ == "__main__":
+    main()
