@@ -606,6 +606,7 @@ int rk_adaptive_step(rk_adaptive *ad, rk_error *err)
     memset(im->q_total, 0, sizeof(double) * (size_t)im->r);
     memset(im->x_moved, 0, sizeof(double) * (size_t)im->n);
     im->full_this_step = 0;
+    im->oracle_this_step = 0;
     /* The dense products are small (a columns): OpenBLAS on one thread, so that the results do not
      * depend on the thread count (a threaded product splits its sums differently). */
     int blas = rk_threads_blas(1);

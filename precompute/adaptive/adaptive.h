@@ -155,7 +155,8 @@ int rk_adaptive_step(rk_adaptive *a, rk_error *err);
 /* What the oracle did in the last step, per vertex (out: 3 nv, vertex by vertex): enriched when its
  * solve ended (0 or 1; before downdating), the nodal error G_i and progress E_i (in the thresholds'
  * units) at the oracle's last evaluation, the step's last Newton iteration (all 0 before the first
- * step; G and E 0 with opt.nodal off). */
+ * step; G and E 0 with opt.nodal off; NaN on a step handed to full order at once, which runs no
+ * oracle). */
 void rk_adaptive_fields(const rk_adaptive *a, double *out);
 void rk_adaptive_free(rk_adaptive *a);
 

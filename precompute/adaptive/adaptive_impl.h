@@ -94,6 +94,7 @@ struct rk_adaptive_impl {
     int free_vertices;          /* nv less the fixed ones: what full_fraction is a share of */
     int go_full;                /* this step's enrichment passed opt.full_fraction: full order finishes it */
     int stepped_full;           /* the last step was finished by full order */
+    int oracle_this_step;       /* the oracle ran in this step (its G and prog are this step's) */
     int full_this_step;         /* some solve of this step went to full order (a prescribed motion's safe
                                  * moves and friction's lagged solves are several solves of one step) */
     int full_wait, full_backoff;/* steps still to hand to full order at once; how many the next switch sets */

@@ -79,6 +79,7 @@ int rk_adaptive_oracle(rk_adaptive *ad, const rk_fom_terms *T, const double *x, 
     const rk_adaptive_options *o = &ad->opt;
     int nv = im->nv, n = im->n;
     *changed_modes = *changed_nodes = 0;
+    im->oracle_this_step = 1;
     if (!o->modal && !o->nodal) return 0;
     double alpha_int = integrator_alpha(ad, T);
     /* progress: the one-ring potentials before and after the subspace's own step */
@@ -195,9 +196,12 @@ void rk_adaptive_downdate(rk_adaptive *ad)
 void rk_adaptive_fields(const rk_adaptive *ad, double *out)
 {
     const rk_adaptive_impl *im = ad->impl;
+    /* a step handed to full order at once (after steps past full_fraction) ran no oracle: its G and
+     * E are not this step's, NaN says so rather than repeat an earlier step's */
+    int stale = ad->stats.steps > 0 && !im->oracle_this_step;
     for (int v = 0; v < im->nv; v++) {
         out[3 * v] = im->solved_enriched[v];
-        out[3 * v + 1] = im->G[v];
-        out[3 * v + 2] = im->prog[v];
+        out[3 * v + 1] = stale ? NAN : im->G[v];
+        out[3 * v + 2] = stale ? NAN : im->prog[v];
     }
 }
