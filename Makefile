@@ -283,6 +283,7 @@ bench: deps-bench all $(BUILD)/bench_assets $(BUILD)/bench_newton_modes $(BUILD)
 	BUILD=$(BUILD) sh bench/adaptive_moving.sh
 	BUILD=$(BUILD) sh bench/adaptive_threads.sh
 	BUILD=$(BUILD) sh bench/adaptive_defaults.sh
+	BUILD=$(BUILD) sh bench/adaptive_picture.sh
 	BUILD=$(BUILD) sh bench/cage.sh
 	BUILD=$(BUILD) sh bench/shape_family.sh
 	@$(MAKE) --no-print-directory bench-plots
