@@ -42,8 +42,7 @@ static void cell_range(const double *box, const double *origin, double size, lon
     }
 }
 
-/* Whether boxes a and b (min xyz, max xyz) overlap. */
-static int overlap(const double *a, const double *b)
+int rk_boxes_overlap(const double *a, const double *b)
 {
     return !(a[0] > b[3] || a[3] < b[0] || a[1] > b[4] || a[4] < b[1] || a[2] > b[5] || a[5] < b[2]);
 }
@@ -127,14 +126,14 @@ static int query(const double *boxes_q, int nq, const double *boxes_b, int nb, c
 {
     for (int b = 0; b < nb; b++) /* B's big boxes against every query box */
         for (int q = 0; q < nq && big[b]; q++)
-            if (overlap(boxes_q + 6 * q, boxes_b + 6 * b) && push_pair(list, swapped ? b : q, swapped ? q : b))
+            if (rk_boxes_overlap(boxes_q + 6 * q, boxes_b + 6 * b) && push_pair(list, swapped ? b : q, swapped ? q : b))
                 return -1;
     for (int q = 0; q < nq; q++) {
         const double *bq = boxes_q + 6 * q;
         long lo[3], hi[3];
         if (box_cells(bq, origin, size, lo, hi) > nb) { /* cheaper to test every (small) box of B */
             for (int b = 0; b < nb; b++)
-                if (!big[b] && overlap(bq, boxes_b + 6 * b) && push_pair(list, swapped ? b : q, swapped ? q : b))
+                if (!big[b] && rk_boxes_overlap(bq, boxes_b + 6 * b) && push_pair(list, swapped ? b : q, swapped ? q : b))
                     return -1;
             continue;
         }
@@ -150,7 +149,7 @@ static int query(const double *boxes_q, int nq, const double *boxes_b, int nb, c
                     }
                     for (; l < count && cells[l].cell == key; l++) {
                         const double *bb = boxes_b + 6 * cells[l].box;
-                        if (!overlap(bq, bb)) continue;
+                        if (!rk_boxes_overlap(bq, bb)) continue;
                         /* report the pair once: in the cell of the larger of the two lower corners,
                          * which both boxes cover when they overlap */
                         long blo[3], bhi[3];

@@ -23,7 +23,8 @@ double rk_contact_max_step(rk_contact *c, const double *x, const double *dx, con
     }
     rk_contact_set cand = {0};
     rk_motion_frame f = {x, dx, c->ox, odx};
-    if (rk_contact_candidates(c, &f, 0, &cand, err)) {
+    int cached = rk_contact_step_candidates_cached(c, &f, &cand, err);
+    if (cached < 0 || (!cached && rk_contact_candidates(c, &f, 0, &cand, err))) {
         rk_contact_set_free(&cand);
         return -1;
     }

@@ -40,6 +40,9 @@
 int rk_broad_phase(const double *boxes_a, int na, const double *boxes_b, int nb, int **pairs, int *npairs,
                    rk_error *err);
 
+/* Whether boxes a and b (min xyz, max xyz) overlap (touching counts), the broad phase's test. */
+int rk_boxes_overlap(const double *a, const double *b);
+
 /* ---- the collision geometry (collision.c) ---- */
 
 typedef enum {

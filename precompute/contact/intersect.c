@@ -124,6 +124,8 @@ double rk_contact_min_distance(rk_contact *c, const double *x, rk_error *err)
     for (int k = 0; k < c->nobstacles; k++)
         if (c->obstacles[k].kind == RK_OBSTACLE_PLANE)
             for (int i = 0; i < c->nv; i++) closest = fmin(closest, rk_contact_plane_distance(c, k, &x[3 * c->vertex[i]]));
+    double cached = rk_contact_cached_closest(c, x, reach);
+    if (!isnan(cached)) return fmin(closest, cached);
     rk_contact_set near = {0};
     rk_motion_frame f = {x, NULL, c->ox, NULL};
     if (rk_contact_candidates(c, &f, reach, &near, err)) return NAN;

@@ -285,6 +285,69 @@ static double moved_since_cache(const rk_contact *c, const double *x)
     return sqrt(m2);
 }
 
+/* The cache's growth (rk_contact_gather builds it with each box grown by 2 dhat) less what has moved
+ * since, with a little room for the boxes' rounding: what a caller's own reach may use of it.
+ * Negative: the cache is not there. */
+static double cache_slack(const rk_contact *c, const double *x)
+{
+    return c->cache_valid ? 0.99 * 2 * c->opt.dhat - moved_since_cache(c, x) : -1;
+}
+
+/* The largest move of a collision or obstacle vertex over the step (dx indexed by mesh vertex). */
+static double largest_step(const rk_contact *c, const rk_motion_frame *f)
+{
+    double m2 = 0;
+    for (int i = 0; i < c->nv && f->dx; i++) {
+        const double *d = &f->dx[3 * c->vertex[i]];
+        m2 = fmax(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    for (int i = 0; i < c->onv && f->odx; i++) {
+        const double *d = &f->odx[3 * i];
+        m2 = fmax(m2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    }
+    return sqrt(m2);
+}
+
+/* A cached pair's two primitives' boxes as build_primitives makes them (an obstacle's grown by its
+ * thickness, the pair's xi). */
+static void pair_boxes(const rk_contact *c, const rk_motion_frame *f, const rk_contact_pair *p, double *a, double *b)
+{
+    int na = p->kind == RK_PAIR_EDGE_EDGE ? 2 : 1, nb = 4 - na;
+    box_of(c, f, p->id, na, p->id[0] < 0 ? p->xi : 0, a);
+    box_of(c, f, p->id + na, nb, p->id[na] < 0 ? p->xi : 0, b);
+}
+
+int rk_contact_step_candidates_cached(rk_contact *c, const rk_motion_frame *f, rk_contact_set *s, rk_error *err)
+{
+    /* a primitive's swept box lies within its box at the cache grown by the largest move since and
+     * the largest step; while those stay within the cache's growth every pair whose swept boxes
+     * overlap is a cached pair, and the cache keeps the broad phase's order */
+    double slack = cache_slack(c, f->x);
+    if (slack <= 0 || largest_step(c, f) > slack) return 0;
+    s->n = 0;
+    for (int i = 0; i < c->cache.n; i++) {
+        double a[6], b[6];
+        pair_boxes(c, f, &c->cache.pairs[i], a, b);
+        if (rk_boxes_overlap(a, b) && push(s, c->cache.pairs[i], err)) return -1;
+    }
+    return 1;
+}
+
+double rk_contact_cached_closest(const rk_contact *c, const double *x, double reach)
+{
+    /* a pair outside the cache was more than 2 (2 dhat) + xi apart along some axis where the cache
+     * was built and each side has moved at most `moved` since, so its distance less xi exceeds
+     * 2 slack; a smallest cached value at or below that is the smallest of every pair, and one at or
+     * below 2 reach is in reach's list (its boxes, grown by reach each, overlap) */
+    double slack = cache_slack(c, x), closest = INFINITY;
+    if (slack <= 0) return NAN;
+    for (int i = 0; i < c->cache.n; i++) {
+        const rk_contact_pair *p = &c->cache.pairs[i];
+        closest = fmin(closest, sqrt(rk_contact_pair_distance2(c, p, x, c->ox)) - p->xi);
+    }
+    return closest <= 2 * slack && closest <= 2 * reach ? closest : NAN;
+}
+
 int rk_contact_gather(rk_contact *c, const double *x, rk_contact_set *s, rk_error *err)
 {
     double dhat = c->opt.dhat;

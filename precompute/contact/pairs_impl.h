@@ -31,6 +31,16 @@ int rk_contact_object_broad_phase(const rk_contact *c, const double *boxes_a, co
                                   const double *boxes_b, const int *ids_b, int size_b, int nb, int **pairs, int *np,
                                   rk_error *err);
 
+/* The candidates of a step (f's dx, odx) as rk_contact_candidates(c, f, 0, s) would list them, the
+ * same pairs in the same order, taken from the gather's cache (a Verlet list grown by 2 dhat) when
+ * the step and what moved since the cache stay within its growth: 1 when it served s, 0 when the
+ * caller must run the broad phase, -1 out of memory. The creeping Newton iterations of a contact
+ * step move far less than dhat, and each ran a broad phase for its CCD. */
+int rk_contact_step_candidates_cached(rk_contact *c, const rk_motion_frame *f, rk_contact_set *s, rk_error *err);
+/* The smallest distance less thickness over the pairs whose boxes grown by reach overlap at x (what
+ * rk_contact_min_distance measures), from the cache when it decides it; NAN when it does not. */
+double rk_contact_cached_closest(const rk_contact *c, const double *x, double reach);
+
 /* The stencil's four points at x (mesh) and ox (obstacles). */
 void rk_contact_stencil(const rk_contact *c, const rk_contact_pair *p, const double *x, const double *ox,
                         const double *out[4]);
