@@ -356,6 +356,11 @@ int rk_alrom_step(rk_alrom *s, rk_error *err)
     return 0;
 }
 
+const double *rk_alrom_step_basis(const rk_alrom *s)
+{
+    return s->impl && s->stats.steps > 0 ? s->impl->Ui : NULL;
+}
+
 void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const double *x_prev, const double *v_prev,
                         double t)
 {

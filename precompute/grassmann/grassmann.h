@@ -161,6 +161,9 @@ void rk_alrom_set_state(rk_alrom *s, const double *x, const double *v, const dou
  * what one step does to a perturbation (the growth test, bench_alrom_step_growth). */
 void rk_alrom_copy_state(rk_alrom *dst, const rk_alrom *src);
 void rk_alrom_free(rk_alrom *s);
+/* The basis of the last step taken (U_interp: n x r, orthonormal columns, zero on the prescribed
+ * dofs), NULL before the first; for diagnostics (bench_alrom_freerun). Borrowed. */
+const double *rk_alrom_step_basis(const rk_alrom *s);
 /* One step of A, and what it does to a perturbation (growth.c): pre and probe are simulators on
  * the same fem, options and decoder (scratch; their state is overwritten). The largest ratio of
  * |(du', dv')| to |(du, dv)| after one step over ndir directions of a power iteration from a
