@@ -15,19 +15,19 @@
 #              tolerance 0.01 alone picks more, 300 against 210 on the armadillo, issue 33);
 #              stepped over the stored vertices only
 #   crom       the same with the CROM decoder trained on those frames (every vertex stored; the
-#              decoder network's Jacobian at each vertex each step). On the armadillo only
-#              (CROM_OBJECTS, default "armadillo"): its training on the bunny took 554-558 s a
-#              motion in alrom_table3.sh (crom_train_s), twice here (a build a scene), and its
-#              step evaluates the network's Jacobian at all 4,670 vertices (84 ms a step at the
-#              armadillo's 1,180), so the bunny's CROM would add about 20 CPU minutes to make
-#              bench; its rows are empty (the table shows "-").
+#              decoder network's Jacobian at each vertex each step). On every object unless
+#              CROM_OBJECTS names fewer (those left out get empty rows, "-" in the table): its
+#              training is the long part, 103-117 s a build on the armadillo and 252 s on the
+#              bunny here at load 2-4 (alrom_table3.sh's crom_train_s read 554-558 s a bunny
+#              motion under heavier load), and the bunny's CROM step is about 0.3 s.
 # The training runs are romkit fom jobs whose snapshots every entry lists (the job-array form).
 # Each step's split (bench_alrom_split, the runtime built with -DROMRT_PROFILE: CPU fractions over
 # 3 runs of the scene's steps, times the interleaved median): encode_us the encoder, basis_us the
 # history and Grassmann work, rows_us the step basis at the used vertices and the elements' G_e,
 # terms_us the reference, M_r, f_r and the commit, newton_us the reduced solve (PCA's whole step).
-# Usage: sh bench/bench_alrom_runtime.sh [unused] [OUT]  (OBJECTS="armadillo bunny" picks objects;
-# SNAPSHOTS=DIR keeps the full-order runs there and reuses them, for iterating only).
+# Usage: sh bench/bench_alrom_runtime.sh [unused] [OUT]  (OBJECTS="armadillo bunny" picks objects,
+# CROM_OBJECTS those with a CROM row; SNAPSHOTS=DIR keeps the full-order runs there and reuses them,
+# for iterating only).
 # Writes OUT/alrom_runtime.csv (object, scenario, method, us_per_step, us_min, us_max,
 # ratio_to_pca, newton_iterations, relative_error, stored_vertices, cubature_elements and the
 # split).
@@ -44,7 +44,7 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 mkdir -p "$OUT"
 OBJECTS=${OBJECTS:-armadillo bunny}
-CROM_OBJECTS=${CROM_OBJECTS-armadillo}
+CROM_OBJECTS=${CROM_OBJECTS-$OBJECTS}
 . bench/alrom_object.sh
 csv=$OUT/alrom_runtime.csv
 echo "object,scenario,method,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error,stored_vertices,cubature_elements,encode_us,basis_us,rows_us,terms_us,newton_us" >"$csv.tmp"

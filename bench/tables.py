@@ -121,8 +121,8 @@ ABOUT = {
                       "element count on the same object; CPU microseconds per step, median of 7 interleaved "
                       "rounds of the scene's 40 steps; the free run's error against full order; the step split "
                       "into encoder, basis (history, Grassmann), rows (the basis at the used vertices, G_e), "
-                      "terms (M_r, f_r, commit) and Newton by bench_alrom_split. CROM on the armadillo only "
-                      "(its bunny rows \"–\": not trained, the script's header says why)."),
+                      "terms (M_r, f_r, commit) and Newton by bench_alrom_split (CROM_OBJECTS leaves CROM out of "
+                      "an object: its row \"–\")."),
     "alrom_cadence": ("Adaptive linear ROM in the runtime: basis cadence, history, encoder (issue 33)",
                       "make bench: bench/bench_alrom_cadence.sh",
                       "float32, the armadillo's scenes, r = 16, the fitted quadratic decoder at PCA's 210 cubature "
