@@ -24,8 +24,8 @@ DIR=$(cd examples/scenes/alrom && pwd)
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 mkdir -p "$OUT"
-. bench/alrom_armadillo.sh
-alrom_train
+. bench/alrom_object.sh
+alrom_train armadillo
 entries="{\"basis\": \"pod\", \"size\": 16, \"name\": \"pca\", \"cubature\": {\"tolerance\": 0.01}, \"training\": [$train]}"
 names=pca
 for v in $VARIANTS; do
@@ -38,11 +38,11 @@ for v in $VARIANTS; do
 done
 echo "scenario,method,cadence,history,encoder_iterations,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error" >"$OUT/alrom_cadence.csv"
 for sc in compress bend; do
-    alrom_scene "$sc" "$entries"
+    alrom_scene armadillo "$sc" "$entries"
     assets="" k=0
     for name in $names; do
-        "$ROMKIT" build "$TMP/$sc.json" --entry $k -o "$TMP/$sc.$name.rombin" --quiet >/dev/null
-        "$ROMKIT" run "$TMP/$sc.$name.rombin" --steps "$steps" --reference "$TMP/$sc.ref.npy" \
+        "$ROMKIT" build "$TMP/armadillo_$sc.json" --entry $k -o "$TMP/$sc.$name.rombin" --quiet >/dev/null
+        "$ROMKIT" run "$TMP/$sc.$name.rombin" --steps "$steps" --reference "$TMP/armadillo_$sc.ref.npy" \
             --report "$TMP/$sc.$name.run.json" --quiet >/dev/null
         assets="$assets $TMP/$sc.$name.rombin" k=$((k + 1))
     done

@@ -12,8 +12,8 @@ only.
 
 A CSV becomes one table, its columns in the CSV's order: a column X with X_min and X_max beside it
 is shown as "X (X_min..X_max)"; reals keep 4 significant digits (the CSVs carry more), integers
-get thousands separators. A CSV with a `section`, `scenario` or `sweep` column becomes one table
-per value, each without the columns that are empty in it.
+get thousands separators. A CSV with a `section`, `scenario` or `sweep` column (or the columns
+GROUPS names for it) becomes one table per value, each without the columns that are empty in it.
 """
 import csv
 import json
@@ -116,10 +116,13 @@ ABOUT = {
                      "its CROM-decoder ROM, errors in percent) where it has the object and motion; crom_train_s "
                      "and compare_s are wall seconds on a shared machine, not timings."),
     "alrom_runtime": ("Adaptive linear ROM in the runtime", "make bench: bench/bench_alrom_runtime.sh",
-                      "float32, the armadillo's scenes, r = 16; CPU microseconds per step, median of 7 "
-                      "interleaved rounds of 40 steps; the free run's error against full order; the step split "
+                      "float32, r = 16, the armadillo (armadillo_4k, 1,180 vertices) and the bunny (bunny_19k, "
+                      "4,670 vertices), each compressed and bent; the adaptive ROM's cubature capped at PCA's "
+                      "element count on the same object; CPU microseconds per step, median of 7 interleaved "
+                      "rounds of the scene's 40 steps; the free run's error against full order; the step split "
                       "into encoder, basis (history, Grassmann), rows (the basis at the used vertices, G_e), "
-                      "terms (M_r, f_r, commit) and Newton by bench_alrom_split."),
+                      "terms (M_r, f_r, commit) and Newton by bench_alrom_split (CROM_OBJECTS leaves CROM out of "
+                      "an object: its row \"–\")."),
     "alrom_cadence": ("Adaptive linear ROM in the runtime: basis cadence, history, encoder (issue 33)",
                       "make bench: bench/bench_alrom_cadence.sh",
                       "float32, the armadillo's scenes, r = 16, the fitted quadratic decoder at PCA's 210 cubature "
@@ -210,6 +213,9 @@ NOT_FROM_A_TARGET = {
                             "`romkit-double run --reference`, as its comment lines say",
 }
 GROUP_COLUMNS = ("section", "scenario", "sweep")
+# Files grouped by other columns than GROUP_COLUMNS (an object column is a plain column elsewhere:
+# alrom_table3 is one table of every object).
+GROUPS = {"alrom_runtime": ("object", "scenario")}
 HEADER = "<!-- Written by bench/tables.py (make results-tables) from bench/results/{src}; do not edit. -->\n"
 
 
@@ -283,7 +289,7 @@ def csv_page(stem, path):
     text.append(source + ".\n")
     if what:
         text.append(what + "\n")
-    groups = [g for g in GROUP_COLUMNS if g in header]
+    groups = [g for g in GROUPS.get(stem, GROUP_COLUMNS) if g in header]
     if not groups:
         text.append(markdown_table(header, body))
     else:
