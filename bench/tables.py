@@ -129,6 +129,15 @@ ABOUT = {
                       "elements; cadence K (the basis formed every K steps, held between), history m, the "
                       "encoder's Gauss-Newton cap; CPU microseconds per step, median of 7 interleaved rounds "
                       "of 40 steps, all assets in one process; the free run's error against full order."),
+    "alrom_freerun": ("Why the adaptive linear ROM's free run leads or trails PCA's (issue 33)",
+                      "bench/alrom_freerun.sh (not in make bench: a diagnostic)",
+                      "The precompute's double simulators, r = 16, the fitted quadratic decoder, trained on the "
+                      "object's six other motions; errors relative to full order over the run: the adaptive ROM, "
+                      "PCA's basis in the same (incremental) simulator, the floors (full order's own states through "
+                      "PCA's projection and the decoder's manifold), the kinetic energy the turning basis dropped, "
+                      "and romkit compare's PCA (the fixed ROM). Variants: free, exact forces, realigned each step, "
+                      "free from step 20, the decoder's basis alone (lambda 1), and the test run's frames added to "
+                      "the training (oracle)."),
     "contact_pour": ("The pour in the runtime: 8 objects into a mesh box (issue 30)", "make bench: bench/pour.sh",
                      "Contact every frame, CPU us per step split into broad phase, narrow phase and Newton, "
                      "and the ratio against the old code."),
