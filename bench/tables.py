@@ -130,7 +130,7 @@ ABOUT = {
                       "encoder's Gauss-Newton cap; CPU microseconds per step, median of 7 interleaved rounds "
                       "of 40 steps, all assets in one process; the free run's error against full order."),
     "alrom_freerun": ("Why the adaptive linear ROM's free run leads or trails PCA's (issue 33)",
-                      "bench/alrom_freerun.sh (not in make bench: a diagnostic)",
+                      "a diagnostic run by hand (not make bench): bench/alrom_freerun.sh",
                       "The precompute's double simulators, r = 16, the fitted quadratic decoder, trained on the "
                       "object's six other motions; errors relative to full order over the run: the adaptive ROM, "
                       "PCA's basis in the same (incremental) simulator, the floors (full order's own states through "
