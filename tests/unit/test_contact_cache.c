@@ -8,6 +8,7 @@
 #include "contact/contact.h"
 #include "contact/pairs_impl.h"
 #include "testlib.h"
+#include "two_boxes.h"
 #include "util/util.h"
 
 static uint64_t seed = 11;
@@ -24,22 +25,9 @@ typedef struct {
 static int make_boxes(boxes *s, rk_error *err)
 {
     memset(s, 0, sizeof *s);
-    rk_mesh a, b;
-    double size[3] = {0.1, 0.1, 0.1};
+    double size[3] = {0.1, 0.1, 0.1}, shift[3] = {0.013, 0.021, 0.1 + 0.4 * DHAT};
     int cells[3] = {3, 3, 3};
-    if (rk_mesh_box(size, cells, &a, err) || rk_mesh_box(size, cells, &b, err)) return -1;
-    double shift[3] = {0.013, 0.021, 0.1 + 0.4 * DHAT};
-    rk_mesh_transform(&b, 1, shift);
-    s->mesh.nv = a.nv + b.nv;
-    s->mesh.nt = a.nt + b.nt;
-    s->mesh.X = calloc(3 * (size_t)s->mesh.nv, sizeof(double));
-    s->mesh.tets = calloc(4 * (size_t)s->mesh.nt, sizeof(int));
-    memcpy(s->mesh.X, a.X, sizeof(double) * 3 * a.nv);
-    memcpy(s->mesh.X + 3 * a.nv, b.X, sizeof(double) * 3 * b.nv);
-    memcpy(s->mesh.tets, a.tets, sizeof(int) * 4 * a.nt);
-    for (int i = 0; i < 4 * b.nt; i++) s->mesh.tets[4 * a.nt + i] = b.tets[i] + a.nv;
-    s->first[0] = 0, s->first[1] = a.nv, s->first[2] = s->mesh.nv;
-    rk_mesh_free(&a), rk_mesh_free(&b);
+    if (two_boxes(size, cells, shift, 1, &s->mesh, s->first, err)) return -1;
     rk_obstacle obs[2] = {{.kind = RK_OBSTACLE_SPHERE, .center = {0.05, -0.02 - 0.5 * DHAT, 0.05}, .radius = 0.02},
                           {.kind = RK_OBSTACLE_BOX, .min = {0.1 + 0.3 * DHAT, 0, 0}, .max = {0.2, 0.1, 0.1}}};
     rk_contact_options o;

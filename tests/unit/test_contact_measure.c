@@ -4,6 +4,7 @@
  * exact test; and the tally over frames (sums, frames with a crossing, the smallest distance). */
 #include "contact/contact.h"
 #include "testlib.h"
+#include "two_boxes.h"
 #include "util/util.h"
 
 /* One or two 1 m cubes (one cell each): B sits `gap` above A's top face, shifted (0.2, 0.3). */
@@ -16,23 +17,9 @@ typedef struct {
 static int make_cubes(cubes *s, int two, double gap, const rk_obstacle *obs, int nobs, rk_error *err)
 {
     memset(s, 0, sizeof *s);
-    rk_mesh a, b;
-    double size[3] = {1, 1, 1};
+    double size[3] = {1, 1, 1}, shift[3] = {0.2, 0.3, 1 + gap};
     int cells[3] = {1, 1, 1};
-    if (rk_mesh_box(size, cells, &a, err) || rk_mesh_box(size, cells, &b, err)) return -1;
-    double shift[3] = {0.2, 0.3, 1 + gap};
-    rk_mesh_transform(&b, 1, shift);
-    int nb = two ? b.nv : 0, tb = two ? b.nt : 0;
-    s->mesh.nv = a.nv + nb;
-    s->mesh.nt = a.nt + tb;
-    s->mesh.X = calloc(3 * (size_t)s->mesh.nv, sizeof(double));
-    s->mesh.tets = calloc(4 * (size_t)s->mesh.nt, sizeof(int));
-    memcpy(s->mesh.X, a.X, sizeof(double) * 3 * a.nv);
-    memcpy(s->mesh.X + 3 * a.nv, b.X, sizeof(double) * 3 * nb);
-    memcpy(s->mesh.tets, a.tets, sizeof(int) * 4 * a.nt);
-    for (int i = 0; i < 4 * tb; i++) s->mesh.tets[4 * a.nt + i] = b.tets[i] + a.nv;
-    s->first[0] = 0, s->first[1] = a.nv, s->first[2] = s->mesh.nv;
-    rk_mesh_free(&a), rk_mesh_free(&b);
+    if (two_boxes(size, cells, shift, two, &s->mesh, s->first, err)) return -1;
     rk_contact_options o;
     rk_contact_default_options(&o);
     o.dhat = 0.5; /* wide: min_distance looks this far for pairs */

@@ -4,6 +4,7 @@
  * the projected Hessian PSD, and the feasible step of CCD against the exact intersection test. */
 #include "contact/contact.h"
 #include "testlib.h"
+#include "two_boxes.h"
 #include "util/util.h"
 
 /* Two 1 m cubes of 2 x 2 x 2 cells, B 0.02 m above A and shifted; obstacles 0.02 to 0.03 m from
@@ -19,22 +20,9 @@ typedef struct {
 static int make_scene(scene *s, rk_error *err)
 {
     memset(s, 0, sizeof *s);
-    rk_mesh a, b;
-    double size[3] = {1, 1, 1};
+    double size[3] = {1, 1, 1}, shift[3] = {0.2, 0.3, 1.02};
     int cells[3] = {2, 2, 2};
-    if (rk_mesh_box(size, cells, &a, err) || rk_mesh_box(size, cells, &b, err)) return -1;
-    double shift[3] = {0.2, 0.3, 1.02};
-    rk_mesh_transform(&b, 1, shift);
-    s->mesh.nv = a.nv + b.nv;
-    s->mesh.nt = a.nt + b.nt;
-    s->mesh.X = calloc(3 * (size_t)s->mesh.nv, sizeof(double));
-    s->mesh.tets = calloc(4 * (size_t)s->mesh.nt, sizeof(int));
-    memcpy(s->mesh.X, a.X, sizeof(double) * 3 * a.nv);
-    memcpy(s->mesh.X + 3 * a.nv, b.X, sizeof(double) * 3 * b.nv);
-    memcpy(s->mesh.tets, a.tets, sizeof(int) * 4 * a.nt);
-    for (int i = 0; i < 4 * b.nt; i++) s->mesh.tets[4 * a.nt + i] = b.tets[i] + a.nv;
-    s->first[0] = 0, s->first[1] = a.nv, s->first[2] = s->mesh.nv;
-    rk_mesh_free(&a), rk_mesh_free(&b);
+    if (two_boxes(size, cells, shift, 1, &s->mesh, s->first, err)) return -1;
     s->obs[0] = (rk_obstacle){.kind = RK_OBSTACLE_PLANE, .point = {-0.03, 0, 0}, .normal = {1, 0, 0}};
     s->obs[1] = (rk_obstacle){.kind = RK_OBSTACLE_SPHERE, .center = {0.5, 0.4, -0.13}, .radius = 0.1};
     s->obs[2] = (rk_obstacle){.kind = RK_OBSTACLE_BOX, .min = {1.03, 0.2, 0.2}, .max = {1.5, 0.8, 0.8}};
