@@ -285,12 +285,18 @@ static double moved_since_cache(const rk_contact *c, const double *x)
     return sqrt(m2);
 }
 
-/* The cache's growth (rk_contact_gather builds it with each box grown by 2 dhat) less what has moved
- * since, with a little room for the boxes' rounding: what a caller's own reach may use of it.
- * Negative: the cache is not there. */
+/* How far rk_contact_gather grows each box of its cache (the one place: cache_slack's guarantees
+ * rest on it). */
+static double cache_growth(const rk_contact *c)
+{
+    return 2 * c->opt.dhat;
+}
+
+/* The cache's growth less what has moved since, with a little room for the boxes' rounding: what a
+ * caller's own reach may use of it. Negative: the cache is not there. */
 static double cache_slack(const rk_contact *c, const double *x)
 {
-    return c->cache_valid ? 0.99 * 2 * c->opt.dhat - moved_since_cache(c, x) : -1;
+    return c->cache_valid ? 0.99 * cache_growth(c) - moved_since_cache(c, x) : -1;
 }
 
 /* The largest move of a collision or obstacle vertex over the step (dx indexed by mesh vertex). */
@@ -335,7 +341,7 @@ int rk_contact_step_candidates_cached(rk_contact *c, const rk_motion_frame *f, r
 
 double rk_contact_cached_closest(const rk_contact *c, const double *x, double reach)
 {
-    /* a pair outside the cache was more than 2 (2 dhat) + xi apart along some axis where the cache
+    /* a pair outside the cache was more than 2 cache_growth + xi apart along some axis where the cache
      * was built and each side has moved at most `moved` since, so its distance less xi exceeds
      * 2 slack; a smallest cached value at or below that is the smallest of every pair, and one at or
      * below 2 reach is in reach's list (its boxes, grown by reach each, overlap) */
@@ -356,7 +362,7 @@ int rk_contact_gather(rk_contact *c, const double *x, rk_contact_set *s, rk_erro
     if (!c->cache_valid || 2 * moved_since_cache(c, x) > dhat) {
         double t0 = rk_now();
         rk_motion_frame f = {x, NULL, c->ox, NULL};
-        if (rk_contact_candidates(c, &f, 2 * dhat, &c->cache, err)) return -1;
+        if (rk_contact_candidates(c, &f, cache_growth(c), &c->cache, err)) return -1;
         for (int i = 0; i < c->nv; i++) memcpy(&c->cache_x[3 * i], &x[3 * c->vertex[i]], 3 * sizeof(double));
         memcpy(c->cache_ox, c->ox, sizeof(double) * 3 * (size_t)c->onv);
         c->cache_valid = 1;
