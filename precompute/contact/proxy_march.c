@@ -99,7 +99,7 @@ static double first_hit(const rk_proxy_grid *G, const double *a, const double *b
     return best;
 }
 
-static void normal(const double *x, const int *t, double *nrm)
+void rk_proxy_face_normal(const double *x, const int *t, double *nrm)
 {
     double u[3], v[3];
     for (int d = 0; d < 3; d++) u[d] = x[3 * t[1] + d] - x[3 * t[0] + d], v[d] = x[3 * t[2] + d] - x[3 * t[0] + d];
@@ -187,7 +187,7 @@ static int march(const rk_proxy_grid *G, const lattice *L, double R, rk_surface 
                     }
                     for (int q = 0; q < nt; q++) {
                         double nrm[3];
-                        normal(out->X, tri[q], nrm);
+                        rk_proxy_face_normal(out->X, tri[q], nrm);
                         /* outward: from the inside nodes toward the outside ones */
                         if (nrm[0] * (out_c[0] - in_c[0]) + nrm[1] * (out_c[1] - in_c[1]) + nrm[2] * (out_c[2] - in_c[2]) < 0) {
                             int tmp = tri[q][1];

@@ -42,22 +42,14 @@ typedef struct {
 
 static double quality(const double *X, const int *t)
 {
-    double u[3], v[3], n[3], l2 = 0;
-    for (int d = 0; d < 3; d++) u[d] = X[3 * t[1] + d] - X[3 * t[0] + d], v[d] = X[3 * t[2] + d] - X[3 * t[0] + d];
-    n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
+    double n[3], l2 = 0;
+    rk_proxy_face_normal(X, t, n);
     for (int k = 0; k < 3; k++)
         for (int d = 0; d < 3; d++) {
             double e = X[3 * t[(k + 1) % 3] + d] - X[3 * t[k] + d];
             l2 += e * e;
         }
     return l2 > 0 ? 2 * sqrt(3.0) * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) / l2 : 0;
-}
-
-static void normal(const double *X, const int *t, double *n)
-{
-    double u[3], v[3];
-    for (int d = 0; d < 3; d++) u[d] = X[3 * t[1] + d] - X[3 * t[0] + d], v[d] = X[3 * t[2] + d] - X[3 * t[0] + d];
-    n[0] = u[1] * v[2] - u[2] * v[1], n[1] = u[2] * v[0] - u[0] * v[2], n[2] = u[0] * v[1] - u[1] * v[0];
 }
 
 static double dist2(const double *a, const double *b)
@@ -112,7 +104,7 @@ static int passes(const tidy *T, const int (*nt)[3], int n, const int (*oldt)[3]
     for (int k = 0; k < nmatch; k++) {
         double a[3], b[3];
         if (quality(T->X, oldt[k]) < RK_MARCH_SLIVER) continue;
-        normal(T->X, oldt[k], a), normal(T->X, nt[k], b);
+        rk_proxy_face_normal(T->X, oldt[k], a), rk_proxy_face_normal(T->X, nt[k], b);
         if (a[0] * b[0] + a[1] * b[1] + a[2] * b[2] <= 0) return 0;
     }
     for (int k = 0; k < n; k++) {
@@ -195,7 +187,7 @@ static int flip(tidy *T, int f, int a, int b)
     int nt[2][3] = {{c, a, d}, {d, b, c}}, oldt[2][3], old[2] = {f, g};
     memcpy(oldt[0], tf, sizeof oldt[0]), memcpy(oldt[1], tg, sizeof oldt[1]);
     double worst = fmin(quality(T->X, tf), quality(T->X, tg)), n0[3], n1[3];
-    normal(T->X, nt[0], n0), normal(T->X, nt[1], n1);
+    rk_proxy_face_normal(T->X, nt[0], n0), rk_proxy_face_normal(T->X, nt[1], n1);
     if (n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2] <= 0) return 0; /* the quad folds */
     if (!passes(T, (const int (*)[3])nt, 2, (const int (*)[3])oldt, 2, 0, old, worst)) return 0;
     memcpy(T->tris + 3 * f, nt[0], sizeof nt[0]), memcpy(T->tris + 3 * g, nt[1], sizeof nt[1]);
