@@ -12,25 +12,10 @@
 # then and now: four METIS parts, and a soft landing none of the 12 affine columns holds).
 . tests/lib.sh
 
-cat >"$TMP/drop.json" <<JSON
-{
-  "objects": [{
-    "mesh": {"file": "$(pwd)/tests/data/meshes/octopus-low.mesh", "translate": [0, 0.3202, 0]},
-    "material": {"model": "neohookean", "young": 2e5, "poisson": 0.4, "density": 1000},
-    "velocity": [0, -1, 0]
-  }],
-  "gravity": [0, -9.81, 0],
-  "obstacles": [{"sphere": {"center": [0.1, -0.1, 0.05], "radius": 0.1}},
-                {"plane": {"point": [0, -0.2, 0], "normal": [0, 1, 0]}}],
-  "contact": {"dhat": 1e-3},
-  "time": {"step": 0.01, "duration": 0.1, "integrator": "bdf2"},
-  "rom": [{"method": "adaptive_subspace", "basis": "skinning", "size": 16},
-          {"method": "adaptive_subspace", "basis": "skinning", "size": 16, "eps_g_units": "paper",
-           "residual_rounds": 0, "name": "paper"}]
-}
-JSON
+# the scene, shared with bench/adaptive_picture.sh: examples/scenes/adaptive_octopus_drop.json
+DROP=examples/scenes/adaptive_octopus_drop.json
 
-if ROMKIT_THREADS=1 "$ROMKIT" compare "$TMP/drop.json" --report "$TMP/r.json" >"$TMP/out" 2>"$TMP/err"; then
+if ROMKIT_THREADS=1 "$ROMKIT" compare "$DROP" --report "$TMP/r.json" >"$TMP/out" 2>"$TMP/err"; then
     rel=$(json_num "$TMP/r.json" 'methods[1].relative_error')
     nmse=$(json_num "$TMP/r.json" 'methods[1].normalized_mse')
     old=$(json_num "$TMP/r.json" 'methods[2].relative_error')
@@ -63,7 +48,7 @@ fi
 # frame): nothing enriched at the start, some vertex enriched once the octopus lands; a step full
 # order took at once (after steps past full_fraction; measured: 4 of the 10) ran no oracle, and its
 # G is NaN rather than the last oracle's repeated (no frame's finite G equals the frame before's).
-if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$TMP/drop.json" --report "$TMP/a.json" --fields "$TMP/f.npy" --quiet \
+if ROMKIT_THREADS=1 "$ROMKIT" adaptive "$DROP" --report "$TMP/a.json" --fields "$TMP/f.npy" --quiet \
         >"$TMP/out" 2>"$TMP/err"; then
     json_checks adaptive_command_reports_residual "$TMP/a.json" 'adaptive.residual.per_step[9]' \
         'adaptive.residual.steps_over_tolerance=0' 'adaptive.residual.max'
