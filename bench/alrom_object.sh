@@ -44,3 +44,21 @@ alrom_scene() {
     alrom_json "$@"
     fom "$TMP/$1_$2.json" "$TMP/$1_$2.ref.npy" "$1_$2"
 }
+
+# alrom_assets OBJECT SCENE NAMES: the rom entries of $TMP/OBJECT_SCENE.json, in the order NAMES
+# names them, each baked into $TMP/OBJECT_SCENE.NAME.rombin (its build report .build.json beside
+# it; an asset already there is kept) and free-run against the scene's full-order run (.run.json),
+# then all stepped in one process by bench_assets ($steps steps, 7 interleaved rounds) into
+# $TMP/OBJECT_SCENE.times; sets $base to $TMP/OBJECT_SCENE.
+alrom_assets() {
+    base=$TMP/$1_$2 assets="" k=0
+    for name in $3; do
+        [ -f "$base.$name.rombin" ] ||
+            "$ROMKIT" build "$base.json" --entry $k -o "$base.$name.rombin" --report "$base.$name.build.json" --quiet >/dev/null
+        "$ROMKIT" run "$base.$name.rombin" --steps "$steps" --reference "$base.ref.npy" \
+            --report "$base.$name.run.json" --quiet >/dev/null
+        assets="$assets $base.$name.rombin" k=$((k + 1))
+    done
+    # shellcheck disable=SC2086 # (the assets' paths: mktemp's, no spaces)
+    OPENBLAS_NUM_THREADS=1 "$BUILD/bench_assets" "$steps" 7 $assets | tail -n +2 >"$base.times"
+}

@@ -39,23 +39,15 @@ done
 echo "scenario,method,cadence,history,encoder_iterations,us_per_step,us_min,us_max,ratio_to_pca,newton_iterations,relative_error" >"$OUT/alrom_cadence.csv"
 for sc in compress bend; do
     alrom_scene armadillo "$sc" "$entries"
-    assets="" k=0
-    for name in $names; do
-        "$ROMKIT" build "$TMP/armadillo_$sc.json" --entry $k -o "$TMP/$sc.$name.rombin" --quiet >/dev/null
-        "$ROMKIT" run "$TMP/$sc.$name.rombin" --steps "$steps" --reference "$TMP/armadillo_$sc.ref.npy" \
-            --report "$TMP/$sc.$name.run.json" --quiet >/dev/null
-        assets="$assets $TMP/$sc.$name.rombin" k=$((k + 1))
-    done
-    # shellcheck disable=SC2086 # (the assets' paths: mktemp's, no spaces)
-    OPENBLAS_NUM_THREADS=1 "$BUILD/bench_assets" "$steps" 7 $assets | tail -n +2 >"$TMP/$sc.times"
+    alrom_assets armadillo "$sc" "$names"
     while IFS=, read -r asset us lo hi ratio its; do
         name=$(echo "$asset" | sed 's/.*\.\([a-z0-9]*\)\.rombin/\1/')
-        err=$("$JSONQ" get "$TMP/$sc.$name.run.json" reference.relative_error)
+        err=$("$JSONQ" get "$base.$name.run.json" reference.relative_error)
         if [ "$name" = pca ]; then knobs="pca,,,"
         else knobs=$(echo "$name" | sed 's/k\([0-9]*\)m\([0-9]*\)e\([0-9]*\)/adaptive,\1,\2,\3/')
         fi
         echo "$sc,$knobs,$us,$lo,$hi,$ratio,$its,$err" >>"$OUT/alrom_cadence.csv"
-    done <"$TMP/$sc.times"
+    done <"$base.times"
 done
 echo "$OUT/alrom_cadence.csv"
 cat "$OUT/alrom_cadence.csv"

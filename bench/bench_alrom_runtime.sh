@@ -70,15 +70,7 @@ for obj in $OBJECTS; do
             names="$names crom"
         fi
         alrom_json "$obj" "$sc" "$entries"
-        assets="" k=0
-        for name in $names; do
-            [ $k = 0 ] || "$ROMKIT" build "$base.json" --entry $k -o "$base.$name.rombin" --report "$base.$name.build.json" --quiet
-            "$ROMKIT" run "$base.$name.rombin" --steps "$steps" --reference "$base.ref.npy" \
-                --report "$base.$name.run.json" --quiet >/dev/null
-            assets="$assets $base.$name.rombin" k=$((k + 1))
-        done
-        # shellcheck disable=SC2086 # (the assets' paths: mktemp's, no spaces)
-        OPENBLAS_NUM_THREADS=1 "$BUILD/bench_assets" "$steps" 7 $assets | tail -n +2 >"$base.times"
+        alrom_assets "$obj" "$sc" "$names"
         while IFS=, read -r asset us lo hi ratio its; do
             name=$(echo "$asset" | sed 's/.*\.\([a-z]*\)\.rombin/\1/')
             err=$("$JSONQ" get "$base.$name.run.json" reference.relative_error)
